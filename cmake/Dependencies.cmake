@@ -1,0 +1,63 @@
+# Finds every dependency; a missing one stops configure with the Debian package that provides it.
+# scripts/install-deps.sh installs them all.
+
+function(hapticd_missing what package)
+  message(FATAL_ERROR
+    "hapticd: ${what} not found. Install the Debian package '${package}' "
+    "(scripts/install-deps.sh installs every dependency).")
+endfunction()
+
+find_package(PkgConfig QUIET)
+if(NOT PkgConfig_FOUND)
+  hapticd_missing("pkg-config" "pkg-config")
+endif()
+
+# GLM ships no CMake config on Debian 12; it is header-only.
+find_path(GLM_INCLUDE_DIR glm/glm.hpp)
+if(NOT GLM_INCLUDE_DIR)
+  hapticd_missing("GLM (glm/glm.hpp)" "libglm-dev")
+endif()
+add_library(hapticd_glm INTERFACE)
+target_include_directories(hapticd_glm SYSTEM INTERFACE ${GLM_INCLUDE_DIR})
+target_compile_definitions(hapticd_glm INTERFACE GLM_FORCE_XYZW_ONLY GLM_ENABLE_EXPERIMENTAL)
+
+find_package(Qhull QUIET)
+if(NOT TARGET Qhull::qhull_r)
+  hapticd_missing("Qhull (reentrant library qhull_r)" "libqhull-dev")
+endif()
+
+find_package(nlohmann_json 3 QUIET)
+if(NOT nlohmann_json_FOUND)
+  hapticd_missing("nlohmann_json" "nlohmann-json3-dev")
+endif()
+
+find_package(CLI11 QUIET)
+if(NOT CLI11_FOUND)
+  hapticd_missing("CLI11" "libcli11-dev")
+endif()
+
+if(HAPTICD_BUILD_TESTS)
+  find_package(GTest QUIET)
+  if(NOT GTest_FOUND)
+    hapticd_missing("GoogleTest" "libgtest-dev")
+  endif()
+endif()
+
+if(HAPTICD_BUILD_BENCH)
+  find_package(benchmark QUIET)
+  if(NOT benchmark_FOUND)
+    hapticd_missing("Google Benchmark" "libbenchmark-dev")
+  endif()
+  pkg_check_modules(CCD QUIET IMPORTED_TARGET ccd)
+  if(NOT CCD_FOUND)
+    hapticd_missing("libccd" "libccd-dev")
+  endif()
+  pkg_check_modules(FCL QUIET IMPORTED_TARGET fcl)
+  if(NOT FCL_FOUND)
+    hapticd_missing("FCL" "libfcl-dev")
+  endif()
+  pkg_check_modules(BULLET QUIET IMPORTED_TARGET bullet-float64)
+  if(NOT BULLET_FOUND)
+    hapticd_missing("Bullet (double precision build)" "libbullet-dev")
+  endif()
+endif()

@@ -1,0 +1,406 @@
+#include "core/collision/closest_features.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/collision/segment.h"
+
+namespace hapticd::collision {
+namespace {
+
+using detail::closestOnSegment;
+using detail::closestSegments;
+
+constexpr std::uint32_t kNoIndex = std::numeric_limits<std::uint32_t>::max();
+
+// One ordered view of the pair: feature 1 on p1, feature 2 on p2.
+struct View {
+  const Polytope* p1;
+  const Polytope* p2;
+  const Transform* T12;  // p2's frame -> p1's frame
+  const Transform* T21;  // p1's frame -> p2's frame
+};
+
+enum class Act : std::uint8_t { kDone, kSet1, kSet2, kPenetration };
+struct Outcome {
+  Act act = Act::kDone;
+  Feature f;
+};
+Outcome set1(Feature f) { return {Act::kSet1, f}; }
+Outcome set2(Feature f) { return {Act::kSet2, f}; }
+constexpr Outcome kDone{Act::kDone, {}};
+constexpr Outcome kPenetrating{Act::kPenetration, {}};
+
+struct Tol {
+  double len;    // lengths: plane violations, distance derivatives
+  double angle;  // dimensionless: cosines of directions
+};
+
+// Result of clipping a segment p(l) = t + l (h - t), l in [0, 1], against planes.
+struct Clip {
+  double lo = 0.0, hi = 1.0;
+  Feature nlo, nhi;  // the features beyond the planes that clipped at lo and hi
+  bool excluded = false;
+  bool simple = false;  // excluded by one plane alone (both ends outside it)
+};
+
+// Clips against the plane (x - p)·n >= 0 (inside) whose other side belongs to `neighbour`.
+inline void clipPlane(Clip& c, const Vec3& t, const Vec3& h, const Vec3& p, const Vec3& n,
+                      Feature neighbour, double eps) {
+  if (c.excluded) return;
+  const double st = glm::dot(t - p, n);
+  const double sh = glm::dot(h - p, n);
+  if (st < -eps && sh < -eps) {
+    c.excluded = true;
+    c.simple = true;
+    c.nlo = c.nhi = neighbour;
+    return;
+  }
+  if (st < -eps) {
+    const double l = std::clamp(st / (st - sh), 0.0, 1.0);
+    if (l > c.lo) c.lo = l, c.nlo = neighbour;
+  } else if (sh < -eps) {
+    const double l = std::clamp(st / (st - sh), 0.0, 1.0);
+    if (l < c.hi) c.hi = l, c.nhi = neighbour;
+  }
+  if (c.lo > c.hi) c.excluded = true;
+}
+
+// Derivative of half the squared distance from the moving point x(l) (unit direction u) to
+// feature `n` of polytope `p` (all in p's frame): a length; > 0 when the distance grows with l.
+double distanceDerivative(const Polytope& p, Feature n, const Vec3& x, const Vec3& u) {
+  switch (n.type) {
+    case FeatureType::kVertex:
+      return glm::dot(u, x - p.vertices()[n.index].p);
+    case FeatureType::kEdge: {
+      const auto& e = p.edges()[n.index];
+      const Vec3& t = p.vertices()[e.tail].p;
+      const Vec3 q = t + e.dir * std::clamp(glm::dot(x - t, e.dir), 0.0, e.length);
+      return glm::dot(u, x - q);
+    }
+    case FeatureType::kFace: {
+      const auto& f = p.faces()[n.index];
+      return (glm::dot(f.normal, x) - f.offset) * glm::dot(u, f.normal);
+    }
+    case FeatureType::kNone: break;
+  }
+  return 0.0;
+}
+
+// After clipping segment [t, h] (in p's frame) against VR(X) of p: Mirtich's derivative test.
+// Returns the neighbour to move X to, or kNone.
+Feature derivativeUpdate(const Polytope& p, const Clip& c, const Vec3& t, const Vec3& h,
+                         double eps) {
+  const Vec3 u = h - t;
+  const double ulen = glm::length(u);
+  if (ulen <= 0.0) return {};
+  const Vec3 un = u / ulen;
+  if (c.nlo.valid() && distanceDerivative(p, c.nlo, t + u * c.lo, un) > eps) return c.nlo;
+  if (c.nhi.valid() && distanceDerivative(p, c.nhi, t + u * c.hi, un) < -eps) return c.nhi;
+  return {};
+}
+
+// The boundary edge of face f (of p) closest to segment [t, h] (p's frame).
+std::uint32_t closestBoundaryEdge(const Polytope& p, std::uint32_t f, const Vec3& t,
+                                  const Vec3& h) {
+  double best = std::numeric_limits<double>::infinity();
+  std::uint32_t best_edge = kNoIndex;
+  for (const auto& fe : p.faceEdges(f)) {
+    const auto& e = p.edges()[fe.edge];
+    const double d2 =
+        closestSegments(t, h, p.vertices()[e.tail].p, p.vertices()[e.head].p).dist2;
+    if (d2 < best) best = d2, best_edge = fe.edge;
+  }
+  return best_edge;
+}
+
+Outcome stepVV(const View& w, std::uint32_t v1, std::uint32_t v2, const Tol& tol) {
+  const Vec3& p1 = w.p1->vertices()[v1].p;
+  const Vec3& p2 = w.p2->vertices()[v2].p;
+  {
+    const Vec3 y = w.T12->apply(p2);
+    double worst = tol.len;
+    std::uint32_t edge = kNoIndex;
+    for (const auto& ve : w.p1->vertexEdges(v1)) {
+      const double s = glm::dot(y - p1, ve.out);
+      if (s > worst) worst = s, edge = ve.edge;
+    }
+    if (edge != kNoIndex) return set1(Feature::edge(edge));
+  }
+  const Vec3 x = w.T21->apply(p1);
+  double worst = tol.len;
+  std::uint32_t edge = kNoIndex;
+  for (const auto& ve : w.p2->vertexEdges(v2)) {
+    const double s = glm::dot(x - p2, ve.out);
+    if (s > worst) worst = s, edge = ve.edge;
+  }
+  if (edge != kNoIndex) return set2(Feature::edge(edge));
+  return kDone;
+}
+
+// Vertex v of p1 against edge e of p2.
+Outcome stepVE(const View& w, std::uint32_t v, std::uint32_t ei, const Tol& tol) {
+  const auto& e = w.p2->edges()[ei];
+  const Vec3& t = w.p2->vertices()[e.tail].p;
+  const Vec3& h = w.p2->vertices()[e.head].p;
+  const Vec3 x = w.T21->apply(w.p1->vertices()[v].p);
+  // x against VR(e): vertex planes first, then face planes
+  if (glm::dot(x - t, e.dir) < -tol.len) return set2(Feature::vertex(e.tail));
+  if (glm::dot(h - x, e.dir) < -tol.len) return set2(Feature::vertex(e.head));
+  const double s0 = glm::dot(x - t, e.fe_normal[0]);
+  const double s1 = glm::dot(x - t, e.fe_normal[1]);
+  if (s0 < -tol.len || s1 < -tol.len) return set2(Feature::face(s0 < s1 ? e.face[0] : e.face[1]));
+  // clip e against VR(v) in p1's frame
+  const Vec3& pv = w.p1->vertices()[v].p;
+  const Vec3 t1 = w.T12->apply(t), h1 = w.T12->apply(h);
+  Clip c;
+  for (const auto& ve : w.p1->vertexEdges(v)) {
+    clipPlane(c, t1, h1, pv, -ve.out, Feature::edge(ve.edge), tol.len);
+  }
+  if (c.excluded && c.simple) return set1(c.nlo);
+  const Feature n = derivativeUpdate(*w.p1, c, t1, h1, tol.len);
+  if (n.valid()) return set1(n);
+  if (c.excluded) return set1(c.nlo);
+  return kDone;
+}
+
+// Vertex v of p1 against face f of p2.
+Outcome stepVF(const View& w, std::uint32_t v, std::uint32_t fi, const Tol& tol) {
+  const auto& f = w.p2->faces()[fi];
+  const Vec3 x = w.T21->apply(w.p1->vertices()[v].p);
+  double worst = -tol.len;
+  bool outside = false;
+  for (const auto& fe : w.p2->faceEdges(fi)) {
+    const double s = glm::dot(x - w.p2->vertices()[fe.vertex].p, fe.side);
+    if (s < worst) worst = s, outside = true;
+  }
+  if (outside) return set2(Feature::edge(closestBoundaryEdge(*w.p2, fi, x, x)));
+
+  const double D = glm::dot(f.normal, x) - f.offset;
+  // the edge of v that descends most steeply toward (D > 0) or away from (D < 0) the plane
+  double steepest = 0.0;
+  std::uint32_t edge = kNoIndex;
+  for (const auto& ve : w.p1->vertexEdges(v)) {
+    const double c = glm::dot(w.T21->rotate(ve.out), f.normal);
+    if (c < steepest) steepest = c, edge = ve.edge;
+  }
+  if (D > tol.len) {
+    if (edge != kNoIndex && steepest < -tol.angle) return set1(Feature::edge(edge));
+    return kDone;
+  }
+  if (D >= -tol.len) {
+    // on the plane: an edge of v going below it pierces the face
+    if (edge != kNoIndex && steepest < -tol.angle) return kPenetrating;
+    return kDone;
+  }
+  // below the face plane: a local minimum unless some face of p2 has v above it
+  double best = -std::numeric_limits<double>::infinity();
+  std::uint32_t best_face = kNoIndex;
+  const auto faces = w.p2->faces();
+  for (std::uint32_t k = 0; k < faces.size(); ++k) {
+    const double d = glm::dot(faces[k].normal, x) - faces[k].offset;
+    if (d > best) best = d, best_face = k;
+  }
+  if (best < -tol.len) return kPenetrating;
+  if (best_face == fi) return kPenetrating;  // cannot happen (D < -tol); guards a cycle
+  return set2(Feature::face(best_face));
+}
+
+// Edge e1 of p1 against the Voronoi region of edge e2 of p2 (one direction of the E-E test).
+Outcome clipEdgeAgainstEdge(const View& w, std::uint32_t e1i, std::uint32_t e2i, const Tol& tol) {
+  const auto& e1 = w.p1->edges()[e1i];
+  const auto& e2 = w.p2->edges()[e2i];
+  const Vec3 t1 = w.T21->apply(w.p1->vertices()[e1.tail].p);
+  const Vec3 h1 = w.T21->apply(w.p1->vertices()[e1.head].p);
+  const Vec3& t2 = w.p2->vertices()[e2.tail].p;
+  const Vec3& h2 = w.p2->vertices()[e2.head].p;
+  Clip c;
+  clipPlane(c, t1, h1, t2, e2.dir, Feature::vertex(e2.tail), tol.len);
+  clipPlane(c, t1, h1, h2, -e2.dir, Feature::vertex(e2.head), tol.len);
+  if (c.excluded && c.simple) return set2(c.nlo);
+  if (const Feature n = derivativeUpdate(*w.p2, c, t1, h1, tol.len); n.valid()) return set2(n);
+  clipPlane(c, t1, h1, t2, e2.fe_normal[0], Feature::face(e2.face[0]), tol.len);
+  clipPlane(c, t1, h1, t2, e2.fe_normal[1], Feature::face(e2.face[1]), tol.len);
+  if (c.excluded && c.simple) return set2(c.nlo);
+  if (const Feature n = derivativeUpdate(*w.p2, c, t1, h1, tol.len); n.valid()) return set2(n);
+  if (c.excluded) return set2(c.nlo);
+  return kDone;
+}
+
+Outcome stepEE(const View& w, std::uint32_t e1, std::uint32_t e2, const Tol& tol) {
+  if (const Outcome o = clipEdgeAgainstEdge(w, e1, e2, tol); o.act != Act::kDone) return o;
+  const View r{w.p2, w.p1, w.T21, w.T12};
+  const Outcome o = clipEdgeAgainstEdge(r, e2, e1, tol);
+  if (o.act == Act::kSet2) return set1(o.f);
+  return o;
+}
+
+// Edge e of p1 against face f of p2. Never a final state.
+Outcome stepEF(const View& w, std::uint32_t ei, std::uint32_t fi, const Tol& tol) {
+  const auto& e = w.p1->edges()[ei];
+  const auto& f = w.p2->faces()[fi];
+  const Vec3 t = w.T21->apply(w.p1->vertices()[e.tail].p);
+  const Vec3 h = w.T21->apply(w.p1->vertices()[e.head].p);
+  Clip c;
+  for (const auto& fe : w.p2->faceEdges(fi)) {
+    clipPlane(c, t, h, w.p2->vertices()[fe.vertex].p, fe.side, Feature::edge(fe.edge), tol.len);
+  }
+  if (c.excluded) return set2(Feature::edge(closestBoundaryEdge(*w.p2, fi, t, h)));
+  const Vec3 u = h - t;
+  const double dl = glm::dot(f.normal, t + u * c.lo) - f.offset;
+  const double du = glm::dot(f.normal, t + u * c.hi) - f.offset;
+  if ((dl > tol.len && du < -tol.len) || (dl < -tol.len && du > tol.len)) return kPenetrating;
+  const double un = glm::dot(glm::normalize(u), f.normal);
+  auto sgn = [&](double d) { return d > tol.len ? 1.0 : (d < -tol.len ? -1.0 : 0.0); };
+  if (sgn(dl) * un >= 0.0) {
+    return c.nlo.valid() ? set2(c.nlo) : set1(Feature::vertex(e.tail));
+  }
+  if (sgn(du) * un <= 0.0) {
+    return c.nhi.valid() ? set2(c.nhi) : set1(Feature::vertex(e.head));
+  }
+  return kDone;
+}
+
+Outcome dispatch(const View& w, Feature f1, Feature f2, const Tol& tol) {
+  using FT = FeatureType;
+  switch (f1.type) {
+    case FT::kVertex:
+      if (f2.type == FT::kVertex) return stepVV(w, f1.index, f2.index, tol);
+      if (f2.type == FT::kEdge) return stepVE(w, f1.index, f2.index, tol);
+      return stepVF(w, f1.index, f2.index, tol);
+    case FT::kEdge:
+      if (f2.type == FT::kEdge) return stepEE(w, f1.index, f2.index, tol);
+      return stepEF(w, f1.index, f2.index, tol);
+    default:
+      // face-face is never reached by the walk; a stale cache may hold it: restart at a vertex
+      return set1(Feature::vertex(w.p1->faceEdges(f1.index)[0].vertex));
+  }
+}
+
+bool validFeature(const Polytope& p, Feature f) {
+  switch (f.type) {
+    case FeatureType::kVertex: return f.index < p.vertices().size();
+    case FeatureType::kEdge: return f.index < p.edges().size();
+    case FeatureType::kFace: return f.index < p.faces().size();
+    case FeatureType::kNone: break;
+  }
+  return false;
+}
+
+// Closest points of the final feature pair, in A's frame.
+void closestPoints(const Polytope& a, const Polytope& b, const Transform& T_ab, Feature fa,
+                   Feature fb, ClosestResult& r) {
+  using FT = FeatureType;
+  auto vertA = [&](std::uint32_t i) { return a.vertices()[i].p; };
+  auto vertB = [&](std::uint32_t i) { return T_ab.apply(b.vertices()[i].p); };
+  const Vec3 cb = T_ab.apply(b.centroid());
+  if (fa.type == FT::kVertex && fb.type == FT::kVertex) {
+    r.point_a = vertA(fa.index);
+    r.point_b = vertB(fb.index);
+  } else if (fa.type == FT::kVertex && fb.type == FT::kEdge) {
+    const auto& e = b.edges()[fb.index];
+    r.point_a = vertA(fa.index);
+    const Vec3 t = vertB(e.tail), h = vertB(e.head);
+    r.point_b = t + (h - t) * closestOnSegment(r.point_a, t, h);
+  } else if (fa.type == FT::kEdge && fb.type == FT::kVertex) {
+    const auto& e = a.edges()[fa.index];
+    r.point_b = vertB(fb.index);
+    const Vec3 t = vertA(e.tail), h = vertA(e.head);
+    r.point_a = t + (h - t) * closestOnSegment(r.point_b, t, h);
+  } else if (fa.type == FT::kEdge && fb.type == FT::kEdge) {
+    const auto& ea = a.edges()[fa.index];
+    const auto& eb = b.edges()[fb.index];
+    const auto s =
+        closestSegments(vertA(ea.tail), vertA(ea.head), vertB(eb.tail), vertB(eb.head));
+    r.point_a = s.c1;
+    r.point_b = s.c2;
+    const Vec3 n = glm::cross(ea.dir, T_ab.rotate(eb.dir));
+    const double len = glm::length(n);
+    if (len > 1e-6) {
+      // the normal of non-parallel edges is their common perpendicular, away from A
+      r.normal = n / len;
+      if (glm::dot(r.normal, r.point_b - r.point_a) < 0.0 ||
+          (glm::dot(r.normal, r.point_b - r.point_a) == 0.0 &&
+           glm::dot(r.normal, cb - a.centroid()) < 0.0)) {
+        r.normal = -r.normal;
+      }
+    }
+  } else if (fa.type == FT::kVertex && fb.type == FT::kFace) {
+    const auto& f = b.faces()[fb.index];
+    const Vec3 n = T_ab.rotate(f.normal);
+    r.point_a = vertA(fa.index);
+    const Vec3 on = vertB(b.faceEdges(fb.index)[0].vertex);
+    r.point_b = r.point_a - n * glm::dot(r.point_a - on, n);
+    r.normal = -n;
+  } else if (fa.type == FT::kFace && fb.type == FT::kVertex) {
+    const auto& f = a.faces()[fa.index];
+    r.point_b = vertB(fb.index);
+    r.point_a = r.point_b - f.normal * (glm::dot(f.normal, r.point_b) - f.offset);
+    r.normal = f.normal;
+  }
+  const Vec3 d = r.point_b - r.point_a;
+  r.distance = glm::length(d);
+  if (r.normal == Vec3{0.0}) {
+    r.normal = r.distance > 0.0 ? d / r.distance : glm::normalize(cb - a.centroid());
+  }
+}
+
+}  // namespace
+
+ClosestResult closestFeatures(const Polytope& a, const Polytope& b, const Transform& X_AB,
+                              FeatureCache& cache, const QueryOptions& options) {
+  const Transform X_BA = X_AB.inverse();
+  const double scale = std::max(a.radius(), b.radius());
+  const Tol tol{1e-12 * scale, 1e-12};
+  Feature fa = cache.a, fb = cache.b;
+  if (!validFeature(a, fa) || !validFeature(b, fb)) {
+    // cold start: the directional lookup table, along the line between the centres
+    const Vec3 cb_a = X_AB.apply(b.centroid());
+    Vec3 d = cb_a - a.centroid();
+    if (glm::dot(d, d) <= 0.0) d = Vec3{1.0, 0.0, 0.0};
+    fa = Feature::vertex(a.lookup(d));
+    fb = Feature::vertex(b.lookup(X_BA.rotate(-d)));
+  }
+  const std::uint32_t cap = options.max_iterations != 0
+      ? options.max_iterations
+      : static_cast<std::uint32_t>(4 * (a.vertices().size() + a.edges().size() + a.faces().size() +
+                                        b.vertices().size() + b.edges().size() + b.faces().size()) + 64);
+  const View ab{&a, &b, &X_AB, &X_BA};
+  const View ba{&b, &a, &X_BA, &X_AB};
+  ClosestResult r;
+  Outcome o;
+  std::uint32_t it = 0;
+  for (; it < cap; ++it) {
+    const bool swap = static_cast<int>(fa.type) > static_cast<int>(fb.type);
+    o = swap ? dispatch(ba, fb, fa, tol) : dispatch(ab, fa, fb, tol);
+    if (o.act == Act::kDone || o.act == Act::kPenetration) break;
+    const bool first = o.act == Act::kSet1;
+    if (first != swap) {
+      fa = o.f;
+    } else {
+      fb = o.f;
+    }
+  }
+  r.iterations = it;
+  r.fa = fa;
+  r.fb = fb;
+  cache.a = fa;
+  cache.b = fb;
+  if (it == cap) {
+    r.end = WalkEnd::kIterationCap;
+    return r;
+  }
+  if (o.act == Act::kPenetration) {
+    r.end = WalkEnd::kPenetration;
+    r.status = ContactStatus::kPenetrating;
+    return r;
+  }
+  r.end = WalkEnd::kConverged;
+  closestPoints(a, b, X_AB, fa, fb, r);
+  r.status = r.distance <= options.touch_tolerance * scale ? ContactStatus::kTouching
+                                                            : ContactStatus::kSeparated;
+  return r;
+}
+
+}  // namespace hapticd::collision

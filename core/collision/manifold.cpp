@@ -1,0 +1,341 @@
+#include "core/collision/manifold.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace hapticd::collision {
+namespace {
+
+constexpr std::size_t kMaxPolygon = 256;
+
+// A fixed-capacity polygon (no allocation). Points beyond the capacity are dropped and flagged.
+struct Polygon {
+  std::array<Vec3, kMaxPolygon> p;
+  std::size_t n = 0;
+  bool overflow = false;
+  void push(const Vec3& v) {
+    if (n < kMaxPolygon) {
+      p[n++] = v;
+    } else {
+      overflow = true;
+    }
+  }
+};
+
+// Sutherland-Hodgman: keeps the part of `in` with (x - o)·m >= 0.
+void clipPolygon(const Polygon& in, const Vec3& o, const Vec3& m, Polygon& out) {
+  out.n = 0;
+  out.overflow = in.overflow;
+  if (in.n == 0) return;
+  if (in.n == 1) {
+    if (glm::dot(in.p[0] - o, m) >= 0.0) out.push(in.p[0]);
+    return;
+  }
+  const std::size_t count = in.n == 2 ? 1 : in.n;  // a segment is not closed
+  if (in.n == 2) {
+    const double s0 = glm::dot(in.p[0] - o, m), s1 = glm::dot(in.p[1] - o, m);
+    if (s0 >= 0.0) out.push(in.p[0]);
+    if ((s0 >= 0.0) != (s1 >= 0.0)) out.push(in.p[0] + (in.p[1] - in.p[0]) * (s0 / (s0 - s1)));
+    if (s1 >= 0.0) out.push(in.p[1]);
+    return;
+  }
+  for (std::size_t k = 0; k < count; ++k) {
+    const Vec3& a = in.p[k];
+    const Vec3& b = in.p[(k + 1) % in.n];
+    const double sa = glm::dot(a - o, m), sb = glm::dot(b - o, m);
+    if (sa >= 0.0) out.push(a);
+    if ((sa >= 0.0) != (sb >= 0.0)) out.push(a + (b - a) * (sa / (sa - sb)));
+  }
+}
+
+// A face seen in A's frame: plane and side planes.
+struct FaceView {
+  const Polytope* p = nullptr;
+  const Transform* X = nullptr;  // p's frame -> A's frame
+  std::uint32_t f = 0;
+  Vec3 normal(void) const { return X->rotate(p->faces()[f].normal); }
+};
+
+void facePolygon(const FaceView& v, Polygon& out) {
+  out.n = 0;
+  for (const auto& fe : v.p->faceEdges(v.f)) out.push(v.X->apply(v.p->vertices()[fe.vertex].p));
+}
+
+// Clips `poly` (in A's frame) against the side planes of face `ref`.
+void clipToFace(const FaceView& ref, Polygon& poly, Polygon& scratch) {
+  for (const auto& fe : ref.p->faceEdges(ref.f)) {
+    clipPolygon(poly, ref.X->apply(ref.p->vertices()[fe.vertex].p), ref.X->rotate(fe.side),
+                scratch);
+    poly = scratch;
+    if (poly.n == 0) return;
+  }
+}
+
+// Reduces to at most 4 well-spread points, the deepest always kept (Bullet's and Box2D's idea:
+// deepest, farthest from it, then largest triangle, then largest quadrilateral).
+void reduce(const ContactPoint* in, std::size_t n, Manifold& m) {
+  m.count = 0;
+  if (n == 0) return;
+  if (n <= Manifold::kMaxPoints) {
+    for (std::size_t i = 0; i < n; ++i) m.points[m.count++] = in[i];
+    return;
+  }
+  std::array<std::size_t, 4> pick{};
+  std::size_t deepest = 0;
+  for (std::size_t i = 1; i < n; ++i) {
+    if (in[i].depth > in[deepest].depth) deepest = i;
+  }
+  pick[0] = deepest;
+  double best = -1.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 d = in[i].point - in[pick[0]].point;
+    if (glm::dot(d, d) > best) best = glm::dot(d, d), pick[1] = i;
+  }
+  const Vec3 nrm = in[deepest].normal;
+  best = -1.0;
+  double signed_area = 0.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double area = glm::dot(glm::cross(in[pick[1]].point - in[pick[0]].point,
+                                            in[i].point - in[pick[0]].point), nrm);
+    if (std::abs(area) > best) best = std::abs(area), pick[2] = i, signed_area = area;
+  }
+  // the fourth point: most area on the other side of the first edge
+  best = -1.0;
+  pick[3] = pick[0];
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i == pick[0] || i == pick[1] || i == pick[2]) continue;
+    double area = 0.0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const Vec3& p0 = in[pick[k]].point;
+      const Vec3& p1 = in[pick[(k + 1) % 3]].point;
+      const double a = glm::dot(glm::cross(p1 - p0, in[i].point - p0), nrm);
+      // outside the triangle's edge (orientation by the triangle's sign)
+      if ((signed_area >= 0.0 ? -a : a) > area) area = signed_area >= 0.0 ? -a : a;
+    }
+    if (area > best) best = area, pick[3] = i;
+  }
+  std::size_t count = 0;
+  for (std::size_t k = 0; k < 4; ++k) {
+    bool dup = false;
+    for (std::size_t j = 0; j < k; ++j) dup = dup || pick[j] == pick[k];
+    if (!dup) m.points[count++] = in[pick[k]];
+  }
+  m.count = static_cast<std::uint8_t>(count);
+}
+
+// The face among those incident to feature f of p whose normal (in A's frame) is most aligned
+// with `dir`; returns its cosine.
+double bestIncidentFace(const Polytope& p, const Transform& X, Feature f, const Vec3& dir,
+                        std::uint32_t& face) {
+  double best = -2.0;
+  auto consider = [&](std::uint32_t k) {
+    const double c = glm::dot(X.rotate(p.faces()[k].normal), dir);
+    if (c > best) best = c, face = k;
+  };
+  switch (f.type) {
+    case FeatureType::kFace: consider(f.index); break;
+    case FeatureType::kEdge:
+      consider(p.edges()[f.index].face[0]);
+      consider(p.edges()[f.index].face[1]);
+      break;
+    case FeatureType::kVertex:
+      for (const auto& ve : p.vertexEdges(f.index)) {
+        consider(p.edges()[ve.edge].face[0]);
+        consider(p.edges()[ve.edge].face[1]);
+      }
+      break;
+    case FeatureType::kNone: break;
+  }
+  return best;
+}
+
+// The edge incident to feature f most perpendicular to `dir`; returns |cos|.
+double bestIncidentEdge(const Polytope& p, const Transform& X, Feature f, const Vec3& dir,
+                        std::uint32_t& edge) {
+  double best = 2.0;
+  auto consider = [&](std::uint32_t k) {
+    const double c = std::abs(glm::dot(X.rotate(p.edges()[k].dir), dir));
+    if (c < best) best = c, edge = k;
+  };
+  switch (f.type) {
+    case FeatureType::kEdge: consider(f.index); break;
+    case FeatureType::kVertex:
+      for (const auto& ve : p.vertexEdges(f.index)) consider(ve.edge);
+      break;
+    case FeatureType::kFace:
+      for (const auto& fe : p.faceEdges(f.index)) consider(fe.edge);
+      break;
+    case FeatureType::kNone: break;
+  }
+  return best;
+}
+
+// The contact feature of one side: a face (polygon), an edge (segment) or a point.
+// `dir` points from this side toward the other, in A's frame.
+void contactFeature(const Polytope& p, const Transform& X, Feature f, const Vec3& witness,
+                    const Vec3& dir, double sin_tol, Polygon& out, FaceView& face_out,
+                    bool& is_face) {
+  is_face = false;
+  out.n = 0;
+  std::uint32_t face = 0;
+  const double cos_tol = std::sqrt(std::max(0.0, 1.0 - sin_tol * sin_tol));
+  if (bestIncidentFace(p, X, f, dir, face) >= cos_tol) {
+    face_out = FaceView{&p, &X, face};
+    facePolygon(face_out, out);
+    is_face = true;
+    return;
+  }
+  std::uint32_t edge = 0;
+  if (f.type != FeatureType::kFace && bestIncidentEdge(p, X, f, dir, edge) <= sin_tol) {
+    const auto& e = p.edges()[edge];
+    out.push(X.apply(p.vertices()[e.tail].p));
+    out.push(X.apply(p.vertices()[e.head].p));
+    return;
+  }
+  out.push(witness);
+}
+
+// Builds the manifold: the other side's contact feature clipped to `ref` (a face) or, for two
+// segments, their overlap. Depth of each point measured along n (A toward B).
+Manifold assemble(const Polygon& pa, bool a_face, const FaceView& fa, const Polygon& pb,
+                  bool b_face, const FaceView& fb, const Vec3& n, double fallback_depth,
+                  const Vec3& fallback_point) {
+  static_assert(kMaxPolygon >= 8);
+  Manifold m;
+  Polygon work, scratch;
+  std::array<ContactPoint, kMaxPolygon> pts;
+  std::size_t count = 0;
+  // choose the reference: a face when there is one; the other side is clipped to it
+  if (a_face || b_face) {
+    const bool ref_is_a = a_face && (!b_face || pa.n >= pb.n ? true : false);
+    const FaceView& ref = ref_is_a ? fa : fb;
+    work = ref_is_a ? pb : pa;
+    clipToFace(ref, work, scratch);
+    const Vec3 rn = ref.normal();  // outward of the reference face
+    const double off = glm::dot(rn, ref.X->apply(ref.p->vertices()[ref.p->faceEdges(ref.f)[0].vertex].p));
+    for (std::size_t k = 0; k < work.n; ++k) {
+      // gap from the reference plane to the incident point, along the reference's outward normal
+      const double gap = glm::dot(rn, work.p[k]) - off;
+      const Vec3 mid = work.p[k] - rn * (gap * 0.5);
+      pts[count++] = ContactPoint{mid, n, -gap};
+    }
+  } else if (pa.n == 2 && pb.n == 2) {
+    // parallel edges: the overlap of B's segment projected on A's
+    const Vec3 d = pa.p[1] - pa.p[0];
+    const double dd = glm::dot(d, d);
+    double lo = glm::dot(pb.p[0] - pa.p[0], d) / dd;
+    double hi = glm::dot(pb.p[1] - pa.p[0], d) / dd;
+    if (lo > hi) std::swap(lo, hi);
+    lo = std::max(lo, 0.0);
+    hi = std::min(hi, 1.0);
+    if (lo <= hi) {
+      for (const double s : {lo, hi}) {
+        const Vec3 on_a = pa.p[0] + d * s;
+        const Vec3 on_b = pb.p[0] + (pb.p[1] - pb.p[0]) *
+                                        std::clamp(glm::dot(on_a - pb.p[0], pb.p[1] - pb.p[0]) /
+                                                       glm::dot(pb.p[1] - pb.p[0], pb.p[1] - pb.p[0]),
+                                                   0.0, 1.0);
+        pts[count++] = ContactPoint{(on_a + on_b) * 0.5, n, -glm::dot(on_b - on_a, n)};
+        if (hi - lo <= 0.0) break;
+      }
+    }
+  }
+  if (count == 0) {
+    m.points[0] = ContactPoint{fallback_point, n, fallback_depth};
+    m.count = 1;
+    return m;
+  }
+  // the deepest point is the pair's depth: keep it exact
+  reduce(pts.data(), count, m);
+  return m;
+}
+
+}  // namespace
+
+Manifold manifoldFromClosest(const Polytope& a, const Polytope& b, const Transform& X_AB,
+                             const ClosestResult& closest, const ManifoldOptions& options) {
+  const Transform I{};
+  const Vec3 n = closest.normal;
+  Polygon pa, pb;
+  FaceView fa, fb;
+  bool a_face = false, b_face = false;
+  contactFeature(a, I, closest.fa, closest.point_a, n, options.parallel_tolerance, pa, fa, a_face);
+  contactFeature(b, X_AB, closest.fb, closest.point_b, -n, options.parallel_tolerance, pb, fb,
+                 b_face);
+  const Vec3 mid = (closest.point_a + closest.point_b) * 0.5;
+  if (pa.n <= 1 || pb.n <= 1) {
+    Manifold m;
+    m.points[0] = ContactPoint{mid, n, -closest.distance};
+    m.count = 1;
+    return m;
+  }
+  Manifold m = assemble(pa, a_face, fa, pb, b_face, fb, n, -closest.distance, mid);
+  // the closest pair is exact: make sure the manifold's deepest point says so
+  std::size_t deepest = 0;
+  for (std::size_t i = 1; i < m.count; ++i) {
+    if (m.points[i].depth > m.points[deepest].depth) deepest = i;
+  }
+  if (std::abs(m.points[deepest].depth + closest.distance) > 1e-9 * std::max(a.radius(), b.radius())) {
+    // clipping lost the closest pair (features not really parallel): use the exact pair
+    m.points[0] = ContactPoint{mid, n, -closest.distance};
+    m.count = 1;
+  }
+  return m;
+}
+
+Manifold manifoldFromDepth(const Polytope& a, const Polytope& b, const Transform& X_AB,
+                           const DepthResult& depth, const ManifoldOptions& /*options*/) {
+  const Transform I{};
+  const Vec3& n = depth.normal;
+  const Vec3 mid = (depth.point_a + depth.point_b) * 0.5;
+  Manifold m;
+  if (depth.kind == DepthFeature::kEdgeEdge || depth.kind == DepthFeature::kNone) {
+    m.points[0] = ContactPoint{mid, n, depth.depth};
+    m.count = 1;
+    return m;
+  }
+  // the reference face is the MTD's face; the incident face is the other side's face most
+  // opposed to it, found around the support vertex
+  Polygon pa, pb;
+  FaceView fa, fb;
+  bool a_face = false, b_face = false;
+  const Transform X_BA = X_AB.inverse();
+  if (depth.kind == DepthFeature::kFaceA) {
+    fa = FaceView{&a, &I, depth.ia};
+    facePolygon(fa, pa);
+    a_face = true;
+    std::uint32_t inc = 0;
+    bestIncidentFace(b, X_AB, Feature::vertex(b.support(X_BA.rotate(-n), 0)), -n, inc);
+    facePolygon(FaceView{&b, &X_AB, inc}, pb);
+  } else {
+    fb = FaceView{&b, &X_AB, depth.ib};
+    facePolygon(fb, pb);
+    b_face = true;
+    std::uint32_t inc = 0;
+    bestIncidentFace(a, I, Feature::vertex(a.support(n, 0)), n, inc);
+    facePolygon(FaceView{&a, &I, inc}, pa);
+  }
+  if (pa.n <= 1 && pb.n <= 1) {
+    m.points[0] = ContactPoint{mid, n, depth.depth};
+    m.count = 1;
+    return m;
+  }
+  m = assemble(pa, a_face, fa, pb, b_face, fb, n, depth.depth, mid);
+  // keep only penetrating points, and never lose the deepest (the MTD itself)
+  std::size_t kept = 0;
+  double deepest = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < m.count; ++i) {
+    deepest = std::max(deepest, m.points[i].depth);
+    if (m.points[i].depth >= 0.0) m.points[kept++] = m.points[i];
+  }
+  if (kept == 0 || std::abs(deepest - depth.depth) > 1e-9 * std::max(a.radius(), b.radius())) {
+    m.points[0] = ContactPoint{mid, n, depth.depth};
+    kept = 1;
+  }
+  m.count = static_cast<std::uint8_t>(kept);
+  return m;
+}
+
+}  // namespace hapticd::collision

@@ -1,0 +1,126 @@
+#include "core/collision/pair_query.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/collision/segment.h"
+
+namespace hapticd::collision {
+namespace {
+
+// Exact distance by brute force (vertex-face and edge-edge pairs). Only reached when the walk hits
+// its iteration cap, which the tests show never happens; kept so that a bug cannot give a wrong
+// answer. Any thread.
+void bruteDistance(const Polytope& a, const Polytope& b, const Transform& X_AB, PairResult& r) {
+  double best = std::numeric_limits<double>::infinity();
+  auto consider = [&](const Vec3& pa, const Vec3& pb, Feature fa, Feature fb) {
+    const Vec3 d = pb - pa;
+    const double d2 = glm::dot(d, d);
+    if (d2 < best) best = d2, r.point_a = pa, r.point_b = pb, r.fa = fa, r.fb = fb;
+  };
+  for (std::uint32_t i = 0; i < a.edges().size(); ++i) {
+    const auto& ea = a.edges()[i];
+    for (std::uint32_t j = 0; j < b.edges().size(); ++j) {
+      const auto& eb = b.edges()[j];
+      const auto s = detail::closestSegments(a.vertices()[ea.tail].p, a.vertices()[ea.head].p,
+                                             X_AB.apply(b.vertices()[eb.tail].p),
+                                             X_AB.apply(b.vertices()[eb.head].p));
+      consider(s.c1, s.c2, Feature::edge(i), Feature::edge(j));
+    }
+  }
+  auto pointFace = [](const Polytope& p, std::uint32_t f, const Vec3& x, Vec3& out) {
+    for (const auto& fe : p.faceEdges(f)) {
+      if (glm::dot(x - p.vertices()[fe.vertex].p, fe.side) < 0.0) return false;
+    }
+    out = x - p.faces()[f].normal * (glm::dot(p.faces()[f].normal, x) - p.faces()[f].offset);
+    return true;
+  };
+  const Transform X_BA = X_AB.inverse();
+  for (std::uint32_t v = 0; v < a.vertices().size(); ++v) {
+    const Vec3 x = X_BA.apply(a.vertices()[v].p);
+    for (std::uint32_t f = 0; f < b.faces().size(); ++f) {
+      Vec3 q;
+      if (pointFace(b, f, x, q)) consider(a.vertices()[v].p, X_AB.apply(q), Feature::vertex(v), Feature::face(f));
+    }
+  }
+  for (std::uint32_t v = 0; v < b.vertices().size(); ++v) {
+    const Vec3 x = X_AB.apply(b.vertices()[v].p);
+    for (std::uint32_t f = 0; f < a.faces().size(); ++f) {
+      Vec3 q;
+      if (pointFace(a, f, x, q)) consider(q, x, Feature::face(f), Feature::vertex(v));
+    }
+  }
+  r.distance = std::sqrt(best);
+  const Vec3 d = r.point_b - r.point_a;
+  r.normal = r.distance > 0.0 ? d / r.distance : Vec3{1.0, 0.0, 0.0};
+}
+
+}  // namespace
+
+PairResult queryPair(const Polytope& a, const Polytope& b, const Transform& X_AB, PairCache& cache,
+                     const QueryOptions& options) {
+  const double tol = options.touch_tolerance * std::max(a.radius(), b.radius());
+  PairResult r;
+  const ClosestResult c = closestFeatures(a, b, X_AB, cache.features, options);
+  r.iterations = c.iterations;
+  if (c.end == WalkEnd::kConverged && c.distance > tol) {
+    r.status = ContactStatus::kSeparated;
+    r.distance = c.distance;
+    r.normal = c.normal;
+    r.point_a = c.point_a;
+    r.point_b = c.point_b;
+    r.fa = c.fa;
+    r.fb = c.fb;
+    r.manifold = manifoldFromClosest(a, b, X_AB, c);
+    return r;
+  }
+  // touching, overlapping, or a walk that gave up: the separating-axis answer decides
+  const DepthResult d = penetrationDepthExact(a, b, X_AB, cache.depth);
+  if (d.depth > tol) {
+    r.status = ContactStatus::kPenetrating;
+    r.distance = -d.depth;
+    r.normal = d.normal;
+    r.point_a = d.point_a;
+    r.point_b = d.point_b;
+    r.fa = d.kind == DepthFeature::kFaceB ? Feature{} : (d.kind == DepthFeature::kFaceA ? Feature::face(d.ia) : Feature::edge(d.ia));
+    r.fb = d.kind == DepthFeature::kFaceA ? Feature{} : (d.kind == DepthFeature::kFaceB ? Feature::face(d.ib) : Feature::edge(d.ib));
+    r.manifold = manifoldFromDepth(a, b, X_AB, d);
+    return r;
+  }
+  if (c.end == WalkEnd::kConverged) {
+    // touching: the walk's exact pair, the separating axis's normal
+    r.status = ContactStatus::kTouching;
+    r.distance = d.depth > 0.0 ? -d.depth : c.distance;
+    r.normal = d.normal;
+    r.point_a = c.point_a;
+    r.point_b = c.point_b;
+    r.fa = c.fa;
+    r.fb = c.fb;
+    ClosestResult cn = c;
+    cn.normal = d.normal;
+    r.manifold = manifoldFromClosest(a, b, X_AB, cn);
+    return r;
+  }
+  if (d.depth >= 0.0) {
+    // overlapping by no more than the tolerance: touching
+    r.status = ContactStatus::kTouching;
+    r.distance = -d.depth;
+    r.normal = d.normal;
+    r.point_a = d.point_a;
+    r.point_b = d.point_b;
+    r.manifold = manifoldFromDepth(a, b, X_AB, d);
+    return r;
+  }
+  // the walk claimed penetration (or gave up) but a separating axis exists
+  bruteDistance(a, b, X_AB, r);
+  r.status = r.distance > tol ? ContactStatus::kSeparated : ContactStatus::kTouching;
+  if (r.status == ContactStatus::kTouching) r.normal = d.normal;
+  ClosestResult cn;
+  cn.fa = r.fa, cn.fb = r.fb, cn.point_a = r.point_a, cn.point_b = r.point_b;
+  cn.normal = r.normal, cn.distance = r.distance;
+  r.manifold = manifoldFromClosest(a, b, X_AB, cn);
+  return r;
+}
+
+}  // namespace hapticd::collision

@@ -1,0 +1,36 @@
+#pragma once
+/// \file
+/// One call answering, for two convex polytopes: how far apart, where they touch, how deep they
+/// overlap. Closest features (warm-started), then the manifold, then the depth when overlapping.
+
+#include "core/collision/closest_features.h"
+#include "core/collision/manifold.h"
+#include "core/collision/penetration.h"
+
+namespace hapticd::collision {
+
+/// The caller's per-pair state between ticks.
+struct PairCache {
+  FeatureCache features;
+  DepthCache depth;
+};
+
+/// Result of queryPair(), in A's frame.
+struct PairResult {
+  ContactStatus status = ContactStatus::kSeparated;
+  /// > 0 gap; <= 0 minus the penetration depth (minimal translation distance).
+  double distance = 0.0;
+  /// Unit. Separated: from A's witness to B's. Penetrating: direction to move B out of A.
+  Vec3 normal{0.0};
+  Vec3 point_a{0.0};
+  Vec3 point_b{0.0};
+  Feature fa, fb;  ///< closest features (separated/touching) or the MTD's features (penetrating)
+  Manifold manifold;
+  std::uint32_t iterations = 0;  ///< walk iterations
+};
+
+/// The full pair query. No allocation; any thread, including the servo thread.
+PairResult queryPair(const Polytope& a, const Polytope& b, const Transform& X_AB, PairCache& cache,
+                     const QueryOptions& options = {});
+
+}  // namespace hapticd::collision

@@ -1,0 +1,43 @@
+#!/usr/bin/env bash
+# Installs the Debian 12 packages hapticd needs to build, test and benchmark, when missing.
+# Idempotent: a machine that has them all does nothing (no apt-get update, no network).
+# Usage: scripts/install-deps.sh            (all packages)
+#        scripts/install-deps.sh --print    (just list the package names)
+set -euo pipefail
+
+PACKAGES=(
+  build-essential cmake ninja-build pkg-config git
+  clang libclang-rt-14-dev            # the asan preset's UBSan runtime and the fuzz targets
+  libglm-dev                          # math (core)
+  libqhull-dev                        # convex hulls (core)
+  nlohmann-json3-dev                  # hapticctl query: JSON lines
+  libcli11-dev                        # command-line parsing
+  libgtest-dev libgmock-dev           # tests
+  libbenchmark-dev                    # hapticbench
+  libccd-dev libfcl-dev libbullet-dev # peers compared in hapticbench
+)
+
+if [[ "${1:-}" == "--print" ]]; then
+  printf '%s\n' "${PACKAGES[@]}"
+  exit 0
+fi
+
+missing=()
+for p in "${PACKAGES[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+
+if [[ ${#missing[@]} -eq 0 ]]; then
+  echo "install-deps: all ${#PACKAGES[@]} packages present"
+  exit 0
+fi
+
+echo "install-deps: installing ${missing[*]}"
+SUDO=""
+if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+echo "install-deps: done"

@@ -1,0 +1,47 @@
+#pragma once
+/// \file
+/// Brute-force reference answers for the property tests and the benchmark's wrong-answer checks.
+/// Slow on purpose: no coherence, no walk, nothing shared with the code under test except the
+/// Polytope's vertex, edge and face lists.
+
+#include <cstdint>
+#include <random>
+#include <vector>
+
+#include "core/geometry/polytope.h"
+
+namespace hapticd::reference {
+
+using geom::Polytope;
+using geom::Transform;
+using geom::Vec3;
+
+struct RefAnswer {
+  /// true when the polytopes overlap with depth > 0 (no separating axis).
+  bool overlapping = false;
+  /// Separated: the distance (minimum over vertex-face and edge-edge pairs), >= 0.
+  /// Overlapping: minus the penetration depth (minimum over separating-axis candidates: all face
+  /// normals of A and B and all cross products of an edge of A with an edge of B).
+  double signed_distance = 0.0;
+  /// Separated: unit from A's witness to B's. Overlapping: direction to move B out of A.
+  Vec3 normal{0.0};
+  Vec3 point_a{0.0}, point_b{0.0};  ///< witnesses (separated only)
+};
+
+/// The reference answer for A and B, B placed in A's frame by X_AB. O(VA*FB + VB*FA + EA*EB).
+RefAnswer bruteForce(const Polytope& a, const Polytope& b, const Transform& X_AB);
+
+/// Depth along unit dir (A's frame): max_A dot(dir,x) - min_B dot(dir,x), by scanning all vertices.
+double bruteDepthAlong(const Polytope& a, const Polytope& b, const Transform& X_AB, const Vec3& dir);
+
+/// n points on the ellipsoid with semi-axes (ax, ay, az), seeded (the benchmark's hulls).
+std::vector<Vec3> ellipsoidPoints(std::size_t n, double ax, double ay, double az, std::uint64_t seed);
+
+/// A random convex point set: n points, various shapes (ellipsoid, box corners, slivers),
+/// roughly of radius `size`.
+std::vector<Vec3> randomPointSet(std::mt19937_64& rng, std::size_t n, double size);
+
+/// A uniformly random rotation.
+geom::Quat randomRotation(std::mt19937_64& rng);
+
+}  // namespace hapticd::reference
