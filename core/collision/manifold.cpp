@@ -125,13 +125,12 @@ void reduce(const ContactPoint* in, std::size_t n, Manifold& m) {
   m.count = static_cast<std::uint8_t>(count);
 }
 
-// The face among those incident to feature f of p whose normal (in A's frame) is most aligned
-// with `dir`; returns its cosine.
-double bestIncidentFace(const Polytope& p, const Transform& X, Feature f, const Vec3& dir,
-                        std::uint32_t& face) {
+// The face among those incident to feature f of p whose normal is most aligned with `dir_p`
+// (in p's own frame); returns its cosine.
+double bestIncidentFace(const Polytope& p, Feature f, const Vec3& dir_p, std::uint32_t& face) {
   double best = -2.0;
   auto consider = [&](std::uint32_t k) {
-    const double c = glm::dot(X.rotate(p.faces()[k].normal), dir);
+    const double c = glm::dot(p.faces()[k].normal, dir_p);
     if (c > best) best = c, face = k;
   };
   switch (f.type) {
@@ -151,12 +150,11 @@ double bestIncidentFace(const Polytope& p, const Transform& X, Feature f, const 
   return best;
 }
 
-// The edge incident to feature f most perpendicular to `dir`; returns |cos|.
-double bestIncidentEdge(const Polytope& p, const Transform& X, Feature f, const Vec3& dir,
-                        std::uint32_t& edge) {
+// The edge incident to feature f most perpendicular to `dir_p` (p's frame); returns |cos|.
+double bestIncidentEdge(const Polytope& p, Feature f, const Vec3& dir_p, std::uint32_t& edge) {
   double best = 2.0;
   auto consider = [&](std::uint32_t k) {
-    const double c = std::abs(glm::dot(X.rotate(p.edges()[k].dir), dir));
+    const double c = std::abs(glm::dot(p.edges()[k].dir, dir_p));
     if (c < best) best = c, edge = k;
   };
   switch (f.type) {
@@ -172,23 +170,25 @@ double bestIncidentEdge(const Polytope& p, const Transform& X, Feature f, const 
   return best;
 }
 
-// The contact feature of one side: a face (polygon), an edge (segment) or a point.
-// `dir` points from this side toward the other, in A's frame.
+// The contact feature of one side, `dir` pointing from this side toward the other (A's frame):
+// a face parallel to the contact plane (polygon); else, when `want_edge`, an edge lying in the
+// contact plane (segment); else the witness point.
 void contactFeature(const Polytope& p, const Transform& X, Feature f, const Vec3& witness,
-                    const Vec3& dir, double sin_tol, Polygon& out, FaceView& face_out,
-                    bool& is_face) {
+                    const Vec3& dir, double sin_tol, bool want_edge, Polygon& out,
+                    FaceView& face_out, bool& is_face) {
   is_face = false;
   out.n = 0;
   std::uint32_t face = 0;
   const double cos_tol = std::sqrt(std::max(0.0, 1.0 - sin_tol * sin_tol));
-  if (bestIncidentFace(p, X, f, dir, face) >= cos_tol) {
+  const Vec3 dir_p = glm::transpose(X.R) * dir;
+  if (bestIncidentFace(p, f, dir_p, face) >= cos_tol) {
     face_out = FaceView{&p, &X, face};
     facePolygon(face_out, out);
     is_face = true;
     return;
   }
   std::uint32_t edge = 0;
-  if (f.type != FeatureType::kFace && bestIncidentEdge(p, X, f, dir, edge) <= sin_tol) {
+  if (want_edge && f.type != FeatureType::kFace && bestIncidentEdge(p, f, dir_p, edge) <= sin_tol) {
     const auto& e = p.edges()[edge];
     out.push(X.apply(p.vertices()[e.tail].p));
     out.push(X.apply(p.vertices()[e.head].p));
@@ -257,30 +257,46 @@ Manifold assemble(const Polygon& pa, bool a_face, const FaceView& fa, const Poly
 Manifold manifoldFromClosest(const Polytope& a, const Polytope& b, const Transform& X_AB,
                              const ClosestResult& closest, const ManifoldOptions& options) {
   const Transform I{};
-  const Vec3 n = closest.normal;
+  const Vec3& n = closest.normal;
+  const Vec3 mid = (closest.point_a + closest.point_b) * 0.5;
+  const double sin_tol = options.parallel_tolerance;
+  Manifold single;
+  single.points[0] = ContactPoint{mid, n, -closest.distance};
+  single.count = 1;
+
   Polygon pa, pb;
   FaceView fa, fb;
   bool a_face = false, b_face = false;
-  contactFeature(a, I, closest.fa, closest.point_a, n, options.parallel_tolerance, pa, fa, a_face);
-  contactFeature(b, X_AB, closest.fb, closest.point_b, -n, options.parallel_tolerance, pb, fb,
-                 b_face);
-  const Vec3 mid = (closest.point_a + closest.point_b) * 0.5;
-  if (pa.n <= 1 || pb.n <= 1) {
-    Manifold m;
-    m.points[0] = ContactPoint{mid, n, -closest.distance};
-    m.count = 1;
-    return m;
+  // faces first; an edge only counts against a face of the other side
+  contactFeature(a, I, closest.fa, closest.point_a, n, sin_tol, false, pa, fa, a_face);
+  contactFeature(b, X_AB, closest.fb, closest.point_b, -n, sin_tol, a_face, pb, fb, b_face);
+  if (b_face && !a_face) {
+    contactFeature(a, I, closest.fa, closest.point_a, n, sin_tol, true, pa, fa, a_face);
   }
+  if (!a_face && !b_face) {
+    // parallel edges: the overlap segment
+    if (closest.fa.type != FeatureType::kEdge || closest.fb.type != FeatureType::kEdge) {
+      return single;
+    }
+    const auto& ea = a.edges()[closest.fa.index];
+    const auto& eb = b.edges()[closest.fb.index];
+    if (glm::length(glm::cross(ea.dir, X_AB.rotate(eb.dir))) > sin_tol) return single;
+    pa.n = pb.n = 0;
+    pa.push(a.vertices()[ea.tail].p);
+    pa.push(a.vertices()[ea.head].p);
+    pb.push(X_AB.apply(b.vertices()[eb.tail].p));
+    pb.push(X_AB.apply(b.vertices()[eb.head].p));
+  }
+  if (pa.n <= 1 || pb.n <= 1) return single;
   Manifold m = assemble(pa, a_face, fa, pb, b_face, fb, n, -closest.distance, mid);
-  // the closest pair is exact: make sure the manifold's deepest point says so
+  // the closest pair is exact: the manifold's deepest point must say so
   std::size_t deepest = 0;
   for (std::size_t i = 1; i < m.count; ++i) {
     if (m.points[i].depth > m.points[deepest].depth) deepest = i;
   }
-  if (std::abs(m.points[deepest].depth + closest.distance) > 1e-9 * std::max(a.radius(), b.radius())) {
-    // clipping lost the closest pair (features not really parallel): use the exact pair
-    m.points[0] = ContactPoint{mid, n, -closest.distance};
-    m.count = 1;
+  if (std::abs(m.points[deepest].depth + closest.distance) >
+      1e-9 * std::max(a.radius(), b.radius())) {
+    return single;  // clipping lost the closest pair (features not really parallel)
   }
   return m;
 }
@@ -307,14 +323,14 @@ Manifold manifoldFromDepth(const Polytope& a, const Polytope& b, const Transform
     facePolygon(fa, pa);
     a_face = true;
     std::uint32_t inc = 0;
-    bestIncidentFace(b, X_AB, Feature::vertex(b.support(X_BA.rotate(-n), 0)), -n, inc);
+    bestIncidentFace(b, Feature::vertex(b.support(X_BA.rotate(-n), 0)), X_BA.rotate(-n), inc);
     facePolygon(FaceView{&b, &X_AB, inc}, pb);
   } else {
     fb = FaceView{&b, &X_AB, depth.ib};
     facePolygon(fb, pb);
     b_face = true;
     std::uint32_t inc = 0;
-    bestIncidentFace(a, I, Feature::vertex(a.support(n, 0)), n, inc);
+    bestIncidentFace(a, Feature::vertex(a.support(n, 0)), n, inc);
     facePolygon(FaceView{&a, &I, inc}, pa);
   }
   if (pa.n <= 1 && pb.n <= 1) {

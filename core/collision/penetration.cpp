@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <limits>
+#include <vector>
 
 #include "core/collision/segment.h"
 
@@ -30,58 +31,91 @@ DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Tr
   std::uint32_t hint_a = cache.support_a < a.vertices().size() ? cache.support_a : 0;
   std::uint32_t hint_b = cache.support_b < b.vertices().size() ? cache.support_b : 0;
   std::uint32_t best_support = 0;
-
-  // faces of A: B moves along the face normal
   const auto fa = a.faces();
-  for (std::uint32_t i = 0; i < fa.size(); ++i) {
+  const auto fb = b.faces();
+  const auto ea = a.edges();
+  const auto eb = b.edges();
+
+  // per face of A, B's support vertex against its normal: the region of B's Gauss map that
+  // holds the face normal. Scratch grows to the largest polytope seen, then never allocates.
+  thread_local std::vector<std::uint32_t> support_of_face;
+  thread_local std::vector<Vec3> neg_normal_b;  // -(normals of B's faces), in A's frame
+  if (support_of_face.size() < fa.size()) support_of_face.resize(fa.size());
+  if (neg_normal_b.size() < fb.size()) neg_normal_b.resize(fb.size());
+
+  auto consider = [&](double d, const Vec3& n, DepthFeature kind, std::uint32_t ia,
+                      std::uint32_t ib, std::uint32_t support) {
+    if (d < best.depth) {
+      best.depth = d, best.normal = n, best.kind = kind, best.ia = ia, best.ib = ib;
+      best_support = support;
+    }
+  };
+
+  // faces of A (breadth-first, so each support climb starts next to its answer)
+  for (const std::uint32_t i : a.faceOrder()) {
     const Vec3& n = fa[i].normal;
     hint_b = b.support(X_BA.rotate(-n), hint_b);
-    const double d = fa[i].offset - glm::dot(n, X_AB.apply(b.vertices()[hint_b].p));
-    if (d < best.depth) {
-      best.depth = d, best.normal = n, best.kind = DepthFeature::kFaceA, best.ia = i;
-      best_support = hint_b;
-      if (d < 0.0) break;
-    }
+    support_of_face[i] = hint_b;
+    consider(fa[i].offset - glm::dot(n, X_AB.apply(b.vertices()[hint_b].p)), n,
+             DepthFeature::kFaceA, i, 0, hint_b);
   }
   // faces of B: B moves against its face normal
-  const auto fb = b.faces();
   if (best.depth >= 0.0) {
-    for (std::uint32_t j = 0; j < fb.size(); ++j) {
+    for (const std::uint32_t j : b.faceOrder()) {
       const Vec3 m = X_AB.rotate(fb[j].normal);
+      neg_normal_b[j] = -m;
       hint_a = a.support(-m, hint_a);
-      const double d = fb[j].offset + glm::dot(m, X_AB.t) - glm::dot(m, a.vertices()[hint_a].p);
-      if (d < best.depth) {
-        best.depth = d, best.normal = -m, best.kind = DepthFeature::kFaceB, best.ib = j;
-        best_support = hint_a;
-        if (d < 0.0) break;
-      }
+      consider(fb[j].offset + glm::dot(m, X_AB.t) - glm::dot(m, a.vertices()[hint_a].p), -m,
+               DepthFeature::kFaceB, 0, j, hint_a);
     }
   }
-  // edge pairs whose Gauss-map arcs cross
+  // edge pairs whose Gauss-map arcs cross. For each edge of A, its arc runs from the normal of
+  // face[0] to that of face[1]; walking over B's vertex graph from the region holding the first
+  // to the region holding the second crosses exactly the arcs of the edges of B it meets.
   if (best.depth >= 0.0) {
-    const auto ea = a.edges();
-    const auto eb = b.edges();
-    for (std::uint32_t j = 0; j < eb.size() && best.depth >= 0.0; ++j) {
-      const Vec3 c = -X_AB.rotate(fb[eb[j].face[0]].normal);
-      const Vec3 d = -X_AB.rotate(fb[eb[j].face[1]].normal);
-      const Vec3 d_x_c = glm::cross(d, c);
-      const Vec3 dir_b = X_AB.rotate(eb[j].dir);
+    auto edgePair = [&](std::uint32_t i, std::uint32_t j, const Vec3& na, const Vec3& nb,
+                        const Vec3& b_x_a) {
+      const Vec3& c = neg_normal_b[eb[j].face[0]];
+      const Vec3& d = neg_normal_b[eb[j].face[1]];
+      if (!isMinkowskiFace(na, nb, b_x_a, c, d, glm::cross(d, c))) return false;
+      Vec3 axis = glm::cross(ea[i].dir, X_AB.rotate(eb[j].dir));
+      const double len = glm::length(axis);
+      if (len < 1e-9) return true;  // parallel edges: covered by the face normals
+      axis /= len;
+      if (glm::dot(axis, na + nb) < 0.0) axis = -axis;
       const Vec3 pb = X_AB.apply(b.vertices()[eb[j].tail].p);
-      for (std::uint32_t i = 0; i < ea.size(); ++i) {
-        const Vec3& na = fa[ea[i].face[0]].normal;
-        const Vec3& nb = fa[ea[i].face[1]].normal;
-        if (!isMinkowskiFace(na, nb, glm::cross(nb, na), c, d, d_x_c)) continue;
-        Vec3 axis = glm::cross(ea[i].dir, dir_b);
-        const double len = glm::length(axis);
-        if (len < 1e-9) continue;  // parallel edges: covered by the face normals
-        axis /= len;
-        if (glm::dot(axis, na + nb) < 0.0) axis = -axis;
-        const double depth = glm::dot(axis, a.vertices()[ea[i].tail].p - pb);
-        if (depth < best.depth) {
-          best.depth = depth, best.normal = axis, best.kind = DepthFeature::kEdgeEdge;
-          best.ia = i, best.ib = j;
-          if (depth < 0.0) break;
+      consider(glm::dot(axis, a.vertices()[ea[i].tail].p - pb), axis, DepthFeature::kEdgeEdge, i,
+               j, 0);
+      return true;
+    };
+    for (std::uint32_t i = 0; i < ea.size(); ++i) {
+      const std::uint32_t s0 = support_of_face[ea[i].face[0]];
+      const std::uint32_t s1 = support_of_face[ea[i].face[1]];
+      if (s0 == s1) continue;  // the whole arc lies in one region: no crossing
+      const Vec3& na = fa[ea[i].face[0]].normal;
+      const Vec3& nb = fa[ea[i].face[1]].normal;
+      const Vec3 b_x_a = glm::cross(nb, na);
+      std::uint32_t v = s0;
+      std::uint32_t came_by = std::numeric_limits<std::uint32_t>::max();
+      bool lost = false;
+      for (std::size_t step = 0; v != s1; ++step) {
+        bool moved = false;
+        if (step <= eb.size()) {
+          for (const auto& ve : b.vertexEdges(v)) {
+            if (ve.edge == came_by || !edgePair(i, ve.edge, na, nb, b_x_a)) continue;
+            came_by = ve.edge;
+            v = ve.other;
+            moved = true;
+            break;
+          }
         }
+        if (!moved) {
+          lost = true;  // a degenerate crossing (arc through a vertex of the map)
+          break;
+        }
+      }
+      if (lost) {
+        for (std::uint32_t j = 0; j < eb.size(); ++j) edgePair(i, j, na, nb, b_x_a);
       }
     }
   }

@@ -310,6 +310,26 @@ Result<Polytope> Polytope::fromPoints(std::span<const Vec3> points, const HullOp
     add(edge.head, edge.tail, -edge.dir);
   }
 
+  // depth-first face order: consecutive faces are mostly adjacent
+  {
+    std::vector<bool> seen(nf, false);
+    std::vector<std::uint32_t> stack{0};
+    poly.face_order_.reserve(nf);
+    while (!stack.empty()) {
+      const std::uint32_t f = stack.back();
+      stack.pop_back();
+      if (seen[f]) continue;
+      seen[f] = true;
+      poly.face_order_.push_back(f);
+      for (const FaceEdge& fe : poly.faceEdges(f)) {
+        const Edge& edge = poly.edges_[fe.edge];
+        const std::uint32_t g = edge.face[0] == f ? edge.face[1] : edge.face[0];
+        if (!seen[g]) stack.push_back(g);
+      }
+    }
+    if (poly.face_order_.size() != nf) return Error{"hull faces are not connected"};
+  }
+
   Vec3 centroid{0.0};
   for (const Vertex& v : poly.vertices_) centroid += v.p;
   poly.centroid_ = centroid / static_cast<double>(nv);

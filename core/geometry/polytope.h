@@ -95,6 +95,9 @@ class Polytope {
   std::span<const FaceEdge> faceEdges(std::uint32_t f) const {
     return {face_edges_.data() + faces_[f].first, faces_[f].count};
   }
+  /// All faces in depth-first order over face adjacency: consecutive faces are near each other,
+  /// so support queries warm-started from the previous face's answer climb few steps.
+  std::span<const std::uint32_t> faceOrder() const { return face_order_; }
 
   /// Centre of the bounding sphere used for cold starts (mean of the vertices).
   const Vec3& centroid() const { return centroid_; }
@@ -116,6 +119,7 @@ class Polytope {
   std::vector<Edge> edges_;
   std::vector<Face> faces_;
   std::vector<FaceEdge> face_edges_;
+  std::vector<std::uint32_t> face_order_;
   Vec3 centroid_{0.0};
   double radius_ = 0.0;
   std::array<std::uint16_t, 16 * 16> lookup_{};
