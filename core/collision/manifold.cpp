@@ -75,9 +75,22 @@ void clipToFace(const FaceView& ref, Polygon& poly, Polygon& scratch) {
 
 // Reduces to at most 4 well-spread points, the deepest always kept (Bullet's and Box2D's idea:
 // deepest, farthest from it, then largest triangle, then largest quadrilateral).
-void reduce(const ContactPoint* in, std::size_t n, Manifold& m) {
+void reduce(ContactPoint* in, std::size_t n, double merge, Manifold& m) {
   m.count = 0;
   if (n == 0) return;
+  // merge coincident points (degenerate overlaps), keeping the deeper
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    bool dup = false;
+    for (std::size_t j = 0; j < kept && !dup; ++j) {
+      if (glm::length(in[i].point - in[j].point) <= merge) {
+        if (in[i].depth > in[j].depth) in[j] = in[i];
+        dup = true;
+      }
+    }
+    if (!dup) in[kept++] = in[i];
+  }
+  n = kept;
   if (n <= Manifold::kMaxPoints) {
     for (std::size_t i = 0; i < n; ++i) m.points[m.count++] = in[i];
     return;
@@ -197,11 +210,35 @@ void contactFeature(const Polytope& p, const Transform& X, Feature f, const Vec3
   out.push(witness);
 }
 
+// Among the edges incident to fa (on A) and fb (on B), a pair lying in the contact plane (normal
+// n in A's frame, n_b in B's) and parallel to each other.
+bool parallelEdges(const Polytope& a, Feature fa, const Vec3& n, const Polytope& b, Feature fb,
+                   const Vec3& n_b, const Transform& X_AB, double sin_tol, std::uint32_t& ea,
+                   std::uint32_t& eb) {
+  auto incident = [](const Polytope& p, Feature f, auto&& visit) {
+    if (f.type == FeatureType::kEdge) {
+      visit(f.index);
+    } else if (f.type == FeatureType::kVertex) {
+      for (const auto& ve : p.vertexEdges(f.index)) visit(ve.edge);
+    }
+  };
+  bool found = false;
+  incident(a, fa, [&](std::uint32_t i) {
+    if (found || std::abs(glm::dot(a.edges()[i].dir, n)) > sin_tol) return;
+    incident(b, fb, [&](std::uint32_t j) {
+      if (found || std::abs(glm::dot(b.edges()[j].dir, n_b)) > sin_tol) return;
+      if (glm::length(glm::cross(a.edges()[i].dir, X_AB.rotate(b.edges()[j].dir))) > sin_tol) return;
+      ea = i, eb = j, found = true;
+    });
+  });
+  return found;
+}
+
 // Builds the manifold: the other side's contact feature clipped to `ref` (a face) or, for two
 // segments, their overlap. Depth of each point measured along n (A toward B).
 Manifold assemble(const Polygon& pa, bool a_face, const FaceView& fa, const Polygon& pb,
                   bool b_face, const FaceView& fb, const Vec3& n, double fallback_depth,
-                  const Vec3& fallback_point) {
+                  const Vec3& fallback_point, double merge) {
   static_assert(kMaxPolygon >= 8);
   Manifold m;
   Polygon work, scratch;
@@ -248,7 +285,7 @@ Manifold assemble(const Polygon& pa, bool a_face, const FaceView& fa, const Poly
     return m;
   }
   // the deepest point is the pair's depth: keep it exact
-  reduce(pts.data(), count, m);
+  reduce(pts.data(), count, merge, m);
   return m;
 }
 
@@ -274,21 +311,19 @@ Manifold manifoldFromClosest(const Polytope& a, const Polytope& b, const Transfo
     contactFeature(a, I, closest.fa, closest.point_a, n, sin_tol, true, pa, fa, a_face);
   }
   if (!a_face && !b_face) {
-    // parallel edges: the overlap segment
-    if (closest.fa.type != FeatureType::kEdge || closest.fb.type != FeatureType::kEdge) {
-      return single;
-    }
-    const auto& ea = a.edges()[closest.fa.index];
-    const auto& eb = b.edges()[closest.fb.index];
-    if (glm::length(glm::cross(ea.dir, X_AB.rotate(eb.dir))) > sin_tol) return single;
+    // parallel edges, both in the contact plane, around the closest features: the overlap segment
+    const Vec3 n_b = glm::transpose(X_AB.R) * n;
+    std::uint32_t ea = 0, eb = 0;
+    if (!parallelEdges(a, closest.fa, n, b, closest.fb, n_b, X_AB, sin_tol, ea, eb)) return single;
     pa.n = pb.n = 0;
-    pa.push(a.vertices()[ea.tail].p);
-    pa.push(a.vertices()[ea.head].p);
-    pb.push(X_AB.apply(b.vertices()[eb.tail].p));
-    pb.push(X_AB.apply(b.vertices()[eb.head].p));
+    pa.push(a.vertices()[a.edges()[ea].tail].p);
+    pa.push(a.vertices()[a.edges()[ea].head].p);
+    pb.push(X_AB.apply(b.vertices()[b.edges()[eb].tail].p));
+    pb.push(X_AB.apply(b.vertices()[b.edges()[eb].head].p));
   }
   if (pa.n <= 1 || pb.n <= 1) return single;
-  Manifold m = assemble(pa, a_face, fa, pb, b_face, fb, n, -closest.distance, mid);
+  Manifold m = assemble(pa, a_face, fa, pb, b_face, fb, n, -closest.distance, mid,
+                        1e-9 * std::max(a.radius(), b.radius()));
   // the closest pair is exact: the manifold's deepest point must say so
   std::size_t deepest = 0;
   for (std::size_t i = 1; i < m.count; ++i) {
@@ -338,7 +373,8 @@ Manifold manifoldFromDepth(const Polytope& a, const Polytope& b, const Transform
     m.count = 1;
     return m;
   }
-  m = assemble(pa, a_face, fa, pb, b_face, fb, n, depth.depth, mid);
+  m = assemble(pa, a_face, fa, pb, b_face, fb, n, depth.depth, mid,
+               1e-9 * std::max(a.radius(), b.radius()));
   // keep only penetrating points, and never lose the deepest (the MTD itself)
   std::size_t kept = 0;
   double deepest = -std::numeric_limits<double>::infinity();
