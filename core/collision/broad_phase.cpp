@@ -1,0 +1,347 @@
+#include "core/collision/broad_phase.h"
+
+#include <algorithm>
+#include <cassert>
+
+namespace hapticd::collision {
+namespace {
+
+// Sort order of endpoints: by value; at equal values a min comes before a max, so that boxes
+// touching at one value overlap (closed boxes).
+struct EndpointLess {
+  template <class E>
+  bool operator()(const E& x, const E& y) const {
+    return x.value < y.value || (x.value == y.value && (x.data & 1u) == 0 && (y.data & 1u) != 0);
+  }
+};
+
+inline std::size_t hashKey(std::uint64_t k, std::size_t mask) {
+  return static_cast<std::size_t>((k * 0x9E3779B97F4A7C15ull) >> 20) & mask;
+}
+
+}  // namespace
+
+std::uint64_t SweepAndPrune::key(std::uint32_t a, std::uint32_t b) const {
+  if (a > b) std::swap(a, b);
+  return (static_cast<std::uint64_t>(a) << 32 | b) + 1;
+}
+
+std::size_t SweepAndPrune::findSlot(std::uint64_t k) const {
+  const std::size_t mask = table_keys_.size() - 1;
+  std::size_t s = hashKey(k, mask);
+  while (table_keys_[s] != 0 && table_keys_[s] != k) s = (s + 1) & mask;
+  return s;
+}
+
+void SweepAndPrune::growTable() {
+  const std::size_t size = std::max<std::size_t>(64, table_keys_.size() * 2);
+  table_keys_.assign(size, 0);
+  table_index_.assign(size, 0);
+  for (std::uint32_t i = 0; i < pairs_.size(); ++i) {
+    const std::size_t s = findSlot(key(pairs_[i].lo, pairs_[i].hi));
+    table_keys_[s] = key(pairs_[i].lo, pairs_[i].hi);
+    table_index_[s] = i;
+  }
+}
+
+bool SweepAndPrune::admissible(std::uint32_t a, std::uint32_t b) const {
+  const BoxFilter& fa = boxes_[a].filter;
+  const BoxFilter& fb = boxes_[b].filter;
+  return a != b && fa.body != fb.body && !(fa.is_static && fb.is_static) &&
+         (fa.group & fb.mask) != 0 && (fb.group & fa.mask) != 0;
+}
+
+bool SweepAndPrune::overlapOn(std::uint32_t a, std::uint32_t b, int axis) const {
+  const auto& v = value_[axis];
+  return v[a << 1] <= v[b << 1 | 1] && v[b << 1] <= v[a << 1 | 1];
+}
+
+// Endpoint `moving` (an endpoint id) now comes before endpoint `passed` on `axis`, after having
+// come after it: a min passing below a max starts an overlap on this axis (a pair when the other
+// two axes overlap at their new values); a max passing below a min ends one.
+inline void SweepAndPrune::transition(int axis, std::uint32_t moving, std::uint32_t passed) {
+  const bool m_max = (moving & 1u) != 0, p_max = (passed & 1u) != 0;
+  if (m_max == p_max) return;
+  const std::uint32_t a = moving >> 1, b = passed >> 1;
+  if (!m_max) {
+    const int k1 = axis == 2 ? 0 : axis + 1;
+    const int k2 = axis == 0 ? 2 : axis - 1;
+    if (overlapOn(a, b, k1) && overlapOn(a, b, k2)) addPair(a, b);
+  } else if (boxes_[a].pairs != 0 && boxes_[b].pairs != 0) {
+    removePair(a, b);
+  }
+}
+
+void SweepAndPrune::addPair(std::uint32_t a, std::uint32_t b) {
+  if (!admissible(a, b)) return;
+  if ((pairs_.size() + 1) * 2 > table_keys_.size()) growTable();
+  const std::uint64_t k = key(a, b);
+  const std::size_t s = findSlot(k);
+  if (table_keys_[s] == k) return;
+  table_keys_[s] = k;
+  table_index_[s] = static_cast<std::uint32_t>(pairs_.size());
+  const BoxPair p{std::min(a, b), std::max(a, b)};
+  pairs_.push_back(p);
+  ++boxes_[a].pairs;
+  ++boxes_[b].pairs;
+  events_.push_back({PairEvent::Kind::kAdded, p});
+}
+
+void SweepAndPrune::removePair(std::uint32_t a, std::uint32_t b) {
+  if (pairs_.empty()) return;
+  const std::uint64_t k = key(a, b);
+  std::size_t s = findSlot(k);
+  if (table_keys_[s] != k) return;
+  const std::uint32_t index = table_index_[s];
+  events_.push_back({PairEvent::Kind::kRemoved, pairs_[index]});
+  --boxes_[a].pairs;
+  --boxes_[b].pairs;
+  // backward-shift deletion keeps probe chains intact
+  const std::size_t mask = table_keys_.size() - 1;
+  std::size_t hole = s;
+  for (std::size_t next = (hole + 1) & mask; table_keys_[next] != 0; next = (next + 1) & mask) {
+    const std::size_t home = hashKey(table_keys_[next], mask);
+    // move `next` into the hole if its home is not in (hole, next]
+    if (((next - home) & mask) >= ((next - hole) & mask)) {
+      table_keys_[hole] = table_keys_[next];
+      table_index_[hole] = table_index_[next];
+      hole = next;
+    }
+  }
+  table_keys_[hole] = 0;
+  // swap-remove from the dense array, re-pointing the moved pair's slot
+  const std::uint32_t last = static_cast<std::uint32_t>(pairs_.size() - 1);
+  if (index != last) {
+    pairs_[index] = pairs_[last];
+    table_index_[findSlot(key(pairs_[index].lo, pairs_[index].hi))] = index;
+  }
+  pairs_.pop_back();
+}
+
+bool SweepAndPrune::overlapping(std::uint32_t a, std::uint32_t b) const {
+  if (table_keys_.empty()) return false;
+  return table_keys_[findSlot(key(a, b))] == key(a, b);
+}
+
+void SweepAndPrune::reserve(std::size_t boxes, std::size_t pairs) {
+  boxes_.reserve(boxes);
+  dirty_.reserve(boxes);
+  for (int k = 0; k < 3; ++k) {
+    axes_[k].reserve(2 * boxes);
+    value_[k].reserve(2 * boxes);
+    pos_[k].reserve(2 * boxes);
+  }
+  pairs_.reserve(pairs);
+  events_.reserve(pairs);
+  taken_.reserve(pairs);
+  while (table_keys_.size() < 2 * pairs) growTable();
+}
+
+void SweepAndPrune::rebuildPositions() {
+  for (int k = 0; k < 3; ++k) {
+    const auto& axis = axes_[k];
+    for (std::size_t i = 0; i < axis.size(); ++i) pos_[k][axis[i].data] = static_cast<std::uint32_t>(i);
+  }
+  positions_valid_ = true;
+}
+
+std::uint32_t SweepAndPrune::add(const Aabb& box, const BoxFilter& filter) {
+  std::uint32_t h = 0;
+  if (!free_.empty()) {
+    h = free_.back();
+    free_.pop_back();
+  } else {
+    h = static_cast<std::uint32_t>(boxes_.size());
+    boxes_.emplace_back();
+    for (int k = 0; k < 3; ++k) {
+      value_[k].resize(2 * boxes_.size());
+      pos_[k].resize(2 * boxes_.size());
+    }
+  }
+  Box& b = boxes_[h];
+  b = Box{};
+  b.box = box;
+  b.filter = filter;
+  b.live = true;
+  b.added = true;
+  ++live_;
+  for (int k = 0; k < 3; ++k) {
+    value_[k][h << 1] = box.lo[k];
+    value_[k][h << 1 | 1] = box.hi[k];
+  }
+  added_.push_back(h);
+  return h;
+}
+
+void SweepAndPrune::insertAdded() {
+  const EndpointLess less;
+  if (added_.size() < 16) {
+    // a few boxes: insert each endpoint in place, then test the new boxes against all
+    for (const std::uint32_t h : added_) {
+      for (int k = 0; k < 3; ++k) {
+        auto& axis = axes_[k];
+        for (std::uint32_t id : {h << 1, h << 1 | 1}) {
+          const Endpoint e{value_[k][id], id};
+          axis.insert(std::upper_bound(axis.begin(), axis.end(), e, less), e);
+        }
+      }
+    }
+    for (const std::uint32_t h : added_) {
+      for (std::uint32_t o = 0; o < boxes_.size(); ++o) {
+        if (o == h || !boxes_[o].live || (boxes_[o].added && o < h)) continue;
+        if (overlapOn(h, o, 0) && overlapOn(h, o, 1) && overlapOn(h, o, 2)) addPair(h, o);
+      }
+    }
+  } else {
+    // many boxes: sort every axis, then one sweep along x pairs each new box with the boxes
+    // whose x-intervals it meets
+    for (int k = 0; k < 3; ++k) {
+      auto& axis = axes_[k];
+      for (const std::uint32_t h : added_) {
+        axis.push_back({value_[k][h << 1], h << 1});
+        axis.push_back({value_[k][h << 1 | 1], h << 1 | 1});
+      }
+      std::sort(axis.begin(), axis.end(), less);
+    }
+    std::vector<std::uint32_t> active;
+    std::vector<std::uint32_t> slot(boxes_.size(), 0);
+    for (const Endpoint& e : axes_[0]) {
+      const std::uint32_t h = e.data >> 1;
+      if ((e.data & 1u) == 0) {
+        for (const std::uint32_t o : active) {
+          if ((boxes_[h].added || boxes_[o].added) && overlapOn(h, o, 1) && overlapOn(h, o, 2)) {
+            addPair(h, o);
+          }
+        }
+        slot[h] = static_cast<std::uint32_t>(active.size());
+        active.push_back(h);
+      } else {
+        const std::uint32_t at = slot[h];
+        active[at] = active.back();
+        slot[active[at]] = at;
+        active.pop_back();
+      }
+    }
+  }
+  for (const std::uint32_t h : added_) boxes_[h].added = false;
+  added_.clear();
+  positions_valid_ = false;
+}
+
+void SweepAndPrune::remove(std::uint32_t h) {
+  if (h >= boxes_.size() || !boxes_[h].live) return;
+  commit();
+  if (!positions_valid_) rebuildPositions();
+  for (std::size_t i = pairs_.size(); i-- > 0;) {
+    if (i < pairs_.size() && (pairs_[i].lo == h || pairs_[i].hi == h)) {
+      removePair(pairs_[i].lo, pairs_[i].hi);
+    }
+  }
+  for (auto& axis : axes_) {
+    axis.erase(std::remove_if(axis.begin(), axis.end(),
+                              [h](const Endpoint& e) { return (e.data >> 1) == h; }),
+               axis.end());
+  }
+  positions_valid_ = false;
+  boxes_[h].live = false;
+  --live_;
+  free_.push_back(h);
+}
+
+void SweepAndPrune::moveEndpoint(int k, std::uint32_t i) {
+  auto& axis = axes_[k];
+  auto& pos = pos_[k];
+  Endpoint e = axis[i];
+  e.value = value_[k][e.data];
+  const EndpointLess less;
+  while (i > 0 && less(e, axis[i - 1])) {
+    const Endpoint o = axis[i - 1];
+    transition(k, e.data, o.data);
+    axis[i] = o;
+    pos[o.data] = i;
+    --i;
+    ++swaps_;
+  }
+  while (i + 1 < axis.size() && less(axis[i + 1], e)) {
+    const Endpoint o = axis[i + 1];
+    transition(k, o.data, e.data);
+    axis[i] = o;
+    pos[o.data] = i;
+    ++i;
+    ++swaps_;
+  }
+  axis[i] = e;
+  pos[e.data] = i;
+}
+
+void SweepAndPrune::sortAxis(int k) {
+  auto& axis = axes_[k];
+  const auto& value = value_[k];
+  for (Endpoint& e : axis) e.value = value[e.data];
+  const EndpointLess less;
+  const std::size_t n = axis.size();
+  for (std::size_t i = 1; i < n; ++i) {
+    if (!less(axis[i], axis[i - 1])) continue;
+    const Endpoint e = axis[i];
+    std::size_t j = i;
+    do {
+      transition(k, e.data, axis[j - 1].data);
+      axis[j] = axis[j - 1];
+      --j;
+      ++swaps_;
+    } while (j > 0 && less(e, axis[j - 1]));
+    axis[j] = e;
+  }
+}
+
+void SweepAndPrune::update(std::uint32_t h, const Aabb& box) {
+  assert(h < boxes_.size() && boxes_[h].live);
+  Box& b = boxes_[h];
+  b.box = box;
+  for (int k = 0; k < 3; ++k) {
+    value_[k][h << 1] = box.lo[k];
+    value_[k][h << 1 | 1] = box.hi[k];
+  }
+  if (!b.dirty && !b.added) {
+    b.dirty = true;
+    dirty_.push_back(h);
+  }
+}
+
+void SweepAndPrune::commit() {
+  if (!dirty_.empty()) applyMoves();
+  if (!added_.empty()) insertAdded();
+}
+
+void SweepAndPrune::applyMoves() {
+  if (dirty_.size() * 8 >= live_) {
+    for (int k = 0; k < 3; ++k) sortAxis(k);
+    positions_valid_ = false;
+  } else {
+    if (!positions_valid_) rebuildPositions();
+    for (const std::uint32_t h : dirty_) {
+      for (int k = 0; k < 3; ++k) {
+        // a min never passes its own max: move the one on the side the box moves to first
+        const std::uint32_t lo = h << 1, hi = h << 1 | 1;
+        if (value_[k][lo] < axes_[k][pos_[k][lo]].value) {
+          moveEndpoint(k, pos_[k][lo]);
+          moveEndpoint(k, pos_[k][hi]);
+        } else {
+          moveEndpoint(k, pos_[k][hi]);
+          moveEndpoint(k, pos_[k][lo]);
+        }
+      }
+    }
+  }
+  for (const std::uint32_t h : dirty_) boxes_[h].dirty = false;
+  dirty_.clear();
+}
+
+std::span<const PairEvent> SweepAndPrune::takeEvents() {
+  commit();
+  taken_.swap(events_);
+  events_.clear();
+  return taken_;
+}
+
+}  // namespace hapticd::collision

@@ -1,0 +1,128 @@
+#pragma once
+/// \file
+/// Incremental sweep and prune (Cohen, Lin, Manocha, Ponamgi, "I-COLLIDE", I3D 1995; §4 of
+/// Gregory et al. 2000): one sorted list of box endpoints per axis, kept sorted by insertion sort
+/// as boxes move (coherence makes each move a few swaps), and overlap counting: a swap of a min
+/// past a max starts or ends an overlap on that axis, and a pair is reported when its boxes
+/// overlap on all three axes. Boxes are closed: touching boxes overlap.
+/// Capacities grow while boxes are added (between ticks); update() allocates nothing unless the
+/// number of overlapping pairs exceeds every count seen before.
+
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/geometry/pose.h"
+
+namespace hapticd::collision {
+
+/// An axis-aligned box in world coordinates.
+struct Aabb {
+  geom::Vec3 lo{0.0};
+  geom::Vec3 hi{0.0};
+};
+
+/// Who may collide with whom. Pairs of one body, pairs of two static boxes, and pairs whose
+/// filters refuse each other never become pairs.
+struct BoxFilter {
+  std::uint32_t body = 0;       ///< boxes of the same body never pair
+  bool is_static = false;       ///< two static boxes never pair
+  std::uint32_t group = 1;      ///< collision groups this box belongs to (bits)
+  std::uint32_t mask = ~0u;     ///< groups this box collides with (bits)
+};
+
+/// A pair of box handles, lo < hi.
+struct BoxPair {
+  std::uint32_t lo = 0, hi = 0;
+  friend bool operator==(const BoxPair&, const BoxPair&) = default;
+};
+
+/// What changed in the set of overlapping pairs.
+struct PairEvent {
+  enum class Kind : std::uint8_t { kAdded, kRemoved };
+  Kind kind = Kind::kAdded;
+  BoxPair pair;
+};
+
+class SweepAndPrune {
+ public:
+  /// Adds a box; returns its handle (handles of removed boxes are reused). It enters the lists at
+  /// the next commit() (many at once are sorted in and swept in O(n log n)); the pairs it forms are
+  /// reported as kAdded events. Not on the servo thread (may allocate).
+  std::uint32_t add(const Aabb& box, const BoxFilter& filter);
+  /// Removes a box; its pairs are reported as kRemoved. Not on the servo thread.
+  void remove(std::uint32_t handle);
+  /// Gives a box its new extent; the move takes effect at the next commit(). Servo thread.
+  void update(std::uint32_t handle, const Aabb& box);
+  /// Applies the moves given since the last commit and reports the pair changes as events.
+  /// Few moved boxes: each endpoint is moved by insertion (cost ~ the swaps it makes). Many:
+  /// all endpoint values are refreshed and each axis is re-sorted by one insertion-sort pass over
+  /// contiguous memory. Either way every change of endpoint order between a min and a max is one
+  /// overlap transition. Servo thread: allocates only when the pair set outgrows its capacity.
+  void commit();
+
+  /// The events since the last call, in the order they happened; a pair added and removed in
+  /// between shows both events. The span is valid until the next call of any mutating function.
+  std::span<const PairEvent> takeEvents();
+
+  /// The current overlapping pairs (unordered).
+  std::span<const BoxPair> pairs() const { return pairs_; }
+  bool overlapping(std::uint32_t a, std::uint32_t b) const;
+  std::size_t boxCount() const { return live_; }
+  const Aabb& box(std::uint32_t handle) const { return boxes_[handle].box; }
+  /// Boxes moved since the last commit().
+  std::size_t pending() const { return dirty_.size(); }
+
+  /// Reserves room for `boxes` boxes and `pairs` pairs (so that update() never allocates).
+  void reserve(std::size_t boxes, std::size_t pairs);
+
+  /// Endpoint swaps done by update() since construction (a measure of coherence).
+  std::uint64_t swaps() const { return swaps_; }
+
+ private:
+  struct Endpoint {
+    double value;
+    std::uint32_t data;  // handle << 1 | is_max
+  };
+  struct Box {
+    Aabb box;
+    BoxFilter filter;
+    std::uint32_t pairs = 0;  // pairs this box is in
+    bool live = false;
+    bool dirty = false;
+    bool added = false;  // added since the last commit
+  };
+
+  bool admissible(std::uint32_t a, std::uint32_t b) const;
+  bool overlapOn(std::uint32_t a, std::uint32_t b, int axis) const;
+  void transition(int axis, std::uint32_t moving, std::uint32_t passed);
+  void addPair(std::uint32_t a, std::uint32_t b);
+  void removePair(std::uint32_t a, std::uint32_t b);
+  void moveEndpoint(int axis, std::uint32_t index);
+  void sortAxis(int axis);
+  void applyMoves();
+  void insertAdded();
+  void rebuildPositions();
+  // pair set: open addressing (linear probing, backward-shift deletion) over indices into pairs_
+  std::uint64_t key(std::uint32_t a, std::uint32_t b) const;
+  std::size_t findSlot(std::uint64_t k) const;
+  void growTable();
+
+  std::vector<Box> boxes_;
+  std::vector<std::uint32_t> free_;
+  std::vector<Endpoint> axes_[3];
+  std::vector<double> value_[3];       // by endpoint id (handle << 1 | is_max): the new value
+  std::vector<std::uint32_t> pos_[3];  // by endpoint id: index in axes_ (when positions_valid_)
+  bool positions_valid_ = true;
+  std::vector<std::uint32_t> dirty_;
+  std::vector<std::uint32_t> added_;
+  std::vector<BoxPair> pairs_;
+  std::vector<std::uint64_t> table_keys_;   // 0 = empty; else key + 1
+  std::vector<std::uint32_t> table_index_;  // index into pairs_
+  std::vector<PairEvent> events_;
+  std::vector<PairEvent> taken_;
+  std::size_t live_ = 0;
+  std::uint64_t swaps_ = 0;
+};
+
+}  // namespace hapticd::collision
