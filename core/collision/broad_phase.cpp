@@ -15,33 +15,11 @@ struct EndpointLess {
   }
 };
 
-inline std::size_t hashKey(std::uint64_t k, std::size_t mask) {
-  return static_cast<std::size_t>((k * 0x9E3779B97F4A7C15ull) >> 20) & mask;
-}
-
 }  // namespace
 
-std::uint64_t SweepAndPrune::key(std::uint32_t a, std::uint32_t b) const {
+std::uint64_t SweepAndPrune::key(std::uint32_t a, std::uint32_t b) {
   if (a > b) std::swap(a, b);
-  return (static_cast<std::uint64_t>(a) << 32 | b) + 1;
-}
-
-std::size_t SweepAndPrune::findSlot(std::uint64_t k) const {
-  const std::size_t mask = table_keys_.size() - 1;
-  std::size_t s = hashKey(k, mask);
-  while (table_keys_[s] != 0 && table_keys_[s] != k) s = (s + 1) & mask;
-  return s;
-}
-
-void SweepAndPrune::growTable() {
-  const std::size_t size = std::max<std::size_t>(64, table_keys_.size() * 2);
-  table_keys_.assign(size, 0);
-  table_index_.assign(size, 0);
-  for (std::uint32_t i = 0; i < pairs_.size(); ++i) {
-    const std::size_t s = findSlot(key(pairs_[i].lo, pairs_[i].hi));
-    table_keys_[s] = key(pairs_[i].lo, pairs_[i].hi);
-    table_index_[s] = i;
-  }
+  return static_cast<std::uint64_t>(a) << 32 | b;
 }
 
 bool SweepAndPrune::admissible(std::uint32_t a, std::uint32_t b) const {
@@ -74,12 +52,9 @@ inline void SweepAndPrune::transition(int axis, std::uint32_t moving, std::uint3
 
 void SweepAndPrune::addPair(std::uint32_t a, std::uint32_t b) {
   if (!admissible(a, b)) return;
-  if ((pairs_.size() + 1) * 2 > table_keys_.size()) growTable();
   const std::uint64_t k = key(a, b);
-  const std::size_t s = findSlot(k);
-  if (table_keys_[s] == k) return;
-  table_keys_[s] = k;
-  table_index_[s] = static_cast<std::uint32_t>(pairs_.size());
+  if (index_.find(k) != FlatMap::kNone) return;
+  index_.insert(k, static_cast<std::uint32_t>(pairs_.size()));
   const BoxPair p{std::min(a, b), std::max(a, b)};
   pairs_.push_back(p);
   ++boxes_[a].pairs;
@@ -88,39 +63,24 @@ void SweepAndPrune::addPair(std::uint32_t a, std::uint32_t b) {
 }
 
 void SweepAndPrune::removePair(std::uint32_t a, std::uint32_t b) {
-  if (pairs_.empty()) return;
   const std::uint64_t k = key(a, b);
-  std::size_t s = findSlot(k);
-  if (table_keys_[s] != k) return;
-  const std::uint32_t index = table_index_[s];
+  const std::uint32_t index = index_.find(k);
+  if (index == FlatMap::kNone) return;
+  index_.erase(k);
   events_.push_back({PairEvent::Kind::kRemoved, pairs_[index]});
   --boxes_[a].pairs;
   --boxes_[b].pairs;
-  // backward-shift deletion keeps probe chains intact
-  const std::size_t mask = table_keys_.size() - 1;
-  std::size_t hole = s;
-  for (std::size_t next = (hole + 1) & mask; table_keys_[next] != 0; next = (next + 1) & mask) {
-    const std::size_t home = hashKey(table_keys_[next], mask);
-    // move `next` into the hole if its home is not in (hole, next]
-    if (((next - home) & mask) >= ((next - hole) & mask)) {
-      table_keys_[hole] = table_keys_[next];
-      table_index_[hole] = table_index_[next];
-      hole = next;
-    }
-  }
-  table_keys_[hole] = 0;
-  // swap-remove from the dense array, re-pointing the moved pair's slot
+  // swap-remove from the dense array, re-pointing the moved pair
   const std::uint32_t last = static_cast<std::uint32_t>(pairs_.size() - 1);
   if (index != last) {
     pairs_[index] = pairs_[last];
-    table_index_[findSlot(key(pairs_[index].lo, pairs_[index].hi))] = index;
+    index_.insert(key(pairs_[index].lo, pairs_[index].hi), index);
   }
   pairs_.pop_back();
 }
 
 bool SweepAndPrune::overlapping(std::uint32_t a, std::uint32_t b) const {
-  if (table_keys_.empty()) return false;
-  return table_keys_[findSlot(key(a, b))] == key(a, b);
+  return index_.find(key(a, b)) != FlatMap::kNone;
 }
 
 void SweepAndPrune::reserve(std::size_t boxes, std::size_t pairs) {
@@ -134,7 +94,7 @@ void SweepAndPrune::reserve(std::size_t boxes, std::size_t pairs) {
   pairs_.reserve(pairs);
   events_.reserve(pairs);
   taken_.reserve(pairs);
-  while (table_keys_.size() < 2 * pairs) growTable();
+  index_.reserve(pairs);
 }
 
 void SweepAndPrune::rebuildPositions() {

@@ -12,6 +12,7 @@
 #include <span>
 #include <vector>
 
+#include "core/common/flat_map.h"
 #include "core/geometry/pose.h"
 
 namespace hapticd::collision {
@@ -103,10 +104,7 @@ class SweepAndPrune {
   void applyMoves();
   void insertAdded();
   void rebuildPositions();
-  // pair set: open addressing (linear probing, backward-shift deletion) over indices into pairs_
-  std::uint64_t key(std::uint32_t a, std::uint32_t b) const;
-  std::size_t findSlot(std::uint64_t k) const;
-  void growTable();
+  static std::uint64_t key(std::uint32_t a, std::uint32_t b);
 
   std::vector<Box> boxes_;
   std::vector<std::uint32_t> free_;
@@ -117,8 +115,7 @@ class SweepAndPrune {
   std::vector<std::uint32_t> dirty_;
   std::vector<std::uint32_t> added_;
   std::vector<BoxPair> pairs_;
-  std::vector<std::uint64_t> table_keys_;   // 0 = empty; else key + 1
-  std::vector<std::uint32_t> table_index_;  // index into pairs_
+  FlatMap index_;  // pair key -> index into pairs_
   std::vector<PairEvent> events_;
   std::vector<PairEvent> taken_;
   std::size_t live_ = 0;

@@ -1,0 +1,260 @@
+#include "core/collision/collision_world.h"
+
+#include <algorithm>
+#include <chrono>
+#include <limits>
+
+namespace hapticd::collision {
+namespace {
+
+std::uint64_t pairKey(std::uint32_t a, std::uint32_t b) {
+  if (a > b) std::swap(a, b);
+  return static_cast<std::uint64_t>(a) << 32 | b;
+}
+
+void toWorld(const Transform& X_WA, const PairResult& r, Contact& c) {
+  c.status = r.status;
+  c.distance = r.distance;
+  c.normal = X_WA.rotate(r.normal);
+  c.point_a = X_WA.apply(r.point_a);
+  c.point_b = X_WA.apply(r.point_b);
+  c.manifold = r.manifold;
+  for (std::size_t i = 0; i < c.manifold.count; ++i) {
+    c.manifold.points[i].point = X_WA.apply(r.manifold.points[i].point);
+    c.manifold.points[i].normal = X_WA.rotate(r.manifold.points[i].normal);
+  }
+}
+
+}  // namespace
+
+CollisionWorld::CollisionWorld(const WorldOptions& options) : options_(options) {}
+
+void CollisionWorld::reserve(std::size_t primitives, std::size_t pairs) {
+  sap_.reserve(primitives, pairs);
+  prims_.reserve(primitives);
+  prim_of_box_.reserve(primitives);
+  pair_states_.reserve(pairs);
+  moved_.reserve(primitives);
+  free_pair_states_.reserve(pairs);
+  state_of_pair_.reserve(pairs);
+  order_.reserve(pairs);
+  contacts_.reserve(pairs);
+}
+
+Transform CollisionWorld::primitiveTransform(const Prim& p) const {
+  const Body& b = bodies_[p.body];
+  return b.T_WB * b.desc.primitives[p.index].X_BP;
+}
+
+Aabb CollisionWorld::primitiveBox(Prim& p) {
+  const Polytope& shape = *bodies_[p.body].desc.primitives[p.index].shape;
+  const Transform X = primitiveTransform(p);
+  Aabb box;
+  for (int k = 0; k < 3; ++k) {
+    // world coordinate k of a vertex v is dot(row k of R, v) + t[k]: climb to its extremes
+    const Vec3 row{X.R[0][k], X.R[1][k], X.R[2][k]};
+    auto& lo_hint = p.hint[static_cast<std::size_t>(2 * k)];
+    auto& hi_hint = p.hint[static_cast<std::size_t>(2 * k + 1)];
+    lo_hint = shape.support(-row, lo_hint);
+    hi_hint = shape.support(row, hi_hint);
+    box.lo[k] = glm::dot(row, shape.vertices()[lo_hint].p) + X.t[k] - options_.box_margin;
+    box.hi[k] = glm::dot(row, shape.vertices()[hi_hint].p) + X.t[k] + options_.box_margin;
+  }
+  return box;
+}
+
+std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_WB) {
+  std::uint32_t id = 0;
+  if (!free_bodies_.empty()) {
+    id = free_bodies_.back();
+    free_bodies_.pop_back();
+  } else {
+    id = static_cast<std::uint32_t>(bodies_.size());
+    bodies_.emplace_back();
+  }
+  Body& b = bodies_[id];
+  b = Body{};
+  b.desc = desc;
+  b.X_WB = X_WB;
+  b.T_WB = X_WB.toTransform();
+  b.live = true;
+  for (std::uint32_t i = 0; i < desc.primitives.size(); ++i) {
+    std::uint32_t pi = 0;
+    if (!free_prims_.empty()) {
+      pi = free_prims_.back();
+      free_prims_.pop_back();
+    } else {
+      pi = static_cast<std::uint32_t>(prims_.size());
+      prims_.emplace_back();
+    }
+    Prim& p = prims_[pi];
+    p = Prim{};
+    p.body = id;
+    p.index = i;
+    p.live = true;
+    const Polytope& shape = *desc.primitives[i].shape;
+    for (std::size_t h = 0; h < 6; ++h) p.hint[h] = shape.lookup(Vec3{h / 2 == 0, h / 2 == 1, h / 2 == 2} * (h % 2 ? 1.0 : -1.0));
+    BoxFilter filter;
+    filter.body = id;
+    filter.is_static = desc.kind == BodyKind::kStatic;
+    filter.group = desc.group;
+    filter.mask = desc.mask;
+    p.box = sap_.add(primitiveBox(p), filter);
+    if (prim_of_box_.size() <= p.box) prim_of_box_.resize(p.box + 1);
+    prim_of_box_[p.box] = pi;
+    b.prims.push_back(pi);
+  }
+  applyEvents(nullptr);
+  return id;
+}
+
+void CollisionWorld::removeBody(std::uint32_t id) {
+  if (id >= bodies_.size() || !bodies_[id].live) return;
+  for (const std::uint32_t pi : bodies_[id].prims) {
+    sap_.remove(prims_[pi].box);
+    applyEvents(nullptr);
+    prims_[pi].live = false;
+    free_prims_.push_back(pi);
+  }
+  bodies_[id].live = false;
+  bodies_[id].prims.clear();
+  free_bodies_.push_back(id);
+}
+
+void CollisionWorld::setPose(std::uint32_t body, const geom::Pose& X_WB) {
+  Body& b = bodies_[body];
+  if (b.desc.kind == BodyKind::kStatic) return;
+  b.X_WB = X_WB;
+  b.T_WB = X_WB.toTransform();
+  if (!b.moved) moved_.push_back(body);
+  b.moved = true;
+}
+
+void CollisionWorld::applyEvents(StepStats* stats) {
+  for (const PairEvent& e : sap_.takeEvents()) {
+    const std::uint64_t k = pairKey(e.pair.lo, e.pair.hi);
+    if (e.kind == PairEvent::Kind::kAdded) {
+      std::uint32_t si = 0;
+      if (!free_pair_states_.empty()) {
+        si = free_pair_states_.back();
+        free_pair_states_.pop_back();
+      } else {
+        si = static_cast<std::uint32_t>(pair_states_.size());
+        pair_states_.emplace_back();
+      }
+      PairState& s = pair_states_[si];
+      s = PairState{};
+      std::uint32_t pa = prim_of_box_[e.pair.lo], pb = prim_of_box_[e.pair.hi];
+      if (prims_[pa].body > prims_[pb].body) std::swap(pa, pb);
+      s.prim_a = pa;
+      s.prim_b = pb;
+      s.live = true;
+      s.last.body_a = prims_[pa].body;
+      s.last.body_b = prims_[pb].body;
+      s.last.prim_a = prims_[pa].index;
+      s.last.prim_b = prims_[pb].index;
+      state_of_pair_.insert(k, si);
+      if (stats != nullptr) ++stats->pairs_added;
+    } else {
+      const std::uint32_t si = state_of_pair_.find(k);
+      if (si == FlatMap::kNone) continue;
+      state_of_pair_.erase(k);
+      pair_states_[si].live = false;
+      free_pair_states_.push_back(si);
+      if (stats != nullptr) ++stats->pairs_removed;
+    }
+  }
+}
+
+void CollisionWorld::test(PairState& s) {
+  const Prim& pa = prims_[s.prim_a];
+  const Prim& pb = prims_[s.prim_b];
+  const Transform X_WA = primitiveTransform(pa);
+  const Transform X_WB = primitiveTransform(pb);
+  // X_AB = X_WA^-1 X_WB, translations subtracted first (far from the origin stays exact)
+  const geom::Mat3 Rt = glm::transpose(X_WA.R);
+  const Transform X_AB{Rt * X_WB.R, Rt * (X_WB.t - X_WA.t)};
+  const PairResult r =
+      queryPair(*bodies_[pa.body].desc.primitives[pa.index].shape,
+                *bodies_[pb.body].desc.primitives[pb.index].shape, X_AB, s.cache, options_.query);
+  toWorld(X_WA, r, s.last);
+  s.last_tested = tick_;
+  s.in_contact = r.distance <= options_.box_margin;
+}
+
+StepStats CollisionWorld::step() {
+  ++tick_;
+  StepStats stats;
+  // boxes of the bodies that moved
+  for (const std::uint32_t bi : moved_) {
+    Body& b = bodies_[bi];
+    if (!b.live || !b.moved) continue;
+    for (const std::uint32_t pi : b.prims) sap_.update(prims_[pi].box, primitiveBox(prims_[pi]));
+    b.moved = false;
+  }
+  moved_.clear();
+  sap_.commit();
+  applyEvents(&stats);
+
+  // the scheduler (§4.2): overdue pairs first (so that none waits more than ceil(P/B) ticks),
+  // then pairs in contact last tick, then the rest by time since their last test
+  order_.clear();
+  for (std::uint32_t si = 0; si < pair_states_.size(); ++si) {
+    if (pair_states_[si].live) order_.push_back(si);
+  }
+  const auto count = static_cast<std::uint32_t>(order_.size());
+  stats.pairs_overlapping = count;
+  const std::uint32_t budget = options_.budget.max_pairs == 0 ? count : std::min(count, options_.budget.max_pairs);
+  const std::uint64_t due = budget == 0 ? 1 : (count + budget - 1) / budget;
+  constexpr std::uint64_t kAgeMask = (1ull << 28) - 1;
+  for (std::uint64_t& o : order_) {
+    const PairState& s = pair_states_[o];
+    const std::uint64_t age = std::min<std::uint64_t>(tick_ - s.last_tested, kAgeMask);
+    const std::uint64_t cls = (s.last_tested == 0 || age >= due) ? 3 : (s.in_contact ? 2 : 1);
+    // larger is more urgent; ties by state index, so that runs are deterministic
+    o = cls << 62 | age << 32 | (0xffffffffull - o);
+  }
+  const bool timed = options_.budget.max_microseconds > 0.0;
+  if (timed) {
+    std::sort(order_.begin(), order_.end(), std::greater<>());
+  } else if (budget < count) {
+    std::nth_element(order_.begin(), order_.begin() + budget, order_.end(), std::greater<>());
+    std::sort(order_.begin(), order_.begin() + budget, std::greater<>());
+  } else {
+    std::sort(order_.begin(), order_.end(), std::greater<>());
+  }
+  const auto start = std::chrono::steady_clock::now();
+  std::uint32_t tested = 0;
+  for (; tested < budget; ++tested) {
+    if (timed && tested > 0 &&
+        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count() >=
+            options_.budget.max_microseconds) {
+      break;
+    }
+    test(pair_states_[0xffffffffull - (order_[tested] & 0xffffffffull)]);
+  }
+  stats.pairs_tested = tested;
+  stats.pairs_skipped = count - tested;
+  for (std::uint32_t i = tested; i < count; ++i) {
+    const PairState& s = pair_states_[0xffffffffull - (order_[i] & 0xffffffffull)];
+    const std::uint64_t age = s.last_tested == 0 ? tick_ : tick_ - s.last_tested;
+    stats.worst_staleness = std::max(stats.worst_staleness, static_cast<std::uint32_t>(std::min<std::uint64_t>(age, 0xffffffffu)));
+  }
+
+  // every close pair's latest answer, grouped by body pair
+  contacts_.clear();
+  for (const PairState& s : pair_states_) {
+    if (!s.live || s.last_tested == 0) continue;
+    contacts_.push_back(s.last);
+    contacts_.back().age = static_cast<std::uint32_t>(std::min<std::uint64_t>(tick_ - s.last_tested, 0xffffffffu));
+  }
+  std::sort(contacts_.begin(), contacts_.end(), [](const Contact& x, const Contact& y) {
+    if (x.body_a != y.body_a) return x.body_a < y.body_a;
+    if (x.body_b != y.body_b) return x.body_b < y.body_b;
+    if (x.prim_a != y.prim_a) return x.prim_a < y.prim_a;
+    return x.prim_b < y.prim_b;
+  });
+  return stats;
+}
+
+}  // namespace hapticd::collision
