@@ -2,16 +2,27 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cstring>
 
 namespace hapticd::collision {
 namespace {
 
-// Sort order of endpoints: by value; at equal values a min comes before a max, so that boxes
-// touching at one value overlap (closed boxes).
+// Endpoint sort keys: the double's bits mapped to an unsigned integer of the same order, its
+// lowest bit replaced by the endpoint kind (0 min, 1 max). Integer compares are branch-free, and
+// at equal values a min sorts before a max, so boxes touching at one value overlap (closed
+// boxes). Dropping the lowest mantissa bit makes boxes less than one ulp apart overlap too: the
+// broad phase may only err on the side of a pair.
+inline std::uint64_t sortKey(double v, std::uint32_t is_max) {
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &v, sizeof bits);
+  bits = (bits >> 63) != 0 ? ~bits : bits | (1ull << 63);
+  return (bits & ~1ull) | is_max;
+}
+
 struct EndpointLess {
   template <class E>
   bool operator()(const E& x, const E& y) const {
-    return x.value < y.value || (x.value == y.value && (x.data & 1u) == 0 && (y.data & 1u) != 0);
+    return x.key < y.key;
   }
 };
 
@@ -30,7 +41,7 @@ bool SweepAndPrune::admissible(std::uint32_t a, std::uint32_t b) const {
 }
 
 bool SweepAndPrune::overlapOn(std::uint32_t a, std::uint32_t b, int axis) const {
-  const auto& v = value_[axis];
+  const auto& v = key_[axis];
   return v[a << 1] <= v[b << 1 | 1] && v[b << 1] <= v[a << 1 | 1];
 }
 
@@ -45,7 +56,7 @@ inline void SweepAndPrune::transition(int axis, std::uint32_t moving, std::uint3
     const int k1 = axis == 2 ? 0 : axis + 1;
     const int k2 = axis == 0 ? 2 : axis - 1;
     if (overlapOn(a, b, k1) && overlapOn(a, b, k2)) addPair(a, b);
-  } else if (boxes_[a].pairs != 0 && boxes_[b].pairs != 0) {
+  } else if (pair_count_[a] != 0 && pair_count_[b] != 0) {
     removePair(a, b);
   }
 }
@@ -57,8 +68,8 @@ void SweepAndPrune::addPair(std::uint32_t a, std::uint32_t b) {
   index_.insert(k, static_cast<std::uint32_t>(pairs_.size()));
   const BoxPair p{std::min(a, b), std::max(a, b)};
   pairs_.push_back(p);
-  ++boxes_[a].pairs;
-  ++boxes_[b].pairs;
+  ++pair_count_[a];
+  ++pair_count_[b];
   events_.push_back({PairEvent::Kind::kAdded, p});
 }
 
@@ -68,8 +79,8 @@ void SweepAndPrune::removePair(std::uint32_t a, std::uint32_t b) {
   if (index == FlatMap::kNone) return;
   index_.erase(k);
   events_.push_back({PairEvent::Kind::kRemoved, pairs_[index]});
-  --boxes_[a].pairs;
-  --boxes_[b].pairs;
+  --pair_count_[a];
+  --pair_count_[b];
   // swap-remove from the dense array, re-pointing the moved pair
   const std::uint32_t last = static_cast<std::uint32_t>(pairs_.size() - 1);
   if (index != last) {
@@ -88,7 +99,7 @@ void SweepAndPrune::reserve(std::size_t boxes, std::size_t pairs) {
   dirty_.reserve(boxes);
   for (int k = 0; k < 3; ++k) {
     axes_[k].reserve(2 * boxes);
-    value_[k].reserve(2 * boxes);
+    key_[k].reserve(2 * boxes);
     pos_[k].reserve(2 * boxes);
   }
   pairs_.reserve(pairs);
@@ -114,10 +125,12 @@ std::uint32_t SweepAndPrune::add(const Aabb& box, const BoxFilter& filter) {
     h = static_cast<std::uint32_t>(boxes_.size());
     boxes_.emplace_back();
     for (int k = 0; k < 3; ++k) {
-      value_[k].resize(2 * boxes_.size());
+      key_[k].resize(2 * boxes_.size());
       pos_[k].resize(2 * boxes_.size());
     }
+    pair_count_.resize(boxes_.size());
   }
+  pair_count_[h] = 0;
   Box& b = boxes_[h];
   b = Box{};
   b.box = box;
@@ -126,8 +139,8 @@ std::uint32_t SweepAndPrune::add(const Aabb& box, const BoxFilter& filter) {
   b.added = true;
   ++live_;
   for (int k = 0; k < 3; ++k) {
-    value_[k][h << 1] = box.lo[k];
-    value_[k][h << 1 | 1] = box.hi[k];
+    key_[k][h << 1] = sortKey(box.lo[k], 0);
+    key_[k][h << 1 | 1] = sortKey(box.hi[k], 1);
   }
   added_.push_back(h);
   return h;
@@ -141,7 +154,7 @@ void SweepAndPrune::insertAdded() {
       for (int k = 0; k < 3; ++k) {
         auto& axis = axes_[k];
         for (std::uint32_t id : {h << 1, h << 1 | 1}) {
-          const Endpoint e{value_[k][id], id};
+          const Endpoint e{key_[k][id], id};
           axis.insert(std::upper_bound(axis.begin(), axis.end(), e, less), e);
         }
       }
@@ -158,8 +171,8 @@ void SweepAndPrune::insertAdded() {
     for (int k = 0; k < 3; ++k) {
       auto& axis = axes_[k];
       for (const std::uint32_t h : added_) {
-        axis.push_back({value_[k][h << 1], h << 1});
-        axis.push_back({value_[k][h << 1 | 1], h << 1 | 1});
+        axis.push_back({key_[k][h << 1], h << 1});
+        axis.push_back({key_[k][h << 1 | 1], h << 1 | 1});
       }
       std::sort(axis.begin(), axis.end(), less);
     }
@@ -212,7 +225,7 @@ void SweepAndPrune::moveEndpoint(int k, std::uint32_t i) {
   auto& axis = axes_[k];
   auto& pos = pos_[k];
   Endpoint e = axis[i];
-  e.value = value_[k][e.data];
+  e.key = key_[k][e.data];
   const EndpointLess less;
   while (i > 0 && less(e, axis[i - 1])) {
     const Endpoint o = axis[i - 1];
@@ -236,8 +249,8 @@ void SweepAndPrune::moveEndpoint(int k, std::uint32_t i) {
 
 void SweepAndPrune::sortAxis(int k) {
   auto& axis = axes_[k];
-  const auto& value = value_[k];
-  for (Endpoint& e : axis) e.value = value[e.data];
+  const auto& key = key_[k];
+  for (Endpoint& e : axis) e.key = key[e.data];
   const EndpointLess less;
   const std::size_t n = axis.size();
   for (std::size_t i = 1; i < n; ++i) {
@@ -245,12 +258,18 @@ void SweepAndPrune::sortAxis(int k) {
     const Endpoint e = axis[i];
     std::size_t j = i;
     do {
-      transition(k, e.data, axis[j - 1].data);
-      axis[j] = axis[j - 1];
       --j;
-      ++swaps_;
     } while (j > 0 && less(e, axis[j - 1]));
+    // e moves from i down to j, passing axis[j, i): only endpoints of the other kind change an
+    // overlap; they are visited after the move, without a branch per passed endpoint
+    const std::uint32_t kind = e.data & 1u;
+    for (std::size_t m = i; m > j; --m) {
+      const Endpoint o = axis[m - 1];
+      axis[m] = o;
+      if ((o.data & 1u) != kind) transition(k, e.data, o.data);
+    }
     axis[j] = e;
+    swaps_ += i - j;
   }
 }
 
@@ -259,8 +278,8 @@ void SweepAndPrune::update(std::uint32_t h, const Aabb& box) {
   Box& b = boxes_[h];
   b.box = box;
   for (int k = 0; k < 3; ++k) {
-    value_[k][h << 1] = box.lo[k];
-    value_[k][h << 1 | 1] = box.hi[k];
+    key_[k][h << 1] = sortKey(box.lo[k], 0);
+    key_[k][h << 1 | 1] = sortKey(box.hi[k], 1);
   }
   if (!b.dirty && !b.added) {
     b.dirty = true;
@@ -283,7 +302,7 @@ void SweepAndPrune::applyMoves() {
       for (int k = 0; k < 3; ++k) {
         // a min never passes its own max: move the one on the side the box moves to first
         const std::uint32_t lo = h << 1, hi = h << 1 | 1;
-        if (value_[k][lo] < axes_[k][pos_[k][lo]].value) {
+        if (key_[k][lo] < axes_[k][pos_[k][lo]].key) {
           moveEndpoint(k, pos_[k][lo]);
           moveEndpoint(k, pos_[k][hi]);
         } else {

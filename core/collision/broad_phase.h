@@ -4,7 +4,8 @@
 /// Gregory et al. 2000): one sorted list of box endpoints per axis, kept sorted by insertion sort
 /// as boxes move (coherence makes each move a few swaps), and overlap counting: a swap of a min
 /// past a max starts or ends an overlap on that axis, and a pair is reported when its boxes
-/// overlap on all three axes. Boxes are closed: touching boxes overlap.
+/// overlap on all three axes. Boxes are closed: touching boxes overlap (and so do boxes less
+/// than one unit in the last place apart).
 /// Capacities grow while boxes are added (between ticks); update() allocates nothing unless the
 /// number of overlapping pairs exceeds every count seen before.
 
@@ -82,13 +83,12 @@ class SweepAndPrune {
 
  private:
   struct Endpoint {
-    double value;
+    std::uint64_t key;   // sort key of the value (see broad_phase.cpp)
     std::uint32_t data;  // handle << 1 | is_max
   };
   struct Box {
     Aabb box;
     BoxFilter filter;
-    std::uint32_t pairs = 0;  // pairs this box is in
     bool live = false;
     bool dirty = false;
     bool added = false;  // added since the last commit
@@ -109,9 +109,10 @@ class SweepAndPrune {
   std::vector<Box> boxes_;
   std::vector<std::uint32_t> free_;
   std::vector<Endpoint> axes_[3];
-  std::vector<double> value_[3];       // by endpoint id (handle << 1 | is_max): the new value
+  std::vector<std::uint64_t> key_[3];  // by endpoint id (handle << 1 | is_max): the new sort key
   std::vector<std::uint32_t> pos_[3];  // by endpoint id: index in axes_ (when positions_valid_)
   bool positions_valid_ = true;
+  std::vector<std::uint32_t> pair_count_;  // by handle: pairs the box is in
   std::vector<std::uint32_t> dirty_;
   std::vector<std::uint32_t> added_;
   std::vector<BoxPair> pairs_;
