@@ -251,25 +251,40 @@ void SweepAndPrune::sortAxis(int k) {
   auto& axis = axes_[k];
   const auto& key = key_[k];
   for (Endpoint& e : axis) e.key = key[e.data];
-  const EndpointLess less;
   const std::size_t n = axis.size();
+  Endpoint* a = axis.data();
+  // Insertion sort. Coherent motion moves most endpoints by a few places: the count of larger
+  // predecessors among the last kW (the prefix is sorted, so they are its last ones) is taken
+  // without branches and gives the move at once; a longer move takes the plain loop. Passed
+  // endpoints of the other kind are overlap transitions.
+  constexpr std::size_t kW = 8;
   for (std::size_t i = 1; i < n; ++i) {
-    if (!less(axis[i], axis[i - 1])) continue;
-    const Endpoint e = axis[i];
-    std::size_t j = i;
-    do {
-      --j;
-    } while (j > 0 && less(e, axis[j - 1]));
-    // e moves from i down to j, passing axis[j, i): only endpoints of the other kind change an
-    // overlap; they are visited after the move, without a branch per passed endpoint
-    const std::uint32_t kind = e.data & 1u;
-    for (std::size_t m = i; m > j; --m) {
-      const Endpoint o = axis[m - 1];
-      axis[m] = o;
-      if ((o.data & 1u) != kind) transition(k, e.data, o.data);
+    const Endpoint e = a[i];
+    if (i > kW) {
+      std::size_t d = 0;
+      for (std::size_t w = 1; w <= kW; ++w) d += static_cast<std::size_t>(a[i - w].key > e.key);
+      if (d == 0) continue;
+      if (d < kW || a[i - kW - 1].key <= e.key) {
+        const std::uint32_t kind = e.data & 1u;
+        for (std::size_t w = 1; w <= d; ++w) {
+          const Endpoint o = a[i - w];
+          if ((o.data & 1u) != kind) transition(k, e.data, o.data);
+          a[i - w + 1] = o;
+        }
+        a[i - d] = e;
+        swaps_ += d;
+        continue;
+      }
     }
-    axis[j] = e;
-    swaps_ += i - j;
+    std::size_t j = i;
+    while (j > 0 && e.key < a[j - 1].key) {
+      const Endpoint o = a[j - 1];
+      if ((o.data & 1u) != (e.data & 1u)) transition(k, e.data, o.data);
+      a[j] = o;
+      --j;
+      ++swaps_;
+    }
+    a[j] = e;
   }
 }
 
