@@ -6,4 +6,4 @@ cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 cmake --preset release
 cmake --build --preset release
-ctest --preset release --timeout 1200
+ctest --preset release --timeout 1200 --parallel 2

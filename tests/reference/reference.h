@@ -31,6 +31,10 @@ struct RefAnswer {
 /// The reference answer for A and B, B placed in A's frame by X_AB. O(VA*FB + VB*FA + EA*EB).
 RefAnswer bruteForce(const Polytope& a, const Polytope& b, const Transform& X_AB);
 
+/// Distance of two polytopes known to be apart (vertex-face and edge-edge pairs only, no separating
+/// axes): O(VA*FB + VB*FA + EA*EB), for hulls too large for bruteForce().
+double bruteSeparatedDistance(const Polytope& a, const Polytope& b, const Transform& X_AB);
+
 /// Depth along unit dir (A's frame): max_A dot(dir,x) - min_B dot(dir,x), by scanning all vertices.
 double bruteDepthAlong(const Polytope& a, const Polytope& b, const Transform& X_AB, const Vec3& dir);
 
