@@ -58,6 +58,40 @@ Extent extent(const Polytope& p, const Transform& X, const Vec3& u) {
 
 }  // namespace
 
+double bruteMinkowskiDepth(const Polytope& a, const Polytope& b, const Transform& X_AB,
+                           Vec3* normal) {
+  double best = std::numeric_limits<double>::infinity();
+  auto axis = [&](const Vec3& u) {
+    const double d = extent(a, Transform{}, u).hi - extent(b, X_AB, u).lo;
+    if (d < best) {
+      best = d;
+      if (normal != nullptr) *normal = u;
+    }
+  };
+  for (const auto& f : a.faces()) axis(f.normal);
+  for (const auto& f : b.faces()) axis(-X_AB.rotate(f.normal));
+  // an edge pair is a face of A - B when the arc of A's edge (between its face normals) crosses
+  // the arc of B's edge negated: the two great circles cross inside both arcs
+  for (const auto& e1 : a.edges()) {
+    const Vec3 n1 = a.faces()[e1.face[0]].normal, n2 = a.faces()[e1.face[1]].normal;
+    for (const auto& e2 : b.edges()) {
+      const Vec3 m1 = -X_AB.rotate(b.faces()[e2.face[0]].normal);
+      const Vec3 m2 = -X_AB.rotate(b.faces()[e2.face[1]].normal);
+      const Vec3 p1 = glm::cross(n1, n2), p2 = glm::cross(m1, m2);
+      Vec3 u = glm::cross(p1, p2);
+      const double len = glm::length(u);
+      if (len < 1e-12) continue;
+      u /= len;
+      if (glm::dot(u, n1 + n2) < 0.0) u = -u;
+      // u must lie between n1 and n2, and between m1 and m2
+      const bool on1 = glm::dot(glm::cross(n1, u), p1) >= 0.0 && glm::dot(glm::cross(u, n2), p1) >= 0.0;
+      const bool on2 = glm::dot(glm::cross(m1, u), p2) >= 0.0 && glm::dot(glm::cross(u, m2), p2) >= 0.0;
+      if (on1 && on2) axis(u);
+    }
+  }
+  return best;
+}
+
 double bruteSeparatedDistance(const Polytope& a, const Polytope& b, const Transform& X_AB) {
   double d2 = std::numeric_limits<double>::infinity();
   const Transform X_BA = X_AB.inverse();

@@ -35,6 +35,11 @@ RefAnswer bruteForce(const Polytope& a, const Polytope& b, const Transform& X_AB
 /// axes): O(VA*FB + VB*FA + EA*EB), for hulls too large for bruteForce().
 double bruteSeparatedDistance(const Polytope& a, const Polytope& b, const Transform& X_AB);
 
+/// Penetration depth by separating axes restricted to the face normals and to the edge pairs whose
+/// Gauss-map arcs cross (the Minkowski faces), each axis's depth from a scan of all vertices:
+/// O(EA*EB + (F + K)*(VA + VB)); for hulls too large for bruteForce(). Positive when overlapping.
+double bruteMinkowskiDepth(const Polytope& a, const Polytope& b, const Transform& X_AB, Vec3* normal);
+
 /// Depth along unit dir (A's frame): max_A dot(dir,x) - min_B dot(dir,x), by scanning all vertices.
 double bruteDepthAlong(const Polytope& a, const Polytope& b, const Transform& X_AB, const Vec3& dir);
 
