@@ -153,6 +153,7 @@ void CollisionWorld::applyEvents(StepStats* stats) {
       s.last.body_b = prims_[pb].body;
       s.last.prim_a = prims_[pa].index;
       s.last.prim_b = prims_[pb].index;
+      s.last_tested = tick_ - 1;  // never tested: as stale as one tick
       state_of_pair_.insert(k, si);
       if (stats != nullptr) ++stats->pairs_added;
     } else {
@@ -178,6 +179,7 @@ void CollisionWorld::test(PairState& s) {
       queryPair(*bodies_[pa.body].desc.primitives[pa.index].shape,
                 *bodies_[pb.body].desc.primitives[pb.index].shape, X_AB, s.cache, options_.query);
   toWorld(X_WA, r, s.last);
+  s.last.answered = true;
   s.last_tested = tick_;
   s.in_contact = r.distance <= options_.box_margin;
 }
@@ -210,7 +212,7 @@ StepStats CollisionWorld::step() {
   for (std::uint64_t& o : order_) {
     const PairState& s = pair_states_[o];
     const std::uint64_t age = std::min<std::uint64_t>(tick_ - s.last_tested, kAgeMask);
-    const std::uint64_t cls = (s.last_tested == 0 || age >= due) ? 3 : (s.in_contact ? 2 : 1);
+    const std::uint64_t cls = (!s.last.answered || age >= due) ? 3 : (s.in_contact ? 2 : 1);
     // larger is more urgent; ties by state index, so that runs are deterministic
     o = cls << 62 | age << 32 | (0xffffffffull - o);
   }
@@ -237,14 +239,14 @@ StepStats CollisionWorld::step() {
   stats.pairs_skipped = count - tested;
   for (std::uint32_t i = tested; i < count; ++i) {
     const PairState& s = pair_states_[0xffffffffull - (order_[i] & 0xffffffffull)];
-    const std::uint64_t age = s.last_tested == 0 ? tick_ : tick_ - s.last_tested;
+    const std::uint64_t age = tick_ - s.last_tested;
     stats.worst_staleness = std::max(stats.worst_staleness, static_cast<std::uint32_t>(std::min<std::uint64_t>(age, 0xffffffffu)));
   }
 
   // every close pair's latest answer, grouped by body pair
   contacts_.clear();
   for (const PairState& s : pair_states_) {
-    if (!s.live || s.last_tested == 0) continue;
+    if (!s.live) continue;
     contacts_.push_back(s.last);
     contacts_.back().age = static_cast<std::uint32_t>(std::min<std::uint64_t>(tick_ - s.last_tested, 0xffffffffu));
   }

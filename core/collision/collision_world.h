@@ -64,6 +64,9 @@ struct Contact {
   Vec3 point_a{0.0}, point_b{0.0};  ///< world
   Manifold manifold;       ///< world
   std::uint32_t age = 0;   ///< ticks since this answer was computed (0: this tick)
+  /// false for a close pair the scheduler has not tested yet (the fields above are then empty):
+  /// such a pair is listed all the same, so that none is ever silently left out.
+  bool answered = false;
 };
 
 /// Figures of one step.
@@ -119,7 +122,7 @@ class CollisionWorld {
     std::uint32_t prim_a = 0, prim_b = 0;  // prims_ indices, ordered by body
     PairCache cache;
     Contact last;
-    std::uint64_t last_tested = 0;  // tick of the last test (0: never)
+    std::uint64_t last_tested = 0;  // tick of the last test (the tick before it appeared, if none)
     bool in_contact = false;
     bool live = false;
   };
