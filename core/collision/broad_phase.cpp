@@ -1,5 +1,7 @@
 #include "core/collision/broad_phase.h"
 
+#include "core/common/slots.h"
+
 #include <algorithm>
 #include <cassert>
 #include <cstring>
@@ -117,13 +119,8 @@ void SweepAndPrune::rebuildPositions() {
 }
 
 std::uint32_t SweepAndPrune::add(const Aabb& box, const BoxFilter& filter) {
-  std::uint32_t h = 0;
-  if (!free_.empty()) {
-    h = free_.back();
-    free_.pop_back();
-  } else {
-    h = static_cast<std::uint32_t>(boxes_.size());
-    boxes_.emplace_back();
+  const std::uint32_t h = takeSlot(boxes_, free_);
+  if (key_[0].size() < 2 * boxes_.size()) {
     for (int k = 0; k < 3; ++k) {
       key_[k].resize(2 * boxes_.size());
       pos_[k].resize(2 * boxes_.size());
@@ -132,7 +129,6 @@ std::uint32_t SweepAndPrune::add(const Aabb& box, const BoxFilter& filter) {
   }
   pair_count_[h] = 0;
   Box& b = boxes_[h];
-  b = Box{};
   b.box = box;
   b.filter = filter;
   b.live = true;

@@ -115,27 +115,27 @@ std::uint32_t closestBoundaryEdge(const Polytope& p, std::uint32_t f, const Vec3
   return best_edge;
 }
 
+// The edge of vertex v (of p) whose Voronoi plane x (p's frame) violates most, or kNoIndex.
+std::uint32_t mostViolatedEdge(const Polytope& p, std::uint32_t v, const Vec3& x, double tol) {
+  const Vec3& pv = p.vertices()[v].p;
+  double worst = tol;
+  std::uint32_t edge = kNoIndex;
+  for (const auto& ve : p.vertexEdges(v)) {
+    const double s = glm::dot(x - pv, ve.out);
+    if (s > worst) worst = s, edge = ve.edge;
+  }
+  return edge;
+}
+
 Outcome stepVV(const View& w, std::uint32_t v1, std::uint32_t v2, const Tol& tol) {
   const Vec3& p1 = w.p1->vertices()[v1].p;
   const Vec3& p2 = w.p2->vertices()[v2].p;
-  {
-    const Vec3 y = w.T12->apply(p2);
-    double worst = tol.len;
-    std::uint32_t edge = kNoIndex;
-    for (const auto& ve : w.p1->vertexEdges(v1)) {
-      const double s = glm::dot(y - p1, ve.out);
-      if (s > worst) worst = s, edge = ve.edge;
-    }
-    if (edge != kNoIndex) return set1(Feature::edge(edge));
+  if (const auto e = mostViolatedEdge(*w.p1, v1, w.T12->apply(p2), tol.len); e != kNoIndex) {
+    return set1(Feature::edge(e));
   }
-  const Vec3 x = w.T21->apply(p1);
-  double worst = tol.len;
-  std::uint32_t edge = kNoIndex;
-  for (const auto& ve : w.p2->vertexEdges(v2)) {
-    const double s = glm::dot(x - p2, ve.out);
-    if (s > worst) worst = s, edge = ve.edge;
+  if (const auto e = mostViolatedEdge(*w.p2, v2, w.T21->apply(p1), tol.len); e != kNoIndex) {
+    return set2(Feature::edge(e));
   }
-  if (edge != kNoIndex) return set2(Feature::edge(edge));
   return kDone;
 }
 

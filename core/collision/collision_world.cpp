@@ -1,5 +1,7 @@
 #include "core/collision/collision_world.h"
 
+#include "core/common/slots.h"
+
 #include <algorithm>
 #include <chrono>
 #include <limits>
@@ -64,31 +66,15 @@ Aabb CollisionWorld::primitiveBox(Prim& p) {
 }
 
 std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_WB) {
-  std::uint32_t id = 0;
-  if (!free_bodies_.empty()) {
-    id = free_bodies_.back();
-    free_bodies_.pop_back();
-  } else {
-    id = static_cast<std::uint32_t>(bodies_.size());
-    bodies_.emplace_back();
-  }
+  const std::uint32_t id = takeSlot(bodies_, free_bodies_);
   Body& b = bodies_[id];
-  b = Body{};
   b.desc = desc;
   b.X_WB = X_WB;
   b.T_WB = X_WB.toTransform();
   b.live = true;
   for (std::uint32_t i = 0; i < desc.primitives.size(); ++i) {
-    std::uint32_t pi = 0;
-    if (!free_prims_.empty()) {
-      pi = free_prims_.back();
-      free_prims_.pop_back();
-    } else {
-      pi = static_cast<std::uint32_t>(prims_.size());
-      prims_.emplace_back();
-    }
+    const std::uint32_t pi = takeSlot(prims_, free_prims_);
     Prim& p = prims_[pi];
-    p = Prim{};
     p.body = id;
     p.index = i;
     p.live = true;
@@ -134,16 +120,8 @@ void CollisionWorld::applyEvents(StepStats* stats) {
   for (const PairEvent& e : sap_.takeEvents()) {
     const std::uint64_t k = pairKey(e.pair.lo, e.pair.hi);
     if (e.kind == PairEvent::Kind::kAdded) {
-      std::uint32_t si = 0;
-      if (!free_pair_states_.empty()) {
-        si = free_pair_states_.back();
-        free_pair_states_.pop_back();
-      } else {
-        si = static_cast<std::uint32_t>(pair_states_.size());
-        pair_states_.emplace_back();
-      }
+      const std::uint32_t si = takeSlot(pair_states_, free_pair_states_);
       PairState& s = pair_states_[si];
-      s = PairState{};
       std::uint32_t pa = prim_of_box_[e.pair.lo], pb = prim_of_box_[e.pair.hi];
       if (prims_[pa].body > prims_[pb].body) std::swap(pa, pb);
       s.prim_a = pa;
