@@ -76,7 +76,7 @@ PairResult queryPair(const Polytope& a, const Polytope& b, const Transform& X_AB
     return r;
   }
   // touching, overlapping, or a walk that gave up: the separating-axis answer decides
-  const DepthResult d = penetrationDepthExact(a, b, X_AB, cache.depth);
+  const DepthResult d = penetrationDepth(a, b, X_AB, cache.depth);
   if (d.depth > tol) {
     r.status = ContactStatus::kPenetrating;
     r.distance = -d.depth;

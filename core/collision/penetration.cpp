@@ -151,6 +151,17 @@ DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Tr
   return best;
 }
 
+DepthResult penetrationDepth(const Polytope& a, const Polytope& b, const Transform& X_AB,
+                             DepthCache& cache) {
+  DepthResult r;
+  // small hulls: the separating axes are cheaper than the expanding polytope
+  const bool small = a.edges().size() * b.edges().size() <= 4096;
+  if (!small && penetrationDepthEpa(a, b, X_AB, cache, r)) return r;
+  r = penetrationDepthExact(a, b, X_AB, cache);
+  cache.normal = r.normal;
+  return r;
+}
+
 double depthAlong(const Polytope& a, const Polytope& b, const Transform& X_AB, const Vec3& dir,
                   std::uint32_t& hint_a, std::uint32_t& hint_b) {
   hint_a = a.support(dir, hint_a);

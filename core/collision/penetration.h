@@ -23,6 +23,7 @@ struct DepthCache {
   std::uint32_t ib = 0;  ///< face or edge of B
   std::uint32_t support_a = 0;  ///< last support vertex hints
   std::uint32_t support_b = 0;
+  Vec3 normal{0.0};  ///< last tick's minimal translation direction (a start for the next)
 };
 
 /// Result of penetrationDepth(), in A's frame.
@@ -41,6 +42,17 @@ struct DepthResult {
 /// No allocation; any thread.
 DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Transform& X_AB,
                                   DepthCache& cache);
+
+/// The MTD by GJK and EPA on A - B with climbed supports, started from last tick's direction.
+/// Returns false, changing nothing the caller relies on, when it cannot certify its answer (the
+/// final polytope must be convex, hold the origin, and its nearest face's support must meet that
+/// face within 1e-11 of the size); then use penetrationDepthExact. No allocation; any thread.
+bool penetrationDepthEpa(const Polytope& a, const Polytope& b, const Transform& X_AB,
+                         DepthCache& cache, DepthResult& out);
+
+/// The MTD: penetrationDepthEpa when it certifies its answer, else penetrationDepthExact.
+DepthResult penetrationDepth(const Polytope& a, const Polytope& b, const Transform& X_AB,
+                             DepthCache& cache);
 
 /// Translation distance along unit `dir` (A's frame) that B must move so the pair stops
 /// overlapping: max over A of dot(dir, x) - min over B of dot(dir, x) (negative when already
