@@ -225,6 +225,19 @@ TEST(NarrowPhase, HardCases) {
       {"sliver vs sliver penetrating", box(1, 1e-4, 1e-4), box(1, 1e-4, 1e-4), {{0, 0, 1.5e-4}, q(1.0, {0, 0, 1})}, -0.5e-4},
       {"tetrahedron under cube", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}}, cube, {{0.3, 0.3, -1.2}, I}, 0.2},
   };
+  // 32-sided prisms: 64 vertices, large enough for the EPA path, with parallel caps and sides
+  std::vector<Vec3> prism;
+  for (int k = 0; k < 32; ++k) {
+    const double t = k * 2.0 * M_PI / 32.0;
+    prism.push_back({std::cos(t), std::sin(t), -0.5});
+    prism.push_back({std::cos(t), std::sin(t), 0.5});
+  }
+  cases.push_back({"prism caps penetrating", prism, prism, {{0.3, 0.1, 0.99}, I}, -0.01});
+  cases.push_back({"prism caps touching", prism, prism, {{0.3, 0.1, 1.0}, I}, 0.0});
+  cases.push_back({"prism caps gap 1e-7", prism, prism, {{0.3, 0.1, 1.0 + 1e-7}, I}, 1e-7});
+  cases.push_back({"prism sides penetrating", prism, prism, {{1.99, 0.0, 0.2}, q(M_PI / 32, {0, 0, 1})}, nan});
+  cases.push_back({"prism deep", prism, prism, {{0.2, 0.1, 0.3}, q(0.4, {1, 1, 0})}, nan});
+  cases.push_back({"prism identical", prism, prism, {{0, 0, 0}, I}, -1.0});
   // a vertex just inside a three-wall corner
   cases.push_back({"vertex into corner", cube, cube,
                    {{1.0 + std::sqrt(3.0) - 1e-3, 1.0, 1.0},
