@@ -248,6 +248,17 @@ bool penetrationDepthEpa(const Polytope& a, const Polytope& b, const Transform& 
       out.kind = DepthFeature::kFaceA, out.ia = fa;
     } else if (best_b >= 1.0 - 1e-12) {
       out.kind = DepthFeature::kFaceB, out.ib = fb;
+    } else {
+      // two edges: at each support vertex, the edge most perpendicular to the normal
+      double ca = 2.0, cb = 2.0;
+      for (const auto& ve : a.vertexEdges(sa)) {
+        const double c = std::abs(glm::dot(ve.out, n));
+        if (c < ca) ca = c, out.ia = ve.edge;
+      }
+      for (const auto& ve : b.vertexEdges(sb)) {
+        const double c = std::abs(glm::dot(ve.out, n_b));
+        if (c < cb) cb = c, out.ib = ve.edge;
+      }
     }
   }
   cache.kind = out.kind;
