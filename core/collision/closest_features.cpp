@@ -294,7 +294,7 @@ void closestPoints(const Polytope& a, const Polytope& b, const Transform& T_ab, 
   using FT = FeatureType;
   auto vertA = [&](std::uint32_t i) { return a.vertices()[i].p; };
   auto vertB = [&](std::uint32_t i) { return T_ab.apply(b.vertices()[i].p); };
-  const Vec3 cb = T_ab.apply(b.centroid());
+  auto centreLine = [&] { return T_ab.apply(b.centroid()) - a.centroid(); };
   if (fa.type == FT::kVertex && fb.type == FT::kVertex) {
     r.point_a = vertA(fa.index);
     r.point_b = vertB(fb.index);
@@ -320,9 +320,8 @@ void closestPoints(const Polytope& a, const Polytope& b, const Transform& T_ab, 
     if (len > 1e-6) {
       // the normal of non-parallel edges is their common perpendicular, away from A
       r.normal = n / len;
-      if (glm::dot(r.normal, r.point_b - r.point_a) < 0.0 ||
-          (glm::dot(r.normal, r.point_b - r.point_a) == 0.0 &&
-           glm::dot(r.normal, cb - a.centroid()) < 0.0)) {
+      const double side = glm::dot(r.normal, r.point_b - r.point_a);
+      if (side < 0.0 || (side == 0.0 && glm::dot(r.normal, centreLine()) < 0.0)) {
         r.normal = -r.normal;
       }
     }
@@ -342,7 +341,7 @@ void closestPoints(const Polytope& a, const Polytope& b, const Transform& T_ab, 
   const Vec3 d = r.point_b - r.point_a;
   r.distance = glm::length(d);
   if (r.normal == Vec3{0.0}) {
-    r.normal = r.distance > 0.0 ? d / r.distance : glm::normalize(cb - a.centroid());
+    r.normal = r.distance > 0.0 ? d / r.distance : glm::normalize(centreLine());
   }
 }
 
@@ -362,16 +361,22 @@ ClosestResult closestFeatures(const Polytope& a, const Polytope& b, const Transf
     fa = Feature::vertex(a.lookup(d));
     fb = Feature::vertex(b.lookup(X_BA.rotate(-d)));
   }
-  const std::uint32_t cap = options.max_iterations != 0
-      ? options.max_iterations
-      : static_cast<std::uint32_t>(4 * (a.vertices().size() + a.edges().size() + a.faces().size() +
-                                        b.vertices().size() + b.edges().size() + b.faces().size()) + 64);
+  // the cap, 4 * (features of A + features of B) + 64, is only worked out if 64 steps are not enough
+  std::uint32_t cap = options.max_iterations != 0 ? options.max_iterations : 64;
+  const bool default_cap = options.max_iterations == 0;
   const View ab{&a, &b, &X_AB, &X_BA};
   const View ba{&b, &a, &X_BA, &X_AB};
   ClosestResult r;
   Outcome o;
   std::uint32_t it = 0;
-  for (; it < cap; ++it) {
+  for (;; ++it) {
+    if (it == cap) {
+      if (!default_cap || cap > 64) break;
+      cap = static_cast<std::uint32_t>(
+          4 * (a.vertices().size() + a.edges().size() + a.faces().size() + b.vertices().size() +
+               b.edges().size() + b.faces().size()) + 64);
+      if (it == cap) break;
+    }
     const bool swap = static_cast<int>(fa.type) > static_cast<int>(fb.type);
     o = swap ? dispatch(ba, fb, fa, tol) : dispatch(ab, fa, fb, tol);
     if (o.act == Act::kDone || o.act == Act::kPenetration) break;
