@@ -146,9 +146,14 @@ Result<Polytope> Polytope::fromPoints(std::span<const Vec3> points, const HullOp
     hi = glm::max(hi, p);
   }
   const double diagonal = glm::length(hi - lo);
-  if (!(diagonal > 0.0) || !std::isfinite(diagonal)) {
-    return Error{"all points coincide (the hull has no volume)"};
+  if (!std::isfinite(diagonal) || diagonal > 1e150) {
+    return Error{"coordinates too large (the bounding box spans more than 1e150)"};
   }
+  if (!(diagonal > 0.0)) {
+    return Error{hi == lo ? "all points coincide (the hull has no volume)"
+                          : "coordinates too small (the bounding box's size underflows)"};
+  }
+  if (diagonal < 1e-150) return Error{"coordinates too small (the bounding box spans less than 1e-150)"};
   const std::vector<Vec3> merged = mergeNearDuplicates(points, options.merge_tolerance * diagonal);
   if (merged.size() < 4) {
     return Error{"a convex hull needs at least 4 distinct non-coplanar points, got " +

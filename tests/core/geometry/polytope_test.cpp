@@ -45,6 +45,8 @@ TEST(Polytope, RefusesBadInputWithClearErrors) {
       {"collinear", {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}}, "collinear"},
       {"coincident", {{1, 1, 1}, {1, 1, 1}, {1, 1, 1}, {1, 1, 1}}, "coincide"},
       {"duplicates of a triangle", {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1e-13, 0, 0}}, "at least 4"},
+      {"huge", {{0, 0, 0}, {1e300, 0, 0}, {0, 1e300, 0}, {0, 0, 1e300}}, "too large"},
+      {"tiny", {{0, 0, 0}, {1e-300, 0, 0}, {0, 1e-300, 0}, {0, 0, 1e-300}}, "too small"},
   };
   for (const Case& c : cases) {
     const auto r = Polytope::fromPoints(c.points);
