@@ -140,25 +140,10 @@ bool penetrationDepthEpa(const Polytope& a, const Polytope& b, const Transform& 
   };
   if (!makeFace(0, 1, 2) || !makeFace(0, 1, 3) || !makeFace(0, 2, 3) || !makeFace(1, 2, 3)) return false;
 
-  int best = -1;
-  double upper = std::numeric_limits<double>::infinity();
-  Vec3 upper_n{0.0};
-  for (int it = 0; it < kMaxIterations; ++it) {
-    best = -1;
-    for (int f = 0; f < nf; ++f) {
-      if (best < 0 || faces[static_cast<std::size_t>(f)].dist < faces[static_cast<std::size_t>(best)].dist) {
-        best = f;
-      }
-    }
-    if (best < 0) return false;
-    const Face& bf = faces[static_cast<std::size_t>(best)];
-    if (bf.dist < -eps) return false;  // the origin is outside P
-    const SupportPoint w = m.support(bf.n);
-    const double h = glm::dot(bf.n, w.w);
-    if (h < upper) upper = h, upper_n = bf.n;
-    if (h - bf.dist <= eps) break;  // converged
-    if (it + 1 == kMaxIterations || nv >= kMaxVerts) return false;
-    // remove the faces w sees; the boundary of the removed region is the horizon
+  // adds point w to P: removes the faces it sees and closes the hole from the horizon to w.
+  // Returns false when P cannot stay a valid polytope (then the caller refuses).
+  auto insert = [&](const SupportPoint& w) -> bool {
+    if (nv >= kMaxVerts) return false;
     std::array<std::array<int, 2>, 3 * kMaxFaces> edges;
     int ne = 0;
     for (int f = 0; f < nf;) {
@@ -181,12 +166,44 @@ bool penetrationDepthEpa(const Polytope& a, const Polytope& b, const Transform& 
         if (!shared) edges[static_cast<std::size_t>(ne++)] = {i, j};
       }
     }
+    if (ne == 0) return true;  // w is inside P: nothing to do
     if (ne < 3) return false;
     verts[static_cast<std::size_t>(nv)] = w;
     for (int k = 0; k < ne; ++k) {
       if (!makeFace(edges[static_cast<std::size_t>(k)][0], edges[static_cast<std::size_t>(k)][1], nv)) return false;
     }
     ++nv;
+    return true;
+  };
+  // last tick's polytope near the answer, at this tick's pose: EPA then starts close to the end
+  for (std::uint8_t k = 0; k < cache.warm_count; ++k) {
+    const std::uint32_t ia = cache.warm_a[k], ib = cache.warm_b[k];
+    if (ia >= a.vertices().size() || ib >= b.vertices().size()) break;
+    if (!insert({a.vertices()[ia].p - X_AB.apply(b.vertices()[ib].p), ia, ib})) return false;
+  }
+
+  int best = -1;
+  double upper = std::numeric_limits<double>::infinity();
+  Vec3 upper_n{0.0};
+  for (int it = 0; it < kMaxIterations; ++it) {
+    best = -1;
+    for (int f = 0; f < nf; ++f) {
+      if (best < 0 || faces[static_cast<std::size_t>(f)].dist < faces[static_cast<std::size_t>(best)].dist) {
+        best = f;
+      }
+    }
+    if (best < 0) return false;
+    const Face& bf = faces[static_cast<std::size_t>(best)];
+    if (bf.dist < -eps) return false;  // the origin is outside P
+    // climb from the face's own vertex: it is a support point for a nearby direction
+    m.ha = verts[static_cast<std::size_t>(bf.v[0])].ia;
+    m.hb = verts[static_cast<std::size_t>(bf.v[0])].ib;
+    const SupportPoint w = m.support(bf.n);
+    const double h = glm::dot(bf.n, w.w);
+    if (h < upper) upper = h, upper_n = bf.n;
+    if (h - bf.dist <= eps) break;  // converged
+    if (it + 1 == kMaxIterations) return false;
+    if (!insert(w)) return false;
   }
   if (best < 0) return false;
   const Face& bf = faces[static_cast<std::size_t>(best)];
@@ -221,6 +238,8 @@ bool penetrationDepthEpa(const Polytope& a, const Polytope& b, const Transform& 
   // moves by depth along that face's outward normal n
   out.depth = depth;
   out.normal = n;
+  out.support_a = p0.ia;  // the final face's points are supports along n
+  out.support_b = p0.ib;
   out.point_a = pa;
   out.point_b = pb;
   // the Minkowski feature: a face of A or of B parallel to the normal, else two edges
@@ -229,7 +248,7 @@ bool penetrationDepthEpa(const Polytope& a, const Polytope& b, const Transform& 
   {
     double best_a = -2.0, best_b = -2.0;
     std::uint32_t fa = 0, fb = 0;
-    const std::uint32_t sa = a.support(n, m.ha);
+    const std::uint32_t sa = a.support(n, p0.ia);
     for (const auto& ve : a.vertexEdges(sa)) {
       for (const std::uint32_t f : a.edges()[ve.edge].face) {
         const double c = glm::dot(a.faces()[f].normal, n);
@@ -237,7 +256,7 @@ bool penetrationDepthEpa(const Polytope& a, const Polytope& b, const Transform& 
       }
     }
     const Vec3 n_b = m.X_BA.rotate(-n);
-    const std::uint32_t sb = b.support(n_b, m.hb);
+    const std::uint32_t sb = b.support(n_b, p0.ib);
     for (const auto& ve : b.vertexEdges(sb)) {
       for (const std::uint32_t f : b.edges()[ve.edge].face) {
         const double c = glm::dot(b.faces()[f].normal, n_b);
@@ -267,6 +286,23 @@ bool penetrationDepthEpa(const Polytope& a, const Polytope& b, const Transform& 
   cache.support_a = m.ha;
   cache.support_b = m.hb;
   cache.normal = n;
+  // keep the points of P nearest the answer's plane for the next tick
+  std::array<int, DepthCache::kWarm> keep{};
+  int kept = 0;
+  for (int v = 0; v < nv; ++v) {
+    const double hv = glm::dot(verts[static_cast<std::size_t>(v)].w, n);
+    int at = kept < DepthCache::kWarm ? kept++ : DepthCache::kWarm;
+    while (at > 0 && glm::dot(verts[static_cast<std::size_t>(keep[static_cast<std::size_t>(at - 1)])].w, n) < hv) {
+      if (at < DepthCache::kWarm) keep[static_cast<std::size_t>(at)] = keep[static_cast<std::size_t>(at - 1)];
+      --at;
+    }
+    if (at < DepthCache::kWarm) keep[static_cast<std::size_t>(at)] = v;
+  }
+  cache.warm_count = static_cast<std::uint8_t>(kept);
+  for (int k = 0; k < kept; ++k) {
+    cache.warm_a[static_cast<std::size_t>(k)] = verts[static_cast<std::size_t>(keep[static_cast<std::size_t>(k)])].ia;
+    cache.warm_b[static_cast<std::size_t>(k)] = verts[static_cast<std::size_t>(keep[static_cast<std::size_t>(k)])].ib;
+  }
   return true;
 }
 

@@ -358,14 +358,14 @@ Manifold manifoldFromDepth(const Polytope& a, const Polytope& b, const Transform
     facePolygon(fa, pa);
     a_face = true;
     std::uint32_t inc = 0;
-    bestIncidentFace(b, Feature::vertex(b.support(X_BA.rotate(-n), 0)), X_BA.rotate(-n), inc);
+    bestIncidentFace(b, Feature::vertex(b.support(X_BA.rotate(-n), depth.support_b)), X_BA.rotate(-n), inc);
     facePolygon(FaceView{&b, &X_AB, inc}, pb);
   } else {
     fb = FaceView{&b, &X_AB, depth.ib};
     facePolygon(fb, pb);
     b_face = true;
     std::uint32_t inc = 0;
-    bestIncidentFace(a, Feature::vertex(a.support(n, 0)), n, inc);
+    bestIncidentFace(a, Feature::vertex(a.support(n, depth.support_a)), n, inc);
     facePolygon(FaceView{&a, &I, inc}, pa);
   }
   if (pa.n <= 1 && pb.n <= 1) {

@@ -56,12 +56,36 @@ void bruteDistance(const Polytope& a, const Polytope& b, const Transform& X_AB, 
   r.normal = r.distance > 0.0 ? d / r.distance : Vec3{1.0, 0.0, 0.0};
 }
 
+// The answer of an overlapping pair from its minimal translation.
+void penetrating(const Polytope& a, const Polytope& b, const Transform& X_AB, const DepthResult& d,
+                 PairResult& r) {
+  r.status = ContactStatus::kPenetrating;
+  r.distance = -d.depth;
+  r.normal = d.normal;
+  r.point_a = d.point_a;
+  r.point_b = d.point_b;
+  r.fa = d.kind == DepthFeature::kFaceB ? Feature{}
+         : d.kind == DepthFeature::kFaceA ? Feature::face(d.ia) : Feature::edge(d.ia);
+  r.fb = d.kind == DepthFeature::kFaceA ? Feature{}
+         : d.kind == DepthFeature::kFaceB ? Feature::face(d.ib) : Feature::edge(d.ib);
+  r.manifold = manifoldFromDepth(a, b, X_AB, d);
+}
+
 }  // namespace
 
 PairResult queryPair(const Polytope& a, const Polytope& b, const Transform& X_AB, PairCache& cache,
                      const QueryOptions& options) {
   const double tol = options.touch_tolerance * std::max(a.radius(), b.radius());
   PairResult r;
+  if (cache.penetrating) {
+    // overlapping last tick: the depth first; the walk only once they come apart
+    const DepthResult d = penetrationDepth(a, b, X_AB, cache.depth);
+    if (d.depth > tol) {
+      penetrating(a, b, X_AB, d, r);
+      return r;
+    }
+    cache.penetrating = false;
+  }
   const ClosestResult c = closestFeatures(a, b, X_AB, cache.features, options);
   r.iterations = c.iterations;
   if (c.end == WalkEnd::kConverged && c.distance > tol) {
@@ -78,14 +102,8 @@ PairResult queryPair(const Polytope& a, const Polytope& b, const Transform& X_AB
   // touching, overlapping, or a walk that gave up: the separating-axis answer decides
   const DepthResult d = penetrationDepth(a, b, X_AB, cache.depth);
   if (d.depth > tol) {
-    r.status = ContactStatus::kPenetrating;
-    r.distance = -d.depth;
-    r.normal = d.normal;
-    r.point_a = d.point_a;
-    r.point_b = d.point_b;
-    r.fa = d.kind == DepthFeature::kFaceB ? Feature{} : (d.kind == DepthFeature::kFaceA ? Feature::face(d.ia) : Feature::edge(d.ia));
-    r.fb = d.kind == DepthFeature::kFaceA ? Feature{} : (d.kind == DepthFeature::kFaceB ? Feature::face(d.ib) : Feature::edge(d.ib));
-    r.manifold = manifoldFromDepth(a, b, X_AB, d);
+    penetrating(a, b, X_AB, d, r);
+    cache.penetrating = true;
     return r;
   }
   if (c.end == WalkEnd::kConverged) {

@@ -13,6 +13,9 @@ namespace hapticd::collision {
 struct PairCache {
   FeatureCache features;
   DepthCache depth;
+  /// Overlapping at the last query: the next one computes the depth first and walks the
+  /// features only if the pair has come apart.
+  bool penetrating = false;
 };
 
 /// Result of queryPair(), in A's frame.

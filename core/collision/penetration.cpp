@@ -125,12 +125,14 @@ DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Tr
     case DepthFeature::kFaceA:
       best.point_b = X_AB.apply(b.vertices()[best_support].p);
       best.point_a = best.point_b + best.normal * best.depth;
-      cache.support_b = best_support;
+      cache.support_b = best.support_b = best_support;
+      best.support_a = a.faceEdges(best.ia)[0].vertex;
       break;
     case DepthFeature::kFaceB:
       best.point_a = a.vertices()[best_support].p;
       best.point_b = best.point_a - best.normal * best.depth;
-      cache.support_a = best_support;
+      cache.support_a = best.support_a = best_support;
+      best.support_b = b.faceEdges(best.ib)[0].vertex;
       break;
     case DepthFeature::kEdgeEdge: {
       const auto& e1 = a.edges()[best.ia];
@@ -140,6 +142,8 @@ DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Tr
           X_AB.apply(b.vertices()[e2.tail].p), X_AB.apply(b.vertices()[e2.head].p));
       best.point_a = s.c1;
       best.point_b = s.c2;
+      best.support_a = e1.tail;
+      best.support_b = e2.tail;
       break;
     }
     case DepthFeature::kNone:

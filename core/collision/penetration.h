@@ -7,6 +7,7 @@
 /// Exact method: separating axes over both face sets and the Gauss-map-tested edge pairs.
 /// Tracked method: a walk over the Minkowski faces from last tick's one (see penetration.cpp).
 
+#include <array>
 #include <cstdint>
 
 #include "core/collision/closest_features.h"
@@ -24,6 +25,12 @@ struct DepthCache {
   std::uint32_t support_a = 0;  ///< last support vertex hints
   std::uint32_t support_b = 0;
   Vec3 normal{0.0};  ///< last tick's minimal translation direction (a start for the next)
+  /// Vertex pairs (a of A, b of B) of last tick's EPA polytope nearest its answer; EPA starts
+  /// from them again (their points a - b are still points of A - B at the new pose).
+  static constexpr int kWarm = 16;
+  std::array<std::uint32_t, kWarm> warm_a{};
+  std::array<std::uint32_t, kWarm> warm_b{};
+  std::uint8_t warm_count = 0;
 };
 
 /// Result of penetrationDepth(), in A's frame.
@@ -36,6 +43,8 @@ struct DepthResult {
   Vec3 point_b{0.0};  ///< deepest point of B against normal (point_b = point_a - depth * normal, up to the feature's extent)
   DepthFeature kind = DepthFeature::kNone;
   std::uint32_t ia = 0, ib = 0;
+  /// Hints: a vertex of A extreme along normal, a vertex of B extreme against it (or near them).
+  std::uint32_t support_a = 0, support_b = 0;
 };
 
 /// Exact MTD by separating axes. O(FA + FB + EA * EB) worst case. Updates `cache`.
