@@ -15,6 +15,12 @@ struct Polygon {
   std::array<Vec3, kMaxPolygon> p;
   std::size_t n = 0;
   bool overflow = false;
+  /// Copies only the points in use (the arrays are large).
+  void copyFrom(const Polygon& o) {
+    n = o.n;
+    overflow = o.overflow;
+    std::copy(o.p.begin(), o.p.begin() + static_cast<std::ptrdiff_t>(o.n), p.begin());
+  }
   void push(const Vec3& v) {
     if (n < kMaxPolygon) {
       p[n++] = v;
@@ -55,7 +61,7 @@ struct FaceView {
   const Polytope* p = nullptr;
   const Transform* X = nullptr;  // p's frame -> A's frame
   std::uint32_t f = 0;
-  Vec3 normal(void) const { return X->rotate(p->faces()[f].normal); }
+  Vec3 normal() const { return X->rotate(p->faces()[f].normal); }
 };
 
 void facePolygon(const FaceView& v, Polygon& out) {
@@ -68,7 +74,7 @@ void clipToFace(const FaceView& ref, Polygon& poly, Polygon& scratch) {
   for (const auto& fe : ref.p->faceEdges(ref.f)) {
     clipPolygon(poly, ref.X->apply(ref.p->vertices()[fe.vertex].p), ref.X->rotate(fe.side),
                 scratch);
-    poly = scratch;
+    poly.copyFrom(scratch);
     if (poly.n == 0) return;
   }
 }
@@ -239,16 +245,15 @@ bool parallelEdges(const Polytope& a, Feature fa, const Vec3& n, const Polytope&
 Manifold assemble(const Polygon& pa, bool a_face, const FaceView& fa, const Polygon& pb,
                   bool b_face, const FaceView& fb, const Vec3& n, double fallback_depth,
                   const Vec3& fallback_point, double merge) {
-  static_assert(kMaxPolygon >= 8);
   Manifold m;
   Polygon work, scratch;
   std::array<ContactPoint, kMaxPolygon> pts;
   std::size_t count = 0;
   // choose the reference: a face when there is one; the other side is clipped to it
   if (a_face || b_face) {
-    const bool ref_is_a = a_face && (!b_face || pa.n >= pb.n ? true : false);
+    const bool ref_is_a = a_face && (!b_face || pa.n >= pb.n);
     const FaceView& ref = ref_is_a ? fa : fb;
-    work = ref_is_a ? pb : pa;
+    work.copyFrom(ref_is_a ? pb : pa);
     clipToFace(ref, work, scratch);
     const Vec3 rn = ref.normal();  // outward of the reference face
     const double off = glm::dot(rn, ref.X->apply(ref.p->vertices()[ref.p->faceEdges(ref.f)[0].vertex].p));
@@ -284,6 +289,7 @@ Manifold assemble(const Polygon& pa, bool a_face, const FaceView& fa, const Poly
     m.count = 1;
     return m;
   }
+  m.truncated = pa.overflow || pb.overflow || work.overflow;
   // the deepest point is the pair's depth: keep it exact
   reduce(pts.data(), count, merge, m);
   return m;

@@ -22,6 +22,9 @@ struct Manifold {
   static constexpr std::size_t kMaxPoints = 4;
   std::array<ContactPoint, kMaxPoints> points{};
   std::uint8_t count = 0;
+  /// A face of more than 256 vertices took part and only its first 256 were clipped: the contact
+  /// region is then a part of the true one (the deepest point is still exact).
+  bool truncated = false;
 };
 
 /// Options of manifold building, relative to the pair's size.
