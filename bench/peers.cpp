@@ -78,6 +78,21 @@ class CcdPeer : public PeerMethod {
     }
     return -depth;
   }
+  // libccd: dir moves obj2 (B) out of obj1 (A), pos is the midpoint; no distance when apart
+  PeerAnswer answer(const Transform& X_AB) override {
+    b_.X = X_AB;
+    ccd_real_t depth = 0;
+    ccd_vec3_t dir, pos;
+    const int r = mpr_ ? ccdMPRPenetration(&a_, &b_, &ccd_, &depth, &dir, &pos)
+                       : ccdGJKPenetration(&a_, &b_, &ccd_, &depth, &dir, &pos);
+    PeerAnswer out;
+    if (r != 0) return out;
+    out.ok = true;
+    out.distance = -depth;
+    out.normal = {dir.v[0], dir.v[1], dir.v[2]};
+    out.point = {pos.v[0], pos.v[1], pos.v[2]};
+    return out;
+  }
 
  private:
   bool mpr_;
@@ -135,6 +150,39 @@ class FclPeer : public PeerMethod {
     }
     return -res.getContact(0).penetration_depth;
   }
+  // FCL: nearest points p1 on A, p2 on B; a contact's normal points from A to B
+  PeerAnswer answer(const Transform& X_AB) override {
+    const fcl::Transform3d I = fcl::Transform3d::Identity();
+    const fcl::Transform3d T = fclTransform(X_AB);
+    PeerAnswer out;
+    if (!depth_) {
+      fcl::DistanceRequestd req;
+      req.gjk_solver_type = fcl::GST_LIBCCD;
+      req.enable_signed_distance = false;
+      req.enable_nearest_points = true;
+      fcl::DistanceResultd res;
+      fcl::distance(a_.get(), I, b_.get(), T, req, res);
+      if (!(res.min_distance > 0.0)) return out;
+      const Vec3 p1{res.nearest_points[0][0], res.nearest_points[0][1], res.nearest_points[0][2]};
+      const Vec3 p2{res.nearest_points[1][0], res.nearest_points[1][1], res.nearest_points[1][2]};
+      out.ok = true;
+      out.distance = res.min_distance;
+      out.normal = (p2 - p1) / glm::length(p2 - p1);
+      out.point = 0.5 * (p1 + p2);
+      return out;
+    }
+    fcl::CollisionRequestd req(1, true);
+    req.gjk_solver_type = fcl::GST_LIBCCD;
+    fcl::CollisionResultd res;
+    fcl::collide(a_.get(), I, b_.get(), T, req, res);
+    if (!res.isCollision()) return out;
+    const auto& c = res.getContact(0);
+    out.ok = true;
+    out.distance = -c.penetration_depth;
+    out.normal = {c.normal[0], c.normal[1], c.normal[2]};
+    out.point = {c.pos[0], c.pos[1], c.pos[2]};
+    return out;
+  }
 
  private:
   bool depth_;
@@ -171,6 +219,27 @@ class BulletGjkPeer : public PeerMethod {
     ok = out.m_hasResult;
     return out.m_distance;
   }
+  // Bullet: the normal on B points from B toward A, the point is on B
+  PeerAnswer answer(const Transform& X_AB) override {
+    btVoronoiSimplexSolver simplex;
+    btGjkEpaPenetrationDepthSolver epa;
+    btGjkPairDetector gjk(a_.get(), b_.get(), &simplex, &epa);
+    btDiscreteCollisionDetectorInterface::ClosestPointInput in;
+    in.m_transformA.setIdentity();
+    in.m_transformB = btFrom(X_AB);
+    btPointCollector res;
+    gjk.getClosestPoints(in, res, nullptr);
+    PeerAnswer out;
+    if (!res.m_hasResult) return out;
+    const Vec3 n_ba{res.m_normalOnBInWorld.x(), res.m_normalOnBInWorld.y(),
+                    res.m_normalOnBInWorld.z()};
+    const Vec3 p_b{res.m_pointInWorld.x(), res.m_pointInWorld.y(), res.m_pointInWorld.z()};
+    out.ok = true;
+    out.distance = res.m_distance;
+    out.normal = -n_ba;
+    out.point = p_b + n_ba * (0.5 * res.m_distance);
+    return out;
+  }
 
  private:
   std::unique_ptr<btConvexHullShape> a_, b_;
@@ -192,6 +261,24 @@ class BulletEpa2Peer : public PeerMethod {
     }
     ok = btGjkEpaSolver2::Penetration(a_.get(), I, b_.get(), T, guess, res);
     return res.distance;
+  }
+  // Bullet: witnesses[0] on A, [1] on B; the normal points from B toward A
+  PeerAnswer answer(const Transform& X_AB) override {
+    btTransform I;
+    I.setIdentity();
+    const btTransform T = btFrom(X_AB);
+    btGjkEpaSolver2::sResults res;
+    const btVector3 guess(1, 0, 0);
+    PeerAnswer out;
+    out.ok = depth_ ? btGjkEpaSolver2::Penetration(a_.get(), I, b_.get(), T, guess, res)
+                    : btGjkEpaSolver2::Distance(a_.get(), I, b_.get(), T, guess, res);
+    if (!out.ok) return out;
+    out.distance = res.distance;
+    out.normal = -Vec3{res.normal.x(), res.normal.y(), res.normal.z()};
+    const Vec3 w0{res.witnesses[0].x(), res.witnesses[0].y(), res.witnesses[0].z()};
+    const Vec3 w1{res.witnesses[1].x(), res.witnesses[1].y(), res.witnesses[1].z()};
+    out.point = 0.5 * (w0 + w1);
+    return out;
   }
 
  private:

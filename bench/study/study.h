@@ -1,0 +1,47 @@
+#pragma once
+/// \file
+/// The accuracy study (docs/accuracy.md): every way of computing contact trades error for time;
+/// each method and setting is run on the same configurations as a ground truth, and its force
+/// and torque error, its missed and false contacts, and its time are summarised. One row per
+/// method and setting.
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace hapticd::study {
+
+/// Errors and times of one method and setting, over every configuration of one part of the study.
+struct Row {
+  std::string part;     ///< "pairs/32" (random convex pairs of 32 points), "scene/peg_in_hole", ...
+  std::string method;   ///< "hapticd-exact-warm", "voxel", "FCL-GJK-EPA-libccd", ...
+  std::string setting;  ///< "h=0.5mm", "budget=2", "" ...
+  std::vector<double> force_err_n;    ///< |F - F_truth| per configuration
+  std::vector<double> torque_err_nm;  ///< |T - T_truth| per configuration
+  std::vector<double> time_ns;        ///< time per query or per tick
+  std::uint64_t misses = 0;           ///< truth in contact, method felt nothing (or had no answer)
+  std::uint64_t false_contacts = 0;   ///< truth free, method felt a force
+  std::uint64_t no_answer = 0;        ///< the method returned no answer at all
+  std::uint64_t truth_contacts = 0;   ///< configurations in contact by the truth
+};
+
+/// mean, p99, max of a sample (0 for an empty one).
+struct Stats {
+  double mean = 0.0, p99 = 0.0, max = 0.0;
+};
+Stats stats(std::vector<double> v);
+
+/// Options of the whole study.
+struct Options {
+  std::string out_dir = "docs/accuracy";
+  bool quick = false;           ///< fewer configurations (CI smoke run)
+  std::uint64_t seed = 20261201;
+};
+
+/// Random convex pairs: ellipsoid hulls of 8, 32 and 128 points, near contact, on coherent paths.
+void runPairs(const Options& options, std::vector<Row>& rows);
+
+/// Nanoseconds of one steady_clock reading pair (subtracted from every timed call).
+double timerOverheadNs();
+
+}  // namespace hapticd::study
