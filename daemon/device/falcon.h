@@ -57,8 +57,7 @@ struct Geometry {
   double r = 0.0400;    ///< frame origin to leg base, u component
   double s = -0.02309;  ///< frame origin to leg base, v component
   /// leg angles about z: 90, -30, -150 degrees, each plus the 15 degree tilt of the legs
-  std::array<double, 3> phi_rad = {1.8325957145940461, -0.26179938779914941,
-                                   -2.3561944901923448};
+  std::array<double, 3> phi_rad = {1.8325957145940461, -0.26179938779914941, -2.3561944901923448};
 };
 
 /// Encoder counts to the arm angle (radians): the motor encoder has 320 slots read in quadrature
@@ -119,7 +118,9 @@ enum class FkStatus : std::uint8_t {
 /// Forward kinematics: the effector position p for the arm angles theta, by Newton's method from
 /// p_guess (the last position, or kHomePosition), at most 30 iterations, converged when the step
 /// is below 1e-12 m. p unchanged unless kConverged.
-FkStatus forwardKinematics(const Geometry& g, const Vec3& theta, const Vec3& p_guess,
+FkStatus forwardKinematics(const Geometry& g,
+                           const Vec3& theta,
+                           const Vec3& p_guess,
                            Vec3& p) noexcept;
 
 /// Inverse kinematics: the arm angles for the effector at p (closed form per leg, the branch of
@@ -141,7 +142,10 @@ inline constexpr double kMotorCountsPerNm = -10000.0;
 /// The motor commands for a Cartesian force F (N, Falcon frame) at (p, theta): tau = J^T F, then
 /// counts = kMotorCountsPerNm * tau, scaled down together so that none exceeds max_command.
 /// Zero when the Jacobian is singular or F not finite.
-std::array<std::int16_t, 3> motorCommands(const Geometry& g, const Vec3& p, const Vec3& theta,
-                                          const Vec3& force_n, int max_command) noexcept;
+std::array<std::int16_t, 3> motorCommands(const Geometry& g,
+                                          const Vec3& p,
+                                          const Vec3& theta,
+                                          const Vec3& force_n,
+                                          int max_command) noexcept;
 
 }  // namespace hapticd::device::falcon

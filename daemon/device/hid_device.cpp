@@ -52,8 +52,11 @@ std::optional<HidModel> hidModelOf(const HidDeviceEntry& e) {
   return std::nullopt;
 }
 
-HidDevice::HidDevice(std::unique_ptr<HidBackend> backend, const HidDeviceEntry& entry,
-                     HidModel model, bool explicit_path, const DeviceOptions& options)
+HidDevice::HidDevice(std::unique_ptr<HidBackend> backend,
+                     const HidDeviceEntry& entry,
+                     HidModel model,
+                     bool explicit_path,
+                     const DeviceOptions& options)
     : backend_(std::move(backend)),
       entry_(entry),
       model_(model),
@@ -71,7 +74,8 @@ Result<std::unique_ptr<HidDevice>> HidDevice::open(std::unique_ptr<HidBackend> b
                                                    std::string_view path,
                                                    const DeviceOptions& options) {
   const std::string spec = path.empty() ? "hid" : "hid:" + std::string(path);
-  if (auto ok = checkOptions(options); !ok) return ok.error();
+  if (auto ok = checkOptions(options); !ok)
+    return ok.error();
   const std::vector<HidDeviceEntry> entries = backend->enumerate();
   const HidDeviceEntry* chosen = nullptr;
   std::optional<HidModel> model;
@@ -83,19 +87,23 @@ Result<std::unique_ptr<HidDevice>> HidDevice::open(std::unique_ptr<HidBackend> b
       }
     }
     if (!chosen)
-      return Error{"device 'hid': no device found (looked for the SpaceMouse models of "
-                   "docs/devices.md and HID usage page 0xff48 usage 0x0001 among " +
-                   std::to_string(entries.size()) +
-                   " HID interfaces; is the device plugged in and readable by this user?)"};
+      return Error{
+          "device 'hid': no device found (looked for the SpaceMouse models of "
+          "docs/devices.md and HID usage page 0xff48 usage 0x0001 among " +
+          std::to_string(entries.size()) +
+          " HID interfaces; is the device plugged in and readable by this user?)"};
   } else {
     for (const HidDeviceEntry& e : entries)
-      if (e.path == path) chosen = &e;
+      if (e.path == path)
+        chosen = &e;
     if (!chosen)
-      return Error{"device '" + spec + "': no HID device at this path (missing, or not readable "
+      return Error{"device '" + spec +
+                   "': no HID device at this path (missing, or not readable "
                    "by this user)"};
     model = hidModelOf(*chosen);
     // a device named by path that is not a known SpaceMouse is taken to speak the generic layout
-    if (!model) model = HidModel{HidModel::kGeneric, nullptr};
+    if (!model)
+      model = HidModel{HidModel::kGeneric, nullptr};
   }
   auto transport = backend->open(chosen->path);
   if (!transport)
@@ -108,7 +116,9 @@ Result<std::unique_ptr<HidDevice>> HidDevice::open(std::unique_ptr<HidBackend> b
   return dev;
 }
 
-bool HidDevice::connected() const noexcept { return state_.load() == kConnected; }
+bool HidDevice::connected() const noexcept {
+  return state_.load() == kConnected;
+}
 
 void HidDevice::markLost() noexcept {
   state_.store(kLost, std::memory_order_release);
@@ -121,7 +131,8 @@ void HidDevice::markLost() noexcept {
 }
 
 DeviceStatus HidDevice::read(double t_s, DeviceSample& out) noexcept {
-  if (state_.load(std::memory_order_acquire) != kConnected) return DeviceStatus::kLost;
+  if (state_.load(std::memory_order_acquire) != kConnected)
+    return DeviceStatus::kLost;
   std::array<std::uint8_t, 64> buf{};
   for (int i = 0; i < kMaxReportsPerRead; ++i) {
     const int n = transport_->readReport(buf);
@@ -129,7 +140,8 @@ DeviceStatus HidDevice::read(double t_s, DeviceSample& out) noexcept {
       markLost();
       return DeviceStatus::kLost;
     }
-    if (n == 0) break;
+    if (n == 0)
+      break;
     const auto report = std::span<const std::uint8_t>(buf.data(), static_cast<std::size_t>(n));
     HidReportStatus st;
     if (model_.kind == HidModel::kSpaceMouse) {
@@ -175,8 +187,10 @@ DeviceStatus HidDevice::read(double t_s, DeviceSample& out) noexcept {
 }
 
 DeviceStatus HidDevice::write(const Vec3& force_n, const Vec3& torque_nm) noexcept {
-  if (state_.load(std::memory_order_acquire) != kConnected) return DeviceStatus::kLost;
-  if (model_.kind == HidModel::kSpaceMouse) return DeviceStatus::kOk;
+  if (state_.load(std::memory_order_acquire) != kConnected)
+    return DeviceStatus::kLost;
+  if (model_.kind == HidModel::kSpaceMouse)
+    return DeviceStatus::kOk;
   GenericOutputReport r;
   r.sequence = ++out_sequence_;
   const bool finite = detail::finite(force_n) && detail::finite(torque_nm);
@@ -193,18 +207,20 @@ DeviceStatus HidDevice::write(const Vec3& force_n, const Vec3& torque_nm) noexce
 }
 
 bool HidDevice::service() {
-  if (state_.load(std::memory_order_acquire) == kConnected) return true;
+  if (state_.load(std::memory_order_acquire) == kConnected)
+    return true;
   // the servo thread stopped touching the transport when it stored kLost
   transport_.reset();
   for (const HidDeviceEntry& e : backend_->enumerate()) {
-    const bool same = explicit_path_ ? e.path == entry_.path
-                                     : (e.vendor_id == entry_.vendor_id &&
-                                        e.product_id == entry_.product_id &&
-                                        e.usage_page == entry_.usage_page &&
-                                        e.usage == entry_.usage);
-    if (!same) continue;
+    const bool same = explicit_path_
+                          ? e.path == entry_.path
+                          : (e.vendor_id == entry_.vendor_id && e.product_id == entry_.product_id &&
+                             e.usage_page == entry_.usage_page && e.usage == entry_.usage);
+    if (!same)
+      continue;
     auto t = backend_->open(e.path);
-    if (!t) continue;
+    if (!t)
+      continue;
     transport_ = std::move(t).value();
     entry_.path = e.path;  // a replugged device may come back under another hidraw node
     state_.store(kConnected, std::memory_order_release);
@@ -215,7 +231,8 @@ bool HidDevice::service() {
 
 Result<std::unique_ptr<Device>> makeHidDevice(std::string_view path, const DeviceOptions& options) {
   auto d = HidDevice::open(makeHidapiBackend(), path, options);
-  if (!d) return d.error();
+  if (!d)
+    return d.error();
   return std::unique_ptr<Device>(std::move(d).value());
 }
 

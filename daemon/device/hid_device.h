@@ -81,8 +81,11 @@ class HidDevice final : public Device {
   static constexpr int kMaxReportsPerRead = 32;
 
  private:
-  HidDevice(std::unique_ptr<HidBackend> backend, const HidDeviceEntry& entry, HidModel model,
-            bool explicit_path, const DeviceOptions& options);
+  HidDevice(std::unique_ptr<HidBackend> backend,
+            const HidDeviceEntry& entry,
+            HidModel model,
+            bool explicit_path,
+            const DeviceOptions& options);
   void markLost() noexcept;
 
   enum State : int { kConnected, kLost };

@@ -24,14 +24,18 @@ void putU16(std::uint8_t* p, std::uint16_t v) noexcept {
   p[1] = static_cast<std::uint8_t>(v >> 8);
 }
 void putU32(std::uint8_t* p, std::uint32_t v) noexcept {
-  for (int i = 0; i < 4; ++i) p[i] = static_cast<std::uint8_t>((v >> (8 * i)) & 0xff);
+  for (int i = 0; i < 4; ++i)
+    p[i] = static_cast<std::uint8_t>((v >> (8 * i)) & 0xff);
 }
 // rounds x / unit to the nearest integer within [lo, hi]; NaN gives 0
 long long quantise(double x, double unit, long long lo, long long hi) noexcept {
   const double q = std::round(x / unit);
-  if (!(q == q)) return 0;
-  if (q <= static_cast<double>(lo)) return lo;
-  if (q >= static_cast<double>(hi)) return hi;
+  if (!(q == q))
+    return 0;
+  if (q <= static_cast<double>(lo))
+    return lo;
+  if (q >= static_cast<double>(hi))
+    return hi;
   return static_cast<long long>(q);
 }
 void putI16(std::uint8_t* p, double x, double unit) noexcept {
@@ -64,15 +68,18 @@ constexpr SpaceMouseModel kModels[] = {
 
 HidReportStatus parseGenericInput(std::span<const std::uint8_t> r,
                                   GenericInputReport& out) noexcept {
-  if (r.empty() || r[0] != kGenericInputReportId) return HidReportStatus::kIgnored;
-  if (r.size() < kGenericInputReportSize) return HidReportStatus::kWrongSize;
+  if (r.empty() || r[0] != kGenericInputReportId)
+    return HidReportStatus::kIgnored;
+  if (r.size() < kGenericInputReportSize)
+    return HidReportStatus::kWrongSize;
   const std::uint8_t* p = r.data();
   const double qx = getI16(p + 15) * kGenericQuatUnit;
   const double qy = getI16(p + 17) * kGenericQuatUnit;
   const double qz = getI16(p + 19) * kGenericQuatUnit;
   const double qw = getI16(p + 21) * kGenericQuatUnit;
   const double norm = std::sqrt(qx * qx + qy * qy + qz * qz + qw * qw);
-  if (std::abs(norm - 1.0) > kGenericQuatTolerance) return HidReportStatus::kBadQuaternion;
+  if (std::abs(norm - 1.0) > kGenericQuatTolerance)
+    return HidReportStatus::kBadQuaternion;
   out.sequence = getU16(p + 1);
   out.X_WD.translation =
       Vec3(static_cast<std::int32_t>(getU32(p + 3)), static_cast<std::int32_t>(getU32(p + 7)),
@@ -108,56 +115,77 @@ void composeGenericOutput(const GenericOutputReport& in,
   std::uint8_t* p = out.data();
   p[0] = kGenericOutputReportId;
   putU16(p + 1, in.sequence);
-  for (int i = 0; i < 3; ++i) putI16(p + 3 + 2 * i, in.force_n[i], kGenericForceUnit_n);
-  for (int i = 0; i < 3; ++i) putI16(p + 9 + 2 * i, in.torque_nm[i], kGenericTorqueUnit_nm);
+  for (int i = 0; i < 3; ++i)
+    putI16(p + 3 + 2 * i, in.force_n[i], kGenericForceUnit_n);
+  for (int i = 0; i < 3; ++i)
+    putI16(p + 9 + 2 * i, in.torque_nm[i], kGenericTorqueUnit_nm);
   p[15] = in.flags;
 }
 
 HidReportStatus parseGenericOutput(std::span<const std::uint8_t> r,
                                    GenericOutputReport& out) noexcept {
-  if (r.empty() || r[0] != kGenericOutputReportId) return HidReportStatus::kIgnored;
-  if (r.size() < kGenericOutputReportSize) return HidReportStatus::kWrongSize;
+  if (r.empty() || r[0] != kGenericOutputReportId)
+    return HidReportStatus::kIgnored;
+  if (r.size() < kGenericOutputReportSize)
+    return HidReportStatus::kWrongSize;
   const std::uint8_t* p = r.data();
   out.sequence = getU16(p + 1);
-  for (int i = 0; i < 3; ++i) out.force_n[i] = getI16(p + 3 + 2 * i) * kGenericForceUnit_n;
-  for (int i = 0; i < 3; ++i) out.torque_nm[i] = getI16(p + 9 + 2 * i) * kGenericTorqueUnit_nm;
+  for (int i = 0; i < 3; ++i)
+    out.force_n[i] = getI16(p + 3 + 2 * i) * kGenericForceUnit_n;
+  for (int i = 0; i < 3; ++i)
+    out.torque_nm[i] = getI16(p + 9 + 2 * i) * kGenericTorqueUnit_nm;
   out.flags = p[15];
   return HidReportStatus::kOk;
 }
 
-std::span<const SpaceMouseModel> spaceMouseModels() noexcept { return kModels; }
+std::span<const SpaceMouseModel> spaceMouseModels() noexcept {
+  return kModels;
+}
 
 const SpaceMouseModel* findSpaceMouse(std::uint16_t vendor_id, std::uint16_t product_id) noexcept {
   for (const SpaceMouseModel& m : kModels)
-    if (m.vendor_id == vendor_id && m.product_id == product_id) return &m;
+    if (m.vendor_id == vendor_id && m.product_id == product_id)
+      return &m;
   return nullptr;
 }
 
-HidReportStatus parseSpaceMouse(const SpaceMouseModel& model, std::span<const std::uint8_t> r,
+HidReportStatus parseSpaceMouse(const SpaceMouseModel& model,
+                                std::span<const std::uint8_t> r,
                                 SpaceMouseState& state) noexcept {
-  if (r.empty()) return HidReportStatus::kWrongSize;
+  if (r.empty())
+    return HidReportStatus::kWrongSize;
   const std::uint8_t* p = r.data();
   switch (r[0]) {
     case 0x01:
       if (model.reports == SpaceMouseReports::kCombined) {
-        if (r.size() < 13) return HidReportStatus::kWrongSize;
-        for (std::size_t i = 0; i < 3; ++i) state.translation[i] = getI16(p + 1 + 2 * i);
-        for (std::size_t i = 0; i < 3; ++i) state.rotation[i] = getI16(p + 7 + 2 * i);
+        if (r.size() < 13)
+          return HidReportStatus::kWrongSize;
+        for (std::size_t i = 0; i < 3; ++i)
+          state.translation[i] = getI16(p + 1 + 2 * i);
+        for (std::size_t i = 0; i < 3; ++i)
+          state.rotation[i] = getI16(p + 7 + 2 * i);
       } else {
-        if (r.size() < 7) return HidReportStatus::kWrongSize;
-        for (std::size_t i = 0; i < 3; ++i) state.translation[i] = getI16(p + 1 + 2 * i);
+        if (r.size() < 7)
+          return HidReportStatus::kWrongSize;
+        for (std::size_t i = 0; i < 3; ++i)
+          state.translation[i] = getI16(p + 1 + 2 * i);
       }
       return HidReportStatus::kOk;
     case 0x02:
-      if (model.reports == SpaceMouseReports::kCombined) return HidReportStatus::kIgnored;
-      if (r.size() < 7) return HidReportStatus::kWrongSize;
-      for (std::size_t i = 0; i < 3; ++i) state.rotation[i] = getI16(p + 1 + 2 * i);
+      if (model.reports == SpaceMouseReports::kCombined)
+        return HidReportStatus::kIgnored;
+      if (r.size() < 7)
+        return HidReportStatus::kWrongSize;
+      for (std::size_t i = 0; i < 3; ++i)
+        state.rotation[i] = getI16(p + 1 + 2 * i);
       return HidReportStatus::kOk;
     case 0x03: {  // buttons: a little-endian bit mask of 1 to 4 (or more) bytes
-      if (r.size() < 2) return HidReportStatus::kWrongSize;
+      if (r.size() < 2)
+        return HidReportStatus::kWrongSize;
       std::uint32_t b = 0;
       const std::size_t n = std::min<std::size_t>(r.size() - 1, 4);
-      for (std::size_t i = 0; i < n; ++i) b |= static_cast<std::uint32_t>(p[1 + i]) << (8 * i);
+      for (std::size_t i = 0; i < n; ++i)
+        b |= static_cast<std::uint32_t>(p[1 + i]) << (8 * i);
       state.buttons = b;
       return HidReportStatus::kOk;
     }
@@ -176,19 +204,21 @@ void integrateSpaceMouse(SpaceMouseState& s, const DeviceOptions& o, double t_s)
     return;
   }
   const double dt = std::clamp(t_s - s.t_s, 0.0, 0.1);
-  if (!(t_s > s.t_s)) return;
+  if (!(t_s > s.t_s))
+    return;
   s.t_s = t_s;
   auto scaled = [&o](std::int16_t c) {
     const double x = static_cast<double>(c);
-    if (std::abs(x) <= o.hid_spacemouse_deadband) return 0.0;
+    if (std::abs(x) <= o.hid_spacemouse_deadband)
+      return 0.0;
     return std::clamp(x / o.hid_spacemouse_full_scale, -2.0, 2.0);
   };
-  Vec3 v = o.hid_spacemouse_speed_m_per_s *
-           spaceMouseToDevice(scaled(s.translation[0]), scaled(s.translation[1]),
-                              scaled(s.translation[2]));
-  const Vec3 w = o.hid_spacemouse_angular_speed_rad_per_s *
-                 spaceMouseToDevice(scaled(s.rotation[0]), scaled(s.rotation[1]),
-                                    scaled(s.rotation[2]));
+  Vec3 v = o.hid_spacemouse_speed_m_per_s * spaceMouseToDevice(scaled(s.translation[0]),
+                                                               scaled(s.translation[1]),
+                                                               scaled(s.translation[2]));
+  const Vec3 w =
+      o.hid_spacemouse_angular_speed_rad_per_s *
+      spaceMouseToDevice(scaled(s.rotation[0]), scaled(s.rotation[1]), scaled(s.rotation[2]));
   Vec3 p = s.X_WD.translation + dt * v;
   const Vec3 lo = o.sim_home.translation - Vec3(o.hid_spacemouse_workspace_m);
   const Vec3 hi = o.sim_home.translation + Vec3(o.hid_spacemouse_workspace_m);
@@ -199,8 +229,7 @@ void integrateSpaceMouse(SpaceMouseState& s, const DeviceOptions& o, double t_s)
     }
   }
   s.X_WD.translation = p;
-  s.X_WD.rotation =
-      glm::normalize(detail::quatFromRotationVector(dt * w) * s.X_WD.rotation);
+  s.X_WD.rotation = glm::normalize(detail::quatFromRotationVector(dt * w) * s.X_WD.rotation);
   s.linear_velocity = v;
   s.angular_velocity = w;
 }

@@ -103,27 +103,29 @@ struct SpaceMouseState {
                                               ///< user, z down)
   std::array<std::int16_t, 3> rotation{};     ///< raw counts, about the same HID axes
   std::uint32_t buttons = 0;
-  Pose X_WD;                 ///< integrated pose, device frame (x right, y up, z toward the user)
-  Vec3 linear_velocity{0.0};  ///< device frame, m/s
-  Vec3 angular_velocity{0.0}; ///< device frame, rad/s
+  Pose X_WD;                   ///< integrated pose, device frame (x right, y up, z toward the user)
+  Vec3 linear_velocity{0.0};   ///< device frame, m/s
+  Vec3 angular_velocity{0.0};  ///< device frame, rad/s
   bool started = false;
   double t_s = 0.0;
 };
 
 /// Takes one report of a SpaceMouse of the given model into state (axes and buttons; no
 /// integration). Servo thread.
-HidReportStatus parseSpaceMouse(const SpaceMouseModel& model, std::span<const std::uint8_t> report,
+HidReportStatus parseSpaceMouse(const SpaceMouseModel& model,
+                                std::span<const std::uint8_t> report,
                                 SpaceMouseState& state) noexcept;
 
 /// Integrates the latest axes from state.t_s to t_s: counts within the deadband read zero, the
 /// rest scale as count / full_scale (capped at 2) times the speeds of options; the position is
 /// kept within the box of half-size hid_spacemouse_workspace_m around sim_home. The first call
 /// only starts the clock (at sim_home). Servo thread.
-void integrateSpaceMouse(SpaceMouseState& state, const DeviceOptions& options,
-                         double t_s) noexcept;
+void integrateSpaceMouse(SpaceMouseState& state, const DeviceOptions& options, double t_s) noexcept;
 
 /// HID axes to the device frame: (x, y, z) -> (x, -z, y); a proper rotation, so rotation axes map
 /// the same way.
-inline Vec3 spaceMouseToDevice(double x, double y, double z) noexcept { return Vec3(x, -z, y); }
+inline Vec3 spaceMouseToDevice(double x, double y, double z) noexcept {
+  return Vec3(x, -z, y);
+}
 
 }  // namespace hapticd::device

@@ -11,8 +11,10 @@ namespace {
 
 std::string narrow(const wchar_t* w) {
   std::string s;
-  if (!w) return s;
-  for (; *w; ++w) s += (*w >= 0x20 && *w < 0x7f) ? static_cast<char>(*w) : '?';
+  if (!w)
+    return s;
+  for (; *w; ++w)
+    s += (*w >= 0x20 && *w < 0x7f) ? static_cast<char>(*w) : '?';
   return s;
 }
 
@@ -37,7 +39,8 @@ class HidapiBackend final : public HidBackend {
   HidapiBackend() : init_ok_(hid_init() == 0) {}
   std::vector<HidDeviceEntry> enumerate() override {
     std::vector<HidDeviceEntry> out;
-    if (!init_ok_) return out;
+    if (!init_ok_)
+      return out;
     hid_device_info* list = hid_enumerate(0, 0);
     for (hid_device_info* d = list; d; d = d->next) {
       HidDeviceEntry e;
@@ -53,7 +56,8 @@ class HidapiBackend final : public HidBackend {
     return out;
   }
   Result<std::unique_ptr<HidTransport>> open(const std::string& path) override {
-    if (!init_ok_) return Error{"hidapi failed to initialise"};
+    if (!init_ok_)
+      return Error{"hidapi failed to initialise"};
     hid_device* dev = hid_open_path(path.c_str());
     if (!dev) {
       const std::string why = narrow(hid_error(nullptr));
@@ -69,6 +73,8 @@ class HidapiBackend final : public HidBackend {
 
 }  // namespace
 
-std::unique_ptr<HidBackend> makeHidapiBackend() { return std::make_unique<HidapiBackend>(); }
+std::unique_ptr<HidBackend> makeHidapiBackend() {
+  return std::make_unique<HidapiBackend>();
+}
 
 }  // namespace hapticd::device

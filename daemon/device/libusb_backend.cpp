@@ -41,15 +41,16 @@ class LibusbTransport final : public UsbTransport {
   }
   int read(std::span<std::uint8_t> buf) noexcept override {
     int got = 0;
-    const int rc =
-        libusb_bulk_transfer(h_, kEndpointIn, raw_.data(), static_cast<int>(raw_.size()), &got,
-                             kBulkReadTimeout_ms);
-    if (rc != 0 && rc != LIBUSB_ERROR_TIMEOUT) return -1;
+    const int rc = libusb_bulk_transfer(h_, kEndpointIn, raw_.data(), static_cast<int>(raw_.size()),
+                                        &got, kBulkReadTimeout_ms);
+    if (rc != 0 && rc != LIBUSB_ERROR_TIMEOUT)
+      return -1;
     // strip the 2 status bytes at the start of every 64-byte USB packet
     std::size_t out = 0;
     for (int off = 0; off < got; off += kFtdiPacket) {
       const int end = std::min(got, off + kFtdiPacket);
-      for (int i = off + 2; i < end && out < buf.size(); ++i) buf[out++] = raw_[static_cast<std::size_t>(i)];
+      for (int i = off + 2; i < end && out < buf.size(); ++i)
+        buf[out++] = raw_[static_cast<std::size_t>(i)];
     }
     return static_cast<int>(out);
   }
@@ -59,7 +60,8 @@ class LibusbTransport final : public UsbTransport {
     const int rc = libusb_bulk_transfer(h_, kEndpointOut, out_.data(),
                                         static_cast<int>(std::min(bytes.size(), out_.size())),
                                         &sent, kBulkWriteTimeout_ms);
-    if (rc != 0 && rc != LIBUSB_ERROR_TIMEOUT) return -1;
+    if (rc != 0 && rc != LIBUSB_ERROR_TIMEOUT)
+      return -1;
     return sent;
   }
 
@@ -73,11 +75,13 @@ class LibusbBackend final : public UsbBackend {
  public:
   explicit LibusbBackend(libusb_context* ctx) : ctx_(ctx) {}
   ~LibusbBackend() override {
-    if (registered_) libusb_hotplug_deregister_callback(ctx_, handle_);
+    if (registered_)
+      libusb_hotplug_deregister_callback(ctx_, handle_);
     libusb_exit(ctx_);
   }
   bool startHotplug(std::function<void(UsbHotplugEvent)> callback) override {
-    if (!libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG)) return false;
+    if (!libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG))
+      return false;
     callback_ = std::move(callback);
     const int rc = libusb_hotplug_register_callback(
         ctx_,
@@ -102,13 +106,15 @@ class LibusbBackend final : public UsbBackend {
           d.idProduct == falcon::kProductId)
         ++count;
     }
-    if (list) libusb_free_device_list(list, 1);
+    if (list)
+      libusb_free_device_list(list, 1);
     return count;
   }
   Result<std::unique_ptr<UsbTransport>> open() override {
     libusb_device_handle* h =
         libusb_open_device_with_vid_pid(ctx_, falcon::kVendorId, falcon::kProductId);
-    if (!h) return Error{"libusb_open failed (no device, or no permission)"};
+    if (!h)
+      return Error{"libusb_open failed (no device, or no permission)"};
     libusb_set_auto_detach_kernel_driver(h, 1);
     if (const int rc = libusb_claim_interface(h, 0); rc != 0) {
       libusb_close(h);
@@ -129,8 +135,8 @@ class LibusbBackend final : public UsbBackend {
         {kSioReset, kPurgeTx, "purge tx"},
     };
     for (const Setup& s : steps) {
-      const int rc = libusb_control_transfer(h, kFtdiRequestType, s.request, s.value, 0, nullptr,
-                                             0, kControlTimeout_ms);
+      const int rc = libusb_control_transfer(h, kFtdiRequestType, s.request, s.value, 0, nullptr, 0,
+                                             kControlTimeout_ms);
       if (rc < 0) {
         libusb_release_interface(h, 0);
         libusb_close(h);
@@ -141,12 +147,14 @@ class LibusbBackend final : public UsbBackend {
   }
 
  private:
-  static int LIBUSB_CALL onHotplug(libusb_context*, libusb_device*, libusb_hotplug_event event,
+  static int LIBUSB_CALL onHotplug(libusb_context*,
+                                   libusb_device*,
+                                   libusb_hotplug_event event,
                                    void* user) {
     auto* self = static_cast<LibusbBackend*>(user);
     if (self->callback_)
       self->callback_(event == LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT ? UsbHotplugEvent::kLeft
-                                                                 : UsbHotplugEvent::kArrived);
+                                                                : UsbHotplugEvent::kArrived);
     return 0;  // stay registered
   }
 

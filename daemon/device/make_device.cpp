@@ -16,7 +16,8 @@ Result<std::unique_ptr<Device>> makeDevice(std::string_view spec, const DeviceOp
   const std::string_view arg = has_arg ? spec.substr(colon + 1) : std::string_view{};
 
   if (backend == "sim") {
-    if (has_arg) return Error{"device " + quoted + ": 'sim' takes no argument"};
+    if (has_arg)
+      return Error{"device " + quoted + ": 'sim' takes no argument"};
     return makeSimDevice(options);
   }
   if (backend == "replay") {
@@ -35,8 +36,10 @@ Result<std::unique_ptr<Device>> makeDevice(std::string_view spec, const DeviceOp
                    "' (known: usb:falcon)"};
     return makeUsbDevice(options);
   }
-  if (spec.empty()) return Error{"device '': empty spec (known: sim, replay:FILE, hid, hid:PATH, "
-                                 "usb, usb:falcon)"};
+  if (spec.empty())
+    return Error{
+        "device '': empty spec (known: sim, replay:FILE, hid, hid:PATH, "
+        "usb, usb:falcon)"};
   return Error{"device " + quoted + ": unknown backend '" + std::string(backend) +
                "' (known: sim, replay:FILE, hid, hid:PATH, usb, usb:falcon)"};
 }

@@ -29,13 +29,15 @@ std::string where(std::string_view source, std::size_t line, std::size_t column)
 
 std::string shown(std::string_view field) {
   constexpr std::size_t kMax = 40;
-  if (field.size() > kMax) return "'" + std::string(field.substr(0, kMax)) + "...'";
+  if (field.size() > kMax)
+    return "'" + std::string(field.substr(0, kMax)) + "...'";
   return "'" + std::string(field) + "'";
 }
 
 }  // namespace
 
-Result<std::vector<PoseStreamRow>> parsePoseStream(std::string_view text, std::string_view source,
+Result<std::vector<PoseStreamRow>> parsePoseStream(std::string_view text,
+                                                   std::string_view source,
                                                    double quat_tolerance) {
   std::vector<PoseStreamRow> rows;
   std::size_t line_no = 0;
@@ -47,9 +49,11 @@ Result<std::vector<PoseStreamRow>> parsePoseStream(std::string_view text, std::s
     std::string_view line = text.substr(pos, end - pos);
     pos = end + 1;
     ++line_no;
-    if (!line.empty() && line.back() == '\r') line.remove_suffix(1);
+    if (!line.empty() && line.back() == '\r')
+      line.remove_suffix(1);
     if (line.empty()) {
-      if (blank_line == 0) blank_line = line_no;
+      if (blank_line == 0)
+        blank_line = line_no;
       continue;
     }
     if (blank_line != 0)
@@ -69,14 +73,15 @@ Result<std::vector<PoseStreamRow>> parsePoseStream(std::string_view text, std::s
       const std::size_t comma = line.find(',', field_start);
       const std::string_view field =
           line.substr(field_start, comma == std::string_view::npos ? std::string_view::npos
-                                                                     : comma - field_start);
+                                                                   : comma - field_start);
       ++column;
       if (column > kColumns.size())
-        return Error{where(source, line_no, 0) + "more than " +
-                     std::to_string(kColumns.size()) + " fields"};
+        return Error{where(source, line_no, 0) + "more than " + std::to_string(kColumns.size()) +
+                     " fields"};
       const char* first = field.data();
       const char* last = field.data() + field.size();
-      if (field.empty()) return Error{where(source, line_no, column) + "empty field"};
+      if (field.empty())
+        return Error{where(source, line_no, column) + "empty field"};
       if (column < kColumns.size()) {
         double x = 0.0;
         // from_chars takes no leading '+'; allow it as a CSV writer may emit it
@@ -100,7 +105,8 @@ Result<std::vector<PoseStreamRow>> parsePoseStream(std::string_view text, std::s
                        "not a non-negative integer bit mask: " + shown(field)};
         row.buttons = b;
       }
-      if (comma == std::string_view::npos) break;
+      if (comma == std::string_view::npos)
+        break;
       field_start = comma + 1;
     }
     if (column != kColumns.size())
@@ -123,12 +129,15 @@ Result<std::vector<PoseStreamRow>> parsePoseStream(std::string_view text, std::s
     row.X_WD.rotation = geom::Quat(v[7] / norm, v[4] / norm, v[5] / norm, v[6] / norm);
     rows.push_back(row);
   }
-  if (!seen_header) return Error{std::string(source) + ": empty file (no header)"};
-  if (rows.empty()) return Error{std::string(source) + ": no rows after the header"};
+  if (!seen_header)
+    return Error{std::string(source) + ": empty file (no header)"};
+  if (rows.empty())
+    return Error{std::string(source) + ": no rows after the header"};
   return rows;
 }
 
-ReplayDevice::ReplayDevice(std::string name, std::vector<PoseStreamRow> rows,
+ReplayDevice::ReplayDevice(std::string name,
+                           std::vector<PoseStreamRow> rows,
                            const DeviceOptions& options)
     : rows_(std::move(rows)) {
   info_.name = std::move(name);
@@ -140,22 +149,25 @@ Pose ReplayDevice::poseAt(double t_s, std::uint32_t* buttons) noexcept {
   const std::size_t n = rows_.size();
   if (n == 1 || !(t_s > rows_.front().t_s)) {  // also NaN
     cursor_ = 0;
-    if (buttons) *buttons = rows_.front().buttons;
+    if (buttons)
+      *buttons = rows_.front().buttons;
     return rows_.front().X_WD;
   }
   if (t_s >= rows_.back().t_s) {
     cursor_ = n - 1;
-    if (buttons) *buttons = rows_.back().buttons;
+    if (buttons)
+      *buttons = rows_.back().buttons;
     return rows_.back().X_WD;
   }
   // the cursor moves forward a few rows per tick; a jump back or far ahead searches
-  if (cursor_ >= n - 1 || rows_[cursor_].t_s > t_s) cursor_ = 0;
+  if (cursor_ >= n - 1 || rows_[cursor_].t_s > t_s)
+    cursor_ = 0;
   std::size_t steps = 0;
   while (rows_[cursor_ + 1].t_s <= t_s) {
     if (++steps > 8) {
-      const auto it = std::upper_bound(
-          rows_.begin() + static_cast<std::ptrdiff_t>(cursor_), rows_.end(), t_s,
-          [](double t, const PoseStreamRow& r) { return t < r.t_s; });
+      const auto it =
+          std::upper_bound(rows_.begin() + static_cast<std::ptrdiff_t>(cursor_), rows_.end(), t_s,
+                           [](double t, const PoseStreamRow& r) { return t < r.t_s; });
       cursor_ = static_cast<std::size_t>(it - rows_.begin()) - 1;
       break;
     }
@@ -164,7 +176,8 @@ Pose ReplayDevice::poseAt(double t_s, std::uint32_t* buttons) noexcept {
   const PoseStreamRow& a = rows_[cursor_];
   const PoseStreamRow& b = rows_[cursor_ + 1];
   const double s = (t_s - a.t_s) / (b.t_s - a.t_s);
-  if (buttons) *buttons = a.buttons;
+  if (buttons)
+    *buttons = a.buttons;
   Pose X;
   X.translation = a.X_WD.translation + s * (b.X_WD.translation - a.X_WD.translation);
   X.rotation = detail::slerp(a.X_WD.rotation, b.X_WD.rotation, s);
@@ -172,7 +185,8 @@ Pose ReplayDevice::poseAt(double t_s, std::uint32_t* buttons) noexcept {
 }
 
 DeviceStatus ReplayDevice::read(double t_s, DeviceSample& out) noexcept {
-  if (t_s > rows_.back().t_s) return DeviceStatus::kEndOfStream;
+  if (t_s > rows_.back().t_s)
+    return DeviceStatus::kEndOfStream;
   std::uint32_t buttons = 0;
   const Pose X = poseAt(t_s, &buttons);
   out.X_WD = X;
@@ -198,17 +212,21 @@ Result<std::unique_ptr<Device>> makeReplayDevice(std::string_view file,
   if (!(options.replay_quat_tolerance >= 0.0 && options.replay_quat_tolerance < 1.0))
     return Error{"device '" + name + "': replay_quat_tolerance must be in [0, 1)"};
   std::ifstream in{std::string(file), std::ios::binary};
-  if (!in) return Error{"device '" + name + "': cannot open the file (missing or unreadable)"};
+  if (!in)
+    return Error{"device '" + name + "': cannot open the file (missing or unreadable)"};
   in.seekg(0, std::ios::end);
   const std::streamoff size = in.tellg();
-  if (size < 0) return Error{"device '" + name + "': cannot read the file (not a regular file?)"};
+  if (size < 0)
+    return Error{"device '" + name + "': cannot read the file (not a regular file?)"};
   if (static_cast<std::uintmax_t>(size) > kMaxFileBytes)
     return Error{"device '" + name + "': file larger than 1 GiB"};
   in.seekg(0, std::ios::beg);
   std::string text(static_cast<std::size_t>(size), '\0');
-  if (!in.read(text.data(), size)) return Error{"device '" + name + "': cannot read the file"};
+  if (!in.read(text.data(), size))
+    return Error{"device '" + name + "': cannot read the file"};
   auto rows = parsePoseStream(text, name, options.replay_quat_tolerance);
-  if (!rows) return rows.error();
+  if (!rows)
+    return rows.error();
   return std::unique_ptr<Device>(
       std::make_unique<ReplayDevice>(name, std::move(rows).value(), options));
 }

@@ -24,7 +24,8 @@ struct PoseStreamRow {
 /// quat_tolerance of unit length (normalised); buttons an unsigned 32-bit integer; at least one
 /// row. CRLF line ends and a final newline are accepted. Errors name `source`, the line (from 1)
 /// and the column (from 1, with its name). Any thread; allocates.
-Result<std::vector<PoseStreamRow>> parsePoseStream(std::string_view text, std::string_view source,
+Result<std::vector<PoseStreamRow>> parsePoseStream(std::string_view text,
+                                                   std::string_view source,
                                                    double quat_tolerance);
 
 /// Plays rows back. Servo-thread calls allocate nothing.

@@ -31,23 +31,29 @@ double smoothstep(double x) noexcept {
   return x * x * (3.0 - 2.0 * x);
 }
 double smoothstepDerivative(double x) noexcept {
-  if (x <= 0.0 || x >= 1.0) return 0.0;
+  if (x <= 0.0 || x >= 1.0)
+    return 0.0;
   return 6.0 * x * (1.0 - x);
 }
 
 }  // namespace
 
-void simIdleMotion(const Pose& X_W_home, double amplitude_m, double angle_rad, double t_s,
-                   Pose& X_W_out, Vec3& v_W_out, Vec3& w_W_out) noexcept {
+void simIdleMotion(const Pose& X_W_home,
+                   double amplitude_m,
+                   double angle_rad,
+                   double t_s,
+                   Pose& X_W_out,
+                   Vec3& v_W_out,
+                   Vec3& w_W_out) noexcept {
   const double wx = kTwoPi / kIdlePeriodX_s;
   const double wy = kTwoPi / kIdlePeriodY_s;
   const double wz = kTwoPi / kIdlePeriodZ_s;
   // a closed Lissajous curve starting at the home pose (offset zero at t = 0)
   X_W_out.translation =
-      X_W_home.translation + amplitude_m * Vec3(std::sin(wx * t_s), std::sin(wy * t_s),
-                                                0.5 * std::sin(wz * t_s));
-  v_W_out = amplitude_m * Vec3(wx * std::cos(wx * t_s), wy * std::cos(wy * t_s),
-                               0.5 * wz * std::cos(wz * t_s));
+      X_W_home.translation +
+      amplitude_m * Vec3(std::sin(wx * t_s), std::sin(wy * t_s), 0.5 * std::sin(wz * t_s));
+  v_W_out = amplitude_m *
+            Vec3(wx * std::cos(wx * t_s), wy * std::cos(wy * t_s), 0.5 * wz * std::cos(wz * t_s));
   // rotation: yaw beta about world Z after pitch alpha about world X, both applied before home
   const double wa = kTwoPi / kIdlePeriodPitch_s;
   const double wb = kTwoPi / kIdlePeriodYaw_s;
@@ -66,13 +72,15 @@ SimDevice::SimDevice(const DeviceOptions& options)
       p_W_(options.sim_home.translation),
       q_WH_(glm::normalize(options.sim_home.rotation)) {
   info_.name = "sim";
-  info_.capabilities = kCapPosition | kCapOrientation | kCapForce | kCapTorque | kCapButtons |
-                       kCapPoseCommands;
+  info_.capabilities =
+      kCapPosition | kCapOrientation | kCapForce | kCapTorque | kCapButtons | kCapPoseCommands;
   info_.limits = options.limits;
   command_.X_W_target = Pose{options.sim_home.translation, q_WH_};
 }
 
-void SimDevice::target(double t_s, Pose& X_W_target, Vec3& v_W_target,
+void SimDevice::target(double t_s,
+                       Pose& X_W_target,
+                       Vec3& v_W_target,
                        Vec3& w_W_target) const noexcept {
   const double idle_start_s = command_t_s_ + options_.sim_idle_motion_after_s;
   if (!(t_s > idle_start_s)) {  // also when sim_idle_motion_after_s is +inf
@@ -132,7 +140,8 @@ DeviceStatus SimDevice::read(double t_s, DeviceSample& out) noexcept {
     const int n = static_cast<int>(std::max(1.0, steps));
     const double h_s = gap_s / n;
     const double t0_s = t_s - gap_s;
-    for (int i = 1; i <= n; ++i) step(t0_s + i * h_s, h_s);
+    for (int i = 1; i <= n; ++i)
+      step(t0_s + i * h_s, h_s);
     t_s_ = t_s;
   }
   out.X_WD = Pose{p_W_, q_WH_};
@@ -155,7 +164,8 @@ void SimDevice::command(const PoseCommand& cmd) noexcept {
     return;
   const geom::Quat& q = cmd.X_W_target.rotation;
   const double n2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
-  if (!(n2 > 0.25 && n2 < 4.0)) return;  // also refuses NaN
+  if (!(n2 > 0.25 && n2 < 4.0))
+    return;  // also refuses NaN
   command_ = cmd;
   command_.X_W_target.rotation = glm::normalize(q);
   has_command_ = true;

@@ -26,8 +26,9 @@ Result<std::unique_ptr<FalconDevice>> FalconDevice::open(std::unique_ptr<UsbBack
   if (options.usb_falcon_max_motor_command < 0 || options.usb_falcon_max_motor_command > 32767)
     return Error{"device 'usb:falcon': usb_falcon_max_motor_command must be in [0, 32767]"};
   if (backend->countFalcons() == 0)
-    return Error{"device 'usb:falcon': no device found (no USB device 0403:cb48; is the Falcon "
-                 "plugged in and powered?)"};
+    return Error{
+        "device 'usb:falcon': no device found (no USB device 0403:cb48; is the Falcon "
+        "plugged in and powered?)"};
   std::unique_ptr<FalconDevice> dev(new FalconDevice(std::move(backend), options));
   FalconDevice* self = dev.get();
   dev->hotplug_ = dev->backend_->startHotplug([self](UsbHotplugEvent e) {
@@ -38,12 +39,15 @@ Result<std::unique_ptr<FalconDevice>> FalconDevice::open(std::unique_ptr<UsbBack
   });
   dev->state_.store(kLost);
   if (!dev->reopen())
-    return Error{"device 'usb:falcon': cannot open the Falcon (permissions? see docs/devices.md "
-                 "udev rules)"};
+    return Error{
+        "device 'usb:falcon': cannot open the Falcon (permissions? see docs/devices.md "
+        "udev rules)"};
   return dev;
 }
 
-bool FalconDevice::connected() const noexcept { return state_.load() == kConnected; }
+bool FalconDevice::connected() const noexcept {
+  return state_.load() == kConnected;
+}
 
 void FalconDevice::markLost() noexcept {
   state_.store(kLost, std::memory_order_release);
@@ -54,7 +58,8 @@ void FalconDevice::markLost() noexcept {
 bool FalconDevice::reopen() {
   transport_.reset();
   auto t = backend_->open();
-  if (!t) return false;
+  if (!t)
+    return false;
   transport_ = std::move(t).value();
   // the Falcon answers each command: prime it with a zero command so that the first read has a
   // packet
@@ -78,7 +83,8 @@ bool FalconDevice::reopen() {
 }
 
 DeviceStatus FalconDevice::read(double t_s, DeviceSample& out) noexcept {
-  if (state_.load(std::memory_order_acquire) != kConnected) return DeviceStatus::kLost;
+  if (state_.load(std::memory_order_acquire) != kConnected)
+    return DeviceStatus::kLost;
   if (removal_requested_.load(std::memory_order_acquire)) {
     markLost();
     return DeviceStatus::kLost;
@@ -96,7 +102,8 @@ DeviceStatus FalconDevice::read(double t_s, DeviceSample& out) noexcept {
       markLost();
       return DeviceStatus::kLost;
     }
-    if (n == 0) break;
+    if (n == 0)
+      break;
     const std::uint64_t bad_before = reader_.malformed();
     packets += reader_.feed(std::span<const std::uint8_t>(buf.data(), static_cast<std::size_t>(n)));
     malformed_.fetch_add(reader_.malformed() - bad_before, std::memory_order_relaxed);
@@ -133,7 +140,8 @@ DeviceStatus FalconDevice::read(double t_s, DeviceSample& out) noexcept {
 }
 
 DeviceStatus FalconDevice::write(const Vec3& force_n, const Vec3& /*torque_nm*/) noexcept {
-  if (state_.load(std::memory_order_acquire) != kConnected) return DeviceStatus::kLost;
+  if (state_.load(std::memory_order_acquire) != kConnected)
+    return DeviceStatus::kLost;
   falcon::OutPacket cmd;
   const bool homed = homed_.load(std::memory_order_relaxed);
   if (homed) {
@@ -158,20 +166,24 @@ bool FalconDevice::service() {
   backend_->handleEvents();
   if (!hotplug_ && state_.load() == kConnected && backend_->countFalcons() == 0)
     removal_requested_.store(true);  // polling stands in for the removal event
-  if (state_.load(std::memory_order_acquire) == kConnected) return true;
+  if (state_.load(std::memory_order_acquire) == kConnected)
+    return true;
   // lost: the servo thread no longer touches the transport
   transport_.reset();
   const bool present = hotplug_ ? (arrival_seen_.load() || backend_->countFalcons() > 0)
                                 : backend_->countFalcons() > 0;
-  if (!present) return false;
+  if (!present)
+    return false;
   return reopen();
 }
 
 Result<std::unique_ptr<Device>> makeUsbDevice(const DeviceOptions& options) {
   auto backend = makeLibusbBackend();
-  if (!backend) return Error{"device 'usb:falcon': " + backend.error().message};
+  if (!backend)
+    return Error{"device 'usb:falcon': " + backend.error().message};
   auto d = FalconDevice::open(std::move(backend).value(), options);
-  if (!d) return d.error();
+  if (!d)
+    return d.error();
   return std::unique_ptr<Device>(std::move(d).value());
 }
 

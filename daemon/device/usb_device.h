@@ -103,8 +103,8 @@ class FalconDevice final : public Device {
   falcon::PacketReader reader_;
   bool fresh_ = true;  // no read since (re)connection
   double last_packet_t_s_ = 0.0;
-  Vec3 p_F_;           // effector, Falcon frame
-  Vec3 theta_{0.0};    // arm angles
+  Vec3 p_F_;         // effector, Falcon frame
+  Vec3 theta_{0.0};  // arm angles
   std::uint32_t buttons_ = 0;
   bool has_previous_ = false;
   double previous_t_s_ = 0.0;

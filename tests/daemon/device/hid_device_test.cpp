@@ -39,15 +39,18 @@ class FakeTransport final : public HidTransport {
  public:
   explicit FakeTransport(std::shared_ptr<FakeHid> d) : d_(std::move(d)) {}
   int readReport(std::span<std::uint8_t> buf) noexcept override {
-    if (!d_->present) return -1;
-    if (d_->in_head == d_->in_tail) return 0;
+    if (!d_->present)
+      return -1;
+    if (d_->in_head == d_->in_tail)
+      return 0;
     const int n = std::min(d_->in_size[d_->in_head], static_cast<int>(buf.size()));
     std::copy_n(d_->in[d_->in_head].begin(), n, buf.begin());
     ++d_->in_head;
     return n;
   }
   int writeReport(std::span<const std::uint8_t> r) noexcept override {
-    if (!d_->present) return -1;
+    if (!d_->present)
+      return -1;
     if (d_->out_count < FakeHid::kCapacity)
       std::copy(r.begin(), r.end(), d_->out[d_->out_count++].begin());
     return static_cast<int>(r.size());
@@ -67,13 +70,15 @@ class FakeBackend final : public HidBackend {
   std::vector<HidDeviceEntry> enumerate() override {
     std::vector<HidDeviceEntry> out;
     for (const Slot& s : slots)
-      if (s.dev->present) out.push_back(s.entry);
+      if (s.dev->present)
+        out.push_back(s.entry);
     return out;
   }
   Result<std::unique_ptr<HidTransport>> open(const std::string& path) override {
     for (const Slot& s : slots)
       if (s.entry.path == path && s.dev->present) {
-        if (s.dev->open_fails) return Error{"permission denied"};
+        if (s.dev->open_fails)
+          return Error{"permission denied"};
         return std::unique_ptr<HidTransport>(std::make_unique<FakeTransport>(s.dev));
       }
     return Error{"no such device"};
@@ -84,9 +89,10 @@ HidDeviceEntry genericEntry(std::string path) {
   return {std::move(path), 0x1209, 0x0001, kGenericUsagePage, kGenericUsage, "test arm"};
 }
 
-std::array<std::uint8_t, kGenericInputReportSize> inputReport(const Vec3& p, const geom::Quat& q,
-                                                             std::uint32_t buttons,
-                                                             std::uint16_t seq) {
+std::array<std::uint8_t, kGenericInputReportSize> inputReport(const Vec3& p,
+                                                              const geom::Quat& q,
+                                                              std::uint32_t buttons,
+                                                              std::uint16_t seq) {
   GenericInputReport r;
   r.sequence = seq;
   r.X_WD = Pose{p, q};
@@ -138,7 +144,8 @@ TEST(HidReports, GenericInputRefusals) {
   other[0] = 0x05;
   EXPECT_EQ(parseGenericInput(other, r), HidReportStatus::kIgnored);
   auto zero_q = bytes;
-  for (int i = 15; i < 23; ++i) zero_q[static_cast<std::size_t>(i)] = 0;
+  for (int i = 15; i < 23; ++i)
+    zero_q[static_cast<std::size_t>(i)] = 0;
   EXPECT_EQ(parseGenericInput(zero_q, r), HidReportStatus::kBadQuaternion);
   auto long_q = bytes;  // (1, 1, 0, 0) in int16 units: length sqrt(2)
   long_q[15] = 0xff;
@@ -225,29 +232,34 @@ TEST(HidReports, SpaceMouseIntegration) {
   EXPECT_EQ(s.X_WD.translation, o.sim_home.translation);
   // full deflection along HID x for 1 s: 0.1 m along device x
   s.translation = {350, 0, 0};
-  for (int i = 1; i <= 1000; ++i) integrateSpaceMouse(s, o, i * 1e-3);
+  for (int i = 1; i <= 1000; ++i)
+    integrateSpaceMouse(s, o, i * 1e-3);
   EXPECT_NEAR(s.X_WD.translation.x, 0.1, 1e-12);
   EXPECT_NEAR(s.linear_velocity.x, 0.1, 1e-12);
   // HID y (toward the user) is device +z; HID z (down) is device -y; half deflection
   s.translation = {0, 175, 175};
-  for (int i = 1001; i <= 2000; ++i) integrateSpaceMouse(s, o, i * 1e-3);
+  for (int i = 1001; i <= 2000; ++i)
+    integrateSpaceMouse(s, o, i * 1e-3);
   EXPECT_NEAR(s.X_WD.translation.z, 0.05, 1e-12);
   EXPECT_NEAR(s.X_WD.translation.y, 0.1 - 0.05, 1e-12);
   // the deadband reads zero
   s.translation = {8, -8, 0};
   const Vec3 before = s.X_WD.translation;
-  for (int i = 2001; i <= 3000; ++i) integrateSpaceMouse(s, o, i * 1e-3);
+  for (int i = 2001; i <= 3000; ++i)
+    integrateSpaceMouse(s, o, i * 1e-3);
   EXPECT_EQ(s.X_WD.translation, before);
   // rotation about HID z (down) at full deflection for 0.5 s: 0.5 rad about device -y
   s.translation = {0, 0, 0};
   s.rotation = {0, 0, 350};
-  for (int i = 3001; i <= 3500; ++i) integrateSpaceMouse(s, o, i * 1e-3);
+  for (int i = 3001; i <= 3500; ++i)
+    integrateSpaceMouse(s, o, i * 1e-3);
   const Vec3 r = detail::rotationVector(s.X_WD.rotation);
   EXPECT_LT(glm::length(r - Vec3(0.0, -0.5, 0.0)), 1e-9);
   // the workspace box stops the integration
   s.rotation = {0, 0, 0};
   s.translation = {700, 0, 0};  // 0.2 m/s
-  for (int i = 3501; i <= 6000; ++i) integrateSpaceMouse(s, o, i * 1e-3);
+  for (int i = 3501; i <= 6000; ++i)
+    integrateSpaceMouse(s, o, i * 1e-3);
   EXPECT_DOUBLE_EQ(s.X_WD.translation.x, 0.2);
   EXPECT_EQ(s.linear_velocity.x, 0.0);
 }
@@ -264,8 +276,8 @@ Rig openGeneric() {
   rig.backend = backend.get();
   rig.dev = std::make_shared<FakeHid>();
   // a keyboard first: "hid" must skip it
-  backend->slots.push_back({{"/dev/hidraw0", 0x046d, 0xc31c, 0x0001, 0x0006, "Keyboard"},
-                            std::make_shared<FakeHid>()});
+  backend->slots.push_back(
+      {{"/dev/hidraw0", 0x046d, 0xc31c, 0x0001, 0x0006, "Keyboard"}, std::make_shared<FakeHid>()});
   backend->slots.push_back({genericEntry("/dev/hidraw3"), rig.dev});
   auto d = HidDevice::open(std::move(backend), "", DeviceOptions{});
   EXPECT_TRUE(d.ok()) << (d.ok() ? "" : d.error().message);
@@ -285,7 +297,8 @@ TEST(HidDevice, GenericPoseInForceOut) {
   // three reports pending: the latest wins; a bad one in between is counted and skipped
   rig.dev->push(inputReport(Vec3(0.01, 0, 0), geom::Quat(1, 0, 0, 0), 1, 1));
   auto bad = inputReport(Vec3(0.5, 0, 0), geom::Quat(1, 0, 0, 0), 1, 2);
-  for (int i = 15; i < 23; ++i) bad[static_cast<std::size_t>(i)] = 0;
+  for (int i = 15; i < 23; ++i)
+    bad[static_cast<std::size_t>(i)] = 0;
   rig.dev->push(bad);
   rig.dev->push(inputReport(Vec3(0.02, 0, 0), geom::Quat(1, 0, 0, 0), 3, 3));
   ASSERT_EQ(dev.read(0.001, s), DeviceStatus::kOk);
@@ -339,8 +352,8 @@ TEST(HidDevice, LostAndBack) {
 TEST(HidDevice, SpaceMouseIsPoseOnly) {
   auto backend = std::make_unique<FakeBackend>();
   auto fake = std::make_shared<FakeHid>();
-  backend->slots.push_back({{"/dev/hidraw2", 0x256f, 0xc635, 0x0001, 0x0008, "SpaceMouse Compact"},
-                            fake});
+  backend->slots.push_back(
+      {{"/dev/hidraw2", 0x256f, 0xc635, 0x0001, 0x0008, "SpaceMouse Compact"}, fake});
   auto d = HidDevice::open(std::move(backend), "/dev/hidraw2", DeviceOptions{});
   ASSERT_TRUE(d.ok()) << d.error().message;
   HidDevice& dev = *d.value();
@@ -350,7 +363,8 @@ TEST(HidDevice, SpaceMouseIsPoseOnly) {
   dev.read(0.0, s);
   const auto r = axes(1, {350, 0, 0, 0, 0, 0});
   fake->push(r);
-  for (int i = 1; i <= 100; ++i) ASSERT_EQ(dev.read(i * 1e-3, s), DeviceStatus::kOk);
+  for (int i = 1; i <= 100; ++i)
+    ASSERT_EQ(dev.read(i * 1e-3, s), DeviceStatus::kOk);
   EXPECT_NEAR(s.X_WD.translation.x, 0.01, 1e-12);  // 0.1 m/s for 0.1 s
   EXPECT_EQ(dev.write(Vec3(3.0), Vec3(0.0)), DeviceStatus::kOk);
   EXPECT_EQ(fake->out_count, 0u);  // nothing is sent to a SpaceMouse
@@ -359,8 +373,8 @@ TEST(HidDevice, SpaceMouseIsPoseOnly) {
 TEST(HidDevice, OpenErrorsNameWhatIsWrong) {
   {
     auto backend = std::make_unique<FakeBackend>();
-    backend->slots.push_back({{"/dev/hidraw0", 0x046d, 0xc31c, 1, 6, "Keyboard"},
-                              std::make_shared<FakeHid>()});
+    backend->slots.push_back(
+        {{"/dev/hidraw0", 0x046d, 0xc31c, 1, 6, "Keyboard"}, std::make_shared<FakeHid>()});
     auto d = HidDevice::open(std::move(backend), "", DeviceOptions{});
     ASSERT_FALSE(d.ok());
     EXPECT_NE(d.error().message.find("device 'hid': no device found"), std::string::npos)

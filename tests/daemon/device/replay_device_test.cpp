@@ -81,8 +81,8 @@ TEST(ReplayDevice, ExactAtRowsAndLerpSlerpBetween) {
 
 TEST(ReplayDevice, SlerpTakesTheShortPath) {
   // the second row is the same rotation written with the opposite sign: no motion between
-  const std::string text = std::string(kHeader) + "0,0,0,0,0,0.6,0,0.8,0\n" +
-                           "1,0,0,0,0,-0.6,0,-0.8,0\n";
+  const std::string text =
+      std::string(kHeader) + "0,0,0,0,0,0.6,0,0.8,0\n" + "1,0,0,0,0,-0.6,0,-0.8,0\n";
   auto dev = fromText(text);
   DeviceSample s;
   dev->read(0.5, s);
@@ -131,12 +131,13 @@ TEST(ReplayDevice, CursorAgreesWithBinarySearchInAnyOrder) {
     const Pose X = dev->poseAt(tq, &buttons);
     // reference: linear scan
     std::size_t i = 0;
-    while (i + 1 < rows.size() && rows[i + 1].t_s <= tq) ++i;
+    while (i + 1 < rows.size() && rows[i + 1].t_s <= tq)
+      ++i;
     Vec3 expected = rows[i].X_WD.translation;
     if (i + 1 < rows.size() && tq > rows[0].t_s) {
       const double sa = (tq - rows[i].t_s) / (rows[i + 1].t_s - rows[i].t_s);
-      expected = rows[i].X_WD.translation +
-                 sa * (rows[i + 1].X_WD.translation - rows[i].X_WD.translation);
+      expected =
+          rows[i].X_WD.translation + sa * (rows[i + 1].X_WD.translation - rows[i].X_WD.translation);
     }
     ASSERT_EQ(X.translation, expected) << tq;
     ASSERT_EQ(buttons, rows[i].buttons) << tq;
@@ -196,7 +197,8 @@ TEST(ReplayDevice, EveryBadFileNamesLineAndColumn) {
       {"blank inside", h + ok + "\n0.5,0,0,0,0,0,0,1,0\n", "line 3: empty line inside"},
       {"binary", h + std::string("0,\x01\xff\x00,0", 8) + ",0,0,0,1,0\n",
        "line 2, column 2 (px): not a number"},
-      {"long garbage", h + std::string(5000, 'x') + "\n", "line 2, column 1 (t): not a number: 'xxxx"},
+      {"long garbage", h + std::string(5000, 'x') + "\n",
+       "line 2, column 1 (t): not a number: 'xxxx"},
   };
   for (const BadCase& c : cases) {
     auto r = parsePoseStream(c.text, "test.csv", 0.01);
@@ -222,8 +224,8 @@ TEST(ReplayDevice, OpensFilesThroughMakeDevice) {
       << r.error().message;
   std::filesystem::remove(bad);
 
-  auto circle = makeDevice(std::string("replay:") + HAPTICD_TEST_DATA_DIR + "/circle.csv",
-                           DeviceOptions{});
+  auto circle =
+      makeDevice(std::string("replay:") + HAPTICD_TEST_DATA_DIR + "/circle.csv", DeviceOptions{});
   ASSERT_TRUE(circle.ok()) << circle.error().message;
   Device& dev = *circle.value();
   DeviceSample s;

@@ -53,8 +53,10 @@ void closedLoopDecays(double rate_hz, double loop_k_n_per_m, double loop_kr_nm_p
     const Vec3 r = detail::rotationVector(s.X_WD.rotation);
     const double e = sim->energy() + 0.5 * loop_k_n_per_m * glm::dot(p, p) +
                      0.5 * loop_kr_nm_per_rad * glm::dot(r, r);
-    if (e0 < 0.0) e0 = e;
-    if (i > 0) e_max_rise = std::max(e_max_rise, (e - e_prev) / e0);
+    if (e0 < 0.0)
+      e0 = e;
+    if (i > 0)
+      e_max_rise = std::max(e_max_rise, (e - e_prev) / e0);
     e_prev = e;
     ASSERT_TRUE(std::isfinite(e));
     ASSERT_LE(e, e0 * (1.0 + 1e-9)) << "tick " << i;
@@ -66,8 +68,12 @@ void closedLoopDecays(double rate_hz, double loop_k_n_per_m, double loop_kr_nm_p
   EXPECT_LT(e_max_rise, 1e-3);
 }
 
-TEST(SimDevice, ClosedLoopEnergyDecaysAt1kHz) { closedLoopDecays(1000.0, 2000.0, 5.0); }
-TEST(SimDevice, ClosedLoopEnergyDecaysAt4kHz) { closedLoopDecays(4000.0, 8000.0, 20.0); }
+TEST(SimDevice, ClosedLoopEnergyDecaysAt1kHz) {
+  closedLoopDecays(1000.0, 2000.0, 5.0);
+}
+TEST(SimDevice, ClosedLoopEnergyDecaysAt4kHz) {
+  closedLoopDecays(4000.0, 8000.0, 20.0);
+}
 
 TEST(SimDevice, FollowsCommands) {
   auto dev = open(quietOptions());
@@ -78,10 +84,11 @@ TEST(SimDevice, FollowsCommands) {
   DeviceSample s;
   dev->read(0.0, s);
   dev->command(cmd);
-  for (int i = 1; i <= 3000; ++i) dev->read(i * 1e-3, s);
+  for (int i = 1; i <= 3000; ++i)
+    dev->read(i * 1e-3, s);
   const Vec3 dp = s.X_WD.translation - cmd.X_W_target.translation;
-  const double angle =
-      glm::length(detail::rotationVector(s.X_WD.rotation * glm::conjugate(cmd.X_W_target.rotation)));
+  const double angle = glm::length(
+      detail::rotationVector(s.X_WD.rotation * glm::conjugate(cmd.X_W_target.rotation)));
   std::printf("  after 3 s: position error %.3e m, angle error %.3e rad\n", glm::length(dp), angle);
   EXPECT_LT(glm::length(dp), 1e-6);
   EXPECT_LT(angle, 1e-6);
@@ -134,8 +141,7 @@ TEST(SimDevice, IdleMotionIsTheDerivativeOfItsPath) {
     simIdleMotion(home, 0.02, 0.1, t + h, b, va, wa);
     simIdleMotion(home, 0.02, 0.1, t, x, vx, wx);
     const Vec3 v_fd = (b.translation - a.translation) / (2.0 * h);
-    const Vec3 w_fd =
-        detail::rotationVector(b.rotation * glm::conjugate(a.rotation)) / (2.0 * h);
+    const Vec3 w_fd = detail::rotationVector(b.rotation * glm::conjugate(a.rotation)) / (2.0 * h);
     EXPECT_LT(glm::length(v_fd - vx), 1e-8) << t;
     EXPECT_LT(glm::length(w_fd - wx), 1e-7) << t;
     EXPECT_LE(glm::length(x.translation - home.translation), 0.02 * 1.5 + 1e-12);
@@ -162,13 +168,15 @@ TEST(SimDevice, IdleMotionStartsSmoothlyAfterTheLastCommand) {
   for (int i = 1; i <= 30000; ++i) {
     dev->read(i * 1e-3, s);
     max_step = std::max(max_step, glm::length(s.X_WD.translation - last));
-    if (i > 1000) max_accel = std::max(max_accel, glm::length(s.linear_velocity - last_v) / 1e-3);
+    if (i > 1000)
+      max_accel = std::max(max_accel, glm::length(s.linear_velocity - last_v) / 1e-3);
     farthest = std::max(farthest, glm::length(s.X_WD.translation - o.sim_home.translation));
     last = s.X_WD.translation;
     last_v = s.linear_velocity;
   }
-  std::printf("  idle: largest step %.3e m/tick, largest acceleration %.3e m/s^2, farthest %.4f m\n",
-              max_step, max_accel, farthest);
+  std::printf(
+      "  idle: largest step %.3e m/tick, largest acceleration %.3e m/s^2, farthest %.4f m\n",
+      max_step, max_accel, farthest);
   EXPECT_GT(farthest, 0.01);  // it moves
   EXPECT_LT(farthest, 0.05);  // gently, around home
   EXPECT_LT(max_step, 1e-4);
@@ -230,7 +238,8 @@ TEST(SimDevice, ServoCallsDoNotAllocate) {
   PoseCommand c;
   const std::uint64_t before = testing_alloc::count();
   for (int i = 0; i < 2000; ++i) {
-    if (i % 100 == 0) dev->command(c);
+    if (i % 100 == 0)
+      dev->command(c);
     dev->read(i * 1e-3, s);
     dev->write(Vec3(0.1, 0.0, 0.0), Vec3(0.0));
   }

@@ -22,7 +22,8 @@ using namespace falcon;
 
 std::array<std::uint8_t, kPacketSize> bytesOf(const char* s) {
   std::array<std::uint8_t, kPacketSize> b{};
-  for (std::size_t i = 0; i < kPacketSize; ++i) b[i] = static_cast<std::uint8_t>(s[i]);
+  for (std::size_t i = 0; i < kPacketSize; ++i)
+    b[i] = static_cast<std::uint8_t>(s[i]);
   return b;
 }
 
@@ -47,7 +48,8 @@ TEST(FalconPackets, InRoundTripAndRefusals) {
   std::uniform_int_distribution<int> enc(-32768, 32767);
   for (int k = 0; k < 1000; ++k) {
     InPacket p;
-    for (auto& e : p.encoders) e = static_cast<std::int16_t>(enc(rng));
+    for (auto& e : p.encoders)
+      e = static_cast<std::int16_t>(enc(rng));
     p.homing_status = static_cast<std::uint8_t>(k % 8);
     p.buttons = static_cast<std::uint8_t>(k % 16);
     std::array<std::uint8_t, kPacketSize> b{};
@@ -79,11 +81,11 @@ TEST(FalconPackets, ReaderReassemblesAnyChunking) {
   std::array<std::uint8_t, kPacketSize> pa{}, pb{};
   encodeIn(a, pa);
   encodeIn(b, pb);
-  std::vector<std::uint8_t> stream = {'x', 'y', '>'};            // garbage
-  stream.insert(stream.end(), pa.begin(), pa.begin() + 9);      // a truncated packet...
-  stream.insert(stream.end(), pa.begin(), pa.end());            // ...then a whole one
-  stream.insert(stream.end(), {'<', 'A', 'Z', 'A', 'A', 'A', 'A', 'A', 'A', 'A', 'A', 'A', 'A',
-                               'A', 'A', '>'});                  // a bad nibble
+  std::vector<std::uint8_t> stream = {'x', 'y', '>'};       // garbage
+  stream.insert(stream.end(), pa.begin(), pa.begin() + 9);  // a truncated packet...
+  stream.insert(stream.end(), pa.begin(), pa.end());        // ...then a whole one
+  stream.insert(stream.end(), {'<', 'A', 'Z', 'A', 'A', 'A', 'A', 'A', 'A', 'A', 'A', 'A', 'A', 'A',
+                               'A', '>'});  // a bad nibble
   stream.insert(stream.end(), pb.begin(), pb.end());
   for (std::size_t chunk : {1u, 2u, 5u, 16u, 17u, 64u, 1000u}) {
     PacketReader r;
@@ -113,7 +115,8 @@ std::vector<Vec3> workspace(const Geometry& g) {
   std::vector<Vec3> out;
   for (double x = -0.03; x <= 0.0301; x += 0.015)
     for (double y = -0.03; y <= 0.0301; y += 0.015)
-      for (double z = -0.03; z <= 0.0301; z += 0.015) out.push_back(home + Vec3(x, y, z));
+      for (double z = -0.03; z <= 0.0301; z += 0.015)
+        out.push_back(home + Vec3(x, y, z));
   return out;
 }
 
@@ -215,7 +218,8 @@ class FakeUsbTransport final : public UsbTransport {
  public:
   explicit FakeUsbTransport(std::shared_ptr<FakeFalcon> f) : f_(std::move(f)) {}
   int read(std::span<std::uint8_t> buf) noexcept override {
-    if (!f_->present || f_->io_error) return -1;
+    if (!f_->present || f_->io_error)
+      return -1;
     const std::size_t n = std::min({f_->pending_n, f_->chunk, buf.size()});
     std::copy_n(f_->pending.begin(), n, buf.begin());
     std::copy(f_->pending.begin() + static_cast<std::ptrdiff_t>(n),
@@ -225,7 +229,8 @@ class FakeUsbTransport final : public UsbTransport {
     return static_cast<int>(n);
   }
   int write(std::span<const std::uint8_t> bytes) noexcept override {
-    if (!f_->present || f_->io_error) return -1;
+    if (!f_->present || f_->io_error)
+      return -1;
     if (bytes.size() != kPacketSize ||
         !decodeOut(std::span<const std::uint8_t, kPacketSize>(bytes.data(), kPacketSize),
                    f_->last)) {
@@ -236,7 +241,8 @@ class FakeUsbTransport final : public UsbTransport {
     if (!f_->mute && f_->pending_n + kPacketSize <= f_->pending.size()) {
       std::array<std::uint8_t, kPacketSize> reply{};
       encodeIn(f_->state, reply);
-      std::copy(reply.begin(), reply.end(), f_->pending.begin() + static_cast<std::ptrdiff_t>(f_->pending_n));
+      std::copy(reply.begin(), reply.end(),
+                f_->pending.begin() + static_cast<std::ptrdiff_t>(f_->pending_n));
       f_->pending_n += kPacketSize;
     }
     return static_cast<int>(bytes.size());
@@ -251,7 +257,8 @@ class FakeUsbBackend final : public UsbBackend {
   explicit FakeUsbBackend(std::shared_ptr<FakeFalcon> f, bool hotplug)
       : f_(std::move(f)), hotplug_(hotplug) {}
   bool startHotplug(std::function<void(UsbHotplugEvent)> cb) override {
-    if (!hotplug_) return false;
+    if (!hotplug_)
+      return false;
     cb_ = std::move(cb);
     return true;
   }
@@ -259,12 +266,14 @@ class FakeUsbBackend final : public UsbBackend {
     while (!events_.empty()) {
       const UsbHotplugEvent e = events_.front();
       events_.pop_front();
-      if (cb_) cb_(e);
+      if (cb_)
+        cb_(e);
     }
   }
   int countFalcons() override { return f_->present ? 1 : 0; }
   Result<std::unique_ptr<UsbTransport>> open() override {
-    if (!f_->present) return Error{"no device"};
+    if (!f_->present)
+      return Error{"no device"};
     ++opens;
     f_->pending_n = 0;
     f_->io_error = false;
@@ -272,11 +281,13 @@ class FakeUsbBackend final : public UsbBackend {
   }
   void unplug() {
     f_->present = false;
-    if (hotplug_) events_.push_back(UsbHotplugEvent::kLeft);
+    if (hotplug_)
+      events_.push_back(UsbHotplugEvent::kLeft);
   }
   void plug() {
     f_->present = true;
-    if (hotplug_) events_.push_back(UsbHotplugEvent::kArrived);
+    if (hotplug_)
+      events_.push_back(UsbHotplugEvent::kArrived);
   }
   int opens = 0;
 
@@ -403,8 +414,12 @@ void lostAndBack(bool hotplug) {
   EXPECT_EQ(dev.disconnects(), 1u);
 }
 
-TEST(FalconDevice, HotplugLostAndBack) { lostAndBack(true); }
-TEST(FalconDevice, PolledLostAndBackWithoutHotplug) { lostAndBack(false); }
+TEST(FalconDevice, HotplugLostAndBack) {
+  lostAndBack(true);
+}
+TEST(FalconDevice, PolledLostAndBackWithoutHotplug) {
+  lostAndBack(false);
+}
 
 TEST(FalconDevice, SilenceAndIoErrorsAreLosses) {
   Rig rig;
@@ -415,7 +430,8 @@ TEST(FalconDevice, SilenceAndIoErrorsAreLosses) {
   int t = 1;
   for (; t <= 1000; ++t) {
     dev.write(Vec3(0.0), Vec3(0.0));
-    if (dev.read(t * 1e-3, s) == DeviceStatus::kLost) break;
+    if (dev.read(t * 1e-3, s) == DeviceStatus::kLost)
+      break;
   }
   EXPECT_EQ(t, 101);  // silent for more than usb_silence_lost_s = 0.1 s
   EXPECT_EQ(dev.disconnects(), 1u);
