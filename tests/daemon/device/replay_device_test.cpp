@@ -76,6 +76,14 @@ TEST(ReplayDevice, ExactAtRowsAndLerpSlerpBetween) {
   EXPECT_EQ(s.X_WD.translation, Vec3(-1, 4, 0));
   EXPECT_EQ(d2->read(1.25 + 1e-9, s), DeviceStatus::kEndOfStream);
   EXPECT_EQ(d2->read(7.0, s), DeviceStatus::kEndOfStream);
+  // a NaN time reads as the previous time
+  auto d3 = fromText(text);
+  ASSERT_EQ(d3->read(std::nan(""), s), DeviceStatus::kOk);
+  EXPECT_EQ(s.X_WD.translation, Vec3(1, 2, 3));
+  ASSERT_EQ(d3->read(0.625, s), DeviceStatus::kOk);
+  ASSERT_EQ(d3->read(std::nan(""), s), DeviceStatus::kOk);
+  EXPECT_LT(glm::length(s.X_WD.translation - Vec3(1.5, 1.0, 3.25)), 1e-14);
+  EXPECT_TRUE(detail::finite(s.linear_velocity));
   EXPECT_TRUE(d2->info().capabilities & kCapEndOfStream);
 }
 

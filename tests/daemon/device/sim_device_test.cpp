@@ -224,10 +224,14 @@ TEST(SimDevice, LongGapsAreSubSteppedAndNonFiniteInputIgnored) {
   EXPECT_TRUE(detail::finite(s.X_WD.translation));
   EXPECT_GT(s.X_WD.translation.x, 0.0);
   EXPECT_LT(s.X_WD.translation.x, 0.05);
-  // time going backwards changes nothing
+  // time going backwards, or not a number, changes nothing
   const DeviceSample before = s;
   dev->read(0.01, s);
   EXPECT_EQ(std::memcmp(&before, &s, sizeof s), 0);
+  dev->read(std::nan(""), s);
+  EXPECT_EQ(std::memcmp(&before, &s, sizeof s), 0);
+  dev->read(0.051, s);  // and time goes on from where it was
+  EXPECT_NE(s.X_WD.translation.x, before.X_WD.translation.x);
 }
 
 TEST(SimDevice, ServoCallsDoNotAllocate) {
