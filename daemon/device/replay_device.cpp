@@ -187,7 +187,8 @@ Pose ReplayDevice::poseAt(double t_s, std::uint32_t* buttons) noexcept {
 DeviceStatus ReplayDevice::read(double t_s, DeviceSample& out) noexcept {
   if (t_s > rows_.back().t_s)
     return DeviceStatus::kEndOfStream;
-  if (std::isnan(t_s)) t_s = has_previous_ ? previous_t_s_ : rows_.front().t_s;  // bad clock
+  if (std::isnan(t_s))
+    t_s = has_previous_ ? previous_t_s_ : rows_.front().t_s;  // bad clock
   std::uint32_t buttons = 0;
   const Pose X = poseAt(t_s, &buttons);
   out.X_WD = X;

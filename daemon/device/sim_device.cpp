@@ -130,7 +130,8 @@ void SimDevice::step(double t_s, double h_s) noexcept {
 }
 
 DeviceStatus SimDevice::read(double t_s, DeviceSample& out) noexcept {
-  if (!std::isfinite(t_s)) t_s = t_s_;  // a bad clock reading does not advance time
+  if (!std::isfinite(t_s))
+    t_s = t_s_;  // a bad clock reading does not advance time
   if (!started_) {
     started_ = true;
     t_s_ = t_s;

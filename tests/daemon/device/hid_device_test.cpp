@@ -9,6 +9,7 @@
 #include <cmath>
 #include <map>
 #include <memory>
+#include <random>
 
 #include "daemon/device/rotation_util.h"
 #include "tests/core/alloc_counter.h"
@@ -421,6 +422,37 @@ TEST(HidDevice, ServoCallsDoNotAllocate) {
   rig.dev->present = false;
   rig.hid->read(5.0, s);  // the loss itself allocates nothing either
   EXPECT_EQ(testing_alloc::count(), before);
+}
+
+}  // namespace
+}  // namespace hapticd::device
+
+namespace hapticd::device {
+namespace {
+
+// random report bytes of every length: parsed or refused, never a non-finite pose
+TEST(HidReports, RandomReportsNeverCrash) {
+  std::mt19937 rng(5);
+  SpaceMouseState sm;
+  DeviceOptions o;
+  for (int k = 0; k < 20000; ++k) {
+    std::vector<std::uint8_t> r(rng() % 40);
+    for (auto& b : r)
+      b = static_cast<std::uint8_t>(rng());
+    if (!r.empty() && k % 2)
+      r[0] = static_cast<std::uint8_t>(1 + rng() % 3);
+    GenericInputReport in;
+    if (parseGenericInput(r, in) == HidReportStatus::kOk) {
+      ASSERT_TRUE(detail::finite(in.X_WD.translation));
+      ASSERT_NEAR(glm::length(in.X_WD.rotation), 1.0, 1e-12);
+    }
+    GenericOutputReport out;
+    (void)parseGenericOutput(r, out);
+    for (const SpaceMouseModel& m : spaceMouseModels())
+      (void)parseSpaceMouse(m, r, sm);
+    integrateSpaceMouse(sm, o, k * 1e-3);
+    ASSERT_TRUE(detail::finite(sm.X_WD.translation));
+  }
 }
 
 }  // namespace

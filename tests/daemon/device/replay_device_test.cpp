@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <random>
 
 #include "daemon/device/rotation_util.h"
@@ -249,6 +250,58 @@ TEST(ReplayDevice, OpensFilesThroughMakeDevice) {
   EXPECT_EQ(ticks, 2001);                     // 0 .. 2.000 s inclusive at 1 kHz
   EXPECT_LT(farthest, 1e-5);                  // chords of a 2 cm circle at 100 Hz
   EXPECT_EQ(s.buttons, 1u);
+}
+
+}  // namespace
+}  // namespace hapticd::device
+
+namespace hapticd::device {
+namespace {
+
+// mutated files: every outcome is a row list or an error with a line number; no crash (ASan)
+TEST(ReplayDevice, MutatedFilesNeverCrash) {
+  std::string good;
+  {
+    std::ifstream in(std::string(HAPTICD_TEST_DATA_DIR) + "/circle.csv", std::ios::binary);
+    good.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  ASSERT_GT(good.size(), 1000u);
+  std::mt19937_64 rng(11);
+  const char alphabet[] = "0123456789.,-+eE\n\r naif\x01\xff";
+  int refused = 0;
+  for (int k = 0; k < 3000; ++k) {
+    std::string text = good;
+    const int edits = 1 + static_cast<int>(rng() % 4);
+    for (int e = 0; e < edits; ++e) {
+      const std::size_t at = rng() % text.size();
+      switch (rng() % 3) {
+        case 0:
+          text[at] = alphabet[rng() % (sizeof alphabet - 1)];
+          break;
+        case 1:
+          text.erase(at, 1 + rng() % 3);
+          break;
+        default:
+          text.insert(at, 1, alphabet[rng() % (sizeof alphabet - 1)]);
+          break;
+      }
+      if (text.empty())
+        text = "x";
+    }
+    auto r = parsePoseStream(text, "m.csv", 0.01);
+    if (!r.ok()) {
+      ++refused;
+      EXPECT_EQ(r.error().message.rfind("m.csv: ", 0), 0u) << r.error().message;
+    } else {
+      for (const auto& row : r.value()) {
+        ASSERT_TRUE(std::isfinite(row.t_s));
+        ASSERT_TRUE(detail::finite(row.X_WD.translation));
+        ASSERT_NEAR(glm::length(row.X_WD.rotation), 1.0, 1e-12);
+      }
+    }
+  }
+  std::printf("  3000 mutated files: %d refused, %d accepted\n", refused, 3000 - refused);
+  EXPECT_GT(refused, 1000);
 }
 
 }  // namespace
