@@ -494,6 +494,11 @@ TEST(FalconDevice, OpenErrors) {
     std::printf("  makeDevice(\"usb\") here: %s\n", real.error().message.c_str());
     EXPECT_NE(real.error().message.find("usb:falcon"), std::string::npos);
   }
+  auto any_hid = makeDevice("hid", DeviceOptions{});  // the real hidapi backend here
+  if (!any_hid.ok()) {
+    std::printf("  makeDevice(\"hid\") here: %s\n", any_hid.error().message.c_str());
+    EXPECT_EQ(any_hid.error().message.rfind("device 'hid': ", 0), 0u);
+  }
   auto hid = makeDevice("hid:/dev/nonexistent-hidraw", DeviceOptions{});
   ASSERT_FALSE(hid.ok());
   std::printf("  makeDevice(\"hid:/dev/nonexistent-hidraw\") here: %s\n",
