@@ -3,8 +3,8 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
-#include <iterator>
 #include <thread>
 
 #include "daemon/device/falcon_firmware.h"
@@ -38,13 +38,17 @@ Result<std::unique_ptr<FalconDevice>> FalconDevice::open(std::unique_ptr<UsbBack
   std::vector<std::uint8_t> firmware;
   if (!options.usb_falcon_firmware.empty()) {
     const std::string& path = options.usb_falcon_firmware;
+    const std::string what = "device 'usb:falcon': usb_falcon_firmware '" + path + "': ";
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec))
+      return Error{what + "not a regular file (missing?)"};
+    const auto size = std::filesystem::file_size(path, ec);
+    if (ec || size == 0 || size > falcon::kMaxFirmwareBytes)
+      return Error{what + "empty, unreadable, or larger than 1 MiB"};
     std::ifstream in(path, std::ios::binary);
-    if (!in)
-      return Error{"device 'usb:falcon': usb_falcon_firmware '" + path + "': cannot open the file"};
-    firmware.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-    if (firmware.empty() || firmware.size() > falcon::kMaxFirmwareBytes)
-      return Error{"device 'usb:falcon': usb_falcon_firmware '" + path +
-                   "': empty, or larger than 1 MiB"};
+    firmware.resize(static_cast<std::size_t>(size));
+    if (!in.read(reinterpret_cast<char*>(firmware.data()), static_cast<std::streamsize>(size)))
+      return Error{what + "cannot read the file"};
   }
   if (backend->countFalcons() == 0)
     return Error{

@@ -672,6 +672,10 @@ TEST(FalconDevice, FirmwareLoadedWhenSilent) {
     ASSERT_FALSE(d.ok());
     EXPECT_NE(d.error().message.find("usb_falcon_firmware '/nonexistent/falcon.bin'"),
               std::string::npos);
+    o.usb_falcon_firmware = "/dev/zero";  // never read forever
+    d = FalconDevice::open(std::make_unique<FakeUsbBackend>(falcon_state, true), o);
+    ASSERT_FALSE(d.ok());
+    EXPECT_NE(d.error().message.find("not a regular file"), std::string::npos);
   }
   DeviceOptions o;
   o.usb_falcon_firmware = path.string();
