@@ -306,6 +306,7 @@ DecodeError get(Reader& r, SceneUpdate& m, bool exact) {
   for (auto& b : m.added) b = getBodyPose(r);
   m.removed.resize(nr);
   for (auto& i : m.removed) i = r.u32();
+  if (r.nonFinite()) return {};  // reported by the caller with its offset
   for (const auto& b : m.poses)
     if (!unitQuat(b.X_WB)) return err(Errc::kBadValue, t, b.body_index, 0, "poses[].q (norm)");
   for (const auto& b : m.added)
