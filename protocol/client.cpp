@@ -106,7 +106,11 @@ std::optional<Message> Client::processIncoming(
     DecodeError e = decode(d, h, m);
     if (e.code == Errc::kOk && config_.key && (h.flags & kFlagMac) && !verifyTag(d, *config_.key))
       e.code = Errc::kBadMac;
-    if (e.code == Errc::kOk && config_.key && !(h.flags & kFlagMac)) e.code = Errc::kNoMac;
+    // a keyed client takes only tagged datagrams, except an Error while connecting: a server
+    // without a key answers a tagged hello with an untagged "no key set", worth showing
+    if (e.code == Errc::kOk && config_.key && !(h.flags & kFlagMac) &&
+        !(session_id_ == 0 && std::holds_alternative<ErrorMsg>(m)))
+      e.code = Errc::kNoMac;
     if (e.code != Errc::kOk) {
       ++counters_.bad;
       continue;
@@ -266,6 +270,17 @@ Result<Done> Client::load(std::span<const std::uint8_t> bytes, const std::string
     if (const auto* s = std::get_if<SceneStatus>(&m)) {
       if (s->upload_id == id) {
         verdict = *s;
+        return true;
+      }
+    }
+    if (const auto* e = std::get_if<ErrorMsg>(&m)) {
+      const auto t = static_cast<MsgType>(e->ref_type);
+      if (t == MsgType::kSceneBegin || t == MsgType::kSceneChunk || t == MsgType::kSceneCommit) {
+        SceneStatus refused;
+        refused.upload_id = id;
+        refused.status = SceneStatusCode::kRefused;
+        refused.text = refusalText(*e);
+        verdict = refused;
         return true;
       }
     }
