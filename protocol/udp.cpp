@@ -163,7 +163,6 @@ Result<UdpSocket> UdpSocket::bind(const SocketAddress& address, int receive_buff
 }
 
 Result<UdpSocket> UdpSocket::forPeer(const SocketAddress& peer, int receive_buffer_bytes) {
-  SocketAddress local;
   const char* text = peer.storage.ss_family == AF_INET6 ? (peer.isLoopback() ? "[::1]:0" : "[::]:0")
                                                          : (peer.isLoopback() ? "127.0.0.1:0" : "0.0.0.0:0");
   auto a = parseAddress(text);
