@@ -90,12 +90,9 @@ void Server::poll(int timeout_ms) {
   std::uint64_t due = UINT64_MAX;
   for (const auto& [id, s] : sessions_)
     if (s.rate_hz > 0) due = std::min(due, s.next_state_ns);
-  int wait_ms = timeout_ms;
-  if (due != UINT64_MAX) {
-    const std::uint64_t d = due > t ? (due - t + 999'999) / 1'000'000 : 0;
-    wait_ms = std::min<int>(wait_ms, static_cast<int>(std::min<std::uint64_t>(d, 1000)));
-  }
-  if (socket_.waitReadable(wait_ms)) {
+  std::uint64_t wait_ns = static_cast<std::uint64_t>(std::max(timeout_ms, 0)) * std::uint64_t{1'000'000};
+  if (due != UINT64_MAX) wait_ns = std::min(wait_ns, due > t ? due - t : 0);
+  if (socket_.waitReadableNs(wait_ns)) {
     // bounded per round, so states go out under a flood
     for (int i = 0; i < 4096; ++i) {
       SocketAddress from;

@@ -5,6 +5,7 @@
 #include <netdb.h>
 #include <netinet/in.h>
 #include <poll.h>
+#include <time.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -201,6 +202,17 @@ bool UdpSocket::waitReadable(int timeout_ms) const {
   pollfd p{fd_, POLLIN, 0};
   for (;;) {
     const int rc = ::poll(&p, 1, timeout_ms);
+    if (rc < 0 && errno == EINTR) continue;
+    return rc > 0 && (p.revents & POLLIN);
+  }
+}
+
+bool UdpSocket::waitReadableNs(std::uint64_t timeout_ns) const {
+  pollfd p{fd_, POLLIN, 0};
+  timespec ts{static_cast<time_t>(timeout_ns / 1'000'000'000ull),
+              static_cast<long>(timeout_ns % 1'000'000'000ull)};
+  for (;;) {
+    const int rc = ::ppoll(&p, 1, &ts, nullptr);
     if (rc < 0 && errno == EINTR) continue;
     return rc > 0 && (p.revents & POLLIN);
   }

@@ -66,6 +66,8 @@ class UdpSocket {
   bool sendTo(const SocketAddress& to, std::span<const std::uint8_t> datagram);
   /// Waits up to timeout_ms (< 0: forever) for a datagram; true when one is waiting.
   bool waitReadable(int timeout_ms) const;
+  /// Same with a timeout in ns (ppoll), for sub-millisecond state pacing.
+  bool waitReadableNs(std::uint64_t timeout_ns) const;
 
   SocketAddress localAddress() const;
   int fd() const { return fd_; }

@@ -19,6 +19,7 @@
 #include "protocol/command_gate.h"
 #include "protocol/server.h"
 #include "protocol/upload.h"
+#include "tests/protocol/samples.h"
 
 namespace hapticd::proto {
 namespace {
@@ -748,6 +749,121 @@ TEST(Server, TenClientsAtOnce) {
   for (const auto& e : rec.commands) ++per_session[e.session_id];
   EXPECT_EQ(per_session.size(), static_cast<std::size_t>(kClients));
   for (const auto& [sid, n] : per_session) EXPECT_EQ(n, kPoses);
+}
+
+TEST(Server, SurvivesMutatedDatagramsOnALiveSession) {
+  // 20 000 datagrams: every sample message on a real session, mutated (bit flips, truncation,
+  // length and type lies), some tagged with a wrong key; afterwards the server still serves
+  Recorder rec;
+  ServerConfig cfg;
+  cfg.rate_limit.packets_per_s = 0;
+  ServerThread st(cfg, rec.handlers(false));
+  Raw raw(st.address());
+  const std::uint64_t sid = raw.hello();
+  std::mt19937 rng(4242);
+  const Key wrong = randomKey();
+  std::uint64_t seq = 2, sent = 0;
+  const auto samples = testing::sampleMessages();
+  for (int round = 0; round < 20000 / static_cast<int>(samples.size()); ++round) {
+    for (const auto& m : samples) {
+      std::vector<std::uint8_t> buf(kMaxDatagramLimit);
+      Header h;
+      h.session_id = rng() % 8 == 0 ? rng() : sid;
+      h.sequence = seq++;
+      const bool tag = rng() % 10 == 0;
+      std::size_t n = encodeDatagram(h, m, tag ? &wrong : nullptr, buf);
+      buf.resize(n);
+      switch (rng() % 5) {
+        case 0: buf[rng() % buf.size()] ^= static_cast<std::uint8_t>(1u << (rng() % 8)); break;
+        case 1: buf.resize(rng() % buf.size()); break;
+        case 2: buf[12 + rng() % 4] = static_cast<std::uint8_t>(rng()); break;
+        case 3: buf[6] = static_cast<std::uint8_t>(rng() % 25); break;
+        case 4: break;  // intact
+      }
+      if (buf.size() > cfg.max_datagram_bytes) buf.resize(cfg.max_datagram_bytes);
+      raw.send(buf);
+      ++sent;
+      if (sent % 200 == 0) std::this_thread::sleep_for(1ms);  // let the server keep up
+    }
+  }
+  auto c = Client::connect(clientFor(st.address()));
+  ASSERT_TRUE(c) << c.error().message;
+  EXPECT_TRUE(c.value()->arm());
+  auto status = c.value()->status();
+  ASSERT_TRUE(status);
+  std::uint64_t refusals = 0;
+  for (auto r : status.value().refused) refusals += r;
+  EXPECT_GT(refusals, sent / 10);
+  EXPECT_LE(st.server().sessionCount(), 2u);
+}
+
+TEST(Server, StatesAtEachSubscribersRateOnSimulatedTime) {
+  // the server polled by the test itself (one thread), on a simulated clock stepped by 0.5 ms:
+  // a 100 Hz and a 1 kHz subscriber get exactly their rate over one simulated second
+  std::uint64_t fake_now = 1'000'000'000;
+  ServerConfig cfg;
+  cfg.bind_address = "127.0.0.1:0";
+  cfg.clock = [&] { return fake_now; };
+  ServerHandlers h;
+  std::uint64_t fills = 0;
+  h.fill_state = [&](State& s) {
+    s.tick = ++fills;
+    return true;
+  };
+  auto created = Server::create(cfg, h);
+  ASSERT_TRUE(created) << created.error().message;
+  Server& server = *created.value();
+  const std::string addr = server.localAddress().toString();
+  Raw slow(addr), fast(addr);
+  auto open = [&](Raw& r, std::uint32_t hz) {
+    r.sendMessage(Hello{}, 0, 1);
+    std::optional<std::uint64_t> sid;
+    for (int i = 0; i < 100 && !sid; ++i) {
+      server.poll(10);
+      if (auto m = r.receive(1); m && std::holds_alternative<Welcome>(*m))
+        sid = std::get<Welcome>(*m).session_id;
+    }
+    EXPECT_TRUE(sid.has_value());
+    r.sendMessage(Subscribe{hz, 0}, sid.value_or(0), 2);
+    for (int i = 0; i < 100 && server.counters().received.load() < 4; ++i) server.poll(10);
+  };
+  open(slow, 100);
+  open(fast, 1000);
+  ASSERT_EQ(server.counters().received.load(), 4u);
+  auto drain = [](Raw& r) {
+    int n = 0;
+    std::vector<std::uint8_t> buf(kMaxDatagramLimit);
+    for (;;) {
+      SocketAddress from;
+      auto got = r.sock.receive(buf, from);
+      if (!got.got) return n;
+      Header hh;
+      Message m;
+      if (decode(std::span(buf.data(), got.size), hh, m).code == Errc::kOk &&
+          std::holds_alternative<State>(m))
+        ++n;
+    }
+  };
+  drain(slow);
+  drain(fast);
+  const std::uint64_t sent_before = server.counters().states_sent.load();
+  int n_slow = 0, n_fast = 0;
+  for (int step = 0; step < 2000; ++step) {  // 2000 × 0.5 ms = 1 s
+    fake_now += 500'000;
+    server.poll(0);
+    if (step % 50 == 0) {
+      n_slow += drain(slow);
+      n_fast += drain(fast);
+    }
+  }
+  ASSERT_TRUE(waitUntil([&] {
+    n_slow += drain(slow);
+    n_fast += drain(fast);
+    return static_cast<std::uint64_t>(n_slow + n_fast) ==
+           server.counters().states_sent.load() - sent_before;
+  }));
+  EXPECT_EQ(n_slow, 100);
+  EXPECT_EQ(n_fast, 1000);
 }
 
 TEST(Server, SilentSessionsExpire) {
