@@ -68,6 +68,7 @@ Result<std::unique_ptr<Client>> Client::connect(ClientConfig config) {
 
 bool Client::sendBytes(std::span<const std::uint8_t> d) {
   ++counters_.sent;
+  last_send_ns_ = monotonicNs();
   return socket_.sendTo(server_, d);
 }
 
@@ -85,14 +86,20 @@ std::uint64_t Client::send(const Message& m) {
 std::optional<Message> Client::processIncoming(
     int timeout_ms, const std::function<bool(const Header&, const Message&)>* want) {
   const std::uint64_t deadline = monotonicNs() + static_cast<std::uint64_t>(std::max(timeout_ms, 0)) * kMs;
+  const std::uint64_t beat_ns = static_cast<std::uint64_t>(std::max(config_.heartbeat_ms, 0)) * kMs;
   for (;;) {
     SocketAddress from;
     Received r = socket_.receive(rx_, from);
     if (!r.got) {
-      const std::uint64_t t = monotonicNs();
+      std::uint64_t t = monotonicNs();
+      if (beat_ns > 0 && session_id_ != 0 && t - last_send_ns_ >= beat_ns) {
+        send(Heartbeat{0});
+        t = monotonicNs();
+      }
       if (t >= deadline) return std::nullopt;
-      const int left = static_cast<int>((deadline - t + kMs - 1) / kMs);
-      if (!socket_.waitReadable(left)) return std::nullopt;
+      std::uint64_t left = deadline - t;
+      if (beat_ns > 0 && session_id_ != 0) left = std::min(left, last_send_ns_ + beat_ns - t);
+      if (!socket_.waitReadableNs(left) && monotonicNs() >= deadline) return std::nullopt;
       continue;
     }
     ++counters_.received;

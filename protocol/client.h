@@ -36,6 +36,10 @@ struct ClientConfig {
   int chunk_resend_ms = 50;          ///< an unacknowledged chunk is resent after this
   int load_timeout_ms = 120000;      ///< a whole upload, validation included
   std::size_t state_queue = 4096;    ///< states kept for receiveState (oldest dropped)
+  /// A heartbeat is sent when nothing was sent for this long, from any call that waits (so a
+  /// session that only watches states stays open); 0 disables. Keep it well under the server's
+  /// session_timeout_ns (10 s by default).
+  int heartbeat_ms = 1000;
 };
 
 /// What a client saw the server refuse (Error messages), counted by code.
@@ -106,6 +110,7 @@ class Client {
   std::uint64_t session_id_ = 0;
   std::uint64_t sequence_ = 0;
   std::uint32_t next_upload_id_ = 1;
+  std::uint64_t last_send_ns_ = 0;
   std::deque<State> states_;
   std::vector<std::uint8_t> rx_;
   std::vector<std::uint8_t> tx_;

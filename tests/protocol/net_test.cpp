@@ -866,6 +866,33 @@ TEST(Server, StatesAtEachSubscribersRateOnSimulatedTime) {
   EXPECT_EQ(n_fast, 1000);
 }
 
+TEST(Server, AWatchingClientKeepsItsSessionByHeartbeat) {
+  // the session timeout is 300 ms; a client that only receives states for 1.5 s keeps getting
+  // them because its waits send heartbeats (every 50 ms here)
+  ServerConfig cfg;
+  cfg.session_timeout_ns = 300'000'000;
+  ServerHandlers h;
+  h.fill_state = [](State& s) {
+    s.tick = monotonicNs();
+    return true;
+  };
+  ServerThread st(cfg, h);
+  ClientConfig cc = clientFor(st.address());
+  cc.heartbeat_ms = 50;
+  auto c = Client::connect(cc);
+  ASSERT_TRUE(c);
+  ASSERT_TRUE(c.value()->subscribe(100));
+  const auto end = std::chrono::steady_clock::now() + 1500ms;
+  int states = 0;
+  while (std::chrono::steady_clock::now() < end)
+    if (c.value()->receiveState(100)) ++states;
+  EXPECT_GT(states, 0);
+  // still subscribed after five session timeouts
+  auto later = c.value()->receiveState(5000);
+  EXPECT_TRUE(later.has_value());
+  EXPECT_EQ(st.server().sessionCount(), 1u);
+}
+
 TEST(Server, SilentSessionsExpire) {
   std::atomic<std::uint64_t> fake_now{1'000'000'000};
   ServerConfig cfg;
