@@ -105,6 +105,7 @@ void Server::poll(int timeout_ms) {
         continue;
       }
       handleDatagram(std::span<const std::uint8_t>(rx_.data(), r.size), from, t);
+      counters_.sessions.store(sessions_.size(), std::memory_order_relaxed);
     }
   }
   t = now();
@@ -112,6 +113,7 @@ void Server::poll(int timeout_ms) {
   if (t - last_expire_ns_ > 100'000'000) {
     expire(t);
     last_expire_ns_ = t;
+    counters_.sessions.store(sessions_.size(), std::memory_order_relaxed);
   }
   drainFinished();
 }

@@ -118,6 +118,7 @@ struct ServerCounters {
   std::atomic<std::uint64_t> commands_queue_full{0};
   std::atomic<std::uint64_t> states_sent{0};
   std::atomic<std::uint64_t> scenes_completed{0};
+  std::atomic<std::uint64_t> sessions{0};  ///< open now
 };
 
 /// See the file comment. Create on any thread; poll()/run() on one thread only; finishScene(),
@@ -143,8 +144,8 @@ class Server {
   const ServerCounters& counters() const { return counters_; }
   SocketAddress localAddress() const { return socket_.localAddress(); }
   const ServerConfig& config() const { return config_; }
-  /// Sessions open now. Server thread.
-  std::size_t sessionCount() const { return sessions_.size(); }
+  /// Sessions open now (as of the server thread's last change). Any thread.
+  std::size_t sessionCount() const { return static_cast<std::size_t>(counters_.sessions.load()); }
 
  private:
   enum class UploadState : std::uint8_t { kNone, kReceiving, kValidating, kAccepted, kRefused };

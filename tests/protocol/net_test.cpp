@@ -428,6 +428,59 @@ TEST(Upload, HashMismatchRefusedByHand) {
   EXPECT_NE(verdict->text.find("SHA-256"), std::string::npos) << verdict->text;
 }
 
+TEST(Upload, StaleUploadDroppedByTheServerOnSimulatedTime) {
+  std::uint64_t fake_now = 1'000'000'000;
+  ServerConfig cfg;
+  cfg.bind_address = "127.0.0.1:0";
+  cfg.clock = [&] { return fake_now; };
+  cfg.session_timeout_ns = 60'000'000'000ull;
+  cfg.upload.stale_timeout_ns = 1'000'000'000;
+  auto created = Server::create(cfg, {});
+  ASSERT_TRUE(created);
+  Server& server = *created.value();
+  Raw raw(server.localAddress().toString());
+  auto exchange = [&](const Message& m, std::uint64_t sid, std::uint64_t seq) {
+    raw.sendMessage(m, sid, seq);
+    for (int i = 0; i < 200; ++i) {
+      server.poll(5);
+      if (auto r = raw.receive(1)) return r;
+    }
+    return std::optional<Message>{};
+  };
+  auto w = exchange(Hello{}, 0, 1);
+  ASSERT_TRUE(w && std::holds_alternative<Welcome>(*w));
+  const std::uint64_t sid = std::get<Welcome>(*w).session_id;
+  const auto data = blob(5000, 8);
+  SceneBegin b;
+  b.upload_id = 9;
+  b.total_bytes = data.size();
+  b.sha256 = sha256(data);
+  auto st = exchange(b, sid, 2);
+  ASSERT_TRUE(st && std::holds_alternative<SceneStatus>(*st));
+  EXPECT_EQ(std::get<SceneStatus>(*st).status, SceneStatusCode::kIncomplete);
+  SceneChunk c;
+  c.upload_id = 9;
+  c.offset = 0;
+  c.data = std::span(data).first(1000);
+  auto ack = exchange(c, sid, 3);
+  ASSERT_TRUE(ack && std::holds_alternative<SceneChunkAck>(*ack));
+  EXPECT_EQ(std::get<SceneChunkAck>(*ack).received_bytes, 1000u);
+  // still alive 0.9 s later; commit lists what is missing
+  fake_now += 900'000'000;
+  server.poll(0);
+  auto inc = exchange(SceneCommit{9}, sid, 4);
+  ASSERT_TRUE(inc && std::holds_alternative<SceneStatus>(*inc));
+  EXPECT_EQ(std::get<SceneStatus>(*inc).status, SceneStatusCode::kIncomplete);
+  ASSERT_EQ(std::get<SceneStatus>(*inc).missing.size(), 1u);
+  EXPECT_EQ(std::get<SceneStatus>(*inc).missing[0], (SceneStatus::Range{1000, 4000}));
+  // 1.1 s without a chunk: dropped
+  fake_now += 1'100'000'000;
+  server.poll(0);
+  auto gone = exchange(SceneCommit{9}, sid, 5);
+  ASSERT_TRUE(gone && std::holds_alternative<SceneStatus>(*gone));
+  EXPECT_EQ(std::get<SceneStatus>(*gone).status, SceneStatusCode::kUnknownUpload);
+}
+
 TEST(Upload, FiveMegabytesThroughALossyRelayArriveExactly) {
   Recorder rec;
   ServerConfig cfg;
