@@ -26,10 +26,13 @@ State fullState() {
 }
 
 void reportPercentiles(benchmark::State& state, std::vector<std::uint64_t>& ns) {
-  if (ns.empty()) return;
+  if (ns.empty())
+    return;
   std::sort(ns.begin(), ns.end());
   auto at = [&](double q) {
-    return static_cast<double>(ns[std::min(ns.size() - 1, static_cast<std::size_t>(q * static_cast<double>(ns.size())))]) * 1e-3;
+    return static_cast<double>(ns[std::min(
+               ns.size() - 1, static_cast<std::size_t>(q * static_cast<double>(ns.size())))]) *
+           1e-3;
   };
   state.counters["p50_us"] = at(0.50);
   state.counters["p99_us"] = at(0.99);
@@ -39,7 +42,8 @@ void reportPercentiles(benchmark::State& state, std::vector<std::uint64_t>& ns) 
 void ProtocolEncodeState(benchmark::State& state) {
   const Message m = fullState();
   std::vector<std::uint8_t> buf(kMaxDatagramLimit);
-  for (auto _ : state) benchmark::DoNotOptimize(encode({}, m, buf));
+  for (auto _ : state)
+    benchmark::DoNotOptimize(encode({}, m, buf));
   state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) *
                           static_cast<std::int64_t>(kHeaderSize + payloadSize(m)));
 }
@@ -53,7 +57,8 @@ void ProtocolDecodeState(benchmark::State& state) {
     Message m;
     benchmark::DoNotOptimize(decode(buf, h, m));
   }
-  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) * static_cast<std::int64_t>(buf.size()));
+  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) *
+                          static_cast<std::int64_t>(buf.size()));
 }
 BENCHMARK(ProtocolDecodeState)->Name("Protocol/Decode/StateFull");
 
@@ -78,13 +83,16 @@ void ProtocolRoundTripUdp(benchmark::State& state) {
   std::thread echo([&] {
     std::vector<std::uint8_t> rx(kMaxDatagramLimit), tx(kMaxDatagramLimit);
     while (!stop.load(std::memory_order_relaxed)) {
-      if (!server_sock.waitReadable(10)) continue;
+      if (!server_sock.waitReadable(10))
+        continue;
       SocketAddress from;
       const Received r = server_sock.receive(rx, from);
-      if (!r.got) continue;
+      if (!r.got)
+        continue;
       Header h;
       Message m;
-      if (decode(std::span(rx.data(), r.size), h, m).code != Errc::kOk) continue;
+      if (decode(std::span(rx.data(), r.size), h, m).code != Errc::kOk)
+        continue;
       State s;
       s.last_command_sequence = h.sequence;
       Header out;
@@ -105,7 +113,8 @@ void ProtocolRoundTripUdp(benchmark::State& state) {
     const std::size_t n = encode(h, p, tx);
     client_sock.sendTo(server_addr, std::span(tx.data(), n));
     for (;;) {
-      if (!client_sock.waitReadable(1000)) break;
+      if (!client_sock.waitReadable(1000))
+        break;
       SocketAddress from;
       const Received r = client_sock.receive(rx, from);
       Header rh;
@@ -157,9 +166,11 @@ void ProtocolRoundTripShm(benchmark::State& state) {
   for (auto _ : state) {
     std::uint64_t seq = 0;
     const std::uint64_t t0 = monotonicNs();
-    while (!client.value().pushPose(p, t0, &seq)) std::this_thread::yield();
+    while (!client.value().pushPose(p, t0, &seq))
+      std::this_thread::yield();
     for (;;) {
-      if (client.value().readState(s) && s.last_command_sequence == seq) break;
+      if (client.value().readState(s) && s.last_command_sequence == seq)
+        break;
       std::this_thread::yield();
     }
     ns.push_back(monotonicNs() - t0);

@@ -33,11 +33,15 @@ std::optional<Key> parseKeyHex(std::string_view text, std::string* error) {
     for (std::size_t j = 0; j < 2; ++j) {
       const char c = text[2 * i + j];
       int d;
-      if (c >= '0' && c <= '9') d = c - '0';
-      else if (c >= 'a' && c <= 'f') d = c - 'a' + 10;
-      else if (c >= 'A' && c <= 'F') d = c - 'A' + 10;
+      if (c >= '0' && c <= '9')
+        d = c - '0';
+      else if (c >= 'a' && c <= 'f')
+        d = c - 'a' + 10;
+      else if (c >= 'A' && c <= 'F')
+        d = c - 'A' + 10;
       else {
-        if (error) *error = "key: character " + std::to_string(2 * i + j + 1) + " is not hex";
+        if (error)
+          *error = "key: character " + std::to_string(2 * i + j + 1) + " is not hex";
         return std::nullopt;
       }
       v = v * 16 + d;
@@ -67,21 +71,27 @@ Key randomKey() {
 std::uint64_t randomU64() {
   initSodium();
   std::uint64_t v = 0;
-  while (v == 0) randombytes_buf(&v, sizeof v);
+  while (v == 0)
+    randombytes_buf(&v, sizeof v);
   return v;
 }
 
-std::size_t encodeDatagram(Header h, const Message& m, const Key* key, std::span<std::uint8_t> out,
+std::size_t encodeDatagram(Header h,
+                           const Message& m,
+                           const Key* key,
+                           std::span<std::uint8_t> out,
                            Errc* error) {
   if (key) {
     initSodium();
     h.flags = static_cast<std::uint16_t>(h.flags | kFlagMac);
     if (out.size() < kMacSize) {
-      if (error) *error = Errc::kBufferTooSmall;
+      if (error)
+        *error = Errc::kBufferTooSmall;
       return 0;
     }
     const std::size_t n = encode(h, m, out.first(out.size() - kMacSize), error);
-    if (n == 0) return 0;
+    if (n == 0)
+      return 0;
     crypto_auth(out.data() + n, out.data(), n, key->data());
     return n + kMacSize;
   }
@@ -90,16 +100,20 @@ std::size_t encodeDatagram(Header h, const Message& m, const Key* key, std::span
 }
 
 bool verifyTag(std::span<const std::uint8_t> d, const Key& key) {
-  if (d.size() < kHeaderSize + kMacSize) return false;
+  if (d.size() < kHeaderSize + kMacSize)
+    return false;
   initSodium();
   const std::size_t n = d.size() - kMacSize;
   return crypto_auth_verify(d.data() + n, d.data(), n, key.data()) == 0;
 }
 
 bool ReplayWindow::check(std::uint64_t seq) const {
-  if (seq == 0) return false;
-  if (seq > top_) return true;
-  if (top_ - seq >= kWindow) return false;
+  if (seq == 0)
+    return false;
+  if (seq > top_)
+    return true;
+  if (top_ - seq >= kWindow)
+    return false;
   const std::uint64_t bit = seq % kWindow;
   return (bits_[bit / 64] & (1ull << (bit % 64))) == 0;
 }
@@ -123,13 +137,15 @@ void ReplayWindow::accept(std::uint64_t seq) {
 }
 
 bool TokenBucket::take(std::uint64_t now_ns) {
-  if (config_.packets_per_s <= 0.0) return true;
+  if (config_.packets_per_s <= 0.0)
+    return true;
   if (now_ns > last_ns_) {
-    tokens_ = std::min(config_.burst,
-                       tokens_ + static_cast<double>(now_ns - last_ns_) * 1e-9 * config_.packets_per_s);
+    tokens_ = std::min(config_.burst, tokens_ + static_cast<double>(now_ns - last_ns_) * 1e-9 *
+                                                    config_.packets_per_s);
     last_ns_ = now_ns;
   }
-  if (tokens_ < 1.0) return false;
+  if (tokens_ < 1.0)
+    return false;
   tokens_ -= 1.0;
   return true;
 }

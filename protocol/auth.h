@@ -31,7 +31,10 @@ std::uint64_t randomU64();
 /// Encodes `m` like encode() and, with a key, sets kFlagMac and appends the tag. Returns the
 /// datagram size or 0 with *error set (see encode(); kBufferTooSmall also when the tag does not
 /// fit). Any thread.
-std::size_t encodeDatagram(Header h, const Message& m, const Key* key, std::span<std::uint8_t> out,
+std::size_t encodeDatagram(Header h,
+                           const Message& m,
+                           const Key* key,
+                           std::span<std::uint8_t> out,
                            Errc* error = nullptr);
 
 /// Verifies the tag at the end of `datagram` (whose header says kFlagMac and whose length
@@ -52,7 +55,8 @@ class ReplayWindow {
  private:
   static constexpr std::size_t kWords = kWindow / 64;
   std::uint64_t top_ = 0;  // largest accepted
-  std::array<std::uint64_t, kWords> bits_{};  // bit (s % kWindow) set: s accepted, s > top - kWindow
+  std::array<std::uint64_t, kWords>
+      bits_{};  // bit (s % kWindow) set: s accepted, s > top - kWindow
 };
 
 /// Rate limit of one peer. Defaults allow a 1 kHz pose stream plus a fast scene upload.

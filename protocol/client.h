@@ -27,9 +27,9 @@ using Done = std::monostate;
 /// Client settings; every field has its default.
 struct ClientConfig {
   std::string server = std::string(kDefaultBindAddress);  ///< "HOST:PORT", "[V6]:PORT"
-  std::optional<Key> key;            ///< pre-shared key: tag every datagram
-  std::string name = "hapticctl";    ///< shown in the server's status
-  int timeout_ms = 2000;             ///< per request (hello, arm, status, ...)
+  std::optional<Key> key;                                 ///< pre-shared key: tag every datagram
+  std::string name = "hapticctl";                         ///< shown in the server's status
+  int timeout_ms = 2000;                                  ///< per request (hello, arm, status, ...)
   int resend_ms = 100;               ///< a request unanswered this long is sent again
   std::uint32_t chunk_bytes = 1200;  ///< scene chunk size (≤ the server's max_chunk_bytes)
   std::size_t window = 64;           ///< scene chunks in flight
@@ -46,10 +46,10 @@ struct ClientConfig {
 struct ClientCounters {
   std::uint64_t received = 0;
   std::uint64_t sent = 0;
-  std::uint64_t bad = 0;           ///< datagrams that failed to decode or verify
-  std::uint64_t errors = 0;        ///< Error messages received
-  std::uint64_t states_dropped = 0;///< states dropped because the queue was full
-  std::uint64_t chunks_sent = 0;   ///< chunk datagrams including resends
+  std::uint64_t bad = 0;             ///< datagrams that failed to decode or verify
+  std::uint64_t errors = 0;          ///< Error messages received
+  std::uint64_t states_dropped = 0;  ///< states dropped because the queue was full
+  std::uint64_t chunks_sent = 0;     ///< chunk datagrams including resends
   std::uint64_t chunks_resent = 0;
   ErrorMsg last_error;
 };
@@ -65,8 +65,10 @@ class Client {
   /// Uploads `bytes` as scene `name`: begin, chunks in a window with resend until each is
   /// acknowledged, commit until the server accepts or refuses. Ok when accepted; the error is the
   /// server's first error text when refused. `progress` (may be empty) gets bytes acknowledged.
-  Result<Done> load(std::span<const std::uint8_t> bytes, const std::string& name,
-                    const std::function<void(std::uint64_t acked, std::uint64_t total)>& progress = {});
+  Result<Done> load(
+      std::span<const std::uint8_t> bytes,
+      const std::string& name,
+      const std::function<void(std::uint64_t acked, std::uint64_t total)>& progress = {});
   /// Sends one pose command; returns its sequence number (no answer is awaited: the state's
   /// last_command_sequence shows it was taken).
   Result<std::uint64_t> sendPose(const PoseCommand& cmd);
@@ -98,8 +100,9 @@ class Client {
   bool sendBytes(std::span<const std::uint8_t> datagram);
   /// Reads datagrams for up to timeout_ms; returns the first that `want` accepts (others are
   /// dispatched: states queued, errors counted). want == nullptr: just drain.
-  std::optional<Message> processIncoming(int timeout_ms,
-                                         const std::function<bool(const Header&, const Message&)>* want = nullptr);
+  std::optional<Message> processIncoming(
+      int timeout_ms,
+      const std::function<bool(const Header&, const Message&)>* want = nullptr);
   /// Sends `m`, resending every resend_ms, until an Ack for it or an Error referring to it.
   Result<Done> request(const Message& m);
 

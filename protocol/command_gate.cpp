@@ -4,11 +4,16 @@ namespace hapticd::proto {
 
 const char* gateModeName(GateMode m) {
   switch (m) {
-    case GateMode::kDisarmed: return "disarmed";
-    case GateMode::kArmedIdle: return "armed";
-    case GateMode::kStreaming: return "streaming";
-    case GateMode::kRamping: return "ramping";
-    case GateMode::kFaulted: return "faulted";
+    case GateMode::kDisarmed:
+      return "disarmed";
+    case GateMode::kArmedIdle:
+      return "armed";
+    case GateMode::kStreaming:
+      return "streaming";
+    case GateMode::kRamping:
+      return "ramping";
+    case GateMode::kFaulted:
+      return "faulted";
   }
   return "unknown";
 }
@@ -20,14 +25,16 @@ CommandGate::SessionSeq& CommandGate::sessionEntry(std::uint64_t session_id) noe
       s.last_use = ++use_counter_;
       return s;
     }
-    if (s.last_use < lru->last_use) lru = &s;
+    if (s.last_use < lru->last_use)
+      lru = &s;
   }
   *lru = SessionSeq{session_id, 0, ++use_counter_};
   return *lru;
 }
 
 void CommandGate::arm(std::uint64_t session_id, std::uint64_t now_ns) noexcept {
-  if (now_ns > now_ns_) now_ns_ = now_ns;
+  if (now_ns > now_ns_)
+    now_ns_ = now_ns;
   sessionEntry(session_id);
   controller_ = session_id;
   fault_bits_ = 0;
@@ -37,14 +44,18 @@ void CommandGate::arm(std::uint64_t session_id, std::uint64_t now_ns) noexcept {
 }
 
 void CommandGate::disarm(std::uint64_t now_ns) noexcept {
-  if (now_ns > now_ns_) now_ns_ = now_ns;
+  if (now_ns > now_ns_)
+    now_ns_ = now_ns;
   mode_ = GateMode::kDisarmed;
   has_target_ = false;
 }
 
-bool CommandGate::submit(std::uint64_t session_id, std::uint64_t sequence, const PoseCommand& cmd,
+bool CommandGate::submit(std::uint64_t session_id,
+                         std::uint64_t sequence,
+                         const PoseCommand& cmd,
                          std::uint64_t now_ns) noexcept {
-  if (now_ns > now_ns_) now_ns_ = now_ns;
+  if (now_ns > now_ns_)
+    now_ns_ = now_ns;
   SessionSeq& s = sessionEntry(session_id);
   if (sequence < s.max_seen) {
     drop(DropReason::kOlder);
@@ -77,7 +88,8 @@ bool CommandGate::submit(std::uint64_t session_id, std::uint64_t sequence, const
 }
 
 GateOutput CommandGate::update(std::uint64_t now_ns) noexcept {
-  if (now_ns > now_ns_) now_ns_ = now_ns;
+  if (now_ns > now_ns_)
+    now_ns_ = now_ns;
   GateOutput out;
   out.last_sequence = last_sequence_;
   if (mode_ == GateMode::kStreaming || mode_ == GateMode::kRamping) {
@@ -93,12 +105,17 @@ GateOutput CommandGate::update(std::uint64_t now_ns) noexcept {
   out.fault_bits = fault_bits_;
   out.has_target = has_target_;
   out.target = target_;
-  if (has_target_) out.command_age_ns = now_ns_ - last_command_ns_;
+  if (has_target_)
+    out.command_age_ns = now_ns_ - last_command_ns_;
   switch (mode_) {
     case GateMode::kDisarmed:
-    case GateMode::kFaulted: out.force_scale = 0.0; break;
+    case GateMode::kFaulted:
+      out.force_scale = 0.0;
+      break;
     case GateMode::kArmedIdle:
-    case GateMode::kStreaming: out.force_scale = 1.0; break;
+    case GateMode::kStreaming:
+      out.force_scale = 1.0;
+      break;
     case GateMode::kRamping: {
       const double span = static_cast<double>(config_.zero_ns - config_.hold_ns);
       const double left = static_cast<double>(config_.zero_ns - out.command_age_ns);
@@ -115,7 +132,8 @@ GateOutput CommandGate::update(std::uint64_t now_ns) noexcept {
 
 std::uint64_t CommandGate::droppedTotal() const noexcept {
   std::uint64_t n = 0;
-  for (auto d : dropped_) n += d;
+  for (auto d : dropped_)
+    n += d;
   return n;
 }
 

@@ -53,10 +53,10 @@ enum class DropReason : std::uint8_t {
 /// The gate's answer for one tick.
 struct GateOutput {
   GateMode mode = GateMode::kDisarmed;
-  bool has_target = false;       ///< false: no command since arm (the device keeps its pose)
-  PoseCommand target;            ///< the newest accepted command (velocities zero when ramping)
-  double force_scale = 0.0;      ///< multiply the device force and torque by this, 0..1
-  std::uint32_t fault_bits = 0;  ///< kFaultStreamLost while latched
+  bool has_target = false;           ///< false: no command since arm (the device keeps its pose)
+  PoseCommand target;                ///< the newest accepted command (velocities zero when ramping)
+  double force_scale = 0.0;          ///< multiply the device force and torque by this, 0..1
+  std::uint32_t fault_bits = 0;      ///< kFaultStreamLost while latched
   std::uint64_t last_sequence = 0;   ///< sequence of the newest accepted command (State echo)
   std::uint64_t command_age_ns = 0;  ///< now minus the newest command's arrival, 0 without one
 };
@@ -76,7 +76,9 @@ class CommandGate {
   /// Force to zero now; forgets the target.
   void disarm(std::uint64_t now_ns) noexcept;
   /// Offers a command that arrived at now_ns. Returns true when accepted (it is the newest).
-  bool submit(std::uint64_t session_id, std::uint64_t sequence, const PoseCommand& cmd,
+  bool submit(std::uint64_t session_id,
+              std::uint64_t sequence,
+              const PoseCommand& cmd,
               std::uint64_t now_ns) noexcept;
   /// Advances the state machine to now_ns (never backwards: an earlier time counts as now) and
   /// returns what the device should do this tick.
@@ -84,7 +86,9 @@ class CommandGate {
 
   GateMode mode() const noexcept { return mode_; }
   std::uint64_t accepted() const noexcept { return accepted_; }
-  std::uint64_t dropped(DropReason r) const noexcept { return dropped_[static_cast<std::size_t>(r)]; }
+  std::uint64_t dropped(DropReason r) const noexcept {
+    return dropped_[static_cast<std::size_t>(r)];
+  }
   std::uint64_t droppedTotal() const noexcept;
   std::uint64_t controller() const noexcept { return controller_; }
   const CommandGateConfig& config() const noexcept { return config_; }

@@ -9,21 +9,27 @@ namespace {
 // ---- shared pieces ------------------------------------------------------------------------
 
 void putPose(Writer& w, const WirePose& x) {
-  for (double v : x.p) w.f64(v);
-  for (double v : x.q) w.f64(v);
+  for (double v : x.p)
+    w.f64(v);
+  for (double v : x.q)
+    w.f64(v);
 }
 void putVec(Writer& w, const Vec3& v) {
-  for (double c : v) w.f64(c);
+  for (double c : v)
+    w.f64(c);
 }
 WirePose getPose(Reader& r) {
   WirePose x;
-  for (double& v : x.p) v = r.f64();
-  for (double& v : x.q) v = r.f64();
+  for (double& v : x.p)
+    v = r.f64();
+  for (double& v : x.q)
+    v = r.f64();
   return x;
 }
 Vec3 getVec(Reader& r) {
   Vec3 v;
-  for (double& c : v) c = r.f64();
+  for (double& c : v)
+    c = r.f64();
   return v;
 }
 bool unitQuat(const WirePose& x) {
@@ -53,8 +59,12 @@ DecodeError checkLength(MsgType t, std::size_t got, std::size_t expected, bool e
 // Each message has size(m), put(w, m) and get(r, m, exact) -> DecodeError. get() is called with a
 // Reader over the whole payload.
 
-std::size_t size(const Hello& m) { return Hello::kFixedSize + m.client_name.size(); }
-bool fits(const Hello& m) { return m.client_name.size() <= kMaxNameBytes; }
+std::size_t size(const Hello& m) {
+  return Hello::kFixedSize + m.client_name.size();
+}
+bool fits(const Hello& m) {
+  return m.client_name.size() <= kMaxNameBytes;
+}
 void put(Writer& w, const Hello& m) {
   w.u32(m.capabilities);
   w.u16(static_cast<std::uint16_t>(m.client_name.size()));
@@ -63,19 +73,25 @@ void put(Writer& w, const Hello& m) {
 }
 DecodeError get(Reader& r, Hello& m, bool exact) {
   const std::size_t total = r.remaining();
-  if (total < Hello::kFixedSize) return checkLength(Hello::kType, total, Hello::kFixedSize, false);
+  if (total < Hello::kFixedSize)
+    return checkLength(Hello::kType, total, Hello::kFixedSize, false);
   m.capabilities = r.u32();
   const std::size_t n = r.u16();
   r.u16();
-  if (n > kMaxNameBytes) return err(Errc::kBadValue, Hello::kType, n, kMaxNameBytes, "name_length");
+  if (n > kMaxNameBytes)
+    return err(Errc::kBadValue, Hello::kType, n, kMaxNameBytes, "name_length");
   if (auto e = checkLength(Hello::kType, total, Hello::kFixedSize + n, exact); e.code != Errc::kOk)
     return e;
   m.client_name = getText(r, n);
   return {};
 }
 
-std::size_t size(const Welcome&) { return Welcome::kFixedSize; }
-bool fits(const Welcome&) { return true; }
+std::size_t size(const Welcome&) {
+  return Welcome::kFixedSize;
+}
+bool fits(const Welcome&) {
+  return true;
+}
 void put(Writer& w, const Welcome& m) {
   w.u64(m.session_id);
   w.u32(m.capabilities);
@@ -111,8 +127,12 @@ DecodeError get(Reader& r, Welcome& m, bool exact) {
   return {};
 }
 
-std::size_t size(const SceneBegin& m) { return SceneBegin::kFixedSize + m.name.size(); }
-bool fits(const SceneBegin& m) { return m.name.size() <= kMaxSceneNameBytes; }
+std::size_t size(const SceneBegin& m) {
+  return SceneBegin::kFixedSize + m.name.size();
+}
+bool fits(const SceneBegin& m) {
+  return m.name.size() <= kMaxSceneNameBytes;
+}
 void put(Writer& w, const SceneBegin& m) {
   w.u32(m.upload_id);
   w.u32(m.chunk_bytes);
@@ -139,13 +159,19 @@ DecodeError get(Reader& r, SceneBegin& m, bool exact) {
       e.code != Errc::kOk)
     return e;
   m.name = getText(r, n);
-  if (m.upload_id == 0) return err(Errc::kBadValue, SceneBegin::kType, 0, 1, "upload_id");
-  if (m.total_bytes == 0) return err(Errc::kBadValue, SceneBegin::kType, 0, 1, "total_bytes");
+  if (m.upload_id == 0)
+    return err(Errc::kBadValue, SceneBegin::kType, 0, 1, "upload_id");
+  if (m.total_bytes == 0)
+    return err(Errc::kBadValue, SceneBegin::kType, 0, 1, "total_bytes");
   return {};
 }
 
-std::size_t size(const SceneChunk& m) { return SceneChunk::kFixedSize + m.data.size(); }
-bool fits(const SceneChunk& m) { return !m.data.empty() && m.data.size() <= kMaxChunkBytes; }
+std::size_t size(const SceneChunk& m) {
+  return SceneChunk::kFixedSize + m.data.size();
+}
+bool fits(const SceneChunk& m) {
+  return !m.data.empty() && m.data.size() <= kMaxChunkBytes;
+}
 void put(Writer& w, const SceneChunk& m) {
   w.u32(m.upload_id);
   w.u32(static_cast<std::uint32_t>(m.data.size()));
@@ -170,8 +196,12 @@ DecodeError get(Reader& r, SceneChunk& m, bool exact) {
   return {};
 }
 
-std::size_t size(const SceneChunkAck&) { return SceneChunkAck::kFixedSize; }
-bool fits(const SceneChunkAck&) { return true; }
+std::size_t size(const SceneChunkAck&) {
+  return SceneChunkAck::kFixedSize;
+}
+bool fits(const SceneChunkAck&) {
+  return true;
+}
 void put(Writer& w, const SceneChunkAck& m) {
   w.u32(m.upload_id);
   w.u32(m.length);
@@ -191,8 +221,12 @@ DecodeError get(Reader& r, SceneChunkAck& m, bool exact) {
   return {};
 }
 
-std::size_t size(const SceneCommit&) { return SceneCommit::kFixedSize; }
-bool fits(const SceneCommit&) { return true; }
+std::size_t size(const SceneCommit&) {
+  return SceneCommit::kFixedSize;
+}
+bool fits(const SceneCommit&) {
+  return true;
+}
 void put(Writer& w, const SceneCommit& m) {
   w.u32(m.upload_id);
   w.u32(0);
@@ -230,7 +264,8 @@ void put(Writer& w, const SceneStatus& m) {
 DecodeError get(Reader& r, SceneStatus& m, bool exact) {
   const std::size_t total = r.remaining();
   constexpr auto t = SceneStatus::kType;
-  if (total < SceneStatus::kFixedSize) return checkLength(t, total, SceneStatus::kFixedSize, false);
+  if (total < SceneStatus::kFixedSize)
+    return checkLength(t, total, SceneStatus::kFixedSize, false);
   m.upload_id = r.u32();
   const std::uint16_t status = r.u16();
   const std::size_t ranges = r.u16();
@@ -241,8 +276,10 @@ DecodeError get(Reader& r, SceneStatus& m, bool exact) {
   r.u32();
   if (status > static_cast<std::uint16_t>(SceneStatusCode::kUnknownUpload))
     return err(Errc::kBadValue, t, status, 4, "status");
-  if (ranges > kMaxMissingRanges) return err(Errc::kBadValue, t, ranges, kMaxMissingRanges, "missing_count");
-  if (text > kMaxTextBytes) return err(Errc::kBadValue, t, text, kMaxTextBytes, "text_length");
+  if (ranges > kMaxMissingRanges)
+    return err(Errc::kBadValue, t, ranges, kMaxMissingRanges, "missing_count");
+  if (text > kMaxTextBytes)
+    return err(Errc::kBadValue, t, text, kMaxTextBytes, "text_length");
   if (auto e = checkLength(t, total, SceneStatus::kFixedSize + 16 * ranges + text, exact);
       e.code != Errc::kOk)
     return e;
@@ -283,39 +320,56 @@ void put(Writer& w, const SceneUpdate& m) {
   w.u16(static_cast<std::uint16_t>(m.added.size()));
   w.u16(static_cast<std::uint16_t>(m.removed.size()));
   w.u16(0);
-  for (const auto& b : m.poses) putBodyPose(w, b);
-  for (const auto& b : m.added) putBodyPose(w, b);
-  for (auto i : m.removed) w.u32(i);
+  for (const auto& b : m.poses)
+    putBodyPose(w, b);
+  for (const auto& b : m.added)
+    putBodyPose(w, b);
+  for (auto i : m.removed)
+    w.u32(i);
 }
 DecodeError get(Reader& r, SceneUpdate& m, bool exact) {
   const std::size_t total = r.remaining();
   constexpr auto t = SceneUpdate::kType;
-  if (total < SceneUpdate::kFixedSize) return checkLength(t, total, SceneUpdate::kFixedSize, false);
+  if (total < SceneUpdate::kFixedSize)
+    return checkLength(t, total, SceneUpdate::kFixedSize, false);
   const std::size_t np = r.u16(), na = r.u16(), nr = r.u16();
   r.u16();
-  if (np > kMaxUpdateEntries) return err(Errc::kBadValue, t, np, kMaxUpdateEntries, "pose_count");
-  if (na > kMaxUpdateEntries) return err(Errc::kBadValue, t, na, kMaxUpdateEntries, "add_count");
-  if (nr > kMaxUpdateEntries) return err(Errc::kBadValue, t, nr, kMaxUpdateEntries, "remove_count");
+  if (np > kMaxUpdateEntries)
+    return err(Errc::kBadValue, t, np, kMaxUpdateEntries, "pose_count");
+  if (na > kMaxUpdateEntries)
+    return err(Errc::kBadValue, t, na, kMaxUpdateEntries, "add_count");
+  if (nr > kMaxUpdateEntries)
+    return err(Errc::kBadValue, t, nr, kMaxUpdateEntries, "remove_count");
   if (auto e = checkLength(t, total, SceneUpdate::kFixedSize + kBodyPoseSize * (np + na) + 4 * nr,
                            exact);
       e.code != Errc::kOk)
     return e;
   m.poses.resize(np);
-  for (auto& b : m.poses) b = getBodyPose(r);
+  for (auto& b : m.poses)
+    b = getBodyPose(r);
   m.added.resize(na);
-  for (auto& b : m.added) b = getBodyPose(r);
+  for (auto& b : m.added)
+    b = getBodyPose(r);
   m.removed.resize(nr);
-  for (auto& i : m.removed) i = r.u32();
-  if (r.nonFinite()) return {};  // reported by the caller with its offset
+  for (auto& i : m.removed)
+    i = r.u32();
+  if (r.nonFinite())
+    return {};  // reported by the caller with its offset
   for (const auto& b : m.poses)
-    if (!unitQuat(b.X_WB)) return err(Errc::kBadValue, t, b.body_index, 0, "poses[].q (norm)");
+    if (!unitQuat(b.X_WB))
+      return err(Errc::kBadValue, t, b.body_index, 0, "poses[].q (norm)");
   for (const auto& b : m.added)
-    if (!unitQuat(b.X_WB)) return err(Errc::kBadValue, t, b.body_index, 0, "added[].q (norm)");
+    if (!unitQuat(b.X_WB))
+      return err(Errc::kBadValue, t, b.body_index, 0, "added[].q (norm)");
   return {};
 }
 
-std::size_t size(const PoseCommand&) { return PoseCommand::kFixedSize; }
-bool fits(const PoseCommand&) { return true; }
+std::size_t size(const PoseCommand&) {
+  return PoseCommand::kFixedSize;
+}
+bool fits(const PoseCommand&) {
+  return true;
+}
 void put(Writer& w, const PoseCommand& m) {
   putPose(w, m.X_WT);
   putVec(w, m.v_W);
@@ -337,8 +391,12 @@ DecodeError get(Reader& r, PoseCommand& m, bool exact) {
   return {};
 }
 
-std::size_t size(const Subscribe&) { return Subscribe::kFixedSize; }
-bool fits(const Subscribe& m) { return m.rate_hz <= kMaxStateRateHz; }
+std::size_t size(const Subscribe&) {
+  return Subscribe::kFixedSize;
+}
+bool fits(const Subscribe& m) {
+  return m.rate_hz <= kMaxStateRateHz;
+}
 void put(Writer& w, const Subscribe& m) {
   w.u32(m.rate_hz);
   w.u32(m.flags);
@@ -385,12 +443,14 @@ void put(Writer& w, const State& m) {
     putVec(w, c.n_W);
     w.f64(c.depth_m);
   }
-  for (const auto& b : m.bodies) putBodyPose(w, b);
+  for (const auto& b : m.bodies)
+    putBodyPose(w, b);
 }
 DecodeError get(Reader& r, State& m, bool exact) {
   const std::size_t total = r.remaining();
   constexpr auto t = State::kType;
-  if (total < State::kFixedSize) return checkLength(t, total, State::kFixedSize, false);
+  if (total < State::kFixedSize)
+    return checkLength(t, total, State::kFixedSize, false);
   m.tick = r.u64();
   m.sim_time_ns = r.u64();
   m.X_WD = getPose(r);
@@ -408,10 +468,12 @@ DecodeError get(Reader& r, State& m, bool exact) {
   m.contact_count = r.u32();
   const std::size_t nc = r.u16(), nb = r.u16();
   r.u32();
-  if (nc > kMaxStateContacts) return err(Errc::kBadValue, t, nc, kMaxStateContacts, "listed_contacts");
-  if (nb > kMaxStateBodies) return err(Errc::kBadValue, t, nb, kMaxStateBodies, "listed_bodies");
-  if (auto e = checkLength(t, total, State::kFixedSize + kContactSize * nc + kBodyPoseSize * nb,
-                           exact);
+  if (nc > kMaxStateContacts)
+    return err(Errc::kBadValue, t, nc, kMaxStateContacts, "listed_contacts");
+  if (nb > kMaxStateBodies)
+    return err(Errc::kBadValue, t, nb, kMaxStateBodies, "listed_bodies");
+  if (auto e =
+          checkLength(t, total, State::kFixedSize + kContactSize * nc + kBodyPoseSize * nb, exact);
       e.code != Errc::kOk)
     return e;
   m.contacts.resize(nc);
@@ -421,14 +483,19 @@ DecodeError get(Reader& r, State& m, bool exact) {
     c.depth_m = r.f64();
   }
   m.bodies.resize(nb);
-  for (auto& b : m.bodies) b = getBodyPose(r);
-  if (r.nonFinite()) return {};  // reported by the caller with its offset
+  for (auto& b : m.bodies)
+    b = getBodyPose(r);
+  if (r.nonFinite())
+    return {};  // reported by the caller with its offset
   if (!(m.force_scale >= 0.0 && m.force_scale <= 1.0))
     return err(Errc::kBadValue, t, 0, 1, "force_scale (0..1)");
-  if (!unitQuat(m.X_WD)) return err(Errc::kBadValue, t, 0, 0, "device q (norm)");
-  if (!unitQuat(m.X_WP)) return err(Errc::kBadValue, t, 0, 0, "proxy q (norm)");
+  if (!unitQuat(m.X_WD))
+    return err(Errc::kBadValue, t, 0, 0, "device q (norm)");
+  if (!unitQuat(m.X_WP))
+    return err(Errc::kBadValue, t, 0, 0, "proxy q (norm)");
   for (const auto& b : m.bodies)
-    if (!unitQuat(b.X_WB)) return err(Errc::kBadValue, t, b.body_index, 0, "bodies[].q (norm)");
+    if (!unitQuat(b.X_WB))
+      return err(Errc::kBadValue, t, b.body_index, 0, "bodies[].q (norm)");
   return {};
 }
 
@@ -436,14 +503,30 @@ template <class Empty>
 std::size_t sizeEmpty(const Empty&) {
   return 0;
 }
-std::size_t size(const Arm& m) { return sizeEmpty(m); }
-std::size_t size(const Disarm& m) { return sizeEmpty(m); }
-std::size_t size(const StatusRequest& m) { return sizeEmpty(m); }
-std::size_t size(const Bye& m) { return sizeEmpty(m); }
-bool fits(const Arm&) { return true; }
-bool fits(const Disarm&) { return true; }
-bool fits(const StatusRequest&) { return true; }
-bool fits(const Bye&) { return true; }
+std::size_t size(const Arm& m) {
+  return sizeEmpty(m);
+}
+std::size_t size(const Disarm& m) {
+  return sizeEmpty(m);
+}
+std::size_t size(const StatusRequest& m) {
+  return sizeEmpty(m);
+}
+std::size_t size(const Bye& m) {
+  return sizeEmpty(m);
+}
+bool fits(const Arm&) {
+  return true;
+}
+bool fits(const Disarm&) {
+  return true;
+}
+bool fits(const StatusRequest&) {
+  return true;
+}
+bool fits(const Bye&) {
+  return true;
+}
 void put(Writer&, const Arm&) {}
 void put(Writer&, const Disarm&) {}
 void put(Writer&, const StatusRequest&) {}
@@ -452,14 +535,28 @@ template <class Empty>
 DecodeError getEmpty(Reader& r, bool exact) {
   return checkLength(Empty::kType, r.remaining(), 0, exact);
 }
-DecodeError get(Reader& r, Arm&, bool exact) { return getEmpty<Arm>(r, exact); }
-DecodeError get(Reader& r, Disarm&, bool exact) { return getEmpty<Disarm>(r, exact); }
-DecodeError get(Reader& r, StatusRequest&, bool exact) { return getEmpty<StatusRequest>(r, exact); }
-DecodeError get(Reader& r, Bye&, bool exact) { return getEmpty<Bye>(r, exact); }
+DecodeError get(Reader& r, Arm&, bool exact) {
+  return getEmpty<Arm>(r, exact);
+}
+DecodeError get(Reader& r, Disarm&, bool exact) {
+  return getEmpty<Disarm>(r, exact);
+}
+DecodeError get(Reader& r, StatusRequest&, bool exact) {
+  return getEmpty<StatusRequest>(r, exact);
+}
+DecodeError get(Reader& r, Bye&, bool exact) {
+  return getEmpty<Bye>(r, exact);
+}
 
-std::size_t size(const Heartbeat&) { return Heartbeat::kFixedSize; }
-bool fits(const Heartbeat&) { return true; }
-void put(Writer& w, const Heartbeat& m) { w.u64(m.echo_timestamp_ns); }
+std::size_t size(const Heartbeat&) {
+  return Heartbeat::kFixedSize;
+}
+bool fits(const Heartbeat&) {
+  return true;
+}
+void put(Writer& w, const Heartbeat& m) {
+  w.u64(m.echo_timestamp_ns);
+}
 DecodeError get(Reader& r, Heartbeat& m, bool exact) {
   if (auto e = checkLength(Heartbeat::kType, r.remaining(), Heartbeat::kFixedSize, exact);
       e.code != Errc::kOk)
@@ -468,8 +565,12 @@ DecodeError get(Reader& r, Heartbeat& m, bool exact) {
   return {};
 }
 
-std::size_t size(const ErrorMsg& m) { return ErrorMsg::kFixedSize + m.text.size(); }
-bool fits(const ErrorMsg& m) { return m.text.size() <= kMaxTextBytes; }
+std::size_t size(const ErrorMsg& m) {
+  return ErrorMsg::kFixedSize + m.text.size();
+}
+bool fits(const ErrorMsg& m) {
+  return m.text.size() <= kMaxTextBytes;
+}
 void put(Writer& w, const ErrorMsg& m) {
   w.u64(m.ref_sequence);
   w.u16(m.ref_type);
@@ -481,14 +582,17 @@ void put(Writer& w, const ErrorMsg& m) {
 DecodeError get(Reader& r, ErrorMsg& m, bool exact) {
   const std::size_t total = r.remaining();
   constexpr auto t = ErrorMsg::kType;
-  if (total < ErrorMsg::kFixedSize) return checkLength(t, total, ErrorMsg::kFixedSize, false);
+  if (total < ErrorMsg::kFixedSize)
+    return checkLength(t, total, ErrorMsg::kFixedSize, false);
   m.ref_sequence = r.u64();
   m.ref_type = r.u16();
   const std::uint16_t code = r.u16();
   const std::size_t n = r.u16();
   r.u16();
-  if (n > kMaxTextBytes) return err(Errc::kBadValue, t, n, kMaxTextBytes, "text_length");
-  if (auto e = checkLength(t, total, ErrorMsg::kFixedSize + n, exact); e.code != Errc::kOk) return e;
+  if (n > kMaxTextBytes)
+    return err(Errc::kBadValue, t, n, kMaxTextBytes, "text_length");
+  if (auto e = checkLength(t, total, ErrorMsg::kFixedSize + n, exact); e.code != Errc::kOk)
+    return e;
   // a newer peer's unknown code is kept as is: errcName() says "unknown"
   m.code = static_cast<Errc>(code);
   m.text = getText(r, n);
@@ -525,7 +629,8 @@ void put(Writer& w, const StatusReply& m) {
   w.u16(static_cast<std::uint16_t>(m.device.size()));
   w.u16(static_cast<std::uint16_t>(m.scene.size()));
   w.u16(static_cast<std::uint16_t>(m.plan.size()));
-  for (auto c : m.refused) w.u64(c);
+  for (auto c : m.refused)
+    w.u64(c);
   putText(w, m.device);
   putText(w, m.scene);
   putText(w, m.plan);
@@ -533,7 +638,8 @@ void put(Writer& w, const StatusReply& m) {
 DecodeError get(Reader& r, StatusReply& m, bool exact) {
   const std::size_t total = r.remaining();
   constexpr auto t = StatusReply::kType;
-  if (total < StatusReply::kFixedSize) return checkLength(t, total, StatusReply::kFixedSize, false);
+  if (total < StatusReply::kFixedSize)
+    return checkLength(t, total, StatusReply::kFixedSize, false);
   m.uptime_ns = r.u64();
   m.ticks = r.u64();
   m.tick_misses = r.u64();
@@ -552,23 +658,32 @@ DecodeError get(Reader& r, StatusReply& m, bool exact) {
   m.commands_accepted = r.u64();
   m.commands_dropped = r.u64();
   const std::size_t nc = r.u16(), nd = r.u16(), ns = r.u16(), np = r.u16();
-  if (nc > kMaxRefusalCounters) return err(Errc::kBadValue, t, nc, kMaxRefusalCounters, "refused_count");
-  if (nd > kMaxDeviceBytes) return err(Errc::kBadValue, t, nd, kMaxDeviceBytes, "device_length");
-  if (ns > kMaxSceneNameBytes) return err(Errc::kBadValue, t, ns, kMaxSceneNameBytes, "scene_length");
-  if (np > kMaxPlanBytes) return err(Errc::kBadValue, t, np, kMaxPlanBytes, "plan_length");
+  if (nc > kMaxRefusalCounters)
+    return err(Errc::kBadValue, t, nc, kMaxRefusalCounters, "refused_count");
+  if (nd > kMaxDeviceBytes)
+    return err(Errc::kBadValue, t, nd, kMaxDeviceBytes, "device_length");
+  if (ns > kMaxSceneNameBytes)
+    return err(Errc::kBadValue, t, ns, kMaxSceneNameBytes, "scene_length");
+  if (np > kMaxPlanBytes)
+    return err(Errc::kBadValue, t, np, kMaxPlanBytes, "plan_length");
   if (auto e = checkLength(t, total, StatusReply::kFixedSize + 8 * nc + nd + ns + np, exact);
       e.code != Errc::kOk)
     return e;
   m.refused.resize(nc);
-  for (auto& c : m.refused) c = r.u64();
+  for (auto& c : m.refused)
+    c = r.u64();
   m.device = getText(r, nd);
   m.scene = getText(r, ns);
   m.plan = getText(r, np);
   return {};
 }
 
-std::size_t size(const Ack&) { return Ack::kFixedSize; }
-bool fits(const Ack&) { return true; }
+std::size_t size(const Ack&) {
+  return Ack::kFixedSize;
+}
+bool fits(const Ack&) {
+  return true;
+}
 void put(Writer& w, const Ack& m) {
   w.u64(m.ref_sequence);
   w.u16(m.ref_type);
@@ -601,15 +716,18 @@ static_assert(Ack::kFixedSize == 16);
 static_assert(kErrcCount <= kMaxRefusalCounters);
 // the largest messages fit the largest datagram
 static_assert(kHeaderSize + State::kFixedSize + kMaxStateContacts * kContactSize +
-                  kMaxStateBodies * kBodyPoseSize + kMacSize <= 8192);
-static_assert(kHeaderSize + SceneChunk::kFixedSize + kMaxChunkBytes + kMacSize <= kMaxDatagramLimit);
+                  kMaxStateBodies * kBodyPoseSize + kMacSize <=
+              8192);
+static_assert(kHeaderSize + SceneChunk::kFixedSize + kMaxChunkBytes + kMacSize <=
+              kMaxDatagramLimit);
 
 template <class M>
 DecodeError decodeAs(std::span<const std::uint8_t> payload, bool exact, Message& out) {
   M m{};
   Reader r(payload);
   DecodeError e = get(r, m, exact);
-  if (e.code != Errc::kOk) return e;
+  if (e.code != Errc::kOk)
+    return e;
   if (r.nonFinite())
     return err(Errc::kNotFinite, M::kType, r.nonFiniteAt(), 0, "a float field (NaN or Inf)");
   out = std::move(m);
@@ -628,56 +746,84 @@ std::size_t payloadSize(const Message& m) {
 
 std::size_t encode(Header h, const Message& m, std::span<std::uint8_t> out, Errc* error) {
   auto fail = [&](Errc c) {
-    if (error) *error = c;
+    if (error)
+      *error = c;
     return std::size_t{0};
   };
   const bool ok = std::visit([](const auto& x) { return fits(x); }, m);
-  if (!ok) return fail(Errc::kBadValue);
+  if (!ok)
+    return fail(Errc::kBadValue);
   const std::size_t n = payloadSize(m);
-  if (out.size() < kHeaderSize + n) return fail(Errc::kBufferTooSmall);
+  if (out.size() < kHeaderSize + n)
+    return fail(Errc::kBufferTooSmall);
   h.type = static_cast<std::uint16_t>(typeOf(m));
   h.payload_length = static_cast<std::uint32_t>(n);
   encodeHeader(h, out);
   Writer w(out.subspan(kHeaderSize, n));
   std::visit([&](const auto& x) { put(w, x); }, m);
-  if (w.nonFinite()) return fail(Errc::kNotFinite);
-  if (w.failed() || w.position() != n) return fail(Errc::kBufferTooSmall);
-  if (error) *error = Errc::kOk;
+  if (w.nonFinite())
+    return fail(Errc::kNotFinite);
+  if (w.failed() || w.position() != n)
+    return fail(Errc::kBufferTooSmall);
+  if (error)
+    *error = Errc::kOk;
   return kHeaderSize + n;
 }
 
-DecodeError decodePayload(std::uint16_t type, std::uint8_t minor,
-                          std::span<const std::uint8_t> payload, Message& out) {
+DecodeError decodePayload(std::uint16_t type,
+                          std::uint8_t minor,
+                          std::span<const std::uint8_t> payload,
+                          Message& out) {
   const bool exact = minor <= kVersionMinor;
   switch (static_cast<MsgType>(type)) {
-    case MsgType::kHello: return decodeAs<Hello>(payload, exact, out);
-    case MsgType::kWelcome: return decodeAs<Welcome>(payload, exact, out);
-    case MsgType::kSceneBegin: return decodeAs<SceneBegin>(payload, exact, out);
-    case MsgType::kSceneChunk: return decodeAs<SceneChunk>(payload, exact, out);
-    case MsgType::kSceneChunkAck: return decodeAs<SceneChunkAck>(payload, exact, out);
-    case MsgType::kSceneCommit: return decodeAs<SceneCommit>(payload, exact, out);
-    case MsgType::kSceneStatus: return decodeAs<SceneStatus>(payload, exact, out);
-    case MsgType::kSceneUpdate: return decodeAs<SceneUpdate>(payload, exact, out);
-    case MsgType::kPoseCommand: return decodeAs<PoseCommand>(payload, exact, out);
-    case MsgType::kSubscribe: return decodeAs<Subscribe>(payload, exact, out);
-    case MsgType::kState: return decodeAs<State>(payload, exact, out);
-    case MsgType::kArm: return decodeAs<Arm>(payload, exact, out);
-    case MsgType::kDisarm: return decodeAs<Disarm>(payload, exact, out);
-    case MsgType::kHeartbeat: return decodeAs<Heartbeat>(payload, exact, out);
-    case MsgType::kError: return decodeAs<ErrorMsg>(payload, exact, out);
-    case MsgType::kStatusRequest: return decodeAs<StatusRequest>(payload, exact, out);
-    case MsgType::kStatusReply: return decodeAs<StatusReply>(payload, exact, out);
-    case MsgType::kAck: return decodeAs<Ack>(payload, exact, out);
-    case MsgType::kBye: return decodeAs<Bye>(payload, exact, out);
+    case MsgType::kHello:
+      return decodeAs<Hello>(payload, exact, out);
+    case MsgType::kWelcome:
+      return decodeAs<Welcome>(payload, exact, out);
+    case MsgType::kSceneBegin:
+      return decodeAs<SceneBegin>(payload, exact, out);
+    case MsgType::kSceneChunk:
+      return decodeAs<SceneChunk>(payload, exact, out);
+    case MsgType::kSceneChunkAck:
+      return decodeAs<SceneChunkAck>(payload, exact, out);
+    case MsgType::kSceneCommit:
+      return decodeAs<SceneCommit>(payload, exact, out);
+    case MsgType::kSceneStatus:
+      return decodeAs<SceneStatus>(payload, exact, out);
+    case MsgType::kSceneUpdate:
+      return decodeAs<SceneUpdate>(payload, exact, out);
+    case MsgType::kPoseCommand:
+      return decodeAs<PoseCommand>(payload, exact, out);
+    case MsgType::kSubscribe:
+      return decodeAs<Subscribe>(payload, exact, out);
+    case MsgType::kState:
+      return decodeAs<State>(payload, exact, out);
+    case MsgType::kArm:
+      return decodeAs<Arm>(payload, exact, out);
+    case MsgType::kDisarm:
+      return decodeAs<Disarm>(payload, exact, out);
+    case MsgType::kHeartbeat:
+      return decodeAs<Heartbeat>(payload, exact, out);
+    case MsgType::kError:
+      return decodeAs<ErrorMsg>(payload, exact, out);
+    case MsgType::kStatusRequest:
+      return decodeAs<StatusRequest>(payload, exact, out);
+    case MsgType::kStatusReply:
+      return decodeAs<StatusReply>(payload, exact, out);
+    case MsgType::kAck:
+      return decodeAs<Ack>(payload, exact, out);
+    case MsgType::kBye:
+      return decodeAs<Bye>(payload, exact, out);
   }
   return {Errc::kUnknownType, type, type, kMsgTypeEnd - 1, "type"};
 }
 
 DecodeError decode(std::span<const std::uint8_t> datagram, Header& header, Message& out) {
   DecodeError e = decodeHeader(datagram, header);
-  if (e.code != Errc::kOk) return e;
-  return decodePayload(header.type, header.minor, datagram.subspan(kHeaderSize, header.payload_length),
-                       out);
+  if (e.code != Errc::kOk)
+    return e;
+  return decodePayload(header.type, header.minor,
+                       datagram.subspan(kHeaderSize, header.payload_length), out);
 }
 
 }  // namespace hapticd::proto

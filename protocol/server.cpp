@@ -23,8 +23,10 @@ bool privileged(std::uint16_t type) {
     case MsgType::kSceneUpdate:
     case MsgType::kPoseCommand:
     case MsgType::kArm:
-    case MsgType::kDisarm: return true;
-    default: return false;
+    case MsgType::kDisarm:
+      return true;
+    default:
+      return false;
   }
 }
 
@@ -43,7 +45,8 @@ Overload(F...) -> Overload<F...>;
 
 Result<std::unique_ptr<Server>> Server::create(ServerConfig config, ServerHandlers handlers) {
   auto addr = parseAddress(config.bind_address);
-  if (!addr) return Error{"protocol.bind: " + addr.error().message};
+  if (!addr)
+    return Error{"protocol.bind: " + addr.error().message};
   if (!addr.value().isLoopback() && !config.key && !config.allow_remote_without_key)
     return Error{"protocol.bind: " + addr.value().toString() +
                  " is not a loopback address and no key is set: set protocol.key (64 hex "
@@ -54,15 +57,17 @@ Result<std::unique_ptr<Server>> Server::create(ServerConfig config, ServerHandle
   if (config.upload.max_chunk_bytes > kMaxChunkBytes ||
       config.upload.max_chunk_bytes + kHeaderSize + SceneChunk::kFixedSize + kMacSize >
           config.max_datagram_bytes)
-    return Error{"protocol.upload.max_chunk_bytes: " +
-                 std::to_string(config.upload.max_chunk_bytes) +
-                 " does not fit a datagram of max_datagram_bytes with header and tag"};
+    return Error{
+        "protocol.upload.max_chunk_bytes: " + std::to_string(config.upload.max_chunk_bytes) +
+        " does not fit a datagram of max_datagram_bytes with header and tag"};
   config.max_state_contacts = std::min(config.max_state_contacts, kMaxStateContacts);
   config.max_state_bodies = std::min(config.max_state_bodies, kMaxStateBodies);
   config.max_state_rate_hz = std::min(config.max_state_rate_hz, kMaxStateRateHz);
   auto sock = UdpSocket::bind(addr.value(), config.receive_buffer_bytes);
-  if (!sock) return Error{"protocol.bind: " + sock.error().message};
-  if (!config.clock) config.clock = monotonicNs;
+  if (!sock)
+    return Error{"protocol.bind: " + sock.error().message};
+  if (!config.clock)
+    config.clock = monotonicNs;
   return std::unique_ptr<Server>(
       new Server(std::move(config), std::move(handlers), std::move(sock).value()));
 }
@@ -77,10 +82,13 @@ Server::Server(ServerConfig config, ServerHandlers handlers, UdpSocket socket)
 
 Server::~Server() = default;
 
-std::uint64_t Server::now() const { return config_.clock(); }
+std::uint64_t Server::now() const {
+  return config_.clock();
+}
 
 void Server::run(const std::atomic<bool>& stop) {
-  while (!stop.load(std::memory_order_relaxed)) poll(5);
+  while (!stop.load(std::memory_order_relaxed))
+    poll(5);
 }
 
 void Server::poll(int timeout_ms) {
@@ -89,15 +97,19 @@ void Server::poll(int timeout_ms) {
   // wake for the first state due
   std::uint64_t due = UINT64_MAX;
   for (const auto& [id, s] : sessions_)
-    if (s.rate_hz > 0) due = std::min(due, s.next_state_ns);
-  std::uint64_t wait_ns = static_cast<std::uint64_t>(std::max(timeout_ms, 0)) * std::uint64_t{1'000'000};
-  if (due != UINT64_MAX) wait_ns = std::min(wait_ns, due > t ? due - t : 0);
+    if (s.rate_hz > 0)
+      due = std::min(due, s.next_state_ns);
+  std::uint64_t wait_ns =
+      static_cast<std::uint64_t>(std::max(timeout_ms, 0)) * std::uint64_t{1'000'000};
+  if (due != UINT64_MAX)
+    wait_ns = std::min(wait_ns, due > t ? due - t : 0);
   if (socket_.waitReadableNs(wait_ns)) {
     // bounded per round, so states go out under a flood
     for (int i = 0; i < 4096; ++i) {
       SocketAddress from;
       const Received r = socket_.receive(rx_, from);
-      if (!r.got) break;
+      if (!r.got)
+        break;
       t = now();
       if (r.truncated) {
         counters_.received.fetch_add(1, std::memory_order_relaxed);
@@ -125,7 +137,8 @@ Server::Peer& Server::peer(const SocketAddress& a, std::uint64_t t) {
     if (peers_.size() >= config_.max_peers) {
       auto oldest = peers_.begin();
       for (auto j = peers_.begin(); j != peers_.end(); ++j)
-        if (j->second.last_ns < oldest->second.last_ns) oldest = j;
+        if (j->second.last_ns < oldest->second.last_ns)
+          oldest = j;
       peers_.erase(oldest);
     }
     it = peers_.emplace(k, Peer{TokenBucket(config_.rate_limit, t), t}).first;
@@ -134,10 +147,15 @@ Server::Peer& Server::peer(const SocketAddress& a, std::uint64_t t) {
   return it->second;
 }
 
-void Server::refuse(Errc why, const SocketAddress& from, const Header* h, Session* s, bool answer,
+void Server::refuse(Errc why,
+                    const SocketAddress& from,
+                    const Header* h,
+                    Session* s,
+                    bool answer,
                     const std::string& text) {
   counters_.refused[static_cast<std::size_t>(why)].fetch_add(1, std::memory_order_relaxed);
-  if (!answer) return;
+  if (!answer)
+    return;
   ErrorMsg e;
   e.ref_sequence = h ? h->sequence : 0;
   e.ref_type = h ? h->type : 0;
@@ -149,11 +167,14 @@ void Server::refuse(Errc why, const SocketAddress& from, const Header* h, Sessio
     sendRaw(from, h ? h->session_id : 0, ++anon_sequence_, e);
 }
 
-void Server::handleDatagram(std::span<const std::uint8_t> d, const SocketAddress& from,
+void Server::handleDatagram(std::span<const std::uint8_t> d,
+                            const SocketAddress& from,
                             std::uint64_t t) {
   counters_.received.fetch_add(1, std::memory_order_relaxed);
-  if (d.size() > config_.max_datagram_bytes) return refuse(Errc::kTooLong, from, nullptr, nullptr, false, "");
-  if (!peer(from, t).bucket.take(t)) return refuse(Errc::kRateLimited, from, nullptr, nullptr, false, "");
+  if (d.size() > config_.max_datagram_bytes)
+    return refuse(Errc::kTooLong, from, nullptr, nullptr, false, "");
+  if (!peer(from, t).bucket.take(t))
+    return refuse(Errc::kRateLimited, from, nullptr, nullptr, false, "");
 
   Header h;
   if (DecodeError e = decodeHeader(d, h); e.code != Errc::kOk) {
@@ -166,7 +187,8 @@ void Server::handleDatagram(std::span<const std::uint8_t> d, const SocketAddress
     if (!config_.key)
       return refuse(Errc::kBadMac, from, &h, nullptr, true,
                     "this server has no key set: send without a tag");
-    if (!verifyTag(d, *config_.key)) return refuse(Errc::kBadMac, from, &h, nullptr, false, "");
+    if (!verifyTag(d, *config_.key))
+      return refuse(Errc::kBadMac, from, &h, nullptr, false, "");
   }
   const auto payload = d.subspan(kHeaderSize, h.payload_length);
 
@@ -193,7 +215,8 @@ void Server::handleDatagram(std::span<const std::uint8_t> d, const SocketAddress
                   std::string("a key is set: ") + msgTypeName(h.type) +
                       " needs a tag (give the client the key)");
   if (tagged) {
-    if (!s.replay.check(h.sequence)) return refuse(Errc::kReplay, from, &h, nullptr, false, "");
+    if (!s.replay.check(h.sequence))
+      return refuse(Errc::kReplay, from, &h, nullptr, false, "");
     s.replay.accept(h.sequence);
   }
   Message m;
@@ -210,7 +233,8 @@ void Server::handleDatagram(std::span<const std::uint8_t> d, const SocketAddress
     ev.sequence = h.sequence;
     ev.sender_timestamp_ns = h.timestamp_ns;
     ev.received_ns = t;
-    if (p) ev.pose = *p;
+    if (p)
+      ev.pose = *p;
     const bool queued = !handlers_.on_command || handlers_.on_command(ev);
     if (queued)
       counters_.commands_forwarded.fetch_add(1, std::memory_order_relaxed);
@@ -252,41 +276,49 @@ void Server::handleDatagram(std::span<const std::uint8_t> d, const SocketAddress
           [&](const Heartbeat&) { sendTo(s, Heartbeat{h.timestamp_ns}); },
           [&](const StatusRequest&) {
             StatusReply r;
-            if (handlers_.fill_status) handlers_.fill_status(r);
+            if (handlers_.fill_status)
+              handlers_.fill_status(r);
             r.uptime_ns = r.uptime_ns ? r.uptime_ns : t - start_ns_;
             r.sessions = static_cast<std::uint32_t>(sessions_.size());
             r.subscribers = 0;
             r.state_rate_hz = 0;
             for (const auto& [id, o] : sessions_) {
-              if (o.rate_hz > 0) ++r.subscribers;
+              if (o.rate_hz > 0)
+                ++r.subscribers;
               r.state_rate_hz += o.rate_hz;
             }
             r.packets_received = counters_.received.load();
             r.packets_sent = counters_.sent.load();
             r.commands_dropped += counters_.commands_queue_full.load();
             r.refused.resize(kErrcCount);
-            for (std::size_t i = 0; i < kErrcCount; ++i) r.refused[i] = counters_.refused[i].load();
-            if (r.device.size() > kMaxDeviceBytes) r.device.resize(kMaxDeviceBytes);
-            if (r.scene.size() > kMaxSceneNameBytes) r.scene.resize(kMaxSceneNameBytes);
-            if (r.plan.size() > kMaxPlanBytes) r.plan.resize(kMaxPlanBytes);
+            for (std::size_t i = 0; i < kErrcCount; ++i)
+              r.refused[i] = counters_.refused[i].load();
+            if (r.device.size() > kMaxDeviceBytes)
+              r.device.resize(kMaxDeviceBytes);
+            if (r.scene.size() > kMaxSceneNameBytes)
+              r.scene.resize(kMaxSceneNameBytes);
+            if (r.plan.size() > kMaxPlanBytes)
+              r.plan.resize(kMaxPlanBytes);
             sendTo(s, r);
           },
           [&](const Bye&) { sessions_.erase(it); },
           [&](const Hello&) {},
-          [&](const auto&) {
-            refuse(Errc::kNotExpected, from, &h, nullptr, false, "");
-          },
+          [&](const auto&) { refuse(Errc::kNotExpected, from, &h, nullptr, false, ""); },
       },
       m);
 }
 
-void Server::handleHello(const Header& h, const Hello& m, bool tagged, const SocketAddress& from,
+void Server::handleHello(const Header& h,
+                         const Hello& m,
+                         bool tagged,
+                         const SocketAddress& from,
                          std::uint64_t t) {
   auto welcome = [&](Session& s) {
     Welcome w;
     w.session_id = s.id;
     w.capabilities = kCapUdp | (config_.key ? kCapMac : 0u);
-    w.flags = (config_.key ? kWelcomeKeyRequired : 0u) | (s.authenticated ? kWelcomeAuthenticated : 0u);
+    w.flags =
+        (config_.key ? kWelcomeKeyRequired : 0u) | (s.authenticated ? kWelcomeAuthenticated : 0u);
     w.max_datagram_bytes = static_cast<std::uint32_t>(config_.max_datagram_bytes);
     w.max_chunk_bytes = config_.upload.max_chunk_bytes;
     w.max_scene_bytes = config_.upload.max_scene_bytes;
@@ -301,9 +333,10 @@ void Server::handleHello(const Header& h, const Hello& m, bool tagged, const Soc
   // one session per peer address: a new hello replaces it; the same hello again (the client
   // resends the identical datagram when the welcome was lost, or a replay) gets the same welcome
   for (auto it = sessions_.begin(); it != sessions_.end(); ++it) {
-    if (!(it->second.peer == from)) continue;
-    if (it->second.hello_sequence == h.sequence && it->second.hello_timestamp_ns == h.timestamp_ns &&
-        it->second.authenticated == tagged) {
+    if (!(it->second.peer == from))
+      continue;
+    if (it->second.hello_sequence == h.sequence &&
+        it->second.hello_timestamp_ns == h.timestamp_ns && it->second.authenticated == tagged) {
       it->second.last_rx_ns = t;
       return welcome(it->second);
     }
@@ -314,7 +347,8 @@ void Server::handleHello(const Header& h, const Hello& m, bool tagged, const Soc
     return refuse(Errc::kServerFull, from, &h, nullptr, true,
                   "server full: " + std::to_string(config_.max_sessions) + " sessions");
   std::uint64_t id = randomU64();
-  while (sessions_.count(id)) id = randomU64();
+  while (sessions_.count(id))
+    id = randomU64();
   Session& s = sessions_[id];
   s.id = id;
   s.peer = from;
@@ -327,19 +361,24 @@ void Server::handleHello(const Header& h, const Hello& m, bool tagged, const Soc
   s.upload = Reassembly(config_.upload);
   // an authenticated session's window starts above the hello, so a replayed hello's number
   // cannot be used again inside this session
-  if (tagged) s.replay.accept(h.sequence);
+  if (tagged)
+    s.replay.accept(h.sequence);
   welcome(s);
 }
 
 std::size_t Server::uploadsActive() const {
   std::size_t n = 0;
   for (const auto& [id, s] : sessions_)
-    if (s.upload_state == UploadState::kReceiving || s.upload_state == UploadState::kValidating) ++n;
+    if (s.upload_state == UploadState::kReceiving || s.upload_state == UploadState::kValidating)
+      ++n;
   return n;
 }
 
-void Server::sendSceneStatus(Session& s, std::uint32_t upload_id, SceneStatusCode code,
-                             std::string text, bool with_missing) {
+void Server::sendSceneStatus(Session& s,
+                             std::uint32_t upload_id,
+                             SceneStatusCode code,
+                             std::string text,
+                             bool with_missing) {
   SceneStatus st;
   st.upload_id = upload_id;
   st.status = code;
@@ -347,7 +386,8 @@ void Server::sendSceneStatus(Session& s, std::uint32_t upload_id, SceneStatusCod
   st.total_bytes = s.upload.active() ? s.upload.totalBytes() : s.upload_total;
   if (code == SceneStatusCode::kAccepted || code == SceneStatusCode::kValidating)
     st.received_bytes = st.total_bytes;
-  if (with_missing) st.missing = s.upload.missing(kMaxMissingRanges);
+  if (with_missing)
+    st.missing = s.upload.missing(kMaxMissingRanges);
   st.text = text.substr(0, kMaxTextBytes);
   sendTo(s, st);
 }
@@ -398,8 +438,8 @@ void Server::handleChunk(Session& s, const Header&, const SceneChunk& m, std::ui
   }
   if (s.upload_state != UploadState::kReceiving) {
     // a late copy after the upload completed: acknowledge so the client stops resending
-    SceneChunkAck a{m.upload_id, static_cast<std::uint32_t>(m.data.size()), m.offset, s.upload_total,
-                    s.upload_total};
+    SceneChunkAck a{m.upload_id, static_cast<std::uint32_t>(m.data.size()), m.offset,
+                    s.upload_total, s.upload_total};
     return sendTo(s, a);
   }
   const ChunkOutcome o = s.upload.add(m.offset, m.data, t);
@@ -418,10 +458,10 @@ void Server::handleChunk(Session& s, const Header&, const SceneChunk& m, std::ui
 
 void Server::handleCommit(Session& s, const Header&, const SceneCommit& m, std::uint64_t t) {
   if (m.upload_id != s.upload_id || s.upload_state == UploadState::kNone)
-    return sendSceneStatus(s, m.upload_id, SceneStatusCode::kUnknownUpload,
-                           "no upload " + std::to_string(m.upload_id) +
-                               " (never begun, timed out, or replaced)",
-                           false);
+    return sendSceneStatus(
+        s, m.upload_id, SceneStatusCode::kUnknownUpload,
+        "no upload " + std::to_string(m.upload_id) + " (never begun, timed out, or replaced)",
+        false);
   switch (s.upload_state) {
     case UploadState::kValidating:
       return sendSceneStatus(s, m.upload_id, SceneStatusCode::kValidating, "", false);
@@ -430,7 +470,8 @@ void Server::handleCommit(Session& s, const Header&, const SceneCommit& m, std::
     case UploadState::kRefused:
       return sendSceneStatus(s, m.upload_id, SceneStatusCode::kRefused, s.upload_text, false);
     case UploadState::kNone:
-    case UploadState::kReceiving: break;
+    case UploadState::kReceiving:
+      break;
   }
   switch (s.upload.commit(t)) {
     case CommitOutcome::kIncomplete:
@@ -439,11 +480,11 @@ void Server::handleCommit(Session& s, const Header&, const SceneCommit& m, std::
     case CommitOutcome::kNotBegun:
       counters_.refused[static_cast<std::size_t>(Errc::kUploadError)]++;
       s.upload_state = UploadState::kRefused;
-      s.upload_text =
-          "the SHA-256 of the " + std::to_string(s.upload_total) +
-          " bytes received differs from the one announced in scene_begin: upload again";
+      s.upload_text = "the SHA-256 of the " + std::to_string(s.upload_total) +
+                      " bytes received differs from the one announced in scene_begin: upload again";
       return sendSceneStatus(s, m.upload_id, SceneStatusCode::kRefused, s.upload_text, false);
-    case CommitOutcome::kComplete: break;
+    case CommitOutcome::kComplete:
+      break;
   }
   SceneUploadDone done;
   done.ticket = next_ticket_++;
@@ -477,7 +518,8 @@ void Server::drainFinished() {
   }
   for (auto& f : done) {
     for (auto& [id, s] : sessions_) {
-      if (s.ticket != f.ticket || s.upload_state != UploadState::kValidating) continue;
+      if (s.ticket != f.ticket || s.upload_state != UploadState::kValidating)
+        continue;
       s.upload_state = f.accepted ? UploadState::kAccepted : UploadState::kRefused;
       s.upload_text = f.accepted ? "" : f.text;
       sendSceneStatus(s, s.upload_id,
@@ -490,19 +532,26 @@ void Server::drainFinished() {
 void Server::sendStates(std::uint64_t t) {
   bool any = false;
   for (const auto& [id, s] : sessions_)
-    if (s.rate_hz > 0 && t >= s.next_state_ns) any = true;
-  if (!any) return;
+    if (s.rate_hz > 0 && t >= s.next_state_ns)
+      any = true;
+  if (!any)
+    return;
   State full;
   const bool have = handlers_.fill_state && handlers_.fill_state(full);
   for (auto& [id, s] : sessions_) {
-    if (s.rate_hz == 0 || t < s.next_state_ns) continue;
+    if (s.rate_hz == 0 || t < s.next_state_ns)
+      continue;
     const std::uint64_t period = 1'000'000'000ull / s.rate_hz;
     s.next_state_ns += period;
-    if (s.next_state_ns < t) s.next_state_ns = t + period;  // no burst after a stall
-    if (!have) continue;
+    if (s.next_state_ns < t)
+      s.next_state_ns = t + period;  // no burst after a stall
+    if (!have)
+      continue;
     State st = full;
-    if (!(s.sub_flags & kSubscribeContacts)) st.contacts.clear();
-    if (!(s.sub_flags & kSubscribeBodies)) st.bodies.clear();
+    if (!(s.sub_flags & kSubscribeContacts))
+      st.contacts.clear();
+    if (!(s.sub_flags & kSubscribeBodies))
+      st.bodies.clear();
     if (st.contacts.size() > config_.max_state_contacts) {
       st.contacts.resize(config_.max_state_contacts);
       st.state_flags |= kStateContactsTruncated;
@@ -522,7 +571,9 @@ void Server::sendTo(Session& s, const Message& m) {
   (void)s;
 }
 
-void Server::sendRaw(const SocketAddress& to, std::uint64_t session_id, std::uint64_t sequence,
+void Server::sendRaw(const SocketAddress& to,
+                     std::uint64_t session_id,
+                     std::uint64_t sequence,
                      const Message& m) {
   Header h;
   h.session_id = session_id;

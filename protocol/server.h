@@ -55,13 +55,13 @@ struct ServerConfig {
   UploadLimits upload;                     ///< per upload
   std::size_t max_concurrent_uploads = 2;  ///< sessions uploading at once
   std::size_t max_sessions = 64;
-  std::uint64_t session_timeout_ns = 10'000'000'000;  ///< silent this long: session dropped (10 s)
-  std::uint32_t max_state_rate_hz = kMaxStateRateHz;  ///< subscribe rates are clamped to this
-  std::uint32_t tick_rate_hz = 1000;       ///< told to clients in Welcome
+  std::uint64_t session_timeout_ns = 10'000'000'000;   ///< silent this long: session dropped (10 s)
+  std::uint32_t max_state_rate_hz = kMaxStateRateHz;   ///< subscribe rates are clamped to this
+  std::uint32_t tick_rate_hz = 1000;                   ///< told to clients in Welcome
   std::size_t max_state_contacts = kMaxStateContacts;  ///< contacts listed per State
   std::size_t max_state_bodies = kMaxStateBodies;      ///< bodies listed per State
-  std::size_t max_peers = 1024;            ///< rate-limit buckets kept (oldest forgotten first)
-  int receive_buffer_bytes = 4 << 20;      ///< SO_RCVBUF
+  std::size_t max_peers = 1024;        ///< rate-limit buckets kept (oldest forgotten first)
+  int receive_buffer_bytes = 4 << 20;  ///< SO_RCVBUF
   /// Monotonic time in ns; tests give a simulated clock. Default: monotonicNs.
   std::function<std::uint64_t()> clock;
 };
@@ -70,12 +70,12 @@ struct ServerConfig {
 struct CommandEvent {
   enum class Kind : std::uint8_t { kPose, kArm, kDisarm };
   Kind kind = Kind::kPose;
-  bool authenticated = false;        ///< its tag verified (always false without a key)
+  bool authenticated = false;  ///< its tag verified (always false without a key)
   std::uint64_t session_id = 0;
-  std::uint64_t sequence = 0;        ///< header sequence: the CommandGate orders by it
+  std::uint64_t sequence = 0;             ///< header sequence: the CommandGate orders by it
   std::uint64_t sender_timestamp_ns = 0;  ///< sender's clock, for latency figures only
-  std::uint64_t received_ns = 0;     ///< server clock when received
-  PoseCommand pose;                  ///< kPose only
+  std::uint64_t received_ns = 0;          ///< server clock when received
+  PoseCommand pose;                       ///< kPose only
 };
 
 /// A scene upload that is complete and whose SHA-256 matched, for the daemon to validate, build
@@ -157,7 +157,7 @@ class Server {
     std::uint64_t last_rx_ns = 0;
     std::uint64_t tx_sequence = 0;
     std::uint64_t last_peer_timestamp_ns = 0;
-    std::uint64_t hello_sequence = 0;      // the hello that opened the session
+    std::uint64_t hello_sequence = 0;  // the hello that opened the session
     std::uint64_t hello_timestamp_ns = 0;
     ReplayWindow replay;
     std::uint32_t rate_hz = 0;
@@ -168,7 +168,7 @@ class Server {
     std::uint32_t upload_id = 0;  // of the current or last finished upload
     std::uint64_t upload_total = 0;
     std::uint64_t ticket = 0;
-    std::string upload_text;      // the refusal text of the last upload
+    std::string upload_text;  // the refusal text of the last upload
   };
   struct Peer {
     TokenBucket bucket;
@@ -176,19 +176,33 @@ class Server {
   };
   Server(ServerConfig config, ServerHandlers handlers, UdpSocket socket);
 
-  void handleDatagram(std::span<const std::uint8_t> d, const SocketAddress& from, std::uint64_t now);
-  void refuse(Errc why, const SocketAddress& from, const Header* h, Session* s, bool answer,
+  void handleDatagram(std::span<const std::uint8_t> d,
+                      const SocketAddress& from,
+                      std::uint64_t now);
+  void refuse(Errc why,
+              const SocketAddress& from,
+              const Header* h,
+              Session* s,
+              bool answer,
               const std::string& text);
-  void handleHello(const Header& h, const Hello& m, bool tagged, const SocketAddress& from,
+  void handleHello(const Header& h,
+                   const Hello& m,
+                   bool tagged,
+                   const SocketAddress& from,
                    std::uint64_t now);
   void handleBegin(Session& s, const Header& h, const SceneBegin& m, std::uint64_t now);
   void handleChunk(Session& s, const Header& h, const SceneChunk& m, std::uint64_t now);
   void handleCommit(Session& s, const Header& h, const SceneCommit& m, std::uint64_t now);
-  void sendSceneStatus(Session& s, std::uint32_t upload_id, SceneStatusCode code,
-                       std::string text, bool with_missing);
+  void sendSceneStatus(Session& s,
+                       std::uint32_t upload_id,
+                       SceneStatusCode code,
+                       std::string text,
+                       bool with_missing);
   void sendStates(std::uint64_t now);
   void sendTo(Session& s, const Message& m);
-  void sendRaw(const SocketAddress& to, std::uint64_t session_id, std::uint64_t sequence,
+  void sendRaw(const SocketAddress& to,
+               std::uint64_t session_id,
+               std::uint64_t sequence,
                const Message& m);
   void expire(std::uint64_t now);
   void drainFinished();

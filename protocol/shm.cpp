@@ -16,12 +16,16 @@ namespace hapticd::proto {
 namespace {
 
 constexpr std::size_t kStateOffset = sizeof(ShmHeader);
-constexpr std::size_t alignUp(std::size_t v, std::size_t a) { return (v + a - 1) / a * a; }
+constexpr std::size_t alignUp(std::size_t v, std::size_t a) {
+  return (v + a - 1) / a * a;
+}
 constexpr std::size_t kRingOffset = alignUp(kStateOffset + sizeof(ShmStateBlock), 64);
 constexpr std::size_t kSegmentBytes = alignUp(kRingOffset + sizeof(ShmRing), 4096);
 static_assert((kShmRingSlots & (kShmRingSlots - 1)) == 0);
 
-ShmHeader* header(void* base) { return static_cast<ShmHeader*>(base); }
+ShmHeader* header(void* base) {
+  return static_cast<ShmHeader*>(base);
+}
 ShmStateBlock* stateBlock(void* base) {
   return reinterpret_cast<ShmStateBlock*>(static_cast<char*>(base) + kStateOffset);
 }
@@ -31,7 +35,8 @@ ShmRing* ring(void* base) {
 
 bool finiteAll(const double* v, std::size_t n) {
   for (std::size_t i = 0; i < n; ++i)
-    if (!std::isfinite(v[i])) return false;
+    if (!std::isfinite(v[i]))
+      return false;
   return true;
 }
 
@@ -44,7 +49,8 @@ Result<ShmServer> ShmServer::create(const std::string& name) {
     return Error{"shm name '" + name + "' must be '/' followed by a name without '/'"};
   ::shm_unlink(name.c_str());  // a segment left by a crashed daemon
   const int fd = ::shm_open(name.c_str(), O_CREAT | O_EXCL | O_RDWR | O_CLOEXEC, 0600);
-  if (fd < 0) return Error{"shm_open(" + name + "): " + std::strerror(errno)};
+  if (fd < 0)
+    return Error{"shm_open(" + name + "): " + std::strerror(errno)};
   if (::ftruncate(fd, static_cast<off_t>(kSegmentBytes)) != 0) {
     const int e = errno;
     ::close(fd);
@@ -80,12 +86,14 @@ Result<ShmServer> ShmServer::create(const std::string& name) {
   return s;
 }
 
-ShmServer::ShmServer(ShmServer&& o) noexcept : name_(std::move(o.name_)), base_(o.base_), size_(o.size_) {
+ShmServer::ShmServer(ShmServer&& o) noexcept
+    : name_(std::move(o.name_)), base_(o.base_), size_(o.size_) {
   o.base_ = nullptr;
 }
 
 ShmServer::~ShmServer() {
-  if (!base_) return;
+  if (!base_)
+    return;
   ::munmap(base_, size_);
   ::shm_unlink(name_.c_str());
 }
@@ -97,7 +105,8 @@ void ShmServer::publish(const ShmState& s) noexcept {
   const std::uint64_t q = b->seq.load(std::memory_order_relaxed);
   b->seq.store(q + 1, std::memory_order_relaxed);
   std::atomic_thread_fence(std::memory_order_release);
-  for (std::size_t i = 0; i < kShmStateWords; ++i) b->words[i].store(words[i], std::memory_order_relaxed);
+  for (std::size_t i = 0; i < kShmStateWords; ++i)
+    b->words[i].store(words[i], std::memory_order_relaxed);
   b->seq.store(q + 2, std::memory_order_release);
 }
 
@@ -107,7 +116,8 @@ bool ShmServer::popCommand(ShmCommandEvent& out) noexcept {
   for (;;) {
     const std::uint64_t tail = r->tail.load(std::memory_order_relaxed);
     const std::uint64_t head = r->head.load(std::memory_order_acquire);
-    if (tail == head) return false;
+    if (tail == head)
+      return false;
     if (head - tail > kShmRingSlots) {  // a broken producer: resynchronise
       r->tail.store(head, std::memory_order_release);
       h->commands_refused.fetch_add(head - tail, std::memory_order_relaxed);
@@ -130,8 +140,10 @@ bool ShmServer::popCommand(ShmCommandEvent& out) noexcept {
     out.session_id = h->session_base + c.generation;
     out.sequence = c.sequence;
     out.timestamp_ns = c.timestamp_ns;
-    for (int i = 0; i < 3; ++i) out.pose.X_WT.p[static_cast<std::size_t>(i)] = c.X_WT[i];
-    for (int i = 0; i < 4; ++i) out.pose.X_WT.q[static_cast<std::size_t>(i)] = c.X_WT[3 + i];
+    for (int i = 0; i < 3; ++i)
+      out.pose.X_WT.p[static_cast<std::size_t>(i)] = c.X_WT[i];
+    for (int i = 0; i < 4; ++i)
+      out.pose.X_WT.q[static_cast<std::size_t>(i)] = c.X_WT[3 + i];
     for (int i = 0; i < 3; ++i) {
       out.pose.v_W[static_cast<std::size_t>(i)] = c.v_W[i];
       out.pose.w_W[static_cast<std::size_t>(i)] = c.w_W[i];
@@ -147,7 +159,8 @@ void ShmServer::beat(std::uint64_t now_ns) noexcept {
 
 bool ShmServer::clientAlive(std::uint64_t now_ns, std::uint64_t timeout_ns) const noexcept {
   const ShmHeader* h = header(base_);
-  if (h->client_pid.load(std::memory_order_acquire) == 0) return false;
+  if (h->client_pid.load(std::memory_order_acquire) == 0)
+    return false;
   const std::uint64_t t = h->client_heartbeat_ns.load(std::memory_order_acquire);
   return t != 0 && now_ns - t <= timeout_ns;
 }
@@ -163,21 +176,23 @@ Result<ShmClient> ShmClient::attach(const std::string& name, std::uint64_t takeo
   if (fd < 0)
     return Error{"shm " + name + ": " + std::strerror(errno) +
                  " (is hapticd running with shared memory on?)"};
-  struct stat st{};
+  struct stat st {};
   if (::fstat(fd, &st) != 0 || static_cast<std::size_t>(st.st_size) < kSegmentBytes) {
     ::close(fd);
     return Error{"shm " + name + ": segment too small for this version"};
   }
   void* base = ::mmap(nullptr, kSegmentBytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
   ::close(fd);
-  if (base == MAP_FAILED) return Error{"shm " + name + ": mmap: " + std::strerror(errno)};
+  if (base == MAP_FAILED)
+    return Error{"shm " + name + ": mmap: " + std::strerror(errno)};
   ShmClient c;
   c.base_ = base;
   c.size_ = kSegmentBytes;
   ShmHeader* h = header(base);
   const std::uint32_t magic = h->magic;
   std::atomic_thread_fence(std::memory_order_acquire);
-  if (magic != kShmMagic) return Error{"shm " + name + ": not a hapticd segment (bad magic)"};
+  if (magic != kShmMagic)
+    return Error{"shm " + name + ": not a hapticd segment (bad magic)"};
   if (h->major != kShmMajor)
     return Error{"shm " + name + ": layout major version " + std::to_string(h->major) +
                  ", this build speaks " + std::to_string(kShmMajor)};
@@ -207,7 +222,8 @@ ShmClient::ShmClient(ShmClient&& o) noexcept
 }
 
 ShmClient::~ShmClient() {
-  if (!base_) return;
+  if (!base_)
+    return;
   ShmHeader* h = header(base_);
   std::uint64_t pid = static_cast<std::uint64_t>(::getpid());
   h->client_pid.compare_exchange_strong(pid, 0);
@@ -219,9 +235,12 @@ bool ShmClient::readState(ShmState& out, int max_tries) const noexcept {
   std::uint64_t words[kShmStateWords];
   for (int i = 0; i < max_tries; ++i) {
     const std::uint64_t s1 = b->seq.load(std::memory_order_acquire);
-    if (s1 == 0) return false;  // nothing published yet
-    if (s1 & 1) continue;
-    for (std::size_t w = 0; w < kShmStateWords; ++w) words[w] = b->words[w].load(std::memory_order_relaxed);
+    if (s1 == 0)
+      return false;  // nothing published yet
+    if (s1 & 1)
+      continue;
+    for (std::size_t w = 0; w < kShmStateWords; ++w)
+      words[w] = b->words[w].load(std::memory_order_relaxed);
     std::atomic_thread_fence(std::memory_order_acquire);
     const std::uint64_t s2 = b->seq.load(std::memory_order_relaxed);
     if (s1 == s2) {
@@ -235,26 +254,32 @@ bool ShmClient::readState(ShmState& out, int max_tries) const noexcept {
 bool ShmClient::push(ShmCommand c) noexcept {
   ShmRing* r = ring(base_);
   const std::uint64_t head = r->head.load(std::memory_order_relaxed);
-  if (head - r->tail.load(std::memory_order_acquire) >= kShmRingSlots) return false;
+  if (head - r->tail.load(std::memory_order_acquire) >= kShmRingSlots)
+    return false;
   c.generation = generation_;
   r->slots[head & (kShmRingSlots - 1)] = c;
   r->head.store(head + 1, std::memory_order_release);
   return true;
 }
 
-bool ShmClient::pushPose(const PoseCommand& cmd, std::uint64_t now_ns, std::uint64_t* sequence) noexcept {
+bool ShmClient::pushPose(const PoseCommand& cmd,
+                         std::uint64_t now_ns,
+                         std::uint64_t* sequence) noexcept {
   ShmCommand c{};
   c.kind = 1;
   c.sequence = ++sequence_;
   c.timestamp_ns = now_ns;
-  for (std::size_t i = 0; i < 3; ++i) c.X_WT[i] = cmd.X_WT.p[i];
-  for (std::size_t i = 0; i < 4; ++i) c.X_WT[3 + i] = cmd.X_WT.q[i];
+  for (std::size_t i = 0; i < 3; ++i)
+    c.X_WT[i] = cmd.X_WT.p[i];
+  for (std::size_t i = 0; i < 4; ++i)
+    c.X_WT[3 + i] = cmd.X_WT.q[i];
   for (std::size_t i = 0; i < 3; ++i) {
     c.v_W[i] = cmd.v_W[i];
     c.w_W[i] = cmd.w_W[i];
   }
   c.buttons = cmd.buttons;
-  if (sequence) *sequence = c.sequence;
+  if (sequence)
+    *sequence = c.sequence;
   return push(c);
 }
 

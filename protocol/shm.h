@@ -39,16 +39,16 @@ inline constexpr std::size_t kShmBodies = 16;        ///< body poses in the stat
 
 /// The segment header. Written once by create() except the heartbeat and attach fields.
 struct ShmHeader {
-  std::uint32_t magic;            ///< kShmMagic
-  std::uint16_t major;            ///< kShmMajor
-  std::uint16_t minor;            ///< kShmMinor
-  std::uint64_t segment_bytes;    ///< total mapped size
-  std::uint64_t state_offset;     ///< byte offset of ShmStateBlock
-  std::uint64_t state_bytes;      ///< sizeof(ShmState) of the writer
-  std::uint64_t ring_offset;      ///< byte offset of ShmRing
-  std::uint32_t ring_slots;       ///< slots in the ring (power of two)
-  std::uint32_t slot_bytes;       ///< sizeof(ShmCommand) of the writer
-  std::uint64_t session_base;     ///< random; the gate's session id is session_base + generation
+  std::uint32_t magic;          ///< kShmMagic
+  std::uint16_t major;          ///< kShmMajor
+  std::uint16_t minor;          ///< kShmMinor
+  std::uint64_t segment_bytes;  ///< total mapped size
+  std::uint64_t state_offset;   ///< byte offset of ShmStateBlock
+  std::uint64_t state_bytes;    ///< sizeof(ShmState) of the writer
+  std::uint64_t ring_offset;    ///< byte offset of ShmRing
+  std::uint32_t ring_slots;     ///< slots in the ring (power of two)
+  std::uint32_t slot_bytes;     ///< sizeof(ShmCommand) of the writer
+  std::uint64_t session_base;   ///< random; the gate's session id is session_base + generation
   std::atomic<std::uint64_t> server_heartbeat_ns;  ///< daemon's CLOCK_MONOTONIC at its last beat
   std::atomic<std::uint64_t> client_heartbeat_ns;  ///< client's CLOCK_MONOTONIC at its last beat
   std::atomic<std::uint64_t> server_pid;           ///< daemon process id
@@ -63,26 +63,26 @@ static_assert(std::atomic<std::uint64_t>::is_always_lock_free);
 /// One tick's state as the daemon publishes it. Every field is 8 bytes (the seqlock copies
 /// 64-bit words). Poses: translation metres then quaternion x, y, z, w, scene frame.
 struct ShmState {
-  std::uint64_t tick;            ///< servo tick counter since start
-  std::uint64_t sim_time_ns;     ///< servo clock (CLOCK_MONOTONIC or the virtual clock), ns
-  std::uint64_t publish_ns;      ///< CLOCK_MONOTONIC when written, ns
-  double X_WD[7];                ///< device (probe) pose
-  double X_WP[7];                ///< proxy pose
-  double force_n[3];             ///< force on the held body, N, scene frame
-  double torque_nm[3];           ///< torque about the held body's origin, N·m, scene frame
-  double force_scale;            ///< command gate ramp, 0..1
+  std::uint64_t tick;                   ///< servo tick counter since start
+  std::uint64_t sim_time_ns;            ///< servo clock (CLOCK_MONOTONIC or the virtual clock), ns
+  std::uint64_t publish_ns;             ///< CLOCK_MONOTONIC when written, ns
+  double X_WD[7];                       ///< device (probe) pose
+  double X_WP[7];                       ///< proxy pose
+  double force_n[3];                    ///< force on the held body, N, scene frame
+  double torque_nm[3];                  ///< torque about the held body's origin, N·m, scene frame
+  double force_scale;                   ///< command gate ramp, 0..1
   std::uint64_t last_command_sequence;  ///< newest accepted command (UDP or shm)
-  std::uint64_t tick_misses;     ///< ticks over deadline since start
-  std::uint64_t tick_p50_ns;     ///< tick compute time percentiles, ns
+  std::uint64_t tick_misses;            ///< ticks over deadline since start
+  std::uint64_t tick_p50_ns;            ///< tick compute time percentiles, ns
   std::uint64_t tick_p99_ns;
   std::uint64_t tick_max_ns;
-  std::uint64_t fault_bits;      ///< kFault* bits
-  std::uint64_t state_flags;     ///< kState* bits
-  std::uint64_t contact_count;   ///< contacts this tick
-  std::uint64_t body_count;      ///< entries used in bodies (≤ kShmBodies)
+  std::uint64_t fault_bits;     ///< kFault* bits
+  std::uint64_t state_flags;    ///< kState* bits
+  std::uint64_t contact_count;  ///< contacts this tick
+  std::uint64_t body_count;     ///< entries used in bodies (≤ kShmBodies)
   struct Body {
-    std::uint64_t index;         ///< body index in the scene
-    double X_WB[7];              ///< body pose
+    std::uint64_t index;  ///< body index in the scene
+    double X_WB[7];       ///< body pose
   } bodies[kShmBodies];
 };
 static_assert(sizeof(ShmState) % 8 == 0);
@@ -91,12 +91,12 @@ inline constexpr std::size_t kShmStateWords = sizeof(ShmState) / 8;
 /// A command slot. kind: 1 pose, 2 arm, 3 disarm.
 struct ShmCommand {
   std::uint64_t kind;
-  std::uint64_t sequence;        ///< client's, strictly increasing per attach
-  std::uint64_t generation;      ///< the attach generation that wrote it
-  std::uint64_t timestamp_ns;    ///< client's CLOCK_MONOTONIC when written
-  double X_WT[7];                ///< target pose (pose kind)
-  double v_W[3];                 ///< m/s
-  double w_W[3];                 ///< rad/s
+  std::uint64_t sequence;      ///< client's, strictly increasing per attach
+  std::uint64_t generation;    ///< the attach generation that wrote it
+  std::uint64_t timestamp_ns;  ///< client's CLOCK_MONOTONIC when written
+  double X_WT[7];              ///< target pose (pose kind)
+  double v_W[3];               ///< m/s
+  double w_W[3];               ///< rad/s
   std::uint64_t buttons;
 };
 static_assert(sizeof(ShmCommand) == 18 * 8);
@@ -169,7 +169,9 @@ class ShmClient {
   /// kept it busy for max_tries attempts (never blocks).
   bool readState(ShmState& out, int max_tries = 10000) const noexcept;
   /// Queues a pose command (sequence assigned here, returned in *sequence); false when full.
-  bool pushPose(const PoseCommand& cmd, std::uint64_t now_ns, std::uint64_t* sequence = nullptr) noexcept;
+  bool pushPose(const PoseCommand& cmd,
+                std::uint64_t now_ns,
+                std::uint64_t* sequence = nullptr) noexcept;
   bool pushArm(std::uint64_t now_ns) noexcept;
   bool pushDisarm(std::uint64_t now_ns) noexcept;
   void beat(std::uint64_t now_ns) noexcept;

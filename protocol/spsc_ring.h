@@ -24,7 +24,8 @@ class SpscRing {
   /// Adds `v`; false (nothing added) when full. Producer thread.
   bool push(const T& v) noexcept {
     const std::uint64_t head = head_.load(std::memory_order_relaxed);
-    if (head - tail_.load(std::memory_order_acquire) >= N) return false;
+    if (head - tail_.load(std::memory_order_acquire) >= N)
+      return false;
     slots_[head & (N - 1)] = v;
     head_.store(head + 1, std::memory_order_release);
     return true;
@@ -32,7 +33,8 @@ class SpscRing {
   /// Takes the oldest value into `out`; false when empty. Consumer thread.
   bool pop(T& out) noexcept {
     const std::uint64_t tail = tail_.load(std::memory_order_relaxed);
-    if (tail == head_.load(std::memory_order_acquire)) return false;
+    if (tail == head_.load(std::memory_order_acquire))
+      return false;
     out = slots_[tail & (N - 1)];
     tail_.store(tail + 1, std::memory_order_release);
     return true;

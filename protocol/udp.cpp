@@ -50,7 +50,8 @@ bool SocketAddress::isLoopback() const {
 }
 
 bool SocketAddress::operator==(const SocketAddress& o) const {
-  if (storage.ss_family != o.storage.ss_family) return false;
+  if (storage.ss_family != o.storage.ss_family)
+    return false;
   if (storage.ss_family == AF_INET) {
     const auto* a = reinterpret_cast<const sockaddr_in*>(&storage);
     const auto* b = reinterpret_cast<const sockaddr_in*>(&o.storage);
@@ -65,7 +66,8 @@ bool SocketAddress::operator==(const SocketAddress& o) const {
   return length == o.length;
 }
 
-Result<SocketAddress> parseAddress(std::string_view text, std::uint16_t default_port,
+Result<SocketAddress> parseAddress(std::string_view text,
+                                   std::uint16_t default_port,
                                    bool resolve) {
   const std::string quoted = "address '" + std::string(text) + "'";
   std::string host;
@@ -73,11 +75,13 @@ Result<SocketAddress> parseAddress(std::string_view text, std::uint16_t default_
   bool has_port = false;
   if (!text.empty() && text.front() == '[') {
     const auto close = text.find(']');
-    if (close == std::string_view::npos) return Error{quoted + ": '[' without ']'"};
+    if (close == std::string_view::npos)
+      return Error{quoted + ": '[' without ']'"};
     host = std::string(text.substr(1, close - 1));
     const auto rest = text.substr(close + 1);
     if (!rest.empty()) {
-      if (rest.front() != ':') return Error{quoted + ": expected ':PORT' after ']'"};
+      if (rest.front() != ':')
+        return Error{quoted + ": expected ':PORT' after ']'"};
       port_text = rest.substr(1);
       has_port = true;
     }
@@ -91,7 +95,8 @@ Result<SocketAddress> parseAddress(std::string_view text, std::uint16_t default_
       has_port = true;
     }
   }
-  if (host.empty()) return Error{quoted + ": no host"};
+  if (host.empty())
+    return Error{quoted + ": no host"};
   std::uint16_t port = default_port;
   if (has_port) {
     unsigned v = 0;
@@ -118,15 +123,24 @@ Result<SocketAddress> parseAddress(std::string_view text, std::uint16_t default_
     out.length = sizeof v6;
     return out;
   }
-  if (!resolve) return Error{quoted + ": '" + host + "' is not a numeric IPv4 or IPv6 address"};
+  if (!resolve)
+    return Error{quoted + ": '" + host + "' is not a numeric IPv4 or IPv6 address"};
   addrinfo hints{};
   hints.ai_family = AF_UNSPEC;
   hints.ai_socktype = SOCK_DGRAM;
   addrinfo* res = nullptr;
   const int rc = getaddrinfo(host.c_str(), nullptr, &hints, &res);
-  if (rc != 0 || !res) return Error{quoted + ": cannot resolve '" + host + "': " + gai_strerror(rc)};
-  std::memcpy(&out.storage, res->ai_addr, res->ai_addrlen);
-  out.length = static_cast<socklen_t>(res->ai_addrlen);
+  if (rc != 0 || !res)
+    return Error{quoted + ": cannot resolve '" + host + "': " + gai_strerror(rc)};
+  // prefer IPv4: the daemon binds 127.0.0.1 by default and "localhost" often lists ::1 first
+  const addrinfo* pick = res;
+  for (const addrinfo* p = res; p; p = p->ai_next)
+    if (p->ai_family == AF_INET) {
+      pick = p;
+      break;
+    }
+  std::memcpy(&out.storage, pick->ai_addr, pick->ai_addrlen);
+  out.length = static_cast<socklen_t>(pick->ai_addrlen);
   freeaddrinfo(res);
   if (out.storage.ss_family == AF_INET)
     reinterpret_cast<sockaddr_in*>(&out.storage)->sin_port = htons(port);
@@ -136,12 +150,16 @@ Result<SocketAddress> parseAddress(std::string_view text, std::uint16_t default_
 }
 
 UdpSocket::~UdpSocket() {
-  if (fd_ >= 0) ::close(fd_);
+  if (fd_ >= 0)
+    ::close(fd_);
 }
-UdpSocket::UdpSocket(UdpSocket&& o) noexcept : fd_(o.fd_) { o.fd_ = -1; }
+UdpSocket::UdpSocket(UdpSocket&& o) noexcept : fd_(o.fd_) {
+  o.fd_ = -1;
+}
 UdpSocket& UdpSocket::operator=(UdpSocket&& o) noexcept {
   if (this != &o) {
-    if (fd_ >= 0) ::close(fd_);
+    if (fd_ >= 0)
+      ::close(fd_);
     fd_ = o.fd_;
     o.fd_ = -1;
   }
@@ -150,7 +168,8 @@ UdpSocket& UdpSocket::operator=(UdpSocket&& o) noexcept {
 
 Result<UdpSocket> UdpSocket::bind(const SocketAddress& address, int receive_buffer_bytes) {
   const int fd = ::socket(address.storage.ss_family, SOCK_DGRAM | SOCK_NONBLOCK | SOCK_CLOEXEC, 0);
-  if (fd < 0) return Error{std::string("udp: socket(): ") + std::strerror(errno)};
+  if (fd < 0)
+    return Error{std::string("udp: socket(): ") + std::strerror(errno)};
   UdpSocket s(fd);
   if (address.storage.ss_family == AF_INET6) {
     const int one = 1;
@@ -164,10 +183,12 @@ Result<UdpSocket> UdpSocket::bind(const SocketAddress& address, int receive_buff
 }
 
 Result<UdpSocket> UdpSocket::forPeer(const SocketAddress& peer, int receive_buffer_bytes) {
-  const char* text = peer.storage.ss_family == AF_INET6 ? (peer.isLoopback() ? "[::1]:0" : "[::]:0")
-                                                         : (peer.isLoopback() ? "127.0.0.1:0" : "0.0.0.0:0");
+  const char* text = peer.storage.ss_family == AF_INET6
+                         ? (peer.isLoopback() ? "[::1]:0" : "[::]:0")
+                         : (peer.isLoopback() ? "127.0.0.1:0" : "0.0.0.0:0");
   auto a = parseAddress(text);
-  if (!a) return a.error();
+  if (!a)
+    return a.error();
   return bind(a.value(), receive_buffer_bytes);
 }
 
@@ -178,8 +199,10 @@ Received UdpSocket::receive(std::span<std::uint8_t> buffer, SocketAddress& from)
     const ssize_t n = ::recvfrom(fd_, buffer.data(), buffer.size(), MSG_TRUNC,
                                  reinterpret_cast<sockaddr*>(&from.storage), &from.length);
     if (n < 0) {
-      if (errno == EINTR) continue;
-      if (errno == ECONNREFUSED) continue;  // an ICMP error from an earlier send: skip it
+      if (errno == EINTR)
+        continue;
+      if (errno == ECONNREFUSED)
+        continue;  // an ICMP error from an earlier send: skip it
       return r;
     }
     r.got = true;
@@ -193,7 +216,8 @@ bool UdpSocket::sendTo(const SocketAddress& to, std::span<const std::uint8_t> d)
   for (;;) {
     const ssize_t n = ::sendto(fd_, d.data(), d.size(), MSG_NOSIGNAL,
                                reinterpret_cast<const sockaddr*>(&to.storage), to.length);
-    if (n < 0 && errno == EINTR) continue;
+    if (n < 0 && errno == EINTR)
+      continue;
     return n == static_cast<ssize_t>(d.size());
   }
 }
@@ -202,7 +226,8 @@ bool UdpSocket::waitReadable(int timeout_ms) const {
   pollfd p{fd_, POLLIN, 0};
   for (;;) {
     const int rc = ::poll(&p, 1, timeout_ms);
-    if (rc < 0 && errno == EINTR) continue;
+    if (rc < 0 && errno == EINTR)
+      continue;
     return rc > 0 && (p.revents & POLLIN);
   }
 }
@@ -213,7 +238,8 @@ bool UdpSocket::waitReadableNs(std::uint64_t timeout_ns) const {
               static_cast<long>(timeout_ns % 1'000'000'000ull)};
   for (;;) {
     const int rc = ::ppoll(&p, 1, &ts, nullptr);
-    if (rc < 0 && errno == EINTR) continue;
+    if (rc < 0 && errno == EINTR)
+      continue;
     return rc > 0 && (p.revents & POLLIN);
   }
 }

@@ -33,7 +33,8 @@ struct SocketAddress {
 /// Parses "HOST:PORT", "[V6]:PORT", "HOST" or "[V6]" (port `default_port`), where HOST is a
 /// numeric address or, with `resolve`, a name looked up by getaddrinfo (blocking). Errors name
 /// the text and what is wrong.
-Result<SocketAddress> parseAddress(std::string_view text, std::uint16_t default_port = kDefaultPort,
+Result<SocketAddress> parseAddress(std::string_view text,
+                                   std::uint16_t default_port = kDefaultPort,
                                    bool resolve = false);
 
 /// What receive() got.

@@ -17,12 +17,18 @@ std::array<std::uint8_t, 32> sha256(std::span<const std::uint8_t> bytes) {
 
 const char* chunkOutcomeText(ChunkOutcome o) {
   switch (o) {
-    case ChunkOutcome::kStored: return "stored";
-    case ChunkOutcome::kDuplicate: return "duplicate (already held)";
-    case ChunkOutcome::kOutOfRange: return "chunk reaches past the announced total size";
-    case ChunkOutcome::kTooLarge: return "chunk larger than the server's max chunk size";
-    case ChunkOutcome::kTooFragmented: return "too many disjoint chunks held: send in order";
-    case ChunkOutcome::kNotBegun: return "no upload in progress with this id: send scene_begin";
+    case ChunkOutcome::kStored:
+      return "stored";
+    case ChunkOutcome::kDuplicate:
+      return "duplicate (already held)";
+    case ChunkOutcome::kOutOfRange:
+      return "chunk reaches past the announced total size";
+    case ChunkOutcome::kTooLarge:
+      return "chunk larger than the server's max chunk size";
+    case ChunkOutcome::kTooFragmented:
+      return "too many disjoint chunks held: send in order";
+    case ChunkOutcome::kNotBegun:
+      return "no upload in progress with this id: send scene_begin";
   }
   return "unknown";
 }
@@ -56,10 +62,13 @@ void Reassembly::reset() {
   received_ = 0;
 }
 
-ChunkOutcome Reassembly::add(std::uint64_t offset, std::span<const std::uint8_t> data,
+ChunkOutcome Reassembly::add(std::uint64_t offset,
+                             std::span<const std::uint8_t> data,
                              std::uint64_t now_ns) {
-  if (!active_) return ChunkOutcome::kNotBegun;
-  if (data.size() > limits_.max_chunk_bytes) return ChunkOutcome::kTooLarge;
+  if (!active_)
+    return ChunkOutcome::kNotBegun;
+  if (data.size() > limits_.max_chunk_bytes)
+    return ChunkOutcome::kTooLarge;
   const std::uint64_t total = begin_.total_bytes;
   if (data.empty() || offset > total || data.size() > total - offset)
     return ChunkOutcome::kOutOfRange;
@@ -68,15 +77,19 @@ ChunkOutcome Reassembly::add(std::uint64_t offset, std::span<const std::uint8_t>
 
   // the first range that could touch [a, b]: the one before a if it reaches a, else the next
   auto it = ranges_.upper_bound(a);
-  if (it != ranges_.begin() && std::prev(it)->second >= a) --it;
+  if (it != ranges_.begin() && std::prev(it)->second >= a)
+    --it;
   const bool touches = it != ranges_.end() && it->first <= b;
-  if (!touches && ranges_.size() >= limits_.max_ranges) return ChunkOutcome::kTooFragmented;
+  if (!touches && ranges_.size() >= limits_.max_ranges)
+    return ChunkOutcome::kTooFragmented;
 
   // copy the gaps between held ranges inside [a, b), merging the ranges met
   std::uint64_t cur = a, lo = a, hi = b, stored = 0;
   auto copy = [&](std::uint64_t from, std::uint64_t to) {
-    if (to <= from) return;
-    std::memcpy(bytes_.data() + from, data.data() + (from - a), static_cast<std::size_t>(to - from));
+    if (to <= from)
+      return;
+    std::memcpy(bytes_.data() + from, data.data() + (from - a),
+                static_cast<std::size_t>(to - from));
     stored += to - from;
   };
   while (it != ranges_.end() && it->first <= b) {
@@ -89,15 +102,18 @@ ChunkOutcome Reassembly::add(std::uint64_t offset, std::span<const std::uint8_t>
   copy(cur, b);
   ranges_.emplace(lo, hi);
   received_ += stored;
-  if (stored == 0) return ChunkOutcome::kDuplicate;
+  if (stored == 0)
+    return ChunkOutcome::kDuplicate;
   verified_ = false;
   return ChunkOutcome::kStored;
 }
 
 CommitOutcome Reassembly::commit(std::uint64_t now_ns) {
-  if (!active_) return CommitOutcome::kNotBegun;
+  if (!active_)
+    return CommitOutcome::kNotBegun;
   last_activity_ns_ = now_ns;
-  if (received_ != begin_.total_bytes) return CommitOutcome::kIncomplete;
+  if (received_ != begin_.total_bytes)
+    return CommitOutcome::kIncomplete;
   if (!verified_) {
     if (sha256(bytes_) != begin_.sha256) {
       reset();
@@ -109,7 +125,8 @@ CommitOutcome Reassembly::commit(std::uint64_t now_ns) {
 }
 
 std::vector<std::uint8_t> Reassembly::take() {
-  if (!active_ || !verified_) return {};
+  if (!active_ || !verified_)
+    return {};
   std::vector<std::uint8_t> out = std::move(bytes_);
   reset();
   return out;
@@ -117,14 +134,18 @@ std::vector<std::uint8_t> Reassembly::take() {
 
 std::vector<SceneStatus::Range> Reassembly::missing(std::size_t max) const {
   std::vector<SceneStatus::Range> out;
-  if (!active_) return out;
+  if (!active_)
+    return out;
   std::uint64_t cur = 0;
   for (const auto& [s, e] : ranges_) {
-    if (out.size() >= max) return out;
-    if (s > cur) out.push_back({cur, s - cur});
+    if (out.size() >= max)
+      return out;
+    if (s > cur)
+      out.push_back({cur, s - cur});
     cur = e;
   }
-  if (out.size() < max && cur < begin_.total_bytes) out.push_back({cur, begin_.total_bytes - cur});
+  if (out.size() < max && cur < begin_.total_bytes)
+    out.push_back({cur, begin_.total_bytes - cur});
   return out;
 }
 

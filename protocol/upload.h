@@ -19,29 +19,29 @@ namespace hapticd::proto {
 
 /// Limits of one upload. Every field has its default here; the daemon's config may override.
 struct UploadLimits {
-  std::uint64_t max_scene_bytes = 64ull << 20;     ///< largest total_bytes, bytes (64 MiB)
-  std::uint32_t max_chunk_bytes = 8192;            ///< largest chunk data, bytes (≤ kMaxChunkBytes)
-  std::uint64_t stale_timeout_ns = 10'000'000'000; ///< no chunk for this long: dropped (10 s)
-  std::size_t max_ranges = 65536;                  ///< most disjoint received ranges (fragmentation)
+  std::uint64_t max_scene_bytes = 64ull << 20;  ///< largest total_bytes, bytes (64 MiB)
+  std::uint32_t max_chunk_bytes = 8192;         ///< largest chunk data, bytes (≤ kMaxChunkBytes)
+  std::uint64_t stale_timeout_ns = 10'000'000'000;  ///< no chunk for this long: dropped (10 s)
+  std::size_t max_ranges = 65536;  ///< most disjoint received ranges (fragmentation)
 };
 
 /// What a chunk did.
 enum class ChunkOutcome {
-  kStored,        ///< at least one new byte stored
-  kDuplicate,     ///< every byte was already held (nothing changed; ack it again)
-  kOutOfRange,    ///< offset + length beyond total_bytes
-  kTooLarge,      ///< data longer than max_chunk_bytes
-  kTooFragmented, ///< would exceed max_ranges disjoint pieces
-  kNotBegun,      ///< no upload in progress
+  kStored,         ///< at least one new byte stored
+  kDuplicate,      ///< every byte was already held (nothing changed; ack it again)
+  kOutOfRange,     ///< offset + length beyond total_bytes
+  kTooLarge,       ///< data longer than max_chunk_bytes
+  kTooFragmented,  ///< would exceed max_ranges disjoint pieces
+  kNotBegun,       ///< no upload in progress
 };
 /// A sentence for an outcome. Any thread.
 const char* chunkOutcomeText(ChunkOutcome o);
 
 /// What commit found.
 enum class CommitOutcome {
-  kComplete,     ///< every byte held and the hash matches: take() the bytes
-  kIncomplete,   ///< bytes missing: missing() lists them
-  kHashMismatch, ///< complete but SHA-256 differs (the upload is reset: begin again)
+  kComplete,      ///< every byte held and the hash matches: take() the bytes
+  kIncomplete,    ///< bytes missing: missing() lists them
+  kHashMismatch,  ///< complete but SHA-256 differs (the upload is reset: begin again)
   kNotBegun,
 };
 

@@ -75,25 +75,25 @@ const char* msgTypeName(std::uint16_t type);
 /// append only.
 enum class Errc : std::uint16_t {
   kOk = 0,
-  kTooShort,         ///< shorter than the header, or than its declared payload
-  kTooLong,          ///< larger than the configured max datagram, or bytes after payload+tag
-  kBadMagic,         ///< first four bytes are not kMagic
-  kBadMajor,         ///< a major version this build does not speak
-  kBadFlags,         ///< a flag bit this version does not define
-  kUnknownType,      ///< a message type this version does not define
-  kBadPayloadLength, ///< payload length wrong for the message type (exact or bounded)
-  kNotFinite,        ///< a NaN or Inf in a float field
-  kBadValue,         ///< a field out of its documented range (counts, rates, quaternion norm)
-  kNoMac,            ///< a key is set and this message needs authentication it lacks
-  kBadMac,           ///< the tag does not verify with the key
-  kReplay,           ///< an authenticated sequence number seen before or too old for the window
-  kRateLimited,      ///< the peer's token bucket is empty
-  kUnknownSession,   ///< session id not known (send hello first) or expired
-  kWrongPeer,        ///< session id known but from another address (no key set)
-  kServerFull,       ///< no free session or upload slot
-  kUploadError,      ///< a scene upload chunk or commit the reassembly refused
-  kNotExpected,      ///< a message type a server does not accept (e.g. a State sent to it)
-  kBufferTooSmall,   ///< encode: the output buffer cannot hold the message
+  kTooShort,          ///< shorter than the header, or than its declared payload
+  kTooLong,           ///< larger than the configured max datagram, or bytes after payload+tag
+  kBadMagic,          ///< first four bytes are not kMagic
+  kBadMajor,          ///< a major version this build does not speak
+  kBadFlags,          ///< a flag bit this version does not define
+  kUnknownType,       ///< a message type this version does not define
+  kBadPayloadLength,  ///< payload length wrong for the message type (exact or bounded)
+  kNotFinite,         ///< a NaN or Inf in a float field
+  kBadValue,          ///< a field out of its documented range (counts, rates, quaternion norm)
+  kNoMac,             ///< a key is set and this message needs authentication it lacks
+  kBadMac,            ///< the tag does not verify with the key
+  kReplay,            ///< an authenticated sequence number seen before or too old for the window
+  kRateLimited,       ///< the peer's token bucket is empty
+  kUnknownSession,    ///< session id not known (send hello first) or expired
+  kWrongPeer,         ///< session id known but from another address (no key set)
+  kServerFull,        ///< no free session or upload slot
+  kUploadError,       ///< a scene upload chunk or commit the reassembly refused
+  kNotExpected,       ///< a message type a server does not accept (e.g. a State sent to it)
+  kBufferTooSmall,    ///< encode: the output buffer cannot hold the message
   kCount
 };
 inline constexpr std::size_t kErrcCount = static_cast<std::size_t>(Errc::kCount);
@@ -128,10 +128,10 @@ struct Header {
 /// A refusal with the values that explain it. `describe()` turns it into a sentence.
 struct DecodeError {
   Errc code = Errc::kOk;
-  std::uint16_t type = 0;     ///< the message type, when known
-  std::uint64_t got = 0;      ///< the offending value (a length, a version, a count)
-  std::uint64_t expected = 0; ///< what was expected (or the bound)
-  const char* field = "";     ///< the field or part concerned (static string)
+  std::uint16_t type = 0;      ///< the message type, when known
+  std::uint64_t got = 0;       ///< the offending value (a length, a version, a count)
+  std::uint64_t expected = 0;  ///< what was expected (or the bound)
+  const char* field = "";      ///< the field or part concerned (static string)
 };
 /// A sentence naming what is wrong and where, e.g. "state: payload length 12 bytes, expected at
 /// least 296". Any thread; allocates.
@@ -151,26 +151,32 @@ class Reader {
   explicit Reader(std::span<const std::uint8_t> bytes) : b_(bytes) {}
 
   std::uint8_t u8() {
-    if (!need(1)) return 0;
+    if (!need(1))
+      return 0;
     return b_[pos_++];
   }
   std::uint16_t u16() {
-    if (!need(2)) return 0;
+    if (!need(2))
+      return 0;
     std::uint16_t v = static_cast<std::uint16_t>(b_[pos_] | (b_[pos_ + 1] << 8));
     pos_ += 2;
     return v;
   }
   std::uint32_t u32() {
-    if (!need(4)) return 0;
+    if (!need(4))
+      return 0;
     std::uint32_t v = 0;
-    for (std::size_t i = 0; i < 4; ++i) v |= static_cast<std::uint32_t>(b_[pos_ + i]) << (8 * i);
+    for (std::size_t i = 0; i < 4; ++i)
+      v |= static_cast<std::uint32_t>(b_[pos_ + i]) << (8 * i);
     pos_ += 4;
     return v;
   }
   std::uint64_t u64() {
-    if (!need(8)) return 0;
+    if (!need(8))
+      return 0;
     std::uint64_t v = 0;
-    for (std::size_t i = 0; i < 8; ++i) v |= static_cast<std::uint64_t>(b_[pos_ + i]) << (8 * i);
+    for (std::size_t i = 0; i < 8; ++i)
+      v |= static_cast<std::uint64_t>(b_[pos_ + i]) << (8 * i);
     pos_ += 8;
     return v;
   }
@@ -179,7 +185,8 @@ class Reader {
     const std::size_t at = pos_;
     const double v = std::bit_cast<double>(u64());
     if (!std::isfinite(v)) {
-      if (!nonfinite_) nonfinite_at_ = at;
+      if (!nonfinite_)
+        nonfinite_at_ = at;
       nonfinite_ = true;
       return 0.0;
     }
@@ -187,7 +194,8 @@ class Reader {
   }
   /// The next n bytes as a view into the input (empty and failed when fewer remain).
   std::span<const std::uint8_t> bytes(std::size_t n) {
-    if (!need(n)) return {};
+    if (!need(n))
+      return {};
     auto s = b_.subspan(pos_, n);
     pos_ += n;
     return s;
@@ -221,7 +229,8 @@ class Writer {
   explicit Writer(std::span<std::uint8_t> out) : b_(out) {}
 
   void u8(std::uint8_t v) {
-    if (need(1)) b_[pos_++] = v;
+    if (need(1))
+      b_[pos_++] = v;
   }
   void u16(std::uint16_t v) { le(v, 2); }
   void u32(std::uint32_t v) { le(v, 4); }
@@ -235,12 +244,15 @@ class Writer {
     le(std::bit_cast<std::uint64_t>(v), 8);
   }
   void bytes(std::span<const std::uint8_t> s) {
-    if (!need(s.size())) return;
-    if (!s.empty()) std::memcpy(b_.data() + pos_, s.data(), s.size());
+    if (!need(s.size()))
+      return;
+    if (!s.empty())
+      std::memcpy(b_.data() + pos_, s.data(), s.size());
     pos_ += s.size();
   }
   void zeros(std::size_t n) {
-    if (!need(n)) return;
+    if (!need(n))
+      return;
     std::memset(b_.data() + pos_, 0, n);
     pos_ += n;
   }
@@ -250,8 +262,10 @@ class Writer {
 
  private:
   void le(std::uint64_t v, std::size_t n) {
-    if (!need(n)) return;
-    for (std::size_t i = 0; i < n; ++i) b_[pos_ + i] = static_cast<std::uint8_t>(v >> (8 * i));
+    if (!need(n))
+      return;
+    for (std::size_t i = 0; i < n; ++i)
+      b_[pos_ + i] = static_cast<std::uint8_t>(v >> (8 * i));
     pos_ += n;
   }
   bool need(std::size_t n) {

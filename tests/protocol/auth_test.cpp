@@ -1,7 +1,7 @@
 // Tags, the replay window and the token bucket, on their own.
-#include <gtest/gtest.h>
-
 #include "protocol/auth.h"
+
+#include <gtest/gtest.h>
 
 namespace hapticd::proto {
 namespace {
@@ -50,7 +50,7 @@ TEST(Auth, ReplayWindowAcceptsEachNumberOnce) {
     w.accept(s);
     EXPECT_FALSE(w.check(s)) << s;
   }
-  EXPECT_FALSE(w.check(5));                            // replay inside the window
+  EXPECT_FALSE(w.check(5));                             // replay inside the window
   EXPECT_FALSE(w.check(2000 - ReplayWindow::kWindow));  // too old
   EXPECT_TRUE(w.check(2000 - ReplayWindow::kWindow + 1));
   EXPECT_TRUE(w.check(1999));
@@ -80,16 +80,19 @@ TEST(Auth, ReplayWindowBitmapAgreesWithASet) {
 TEST(Auth, TokenBucketOnSimulatedTime) {
   TokenBucket b(RateLimitConfig{.packets_per_s = 1000.0, .burst = 10.0}, 0);
   int taken = 0;
-  for (int i = 0; i < 100; ++i) taken += b.take(0);
-  EXPECT_EQ(taken, 10);  // the burst
-  EXPECT_FALSE(b.take(500'000));  // 0.5 ms: half a token
+  for (int i = 0; i < 100; ++i)
+    taken += b.take(0);
+  EXPECT_EQ(taken, 10);            // the burst
+  EXPECT_FALSE(b.take(500'000));   // 0.5 ms: half a token
   EXPECT_TRUE(b.take(1'000'000));  // 1 ms: one token
   EXPECT_FALSE(b.take(1'000'000));
   taken = 0;
-  for (int i = 0; i < 100; ++i) taken += b.take(1'000'000'000);  // refilled to the burst only
+  for (int i = 0; i < 100; ++i)
+    taken += b.take(1'000'000'000);  // refilled to the burst only
   EXPECT_EQ(taken, 10);
   TokenBucket unlimited(RateLimitConfig{.packets_per_s = 0.0, .burst = 0.0});
-  for (int i = 0; i < 1000; ++i) ASSERT_TRUE(unlimited.take(0));
+  for (int i = 0; i < 1000; ++i)
+    ASSERT_TRUE(unlimited.take(0));
 }
 
 }  // namespace

@@ -26,7 +26,8 @@ std::vector<std::uint8_t> encodeOrDie(const Message& m, Header h = {}) {
 }
 
 void putU32(std::vector<std::uint8_t>& b, std::size_t at, std::uint32_t v) {
-  for (std::size_t i = 0; i < 4; ++i) b[at + i] = static_cast<std::uint8_t>(v >> (8 * i));
+  for (std::size_t i = 0; i < 4; ++i)
+    b[at + i] = static_cast<std::uint8_t>(v >> (8 * i));
 }
 void putU16(std::vector<std::uint8_t>& b, std::size_t at, std::uint16_t v) {
   b[at] = static_cast<std::uint8_t>(v);
@@ -34,7 +35,8 @@ void putU16(std::vector<std::uint8_t>& b, std::size_t at, std::uint16_t v) {
 }
 void putF64(std::vector<std::uint8_t>& b, std::size_t at, double v) {
   const auto u = std::bit_cast<std::uint64_t>(v);
-  for (std::size_t i = 0; i < 8; ++i) b[at + i] = static_cast<std::uint8_t>(u >> (8 * i));
+  for (std::size_t i = 0; i < 8; ++i)
+    b[at + i] = static_cast<std::uint8_t>(u >> (8 * i));
 }
 
 TEST(Codec, EveryMessageRoundTrips) {
@@ -126,7 +128,8 @@ TEST(Codec, NewerMinorExtraTrailingFieldsIgnored) {
     h.minor = kVersionMinor + 1;
     auto b = encodeOrDie(m, h);
     // a newer minor appends 24 bytes of fields we do not know
-    for (int i = 0; i < 24; ++i) b.push_back(static_cast<std::uint8_t>(0xA0 + i));
+    for (int i = 0; i < 24; ++i)
+      b.push_back(static_cast<std::uint8_t>(0xA0 + i));
     putU32(b, 12, static_cast<std::uint32_t>(b.size() - kHeaderSize));
     Header got;
     Message back;
@@ -170,7 +173,8 @@ TEST(Codec, TruncatedPayloadRefusedPerType) {
   // a payload one byte short of what its type (and counts) require, with an honest header
   for (const auto& m : sampleMessages()) {
     auto b = encodeOrDie(m);
-    if (b.size() == kHeaderSize) continue;
+    if (b.size() == kHeaderSize)
+      continue;
     b.pop_back();
     putU32(b, 12, static_cast<std::uint32_t>(b.size() - kHeaderSize));
     Header got;
@@ -181,7 +185,8 @@ TEST(Codec, TruncatedPayloadRefusedPerType) {
 }
 
 TEST(Codec, EmptyMessagesRefuseAnyPayload) {
-  for (const Message& m : {Message{Arm{}}, Message{Disarm{}}, Message{StatusRequest{}}, Message{Bye{}}}) {
+  for (const Message& m :
+       {Message{Arm{}}, Message{Disarm{}}, Message{StatusRequest{}}, Message{Bye{}}}) {
     auto b = encodeOrDie(m);
     b.push_back(1);
     putU32(b, 12, 1);
@@ -209,7 +214,8 @@ TEST(Codec, NanAndInfRefusedInEveryFloatField) {
   const auto samples = sampleMessages();
   auto find = [&](MsgType t) {
     for (const auto& m : samples)
-      if (typeOf(m) == t) return m;
+      if (typeOf(m) == t)
+        return m;
     return Message{};
   };
   const Message state_msg = find(MsgType::kState);
@@ -217,33 +223,37 @@ TEST(Codec, NanAndInfRefusedInEveryFloatField) {
   std::vector<std::pair<Message, std::vector<std::size_t>>> cases;
   {
     std::vector<std::size_t> offs;
-    for (std::size_t i = 0; i < 13; ++i) offs.push_back(8 * i);  // pose, v, w
+    for (std::size_t i = 0; i < 13; ++i)
+      offs.push_back(8 * i);  // pose, v, w
     cases.push_back({find(MsgType::kPoseCommand), offs});
   }
   {
     std::vector<std::size_t> offs;
-    for (std::size_t i = 0; i < 21; ++i) offs.push_back(16 + 8 * i);  // poses, force, torque, scale
+    for (std::size_t i = 0; i < 21; ++i)
+      offs.push_back(16 + 8 * i);  // poses, force, torque, scale
     std::size_t at = State::kFixedSize;
     for (std::size_t c = 0; c < st.contacts.size(); ++c, at += 56)
-      for (std::size_t i = 0; i < 7; ++i) offs.push_back(at + 8 * i);
+      for (std::size_t i = 0; i < 7; ++i)
+        offs.push_back(at + 8 * i);
     for (std::size_t k = 0; k < st.bodies.size(); ++k, at += 64)
-      for (std::size_t i = 0; i < 7; ++i) offs.push_back(at + 8 + 8 * i);
+      for (std::size_t i = 0; i < 7; ++i)
+        offs.push_back(at + 8 + 8 * i);
     cases.push_back({find(MsgType::kState), offs});
   }
   {
     std::vector<std::size_t> offs;
     std::size_t at = SceneUpdate::kFixedSize;
     for (std::size_t k = 0; k < 3; ++k, at += 64)  // 2 poses + 1 added
-      for (std::size_t i = 0; i < 7; ++i) offs.push_back(at + 8 + 8 * i);
+      for (std::size_t i = 0; i < 7; ++i)
+        offs.push_back(at + 8 + 8 * i);
     cases.push_back({find(MsgType::kSceneUpdate), offs});
   }
   const std::vector<std::size_t> status_offs{24, 32};  // tick_rate_hz, measured_tick_hz
   cases.emplace_back(find(MsgType::kStatusReply), status_offs);
 
-  const double bad[] = {std::numeric_limits<double>::quiet_NaN(),
-                        std::numeric_limits<double>::signaling_NaN(),
-                        std::numeric_limits<double>::infinity(),
-                        -std::numeric_limits<double>::infinity()};
+  const double bad[] = {
+      std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::signaling_NaN(),
+      std::numeric_limits<double>::infinity(), -std::numeric_limits<double>::infinity()};
   std::size_t checked = 0;
   for (const auto& [m, offs] : cases) {
     const auto good = encodeOrDie(m);

@@ -1,8 +1,9 @@
 // The command gate on simulated time: newest command wins; a stopped stream is held 20 ms,
 // ramps to zero force by 200 ms, then faults until re-armed; no allocation.
+#include "protocol/command_gate.h"
+
 #include <gtest/gtest.h>
 
-#include "protocol/command_gate.h"
 #include "protocol/spsc_ring.h"
 #include "tests/core/alloc_counter.h"
 
@@ -174,8 +175,10 @@ TEST(CommandGate, ServoCallsDoNotAllocate) {
   for (std::uint64_t t = 0; t < 1000 * kMs; t += kMs) {
     ring.push(t);
     std::uint64_t v = 0;
-    while (ring.pop(v)) g.submit(kS1, ++seq, at(1), v);
-    if (t % (300 * kMs) == 0) g.arm(kS1, t);
+    while (ring.pop(v))
+      g.submit(kS1, ++seq, at(1), v);
+    if (t % (300 * kMs) == 0)
+      g.arm(kS1, t);
     (void)g.update(t);
   }
   g.disarm(0);
@@ -186,7 +189,8 @@ TEST(SpscRing, FifoAndFullAndEmpty) {
   SpscRing<int, 4> r;
   int v = 0;
   EXPECT_FALSE(r.pop(v));
-  for (int i = 0; i < 4; ++i) EXPECT_TRUE(r.push(i));
+  for (int i = 0; i < 4; ++i)
+    EXPECT_TRUE(r.push(i));
   EXPECT_FALSE(r.push(99));
   for (int i = 0; i < 4; ++i) {
     ASSERT_TRUE(r.pop(v));

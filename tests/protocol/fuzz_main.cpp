@@ -23,14 +23,20 @@ int main(int argc, char** argv) {
       for (int e = 0; e < edits; ++e) {
         switch (rng() % 4) {
           case 0:
-            if (!d.empty()) d[rng() % d.size()] ^= static_cast<std::uint8_t>(1u << (rng() % 8));
+            if (!d.empty())
+              d[rng() % d.size()] ^= static_cast<std::uint8_t>(1u << (rng() % 8));
             break;
           case 1:
-            if (!d.empty()) d.resize(rng() % d.size());
+            if (!d.empty())
+              d.resize(rng() % d.size());
             break;
-          case 2: d.insert(d.begin() + static_cast<long>(d.empty() ? 0 : rng() % d.size()), static_cast<std::uint8_t>(rng())); break;
+          case 2:
+            d.insert(d.begin() + static_cast<long>(d.empty() ? 0 : rng() % d.size()),
+                     static_cast<std::uint8_t>(rng()));
+            break;
           case 3:
-            if (d.size() > 16) d[12 + rng() % 4] = static_cast<std::uint8_t>(rng());  // payload_length
+            if (d.size() > 16)
+              d[12 + rng() % 4] = static_cast<std::uint8_t>(rng());  // payload_length
             break;
         }
       }

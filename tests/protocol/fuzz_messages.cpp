@@ -14,11 +14,14 @@ void roundTrip(const hapticd::proto::Message& m) {
   static std::vector<std::uint8_t> buf(kMaxDatagramLimit);
   Errc err = Errc::kOk;
   const std::size_t n = encode({}, m, buf, &err);
-  if (n == 0) __builtin_trap();  // whatever decodes must encode
+  if (n == 0)
+    __builtin_trap();  // whatever decodes must encode
   Header h;
   Message back;
-  if (decode(std::span(buf.data(), n), h, back).code != Errc::kOk) __builtin_trap();
-  if (!testing::sameMessage(m, back)) __builtin_trap();
+  if (decode(std::span(buf.data(), n), h, back).code != Errc::kOk)
+    __builtin_trap();
+  if (!testing::sameMessage(m, back))
+    __builtin_trap();
 }
 }  // namespace
 
@@ -28,12 +31,14 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   Message m;
   DecodeError e = decode(std::span(data, size), h, m);
   (void)describe(e);
-  if (e.code == Errc::kOk) roundTrip(m);
+  if (e.code == Errc::kOk)
+    roundTrip(m);
   if (size >= 2) {
     const auto type = static_cast<std::uint16_t>(data[0] % (kMsgTypeEnd + 1));
     e = decodePayload(type, data[1] % 3, std::span(data + 2, size - 2), m);
     (void)describe(e);
-    if (e.code == Errc::kOk) roundTrip(m);
+    if (e.code == Errc::kOk)
+      roundTrip(m);
   }
   return 0;
 }

@@ -13,7 +13,8 @@ int main(int argc, char** argv) {
   std::filesystem::create_directories(argv[2]);
   int i = 0;
   for (const auto& s : hapticd::proto::testing::fuzzSeeds(argv[1])) {
-    std::ofstream f(std::filesystem::path(argv[2]) / ("seed_" + std::to_string(i++)), std::ios::binary);
+    std::ofstream f(std::filesystem::path(argv[2]) / ("seed_" + std::to_string(i++)),
+                    std::ios::binary);
     f.write(reinterpret_cast<const char*>(s.data()), static_cast<std::streamsize>(s.size()));
   }
   return 0;

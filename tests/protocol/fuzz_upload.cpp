@@ -44,7 +44,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         SceneBegin b;
         b.upload_id = next() % 3 + 1;
         b.total_bytes = total + (next() == 255 ? 100000 : 0);
-        b.sha256 = sha256(std::span(ref).first(static_cast<std::size_t>(std::min<std::uint64_t>(total, ref.size()))));
+        b.sha256 = sha256(std::span(ref).first(
+            static_cast<std::size_t>(std::min<std::uint64_t>(total, ref.size()))));
         (void)r.begin(b, now, nullptr);
         break;
       }
@@ -70,23 +71,30 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (r.commit(now) == CommitOutcome::kComplete) {
           const std::uint64_t total = r.totalBytes();
           const auto out = r.take();
-          if (out.size() != total) __builtin_trap();
-          if (!std::equal(out.begin(), out.end(), ref.begin())) __builtin_trap();
+          if (out.size() != total)
+            __builtin_trap();
+          if (!std::equal(out.begin(), out.end(), ref.begin()))
+            __builtin_trap();
         }
         break;
       }
       case 3: {
         std::uint64_t gaps = 0;
-        for (const auto& g : r.missing(next() % 70)) gaps += g.length;
-        if (r.active() && r.missing(1u << 20).size() <= 64 && gaps > r.totalBytes()) __builtin_trap();
+        for (const auto& g : r.missing(next() % 70))
+          gaps += g.length;
+        if (r.active() && r.missing(1u << 20).size() <= 64 && gaps > r.totalBytes())
+          __builtin_trap();
         break;
       }
       case 4:
-        if (r.stale(now)) r.reset();
+        if (r.stale(now))
+          r.reset();
         break;
     }
-    if (r.receivedBytes() > r.totalBytes()) __builtin_trap();
-    if (r.rangeCount() > lim.max_ranges) __builtin_trap();
+    if (r.receivedBytes() > r.totalBytes())
+      __builtin_trap();
+    if (r.rangeCount() > lim.max_ranges)
+      __builtin_trap();
   }
   return 0;
 }

@@ -19,7 +19,8 @@ inline WirePose samplePose(double k) {
 inline const std::vector<std::uint8_t>& sampleChunkBytes() {
   static const std::vector<std::uint8_t> b = [] {
     std::vector<std::uint8_t> v(1200);
-    for (std::size_t i = 0; i < v.size(); ++i) v[i] = static_cast<std::uint8_t>(i * 7 + 3);
+    for (std::size_t i = 0; i < v.size(); ++i)
+      v[i] = static_cast<std::uint8_t>(i * 7 + 3);
     return v;
   }();
   return b;
@@ -49,7 +50,8 @@ inline std::vector<Message> sampleMessages() {
     b.upload_id = 7;
     b.chunk_bytes = 1200;
     b.total_bytes = 5'000'000;
-    for (std::size_t i = 0; i < 32; ++i) b.sha256[i] = static_cast<std::uint8_t>(255 - i);
+    for (std::size_t i = 0; i < 32; ++i)
+      b.sha256[i] = static_cast<std::uint8_t>(255 - i);
     b.name = "gears.glb";
     out.push_back(b);
   }
@@ -107,7 +109,8 @@ inline std::vector<Message> sampleMessages() {
     s.contact_count = 40;
     for (int i = 0; i < 3; ++i)
       s.contacts.push_back({{0.1 * i, 0.2, 0.3}, {0.0, 1.0, 0.0}, 1e-4 * i});
-    for (std::uint32_t i = 0; i < 4; ++i) s.bodies.push_back({i * 2, samplePose(i)});
+    for (std::uint32_t i = 0; i < 4; ++i)
+      s.bodies.push_back({i * 2, samplePose(i)});
     out.push_back(s);
   }
   out.push_back(Arm{});
@@ -149,7 +152,8 @@ inline std::vector<Message> sampleMessages() {
 
 /// Equality of two messages (SceneChunk compares its bytes, not the view).
 inline bool sameMessage(const Message& a, const Message& b) {
-  if (a.index() != b.index()) return false;
+  if (a.index() != b.index())
+    return false;
   if (const auto* ca = std::get_if<SceneChunk>(&a)) {
     const auto& cb = std::get<SceneChunk>(b);
     return ca->upload_id == cb.upload_id && ca->offset == cb.offset &&

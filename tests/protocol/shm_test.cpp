@@ -1,6 +1,8 @@
 // Shared memory: a seqlock reader never sees a torn state while a writer thread publishes; the
 // command ring delivers in order across threads and refuses bad slots; dead peers are seen by
 // their heartbeat (simulated times); attach refuses what it must.
+#include "protocol/shm.h"
+
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -8,7 +10,6 @@
 #include <cmath>
 #include <thread>
 
-#include "protocol/shm.h"
 #include "tests/core/alloc_counter.h"
 
 namespace hapticd::proto {
@@ -45,7 +46,8 @@ ShmState stateFor(std::uint64_t k) {
   s.body_count = kShmBodies;
   for (std::size_t b = 0; b < kShmBodies; ++b) {
     s.bodies[b].index = k + b;
-    for (int i = 0; i < 7; ++i) s.bodies[b].X_WB[i] = d * static_cast<double>(b) + i;
+    for (int i = 0; i < 7; ++i)
+      s.bodies[b].X_WB[i] = d * static_cast<double>(b) + i;
   }
   return s;
 }
@@ -65,15 +67,19 @@ TEST(Shm, SeqlockReaderNeverSeesATornState) {
   std::atomic<bool> stop{false};
   constexpr std::uint64_t kWrites = 300000;
   std::thread writer([&] {
-    for (std::uint64_t k = 1; k <= kWrites; ++k) server.value().publish(stateFor(k));
+    for (std::uint64_t k = 1; k <= kWrites; ++k)
+      server.value().publish(stateFor(k));
     stop = true;
   });
   std::uint64_t reads = 0, torn = 0, last = 0, backwards = 0;
   while (!stop || reads == 0) {
-    if (!client.value().readState(s)) continue;
+    if (!client.value().readState(s))
+      continue;
     ++reads;
-    if (!consistent(s)) ++torn;
-    if (s.tick < last) ++backwards;
+    if (!consistent(s))
+      ++torn;
+    if (s.tick < last)
+      ++backwards;
     last = s.tick;
   }
   writer.join();
@@ -96,8 +102,10 @@ TEST(Shm, CommandRingAcrossThreadsInOrderAndBadSlotsRefused) {
     for (std::uint64_t k = 1; k <= kCommands; ++k) {
       PoseCommand p;
       p.X_WT.p = {static_cast<double>(k), 0.0, 0.0};
-      if (k % 1000 == 0) p.v_W[0] = std::nan("");  // a bad slot: refused by the consumer
-      while (!client.value().pushPose(p, k)) std::this_thread::yield();
+      if (k % 1000 == 0)
+        p.v_W[0] = std::nan("");  // a bad slot: refused by the consumer
+      while (!client.value().pushPose(p, k))
+        std::this_thread::yield();
     }
   });
   std::uint64_t got = 0, last_seq = 0, last_x = 0, arms = 0;
@@ -134,7 +142,7 @@ TEST(Shm, DeadPeerDetectedByHeartbeat) {
   ASSERT_TRUE(server) << server.error().message;
   auto client = ShmClient::attach(server.value().name());
   ASSERT_TRUE(client);
-  constexpr std::uint64_t kTimeout = 100'000'000;  // 100 ms
+  constexpr std::uint64_t kTimeout = 100'000'000;                     // 100 ms
   EXPECT_FALSE(client.value().serverAlive(1'000'000'000, kTimeout));  // never beat
   EXPECT_FALSE(server.value().clientAlive(1'000'000'000, kTimeout));
   server.value().beat(1'000'000'000);

@@ -1,11 +1,11 @@
 // Chunk reassembly: out of order, duplicated, overlapping and missing chunks; bounds; a stale
 // upload; the bytes handed over only when complete and hashed.
+#include "protocol/upload.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <random>
-
-#include "protocol/upload.h"
 
 namespace hapticd::proto {
 namespace {
@@ -13,7 +13,8 @@ namespace {
 std::vector<std::uint8_t> blob(std::size_t n, std::uint32_t seed) {
   std::mt19937 rng(seed);
   std::vector<std::uint8_t> v(n);
-  for (auto& b : v) b = static_cast<std::uint8_t>(rng());
+  for (auto& b : v)
+    b = static_cast<std::uint8_t>(rng());
   return v;
 }
 
@@ -64,7 +65,8 @@ TEST(Upload, ShuffledDuplicatedOverlappingChunksStillExact) {
     const std::size_t o2 = off + rng() % len;
     chunks.push_back({o2, std::min<std::size_t>(1 + rng() % 2000, data.size() - o2)});
     const int copies = static_cast<int>(rng() % 3);
-    for (int k = 0; k < copies; ++k) chunks.push_back({off, len});
+    for (int k = 0; k < copies; ++k)
+      chunks.push_back({off, len});
     off += len;
   }
   std::shuffle(chunks.begin(), chunks.end(), rng);
@@ -96,7 +98,8 @@ TEST(Upload, MissingRangesListedInOrder) {
   EXPECT_EQ(r.missing(2).size(), 2u);
   EXPECT_EQ(r.commit(0), CommitOutcome::kIncomplete);
   for (const auto& g : m)
-    ASSERT_EQ(r.add(g.offset, std::span(data).subspan(g.offset, g.length), 0), ChunkOutcome::kStored);
+    ASSERT_EQ(r.add(g.offset, std::span(data).subspan(g.offset, g.length), 0),
+              ChunkOutcome::kStored);
   EXPECT_TRUE(r.missing(64).empty());
   EXPECT_EQ(r.commit(0), CommitOutcome::kComplete);
   EXPECT_EQ(r.take(), data);
@@ -107,7 +110,8 @@ TEST(Upload, FirstBytesWinAndALyingOverlapFailsTheHash) {
   Reassembly r;
   ASSERT_TRUE(r.begin(announce(data), 0, nullptr));
   auto bad = data;
-  for (std::size_t i = 1000; i < 2000; ++i) bad[i] ^= 0xff;
+  for (std::size_t i = 1000; i < 2000; ++i)
+    bad[i] ^= 0xff;
   // the corrupt copy arrives first for [1000, 2000): it wins, the good copy is a duplicate
   ASSERT_EQ(r.add(1000, std::span(bad).subspan(1000, 1000), 0), ChunkOutcome::kStored);
   ASSERT_EQ(r.add(0, std::span(data).subspan(0, 4000).first(4000), 0), ChunkOutcome::kStored);
