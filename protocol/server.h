@@ -30,6 +30,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <type_traits>
 #include <unordered_map>
 #include <vector>
 
@@ -77,6 +78,8 @@ struct CommandEvent {
   std::uint64_t received_ns = 0;          ///< server clock when received
   PoseCommand pose;                       ///< kPose only
 };
+
+static_assert(std::is_trivially_copyable_v<CommandEvent>, "CommandEvent travels in an SpscRing");
 
 /// A scene upload that is complete and whose SHA-256 matched, for the daemon to validate, build
 /// and swap in off the servo thread. Answer with Server::finishScene(ticket, ...).

@@ -5,6 +5,7 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstring>
@@ -41,6 +42,40 @@ bool finiteAll(const double* v, std::size_t n) {
 }
 
 }  // namespace
+
+void toState(const ShmState& in, State& out) {
+  auto pose = [](const double* x) {
+    WirePose p;
+    for (std::size_t i = 0; i < 3; ++i) p.p[i] = x[i];
+    for (std::size_t i = 0; i < 4; ++i) p.q[i] = x[3 + i];
+    return p;
+  };
+  auto u32 = [](std::uint64_t v) {
+    return static_cast<std::uint32_t>(std::min<std::uint64_t>(v, UINT32_MAX));
+  };
+  out.tick = in.tick;
+  out.sim_time_ns = in.sim_time_ns;
+  out.X_WD = pose(in.X_WD);
+  out.X_WP = pose(in.X_WP);
+  for (std::size_t i = 0; i < 3; ++i) {
+    out.force_n[i] = in.force_n[i];
+    out.torque_nm[i] = in.torque_nm[i];
+  }
+  out.force_scale = in.force_scale;
+  out.last_command_sequence = in.last_command_sequence;
+  out.tick_misses = in.tick_misses;
+  out.tick_p50_ns = u32(in.tick_p50_ns);
+  out.tick_p99_ns = u32(in.tick_p99_ns);
+  out.tick_max_ns = u32(in.tick_max_ns);
+  out.fault_bits = u32(in.fault_bits);
+  out.state_flags = u32(in.state_flags);
+  out.contact_count = u32(in.contact_count);
+  out.contacts.clear();
+  out.bodies.clear();
+  const std::size_t n = std::min<std::uint64_t>(in.body_count, kShmBodies);
+  for (std::size_t b = 0; b < n; ++b)
+    out.bodies.push_back({u32(in.bodies[b].index), pose(in.bodies[b].X_WB)});
+}
 
 // ---- server --------------------------------------------------------------------------------
 

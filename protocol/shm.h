@@ -124,6 +124,10 @@ struct ShmCommandEvent {
   PoseCommand pose;
 };
 
+/// Converts a published ShmState into the UDP State message (no contacts list: ShmState has
+/// none; body poses: the first body_count ≤ kShmBodies). Any thread.
+void toState(const ShmState& in, State& out);
+
 /// The daemon's side: creates (replacing a stale one) and owns the segment; unlinks it on
 /// destruction. publish(), popCommand(), beat() and clientAlive() are servo-thread safe.
 class ShmServer {

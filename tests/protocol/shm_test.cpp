@@ -1,6 +1,7 @@
 // Shared memory: a seqlock reader never sees a torn state while a writer thread publishes; the
 // command ring delivers in order across threads and refuses bad slots; dead peers are seen by
 // their heartbeat (simulated times); attach refuses what it must.
+#include "protocol/seqlock.h"
 #include "protocol/shm.h"
 
 #include <gtest/gtest.h>
@@ -89,6 +90,57 @@ TEST(Shm, SeqlockReaderNeverSeesATornState) {
   ASSERT_TRUE(client.value().readState(s));
   EXPECT_EQ(s.tick, kWrites);
   EXPECT_TRUE(consistent(s));
+}
+
+TEST(Seqlock, InProcessReaderNeverSeesATornValue) {
+  Seqlock<ShmState> lock;
+  ShmState s{};
+  EXPECT_FALSE(lock.read(s));
+  std::atomic<bool> stop{false};
+  std::thread writer([&] {
+    for (std::uint64_t k = 1; k <= 200000; ++k) lock.write(stateFor(k));
+    stop = true;
+  });
+  std::uint64_t reads = 0, torn = 0;
+  while (!stop || reads == 0) {
+    if (!lock.read(s)) continue;
+    ++reads;
+    torn += !consistent(s);
+  }
+  writer.join();
+  EXPECT_EQ(torn, 0u);
+  EXPECT_EQ(lock.writes(), 200000u);
+  ASSERT_TRUE(lock.read(s));
+  EXPECT_EQ(s.tick, 200000u);
+}
+
+TEST(Shm, ToStateCarriesEveryField) {
+  ShmState in = stateFor(3);
+  in.X_WD[3] = 0.0;
+  in.X_WD[4] = 0.0;
+  in.X_WD[5] = 0.0;
+  in.X_WD[6] = 1.0;
+  in.body_count = 2;
+  State out;
+  out.contacts.resize(3);
+  toState(in, out);
+  EXPECT_EQ(out.tick, 3u);
+  EXPECT_EQ(out.sim_time_ns, 3000u);
+  EXPECT_EQ(out.X_WD.p[0], 3.0);
+  EXPECT_EQ(out.X_WD.q[3], 1.0);
+  EXPECT_EQ(out.X_WP.q[0], -6.0);
+  EXPECT_EQ(out.force_n[2], 3.5);
+  EXPECT_EQ(out.torque_nm[1], -0.25);
+  EXPECT_EQ(out.last_command_sequence, 4u);
+  EXPECT_EQ(out.tick_misses, 5u);
+  EXPECT_EQ(out.tick_p50_ns, 6u);
+  EXPECT_EQ(out.tick_p99_ns, 7u);
+  EXPECT_EQ(out.tick_max_ns, 8u);
+  EXPECT_EQ(out.contact_count, 3u);
+  EXPECT_TRUE(out.contacts.empty());
+  ASSERT_EQ(out.bodies.size(), 2u);
+  EXPECT_EQ(out.bodies[1].body_index, 4u);
+  EXPECT_EQ(out.bodies[1].X_WB.p[0], 3.0);
 }
 
 TEST(Shm, CommandRingAcrossThreadsInOrderAndBadSlotsRefused) {
