@@ -29,7 +29,8 @@ class Seqlock {
     const std::uint64_t q = seq_.load(std::memory_order_relaxed);
     seq_.store(q + 1, std::memory_order_relaxed);
     std::atomic_thread_fence(std::memory_order_release);
-    for (std::size_t i = 0; i < kWords; ++i) words_[i].store(w[i], std::memory_order_relaxed);
+    for (std::size_t i = 0; i < kWords; ++i)
+      words_[i].store(w[i], std::memory_order_relaxed);
     seq_.store(q + 2, std::memory_order_release);
   }
   /// Copies the newest value into `out`; false when nothing was written yet or the writer kept
@@ -38,9 +39,12 @@ class Seqlock {
     std::uint64_t w[kWords];
     for (int t = 0; t < max_tries; ++t) {
       const std::uint64_t s1 = seq_.load(std::memory_order_acquire);
-      if (s1 == 0) return false;
-      if (s1 & 1) continue;
-      for (std::size_t i = 0; i < kWords; ++i) w[i] = words_[i].load(std::memory_order_relaxed);
+      if (s1 == 0)
+        return false;
+      if (s1 & 1)
+        continue;
+      for (std::size_t i = 0; i < kWords; ++i)
+        w[i] = words_[i].load(std::memory_order_relaxed);
       std::atomic_thread_fence(std::memory_order_acquire);
       if (seq_.load(std::memory_order_relaxed) == s1) {
         std::memcpy(&out, w, sizeof out);

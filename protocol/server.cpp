@@ -340,6 +340,9 @@ void Server::handleHello(const Header& h,
       it->second.last_rx_ns = t;
       return welcome(it->second);
     }
+    if (it->second.authenticated && !tagged)
+      return refuse(Errc::kNoMac, from, &h, nullptr, true,
+                    "an authenticated session is open from this address: hello needs a tag");
     sessions_.erase(it);
     break;
   }

@@ -46,8 +46,10 @@ bool finiteAll(const double* v, std::size_t n) {
 void toState(const ShmState& in, State& out) {
   auto pose = [](const double* x) {
     WirePose p;
-    for (std::size_t i = 0; i < 3; ++i) p.p[i] = x[i];
-    for (std::size_t i = 0; i < 4; ++i) p.q[i] = x[3 + i];
+    for (std::size_t i = 0; i < 3; ++i)
+      p.p[i] = x[i];
+    for (std::size_t i = 0; i < 4; ++i)
+      p.q[i] = x[3 + i];
     return p;
   };
   auto u32 = [](std::uint64_t v) {

@@ -1,7 +1,6 @@
 // Shared memory: a seqlock reader never sees a torn state while a writer thread publishes; the
 // command ring delivers in order across threads and refuses bad slots; dead peers are seen by
 // their heartbeat (simulated times); attach refuses what it must.
-#include "protocol/seqlock.h"
 #include "protocol/shm.h"
 
 #include <gtest/gtest.h>
@@ -11,6 +10,7 @@
 #include <cmath>
 #include <thread>
 
+#include "protocol/seqlock.h"
 #include "tests/core/alloc_counter.h"
 
 namespace hapticd::proto {
@@ -98,12 +98,14 @@ TEST(Seqlock, InProcessReaderNeverSeesATornValue) {
   EXPECT_FALSE(lock.read(s));
   std::atomic<bool> stop{false};
   std::thread writer([&] {
-    for (std::uint64_t k = 1; k <= 200000; ++k) lock.write(stateFor(k));
+    for (std::uint64_t k = 1; k <= 200000; ++k)
+      lock.write(stateFor(k));
     stop = true;
   });
   std::uint64_t reads = 0, torn = 0;
   while (!stop || reads == 0) {
-    if (!lock.read(s)) continue;
+    if (!lock.read(s))
+      continue;
     ++reads;
     torn += !consistent(s);
   }
