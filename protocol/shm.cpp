@@ -1,0 +1,354 @@
+#include "protocol/shm.h"
+
+#include <fcntl.h>
+#include <sys/mman.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstring>
+#include <new>
+
+#include "protocol/auth.h"
+
+namespace hapticd::proto {
+namespace {
+
+constexpr std::size_t kStateOffset = sizeof(ShmHeader);
+constexpr std::size_t alignUp(std::size_t v, std::size_t a) {
+  return (v + a - 1) / a * a;
+}
+constexpr std::size_t kRingOffset = alignUp(kStateOffset + sizeof(ShmStateBlock), 64);
+constexpr std::size_t kSegmentBytes = alignUp(kRingOffset + sizeof(ShmRing), 4096);
+static_assert((kShmRingSlots & (kShmRingSlots - 1)) == 0);
+
+ShmHeader* header(void* base) {
+  return static_cast<ShmHeader*>(base);
+}
+ShmStateBlock* stateBlock(void* base) {
+  return reinterpret_cast<ShmStateBlock*>(static_cast<char*>(base) + kStateOffset);
+}
+ShmRing* ring(void* base) {
+  return reinterpret_cast<ShmRing*>(static_cast<char*>(base) + kRingOffset);
+}
+
+bool finiteAll(const double* v, std::size_t n) {
+  for (std::size_t i = 0; i < n; ++i)
+    if (!std::isfinite(v[i]))
+      return false;
+  return true;
+}
+
+}  // namespace
+
+void toState(const ShmState& in, State& out) {
+  auto pose = [](const double* x) {
+    WirePose p;
+    for (std::size_t i = 0; i < 3; ++i)
+      p.p[i] = x[i];
+    for (std::size_t i = 0; i < 4; ++i)
+      p.q[i] = x[3 + i];
+    return p;
+  };
+  auto u32 = [](std::uint64_t v) {
+    return static_cast<std::uint32_t>(std::min<std::uint64_t>(v, UINT32_MAX));
+  };
+  out.tick = in.tick;
+  out.sim_time_ns = in.sim_time_ns;
+  out.X_WD = pose(in.X_WD);
+  out.X_WP = pose(in.X_WP);
+  for (std::size_t i = 0; i < 3; ++i) {
+    out.force_n[i] = in.force_n[i];
+    out.torque_nm[i] = in.torque_nm[i];
+  }
+  out.force_scale = in.force_scale;
+  out.last_command_sequence = in.last_command_sequence;
+  out.tick_misses = in.tick_misses;
+  out.tick_p50_ns = u32(in.tick_p50_ns);
+  out.tick_p99_ns = u32(in.tick_p99_ns);
+  out.tick_max_ns = u32(in.tick_max_ns);
+  out.fault_bits = u32(in.fault_bits);
+  out.state_flags = u32(in.state_flags);
+  out.contact_count = u32(in.contact_count);
+  out.contacts.clear();
+  out.bodies.clear();
+  const std::size_t n = std::min<std::uint64_t>(in.body_count, kShmBodies);
+  for (std::size_t b = 0; b < n; ++b)
+    out.bodies.push_back({u32(in.bodies[b].index), pose(in.bodies[b].X_WB)});
+}
+
+// ---- server --------------------------------------------------------------------------------
+
+Result<ShmServer> ShmServer::create(const std::string& name) {
+  if (name.size() < 2 || name[0] != '/' || name.find('/', 1) != std::string::npos)
+    return Error{"shm name '" + name + "' must be '/' followed by a name without '/'"};
+  ::shm_unlink(name.c_str());  // a segment left by a crashed daemon
+  const int fd = ::shm_open(name.c_str(), O_CREAT | O_EXCL | O_RDWR | O_CLOEXEC, 0600);
+  if (fd < 0)
+    return Error{"shm_open(" + name + "): " + std::strerror(errno)};
+  if (::ftruncate(fd, static_cast<off_t>(kSegmentBytes)) != 0) {
+    const int e = errno;
+    ::close(fd);
+    ::shm_unlink(name.c_str());
+    return Error{"shm " + name + ": ftruncate: " + std::strerror(e)};
+  }
+  void* base = ::mmap(nullptr, kSegmentBytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+  ::close(fd);
+  if (base == MAP_FAILED) {
+    ::shm_unlink(name.c_str());
+    return Error{"shm " + name + ": mmap: " + std::strerror(errno)};
+  }
+  // the pages are zero; construct the atomics in place
+  auto* h = new (base) ShmHeader{};
+  h->segment_bytes = kSegmentBytes;
+  h->state_offset = kStateOffset;
+  h->state_bytes = sizeof(ShmState);
+  h->ring_offset = kRingOffset;
+  h->ring_slots = kShmRingSlots;
+  h->slot_bytes = sizeof(ShmCommand);
+  h->session_base = randomU64() & ~0xffffffffull;
+  h->server_pid.store(static_cast<std::uint64_t>(::getpid()));
+  new (stateBlock(base)) ShmStateBlock{};
+  new (ring(base)) ShmRing{};
+  h->major = kShmMajor;
+  h->minor = kShmMinor;
+  std::atomic_thread_fence(std::memory_order_release);
+  h->magic = kShmMagic;  // last: a client that sees the magic sees a complete header
+  ShmServer s;
+  s.name_ = name;
+  s.base_ = base;
+  s.size_ = kSegmentBytes;
+  return s;
+}
+
+ShmServer::ShmServer(ShmServer&& o) noexcept
+    : name_(std::move(o.name_)), base_(o.base_), size_(o.size_) {
+  o.base_ = nullptr;
+}
+
+ShmServer::~ShmServer() {
+  if (!base_)
+    return;
+  ::munmap(base_, size_);
+  ::shm_unlink(name_.c_str());
+}
+
+void ShmServer::publish(const ShmState& s) noexcept {
+  ShmStateBlock* b = stateBlock(base_);
+  std::uint64_t words[kShmStateWords];
+  std::memcpy(words, &s, sizeof s);
+  const std::uint64_t q = b->seq.load(std::memory_order_relaxed);
+  b->seq.store(q + 1, std::memory_order_relaxed);
+  std::atomic_thread_fence(std::memory_order_release);
+  for (std::size_t i = 0; i < kShmStateWords; ++i)
+    b->words[i].store(words[i], std::memory_order_relaxed);
+  b->seq.store(q + 2, std::memory_order_release);
+}
+
+bool ShmServer::popCommand(ShmCommandEvent& out) noexcept {
+  ShmRing* r = ring(base_);
+  ShmHeader* h = header(base_);
+  for (;;) {
+    const std::uint64_t tail = r->tail.load(std::memory_order_relaxed);
+    const std::uint64_t head = r->head.load(std::memory_order_acquire);
+    if (tail == head)
+      return false;
+    if (head - tail > kShmRingSlots) {  // a broken producer: resynchronise
+      r->tail.store(head, std::memory_order_release);
+      h->commands_refused.fetch_add(head - tail, std::memory_order_relaxed);
+      return false;
+    }
+    const ShmCommand c = r->slots[tail & (kShmRingSlots - 1)];
+    r->tail.store(tail + 1, std::memory_order_release);
+    bool ok = c.kind >= 1 && c.kind <= 3;
+    if (ok && c.kind == 1) {
+      ok = finiteAll(c.X_WT, 7) && finiteAll(c.v_W, 3) && finiteAll(c.w_W, 3);
+      const double n = std::sqrt(c.X_WT[3] * c.X_WT[3] + c.X_WT[4] * c.X_WT[4] +
+                                 c.X_WT[5] * c.X_WT[5] + c.X_WT[6] * c.X_WT[6]);
+      ok = ok && std::fabs(n - 1.0) <= kQuatNormTolerance;
+    }
+    if (!ok) {
+      h->commands_refused.fetch_add(1, std::memory_order_relaxed);
+      continue;
+    }
+    out.kind = static_cast<ShmCommandEvent::Kind>(c.kind);
+    out.session_id = h->session_base + c.generation;
+    out.sequence = c.sequence;
+    out.timestamp_ns = c.timestamp_ns;
+    for (int i = 0; i < 3; ++i)
+      out.pose.X_WT.p[static_cast<std::size_t>(i)] = c.X_WT[i];
+    for (int i = 0; i < 4; ++i)
+      out.pose.X_WT.q[static_cast<std::size_t>(i)] = c.X_WT[3 + i];
+    for (int i = 0; i < 3; ++i) {
+      out.pose.v_W[static_cast<std::size_t>(i)] = c.v_W[i];
+      out.pose.w_W[static_cast<std::size_t>(i)] = c.w_W[i];
+    }
+    out.pose.buttons = static_cast<std::uint32_t>(c.buttons);
+    return true;
+  }
+}
+
+void ShmServer::beat(std::uint64_t now_ns) noexcept {
+  header(base_)->server_heartbeat_ns.store(now_ns, std::memory_order_release);
+}
+
+bool ShmServer::clientAlive(std::uint64_t now_ns, std::uint64_t timeout_ns) const noexcept {
+  const ShmHeader* h = header(base_);
+  if (h->client_pid.load(std::memory_order_acquire) == 0)
+    return false;
+  const std::uint64_t t = h->client_heartbeat_ns.load(std::memory_order_acquire);
+  return t != 0 && now_ns - t <= timeout_ns;
+}
+
+std::uint64_t ShmServer::commandsRefused() const noexcept {
+  return header(base_)->commands_refused.load(std::memory_order_relaxed);
+}
+
+// ---- client --------------------------------------------------------------------------------
+
+Result<ShmClient> ShmClient::attach(const std::string& name, std::uint64_t takeover_after_ns) {
+  const int fd = ::shm_open(name.c_str(), O_RDWR | O_CLOEXEC, 0);
+  if (fd < 0)
+    return Error{"shm " + name + ": " + std::strerror(errno) +
+                 " (is hapticd running with shared memory on?)"};
+  struct stat st {};
+  if (::fstat(fd, &st) != 0 || static_cast<std::size_t>(st.st_size) < kSegmentBytes) {
+    ::close(fd);
+    return Error{"shm " + name + ": segment too small for this version"};
+  }
+  void* base = ::mmap(nullptr, kSegmentBytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+  ::close(fd);
+  if (base == MAP_FAILED)
+    return Error{"shm " + name + ": mmap: " + std::strerror(errno)};
+  ShmClient c;
+  c.base_ = base;
+  c.size_ = kSegmentBytes;
+  ShmHeader* h = header(base);
+  const std::uint32_t magic = h->magic;
+  std::atomic_thread_fence(std::memory_order_acquire);
+  if (magic != kShmMagic)
+    return Error{"shm " + name + ": not a hapticd segment (bad magic)"};
+  if (h->major != kShmMajor)
+    return Error{"shm " + name + ": layout major version " + std::to_string(h->major) +
+                 ", this build speaks " + std::to_string(kShmMajor)};
+  if (h->segment_bytes != kSegmentBytes || h->state_offset != kStateOffset ||
+      h->ring_offset != kRingOffset || h->ring_slots != kShmRingSlots ||
+      h->state_bytes < sizeof(ShmState) || h->slot_bytes != sizeof(ShmCommand))
+    return Error{"shm " + name + ": layout sizes differ from this build's"};
+  const std::uint64_t pid = h->client_pid.load(std::memory_order_acquire);
+  if (pid != 0) {
+    timespec ts{};
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    const std::uint64_t now = static_cast<std::uint64_t>(ts.tv_sec) * 1'000'000'000ull +
+                              static_cast<std::uint64_t>(ts.tv_nsec);
+    const std::uint64_t beat = h->client_heartbeat_ns.load(std::memory_order_acquire);
+    if (beat != 0 && now - beat < takeover_after_ns)
+      return Error{"shm " + name + ": another client (pid " + std::to_string(pid) +
+                   ") is attached and alive"};
+  }
+  h->client_pid.store(static_cast<std::uint64_t>(::getpid()), std::memory_order_release);
+  c.generation_ = h->client_generation.fetch_add(1, std::memory_order_acq_rel) + 1;
+  return c;
+}
+
+ShmClient::ShmClient(ShmClient&& o) noexcept
+    : base_(o.base_), size_(o.size_), generation_(o.generation_), sequence_(o.sequence_) {
+  o.base_ = nullptr;
+}
+
+ShmClient::~ShmClient() {
+  if (!base_)
+    return;
+  ShmHeader* h = header(base_);
+  std::uint64_t pid = static_cast<std::uint64_t>(::getpid());
+  h->client_pid.compare_exchange_strong(pid, 0);
+  ::munmap(base_, size_);
+}
+
+bool ShmClient::readState(ShmState& out, int max_tries) const noexcept {
+  const ShmStateBlock* b = stateBlock(base_);
+  std::uint64_t words[kShmStateWords];
+  for (int i = 0; i < max_tries; ++i) {
+    const std::uint64_t s1 = b->seq.load(std::memory_order_acquire);
+    if (s1 == 0)
+      return false;  // nothing published yet
+    if (s1 & 1)
+      continue;
+    for (std::size_t w = 0; w < kShmStateWords; ++w)
+      words[w] = b->words[w].load(std::memory_order_relaxed);
+    std::atomic_thread_fence(std::memory_order_acquire);
+    const std::uint64_t s2 = b->seq.load(std::memory_order_relaxed);
+    if (s1 == s2) {
+      std::memcpy(&out, words, sizeof out);
+      return true;
+    }
+  }
+  return false;
+}
+
+bool ShmClient::push(ShmCommand c) noexcept {
+  ShmRing* r = ring(base_);
+  const std::uint64_t head = r->head.load(std::memory_order_relaxed);
+  if (head - r->tail.load(std::memory_order_acquire) >= kShmRingSlots)
+    return false;
+  c.generation = generation_;
+  r->slots[head & (kShmRingSlots - 1)] = c;
+  r->head.store(head + 1, std::memory_order_release);
+  return true;
+}
+
+bool ShmClient::pushPose(const PoseCommand& cmd,
+                         std::uint64_t now_ns,
+                         std::uint64_t* sequence) noexcept {
+  ShmCommand c{};
+  c.kind = 1;
+  c.sequence = ++sequence_;
+  c.timestamp_ns = now_ns;
+  for (std::size_t i = 0; i < 3; ++i)
+    c.X_WT[i] = cmd.X_WT.p[i];
+  for (std::size_t i = 0; i < 4; ++i)
+    c.X_WT[3 + i] = cmd.X_WT.q[i];
+  for (std::size_t i = 0; i < 3; ++i) {
+    c.v_W[i] = cmd.v_W[i];
+    c.w_W[i] = cmd.w_W[i];
+  }
+  c.buttons = cmd.buttons;
+  if (sequence)
+    *sequence = c.sequence;
+  return push(c);
+}
+
+bool ShmClient::pushArm(std::uint64_t now_ns) noexcept {
+  ShmCommand c{};
+  c.kind = 2;
+  c.sequence = ++sequence_;
+  c.timestamp_ns = now_ns;
+  c.X_WT[6] = 1.0;
+  return push(c);
+}
+
+bool ShmClient::pushDisarm(std::uint64_t now_ns) noexcept {
+  ShmCommand c{};
+  c.kind = 3;
+  c.sequence = ++sequence_;
+  c.timestamp_ns = now_ns;
+  c.X_WT[6] = 1.0;
+  return push(c);
+}
+
+void ShmClient::beat(std::uint64_t now_ns) noexcept {
+  header(base_)->client_heartbeat_ns.store(now_ns, std::memory_order_release);
+}
+
+bool ShmClient::serverAlive(std::uint64_t now_ns, std::uint64_t timeout_ns) const noexcept {
+  const std::uint64_t t = header(base_)->server_heartbeat_ns.load(std::memory_order_acquire);
+  return t != 0 && now_ns - t <= timeout_ns;
+}
+
+std::uint64_t ShmClient::sessionId() const noexcept {
+  return header(base_)->session_base + generation_;
+}
+
+}  // namespace hapticd::proto

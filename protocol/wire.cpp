@@ -1,0 +1,195 @@
+#include "protocol/wire.h"
+
+#include <cstdio>
+
+namespace hapticd::proto {
+
+const char* msgTypeName(std::uint16_t type) {
+  switch (static_cast<MsgType>(type)) {
+    case MsgType::kHello:
+      return "hello";
+    case MsgType::kWelcome:
+      return "welcome";
+    case MsgType::kSceneBegin:
+      return "scene_begin";
+    case MsgType::kSceneChunk:
+      return "scene_chunk";
+    case MsgType::kSceneChunkAck:
+      return "scene_chunk_ack";
+    case MsgType::kSceneCommit:
+      return "scene_commit";
+    case MsgType::kSceneStatus:
+      return "scene_status";
+    case MsgType::kSceneUpdate:
+      return "scene_update";
+    case MsgType::kPoseCommand:
+      return "pose_command";
+    case MsgType::kSubscribe:
+      return "subscribe";
+    case MsgType::kState:
+      return "state";
+    case MsgType::kArm:
+      return "arm";
+    case MsgType::kDisarm:
+      return "disarm";
+    case MsgType::kHeartbeat:
+      return "heartbeat";
+    case MsgType::kError:
+      return "error";
+    case MsgType::kStatusRequest:
+      return "status_request";
+    case MsgType::kStatusReply:
+      return "status_reply";
+    case MsgType::kAck:
+      return "ack";
+    case MsgType::kBye:
+      return "bye";
+  }
+  return "unknown";
+}
+
+const char* errcName(Errc e) {
+  switch (e) {
+    case Errc::kOk:
+      return "ok";
+    case Errc::kTooShort:
+      return "too_short";
+    case Errc::kTooLong:
+      return "too_long";
+    case Errc::kBadMagic:
+      return "bad_magic";
+    case Errc::kBadMajor:
+      return "bad_major";
+    case Errc::kBadFlags:
+      return "bad_flags";
+    case Errc::kUnknownType:
+      return "unknown_type";
+    case Errc::kBadPayloadLength:
+      return "bad_payload_length";
+    case Errc::kNotFinite:
+      return "not_finite";
+    case Errc::kBadValue:
+      return "bad_value";
+    case Errc::kNoMac:
+      return "no_mac";
+    case Errc::kBadMac:
+      return "bad_mac";
+    case Errc::kReplay:
+      return "replay";
+    case Errc::kRateLimited:
+      return "rate_limited";
+    case Errc::kUnknownSession:
+      return "unknown_session";
+    case Errc::kWrongPeer:
+      return "wrong_peer";
+    case Errc::kServerFull:
+      return "server_full";
+    case Errc::kUploadError:
+      return "upload_error";
+    case Errc::kNotExpected:
+      return "not_expected";
+    case Errc::kBufferTooSmall:
+      return "buffer_too_small";
+    case Errc::kCount:
+      break;
+  }
+  return "unknown";
+}
+
+std::string describe(const DecodeError& e) {
+  char buf[256];
+  const char* what = e.type != 0 ? msgTypeName(e.type) : "datagram";
+  const auto got = static_cast<unsigned long long>(e.got);
+  const auto exp = static_cast<unsigned long long>(e.expected);
+  switch (e.code) {
+    case Errc::kOk:
+      return "ok";
+    case Errc::kTooShort:
+      std::snprintf(buf, sizeof buf, "%s: %llu bytes, too short for its %s (needs %llu)", what, got,
+                    e.field, exp);
+      break;
+    case Errc::kTooLong:
+      std::snprintf(buf, sizeof buf, "%s: %llu bytes, more than %s allows (%llu)", what, got,
+                    e.field, exp);
+      break;
+    case Errc::kBadMagic:
+      std::snprintf(buf, sizeof buf, "not a hapticd datagram (magic 0x%08llx, expected 0x%08llx)",
+                    got, exp);
+      break;
+    case Errc::kBadMajor:
+      std::snprintf(buf, sizeof buf,
+                    "protocol major version %llu is not supported: this build speaks %u.%u "
+                    "(upgrade the older side)",
+                    got, kVersionMajor, kVersionMinor);
+      break;
+    case Errc::kBadFlags:
+      std::snprintf(buf, sizeof buf, "%s: unknown header flags 0x%04llx", what, got);
+      break;
+    case Errc::kUnknownType:
+      std::snprintf(buf, sizeof buf, "unknown message type %llu (this build knows 1..%llu)", got,
+                    exp);
+      break;
+    case Errc::kBadPayloadLength:
+      std::snprintf(buf, sizeof buf, "%s: payload length %llu bytes, expected %s%llu", what, got,
+                    std::string_view(e.field) == "payload (at least)" ? "at least " : "", exp);
+      break;
+    case Errc::kNotFinite:
+      std::snprintf(buf, sizeof buf, "%s: NaN or Inf in a float field at payload offset %llu", what,
+                    got);
+      break;
+    case Errc::kBadValue:
+      std::snprintf(buf, sizeof buf, "%s: field %s out of range (value %llu, bound %llu)", what,
+                    e.field, got, exp);
+      break;
+    default:
+      std::snprintf(buf, sizeof buf, "%s: refused (%s%s%s)", what, errcName(e.code),
+                    e.field[0] ? ": " : "", e.field);
+      break;
+  }
+  return buf;
+}
+
+DecodeError decodeHeader(std::span<const std::uint8_t> d, Header& h) {
+  if (d.size() < kHeaderSize)
+    return {Errc::kTooShort, 0, d.size(), kHeaderSize, "header"};
+  Reader r(d.first(kHeaderSize));
+  const std::uint32_t magic = r.u32();
+  if (magic != kMagic)
+    return {Errc::kBadMagic, 0, magic, kMagic, "magic"};
+  h.major = r.u8();
+  h.minor = r.u8();
+  if (h.major != kVersionMajor)
+    return {Errc::kBadMajor, 0, h.major, kVersionMajor, "major"};
+  h.type = r.u16();
+  h.flags = r.u16();
+  r.u16();  // reserved
+  h.payload_length = r.u32();
+  h.session_id = r.u64();
+  h.sequence = r.u64();
+  h.timestamp_ns = r.u64();
+  if (h.flags & ~kKnownFlags)
+    return {Errc::kBadFlags, h.type, h.flags, kKnownFlags, "flags"};
+  const std::size_t expected =
+      kHeaderSize + std::size_t{h.payload_length} + ((h.flags & kFlagMac) ? kMacSize : 0);
+  if (d.size() < expected)
+    return {Errc::kTooShort, h.type, d.size(), expected, "payload_length (+ tag)"};
+  if (d.size() > expected)
+    return {Errc::kTooLong, h.type, d.size(), expected, "payload_length (+ tag)"};
+  return {};
+}
+
+void encodeHeader(const Header& h, std::span<std::uint8_t> out) {
+  Writer w(out.first(kHeaderSize));
+  w.u32(kMagic);
+  w.u8(h.major);
+  w.u8(h.minor);
+  w.u16(h.type);
+  w.u16(h.flags);
+  w.u16(0);
+  w.u32(h.payload_length);
+  w.u64(h.session_id);
+  w.u64(h.sequence);
+  w.u64(h.timestamp_ns);
+}
+
+}  // namespace hapticd::proto
