@@ -30,6 +30,11 @@ enum class Mode : std::uint8_t { kFree = 0, kGrab = 1, kRim = 2, kCentre = 3 };
 
 bool finitePositive(double v) { return std::isfinite(v) && v > 0.0; }
 
+bool finitePose(const Vec3& p, const Quat& q) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(q.w) &&
+         std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z);
+}
+
 Vec3 rotate(const Quat& q, const Vec3& v) { return q * v; }
 
 // Points on a sphere (golden-angle spiral), for the probe sphere's hull.
@@ -131,7 +136,13 @@ class SimulationImpl final : public Simulation {
   std::vector<BodyPose> body_poses_;
   std::vector<std::uint32_t> pose_bodies_;  // world ids of body_poses_
   response::ContactRows rows_;
-  double delta_ = 0.0;
+  double delta_ = 0.0;       // this tick's predictive distance
+  double max_travel_ = 0.0;  // safe distance per tick
+  double speed_decay_ = 0.0;
+  double v_c_ = 0.0;         // current speed bound of the held body's points
+  bool have_prev_device_ = false;
+  Vec3 prev_h_dev_{0.0};
+  Quat prev_q_dev_{1.0, 0.0, 0.0, 0.0};
   double k_s_ = 0.0;     // felt stiffness at the device
   double k_c_ = 0.0;     // coupling stiffness
   double ratio_ = 50.0;  // proxy contact stiffness / k_s
@@ -184,6 +195,11 @@ Result<bool> SimulationImpl::build() {
   if (!finitePositive(r.max_torque_step_nm)) return Error{"response.max_torque_step must be > 0"};
   if (!std::isfinite(r.ramp_s) || r.ramp_s < 0.0) return Error{"response.ramp must be >= 0"};
   if (!finitePositive(r.max_speed_m_per_s)) return Error{"response.max_speed must be > 0"};
+  if (!std::isfinite(r.speed_decay_s) || r.speed_decay_s < 0.0)
+    return Error{"response.speed_decay must be >= 0"};
+  if (!std::isfinite(r.min_predictive_fraction) || r.min_predictive_fraction <= 0.0 ||
+      r.min_predictive_fraction > 1.0)
+    return Error{"response.min_predictive_fraction must be in (0, 1]"};
   if (!std::isfinite(r.proxy_stiffness_ratio) || r.proxy_stiffness_ratio <= 1.0)
     return Error{"response.proxy_stiffness_ratio must be > 1"};
   if (!std::isfinite(r.coupling_damping_factor) || r.coupling_damping_factor < 0.0)
@@ -203,7 +219,8 @@ Result<bool> SimulationImpl::build() {
   if (sc.probe_body < 0 && !finitePositive(options_.probe_sphere_radius_m))
     return Error{"probe sphere radius must be > 0"};
 
-  delta_ = r.max_speed_m_per_s * r.tick_s;
+  max_travel_ = r.max_speed_m_per_s * r.tick_s;
+  speed_decay_ = r.speed_decay_s > 0.0 ? std::exp(-r.tick_s / r.speed_decay_s) : 0.0;
   k_s_ = r.stiffness_n_per_m;
   ratio_ = r.proxy_stiffness_ratio;
   // series springs: k_c in series with ratio * k_s gives k_s
@@ -297,6 +314,7 @@ Result<bool> SimulationImpl::build() {
   held_count_ = 1;
   probe_radius_ = std::max(radiusAbout(probe_, comW(probe_)), 1e-9);
   held_radius_ = probe_radius_;
+  delta_ = std::min(max_travel_, r.min_predictive_fraction * held_radius_);
 
   response::CouplingParams cp;
   cp.tick_s = r.tick_s;
@@ -311,7 +329,7 @@ Result<bool> SimulationImpl::build() {
   proxy_params_.coupling_stiffness = cp.stiffness_n_per_m;
   proxy_params_.rot_coupling_stiffness = cp.rot_stiffness_nm_per_rad;
   proxy_params_.delta = delta_;
-  proxy_params_.max_travel = delta_;
+  proxy_params_.max_travel = max_travel_;
   proxy_params_.max_force_n = r.max_force_n;
   proxy_params_.max_torque_nm = r.max_torque_nm;
 
@@ -537,6 +555,23 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   const Vec3 h_dev = input.X_W_device.translation + rotate(input.X_W_device.rotation, com_probe);
   const Quat q_dev = input.X_W_device.rotation;
 
+  // the predictive distance (§5.2): delta = v_c dt, v_c bounding the speed of the held points
+  if (have_prev_device_ && finitePose(h_dev, q_dev)) {
+    const double v = glm::length(h_dev - prev_h_dev_) / options_.response.tick_s +
+                     glm::length(response::rotationVector(q_dev * glm::conjugate(prev_q_dev_))) /
+                         options_.response.tick_s * held_radius_;
+    v_c_ = std::max(std::isfinite(v) ? v : 0.0, v_c_ * speed_decay_);
+  }
+  if (finitePose(h_dev, q_dev)) {
+    have_prev_device_ = true;
+    prev_h_dev_ = h_dev;
+    prev_q_dev_ = q_dev;
+  }
+  delta_ = std::clamp(v_c_ * options_.response.tick_s,
+                      std::min(max_travel_, options_.response.min_predictive_fraction * held_radius_),
+                      max_travel_);
+  proxy_params_.delta = delta_;
+
   response::ProxyProblem pb;
   pb.h_W = comW(probe_);
   pb.q_handle = X_W_probe_.rotation;
@@ -550,9 +585,7 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   } else {
     pb.c_W = pb.h_W;
   }
-  const bool finite_input = std::isfinite(h_dev.x) && std::isfinite(h_dev.y) &&
-                            std::isfinite(h_dev.z) && std::isfinite(q_dev.w) &&
-                            std::isfinite(q_dev.x) && std::isfinite(q_dev.y) && std::isfinite(q_dev.z);
+  const bool finite_input = finitePose(h_dev, q_dev);
   if (!finite_input) {
     // a bad pose moves nothing: hold the proxy where it is
     pb.h_target_W = pb.h_W;
@@ -611,6 +644,7 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   out.attach_mode = static_cast<std::uint8_t>(mode_);
   out.attached_body = attached_ == kNone ? -1 : info_[attached_].scene_index;
   out.travel_limited = s.travel_limited;
+  out.delta_m = delta_;
   for (std::size_t i = 0; i < pose_bodies_.size(); ++i) body_poses_[i].X_WB = world_.pose(pose_bodies_[i]);
   return out;
 }

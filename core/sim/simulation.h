@@ -37,10 +37,15 @@ struct ResponseOptions {
   double ramp_s = 0.5;
 
   // --- added by the response (docs/response.md lists every knob) ---
-  /// v_c (§5.2): the bound on the speed of every point of the held body (linear + angular times
-  /// radius), scene units per second. The proxy never moves faster; the predictive distance and
-  /// safe travel per tick are delta = v_c * tick_s (0.5 mm at the defaults).
+  /// The bound on the speed of every point of the held body (linear + angular times radius),
+  /// scene units per second: the proxy never moves farther than max_speed * tick_s per tick (the
+  /// safe distance, 0.5 mm at the defaults), and the broad phase looks twice that far.
   double max_speed_m_per_s = 0.5;
+  /// The predictive distance of §5.2 is delta = v_c * tick_s, v_c the current bound on the speed
+  /// of the held body's points (from the device's motion, decaying with this time constant, s),
+  /// clamped to [min_predictive_fraction * radius of the held body, max_speed * tick_s].
+  double speed_decay_s = 0.02;
+  double min_predictive_fraction = 1e-3;
   /// The proxy's contact stiffness is this many times k_s; the coupling stiffness is then chosen
   /// so that the two in series give exactly k_s at the device (docs/response.md).
   double proxy_stiffness_ratio = 50.0;
@@ -112,6 +117,7 @@ struct TickOutput {
   std::uint8_t attach_mode = 0;
   std::int32_t attached_body = -1;   ///< scene body index, -1: none
   bool travel_limited = false;       ///< the safe distance cut the proxy's step
+  double delta_m = 0.0;              ///< this tick's predictive distance delta (scene units)
 };
 
 /// The pose of one non-static body (for --record-bodies and the state stream).

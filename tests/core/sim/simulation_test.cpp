@@ -44,14 +44,18 @@ TEST(Simulation, ProbeSphereDriven50mmIntoAWall) {
              {2.5, at(0, r - 0.05, 0)},
              {4.5, at(0, r + 0.02, 0)},
              {5.0, at(0, r + 0.02, 0)}});
-  double f_at_5mm = -1.0;
+  double f_at_5mm = -1.0, delta = 0.0;
   const Figures f = run.run(path, [&](const sim::TickInput& in, const sim::TickOutput& out) {
-    if (f_at_5mm < 0.0 && in.X_W_device.translation.y <= r - 0.005) f_at_5mm = out.force_W_n.y;
+    if (f_at_5mm < 0.0 && in.X_W_device.translation.y <= r - 0.005) {
+      f_at_5mm = out.force_W_n.y;
+      delta = out.delta_m;
+    }
     EXPECT_GE(out.X_W_proxy.translation.y, r - 1e-3);  // the proxy stays at the surface
   });
   f.print("probe 50 mm into a wall");
-  std::printf("  force at 5 mm depth %.4f N (k_s (delta + D) = %.4f N)\n", f_at_5mm,
-              o.response.stiffness_n_per_m * (0.0005 + 0.005));
+  std::printf("  force at 5 mm depth %.4f N (k_s (delta + D) = %.4f N for a true sphere; the "
+              "hull's lowest point is above -r)\n",
+              f_at_5mm, o.response.stiffness_n_per_m * (delta + 0.005));
   expectInvariants(f, o, 1e-3);
   EXPECT_NEAR(f.max_force_n, o.response.max_force_n, 1e-9);  // the limit was reached and held
 }
@@ -75,22 +79,23 @@ TEST(Simulation, FaceRestingOnFace) {
              {3.5, at(0, 0.01 - D, 0)},
              {4.5, at(0, 0.03, 0)},
              {5.0, at(0, 0.03, 0)}});
-  double f_rest = 0.0, t_rest = 1.0, t_tilt = 0.0;
+  double f_rest = 0.0, t_rest = 1.0, t_tilt = 0.0, delta = 0.0;
   std::uint32_t contacts_rest = 0;
   const Figures f = run.run(path, [&](const sim::TickInput& in, const sim::TickOutput& out) {
     if (std::abs(in.t_s - 1.9) < 1e-9) {
       f_rest = out.force_W_n.y;
       t_rest = glm::length(out.torque_W_nm);
       contacts_rest = out.contacts;
+      delta = out.delta_m;
     }
     if (std::abs(in.t_s - 2.9) < 1e-9) t_tilt = out.torque_W_nm.x;
     if (std::getenv("TRACE")) std::printf("T %.3f dev %.6f prx %.6f F %.6f Fc %.6f c %u pen %.3g fl %u\n", in.t_s, in.X_W_device.translation.y, out.X_W_proxy.translation.y, out.force_W_n.y, out.contact_force_W_n.y, out.contacts, out.max_penetration_m, out.flags);
   });
   f.print("face resting on face");
-  const double expect = o.response.stiffness_n_per_m * (0.0005 + D);
-  std::printf("  resting force %.5f N (k_s (delta + D) = %.5f N), torque %.3g N m, %u contacts; "
-              "torque with the hand tilted 10 mrad %.5f N m\n",
-              f_rest, expect, t_rest, contacts_rest, t_tilt);
+  const double expect = o.response.stiffness_n_per_m * (delta + D);
+  std::printf("  resting force %.5f N (k_s (delta + D) = %.5f N, delta %.3g mm), torque %.3g N m, "
+              "%u contacts; torque with the hand tilted 10 mrad %.5f N m\n",
+              f_rest, expect, 1e3 * delta, t_rest, contacts_rest, t_tilt);
   expectInvariants(f, o, 1e-3);
   EXPECT_NEAR(f_rest, expect, 0.01 * expect);
   EXPECT_LT(t_rest, 1e-6);
