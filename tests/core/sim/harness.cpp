@@ -76,6 +76,30 @@ std::uint32_t Path::buttonsAt(double t) const {
   return b;
 }
 
+std::vector<Key> readPoseStream(const std::string& file) {
+  std::vector<Key> keys;
+  std::FILE* f = std::fopen(file.c_str(), "r");
+  if (f == nullptr) return keys;
+  char line[512];
+  bool header = true;
+  while (std::fgets(line, sizeof line, f) != nullptr) {
+    if (header) {
+      header = false;
+      continue;
+    }
+    double t, px, py, pz, qx, qy, qz, qw;
+    unsigned buttons = 0;
+    if (std::sscanf(line, "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%u", &t, &px, &py, &pz, &qx, &qy, &qz,
+                    &qw, &buttons) != 9) {
+      keys.clear();
+      break;
+    }
+    keys.push_back({t, Pose::fromXyzw(Vec3{px, py, pz}, qx, qy, qz, qw), buttons});
+  }
+  std::fclose(f);
+  return keys;
+}
+
 void Figures::print(const char* name) const {
   std::printf(
       "[%s] ticks %llu | max |F| %.4f N, max |T| %.5f N m | max step %.4f N, %.5f N m | max "

@@ -48,6 +48,10 @@ class Path {
   std::vector<Key> keys_;
 };
 
+/// Reads a pose stream (CSV of ../shared/DESIGN.md: t,px,py,pz,qx,qy,qz,qw,buttons). Empty
+/// keys when the file cannot be read or a row is malformed.
+std::vector<Key> readPoseStream(const std::string& file);
+
 /// What a run showed.
 struct Figures {
   std::uint64_t ticks = 0;
