@@ -34,6 +34,11 @@ class VirtualCoupling {
   /// Forget the previous tick (the next step has zero velocities).
   void reset() { have_prev_ = false; }
   const CouplingParams& params() const { return p_; }
+  /// Changes the rotational spring and damper (the held set changed). Servo thread.
+  void setRotational(double stiffness_nm_per_rad, double damping_nm_s_per_rad) {
+    p_.rot_stiffness_nm_per_rad = stiffness_nm_per_rad;
+    p_.rot_damping_nm_s_per_rad = damping_nm_s_per_rad;
+  }
 
  private:
   CouplingParams p_;

@@ -123,6 +123,7 @@ class SimulationImpl final : public Simulation {
   void attach(std::uint32_t body);
   void detach();
   void setHeldPoses();
+  void setRotationalStiffness();
 
   std::shared_ptr<const scene::SceneModel> scene_;
   SimOptions options_;
@@ -477,6 +478,7 @@ void SimulationImpl::attach(std::uint32_t body) {
     mode_ = Mode::kGrab;
     X_probe_attached_ = geom::relativeTransform(X_W_probe_, Xb);
     held_radius_ = heldRadius(comW(probe_));
+    setRotationalStiffness();
     return;
   }
   hinge_o_W_ = Xb.translation + rotate(Xb.rotation, bi.hinge_o_B);
@@ -500,6 +502,7 @@ void SimulationImpl::attach(std::uint32_t body) {
     X_attached_probe_ = geom::relativeTransform(Xb, X_W_probe_);
   }
   held_radius_ = heldRadius(comW(body));
+  setRotationalStiffness();
 }
 
 void SimulationImpl::detach() {
@@ -507,6 +510,19 @@ void SimulationImpl::detach() {
   attached_ = kNone;
   held_count_ = 1;
   held_radius_ = probe_radius_;
+  setRotationalStiffness();
+}
+
+void SimulationImpl::setRotationalStiffness() {
+  // k_r = k_c r^2, unless the options fix it: r is the held set's radius when a body is grabbed
+  // or attached at its centre (its feel comes through the handle's torque), the probe's own when
+  // free or attached at a rim (the hand does not turn with a rim: the probe's orientation does)
+  const ResponseOptions& r = options_.response;
+  const double radius = mode_ == Mode::kGrab || mode_ == Mode::kCentre ? held_radius_ : probe_radius_;
+  const double kr = r.rot_stiffness_nm_per_rad > 0.0 ? r.rot_stiffness_nm_per_rad
+                                                     : k_c_ * radius * radius;
+  coupling_.setRotational(kr, r.coupling_damping_factor * kr * r.tick_s);
+  proxy_params_.rot_coupling_stiffness = kr;
 }
 
 void SimulationImpl::updateAttachment(const TickInput& input) {
