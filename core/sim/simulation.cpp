@@ -163,6 +163,7 @@ class SimulationImpl final : public Simulation {
   double held_radius_ = 0.0;
   std::uint32_t last_buttons_ = 0;
   bool first_step_ = true;
+  double last_penetration_ = 0.0;  // of the rows at the current proxy pose
   geom::Pose X_W_probe_;  // the proxy: the probe body's pose
 };
 
@@ -428,6 +429,7 @@ void SimulationImpl::gatherRows(double* max_penetration) {
     }
   }
   *max_penetration = pen;
+  last_penetration_ = pen;
 }
 
 void SimulationImpl::setHeldPoses() {
@@ -610,13 +612,17 @@ TickOutput SimulationImpl::step(const TickInput& input) {
 
   const geom::Pose probe_before = X_W_probe_;
   const geom::Pose attached_before = attached_ == kNone ? geom::Pose{} : world_.pose(attached_);
+  const double pen_before = last_penetration_;
   response::ProxyStep s = solveProxyStep(pb, rows_.rows(), proxy_params_);
   applyStep(s);
   collision::StepStats stats = world_.step();
   double pen = 0.0;
   gatherRows(&pen);
   // a step that went too deep (a contact the linearisation missed): bisect back
-  for (int k = 0; k < 3 && pen > options_.response.penetration_allowance_m; ++k) {
+  // (only when this step made it deeper by a jump, a twentieth of the allowance or more: a proxy
+  // pressed into several surfaces at once may rest deeper, and creeps there slowly)
+  const double allowance = options_.response.penetration_allowance_m;
+  for (int k = 0; k < 3 && pen > allowance && pen - pen_before > 0.05 * allowance; ++k) {
     out.flags |= kTickBackedOff;
     X_W_probe_ = probe_before;
     if (attached_ != kNone) world_.setPose(attached_, attached_before);

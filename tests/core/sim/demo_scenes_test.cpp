@@ -27,15 +27,17 @@ TEST_P(DemoScene, ReplaysItsPoseStreamWithinTheInvariants) {
   auto created = sim::Simulation::create(model, o);
   ASSERT_TRUE(created.ok()) << created.error().message;
   Runner run(std::move(created).value(), o);
-  std::uint32_t max_pairs = 0, clamped = 0;
+  std::uint32_t max_pairs = 0, clamped = 0, backed_off = 0;
   const Figures f = run.run(Path(keys), [&](const sim::TickInput&, const sim::TickOutput& out) {
     max_pairs = std::max(max_pairs, out.pairs_tested);
     clamped += (out.flags & sim::kTickForceClamped) ? 1u : 0u;
+    backed_off += (out.flags & sim::kTickBackedOff) ? 1u : 0u;
     EXPECT_EQ(out.flags & sim::kTickCapacityFull, 0u);
   });
   f.print(name.c_str());
-  std::printf("  %zu bodies, stream %s, most pairs tested in a tick %u, ticks clamped %u\n",
-              model->bodies.size(), closed ? "closed" : "open", max_pairs, clamped);
+  std::printf("  %zu bodies, stream %s, most pairs tested in a tick %u, ticks clamped %u, ticks "
+              "whose step was bisected back %u\n",
+              model->bodies.size(), closed ? "closed" : "open", max_pairs, clamped, backed_off);
   if (!closed) {
     // an open path proves nothing about energy: check the rest
     EXPECT_TRUE(f.all_finite);
