@@ -98,6 +98,10 @@ class CollisionWorld {
   /// Moves a non-static body. Servo thread.
   void setPose(std::uint32_t body, const geom::Pose& X_WB);
   const geom::Pose& pose(std::uint32_t body) const { return bodies_[body].X_WB; }
+  /// A sleeping body is not moving and nothing about it is asked: its pairs with sleeping and
+  /// static bodies are neither tested nor listed in contacts() (pairs with an awake body are).
+  /// For bodies no stage moves (a scene without dynamics). Servo thread; no allocation.
+  void setAsleep(std::uint32_t body, bool asleep) { bodies_[body].asleep = asleep; }
 
   /// One tick: boxes, sweep and prune, scheduling, narrow phase. Servo thread.
   StepStats step();
@@ -118,6 +122,7 @@ class CollisionWorld {
     std::vector<std::uint32_t> prims;  // indices into prims_
     bool live = false;
     bool moved = false;
+    bool asleep = false;
   };
   struct Prim {
     std::uint32_t body = 0, index = 0;  // body and index within it
@@ -138,6 +143,12 @@ class CollisionWorld {
   Transform primitiveTransform(const Prim& p) const;
   void applyEvents(StepStats* stats);
   void test(PairState& s);
+  bool resting(const PairState& s) const {
+    const Body& a = bodies_[prims_[s.prim_a].body];
+    const Body& b = bodies_[prims_[s.prim_b].body];
+    return (a.asleep || a.desc.kind == BodyKind::kStatic) &&
+           (b.asleep || b.desc.kind == BodyKind::kStatic);
+  }
 
   WorldOptions options_;
   SweepAndPrune sap_;

@@ -310,6 +310,13 @@ Result<bool> SimulationImpl::build() {
     body_poses_.push_back({static_cast<std::uint32_t>(info_[id].scene_index), world_.pose(id)});
   }
 
+  // no stage moves the other bodies (the dynamics are not part of this tick yet): they sleep,
+  // so that their pairs with each other and with static bodies cost nothing; an attached body
+  // wakes while it is held
+  for (std::uint32_t id = 0; id < info_.size(); ++id) {
+    if (id != probe_ && info_[id].kind != BodyKind::kStatic) world_.setAsleep(id, true);
+  }
+
   // the probe starts at its scene pose (the sphere at the origin) and is coupled to the device
   X_W_probe_ = world_.pose(probe_);
   held_[0] = probe_;
@@ -473,6 +480,7 @@ void SimulationImpl::applyStep(const response::ProxyStep& s) {
 void SimulationImpl::attach(std::uint32_t body) {
   const BodyInfo& bi = info_[body];
   attached_ = body;
+  world_.setAsleep(body, false);
   held_[1] = body;
   held_count_ = 2;
   const geom::Pose& Xb = world_.pose(body);
@@ -508,6 +516,7 @@ void SimulationImpl::attach(std::uint32_t body) {
 }
 
 void SimulationImpl::detach() {
+  if (attached_ != kNone) world_.setAsleep(attached_, true);
   mode_ = Mode::kFree;
   attached_ = kNone;
   held_count_ = 1;
