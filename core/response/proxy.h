@@ -37,6 +37,10 @@ struct ContactRow {
   Vec3 n_W{0.0};       ///< unit; the direction that pushes the held set out (possibly shaded)
   double gap = 0.0;    ///< along n_W: > 0 apart, < 0 penetrating (scene units)
   double stiffness = 0.0;  ///< this point's share of its pair's stiffness (N per scene unit)
+  /// The side n_W pushes: -1 the held set, d >= 0 driven hinge d of the problem.
+  std::int32_t first = -1;
+  /// The side n_W pushes against: -1 fixed, d >= 0 driven hinge d.
+  std::int32_t second = -1;
 };
 
 /// Fixed-capacity row buffer: reserve() off the servo thread, then push() never allocates; a full
@@ -58,7 +62,7 @@ class ContactRows {
   bool full_ = false;
 };
 
-/// The penalty wrench of §5.1–5.2 on the held set: sum over rows with gap < delta of
+/// The penalty wrench of §5.1–5.2 on the held set: sum over its rows (first == -1) with gap < delta of
 /// f_i = k_i (delta - gap_i) n_i, torque about c_W. Any thread; no allocation.
 Wrench penaltyWrench(std::span<const ContactRow> rows, const Vec3& c_W, double delta);
 
@@ -83,8 +87,18 @@ struct ProxyParams {
   std::uint32_t max_passes = 8;           ///< active-set passes
 };
 
+/// A body on a hinge that the held set may turn (a gear meshing with the held one): a massless,
+/// quasi-static extra coordinate, its angle about the axis a_W through o_W.
+struct DrivenHinge {
+  Vec3 o_W{0.0};
+  Vec3 a_W{0.0, 0.0, 1.0};
+  double radius = 0.0;  ///< largest distance of its points from the axis (for the safe distance)
+  double drag = 1e-6;   ///< rotational stiffness holding it when untouched (N m per radian)
+};
+
 /// One tick's problem.
 struct ProxyProblem {
+  static constexpr std::size_t kMaxDriven = 4;
   Vec3 c_W{0.0};            ///< reference point (the held set's centre), world
   Vec3 h_W{0.0};            ///< the proxy's handle point (coupled to the device), world
   bool handle_fixed = false;  ///< the handle point does not move with the proxy (centre attach)
@@ -93,6 +107,8 @@ struct ProxyProblem {
   Quat q_target{1.0, 0.0, 0.0, 0.0};  ///< the device's orientation
   double radius = 0.0;      ///< largest distance of a held point from c_W
   ProxyBasis basis = ProxyBasis::free();
+  std::array<DrivenHinge, kMaxDriven> driven{};
+  std::uint32_t driven_count = 0;
 };
 
 /// What the step decided.
@@ -100,12 +116,18 @@ struct ProxyStep {
   Vec3 dc_W{0.0};      ///< translation of the reference point
   Vec3 dtheta_W{0.0};  ///< rotation vector about the reference point
   std::array<double, 6> x{};  ///< the free coordinates' step
+  std::array<double, ProxyProblem::kMaxDriven> driven_angle{};  ///< each driven hinge's turn
   bool travel_limited = false;
+  bool rows_dropped = false;  ///< more rows than the solver holds (kMaxRows): the rest ignored
   std::uint32_t passes = 0;
   std::uint32_t active = 0;  ///< rows active at the end
 };
 
-/// One proxy step (see the file comment). Servo thread; no allocation.
+/// Rows the solver takes; more are ignored (ProxyStep::rows_dropped).
+inline constexpr std::size_t kMaxRows = 256;
+
+/// One proxy step (see the file comment). Driven hinges are coordinates of their own, moved only
+/// by their rows with the held set. Servo thread; no allocation.
 ProxyStep solveProxyStep(const ProxyProblem& problem, std::span<const ContactRow> rows,
                          const ProxyParams& params);
 

@@ -23,6 +23,7 @@ using geom::Transform;
 using response::ContactRow;
 
 constexpr std::uint32_t kNone = 0xffffffffu;
+constexpr std::int32_t kRoleHeld = -2, kRoleFixed = -1;
 // faces within ~18 degrees of the pair's normal on both sides make a face-face contact
 constexpr double kFaceCosTolerance = 0.95;
 
@@ -58,6 +59,7 @@ struct BodyInfo {
   // a hinge to the scene frame (or to a static body), for the attach modes
   bool hinge = false;
   Vec3 hinge_o_B{0.0}, hinge_a_B{0.0};  // in this body's frame at its initial pose
+  double hinge_radius = 0.0;             // largest distance of its points from the axis
   std::vector<response::ShadingTable> shading;  // per primitive (empty: shading off)
 };
 
@@ -103,6 +105,14 @@ class SimulationImpl final : public Simulation {
     }
     return false;
   }
+  std::int32_t role(std::uint32_t body) const {
+    if (isHeld(body)) return kRoleHeld;
+    for (std::uint32_t d = 0; d < driven_count_; ++d) {
+      if (driven_ids_[d] == body) return static_cast<std::int32_t>(d);
+    }
+    return kRoleFixed;
+  }
+  void updateDriven();
   bool excluded(std::uint32_t a, std::uint32_t b) const {
     for (const auto& [x, y] : excluded_pairs_) {
       if ((x == a && y == b) || (x == b && y == a)) return true;
@@ -162,6 +172,10 @@ class SimulationImpl final : public Simulation {
   Vec3 hinge_o_W_{0.0}, hinge_a_W_{0.0};
   double held_radius_ = 0.0;
   std::uint32_t last_buttons_ = 0;
+  // bodies on a hinge to the scene that the held set may turn (quasi-static coordinates)
+  std::array<std::uint32_t, response::ProxyProblem::kMaxDriven> driven_ids_{};
+  std::uint32_t driven_count_ = 0;
+  std::array<geom::Pose, response::ProxyProblem::kMaxDriven> driven_before_{};
   bool first_step_ = true;
   double last_penetration_ = 0.0;  // of the rows at the current proxy pose
   geom::Pose X_W_probe_;  // the proxy: the probe body's pose
@@ -316,11 +330,30 @@ Result<bool> SimulationImpl::build() {
   for (std::uint32_t id = 0; id < info_.size(); ++id) {
     if (id != probe_ && info_[id].kind != BodyKind::kStatic) world_.setAsleep(id, true);
   }
+  // bodies on a hinge are quasi-static coordinates that the held set may turn: they stay awake
+  for (std::uint32_t id = 0; id < info_.size(); ++id) {
+    BodyInfo& bi = info_[id];
+    if (!bi.hinge || id == probe_ || bi.kind == BodyKind::kStatic) continue;
+    const geom::Pose& X = world_.pose(id);
+    const Vec3 o = X.translation + rotate(X.rotation, bi.hinge_o_B);
+    const Vec3 a = glm::normalize(rotate(X.rotation, bi.hinge_a_B));
+    double hr = 0.0;
+    const Transform XB = X.toTransform();
+    for (const auto& p : sc.bodies[static_cast<std::size_t>(bi.scene_index)].primitives) {
+      const Transform XP = XB * p.X_BP.toTransform();
+      for (const auto& v : p.shape->vertices()) {
+        const Vec3 d = XP.apply(v.p) - o;
+        hr = std::max(hr, glm::length(d - glm::dot(d, a) * a));
+      }
+    }
+    bi.hinge_radius = hr;
+  }
 
   // the probe starts at its scene pose (the sphere at the origin) and is coupled to the device
   X_W_probe_ = world_.pose(probe_);
   held_[0] = probe_;
   held_count_ = 1;
+  updateDriven();
   probe_radius_ = std::max(radiusAbout(probe_, comW(probe_)), 1e-9);
   held_radius_ = probe_radius_;
   delta_ = std::min(max_travel_, r.min_predictive_fraction * held_radius_);
@@ -368,14 +401,23 @@ void SimulationImpl::gatherRows(double* max_penetration) {
   response::FaceContact fc;
   for (const collision::Contact& c : world_.contacts()) {
     if (!c.answered) continue;
-    const bool ha = isHeld(c.body_a), hb = isHeld(c.body_b);
-    if (ha == hb || excluded(c.body_a, c.body_b)) continue;
+    // roles: the held set (-2), a driven hinge (d >= 0), fixed (-1); a row's first side is the
+    // held set if either side is, else a driven hinge; its second side is the other
+    const std::int32_t ra = role(c.body_a), rb = role(c.body_b);
+    if (ra == kRoleHeld && rb == kRoleHeld) continue;
+    if (ra == kRoleFixed && rb == kRoleFixed) continue;
+    if (excluded(c.body_a, c.body_b)) continue;
+    const bool ha = ra == kRoleHeld || (rb != kRoleHeld && ra >= 0);  // side a is the first
+    const bool hb = !ha;
+    const std::int32_t first = ha ? ra : rb, second = ha ? rb : ra;
     const std::uint32_t env = ha ? c.body_b : c.body_a;
     const std::uint32_t env_prim = ha ? c.prim_b : c.prim_a;
     const std::uint32_t held = ha ? c.body_a : c.body_b;
     const std::uint32_t held_prim = ha ? c.prim_a : c.prim_b;
     const geom::Feature env_feature = ha ? c.feature_b : c.feature_a;
     const geom::Feature held_feature = ha ? c.feature_a : c.feature_b;
+    const std::int32_t row_first = first == kRoleHeld ? -1 : first;
+    const std::int32_t row_second = second < 0 ? -1 : second;
     pen = std::max(pen, -c.distance);
     // the pair's stiffness: the environment body's felt stiffness k_f through the proxy's
     // contact spring k_p = k_f k_c / (k_c - k_f), so that k_c and k_p in series give k_f
@@ -404,6 +446,8 @@ void SimulationImpl::gatherRows(double* max_penetration) {
         }
         row.gap = fc.gap[i];
         row.stiffness = kp / static_cast<double>(fc.count);
+        row.first = row_first;
+        row.second = row_second;
         rows_.push(row);
       }
       continue;
@@ -422,6 +466,8 @@ void SimulationImpl::gatherRows(double* max_penetration) {
       row.n_W = shade(row.p_W, n_pair);
       row.gap = c.distance;
       row.stiffness = kp;
+      row.first = row_first;
+      row.second = row_second;
       rows_.push(row);
       continue;
     }
@@ -432,6 +478,8 @@ void SimulationImpl::gatherRows(double* max_penetration) {
       row.n_W = shade(cp.point, sign * cp.normal);
       row.gap = -cp.depth;
       row.stiffness = kp / static_cast<double>(m);
+      row.first = row_first;
+      row.second = row_second;
       rows_.push(row);
     }
   }
@@ -452,6 +500,17 @@ void SimulationImpl::setHeldPoses() {
 }
 
 void SimulationImpl::applyStep(const response::ProxyStep& s) {
+  for (std::uint32_t d = 0; d < driven_count_; ++d) {
+    const std::uint32_t id = driven_ids_[d];
+    const BodyInfo& bi = info_[id];
+    geom::Pose X = world_.pose(id);
+    const Vec3 o = X.translation + rotate(X.rotation, bi.hinge_o_B);
+    const Vec3 a = glm::normalize(rotate(X.rotation, bi.hinge_a_B));
+    const Quat dq = response::quatFromRotationVector(a * s.driven_angle[d]);
+    X.rotation = glm::normalize(dq * X.rotation);
+    X.translation = o + rotate(dq, X.translation - o);
+    world_.setPose(id, X);
+  }
   if (mode_ == Mode::kFree || mode_ == Mode::kGrab) {
     const Vec3 c = comW(probe_);
     const Quat dq = response::quatFromRotationVector(s.dtheta_W);
@@ -483,6 +542,7 @@ void SimulationImpl::attach(std::uint32_t body) {
   world_.setAsleep(body, false);
   held_[1] = body;
   held_count_ = 2;
+  updateDriven();
   const geom::Pose& Xb = world_.pose(body);
   if (!bi.hinge) {
     mode_ = Mode::kGrab;
@@ -515,13 +575,25 @@ void SimulationImpl::attach(std::uint32_t body) {
   setRotationalStiffness();
 }
 
+void SimulationImpl::updateDriven() {
+  driven_count_ = 0;
+  for (std::uint32_t id = 0; id < info_.size(); ++id) {
+    const BodyInfo& bi = info_[id];
+    if (!bi.hinge || isHeld(id) || bi.kind == BodyKind::kStatic) continue;
+    if (driven_count_ == driven_ids_.size()) break;  // more stay fixed (docs/response.md)
+    driven_ids_[driven_count_++] = id;
+    world_.setAsleep(id, false);
+  }
+}
+
 void SimulationImpl::detach() {
-  if (attached_ != kNone) world_.setAsleep(attached_, true);
+  if (attached_ != kNone && !info_[attached_].hinge) world_.setAsleep(attached_, true);
   mode_ = Mode::kFree;
   attached_ = kNone;
   held_count_ = 1;
   held_radius_ = probe_radius_;
   setRotationalStiffness();
+  updateDriven();
 }
 
 void SimulationImpl::setRotationalStiffness() {
@@ -621,6 +693,18 @@ TickOutput SimulationImpl::step(const TickInput& input) {
 
   const geom::Pose probe_before = X_W_probe_;
   const geom::Pose attached_before = attached_ == kNone ? geom::Pose{} : world_.pose(attached_);
+  pb.driven_count = driven_count_;
+  for (std::uint32_t d = 0; d < driven_count_; ++d) {
+    const std::uint32_t id = driven_ids_[d];
+    const BodyInfo& bi = info_[id];
+    const geom::Pose& X = world_.pose(id);
+    driven_before_[d] = X;
+    pb.driven[d].o_W = X.translation + rotate(X.rotation, bi.hinge_o_B);
+    pb.driven[d].a_W = glm::normalize(rotate(X.rotation, bi.hinge_a_B));
+    pb.driven[d].radius = bi.hinge_radius;
+    // a faint hold, so that an untouched hinge stays put: 1e-6 of the coupling at its radius
+    pb.driven[d].drag = 1e-6 * k_c_ * std::max(bi.hinge_radius * bi.hinge_radius, 1e-12);
+  }
   const double pen_before = last_penetration_;
   response::ProxyStep s = solveProxyStep(pb, rows_.rows(), proxy_params_);
   applyStep(s);
@@ -635,6 +719,8 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     out.flags |= kTickBackedOff;
     X_W_probe_ = probe_before;
     if (attached_ != kNone) world_.setPose(attached_, attached_before);
+    for (std::uint32_t d = 0; d < driven_count_; ++d) world_.setPose(driven_ids_[d], driven_before_[d]);
+    for (std::size_t d = 0; d < s.driven_angle.size(); ++d) s.driven_angle[d] *= 0.5;
     world_.setPose(probe_, X_W_probe_);
     for (std::size_t q = 0; q < 6; ++q) s.x[q] *= 0.5;
     s.dc_W *= 0.5;
@@ -661,7 +747,7 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   out.contact_torque_W_nm = pw.torque_nm;
   out.X_W_proxy = X_W_probe_;
   std::uint32_t active = 0;
-  for (const ContactRow& r : rows_.rows()) active += r.gap < delta_ ? 1u : 0u;
+  for (const ContactRow& r : rows_.rows()) active += r.gap < delta_ && r.first < 0 ? 1u : 0u;
   out.contacts = active;
   out.max_penetration_m = std::max(0.0, pen);
   out.pairs_tested = stats.pairs_tested;
@@ -671,7 +757,7 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   if (rep.step_limited) out.flags |= kTickStepLimited;
   if (rep.non_finite) out.flags |= kTickNonFinite;
   if (stats.pairs_skipped > 0) out.flags |= kTickPairsSkipped;
-  if (rows_.full()) out.flags |= kTickCapacityFull;
+  if (rows_.full() || s.rows_dropped) out.flags |= kTickCapacityFull;
   out.attach_mode = static_cast<std::uint8_t>(mode_);
   out.attached_body = attached_ == kNone ? -1 : info_[attached_].scene_index;
   out.travel_limited = s.travel_limited;
