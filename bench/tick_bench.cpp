@@ -37,7 +37,8 @@ struct Key {
 std::vector<Key> readStream(const std::string& file) {
   std::vector<Key> keys;
   std::FILE* f = std::fopen(file.c_str(), "r");
-  if (f == nullptr) return keys;
+  if (f == nullptr)
+    return keys;
   char line[512];
   bool header = true;
   while (std::fgets(line, sizeof line, f) != nullptr) {
@@ -62,7 +63,8 @@ std::vector<Key> readStream(const std::string& file) {
 sim::TickInput inputAt(const std::vector<Key>& keys, double t) {
   const double T = keys.back().t;
   double u = std::fmod(t, 2.0 * T);
-  if (u > T) u = 2.0 * T - u;
+  if (u > T)
+    u = 2.0 * T - u;
   const auto it = std::lower_bound(keys.begin() + 1, keys.end() - 1, u,
                                    [](const Key& k, double v) { return k.t < v; });
   const auto i = static_cast<std::size_t>(it - keys.begin());
@@ -77,7 +79,8 @@ sim::TickInput inputAt(const std::vector<Key>& keys, double t) {
   return in;
 }
 
-void runTicks(benchmark::State& state, std::shared_ptr<const scene::SceneModel> model,
+void runTicks(benchmark::State& state,
+              std::shared_ptr<const scene::SceneModel> model,
               const std::vector<Key>& keys) {
   sim::SimOptions options;
   auto created = sim::Simulation::create(model, options);
@@ -87,7 +90,8 @@ void runTicks(benchmark::State& state, std::shared_ptr<const scene::SceneModel> 
   }
   auto sim = std::move(created).value();
   std::vector<sim::TickInput> inputs(kTicks);
-  for (std::size_t k = 0; k < kTicks; ++k) inputs[k] = inputAt(keys, static_cast<double>(k) * 0.001);
+  for (std::size_t k = 0; k < kTicks; ++k)
+    inputs[k] = inputAt(keys, static_cast<double>(k) * 0.001);
   std::vector<double> us(kTicks), cpu_us(kTicks);
   auto threadCpuNs = [] {
     timespec ts{};
@@ -117,10 +121,12 @@ void runTicks(benchmark::State& state, std::shared_ptr<const scene::SceneModel> 
     std::vector<double> sorted = v;
     std::sort(sorted.begin(), sorted.end());
     auto pct = [&](double p) {
-      return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(p * static_cast<double>(sorted.size())))];
+      return sorted[std::min(sorted.size() - 1,
+                             static_cast<std::size_t>(p * static_cast<double>(sorted.size())))];
     };
     double mean = 0.0;
-    for (double x : v) mean += x;
+    for (double x : v)
+      mean += x;
     mean /= static_cast<double>(v.size());
     state.counters[prefix + "mean_us"] = mean;
     state.counters[prefix + "p50_us"] = pct(0.50);
@@ -151,7 +157,8 @@ void tickScene(benchmark::State& state, const char* name) {
 
 std::shared_ptr<const geom::Polytope> box(const Vec3& h) {
   std::vector<Vec3> p;
-  for (int i = 0; i < 8; ++i) p.push_back(Vec3{i & 1 ? h.x : -h.x, i & 2 ? h.y : -h.y, i & 4 ? h.z : -h.z});
+  for (int i = 0; i < 8; ++i)
+    p.push_back(Vec3{i & 1 ? h.x : -h.x, i & 2 ? h.y : -h.y, i & 4 ? h.z : -h.z});
   return std::make_shared<const geom::Polytope>(geom::Polytope::fromPoints(p).value());
 }
 
@@ -200,11 +207,26 @@ void tickCodePegInHole(benchmark::State& state) {
   runTicks(state, std::make_shared<const scene::SceneModel>(std::move(s)), keys);
 }
 
-BENCHMARK_CAPTURE(tickScene, peg_in_hole, "peg_in_hole")->Name("Tick/peg_in_hole")->Iterations(1)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(tickScene, gears, "gears")->Name("Tick/gears")->Iterations(1)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(tickScene, dynamic, "dynamic")->Name("Tick/dynamic")->Iterations(1)->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(tickScene, stress, "stress")->Name("Tick/stress")->Iterations(1)->Unit(benchmark::kMillisecond);
-BENCHMARK(tickCodePegInHole)->Name("Tick/code_peg_in_hole")->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(tickScene, peg_in_hole, "peg_in_hole")
+    ->Name("Tick/peg_in_hole")
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(tickScene, gears, "gears")
+    ->Name("Tick/gears")
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(tickScene, dynamic, "dynamic")
+    ->Name("Tick/dynamic")
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(tickScene, stress, "stress")
+    ->Name("Tick/stress")
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(tickCodePegInHole)
+    ->Name("Tick/code_peg_in_hole")
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace hapticd::bench

@@ -22,8 +22,9 @@ TEST_P(DemoScene, ReplaysItsPoseStreamWithinTheInvariants) {
   ASSERT_TRUE(report.ok()) << report.message();
   auto keys = readPoseStream(dir + "/tests/streams/" + name + ".csv");
   ASSERT_GE(keys.size(), 2u);
-  const bool closed = glm::length(keys.front().X.translation - keys.back().X.translation) < 1e-9 &&
-                      std::abs(glm::dot(keys.front().X.rotation, keys.back().X.rotation)) > 1.0 - 1e-12;
+  const bool closed =
+      glm::length(keys.front().X.translation - keys.back().X.translation) < 1e-9 &&
+      std::abs(glm::dot(keys.front().X.rotation, keys.back().X.rotation)) > 1.0 - 1e-12;
   auto model = std::make_shared<const scene::SceneModel>(std::move(*report.scene));
   sim::SimOptions o;
   auto created = sim::Simulation::create(model, o);
@@ -37,9 +38,10 @@ TEST_P(DemoScene, ReplaysItsPoseStreamWithinTheInvariants) {
     EXPECT_EQ(out.flags & sim::kTickCapacityFull, 0u);
   });
   f.print(name.c_str());
-  std::printf("  %zu bodies, stream %s, most pairs tested in a tick %u, ticks clamped %u, ticks "
-              "whose step was bisected back %u\n",
-              model->bodies.size(), closed ? "closed" : "open", max_pairs, clamped, backed_off);
+  std::printf(
+      "  %zu bodies, stream %s, most pairs tested in a tick %u, ticks clamped %u, ticks "
+      "whose step was bisected back %u\n",
+      model->bodies.size(), closed ? "closed" : "open", max_pairs, clamped, backed_off);
   if (!closed) {
     // an open path proves nothing about energy: check the rest
     EXPECT_TRUE(f.all_finite);
@@ -54,7 +56,8 @@ TEST_P(DemoScene, ReplaysItsPoseStreamWithinTheInvariants) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, DemoScene,
+INSTANTIATE_TEST_SUITE_P(Scenes,
+                         DemoScene,
                          ::testing::Values("peg_in_hole", "gears", "dynamic", "stress"),
                          [](const auto& param_info) { return std::string(param_info.param); });
 
@@ -64,7 +67,9 @@ INSTANTIATE_TEST_SUITE_P(Scenes, DemoScene,
 namespace hapticd::simtest {
 namespace {
 
-double angleZ(const Quat& q) { return 2.0 * std::atan2(q.z, q.w); }
+double angleZ(const Quat& q) {
+  return 2.0 * std::atan2(q.z, q.w);
+}
 
 // gears.glb and its stream: the rod pushes a tooth of gear A round; A and B are on hinges, so
 // they turn (quasi-statically: no dynamics, no inertia) and A drives B through the mesh.
@@ -84,8 +89,10 @@ TEST(GearsScene, TheProbeTurnsOneGearAndItTurnsTheOther) {
   std::size_t ia = poses.size(), ib = poses.size();
   for (std::size_t i = 0; i < poses.size(); ++i) {
     const std::string& n = model->bodies[poses[i].body].name;
-    if (n.find("GearA") != std::string::npos) ia = i;
-    if (n.find("GearB") != std::string::npos) ib = i;
+    if (n.find("GearA") != std::string::npos)
+      ia = i;
+    if (n.find("GearB") != std::string::npos)
+      ib = i;
   }
   ASSERT_LT(ia, poses.size());
   ASSERT_LT(ib, poses.size());
@@ -98,15 +105,17 @@ TEST(GearsScene, TheProbeTurnsOneGearAndItTurnsTheOther) {
     // once A has turned more than the backlash (about 0.6 degrees), B turns the other way by
     // the same angle (19 teeth each), less the backlash
     if (std::abs(a) > 2.0 * std::numbers::pi / 180.0) {
-      worst_ratio_err = std::max(worst_ratio_err, std::abs(std::abs(b) - std::abs(a)) * 180.0 / std::numbers::pi);
+      worst_ratio_err =
+          std::max(worst_ratio_err, std::abs(std::abs(b) - std::abs(a)) * 180.0 / std::numbers::pi);
       EXPECT_LT(a * b, 0.0) << "at t = " << in.t_s;
     }
     max_force = std::max(max_force, glm::length(out.force_W_n));
   });
   f.print("gears turned by the probe");
-  std::printf("  gear A turned from %.2f to %.2f deg; | |B| - |A| | at most %.3f deg (backlash ~0.6); "
-              "largest force %.3f N\n", a_min * 180 / std::numbers::pi, a_max * 180 / std::numbers::pi,
-              worst_ratio_err, max_force);
+  std::printf(
+      "  gear A turned from %.2f to %.2f deg; | |B| - |A| | at most %.3f deg (backlash ~0.6); "
+      "largest force %.3f N\n",
+      a_min * 180 / std::numbers::pi, a_max * 180 / std::numbers::pi, worst_ratio_err, max_force);
   EXPECT_LT(a_min * 180 / std::numbers::pi, -20.0);  // the stream sweeps 30 degrees clockwise
   EXPECT_GT(a_max * 180 / std::numbers::pi, 10.0);   // and 60 back
   EXPECT_LT(worst_ratio_err, 1.0);
