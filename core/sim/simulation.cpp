@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/collision/collision_world.h"
+#include "core/collision/penetration.h"
 #include "core/response/coupling.h"
 #include "core/response/face_contact.h"
 #include "core/response/output_stage.h"
@@ -101,6 +102,7 @@ class SimulationImpl final : public Simulation {
   std::span<const BodyPose> bodyPoses() const override { return body_poses_; }
   void restartRamp() override { output_.restartRamp(); }
   const scene::SceneModel& scene() const override { return *scene_; }
+  void prepareThread() override;
 
  private:
   bool isHeld(std::uint32_t body) const {
@@ -185,6 +187,8 @@ class SimulationImpl final : public Simulation {
   std::uint32_t driven_count_ = 0;
   std::array<geom::Pose, response::ProxyProblem::kMaxDriven> driven_before_{};
   bool first_step_ = true;
+  const geom::Polytope* max_shape_ = nullptr;  // the polytope with the most faces
+  std::size_t max_faces_ = 0;
   double last_penetration_ = 0.0;  // of the rows at the current proxy pose
   geom::Pose X_W_probe_;           // the proxy: the probe body's pose
 };
@@ -341,6 +345,17 @@ Result<bool> SimulationImpl::build() {
     Vec3 axis{0.0};
     axis[j.hinge_axis] = 1.0;
     info.hinge_a_B = glm::normalize(rotate(j.X_AJ.rotation, axis));
+  }
+
+  // the polytope with the most faces (prepareThread)
+  for (std::uint32_t id = 0; id < info_.size(); ++id) {
+    const BodyInfo& bi = info_[id];
+    const std::size_t count =
+        bi.scene_index < 0 ? 1 : sc.bodies[static_cast<std::size_t>(bi.scene_index)].primitives.size();
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const geom::Polytope& shape = primShape(id, k);
+      if (shape.faces().size() > max_faces_) max_faces_ = shape.faces().size(), max_shape_ = &shape;
+    }
   }
 
   // capacities: every pair a moving primitive can make, bounded
@@ -687,8 +702,21 @@ void SimulationImpl::updateAttachment(const TickInput& input) {
   }
 }
 
+// the most faces this thread's narrow-phase scratch has been sized for
+thread_local std::size_t t_prepared_faces = 0;
+
+void SimulationImpl::prepareThread() {
+  if (t_prepared_faces >= max_faces_ || max_shape_ == nullptr) return;
+  // the exact depth sizes its scratch by the faces of both polytopes: the largest with itself
+  collision::DepthCache cache;
+  Transform X;
+  (void)collision::penetrationDepthExact(*max_shape_, *max_shape_, X, cache);
+  t_prepared_faces = max_faces_;
+}
+
 TickOutput SimulationImpl::step(const TickInput& input) {
   TickOutput out;
+  if (t_prepared_faces < max_faces_) prepareThread();
   if (first_step_ && info_[probe_].scene_index < 0 &&
       std::isfinite(input.X_W_device.translation.x) &&
       std::isfinite(input.X_W_device.translation.y) &&

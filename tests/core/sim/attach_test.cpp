@@ -57,6 +57,8 @@ TEST(Attach, GrabARigidBodyCarryItSetItDownAndLetGo) {
              {4.0, at(0.05, 0.06, 0), 0},
              {4.2, at(0.05, 0.06, 0), 0}});
   std::uint8_t mode_carrying = 0;
+  run.sim().prepareThread();  // as the daemon does on its servo thread before the first tick
+  const std::uint64_t allocations_before = testing_alloc::count();
   Vec3 box_carried{0.0}, box_end{0.0};
   double set_down_force = 0.0;
   const Figures f = run.run(path, [&](const sim::TickInput& in, const sim::TickOutput& out) {
@@ -68,7 +70,9 @@ TEST(Attach, GrabARigidBodyCarryItSetItDownAndLetGo) {
       set_down_force = out.force_W_n.y;
     box_end = run.sim().bodyPoses()[0].X_WB.translation;
   });
+  const std::uint64_t allocations = testing_alloc::count() - allocations_before;
   f.print("grab, carry, set down, let go");
+  EXPECT_EQ(allocations, 0u);  // grabbing and letting go allocate nothing
   std::printf(
       "  carried to (%.2f, %.2f, %.2f) mm; set down pressing 2 mm: %.3f N; left at (%.2f, %.2f, "
       "%.2f) mm\n",
@@ -142,7 +146,10 @@ TEST(Attach, AtTheRimTheProbeKeepsItsRadiusAndTurnsTheWheelUntilTheToothMeetsThe
   double angle_mid = 0.0, angle_blocked = 0.0, radial_pull = 0.0, tangential_blocked = 0.0;
   std::uint8_t mode = 0;
   double angle_end = 1.0;
-  const Figures f = run.run(Path(keys), [&](const sim::TickInput& in, const sim::TickOutput& out) {
+  const Path path(keys);
+  run.sim().prepareThread();  // as the daemon does on its servo thread before the first tick
+  const std::uint64_t allocations_before = testing_alloc::count();
+  const Figures f = run.run(path, [&](const sim::TickInput& in, const sim::TickOutput& out) {
     const double a = in.t_s;
     if (std::abs(a - 1.3) < 1e-9)
       angle_mid = wheelAngle(run.sim()), mode = out.attach_mode;
@@ -157,7 +164,9 @@ TEST(Attach, AtTheRimTheProbeKeepsItsRadiusAndTurnsTheWheelUntilTheToothMeetsThe
     }
     angle_end = wheelAngle(run.sim());
   });
+  const std::uint64_t allocations = testing_alloc::count() - allocations_before;
   f.print("attach at the rim");
+  EXPECT_EQ(allocations, 0u);
   std::printf(
       "  mode %u; wheel at %.2f deg when the hand is at 99 deg; blocked at %.2f deg (hand at "
       "120), tangential force %.3f N; pulled 3 mm out: radial force %.3f N; back at %.3f deg\n",

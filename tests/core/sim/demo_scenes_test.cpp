@@ -8,6 +8,7 @@
 #include <string>
 
 #include "core/scene/loader.h"
+#include "tests/core/alloc_counter.h"
 #include "tests/core/sim/harness.h"
 
 namespace hapticd::simtest {
@@ -31,13 +32,18 @@ TEST_P(DemoScene, ReplaysItsPoseStreamWithinTheInvariants) {
   ASSERT_TRUE(created.ok()) << created.error().message;
   Runner run(std::move(created).value(), o);
   std::uint32_t max_pairs = 0, clamped = 0, backed_off = 0;
-  const Figures f = run.run(Path(keys), [&](const sim::TickInput&, const sim::TickOutput& out) {
+  const Path path(keys);
+  run.sim().prepareThread();
+  const std::uint64_t allocations_before = testing_alloc::count();
+  const Figures f = run.run(path, [&](const sim::TickInput&, const sim::TickOutput& out) {
     max_pairs = std::max(max_pairs, out.pairs_tested);
     clamped += (out.flags & sim::kTickForceClamped) ? 1u : 0u;
     backed_off += (out.flags & sim::kTickBackedOff) ? 1u : 0u;
     EXPECT_EQ(out.flags & sim::kTickCapacityFull, 0u);
   });
+  const std::uint64_t allocations = testing_alloc::count() - allocations_before;
   f.print(name.c_str());
+  EXPECT_EQ(allocations, 0u);  // the whole stream, after prepareThread()
   std::printf(
       "  %zu bodies, stream %s, most pairs tested in a tick %u, ticks clamped %u, ticks "
       "whose step was bisected back %u\n",

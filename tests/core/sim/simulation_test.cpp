@@ -120,6 +120,7 @@ TEST(Simulation, StepAllocatesNothingAfterCreate) {
   const double r = o.probe_sphere_radius_m;
   Path path(
       {{0.0, at(0, r + 0.01, 0)}, {1.0, at(0, r - 0.01, 0.01)}, {2.0, at(0.01, r + 0.01, 0)}});
+  sim->prepareThread();  // as the daemon does on its servo thread
   const std::uint64_t before = testing_alloc::count();
   for (int k = 0; k <= 2000; ++k) {
     sim::TickInput in;
