@@ -56,6 +56,9 @@ struct WorldOptions {
   double box_margin = 0.0;
   SchedulerBudget budget;
   QueryOptions query;
+  /// A pair whose bodies have not been given a pose since its last test keeps that answer (it
+  /// is exact still) instead of being tested again; it stays listed in contacts() with its age.
+  bool skip_unmoved_pairs = false;
 };
 
 /// One primitive pair's answer this tick, in world coordinates.
@@ -123,6 +126,7 @@ class CollisionWorld {
     bool live = false;
     bool moved = false;
     bool asleep = false;
+    std::uint64_t moved_tick = 0;  // the step in which its last pose took effect
   };
   struct Prim {
     std::uint32_t body = 0, index = 0;  // body and index within it
@@ -143,6 +147,10 @@ class CollisionWorld {
   Transform primitiveTransform(const Prim& p) const;
   void applyEvents(StepStats* stats);
   void test(PairState& s);
+  bool unchanged(const PairState& s) const {
+    return s.last.answered && bodies_[prims_[s.prim_a].body].moved_tick <= s.last_tested &&
+           bodies_[prims_[s.prim_b].body].moved_tick <= s.last_tested;
+  }
   bool resting(const PairState& s) const {
     const Body& a = bodies_[prims_[s.prim_a].body];
     const Body& b = bodies_[prims_[s.prim_b].body];

@@ -83,6 +83,8 @@ class SimulationImpl final : public Simulation {
     // pairs within the predictive distance plus one tick's travel are found
     w.box_margin = 2.0 * delta;
     w.budget.max_pairs = o.max_pairs_per_tick;
+    // a pair of bodies that did not move keeps its exact answer
+    w.skip_unmoved_pairs = true;
     return w;
   }
   static response::OutputLimits outputLimits(const ResponseOptions& r) {
@@ -560,6 +562,7 @@ void SimulationImpl::setHeldPoses() {
 
 void SimulationImpl::applyStep(const response::ProxyStep& s) {
   for (std::uint32_t d = 0; d < driven_count_; ++d) {
+    if (s.driven_angle[d] == 0.0) continue;  // unmoved: its pairs keep their answers
     const std::uint32_t id = driven_ids_[d];
     const BodyInfo& bi = info_[id];
     geom::Pose X = world_.pose(id);
