@@ -477,6 +477,10 @@ void SimulationImpl::gatherRows(double* max_penetration) {
     const std::int32_t row_first = first == kRoleHeld ? -1 : first;
     const std::int32_t row_second = second < 0 ? -1 : second;
     pen = std::max(pen, -c.distance);
+    // a pair farther than the largest delta plus what one step can close (one safe distance
+    // per moving side) cannot act next tick: no rows
+    const double sides = second >= 0 ? 2.0 : 1.0;
+    if (c.distance > max_travel_ * (1.0 + sides)) continue;
     // the pair's stiffness: the environment body's felt stiffness k_f through the proxy's
     // contact spring k_p = k_f k_c / (k_c - k_f), so that k_c and k_p in series give k_f
     const double kf = info_[env].stiffness;
@@ -710,9 +714,11 @@ thread_local std::size_t t_prepared_faces = 0;
 
 void SimulationImpl::prepareThread() {
   if (t_prepared_faces >= max_faces_ || max_shape_ == nullptr) return;
-  // the exact depth sizes its scratch by the faces of both polytopes: the largest with itself
+  // the exact depth sizes its scratch by the faces of both polytopes before any work: the
+  // largest with itself, placed well apart so that the first separating face ends the query
   collision::DepthCache cache;
   Transform X;
+  X.t = Vec3{4.0 * max_shape_->radius(), 0.0, 0.0};
   (void)collision::penetrationDepthExact(*max_shape_, *max_shape_, X, cache);
   t_prepared_faces = max_faces_;
 }
