@@ -1,6 +1,7 @@
 #include "core/scene/gltf_document.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>

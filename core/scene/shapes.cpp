@@ -36,9 +36,10 @@ Result<SphereGrid> sphereGridFor(double tolerance, std::uint32_t max_vertices) {
   for (std::uint32_t bands = 2;; ++bands) {
     const std::uint64_t vertices =
         2 + static_cast<std::uint64_t>(bands - 1) * 2ull * static_cast<std::uint64_t>(bands);
-    if (vertices > max_vertices) {
+    if (vertices > max_vertices || bands > 4096) {
       return Error{"tessellation_tolerance " + std::to_string(tolerance) + " needs more than " +
-                   std::to_string(max_vertices) + " hull vertices (max_hull_vertices) for a sphere"};
+                   std::to_string(std::min<std::uint64_t>(vertices - 1, max_vertices)) +
+                   " hull vertices (max_hull_vertices) for a sphere"};
     }
     const std::uint32_t segments = 2 * bands;
     // the hull's faces are the grid's cells: polar triangles and planar trapezoids
@@ -60,7 +61,7 @@ Result<std::uint32_t> circleSegmentsFor(double tolerance, std::uint32_t max_vert
     return Error{"tessellation_tolerance " + std::to_string(tolerance) + " must be in (0, 0.5)"};
   }
   for (std::uint32_t n = 3;; ++n) {
-    if (2ull * n > max_vertices) {
+    if (2ull * n > max_vertices || n > 1000000) {
       return Error{"tessellation_tolerance " + std::to_string(tolerance) + " needs more than " +
                    std::to_string(max_vertices) +
                    " hull vertices (max_hull_vertices) for a cylinder"};

@@ -48,7 +48,8 @@ inline std::vector<CorpusFile> badCorpus() {
     out.push_back({std::move(name), std::move(bytes), std::move(expect), allow});
   };
   const std::vector<std::uint8_t> glb = baseScene().glb();
-  const std::size_t json_length = glb[12] | (glb[13] << 8) | (glb[14] << 16) | (std::size_t{glb[15]} << 24);
+  const std::size_t json_length = std::size_t{glb[12]} | (std::size_t{glb[13]} << 8) |
+                                  (std::size_t{glb[14]} << 16) | (std::size_t{glb[15]} << 24);
 
   // ---- the GLB container
   add("truncated.glb", {glb.begin(), glb.begin() + static_cast<std::ptrdiff_t>(glb.size() / 2)},
