@@ -7,7 +7,9 @@
 #include <cstring>
 #include <fstream>
 #include <limits>
+#include <array>
 #include <map>
+#include <tuple>
 #include <numeric>
 
 #include "core/scene/gltf_document.h"
@@ -131,9 +133,23 @@ class Builder {
   void addCollider(SceneModel& scene, std::uint32_t body, std::uint32_t node);
   void addPlane(SceneModel& scene, const PendingPlane& plane, const Vec3& lo, const Vec3& hi,
                 bool have_box);
-  bool finishPrimitive(Body& body, std::uint32_t node, ShapeSource source,
+  /// The collider's frame in its body: X_BP (rigid) and S, the scale and shear folded into
+  /// the points (A_BC = X_BP * S).
+  struct Placement {
+    Mat3 R{1.0}, S{1.0};
+    Vec3 t{0.0};
+  };
+  Placement placement(const Body& body, std::uint32_t node) const;
+  /// Hulls already built for the same geometry under the same scale are shared (a field of
+  /// identical pillars builds one hull). Key: kind (0 shape, 1 mesh hull, 2 convex mesh), index,
+  /// S exactly.
+  using HullKey = std::tuple<int, std::int32_t, std::array<double, 9>>;
+  static HullKey hullKey(int kind, std::int32_t index, const Mat3& S);
+  bool reuse(Body& body, std::uint32_t node, ShapeSource source, const Placement& at,
+             const HullKey& key);
+  bool finishPrimitive(Body& body, std::uint32_t node, ShapeSource source, const Placement& at,
                        const std::vector<Vec3>& points_C, const std::vector<std::uint32_t>* tris,
-                       const std::string& mesh_name);
+                       const std::string& mesh_name, const HullKey* key);
   void massProperties(Body& body, const detail::MotionDef& motion, std::uint32_t node);
   void buildJoints(SceneModel& scene);
   void filterBits(SceneModel& scene);
@@ -150,6 +166,7 @@ class Builder {
   std::vector<std::uint32_t> order_;       // scene nodes, parents before children
   std::vector<PendingPlane> planes_;
   std::uint64_t hull_points_ = 0;
+  std::map<HullKey, std::shared_ptr<const geom::Polytope>> hulls_;
   std::optional<detail::SphereGrid> grid_;
   std::optional<std::uint32_t> segments_;
 };
@@ -338,22 +355,47 @@ bool Builder::meshGeometry(std::uint32_t node, std::vector<Vec3>* points,
   return true;
 }
 
-bool Builder::finishPrimitive(Body& body, std::uint32_t node, ShapeSource source,
-                              const std::vector<Vec3>& points_C,
-                              const std::vector<std::uint32_t>* tris,
-                              const std::string& mesh_name) {
+Builder::Placement Builder::placement(const Body& body, std::uint32_t node) const {
   // collider frame C -> body frame B: A_BC = X_WB^-1 * W_C (with scale); its rigid part is
   // X_BP, the rest (scale, shear) is folded into the points: p_P = S * p_C
-  const Transform X_WB = body.X_WB.toTransform();
-  const Transform X_BW = X_WB.inverse();
+  const Transform X_BW = body.X_WB.toTransform().inverse();
   const glm::dmat4& W = world_[node];
-  const Mat3 A = X_BW.R * Mat3(W);
-  const Vec3 t = X_BW.apply(Vec3(W[3]));
-  Mat3 R, S;
-  detail::splitRigid(A, &R, &S);
+  Placement at;
+  at.t = X_BW.apply(Vec3(W[3]));
+  detail::splitRigid(X_BW.R * Mat3(W), &at.R, &at.S);
+  return at;
+}
+
+Builder::HullKey Builder::hullKey(int kind, std::int32_t index, const Mat3& S) {
+  std::array<double, 9> m{};
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r) m[static_cast<std::size_t>(3 * c + r)] = S[c][r];
+  }
+  return {kind, index, m};
+}
+
+bool Builder::reuse(Body& body, std::uint32_t node, ShapeSource source, const Placement& at,
+                    const HullKey& key) {
+  const auto it = hulls_.find(key);
+  if (it == hulls_.end()) return false;
+  Primitive prim;
+  prim.shape = it->second;
+  prim.X_BP.translation = at.t;
+  prim.X_BP.rotation = glm::normalize(glm::quat_cast(at.R));
+  prim.source = source;
+  prim.node = static_cast<std::int32_t>(node);
+  prim.material = doc_.nodes[node].collider->material;
+  body.primitives.push_back(std::move(prim));
+  return true;
+}
+
+bool Builder::finishPrimitive(Body& body, std::uint32_t node, ShapeSource source,
+                              const Placement& at, const std::vector<Vec3>& points_C,
+                              const std::vector<std::uint32_t>* tris,
+                              const std::string& mesh_name, const HullKey* key) {
   std::vector<Vec3> points_P;
   points_P.reserve(points_C.size());
-  for (const Vec3& p : points_C) points_P.push_back(S * p);
+  for (const Vec3& p : points_C) points_P.push_back(at.S * p);
   if (hull_points_ > options_.limits.max_total_hull_input_points) {
     p_->add(where(node), "the scene's colliders have more than max_total_hull_input_points (" +
                              std::to_string(options_.limits.max_total_hull_input_points) +
@@ -379,14 +421,15 @@ bool Builder::finishPrimitive(Body& body, std::uint32_t node, ShapeSource source
       return false;
     }
   }
+  auto shape = std::make_shared<const geom::Polytope>(std::move(poly).value());
+  if (key) hulls_.emplace(*key, shape);
   Primitive prim;
-  prim.shape = std::make_shared<const geom::Polytope>(std::move(poly).value());
-  prim.X_BP.translation = t;
-  prim.X_BP.rotation = glm::normalize(glm::quat_cast(R));
+  prim.shape = std::move(shape);
+  prim.X_BP.translation = at.t;
+  prim.X_BP.rotation = glm::normalize(glm::quat_cast(at.R));
   prim.source = source;
   prim.node = static_cast<std::int32_t>(node);
-  const auto& collider = *doc_.nodes[node].collider;
-  prim.material = collider.material;
+  prim.material = doc_.nodes[node].collider->material;
   body.primitives.push_back(std::move(prim));
   return true;
 }
@@ -400,8 +443,17 @@ void Builder::addCollider(SceneModel& scene, std::uint32_t body_index, std::uint
   }
   const double tol = options_.limits.tessellation_tolerance;
   const std::uint32_t max_v = options_.limits.max_hull_vertices;
+  const Placement at = placement(body, node);
   if (collider.shape >= 0) {
     const detail::ShapeDef& shape = doc_.shapes[static_cast<std::size_t>(collider.shape)];
+    static constexpr ShapeSource kSources[] = {ShapeSource::kBox, ShapeSource::kSphere,
+                                               ShapeSource::kCapsule, ShapeSource::kCylinder,
+                                               ShapeSource::kPlane};
+    const HullKey key = hullKey(0, collider.shape, at.S);
+    if (shape.type != ShapeType::kPlane &&
+        reuse(body, node, kSources[static_cast<int>(shape.type)], at, key)) {
+      return;
+    }
     std::vector<Vec3> points;
     ShapeSource source = ShapeSource::kBox;
     const auto needGrid = [&](std::optional<detail::SphereGrid>* grid, std::uint32_t limit) {
@@ -460,10 +512,13 @@ void Builder::addCollider(SceneModel& scene, std::uint32_t body_index, std::uint
         return;
     }
     hull_points_ += points.size();
-    finishPrimitive(body, node, source, points, nullptr, "");
+    finishPrimitive(body, node, source, at, points, nullptr, "", &key);
     return;
   }
   const auto g = static_cast<std::uint32_t>(collider.geometry_node);
+  const HullKey key = hullKey(collider.convex_hull ? 1 : 2, collider.geometry_node, at.S);
+  const ShapeSource source = collider.convex_hull ? ShapeSource::kMeshHull : ShapeSource::kConvexMesh;
+  if (reuse(body, node, source, at, key)) return;
   std::vector<Vec3> points;
   std::vector<std::uint32_t> triangles;
   if (!meshGeometry(g, &points, &triangles)) return;
@@ -473,8 +528,8 @@ void Builder::addCollider(SceneModel& scene, std::uint32_t body_index, std::uint
   } else {
     mesh_name = "the meshes under " + where(g);
   }
-  finishPrimitive(body, node, collider.convex_hull ? ShapeSource::kMeshHull : ShapeSource::kConvexMesh,
-                  points, collider.convex_hull ? nullptr : &triangles, mesh_name);
+  finishPrimitive(body, node, source, at, points, collider.convex_hull ? nullptr : &triangles,
+                  mesh_name, &key);
 }
 
 void Builder::addPlane(SceneModel& scene, const PendingPlane& plane, const Vec3& lo,
@@ -509,7 +564,9 @@ void Builder::addPlane(SceneModel& scene, const PendingPlane& plane, const Vec3&
                         centre_C.z + ((i & 4) ? half : -half)});
     }
   }
-  finishPrimitive(scene.bodies[plane.body], plane.node, ShapeSource::kPlane, points, nullptr, "");
+  Body& body = scene.bodies[plane.body];
+  finishPrimitive(body, plane.node, ShapeSource::kPlane, placement(body, plane.node), points,
+                  nullptr, "", nullptr);
 }
 
 void Builder::massProperties(Body& body, const detail::MotionDef& motion, std::uint32_t node) {
@@ -722,10 +779,11 @@ std::optional<SceneModel> Builder::build(const std::string& name) {
       const NodeDef& def = doc_.nodes[k];
       const bool body_root = def.motion.has_value() || (def.probe && owner_[k] < 0);
       if (body_root) owner_[k] = static_cast<std::int32_t>(k);
-      for (std::uint32_t child : def.children) {
-        owner_[child] = owner_[k];
-        root_[child] = root_[k];
-        stack.push_back(child);
+      // reversed onto the stack: children come out in document order
+      for (auto it = def.children.rbegin(); it != def.children.rend(); ++it) {
+        owner_[*it] = owner_[k];
+        root_[*it] = root_[k];
+        stack.push_back(*it);
       }
     }
   }

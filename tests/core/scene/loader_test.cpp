@@ -744,3 +744,82 @@ TEST(SceneLoader, LimitsAreEnforced) {
 
 }  // namespace
 }  // namespace hapticd::scene
+
+namespace hapticd::scene {
+namespace {
+
+Body codeBody(Motion motion, std::int32_t material) {
+  Body b;
+  b.motion = motion;
+  Primitive p;
+  p.material = material;
+  b.primitives.push_back(p);
+  return b;
+}
+
+TEST(ScenePlan, OnlyWhatTheSceneCallsFor) {
+  SceneModel s;
+  s.materials.push_back(Material{"grippy", 0.8, 0.7, 0.0});
+  s.materials.push_back(Material{"bouncy", 0.0, 0.0, 0.9});
+  // kinematic bodies alone: contact forces, nothing else
+  s.bodies.push_back(codeBody(Motion::kKinematic, -1));
+  s.bodies.push_back(codeBody(Motion::kStatic, 0));
+  s.gravity_W = Vec3{0.0, -9.81, 0.0};
+  SimulationPlan p = makePlan(s);
+  EXPECT_TRUE(p.contact_forces);
+  EXPECT_FALSE(p.dynamics);
+  EXPECT_FALSE(p.gravity);       // declared, but nothing dynamic
+  EXPECT_FALSE(p.friction);      // the kinematic body is not the probe
+  EXPECT_EQ(p.static_primitives, 1u);
+  EXPECT_EQ(p.moving_primitives, 1u);
+  // the kinematic body becomes the probe: the static grippy floor gives it friction
+  s.bodies[0].probe = true;
+  s.probe_body = 0;
+  p = makePlan(s);
+  EXPECT_TRUE(p.friction);
+  EXPECT_FALSE(p.restitution);   // restitution needs a dynamic body
+  // a dynamic bouncy body: dynamics, gravity, restitution
+  s.bodies.push_back(codeBody(Motion::kDynamic, 1));
+  p = makePlan(s);
+  EXPECT_TRUE(p.dynamics);
+  EXPECT_TRUE(p.gravity);
+  EXPECT_TRUE(p.restitution);
+  // zero gravity declared: no gravity stage
+  s.gravity_W = Vec3{0.0};
+  EXPECT_FALSE(makePlan(s).gravity);
+  s.gravity_W.reset();
+  EXPECT_FALSE(makePlan(s).gravity);
+  EXPECT_FALSE(makePlan(s).joints);
+  s.joints.push_back(Joint{});
+  EXPECT_TRUE(makePlan(s).joints);
+}
+
+}  // namespace
+}  // namespace hapticd::scene
+
+namespace hapticd::scene {
+namespace {
+
+TEST(SceneLoader, IdenticalCollidersShareOneHull) {
+  GltfBuilder b;
+  const int box = b.box({0.1, 0.4, 0.1});
+  json field = GltfBuilder::node("Field");
+  const int f = b.addNode(field);
+  for (int i = 0; i < 3; ++i) staticShape(b, "Pillar" + std::to_string(i), box, {0.3 * i, 0.0, 0.0}, f);
+  json big = GltfBuilder::node("Big", {2.0, 0.0, 0.0});
+  big["scale"] = {2.0, 2.0, 2.0};
+  GltfBuilder::physics(big)["collider"] = GltfBuilder::shapeCollider(box);
+  b.addNode(big, f);
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  ASSERT_EQ(r.scene->bodies.size(), 1u);  // one static body for the root Field
+  const auto& prims = r.scene->bodies[0].primitives;
+  ASSERT_EQ(prims.size(), 4u);
+  EXPECT_EQ(prims[0].shape.get(), prims[1].shape.get());
+  EXPECT_EQ(prims[0].shape.get(), prims[2].shape.get());
+  EXPECT_NE(prims[0].shape.get(), prims[3].shape.get());  // scaled: its own hull
+  EXPECT_NEAR(prims[2].X_BP.translation.x - prims[0].X_BP.translation.x, 0.6, 1e-12);
+}
+
+}  // namespace
+}  // namespace hapticd::scene
