@@ -15,11 +15,13 @@ namespace {
 
 std::vector<std::uint8_t> readFile(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return {};
+  if (!in)
+    return {};
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-void loadBytes(benchmark::State& state, const std::vector<std::uint8_t>& bytes,
+void loadBytes(benchmark::State& state,
+               const std::vector<std::uint8_t>& bytes,
                const std::string& name) {
   std::size_t primitives = 0;
   for (auto _ : state) {
@@ -82,12 +84,18 @@ void BM_SceneLoad10MB(benchmark::State& state) {
   loadBytes(state, bytes, "10MB.glb");
 }
 
-BENCHMARK_CAPTURE(demoScene, gears, "gears")->Name("SceneLoad/gears")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(demoScene, gears, "gears")
+    ->Name("SceneLoad/gears")
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(demoScene, peg_in_hole, "peg_in_hole")
     ->Name("SceneLoad/peg_in_hole")
     ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(demoScene, dynamic, "dynamic")->Name("SceneLoad/dynamic")->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(demoScene, stress, "stress")->Name("SceneLoad/stress")->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(demoScene, dynamic, "dynamic")
+    ->Name("SceneLoad/dynamic")
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(demoScene, stress, "stress")
+    ->Name("SceneLoad/stress")
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_SceneLoad10MB)->Name("SceneLoad/10MB")->Unit(benchmark::kMillisecond);
 
 }  // namespace

@@ -13,7 +13,8 @@ int main(int argc, char** argv) {
   std::size_t count = 0;
   const auto run = [&](const fs::path& path) {
     std::ifstream in(path, std::ios::binary);
-    const std::vector<char> bytes{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+    const std::vector<char> bytes{std::istreambuf_iterator<char>(in),
+                                  std::istreambuf_iterator<char>()};
     LLVMFuzzerTestOneInput(reinterpret_cast<const std::uint8_t*>(bytes.data()), bytes.size());
     ++count;
   };
@@ -21,7 +22,8 @@ int main(int argc, char** argv) {
     const fs::path arg = argv[i];
     if (fs::is_directory(arg)) {
       for (const auto& e : fs::recursive_directory_iterator(arg)) {
-        if (e.is_regular_file()) run(e.path());
+        if (e.is_regular_file())
+          run(e.path());
       }
     } else if (fs::is_regular_file(arg)) {
       run(arg);

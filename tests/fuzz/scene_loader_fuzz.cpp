@@ -13,6 +13,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   options.limits.max_total_hull_input_points = 100000;
   options.limits.tessellation_tolerance = 1e-2;
   const auto report = hapticd::scene::loadScene(std::span(data, size), "fuzz", options);
-  if (report.ok() == report.problems.empty()) return 0;
+  if (report.ok() == report.problems.empty())
+    return 0;
   __builtin_trap();  // the report must be a scene or problems, never both or neither
 }
