@@ -1181,7 +1181,10 @@ bool validateDocument(const nlohmann::json& root,
   for (std::size_t i = 0; i < node_count; ++i) {
     for (std::uint32_t child : doc->nodes[i].children) {
       NodeDef& cn = doc->nodes[child];
-      if (cn.parent >= 0) {
+      if (cn.parent == static_cast<std::int32_t>(i)) {
+        c.add(nodeWhere(*doc, child),
+              "is listed twice among the children of " + nodeWhere(*doc, i));
+      } else if (cn.parent >= 0) {
         c.add(nodeWhere(*doc, child), "has two parents (" +
                                           nodeWhere(*doc, static_cast<std::size_t>(cn.parent)) +
                                           " and " + nodeWhere(*doc, i) + ")");
@@ -1225,6 +1228,7 @@ bool validateDocument(const nlohmann::json& root,
       const json& s = (*scenes)[i];
       const std::string w = "scene " + std::to_string(i);
       std::vector<std::uint32_t> roots;
+      std::vector<bool> listed(node_count, false);
       const json* list = nullptr;
       if (c.array(s, "nodes", w, &list) == Got::kOk) {
         for (const json& e : *list) {
@@ -1236,11 +1240,11 @@ bool validateDocument(const nlohmann::json& root,
                          " is listed as a root but has a parent");
             continue;
           }
-          if (std::find(roots.begin(), roots.end(), static_cast<std::uint32_t>(idx)) !=
-              roots.end()) {
+          if (listed[static_cast<std::size_t>(idx)]) {
             c.add(w, nodeWhere(*doc, static_cast<std::size_t>(idx)) + " is listed twice");
             continue;
           }
+          listed[static_cast<std::size_t>(idx)] = true;
           roots.push_back(static_cast<std::uint32_t>(idx));
         }
       }

@@ -23,6 +23,8 @@ class Problems {
   static constexpr std::size_t kMax = 200;
   void add(std::string where, std::string what);
   bool any() const { return !list_.empty() || dropped_ > 0; }
+  /// The list is full: further work would only be counted, not reported.
+  bool full() const { return list_.size() >= kMax; }
   std::vector<Problem> take();
 
  private:

@@ -366,6 +366,14 @@ bool Builder::meshGeometry(std::uint32_t node,
         return false;
       }
       const std::size_t first = points->size();
+      const std::uint64_t count_declared =
+          doc_.accessors[static_cast<std::size_t>(prim.position)].count;
+      if (hull_points_ + count_declared > options_.limits.max_total_hull_input_points) {
+        p_->add(where(node), "the scene's colliders have more than max_total_hull_input_points (" +
+                                 std::to_string(options_.limits.max_total_hull_input_points) +
+                                 ") hull input points in all");
+        return false;
+      }
       if (!readPositions(static_cast<std::size_t>(prim.position), use + " POSITION", points)) {
         return false;
       }
@@ -949,6 +957,8 @@ std::optional<SceneModel> Builder::build(const std::string& name) {
   for (std::uint32_t k : order_) {
     if (!doc_.nodes[k].collider)
       continue;
+    if (p_->full())
+      break;  // a hostile file: stop building once the report is full
     addCollider(scene, static_cast<std::uint32_t>(bodyIndexOf(k)), k);
   }
   if (p_->any())

@@ -231,6 +231,18 @@ inline std::vector<CorpusFile> badCorpus() {
   }
   {
     GltfBuilder b = baseScene();
+    b.doc["scenes"][0]["nodes"] = {0};
+    b.doc["nodes"][0]["children"] = {1, 1};
+    add("duplicate_child.gltf", bytesOf(b.gltf()),
+        "node 1 'Cube': is listed twice among the children of node 0 'Floor'");
+  }
+  {
+    GltfBuilder b = baseScene();
+    b.doc["scenes"][0]["nodes"] = {0, 1, 0};
+    add("duplicate_scene_root.gltf", bytesOf(b.gltf()), "scene 0: node 0 'Floor' is listed twice");
+  }
+  {
+    GltfBuilder b = baseScene();
     b.doc["nodes"].push_back({{"name", "Other"}, {"children", {1}}});
     b.doc["nodes"][0]["children"] = {1};
     add("two_parents.gltf", bytesOf(b.gltf()),

@@ -761,6 +761,27 @@ TEST(SceneLoader, LimitsAreEnforced) {
   options = {};
   options.limits.max_bodies = 2;
   EXPECT_TRUE(hasProblem(load(b, options), "5 bodies exceeds max_bodies (2)"));
+  {
+    // three colliders on one mesh at three scales: three hulls of 8 points, over a budget of 20
+    GltfBuilder m;
+    const int mesh = m.addMesh(testing::cubeMesh(), "CubeMesh");
+    for (int i = 0; i < 3; ++i) {
+      json n = GltfBuilder::node("C" + std::to_string(i), {2.0 * i, 0.0, 0.0});
+      n["mesh"] = mesh;
+      n["scale"] = {1.0 + i, 1.0, 1.0};
+      GltfBuilder::physics(n)["collider"] = {{"geometry", {{"node", i}}}};
+      m.addNode(n);
+    }
+    options = {};
+    options.limits.max_total_hull_input_points = 20;
+    const LoadReport r = load(m, options);
+    EXPECT_TRUE(hasProblem(r,
+                           "node 2 'C2': the scene's colliders have more than "
+                           "max_total_hull_input_points (20)"))
+        << r.message();
+    options.limits.max_total_hull_input_points = 24;
+    EXPECT_TRUE(load(m, options).ok());
+  }
   GltfBuilder s;
   staticShape(s, "Ball", s.sphere(1.0), {0.0, 0.0, 0.0});
   options = {};
