@@ -100,7 +100,7 @@ TEST(SceneRoundTrip, GearsAreTwoDynamicBodiesOnHingesWithoutGravity) {
     for (const auto& p : b->primitives) {
       EXPECT_EQ(p.source, ShapeSource::kMeshHull);
       const std::size_t n = p.shape->vertices().size();
-      if (n == 2u * g.teeth) ++hubs;
+      if (n == 2u * static_cast<unsigned>(g.teeth)) ++hubs;
       if (n == 20u) ++teeth;  // a 10-gon prism
       // every point within the tip circle and the face width
       for (const auto& q : worldPoints(*b, p)) {
@@ -132,7 +132,7 @@ TEST(SceneRoundTrip, GearsAreTwoDynamicBodiesOnHingesWithoutGravity) {
   EXPECT_TRUE(handle->probe);
   EXPECT_EQ(s.probe_body, indexOf(s, handle));
   ASSERT_EQ(handle->primitives.size(), 1u);
-  EXPECT_EQ(handle->primitives[0].shape->vertices().size(), 2u * gears::kRodSides);
+  EXPECT_EQ(handle->primitives[0].shape->vertices().size(), 2u * static_cast<unsigned>(gears::kRodSides));
   EXPECT_FALSE(s.gravity_W.has_value());
   EXPECT_TRUE(s.materials.empty());
   EXPECT_TRUE(s.plan.contact_forces);
@@ -302,8 +302,10 @@ TEST(SceneRoundTrip, StressHasOverAThousandPrimitivesMostlyStatic) {
   EXPECT_TRUE(sweeper->probe);
   ASSERT_EQ(sweeper->primitives.size(), 1u);
   EXPECT_EQ(sweeper->primitives[0].source, ShapeSource::kSphere);
+  // tessellated within the default tolerance (a fraction of the sphere's diameter)
+  const double tol = scene::SceneLimits{}.tessellation_tolerance * 2.0 * stress::kSweeperRadius_m;
   for (const auto& v : sweeper->primitives[0].shape->vertices())
-    EXPECT_LE(glm::length(v.p), stress::kSweeperRadius_m * (1 + 1e-9));
+    EXPECT_NEAR(glm::length(v.p), stress::kSweeperRadius_m, tol);
   int blocks = 0;
   for (const Body& b : s.bodies) {
     if (b.name.rfind("Block", 0) != 0) continue;
