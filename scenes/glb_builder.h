@@ -9,11 +9,10 @@
 
 #include <array>
 #include <cstdint>
-#include <string>
-#include <vector>
-
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 namespace hapticd::scenes {
 
@@ -39,8 +38,10 @@ Json jsonQuatAxisAngle(const Vec3& axis, double angle_rad);
 class GltfBuilder {
  public:
   /// A core glTF material (pbrMetallicRoughness) for viewers; rgba in 0..1.
-  int addRenderMaterial(const std::string& name, const std::array<double, 4>& rgba,
-                        double metallic, double roughness);
+  int addRenderMaterial(const std::string& name,
+                        const std::array<double, 4>& rgba,
+                        double metallic,
+                        double roughness);
   /// A mesh with one triangle primitive: a POSITION accessor (float32, with min and max) and an
   /// index accessor (uint16 when the vertex count allows, else uint32). render_material < 0: none.
   int addMesh(const std::string& name, const MeshData& mesh, int render_material);
@@ -83,6 +84,7 @@ class GltfBuilder {
 };
 
 /// Packs a glTF JSON document and its binary buffer as GLB (no BIN chunk when `bin` is empty).
-std::vector<std::uint8_t> packGlb(const std::string& json_text, const std::vector<std::uint8_t>& bin);
+std::vector<std::uint8_t> packGlb(const std::string& json_text,
+                                  const std::vector<std::uint8_t>& bin);
 
 }  // namespace hapticd::scenes
