@@ -323,10 +323,17 @@ TEST(SceneRoundTrip, StressHasOverAThousandPrimitivesMostlyStatic) {
   const double tol = scene::SceneLimits{}.tessellation_tolerance * 2.0 * stress::kSweeperRadius_m;
   for (const auto& v : sweeper->primitives[0].shape->vertices())
     EXPECT_NEAR(glm::length(v.p), stress::kSweeperRadius_m, tol);
+  expectPose(*sweeper, {-0.52, 0.1, stress::pillarCoordinate(4)}, kIdentity, 1e-12);
   int blocks = 0;
   for (const Body& b : s.bodies) {
     if (b.name.rfind("Block", 0) != 0)
       continue;
+    const int k = std::stoi(b.name.substr(5));
+    const double y = stress::kPillarSize_m[1] + 0.5 * stress::kBlockSide_m + 0.001;
+    expectPose(b,
+               {stress::blockCoordinate(k / stress::kBlocksPerSide), y,
+                stress::blockCoordinate(k % stress::kBlocksPerSide)},
+               kIdentity, 1e-12);
     ++blocks;
     EXPECT_EQ(b.motion, Motion::kDynamic);
     EXPECT_DOUBLE_EQ(b.mass, stress::kBlockMass_kg);
