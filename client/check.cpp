@@ -1,8 +1,7 @@
 #include "client/check.h"
 
-#include <nlohmann/json.hpp>
-
 #include <cstdio>
+#include <nlohmann/json.hpp>
 
 namespace hapticd::client {
 namespace {
@@ -12,23 +11,34 @@ using scene::ShapeSource;
 
 const char* motionName(Motion m) {
   switch (m) {
-    case Motion::kStatic: return "static";
-    case Motion::kKinematic: return "kinematic";
-    case Motion::kDynamic: return "dynamic";
+    case Motion::kStatic:
+      return "static";
+    case Motion::kKinematic:
+      return "kinematic";
+    case Motion::kDynamic:
+      return "dynamic";
   }
   return "?";
 }
 
 const char* sourceName(ShapeSource s) {
   switch (s) {
-    case ShapeSource::kBox: return "box";
-    case ShapeSource::kSphere: return "sphere";
-    case ShapeSource::kCapsule: return "capsule";
-    case ShapeSource::kCylinder: return "cylinder";
-    case ShapeSource::kPlane: return "plane";
-    case ShapeSource::kMeshHull: return "mesh hull";
-    case ShapeSource::kConvexMesh: return "convex mesh";
-    case ShapeSource::kCode: return "code";
+    case ShapeSource::kBox:
+      return "box";
+    case ShapeSource::kSphere:
+      return "sphere";
+    case ShapeSource::kCapsule:
+      return "capsule";
+    case ShapeSource::kCylinder:
+      return "cylinder";
+    case ShapeSource::kPlane:
+      return "plane";
+    case ShapeSource::kMeshHull:
+      return "mesh hull";
+    case ShapeSource::kConvexMesh:
+      return "convex mesh";
+    case ShapeSource::kCode:
+      return "code";
   }
   return "?";
 }
@@ -40,9 +50,12 @@ std::string num(double v) {
 }
 
 nlohmann::json planJson(const scene::SimulationPlan& p) {
-  return {{"contact_forces", p.contact_forces}, {"dynamics", p.dynamics},
-          {"gravity", p.gravity},               {"friction", p.friction},
-          {"restitution", p.restitution},       {"joints", p.joints},
+  return {{"contact_forces", p.contact_forces},
+          {"dynamics", p.dynamics},
+          {"gravity", p.gravity},
+          {"friction", p.friction},
+          {"restitution", p.restitution},
+          {"joints", p.joints},
           {"static_primitives", p.static_primitives},
           {"moving_primitives", p.moving_primitives}};
 }
@@ -59,7 +72,8 @@ nlohmann::json sceneJson(const scene::SceneModel& s) {
                          {"mass_declared", body.mass_declared},
                          {"probe", body.probe},
                          {"primitives", body.primitives.size()}};
-    if (body.stiffness_n_per_m) jb["stiffness_n_per_m"] = *body.stiffness_n_per_m;
+    if (body.stiffness_n_per_m)
+      jb["stiffness_n_per_m"] = *body.stiffness_n_per_m;
     bodies.push_back(jb);
     for (std::size_t k = 0; k < body.primitives.size(); ++k) {
       const scene::Primitive& p = body.primitives[k];
@@ -72,12 +86,17 @@ nlohmann::json sceneJson(const scene::SceneModel& s) {
                        {"material", p.material}});
     }
   }
-  nlohmann::json out = {{"ok", true},           {"name", s.name},
-                        {"bodies", bodies},     {"primitives", prims},
-                        {"joints", s.joints.size()}, {"materials", s.materials.size()},
-                        {"probe_body", s.probe_body}, {"length_scale_m", s.length_scale},
+  nlohmann::json out = {{"ok", true},
+                        {"name", s.name},
+                        {"bodies", bodies},
+                        {"primitives", prims},
+                        {"joints", s.joints.size()},
+                        {"materials", s.materials.size()},
+                        {"probe_body", s.probe_body},
+                        {"length_scale_m", s.length_scale},
                         {"plan", planJson(s.plan)}};
-  if (s.gravity_W) out["gravity"] = {s.gravity_W->x, s.gravity_W->y, s.gravity_W->z};
+  if (s.gravity_W)
+    out["gravity"] = {s.gravity_W->x, s.gravity_W->y, s.gravity_W->z};
   return out;
 }
 
@@ -97,11 +116,14 @@ std::string describeScene(const scene::SceneModel& s) {
     const scene::Body& body = s.bodies[b];
     out += "  " + std::to_string(b) + " '" + body.name + "' " + motionName(body.motion);
     if (body.motion == Motion::kDynamic) {
-      out += ", mass " + (body.inverse_mass == 0.0 ? std::string("infinite") : num(body.mass) + " kg") +
+      out += ", mass " +
+             (body.inverse_mass == 0.0 ? std::string("infinite") : num(body.mass) + " kg") +
              (body.mass_declared ? " (declared)" : " (computed at 1000 kg/m^3)");
     }
-    if (body.probe) out += ", probe";
-    if (body.stiffness_n_per_m) out += ", stiffness " + num(*body.stiffness_n_per_m) + " N/m";
+    if (body.probe)
+      out += ", probe";
+    if (body.stiffness_n_per_m)
+      out += ", stiffness " + num(*body.stiffness_n_per_m) + " N/m";
     out += ", " + std::to_string(body.primitives.size()) + " primitives\n";
     primitives += body.primitives.size();
   }
@@ -119,8 +141,8 @@ std::string describeScene(const scene::SceneModel& s) {
   if (!s.joints.empty()) {
     out += "joints:\n";
     for (const scene::Joint& j : s.joints) {
-      out += "  " + std::string(j.kind == scene::JointKind::kFixed ? "fixed" : "hinge") + " between body " +
-             std::to_string(j.body_a) + " and " +
+      out += "  " + std::string(j.kind == scene::JointKind::kFixed ? "fixed" : "hinge") +
+             " between body " + std::to_string(j.body_a) + " and " +
              (j.body_b < 0 ? std::string("the scene") : "body " + std::to_string(j.body_b)) + "\n";
     }
   }
@@ -130,13 +152,16 @@ std::string describeScene(const scene::SceneModel& s) {
   while (start < plan.size()) {
     const std::size_t end = plan.find('\n', start);
     out += "  " + plan.substr(start, end - start) + "\n";
-    if (end == std::string::npos) break;
+    if (end == std::string::npos)
+      break;
     start = end + 1;
   }
   return out;
 }
 
-int runCheck(const std::filesystem::path& path, const CheckOptions& options, std::ostream& out,
+int runCheck(const std::filesystem::path& path,
+             const CheckOptions& options,
+             std::ostream& out,
              std::ostream& err) {
   const scene::LoadReport report = scene::loadSceneFile(path, options.load);
   if (!report.ok()) {

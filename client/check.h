@@ -20,7 +20,9 @@ struct CheckOptions {
 /// Checks the scene file `path`. Exit status: 0 when it loads (the report on `out`), 1 when it
 /// does not: every problem as "FILE: where: what" on `err`, one per line (with --json the report,
 /// problems included, also goes to `out`). Any thread but the servo thread.
-int runCheck(const std::filesystem::path& path, const CheckOptions& options, std::ostream& out,
+int runCheck(const std::filesystem::path& path,
+             const CheckOptions& options,
+             std::ostream& out,
              std::ostream& err);
 
 /// The text report of a loaded scene (what runCheck prints on success).

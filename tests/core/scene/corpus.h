@@ -37,7 +37,8 @@ inline GltfBuilder baseScene() {
 }
 
 inline void putU32(std::vector<std::uint8_t>& v, std::size_t at, std::uint32_t x) {
-  for (int k = 0; k < 4; ++k) v[at + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(x >> (8 * k));
+  for (int k = 0; k < 4; ++k)
+    v[at + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(x >> (8 * k));
 }
 
 inline std::vector<CorpusFile> badCorpus() {
@@ -48,7 +49,8 @@ inline std::vector<CorpusFile> badCorpus() {
     out.push_back({std::move(name), std::move(bytes), std::move(expect), allow});
   };
   const std::vector<std::uint8_t> glb = baseScene().glb();
-  const std::size_t json_length = glb[12] | (glb[13] << 8) | (glb[14] << 16) | (std::size_t{glb[15]} << 24);
+  const std::size_t json_length = std::size_t{glb[12]} | (std::size_t{glb[13]} << 8) |
+                                  (std::size_t{glb[14]} << 16) | (std::size_t{glb[15]} << 24);
 
   // ---- the GLB container
   add("truncated.glb", {glb.begin(), glb.begin() + static_cast<std::ptrdiff_t>(glb.size() / 2)},
@@ -99,29 +101,37 @@ inline std::vector<CorpusFile> badCorpus() {
     const std::string real = "\"byteLength\":" + std::to_string(b.bin.size()) + "}";
     const std::string lie = "\"byteLength\":" + std::to_string(b.bin.size() + 64) + "}";
     const std::size_t at = s.find(real);
-    if (at != std::string::npos && lie.size() == real.size()) s.replace(at, real.size(), lie);
+    if (at != std::string::npos && lie.size() == real.size())
+      s.replace(at, real.size(), lie);
     add("buffer_longer_than_bin_chunk.glb", {s.begin(), s.end()}, "exceeds the GLB BIN chunk");
   }
 
   // ---- JSON
-  add("json_syntax_error.gltf", text(R"({"asset": {"version": "2.0"}, "nodes": [,]})"), "JSON syntax error at byte");
-  add("json_truncated.gltf", text(R"({"asset": {"version": "2.0"}, "nodes": [{"name": "a")"), "JSON syntax error");
-  add("json_not_utf8.gltf", text("{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [{\"name\": \"\xff\xfe\"}]}"),
+  add("json_syntax_error.gltf", text(R"({"asset": {"version": "2.0"}, "nodes": [,]})"),
+      "JSON syntax error at byte");
+  add("json_truncated.gltf", text(R"({"asset": {"version": "2.0"}, "nodes": [{"name": "a")"),
       "JSON syntax error");
-  add("json_deep.gltf", text("{\"asset\": {\"version\": \"2.0\"}, \"extras\": " + std::string(200, '[') +
-                             std::string(200, ']') + "}"),
+  add("json_not_utf8.gltf",
+      text("{\"asset\": {\"version\": \"2.0\"}, \"nodes\": [{\"name\": \"\xff\xfe\"}]}"),
+      "JSON syntax error");
+  add("json_deep.gltf",
+      text("{\"asset\": {\"version\": \"2.0\"}, \"extras\": " + std::string(200, '[') +
+           std::string(200, ']') + "}"),
       "JSON nested deeper than 64 levels");
   add("no_asset.gltf", text(R"({"nodes": []})"), "asset: required property asset is missing");
-  add("asset_version_1.gltf", text(R"({"asset": {"version": "1.0"}})"), "glTF version '1.0' is not 2.x");
+  add("asset_version_1.gltf", text(R"({"asset": {"version": "1.0"}})"),
+      "glTF version '1.0' is not 2.x");
   {
     GltfBuilder b = baseScene();
     b.doc["nodes"][0]["translation"] = "up";
-    add("wrong_type_translation.gltf", bytesOf(b.gltf()), "node 0 'Floor': translation must be an array of 3 numbers");
+    add("wrong_type_translation.gltf", bytesOf(b.gltf()),
+        "node 0 'Floor': translation must be an array of 3 numbers");
   }
   {
     GltfBuilder b = baseScene();
     b.doc["nodes"][1]["mesh"] = "CubeMesh";
-    add("wrong_type_mesh_index.gltf", bytesOf(b.gltf()), "node 1 'Cube': mesh must be an integer index, got string");
+    add("wrong_type_mesh_index.gltf", bytesOf(b.gltf()),
+        "node 1 'Cube': mesh must be an integer index, got string");
   }
   add("wrong_type_nodes.gltf", text(R"({"asset": {"version": "2.0"}, "nodes": {"a": 1}})"),
       "nodes: nodes must be an array, got object");
@@ -135,8 +145,11 @@ inline std::vector<CorpusFile> badCorpus() {
     std::string s = b.gltf();
     const std::string from = "\"translation\":[0.0,-0.05,0.0]";
     const std::size_t at = s.find(from);
-    if (at != std::string::npos) s.replace(at, from.size(), "\"translation\":[1e999,-0.05,0.0]");
-    add("inf_translation.gltf", bytesOf(s), "JSON number not finite: [json.exception.out_of_range.406] number overflow parsing '1e999'");
+    if (at != std::string::npos)
+      s.replace(at, from.size(), "\"translation\":[1e999,-0.05,0.0]");
+    add("inf_translation.gltf", bytesOf(s),
+        "JSON number not finite: [json.exception.out_of_range.406] number overflow parsing "
+        "'1e999'");
   }
   {
     GltfBuilder b = baseScene();
@@ -149,7 +162,8 @@ inline std::vector<CorpusFile> badCorpus() {
     GltfBuilder b = baseScene();
     const float nan = std::numeric_limits<float>::quiet_NaN();
     std::memcpy(b.bin.data() + 4 * 12 + 4, &nan, 4);  // vertex 4, y
-    add("nan_vertex.glb", b.glb(), "mesh 0 'CubeMesh' primitive 0 POSITION: vertex 4 is not finite (NaN or Inf)");
+    add("nan_vertex.glb", b.glb(),
+        "mesh 0 'CubeMesh' primitive 0 POSITION: vertex 4 is not finite (NaN or Inf)");
   }
   {
     GltfBuilder b = baseScene();
@@ -169,32 +183,38 @@ inline std::vector<CorpusFile> badCorpus() {
   {
     GltfBuilder b = baseScene();
     b.doc["nodes"][0]["children"] = {5};
-    add("node_index_out_of_range.gltf", bytesOf(b.gltf()), "node 0 'Floor': children index 5 out of range (2 nodes)");
+    add("node_index_out_of_range.gltf", bytesOf(b.gltf()),
+        "node 0 'Floor': children index 5 out of range (2 nodes)");
   }
   {
     GltfBuilder b = baseScene();
     b.doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"] = 9;
-    add("accessor_index_out_of_range.gltf", bytesOf(b.gltf()), "attribute POSITION index 9 out of range (2 accessors)");
+    add("accessor_index_out_of_range.gltf", bytesOf(b.gltf()),
+        "attribute POSITION index 9 out of range (2 accessors)");
   }
   {
     GltfBuilder b = baseScene();
     b.doc["accessors"][1]["bufferView"] = 4;
-    add("bufferview_index_out_of_range.gltf", bytesOf(b.gltf()), "accessor 1: bufferView index 4 out of range (2 bufferViews)");
+    add("bufferview_index_out_of_range.gltf", bytesOf(b.gltf()),
+        "accessor 1: bufferView index 4 out of range (2 bufferViews)");
   }
   {
     GltfBuilder b = baseScene();
     GltfBuilder::physics(b.doc["nodes"][0])["collider"]["geometry"]["shape"] = 3;
-    add("shape_index_out_of_range.gltf", bytesOf(b.gltf()), "shape index 3 out of range (1 KHR_implicit_shapes shapes)");
+    add("shape_index_out_of_range.gltf", bytesOf(b.gltf()),
+        "shape index 3 out of range (1 KHR_implicit_shapes shapes)");
   }
   {
     GltfBuilder b = baseScene();
     GltfBuilder::physics(b.doc["nodes"][0])["collider"]["physicsMaterial"] = 0;
-    add("material_index_out_of_range.gltf", bytesOf(b.gltf()), "physicsMaterial index 0 out of range (0 physicsMaterials)");
+    add("material_index_out_of_range.gltf", bytesOf(b.gltf()),
+        "physicsMaterial index 0 out of range (0 physicsMaterials)");
   }
   {
     GltfBuilder b = baseScene();
     b.doc["scene"] = 2;
-    add("scene_index_out_of_range.gltf", bytesOf(b.gltf()), "scene index 2 out of range (1 scenes)");
+    add("scene_index_out_of_range.gltf", bytesOf(b.gltf()),
+        "scene index 2 out of range (1 scenes)");
   }
   {
     GltfBuilder b = baseScene();
@@ -206,13 +226,27 @@ inline std::vector<CorpusFile> badCorpus() {
   {
     GltfBuilder b = baseScene();
     b.doc["nodes"][0]["children"] = {0};
-    add("node_self_child.gltf", bytesOf(b.gltf()), "node 0 'Floor': lists itself as a child (a node cycle)");
+    add("node_self_child.gltf", bytesOf(b.gltf()),
+        "node 0 'Floor': lists itself as a child (a node cycle)");
+  }
+  {
+    GltfBuilder b = baseScene();
+    b.doc["scenes"][0]["nodes"] = {0};
+    b.doc["nodes"][0]["children"] = {1, 1};
+    add("duplicate_child.gltf", bytesOf(b.gltf()),
+        "node 1 'Cube': is listed twice among the children of node 0 'Floor'");
+  }
+  {
+    GltfBuilder b = baseScene();
+    b.doc["scenes"][0]["nodes"] = {0, 1, 0};
+    add("duplicate_scene_root.gltf", bytesOf(b.gltf()), "scene 0: node 0 'Floor' is listed twice");
   }
   {
     GltfBuilder b = baseScene();
     b.doc["nodes"].push_back({{"name", "Other"}, {"children", {1}}});
     b.doc["nodes"][0]["children"] = {1};
-    add("two_parents.gltf", bytesOf(b.gltf()), "node 1 'Cube': has two parents (node 0 'Floor' and node 2 'Other')");
+    add("two_parents.gltf", bytesOf(b.gltf()),
+        "node 1 'Cube': has two parents (node 0 'Floor' and node 2 'Other')");
   }
 
   // ---- accessor and view ranges
@@ -220,27 +254,32 @@ inline std::vector<CorpusFile> badCorpus() {
     GltfBuilder b = baseScene();
     b.doc["accessors"][0]["count"] = 9;
     add("accessor_past_view.gltf", bytesOf(b.gltf()),
-        "accessor 0: byteOffset 0 + count 9 x stride 12 = 108 runs past the end of bufferView 0 (96 bytes)");
+        "accessor 0: byteOffset 0 + count 9 x stride 12 = 108 runs past the end of bufferView 0 "
+        "(96 bytes)");
   }
   {
     GltfBuilder b = baseScene();
     b.doc["accessors"][0]["count"] = 357913942;  // 12 * count wraps 32 bits
-    add("accessor_overflow_32bit.gltf", bytesOf(b.gltf()), "count 357913942 x stride 12 = 4294967304 runs past the end of bufferView 0");
+    add("accessor_overflow_32bit.gltf", bytesOf(b.gltf()),
+        "count 357913942 x stride 12 = 4294967304 runs past the end of bufferView 0");
   }
   {
     GltfBuilder b = baseScene();
     b.doc["accessors"][0]["count"] = 4611686018427387904ull;  // 12 * count wraps 64 bits
-    add("accessor_overflow_64bit.gltf", bytesOf(b.gltf()), "x stride 12 overflows and runs past the end of bufferView 0");
+    add("accessor_overflow_64bit.gltf", bytesOf(b.gltf()),
+        "x stride 12 overflows and runs past the end of bufferView 0");
   }
   {
     GltfBuilder b = baseScene();
     b.doc["accessors"][0]["byteOffset"] = 18446744073709551610ull;
-    add("accessor_offset_overflow.gltf", bytesOf(b.gltf()), "overflows and runs past the end of bufferView 0");
+    add("accessor_offset_overflow.gltf", bytesOf(b.gltf()),
+        "overflows and runs past the end of bufferView 0");
   }
   {
     GltfBuilder b = baseScene();
     b.doc["bufferViews"][1]["byteLength"] = 100000;
-    add("view_past_buffer.gltf", bytesOf(b.gltf()), "bufferView 1: byteOffset 96 + byteLength 100000 runs past the end of buffer 0");
+    add("view_past_buffer.gltf", bytesOf(b.gltf()),
+        "bufferView 1: byteOffset 96 + byteLength 100000 runs past the end of buffer 0");
   }
   {
     GltfBuilder b = baseScene();
@@ -258,13 +297,17 @@ inline std::vector<CorpusFile> badCorpus() {
     GltfBuilder b = baseScene();
     json d = b.doc;
     d["buffers"] = json::array({json{{"byteLength", b.bin.size()}, {"uri", "cube.bin"}}});
-    add("external_uri.gltf", bytesOf(d.dump()), "buffer 0: external URI 'cube.bin' refused: no folder is allowed");
+    add("external_uri.gltf", bytesOf(d.dump()),
+        "buffer 0: external URI 'cube.bin' refused: no folder is allowed");
     d["buffers"][0]["uri"] = "../../etc/passwd";
-    add("traversing_uri.gltf", bytesOf(d.dump()), "external URI '../../etc/passwd' traverses out of the allowed folder", true);
+    add("traversing_uri.gltf", bytesOf(d.dump()),
+        "external URI '../../etc/passwd' traverses out of the allowed folder", true);
     d["buffers"][0]["uri"] = "%2E%2E/%2e%2e/etc/passwd";
-    add("traversing_encoded_uri.gltf", bytesOf(d.dump()), "traverses out of the allowed folder", true);
+    add("traversing_encoded_uri.gltf", bytesOf(d.dump()), "traverses out of the allowed folder",
+        true);
     d["buffers"][0]["uri"] = "/etc/passwd";
-    add("absolute_uri.gltf", bytesOf(d.dump()), "external URI '/etc/passwd' is an absolute path", true);
+    add("absolute_uri.gltf", bytesOf(d.dump()), "external URI '/etc/passwd' is an absolute path",
+        true);
     d["buffers"][0]["uri"] = "https://example.com/cube.bin";
     add("remote_uri.gltf", bytesOf(d.dump()), "has a scheme", true);
     d["buffers"][0]["uri"] = "data:application/octet-stream;base64,AAAA";
@@ -273,7 +316,8 @@ inline std::vector<CorpusFile> badCorpus() {
   {
     GltfBuilder b = baseScene();
     b.doc["images"] = json::array({json{{"uri", "../secret.png"}}});
-    add("traversing_image_uri.gltf", bytesOf(b.gltf()), "image 0: external URI '../secret.png' traverses", true);
+    add("traversing_image_uri.gltf", bytesOf(b.gltf()),
+        "image 0: external URI '../secret.png' traverses", true);
   }
 
   // ---- extensions
@@ -301,7 +345,8 @@ inline std::vector<CorpusFile> badCorpus() {
     b.bin.clear();
     b.addMesh(quad, "Quad");
     GltfBuilder::physics(b.doc["nodes"][1])["collider"]["geometry"]["convexHull"] = true;
-    add("flat_hull.gltf", bytesOf(b.gltf()), "node 1 'Cube': mesh 0 'Quad': cannot build a convex hull: all points are coplanar");
+    add("flat_hull.gltf", bytesOf(b.gltf()),
+        "node 1 'Cube': mesh 0 'Quad': cannot build a convex hull: all points are coplanar");
   }
   {
     GltfBuilder b = baseScene();
@@ -314,7 +359,8 @@ inline std::vector<CorpusFile> badCorpus() {
     b.bin.clear();
     b.addMesh(line, "Line");
     GltfBuilder::physics(b.doc["nodes"][1])["collider"]["geometry"]["convexHull"] = true;
-    add("degenerate_hull.gltf", bytesOf(b.gltf()), "mesh 0 'Line': cannot build a convex hull: all points are collinear");
+    add("degenerate_hull.gltf", bytesOf(b.gltf()),
+        "mesh 0 'Line': cannot build a convex hull: all points are collinear");
   }
   {
     GltfBuilder b = baseScene();
@@ -324,7 +370,8 @@ inline std::vector<CorpusFile> badCorpus() {
   {
     GltfBuilder b = baseScene();
     b.doc["nodes"][0]["scale"] = {1.0, 0.0, 1.0};
-    add("flattened_by_scale.gltf", bytesOf(b.gltf()), "node 0 'Floor': collider: cannot build a convex hull: all points are coplanar");
+    add("flattened_by_scale.gltf", bytesOf(b.gltf()),
+        "node 0 'Floor': collider: cannot build a convex hull: all points are coplanar");
   }
   {
     GltfBuilder b = baseScene();
@@ -334,7 +381,8 @@ inline std::vector<CorpusFile> badCorpus() {
     b.bin.clear();
     b.addMesh(dentedCubeMesh(), "DentedMesh");
     add("non_convex_mesh.glb", b.glb(),
-        "node 1 'Cube': mesh 0 'DentedMesh': non-convex mesh collider without convexHull (convex decomposition is not supported)");
+        "node 1 'Cube': mesh 0 'DentedMesh': non-convex mesh collider without convexHull (convex "
+        "decomposition is not supported)");
   }
   {
     GltfBuilder b = baseScene();
@@ -346,7 +394,8 @@ inline std::vector<CorpusFile> badCorpus() {
   {
     GltfBuilder b = baseScene();
     b.doc["nodes"][1]["rotation"] = {0.0, 0.0, 0.0, 2.0};
-    add("non_unit_quaternion.gltf", bytesOf(b.gltf()), "node 1 'Cube': rotation is not a unit quaternion (norm 2");
+    add("non_unit_quaternion.gltf", bytesOf(b.gltf()),
+        "node 1 'Cube': rotation is not a unit quaternion (norm 2");
   }
   {
     GltfBuilder b = baseScene();
@@ -360,7 +409,8 @@ inline std::vector<CorpusFile> badCorpus() {
     b.doc["nodes"][0]["children"] = {1};
     b.doc["nodes"][1]["scale"] = {1e200, 1e200, 1e200};
     b.doc["scenes"][0]["nodes"] = {0};
-    add("world_transform_overflow.gltf", bytesOf(b.gltf()), "node 1 'Cube': world transform is not finite");
+    add("world_transform_overflow.gltf", bytesOf(b.gltf()),
+        "node 1 'Cube': world transform is not finite");
   }
   {
     GltfBuilder b = baseScene();
@@ -373,25 +423,30 @@ inline std::vector<CorpusFile> badCorpus() {
     json n = GltfBuilder::node("Ghost", {3.0, 0.0, 0.0});
     GltfBuilder::physics(n)["motion"] = json::object();
     b.addNode(n);
-    add("dynamic_without_volume.gltf", bytesOf(b.gltf()), "node 2 'Ghost': dynamic body has no collider volume to compute its mass from");
+    add("dynamic_without_volume.gltf", bytesOf(b.gltf()),
+        "node 2 'Ghost': dynamic body has no collider volume to compute its mass from");
   }
   {
     GltfBuilder b = baseScene();
-    const int j = b.addPhysics("physicsJoints", {{"limits", json::array({{{"linearAxes", {0, 1, 2}}, {"max", 0.0}}})}});
+    const int j = b.addPhysics(
+        "physicsJoints", {{"limits", json::array({{{"linearAxes", {0, 1, 2}}, {"max", 0.0}}})}});
     GltfBuilder::physics(b.doc["nodes"][1])["joint"] = {{"connectedNode", 0}, {"joint", j}};
-    add("ball_joint.gltf", bytesOf(b.gltf()), "joint: is neither fixed nor a hinge: 3 free angular axes");
+    add("ball_joint.gltf", bytesOf(b.gltf()),
+        "joint: is neither fixed nor a hinge: 3 free angular axes");
   }
   {
     GltfBuilder b = baseScene();
     json systems = json::array();
-    for (int i = 0; i < 40; ++i) systems.push_back("system" + std::to_string(i));
+    for (int i = 0; i < 40; ++i)
+      systems.push_back("system" + std::to_string(i));
     const int f = b.addPhysics("collisionFilters", {{"collisionSystems", systems}});
     GltfBuilder::physics(b.doc["nodes"][0])["collider"]["collisionFilter"] = f;
     add("too_many_collision_systems.gltf", bytesOf(b.gltf()), "more than 32 collision systems");
   }
   {
     GltfBuilder b = baseScene();
-    b.doc["extensions"]["KHR_implicit_shapes"]["shapes"].push_back({{"type", "plane"}, {"plane", json::object()}});
+    b.doc["extensions"]["KHR_implicit_shapes"]["shapes"].push_back(
+        {{"type", "plane"}, {"plane", json::object()}});
     json n = GltfBuilder::node("Wall", {0.0, 0.0, 0.0});
     GltfBuilder::physics(n)["collider"] = GltfBuilder::shapeCollider(1);
     GltfBuilder::physics(n)["motion"] = json::object();
@@ -410,7 +465,8 @@ inline std::vector<CorpusFile> goodCorpus() {
     b.gravity({0.0, -9.81, 0.0});
     const int m = b.material(0.6, 0.2);
     json ground = GltfBuilder::node("Ground");
-    GltfBuilder::physics(ground)["collider"] = GltfBuilder::shapeCollider(b.plane(), {{"physicsMaterial", m}});
+    GltfBuilder::physics(ground)["collider"] =
+        GltfBuilder::shapeCollider(b.plane(), {{"physicsMaterial", m}});
     b.addNode(ground);
     const int shapes[] = {b.box({0.1, 0.1, 0.1}), b.sphere(0.05), b.capsule(0.1, 0.03, 0.03),
                           b.cylinder(0.1, 0.04, 0.04)};
@@ -422,7 +478,8 @@ inline std::vector<CorpusFile> goodCorpus() {
     }
     json probe = GltfBuilder::node("Stick", {0.0, 0.5, 0.0});
     GltfBuilder::physics(probe)["motion"] = {{"isKinematic", true}};
-    GltfBuilder::physics(probe)["collider"] = GltfBuilder::shapeCollider(b.capsule(0.2, 0.01, 0.01));
+    GltfBuilder::physics(probe)["collider"] =
+        GltfBuilder::shapeCollider(b.capsule(0.2, 0.01, 0.01));
     probe["extras"]["haptic"] = {{"probe", true}, {"stiffness", 1500.0}};
     b.addNode(probe);
     out.push_back({"shapes_gravity_probe.glb", b.glb(), "", false});
@@ -435,9 +492,11 @@ inline std::vector<CorpusFile> goodCorpus() {
     for (int i = 0; i < 2; ++i) {
       json gear = GltfBuilder::node("Gear" + std::to_string(i), {0.1 * i, 0.0, 0.0});
       GltfBuilder::physics(gear)["motion"] = json::object();
-      GltfBuilder::physics(gear)["collider"] = GltfBuilder::shapeCollider(b.cylinder(0.01, 0.05, 0.05));
+      GltfBuilder::physics(gear)["collider"] =
+          GltfBuilder::shapeCollider(b.cylinder(0.01, 0.05, 0.05));
       const int g = b.addNode(gear);
-      const int anchor = b.addNode(GltfBuilder::node("Axle" + std::to_string(i), {0.1 * i, 0.0, 0.0}));
+      const int anchor =
+          b.addNode(GltfBuilder::node("Axle" + std::to_string(i), {0.1 * i, 0.0, 0.0}));
       json pivot = GltfBuilder::node("Pivot" + std::to_string(i));
       GltfBuilder::physics(pivot)["joint"] = {{"connectedNode", anchor}, {"joint", hinge}};
       b.addNode(pivot, g);

@@ -18,13 +18,15 @@ int main(int argc, char** argv) {
   fs::create_directories(dir / "good");
   const auto write = [](const fs::path& path, const std::vector<std::uint8_t>& bytes) {
     std::ofstream out(path, std::ios::binary);
-    out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+    out.write(reinterpret_cast<const char*>(bytes.data()),
+              static_cast<std::streamsize>(bytes.size()));
   };
   std::ofstream manifest(dir / "bad" / "expected.txt");
   for (const auto& f : hapticd::scene::testing::badCorpus()) {
     write(dir / "bad" / f.name, f.bytes);
     manifest << f.name << '\t' << (f.allow_folder ? 1 : 0) << '\t' << f.expect << '\n';
   }
-  for (const auto& f : hapticd::scene::testing::goodCorpus()) write(dir / "good" / f.name, f.bytes);
+  for (const auto& f : hapticd::scene::testing::goodCorpus())
+    write(dir / "good" / f.name, f.bytes);
   return 0;
 }

@@ -1,6 +1,8 @@
 // The bad-file corpus (tests/scenes/bad/): every file gives its own error, nothing crashes or
 // hangs; the committed files are exactly what scene_corpus_gen makes; the good scenes load; and
 // every prefix and many byte-flipped copies of a good file are refused or loaded, never a crash.
+#include "tests/core/scene/corpus.h"
+
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -8,7 +10,6 @@
 #include <random>
 
 #include "core/scene/loader.h"
-#include "tests/core/scene/corpus.h"
 
 namespace hapticd::scene {
 namespace {
@@ -29,19 +30,22 @@ TEST(SceneCorpus, EveryBadFileGivesItsOwnError) {
     ASSERT_TRUE(std::filesystem::exists(path)) << "regenerate with scene_corpus_gen tests/scenes";
     EXPECT_EQ(readFile(path), f.bytes) << "the committed file differs from scene_corpus_gen's";
     LoadOptions options;
-    if (f.allow_folder) options.allowed_uri_dir = kScenes / "bad";
+    if (f.allow_folder)
+      options.allowed_uri_dir = kScenes / "bad";
     const LoadReport r = loadSceneFile(path, options);
     EXPECT_FALSE(r.ok());
     EXPECT_FALSE(r.problems.empty());
     EXPECT_NE(r.message().find(f.expect), std::string::npos)
-        << "expected: " << f.expect << "\ngot:\n" << r.message();
+        << "expected: " << f.expect << "\ngot:\n"
+        << r.message();
   }
 }
 
 TEST(SceneCorpus, TheManifestListsEveryBadFile) {
   std::ifstream in(kScenes / "bad" / "expected.txt");
   std::size_t lines = 0;
-  for (std::string line; std::getline(in, line);) ++lines;
+  for (std::string line; std::getline(in, line);)
+    ++lines;
   EXPECT_EQ(lines, testing::badCorpus().size());
 }
 
@@ -64,8 +68,8 @@ TEST(SceneCorpus, EveryPrefixOfAGoodFileIsRefusedCleanly) {
   }
   const std::string text = testing::baseScene().gltf();
   for (std::size_t n = 0; n < text.size(); n += 7) {
-    const LoadReport r = loadScene(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), n),
-                                   "prefix.gltf");
+    const LoadReport r =
+        loadScene(std::span(reinterpret_cast<const std::uint8_t*>(text.data()), n), "prefix.gltf");
     ASSERT_FALSE(r.ok()) << n;
   }
 }
@@ -77,10 +81,12 @@ TEST(SceneCorpus, FlippedBytesNeverCrash) {
   for (int i = 0; i < 3000; ++i) {
     auto v = glb;
     const int flips = 1 + static_cast<int>(rng() % 4);
-    for (int k = 0; k < flips; ++k) v[rng() % v.size()] ^= static_cast<std::uint8_t>(1u << (rng() % 8));
+    for (int k = 0; k < flips; ++k)
+      v[rng() % v.size()] ^= static_cast<std::uint8_t>(1u << (rng() % 8));
     const LoadReport r = loadScene(v, "flipped.glb");
     EXPECT_EQ(r.ok(), r.problems.empty());
-    if (r.ok()) ++loaded;
+    if (r.ok())
+      ++loaded;
   }
   // some flips land in names or padding and leave a valid scene; most do not
   EXPECT_LT(loaded, 3000u);
