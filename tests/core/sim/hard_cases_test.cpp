@@ -276,8 +276,10 @@ TEST(HardCases, CubeCornerDrivenIntoAThreeWallCorner) {
   });
   f.print("cube corner into a three-wall corner");
   const double expect = o.response.stiffness_n_per_m * (delta + D);
-  std::printf("  held force (%.4f, %.4f, %.4f) N (k_s (delta + D) = %.4f N on each axis), torque "
-              "%.2g N m\n", f_hold.x, f_hold.y, f_hold.z, expect, glm::length(t_hold));
+  std::printf(
+      "  held force (%.4f, %.4f, %.4f) N (k_s (delta + D) = %.4f N on each axis), torque "
+      "%.2g N m\n",
+      f_hold.x, f_hold.y, f_hold.z, expect, glm::length(t_hold));
   expectInvariants(f, o, 1e-3);
   for (int k = 0; k < 3; ++k) {
     EXPECT_NEAR(f_hold[k], expect, 0.02 * expect);  // each wall pushes along its own normal
