@@ -21,6 +21,8 @@ void toWorld(const Transform& X_WA, const PairResult& r, Contact& c) {
   c.point_a = X_WA.apply(r.point_a);
   c.point_b = X_WA.apply(r.point_b);
   c.manifold = r.manifold;
+  c.feature_a = r.fa;
+  c.feature_b = r.fb;
   for (std::size_t i = 0; i < c.manifold.count; ++i) {
     c.manifold.points[i].point = X_WA.apply(r.manifold.points[i].point);
     c.manifold.points[i].normal = X_WA.rotate(r.manifold.points[i].normal);
@@ -83,8 +85,8 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
     BoxFilter filter;
     filter.body = id;
     filter.is_static = desc.kind == BodyKind::kStatic;
-    filter.group = desc.group;
-    filter.mask = desc.mask;
+    filter.group = desc.group & desc.primitives[i].group;
+    filter.mask = desc.mask & desc.primitives[i].mask;
     p.box = sap_.add(primitiveBox(p), filter);
     if (prim_of_box_.size() <= p.box) prim_of_box_.resize(p.box + 1);
     prim_of_box_[p.box] = pi;
@@ -171,6 +173,7 @@ StepStats CollisionWorld::step() {
     if (!b.live || !b.moved) continue;
     for (const std::uint32_t pi : b.prims) sap_.update(prims_[pi].box, primitiveBox(prims_[pi]));
     b.moved = false;
+    b.moved_tick = tick_;
   }
   moved_.clear();
   sap_.commit();
@@ -180,7 +183,10 @@ StepStats CollisionWorld::step() {
   // then pairs in contact last tick, then the rest by time since their last test
   order_.clear();
   for (std::uint32_t si = 0; si < pair_states_.size(); ++si) {
-    if (pair_states_[si].live) order_.push_back(si);
+    const PairState& s = pair_states_[si];
+    if (!s.live || resting(s)) continue;
+    if (options_.skip_unmoved_pairs && unchanged(s)) continue;
+    order_.push_back(si);
   }
   const auto count = static_cast<std::uint32_t>(order_.size());
   stats.pairs_overlapping = count;
@@ -224,7 +230,7 @@ StepStats CollisionWorld::step() {
   // every close pair's latest answer, grouped by body pair
   contacts_.clear();
   for (const PairState& s : pair_states_) {
-    if (!s.live) continue;
+    if (!s.live || resting(s)) continue;
     contacts_.push_back(s.last);
     contacts_.back().age = static_cast<std::uint32_t>(std::min<std::uint64_t>(tick_ - s.last_tested, 0xffffffffu));
   }
