@@ -171,6 +171,7 @@ int main(int argc, char** argv) {
   }
   std::vector<Row> rows;
   runPairs(options, rows);
+  runScenes(options, rows);
 
   const std::time_t now = std::time(nullptr);
   char date[32];

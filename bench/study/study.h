@@ -41,6 +41,10 @@ struct Options {
 /// Random convex pairs: ellipsoid hulls of 8, 32 and 128 points, near contact, on coherent paths.
 void runPairs(const Options& options, std::vector<Row>& rows);
 
+/// The demo scenes replayed from their pose streams through the whole tick: scheduler budgets, δ
+/// on and off (closed loop), voxel sampling at the truth's proxy poses (open loop).
+void runScenes(const Options& options, std::vector<Row>& rows);
+
 /// Nanoseconds of one steady_clock reading pair (subtracted from every timed call).
 double timerOverheadNs();
 

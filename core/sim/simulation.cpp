@@ -409,7 +409,7 @@ Result<bool> SimulationImpl::build() {
   updateDriven();
   probe_radius_ = std::max(radiusAbout(probe_, comW(probe_)), 1e-9);
   held_radius_ = probe_radius_;
-  delta_ = std::min(max_travel_, r.min_predictive_fraction * held_radius_);
+  delta_ = r.predictive ? std::min(max_travel_, r.min_predictive_fraction * held_radius_) : 0.0;
 
   response::CouplingParams cp;
   cp.tick_s = r.tick_s;
@@ -763,9 +763,12 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     prev_h_dev_ = h_dev;
     prev_q_dev_ = q_dev;
   }
-  delta_ = std::clamp(
-      v_c_ * options_.response.tick_s,
-      std::min(max_travel_, options_.response.min_predictive_fraction * held_radius_), max_travel_);
+  delta_ = options_.response.predictive
+               ? std::clamp(v_c_ * options_.response.tick_s,
+                            std::min(max_travel_, options_.response.min_predictive_fraction *
+                                                      held_radius_),
+                            max_travel_)
+               : 0.0;
   proxy_params_.delta = delta_;
 
   response::ProxyProblem pb;

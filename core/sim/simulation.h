@@ -46,6 +46,9 @@ struct ResponseOptions {
   /// clamped to [min_predictive_fraction * radius of the held body, max_speed * tick_s].
   double speed_decay_s = 0.02;
   double min_predictive_fraction = 1e-3;
+  /// false: no predictive distance (δ = 0): force only on penetration, F = k_s D_p (§5.1). For the
+  /// accuracy study; the default keeps §5.2's δ.
+  bool predictive = true;
   /// The proxy's contact stiffness is this many times k_s; the coupling stiffness is then chosen
   /// so that the two in series give exactly k_s at the device (docs/response.md).
   double proxy_stiffness_ratio = 50.0;
