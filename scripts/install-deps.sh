@@ -15,6 +15,13 @@ PACKAGES=(
   libgtest-dev libgmock-dev           # tests
   libbenchmark-dev                    # hapticbench
   libccd-dev libfcl-dev libbullet-dev # peers compared in hapticbench
+  libtinygltf-dev                     # scenes: glTF loading (core/scene)
+  libtomlplusplus-dev                 # config/hapticd.toml
+  libsystemd-dev systemd              # sd_notify (READY, WATCHDOG); systemd-analyze verify in CI
+  libhidapi-dev                       # hid device backend
+  libusb-1.0-0-dev                    # usb device backend (hotplug, bulk)
+  libsodium-dev                       # protocol: per-packet MAC, SHA-256 of scene uploads
+  gnuplot-nox                         # plots of the accuracy study
 )
 
 if [[ "${1:-}" == "--print" ]]; then

@@ -1,0 +1,53 @@
+#pragma once
+/// \file
+/// glTF 2.0 scenes (.glb, or .gltf with embedded data) to a SceneModel: tinygltf parses, then our
+/// own validation (tinygltf 2.7 accepts out-of-range indices, node cycles and unknown required
+/// extensions), then bodies, primitives (hulls), materials, filters, joints and the plan.
+/// Any thread but the servo thread (allocates, builds hulls).
+///
+/// This header is the contract between the loader, the daemon, the protocol's scene upload and
+/// hapticctl: functions may be added, none renamed or removed.
+
+#include <cstdint>
+#include <filesystem>
+#include <optional>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/common/result.h"
+#include "core/scene/scene.h"
+
+namespace hapticd::scene {
+
+struct LoadOptions {
+  SceneLimits limits;
+  /// External URIs (buffers, images) are refused unless this folder is set; then only files
+  /// inside it (no traversal out of it, no symbolic link out of it) are read.
+  std::optional<std::filesystem::path> allowed_uri_dir;
+};
+
+/// One problem found in a scene: what is wrong and where (node or accessor index and name).
+struct Problem {
+  std::string where;  ///< e.g. "node 3 'Peg'", "accessor 7", "file"
+  std::string what;   ///< e.g. "index 12 out of range (4 nodes)"
+};
+
+/// Everything the loader found: the model when there is no problem.
+struct LoadReport {
+  std::optional<SceneModel> scene;
+  std::vector<Problem> problems;  ///< empty exactly when scene is set
+  bool ok() const { return scene.has_value(); }
+  /// All problems, one line each: "where: what".
+  std::string message() const;
+};
+
+/// Loads from bytes already in memory (a file's contents, an upload). `name` names the scene in
+/// messages. Never throws, never crashes, never hangs on any input.
+LoadReport loadScene(std::span<const std::uint8_t> bytes, const std::string& name,
+                     const LoadOptions& options = {});
+
+/// Reads and loads a file (size checked before reading).
+LoadReport loadSceneFile(const std::filesystem::path& path, const LoadOptions& options = {});
+
+}  // namespace hapticd::scene

@@ -1,0 +1,167 @@
+#pragma once
+/// \file
+/// The compiled scene model: what exists in a scene and so what must be simulated (../shared/DESIGN.md,
+/// Scenes; KHR_physics_rigid_bodies, KHR_implicit_shapes). Built off the servo thread by the loader
+/// (core/scene/loader.h) or by code; immutable once built; read by collision, response, dynamics
+/// and the daemon (MuJoCo's model: `step(const SceneModel&, state...)`).
+///
+/// This header is the contract between the scene loader, the simulation and the daemon: fields may
+/// be added, none renamed or removed.
+///
+/// Units: metres, kilograms, seconds, radians; Y up. Frames: W = scene (world), B = body, P = primitive.
+
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "core/geometry/polytope.h"
+#include "core/geometry/pose.h"
+
+namespace hapticd::scene {
+
+using geom::Mat3;
+using geom::Pose;
+using geom::Vec3;
+
+/// How a body moves (KHR_physics_rigid_bodies `motion`).
+enum class Motion : std::uint8_t {
+  kStatic,     ///< no motion above its colliders: never moves
+  kKinematic,  ///< `motion.isKinematic`: moved by clients (scene updates), infinite mass
+  kDynamic,    ///< `motion`: moved by the dynamics
+};
+
+/// How two material values combine (KHR `frictionCombine`, `restitutionCombine`).
+enum class Combine : std::uint8_t { kAverage, kMinimum, kMaximum, kMultiply };
+
+/// A physics material (KHR `physicsMaterials[i]`).
+struct Material {
+  std::string name;
+  double static_friction = 0.0;
+  double dynamic_friction = 0.0;
+  double restitution = 0.0;
+  Combine friction_combine = Combine::kAverage;
+  Combine restitution_combine = Combine::kAverage;
+};
+
+/// What a primitive was made from, for messages and `hapticctl check`.
+enum class ShapeSource : std::uint8_t {
+  kBox, kSphere, kCapsule, kCylinder, kPlane,  ///< KHR_implicit_shapes (curved ones tessellated)
+  kMeshHull,    ///< a mesh node with `convexHull: true`
+  kConvexMesh,  ///< a mesh node verified convex
+  kCode,        ///< built by code, not from a file
+};
+
+/// One convex primitive of a body.
+struct Primitive {
+  std::shared_ptr<const geom::Polytope> shape;  ///< in the primitive's frame P
+  Pose X_BP;                    ///< the primitive's pose in its body's frame
+  ShapeSource source = ShapeSource::kCode;
+  std::int32_t node = -1;       ///< glTF node index of the collider, -1 if none
+  std::int32_t material = -1;   ///< index into SceneModel::materials, -1: no material declared
+  /// Collision filter as bits (KHR `collisionFilters`, one bit per collision system name):
+  /// two primitives collide when (a.group & b.mask) && (b.group & a.mask).
+  std::uint32_t group = 1;
+  std::uint32_t mask = ~0u;
+};
+
+/// One rigid body: a node with `motion`, or a static collider (or a group of them).
+struct Body {
+  std::string name;            ///< node name (record-bodies uses it); "node<i>" when unnamed
+  std::int32_t node = -1;      ///< glTF node index, -1 when built by code
+  Motion motion = Motion::kStatic;
+  bool probe = false;          ///< `extras.haptic.probe`: the body the probe holds
+  /// Mass in kg; 0 for static and kinematic bodies. For a dynamic body: the declared mass, or
+  /// computed from the primitives' volume at density 1000 kg/m^3 when not declared.
+  double mass = 0.0;
+  Vec3 com_B{0.0};             ///< centre of mass in the body frame
+  /// Inertia tensor about the centre of mass, in the body frame (kg m^2); declared or computed.
+  Mat3 inertia_B{0.0};
+  bool mass_declared = false;
+  bool inertia_declared = false;
+  Vec3 linear_velocity_W{0.0};   ///< initial, m/s
+  Vec3 angular_velocity_W{0.0};  ///< initial, rad/s
+  double gravity_factor = 1.0;
+  /// `extras.haptic.stiffness` (N/m): contact stiffness of this body's surfaces, if declared.
+  std::optional<double> stiffness_n_per_m;
+  Pose X_WB;                   ///< initial pose in the scene
+  std::vector<Primitive> primitives;
+};
+
+/// One limit of a joint (KHR `physicsJoints[i].limits[j]`), in the joint's attachment frame.
+struct JointLimit {
+  std::uint8_t linear_axes = 0;   ///< bit k: axis k (0..2) is limited linearly
+  std::uint8_t angular_axes = 0;  ///< bit k: axis k is limited angularly
+  std::optional<double> min;      ///< metres or radians; absent: no lower bound
+  std::optional<double> max;
+  std::optional<double> stiffness;  ///< absent: a hard limit
+  double damping = 0.0;
+};
+
+/// The kinds of joint the dynamics handle; others are refused by the loader.
+enum class JointKind : std::uint8_t {
+  kFixed,  ///< all six degrees locked
+  kHinge,  ///< rotation about one axis of the attachment frame only (optionally limited)
+};
+
+/// A joint between two bodies (KHR node `joint`), kept for the dynamics.
+struct Joint {
+  JointKind kind = JointKind::kFixed;
+  std::int32_t body_a = -1;  ///< body of the node carrying the joint
+  std::int32_t body_b = -1;  ///< body of `connectedNode`; -1: the fixed scene frame
+  Pose X_AJ;                 ///< attachment frame in body a's frame
+  Pose X_BJ;                 ///< attachment frame in body b's frame (scene frame when body_b < 0)
+  std::uint8_t hinge_axis = 0;  ///< kHinge: the free angular axis (0..2) of the attachment frame
+  std::optional<double> hinge_min, hinge_max;  ///< kHinge: limits in radians, where declared
+  std::vector<JointLimit> limits;  ///< as declared
+  bool enable_collision = false;   ///< KHR default: constrained bodies do not collide
+};
+
+/// Which stages run for this scene: "simulate only the effects a scene calls for".
+struct SimulationPlan {
+  bool contact_forces = true;  ///< always
+  bool dynamics = false;       ///< at least one dynamic body
+  bool gravity = false;        ///< the scene declares gravity and a dynamic body feels it
+  bool friction = false;       ///< a material with non-zero friction is used by a dynamic or probe body
+  bool restitution = false;    ///< a material with non-zero restitution is used by a dynamic body
+  bool joints = false;         ///< at least one joint
+  /// Primitives the broad phase keeps (static ones are tracked but never paired with each other).
+  std::uint32_t static_primitives = 0;
+  std::uint32_t moving_primitives = 0;
+};
+
+/// Limits and tolerances of scene loading (config [scene]); every default documented there.
+struct SceneLimits {
+  std::uint64_t max_file_bytes = 64ull << 20;
+  std::uint32_t max_nodes = 10000;
+  std::uint32_t max_bodies = 2000;
+  std::uint32_t max_primitives = 10000;
+  std::uint32_t max_hull_input_points = 100000;
+  std::uint32_t max_hull_vertices = 4096;
+  /// Curved implicit shapes are tessellated so that no surface point is farther than this
+  /// fraction of the shape's size from the polytope.
+  double tessellation_tolerance = 1e-3;
+};
+
+/// The whole compiled scene. Immutable after building; any thread may read it.
+struct SceneModel {
+  std::string name;                 ///< file name or demo name
+  std::vector<Body> bodies;
+  std::vector<Material> materials;
+  std::vector<Joint> joints;
+  std::optional<Vec3> gravity_W;    ///< `extras.haptic.gravity` on the scene; absent: no gravity
+  std::int32_t probe_body = -1;     ///< index of the body with `probe: true`, -1: a probe sphere from config
+  /// Characteristic length (m): the bounding-box diagonal of all primitives, for relative tolerances.
+  double length_scale = 1.0;
+  SimulationPlan plan;
+};
+
+/// The plan of a scene, from what it declares. Pure; any thread.
+SimulationPlan makePlan(const SceneModel& scene);
+
+/// A multi-line human-readable description of the plan (printed by `hapticctl check`, reported
+/// by the daemon's status).
+std::string describePlan(const SimulationPlan& plan);
+
+}  // namespace hapticd::scene

@@ -1,0 +1,105 @@
+#pragma once
+/// \file
+/// One servo tick of the whole haptic simulation (../shared/DESIGN.md "One servo tick"; §3.1, §6.1
+/// of Gregory et al. 2000): probe pose in, proxy, collision, response (and dynamics when the
+/// scene's plan asks), virtual coupling, force and torque out. The same code runs in the daemon,
+/// in headless replay, in tests and in benchmarks.
+///
+/// This header is the contract between the simulation and the daemon: fields and functions may
+/// be added, none renamed or removed.
+///
+/// Threads: create() off the servo thread (allocates); step() on the servo thread only (never
+/// allocates, locks, logs or throws). A Simulation is owned by one thread at a time.
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <string>
+
+#include "core/common/result.h"
+#include "core/geometry/pose.h"
+#include "core/scene/scene.h"
+
+namespace hapticd::sim {
+
+using geom::Pose;
+using geom::Vec3;
+
+/// Knobs of the response (config [response]); defaults: §5 of the paper and ../shared/DESIGN.md.
+struct ResponseOptions {
+  double stiffness_n_per_m = 600.0;   ///< k_s: 0.6 N/mm (§5.1)
+  double tick_s = 0.001;              ///< Δt: 1 ms (§5.2)
+  double max_force_n = 10.0;          ///< device limit
+  double max_torque_nm = 1.0;         ///< device limit
+  double max_force_step_n = 0.5;      ///< F_max (§5.3): largest force change between ticks
+  double max_torque_step_nm = 0.05;   ///< the same for torque
+  /// Longest the force takes to ramp from zero to full at start and after a fault (s).
+  double ramp_s = 0.5;
+};
+
+/// Everything the simulation needs besides the scene.
+struct SimOptions {
+  ResponseOptions response;
+  /// Narrow-phase tests per tick (0: no limit). Pairs only, never a time budget: runs must be
+  /// bitwise identical.
+  std::uint32_t max_pairs_per_tick = 0;
+  /// Radius (m) of the probe sphere used when the scene marks no probe body.
+  double probe_sphere_radius_m = 0.01;
+};
+
+/// One tick's input, in scene coordinates (after the device-to-scene workspace mapping).
+struct TickInput {
+  double t_s = 0.0;          ///< simulated time of this tick
+  Pose X_W_device;           ///< target pose of the held body's origin
+  std::uint32_t buttons = 0;
+  bool device_ok = true;     ///< false: the device is lost or faulted: force goes to zero at once
+};
+
+/// Status bits of a tick (TickOutput::flags).
+enum TickFlags : std::uint32_t {
+  kTickRamping = 1u << 0,       ///< force still ramping in
+  kTickForceClamped = 1u << 1,  ///< the force hit a device limit
+  kTickStepLimited = 1u << 2,   ///< the force step was limited by F_max
+  kTickPairsSkipped = 1u << 3,  ///< the scheduler left close pairs untested
+  kTickCapacityFull = 1u << 4,  ///< some fixed capacity was full: work was dropped, visibly
+};
+
+/// One tick's output, in scene coordinates.
+struct TickOutput {
+  Vec3 force_W_n{0.0};       ///< force on the hand (device), N
+  Vec3 torque_W_nm{0.0};     ///< torque on the hand, N m
+  Pose X_W_proxy;            ///< the proxy's pose
+  std::uint32_t contacts = 0;         ///< contact points used this tick
+  double max_penetration_m = 0.0;     ///< >= 0
+  std::uint32_t pairs_tested = 0;
+  std::uint32_t pairs_skipped = 0;
+  std::uint32_t flags = 0;            ///< TickFlags
+};
+
+/// The pose of one non-static body (for --record-bodies and the state stream).
+struct BodyPose {
+  std::uint32_t body = 0;   ///< index into SceneModel::bodies
+  Pose X_WB;
+};
+
+class Simulation {
+ public:
+  /// Builds the per-scene pipeline (only the stages the scene's plan asks for) and every capacity
+  /// step() needs, so that step() never allocates. Off the servo thread.
+  static Result<std::unique_ptr<Simulation>> create(std::shared_ptr<const scene::SceneModel> scene,
+                                                    const SimOptions& options);
+  virtual ~Simulation() = default;
+
+  /// One tick. Servo thread only; no allocation, no lock, no log, no throw.
+  virtual TickOutput step(const TickInput& input) = 0;
+
+  /// Poses of every non-static body after the last step (ordered by body index).
+  virtual std::span<const BodyPose> bodyPoses() const = 0;
+
+  /// Forces fade to zero and ramp in again from there (after a fault is re-armed). Servo thread.
+  virtual void restartRamp() = 0;
+
+  virtual const scene::SceneModel& scene() const = 0;
+};
+
+}  // namespace hapticd::sim

@@ -1,0 +1,106 @@
+#pragma once
+/// \file
+/// The haptic device behind one interface: pose and buttons in, force and torque out, limits,
+/// capabilities. Backends: `sim` (default), `replay:FILE`, `hid`, `usb` (daemon/device/*.cpp).
+///
+/// This header is the contract between the device backends and the servo loop: members may be
+/// added, none renamed or removed.
+///
+/// Threads: makeDevice() and service() on a normal thread; read(), write() and command() on the
+/// servo thread only (no allocation, no lock, no log, no throw; the device I/O itself may block
+/// for at most its own short timeout).
+
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <string_view>
+
+#include "core/common/result.h"
+#include "core/geometry/pose.h"
+
+namespace hapticd::device {
+
+using geom::Pose;
+using geom::Vec3;
+
+/// What a device can do (DeviceInfo::capabilities bits).
+enum Capability : std::uint32_t {
+  kCapPosition = 1u << 0,     ///< reports a position
+  kCapOrientation = 1u << 1,  ///< reports an orientation
+  kCapForce = 1u << 2,        ///< displays force
+  kCapTorque = 1u << 3,       ///< displays torque
+  kCapButtons = 1u << 4,
+  kCapPoseCommands = 1u << 5, ///< driven by clients' pose commands (the sim device)
+  kCapEndOfStream = 1u << 6,  ///< ends by itself (replay)
+};
+
+struct DeviceLimits {
+  double max_force_n = 10.0;
+  double max_torque_nm = 1.0;
+};
+
+struct DeviceInfo {
+  std::string name;         ///< e.g. "sim", "replay:poses.csv", "hid 046d:c626 SpaceMouse Pro"
+  std::uint32_t capabilities = 0;
+  DeviceLimits limits;
+};
+
+/// One reading, in the device's workspace frame (metres, radians), before the workspace mapping.
+struct DeviceSample {
+  Pose X_WD;                 ///< pose of the handle
+  Vec3 linear_velocity{0.0};
+  Vec3 angular_velocity{0.0};
+  std::uint32_t buttons = 0;
+};
+
+/// How a servo-thread call ended.
+enum class DeviceStatus : std::uint8_t {
+  kOk,
+  kLost,       ///< not connected (removed, I/O error): the loop sets force to zero at once
+  kEndOfStream ///< replay finished: the loop ends
+};
+
+/// A pose command from a client (protocol), handed to the device on the servo thread.
+struct PoseCommand {
+  Pose X_W_target;
+  Vec3 linear_velocity{0.0};
+  Vec3 angular_velocity{0.0};
+  std::uint32_t buttons = 0;
+};
+
+class Device {
+ public:
+  virtual ~Device() = default;
+  virtual const DeviceInfo& info() const = 0;
+
+  /// The pose at loop time t_s (seconds from the loop's start). Servo thread.
+  virtual DeviceStatus read(double t_s, DeviceSample& out) noexcept = 0;
+  /// Displays force and torque (device frame, already checked finite and clamped to limits()).
+  /// Servo thread.
+  virtual DeviceStatus write(const Vec3& force_n, const Vec3& torque_nm) noexcept = 0;
+  /// A client's pose command; devices without kCapPoseCommands ignore it. Servo thread.
+  virtual void command(const PoseCommand& /*cmd*/) noexcept {}
+  /// Hotplug and reconnection work; called about every 100 ms from a normal thread. Returns true
+  /// while the device is connected. Must not race read()/write(): backends hand state over with
+  /// atomics only.
+  virtual bool service() { return true; }
+};
+
+/// Options of every backend (config [device]).
+struct DeviceOptions {
+  DeviceLimits limits;
+  /// sim: the hand model (a mass on a spring and damper pulled toward the commanded pose).
+  double sim_hand_mass_kg = 0.5;
+  double sim_hand_stiffness_n_per_m = 200.0;
+  double sim_hand_damping_n_s_per_m = 20.0;
+  /// sim: with no pose command for this long, the built-in gentle motion drives the hand.
+  double sim_idle_motion_after_s = 1.0;
+  /// sim: the start pose of the hand (scene frame).
+  Pose sim_home;
+};
+
+/// Opens a device from its spec: "sim", "replay:FILE", "hid", "hid:PATH", "usb", "usb:falcon".
+/// Off the servo thread. Errors name the spec and what is wrong.
+Result<std::unique_ptr<Device>> makeDevice(std::string_view spec, const DeviceOptions& options);
+
+}  // namespace hapticd::device
