@@ -224,7 +224,14 @@ Outcome clipEdgeAgainstEdge(const View& w, std::uint32_t e1i, std::uint32_t e2i,
   clipPlane(c, t1, h1, t2, e2.fe_normal[1], Feature::face(e2.face[1]), tol.len);
   if (c.excluded && c.simple) return set2(c.nlo);
   if (const Feature n = derivativeUpdate(*w.p2, c, t1, h1, tol.len); n.valid()) return set2(n);
-  if (c.excluded) return set2(c.nlo);
+  if (c.excluded) {
+    // Excluded by both face planes with no derivative verdict: e1 passes through the apex of
+    // e2's wedge, i.e. the edges meet (distance within the plane tolerance). No neighbour is
+    // nearer, and moving e2 to a face would keep the distance while raising the dimension: the
+    // edge-face step then hands the face back to e2, a cycle. The pair is final (touching).
+    if (closestSegments(t1, h1, t2, h2).dist2 <= 4.0 * tol.len * tol.len) return kDone;
+    return set2(c.nlo);
+  }
   return kDone;
 }
 
