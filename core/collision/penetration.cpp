@@ -127,6 +127,9 @@ DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Tr
   const auto fb = b.faces();
   const auto ea = a.edges();
   const auto eb = b.edges();
+  // support heights within this count as tied (parallel features), as the closest-feature
+  // walk's plane tolerance
+  const double tie_tol = 1e-12 * std::max(a.radius(), b.radius());
 
   // per face of A, B's support vertex against its normal: the region of B's Gauss map that
   // holds the face normal. Scratch grows to the largest polytope seen, then never allocates.
@@ -175,6 +178,13 @@ DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Tr
       if (len < 1e-9) return true;  // parallel edges: covered by the face normals
       axis /= len;
       if (glm::dot(axis, na + nb) < 0.0) axis = -axis;
+      // arcs that only meet at an end (a face normal of A equal to one of -B: parallel faces,
+      // e.g. the edges of two opposed caps) pass the test by rounding; their "face" has no area
+      // and lies in that face's plane, which the face passes cover, and the edges' closest points
+      // are no witnesses of it
+      for (const Vec3* end : {&na, &nb, &c, &d}) {
+        if (glm::length(glm::cross(axis, *end)) < 1e-12) return true;
+      }
       const Vec3 pb = X_AB.apply(b.vertices()[eb[j].tail].p);
       consider(glm::dot(axis, a.vertices()[ea[i].tail].p - pb), axis, DepthFeature::kEdgeEdge, i,
                j, 0);
@@ -212,9 +222,7 @@ DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Tr
     }
   }
 
-  // witness points; support heights within this count as tied (a face or edge parallel to the
-  // MTD's face), as the closest-feature walk's plane tolerance
-  const double tie_tol = 1e-12 * std::max(a.radius(), b.radius());
+  // witness points
   switch (best.kind) {
     case DepthFeature::kFaceA:
       best.point_b = faceWitness(a, best.ia, b, X_AB, best_support, tie_tol);
