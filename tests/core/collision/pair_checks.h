@@ -22,6 +22,12 @@ namespace hapticd::collision::checks {
 inline constexpr double kDistTol = 1e-9;
 /// Normal tolerance, radians.
 inline constexpr double kAngleTol = 1e-6;
+/// The closest-feature walk's Voronoi plane tolerance, relative to the size (docs/narrow-phase.md):
+/// a final feature pair may violate a Voronoi plane by this much, so each witness may sit this far
+/// from the exact closest point, and a separated normal (witness to witness) may turn by this over
+/// the gap: checkPairResult allows kAngleTol + kPlaneTol * size / distance for separated pairs
+/// (checkClosest compares normals only beyond gaps of 1e-6 of the size, where this is < kAngleTol).
+inline constexpr double kPlaneTol = 1e-12;
 /// Around the touch threshold (QueryOptions::touch_tolerance of the size) either neighbouring
 /// status is accepted within this band, relative to the size.
 inline constexpr double kStatusBand = 1e-12;
