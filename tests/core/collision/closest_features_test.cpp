@@ -9,6 +9,9 @@
 #include <glm/gtx/quaternion.hpp>
 #include <numbers>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include "tests/core/collision/pair_checks.h"
 #include "tests/reference/reference.h"
@@ -213,6 +216,52 @@ TEST(ClosestFeatures, TouchingEdgesInEveryFrameEndBeforeTheCap) {
     }
   }
   std::printf("[figures] touching edges in 24 frames: max walk iterations %u\n", max_iter);
+  EXPECT_EQ(fails.total(), 0u) << fails.summary();
+}
+
+// Two cubes with side edges parallel to within 1e-9 to 3e-6 rad, gaps from 1e-3 down to 1e-7 of
+// the size (some of the tilts make them overlap), the walk started from every vertex pair and
+// every edge pair (a warm cache may hold any of them): the distance falls along the edges at a
+// slope too small for the derivative tests, and the walk must still end at the closest pair (it
+// used to stop at the far end's vertex, 30% of a 1e-6 gap too far, or call an overlapping pair
+// separated). The same starts through queryPair.
+TEST(ClosestFeatures, NearlyParallelEdgesFromEveryStart) {
+  const Polytope a = hullOf(box(1, 1, 1));
+  Figures fig, pair_fig;
+  Failures fails;
+  for (const double tilt : {1e-9, 1e-8, 3e-8, 1e-7, 3e-7, 1e-6, 3e-6}) {
+    for (const double gap : {1e-3, 1e-4, 1e-5, 1e-6, 3e-7, 1e-7}) {
+      const double s = gap * std::sqrt(3.0) / std::sqrt(2.0);  // gap of the size, along (1, 1, 0)
+      const Transform X =
+          geom::Pose{{2 + s, 2 + s, 0.5}, glm::angleAxis(tilt, glm::normalize(Vec3{1, -1, 0}))}
+              .toTransform();
+      const reference::RefAnswer ref = reference::bruteForce(a, a, X);
+      std::vector<std::pair<Feature, Feature>> starts;
+      for (std::uint32_t i = 0; i < a.vertices().size(); ++i) {
+        for (std::uint32_t j = 0; j < a.vertices().size(); ++j)
+          starts.emplace_back(Feature::vertex(i), Feature::vertex(j));
+      }
+      for (std::uint32_t i = 0; i < a.edges().size(); ++i) {
+        for (std::uint32_t j = 0; j < a.edges().size(); ++j)
+          starts.emplace_back(Feature::edge(i), Feature::edge(j));
+      }
+      for (const auto& [fa, fb] : starts) {
+        const std::string what =
+            label("tilt ", tilt, ", gap ", gap, ", start ", fa.name(), " ", fb.name());
+        FeatureCache fc{fa, fb};
+        const ClosestResult c = closestFeatures(a, a, X, fc);
+        tally(c, fig);
+        if (fails.add(what, checkClosest(a, a, X, c, ref, fig)))
+          continue;
+        PairCache pc;
+        pc.features = {fa, fb};
+        fails.add(what + " (queryPair)",
+                  checkPairResult(a, a, X, queryPair(a, a, X, pc), ref, pair_fig));
+      }
+    }
+  }
+  fig.print("closestFeatures, nearly parallel edges from every start");
+  pair_fig.print("queryPair, nearly parallel edges from every start");
   EXPECT_EQ(fails.total(), 0u) << fails.summary();
 }
 
