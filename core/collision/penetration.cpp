@@ -168,6 +168,8 @@ DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Tr
   // face[0] to that of face[1]; walking over B's vertex graph from the region holding the first
   // to the region holding the second crosses exactly the arcs of the edges of B it meets.
   if (best.depth >= 0.0) {
+    const DepthResult face_best = best;
+    const std::uint32_t face_support = best_support;
     auto edgePair = [&](std::uint32_t i, std::uint32_t j, const Vec3& na, const Vec3& nb,
                         const Vec3& b_x_a) {
       const Vec3& c = neg_normal_b[eb[j].face[0]];
@@ -178,13 +180,6 @@ DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Tr
       if (len < 1e-9) return true;  // parallel edges: covered by the face normals
       axis /= len;
       if (glm::dot(axis, na + nb) < 0.0) axis = -axis;
-      // arcs that only meet at an end (a face normal of A equal to one of -B: parallel faces,
-      // e.g. the edges of two opposed caps) pass the test by rounding; their "face" has no area
-      // and lies in that face's plane, which the face passes cover, and the edges' closest points
-      // are no witnesses of it
-      for (const Vec3* end : {&na, &nb, &c, &d}) {
-        if (glm::length(glm::cross(axis, *end)) < 1e-12) return true;
-      }
       const Vec3 pb = X_AB.apply(b.vertices()[eb[j].tail].p);
       consider(glm::dot(axis, a.vertices()[ea[i].tail].p - pb), axis, DepthFeature::kEdgeEdge, i,
                j, 0);
@@ -218,6 +213,24 @@ DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Tr
       }
       if (lost) {
         for (std::uint32_t j = 0; j < eb.size(); ++j) edgePair(i, j, na, nb, b_x_a);
+      }
+    }
+    // Arcs that only meet at an end (a face normal of A equal to one of -B: parallel faces, e.g.
+    // the edges of two opposed caps) pass the crossing test by rounding; such a "face" has no
+    // area and lies in that face's plane, the face passes' answer less a rounding error, and its
+    // edges' closest points are no witnesses of it. An edge-pair answer whose axis lies within
+    // 1e-12 rad of one of its arcs' ends gives way to the faces' answer (checked once here, not
+    // in the loop above).
+    if (best.kind == DepthFeature::kEdgeEdge) {
+      const Vec3 ends[4] = {fa[ea[best.ia].face[0]].normal, fa[ea[best.ia].face[1]].normal,
+                            neg_normal_b[eb[best.ib].face[0]], neg_normal_b[eb[best.ib].face[1]]};
+      for (const Vec3& end : ends) {
+        const Vec3 off = glm::cross(best.normal, end);
+        if (glm::dot(off, off) < 1e-24) {
+          best = face_best;
+          best_support = face_support;
+          break;
+        }
       }
     }
   }
