@@ -179,6 +179,54 @@ std::uint32_t nearerEdgeOfVertex(const Polytope& pv, std::uint32_t v, const Tran
   return out;
 }
 
+// Distance from segment [t, h] (p's frame) to face f of p over the part of the segment inside
+// the face's side planes (infinity when there is none; 0 when that part crosses the plane).
+double segmentFaceDistance(const Polytope& p, std::uint32_t f, const Vec3& t, const Vec3& h) {
+  double lo = 0.0, hi = 1.0;
+  for (const auto& fe : p.faceEdges(f)) {
+    const Vec3& v = p.vertices()[fe.vertex].p;
+    const double st = glm::dot(t - v, fe.side), sh = glm::dot(h - v, fe.side);
+    if (st < 0.0 && sh < 0.0) return std::numeric_limits<double>::infinity();
+    if (st < 0.0) {
+      lo = std::max(lo, st / (st - sh));
+    } else if (sh < 0.0) {
+      hi = std::min(hi, st / (st - sh));
+    }
+  }
+  if (lo > hi) return std::numeric_limits<double>::infinity();
+  const auto& face = p.faces()[f];
+  const double dl = glm::dot(face.normal, t + (h - t) * lo) - face.offset;
+  const double dh = glm::dot(face.normal, t + (h - t) * hi) - face.offset;
+  if ((dl > 0.0) != (dh > 0.0)) return 0.0;
+  return std::min(std::abs(dl), std::abs(dh));
+}
+
+// An edge-edge pair where the walk stopped on a derivative within the tolerance: nearly parallel
+// faces at a small gap, over which the distance falls at a slope below eps / D. A face of either
+// edge nearer to the other edge by more than `margin` gives the next state (false: none). A's
+// frame; X_AB places B.
+bool nearerFaceOfEdges(const Polytope& a, std::uint32_t ea, const Polytope& b, std::uint32_t eb,
+                       const Transform& X_AB, const Transform& X_BA, double margin, Feature& fa,
+                       Feature& fb) {
+  const auto& e1 = a.edges()[ea];
+  const auto& e2 = b.edges()[eb];
+  const Vec3 t1 = a.vertices()[e1.tail].p, h1 = a.vertices()[e1.head].p;
+  const Vec3 t2 = b.vertices()[e2.tail].p, h2 = b.vertices()[e2.head].p;
+  const double d0 =
+      std::sqrt(closestSegmentsExact(t1, h1, X_AB.apply(t2), X_AB.apply(h2)).dist2) - margin;
+  double best = d0;
+  bool found = false;
+  for (const std::uint32_t f : e2.face) {  // a face of B against A's edge, in B's frame
+    const double d = segmentFaceDistance(b, f, X_BA.apply(t1), X_BA.apply(h1));
+    if (d < best) best = d, fa = Feature::edge(ea), fb = Feature::face(f), found = true;
+  }
+  for (const std::uint32_t f : e1.face) {  // a face of A against B's edge
+    const double d = segmentFaceDistance(a, f, X_AB.apply(t2), X_AB.apply(h2));
+    if (d < best) best = d, fa = Feature::face(f), fb = Feature::edge(eb), found = true;
+  }
+  return found;
+}
+
 // The boundary edge of face f (of p) closest to segment [t, h] (p's frame).
 std::uint32_t closestBoundaryEdge(const Polytope& p, std::uint32_t f, const Vec3& t,
                                   const Vec3& h) {
@@ -294,17 +342,16 @@ Outcome clipEdgeAgainstEdge(const View& w, std::uint32_t e1i, std::uint32_t e2i,
   const Vec3& t2 = w.p2->vertices()[e2.tail].p;
   const Vec3& h2 = w.p2->vertices()[e2.head].p;
   Clip c;
-  bool ambiguous = false;  // (an edge-edge end computes its points exactly, whatever the slope)
   clipPlane(c, t1, h1, t2, e2.dir, Feature::vertex(e2.tail), tol.len);
   clipPlane(c, t1, h1, h2, -e2.dir, Feature::vertex(e2.head), tol.len);
   if (c.excluded && c.simple) return set2(c.nlo);
-  if (const Feature n = derivativeUpdate(*w.p2, c, t1, h1, tol.len, ambiguous); n.valid()) {
+  if (const Feature n = derivativeUpdate(*w.p2, c, t1, h1, tol.len, *w.ambiguous); n.valid()) {
     return set2(n);
   }
   clipPlane(c, t1, h1, t2, e2.fe_normal[0], Feature::face(e2.face[0]), tol.len);
   clipPlane(c, t1, h1, t2, e2.fe_normal[1], Feature::face(e2.face[1]), tol.len);
   if (c.excluded && c.simple) return set2(c.nlo);
-  if (const Feature n = derivativeUpdate(*w.p2, c, t1, h1, tol.len, ambiguous); n.valid()) {
+  if (const Feature n = derivativeUpdate(*w.p2, c, t1, h1, tol.len, *w.ambiguous); n.valid()) {
     return set2(n);
   }
   if (c.excluded) {
@@ -478,8 +525,9 @@ ClosestResult closestFeatures(const Polytope& a, const Polytope& b, const Transf
     const bool swap = static_cast<int>(fa.type) > static_cast<int>(fb.type);
     ambiguous = false;
     o = swap ? dispatch(ba, fb, fa, tol) : dispatch(ab, fa, fb, tol);
-    if (o.act == Act::kDone && ambiguous && nudges < 2) {
-      // a vertex-edge end on a derivative within the tolerance: compare the distances themselves
+    if (o.act == Act::kDone && ambiguous && nudges < 4) {
+      // a vertex-edge or edge-edge end on a derivative within the tolerance: compare the
+      // distances themselves (each such move lowers the distance by more than 1e-14 s)
       std::uint32_t e = kNoIndex;
       if (fa.type == FeatureType::kVertex && fb.type == FeatureType::kEdge) {
         e = nearerEdgeOfVertex(a, fa.index, I, b, fb.index, X_AB, 1e-2 * tol.len);
@@ -489,6 +537,11 @@ ClosestResult closestFeatures(const Polytope& a, const Polytope& b, const Transf
         if (e != kNoIndex) fb = Feature::edge(e);
       }
       if (e != kNoIndex) {
+        ++nudges;
+        continue;
+      }
+      if (fa.type == FeatureType::kEdge && fb.type == FeatureType::kEdge &&
+          nearerFaceOfEdges(a, fa.index, b, fb.index, X_AB, X_BA, 1e-2 * tol.len, fa, fb)) {
         ++nudges;
         continue;
       }

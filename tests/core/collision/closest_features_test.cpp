@@ -265,5 +265,45 @@ TEST(ClosestFeatures, NearlyParallelEdgesFromEveryStart) {
   EXPECT_EQ(fails.total(), 0u) << fails.summary();
 }
 
+// A hexagonal prism's cap over a box's face, parallel to within 1e-9 to 1e-7 rad about a skew axis,
+// gaps from 1e-3 down to 1e-7 of the size, the walk started from every vertex pair and every edge
+// pair: the distance falls across the faces at a slope too small for the derivative tests, and
+// the walk must still find the lowest corner of the overlap (it used to stop at an edge crossing
+// elsewhere, 5.6e-10 of the size too far at a gap of 2e-4).
+TEST(ClosestFeatures, NearlyParallelFacesFromEveryStart) {
+  const Polytope a = hullOf(prism(6, 0.87, 1.11));
+  const Polytope b = hullOf(box(0.98, 1.04, 0.42));
+  const double size = pairSize(a, b);
+  Figures fig;
+  Failures fails;
+  for (const double tilt : {1e-9, 1e-8, 1e-7}) {
+    for (const double gap : {1e-3, 2e-4, 1e-5, 1e-7}) {
+      const Transform X =
+          geom::Pose{{-0.57, 0.18, -1.11 - 0.42 - gap * size},
+                     glm::angleAxis(tilt, glm::normalize(Vec3{0.35, 0.4, 0.86}))}
+              .toTransform();
+      const reference::RefAnswer ref = reference::bruteForce(a, b, X);
+      std::vector<std::pair<Feature, Feature>> starts;
+      for (std::uint32_t i = 0; i < a.vertices().size(); ++i) {
+        for (std::uint32_t j = 0; j < b.vertices().size(); ++j)
+          starts.emplace_back(Feature::vertex(i), Feature::vertex(j));
+      }
+      for (std::uint32_t i = 0; i < a.edges().size(); ++i) {
+        for (std::uint32_t j = 0; j < b.edges().size(); ++j)
+          starts.emplace_back(Feature::edge(i), Feature::edge(j));
+      }
+      for (const auto& [fa, fb] : starts) {
+        FeatureCache fc{fa, fb};
+        const ClosestResult c = closestFeatures(a, b, X, fc);
+        tally(c, fig);
+        fails.add(label("tilt ", tilt, ", gap ", gap, ", start ", fa.name(), " ", fb.name()),
+                  checkClosest(a, b, X, c, ref, fig));
+      }
+    }
+  }
+  fig.print("closestFeatures, nearly parallel faces from every start");
+  EXPECT_EQ(fails.total(), 0u) << fails.summary();
+}
+
 }  // namespace
 }  // namespace hapticd::collision
