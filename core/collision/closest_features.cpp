@@ -20,6 +20,7 @@ struct View {
   const Polytope* p2;
   const Transform* T12;  // p2's frame -> p1's frame
   const Transform* T21;  // p1's frame -> p2's frame
+  bool* ambiguous;       // set by a step whose derivative test was within the tolerance
 };
 
 enum class Act : std::uint8_t { kDone, kSet1, kSet2, kPenetration };
@@ -89,16 +90,141 @@ double distanceDerivative(const Polytope& p, Feature n, const Vec3& x, const Vec
 }
 
 // After clipping segment [t, h] (in p's frame) against VR(X) of p: Mirtich's derivative test.
-// Returns the neighbour to move X to, or kNone.
+// Returns the neighbour to move X to, or kNone. The derivative is that of half the squared
+// distance, D * dD/dl: a slope below eps / D goes unseen, and `ambiguous` says one was that small.
 Feature derivativeUpdate(const Polytope& p, const Clip& c, const Vec3& t, const Vec3& h,
-                         double eps) {
+                         double eps, bool& ambiguous) {
   const Vec3 u = h - t;
   const double ulen = glm::length(u);
   if (ulen <= 0.0) return {};
   const Vec3 un = u / ulen;
-  if (c.nlo.valid() && distanceDerivative(p, c.nlo, t + u * c.lo, un) > eps) return c.nlo;
-  if (c.nhi.valid() && distanceDerivative(p, c.nhi, t + u * c.hi, un) < -eps) return c.nhi;
+  if (c.nlo.valid()) {
+    const double d = distanceDerivative(p, c.nlo, t + u * c.lo, un);
+    if (d > eps) return c.nlo;
+    ambiguous = ambiguous || d >= -eps;
+  }
+  if (c.nhi.valid()) {
+    const double d = distanceDerivative(p, c.nhi, t + u * c.hi, un);
+    if (d < -eps) return c.nhi;
+    ambiguous = ambiguous || d <= eps;
+  }
   return {};
+}
+
+// Closest points of two segments, well conditioned also when they are nearly parallel (where
+// closestSegments' line solution is not: its parameters carry errors of 1e-16 / sin^2 of the
+// angle). In segment 1's frame, a point of segment 2 whose foot on line 1 falls inside segment 1
+// is at the distance of its offset from line 1, and the offsets are linear along segment 2 and
+// computed without cancellation; a point whose foot falls outside is nearer an end of segment 1,
+// against which segment 2 is also tried. s, t are set; dist2 is the squared offset.
+detail::SegmentPair closestSegmentsExact(const Vec3& p1, const Vec3& q1, const Vec3& p2,
+                                         const Vec3& q2) {
+  detail::SegmentPair best;
+  best.dist2 = std::numeric_limits<double>::infinity();
+  const Vec3 d1 = q1 - p1, d2 = q2 - p2;
+  const double l1 = glm::length(d1);
+  auto consider = [&](double s, double t, const Vec3& c1, const Vec3& c2, double dist2) {
+    if (dist2 < best.dist2) best.s = s, best.t = t, best.c1 = c1, best.c2 = c2, best.dist2 = dist2;
+  };
+  for (const double s : {0.0, 1.0}) {
+    const Vec3 x = s == 0.0 ? p1 : q1;
+    const double t = closestOnSegment(x, p2, q2);
+    const Vec3 c = p2 + d2 * t;
+    consider(s, t, x, c, glm::dot(x - c, x - c));
+  }
+  if (l1 > 0.0) {
+    const Vec3 u = d1 / l1;
+    const double a0 = glm::dot(p2 - p1, u), a1 = glm::dot(q2 - p1, u);
+    const Vec3 e0 = (p2 - p1) - u * a0, e1 = (q2 - p1) - u * a1;
+    // the part of segment 2 whose feet lie on segment 1
+    double lo = 0.0, hi = 1.0;
+    if (a1 != a0) {
+      const double ta = -a0 / (a1 - a0), tb = (l1 - a0) / (a1 - a0);
+      lo = std::max(lo, std::min(ta, tb));
+      hi = std::min(hi, std::max(ta, tb));
+    } else if (a0 < 0.0 || a0 > l1) {
+      lo = 2.0;  // none
+    }
+    if (lo <= hi) {
+      const Vec3 de = e1 - e0;
+      const double dd = glm::dot(de, de);
+      const double t = std::clamp(dd > 0.0 ? -glm::dot(e0, de) / dd : lo, lo, hi);
+      const Vec3 e = e0 + de * t;
+      const double a = std::clamp(a0 + (a1 - a0) * t, 0.0, l1);
+      consider(a / l1, t, p1 + u * a, p2 + d2 * t, glm::dot(e, e));
+    }
+  }
+  return best;
+}
+
+// A vertex-edge pair where the walk stopped on a derivative within the tolerance: nearly
+// parallel edges at a small gap D, whose distance falls along them at a slope below eps / D, so
+// the walk may hold the far end's vertex (measured: 30% of a 1e-6 s gap). An edge of the vertex
+// nearer to the other edge by more than `margin` is returned (kNoIndex when there is none);
+// distances are compared directly, so each such move strictly lowers the distance.
+std::uint32_t nearerEdgeOfVertex(const Polytope& pv, std::uint32_t v, const Transform& X_v,
+                                 const Polytope& pe, std::uint32_t e, const Transform& X_e,
+                                 double margin) {
+  const auto& edge = pe.edges()[e];
+  const Vec3 t = X_e.apply(pe.vertices()[edge.tail].p), h = X_e.apply(pe.vertices()[edge.head].p);
+  const Vec3 x = X_v.apply(pv.vertices()[v].p);
+  const Vec3 c = t + (h - t) * closestOnSegment(x, t, h);
+  double best = glm::dot(x - c, x - c);
+  const double d0 = std::sqrt(best);
+  std::uint32_t out = kNoIndex;
+  for (const auto& ve : pv.vertexEdges(v)) {
+    const double d2 = closestSegmentsExact(x, X_v.apply(pv.vertices()[ve.other].p), t, h).dist2;
+    if (d2 < best && std::sqrt(d2) < d0 - margin) best = d2, out = ve.edge;
+  }
+  return out;
+}
+
+// Distance from segment [t, h] (p's frame) to face f of p over the part of the segment inside
+// the face's side planes (infinity when there is none; 0 when that part crosses the plane).
+double segmentFaceDistance(const Polytope& p, std::uint32_t f, const Vec3& t, const Vec3& h) {
+  double lo = 0.0, hi = 1.0;
+  for (const auto& fe : p.faceEdges(f)) {
+    const Vec3& v = p.vertices()[fe.vertex].p;
+    const double st = glm::dot(t - v, fe.side), sh = glm::dot(h - v, fe.side);
+    if (st < 0.0 && sh < 0.0) return std::numeric_limits<double>::infinity();
+    if (st < 0.0) {
+      lo = std::max(lo, st / (st - sh));
+    } else if (sh < 0.0) {
+      hi = std::min(hi, st / (st - sh));
+    }
+  }
+  if (lo > hi) return std::numeric_limits<double>::infinity();
+  const auto& face = p.faces()[f];
+  const double dl = glm::dot(face.normal, t + (h - t) * lo) - face.offset;
+  const double dh = glm::dot(face.normal, t + (h - t) * hi) - face.offset;
+  if ((dl > 0.0) != (dh > 0.0)) return 0.0;
+  return std::min(std::abs(dl), std::abs(dh));
+}
+
+// An edge-edge pair where the walk stopped on a derivative within the tolerance: nearly parallel
+// faces at a small gap, over which the distance falls at a slope below eps / D. A face of either
+// edge nearer to the other edge by more than `margin` gives the next state (false: none). A's
+// frame; X_AB places B.
+bool nearerFaceOfEdges(const Polytope& a, std::uint32_t ea, const Polytope& b, std::uint32_t eb,
+                       const Transform& X_AB, const Transform& X_BA, double margin, Feature& fa,
+                       Feature& fb) {
+  const auto& e1 = a.edges()[ea];
+  const auto& e2 = b.edges()[eb];
+  const Vec3 t1 = a.vertices()[e1.tail].p, h1 = a.vertices()[e1.head].p;
+  const Vec3 t2 = b.vertices()[e2.tail].p, h2 = b.vertices()[e2.head].p;
+  const double d0 =
+      std::sqrt(closestSegmentsExact(t1, h1, X_AB.apply(t2), X_AB.apply(h2)).dist2) - margin;
+  double best = d0;
+  bool found = false;
+  for (const std::uint32_t f : e2.face) {  // a face of B against A's edge, in B's frame
+    const double d = segmentFaceDistance(b, f, X_BA.apply(t1), X_BA.apply(h1));
+    if (d < best) best = d, fa = Feature::edge(ea), fb = Feature::face(f), found = true;
+  }
+  for (const std::uint32_t f : e1.face) {  // a face of A against B's edge
+    const double d = segmentFaceDistance(a, f, X_AB.apply(t2), X_AB.apply(h2));
+    if (d < best) best = d, fa = Feature::face(f), fb = Feature::edge(eb), found = true;
+  }
+  return found;
 }
 
 // The boundary edge of face f (of p) closest to segment [t, h] (p's frame).
@@ -159,7 +285,7 @@ Outcome stepVE(const View& w, std::uint32_t v, std::uint32_t ei, const Tol& tol)
     clipPlane(c, t1, h1, pv, -ve.out, Feature::edge(ve.edge), tol.len);
   }
   if (c.excluded && c.simple) return set1(c.nlo);
-  const Feature n = derivativeUpdate(*w.p1, c, t1, h1, tol.len);
+  const Feature n = derivativeUpdate(*w.p1, c, t1, h1, tol.len, *w.ambiguous);
   if (n.valid()) return set1(n);
   if (c.excluded) return set1(c.nlo);
   return kDone;
@@ -219,18 +345,29 @@ Outcome clipEdgeAgainstEdge(const View& w, std::uint32_t e1i, std::uint32_t e2i,
   clipPlane(c, t1, h1, t2, e2.dir, Feature::vertex(e2.tail), tol.len);
   clipPlane(c, t1, h1, h2, -e2.dir, Feature::vertex(e2.head), tol.len);
   if (c.excluded && c.simple) return set2(c.nlo);
-  if (const Feature n = derivativeUpdate(*w.p2, c, t1, h1, tol.len); n.valid()) return set2(n);
+  if (const Feature n = derivativeUpdate(*w.p2, c, t1, h1, tol.len, *w.ambiguous); n.valid()) {
+    return set2(n);
+  }
   clipPlane(c, t1, h1, t2, e2.fe_normal[0], Feature::face(e2.face[0]), tol.len);
   clipPlane(c, t1, h1, t2, e2.fe_normal[1], Feature::face(e2.face[1]), tol.len);
   if (c.excluded && c.simple) return set2(c.nlo);
-  if (const Feature n = derivativeUpdate(*w.p2, c, t1, h1, tol.len); n.valid()) return set2(n);
-  if (c.excluded) return set2(c.nlo);
+  if (const Feature n = derivativeUpdate(*w.p2, c, t1, h1, tol.len, *w.ambiguous); n.valid()) {
+    return set2(n);
+  }
+  if (c.excluded) {
+    // Excluded by both face planes with no derivative verdict: e1 passes through the apex of
+    // e2's wedge, i.e. the edges meet (distance within the plane tolerance). No neighbour is
+    // nearer, and moving e2 to a face would keep the distance while raising the dimension: the
+    // edge-face step then hands the face back to e2, a cycle. The pair is final (touching).
+    if (closestSegments(t1, h1, t2, h2).dist2 <= 4.0 * tol.len * tol.len) return kDone;
+    return set2(c.nlo);
+  }
   return kDone;
 }
 
 Outcome stepEE(const View& w, std::uint32_t e1, std::uint32_t e2, const Tol& tol) {
   if (const Outcome o = clipEdgeAgainstEdge(w, e1, e2, tol); o.act != Act::kDone) return o;
-  const View r{w.p2, w.p1, w.T21, w.T12};
+  const View r{w.p2, w.p1, w.T21, w.T12, w.ambiguous};
   const Outcome o = clipEdgeAgainstEdge(r, e2, e1, tol);
   if (o.act == Act::kSet2) return set1(o.f);
   return o;
@@ -311,14 +448,19 @@ void closestPoints(const Polytope& a, const Polytope& b, const Transform& T_ab, 
   } else if (fa.type == FT::kEdge && fb.type == FT::kEdge) {
     const auto& ea = a.edges()[fa.index];
     const auto& eb = b.edges()[fb.index];
-    const auto s =
-        closestSegments(vertA(ea.tail), vertA(ea.head), vertB(eb.tail), vertB(eb.head));
-    r.point_a = s.c1;
-    r.point_b = s.c2;
     const Vec3 n = glm::cross(ea.dir, T_ab.rotate(eb.dir));
     const double len = glm::length(n);
-    if (len > 1e-6) {
-      // the normal of non-parallel edges is their common perpendicular, away from A
+    // (edges within 1e-3 rad of parallel: closestSegments' line solution is ill-conditioned)
+    const auto s =
+        len > 1e-3 ? closestSegments(vertA(ea.tail), vertA(ea.head), vertB(eb.tail), vertB(eb.head))
+                   : closestSegmentsExact(vertA(ea.tail), vertA(ea.head), vertB(eb.tail),
+                                          vertB(eb.head));
+    r.point_a = s.c1;
+    r.point_b = s.c2;
+    const bool interior = s.s > 0.0 && s.s < 1.0 && s.t > 0.0 && s.t < 1.0;
+    if (len > 1e-6 && (interior || s.dist2 == 0.0)) {
+      // the normal of non-parallel edges meeting inside both is their common perpendicular, away
+      // from A (when the closest points are at an end, it is the witnesses' direction)
       r.normal = n / len;
       const double side = glm::dot(r.normal, r.point_b - r.point_a);
       if (side < 0.0 || (side == 0.0 && glm::dot(r.normal, centreLine()) < 0.0)) {
@@ -364,11 +506,14 @@ ClosestResult closestFeatures(const Polytope& a, const Polytope& b, const Transf
   // the cap, 4 * (features of A + features of B) + 64, is only worked out if 64 steps are not enough
   std::uint32_t cap = options.max_iterations != 0 ? options.max_iterations : 64;
   const bool default_cap = options.max_iterations == 0;
-  const View ab{&a, &b, &X_AB, &X_BA};
-  const View ba{&b, &a, &X_BA, &X_AB};
+  bool ambiguous = false;
+  const View ab{&a, &b, &X_AB, &X_BA, &ambiguous};
+  const View ba{&b, &a, &X_BA, &X_AB, &ambiguous};
+  const Transform I{};
   ClosestResult r;
   Outcome o;
   std::uint32_t it = 0;
+  int nudges = 0;
   for (;; ++it) {
     if (it == cap) {
       if (!default_cap || cap > 64) break;
@@ -378,7 +523,29 @@ ClosestResult closestFeatures(const Polytope& a, const Polytope& b, const Transf
       if (it == cap) break;
     }
     const bool swap = static_cast<int>(fa.type) > static_cast<int>(fb.type);
+    ambiguous = false;
     o = swap ? dispatch(ba, fb, fa, tol) : dispatch(ab, fa, fb, tol);
+    if (o.act == Act::kDone && ambiguous && nudges < 4) {
+      // a vertex-edge or edge-edge end on a derivative within the tolerance: compare the
+      // distances themselves (each such move lowers the distance by more than 1e-14 s)
+      std::uint32_t e = kNoIndex;
+      if (fa.type == FeatureType::kVertex && fb.type == FeatureType::kEdge) {
+        e = nearerEdgeOfVertex(a, fa.index, I, b, fb.index, X_AB, 1e-2 * tol.len);
+        if (e != kNoIndex) fa = Feature::edge(e);
+      } else if (fa.type == FeatureType::kEdge && fb.type == FeatureType::kVertex) {
+        e = nearerEdgeOfVertex(b, fb.index, X_AB, a, fa.index, I, 1e-2 * tol.len);
+        if (e != kNoIndex) fb = Feature::edge(e);
+      }
+      if (e != kNoIndex) {
+        ++nudges;
+        continue;
+      }
+      if (fa.type == FeatureType::kEdge && fb.type == FeatureType::kEdge &&
+          nearerFaceOfEdges(a, fa.index, b, fb.index, X_AB, X_BA, 1e-2 * tol.len, fa, fb)) {
+        ++nudges;
+        continue;
+      }
+    }
     if (o.act == Act::kDone || o.act == Act::kPenetration) break;
     const bool first = o.act == Act::kSet1;
     if (first != swap) {

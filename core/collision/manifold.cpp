@@ -30,18 +30,20 @@ struct Polygon {
   }
 };
 
-// Sutherland-Hodgman: keeps the part of `in` with (x - o)·m >= 0.
-void clipPolygon(const Polygon& in, const Vec3& o, const Vec3& m, Polygon& out) {
+// Sutherland-Hodgman: keeps the part of `in` with (x - o)·m >= -tol. The tolerance keeps an
+// overlap that has no area (two faces meeting along an edge, parallel edges lying in a face):
+// rounding would put its points on either side of the plane.
+void clipPolygon(const Polygon& in, const Vec3& o, const Vec3& m, double tol, Polygon& out) {
   out.n = 0;
   out.overflow = in.overflow;
   if (in.n == 0) return;
   if (in.n == 1) {
-    if (glm::dot(in.p[0] - o, m) >= 0.0) out.push(in.p[0]);
+    if (glm::dot(in.p[0] - o, m) + tol >= 0.0) out.push(in.p[0]);
     return;
   }
   const std::size_t count = in.n == 2 ? 1 : in.n;  // a segment is not closed
   if (in.n == 2) {
-    const double s0 = glm::dot(in.p[0] - o, m), s1 = glm::dot(in.p[1] - o, m);
+    const double s0 = glm::dot(in.p[0] - o, m) + tol, s1 = glm::dot(in.p[1] - o, m) + tol;
     if (s0 >= 0.0) out.push(in.p[0]);
     if ((s0 >= 0.0) != (s1 >= 0.0)) out.push(in.p[0] + (in.p[1] - in.p[0]) * (s0 / (s0 - s1)));
     if (s1 >= 0.0) out.push(in.p[1]);
@@ -50,7 +52,7 @@ void clipPolygon(const Polygon& in, const Vec3& o, const Vec3& m, Polygon& out) 
   for (std::size_t k = 0; k < count; ++k) {
     const Vec3& a = in.p[k];
     const Vec3& b = in.p[(k + 1) % in.n];
-    const double sa = glm::dot(a - o, m), sb = glm::dot(b - o, m);
+    const double sa = glm::dot(a - o, m) + tol, sb = glm::dot(b - o, m) + tol;
     if (sa >= 0.0) out.push(a);
     if ((sa >= 0.0) != (sb >= 0.0)) out.push(a + (b - a) * (sa / (sa - sb)));
   }
@@ -69,10 +71,10 @@ void facePolygon(const FaceView& v, Polygon& out) {
   for (const auto& fe : v.p->faceEdges(v.f)) out.push(v.X->apply(v.p->vertices()[fe.vertex].p));
 }
 
-// Clips `poly` (in A's frame) against the side planes of face `ref`.
-void clipToFace(const FaceView& ref, Polygon& poly, Polygon& scratch) {
+// Clips `poly` (in A's frame) against the side planes of face `ref`, `tol` outside them kept.
+void clipToFace(const FaceView& ref, Polygon& poly, Polygon& scratch, double tol) {
   for (const auto& fe : ref.p->faceEdges(ref.f)) {
-    clipPolygon(poly, ref.X->apply(ref.p->vertices()[fe.vertex].p), ref.X->rotate(fe.side),
+    clipPolygon(poly, ref.X->apply(ref.p->vertices()[fe.vertex].p), ref.X->rotate(fe.side), tol,
                 scratch);
     poly.copyFrom(scratch);
     if (poly.n == 0) return;
@@ -241,10 +243,14 @@ bool parallelEdges(const Polytope& a, Feature fa, const Vec3& n, const Polytope&
 }
 
 // Builds the manifold: the other side's contact feature clipped to `ref` (a face) or, for two
-// segments, their overlap. Depth of each point measured along n (A toward B).
+// segments, their overlap. Depth of each point measured along n (A toward B). `size`: the pair's
+// size; points closer than 1e-9 of it merge, and clipping keeps 1e-12 of it outside a side plane
+// (the closest-feature walk's plane tolerance).
 Manifold assemble(const Polygon& pa, bool a_face, const FaceView& fa, const Polygon& pb,
                   bool b_face, const FaceView& fb, const Vec3& n, double fallback_depth,
-                  const Vec3& fallback_point, double merge) {
+                  const Vec3& fallback_point, double size) {
+  const double merge = 1e-9 * size;
+  const double clip_tol = 1e-12 * size;
   Manifold m;
   Polygon work, scratch;
   std::array<ContactPoint, kMaxPolygon> pts;
@@ -254,7 +260,7 @@ Manifold assemble(const Polygon& pa, bool a_face, const FaceView& fa, const Poly
     const bool ref_is_a = a_face && (!b_face || pa.n >= pb.n);
     const FaceView& ref = ref_is_a ? fa : fb;
     work.copyFrom(ref_is_a ? pb : pa);
-    clipToFace(ref, work, scratch);
+    clipToFace(ref, work, scratch, clip_tol);
     const Vec3 rn = ref.normal();  // outward of the reference face
     const double off = glm::dot(rn, ref.X->apply(ref.p->vertices()[ref.p->faceEdges(ref.f)[0].vertex].p));
     for (std::size_t k = 0; k < work.n; ++k) {
@@ -329,7 +335,7 @@ Manifold manifoldFromClosest(const Polytope& a, const Polytope& b, const Transfo
   }
   if (pa.n <= 1 || pb.n <= 1) return single;
   Manifold m = assemble(pa, a_face, fa, pb, b_face, fb, n, -closest.distance, mid,
-                        1e-9 * std::max(a.radius(), b.radius()));
+                        std::max(a.radius(), b.radius()));
   // the closest pair is exact: the manifold's deepest point must say so
   std::size_t deepest = 0;
   for (std::size_t i = 1; i < m.count; ++i) {
@@ -380,7 +386,7 @@ Manifold manifoldFromDepth(const Polytope& a, const Polytope& b, const Transform
     return m;
   }
   m = assemble(pa, a_face, fa, pb, b_face, fb, n, depth.depth, mid,
-               1e-9 * std::max(a.radius(), b.radius()));
+               std::max(a.radius(), b.radius()));
   // keep only penetrating points, and never lose the deepest (the MTD itself)
   std::size_t kept = 0;
   double deepest = -std::numeric_limits<double>::infinity();

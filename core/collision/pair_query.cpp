@@ -56,6 +56,34 @@ void bruteDistance(const Polytope& a, const Polytope& b, const Transform& X_AB, 
   r.normal = r.distance > 0.0 ? d / r.distance : Vec3{1.0, 0.0, 0.0};
 }
 
+// The feature of p (placed in A's frame by X) holding x (A's frame) within tol, among vertex v
+// and the edges and faces around it, lowest dimension first; none when x is not on them. A depth
+// result's witness lies in the support set along its normal, which holds its support vertex v.
+Feature featureAt(const Polytope& p, const Transform& X, std::uint32_t v, const Vec3& x_A,
+                  double tol) {
+  if (v >= p.vertices().size()) return {};
+  const Vec3 x = X.inverse().apply(x_A);
+  const Vec3& pv = p.vertices()[v].p;
+  if (glm::length(x - pv) <= tol) return Feature::vertex(v);
+  for (const auto& ve : p.vertexEdges(v)) {
+    const Vec3& q = p.vertices()[ve.other].p;
+    if (glm::length(x - (pv + (q - pv) * detail::closestOnSegment(x, pv, q))) <= tol) {
+      return Feature::edge(ve.edge);
+    }
+  }
+  for (const auto& ve : p.vertexEdges(v)) {
+    for (const std::uint32_t f : p.edges()[ve.edge].face) {
+      const auto& face = p.faces()[f];
+      bool inside = std::abs(glm::dot(face.normal, x) - face.offset) <= tol;
+      for (const auto& fe : p.faceEdges(f)) {
+        inside = inside && glm::dot(x - p.vertices()[fe.vertex].p, fe.side) >= -tol;
+      }
+      if (inside) return Feature::face(f);
+    }
+  }
+  return {};
+}
+
 // The answer of an overlapping pair from its minimal translation.
 void penetrating(const Polytope& a, const Polytope& b, const Transform& X_AB, const DepthResult& d,
                  PairResult& r) {
@@ -127,6 +155,10 @@ PairResult queryPair(const Polytope& a, const Polytope& b, const Transform& X_AB
     r.normal = d.normal;
     r.point_a = d.point_a;
     r.point_b = d.point_b;
+    // the closest features: those holding the witnesses (the walk stopped at a crossing)
+    const double on = 1e-10 * std::max(a.radius(), b.radius());
+    r.fa = featureAt(a, Transform{}, d.support_a, d.point_a, on);
+    r.fb = featureAt(b, X_AB, d.support_b, d.point_b, on);
     r.manifold = manifoldFromDepth(a, b, X_AB, d);
     return r;
   }

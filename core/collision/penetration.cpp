@@ -1,5 +1,7 @@
 #include "core/collision/penetration.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -21,6 +23,96 @@ inline bool isMinkowskiFace(const Vec3& a, const Vec3& b, const Vec3& b_x_a, con
   return cba * dba < 0.0 && adc * bdc < 0.0 && cba * bdc > 0.0;
 }
 
+// A fixed-capacity convex polygon for the witness search (no allocation). A vertex beyond the
+// capacity is dropped, which leaves a convex subset of the polygon.
+struct WitnessPolygon {
+  static constexpr std::size_t kCap = 256;
+  std::array<Vec3, kCap> p;
+  std::size_t n = 0;
+  void push(const Vec3& v) {
+    if (n < kCap) p[n++] = v;
+  }
+};
+
+// Sutherland-Hodgman: the part of `in` (a closed polygon, or a segment when it has 2 points) with
+// (x - o)·m >= -tol.
+void clipWitness(const WitnessPolygon& in, const Vec3& o, const Vec3& m, double tol,
+                 WitnessPolygon& out) {
+  out.n = 0;
+  const std::size_t edges = in.n == 2 ? 1 : in.n;
+  for (std::size_t k = 0; k < edges; ++k) {
+    const Vec3& x = in.p[k];
+    const Vec3& y = in.p[(k + 1) % in.n];
+    const double sx = glm::dot(x - o, m) + tol, sy = glm::dot(y - o, m) + tol;
+    if (sx >= 0.0) out.push(x);
+    if ((sx >= 0.0) != (sy >= 0.0)) out.push(x + (y - x) * (sx / (sx - sy)));
+  }
+  if (in.n == 2 && glm::dot(in.p[1] - o, m) + tol >= 0.0) out.push(in.p[1]);
+  if (in.n == 1 && glm::dot(in.p[0] - o, m) + tol >= 0.0) out.push(in.p[0]);
+}
+
+// Witness on Q of a face MTD (face f of P against Q's support set), in P's frame (T_PQ: Q's frame
+// to P's): a point of Q's support set against the face normal whose projection onto the face
+// plane lies in the face. The origin's projection onto the nearest face of A - B lies in that
+// face, so a unique support vertex s projects into the face; only ties (a face or an edge of Q
+// parallel to the face within tol, where the climb returns any of its vertices) need a search:
+// the tied feature is clipped against the face's side planes and the mean of what is left taken.
+// Falls back to s if the search finds nothing.
+Vec3 faceWitness(const Polytope& p, std::uint32_t f, const Polytope& q, const Transform& T_PQ,
+                 std::uint32_t s, double tol) {
+  const auto sides = p.faceEdges(f);
+  const Vec3 q0 = T_PQ.apply(q.vertices()[s].p);
+  bool inside = true;
+  for (const auto& fe : sides) {
+    if (glm::dot(q0 - p.vertices()[fe.vertex].p, fe.side) < -tol) {
+      inside = false;
+      break;
+    }
+  }
+  if (inside) return q0;
+  // Q's support set along d_q (its own frame): the vertices within tol of s's height
+  const Vec3 d_q = glm::transpose(T_PQ.R) * (-p.faces()[f].normal);
+  const double h0 = glm::dot(d_q, q.vertices()[s].p);
+  auto tied = [&](std::uint32_t v) { return glm::dot(d_q, q.vertices()[v].p) >= h0 - tol; };
+  double best = -2.0;
+  std::uint32_t face = 0;
+  for (const auto& ve : q.vertexEdges(s)) {
+    for (const std::uint32_t k : q.edges()[ve.edge].face) {
+      const double c = glm::dot(q.faces()[k].normal, d_q);
+      if (c > best) best = c, face = k;
+    }
+  }
+  WitnessPolygon poly, scratch;
+  const auto loop = q.faceEdges(face);
+  bool face_tied = true;
+  for (const auto& fe : loop) face_tied = face_tied && tied(fe.vertex);
+  if (face_tied) {
+    // a face larger than the capacity: evenly spaced vertices (a convex polygon inside it)
+    const std::size_t stride = (loop.size() + WitnessPolygon::kCap - 1) / WitnessPolygon::kCap;
+    for (std::size_t k = 0; k < loop.size(); k += stride) {
+      poly.push(T_PQ.apply(q.vertices()[loop[k].vertex].p));
+    }
+  } else {
+    for (const auto& ve : q.vertexEdges(s)) {
+      if (!tied(ve.other)) continue;
+      poly.push(q0);
+      poly.push(T_PQ.apply(q.vertices()[ve.other].p));
+      break;
+    }
+  }
+  if (poly.n < 2) return q0;
+  for (const auto& fe : sides) {
+    clipWitness(poly, p.vertices()[fe.vertex].p, fe.side, tol, scratch);
+    poly.n = scratch.n;
+    std::copy(scratch.p.begin(), scratch.p.begin() + static_cast<std::ptrdiff_t>(scratch.n),
+              poly.p.begin());
+    if (poly.n == 0) return q0;
+  }
+  Vec3 mean{0.0};
+  for (std::size_t k = 0; k < poly.n; ++k) mean += poly.p[k];
+  return mean / static_cast<double>(poly.n);
+}
+
 }  // namespace
 
 DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Transform& X_AB,
@@ -35,6 +127,9 @@ DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Tr
   const auto fb = b.faces();
   const auto ea = a.edges();
   const auto eb = b.edges();
+  // support heights within this count as tied (parallel features), as the closest-feature
+  // walk's plane tolerance
+  const double tie_tol = 1e-12 * std::max(a.radius(), b.radius());
 
   // per face of A, B's support vertex against its normal: the region of B's Gauss map that
   // holds the face normal. Scratch grows to the largest polytope seen, then never allocates.
@@ -73,6 +168,8 @@ DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Tr
   // face[0] to that of face[1]; walking over B's vertex graph from the region holding the first
   // to the region holding the second crosses exactly the arcs of the edges of B it meets.
   if (best.depth >= 0.0) {
+    const DepthResult face_best = best;
+    const std::uint32_t face_support = best_support;
     auto edgePair = [&](std::uint32_t i, std::uint32_t j, const Vec3& na, const Vec3& nb,
                         const Vec3& b_x_a) {
       const Vec3& c = neg_normal_b[eb[j].face[0]];
@@ -118,18 +215,36 @@ DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Tr
         for (std::uint32_t j = 0; j < eb.size(); ++j) edgePair(i, j, na, nb, b_x_a);
       }
     }
+    // Arcs that only meet at an end (a face normal of A equal to one of -B: parallel faces, e.g.
+    // the edges of two opposed caps) pass the crossing test by rounding; such a "face" has no
+    // area and lies in that face's plane, the face passes' answer less a rounding error, and its
+    // edges' closest points are no witnesses of it. An edge-pair answer whose axis lies within
+    // 1e-12 rad of one of its arcs' ends gives way to the faces' answer (checked once here, not
+    // in the loop above).
+    if (best.kind == DepthFeature::kEdgeEdge) {
+      const Vec3 ends[4] = {fa[ea[best.ia].face[0]].normal, fa[ea[best.ia].face[1]].normal,
+                            neg_normal_b[eb[best.ib].face[0]], neg_normal_b[eb[best.ib].face[1]]};
+      for (const Vec3& end : ends) {
+        const Vec3 off = glm::cross(best.normal, end);
+        if (glm::dot(off, off) < 1e-24) {
+          best = face_best;
+          best_support = face_support;
+          break;
+        }
+      }
+    }
   }
 
   // witness points
   switch (best.kind) {
     case DepthFeature::kFaceA:
-      best.point_b = X_AB.apply(b.vertices()[best_support].p);
+      best.point_b = faceWitness(a, best.ia, b, X_AB, best_support, tie_tol);
       best.point_a = best.point_b + best.normal * best.depth;
       cache.support_b = best.support_b = best_support;
       best.support_a = a.faceEdges(best.ia)[0].vertex;
       break;
     case DepthFeature::kFaceB:
-      best.point_a = a.vertices()[best_support].p;
+      best.point_a = X_AB.apply(faceWitness(b, best.ib, a, X_BA, best_support, tie_tol));
       best.point_b = best.point_a - best.normal * best.depth;
       cache.support_a = best.support_a = best_support;
       best.support_b = b.faceEdges(best.ib)[0].vertex;

@@ -1,0 +1,267 @@
+// Penetration depth (the minimal translation distance) against the brute-force separating axes:
+// the exact method, GJK+EPA, the combined call, stale caches, 4 to 2000 vertices; depthAlong
+// against the brute-force scan.
+#include "core/collision/penetration.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <random>
+#include <sstream>
+
+#include "tests/core/collision/pair_checks.h"
+#include "tests/reference/reference.h"
+
+namespace hapticd::collision {
+namespace {
+
+using namespace checks;  // NOLINT(google-build-using-namespace): test helpers
+
+struct DepthFigures {
+  std::size_t pairs = 0, normals_checked = 0, normals_skipped = 0;
+  double max_depth_err = 0.0, max_normal_err = 0.0, max_witness_err = 0.0;
+  void print(const char* what) const {
+    std::printf(
+        "[figures] %s: %zu overlapping pairs; max depth error %.3g of size, max witness "
+        "error %.3g of size, max normal error %.3g rad over %zu unique normals (%zu not "
+        "unique)\n",
+        what, pairs, max_depth_err, max_witness_err, max_normal_err, normals_checked,
+        normals_skipped);
+    std::fflush(stdout);
+  }
+};
+
+// Every property of the answer for an overlapping pair whose brute-force depth is `ref_depth`.
+std::string checkDepth(const Polytope& a,
+                       const Polytope& b,
+                       const Transform& X,
+                       const DepthResult& d,
+                       double ref_depth,
+                       DepthFigures& fig,
+                       bool compare_normal = true) {
+  const double size = pairSize(a, b);
+  const double tol = kDistTol * size;
+  std::ostringstream err;
+  ++fig.pairs;
+  if (!std::isfinite(d.depth) || !finite(d.normal) || !finite(d.point_a) || !finite(d.point_b)) {
+    err << "[non-finite field] ";
+  } else if (std::abs(glm::length(d.normal) - 1.0) > 1e-12) {
+    err << "[normal not unit] ";
+  } else if (fig.max_depth_err = std::max(fig.max_depth_err, std::abs(d.depth - ref_depth) / size);
+             std::abs(d.depth - ref_depth) > tol) {
+    err << "[depth] depth " << d.depth << ", reference " << ref_depth;
+  } else if (const double along = reference::bruteDepthAlong(a, b, X, d.normal);
+             std::abs(along - d.depth) > tol) {
+    err << "[depth along the normal] depth along the normal " << along << " != depth " << d.depth;
+  } else if (const double w = glm::length(d.point_a - d.point_b - d.normal * d.depth);
+             (fig.max_witness_err = std::max(fig.max_witness_err, w / size)), w > tol) {
+    err << "[witness alignment] |point_a - point_b - depth * normal| = " << w / size
+        << " of the size";
+  } else if (std::abs(outside(a, Transform{}, d.point_a)) > tol ||
+             std::abs(outside(b, X, d.point_b)) > tol) {
+    err << "[witness off its hull] point_a " << outside(a, Transform{}, d.point_a) << ", point_b "
+        << outside(b, X, d.point_b);
+  } else if (d.kind == DepthFeature::kNone) {
+    err << "[no feature] no feature named";
+  } else if (d.kind == DepthFeature::kFaceA &&
+             (d.ia >= a.faces().size() || angle(a.faces()[d.ia].normal, d.normal) > kAngleTol)) {
+    err << "[feature vs normal] face of A " << d.ia << " does not carry the normal";
+  } else if (d.kind == DepthFeature::kFaceB &&
+             (d.ib >= b.faces().size() ||
+              angle(-X.rotate(b.faces()[d.ib].normal), d.normal) > kAngleTol)) {
+    err << "[feature vs normal] face of B " << d.ib << " does not carry the normal";
+  } else if (d.kind == DepthFeature::kEdgeEdge &&
+             (d.ia >= a.edges().size() || d.ib >= b.edges().size() ||
+              std::abs(glm::dot(a.edges()[d.ia].dir, d.normal)) > kAngleTol ||
+              std::abs(glm::dot(X.rotate(b.edges()[d.ib].dir), d.normal)) > kAngleTol)) {
+    err << "[feature vs normal] edges " << d.ia << ", " << d.ib
+        << " not perpendicular to the normal";
+  } else if (compare_normal) {
+    const AxisMargin m = axisMargin(a, b, X);
+    if (m.unique(size)) {
+      ++fig.normals_checked;
+      const double e = angle(d.normal, m.axis);
+      fig.max_normal_err = std::max(fig.max_normal_err, e);
+      if (e > kAngleTol)
+        err << "[normal] normal off the unique minimal direction by " << e << " rad";
+    } else {
+      ++fig.normals_skipped;
+    }
+  }
+  if (err.str().empty())
+    return {};
+  std::ostringstream s;
+  char buf[200];
+  std::snprintf(buf, sizeof buf, "depth %.17g normal [%.17g, %.17g, %.17g] kind %d ia %u ib %u",
+                d.depth, d.normal.x, d.normal.y, d.normal.z, static_cast<int>(d.kind), d.ia, d.ib);
+  s << err.str() << "\n  got: " << buf << "\n" << describe(a, b, X);
+  return s.str();
+}
+
+// Random overlapping pairs of small hulls at three unit scales: the exact method, EPA (when it
+// certifies its answer) and the combined call all equal the brute-force depth.
+TEST(Penetration, RandomOverlapsAgainstBruteForce) {
+  std::mt19937_64 rng(505);
+  std::uniform_int_distribution<std::size_t> count(4, 14);
+  DepthFigures exact, epa, combined;
+  Failures fails;
+  std::size_t tried = 0;
+  const std::size_t kPairs = 15000;
+  while (exact.pairs < kPairs) {
+    const double scale = std::pow(10.0, 3.0 * static_cast<double>(tried++ % 3) - 3.0);
+    const Polytope a = hullOf(reference::randomPointSet(rng, count(rng), scale));
+    const Polytope b = hullOf(reference::randomPointSet(rng, count(rng), scale));
+    const Transform X = randomTransform(rng, 0.5 * scale);
+    const auto ref = reference::bruteForce(a, b, X);
+    if (!ref.overlapping || -ref.signed_distance < 1e-9 * pairSize(a, b))
+      continue;
+    const std::string what = "pair " + std::to_string(tried) + ": ";
+    DepthCache c1, c2, c3;
+    const DepthResult e = penetrationDepthExact(a, b, X, c1);
+    std::string err = checkDepth(a, b, X, e, -ref.signed_distance, exact);
+    fails.add("exact, " + what, err);
+    DepthResult p;
+    if (penetrationDepthEpa(a, b, X, c2, p)) {
+      err = checkDepth(a, b, X, p, -ref.signed_distance, epa);
+      fails.add("EPA, " + what, err);
+    }
+    err = checkDepth(a, b, X, penetrationDepth(a, b, X, c3), -ref.signed_distance, combined, false);
+    fails.add("combined, " + what, err);
+  }
+  exact.print("penetrationDepthExact, random small pairs");
+  epa.print("penetrationDepthEpa (certified answers), random small pairs");
+  combined.print("penetrationDepth, random small pairs");
+  EXPECT_EQ(fails.total(), 0u) << fails.summary();
+  EXPECT_GT(epa.pairs, kPairs / 2) << "EPA certifies too few answers";
+}
+
+// A separated pair: the depth is minus a separating gap along the normal, never more than the
+// distance.
+TEST(Penetration, SeparatedPairsGiveASeparatingAxis) {
+  std::mt19937_64 rng(606);
+  std::size_t pairs = 0;
+  while (pairs < 3000) {
+    const Polytope a = hullOf(reference::randomPointSet(rng, 4 + rng() % 20, 1.0));
+    const Polytope b = hullOf(reference::randomPointSet(rng, 4 + rng() % 20, 1.0));
+    const Transform X = randomTransform(rng, 1.5);
+    const auto ref = reference::bruteForce(a, b, X);
+    const double tol = kDistTol * pairSize(a, b);
+    if (ref.overlapping || ref.signed_distance < 1e-6)
+      continue;
+    ++pairs;
+    for (int method = 0; method < 2; ++method) {
+      DepthCache cache;
+      const DepthResult d =
+          method == 0 ? penetrationDepthExact(a, b, X, cache) : penetrationDepth(a, b, X, cache);
+      ASSERT_TRUE(std::isfinite(d.depth) && finite(d.normal)) << "pair " << pairs;
+      ASSERT_LT(d.depth, 0.0) << "method " << method << " pair " << pairs;
+      ASSERT_GE(-d.depth, 0.0);
+      ASSERT_LE(-d.depth, ref.signed_distance + tol) << "a gap larger than the distance";
+      ASSERT_NEAR(reference::bruteDepthAlong(a, b, X, d.normal), d.depth, tol)
+          << "method " << method << " pair " << pairs << "\n"
+          << describe(a, b, X);
+    }
+  }
+  std::printf("[figures] penetration depth of %zu separated pairs: a separating axis each\n",
+              pairs);
+}
+
+// A cache carried over from another, unrelated pose (stale warm start) changes nothing.
+TEST(Penetration, StaleCacheGivesTheSameDepth) {
+  std::mt19937_64 rng(707);
+  DepthFigures fig;
+  Failures fails;
+  for (int i = 0; i < 1500; ++i) {
+    const Polytope a = hullOf(reference::randomPointSet(rng, 8 + rng() % 60, 1.0));
+    const Polytope b = hullOf(reference::randomPointSet(rng, 8 + rng() % 60, 1.0));
+    DepthCache cache;
+    for (int k = 0; k < 4; ++k) {
+      const Transform X = randomTransform(rng, 0.4);
+      const double ref = reference::bruteMinkowskiDepth(a, b, X, nullptr);
+      const DepthResult d = penetrationDepth(a, b, X, cache);
+      if (ref <= 1e-9 * pairSize(a, b))
+        continue;
+      const std::string err = checkDepth(a, b, X, d, ref, fig, false);
+      fails.add(label("pair ", i, " pose ", k, ": "), err);
+    }
+  }
+  fig.print("penetrationDepth with stale caches");
+  EXPECT_EQ(fails.total(), 0u) << fails.summary();
+}
+
+// Larger hulls: against the full reference up to 64 vertices, the Minkowski-face reference above
+// (which is checked against the full one here too).
+TEST(Penetration, LargerHulls) {
+  std::mt19937_64 rng(808);
+  DepthFigures fig;
+  Failures fails;
+  double ref_agreement = 0.0;
+  for (const std::size_t n : {16u, 64u, 300u, 1000u, 2000u}) {
+    const int reps = n <= 64 ? 40 : n <= 300 ? 8 : 2;
+    for (int i = 0; i < reps; ++i) {
+      const Polytope a = hullOf(reference::randomPointSet(rng, n, 0.025));
+      const Polytope b = hullOf(n >= 1000 ? reference::ellipsoidPoints(n, 0.02, 0.02, 0.01, rng())
+                                          : reference::randomPointSet(rng, n, 0.025));
+      const Transform X = randomTransform(rng, 0.01);
+      Vec3 mn;
+      const double mink = reference::bruteMinkowskiDepth(a, b, X, &mn);
+      if (mink <= 1e-9 * pairSize(a, b))
+        continue;
+      if (n <= 64) {
+        const auto ref = reference::bruteForce(a, b, X);
+        ASSERT_TRUE(ref.overlapping);
+        ref_agreement =
+            std::max(ref_agreement, std::abs(mink + ref.signed_distance) / pairSize(a, b));
+        ASSERT_NEAR(mink, -ref.signed_distance, kDistTol * pairSize(a, b)) << "the two references";
+      }
+      DepthCache c1, c2;
+      std::string err = checkDepth(a, b, X, penetrationDepth(a, b, X, c1), mink, fig, n <= 64);
+      fails.add(label("n=", n, " pair ", i, ": "), err);
+      err = checkDepth(a, b, X, penetrationDepthExact(a, b, X, c2), mink, fig, false);
+      fails.add(label("exact, n=", n, " pair ", i, ": "), err);
+    }
+  }
+  fig.print("penetrationDepth, 16..2000 vertices");
+  EXPECT_EQ(fails.total(), 0u) << fails.summary();
+  std::printf("[figures] Minkowski-face reference vs full reference: max difference %.3g of size\n",
+              ref_agreement);
+}
+
+// depthAlong equals the brute-force scan, with the hints carried along or random.
+TEST(Penetration, DepthAlongEqualsBruteForce) {
+  std::mt19937_64 rng(909);
+  std::normal_distribution<double> g(0.0, 1.0);
+  double max_err = 0.0;
+  std::size_t calls = 0;
+  for (int shape = 0; shape < 80; ++shape) {
+    const double scale = std::pow(10.0, 3.0 * static_cast<double>(shape % 3) - 3.0);
+    const std::size_t n = shape % 10 == 9 ? 2000 : 4 + static_cast<std::size_t>(shape) * 3;
+    const Polytope a = hullOf(reference::randomPointSet(rng, n, scale));
+    const Polytope b = hullOf(shape % 2 ? scaled(box(1.0, 0.5, 0.25), scale)
+                                        : reference::randomPointSet(rng, n, scale));
+    const double size = pairSize(a, b);
+    std::uint32_t ha = 0, hb = 0;
+    for (int i = 0; i < 100; ++i) {
+      const Transform X = randomTransform(rng, scale);
+      Vec3 dir = glm::normalize(Vec3{g(rng), g(rng), g(rng)});
+      if (i % 10 == 0)
+        dir = glm::normalize(Vec3{0.0, 0.0, i % 20 == 0 ? 1.0 : -1.0});  // ties
+      if (i % 7 == 0) {
+        ha = static_cast<std::uint32_t>(rng() % a.vertices().size());
+        hb = static_cast<std::uint32_t>(rng() % b.vertices().size());
+      }
+      const double got = depthAlong(a, b, X, dir, ha, hb);
+      const double want = reference::bruteDepthAlong(a, b, X, dir);
+      ASSERT_LT(ha, a.vertices().size());
+      ASSERT_LT(hb, b.vertices().size());
+      max_err = std::max(max_err, std::abs(got - want) / size);
+      ASSERT_NEAR(got, want, kDistTol * size) << "shape " << shape << " direction " << i;
+      ++calls;
+    }
+  }
+  std::printf("[figures] depthAlong: %zu calls, max error %.3g of size\n", calls, max_err);
+}
+
+}  // namespace
+}  // namespace hapticd::collision
