@@ -13,6 +13,9 @@ namespace hapticd::dynamics {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// fixed-point iterations of the midpoint rotation (1: the explicit midpoint; more iterations
+// measured no better: energy error stays bounded at O((w dt)^2), 2e-6 at w dt = 0.006)
+constexpr int kMidpointIterations = 1;
 
 Mat3 skew(const Vec3& v) {
   // column-major: columns are the images of e_x, e_y, e_z under v x .
@@ -701,11 +704,16 @@ void Dynamics::advance(double h) {
       b.updateInertia();
       continue;
     }
+    // midpoint on the rotation group: q' = exp(h w_mid) q with w_mid the angular velocity of
+    // L at the orientation halfway
     const Vec3 L = b.R * (b.inertia_B * (glm::transpose(b.R) * b.w_W));
-    const Quat q_half = glm::normalize(expMap(b.w_W, 0.5 * h) * b.q);
-    const Mat3 R_half = glm::mat3_cast(q_half);
-    const Vec3 w_half = R_half * (b.inv_inertia_B * (glm::transpose(R_half) * L));
-    b.q = glm::normalize(expMap(w_half, h) * b.q);
+    Vec3 w_mid = b.w_W;
+    for (int it = 0; it < kMidpointIterations; ++it) {
+      const Quat q_half = glm::normalize(expMap(w_mid, 0.5 * h) * b.q);
+      const Mat3 R_half = glm::mat3_cast(q_half);
+      w_mid = R_half * (b.inv_inertia_B * (glm::transpose(R_half) * L));
+    }
+    b.q = glm::normalize(expMap(w_mid, h) * b.q);
     b.updateInertia();
     b.w_W = b.inv_inertia_W * L;
   }

@@ -1,1 +1,232 @@
+// Contact: restitution at the time of impact (elastic, inelastic, in metres and millimetres),
+// material combine modes, no energy gain in a closed frictionless box, a stack that stays up,
+// a box on a slope that sticks below the friction angle and slides above it at g(sin - mu cos).
 #include <gtest/gtest.h>
+
+#include "tests/core/dynamics/scenes.h"
+
+namespace hapticd::dynamics::testing {
+namespace {
+
+constexpr double kDt = 0.001;
+#ifdef HAPTICD_DYNAMICS_SHORT_RUNS
+constexpr double kLongRunS = 15.0;  // sanitizer builds: a quarter of the run, the same bounds
+#else
+constexpr double kLongRunS = 60.0;
+#endif
+
+// a cube dropped from rest onto a floor; `unit` scales every length (1: metres, 1000: mm)
+struct Bounce {
+  double v_before = 0.0;  // velocity at the end of the tick before the impact
+  double v_after = 0.0;   // at the end of the impact tick
+  double g = 0.0;
+  int impact_tick = -1;
+};
+
+Bounce dropCube(double e, double unit, const Quat& tilt = Quat{1, 0, 0, 0}) {
+  SceneModel s;
+  s.gravity_W = Vec3{0, -9.81 * unit, 0};
+  s.materials.push_back(material(0.0, e));
+  s.bodies.push_back(staticBody("floor", boxShape(Vec3{1, 0.1, 1} * unit), at(Vec3{0, -0.1, 0} * unit), 0));
+  s.bodies.push_back(
+      dynamicBody("cube", boxShape(Vec3{0.05} * unit), at(Vec3{0, 0.3, 0} * unit, tilt), 1000.0 / (unit * unit * unit), 0));
+  Rig rig(std::move(s));
+  Bounce out;
+  out.g = 9.81 * unit;
+  double prev = 0.0;
+  for (int k = 0; k < 1000; ++k) {
+    rig.tick(kDt);
+    const double v = rig.dyn->linearVelocity(1).y;
+    if (v > -1e-9 * unit && prev < 0.0) {
+      out.v_before = prev;
+      out.v_after = v;
+      out.impact_tick = k;
+      break;
+    }
+    prev = v;
+  }
+  return out;
+}
+
+TEST(Restitution, ElasticAndInelasticBounceAtTheTimeOfImpact) {
+  for (const double e : {1.0, 0.5, 0.0}) {
+    const Bounce b = dropCube(e, 1.0);
+    ASSERT_GE(b.impact_tick, 0) << e;
+    // the tick: gravity first (v - g dt), then the impulse at the time of impact, no gravity
+    // after it within the tick: v_after = -e (v_before - g dt) exactly
+    const double v_in = b.v_before - b.g * kDt;
+    EXPECT_NEAR(b.v_after, -e * v_in, 1e-6 * std::abs(v_in)) << "e=" << e;
+  }
+}
+
+TEST(Restitution, SameRelativeResultInMillimetres) {
+  for (const double e : {1.0, 0.5}) {
+    const Bounce m = dropCube(e, 1.0);
+    const Bounce mm = dropCube(e, 1000.0);
+    EXPECT_EQ(m.impact_tick, mm.impact_tick);
+    EXPECT_NEAR(mm.v_after / 1000.0, m.v_after, 1e-6 * std::abs(m.v_after));
+  }
+}
+
+TEST(Restitution, CombineModes) {
+  using scene::Combine;
+  const auto rebound = [](double ea, double eb, Combine ca, Combine cb) {
+    SceneModel s;
+    s.gravity_W = Vec3{0, -9.81, 0};
+    Material a = material(0.0, ea, ca), b = material(0.0, eb, cb);
+    s.materials = {a, b};
+    s.bodies.push_back(staticBody("floor", boxShape(Vec3{1, 0.1, 1}), at(Vec3{0, -0.1, 0}), 0));
+    s.bodies.push_back(dynamicBody("cube", boxShape(Vec3{0.05}), at(Vec3{0, 0.2, 0}), 1000.0, 1));
+    Rig rig(std::move(s));
+    double prev = 0.0;
+    for (int k = 0; k < 1000; ++k) {
+      rig.tick(kDt);
+      const double v = rig.dyn->linearVelocity(1).y;
+      if (v > 0.0 && prev < 0.0) return -v / (prev - 9.81 * kDt);
+      prev = v;
+    }
+    return -1.0;
+  };
+  EXPECT_NEAR(rebound(0.2, 0.8, Combine::kAverage, Combine::kMaximum), 0.5, 1e-6);
+  EXPECT_NEAR(rebound(0.2, 0.8, Combine::kMinimum, Combine::kMaximum), 0.2, 1e-6);
+  EXPECT_NEAR(rebound(0.2, 0.8, Combine::kMaximum, Combine::kMultiply), 0.8, 1e-6);
+  EXPECT_NEAR(rebound(0.5, 0.8, Combine::kMultiply, Combine::kMultiply), 0.4, 1e-6);
+}
+
+// cubes and spheres bouncing in a closed box, no gravity, no friction, fully elastic
+TEST(Energy, NoGainInAClosedFrictionlessBox) {
+  SceneModel s;
+  s.materials.push_back(material(0.0, 1.0));
+  const double L = 0.5, w = 0.05;
+  const auto wall = [&](const Vec3& c, const Vec3& h) {
+    s.bodies.push_back(staticBody("wall", boxShape(h), at(c), 0));
+  };
+  wall(Vec3{0, -L - w, 0}, Vec3{L + 2 * w, w, L + 2 * w});
+  wall(Vec3{0, L + w, 0}, Vec3{L + 2 * w, w, L + 2 * w});
+  wall(Vec3{-L - w, 0, 0}, Vec3{w, L + 2 * w, L + 2 * w});
+  wall(Vec3{L + w, 0, 0}, Vec3{w, L + 2 * w, L + 2 * w});
+  wall(Vec3{0, 0, -L - w}, Vec3{L + 2 * w, L + 2 * w, w});
+  wall(Vec3{0, 0, L + w}, Vec3{L + 2 * w, L + 2 * w, w});
+  const auto cube = boxShape(Vec3{0.06, 0.04, 0.05});
+  const auto ball = ellipsoidShape(Vec3{0.05}, 1);
+  for (int i = 0; i < 6; ++i) {
+    const Vec3 c{-0.3 + 0.3 * (i % 3), -0.2 + 0.4 * (i / 3), 0.1 * (i % 2)};
+    Body b = dynamicBody("b", i % 2 ? ball : cube, at(c, glm::angleAxis(0.3 * i, glm::normalize(Vec3{1, 2, 3}))), 1000.0, 0);
+    b.linear_velocity_W = Vec3{std::sin(1.0 + i), std::cos(2.0 * i), std::sin(3.0 * i)} * 1.5;
+    b.angular_velocity_W = Vec3{std::cos(i), 2.0 * std::sin(i), 1.0} * 3.0;
+    s.bodies.push_back(b);
+  }
+  Rig rig(std::move(s));
+  const double e0 = rig.energy();
+  double worst = 0.0, contact_change = 0.0, prev = e0;
+  std::uint32_t impacts = 0;
+  const int n = static_cast<int>(kLongRunS / kDt);
+  for (int k = 0; k < n; ++k) {
+    const StepReport r = rig.tick(kDt);
+    impacts += r.toi_substeps;
+    const double e = rig.energy();
+    worst = std::max(worst, e);
+    if (r.toi_substeps > 0 || r.active_points > 0) contact_change += e - prev;
+    prev = e;
+    for (std::uint32_t b = 6; b < 12; ++b) {
+      const Vec3 x = rig.dyn->centerOfMass(b);
+      ASSERT_LT(std::max({std::abs(x.x), std::abs(x.y), std::abs(x.z)}), L) << "escaped at " << k;
+    }
+  }
+  // impulses and drift correction never add energy; what is left is the free-rotation
+  // integrator's bounded O((w dt)^2) error (w up to 7 rad/s here: (w dt)^2 = 5e-5; the
+  // FreeMotion tests show it bounded and not drifting)
+  EXPECT_LE(worst, e0 * (1.0 + 5e-5)) << "energy gained";
+  EXPECT_LE(rig.energy(), e0 * (1.0 + 5e-5));
+  // the ticks with impacts, summed, add nothing (they hold the impulses and the split impulses)
+  EXPECT_LE(contact_change, 1e-6 * e0);
+  EXPECT_GT(rig.energy(), 0.2 * e0);  // and the test means something: they kept moving
+  EXPECT_GT(impacts, 100u);
+  std::printf("closed box: %d s, %u impacts, final/initial energy %.6f, worst %.8f, net change "
+              "over impact ticks %.3g\n",
+              static_cast<int>(kLongRunS), impacts, rig.energy() / e0, worst / e0,
+              contact_change / e0);
+}
+
+TEST(Stack, FourBoxesStayStandingFor60s) {
+  SceneModel s;
+  s.gravity_W = Vec3{0, -9.81, 0};
+  s.materials.push_back(material(0.6, 0.0));
+  s.bodies.push_back(staticBody("floor", boxShape(Vec3{1, 0.1, 1}), at(Vec3{0, -0.1, 0}), 0));
+  const double h = 0.05;
+  for (int i = 0; i < 4; ++i) {
+    s.bodies.push_back(dynamicBody("box", boxShape(Vec3{h}), at(Vec3{0, h + 2 * h * i, 0}), 500.0, 0));
+  }
+  Rig rig(std::move(s));
+  const int n = static_cast<int>(kLongRunS / kDt);
+  double worst = 0.0;
+  for (int k = 0; k < n; ++k) {
+    rig.tick(kDt);
+    for (std::uint32_t b = 1; b <= 4; ++b) {
+      // every corner of every box, from where it was placed
+      const geom::Transform X = rig.dyn->pose(b).toTransform();
+      const Vec3 start{0, h + 2 * h * (b - 1), 0};
+      for (int c = 0; c < 8; ++c) {
+        const Vec3 corner{c & 1 ? h : -h, c & 2 ? h : -h, c & 4 ? h : -h};
+        worst = std::max(worst, glm::length(X.apply(corner) - (start + corner)));
+      }
+    }
+  }
+  EXPECT_LT(worst, 1e-3) << "worst drift of any box corner from where it was placed (m)";
+  for (std::uint32_t b = 1; b <= 4; ++b) {
+    EXPECT_LT(glm::length(rig.dyn->linearVelocity(b)), 1e-4);
+  }
+  std::printf("stack of 4: worst drift %.3f mm over %d s\n", worst * 1e3, static_cast<int>(kLongRunS));
+}
+
+// a box resting on a static slope of angle theta, friction mu (static == dynamic)
+double slopeAcceleration(double theta, double mu, double* normal_drift) {
+  SceneModel s;
+  s.gravity_W = Vec3{0, -9.81, 0};
+  s.materials.push_back(material(mu, 0.0));
+  const Quat tilt = glm::angleAxis(theta, Vec3{0, 0, 1});
+  const Vec3 up = tilt * Vec3{0, 1, 0};
+  const Vec3 down_slope = tilt * Vec3{-1, 0, 0};
+  s.bodies.push_back(staticBody("slope", boxShape(Vec3{3, 0.1, 1}), at(-0.1 * up, tilt), 0));
+  const double h = 0.05;
+  s.bodies.push_back(dynamicBody("box", boxShape(Vec3{h}), at(h * up, tilt), 500.0, 0));
+  Rig rig(std::move(s));
+  double v0 = 0.0;
+  const int t0 = 200, t1 = 1200;
+  double drift = 0.0;
+  for (int k = 0; k < t1; ++k) {
+    rig.tick(kDt);
+    const Vec3 x = rig.dyn->pose(1).translation;
+    drift = std::max(drift, std::abs(glm::dot(x, up) - h));
+    if (k + 1 == t0) v0 = glm::dot(rig.dyn->linearVelocity(1), down_slope);
+  }
+  *normal_drift = drift;
+  const double v1 = glm::dot(rig.dyn->linearVelocity(1), down_slope);
+  return (v1 - v0) / ((t1 - t0) * kDt);
+}
+
+TEST(Friction, BoxOnSlopeSticksBelowTheFrictionAngleAndSlidesAbove) {
+  const double mu = 0.5;  // friction angle atan(0.5) = 26.6 degrees
+  const double g = 9.81;
+  for (const double deg : {10.0, 20.0, 25.0}) {
+    double drift = 0.0;
+    const double a = slopeAcceleration(deg * std::numbers::pi / 180, mu, &drift);
+    EXPECT_NEAR(a, 0.0, 1e-4) << deg << " degrees: sticks";
+    EXPECT_LT(drift, 1e-3) << deg;
+  }
+  for (const double deg : {30.0, 40.0}) {
+    const double th = deg * std::numbers::pi / 180;
+    const double expected = g * (std::sin(th) - mu * std::cos(th));
+    double drift = 0.0;
+    const double a = slopeAcceleration(th, mu, &drift);
+    EXPECT_NEAR(a, expected, 0.01 * expected) << deg << " degrees: slides";
+    EXPECT_LT(drift, 1e-3) << deg;
+  }
+  // frictionless: g sin
+  double drift = 0.0;
+  const double th = 0.3;
+  EXPECT_NEAR(slopeAcceleration(th, 0.0, &drift), g * std::sin(th), 0.01 * g * std::sin(th));
+}
+
+}  // namespace
+}  // namespace hapticd::dynamics::testing
