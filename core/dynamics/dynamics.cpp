@@ -135,6 +135,9 @@ struct Dynamics::JointState {
   Vec3 l_point{0.0}, l_ang{0.0};  // this episode
   double l1 = 0.0, l2 = 0.0, l_lo = 0.0, l_hi = 0.0;
   Vec3 err_point{0.0}, err_ang{0.0};  // end of tick: b's anchor from a's; rotation error
+  double tot_lo = 0.0, tot_hi = 0.0;  // whole tick: limit impulses (part of total_L)
+  Vec3 warm_J{0.0}, warm_L{0.0};      // last tick's, for the warm start
+  double warm_lo = 0.0, warm_hi = 0.0;
   Vec3 total_J{0.0}, total_L{0.0};  // whole tick: impulse on b at its anchor (-J on a), pure angular impulse on b
 };
 
@@ -505,6 +508,14 @@ void Dynamics::prepareJoints(double dt) {
   (void)beta;
   (void)dt;
   for (JointState& js : joints_) {
+    // last tick's impulses become this tick's warm start (axis of last tick)
+    js.warm_J = js.total_J;
+    js.warm_L = js.total_L - js.axis * (js.tot_lo + js.tot_hi);
+    js.warm_lo = js.tot_lo;
+    js.warm_hi = js.tot_hi;
+    js.total_J = Vec3{0.0};
+    js.total_L = Vec3{0.0};
+    js.tot_lo = js.tot_hi = 0.0;
     const scene::Joint& j = *js.joint;
     const BodyState& A = bodies_[js.a];
     const Pose X_WA{A.x_W - A.R * A.com_B, A.q};
@@ -555,8 +566,6 @@ void Dynamics::prepareJoints(double dt) {
       js.c_min = js.has_min ? theta - *j.hinge_min : 0.0;
       js.c_max = js.has_max ? *j.hinge_max - theta : 0.0;
     }
-    js.total_J = Vec3{0.0};
-    js.total_L = Vec3{0.0};
   }
 }
 
@@ -587,6 +596,19 @@ void Dynamics::solveVelocities(double remaining) {
   // warm start (the first episode of a tick): last tick's impulses, applied again
   if (warm_pending_) {
     warm_pending_ = false;
+    for (JointState& js : joints_) {
+      BodyState& A = bodies_[js.a];
+      BodyState* B = js.b >= 0 ? &bodies_[static_cast<std::size_t>(js.b)] : nullptr;
+      js.l_lo = js.has_min ? js.warm_lo : 0.0;
+      js.l_hi = js.has_max ? js.warm_hi : 0.0;
+      const Vec3 L = js.warm_L + js.axis * (js.l_lo + js.l_hi);
+      if (!A.infinite) A.w_W -= A.inv_inertia_W * L;
+      if (B != nullptr && !B->infinite) B->w_W += B->inv_inertia_W * L;
+      A.applyImpulse(-js.warm_J, js.ra);
+      if (B != nullptr) B->applyImpulse(js.warm_J, js.rb);
+      js.total_J += js.warm_J;
+      js.total_L += L;
+    }
     for (ContactPoint& cp : points_) {
       if (!cp.active || cp.total_n <= 0.0) {
         cp.total_n = 0.0;
@@ -684,6 +706,10 @@ void Dynamics::solveVelocities(double remaining) {
     cp.total_n += cp.ln;
     cp.total_t += cp.t1 * cp.lt1 + cp.t2 * cp.lt2;
     cp.target = 0.0;  // restitution acts once: later episodes only keep the points apart
+  }
+  for (JointState& js : joints_) {
+    js.tot_lo += js.l_lo;
+    js.tot_hi += js.l_hi;
   }
 }
 
