@@ -101,6 +101,14 @@ struct Dynamics::BodyState {
   }
 };
 
+// one constraint row of a contact point along a unit direction u: the angular parts and the
+// effective mass
+struct Row {
+  Vec3 ca{0.0}, cb{0.0};  // ra x u, rb x u
+  Vec3 ia{0.0}, ib{0.0};  // inverse world inertia times those
+  double mass = 0.0;
+};
+
 struct Dynamics::ContactPoint {
   std::uint32_t a = 0, b = 0;
   std::uint32_t prim_a = 0, prim_b = 0;
@@ -109,7 +117,9 @@ struct Dynamics::ContactPoint {
   Vec3 n{0.0}, t1{0.0}, t2{0.0};
   double gap = 0.0;           // > 0 apart, < 0 penetrating (tracked through the tick)
   double size = 0.0;          // the smaller body's size
-  double mass_n = 0.0, mass_t1 = 0.0, mass_t2 = 0.0;
+  double mass_n = 0.0;        // normal effective mass (the split impulses use it)
+  double ima = 0.0, imb = 0.0;
+  Row rn, rt1, rt2;
   double e = 0.0, mu_s = 0.0, mu_d = 0.0, mu = 0.0;
   double target = 0.0;        // normal velocity the episode aims at (restitution)
   double min_vn = 0.0;        // speculative: closing allowed up to this (<= 0), else 0
@@ -153,7 +163,7 @@ Dynamics::~Dynamics() = default;
 std::uint32_t Dynamics::bodyCount() const { return static_cast<std::uint32_t>(bodies_.size()); }
 
 double recommendedBoxMargin(const scene::SceneModel& scene) {
-  return 0.02 * (scene.length_scale > 0.0 ? scene.length_scale : 1.0);
+  return 0.005 * (scene.length_scale > 0.0 ? scene.length_scale : 1.0);
 }
 
 std::unique_ptr<collision::CollisionWorld> buildCollisionWorld(const scene::SceneModel& scene,
@@ -577,15 +587,20 @@ void Dynamics::solveVelocities(double remaining) {
     BodyState& B = bodies_[cp.b];
     cp.ra = A.R * cp.ra_B;
     cp.rb = B.R * cp.rb_B;
-    const auto eff = [&](const Vec3& u) {
-      const Vec3 ca = glm::cross(cp.ra, u), cb = glm::cross(cp.rb, u);
-      const double k = A.invMass() + B.invMass() + glm::dot(ca, A.inv_inertia_W * ca) +
-                       glm::dot(cb, B.inv_inertia_W * cb);
-      return k > 0.0 ? 1.0 / k : 0.0;
+    cp.ima = A.invMass();
+    cp.imb = B.invMass();
+    const auto row = [&](const Vec3& u, Row& r) {
+      r.ca = glm::cross(cp.ra, u);
+      r.cb = glm::cross(cp.rb, u);
+      r.ia = A.inv_inertia_W * r.ca;
+      r.ib = B.inv_inertia_W * r.cb;
+      const double k = cp.ima + cp.imb + glm::dot(r.ca, r.ia) + glm::dot(r.cb, r.ib);
+      r.mass = k > 0.0 ? 1.0 / k : 0.0;
     };
-    cp.mass_n = eff(cp.n);
-    cp.mass_t1 = eff(cp.t1);
-    cp.mass_t2 = eff(cp.t2);
+    row(cp.n, cp.rn);
+    row(cp.t1, cp.rt1);
+    row(cp.t2, cp.rt2);
+    cp.mass_n = cp.rn.mass;
     cp.ln = cp.lt1 = cp.lt2 = 0.0;
     cp.min_vn = cp.speculative ? -std::max(cp.gap, 0.0) / remaining : 0.0;
   }
@@ -673,32 +688,39 @@ void Dynamics::solveVelocities(double remaining) {
       if (!cp.active && !cp.speculative) continue;
       BodyState& A = bodies_[cp.a];
       BodyState& B = bodies_[cp.b];
+      // relative velocity along a row, and an impulse along it (infinite bodies have zero
+      // coefficients, so their velocities stay)
+      const auto rel = [&](const Vec3& u, const Row& r) {
+        return glm::dot(u, B.v_W - A.v_W) + glm::dot(r.cb, B.w_W) - glm::dot(r.ca, A.w_W);
+      };
+      const auto push = [&](const Vec3& u, const Row& r, double l) {
+        A.v_W -= (cp.ima * l) * u;
+        A.w_W -= r.ia * l;
+        B.v_W += (cp.imb * l) * u;
+        B.w_W += r.ib * l;
+      };
       // friction first, limited by this episode's normal impulse (Coulomb, isotropic)
       if (cp.mu > 0.0) {
-        const Vec3 vrel = B.velocityAt(cp.rb) - A.velocityAt(cp.ra);
         const double o1 = cp.lt1, o2 = cp.lt2;
-        double l1 = o1 - cp.mass_t1 * glm::dot(vrel, cp.t1);
-        double l2 = o2 - cp.mass_t2 * glm::dot(vrel, cp.t2);
+        double l1 = o1 - cp.rt1.mass * rel(cp.t1, cp.rt1);
+        double l2 = o2 - cp.rt2.mass * rel(cp.t2, cp.rt2);
         const double lim = cp.mu * cp.ln;
-        const double mag = std::sqrt(l1 * l1 + l2 * l2);
-        if (mag > lim) {
-          const double s = mag > 0.0 ? lim / mag : 0.0;
+        const double mag2 = l1 * l1 + l2 * l2;
+        if (mag2 > lim * lim) {
+          const double s = lim > 0.0 ? lim / std::sqrt(mag2) : 0.0;
           l1 *= s;
           l2 *= s;
         }
         cp.lt1 = l1;
         cp.lt2 = l2;
-        const Vec3 J = cp.t1 * (l1 - o1) + cp.t2 * (l2 - o2);
-        A.applyImpulse(-J, cp.ra);
-        B.applyImpulse(J, cp.rb);
+        push(cp.t1, cp.rt1, l1 - o1);
+        push(cp.t2, cp.rt2, l2 - o2);
       }
-      const double vn = glm::dot(B.velocityAt(cp.rb) - A.velocityAt(cp.ra), cp.n);
+      const double vn = rel(cp.n, cp.rn);
       const double target = cp.speculative ? cp.min_vn : cp.target;
       const double old = cp.ln;
-      cp.ln = std::max(0.0, old + cp.mass_n * (target - vn));
-      const Vec3 J = cp.n * (cp.ln - old);
-      A.applyImpulse(-J, cp.ra);
-      B.applyImpulse(J, cp.rb);
+      cp.ln = std::max(0.0, old + cp.rn.mass * (target - vn));
+      push(cp.n, cp.rn, cp.ln - old);
     }
   }
   for (ContactPoint& cp : points_) {

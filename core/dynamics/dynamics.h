@@ -149,7 +149,7 @@ MassProperties computeMassProperties(std::span<const scene::Primitive> primitive
 
 /// The CollisionWorld box margin (scene units) the dynamics wants: contacts within it are seen
 /// before they touch, so impacts up to margin / dt fast get their exact time of impact (faster
-/// ones are found overlapping, see max_travel_fraction). 2% of the scene's length scale.
+/// ones are found overlapping, see max_travel_fraction). 0.5% of the scene's length scale.
 /// Any thread.
 double recommendedBoxMargin(const scene::SceneModel& scene);
 
