@@ -279,6 +279,24 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
     b.size = size > 0.0 ? size : scene.length_scale;
     b.updateInertia();
   }
+  if (scene.probe_body < 0 && options.extra_probe_body >= 0) {
+    if (static_cast<std::size_t>(options.extra_probe_body) != scene.bodies.size()) {
+      return Error{"dynamics: extra_probe_body must be the world id after the scene's bodies"};
+    }
+    d->held_ = options.extra_probe_body;
+    d->bodies_.resize(static_cast<std::size_t>(options.extra_probe_body) + 1);
+    for (std::size_t i = scene.bodies.size(); i < d->bodies_.size(); ++i) {
+      BodyState& b = d->bodies_[i];
+      b.motion = static_cast<std::int32_t>(i) == d->held_ ? scene::Motion::kKinematic
+                                                          : scene::Motion::kStatic;
+      b.infinite = true;
+      const Pose X = world.pose(static_cast<std::uint32_t>(i));
+      b.q = glm::normalize(X.rotation);
+      b.x_W = X.translation;
+      b.size = scene.length_scale;
+      b.updateInertia();
+    }
+  }
   for (const scene::Joint& j : scene.joints) {
     const auto n = static_cast<std::int32_t>(scene.bodies.size());
     if (j.body_a < 0 || j.body_a >= n || j.body_b >= n || j.body_a == j.body_b || j.hinge_axis > 2) {
@@ -437,6 +455,7 @@ void Dynamics::gatherContacts(StepReport& report) {
     // materials of the two primitives (none declared: frictionless, no restitution)
     static const scene::Material none;
     const auto material = [&](std::uint32_t body, std::uint32_t prim) -> const scene::Material& {
+      if (body >= scene_->bodies.size()) return none;
       const auto& prims = scene_->bodies[body].primitives;
       if (prim >= prims.size()) return none;
       const std::int32_t m = prims[prim].material;

@@ -76,6 +76,11 @@ struct DynamicsOptions {
   /// Contact points the solver may hold per tick; 0 picks 16 per moving primitive + 64.
   /// Overflow drops points (kStepCapacityFull, counted), never allocates.
   std::uint32_t max_contact_points = 0;
+  /// For a scene without a probe body (SceneModel::probe_body < 0) whose Simulation adds a probe
+  /// of its own to the world (a sphere from config) right after the scene's bodies: that body's
+  /// world id, which must be the scene's body count. It is then the held body, of infinite
+  /// mass, moved by HeldInput::kKinematic. -1: none.
+  std::int32_t extra_probe_body = -1;
   /// Window (s) over which each impulse on the held body is spread as a force (Hann profile:
   /// peak 2 J / window, integral J). 0: the impulse is returned as one tick of force J / dt.
   double impulse_window_s = 0.020;

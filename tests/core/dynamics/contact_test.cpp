@@ -274,5 +274,44 @@ TEST(TimeOfImpact, CapIsFlaggedAndTheRestHeldApart) {
   EXPECT_NEAR(rig2.dyn->linearVelocity(2).y, 0.5 * v, 1e-9);
 }
 
+// a scene without a probe body: the Simulation adds a probe sphere of its own after the scene's
+// bodies; held kinematically, it pushes a box along the floor and feels it
+TEST(HeldBody, ExtraProbeSpherePushesABox) {
+  SceneModel s;
+  s.gravity_W = Vec3{0, -9.81, 0};
+  s.materials.push_back(material(0.3, 0.0));
+  s.bodies.push_back(staticBody("floor", boxShape(Vec3{1, 0.1, 1}), at(Vec3{0, -0.1, 0}), 0));
+  s.bodies.push_back(dynamicBody("box", boxShape(Vec3{0.05}), at(Vec3{0, 0.05, 0}), 500.0, 0));
+  s.length_scale = lengthScale(s);
+  auto world = buildCollisionWorld(s, {});
+  collision::BodyDesc probe;
+  probe.kind = collision::BodyKind::kProbe;
+  probe.primitives.push_back({ellipsoidShape(Vec3{0.01}), geom::Transform{}});
+  const Pose start = at(Vec3{-0.07, 0.05, 0});
+  ASSERT_EQ(world->addBody(probe, start), 2u);
+  DynamicsOptions o;
+  o.extra_probe_body = 2;
+  auto dyn = Dynamics::create(s, *world, o).value();
+  HeldInput in;
+  in.mode = HeldMode::kKinematic;
+  double felt = 0.0;
+  for (int k = 0; k < 1000; ++k) {
+    in.X_WB_target = at(start.translation + Vec3{0.1 * (k + 1) * kDt, 0, 0});  // 0.1 m/s
+    world->step();
+    dyn->step(kDt, &in);
+    felt += dyn->heldFeedback().impulse_W_ns.x;
+  }
+  // the sphere moved 0.1 m, the first 0.01 m of it to reach the box: the box followed it
+  EXPECT_NEAR(dyn->pose(1).translation.x, 0.1 - 0.01, 1e-3);
+  EXPECT_NEAR(dyn->linearVelocity(1).x, 0.1, 1e-2);
+  EXPECT_LT(felt, 0.0) << "the hand is pushed back";
+  // kinetic friction on the box over the pushing time: mu m g t (the sphere's push balances it)
+  const double m = s.bodies[1].mass;
+  EXPECT_NEAR(-felt, 0.3 * m * 9.81 * 0.9 + m * 0.1, 0.1 * (0.3 * m * 9.81 * 0.9));
+  EXPECT_EQ(dyn->pose(2).translation, in.X_WB_target.translation);
+  o.extra_probe_body = 5;
+  EXPECT_FALSE(Dynamics::create(s, *world, o).ok());
+}
+
 }  // namespace
 }  // namespace hapticd::dynamics::testing
