@@ -128,6 +128,7 @@ enum StepFlags : std::uint32_t {
 struct StepReport {
   std::uint32_t contact_points = 0;  ///< manifold points taken into the solver
   std::uint32_t active_points = 0;   ///< of them, touching by the end of the tick
+  std::uint32_t impulse_points = 0;  ///< of them, given a normal impulse this tick
   std::uint32_t toi_substeps = 0;    ///< times of impact advanced to (0: none this tick)
   std::uint32_t flags = 0;           ///< StepFlags
 };
@@ -224,7 +225,7 @@ class Dynamics {
   Dynamics();
   void integrateForces(double dt, const HeldInput* held);
   void gatherContacts(StepReport& report);
-  void prepareJoints(double dt);
+  void prepareJoints();
   void solveVelocities(double remaining);
   void advance(double h);
   void correctPositions(double dt);

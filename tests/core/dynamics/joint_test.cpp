@@ -99,6 +99,50 @@ TEST(Fixed, KeepsTwoBodiesTogether) {
   EXPECT_LT(worst, 1e-3 * 0.1) << "relative motion of the joined bodies, relative to their size";
 }
 
+// a door hinged (about y) to a frame that is itself a free dynamic body: their relative motion
+// is a rotation about the hinge axis only
+TEST(Hinge, BetweenTwoDynamicBodies) {
+  SceneModel s;
+  Body frame = dynamicBody("frame", boxShape(Vec3{0.02, 0.2, 0.02}), at(Vec3{0}), 1000.0);
+  frame.angular_velocity_W = Vec3{0.5, 0.2, -0.3};
+  Body door = dynamicBody("door", boxShape(Vec3{0.15, 0.2, 0.01}), at(Vec3{0.17, 0, 0}), 500.0);
+  door.angular_velocity_W = Vec3{0.5, 3.2, -0.3};  // the frame's spin plus 3 rad/s about the hinge
+  door.linear_velocity_W = glm::cross(door.angular_velocity_W, Vec3{0.15, 0, 0});
+  s.bodies = {frame, door};
+  scene::Joint j;
+  j.kind = scene::JointKind::kHinge;
+  j.body_a = 0;
+  j.body_b = 1;
+  j.X_AJ = at(Vec3{0.02, 0, 0});
+  j.X_BJ = at(Vec3{-0.15, 0, 0});
+  j.hinge_axis = 1;
+  s.joints.push_back(j);
+  Rig rig(std::move(s));
+  const double e0 = rig.dyn->kineticEnergy();
+  double worst_e = 0.0;
+  double worst_anchor = 0.0, worst_axis = 0.0, turned = 0.0, prev = 0.0;
+  for (int k = 0; k < 3000; ++k) {
+    rig.tick(kDt);
+    const Pose A = rig.dyn->pose(0), B = rig.dyn->pose(1);
+    const Vec3 pa = A.translation + A.rotation * Vec3{0.02, 0, 0};
+    const Vec3 pb = B.translation + B.rotation * Vec3{-0.15, 0, 0};
+    worst_anchor = std::max(worst_anchor, glm::length(pa - pb));
+    worst_axis = std::max(worst_axis, glm::length(A.rotation * Vec3{0, 1, 0} - B.rotation * Vec3{0, 1, 0}));
+    const Quat rel = glm::conjugate(A.rotation) * B.rotation;
+    const double angle = 2.0 * std::atan2(rel.y, rel.w);
+    turned += std::abs(std::remainder(angle - prev, 2 * kPi));
+    prev = angle;
+    worst_e = std::max(worst_e, rig.dyn->kineticEnergy());
+  }
+  EXPECT_LE(worst_e, e0 * (1 + 1e-4)) << "no energy from the joint";
+  EXPECT_LT(worst_anchor, 1e-3 * 0.15);
+  EXPECT_LT(worst_axis, 1e-3);
+  EXPECT_GT(turned, 1.0) << "the door did turn on its hinge";
+  std::printf("hinge between bodies: anchor drift %.3g m, axis misalignment %.3g, turned %.2f "
+              "rad, energy %.6f -> %.6f J\n",
+              worst_anchor, worst_axis, turned, e0, rig.dyn->kineticEnergy());
+}
+
 // a spur gear of n straight-flanked teeth, module m, pitch radius m n / 2, in the z = 0 plane
 std::vector<Primitive> gear(int n, double m, double half_thickness, double phase) {
   const double r = m * n / 2.0;
