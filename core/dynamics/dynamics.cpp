@@ -13,6 +13,8 @@ namespace hapticd::dynamics {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// velocity iterations always run at least this many times per solve
+constexpr std::uint32_t kMinIterations = 2;
 
 Mat3 skew(const Vec3& v) {
   // column-major: columns are the images of e_x, e_y, e_z under v x .
@@ -188,6 +190,7 @@ struct Dynamics::JointState {
   Vec3 l_point{0.0}, l_ang{0.0};  // this episode
   double l1 = 0.0, l2 = 0.0, l_lo = 0.0, l_hi = 0.0;
   Vec3 err_point{0.0}, err_ang{0.0};  // end of tick: b's anchor from a's; rotation error
+  double size = 0.0;  // the larger body's size: turns angular errors into speeds
   double tot_lo = 0.0, tot_hi = 0.0;  // whole tick: limit impulses (part of total_L)
   Vec3 warm_J{0.0}, warm_L{0.0};      // last tick's, for the warm start
   double warm_lo = 0.0, warm_hi = 0.0;
@@ -253,7 +256,8 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
       !(options.restitution_threshold_ticks >= 0.0) ||
       !(options.restitution_threshold_fraction >= 0.0) ||
       !(options.static_friction_speed_fraction >= 0.0) ||
-      !(options.max_travel_fraction > 0.0 && options.max_travel_fraction <= 1.0) || !(options.impulse_window_s >= 0.0) ||
+      !(options.max_travel_fraction > 0.0 && options.max_travel_fraction <= 1.0) ||
+      !(options.velocity_tolerance_fraction >= 0.0 && options.velocity_tolerance_fraction < 1.0) || !(options.impulse_window_s >= 0.0) ||
       !(options.tick_s > 0.0) || !std::isfinite(options.impulse_window_s) ||
       !std::isfinite(options.restitution_threshold_ticks) ||
       !std::isfinite(options.restitution_threshold_fraction)) {
@@ -358,15 +362,23 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
     js.joint = &j;
     js.a = static_cast<std::uint32_t>(j.body_a);
     js.b = j.body_b;
+    js.size = std::max(d->bodies_[js.a].size,
+                       js.b >= 0 ? d->bodies_[static_cast<std::size_t>(js.b)].size : 0.0);
     d->joints_.push_back(js);
     if (!j.enable_collision && j.body_b >= 0) {
       d->no_collide_.push_back(pairKey(js.a, static_cast<std::uint32_t>(j.body_b)));
     }
   }
   std::sort(d->no_collide_.begin(), d->no_collide_.end());
+  d->min_size_ = kInf;
+  for (const BodyState& b : d->bodies_) {
+    if (b.motion == scene::Motion::kDynamic) d->min_size_ = std::min(d->min_size_, b.size);
+  }
   const std::size_t cap = options.max_contact_points != 0 ? options.max_contact_points
                                                           : 16 * moving_prims + 64;
   d->points_.reserve(cap);
+  d->dv_.assign(d->bodies_.size(), Vec3{0.0});
+  d->dw_.assign(d->bodies_.size(), Vec3{0.0});
   d->warm_.reserve(cap);
   d->warm_next_.reserve(cap);
   d->spreader_ = ImpulseSpreader(options.impulse_window_s, options.tick_s);
@@ -715,7 +727,13 @@ void Dynamics::solveVelocities(double remaining) {
     }
   }
   const double inv_dt = 1.0 / tick_dt_;
+  bool bounces = false;
+  for (const ContactPoint& cp : points_) bounces = bounces || (cp.bounce > 0.0 && cp.active);
+  if (bounces) ke_episode_start_ = kineticEnergy();
   for (std::uint32_t it = 0; it < options_.velocity_iterations; ++it) {
+    // the largest velocity error any row corrected in this iteration: below the tolerance the
+    // episode has converged and stops early
+    double residual = 0.0;
     for (JointState& js : joints_) {
       BodyState& A = bodies_[js.a];
       BodyState* B = js.b >= 0 ? &bodies_[static_cast<std::size_t>(js.b)] : nullptr;
@@ -731,17 +749,23 @@ void Dynamics::solveVelocities(double remaining) {
         const Vec3 L = js.ang_mass * (-(wb - A.w_W));
         js.l_ang += L;
         applyAngular(L);
+        if (js.ang_mass[0][0] + js.ang_mass[1][1] + js.ang_mass[2][2] > 0.0) {
+          residual = std::max(residual, glm::length(wb - A.w_W) * js.size);
+        }
       } else {
         const Vec3 wrel = wb - A.w_W;
         const double l1 = js.m1 * -glm::dot(wrel, js.p1);
         const double l2 = js.m2 * -glm::dot(wrel, js.p2);
         applyAngular(js.p1 * l1 + js.p2 * l2);
+        if (js.m1 > 0.0) residual = std::max(residual, std::abs(glm::dot(wrel, js.p1)) * js.size);
+        if (js.m2 > 0.0) residual = std::max(residual, std::abs(glm::dot(wrel, js.p2)) * js.size);
         if (js.has_min) {
           const double vr = glm::dot((B != nullptr ? B->w_W : Vec3{0.0}) - A.w_W, js.axis);
           const double target = js.c_min > 0.0 ? -js.c_min * inv_dt : 0.0;
           const double old = js.l_lo;
           js.l_lo = std::max(0.0, old + js.m_axis * (target - vr));
           applyAngular(js.axis * (js.l_lo - old));
+          if (js.m_axis > 0.0) residual = std::max(residual, std::abs(js.l_lo - old) / js.m_axis * js.size);
         }
         if (js.has_max) {
           const double vr = glm::dot((B != nullptr ? B->w_W : Vec3{0.0}) - A.w_W, js.axis);
@@ -749,11 +773,16 @@ void Dynamics::solveVelocities(double remaining) {
           const double old = js.l_hi;
           js.l_hi = std::min(0.0, old + js.m_axis * (target - vr));
           applyAngular(js.axis * (js.l_hi - old));
+          if (js.m_axis > 0.0) residual = std::max(residual, std::abs(js.l_hi - old) / js.m_axis * js.size);
         }
       }
       // the point row
       const Vec3 vb = B != nullptr ? B->velocityAt(js.rb) : Vec3{0.0};
-      const Vec3 J = js.point_mass * (-(vb - A.velocityAt(js.ra)));
+      const Vec3 verr = vb - A.velocityAt(js.ra);
+      const Vec3 J = js.point_mass * (-verr);
+      if (js.point_mass[0][0] + js.point_mass[1][1] + js.point_mass[2][2] > 0.0) {
+        residual = std::max(residual, glm::length(verr));
+      }
       A.applyImpulse(-J, js.ra);
       if (B != nullptr) B->applyImpulse(J, js.rb);
       js.total_J += J;
@@ -789,29 +818,62 @@ void Dynamics::solveVelocities(double remaining) {
         cp.lt2 = l2;
         push(cp.t1, cp.rt1, l1 - o1);
         push(cp.t2, cp.rt2, l2 - o2);
+        if (cp.rt1.mass > 0.0) residual = std::max(residual, std::abs(l1 - o1) / cp.rt1.mass);
+        if (cp.rt2.mass > 0.0) residual = std::max(residual, std::abs(l2 - o2) / cp.rt2.mass);
       }
       const double vn = rel(cp.n, cp.rn);
       const double target = cp.speculative ? cp.min_vn : 0.0;
       const double old = cp.ln;
       cp.ln = std::max(0.0, old + cp.rn.mass * (target - vn));
       push(cp.n, cp.rn, cp.ln - old);
+      if (cp.rn.mass > 0.0) residual = std::max(residual, std::abs(cp.ln - old) / cp.rn.mass);
     }
+    if (it + 1 >= kMinIterations && residual < velocity_tolerance_) break;
   }
   // restitution (Poisson's hypothesis): the points that struck get e times their compression
   // impulse back. With the compression solved, this changes the kinetic energy by
   // -(1 - e^2) / 2 lambda^T A lambda <= 0 however many points struck at once (Newton's rule,
   // a target velocity of -e v_n per point, can add energy when several points of a spinning
   // body strike together)
-  for (ContactPoint& cp : points_) {
-    if (cp.bounce <= 0.0 || !cp.active) continue;
-    const double l = cp.bounce * cp.ln;
-    cp.ln += l;
-    BodyState& A = bodies_[cp.a];
-    BodyState& B = bodies_[cp.b];
-    A.v_W -= (cp.ima * l) * cp.n;
-    A.w_W -= cp.rn.ia * l;
-    B.v_W += (cp.imb * l) * cp.n;
-    B.w_W += cp.rn.ib * l;
+  // The solve is iterative: when it has not converged, the restitution impulses are scaled
+  // down (never up) so that the kinetic energy does not end above where the episode began.
+  bool any_bounce = false;
+  for (const ContactPoint& cp : points_) any_bounce = any_bounce || (cp.bounce > 0.0 && cp.active && cp.ln > 0.0);
+  if (any_bounce) {
+    for (std::size_t i = 0; i < bodies_.size(); ++i) dv_[i] = dw_[i] = Vec3{0.0};
+    for (const ContactPoint& cp : points_) {
+      if (cp.bounce <= 0.0 || !cp.active) continue;
+      const double l = cp.bounce * cp.ln;
+      dv_[cp.a] -= (cp.ima * l) * cp.n;
+      dw_[cp.a] -= cp.rn.ia * l;
+      dv_[cp.b] += (cp.imb * l) * cp.n;
+      dw_[cp.b] += cp.rn.ib * l;
+    }
+    // KE(s) = KE_c + s a + s^2 b for the restitution scaled by s
+    double a = 0.0, b = 0.0;
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      const BodyState& body = bodies_[i];
+      if (body.infinite) continue;
+      const Mat3 I_W = body.R * body.inertia_B * glm::transpose(body.R);
+      const double m = 1.0 / body.inv_mass;
+      a += m * glm::dot(body.v_W, dv_[i]) + glm::dot(body.w_W, I_W * dw_[i]);
+      b += 0.5 * (m * glm::dot(dv_[i], dv_[i]) + glm::dot(dw_[i], I_W * dw_[i]));
+    }
+    const double room = ke_episode_start_ - kineticEnergy();  // >= 0: compression dissipates
+    double scale = 1.0;
+    if (a + b > room) {
+      // largest s in [0, 1] with s a + s^2 b <= room
+      const double disc = a * a + 4.0 * b * std::max(room, 0.0);
+      scale = b > 0.0 ? std::clamp((-a + std::sqrt(disc)) / (2.0 * b), 0.0, 1.0) : 0.0;
+    }
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      if (bodies_[i].infinite) continue;
+      bodies_[i].v_W += scale * dv_[i];
+      bodies_[i].w_W += scale * dw_[i];
+    }
+    for (ContactPoint& cp : points_) {
+      if (cp.bounce > 0.0 && cp.active) cp.ln += scale * cp.bounce * cp.ln;
+    }
   }
   for (ContactPoint& cp : points_) {
     if (!cp.active && !cp.speculative) continue;
@@ -1024,6 +1086,8 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
 
   // restitution and friction thresholds, relative to the tick's gravity and the bodies' size
   const double v_gravity = options_.restitution_threshold_ticks * accel_scale_ * dt;
+  velocity_tolerance_ = options_.velocity_tolerance_fraction *
+                        std::max(v_gravity, options_.restitution_threshold_fraction * min_size_);
   for (ContactPoint& cp : points_) {
     const double size = std::isfinite(cp.size) ? cp.size : scene_->length_scale;
     cp.size = size;

@@ -50,6 +50,9 @@ using geom::Vec3;
 struct DynamicsOptions {
   /// Sequential-impulse iterations per solve (each time of impact solves once).
   std::uint32_t velocity_iterations = 12;
+  /// A solve stops early (after at least 2 iterations) once no row corrects a velocity error
+  /// above this fraction of the restitution threshold below (0: always all iterations).
+  double velocity_tolerance_fraction = 1e-7;
   /// Split-impulse iterations of the drift correction at the end of the tick.
   std::uint32_t position_iterations = 6;
   /// Time-of-impact substeps per tick beyond the first solve (§6.1); when the cap is hit the
@@ -233,6 +236,10 @@ class Dynamics {
 
   std::uint32_t step_flags_ = 0;
   double tick_dt_ = 0.001;
+  double min_size_ = 1.0;            // smallest dynamic body's size
+  double velocity_tolerance_ = 0.0;  // this tick's convergence tolerance of the solves
+  double ke_episode_start_ = 0.0;    // kinetic energy before a solve with restitution
+  std::vector<Vec3> dv_, dw_;        // per body: scratch of the restitution impulses
   bool warm_pending_ = false;
 
   const scene::SceneModel* scene_ = nullptr;
