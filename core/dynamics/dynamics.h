@@ -6,14 +6,17 @@
 /// One tick (step()):
 ///  1. external forces: gravity where the scene declares it (SceneModel::gravity_W times each
 ///     body's gravity_factor), per-body external wrenches and the held body's input; velocities
-///     first (semi-implicit Euler); rotation in angular-momentum form, so that the gyroscopic term
-///     is exact and can never blow up (|ω| <= |L| / I_min);
+///     first (semi-implicit Euler). Rotation carries the angular momentum L through the step by
+///     the free-rigid-body splitting (McLachlan 1993, Touma & Wisdom 1994: exact rotations about
+///     the principal axes, composed symmetrically; quaternions normalised), so the gyroscopic
+///     term never blows up (|ω| <= |L| / I_min) and the energy error stays bounded;
 ///  2. constraints from the CollisionWorld's contacts (manifold points, close but separated ones
 ///     included) and from the scene's joints (fixed, hinge with limits);
 ///  3. the time-of-impact loop of §6.1: for every contact point the time at which its gap closes
 ///     is estimated from the relative velocity, the normal and the distance; all bodies advance to
 ///     the earliest, the impulses there (restitution, Coulomb friction, joints; sequential
-///     impulses, Catto 2005) are applied, and the loop goes on with the rest of the tick, at most
+///     impulses, Catto 2005; restitution by Poisson's hypothesis, scaled down if needed so that
+///     no solve adds energy) are applied, and the loop goes on with the rest of the tick, at most
 ///     DynamicsOptions::max_toi_substeps times (then the remaining approaching points are treated
 ///     speculatively for the rest of the tick and kStepToiCapped is set);
 ///  4. drift correction: split impulses (pseudo-velocities that move poses but add no energy) for
