@@ -111,7 +111,9 @@ struct Dynamics::BodyState {
   double inv_mass = 0.0;
   Mat3 inertia_B{0.0}, inv_inertia_B{0.0};
   Quat q_BP{1.0, 0.0, 0.0, 0.0};  // principal axes in the body frame
-  Vec3 inertia_P{1.0};            // principal moments
+  Vec3 inertia_P{1.0};            // principal moments (0: infinite about that axis)
+  Vec3 inv_inertia_P{1.0};        // their inverses (0 for an infinite one)
+  bool coast = false;             // infinite mass (declared 0): keeps its velocities
   bool isotropic = false;         // all three equal (cubes, regular polyhedra)
   Mat3 inv_inertia_W{0.0};
   Vec3 com_B{0.0};
@@ -281,12 +283,23 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
     b.motion = sb.motion;
     b.infinite = sb.motion != scene::Motion::kDynamic;
     b.com_B = sb.com_B;
-    if (sb.motion == scene::Motion::kDynamic) {
+    if (sb.motion == scene::Motion::kDynamic && sb.mass_declared && sb.mass == 0.0) {
+      // KHR_physics_rigid_bodies: a mass of 0 is an infinite mass. Nothing pushes the body;
+      // it coasts at its initial velocities (no gravity: it cannot be accelerated either)
+      b.motion = scene::Motion::kKinematic;
+      b.infinite = true;
+      b.coast = true;
+      b.v_W = sb.linear_velocity_W;
+      b.w_W = sb.angular_velocity_W;
+    } else if (sb.motion == scene::Motion::kDynamic) {
       moving_prims += sb.primitives.size();
+      if (!(sb.mass > 0.0) || !std::isfinite(sb.mass)) {
+        return Error{"dynamics: dynamic body '" + sb.name + "' needs a positive, finite mass"};
+      }
       Mat3 inertia = sb.inertia_B;
       Vec3 com = sb.com_B;
       const double tr = inertia[0][0] + inertia[1][1] + inertia[2][2];
-      if (!(tr > 0.0)) {
+      if (!sb.inertia_declared && !(tr > 0.0)) {
         // not given: computed from the primitives, scaled to the body's mass
         const MassProperties mp = computeMassProperties(sb.primitives, 1.0);
         if (!(mp.mass > 0.0)) {
@@ -295,32 +308,42 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
         inertia = mp.inertia_B * (sb.mass / mp.mass);
         if (!sb.mass_declared && glm::length(com) == 0.0) com = mp.com_B;
       }
-      if (!(sb.mass > 0.0) || !std::isfinite(sb.mass)) {
-        return Error{"dynamics: dynamic body '" + sb.name + "' needs a positive, finite mass"};
-      }
-      const Mat3 inv = glm::inverse(inertia);
       for (int c = 0; c < 3; ++c) {
-        if (!finite(inv[c]) || !finite(inertia[c])) {
-          return Error{"dynamics: body '" + sb.name + "' has a singular inertia tensor"};
+        if (!finite(inertia[c]) || !finite(com)) {
+          return Error{"dynamics: body '" + sb.name + "' has a non-finite inertia or centre of mass"};
         }
       }
+      // principal axes; a principal moment of 0 is an infinite inertia about that axis (KHR: a
+      // declared inertiaDiagonal component of 0): the body does not turn about it
+      Mat3 P;
+      principalAxes(inertia, &P, &b.inertia_P);
+      const double i_max = std::max({b.inertia_P.x, b.inertia_P.y, b.inertia_P.z});
+      Vec3 inv_P{0.0};
+      for (int k = 0; k < 3; ++k) {
+        if (b.inertia_P[k] < -1e-12 * i_max) {
+          return Error{"dynamics: body '" + sb.name + "' has an inertia tensor that is not positive"};
+        }
+        if (b.inertia_P[k] <= 1e-12 * i_max) b.inertia_P[k] = 0.0;
+        inv_P[k] = b.inertia_P[k] > 0.0 ? 1.0 / b.inertia_P[k] : 0.0;
+      }
+      b.inv_inertia_P = inv_P;
       b.com_B = com;
       b.inv_mass = 1.0 / sb.mass;
       b.inertia_B = inertia;
-      b.inv_inertia_B = inv;
-      Mat3 P;
-      principalAxes(inertia, &P, &b.inertia_P);
-      if (!(b.inertia_P.x > 0.0 && b.inertia_P.y > 0.0 && b.inertia_P.z > 0.0)) {
-        return Error{"dynamics: body '" + sb.name + "' has an inertia tensor that is not positive"};
-      }
+      b.inv_inertia_B = P * Mat3{inv_P.x, 0, 0, 0, inv_P.y, 0, 0, 0, inv_P.z} * glm::transpose(P);
       b.q_BP = glm::normalize(glm::quat_cast(P));
-      const double i_max = std::max({b.inertia_P.x, b.inertia_P.y, b.inertia_P.z});
       const double i_min = std::min({b.inertia_P.x, b.inertia_P.y, b.inertia_P.z});
       b.isotropic = i_max - i_min <= 1e-12 * i_max;
       b.gravity_W = g * sb.gravity_factor;
       d->accel_scale_ = std::max(d->accel_scale_, glm::length(b.gravity_W));
       b.v_W = sb.linear_velocity_W;
-      b.w_W = sb.angular_velocity_W;
+      b.w_W = i_max > 0.0 ? sb.angular_velocity_W : Vec3{0.0};
+      if (!b.isotropic) {
+        // no spin about an axis of infinite inertia
+        const Mat3 R0 = glm::mat3_cast(glm::normalize(sb.X_WB.rotation));
+        const Vec3 w_P = glm::transpose(R0 * P) * b.w_W;
+        b.w_W = R0 * P * Vec3{inv_P.x > 0 ? w_P.x : 0, inv_P.y > 0 ? w_P.y : 0, inv_P.z > 0 ? w_P.z : 0};
+      }
     }
     if (sb.motion != scene::Motion::kStatic) moving_prims += sb.primitives.size();
     b.q = glm::normalize(sb.X_WB.rotation);
@@ -467,6 +490,8 @@ void Dynamics::integrateForces(double dt, const HeldInput* held) {
       if (b.has_target) {
         b.v_W = (b.target_x - b.x_W) / dt;
         b.w_W = logMap(b.target_q * glm::conjugate(b.q)) / dt;
+      } else if (b.coast) {
+        continue;
       } else {
         b.v_W = Vec3{0.0};
         b.w_W = Vec3{0.0};
@@ -918,7 +943,7 @@ void Dynamics::advance(double h) {
     Quat q_WP = b.q * b.q_BP;
     Vec3 L_P = glm::conjugate(q_WP) * L;
     const auto turn = [&](int i, double hh) {
-      const double psi = hh * L_P[i] / b.inertia_P[i];
+      const double psi = hh * L_P[i] * b.inv_inertia_P[i];
       Vec3 axis{0.0};
       axis[i] = 1.0;
       const Quat r = glm::angleAxis(psi, axis);

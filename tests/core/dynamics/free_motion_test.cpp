@@ -143,6 +143,41 @@ TEST(FreeMotion, FastTumbleStaysBounded) {
               worst_e, worst_l);
 }
 
+// KHR: a declared mass of 0 is infinite (the body coasts, nothing pushes it); a declared
+// inertia component of 0 is infinite about that axis (the body never turns about it)
+TEST(MassProperties, ZeroMeansInfinite) {
+  SceneModel s;
+  s.gravity_W = Vec3{0, -9.81, 0};
+  Body heavy = dynamicBody("heavy", boxShape(Vec3{0.1}), at(Vec3{0, 0, 0}), 1000.0);
+  heavy.mass = 0.0;
+  heavy.linear_velocity_W = Vec3{0.5, 0, 0};
+  Body ball = dynamicBody("ball", ellipsoidShape(Vec3{0.02}), at(Vec3{0, 0.3, 0}), 1000.0);
+  Body wheel = dynamicBody("wheel", boxShape(Vec3{0.1, 0.02, 0.1}), at(Vec3{1, 0, 0}), 1000.0);
+  wheel.inertia_B[0][0] = 0.0;  // infinite about x and z: it may only turn about y
+  wheel.inertia_B[2][2] = 0.0;
+  wheel.angular_velocity_W = Vec3{1, 2, 3};
+  s.bodies = {heavy, ball, wheel};
+  s.gravity_W = Vec3{0, -9.81, 0};
+  Rig rig(s);
+  double ball_min_vy = 0.0;
+  bool bounced = false;
+  for (int k = 0; k < 400; ++k) {
+    rig.tick(kDt);
+    const double vy = rig.dyn->linearVelocity(1).y;
+    ball_min_vy = std::min(ball_min_vy, vy);
+    bounced = bounced || (ball_min_vy < -1.0 && vy >= 0.0);
+    EXPECT_EQ(rig.dyn->linearVelocity(0), Vec3(0.5, 0, 0)) << "the infinite mass coasts";
+  }
+  EXPECT_NEAR(rig.dyn->pose(0).translation.x, 0.5 * 0.4, 1e-9);
+  EXPECT_EQ(rig.dyn->pose(0).translation.y, 0.0) << "no gravity on an infinite mass";
+  EXPECT_TRUE(bounced) << "the ball landed on it and was stopped";
+  const Vec3 w = rig.dyn->angularVelocity(2);
+  const Vec3 w_B = glm::transpose(glm::mat3_cast(rig.dyn->pose(2).rotation)) * w;
+  EXPECT_NEAR(w_B.x, 0.0, 1e-12);
+  EXPECT_NEAR(w_B.z, 0.0, 1e-12);
+  EXPECT_NEAR(w_B.y, 2.0, 1e-12);
+}
+
 TEST(NoOp, SceneWithoutDynamicBodiesDoesNoWork) {
   SceneModel s;
   s.gravity_W = Vec3{0, -9.81, 0};
@@ -165,13 +200,19 @@ TEST(NoOp, SceneWithoutDynamicBodiesDoesNoWork) {
 TEST(Create, RefusesBadBodiesAndOptions) {
   SceneModel s;
   Body b = dynamicBody("a", boxShape(Vec3{0.1}), at(Vec3{0}), 1000.0);
-  b.mass = 0.0;
+  b.mass = -1.0;
   s.bodies.push_back(b);
   auto world = buildCollisionWorld(s, {});
   auto r = Dynamics::create(s, *world);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("'a'"), std::string::npos);
+  s.bodies[0].mass = std::nan("");
+  EXPECT_FALSE(Dynamics::create(s, *world).ok());
   s.bodies[0].mass = 1.0;
+  s.bodies[0].inertia_B[1][1] = -1.0;
+  EXPECT_FALSE(Dynamics::create(s, *world).ok());
+  s.bodies[0].inertia_B[1][1] = s.bodies[0].inertia_B[0][0];
+  ASSERT_TRUE(Dynamics::create(s, *world).ok());
   DynamicsOptions o;
   o.velocity_iterations = 0;
   EXPECT_FALSE(Dynamics::create(s, *world, o).ok());
