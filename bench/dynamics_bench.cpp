@@ -24,7 +24,8 @@ using geom::Vec3;
 
 std::shared_ptr<const geom::Polytope> box(const Vec3& h) {
   std::vector<Vec3> p;
-  for (int i = 0; i < 8; ++i) p.push_back(Vec3{i & 1 ? h.x : -h.x, i & 2 ? h.y : -h.y, i & 4 ? h.z : -h.z});
+  for (int i = 0; i < 8; ++i)
+    p.push_back(Vec3{i & 1 ? h.x : -h.x, i & 2 ? h.y : -h.y, i & 4 ? h.z : -h.z});
   return std::make_shared<const geom::Polytope>(geom::Polytope::fromPoints(p).value());
 }
 
@@ -51,7 +52,8 @@ double cpuNs() {
 }
 
 double quantile(std::vector<double>& v, double q) {
-  if (v.empty()) return 0.0;
+  if (v.empty())
+    return 0.0;
   const auto k = static_cast<std::size_t>(q * static_cast<double>(v.size() - 1));
   std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
   return v[k];
@@ -68,7 +70,8 @@ void BM_Stack100(benchmark::State& state) {
   const auto cube = box(Vec3{h});
   for (int i = 0; i < 25; ++i) {
     for (int level = 0; level < 4; ++level) {
-      s.bodies.push_back(body(cube, Vec3{-0.5 + 0.25 * (i % 5), h + 2 * h * level, -0.5 + 0.25 * (i / 5)},
+      s.bodies.push_back(body(cube,
+                              Vec3{-0.5 + 0.25 * (i % 5), h + 2 * h * level, -0.5 + 0.25 * (i / 5)},
                               scene::Motion::kDynamic));
     }
   }
@@ -112,7 +115,8 @@ void BM_Stack100(benchmark::State& state) {
   state.counters["points"] = static_cast<double>(points) / static_cast<double>(state.iterations());
   // the stack must still stand, or the figures mean nothing
   double top = 0.0;
-  for (std::uint32_t b = 4; b < dyn->bodyCount(); b += 4) top = std::max(top, std::abs(dyn->pose(b).translation.y - 7 * h));
+  for (std::uint32_t b = 4; b < dyn->bodyCount(); b += 4)
+    top = std::max(top, std::abs(dyn->pose(b).translation.y - 7 * h));
   state.counters["top_drift_mm"] = top * 1e3;
 }
 BENCHMARK(BM_Stack100)->Name("Dynamics/stack100")->Unit(benchmark::kMicrosecond)->MinTime(3.0);

@@ -27,17 +27,21 @@ void principalAxes(const Mat3& A_in, Mat3* P_out, Vec3* d_out) {
   double a[3][3];
   double v[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   for (int i = 0; i < 3; ++i) {
-    for (int j = 0; j < 3; ++j) a[i][j] = 0.5 * (A_in[j][i] + A_in[i][j]);
+    for (int j = 0; j < 3; ++j)
+      a[i][j] = 0.5 * (A_in[j][i] + A_in[i][j]);
   }
   for (int sweep = 0; sweep < 50; ++sweep) {
     const double off = a[0][1] * a[0][1] + a[0][2] * a[0][2] + a[1][2] * a[1][2];
     const double diag = a[0][0] * a[0][0] + a[1][1] * a[1][1] + a[2][2] * a[2][2];
-    if (off <= 1e-30 * diag) break;
+    if (off <= 1e-30 * diag)
+      break;
     for (int p = 0; p < 2; ++p) {
       for (int q = p + 1; q < 3; ++q) {
-        if (a[p][q] == 0.0) continue;
+        if (a[p][q] == 0.0)
+          continue;
         const double theta = (a[q][q] - a[p][p]) / (2.0 * a[p][q]);
-        const double t = (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
+        const double t =
+            (theta >= 0 ? 1.0 : -1.0) / (std::abs(theta) + std::sqrt(theta * theta + 1.0));
         const double c = 1.0 / std::sqrt(t * t + 1.0), sn = t * c;
         for (int k = 0; k < 3; ++k) {  // A <- A J
           const double akp = a[k][p], akq = a[k][q];
@@ -58,28 +62,35 @@ void principalAxes(const Mat3& A_in, Mat3* P_out, Vec3* d_out) {
     }
   }
   Mat3 P;
-  for (int c = 0; c < 3; ++c) P[c] = Vec3{v[0][c], v[1][c], v[2][c]};
-  if (glm::determinant(P) < 0.0) P[2] = -P[2];
+  for (int c = 0; c < 3; ++c)
+    P[c] = Vec3{v[0][c], v[1][c], v[2][c]};
+  if (glm::determinant(P) < 0.0)
+    P[2] = -P[2];
   *P_out = P;
   *d_out = Vec3{a[0][0], a[1][1], a[2][2]};
 }
 
-bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const Vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 Quat expMap(const Vec3& w, double h) {
   const Vec3 phi = w * h;
   const double angle = glm::length(phi);
-  if (angle < 1e-12) return glm::normalize(Quat(1.0, 0.5 * phi.x, 0.5 * phi.y, 0.5 * phi.z));
+  if (angle < 1e-12)
+    return glm::normalize(Quat(1.0, 0.5 * phi.x, 0.5 * phi.y, 0.5 * phi.z));
   const double s = std::sin(0.5 * angle) / angle;
   return Quat(std::cos(0.5 * angle), s * phi.x, s * phi.y, s * phi.z);
 }
 
 // rotation vector of a unit quaternion (shortest way)
 Vec3 logMap(Quat q) {
-  if (q.w < 0.0) q = -q;
+  if (q.w < 0.0)
+    q = -q;
   const Vec3 v{q.x, q.y, q.z};
   const double s = glm::length(v);
-  if (s < 1e-12) return 2.0 * v;
+  if (s < 1e-12)
+    return 2.0 * v;
   return v * (2.0 * std::atan2(s, q.w) / s);
 }
 
@@ -92,14 +103,18 @@ void tangents(const Vec3& n, Vec3* t1, Vec3* t2) {
 double combine(double a, double b, scene::Combine ca, scene::Combine cb) {
   using scene::Combine;
   // KHR_physics_rigid_bodies: average, else minimum, else maximum, else multiply
-  if (ca == Combine::kAverage || cb == Combine::kAverage) return 0.5 * (a + b);
-  if (ca == Combine::kMinimum || cb == Combine::kMinimum) return std::min(a, b);
-  if (ca == Combine::kMaximum || cb == Combine::kMaximum) return std::max(a, b);
+  if (ca == Combine::kAverage || cb == Combine::kAverage)
+    return 0.5 * (a + b);
+  if (ca == Combine::kMinimum || cb == Combine::kMinimum)
+    return std::min(a, b);
+  if (ca == Combine::kMaximum || cb == Combine::kMaximum)
+    return std::max(a, b);
   return a * b;
 }
 
 std::uint64_t pairKey(std::uint32_t a, std::uint32_t b) {
-  if (a > b) std::swap(a, b);
+  if (a > b)
+    std::swap(a, b);
   return static_cast<std::uint64_t>(a) << 32 | b;
 }
 
@@ -107,7 +122,7 @@ std::uint64_t pairKey(std::uint32_t a, std::uint32_t b) {
 
 struct Dynamics::BodyState {
   scene::Motion motion = scene::Motion::kStatic;
-  bool infinite = true;    // this tick: infinite mass (static, kinematic, held kinematic)
+  bool infinite = true;  // this tick: infinite mass (static, kinematic, held kinematic)
   double inv_mass = 0.0;
   Mat3 inertia_B{0.0}, inv_inertia_B{0.0};
   Quat q_BP{1.0, 0.0, 0.0, 0.0};  // principal axes in the body frame
@@ -117,14 +132,14 @@ struct Dynamics::BodyState {
   bool isotropic = false;         // all three equal (cubes, regular polyhedra)
   Mat3 inv_inertia_W{0.0};
   Vec3 com_B{0.0};
-  Vec3 x_W{0.0};           // centre of mass
+  Vec3 x_W{0.0};  // centre of mass
   Quat q{1.0, 0.0, 0.0, 0.0};
   Mat3 R{1.0};
   Vec3 v_W{0.0}, w_W{0.0};
   Vec3 gravity_W{0.0};
   Vec3 force_W{0.0}, torque_W{0.0};
-  Vec3 pv{0.0}, pw{0.0};   // split-impulse pseudo-velocities
-  double size = 0.0;       // radius about the centre of mass
+  Vec3 pv{0.0}, pw{0.0};  // split-impulse pseudo-velocities
+  double size = 0.0;      // radius about the centre of mass
   bool has_target = false;
   Vec3 target_x{0.0};
   Quat target_q{1.0, 0.0, 0.0, 0.0};
@@ -137,12 +152,14 @@ struct Dynamics::BodyState {
   Vec3 velocityAt(const Vec3& r) const { return v_W + glm::cross(w_W, r); }
   Vec3 pseudoAt(const Vec3& r) const { return pv + glm::cross(pw, r); }
   void applyImpulse(const Vec3& J, const Vec3& r) {
-    if (infinite) return;
+    if (infinite)
+      return;
     v_W += inv_mass * J;
     w_W += inv_inertia_W * glm::cross(r, J);
   }
   void applyPseudo(const Vec3& J, const Vec3& r) {
-    if (infinite) return;
+    if (infinite)
+      return;
     pv += inv_mass * J;
     pw += inv_inertia_W * glm::cross(r, J);
   }
@@ -162,18 +179,18 @@ struct Dynamics::ContactPoint {
   Vec3 ra_B{0.0}, rb_B{0.0};  // from each centre of mass, body frames
   Vec3 ra{0.0}, rb{0.0};      // world, current
   Vec3 n{0.0}, t1{0.0}, t2{0.0};
-  double gap = 0.0;           // > 0 apart, < 0 penetrating (tracked through the tick)
-  double size = 0.0;          // the smaller body's size
-  double mass_n = 0.0;        // normal effective mass (the split impulses use it)
+  double gap = 0.0;     // > 0 apart, < 0 penetrating (tracked through the tick)
+  double size = 0.0;    // the smaller body's size
+  double mass_n = 0.0;  // normal effective mass (the split impulses use it)
   double ima = 0.0, imb = 0.0;
   Row rn, rt1, rt2;
   double e = 0.0, mu_s = 0.0, mu_d = 0.0, mu = 0.0;
-  double bounce = 0.0;        // restitution of this impact (0 below the threshold, or done)
-  double min_vn = 0.0;        // speculative: closing allowed up to this (<= 0), else 0
+  double bounce = 0.0;  // restitution of this impact (0 below the threshold, or done)
+  double min_vn = 0.0;  // speculative: closing allowed up to this (<= 0), else 0
   double ln = 0.0, lt1 = 0.0, lt2 = 0.0;  // this episode
-  double total_n = 0.0;       // whole tick
-  Vec3 total_t{0.0};          // whole tick, world
-  double lp = 0.0;            // split impulse
+  double total_n = 0.0;                   // whole tick
+  Vec3 total_t{0.0};                      // whole tick, world
+  double lp = 0.0;                        // split impulse
   bool active = false;
   bool speculative = false;
 };
@@ -189,14 +206,15 @@ struct Dynamics::JointState {
   double m1 = 0.0, m2 = 0.0, m_axis = 0.0;
   bool has_min = false, has_max = false;
   double c_min = 0.0, c_max = 0.0;  // distance to the limits (rad), > 0 inside
-  Vec3 l_point{0.0}, l_ang{0.0};  // this episode
+  Vec3 l_point{0.0}, l_ang{0.0};    // this episode
   double l1 = 0.0, l2 = 0.0, l_lo = 0.0, l_hi = 0.0;
   Vec3 err_point{0.0}, err_ang{0.0};  // end of tick: b's anchor from a's; rotation error
-  double size = 0.0;  // the larger body's size: turns angular errors into speeds
+  double size = 0.0;                  // the larger body's size: turns angular errors into speeds
   double tot_lo = 0.0, tot_hi = 0.0;  // whole tick: limit impulses (part of total_L)
   Vec3 warm_J{0.0}, warm_L{0.0};      // last tick's, for the warm start
   double warm_lo = 0.0, warm_hi = 0.0;
-  Vec3 total_J{0.0}, total_L{0.0};  // whole tick: impulse on b at its anchor (-J on a), pure angular impulse on b
+  Vec3 total_J{0.0},
+      total_L{0.0};  // whole tick: impulse on b at its anchor (-J on a), pure angular impulse on b
 };
 
 struct Dynamics::WarmPoint {
@@ -208,7 +226,9 @@ struct Dynamics::WarmPoint {
 
 Dynamics::Dynamics() = default;
 Dynamics::~Dynamics() = default;
-std::uint32_t Dynamics::bodyCount() const { return static_cast<std::uint32_t>(bodies_.size()); }
+std::uint32_t Dynamics::bodyCount() const {
+  return static_cast<std::uint32_t>(bodies_.size());
+}
 
 double recommendedBoxMargin(const scene::SceneModel& scene) {
   return 0.005 * (scene.length_scale > 0.0 ? scene.length_scale : 1.0);
@@ -222,13 +242,14 @@ std::unique_ptr<collision::CollisionWorld> buildCollisionWorld(const scene::Scen
     any_dynamic = any_dynamic || b.motion == scene::Motion::kDynamic;
     prims += b.primitives.size();
   }
-  if (any_dynamic) options.box_margin = std::max(options.box_margin, recommendedBoxMargin(scene));
+  if (any_dynamic)
+    options.box_margin = std::max(options.box_margin, recommendedBoxMargin(scene));
   auto world = std::make_unique<collision::CollisionWorld>(options);
   world->reserve(prims + 16, 16 * prims + 64);
   for (std::uint32_t i = 0; i < scene.bodies.size(); ++i) {
     const scene::Body& b = scene.bodies[i];
     collision::BodyDesc d;
-    d.kind = b.probe ? collision::BodyKind::kProbe
+    d.kind = b.probe                                 ? collision::BodyKind::kProbe
              : b.motion == scene::Motion::kDynamic   ? collision::BodyKind::kDynamic
              : b.motion == scene::Motion::kKinematic ? collision::BodyKind::kKinematic
                                                      : collision::BodyKind::kStatic;
@@ -240,7 +261,8 @@ std::unique_ptr<collision::CollisionWorld> buildCollisionWorld(const scene::Scen
       d.group |= p.group;
       d.mask |= p.mask;
     }
-    if (b.primitives.empty()) d.group = 1, d.mask = ~0u;
+    if (b.primitives.empty())
+      d.group = 1, d.mask = ~0u;
     world->addBody(d, b.X_WB);
   }
   return world;
@@ -259,8 +281,9 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
       !(options.restitution_threshold_fraction >= 0.0) ||
       !(options.static_friction_speed_fraction >= 0.0) ||
       !(options.max_travel_fraction > 0.0 && options.max_travel_fraction <= 1.0) ||
-      !(options.velocity_tolerance_fraction >= 0.0 && options.velocity_tolerance_fraction < 1.0) || !(options.impulse_window_s >= 0.0) ||
-      !(options.tick_s > 0.0) || !std::isfinite(options.impulse_window_s) ||
+      !(options.velocity_tolerance_fraction >= 0.0 && options.velocity_tolerance_fraction < 1.0) ||
+      !(options.impulse_window_s >= 0.0) || !(options.tick_s > 0.0) ||
+      !std::isfinite(options.impulse_window_s) ||
       !std::isfinite(options.restitution_threshold_ticks) ||
       !std::isfinite(options.restitution_threshold_fraction)) {
     return Error{"dynamics: an option is out of range (see DynamicsOptions)"};
@@ -270,11 +293,14 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
   d->world_ = &world;
   d->options_ = options;
   d->held_ = scene.probe_body;
-  for (const scene::Body& b : scene.bodies) d->active_ = d->active_ || b.motion == scene::Motion::kDynamic;
-  if (!d->active_) return d;
+  for (const scene::Body& b : scene.bodies)
+    d->active_ = d->active_ || b.motion == scene::Motion::kDynamic;
+  if (!d->active_)
+    return d;
 
   const Vec3 g = scene.gravity_W.value_or(Vec3{0.0});
-  if (!finite(g)) return Error{"dynamics: gravity is not finite"};
+  if (!finite(g))
+    return Error{"dynamics: gravity is not finite"};
   d->bodies_.resize(scene.bodies.size());
   std::size_t moving_prims = 0;
   for (std::uint32_t i = 0; i < scene.bodies.size(); ++i) {
@@ -306,11 +332,13 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
           return Error{"dynamics: body '" + sb.name + "' has no inertia and no volume"};
         }
         inertia = mp.inertia_B * (sb.mass / mp.mass);
-        if (!sb.mass_declared && glm::length(com) == 0.0) com = mp.com_B;
+        if (!sb.mass_declared && glm::length(com) == 0.0)
+          com = mp.com_B;
       }
       for (int c = 0; c < 3; ++c) {
         if (!finite(inertia[c]) || !finite(com)) {
-          return Error{"dynamics: body '" + sb.name + "' has a non-finite inertia or centre of mass"};
+          return Error{"dynamics: body '" + sb.name +
+                       "' has a non-finite inertia or centre of mass"};
         }
       }
       // principal axes; a principal moment of 0 is an infinite inertia about that axis (KHR: a
@@ -321,9 +349,11 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
       Vec3 inv_P{0.0};
       for (int k = 0; k < 3; ++k) {
         if (b.inertia_P[k] < -1e-12 * i_max) {
-          return Error{"dynamics: body '" + sb.name + "' has an inertia tensor that is not positive"};
+          return Error{"dynamics: body '" + sb.name +
+                       "' has an inertia tensor that is not positive"};
         }
-        if (b.inertia_P[k] <= 1e-12 * i_max) b.inertia_P[k] = 0.0;
+        if (b.inertia_P[k] <= 1e-12 * i_max)
+          b.inertia_P[k] = 0.0;
         inv_P[k] = b.inertia_P[k] > 0.0 ? 1.0 / b.inertia_P[k] : 0.0;
       }
       b.inv_inertia_P = inv_P;
@@ -342,16 +372,19 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
         // no spin about an axis of infinite inertia
         const Mat3 R0 = glm::mat3_cast(glm::normalize(sb.X_WB.rotation));
         const Vec3 w_P = glm::transpose(R0 * P) * b.w_W;
-        b.w_W = R0 * P * Vec3{inv_P.x > 0 ? w_P.x : 0, inv_P.y > 0 ? w_P.y : 0, inv_P.z > 0 ? w_P.z : 0};
+        b.w_W = R0 * P *
+                Vec3{inv_P.x > 0 ? w_P.x : 0, inv_P.y > 0 ? w_P.y : 0, inv_P.z > 0 ? w_P.z : 0};
       }
     }
-    if (sb.motion != scene::Motion::kStatic) moving_prims += sb.primitives.size();
+    if (sb.motion != scene::Motion::kStatic)
+      moving_prims += sb.primitives.size();
     b.q = glm::normalize(sb.X_WB.rotation);
     b.R = glm::mat3_cast(b.q);
     b.x_W = sb.X_WB.translation + b.R * b.com_B;
     double size = 0.0;
     for (const scene::Primitive& p : sb.primitives) {
-      if (!p.shape) continue;
+      if (!p.shape)
+        continue;
       const Vec3 c = p.X_BP.translation + p.X_BP.rotation * p.shape->centroid();
       size = std::max(size, glm::length(c - b.com_B) + p.shape->radius());
     }
@@ -378,7 +411,8 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
   }
   for (const scene::Joint& j : scene.joints) {
     const auto n = static_cast<std::int32_t>(scene.bodies.size());
-    if (j.body_a < 0 || j.body_a >= n || j.body_b >= n || j.body_a == j.body_b || j.hinge_axis > 2) {
+    if (j.body_a < 0 || j.body_a >= n || j.body_b >= n || j.body_a == j.body_b ||
+        j.hinge_axis > 2) {
       return Error{"dynamics: a joint names a body out of range (or itself, or an axis > 2)"};
     }
     JointState js;
@@ -395,10 +429,11 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
   std::sort(d->no_collide_.begin(), d->no_collide_.end());
   d->min_size_ = kInf;
   for (const BodyState& b : d->bodies_) {
-    if (b.motion == scene::Motion::kDynamic) d->min_size_ = std::min(d->min_size_, b.size);
+    if (b.motion == scene::Motion::kDynamic)
+      d->min_size_ = std::min(d->min_size_, b.size);
   }
-  const std::size_t cap = options.max_contact_points != 0 ? options.max_contact_points
-                                                          : 16 * moving_prims + 64;
+  const std::size_t cap =
+      options.max_contact_points != 0 ? options.max_contact_points : 16 * moving_prims + 64;
   d->points_.reserve(cap);
   d->dv_.assign(d->bodies_.size(), Vec3{0.0});
   d->dw_.assign(d->bodies_.size(), Vec3{0.0});
@@ -409,24 +444,31 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
 }
 
 void Dynamics::setKinematicPose(std::uint32_t body, const Pose& X_WB) {
-  if (!active_ || body >= bodies_.size()) return;
+  if (!active_ || body >= bodies_.size())
+    return;
   BodyState& b = bodies_[body];
   const bool held = static_cast<std::int32_t>(body) == held_;
-  if (b.motion != scene::Motion::kKinematic && !held) return;
+  if (b.motion != scene::Motion::kKinematic && !held)
+    return;
   b.has_target = true;
   b.target_q = glm::normalize(X_WB.rotation);
   b.target_x = X_WB.translation + glm::mat3_cast(b.target_q) * b.com_B;
 }
 
-void Dynamics::setExternalWrench(std::uint32_t body, const Vec3& force_W_n, const Vec3& torque_W_nm) {
-  if (!active_ || body >= bodies_.size() || bodies_[body].motion != scene::Motion::kDynamic) return;
+void Dynamics::setExternalWrench(std::uint32_t body,
+                                 const Vec3& force_W_n,
+                                 const Vec3& torque_W_nm) {
+  if (!active_ || body >= bodies_.size() || bodies_[body].motion != scene::Motion::kDynamic)
+    return;
   bodies_[body].force_W = force_W_n;
   bodies_[body].torque_W = torque_W_nm;
 }
 
 Pose Dynamics::pose(std::uint32_t body) const {
-  if (!active_) return body < scene_->bodies.size() ? scene_->bodies[body].X_WB : Pose{};
-  if (body >= bodies_.size()) return Pose{};
+  if (!active_)
+    return body < scene_->bodies.size() ? scene_->bodies[body].X_WB : Pose{};
+  if (body >= bodies_.size())
+    return Pose{};
   const BodyState& b = bodies_[body];
   return Pose{b.x_W - b.R * b.com_B, b.q};
 }
@@ -437,14 +479,16 @@ Vec3 Dynamics::angularVelocity(std::uint32_t body) const {
   return active_ && body < bodies_.size() ? bodies_[body].w_W : Vec3{0.0};
 }
 Vec3 Dynamics::centerOfMass(std::uint32_t body) const {
-  if (!active_ || body >= bodies_.size()) return Vec3{0.0};
+  if (!active_ || body >= bodies_.size())
+    return Vec3{0.0};
   return bodies_[body].x_W;
 }
 
 double Dynamics::kineticEnergy() const {
   double e = 0.0;
   for (const BodyState& b : bodies_) {
-    if (b.motion != scene::Motion::kDynamic) continue;
+    if (b.motion != scene::Motion::kDynamic)
+      continue;
     const Vec3 w_B = glm::transpose(b.R) * b.w_W;
     e += 0.5 * glm::dot(b.v_W, b.v_W) / b.inv_mass + 0.5 * glm::dot(w_B, b.inertia_B * w_B);
   }
@@ -454,7 +498,8 @@ double Dynamics::kineticEnergy() const {
 double Dynamics::potentialEnergy() const {
   double e = 0.0;
   for (const BodyState& b : bodies_) {
-    if (b.motion != scene::Motion::kDynamic) continue;
+    if (b.motion != scene::Motion::kDynamic)
+      continue;
     e -= glm::dot(b.gravity_W, b.x_W) / b.inv_mass;
   }
   return e;
@@ -467,8 +512,10 @@ void Dynamics::integrateForces(double dt, const HeldInput* held) {
   bool held_wrench = false;
   if (held != nullptr && held_ >= 0 && static_cast<std::size_t>(held_) < bodies_.size()) {
     if (held->mode == HeldMode::kKinematic && finite(held->X_WB_target.translation) &&
-        std::isfinite(held->X_WB_target.rotation.w) && std::isfinite(held->X_WB_target.rotation.x) &&
-        std::isfinite(held->X_WB_target.rotation.y) && std::isfinite(held->X_WB_target.rotation.z) &&
+        std::isfinite(held->X_WB_target.rotation.w) &&
+        std::isfinite(held->X_WB_target.rotation.x) &&
+        std::isfinite(held->X_WB_target.rotation.y) &&
+        std::isfinite(held->X_WB_target.rotation.z) &&
         glm::length(held->X_WB_target.rotation) > 0.5) {
       setKinematicPose(static_cast<std::uint32_t>(held_), held->X_WB_target);
       held_kinematic_ = true;
@@ -486,7 +533,8 @@ void Dynamics::integrateForces(double dt, const HeldInput* held) {
     b.pw = Vec3{0.0};
     if (b.infinite) {
       b.inv_inertia_W = Mat3{0.0};
-      if (b.motion == scene::Motion::kStatic) continue;
+      if (b.motion == scene::Motion::kStatic)
+        continue;
       if (b.has_target) {
         b.v_W = (b.target_x - b.x_W) / dt;
         b.w_W = logMap(b.target_q * glm::conjugate(b.q)) / dt;
@@ -517,8 +565,10 @@ void Dynamics::integrateForces(double dt, const HeldInput* held) {
       const double reach = glm::length(b.v_W) * dt;
       const double spin = glm::length(b.w_W) * b.size * dt;
       if (reach > limit || spin > limit) {
-        if (reach > limit) b.v_W *= limit / reach;
-        if (spin > limit) b.w_W *= limit / spin;
+        if (reach > limit)
+          b.v_W *= limit / reach;
+        if (spin > limit)
+          b.w_W *= limit / spin;
         ++counters_.speed_clamped;
         step_flags_ |= kStepSpeedClamped;
       }
@@ -532,21 +582,26 @@ void Dynamics::gatherContacts(StepReport& report) {
   const std::size_t cap = points_.capacity();
   std::size_t warm = 0;  // warm_ is sorted like the contacts: walk both
   for (const collision::Contact& c : contacts) {
-    if (!c.answered || c.body_a >= bodies_.size() || c.body_b >= bodies_.size()) continue;
+    if (!c.answered || c.body_a >= bodies_.size() || c.body_b >= bodies_.size())
+      continue;
     BodyState& A = bodies_[c.body_a];
     BodyState& B = bodies_[c.body_b];
-    if (A.infinite && B.infinite) continue;
+    if (A.infinite && B.infinite)
+      continue;
     if (!no_collide_.empty() &&
         std::binary_search(no_collide_.begin(), no_collide_.end(), pairKey(c.body_a, c.body_b))) {
       continue;
     }
-    if (c.age > 0) step_flags_ |= kStepStaleContacts;
+    if (c.age > 0)
+      step_flags_ |= kStepStaleContacts;
     // materials of the two primitives (none declared: frictionless, no restitution)
     static const scene::Material none;
     const auto material = [&](std::uint32_t body, std::uint32_t prim) -> const scene::Material& {
-      if (body >= scene_->bodies.size()) return none;
+      if (body >= scene_->bodies.size())
+        return none;
       const auto& prims = scene_->bodies[body].primitives;
-      if (prim >= prims.size()) return none;
+      if (prim >= prims.size())
+        return none;
       const std::int32_t m = prims[prim].material;
       return m >= 0 && static_cast<std::size_t>(m) < scene_->materials.size()
                  ? scene_->materials[static_cast<std::size_t>(m)]
@@ -554,12 +609,12 @@ void Dynamics::gatherContacts(StepReport& report) {
     };
     const scene::Material& ma = material(c.body_a, c.prim_a);
     const scene::Material& mb = material(c.body_b, c.prim_b);
-    const double e = combine(ma.restitution, mb.restitution, ma.restitution_combine,
-                             mb.restitution_combine);
-    const double mu_s = combine(ma.static_friction, mb.static_friction, ma.friction_combine,
-                                mb.friction_combine);
-    const double mu_d = combine(ma.dynamic_friction, mb.dynamic_friction, ma.friction_combine,
-                                mb.friction_combine);
+    const double e =
+        combine(ma.restitution, mb.restitution, ma.restitution_combine, mb.restitution_combine);
+    const double mu_s =
+        combine(ma.static_friction, mb.static_friction, ma.friction_combine, mb.friction_combine);
+    const double mu_d =
+        combine(ma.dynamic_friction, mb.dynamic_friction, ma.friction_combine, mb.friction_combine);
     const double size = std::min(A.infinite ? kInf : A.size, B.infinite ? kInf : B.size);
 
     while (warm < warm_.size() &&
@@ -581,7 +636,8 @@ void Dynamics::gatherContacts(StepReport& report) {
         gap = c.distance;
       }
       const double nl = glm::length(n);
-      if (!(nl > 0.5) || !finite(p) || !std::isfinite(gap)) continue;
+      if (!(nl > 0.5) || !finite(p) || !std::isfinite(gap))
+        continue;
       if (points_.size() == cap) {
         ++counters_.points_dropped;
         step_flags_ |= kStepCapacityFull;
@@ -656,8 +712,8 @@ void Dynamics::prepareJoints() {
     }
     js.ra = pa - A.x_W;
     const Mat3 Sa = skew(js.ra), Sb = skew(js.rb);
-    const Mat3 K = (A.invMass() + mb_inv) * Mat3{1.0} - Sa * A.inv_inertia_W * Sa -
-                   Sb * ib_inv * Sb;
+    const Mat3 K =
+        (A.invMass() + mb_inv) * Mat3{1.0} - Sa * A.inv_inertia_W * Sa - Sb * ib_inv * Sb;
     js.point_mass = glm::determinant(K) > 0.0 ? glm::inverse(K) : Mat3{0.0};
     const Mat3 Ka = A.inv_inertia_W + ib_inv;
     if (j.kind == scene::JointKind::kFixed) {
@@ -688,7 +744,8 @@ void Dynamics::prepareJoints() {
 // one episode of sequential impulses over the joints and the active contact points
 void Dynamics::solveVelocities(double remaining) {
   for (ContactPoint& cp : points_) {
-    if (!cp.active && !cp.speculative) continue;
+    if (!cp.active && !cp.speculative)
+      continue;
     BodyState& A = bodies_[cp.a];
     BodyState& B = bodies_[cp.b];
     cp.ra = A.R * cp.ra_B;
@@ -728,10 +785,13 @@ void Dynamics::solveVelocities(double remaining) {
                               ? js.warm_L - js.axis * glm::dot(js.warm_L, js.axis)
                               : js.warm_L;
       const Vec3 L = across + js.axis * (js.l_lo + js.l_hi);
-      if (!A.infinite) A.w_W -= A.inv_inertia_W * L;
-      if (B != nullptr && !B->infinite) B->w_W += B->inv_inertia_W * L;
+      if (!A.infinite)
+        A.w_W -= A.inv_inertia_W * L;
+      if (B != nullptr && !B->infinite)
+        B->w_W += B->inv_inertia_W * L;
       A.applyImpulse(-js.warm_J, js.ra);
-      if (B != nullptr) B->applyImpulse(js.warm_J, js.rb);
+      if (B != nullptr)
+        B->applyImpulse(js.warm_J, js.rb);
       js.total_J += js.warm_J;
       js.total_L += L;
     }
@@ -753,8 +813,10 @@ void Dynamics::solveVelocities(double remaining) {
   }
   const double inv_dt = 1.0 / tick_dt_;
   bool bounces = false;
-  for (const ContactPoint& cp : points_) bounces = bounces || (cp.bounce > 0.0 && cp.active);
-  if (bounces) ke_episode_start_ = kineticEnergy();
+  for (const ContactPoint& cp : points_)
+    bounces = bounces || (cp.bounce > 0.0 && cp.active);
+  if (bounces)
+    ke_episode_start_ = kineticEnergy();
   for (std::uint32_t it = 0; it < options_.velocity_iterations; ++it) {
     // the largest velocity error any row corrected in this iteration: below the tolerance the
     // episode has converged and stops early
@@ -765,8 +827,10 @@ void Dynamics::solveVelocities(double remaining) {
       const Vec3 wb = B != nullptr ? B->w_W : Vec3{0.0};
       const Mat3 ib = B != nullptr ? B->inv_inertia_W : Mat3{0.0};
       const auto applyAngular = [&](const Vec3& L) {
-        if (!A.infinite) A.w_W -= A.inv_inertia_W * L;
-        if (B != nullptr && !B->infinite) B->w_W += ib * L;
+        if (!A.infinite)
+          A.w_W -= A.inv_inertia_W * L;
+        if (B != nullptr && !B->infinite)
+          B->w_W += ib * L;
         js.total_L += L;
       };
       // angular rows
@@ -782,15 +846,18 @@ void Dynamics::solveVelocities(double remaining) {
         const double l1 = js.m1 * -glm::dot(wrel, js.p1);
         const double l2 = js.m2 * -glm::dot(wrel, js.p2);
         applyAngular(js.p1 * l1 + js.p2 * l2);
-        if (js.m1 > 0.0) residual = std::max(residual, std::abs(glm::dot(wrel, js.p1)) * js.size);
-        if (js.m2 > 0.0) residual = std::max(residual, std::abs(glm::dot(wrel, js.p2)) * js.size);
+        if (js.m1 > 0.0)
+          residual = std::max(residual, std::abs(glm::dot(wrel, js.p1)) * js.size);
+        if (js.m2 > 0.0)
+          residual = std::max(residual, std::abs(glm::dot(wrel, js.p2)) * js.size);
         if (js.has_min) {
           const double vr = glm::dot((B != nullptr ? B->w_W : Vec3{0.0}) - A.w_W, js.axis);
           const double target = js.c_min > 0.0 ? -js.c_min * inv_dt : 0.0;
           const double old = js.l_lo;
           js.l_lo = std::max(0.0, old + js.m_axis * (target - vr));
           applyAngular(js.axis * (js.l_lo - old));
-          if (js.m_axis > 0.0) residual = std::max(residual, std::abs(js.l_lo - old) / js.m_axis * js.size);
+          if (js.m_axis > 0.0)
+            residual = std::max(residual, std::abs(js.l_lo - old) / js.m_axis * js.size);
         }
         if (js.has_max) {
           const double vr = glm::dot((B != nullptr ? B->w_W : Vec3{0.0}) - A.w_W, js.axis);
@@ -798,7 +865,8 @@ void Dynamics::solveVelocities(double remaining) {
           const double old = js.l_hi;
           js.l_hi = std::min(0.0, old + js.m_axis * (target - vr));
           applyAngular(js.axis * (js.l_hi - old));
-          if (js.m_axis > 0.0) residual = std::max(residual, std::abs(js.l_hi - old) / js.m_axis * js.size);
+          if (js.m_axis > 0.0)
+            residual = std::max(residual, std::abs(js.l_hi - old) / js.m_axis * js.size);
         }
       }
       // the point row
@@ -809,11 +877,13 @@ void Dynamics::solveVelocities(double remaining) {
         residual = std::max(residual, glm::length(verr));
       }
       A.applyImpulse(-J, js.ra);
-      if (B != nullptr) B->applyImpulse(J, js.rb);
+      if (B != nullptr)
+        B->applyImpulse(J, js.rb);
       js.total_J += J;
     }
     for (ContactPoint& cp : points_) {
-      if (!cp.active && !cp.speculative) continue;
+      if (!cp.active && !cp.speculative)
+        continue;
       BodyState& A = bodies_[cp.a];
       BodyState& B = bodies_[cp.b];
       // relative velocity along a row, and an impulse along it (infinite bodies have zero
@@ -843,17 +913,21 @@ void Dynamics::solveVelocities(double remaining) {
         cp.lt2 = l2;
         push(cp.t1, cp.rt1, l1 - o1);
         push(cp.t2, cp.rt2, l2 - o2);
-        if (cp.rt1.mass > 0.0) residual = std::max(residual, std::abs(l1 - o1) / cp.rt1.mass);
-        if (cp.rt2.mass > 0.0) residual = std::max(residual, std::abs(l2 - o2) / cp.rt2.mass);
+        if (cp.rt1.mass > 0.0)
+          residual = std::max(residual, std::abs(l1 - o1) / cp.rt1.mass);
+        if (cp.rt2.mass > 0.0)
+          residual = std::max(residual, std::abs(l2 - o2) / cp.rt2.mass);
       }
       const double vn = rel(cp.n, cp.rn);
       const double target = cp.speculative ? cp.min_vn : 0.0;
       const double old = cp.ln;
       cp.ln = std::max(0.0, old + cp.rn.mass * (target - vn));
       push(cp.n, cp.rn, cp.ln - old);
-      if (cp.rn.mass > 0.0) residual = std::max(residual, std::abs(cp.ln - old) / cp.rn.mass);
+      if (cp.rn.mass > 0.0)
+        residual = std::max(residual, std::abs(cp.ln - old) / cp.rn.mass);
     }
-    if (it + 1 >= kMinIterations && residual < velocity_tolerance_) break;
+    if (it + 1 >= kMinIterations && residual < velocity_tolerance_)
+      break;
   }
   // restitution (Poisson's hypothesis): the points that struck get e times their compression
   // impulse back. With the compression solved, this changes the kinetic energy by
@@ -863,11 +937,14 @@ void Dynamics::solveVelocities(double remaining) {
   // The solve is iterative: when it has not converged, the restitution impulses are scaled
   // down (never up) so that the kinetic energy does not end above where the episode began.
   bool any_bounce = false;
-  for (const ContactPoint& cp : points_) any_bounce = any_bounce || (cp.bounce > 0.0 && cp.active && cp.ln > 0.0);
+  for (const ContactPoint& cp : points_)
+    any_bounce = any_bounce || (cp.bounce > 0.0 && cp.active && cp.ln > 0.0);
   if (any_bounce) {
-    for (std::size_t i = 0; i < bodies_.size(); ++i) dv_[i] = dw_[i] = Vec3{0.0};
+    for (std::size_t i = 0; i < bodies_.size(); ++i)
+      dv_[i] = dw_[i] = Vec3{0.0};
     for (const ContactPoint& cp : points_) {
-      if (cp.bounce <= 0.0 || !cp.active) continue;
+      if (cp.bounce <= 0.0 || !cp.active)
+        continue;
       const double l = cp.bounce * cp.ln;
       dv_[cp.a] -= (cp.ima * l) * cp.n;
       dw_[cp.a] -= cp.rn.ia * l;
@@ -878,7 +955,8 @@ void Dynamics::solveVelocities(double remaining) {
     double a = 0.0, b = 0.0;
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
       const BodyState& body = bodies_[i];
-      if (body.infinite) continue;
+      if (body.infinite)
+        continue;
       const Mat3 I_W = body.R * body.inertia_B * glm::transpose(body.R);
       const double m = 1.0 / body.inv_mass;
       a += m * glm::dot(body.v_W, dv_[i]) + glm::dot(body.w_W, I_W * dw_[i]);
@@ -892,16 +970,19 @@ void Dynamics::solveVelocities(double remaining) {
       scale = b > 0.0 ? std::clamp((-a + std::sqrt(disc)) / (2.0 * b), 0.0, 1.0) : 0.0;
     }
     for (std::size_t i = 0; i < bodies_.size(); ++i) {
-      if (bodies_[i].infinite) continue;
+      if (bodies_[i].infinite)
+        continue;
       bodies_[i].v_W += scale * dv_[i];
       bodies_[i].w_W += scale * dw_[i];
     }
     for (ContactPoint& cp : points_) {
-      if (cp.bounce > 0.0 && cp.active) cp.ln += scale * cp.bounce * cp.ln;
+      if (cp.bounce > 0.0 && cp.active)
+        cp.ln += scale * cp.bounce * cp.ln;
     }
   }
   for (ContactPoint& cp : points_) {
-    if (!cp.active && !cp.speculative) continue;
+    if (!cp.active && !cp.speculative)
+      continue;
     cp.total_n += cp.ln;
     cp.total_t += cp.t1 * cp.lt1 + cp.t2 * cp.lt2;
     cp.bounce = 0.0;  // restitution acts once: later episodes only keep the points apart
@@ -915,14 +996,16 @@ void Dynamics::solveVelocities(double remaining) {
 // moves every body by h with its current velocities; rotation with the angular momentum kept
 // (a midpoint in orientation), so the gyroscopic term is exact for torque-free motion
 void Dynamics::advance(double h) {
-  if (h <= 0.0) return;
+  if (h <= 0.0)
+    return;
   for (ContactPoint& cp : points_) {
     const BodyState& A = bodies_[cp.a];
     const BodyState& B = bodies_[cp.b];
     cp.gap += glm::dot(B.velocityAt(cp.rb) - A.velocityAt(cp.ra), cp.n) * h;
   }
   for (BodyState& b : bodies_) {
-    if (b.motion == scene::Motion::kStatic) continue;
+    if (b.motion == scene::Motion::kStatic)
+      continue;
     b.x_W += b.v_W * h;
     if (b.infinite) {
       b.q = glm::normalize(expMap(b.w_W, h) * b.q);
@@ -969,7 +1052,8 @@ void Dynamics::advance(double h) {
 // applied to the poses only (no energy enters the velocities)
 void Dynamics::correctPositions(double dt) {
   const double beta = options_.position_correction;
-  if (beta <= 0.0 || options_.position_iterations == 0) return;
+  if (beta <= 0.0 || options_.position_iterations == 0)
+    return;
   const double inv_dt = 1.0 / dt;
   bool any = false;
   for (ContactPoint& cp : points_) {
@@ -993,7 +1077,8 @@ void Dynamics::correctPositions(double dt) {
         e[j.hinge_axis] = 1.0;
         js.err_ang = glm::cross(qa * e, qb * e);
         const Quat rel = glm::conjugate(qa) * qb;
-        const double theta = std::remainder(2.0 * std::atan2(rel[j.hinge_axis], rel.w), 2.0 * std::numbers::pi);
+        const double theta =
+            std::remainder(2.0 * std::atan2(rel[j.hinge_axis], rel.w), 2.0 * std::numbers::pi);
         js.c_min = js.has_min ? theta - *j.hinge_min : 0.0;
         js.c_max = js.has_max ? *j.hinge_max - theta : 0.0;
         js.axis = glm::normalize(qa * e);
@@ -1008,7 +1093,8 @@ void Dynamics::correctPositions(double dt) {
         e[j.hinge_axis] = 1.0;
         js.err_ang = glm::cross(qa * e, qb * e);
         const Quat rel = glm::conjugate(qa) * qb;
-        const double theta = std::remainder(2.0 * std::atan2(rel[j.hinge_axis], rel.w), 2.0 * std::numbers::pi);
+        const double theta =
+            std::remainder(2.0 * std::atan2(rel[j.hinge_axis], rel.w), 2.0 * std::numbers::pi);
         js.c_min = js.has_min ? theta - *j.hinge_min : 0.0;
         js.c_max = js.has_max ? *j.hinge_max - theta : 0.0;
         js.axis = glm::normalize(qa * e);
@@ -1016,7 +1102,8 @@ void Dynamics::correctPositions(double dt) {
     }
     any = true;
   }
-  if (!any) return;
+  if (!any)
+    return;
   for (std::uint32_t it = 0; it < options_.position_iterations; ++it) {
     for (JointState& js : joints_) {
       BodyState& A = bodies_[js.a];
@@ -1025,14 +1112,17 @@ void Dynamics::correctPositions(double dt) {
       const Mat3 ib = B != nullptr && !B->infinite ? B->inv_inertia_W : Mat3{0.0};
       const Mat3 Ka = A.inv_inertia_W + ib;
       const auto applyAngular = [&](const Vec3& L) {
-        if (!A.infinite) A.pw -= A.inv_inertia_W * L;
-        if (B != nullptr && !B->infinite) B->pw += ib * L;
+        if (!A.infinite)
+          A.pw -= A.inv_inertia_W * L;
+        if (B != nullptr && !B->infinite)
+          B->pw += ib * L;
       };
       // angular error: drive the relative pseudo angular velocity to -beta * error / dt
       Vec3 wrel = pwb - A.pw;
       const Vec3 goal = -beta * inv_dt * js.err_ang;
       if (js.joint->kind == scene::JointKind::kFixed) {
-        if (glm::determinant(Ka) > 0.0) applyAngular(glm::inverse(Ka) * (goal - wrel));
+        if (glm::determinant(Ka) > 0.0)
+          applyAngular(glm::inverse(Ka) * (goal - wrel));
       } else {
         // only the two directions across the axis
         Vec3 u1, u2;
@@ -1040,18 +1130,21 @@ void Dynamics::correctPositions(double dt) {
         for (const Vec3& u : {u1, u2}) {
           const double k = glm::dot(u, Ka * u);
           wrel = (B != nullptr ? B->pw : Vec3{0.0}) - A.pw;
-          if (k > 0.0) applyAngular(u * (glm::dot(goal - wrel, u) / k));
+          if (k > 0.0)
+            applyAngular(u * (glm::dot(goal - wrel, u) / k));
         }
         const double k = glm::dot(js.axis, Ka * js.axis);
         if (k > 0.0) {
           const double vr = glm::dot((B != nullptr ? B->pw : Vec3{0.0}) - A.pw, js.axis);
           if (js.has_min && js.c_min < 0.0) {
             const double want = -beta * inv_dt * js.c_min;  // > 0
-            if (vr < want) applyAngular(js.axis * ((want - vr) / k));
+            if (vr < want)
+              applyAngular(js.axis * ((want - vr) / k));
           }
           if (js.has_max && js.c_max < 0.0) {
             const double want = beta * inv_dt * js.c_max;  // < 0
-            if (vr > want) applyAngular(js.axis * ((want - vr) / k));
+            if (vr > want)
+              applyAngular(js.axis * ((want - vr) / k));
           }
         }
       }
@@ -1064,12 +1157,14 @@ void Dynamics::correctPositions(double dt) {
         const Vec3 vrel = vb - A.pseudoAt(js.ra);
         const Vec3 J = glm::inverse(K) * (-beta * inv_dt * js.err_point - vrel);
         A.applyPseudo(-J, js.ra);
-        if (B != nullptr) B->applyPseudo(J, js.rb);
+        if (B != nullptr)
+          B->applyPseudo(J, js.rb);
       }
     }
     for (ContactPoint& cp : points_) {
       const double excess = -cp.gap - options_.slop_fraction * cp.size;
-      if (excess <= 0.0 && cp.lp == 0.0) continue;
+      if (excess <= 0.0 && cp.lp == 0.0)
+        continue;
       BodyState& A = bodies_[cp.a];
       BodyState& B = bodies_[cp.b];
       const double vn = glm::dot(B.pseudoAt(cp.rb) - A.pseudoAt(cp.ra), cp.n);
@@ -1091,7 +1186,8 @@ void Dynamics::correctPositions(double dt) {
     }
   }
   for (BodyState& b : bodies_) {
-    if (b.infinite) continue;
+    if (b.infinite)
+      continue;
     b.x_W += b.pv * dt;
     b.q = glm::normalize(expMap(b.pw, dt) * b.q);
     b.updateInertia();
@@ -1100,8 +1196,10 @@ void Dynamics::correctPositions(double dt) {
 
 StepReport Dynamics::step(double dt, const HeldInput* held) {
   StepReport report;
-  if (!active_) return report;
-  if (!(dt > 0.0) || !std::isfinite(dt)) return report;
+  if (!active_)
+    return report;
+  if (!(dt > 0.0) || !std::isfinite(dt))
+    return report;
   ++counters_.ticks;
   step_flags_ = 0;
   tick_dt_ = dt;
@@ -1151,7 +1249,8 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
   if (any_active) {
     solveVelocities(dt);
   } else {
-    for (ContactPoint& cp : points_) cp.total_n = 0.0, cp.total_t = Vec3{0.0};
+    for (ContactPoint& cp : points_)
+      cp.total_n = 0.0, cp.total_t = Vec3{0.0};
   }
   warm_pending_ = false;
 
@@ -1161,20 +1260,24 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
     const double remaining = dt - t;
     double earliest = remaining;
     for (const ContactPoint& cp : points_) {
-      if (cp.active) continue;
-      const double vn = glm::dot(
-          bodies_[cp.b].velocityAt(cp.rb) - bodies_[cp.a].velocityAt(cp.ra), cp.n);
-      if (vn >= 0.0) continue;
+      if (cp.active)
+        continue;
+      const double vn =
+          glm::dot(bodies_[cp.b].velocityAt(cp.rb) - bodies_[cp.a].velocityAt(cp.ra), cp.n);
+      if (vn >= 0.0)
+        continue;
       const double toi = std::max(cp.gap, 0.0) / -vn;
       earliest = std::min(earliest, toi);
     }
-    if (earliest >= remaining) break;
+    if (earliest >= remaining)
+      break;
     if (report.toi_substeps == options_.max_toi_substeps) {
       // the cap: whatever still approaches is held apart speculatively for the rest of the tick
       step_flags_ |= kStepToiCapped;
       ++counters_.toi_capped;
       for (ContactPoint& cp : points_) {
-        if (!cp.active) cp.speculative = true;
+        if (!cp.active)
+          cp.speculative = true;
       }
       solveVelocities(remaining);
       break;
@@ -1183,7 +1286,8 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
     t += earliest;
     ++report.toi_substeps;
     for (ContactPoint& cp : points_) {
-      if (!cp.active && cp.gap <= touchTolerance(cp)) activate(cp);
+      if (!cp.active && cp.gap <= touchTolerance(cp))
+        activate(cp);
     }
     solveVelocities(dt - t);
   }
@@ -1192,11 +1296,13 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
 
   // kinematic bodies end exactly on their targets
   for (BodyState& b : bodies_) {
-    if (!b.infinite || !b.has_target) continue;
+    if (!b.infinite || !b.has_target)
+      continue;
     b.x_W = b.target_x;
     b.q = b.target_q;
     b.updateInertia();
-    if (b.motion == scene::Motion::kKinematic) b.has_target = false;
+    if (b.motion == scene::Motion::kKinematic)
+      b.has_target = false;
   }
 
   // held body feedback: what the contacts and joints gave it this tick
@@ -1206,7 +1312,8 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
     const BodyState& H = bodies_[h];
     fb.com_W = H.x_W;
     for (const ContactPoint& cp : points_) {
-      if (cp.a != h && cp.b != h) continue;
+      if (cp.a != h && cp.b != h)
+        continue;
       const Vec3 J = cp.n * cp.total_n + cp.total_t;
       const Vec3 p = bodies_[cp.b].x_W + cp.rb;  // the contact point, end of tick
       const Vec3 Jh = cp.b == h ? J : -J;
@@ -1231,12 +1338,15 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
 
   // poses back to the collision world
   std::uint32_t active_points = 0;
-  for (const ContactPoint& cp : points_) active_points += cp.active && cp.gap <= touchTolerance(cp);
+  for (const ContactPoint& cp : points_)
+    active_points += cp.active && cp.gap <= touchTolerance(cp);
   report.active_points = active_points;
-  for (const ContactPoint& cp : points_) report.impulse_points += cp.total_n > 0.0;
+  for (const ContactPoint& cp : points_)
+    report.impulse_points += cp.total_n > 0.0;
   for (std::uint32_t i = 0; i < bodies_.size(); ++i) {
     const BodyState& b = bodies_[i];
-    if (b.motion == scene::Motion::kStatic) continue;
+    if (b.motion == scene::Motion::kStatic)
+      continue;
     world_->setPose(i, Pose{b.x_W - b.R * b.com_B, b.q});
   }
   report.flags = step_flags_;
@@ -1246,7 +1356,8 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
 void Dynamics::storeWarmStart() {
   warm_next_.clear();
   for (const ContactPoint& cp : points_) {
-    if (!cp.active || cp.total_n <= 0.0) continue;
+    if (!cp.active || cp.total_n <= 0.0)
+      continue;
     WarmPoint& w = warm_next_.emplace_back();
     w.a = cp.a;
     w.b = cp.b;

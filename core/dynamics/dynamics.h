@@ -104,9 +104,9 @@ enum class HeldMode : std::uint8_t {
 /// Per-tick input for the held body, in scene coordinates.
 struct HeldInput {
   HeldMode mode = HeldMode::kNone;
-  Vec3 force_W_n{0.0};     ///< kWrench: force at the centre of mass (N)
-  Vec3 torque_W_nm{0.0};   ///< kWrench: torque (N m)
-  Pose X_WB_target;        ///< kKinematic: pose of the body origin at the end of the tick
+  Vec3 force_W_n{0.0};    ///< kWrench: force at the centre of mass (N)
+  Vec3 torque_W_nm{0.0};  ///< kWrench: torque (N m)
+  Pose X_WB_target;       ///< kKinematic: pose of the body origin at the end of the tick
 };
 
 /// What the held body received this tick, in scene coordinates.
@@ -156,8 +156,7 @@ struct MassProperties {
 
 /// Volume, centre of mass and inertia of a body's primitives (divergence theorem over the
 /// faces' tetrahedra; the primitives are assumed not to overlap). Any thread.
-MassProperties computeMassProperties(std::span<const scene::Primitive> primitives,
-                                     double density);
+MassProperties computeMassProperties(std::span<const scene::Primitive> primitives, double density);
 
 /// The CollisionWorld box margin (scene units) the dynamics wants: contacts within it are seen
 /// before they touch, so impacts up to margin / dt fast get their exact time of impact (faster

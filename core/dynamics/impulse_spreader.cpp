@@ -27,7 +27,8 @@ void ImpulseSpreader::add(const geom::Vec3& impulse_ns, const geom::Vec3& angula
     const double s = weights_[k] / tick_s_;
     force_[slot] += impulse_ns * s;
     torque_[slot] += angular_impulse_nms * s;
-    if (++slot == n) slot = 0;
+    if (++slot == n)
+      slot = 0;
   }
 }
 
@@ -36,7 +37,8 @@ void ImpulseSpreader::pop(geom::Vec3* force_n, geom::Vec3* torque_nm) {
   *torque_nm = torque_[head_];
   force_[head_] = geom::Vec3{0.0};
   torque_[head_] = geom::Vec3{0.0};
-  if (++head_ == weights_.size()) head_ = 0;
+  if (++head_ == weights_.size())
+    head_ = 0;
 }
 
 void ImpulseSpreader::clear() {

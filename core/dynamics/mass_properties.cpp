@@ -8,21 +8,22 @@
 
 namespace hapticd::dynamics {
 
-MassProperties computeMassProperties(std::span<const scene::Primitive> primitives,
-                                     double density) {
+MassProperties computeMassProperties(std::span<const scene::Primitive> primitives, double density) {
   // covariance of the canonical tetrahedron (0, e1, e2, e3)
   const Mat3 canonical = Mat3{2.0, 1.0, 1.0, 1.0, 2.0, 1.0, 1.0, 1.0, 2.0} * (1.0 / 120.0);
   double volume = 0.0;
   Vec3 moment{0.0};  // integral of x dV
   Mat3 cov{0.0};     // integral of x x^T dV
   for (const scene::Primitive& prim : primitives) {
-    if (!prim.shape) continue;
+    if (!prim.shape)
+      continue;
     const geom::Polytope& shape = *prim.shape;
     const geom::Transform X = prim.X_BP.toTransform();
     const Vec3 o = X.apply(shape.centroid());
     for (std::uint32_t f = 0; f < shape.faces().size(); ++f) {
       const auto fe = shape.faceEdges(f);
-      if (fe.size() < 3) continue;
+      if (fe.size() < 3)
+        continue;
       const Vec3 p0 = X.apply(shape.vertices()[fe[0].vertex].p);
       for (std::size_t k = 1; k + 1 < fe.size(); ++k) {
         const Vec3 p1 = X.apply(shape.vertices()[fe[k].vertex].p);
@@ -45,7 +46,8 @@ MassProperties computeMassProperties(std::span<const scene::Primitive> primitive
     }
   }
   MassProperties out;
-  if (!(volume > 0.0) || !std::isfinite(volume)) return out;
+  if (!(volume > 0.0) || !std::isfinite(volume))
+    return out;
   out.mass = density * volume;
   out.com_B = moment / volume;
   const Mat3 cov_c = density * (cov - volume * glm::outerProduct(out.com_B, out.com_B));

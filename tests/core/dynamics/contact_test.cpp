@@ -27,9 +27,11 @@ Bounce dropCube(double e, double unit, const Quat& tilt = Quat{1, 0, 0, 0}) {
   SceneModel s;
   s.gravity_W = Vec3{0, -9.81 * unit, 0};
   s.materials.push_back(material(0.0, e));
-  s.bodies.push_back(staticBody("floor", boxShape(Vec3{1, 0.1, 1} * unit), at(Vec3{0, -0.1, 0} * unit), 0));
   s.bodies.push_back(
-      dynamicBody("cube", boxShape(Vec3{0.05} * unit), at(Vec3{0, 0.3, 0} * unit, tilt), 1000.0 / (unit * unit * unit), 0));
+      staticBody("floor", boxShape(Vec3{1, 0.1, 1} * unit), at(Vec3{0, -0.1, 0} * unit), 0));
+  s.bodies.push_back(dynamicBody("cube", boxShape(Vec3{0.05} * unit),
+                                 at(Vec3{0, 0.3, 0} * unit, tilt), 1000.0 / (unit * unit * unit),
+                                 0));
   Rig rig(std::move(s));
   Bounce out;
   out.g = 9.81 * unit;
@@ -82,7 +84,8 @@ TEST(Restitution, CombineModes) {
     for (int k = 0; k < 1000; ++k) {
       rig.tick(kDt);
       const double v = rig.dyn->linearVelocity(1).y;
-      if (v > 0.0 && prev < 0.0) return -v / (prev - 9.81 * kDt);
+      if (v > 0.0 && prev < 0.0)
+        return -v / (prev - 9.81 * kDt);
       prev = v;
     }
     return -1.0;
@@ -118,7 +121,8 @@ BoxRun closedBox(bool isotropic) {
   const auto ball = ellipsoidShape(Vec3{0.05}, 1);
   for (int i = 0; i < 6; ++i) {
     const Vec3 c{-0.3 + 0.3 * (i % 3), -0.2 + 0.4 * (i / 3), 0.1 * (i % 2)};
-    Body b = dynamicBody("b", i % 2 ? ball : cube, at(c, glm::angleAxis(0.3 * i, glm::normalize(Vec3{1, 2, 3}))), 1000.0, 0);
+    Body b = dynamicBody("b", i % 2 ? ball : cube,
+                         at(c, glm::angleAxis(0.3 * i, glm::normalize(Vec3{1, 2, 3}))), 1000.0, 0);
     b.linear_velocity_W = Vec3{std::sin(1.0 + i), std::cos(2.0 * i), std::sin(3.0 * i)} * 1.5;
     b.angular_velocity_W = Vec3{std::cos(i), 2.0 * std::sin(i), 1.0} * 3.0;
     s.bodies.push_back(b);
@@ -133,7 +137,8 @@ BoxRun closedBox(bool isotropic) {
     out.impacts += r.toi_substeps;
     const double e = rig.energy();
     out.worst = std::max(out.worst, e);
-    if (r.impulse_points > 0) out.impact_change += e - prev;
+    if (r.impulse_points > 0)
+      out.impact_change += e - prev;
     prev = e;
     for (std::uint32_t b = 6; b < 12; ++b) {
       const Vec3 x = rig.dyn->centerOfMass(b);
@@ -141,10 +146,11 @@ BoxRun closedBox(bool isotropic) {
     }
   }
   out.final = rig.energy();
-  std::printf("closed box (%s): %d s, %u impacts, final/initial energy %.9f, worst %.9f, net "
-              "change over impact ticks %.3g\n",
-              isotropic ? "cubes and spheres" : "bricks and spheres", static_cast<int>(kLongRunS),
-              out.impacts, out.final / out.e0, out.worst / out.e0, out.impact_change / out.e0);
+  std::printf(
+      "closed box (%s): %d s, %u impacts, final/initial energy %.9f, worst %.9f, net "
+      "change over impact ticks %.3g\n",
+      isotropic ? "cubes and spheres" : "bricks and spheres", static_cast<int>(kLongRunS),
+      out.impacts, out.final / out.e0, out.worst / out.e0, out.impact_change / out.e0);
   return out;
 }
 
@@ -175,7 +181,8 @@ TEST(Stack, FourBoxesStayStandingFor60s) {
   s.bodies.push_back(staticBody("floor", boxShape(Vec3{1, 0.1, 1}), at(Vec3{0, -0.1, 0}), 0));
   const double h = 0.05;
   for (int i = 0; i < 4; ++i) {
-    s.bodies.push_back(dynamicBody("box", boxShape(Vec3{h}), at(Vec3{0, h + 2 * h * i, 0}), 500.0, 0));
+    s.bodies.push_back(
+        dynamicBody("box", boxShape(Vec3{h}), at(Vec3{0, h + 2 * h * i, 0}), 500.0, 0));
   }
   Rig rig(std::move(s));
   const int n = static_cast<int>(kLongRunS / kDt);
@@ -202,8 +209,9 @@ TEST(Stack, FourBoxesStayStandingFor60s) {
   }
   // no jitter: in the second half no point of any box moves faster than 10 um/s
   EXPECT_LT(jitter, 1e-5);
-  std::printf("stack of 4: worst drift %.3f mm over %d s, largest speed in the second half %.3g m/s\n",
-              worst * 1e3, static_cast<int>(kLongRunS), jitter);
+  std::printf(
+      "stack of 4: worst drift %.3f mm over %d s, largest speed in the second half %.3g m/s\n",
+      worst * 1e3, static_cast<int>(kLongRunS), jitter);
 }
 
 // a box resting on a static slope of angle theta, friction mu (static == dynamic)
@@ -225,7 +233,8 @@ double slopeAcceleration(double theta, double mu, double* normal_drift) {
     rig.tick(kDt);
     const Vec3 x = rig.dyn->pose(1).translation;
     drift = std::max(drift, std::abs(glm::dot(x, up) - h));
-    if (k + 1 == t0) v0 = glm::dot(rig.dyn->linearVelocity(1), down_slope);
+    if (k + 1 == t0)
+      v0 = glm::dot(rig.dyn->linearVelocity(1), down_slope);
   }
   *normal_drift = drift;
   const double v1 = glm::dot(rig.dyn->linearVelocity(1), down_slope);
@@ -265,7 +274,8 @@ TEST(TimeOfImpact, CapIsFlaggedAndTheRestHeldApart) {
   // both reach the floor in the same tick: one 0.1 ms after the other
   const double h = 0.05, v = 2.0;
   for (int i = 0; i < 2; ++i) {
-    Body b = dynamicBody("cube", boxShape(Vec3{h}), at(Vec3{-0.3 + 0.6 * i, h + 0.0008 * v + 0.0001 * v * i, 0}), 1000.0, 0);
+    Body b = dynamicBody("cube", boxShape(Vec3{h}),
+                         at(Vec3{-0.3 + 0.6 * i, h + 0.0008 * v + 0.0001 * v * i, 0}), 1000.0, 0);
     b.linear_velocity_W = Vec3{0, -v, 0};
     s.bodies.push_back(b);
   }
@@ -289,7 +299,8 @@ TEST(TimeOfImpact, CapIsFlaggedAndTheRestHeldApart) {
   // with room for both, both bounce
   SceneModel s2 = *rig.scene;
   Rig rig2(std::move(s2));
-  for (int k = 0; k < 5; ++k) EXPECT_EQ(rig2.tick(kDt).flags & kStepToiCapped, 0u);
+  for (int k = 0; k < 5; ++k)
+    EXPECT_EQ(rig2.tick(kDt).flags & kStepToiCapped, 0u);
   EXPECT_NEAR(rig2.dyn->linearVelocity(1).y, 0.5 * v, 1e-9);
   EXPECT_NEAR(rig2.dyn->linearVelocity(2).y, 0.5 * v, 1e-9);
 }
@@ -304,7 +315,8 @@ TEST(Kinematic, PlatformLiftsABox) {
   s.bodies.push_back(platform);
   s.bodies.push_back(dynamicBody("box", boxShape(Vec3{0.05}), at(Vec3{0, 0.05, 0}), 500.0, 0));
   Rig rig(std::move(s));
-  for (int k = 0; k < 200; ++k) rig.tick(kDt);  // settle
+  for (int k = 0; k < 200; ++k)
+    rig.tick(kDt);  // settle
   const double y0 = rig.dyn->pose(1).translation.y;
   for (int k = 0; k < 1000; ++k) {
     const double y = 0.2 * (k + 1) * kDt;  // up at 0.2 m/s

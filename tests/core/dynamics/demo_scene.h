@@ -12,12 +12,14 @@ inline SceneModel demoScene(bool held_stick) {
   s.name = "dynamic-demo";
   s.gravity_W = Vec3{0, -9.81, 0};
   s.materials.push_back(material(0.5, 0.4));
-  s.bodies.push_back(staticBody("floor", boxShape(Vec3{kHalf + 0.2, 0.1, kHalf + 0.2}), at(Vec3{0, kFloorTop - 0.1, 0}), 0));
+  s.bodies.push_back(staticBody("floor", boxShape(Vec3{kHalf + 0.2, 0.1, kHalf + 0.2}),
+                                at(Vec3{0, kFloorTop - 0.1, 0}), 0));
   const double wall_h = 0.15;
   for (int k = 0; k < 4; ++k) {
     const bool x = k < 2;
     const double sign = k % 2 ? 1.0 : -1.0;
-    const Vec3 c = x ? Vec3{sign * (kHalf + 0.05), wall_h, 0} : Vec3{0, wall_h, sign * (kHalf + 0.05)};
+    const Vec3 c =
+        x ? Vec3{sign * (kHalf + 0.05), wall_h, 0} : Vec3{0, wall_h, sign * (kHalf + 0.05)};
     const Vec3 h = x ? Vec3{0.05, wall_h, kHalf + 0.1} : Vec3{kHalf + 0.1, wall_h, 0.05};
     s.bodies.push_back(staticBody("wall", boxShape(h), at(c), 0));
   }
@@ -27,8 +29,11 @@ inline SceneModel demoScene(bool held_stick) {
   for (int i = 0; i < 12; ++i) {
     const auto& shape = i < 4 ? cube : i < 8 ? sphere : ellipsoid;
     const Vec3 c{-0.3 + 0.2 * (i % 4), 0.1 + 0.12 * (i / 4), -0.25 + 0.17 * (i % 3)};
-    Body b = dynamicBody(i < 4 ? "cube" : i < 8 ? "sphere" : "ellipsoid", shape,
-                         at(c, glm::angleAxis(0.4 * i, glm::normalize(Vec3{1, 1 + i, 2}))), 700.0, 0);
+    Body b = dynamicBody(i < 4   ? "cube"
+                         : i < 8 ? "sphere"
+                                 : "ellipsoid",
+                         shape, at(c, glm::angleAxis(0.4 * i, glm::normalize(Vec3{1, 1 + i, 2}))),
+                         700.0, 0);
     b.linear_velocity_W = Vec3{std::sin(1.3 * i), 0.5 * std::cos(0.7 * i), std::cos(2.1 * i)} * 0.8;
     b.angular_velocity_W = Vec3{std::cos(i), std::sin(2.0 * i), 1.0} * 4.0;
     s.bodies.push_back(b);

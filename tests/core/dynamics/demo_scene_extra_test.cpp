@@ -24,11 +24,12 @@ TEST(DemoScene, HeldStickSweepsThroughThePile) {
     const double t = (k + 1) * kDt;
     // a circle of radius 0.3 m at 0.06 m over the floor, 0.5 m/s, the stick turning with it
     const double a = 0.5 / 0.3 * t;
-    in.X_WB_target = at(Vec3{0.3 * std::cos(a), 0.06, 0.3 * std::sin(a)},
-                        glm::angleAxis(-a, Vec3{0, 1, 0}));
+    in.X_WB_target =
+        at(Vec3{0.3 * std::cos(a), 0.06, 0.3 * std::sin(a)}, glm::angleAxis(-a, Vec3{0, 1, 0}));
     rig.tick(kDt, &in);
     check(rig, w);
-    if (!w.finite) break;
+    if (!w.finite)
+      break;
     const HeldFeedback& fb = rig.dyn->heldFeedback();
     felt += glm::length(fb.impulse_W_ns);
     worst_force = std::max(worst_force, glm::length(fb.force_W_n));
@@ -38,15 +39,18 @@ TEST(DemoScene, HeldStickSweepsThroughThePile) {
   EXPECT_GT(felt, 0.0) << "the stick hit something and the hand was told";
   // nothing is thrown faster than a few times the stick's speed
   EXPECT_LT(w.fastest, 5.0);
-  std::printf("held stick: impulses felt %.4f N s in total, largest spread force %.3f N, "
-              "fastest body %.3f m/s\n", felt, worst_force, w.fastest);
+  std::printf(
+      "held stick: impulses felt %.4f N s in total, largest spread force %.3f N, "
+      "fastest body %.3f m/s\n",
+      felt, worst_force, w.fastest);
 }
 
 TEST(DemoScene, StepAllocatesNothing) {
   Rig rig(demoScene(true));
   HeldInput in;
   in.mode = HeldMode::kKinematic;
-  for (int k = 0; k < 500; ++k) rig.tick(kDt);
+  for (int k = 0; k < 500; ++k)
+    rig.tick(kDt);
   std::uint64_t during_dynamics = 0;
   const std::uint64_t start = testing_alloc::count();
   for (int k = 0; k < 3000; ++k) {
@@ -64,7 +68,8 @@ TEST(DemoScene, StepAllocatesNothing) {
 TEST(DemoScene, SameRunSameBits) {
   const auto run = [] {
     Rig rig(demoScene(false));
-    for (int k = 0; k < 3000; ++k) rig.tick(kDt);
+    for (int k = 0; k < 3000; ++k)
+      rig.tick(kDt);
     std::vector<double> out;
     for (std::uint32_t b = 0; b < rig.dyn->bodyCount(); ++b) {
       const Pose X = rig.dyn->pose(b);

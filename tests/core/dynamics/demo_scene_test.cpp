@@ -2,9 +2,9 @@
 // 320 faces, and a stick-like block, on a floor under gravity. Ten simulated minutes: no NaN,
 // no tunnelling through the floor, no energy gain. The held stick, the no-allocation and the
 // determinism checks are in demo_scene_extra_test.cpp.
-#include <gtest/gtest.h>
-
 #include "tests/core/dynamics/demo_scene.h"
+
+#include <gtest/gtest.h>
 
 namespace hapticd::dynamics::testing {
 namespace {
@@ -26,8 +26,10 @@ TEST(DemoScene, TenMinutesNoNanNoTunnellingNoEnergyGain) {
     const StepReport r = rig.tick(kDt);
     toi += r.toi_substeps;
     capped += (r.flags & kStepToiCapped) != 0;
-    if (k % 10 == 0) check(rig, w);
-    if (!w.finite) break;
+    if (k % 10 == 0)
+      check(rig, w);
+    if (!w.finite)
+      break;
   }
   check(rig, w);
   EXPECT_TRUE(w.finite);
@@ -41,11 +43,12 @@ TEST(DemoScene, TenMinutesNoNanNoTunnellingNoEnergyGain) {
     EXPECT_LT(std::max(std::abs(x.x), std::abs(x.z)), kHalf) << "inside the walls";
     EXPECT_GT(x.y, kFloorTop) << b;
   }
-  std::printf("demo, %d s: TOI substeps %llu, capped ticks %llu, deepest %.4f of a size, "
-              "fastest %.3f m/s, KE %.4g -> %.4g J, worst E - E0 %.3g J\n",
-              kTenMinutes / 1000, static_cast<unsigned long long>(toi),
-              static_cast<unsigned long long>(capped), w.deepest, w.fastest, ke0,
-              rig.dyn->kineticEnergy(), w.worst_energy - e0);
+  std::printf(
+      "demo, %d s: TOI substeps %llu, capped ticks %llu, deepest %.4f of a size, "
+      "fastest %.3f m/s, KE %.4g -> %.4g J, worst E - E0 %.3g J\n",
+      kTenMinutes / 1000, static_cast<unsigned long long>(toi),
+      static_cast<unsigned long long>(capped), w.deepest, w.fastest, ke0, rig.dyn->kineticEnergy(),
+      w.worst_energy - e0);
 }
 
 }  // namespace

@@ -34,7 +34,8 @@ TEST(FreeMotion, FreeFallMatchesClosedForm) {
   s.bodies.push_back(b);
   Rig rig(std::move(s));
   const int n = 1000;
-  for (int k = 0; k < n; ++k) rig.tick(kDt);
+  for (int k = 0; k < n; ++k)
+    rig.tick(kDt);
   const double t = n * kDt;
   const Vec3 v = rig.dyn->linearVelocity(0);
   // velocity exact; position: semi-implicit Euler adds exactly g t dt / 2 (first order)
@@ -53,14 +54,16 @@ TEST(FreeMotion, NoGravityWhereNotDeclaredAndGravityFactor) {
   SceneModel s;  // no gravity declared
   s.bodies.push_back(dynamicBody("a", boxShape(Vec3{0.05}), at(Vec3{0, 1, 0}), 1000.0));
   Rig rig(s);
-  for (int k = 0; k < 200; ++k) rig.tick(kDt);
+  for (int k = 0; k < 200; ++k)
+    rig.tick(kDt);
   EXPECT_EQ(rig.dyn->pose(0).translation, Vec3(0, 1, 0));
 
   SceneModel g = s;
   g.gravity_W = Vec3{0, -10, 0};
   g.bodies[0].gravity_factor = 0.5;
   Rig rig2(g);
-  for (int k = 0; k < 1000; ++k) rig2.tick(kDt);
+  for (int k = 0; k < 1000; ++k)
+    rig2.tick(kDt);
   EXPECT_NEAR(rig2.dyn->linearVelocity(0).y, -5.0, 1e-11);
 }
 
@@ -73,7 +76,8 @@ TEST(FreeMotion, BallisticSpinAboutPrincipalAxis) {
   s.bodies.push_back(b);
   Rig rig(std::move(s));
   const int n = 2000;
-  for (int k = 0; k < n; ++k) rig.tick(kDt);
+  for (int k = 0; k < n; ++k)
+    rig.tick(kDt);
   const double t = n * kDt;
   const Quat expected = glm::angleAxis(7.0 * t, Vec3{0, 1, 0});
   const Quat q = rig.dyn->pose(0).rotation;
@@ -102,23 +106,24 @@ TEST(FreeMotion, TorqueFreePrecessionConservesEnergyAndMomentum) {
   for (int k = 0; k < 20000; ++k) {
     rig.tick(kDt);
     worst_e = std::max(worst_e, std::abs(rig.dyn->kineticEnergy() - e0) / e0);
-    if (k == 9999) worst_first_half = worst_e;
+    if (k == 9999)
+      worst_first_half = worst_e;
     worst_l = std::max(worst_l, glm::length(momentum() - L0) / glm::length(L0));
-    const Vec3 w_B = glm::transpose(glm::mat3_cast(rig.dyn->pose(0).rotation)) *
-                     rig.dyn->angularVelocity(0);
+    const Vec3 w_B =
+        glm::transpose(glm::mat3_cast(rig.dyn->pose(0).rotation)) * rig.dyn->angularVelocity(0);
     min_wz = std::min(min_wz, w_B.y);
     max_wz = std::max(max_wz, w_B.y);
   }
-  EXPECT_LT(worst_l, 1e-10);  // L is carried exactly (up to rounding)
-  EXPECT_LT(worst_e, 2e-6);   // second order in w dt (here 0.006): 5e-7 measured
+  EXPECT_LT(worst_l, 1e-10);                    // L is carried exactly (up to rounding)
+  EXPECT_LT(worst_e, 2e-6);                     // second order in w dt (here 0.006): 5e-7 measured
   EXPECT_LE(worst_e, 1.01 * worst_first_half);  // bounded: no drift in the second 10 s
   std::printf("precession: worst relative energy error %.3g, momentum %.3g\n", worst_e, worst_l);
-  EXPECT_LT(min_wz, 0.0);     // it did tumble: the body-frame spin reversed
+  EXPECT_LT(min_wz, 0.0);  // it did tumble: the body-frame spin reversed
   EXPECT_GT(max_wz, 0.0);
 }
 
-// a fast spin (w dt from 0.15 to 0.4 rad per tick) of an asymmetric body: the angular-momentum form keeps
-// |w| bounded where explicit gyroscopic integration blows up
+// a fast spin (w dt from 0.15 to 0.4 rad per tick) of an asymmetric body: the angular-momentum form
+// keeps |w| bounded where explicit gyroscopic integration blows up
 TEST(FreeMotion, FastTumbleStaysBounded) {
   SceneModel s;
   Body b = dynamicBody("brick", boxShape(Vec3{0.3, 0.1, 0.05}), at(Vec3{0}), 1000.0);

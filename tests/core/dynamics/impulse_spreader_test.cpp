@@ -27,7 +27,8 @@ Record spread(double window_s, const Vec3& J) {
     Vec3 f, t;
     s.pop(&f, &t);
     r.integral += f.x * kDt;
-    if (f.x > r.peak) r.peak = f.x, r.peak_tick = k;
+    if (f.x > r.peak)
+      r.peak = f.x, r.peak_tick = k;
     r.ticks_nonzero += f.x != 0.0;
     EXPECT_EQ(t, Vec3(0.0));
   }
@@ -58,8 +59,8 @@ TEST(ImpulseSpreader, IntegralPreservedPeakFallsWithTheWindow) {
       EXPECT_GE(r.peak, hann * (1 - 3.3 / (n * n))) << w;
       EXPECT_NEAR(r.peak_tick, n / 2, 1) << w;  // at half the window
     }
-    std::printf("%9.0f  %6.2f  %11.2f  %9d  %.12f\n", w * 1e3, r.peak,
-                n > 1 ? 2 * J / w : J / kDt, r.peak_tick, r.integral);
+    std::printf("%9.0f  %6.2f  %11.2f  %9d  %.12f\n", w * 1e3, r.peak, n > 1 ? 2 * J / w : J / kDt,
+                r.peak_tick, r.integral);
   }
 }
 
@@ -88,7 +89,8 @@ TEST(ImpulseSpreader, BallHittingTheHeldPaddleIsFeltOverTheWindow) {
     paddle.motion = Motion::kKinematic;
     paddle.probe = true;
     s.bodies.push_back(paddle);
-    s.bodies.push_back(dynamicBody("ball", ellipsoidShape(Vec3{0.02}), at(Vec3{0, 0.1, 0}), 1000.0, 0));
+    s.bodies.push_back(
+        dynamicBody("ball", ellipsoidShape(Vec3{0.02}), at(Vec3{0, 0.1, 0}), 1000.0, 0));
     DynamicsOptions o;
     o.impulse_window_s = window_s;
     Rig rig(std::move(s), o);
@@ -116,7 +118,8 @@ TEST(ImpulseSpreader, BallHittingTheHeldPaddleIsFeltOverTheWindow) {
   EXPECT_NEAR(p0, j0 / kDt, 0.02 * j0 / kDt);
   EXPECT_LE(p20, 2 * j20 / 0.020 * (1 + 1e-12));
   EXPECT_GE(p20, 2 * j20 / 0.020 * (1 - 3.3 / 400));
-  std::printf("ball on paddle: impulse %.4f N s; peak %.2f N bare, %.3f N over 20 ms\n", j0, p0, p20);
+  std::printf("ball on paddle: impulse %.4f N s; peak %.2f N bare, %.3f N over 20 ms\n", j0, p0,
+              p20);
 }
 
 }  // namespace

@@ -11,7 +11,9 @@ namespace {
 constexpr double kDt = 0.001;
 constexpr double kPi = std::numbers::pi;
 
-scene::Joint hingeToWorld(std::int32_t body, const Vec3& anchor_B, const Vec3& anchor_W,
+scene::Joint hingeToWorld(std::int32_t body,
+                          const Vec3& anchor_B,
+                          const Vec3& anchor_W,
                           std::uint8_t axis) {
   scene::Joint j;
   j.kind = scene::JointKind::kHinge;
@@ -24,12 +26,15 @@ scene::Joint hingeToWorld(std::int32_t body, const Vec3& anchor_B, const Vec3& a
 }
 
 // hinge angle of body 0 about z (rotation of the body from its start)
-double angleZ(const Quat& q) { return 2.0 * std::atan2(q.z, q.w); }
+double angleZ(const Quat& q) {
+  return 2.0 * std::atan2(q.z, q.w);
+}
 
 TEST(Hinge, PendulumStaysOnItsAxisAndKeepsItsEnergy) {
   SceneModel s;
   s.gravity_W = Vec3{0, -9.81, 0};
-  s.bodies.push_back(dynamicBody("bar", boxShape(Vec3{0.2, 0.02, 0.02}), at(Vec3{0.2, 1, 0}), 1000.0));
+  s.bodies.push_back(
+      dynamicBody("bar", boxShape(Vec3{0.2, 0.02, 0.02}), at(Vec3{0.2, 1, 0}), 1000.0));
   s.joints.push_back(hingeToWorld(0, Vec3{-0.2, 0, 0}, Vec3{0, 1, 0}, 2));
   Rig rig(std::move(s));
   const double e0 = rig.energy();
@@ -55,7 +60,8 @@ TEST(Hinge, PendulumStaysOnItsAxisAndKeepsItsEnergy) {
 TEST(Hinge, LimitHolds) {
   SceneModel s;
   s.gravity_W = Vec3{0, -9.81, 0};
-  s.bodies.push_back(dynamicBody("bar", boxShape(Vec3{0.2, 0.02, 0.02}), at(Vec3{0.2, 1, 0}), 1000.0));
+  s.bodies.push_back(
+      dynamicBody("bar", boxShape(Vec3{0.2, 0.02, 0.02}), at(Vec3{0.2, 1, 0}), 1000.0));
   scene::Joint j = hingeToWorld(0, Vec3{-0.2, 0, 0}, Vec3{0, 1, 0}, 2);
   j.hinge_min = -0.5;
   j.hinge_max = 0.5;
@@ -127,7 +133,8 @@ TEST(Hinge, BetweenTwoDynamicBodies) {
     const Vec3 pa = A.translation + A.rotation * Vec3{0.02, 0, 0};
     const Vec3 pb = B.translation + B.rotation * Vec3{-0.15, 0, 0};
     worst_anchor = std::max(worst_anchor, glm::length(pa - pb));
-    worst_axis = std::max(worst_axis, glm::length(A.rotation * Vec3{0, 1, 0} - B.rotation * Vec3{0, 1, 0}));
+    worst_axis =
+        std::max(worst_axis, glm::length(A.rotation * Vec3{0, 1, 0} - B.rotation * Vec3{0, 1, 0}));
     const Quat rel = glm::conjugate(A.rotation) * B.rotation;
     const double angle = 2.0 * std::atan2(rel.y, rel.w);
     turned += std::abs(std::remainder(angle - prev, 2 * kPi));
@@ -138,9 +145,10 @@ TEST(Hinge, BetweenTwoDynamicBodies) {
   EXPECT_LT(worst_anchor, 1e-3 * 0.15);
   EXPECT_LT(worst_axis, 1e-3);
   EXPECT_GT(turned, 1.0) << "the door did turn on its hinge";
-  std::printf("hinge between bodies: anchor drift %.3g m, axis misalignment %.3g, turned %.2f "
-              "rad, energy %.6f -> %.6f J\n",
-              worst_anchor, worst_axis, turned, e0, rig.dyn->kineticEnergy());
+  std::printf(
+      "hinge between bodies: anchor drift %.3g m, axis misalignment %.3g, turned %.2f "
+      "rad, energy %.6f -> %.6f J\n",
+      worst_anchor, worst_axis, turned, e0, rig.dyn->kineticEnergy());
 }
 
 // a spur gear of n straight-flanked teeth, module m, pitch radius m n / 2, in the z = 0 plane
@@ -154,8 +162,10 @@ std::vector<Primitive> gear(int n, double m, double half_thickness, double phase
   }
   prims.push_back(Primitive{prismShape(disc, half_thickness), Pose{}});
   const double root = r - 1.2 * m, tip = r + 0.8 * m;
-  const auto tooth = prismShape({{root, -0.3 * kPi * m}, {tip, -0.15 * kPi * m},
-                                 {tip, 0.15 * kPi * m}, {root, 0.3 * kPi * m}},
+  const auto tooth = prismShape({{root, -0.3 * kPi * m},
+                                 {tip, -0.15 * kPi * m},
+                                 {tip, 0.15 * kPi * m},
+                                 {root, 0.3 * kPi * m}},
                                 half_thickness);
   for (int k = 0; k < n; ++k) {
     const double a = phase + 2 * kPi * k / n;
@@ -241,8 +251,10 @@ TEST(Gears, ProbeTurningTheDriverFeelsTheLoad) {
     turn_b += std::remainder(b - prev_b, 2 * kPi);
     prev_b = b;
     const HeldFeedback& fb = rig.dyn->heldFeedback();
-    if (k == n0 - 1) turn_b0 = turn_b, ke0 = rig.dyn->kineticEnergy();
-    if (k >= n0) impulse_sum += fb.angular_impulse_W_nms.z, force_sum += fb.torque_W_nm.z * kDt;
+    if (k == n0 - 1)
+      turn_b0 = turn_b, ke0 = rig.dyn->kineticEnergy();
+    if (k >= n0)
+      impulse_sum += fb.angular_impulse_W_nms.z, force_sum += fb.torque_W_nm.z * kDt;
   }
   const double turn_a = w * n * kDt;
   EXPECT_NEAR(-turn_b / turn_a, double(Gears::kN1) / Gears::kN2, 0.02 * Gears::kN1 / Gears::kN2);

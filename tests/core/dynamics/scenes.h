@@ -31,13 +31,14 @@ inline std::shared_ptr<const geom::Polytope> boxShape(const Vec3& half) {
 // icosahedron subdivided `levels` times (2: 162 vertices, 320 faces), scaled to semi-axes
 inline std::shared_ptr<const geom::Polytope> ellipsoidShape(const Vec3& axes, int levels = 2) {
   const double t = (1.0 + std::sqrt(5.0)) / 2.0;
-  std::vector<Vec3> v = {{-1, t, 0}, {1, t, 0}, {-1, -t, 0}, {1, -t, 0}, {0, -1, t}, {0, 1, t},
-                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1}, {t, 0, 1}, {-t, 0, -1}, {-t, 0, 1}};
+  std::vector<Vec3> v = {{-1, t, 0},  {1, t, 0},  {-1, -t, 0}, {1, -t, 0}, {0, -1, t},  {0, 1, t},
+                         {0, -1, -t}, {0, 1, -t}, {t, 0, -1},  {t, 0, 1},  {-t, 0, -1}, {-t, 0, 1}};
   std::vector<std::array<int, 3>> f = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                                        {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                                        {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
                                        {4, 9, 5},  {2, 4, 11}, {6, 2, 10},  {8, 6, 7},  {9, 8, 1}};
-  for (Vec3& p : v) p = glm::normalize(p);
+  for (Vec3& p : v)
+    p = glm::normalize(p);
   for (int l = 0; l < levels; ++l) {
     std::vector<std::array<int, 3>> g;
     auto mid = [&](int a, int b) {
@@ -53,7 +54,8 @@ inline std::shared_ptr<const geom::Polytope> ellipsoidShape(const Vec3& axes, in
     }
     f = g;
   }
-  for (Vec3& p : v) p *= axes;
+  for (Vec3& p : v)
+    p *= axes;
   return hull(v);  // duplicates of shared midpoints are merged by the hull
 }
 
@@ -68,10 +70,14 @@ inline std::shared_ptr<const geom::Polytope> prismShape(const std::vector<glm::d
   return hull(p);
 }
 
-inline Pose at(const Vec3& t, const Quat& q = Quat{1, 0, 0, 0}) { return Pose{t, q}; }
+inline Pose at(const Vec3& t, const Quat& q = Quat{1, 0, 0, 0}) {
+  return Pose{t, q};
+}
 
-inline Body staticBody(const std::string& name, std::shared_ptr<const geom::Polytope> s,
-                       const Pose& X, std::int32_t material = -1) {
+inline Body staticBody(const std::string& name,
+                       std::shared_ptr<const geom::Polytope> s,
+                       const Pose& X,
+                       std::int32_t material = -1) {
   Body b;
   b.name = name;
   b.motion = Motion::kStatic;
@@ -81,8 +87,11 @@ inline Body staticBody(const std::string& name, std::shared_ptr<const geom::Poly
 }
 
 // a dynamic body of one primitive, mass and inertia from the shape at `density`
-inline Body dynamicBody(const std::string& name, std::shared_ptr<const geom::Polytope> s,
-                        const Pose& X, double density, std::int32_t material = -1) {
+inline Body dynamicBody(const std::string& name,
+                        std::shared_ptr<const geom::Polytope> s,
+                        const Pose& X,
+                        double density,
+                        std::int32_t material = -1) {
   Body b = staticBody(name, std::move(s), X, material);
   b.motion = Motion::kDynamic;
   const MassProperties mp = computeMassProperties(b.primitives, density);
@@ -98,7 +107,8 @@ inline double lengthScale(const SceneModel& s) {
   for (const Body& b : s.bodies) {
     for (const Primitive& p : b.primitives) {
       for (const auto& v : p.shape->vertices()) {
-        const Vec3 w = b.X_WB.translation + b.X_WB.rotation * (p.X_BP.translation + p.X_BP.rotation * v.p);
+        const Vec3 w =
+            b.X_WB.translation + b.X_WB.rotation * (p.X_BP.translation + p.X_BP.rotation * v.p);
         lo = glm::min(lo, w);
         hi = glm::max(hi, w);
       }
@@ -116,12 +126,14 @@ struct Rig {
   explicit Rig(SceneModel s, const DynamicsOptions& o = {}) {
     s.length_scale = lengthScale(s);
     for (std::size_t i = 0; i < s.bodies.size(); ++i) {
-      if (s.bodies[i].probe) s.probe_body = static_cast<std::int32_t>(i);
+      if (s.bodies[i].probe)
+        s.probe_body = static_cast<std::int32_t>(i);
     }
     scene = std::make_shared<SceneModel>(std::move(s));
     world = buildCollisionWorld(*scene, collision::WorldOptions{});
     auto r = Dynamics::create(*scene, *world, o);
-    if (!r.ok()) throw std::runtime_error(r.error().message);
+    if (!r.ok())
+      throw std::runtime_error(r.error().message);
     dyn = std::move(r).value();
   }
   StepReport tick(double dt = 0.001, const HeldInput* held = nullptr) {
