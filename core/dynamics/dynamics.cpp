@@ -13,6 +13,10 @@ namespace hapticd::dynamics {
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// a primitive without a material: frictionless, inelastic (built before main, never on the
+// servo thread)
+const scene::Material kNoMaterial{};
+
 // velocity iterations always run at least this many times per solve
 constexpr std::uint32_t kMinIterations = 2;
 
@@ -595,17 +599,16 @@ void Dynamics::gatherContacts(StepReport& report) {
     if (c.age > 0)
       step_flags_ |= kStepStaleContacts;
     // materials of the two primitives (none declared: frictionless, no restitution)
-    static const scene::Material none;
     const auto material = [&](std::uint32_t body, std::uint32_t prim) -> const scene::Material& {
       if (body >= scene_->bodies.size())
-        return none;
+        return kNoMaterial;
       const auto& prims = scene_->bodies[body].primitives;
       if (prim >= prims.size())
-        return none;
+        return kNoMaterial;
       const std::int32_t m = prims[prim].material;
       return m >= 0 && static_cast<std::size_t>(m) < scene_->materials.size()
                  ? scene_->materials[static_cast<std::size_t>(m)]
-                 : none;
+                 : kNoMaterial;
     };
     const scene::Material& ma = material(c.body_a, c.prim_a);
     const scene::Material& mb = material(c.body_b, c.prim_b);
