@@ -286,6 +286,8 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
       !(options.static_friction_speed_fraction >= 0.0) ||
       !(options.max_travel_fraction > 0.0 && options.max_travel_fraction <= 1.0) ||
       !(options.velocity_tolerance_fraction >= 0.0 && options.velocity_tolerance_fraction < 1.0) ||
+      !(options.sleep_time_s >= 0.0) || !std::isfinite(options.sleep_time_s) ||
+      !(options.sleep_speed_fraction >= 0.0) || !std::isfinite(options.sleep_speed_fraction) ||
       !(options.impulse_window_s >= 0.0) || !(options.tick_s > 0.0) ||
       !std::isfinite(options.impulse_window_s) ||
       !std::isfinite(options.restitution_threshold_ticks) ||
@@ -1203,6 +1205,23 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
     return report;
   if (!(dt > 0.0) || !std::isfinite(dt))
     return report;
+  if (asleep_) {
+    if (!wakeRequested(held)) {
+      // the whole scene rests: nothing moves until something pushes; impulses still in the
+      // spreader's window are delivered
+      ++counters_.ticks_asleep;
+      if (held_ >= 0) {
+        HeldFeedback fb;
+        fb.com_W = bodies_[static_cast<std::size_t>(held_)].x_W;
+        spreader_.pop(&fb.force_W_n, &fb.torque_W_nm);
+        held_feedback_ = fb;
+      }
+      report.flags = kStepAsleep;
+      return report;
+    }
+    asleep_ = false;
+    rest_s_ = 0.0;
+  }
   ++counters_.ticks;
   step_flags_ = 0;
   tick_dt_ = dt;
@@ -1352,8 +1371,52 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
       continue;
     world_->setPose(i, Pose{b.x_W - b.R * b.com_B, b.q});
   }
+  // sleep: once every moving body has been still for sleep_time_s
+  if (options_.sleep_time_s > 0.0) {
+    bool still = true;
+    for (const BodyState& b : bodies_) {
+      if (b.motion == scene::Motion::kStatic || (b.motion == scene::Motion::kKinematic && !b.coast))
+        continue;
+      const double speed = glm::length(b.v_W) + glm::length(b.w_W) * b.size;
+      still = still && speed <= options_.sleep_speed_fraction * b.size;
+    }
+    still = still && !held_kinematic_;
+    rest_s_ = still ? rest_s_ + dt : 0.0;
+    if (rest_s_ >= options_.sleep_time_s) {
+      asleep_ = true;
+      for (BodyState& b : bodies_) {
+        if (b.motion == scene::Motion::kDynamic)
+          b.v_W = b.w_W = Vec3{0.0};
+      }
+    }
+  }
   report.flags = step_flags_;
   return report;
+}
+
+// anything that could move a resting scene: the held body's input, a kinematic target, an
+// external wrench
+bool Dynamics::wakeRequested(const HeldInput* held) const {
+  if (held != nullptr && held_ >= 0) {
+    if (held->mode == HeldMode::kWrench &&
+        (glm::length(held->force_W_n) > 0.0 || glm::length(held->torque_W_nm) > 0.0))
+      return true;
+    if (held->mode == HeldMode::kKinematic) {
+      const BodyState& h = bodies_[static_cast<std::size_t>(held_)];
+      const Vec3 x =
+          held->X_WB_target.translation + glm::mat3_cast(held->X_WB_target.rotation) * h.com_B;
+      if (x != h.x_W || std::abs(glm::dot(held->X_WB_target.rotation, h.q)) < 1.0)
+        return true;
+    }
+  }
+  for (const BodyState& b : bodies_) {
+    if (b.has_target && b.motion == scene::Motion::kKinematic)
+      return true;
+    if (b.motion == scene::Motion::kDynamic &&
+        (glm::length(b.force_W) > 0.0 || glm::length(b.torque_W) > 0.0))
+      return true;
+  }
+  return false;
 }
 
 void Dynamics::storeWarmStart() {

@@ -82,6 +82,12 @@ struct DynamicsOptions {
   /// Contact points the solver may hold per tick; 0 picks 16 per moving primitive + 64.
   /// Overflow drops points (kStepCapacityFull, counted), never allocates.
   std::uint32_t max_contact_points = 0;
+  /// Sleep: when every dynamic body has moved slower than sleep_speed_fraction of its size per
+  /// second for sleep_time_s, the whole scene sleeps (velocities zeroed, steps do nothing)
+  /// until the held body's input, a kinematic target or an external wrench moves something.
+  /// 0 s: never sleep.
+  double sleep_time_s = 0.5;
+  double sleep_speed_fraction = 1e-3;
   /// For a scene without a probe body (SceneModel::probe_body < 0) whose Simulation adds a probe
   /// of its own to the world (a sphere from config) right after the scene's bodies: that body's
   /// world id, which must be the scene's body count. It is then the held body, of infinite
@@ -128,6 +134,7 @@ enum StepFlags : std::uint32_t {
   kStepCapacityFull = 1u << 1,   ///< contact points were dropped (max_contact_points)
   kStepSpeedClamped = 1u << 2,   ///< a body's speed was clamped (max_travel_fraction)
   kStepStaleContacts = 1u << 3,  ///< some contacts were answers of earlier ticks (scheduler)
+  kStepAsleep = 1u << 4,         ///< the scene was at rest: the step did no work
 };
 
 /// Figures of one step.
@@ -145,6 +152,7 @@ struct DynamicsCounters {
   std::uint64_t toi_capped = 0;      ///< steps that hit max_toi_substeps
   std::uint64_t points_dropped = 0;  ///< contact points dropped for capacity
   std::uint64_t speed_clamped = 0;   ///< body-ticks whose speed was clamped
+  std::uint64_t ticks_asleep = 0;    ///< steps skipped because the scene was at rest
 };
 
 /// Mass properties of a set of convex primitives at a density (kg/m^3 in SI).
@@ -234,6 +242,7 @@ class Dynamics {
   void solveVelocities(double remaining);
   void advance(double h);
   void correctPositions(double dt);
+  bool wakeRequested(const HeldInput* held) const;
   void storeWarmStart();
 
   std::uint32_t step_flags_ = 0;
@@ -243,6 +252,8 @@ class Dynamics {
   double ke_episode_start_ = 0.0;    // kinetic energy before a solve with restitution
   std::vector<Vec3> dv_, dw_;        // per body: scratch of the restitution impulses
   bool warm_pending_ = false;
+  bool asleep_ = false;
+  double rest_s_ = 0.0;  // how long every dynamic body has been still
 
   const scene::SceneModel* scene_ = nullptr;
   collision::CollisionWorld* world_ = nullptr;

@@ -184,7 +184,10 @@ TEST(Stack, FourBoxesStayStandingFor60s) {
     s.bodies.push_back(
         dynamicBody("box", boxShape(Vec3{h}), at(Vec3{0, h + 2 * h * i, 0}), 500.0, 0));
   }
-  Rig rig(std::move(s));
+  // sleep off: the resting contact is solved on every tick
+  DynamicsOptions o;
+  o.sleep_time_s = 0.0;
+  Rig rig(std::move(s), o);
   const int n = static_cast<int>(kLongRunS / kDt);
   double worst = 0.0, jitter = 0.0;
   for (int k = 0; k < n; ++k) {
@@ -225,7 +228,9 @@ double slopeAcceleration(double theta, double mu, double* normal_drift) {
   s.bodies.push_back(staticBody("slope", boxShape(Vec3{3, 0.1, 1}), at(-0.1 * up, tilt), 0));
   const double h = 0.05;
   s.bodies.push_back(dynamicBody("box", boxShape(Vec3{h}), at(h * up, tilt), 500.0, 0));
-  Rig rig(std::move(s));
+  DynamicsOptions o;
+  o.sleep_time_s = 0.0;  // a sticking box is solved on every tick
+  Rig rig(std::move(s), o);
   double v0 = 0.0;
   const int t0 = 200, t1 = 1200;
   double drift = 0.0;
@@ -332,6 +337,45 @@ TEST(Kinematic, PlatformLiftsABox) {
   rig.dyn->setKinematicPose(1, at(Vec3{5, 5, 5}));
   rig.tick(kDt);
   EXPECT_LT(glm::length(rig.dyn->pose(1).translation - before.translation), 1e-3);
+}
+
+// a resting scene sleeps (steps do no work) and wakes when pushed
+TEST(Sleep, RestingSceneSleepsAndWakesWhenPushed) {
+  SceneModel s;
+  s.gravity_W = Vec3{0, -9.81, 0};
+  s.materials.push_back(material(0.5, 0.0));
+  s.bodies.push_back(staticBody("floor", boxShape(Vec3{1, 0.1, 1}), at(Vec3{0, -0.1, 0}), 0));
+  s.bodies.push_back(dynamicBody("box", boxShape(Vec3{0.05}), at(Vec3{0, 0.05, 0}), 500.0, 0));
+  Rig rig(std::move(s));
+  std::uint32_t first_asleep = 0;
+  for (std::uint32_t k = 0; k < 2000; ++k) {
+    if ((rig.tick(kDt).flags & kStepAsleep) != 0 && first_asleep == 0)
+      first_asleep = k;
+  }
+  EXPECT_GE(first_asleep, 500u) << "still for sleep_time_s first";
+  EXPECT_LT(first_asleep, 1000u);
+  const std::uint64_t worked = rig.dyn->counters().ticks;
+  EXPECT_EQ(worked + rig.dyn->counters().ticks_asleep, 2000u);
+  const Pose rest = rig.dyn->pose(1);
+  // a push wakes it: twice the friction force, so the box slides
+  const double m = rig.scene->bodies[1].mass;
+  rig.dyn->setExternalWrench(1, Vec3{2.0 * 0.5 * m * 9.81, 0, 0}, Vec3{0});
+  for (int k = 0; k < 100; ++k)
+    EXPECT_EQ(rig.tick(kDt).flags & kStepAsleep, 0u);
+  EXPECT_GT(rig.dyn->pose(1).translation.x - rest.translation.x, 0.01);
+  // released, it stops, and sleeps again
+  rig.dyn->setExternalWrench(1, Vec3{0}, Vec3{0});
+  std::uint32_t flags = 0;
+  for (int k = 0; k < 2000; ++k)
+    flags = rig.tick(kDt).flags;
+  EXPECT_NE(flags & kStepAsleep, 0u);
+  // and never with sleep_time_s = 0
+  SceneModel s2 = *rig.scene;
+  DynamicsOptions o;
+  o.sleep_time_s = 0.0;
+  Rig awake(std::move(s2), o);
+  for (int k = 0; k < 2000; ++k)
+    EXPECT_EQ(awake.tick(kDt).flags & kStepAsleep, 0u);
 }
 
 // a scene without a probe body: the Simulation adds a probe sphere of its own after the scene's
