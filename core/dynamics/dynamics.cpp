@@ -456,6 +456,10 @@ void Dynamics::setKinematicPose(std::uint32_t body, const Pose& X_WB) {
   const bool held = static_cast<std::int32_t>(body) == held_;
   if (b.motion != scene::Motion::kKinematic && !held)
     return;
+  const Quat& q = X_WB.rotation;
+  const double qn = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  if (!finite(X_WB.translation) || !std::isfinite(qn) || !(qn > 0.5))
+    return;  // not a pose: ignored, nothing changes
   b.has_target = true;
   b.target_q = glm::normalize(X_WB.rotation);
   b.target_x = X_WB.translation + glm::mat3_cast(b.target_q) * b.com_B;
@@ -466,6 +470,8 @@ void Dynamics::setExternalWrench(std::uint32_t body,
                                  const Vec3& torque_W_nm) {
   if (!active_ || body >= bodies_.size() || bodies_[body].motion != scene::Motion::kDynamic)
     return;
+  if (!finite(force_W_n) || !finite(torque_W_nm))
+    return;  // not a wrench: ignored, nothing changes
   bodies_[body].force_W = force_W_n;
   bodies_[body].torque_W = torque_W_nm;
 }

@@ -204,12 +204,13 @@ class Dynamics {
 
   /// Moves a kinematic body to X_WB by the end of the next step, with the velocity that takes
   /// it there (contacts see that velocity); without a new call it stays. Ignored for other
-  /// bodies or an index out of range (the held body is moved by HeldInput::kKinematic).
-  /// Servo thread.
+  /// bodies, an index out of range or a pose that is not finite (the held body is moved by
+  /// HeldInput::kKinematic, which is ignored for a pose that is not finite). Servo thread.
   void setKinematicPose(std::uint32_t body, const Pose& X_WB);
 
   /// A force (at the centre of mass) and torque applied to a dynamic body on every step until
-  /// changed (N, N m, scene frame). Ignored for other bodies. Servo thread.
+  /// changed (N, N m, scene frame). Ignored for other bodies or values that are not finite.
+  /// Servo thread.
   void setExternalWrench(std::uint32_t body, const Vec3& force_W_n, const Vec3& torque_W_nm);
 
   /// Pose of a body's origin, its linear velocity (of the centre of mass) and angular velocity,
