@@ -1,0 +1,276 @@
+#pragma once
+/// \file
+/// Impulse-based rigid-body dynamics for the bodies a scene declares dynamic (Mirtich & Canny,
+/// "Impulse-based simulation of rigid bodies", I3D 1995; §6.1–6.2 of Gregory et al. 2000).
+///
+/// One tick (step()):
+///  1. external forces: gravity where the scene declares it (SceneModel::gravity_W times each
+///     body's gravity_factor), per-body external wrenches and the held body's input; velocities
+///     first (semi-implicit Euler). Rotation carries the angular momentum L through the step by
+///     the free-rigid-body splitting (McLachlan 1993, Touma & Wisdom 1994: exact rotations about
+///     the principal axes, composed symmetrically; quaternions normalised), so the gyroscopic
+///     term never blows up (|ω| <= |L| / I_min) and the energy error stays bounded;
+///  2. constraints from the CollisionWorld's contacts (manifold points, close but separated ones
+///     included) and from the scene's joints (fixed, hinge with limits);
+///  3. the time-of-impact loop of §6.1: for every contact point the time at which its gap closes
+///     is estimated from the relative velocity, the normal and the distance; all bodies advance to
+///     the earliest, the impulses there (restitution, Coulomb friction, joints; sequential
+///     impulses, Catto 2005; restitution by Poisson's hypothesis, scaled down if needed so that
+///     no solve adds energy) are applied, and the loop goes on with the rest of the tick, at most
+///     DynamicsOptions::max_toi_substeps times (then the remaining approaching points are treated
+///     speculatively for the rest of the tick and kStepToiCapped is set);
+///  4. drift correction: split impulses (pseudo-velocities that move poses but add no energy) for
+///     penetration beyond a slop relative to the bodies' size and for joint error;
+///  5. new poses written back with CollisionWorld::setPose (its next step() sees them).
+///
+/// Threads and memory: create() off the servo thread (allocates every capacity); step(),
+/// setKinematicPose(), setExternalWrench() and the getters on the servo thread: no allocation, no
+/// lock, no log, no throw. A Dynamics is owned by one thread at a time.
+///
+/// Units: any consistent set (SI in the scene model: metres, kilograms, seconds, radians); every
+/// tolerance is relative to the bodies' sizes or to the tick, so a scene in millimetres gives the
+/// same relative motion. Frames: W = scene, B = body origin (SceneModel::Body::X_WB).
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <vector>
+
+#include "core/collision/collision_world.h"
+#include "core/common/result.h"
+#include "core/dynamics/impulse_spreader.h"
+#include "core/geometry/pose.h"
+#include "core/scene/scene.h"
+
+namespace hapticd::dynamics {
+
+using geom::Mat3;
+using geom::Pose;
+using geom::Quat;
+using geom::Vec3;
+
+/// Knobs of the dynamics; every default documented here and in docs/dynamics.md.
+struct DynamicsOptions {
+  /// Sequential-impulse iterations per solve (each time of impact solves once).
+  std::uint32_t velocity_iterations = 12;
+  /// A solve stops early (after at least 2 iterations) once no row corrects a velocity error
+  /// above this fraction of the restitution threshold below (0: always all iterations).
+  double velocity_tolerance_fraction = 1e-7;
+  /// Split-impulse iterations of the drift correction at the end of the tick.
+  std::uint32_t position_iterations = 6;
+  /// Time-of-impact substeps per tick beyond the first solve (§6.1); when the cap is hit the
+  /// remaining approaching contacts are solved speculatively and kStepToiCapped is set.
+  std::uint32_t max_toi_substeps = 8;
+  /// Allowed penetration (slop), as a fraction of the smaller body's size (Polytope::radius of
+  /// its primitives); below it no position correction acts, so resting contact stays put.
+  double slop_fraction = 0.002;
+  /// Fraction of the penetration (beyond the slop) or joint error removed per tick.
+  double position_correction = 0.2;
+  /// Restitution acts only when the closing speed exceeds this many ticks' worth of the
+  /// largest acceleration declared (|gravity_W| * gravity_factor) ...
+  double restitution_threshold_ticks = 4.0;
+  /// ... or this fraction of the smaller body's size per second, whichever is larger.
+  double restitution_threshold_fraction = 0.01;
+  /// Static friction applies while the tangential speed is below this fraction of the
+  /// restitution threshold; dynamic friction above it.
+  double static_friction_speed_fraction = 1.0;
+  /// No tunnelling: a body travels at most max(world box margin, this fraction of its size)
+  /// per tick, its speed (and spin) clamped beyond (kStepSpeedClamped, counted). Contacts are
+  /// found within the world's box margin before they touch (time of impact) and, for faster
+  /// bodies, on the tick they overlap (then resolved from the overlap).
+  double max_travel_fraction = 0.5;
+  /// Contact points the solver may hold per tick; 0 picks 16 per moving primitive + 64.
+  /// Overflow drops points (kStepCapacityFull, counted), never allocates.
+  std::uint32_t max_contact_points = 0;
+  /// Sleep: when every dynamic body has moved slower than sleep_speed_fraction of its size per
+  /// second for sleep_time_s, the whole scene sleeps (velocities zeroed, steps do nothing)
+  /// until the held body's input, a kinematic target or an external wrench moves something.
+  /// 0 s: never sleep.
+  double sleep_time_s = 0.5;
+  double sleep_speed_fraction = 1e-3;
+  /// For a scene without a probe body (SceneModel::probe_body < 0) whose Simulation adds a probe
+  /// of its own to the world (a sphere from config) right after the scene's bodies: that body's
+  /// world id, which must be the scene's body count. It is then the held body, of infinite
+  /// mass, moved by HeldInput::kKinematic. -1: none.
+  std::int32_t extra_probe_body = -1;
+  /// Window (s) over which each impulse on the held body is spread as a force (Hann profile:
+  /// peak 2 J / window, integral J). 0: the impulse is returned as one tick of force J / dt.
+  double impulse_window_s = 0.020;
+  /// Servo tick (s) the spreader is built for; step() takes its dt per call.
+  double tick_s = 0.001;
+};
+
+/// How the held body (SceneModel::probe_body) is driven this tick.
+enum class HeldMode : std::uint8_t {
+  kNone,       ///< as the scene says (dynamic bodies integrate, kinematic ones keep their pose)
+  kWrench,     ///< a dynamic held body receives force_W_n / torque_W_nm (at its centre of mass)
+  kKinematic,  ///< the held body follows X_WB_target: infinite mass this tick, pushes others
+};
+
+/// Per-tick input for the held body, in scene coordinates.
+struct HeldInput {
+  HeldMode mode = HeldMode::kNone;
+  Vec3 force_W_n{0.0};    ///< kWrench: force at the centre of mass (N)
+  Vec3 torque_W_nm{0.0};  ///< kWrench: torque (N m)
+  Pose X_WB_target;       ///< kKinematic: pose of the body origin at the end of the tick
+};
+
+/// What the held body received this tick, in scene coordinates.
+struct HeldFeedback {
+  /// Sum of the contact and joint impulses on the held body this tick (N s), and their moment
+  /// about its centre of mass (N m s). Gravity and the input wrench are not included.
+  Vec3 impulse_W_ns{0.0};
+  Vec3 angular_impulse_W_nms{0.0};
+  /// The same spread over DynamicsOptions::impulse_window_s (ImpulseSpreader): the force and
+  /// torque to render this tick so that the impacts can be felt (N, N m).
+  Vec3 force_W_n{0.0};
+  Vec3 torque_W_nm{0.0};
+  Vec3 com_W{0.0};  ///< the held body's centre of mass the moments are taken about
+};
+
+/// Status bits of a step (StepReport::flags).
+enum StepFlags : std::uint32_t {
+  kStepToiCapped = 1u << 0,      ///< max_toi_substeps was reached
+  kStepCapacityFull = 1u << 1,   ///< contact points were dropped (max_contact_points)
+  kStepSpeedClamped = 1u << 2,   ///< a body's speed was clamped (max_travel_fraction)
+  kStepStaleContacts = 1u << 3,  ///< some contacts were answers of earlier ticks (scheduler)
+  kStepAsleep = 1u << 4,         ///< the scene was at rest: the step did no work
+};
+
+/// Figures of one step.
+struct StepReport {
+  std::uint32_t contact_points = 0;  ///< manifold points taken into the solver
+  std::uint32_t active_points = 0;   ///< of them, touching by the end of the tick
+  std::uint32_t impulse_points = 0;  ///< of them, given a normal impulse this tick
+  std::uint32_t toi_substeps = 0;    ///< times of impact advanced to (0: none this tick)
+  std::uint32_t flags = 0;           ///< StepFlags
+};
+
+/// Counters since create().
+struct DynamicsCounters {
+  std::uint64_t ticks = 0;           ///< steps that did work (0 for a scene without dynamics)
+  std::uint64_t toi_capped = 0;      ///< steps that hit max_toi_substeps
+  std::uint64_t points_dropped = 0;  ///< contact points dropped for capacity
+  std::uint64_t speed_clamped = 0;   ///< body-ticks whose speed was clamped
+  std::uint64_t ticks_asleep = 0;    ///< steps skipped because the scene was at rest
+};
+
+/// Mass properties of a set of convex primitives at a density (kg/m^3 in SI).
+struct MassProperties {
+  double mass = 0.0;
+  Vec3 com_B{0.0};
+  Mat3 inertia_B{0.0};  ///< about com_B, body frame
+};
+
+/// Volume, centre of mass and inertia of a body's primitives (divergence theorem over the
+/// faces' tetrahedra; the primitives are assumed not to overlap). Any thread.
+MassProperties computeMassProperties(std::span<const scene::Primitive> primitives, double density);
+
+/// The CollisionWorld box margin (scene units) the dynamics wants: contacts within it are seen
+/// before they touch, so impacts up to margin / dt fast get their exact time of impact (faster
+/// ones are found overlapping, see max_travel_fraction). 0.5% of the scene's length scale.
+/// Any thread.
+double recommendedBoxMargin(const scene::SceneModel& scene);
+
+/// A CollisionWorld with one body per scene body, in order (world id == scene body index), of
+/// the scene's kinds and primitives, with `options` (box_margin raised to at least
+/// recommendedBoxMargin when the scene has dynamic bodies) and reserved capacities. Off the
+/// servo thread.
+std::unique_ptr<collision::CollisionWorld> buildCollisionWorld(const scene::SceneModel& scene,
+                                                               collision::WorldOptions options);
+
+/// The dynamics stage of one scene. See the file comment for the tick.
+class Dynamics {
+ public:
+  /// Builds the stage for `scene` on `world` (whose body ids are the scene's body indices, as
+  /// buildCollisionWorld makes them). Both must outlive the Dynamics. A scene without dynamic
+  /// bodies yields an inactive stage whose step() returns at once. Errors: a dynamic body with
+  /// non-positive or non-finite mass, a joint naming a body out of range, options out of range.
+  /// Off the servo thread.
+  static Result<std::unique_ptr<Dynamics>> create(const scene::SceneModel& scene,
+                                                  collision::CollisionWorld& world,
+                                                  const DynamicsOptions& options = {});
+  ~Dynamics();
+  Dynamics(const Dynamics&) = delete;
+  Dynamics& operator=(const Dynamics&) = delete;
+
+  /// True when the scene has at least one dynamic body (the plan's `dynamics`).
+  bool active() const { return active_; }
+
+  /// One tick of dt seconds (> 0). Call it after CollisionWorld::step() of this tick (it reads
+  /// contacts()); it writes the new poses with CollisionWorld::setPose. `held` may be null.
+  /// Servo thread; no allocation. An inactive stage returns an empty report at once.
+  StepReport step(double dt, const HeldInput* held = nullptr);
+
+  /// Moves a kinematic body to X_WB by the end of the next step, with the velocity that takes
+  /// it there (contacts see that velocity); without a new call it stays. Ignored for other
+  /// bodies, an index out of range or a pose that is not finite (the held body is moved by
+  /// HeldInput::kKinematic, which is ignored for a pose that is not finite). Servo thread.
+  void setKinematicPose(std::uint32_t body, const Pose& X_WB);
+
+  /// A force (at the centre of mass) and torque applied to a dynamic body on every step until
+  /// changed (N, N m, scene frame). Ignored for other bodies or values that are not finite.
+  /// Servo thread.
+  void setExternalWrench(std::uint32_t body, const Vec3& force_W_n, const Vec3& torque_W_nm);
+
+  /// Pose of a body's origin, its linear velocity (of the centre of mass) and angular velocity,
+  /// scene frame, after the last step. Servo thread (or the owner thread).
+  Pose pose(std::uint32_t body) const;
+  Vec3 linearVelocity(std::uint32_t body) const;
+  Vec3 angularVelocity(std::uint32_t body) const;
+  /// Centre of mass in the scene frame.
+  Vec3 centerOfMass(std::uint32_t body) const;
+  /// Kinetic energy of all dynamic bodies (J) and their potential energy in the scene's
+  /// gravity (J, zero at the origin). For tests and status.
+  double kineticEnergy() const;
+  double potentialEnergy() const;
+
+  /// The held body's feedback of the last step (zero when the scene has no held body).
+  const HeldFeedback& heldFeedback() const { return held_feedback_; }
+  const DynamicsCounters& counters() const { return counters_; }
+  std::uint32_t bodyCount() const;
+
+ private:
+  struct BodyState;
+  struct ContactPoint;
+  struct JointState;
+  struct WarmPoint;
+
+  Dynamics();
+  void integrateForces(double dt, const HeldInput* held);
+  void gatherContacts(StepReport& report);
+  void prepareJoints();
+  void solveVelocities(double remaining);
+  void advance(double h);
+  void correctPositions(double dt);
+  bool wakeRequested(const HeldInput* held) const;
+  void storeWarmStart();
+
+  std::uint32_t step_flags_ = 0;
+  double tick_dt_ = 0.001;
+  double min_size_ = 1.0;            // smallest dynamic body's size
+  double velocity_tolerance_ = 0.0;  // this tick's convergence tolerance of the solves
+  double ke_episode_start_ = 0.0;    // kinetic energy before a solve with restitution
+  std::vector<Vec3> dv_, dw_;        // per body: scratch of the restitution impulses
+  bool warm_pending_ = false;
+  bool asleep_ = false;
+  double rest_s_ = 0.0;  // how long every dynamic body has been still
+
+  const scene::SceneModel* scene_ = nullptr;
+  collision::CollisionWorld* world_ = nullptr;
+  DynamicsOptions options_;
+  bool active_ = false;
+  std::int32_t held_ = -1;
+  bool held_kinematic_ = false;
+  double accel_scale_ = 0.0;  // largest |gravity| * gravity_factor
+  std::vector<BodyState> bodies_;
+  std::vector<ContactPoint> points_;
+  std::vector<WarmPoint> warm_, warm_next_;
+  std::vector<JointState> joints_;
+  std::vector<std::uint64_t> no_collide_;  // body-pair keys kept apart by joints, sorted
+  ImpulseSpreader spreader_;
+  HeldFeedback held_feedback_;
+  DynamicsCounters counters_;
+};
+
+}  // namespace hapticd::dynamics
