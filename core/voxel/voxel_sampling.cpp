@@ -120,8 +120,35 @@ Result<VoxelMap> VoxelMap::build(std::span<const PlacedShape> shapes, double vox
   const double r = 0.5 * std::sqrt(3.0) * voxel_size;  // half a voxel diagonal
   std::vector<Transform> X_PW;
   for (const auto& s : shapes) X_PW.push_back(s.X_WP.inverse());
-  const auto inside = [&](const Vec3& p_W, std::size_t skip) {
-    for (std::size_t k = 0; k < shapes.size(); ++k) {
+  // the shapes near each brick of 8 x 8 x 8 voxels: those whose box, grown by r, meets the brick
+  // (a shape within r of a voxel centre, or holding a point within r of it, is one of them)
+  constexpr std::uint32_t kBrick = 8;
+  const std::uint32_t bx = (map.nx_ + kBrick - 1) / kBrick, by = (map.ny_ + kBrick - 1) / kBrick,
+                      bz = (map.nz_ + kBrick - 1) / kBrick;
+  std::vector<std::vector<std::uint32_t>> near(static_cast<std::size_t>(bx) * by * bz);
+  const double brick = kBrick * voxel_size;
+  for (std::uint32_t k = 0; k < shapes.size(); ++k) {
+    Vec3 slo(kInf), shi(-kInf);
+    for (const auto& v : shapes[k].shape->vertices()) {
+      const Vec3 p = shapes[k].X_WP.apply(v.p);
+      slo = glm::min(slo, p);
+      shi = glm::max(shi, p);
+    }
+    const Vec3 a = glm::max((slo - r - map.origin_) / brick, Vec3(0.0));
+    const Vec3 b = (shi + r - map.origin_) / brick;
+    const auto to = [](double x, std::uint32_t count_) {
+      return std::min(static_cast<std::uint32_t>(x), count_ - 1);
+    };
+    for (std::uint32_t z = to(a.z, bz); z <= to(b.z, bz); ++z) {
+      for (std::uint32_t y = to(a.y, by); y <= to(b.y, by); ++y) {
+        for (std::uint32_t x = to(a.x, bx); x <= to(b.x, bx); ++x) {
+          near[(static_cast<std::size_t>(z) * by + y) * bx + x].push_back(k);
+        }
+      }
+    }
+  }
+  const auto inside = [&](const Vec3& p_W, std::size_t skip, const std::vector<std::uint32_t>& list) {
+    for (const std::uint32_t k : list) {
       if (k == skip) continue;
       const Polytope& q = *shapes[k].shape;
       if (shapeDistance(q, X_PW[k].apply(p_W)).distance < -1e-9 * q.radius()) return true;
@@ -132,16 +159,22 @@ Result<VoxelMap> VoxelMap::build(std::span<const PlacedShape> shapes, double vox
   for (std::uint32_t z = 0; z < map.nz_; ++z) {
     for (std::uint32_t y = 0; y < map.ny_; ++y) {
       for (std::uint32_t x = 0; x < map.nx_; ++x, ++i) {
+        const auto& list =
+            near[(static_cast<std::size_t>(z / kBrick) * by + y / kBrick) * bx + x / kBrick];
+        if (list.empty()) continue;  // nothing within r: free
         const Vec3 c = map.origin_ + (Vec3(x, y, z) + 0.5) * voxel_size;
         // the distance to the union is exact outside it: far from every shape, free
-        const SignedDistance d = signedDistance(shapes, c);
-        if (d.distance > r) continue;
+        double d_min = kInf;
+        for (const std::uint32_t k : list) {
+          d_min = std::min(d_min, shapeDistance(*shapes[k].shape, X_PW[k].apply(c)).distance);
+        }
+        if (d_min > r) continue;
         // a surface voxel when an exposed surface point (on a shape's face, not covered by
-        // another shape) lies within r of the centre: seams between touching shapes are not surfaces.
-        // Each face is represented by its point nearest the centre.
+        // another shape) lies within r of the centre: seams between touching shapes are not
+        // surfaces. Each face is represented by its point nearest the centre.
         Vec3 normal{0.0};
         double best = std::numeric_limits<double>::infinity();
-        for (std::size_t k = 0; k < shapes.size(); ++k) {
+        for (const std::uint32_t k : list) {
           const Polytope& q = *shapes[k].shape;
           const Vec3 c_P = X_PW[k].apply(c);
           for (std::uint32_t f = 0; f < q.faces().size(); ++f) {
@@ -152,13 +185,13 @@ Result<VoxelMap> VoxelMap::build(std::span<const PlacedShape> shapes, double vox
             if (dist > r || dist >= best) continue;
             // covered when a step off the face along its normal is inside another shape
             const Vec3 n_W = shapes[k].X_WP.rotate(q.faces()[f].normal);
-            if (inside(shapes[k].X_WP.apply(on_P) + n_W * (1e-4 * voxel_size), k)) continue;
+            if (inside(shapes[k].X_WP.apply(on_P) + n_W * (1e-4 * voxel_size), k, list)) continue;
             best = dist;
             normal = n_W;
           }
         }
         if (best > r) {
-          if (d.distance < 0.0) map.cells_[i] = 1u;  // inside the union, no surface near
+          if (d_min < 0.0) map.cells_[i] = 1u;  // inside the union, no surface near
           continue;
         }
         map.cells_[i] = static_cast<std::uint32_t>(map.normals_.size()) + 2u;
