@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <fstream>
+#include <optional>
 #include <random>
 
 #include "core/scene/loader.h"
@@ -90,6 +91,106 @@ TEST(SceneCorpus, FlippedBytesNeverCrash) {
   }
   // some flips land in names or padding and leave a valid scene; most do not
   EXPECT_LT(loaded, 3000u);
+}
+
+// the committed demo scenes (scenes/*.glb, written by the scene generator, docs/demo-scenes.md):
+// each loads, and its plan is what the scene calls for and nothing more
+std::optional<SceneModel> demo(const char* name) {
+  const auto path =
+      std::filesystem::path(HAPTICD_SOURCE_DIR "/scenes") / (std::string(name) + ".glb");
+  if (!std::filesystem::exists(path))
+    return std::nullopt;
+  const LoadReport r = loadSceneFile(path);
+  EXPECT_TRUE(r.ok()) << name << ":\n" << r.message();
+  return r.scene;
+}
+
+const Body* named(const SceneModel& s, const std::string& name) {
+  for (const Body& b : s.bodies) {
+    if (b.name == name)
+      return &b;
+  }
+  ADD_FAILURE() << "no body " << name;
+  return nullptr;
+}
+
+TEST(SceneCorpus, DemoScenesLoadWithThePlanTheyCallFor) {
+  const auto gears = demo("gears");
+  if (!gears)
+    GTEST_SKIP() << "scenes/*.glb not here yet";
+  {
+    const SceneModel& s = *gears;
+    EXPECT_TRUE(s.plan.dynamics);
+    EXPECT_TRUE(s.plan.joints);
+    EXPECT_FALSE(s.plan.gravity);
+    EXPECT_FALSE(s.plan.friction);
+    EXPECT_FALSE(s.plan.restitution);
+    ASSERT_EQ(s.joints.size(), 2u);
+    for (const Joint& j : s.joints) {
+      EXPECT_EQ(j.kind, JointKind::kHinge);
+      EXPECT_EQ(j.hinge_axis, 2);  // about Z
+      EXPECT_EQ(j.body_b, -1);     // to the scene frame
+    }
+    for (const char* g : {"GearA", "GearB"}) {
+      const Body* b = named(s, g);
+      ASSERT_TRUE(b);
+      EXPECT_EQ(b->motion, Motion::kDynamic);
+      EXPECT_EQ(b->primitives.size(), 20u);
+      EXPECT_DOUBLE_EQ(b->mass, 0.15);
+    }
+    ASSERT_GE(s.probe_body, 0);
+    EXPECT_EQ(s.bodies[static_cast<std::size_t>(s.probe_body)].motion, Motion::kKinematic);
+  }
+  const auto peg = demo("peg_in_hole");
+  ASSERT_TRUE(peg);
+  {
+    const SceneModel& s = *peg;
+    EXPECT_TRUE(s.plan.contact_forces);
+    EXPECT_FALSE(s.plan.dynamics);
+    EXPECT_FALSE(s.plan.gravity);
+    EXPECT_FALSE(s.plan.friction);
+    EXPECT_FALSE(s.plan.restitution);
+    EXPECT_FALSE(s.plan.joints);
+    EXPECT_EQ(s.plan.static_primitives, 5u);
+    EXPECT_EQ(s.plan.moving_primitives, 1u);
+    const Body* hole = named(s, "Hole");
+    ASSERT_TRUE(hole);
+    ASSERT_TRUE(hole->stiffness_n_per_m);
+    EXPECT_DOUBLE_EQ(*hole->stiffness_n_per_m, 600.0);
+    ASSERT_GE(s.probe_body, 0);
+    EXPECT_EQ(s.bodies[static_cast<std::size_t>(s.probe_body)].name, "Peg");
+  }
+  const auto dyn = demo("dynamic");
+  ASSERT_TRUE(dyn);
+  {
+    const SceneModel& s = *dyn;
+    EXPECT_TRUE(s.plan.dynamics);
+    EXPECT_TRUE(s.plan.gravity);
+    EXPECT_TRUE(s.plan.friction);
+    EXPECT_TRUE(s.plan.restitution);
+    EXPECT_FALSE(s.plan.joints);
+    std::size_t dynamic = 0;
+    for (const Body& b : s.bodies)
+      dynamic += b.motion == Motion::kDynamic ? 1u : 0u;
+    EXPECT_EQ(dynamic, 12u);
+    const Body* e = named(s, "Ellipsoid0");
+    ASSERT_TRUE(e);
+    EXPECT_FALSE(e->mass_declared);
+    EXPECT_NEAR(e->mass, 0.08094, 0.00001);  // the hull's volume at 1000 kg/m^3
+  }
+  const auto stress = demo("stress");
+  ASSERT_TRUE(stress);
+  {
+    const SceneModel& s = *stress;
+    EXPECT_GE(s.plan.static_primitives + s.plan.moving_primitives, 1000u);
+    EXPECT_EQ(s.plan.static_primitives, 1025u);
+    EXPECT_EQ(s.plan.moving_primitives, 17u);
+    EXPECT_TRUE(s.plan.dynamics);
+    EXPECT_TRUE(s.plan.gravity);
+    EXPECT_FALSE(s.plan.friction);
+    EXPECT_FALSE(s.plan.restitution);
+    EXPECT_FALSE(s.plan.joints);
+  }
 }
 
 }  // namespace

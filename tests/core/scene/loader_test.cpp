@@ -873,3 +873,101 @@ TEST(SceneLoader, IdenticalCollidersShareOneHull) {
 
 }  // namespace
 }  // namespace hapticd::scene
+
+namespace hapticd::scene {
+namespace {
+
+TEST(SceneLoader, AMatrixNodeMatchesTheSameTrsNode) {
+  const double a = 0.7;
+  const auto make = [&](bool matrix) {
+    GltfBuilder b;
+    json n = GltfBuilder::node("Box");
+    if (matrix) {
+      // column-major: rotation a about Z, scale (2, 1, 3), translation (1, 2, 3)
+      n.erase("translation");
+      n["matrix"] = {2 * std::cos(a),
+                     2 * std::sin(a),
+                     0,
+                     0,
+                     -std::sin(a),
+                     std::cos(a),
+                     0,
+                     0,
+                     0,
+                     0,
+                     3,
+                     0,
+                     1,
+                     2,
+                     3,
+                     1};
+    } else {
+      n["translation"] = {1, 2, 3};
+      n["rotation"] = {0, 0, std::sin(a / 2), std::cos(a / 2)};
+      n["scale"] = {2, 1, 3};
+    }
+    GltfBuilder::physics(n)["motion"] = json::object();
+    GltfBuilder::physics(n)["collider"] = GltfBuilder::shapeCollider(b.box({1.0, 1.0, 1.0}));
+    b.addNode(n);
+    return load(b);
+  };
+  const LoadReport m = make(true), t = make(false);
+  ASSERT_TRUE(m.ok()) << m.message();
+  ASSERT_TRUE(t.ok()) << t.message();
+  const Body& bm = m.scene->bodies[0];
+  const Body& bt = t.scene->bodies[0];
+  EXPECT_NEAR(glm::length(bm.X_WB.translation - bt.X_WB.translation), 0.0, 1e-12);
+  EXPECT_NEAR(std::abs(glm::dot(bm.X_WB.rotation, bt.X_WB.rotation)), 1.0, 1e-12);
+  EXPECT_NEAR(bm.mass, 6000.0, 1e-6);
+  EXPECT_NEAR(bt.mass, 6000.0, 1e-6);
+}
+
+TEST(SceneLoader, GeometryMayComeFromANodeOutsideTheScene) {
+  GltfBuilder b;
+  json n = GltfBuilder::node("Body");
+  GltfBuilder::physics(n)["motion"] = json::object();
+  GltfBuilder::physics(n)["collider"] = {{"geometry", {{"node", 1}, {"convexHull", true}}}};
+  b.addNode(n);
+  // node 1: not in the scene, only the geometry's source, with a child mesh offset by 1 on x
+  b.doc["nodes"].push_back({{"name", "Source"}, {"children", {2}}});
+  b.doc["nodes"].push_back({{"name", "Part"},
+                            {"translation", {1.0, 0.0, 0.0}},
+                            {"mesh", b.addMesh(testing::cubeMesh(), "CubeMesh")}});
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  ASSERT_EQ(r.scene->bodies.size(), 1u);
+  const Body& body = r.scene->bodies[0];
+  EXPECT_NEAR(body.com_B.x, 1.0, 1e-12);  // the child's offset is kept
+  EXPECT_NEAR(body.mass, 1000.0, 1e-9);
+}
+
+TEST(SceneLoader, ATaperedCapsuleIsTheHullOfItsTwoSpheres) {
+  GltfBuilder b;
+  staticShape(b, "Tapered", b.capsule(1.0, 0.1, 0.3), {0.0, 0.0, 0.0});
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  Vec3 lo{1e300}, hi{-1e300};
+  for (const auto& v : r.scene->bodies[0].primitives[0].shape->vertices()) {
+    lo = glm::min(lo, v.p);
+    hi = glm::max(hi, v.p);
+  }
+  EXPECT_NEAR(hi.y, 0.5 + 0.1, 0.1 * 1e-3 + 1e-12);
+  EXPECT_NEAR(lo.y, -0.5 - 0.3, 0.3 * 1e-3 + 1e-12);
+  EXPECT_NEAR(hi.x, 0.3, 0.3 * 1e-3 + 1e-12);
+}
+
+TEST(SceneLoader, ADeepHierarchyLoadsWithoutRecursion) {
+  GltfBuilder b;
+  int parent = b.addNode(GltfBuilder::node("Root"));
+  for (int i = 0; i < 5000; ++i)
+    parent = b.addNode(GltfBuilder::node("N", {0.001, 0.0, 0.0}), parent);
+  staticShape(b, "Leaf", b.box({1.0, 1.0, 1.0}), {0.0, 0.0, 0.0}, parent);
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  ASSERT_EQ(r.scene->bodies.size(), 1u);
+  EXPECT_EQ(r.scene->bodies[0].name, "Root");
+  EXPECT_NEAR(r.scene->bodies[0].primitives[0].X_BP.translation.x, 5.0, 1e-9);
+}
+
+}  // namespace
+}  // namespace hapticd::scene
