@@ -182,6 +182,9 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   s_.max_penetration_m = out.max_penetration_m;
   s_.t_s = t_s;
   s_.period_index = period_index;
+  s_.peak_force_n = std::max(s_.peak_force_n, glm::length(s_.force_W_n));
+  s_.peak_penetration_m = std::max(s_.peak_penetration_m, out.max_penetration_m);
+  if (out.contacts > 0) ++s_.contact_ticks;
 
   if (s_.stopping && !stop_done_ && s_.output_gain == 0.0 && last_force_D_ == geom::Vec3(0.0) &&
       last_torque_D_ == geom::Vec3(0.0)) {
@@ -219,7 +222,7 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   }
   if (options_.record_bodies && current_ != nullptr) {
     for (const sim::BodyPose& b : current_->sim->bodyPoses()) {
-      const BodyRow row{s_.tick - 1, t_s, b.body, b.X_WB};
+      const BodyRow row{s_.tick - 1, t_s, current_->generation, b.body, b.X_WB};
       while (!bodies_.push(row)) {
         if (!options_.wait_for_record_space) {
           ++s_.records_dropped;

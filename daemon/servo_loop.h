@@ -107,6 +107,9 @@ struct ServoState {
   std::uint64_t log_dropped = 0;
   std::int64_t last_tick_ns = 0;      ///< compute time of the last tick
   double output_gain = 1.0;           ///< 1 normally, fading to 0 on fault, disarm and stop
+  double peak_force_n = 0.0;          ///< largest |force| written so far
+  double peak_penetration_m = 0.0;    ///< largest max_penetration so far
+  std::uint64_t contact_ticks = 0;    ///< ticks with at least one contact
   bool device_connected = false;
   bool armed = false;
   bool stopping = false;
@@ -132,7 +135,8 @@ struct RecordRow {
 struct BodyRow {
   std::uint64_t tick = 0;
   double t_s = 0.0;
-  std::uint32_t body = 0;  ///< index into the scene's bodies
+  std::uint64_t generation = 0;  ///< the scene (ServoScene::generation) the index refers to
+  std::uint32_t body = 0;        ///< index into that scene's bodies
   geom::Pose X_WB;
 };
 
