@@ -49,6 +49,8 @@ __attribute__((noinline)) void prefaultStack(std::size_t bytes) {
 
 }  // namespace
 
+bool memoryLockingSupported() { return !kAddressSanitizer; }
+
 Result<RealtimePolicy> parseRealtimePolicy(std::string_view text) {
   if (text == "require") return RealtimePolicy::kRequire;
   if (text == "prefer") return RealtimePolicy::kPrefer;
@@ -104,7 +106,17 @@ Result<RealtimeReport> setupProcessRealtime(const RealtimeOptions& options, cons
 Result<RealtimeReport> setupServoThreadRealtime(const RealtimeOptions& options,
                                                 const RealtimeOps& ops) {
   RealtimeReport report;
-  prefaultStack(options.stack_prefault_bytes);
+  // never more than the thread's stack minus a margin for the frames above and below
+  std::size_t prefault = options.stack_prefault_bytes;
+  pthread_attr_t attr;
+  if (pthread_getattr_np(pthread_self(), &attr) == 0) {
+    std::size_t stack_size = 0;
+    pthread_attr_getstacksize(&attr, &stack_size);
+    pthread_attr_destroy(&attr);
+    constexpr std::size_t kMargin = 64 * 1024;
+    if (stack_size > 0) prefault = std::min(prefault, stack_size > 2 * kMargin ? stack_size - kMargin : stack_size / 2);
+  }
+  prefaultStack(prefault);
   if (options.policy == RealtimePolicy::kOff) return report;
   Error error;
   if (options.priority < 1 || options.priority > 99)

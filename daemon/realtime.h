@@ -51,6 +51,9 @@ struct RealtimeReport {
   std::vector<std::string> warnings;
 };
 
+/// False under AddressSanitizer (its shadow memory cannot be locked): mlockall is skipped.
+bool memoryLockingSupported();
+
 /// Process part: mlockall(MCL_CURRENT | MCL_FUTURE). Main thread, before any other thread
 /// starts. Skipped (with a warning) under AddressSanitizer, whose shadow memory cannot be locked.
 Result<RealtimeReport> setupProcessRealtime(const RealtimeOptions& options,
