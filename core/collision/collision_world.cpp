@@ -21,6 +21,8 @@ void toWorld(const Transform& X_WA, const PairResult& r, Contact& c) {
   c.point_a = X_WA.apply(r.point_a);
   c.point_b = X_WA.apply(r.point_b);
   c.manifold = r.manifold;
+  c.feature_a = r.fa;
+  c.feature_b = r.fb;
   for (std::size_t i = 0; i < c.manifold.count; ++i) {
     c.manifold.points[i].point = X_WA.apply(r.manifold.points[i].point);
     c.manifold.points[i].normal = X_WA.rotate(r.manifold.points[i].normal);
@@ -83,8 +85,8 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
     BoxFilter filter;
     filter.body = id;
     filter.is_static = desc.kind == BodyKind::kStatic;
-    filter.group = desc.group;
-    filter.mask = desc.mask;
+    filter.group = desc.group & desc.primitives[i].group;
+    filter.mask = desc.mask & desc.primitives[i].mask;
     p.box = sap_.add(primitiveBox(p), filter);
     if (prim_of_box_.size() <= p.box) prim_of_box_.resize(p.box + 1);
     prim_of_box_[p.box] = pi;

@@ -27,6 +27,10 @@ enum class BodyKind : std::uint8_t { kStatic, kKinematic, kDynamic, kProbe };
 struct PrimitiveDesc {
   std::shared_ptr<const Polytope> shape;
   Transform X_BP;  ///< the primitive's pose in its body's frame
+  /// Per-primitive collision filter, combined with the body's (bitwise and): two primitives
+  /// collide when (group_a & mask_b) && (group_b & mask_a). Default: the body's alone.
+  std::uint32_t group = ~0u;
+  std::uint32_t mask = ~0u;
 };
 
 struct BodyDesc {
@@ -63,6 +67,9 @@ struct Contact {
   Vec3 normal{0.0};        ///< world, unit, from a toward b
   Vec3 point_a{0.0}, point_b{0.0};  ///< world
   Manifold manifold;       ///< world
+  /// The closest features (separated or touching) or the MTD's features (penetrating; Feature{}
+  /// on the side whose face the MTD does not name), on primitive a and b.
+  Feature feature_a, feature_b;
   std::uint32_t age = 0;   ///< ticks since this answer was computed (0: this tick)
   /// false for a close pair the scheduler has not tested yet (the fields above are then empty):
   /// such a pair is listed all the same, so that none is ever silently left out.

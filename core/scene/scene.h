@@ -79,6 +79,12 @@ struct Body {
   /// Inertia tensor about the centre of mass, in the body frame (kg m^2); declared or computed.
   Mat3 inertia_B{0.0};
   bool mass_declared = false;
+  /// 1 / mass (1/kg); 0 for an infinite mass: static and kinematic bodies, and a declared mass of
+  /// 0 (KHR: 0 means infinite). The dynamics use this, never 1 / mass.
+  double inverse_mass = 0.0;
+  /// Inverse of inertia_B (1/(kg m^2)); 0 along axes of infinite inertia (a declared
+  /// inertiaDiagonal component of 0, which inertia_B holds as 0), all 0 for infinite mass.
+  Mat3 inverse_inertia_B{0.0};
   bool inertia_declared = false;
   Vec3 linear_velocity_W{0.0};   ///< initial, m/s
   Vec3 angular_velocity_W{0.0};  ///< initial, rad/s
@@ -142,6 +148,8 @@ struct SceneLimits {
   /// Curved implicit shapes are tessellated so that no surface point is farther than this
   /// fraction of the shape's size from the polytope.
   double tessellation_tolerance = 1e-3;
+  /// Hull input points over all colliders of a scene (colliders may share one big mesh).
+  std::uint64_t max_total_hull_input_points = 4000000;
 };
 
 /// The whole compiled scene. Immutable after building; any thread may read it.

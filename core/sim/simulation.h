@@ -35,6 +35,38 @@ struct ResponseOptions {
   double max_torque_step_nm = 0.05;   ///< the same for torque
   /// Longest the force takes to ramp from zero to full at start and after a fault (s).
   double ramp_s = 0.5;
+
+  // --- added by the response (docs/response.md lists every knob) ---
+  /// The bound on the speed of every point of the held body (linear + angular times radius),
+  /// scene units per second: the proxy never moves farther than max_speed * tick_s per tick (the
+  /// safe distance, 0.5 mm at the defaults), and the broad phase looks twice that far.
+  double max_speed_m_per_s = 0.5;
+  /// The predictive distance of §5.2 is delta = v_c * tick_s, v_c the current bound on the speed
+  /// of the held body's points (from the device's motion, decaying with this time constant, s),
+  /// clamped to [min_predictive_fraction * radius of the held body, max_speed * tick_s].
+  double speed_decay_s = 0.02;
+  double min_predictive_fraction = 1e-3;
+  /// The proxy's contact stiffness is this many times k_s; the coupling stiffness is then chosen
+  /// so that the two in series give exactly k_s at the device (docs/response.md).
+  double proxy_stiffness_ratio = 50.0;
+  /// Coupling damping B = factor * K * tick_s (linear and rotational); B >= K tick_s / 2 is the
+  /// sampled-spring passivity bound, so 1 keeps a factor 2 of margin.
+  double coupling_damping_factor = 1.0;
+  /// Rotational coupling stiffness (N m/rad); 0: k_c * r^2 with r the held body's radius.
+  double rot_stiffness_nm_per_rad = 0.0;
+  /// A proxy step that would leave the proxy deeper than this (scene units) is bisected back.
+  double penetration_allowance_m = 0.5e-3;
+  /// Force shading (§5.3): edges whose faces bend by less than this are smoothed; 0: off.
+  double crease_angle_deg = 40.0;
+  /// Buttons that attach the probe to the body it touches (§6.2) while held down.
+  std::uint32_t attach_button_mask = 1u;
+  /// The probe attaches to a body no farther than this (scene units).
+  double attach_distance_m = 1e-3;
+  /// How the probe attaches to a body on a hinge (§6.2): kAuto picks kCentre when the probe is
+  /// within centre_radius_fraction of the body's radius from the axis, else kRim.
+  enum class HingeAttach : std::uint8_t { kAuto, kRim, kCentre };
+  HingeAttach hinge_attach = HingeAttach::kAuto;
+  double centre_radius_fraction = 0.3;
 };
 
 /// Everything the simulation needs besides the scene.
@@ -62,6 +94,8 @@ enum TickFlags : std::uint32_t {
   kTickStepLimited = 1u << 2,   ///< the force step was limited by F_max
   kTickPairsSkipped = 1u << 3,  ///< the scheduler left close pairs untested
   kTickCapacityFull = 1u << 4,  ///< some fixed capacity was full: work was dropped, visibly
+  kTickNonFinite = 1u << 5,     ///< the coupling gave NaN or Inf: zero was sent, the ramp restarted
+  kTickBackedOff = 1u << 6,     ///< the proxy's step went too deep and was bisected back
 };
 
 /// One tick's output, in scene coordinates.
@@ -74,6 +108,16 @@ struct TickOutput {
   std::uint32_t pairs_tested = 0;
   std::uint32_t pairs_skipped = 0;
   std::uint32_t flags = 0;            ///< TickFlags
+  // --- added by the response ---
+  /// The penalty wrench of §5.1–5.2 on the proxy (about the held body's centre of mass): what
+  /// the coupling balances at rest. World frame, N and N m.
+  Vec3 contact_force_W_n{0.0};
+  Vec3 contact_torque_W_nm{0.0};
+  /// 0: free; 1: a body grabbed rigidly; 2: attached at a rim point; 3: attached at the centre.
+  std::uint8_t attach_mode = 0;
+  std::int32_t attached_body = -1;   ///< scene body index, -1: none
+  bool travel_limited = false;       ///< the safe distance cut the proxy's step
+  double delta_m = 0.0;              ///< this tick's predictive distance delta (scene units)
 };
 
 /// The pose of one non-static body (for --record-bodies and the state stream).

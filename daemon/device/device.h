@@ -84,6 +84,12 @@ class Device {
   /// while the device is connected. Must not race read()/write(): backends hand state over with
   /// atomics only.
   virtual bool service() { return true; }
+
+  /// True while the device is connected (false after a removal or an I/O error, until
+  /// service() reconnects it). Any thread (an atomic load).
+  virtual bool connected() const noexcept { return true; }
+  /// How many times the device was lost since it was opened. Any thread (an atomic load).
+  virtual std::uint64_t disconnects() const noexcept { return 0; }
 };
 
 /// Options of every backend (config [device]).
@@ -97,6 +103,36 @@ struct DeviceOptions {
   double sim_idle_motion_after_s = 1.0;
   /// sim: the start pose of the hand (scene frame).
   Pose sim_home;
+  /// sim: the hand's rotational model (isotropic inertia, rotational spring and damper toward the
+  /// commanded orientation).
+  double sim_hand_inertia_kg_m2 = 0.001;
+  double sim_hand_rot_stiffness_nm_per_rad = 1.0;
+  double sim_hand_rot_damping_nm_s_per_rad = 0.06;
+  /// sim: the built-in gentle motion around sim_home: translation amplitude per axis and rotation
+  /// amplitude per axis (a Lissajous path, periods in docs/devices.md).
+  double sim_idle_amplitude_m = 0.02;
+  double sim_idle_angle_rad = 0.1;
+  /// sim: the longest integration step; a longer gap between read() calls is sub-stepped.
+  double sim_max_step_s = 0.001;
+
+  /// replay: how far from unit length a quaternion may be (| |q| - 1 |) before the file is refused;
+  /// nearer ones are normalised.
+  double replay_quat_tolerance = 0.01;
+
+  /// hid (SpaceMouse): speed at full deflection, linear and angular; the deflection that counts as
+  /// full; a deadband (counts) below which an axis reads zero; the half-size of the box (around
+  /// sim_home) the integrated position is kept in.
+  double hid_spacemouse_speed_m_per_s = 0.1;
+  double hid_spacemouse_angular_speed_rad_per_s = 1.0;
+  double hid_spacemouse_full_scale = 350.0;
+  double hid_spacemouse_deadband = 8.0;
+  double hid_spacemouse_workspace_m = 0.2;
+
+  /// usb (Falcon): with no packet from the device for this long, it counts as lost.
+  double usb_silence_lost_s = 0.1;
+  /// usb (Falcon): the largest motor command magnitude sent (firmware units, at most 32767);
+  /// commands above it are scaled down together, keeping the force direction.
+  int usb_falcon_max_motor_command = 4096;
 };
 
 /// Opens a device from its spec: "sim", "replay:FILE", "hid", "hid:PATH", "usb", "usb:falcon".

@@ -1,0 +1,204 @@
+#include "core/response/proxy.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace hapticd::response {
+namespace {
+
+using Mat6 = std::array<std::array<double, 6>, 6>;
+using Vec6 = std::array<double, 6>;
+
+constexpr std::size_t kMaxPasses = 16;
+
+Vec6 rowJacobian(const ContactRow& r, const Vec3& c_W) {
+  const Vec3 t = glm::cross(r.p_W - c_W, r.n_W);
+  return {r.n_W.x, r.n_W.y, r.n_W.z, t.x, t.y, t.z};
+}
+
+double dot6(const Vec6& a, const Vec6& b) {
+  double s = 0.0;
+  for (std::size_t i = 0; i < 6; ++i) s += a[i] * b[i];
+  return s;
+}
+
+// Solves A x = b for the leading n x n block of a symmetric positive definite A (Cholesky).
+// Returns false (x untouched) if A is not positive definite.
+bool choleskySolve(Mat6 A, Vec6 b, std::size_t n, Vec6* x) {
+  for (std::size_t j = 0; j < n; ++j) {
+    double d = A[j][j];
+    for (std::size_t k = 0; k < j; ++k) d -= A[j][k] * A[j][k];
+    if (!(d > 0.0)) return false;
+    const double l = std::sqrt(d);
+    A[j][j] = l;
+    for (std::size_t i = j + 1; i < n; ++i) {
+      double s = A[i][j];
+      for (std::size_t k = 0; k < j; ++k) s -= A[i][k] * A[j][k];
+      A[i][j] = s / l;
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    double s = b[i];
+    for (std::size_t k = 0; k < i; ++k) s -= A[i][k] * b[k];
+    b[i] = s / A[i][i];
+  }
+  for (std::size_t ii = n; ii-- > 0;) {
+    double s = b[ii];
+    for (std::size_t k = ii + 1; k < n; ++k) s -= A[k][ii] * b[k];
+    b[ii] = s / A[ii][ii];
+  }
+  for (std::size_t i = 0; i < n; ++i) (*x)[i] = b[i];
+  return true;
+}
+
+Vec3 clampLength(const Vec3& v, double max_length) {
+  const double l = std::sqrt(glm::dot(v, v));
+  return l > max_length ? v * (max_length / l) : v;
+}
+
+}  // namespace
+
+ProxyBasis ProxyBasis::free() {
+  ProxyBasis b;
+  b.dofs = 6;
+  for (std::size_t i = 0; i < 6; ++i) b.column[i][i] = 1.0;
+  return b;
+}
+
+ProxyBasis ProxyBasis::hinge(const Vec3& o_W, const Vec3& a_W, const Vec3& c_W) {
+  ProxyBasis b;
+  b.dofs = 1;
+  const Vec3 v = glm::cross(a_W, c_W - o_W);  // velocity of c per unit angular rate
+  b.column[0] = {v.x, v.y, v.z, a_W.x, a_W.y, a_W.z};
+  return b;
+}
+
+Wrench penaltyWrench(std::span<const ContactRow> rows, const Vec3& c_W, double delta) {
+  Wrench w;
+  for (const ContactRow& r : rows) {
+    if (r.gap >= delta) continue;
+    const Vec3 f = r.stiffness * (delta - r.gap) * r.n_W;
+    w.force_n += f;
+    w.torque_nm += glm::cross(r.p_W - c_W, f);
+  }
+  return w;
+}
+
+ProxyStep solveProxyStep(const ProxyProblem& pb, std::span<const ContactRow> rows,
+                         const ProxyParams& params) {
+  ProxyStep out;
+  const ProxyBasis& S = pb.basis;
+  const std::size_t n = S.dofs;
+
+  // the coupling part of the 6 x 6 system about c: a linear spring at the handle h and a
+  // rotational spring; its force is clamped to the device limits
+  const double kc = params.coupling_stiffness, kr = params.rot_coupling_stiffness;
+  const Vec3 e_lin = clampLength(pb.h_target_W - pb.h_W, params.max_force_n / kc);
+  const Vec3 e_rot = clampLength(rotationVector(pb.q_target * glm::conjugate(pb.q_handle)),
+                                 params.max_torque_nm / kr);
+  Mat6 A0{};
+  Vec6 b0{};
+  {
+    // handle displacement = dc + dtheta x r = dc - [r]x dtheta, r = h - c
+    Vec6 jx[3];
+    const Vec3 r = pb.h_W - pb.c_W;
+    for (int k = 0; k < 3; ++k) {
+      Vec3 ek{0.0};
+      ek[k] = 1.0;
+      const Vec3 t = glm::cross(r, ek);  // row k of -[r]x is (r x e_k)
+      jx[k] = pb.handle_fixed ? Vec6{} : Vec6{ek.x, ek.y, ek.z, t.x, t.y, t.z};
+    }
+    for (std::size_t i = 0; i < 6; ++i) {
+      for (std::size_t j = 0; j < 6; ++j) {
+        double s = 0.0;
+        for (int k = 0; k < 3; ++k) s += jx[k][i] * jx[k][j];
+        A0[i][j] = kc * s;
+      }
+      for (int k = 0; k < 3; ++k) b0[i] += kc * jx[k][i] * e_lin[k];
+    }
+    for (std::size_t i = 0; i < 3; ++i) {
+      A0[3 + i][3 + i] += kr;
+      b0[3 + i] += kr * e_rot[static_cast<int>(i)];
+    }
+  }
+
+  // active set: rows within delta now; passes add rows that would come within delta and drop
+  // rows that would pull
+  constexpr std::size_t kMaxRows = 256;  // rows beyond this are solved as a group of their own
+  std::array<std::uint8_t, kMaxRows> active{};
+  const std::size_t nr = std::min(rows.size(), kMaxRows);
+  for (std::size_t i = 0; i < nr; ++i) active[i] = rows[i].gap < params.delta ? 1 : 0;
+
+  Vec6 x{};
+  const std::size_t passes = std::min<std::size_t>(std::max<std::uint32_t>(params.max_passes, 1), kMaxPasses);
+  for (std::size_t pass = 0; pass < passes; ++pass) {
+    ++out.passes;
+    Mat6 A6 = A0;
+    Vec6 b6 = b0;
+    for (std::size_t i = 0; i < nr; ++i) {
+      if (!active[i]) continue;
+      const Vec6 J = rowJacobian(rows[i], pb.c_W);
+      const double k = rows[i].stiffness;
+      const double f = k * (params.delta - rows[i].gap);
+      for (std::size_t a = 0; a < 6; ++a) {
+        for (std::size_t b = 0; b < 6; ++b) A6[a][b] += k * J[a] * J[b];
+        b6[a] += f * J[a];
+      }
+    }
+    // project on the free coordinates: (S^T A S) x = S^T b
+    Mat6 A{};
+    Vec6 b{};
+    for (std::size_t p = 0; p < n; ++p) {
+      Vec6 As{};
+      for (std::size_t a = 0; a < 6; ++a) As[a] = 0.0;
+      for (std::size_t q = 0; q < n; ++q) {
+        double s = 0.0;
+        for (std::size_t a = 0; a < 6; ++a) {
+          double t = 0.0;
+          for (std::size_t c = 0; c < 6; ++c) t += A6[a][c] * S.column[q][c];
+          s += S.column[p][a] * t;
+        }
+        A[p][q] = s;
+      }
+      b[p] = dot6(S.column[p], b6);
+    }
+    Vec6 xs{};
+    if (!choleskySolve(A, b, n, &xs)) xs = Vec6{};
+    x = xs;
+    // the twist and the rows' predicted gaps
+    Vec6 twist{};
+    for (std::size_t q = 0; q < n; ++q) {
+      for (std::size_t a = 0; a < 6; ++a) twist[a] += S.column[q][a] * x[q];
+    }
+    bool changed = false;
+    for (std::size_t i = 0; i < nr; ++i) {
+      const double g = rows[i].gap + dot6(rowJacobian(rows[i], pb.c_W), twist);
+      const bool want = g < params.delta;
+      if (want != static_cast<bool>(active[i])) {
+        active[i] = want ? 1 : 0;
+        changed = true;
+      }
+    }
+    if (!changed) break;
+  }
+  for (std::size_t i = 0; i < nr; ++i) out.active += active[i];
+
+  Vec6 twist{};
+  for (std::size_t q = 0; q < n; ++q) {
+    for (std::size_t a = 0; a < 6; ++a) twist[a] += S.column[q][a] * x[q];
+  }
+  Vec3 dc{twist[0], twist[1], twist[2]}, dth{twist[3], twist[4], twist[5]};
+  // the safe distance: no point of the held set moves farther than max_travel
+  const double travel = std::sqrt(glm::dot(dc, dc)) + std::sqrt(glm::dot(dth, dth)) * pb.radius;
+  double scale = 1.0;
+  if (travel > params.max_travel) {
+    scale = params.max_travel / travel;
+    out.travel_limited = true;
+  }
+  out.dc_W = dc * scale;
+  out.dtheta_W = dth * scale;
+  for (std::size_t q = 0; q < 6; ++q) out.x[q] = x[q] * scale;
+  return out;
+}
+
+}  // namespace hapticd::response

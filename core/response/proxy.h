@@ -1,0 +1,112 @@
+#pragma once
+/// \file
+/// The virtual proxy of §3.2 of Gregory et al. 2000 (after Ruspini, Kolarov & Khatib 1997), in six
+/// degrees of freedom, with the predictive penalty forces of §5.1–5.2.
+///
+/// The proxy is the held body's virtual copy. Each tick it takes one quasi-static step toward
+/// the device: the step minimises
+///   E(x) = 1/2 |coupling error after the step|^2_K  +  sum_i 1/2 k_i (delta - gap_i(x))_+^2
+/// over the proxy's free coordinates x (6 for a free body, 1 for a body on a hinge), where the
+/// coupling pulls toward the device pose (its force clamped to the device limits, so the proxy is
+/// never pushed harder than the device can display) and each contact row i is a point of a
+/// manifold within the predictive distance delta of the environment (§5.2: "growing" the
+/// surface by delta). One Newton step on E with the gaps linearised (gap_i + J_i x), the set of
+/// active rows found by re-solving until it settles (rows that would pull are dropped, rows that
+/// would come within delta are added; at most a fixed number of passes). The Newton matrix holds
+/// the contact stiffness, so the step is implicit: stable for any contact stiffness. The step is
+/// then scaled so that no point of the held set moves farther than the safe distance
+/// delta = v_c * dt (§5.2): it can never pass through a surface it has not seen.
+///
+/// Penalty force of each row (§5.1–5.2): f_i = k_i (delta - gap_i) along its normal, which is
+/// k (delta - d) within delta and k (delta + D_p) on penetration; a pair's stiffness k is split
+/// over its manifold's points, so that the total does not depend on how many there are. The
+/// restoring torque is T = sum_i R_i x f_i about the reference point (the held set's centre).
+
+#include <array>
+#include <cstdint>
+#include <span>
+#include <vector>
+
+#include "core/response/wrench.h"
+
+namespace hapticd::response {
+
+/// One contact point of the held set against the environment, world frame.
+struct ContactRow {
+  Vec3 p_W{0.0};       ///< contact point
+  Vec3 n_W{0.0};       ///< unit; the direction that pushes the held set out (possibly shaded)
+  double gap = 0.0;    ///< along n_W: > 0 apart, < 0 penetrating (scene units)
+  double stiffness = 0.0;  ///< this point's share of its pair's stiffness (N per scene unit)
+};
+
+/// Fixed-capacity row buffer: reserve() off the servo thread, then push() never allocates; a full
+/// buffer drops the row and says so.
+class ContactRows {
+ public:
+  void reserve(std::size_t n) { rows_.reserve(n); }
+  void clear() { rows_.clear(); full_ = false; }
+  void push(const ContactRow& r) {
+    if (rows_.size() < rows_.capacity()) rows_.push_back(r);
+    else full_ = true;
+  }
+  std::span<const ContactRow> rows() const { return rows_; }
+  std::span<ContactRow> rows() { return rows_; }
+  bool full() const { return full_; }
+
+ private:
+  std::vector<ContactRow> rows_;
+  bool full_ = false;
+};
+
+/// The penalty wrench of §5.1–5.2 on the held set: sum over rows with gap < delta of
+/// f_i = k_i (delta - gap_i) n_i, torque about c_W. Any thread; no allocation.
+Wrench penaltyWrench(std::span<const ContactRow> rows, const Vec3& c_W, double delta);
+
+/// How the proxy may move: its velocity twist (dc, dtheta) about the reference point is
+/// basis * x for the free coordinates x.
+struct ProxyBasis {
+  std::uint32_t dofs = 6;
+  /// Columns (linear 3, angular 3); only the first `dofs` are used.
+  std::array<std::array<double, 6>, 6> column{};
+  static ProxyBasis free();
+  /// Rotation about the unit axis a_W through o_W, the twist taken about the reference point c_W.
+  static ProxyBasis hinge(const Vec3& o_W, const Vec3& a_W, const Vec3& c_W);
+};
+
+struct ProxyParams {
+  double coupling_stiffness = 600.0;      ///< k_c, N per scene unit
+  double rot_coupling_stiffness = 1.0;    ///< k_r, N m per radian
+  double delta = 0.0005;                  ///< predictive distance, scene units
+  double max_travel = 0.0005;             ///< safe distance per tick, scene units
+  double max_force_n = 10.0;              ///< coupling force on the proxy is clamped to this
+  double max_torque_nm = 1.0;
+  std::uint32_t max_passes = 8;           ///< active-set passes
+};
+
+/// One tick's problem.
+struct ProxyProblem {
+  Vec3 c_W{0.0};            ///< reference point (the held set's centre), world
+  Vec3 h_W{0.0};            ///< the proxy's handle point (coupled to the device), world
+  bool handle_fixed = false;  ///< the handle point does not move with the proxy (centre attach)
+  Vec3 h_target_W{0.0};     ///< the device's handle point
+  Quat q_handle{1.0, 0.0, 0.0, 0.0};  ///< the proxy handle's orientation
+  Quat q_target{1.0, 0.0, 0.0, 0.0};  ///< the device's orientation
+  double radius = 0.0;      ///< largest distance of a held point from c_W
+  ProxyBasis basis = ProxyBasis::free();
+};
+
+/// What the step decided.
+struct ProxyStep {
+  Vec3 dc_W{0.0};      ///< translation of the reference point
+  Vec3 dtheta_W{0.0};  ///< rotation vector about the reference point
+  std::array<double, 6> x{};  ///< the free coordinates' step
+  bool travel_limited = false;
+  std::uint32_t passes = 0;
+  std::uint32_t active = 0;  ///< rows active at the end
+};
+
+/// One proxy step (see the file comment). Servo thread; no allocation.
+ProxyStep solveProxyStep(const ProxyProblem& problem, std::span<const ContactRow> rows,
+                         const ProxyParams& params);
+
+}  // namespace hapticd::response

@@ -1,0 +1,226 @@
+#include "core/scene/shapes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace hapticd::scene::detail {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+// distance from the origin to the plane through three points (0 when degenerate)
+double planeDistance(const Vec3& a, const Vec3& b, const Vec3& c) {
+  const Vec3 n = glm::cross(b - a, c - a);
+  const double len = glm::length(n);
+  if (len <= 0.0) return 0.0;
+  return std::abs(glm::dot(n, a)) / len;
+}
+
+Vec3 gridPoint(std::uint32_t ring, std::uint32_t bands, std::uint32_t j, std::uint32_t segments) {
+  const double theta = kPi * static_cast<double>(ring) / static_cast<double>(bands);
+  const double phi = 2.0 * kPi * static_cast<double>(j) / static_cast<double>(segments);
+  return {std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi)};
+}
+
+// the deviation of a hull scaled out by 2 / (2 - d) from the unit sphere or circle it was
+// inscribed in with deviation d: vertices stick out by as much as the faces sink in
+double straddled(double inscribed) { return inscribed / (2.0 - inscribed); }
+
+}  // namespace
+
+Result<SphereGrid> sphereGridFor(double tolerance, std::uint32_t max_vertices) {
+  if (!(tolerance > 0.0) || !(tolerance < 0.5)) {
+    return Error{"tessellation_tolerance " + std::to_string(tolerance) + " must be in (0, 0.5)"};
+  }
+  for (std::uint32_t bands = 2;; ++bands) {
+    const std::uint64_t vertices =
+        2 + static_cast<std::uint64_t>(bands - 1) * 2ull * static_cast<std::uint64_t>(bands);
+    if (vertices > max_vertices) {
+      return Error{"tessellation_tolerance " + std::to_string(tolerance) + " needs more than " +
+                   std::to_string(max_vertices) + " hull vertices (max_hull_vertices) for a sphere"};
+    }
+    const std::uint32_t segments = 2 * bands;
+    // the hull's faces are the grid's cells: polar triangles and planar trapezoids
+    double min_distance = 1.0;
+    for (std::uint32_t ring = 0; ring < bands; ++ring) {
+      const Vec3 a = gridPoint(ring, bands, 0, segments);
+      const Vec3 b = gridPoint(ring + 1, bands, 0, segments);
+      const Vec3 c = ring == 0 ? gridPoint(ring + 1, bands, 1, segments)
+                               : gridPoint(ring, bands, 1, segments);
+      min_distance = std::min(min_distance, planeDistance(a, b, c));
+    }
+    const double inscribed = 1.0 - min_distance;
+    if (straddled(inscribed) <= tolerance) return SphereGrid{bands, inscribed};
+  }
+}
+
+Result<std::uint32_t> circleSegmentsFor(double tolerance, std::uint32_t max_vertices) {
+  if (!(tolerance > 0.0) || !(tolerance < 0.5)) {
+    return Error{"tessellation_tolerance " + std::to_string(tolerance) + " must be in (0, 0.5)"};
+  }
+  for (std::uint32_t n = 3;; ++n) {
+    if (2ull * n > max_vertices) {
+      return Error{"tessellation_tolerance " + std::to_string(tolerance) + " needs more than " +
+                   std::to_string(max_vertices) +
+                   " hull vertices (max_hull_vertices) for a cylinder"};
+    }
+    const double inscribed = 1.0 - std::cos(kPi / static_cast<double>(n));
+    if (straddled(inscribed) <= tolerance) return n;
+  }
+}
+
+std::vector<Vec3> boxPoints(const Vec3& size) {
+  const Vec3 h = 0.5 * size;
+  std::vector<Vec3> out;
+  out.reserve(8);
+  for (int i = 0; i < 8; ++i) {
+    out.push_back({(i & 1) ? h.x : -h.x, (i & 2) ? h.y : -h.y, (i & 4) ? h.z : -h.z});
+  }
+  return out;
+}
+
+std::vector<Vec3> spherePoints(double radius, const SphereGrid& grid) {
+  const double scale = radius * 2.0 / (2.0 - grid.inscribed_deviation);
+  const std::uint32_t segments = 2 * grid.bands;
+  std::vector<Vec3> out;
+  out.reserve(2 + static_cast<std::size_t>(grid.bands - 1) * segments);
+  out.push_back({0.0, scale, 0.0});
+  out.push_back({0.0, -scale, 0.0});
+  for (std::uint32_t ring = 1; ring < grid.bands; ++ring) {
+    for (std::uint32_t j = 0; j < segments; ++j) {
+      out.push_back(scale * gridPoint(ring, grid.bands, j, segments));
+    }
+  }
+  return out;
+}
+
+std::vector<Vec3> capsulePoints(double height, double radius_top, double radius_bottom,
+                                const SphereGrid& grid) {
+  std::vector<Vec3> out;
+  const auto add = [&](double radius, double y) {
+    if (radius <= 0.0) {
+      out.push_back({0.0, y, 0.0});
+      return;
+    }
+    for (const Vec3& p : spherePoints(radius, grid)) out.push_back(p + Vec3{0.0, y, 0.0});
+  };
+  add(radius_top, 0.5 * height);
+  add(radius_bottom, -0.5 * height);
+  return out;
+}
+
+std::vector<Vec3> cylinderPoints(double height, double radius_top, double radius_bottom,
+                                 std::uint32_t segments) {
+  const double inscribed = 1.0 - std::cos(kPi / static_cast<double>(segments));
+  const double scale = 2.0 / (2.0 - inscribed);
+  std::vector<Vec3> out;
+  out.reserve(2ull * segments);
+  const auto ring = [&](double radius, double y) {
+    if (radius <= 0.0) {
+      out.push_back({0.0, y, 0.0});
+      return;
+    }
+    for (std::uint32_t j = 0; j < segments; ++j) {
+      const double phi = 2.0 * kPi * static_cast<double>(j) / static_cast<double>(segments);
+      out.push_back({radius * scale * std::cos(phi), y, radius * scale * std::sin(phi)});
+    }
+  };
+  ring(radius_top, 0.5 * height);
+  ring(radius_bottom, -0.5 * height);
+  return out;
+}
+
+VolumeIntegrals polytopeIntegrals(const Polytope& shape, const Transform& X_BP) {
+  // tetrahedra from a reference point r inside the hull to every face's fan triangles, in
+  // coordinates y = x - r (small numbers far from the origin), shifted back at the end
+  const Vec3 r = X_BP.apply(shape.centroid());
+  const auto vertices = shape.vertices();
+  double volume = 0.0;
+  Vec3 first{0.0};
+  Mat3 second{0.0};
+  for (std::uint32_t f = 0; f < shape.faces().size(); ++f) {
+    const auto boundary = shape.faceEdges(f);
+    if (boundary.size() < 3) continue;
+    const Vec3 a = X_BP.rotate(vertices[boundary[0].vertex].p - shape.centroid());
+    for (std::size_t i = 1; i + 1 < boundary.size(); ++i) {
+      const Vec3 b = X_BP.rotate(vertices[boundary[i].vertex].p - shape.centroid());
+      const Vec3 c = X_BP.rotate(vertices[boundary[i + 1].vertex].p - shape.centroid());
+      const double v = glm::dot(a, glm::cross(b, c)) / 6.0;
+      const Vec3 s = a + b + c;  // the fourth vertex is the origin of y
+      volume += v;
+      first += v * s / 4.0;
+      const Mat3 sum = glm::outerProduct(a, a) + glm::outerProduct(b, b) +
+                       glm::outerProduct(c, c) + glm::outerProduct(s, s);
+      second += (v / 20.0) * sum;
+    }
+  }
+  VolumeIntegrals out;
+  out.volume = volume;
+  out.first = first + volume * r;
+  out.second = second + glm::outerProduct(first, r) + glm::outerProduct(r, first) +
+               volume * glm::outerProduct(r, r);
+  return out;
+}
+
+MassProperties massFromIntegrals(const VolumeIntegrals& v, double density) {
+  MassProperties out;
+  if (!(v.volume > 0.0)) return out;
+  out.mass = density * v.volume;
+  out.com = v.first / v.volume;
+  const Mat3 j = density * (v.second - v.volume * glm::outerProduct(out.com, out.com));
+  const double trace = j[0][0] + j[1][1] + j[2][2];
+  out.inertia = trace * Mat3(1.0) - j;
+  // exact symmetry (the sums above are symmetric only up to rounding)
+  for (int c = 0; c < 3; ++c) {
+    for (int r = c + 1; r < 3; ++r) {
+      const double m = 0.5 * (out.inertia[c][r] + out.inertia[r][c]);
+      out.inertia[c][r] = m;
+      out.inertia[r][c] = m;
+    }
+  }
+  return out;
+}
+
+double convexityViolation(const Polytope& hull, std::span<const Vec3> points,
+                          std::span<const std::uint32_t> triangles) {
+  const double size = std::max(hull.radius(), 1e-300);
+  double worst = 0.0;
+  std::uint32_t hint = 0;
+  const auto vertices = hull.vertices();
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    const Vec3& a = points[triangles[t]];
+    const Vec3& b = points[triangles[t + 1]];
+    const Vec3& c = points[triangles[t + 2]];
+    const Vec3 n = glm::cross(b - a, c - a);
+    const double len = glm::length(n);
+    // a degenerate (zero-area) triangle has no plane to test
+    if (!(len > 1e-12 * size * size)) continue;
+    const Vec3 u = n / len;
+    hint = hull.support(u, hint);
+    const double front = glm::dot(u, vertices[hint].p - a);
+    const std::uint32_t back_vertex = hull.support(-u, hint);
+    const double back = glm::dot(-u, vertices[back_vertex].p - a);
+    worst = std::max(worst, std::min(front, back));
+  }
+  return worst;
+}
+
+void splitRigid(const Mat3& A, Mat3* R, Mat3* S) {
+  const double scale = std::max({glm::length(A[0]), glm::length(A[1]), glm::length(A[2])});
+  const double tiny = scale * 1e-12;
+  Vec3 x = A[0];
+  if (!(glm::length(x) > tiny)) x = Vec3{1.0, 0.0, 0.0};
+  x = glm::normalize(x);
+  Vec3 y = A[1] - glm::dot(A[1], x) * x;
+  if (!(glm::length(y) > tiny)) {
+    y = std::abs(x.x) < 0.9 ? Vec3{1.0, 0.0, 0.0} : Vec3{0.0, 1.0, 0.0};
+    y = y - glm::dot(y, x) * x;
+  }
+  y = glm::normalize(y);
+  const Vec3 z = glm::cross(x, y);
+  *R = Mat3(x, y, z);
+  *S = glm::transpose(*R) * A;
+}
+
+}  // namespace hapticd::scene::detail

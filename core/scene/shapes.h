@@ -1,0 +1,87 @@
+#pragma once
+/// \file
+/// Collider geometry for the scene loader: tessellation of the curved KHR_implicit_shapes into
+/// point sets whose hull stays within a relative tolerance of the true surface, the convexity test
+/// of mesh colliders, and exact mass properties of convex polytopes (the divergence theorem over
+/// the hull's faces, as tetrahedra: Tonon, "Explicit exact formulas for the 3-D tetrahedron
+/// inertia tensor in terms of its vertex coordinates", J. Math. Stat. 1(1) 2004; the same integrals
+/// as Mirtich, "Fast and accurate computation of polyhedral mass properties", JGT 1(2) 1996).
+/// Any thread but the servo thread (allocates).
+
+#include <cstdint>
+#include <span>
+#include <string>
+#include <vector>
+
+#include "core/common/result.h"
+#include "core/geometry/polytope.h"
+#include "core/geometry/pose.h"
+
+namespace hapticd::scene::detail {
+
+using geom::Mat3;
+using geom::Polytope;
+using geom::Transform;
+using geom::Vec3;
+
+/// Resolution of the latitude-longitude sphere grid used for spheres and capsule caps.
+struct SphereGrid {
+  std::uint32_t bands = 4;  ///< latitude bands (pole to pole); longitude segments = 2 * bands
+  /// Largest distance of the unit sphere from the inscribed grid polytope (a fraction of radius).
+  double inscribed_deviation = 0.0;
+};
+
+/// The coarsest grid whose hull, scaled out so it straddles the sphere, deviates from the sphere by
+/// at most `tolerance` * radius; an error when that needs more than `max_vertices` vertices.
+Result<SphereGrid> sphereGridFor(double tolerance, std::uint32_t max_vertices);
+
+/// Segments of a circle so that the straddling polygon deviates by at most `tolerance` * radius.
+Result<std::uint32_t> circleSegmentsFor(double tolerance, std::uint32_t max_vertices);
+
+/// Points (in the shape frame, Y axis up) of each implicit shape. Curved shapes are tessellated
+/// with the grids above; the hull of the points is within tolerance of the surface.
+std::vector<Vec3> boxPoints(const Vec3& size);
+std::vector<Vec3> spherePoints(double radius, const SphereGrid& grid);
+/// Capsule: the hull of two spheres at y = +-height/2 (radii may differ, one may be 0).
+std::vector<Vec3> capsulePoints(double height, double radius_top, double radius_bottom,
+                                const SphereGrid& grid);
+/// Cylinder (a cone when one radius is 0), y in [-height/2, height/2].
+std::vector<Vec3> cylinderPoints(double height, double radius_top, double radius_bottom,
+                                 std::uint32_t segments);
+
+/// Volume integrals of a solid: volume, first moment and second moment about the frame origin.
+struct VolumeIntegrals {
+  double volume = 0.0;     ///< m^3
+  Vec3 first{0.0};         ///< integral of x dV
+  Mat3 second{0.0};        ///< integral of x x^T dV
+  void add(const VolumeIntegrals& o) {
+    volume += o.volume;
+    first += o.first;
+    second += o.second;
+  }
+};
+
+/// The exact integrals of the convex polytope `shape` placed by X_BP, in frame B.
+VolumeIntegrals polytopeIntegrals(const Polytope& shape, const Transform& X_BP);
+
+/// Mass, centre of mass and inertia about the centre of mass of integrals at `density` (kg/m^3).
+struct MassProperties {
+  double mass = 0.0;
+  Vec3 com{0.0};
+  Mat3 inertia{0.0};
+};
+MassProperties massFromIntegrals(const VolumeIntegrals& v, double density);
+
+/// Largest amount by which a triangle's plane has hull vertices in front of it, over all
+/// triangles, each triangle taken with whichever orientation suits it better (so the winding
+/// does not matter). 0 for a convex mesh (up to rounding); positive when some triangle's plane cuts
+/// the hull, i.e. the mesh is not convex. `triangles` index `points`; the hull is of `points`.
+double convexityViolation(const Polytope& hull, std::span<const Vec3> points,
+                          std::span<const std::uint32_t> triangles);
+
+/// The rigid part of an affine map (Gram-Schmidt on the columns, always a proper rotation) and the
+/// remaining linear part: A = R * S with S upper triangular. Degenerate columns get any
+/// orthonormal completion.
+void splitRigid(const Mat3& A, Mat3* R, Mat3* S);
+
+}  // namespace hapticd::scene::detail

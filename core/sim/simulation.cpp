@@ -1,0 +1,679 @@
+#include "core/sim/simulation.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "core/collision/collision_world.h"
+#include "core/response/coupling.h"
+#include "core/response/face_contact.h"
+#include "core/response/output_stage.h"
+#include "core/response/proxy.h"
+#include "core/response/shading.h"
+
+namespace hapticd::sim {
+namespace {
+
+using collision::BodyKind;
+using collision::CollisionWorld;
+using geom::Quat;
+using geom::Transform;
+using response::ContactRow;
+
+constexpr std::uint32_t kNone = 0xffffffffu;
+// faces within ~18 degrees of the pair's normal on both sides make a face-face contact
+constexpr double kFaceCosTolerance = 0.95;
+
+enum class Mode : std::uint8_t { kFree = 0, kGrab = 1, kRim = 2, kCentre = 3 };
+
+bool finitePositive(double v) { return std::isfinite(v) && v > 0.0; }
+
+bool finitePose(const Vec3& p, const Quat& q) {
+  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(q.w) &&
+         std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z);
+}
+
+Vec3 rotate(const Quat& q, const Vec3& v) { return q * v; }
+
+// Points on a sphere (golden-angle spiral), for the probe sphere's hull.
+std::vector<Vec3> spherePoints(double radius, int n) {
+  std::vector<Vec3> pts;
+  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
+  for (int i = 0; i < n; ++i) {
+    const double y = 1.0 - 2.0 * (i + 0.5) / n;
+    const double r = std::sqrt(std::max(0.0, 1.0 - y * y));
+    const double a = golden * i;
+    pts.push_back(radius * Vec3{r * std::cos(a), y, r * std::sin(a)});
+  }
+  return pts;
+}
+
+struct BodyInfo {
+  std::int32_t scene_index = -1;  // -1: the probe sphere
+  BodyKind kind = BodyKind::kStatic;
+  Vec3 com_B{0.0};
+  double stiffness = 0.0;  // felt stiffness of this body's surfaces (N per scene unit)
+  // a hinge to the scene frame (or to a static body), for the attach modes
+  bool hinge = false;
+  Vec3 hinge_o_B{0.0}, hinge_a_B{0.0};  // in this body's frame at its initial pose
+  std::vector<response::ShadingTable> shading;  // per primitive (empty: shading off)
+};
+
+class SimulationImpl final : public Simulation {
+ public:
+  SimulationImpl(std::shared_ptr<const scene::SceneModel> scene, const SimOptions& options)
+      : scene_(std::move(scene)),
+        options_(options),
+        world_(worldOptions(options)),
+        coupling_(response::CouplingParams{}),
+        output_(outputLimits(options.response)) {}
+
+  static collision::WorldOptions worldOptions(const SimOptions& o) {
+    collision::WorldOptions w;
+    const double delta = o.response.max_speed_m_per_s * o.response.tick_s;
+    // pairs within the predictive distance plus one tick's travel are found
+    w.box_margin = 2.0 * delta;
+    w.budget.max_pairs = o.max_pairs_per_tick;
+    return w;
+  }
+  static response::OutputLimits outputLimits(const ResponseOptions& r) {
+    response::OutputLimits l;
+    l.max_force_n = r.max_force_n;
+    l.max_torque_nm = r.max_torque_nm;
+    l.max_force_step_n = r.max_force_step_n;
+    l.max_torque_step_nm = r.max_torque_step_nm;
+    l.ramp_s = r.ramp_s;
+    l.tick_s = r.tick_s;
+    return l;
+  }
+
+  Result<bool> build();
+
+  TickOutput step(const TickInput& input) override;
+  std::span<const BodyPose> bodyPoses() const override { return body_poses_; }
+  void restartRamp() override { output_.restartRamp(); }
+  const scene::SceneModel& scene() const override { return *scene_; }
+
+ private:
+  bool isHeld(std::uint32_t body) const {
+    for (std::uint32_t i = 0; i < held_count_; ++i) {
+      if (held_[i] == body) return true;
+    }
+    return false;
+  }
+  bool excluded(std::uint32_t a, std::uint32_t b) const {
+    for (const auto& [x, y] : excluded_pairs_) {
+      if ((x == a && y == b) || (x == b && y == a)) return true;
+    }
+    return false;
+  }
+  Vec3 comW(std::uint32_t body) const {
+    const geom::Pose& X = world_.pose(body);
+    return X.translation + rotate(X.rotation, info_[body].com_B);
+  }
+  double radiusAbout(std::uint32_t body, const Vec3& c_W) const;
+  double heldRadius(const Vec3& c_W) const;
+  void gatherRows(double* max_penetration);
+  const geom::Polytope& primShape(std::uint32_t body, std::uint32_t prim) const;
+  Transform primTransform(std::uint32_t body, std::uint32_t prim) const;
+  void applyStep(const response::ProxyStep& s);
+  void updateAttachment(const TickInput& input);
+  void attach(std::uint32_t body);
+  void detach();
+  void setHeldPoses();
+  void setRotationalStiffness();
+
+  std::shared_ptr<const scene::SceneModel> scene_;
+  SimOptions options_;
+  CollisionWorld world_;
+  response::VirtualCoupling coupling_;
+  response::OutputStage output_;
+  response::ProxyParams proxy_params_;
+  std::shared_ptr<const geom::Polytope> probe_sphere_;
+  std::vector<BodyInfo> info_;  // per world body
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> excluded_pairs_;
+  std::vector<BodyPose> body_poses_;
+  std::vector<std::uint32_t> pose_bodies_;  // world ids of body_poses_
+  response::ContactRows rows_;
+  double delta_ = 0.0;       // this tick's predictive distance
+  double max_travel_ = 0.0;  // safe distance per tick
+  double speed_decay_ = 0.0;
+  double v_c_ = 0.0;         // current speed bound of the held body's points
+  bool have_prev_device_ = false;
+  Vec3 prev_h_dev_{0.0};
+  Quat prev_q_dev_{1.0, 0.0, 0.0, 0.0};
+  double k_s_ = 0.0;     // felt stiffness at the device
+  double k_c_ = 0.0;     // coupling stiffness
+  double ratio_ = 50.0;  // proxy contact stiffness / k_s
+  double probe_radius_ = 0.0;
+
+  // the held set: the probe body first, then an attached body
+  std::uint32_t probe_ = 0;
+  std::array<std::uint32_t, 2> held_{};
+  std::uint32_t held_count_ = 1;
+  Mode mode_ = Mode::kFree;
+  std::uint32_t attached_ = kNone;
+  Transform X_probe_attached_;   // kGrab: the attached body in the probe's frame
+  Transform X_attached_probe_;   // kRim: the probe in the attached body's frame
+  Quat q_attached_probe_{1.0, 0.0, 0.0, 0.0};  // kCentre: the probe's rotation relative to the body
+  Vec3 centre_h_W_{0.0};         // kCentre: the fixed handle point
+  Vec3 hinge_o_W_{0.0}, hinge_a_W_{0.0};
+  double held_radius_ = 0.0;
+  std::uint32_t last_buttons_ = 0;
+  bool first_step_ = true;
+  geom::Pose X_W_probe_;  // the proxy: the probe body's pose
+};
+
+double SimulationImpl::radiusAbout(std::uint32_t body, const Vec3& c_W) const {
+  const Transform X = world_.pose(body).toTransform();
+  double r = 0.0;
+  if (info_[body].scene_index < 0) {
+    for (const auto& v : probe_sphere_->vertices()) r = std::max(r, glm::length(X.apply(v.p) - c_W));
+    return r;
+  }
+  for (const auto& p : scene_->bodies[static_cast<std::size_t>(info_[body].scene_index)].primitives) {
+    const Transform XP = X * p.X_BP.toTransform();
+    for (const auto& v : p.shape->vertices()) r = std::max(r, glm::length(XP.apply(v.p) - c_W));
+  }
+  return r;
+}
+
+double SimulationImpl::heldRadius(const Vec3& c_W) const {
+  double r = 0.0;
+  for (std::uint32_t i = 0; i < held_count_; ++i) r = std::max(r, radiusAbout(held_[i], c_W));
+  return r;
+}
+
+Result<bool> SimulationImpl::build() {
+  const ResponseOptions& r = options_.response;
+  if (!finitePositive(r.stiffness_n_per_m)) return Error{"response.stiffness must be > 0"};
+  if (!finitePositive(r.tick_s)) return Error{"response.tick must be > 0"};
+  if (!finitePositive(r.max_force_n)) return Error{"response.max_force must be > 0"};
+  if (!finitePositive(r.max_torque_nm)) return Error{"response.max_torque must be > 0"};
+  if (!finitePositive(r.max_force_step_n)) return Error{"response.max_force_step must be > 0"};
+  if (!finitePositive(r.max_torque_step_nm)) return Error{"response.max_torque_step must be > 0"};
+  if (!std::isfinite(r.ramp_s) || r.ramp_s < 0.0) return Error{"response.ramp must be >= 0"};
+  if (!finitePositive(r.max_speed_m_per_s)) return Error{"response.max_speed must be > 0"};
+  if (!std::isfinite(r.speed_decay_s) || r.speed_decay_s < 0.0)
+    return Error{"response.speed_decay must be >= 0"};
+  if (!std::isfinite(r.min_predictive_fraction) || r.min_predictive_fraction <= 0.0 ||
+      r.min_predictive_fraction > 1.0)
+    return Error{"response.min_predictive_fraction must be in (0, 1]"};
+  if (!std::isfinite(r.proxy_stiffness_ratio) || r.proxy_stiffness_ratio <= 1.0)
+    return Error{"response.proxy_stiffness_ratio must be > 1"};
+  if (!std::isfinite(r.coupling_damping_factor) || r.coupling_damping_factor < 0.0)
+    return Error{"response.coupling_damping_factor must be >= 0"};
+  if (!std::isfinite(r.rot_stiffness_nm_per_rad) || r.rot_stiffness_nm_per_rad < 0.0)
+    return Error{"response.rot_stiffness must be >= 0"};
+  if (!finitePositive(r.penetration_allowance_m))
+    return Error{"response.penetration_allowance must be > 0"};
+  if (!std::isfinite(r.crease_angle_deg) || r.crease_angle_deg < 0.0 || r.crease_angle_deg >= 90.0)
+    return Error{"response.crease_angle must be in [0, 90) degrees"};
+  if (!std::isfinite(r.attach_distance_m) || r.attach_distance_m < 0.0)
+    return Error{"response.attach_distance must be >= 0"};
+  const scene::SceneModel& sc = *scene_;
+  if (sc.probe_body >= static_cast<std::int32_t>(sc.bodies.size()))
+    return Error{"scene: probe body " + std::to_string(sc.probe_body) + " out of range (" +
+                 std::to_string(sc.bodies.size()) + " bodies)"};
+  if (sc.probe_body < 0 && !finitePositive(options_.probe_sphere_radius_m))
+    return Error{"probe sphere radius must be > 0"};
+
+  max_travel_ = r.max_speed_m_per_s * r.tick_s;
+  speed_decay_ = r.speed_decay_s > 0.0 ? std::exp(-r.tick_s / r.speed_decay_s) : 0.0;
+  k_s_ = r.stiffness_n_per_m;
+  ratio_ = r.proxy_stiffness_ratio;
+  // series springs: k_c in series with ratio * k_s gives k_s
+  k_c_ = k_s_ * ratio_ / (ratio_ - 1.0);
+  const double crease = r.crease_angle_deg * std::numbers::pi / 180.0;
+
+  std::size_t total_prims = 0, moving_prims = 0;
+  for (std::size_t i = 0; i < sc.bodies.size(); ++i) {
+    const scene::Body& b = sc.bodies[i];
+    collision::BodyDesc desc;
+    const bool is_probe = static_cast<std::int32_t>(i) == sc.probe_body;
+    desc.kind = is_probe ? BodyKind::kProbe
+                : b.motion == scene::Motion::kStatic    ? BodyKind::kStatic
+                : b.motion == scene::Motion::kKinematic ? BodyKind::kKinematic
+                                                        : BodyKind::kDynamic;
+    BodyInfo info;
+    info.scene_index = static_cast<std::int32_t>(i);
+    info.kind = desc.kind;
+    info.com_B = b.com_B;
+    info.stiffness = b.stiffness_n_per_m.has_value() ? std::min(*b.stiffness_n_per_m, k_s_) : k_s_;
+    if (!(info.stiffness > 0.0)) return Error{"body '" + b.name + "': stiffness must be > 0"};
+    for (const scene::Primitive& p : b.primitives) {
+      if (!p.shape) return Error{"body '" + b.name + "': a primitive has no shape"};
+      collision::PrimitiveDesc pd;
+      pd.shape = p.shape;
+      pd.X_BP = p.X_BP.toTransform();
+      pd.group = p.group;
+      pd.mask = p.mask;
+      desc.primitives.push_back(pd);
+      if (crease > 0.0) info.shading.emplace_back(*p.shape, crease);
+    }
+    total_prims += b.primitives.size();
+    if (desc.kind != BodyKind::kStatic) moving_prims += b.primitives.size();
+    const std::uint32_t id = world_.addBody(desc, b.X_WB);
+    if (id != i) return Error{"collision world: unexpected body id"};
+    info_.push_back(std::move(info));
+  }
+  if (sc.probe_body < 0) {
+    auto hull = geom::Polytope::fromPoints(spherePoints(options_.probe_sphere_radius_m, 64));
+    if (!hull.ok()) return Error{"probe sphere: " + hull.error().message};
+    probe_sphere_ = std::make_shared<const geom::Polytope>(std::move(hull).value());
+    collision::BodyDesc desc;
+    desc.kind = BodyKind::kProbe;
+    desc.primitives.push_back({probe_sphere_, Transform{}});
+    BodyInfo info;
+    info.kind = BodyKind::kProbe;
+    info.stiffness = k_s_;
+    if (crease > 0.0) info.shading.emplace_back(*probe_sphere_, crease);
+    probe_ = world_.addBody(desc, geom::Pose{});
+    info_.push_back(std::move(info));
+    ++total_prims;
+    ++moving_prims;
+  } else {
+    probe_ = static_cast<std::uint32_t>(sc.probe_body);
+  }
+
+  // joints: hinges to the scene frame (or a static body) for the attach modes; pairs that the
+  // joint keeps from colliding
+  for (const scene::Joint& j : sc.joints) {
+    const auto nb = static_cast<std::int32_t>(sc.bodies.size());
+    if (j.body_a < 0 || j.body_a >= nb || j.body_b >= nb) return Error{"joint: body out of range"};
+    if (j.body_b >= 0 && !j.enable_collision)
+      excluded_pairs_.emplace_back(static_cast<std::uint32_t>(j.body_a),
+                                   static_cast<std::uint32_t>(j.body_b));
+    if (j.kind != scene::JointKind::kHinge || j.hinge_axis > 2) continue;
+    const bool to_ground = j.body_b < 0 || sc.bodies[static_cast<std::size_t>(j.body_b)].motion ==
+                                               scene::Motion::kStatic;
+    if (!to_ground) continue;
+    BodyInfo& info = info_[static_cast<std::size_t>(j.body_a)];
+    info.hinge = true;
+    info.hinge_o_B = j.X_AJ.translation;
+    Vec3 axis{0.0};
+    axis[j.hinge_axis] = 1.0;
+    info.hinge_a_B = glm::normalize(rotate(j.X_AJ.rotation, axis));
+  }
+
+  // capacities: every pair a moving primitive can make, bounded
+  const std::size_t pairs = std::min<std::size_t>(moving_prims * total_prims + 64, 1u << 16);
+  world_.reserve(total_prims + 1, pairs);
+  rows_.reserve(pairs * collision::Manifold::kMaxPoints);
+  for (std::uint32_t id = 0; id < info_.size(); ++id) {
+    if (info_[id].kind == BodyKind::kStatic) continue;
+    if (info_[id].scene_index < 0) continue;
+    pose_bodies_.push_back(id);
+    body_poses_.push_back({static_cast<std::uint32_t>(info_[id].scene_index), world_.pose(id)});
+  }
+
+  // the probe starts at its scene pose (the sphere at the origin) and is coupled to the device
+  X_W_probe_ = world_.pose(probe_);
+  held_[0] = probe_;
+  held_count_ = 1;
+  probe_radius_ = std::max(radiusAbout(probe_, comW(probe_)), 1e-9);
+  held_radius_ = probe_radius_;
+  delta_ = std::min(max_travel_, r.min_predictive_fraction * held_radius_);
+
+  response::CouplingParams cp;
+  cp.tick_s = r.tick_s;
+  cp.stiffness_n_per_m = k_c_;
+  cp.damping_n_s_per_m = r.coupling_damping_factor * k_c_ * r.tick_s;
+  cp.rot_stiffness_nm_per_rad = r.rot_stiffness_nm_per_rad > 0.0
+                                    ? r.rot_stiffness_nm_per_rad
+                                    : k_c_ * probe_radius_ * probe_radius_;
+  cp.rot_damping_nm_s_per_rad = r.coupling_damping_factor * cp.rot_stiffness_nm_per_rad * r.tick_s;
+  coupling_ = response::VirtualCoupling(cp);
+
+  proxy_params_.coupling_stiffness = cp.stiffness_n_per_m;
+  proxy_params_.rot_coupling_stiffness = cp.rot_stiffness_nm_per_rad;
+  proxy_params_.delta = delta_;
+  proxy_params_.max_travel = max_travel_;
+  proxy_params_.max_force_n = r.max_force_n;
+  proxy_params_.max_torque_nm = r.max_torque_nm;
+
+  world_.step();
+  double pen = 0.0;
+  gatherRows(&pen);
+  return true;
+}
+
+const geom::Polytope& SimulationImpl::primShape(std::uint32_t body, std::uint32_t prim) const {
+  const BodyInfo& bi = info_[body];
+  if (bi.scene_index < 0) return *probe_sphere_;
+  return *scene_->bodies[static_cast<std::size_t>(bi.scene_index)].primitives[prim].shape;
+}
+
+Transform SimulationImpl::primTransform(std::uint32_t body, std::uint32_t prim) const {
+  const BodyInfo& bi = info_[body];
+  const Transform X_WB = world_.pose(body).toTransform();
+  if (bi.scene_index < 0) return X_WB;
+  return X_WB *
+         scene_->bodies[static_cast<std::size_t>(bi.scene_index)].primitives[prim].X_BP.toTransform();
+}
+
+void SimulationImpl::gatherRows(double* max_penetration) {
+  rows_.clear();
+  double pen = 0.0;
+  response::FaceContact fc;
+  for (const collision::Contact& c : world_.contacts()) {
+    if (!c.answered) continue;
+    const bool ha = isHeld(c.body_a), hb = isHeld(c.body_b);
+    if (ha == hb || excluded(c.body_a, c.body_b)) continue;
+    const std::uint32_t env = ha ? c.body_b : c.body_a;
+    const std::uint32_t env_prim = ha ? c.prim_b : c.prim_a;
+    const std::uint32_t held = ha ? c.body_a : c.body_b;
+    const std::uint32_t held_prim = ha ? c.prim_a : c.prim_b;
+    const geom::Feature env_feature = ha ? c.feature_b : c.feature_a;
+    const geom::Feature held_feature = ha ? c.feature_a : c.feature_b;
+    pen = std::max(pen, -c.distance);
+    // the pair's stiffness: the environment body's felt stiffness k_f through the proxy's
+    // contact spring k_p = k_f k_c / (k_c - k_f), so that k_c and k_p in series give k_f
+    const double kf = info_[env].stiffness;
+    const double kp = kf * k_c_ / (k_c_ - kf);
+    const double sign = hb ? 1.0 : -1.0;  // normals run from a to b: out of the environment
+    const BodyInfo& ei = info_[env];
+    const response::ShadingTable* table =
+        env_prim < ei.shading.size() ? &ei.shading[env_prim] : nullptr;
+    const geom::Polytope& env_shape = primShape(env, env_prim);
+    const Transform X_WE = primTransform(env, env_prim);
+    const Vec3 n_pair = sign * c.normal;
+
+    // a face against a face: the whole clipped region, each point with its own gap
+    if (response::faceContact(env_shape, X_WE, env_feature, primShape(held, held_prim),
+                              primTransform(held, held_prim), held_feature, n_pair,
+                              kFaceCosTolerance, &fc)) {
+      for (std::uint32_t i = 0; i < fc.count; ++i) pen = std::max(pen, -fc.gap[i]);
+      for (std::uint32_t i = 0; i < fc.count; ++i) {
+        ContactRow row;
+        row.p_W = fc.p_W[i];
+        row.n_W = fc.n_W;
+        if (table != nullptr) {
+          const Vec3 x_E = glm::transpose(X_WE.R) * (fc.p_W[i] - X_WE.t);
+          row.n_W = X_WE.rotate(table->shadedNormalOnFace(env_shape, fc.env_face, x_E));
+        }
+        row.gap = fc.gap[i];
+        row.stiffness = kp / static_cast<double>(fc.count);
+        rows_.push(row);
+      }
+      continue;
+    }
+
+    auto shade = [&](const Vec3& p_W, const Vec3& n_W) {
+      if (table == nullptr) return n_W;
+      const Vec3 x_P = glm::transpose(X_WE.R) * (p_W - X_WE.t);
+      const Vec3 n_P = glm::transpose(X_WE.R) * n_W;
+      return X_WE.R * table->shadedNormal(env_shape, x_P, n_P, env_feature);
+    };
+    const std::size_t m = c.manifold.count;
+    if (m == 0) {
+      ContactRow row;
+      row.p_W = 0.5 * (c.point_a + c.point_b);
+      row.n_W = shade(row.p_W, n_pair);
+      row.gap = c.distance;
+      row.stiffness = kp;
+      rows_.push(row);
+      continue;
+    }
+    for (std::size_t i = 0; i < m; ++i) {
+      const collision::ContactPoint& cp = c.manifold.points[i];
+      ContactRow row;
+      row.p_W = cp.point;
+      row.n_W = shade(cp.point, sign * cp.normal);
+      row.gap = -cp.depth;
+      row.stiffness = kp / static_cast<double>(m);
+      rows_.push(row);
+    }
+  }
+  *max_penetration = pen;
+}
+
+void SimulationImpl::setHeldPoses() {
+  world_.setPose(probe_, X_W_probe_);
+  if (mode_ == Mode::kFree || attached_ == kNone) return;
+  if (mode_ == Mode::kGrab) {
+    const Transform T = X_W_probe_.toTransform() * X_probe_attached_;
+    geom::Pose X;
+    X.translation = T.t;
+    X.rotation = glm::normalize(glm::quat_cast(T.R));
+    world_.setPose(attached_, X);
+  }
+}
+
+void SimulationImpl::applyStep(const response::ProxyStep& s) {
+  if (mode_ == Mode::kFree || mode_ == Mode::kGrab) {
+    const Vec3 c = comW(probe_);
+    const Quat dq = response::quatFromRotationVector(s.dtheta_W);
+    X_W_probe_.rotation = glm::normalize(dq * X_W_probe_.rotation);
+    X_W_probe_.translation = c + s.dc_W + rotate(dq, X_W_probe_.translation - c);
+    setHeldPoses();
+    return;
+  }
+  // a hinge: turn the attached body about its axis by the step's one coordinate
+  const Quat dq = response::quatFromRotationVector(hinge_a_W_ * s.x[0]);
+  geom::Pose Xb = world_.pose(attached_);
+  Xb.rotation = glm::normalize(dq * Xb.rotation);
+  Xb.translation = hinge_o_W_ + rotate(dq, Xb.translation - hinge_o_W_);
+  world_.setPose(attached_, Xb);
+  if (mode_ == Mode::kRim) {
+    const Transform T = Xb.toTransform() * X_attached_probe_;
+    X_W_probe_.translation = T.t;
+    X_W_probe_.rotation = glm::normalize(glm::quat_cast(T.R));
+  } else {
+    X_W_probe_.rotation = glm::normalize(Xb.rotation * q_attached_probe_);
+    X_W_probe_.translation = centre_h_W_ - rotate(X_W_probe_.rotation, info_[probe_].com_B);
+  }
+  world_.setPose(probe_, X_W_probe_);
+}
+
+void SimulationImpl::attach(std::uint32_t body) {
+  const BodyInfo& bi = info_[body];
+  attached_ = body;
+  held_[1] = body;
+  held_count_ = 2;
+  const geom::Pose& Xb = world_.pose(body);
+  if (!bi.hinge) {
+    mode_ = Mode::kGrab;
+    X_probe_attached_ = geom::relativeTransform(X_W_probe_, Xb);
+    held_radius_ = heldRadius(comW(probe_));
+    setRotationalStiffness();
+    return;
+  }
+  hinge_o_W_ = Xb.translation + rotate(Xb.rotation, bi.hinge_o_B);
+  hinge_a_W_ = glm::normalize(rotate(Xb.rotation, bi.hinge_a_B));
+  const Vec3 h = comW(probe_);
+  const Vec3 rel = h - hinge_o_W_;
+  const Vec3 radial = rel - glm::dot(rel, hinge_a_W_) * hinge_a_W_;
+  const double body_radius = radiusAbout(body, comW(body));
+  using HA = ResponseOptions::HingeAttach;
+  const HA choice = options_.response.hinge_attach;
+  const bool centre =
+      choice == HA::kCentre ||
+      (choice == HA::kAuto &&
+       glm::length(radial) < options_.response.centre_radius_fraction * body_radius);
+  if (centre) {
+    mode_ = Mode::kCentre;
+    centre_h_W_ = h;
+    q_attached_probe_ = glm::normalize(glm::conjugate(Xb.rotation) * X_W_probe_.rotation);
+  } else {
+    mode_ = Mode::kRim;
+    X_attached_probe_ = geom::relativeTransform(Xb, X_W_probe_);
+  }
+  held_radius_ = heldRadius(comW(body));
+  setRotationalStiffness();
+}
+
+void SimulationImpl::detach() {
+  mode_ = Mode::kFree;
+  attached_ = kNone;
+  held_count_ = 1;
+  held_radius_ = probe_radius_;
+  setRotationalStiffness();
+}
+
+void SimulationImpl::setRotationalStiffness() {
+  // k_r = k_c r^2, unless the options fix it: r is the held set's radius when a body is grabbed
+  // or attached at its centre (its feel comes through the handle's torque), the probe's own when
+  // free or attached at a rim (the hand does not turn with a rim: the probe's orientation does)
+  const ResponseOptions& r = options_.response;
+  const double radius = mode_ == Mode::kGrab || mode_ == Mode::kCentre ? held_radius_ : probe_radius_;
+  const double kr = r.rot_stiffness_nm_per_rad > 0.0 ? r.rot_stiffness_nm_per_rad
+                                                     : k_c_ * radius * radius;
+  coupling_.setRotational(kr, r.coupling_damping_factor * kr * r.tick_s);
+  proxy_params_.rot_coupling_stiffness = kr;
+}
+
+void SimulationImpl::updateAttachment(const TickInput& input) {
+  const std::uint32_t mask = options_.response.attach_button_mask;
+  const bool down = (input.buttons & mask) != 0, was = (last_buttons_ & mask) != 0;
+  last_buttons_ = input.buttons;
+  if (down && !was && mode_ == Mode::kFree) {
+    // the nearest non-static body the probe touches
+    std::uint32_t best = kNone;
+    double best_d = options_.response.attach_distance_m;
+    for (const collision::Contact& c : world_.contacts()) {
+      if (!c.answered) continue;
+      if (c.body_a != probe_ && c.body_b != probe_) continue;
+      const std::uint32_t other = c.body_a == probe_ ? c.body_b : c.body_a;
+      if (info_[other].kind == BodyKind::kStatic || excluded(probe_, other)) continue;
+      if (c.distance <= best_d) best_d = c.distance, best = other;
+    }
+    if (best != kNone) {
+      attach(best);
+      double pen = 0.0;
+      gatherRows(&pen);
+    }
+  } else if (!down && was && mode_ != Mode::kFree) {
+    detach();
+    double pen = 0.0;
+    gatherRows(&pen);
+  }
+}
+
+TickOutput SimulationImpl::step(const TickInput& input) {
+  TickOutput out;
+  if (first_step_ && info_[probe_].scene_index < 0 && std::isfinite(input.X_W_device.translation.x) &&
+      std::isfinite(input.X_W_device.translation.y) && std::isfinite(input.X_W_device.translation.z)) {
+    // the probe sphere has no pose in the scene: it starts where the device is
+    X_W_probe_.translation = input.X_W_device.translation;
+    world_.setPose(probe_, X_W_probe_);
+    world_.step();
+    double pen = 0.0;
+    gatherRows(&pen);
+  }
+  first_step_ = false;
+  updateAttachment(input);
+
+  // the device's handle: the probe body's centre of mass placed at the device pose
+  const Vec3 com_probe = info_[probe_].com_B;
+  const Vec3 h_dev = input.X_W_device.translation + rotate(input.X_W_device.rotation, com_probe);
+  const Quat q_dev = input.X_W_device.rotation;
+
+  // the predictive distance (§5.2): delta = v_c dt, v_c bounding the speed of the held points
+  if (have_prev_device_ && finitePose(h_dev, q_dev)) {
+    const double v = glm::length(h_dev - prev_h_dev_) / options_.response.tick_s +
+                     glm::length(response::rotationVector(q_dev * glm::conjugate(prev_q_dev_))) /
+                         options_.response.tick_s * held_radius_;
+    v_c_ = std::max(std::isfinite(v) ? v : 0.0, v_c_ * speed_decay_);
+  }
+  if (finitePose(h_dev, q_dev)) {
+    have_prev_device_ = true;
+    prev_h_dev_ = h_dev;
+    prev_q_dev_ = q_dev;
+  }
+  delta_ = std::clamp(v_c_ * options_.response.tick_s,
+                      std::min(max_travel_, options_.response.min_predictive_fraction * held_radius_),
+                      max_travel_);
+  proxy_params_.delta = delta_;
+
+  response::ProxyProblem pb;
+  pb.h_W = comW(probe_);
+  pb.q_handle = X_W_probe_.rotation;
+  pb.h_target_W = h_dev;
+  pb.q_target = q_dev;
+  pb.radius = held_radius_;
+  if (mode_ == Mode::kRim || mode_ == Mode::kCentre) {
+    pb.c_W = comW(attached_);
+    pb.basis = response::ProxyBasis::hinge(hinge_o_W_, hinge_a_W_, pb.c_W);
+    pb.handle_fixed = mode_ == Mode::kCentre;
+  } else {
+    pb.c_W = pb.h_W;
+  }
+  const bool finite_input = finitePose(h_dev, q_dev);
+  if (!finite_input) {
+    // a bad pose moves nothing: hold the proxy where it is
+    pb.h_target_W = pb.h_W;
+    pb.q_target = pb.q_handle;
+  }
+
+  const geom::Pose probe_before = X_W_probe_;
+  const geom::Pose attached_before = attached_ == kNone ? geom::Pose{} : world_.pose(attached_);
+  response::ProxyStep s = solveProxyStep(pb, rows_.rows(), proxy_params_);
+  applyStep(s);
+  collision::StepStats stats = world_.step();
+  double pen = 0.0;
+  gatherRows(&pen);
+  // a step that went too deep (a contact the linearisation missed): bisect back
+  for (int k = 0; k < 3 && pen > options_.response.penetration_allowance_m; ++k) {
+    out.flags |= kTickBackedOff;
+    X_W_probe_ = probe_before;
+    if (attached_ != kNone) world_.setPose(attached_, attached_before);
+    world_.setPose(probe_, X_W_probe_);
+    for (std::size_t q = 0; q < 6; ++q) s.x[q] *= 0.5;
+    s.dc_W *= 0.5;
+    s.dtheta_W *= 0.5;
+    applyStep(s);
+    const collision::StepStats again = world_.step();
+    stats.pairs_tested += again.pairs_tested;
+    stats.pairs_skipped = again.pairs_skipped;
+    gatherRows(&pen);
+  }
+
+  // the coupling between the device and the proxy, then the one output stage
+  const Vec3 h_prx = mode_ == Mode::kCentre ? centre_h_W_ : comW(probe_);
+  const response::Wrench raw = coupling_.step(h_dev, q_dev, h_prx, X_W_probe_.rotation);
+  response::OutputReport rep;
+  const response::Wrench w = output_.apply(raw, input.device_ok && finite_input, &rep);
+  if (!input.device_ok || !finite_input) coupling_.reset();
+
+  const Vec3 c_ref = mode_ == Mode::kRim || mode_ == Mode::kCentre ? comW(attached_) : comW(probe_);
+  const response::Wrench pw = response::penaltyWrench(rows_.rows(), c_ref, delta_);
+  out.force_W_n = w.force_n;
+  out.torque_W_nm = w.torque_nm;
+  out.contact_force_W_n = pw.force_n;
+  out.contact_torque_W_nm = pw.torque_nm;
+  out.X_W_proxy = X_W_probe_;
+  std::uint32_t active = 0;
+  for (const ContactRow& r : rows_.rows()) active += r.gap < delta_ ? 1u : 0u;
+  out.contacts = active;
+  out.max_penetration_m = std::max(0.0, pen);
+  out.pairs_tested = stats.pairs_tested;
+  out.pairs_skipped = stats.pairs_skipped;
+  if (rep.ramping) out.flags |= kTickRamping;
+  if (rep.clamped) out.flags |= kTickForceClamped;
+  if (rep.step_limited) out.flags |= kTickStepLimited;
+  if (rep.non_finite) out.flags |= kTickNonFinite;
+  if (stats.pairs_skipped > 0) out.flags |= kTickPairsSkipped;
+  if (rows_.full()) out.flags |= kTickCapacityFull;
+  out.attach_mode = static_cast<std::uint8_t>(mode_);
+  out.attached_body = attached_ == kNone ? -1 : info_[attached_].scene_index;
+  out.travel_limited = s.travel_limited;
+  out.delta_m = delta_;
+  for (std::size_t i = 0; i < pose_bodies_.size(); ++i) body_poses_[i].X_WB = world_.pose(pose_bodies_[i]);
+  return out;
+}
+
+}  // namespace
+
+Result<std::unique_ptr<Simulation>> Simulation::create(
+    std::shared_ptr<const scene::SceneModel> scene, const SimOptions& options) {
+  if (!scene) return Error{"no scene"};
+  auto sim = std::make_unique<SimulationImpl>(std::move(scene), options);
+  auto built = sim->build();
+  if (!built.ok()) return built.error();
+  return std::unique_ptr<Simulation>(std::move(sim));
+}
+
+}  // namespace hapticd::sim

@@ -1,0 +1,176 @@
+// The real USB backend: libusb-1.0 and the FTDI FT232's vendor requests (the requests and their
+// values as documented by FTDI's application notes and used by libftdi and libnifalcon).
+#include <libusb-1.0/libusb.h>
+
+#include <algorithm>
+#include <cstring>
+
+#include "daemon/device/usb_device.h"
+
+namespace hapticd::device {
+
+namespace {
+
+// FTDI vendor requests (bmRequestType 0x40, host to device)
+constexpr std::uint8_t kFtdiRequestType = 0x40;
+constexpr std::uint8_t kSioReset = 0x00;
+constexpr std::uint8_t kSioSetFlowCtrl = 0x02;
+constexpr std::uint8_t kSioSetBaudRate = 0x03;
+constexpr std::uint8_t kSioSetData = 0x04;
+constexpr std::uint8_t kSioSetLatencyTimer = 0x09;
+constexpr std::uint16_t kResetSio = 0;
+constexpr std::uint16_t kPurgeRx = 1;
+constexpr std::uint16_t kPurgeTx = 2;
+// baud divisor 2 of the 3 MHz clock: 1.5 Mbaud, the rate of the Falcon's firmware
+constexpr std::uint16_t kBaudDivisor = 0x0002;
+constexpr std::uint16_t kData8N1 = 8;
+constexpr std::uint16_t kLatency1ms = 1;
+constexpr unsigned kControlTimeout_ms = 1000;
+constexpr std::uint8_t kEndpointIn = 0x81;
+constexpr std::uint8_t kEndpointOut = 0x02;
+constexpr unsigned kBulkReadTimeout_ms = 1;
+constexpr unsigned kBulkWriteTimeout_ms = 2;
+constexpr int kFtdiPacket = 64;  // each USB packet from the FTDI starts with 2 modem status bytes
+
+class LibusbTransport final : public UsbTransport {
+ public:
+  explicit LibusbTransport(libusb_device_handle* h) : h_(h) {}
+  ~LibusbTransport() override {
+    libusb_release_interface(h_, 0);
+    libusb_close(h_);
+  }
+  int read(std::span<std::uint8_t> buf) noexcept override {
+    int got = 0;
+    const int rc = libusb_bulk_transfer(h_, kEndpointIn, raw_.data(), static_cast<int>(raw_.size()),
+                                        &got, kBulkReadTimeout_ms);
+    if (rc != 0 && rc != LIBUSB_ERROR_TIMEOUT)
+      return -1;
+    // strip the 2 status bytes at the start of every 64-byte USB packet
+    std::size_t out = 0;
+    for (int off = 0; off < got; off += kFtdiPacket) {
+      const int end = std::min(got, off + kFtdiPacket);
+      for (int i = off + 2; i < end && out < buf.size(); ++i)
+        buf[out++] = raw_[static_cast<std::size_t>(i)];
+    }
+    return static_cast<int>(out);
+  }
+  int write(std::span<const std::uint8_t> bytes) noexcept override {
+    int sent = 0;
+    std::memcpy(out_.data(), bytes.data(), std::min(bytes.size(), out_.size()));
+    const int rc = libusb_bulk_transfer(h_, kEndpointOut, out_.data(),
+                                        static_cast<int>(std::min(bytes.size(), out_.size())),
+                                        &sent, kBulkWriteTimeout_ms);
+    if (rc != 0 && rc != LIBUSB_ERROR_TIMEOUT)
+      return -1;
+    return sent;
+  }
+
+ private:
+  libusb_device_handle* h_;
+  std::array<std::uint8_t, kFtdiPacket> raw_{};
+  std::array<std::uint8_t, 64> out_{};
+};
+
+class LibusbBackend final : public UsbBackend {
+ public:
+  explicit LibusbBackend(libusb_context* ctx) : ctx_(ctx) {}
+  ~LibusbBackend() override {
+    if (registered_)
+      libusb_hotplug_deregister_callback(ctx_, handle_);
+    libusb_exit(ctx_);
+  }
+  bool startHotplug(std::function<void(UsbHotplugEvent)> callback) override {
+    if (!libusb_has_capability(LIBUSB_CAP_HAS_HOTPLUG))
+      return false;
+    callback_ = std::move(callback);
+    const int rc = libusb_hotplug_register_callback(
+        ctx_,
+        static_cast<libusb_hotplug_event>(LIBUSB_HOTPLUG_EVENT_DEVICE_ARRIVED |
+                                          LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT),
+        static_cast<libusb_hotplug_flag>(0), falcon::kVendorId, falcon::kProductId,
+        LIBUSB_HOTPLUG_MATCH_ANY, &LibusbBackend::onHotplug, this, &handle_);
+    registered_ = rc == LIBUSB_SUCCESS;
+    return registered_;
+  }
+  void handleEvents() override {
+    timeval tv{0, 0};
+    libusb_handle_events_timeout_completed(ctx_, &tv, nullptr);
+  }
+  int countFalcons() override {
+    libusb_device** list = nullptr;
+    const ssize_t n = libusb_get_device_list(ctx_, &list);
+    int count = 0;
+    for (ssize_t i = 0; i < n; ++i) {
+      libusb_device_descriptor d{};
+      if (libusb_get_device_descriptor(list[i], &d) == 0 && d.idVendor == falcon::kVendorId &&
+          d.idProduct == falcon::kProductId)
+        ++count;
+    }
+    if (list)
+      libusb_free_device_list(list, 1);
+    return count;
+  }
+  Result<std::unique_ptr<UsbTransport>> open() override {
+    libusb_device_handle* h =
+        libusb_open_device_with_vid_pid(ctx_, falcon::kVendorId, falcon::kProductId);
+    if (!h)
+      return Error{"libusb_open failed (no device, or no permission)"};
+    libusb_set_auto_detach_kernel_driver(h, 1);
+    if (const int rc = libusb_claim_interface(h, 0); rc != 0) {
+      libusb_close(h);
+      return Error{std::string("cannot claim interface 0: ") + libusb_error_name(rc)};
+    }
+    struct Setup {
+      std::uint8_t request;
+      std::uint16_t value;
+      const char* what;
+    };
+    const Setup steps[] = {
+        {kSioReset, kResetSio, "reset"},
+        {kSioSetLatencyTimer, kLatency1ms, "latency timer"},
+        {kSioSetBaudRate, kBaudDivisor, "baud rate"},
+        {kSioSetData, kData8N1, "line properties"},
+        {kSioSetFlowCtrl, 0, "flow control"},
+        {kSioReset, kPurgeRx, "purge rx"},
+        {kSioReset, kPurgeTx, "purge tx"},
+    };
+    for (const Setup& s : steps) {
+      const int rc = libusb_control_transfer(h, kFtdiRequestType, s.request, s.value, 0, nullptr, 0,
+                                             kControlTimeout_ms);
+      if (rc < 0) {
+        libusb_release_interface(h, 0);
+        libusb_close(h);
+        return Error{std::string("FTDI ") + s.what + " failed: " + libusb_error_name(rc)};
+      }
+    }
+    return std::unique_ptr<UsbTransport>(std::make_unique<LibusbTransport>(h));
+  }
+
+ private:
+  static int LIBUSB_CALL onHotplug(libusb_context*,
+                                   libusb_device*,
+                                   libusb_hotplug_event event,
+                                   void* user) {
+    auto* self = static_cast<LibusbBackend*>(user);
+    if (self->callback_)
+      self->callback_(event == LIBUSB_HOTPLUG_EVENT_DEVICE_LEFT ? UsbHotplugEvent::kLeft
+                                                                : UsbHotplugEvent::kArrived);
+    return 0;  // stay registered
+  }
+
+  libusb_context* ctx_;
+  std::function<void(UsbHotplugEvent)> callback_;
+  libusb_hotplug_callback_handle handle_{};
+  bool registered_ = false;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<UsbBackend>> makeLibusbBackend() {
+  libusb_context* ctx = nullptr;
+  if (const int rc = libusb_init(&ctx); rc != 0)
+    return Error{std::string("libusb_init failed: ") + libusb_error_name(rc)};
+  return std::unique_ptr<UsbBackend>(std::make_unique<LibusbBackend>(ctx));
+}
+
+}  // namespace hapticd::device

@@ -1,0 +1,351 @@
+#include "scenes/demo_scenes.h"
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+
+#include "scenes/glb_builder.h"
+
+namespace hapticd::scenes {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+Json physics(Json body) { return {{"KHR_physics_rigid_bodies", std::move(body)}}; }
+
+/// A collider on node `index` whose geometry is that node's own mesh, as a convex hull.
+void meshCollider(GltfBuilder& b, int index, int material = -1) {
+  Json collider = {{"geometry", {{"node", index}, {"convexHull", true}}}};
+  if (material >= 0) collider["physicsMaterial"] = material;
+  Json& n = b.node(index);
+  n["extensions"]["KHR_physics_rigid_bodies"]["collider"] = collider;
+}
+
+/// A collider of implicit shape `shape` on node `index`.
+void shapeCollider(GltfBuilder& b, int index, int shape, int material = -1) {
+  Json collider = {{"geometry", {{"shape", shape}}}};
+  if (material >= 0) collider["physicsMaterial"] = material;
+  b.node(index)["extensions"]["KHR_physics_rigid_bodies"]["collider"] = collider;
+}
+
+Json boxShape(const Vec3& size) { return {{"type", "box"}, {"box", {{"size", jsonVec(size)}}}}; }
+
+std::string numbered(const char* prefix, int i) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%s%d", prefix, i);
+  return buf;
+}
+
+/// Two meshing spur gears on hinge joints to the scene, and a held rod to push their teeth.
+std::vector<std::uint8_t> makeGears() {
+  using namespace gears;
+  GltfBuilder b;
+  const SpurGear g = gear();
+  const double pitch = 2.0 * kPi / g.teeth;
+  const int steel = b.addRenderMaterial("steel", {0.72, 0.73, 0.76, 1.0}, 0.9, 0.35);
+  const int brass = b.addRenderMaterial("brass", {0.80, 0.62, 0.25, 1.0}, 0.9, 0.3);
+  const int grip = b.addRenderMaterial("handle", {0.15, 0.35, 0.85, 1.0}, 0.0, 0.6);
+
+  // hinge about the attachment frame's Z: position locked, rotation about X and Y locked
+  const int hinge = b.addPhysicsJoint(
+      {{"name", "hinge_z"},
+       {"limits", Json::array({{{"linearAxes", {0, 1, 2}}, {"min", 0.0}, {"max", 0.0}},
+                               {{"angularAxes", {0, 1}}, {"min", 0.0}, {"max", 0.0}}})}});
+
+  const double r = g.pitchRadius();
+  const double w = g.face_width_m;
+  const Vec3 inertia{kMass_kg * (3.0 * r * r + w * w) / 12.0,
+                     kMass_kg * (3.0 * r * r + w * w) / 12.0, 0.5 * kMass_kg * r * r};
+  for (int which = 0; which < 2; ++which) {
+    const std::string name = which == 0 ? "GearA" : "GearB";
+    const Vec3 centre{(which == 0 ? -0.5 : 0.5) * kCentreDistance_m, 0.0, 0.0};
+    // gear A has a tooth pointing at B (+X); B has a gap pointing at A (-X)
+    const double first_tooth = which == 0 ? 0.0 : kPi + 0.5 * pitch;
+    const int render = which == 0 ? steel : brass;
+
+    const int body = b.addNode(
+        {{"name", name},
+         {"translation", jsonVec(centre)},
+         {"extensions",
+          physics({{"motion",
+                    {{"mass", quantize(kMass_kg)},
+                     {"centerOfMass", jsonVec(Vec3{0.0})},
+                     {"inertiaDiagonal", jsonVec(inertia)}}}})}});
+    b.addRoot(body);
+
+    const int hub_mesh = b.addMesh(name + "_hub", prismMesh(g.hubPolygon(first_tooth), w), render);
+    const int hub = b.addNode({{"name", name + "_hub"}, {"mesh", hub_mesh}});
+    meshCollider(b, hub);
+    b.addChild(body, hub);
+    for (int k = 0; k < g.teeth; ++k) {
+      char suffix[32];
+      std::snprintf(suffix, sizeof suffix, "_tooth%02d", k);
+      const int mesh =
+          b.addMesh(name + suffix, prismMesh(g.toothPolygon(first_tooth + k * pitch), w), render);
+      const int tooth = b.addNode({{"name", name + suffix}, {"mesh", mesh}});
+      meshCollider(b, tooth);
+      b.addChild(body, tooth);
+    }
+    // the axle: a node of the scene frame (no motion) at the gear's centre; the hinge node is the
+    // gear's own frame, so both attachment frames coincide at rest
+    const int axle = b.addNode({{"name", name + "_axle"}, {"translation", jsonVec(centre)}});
+    b.addRoot(axle);
+    const int joint = b.addNode(
+        {{"name", name + "_hinge"},
+         {"extensions",
+          physics({{"joint", {{"connectedNode", axle}, {"joint", hinge}, {"enableCollision", false}}}})}});
+    b.addChild(body, joint);
+  }
+
+  // the held handle: a rod of radius 3 mm along Z, kinematic (moved by the probe), starting
+  // outside gear A's top gap where the pose stream begins
+  std::vector<Vec2> rod;
+  for (int i = 0; i < kRodSides; ++i) {
+    const double a = 2.0 * kPi * i / kRodSides;
+    rod.push_back({kRodRadius_m * std::cos(a), kRodRadius_m * std::sin(a)});
+  }
+  const int rod_mesh = b.addMesh("Handle", prismMesh(rod, kRodLength_m), grip);
+  const double gap = 4.5 * pitch;
+  const Vec3 start{-0.5 * kCentreDistance_m + 0.075 * std::cos(gap), 0.075 * std::sin(gap), 0.0};
+  const int handle = b.addNode({{"name", "Handle"},
+                                {"mesh", rod_mesh},
+                                {"translation", jsonVec(start)},
+                                {"extensions", physics({{"motion", {{"isKinematic", true}}}})},
+                                {"extras", {{"haptic", {{"probe", true}}}}}});
+  meshCollider(b, handle);
+  b.addRoot(handle);
+  return b.finish("gears");
+}
+
+/// A 20 mm square peg held by the probe over a hole of four walls and a floor, 0.5 mm clearance.
+std::vector<std::uint8_t> makePegInHole() {
+  using namespace peg;
+  GltfBuilder b;
+  const int wood = b.addRenderMaterial("peg", {0.85, 0.65, 0.40, 1.0}, 0.0, 0.7);
+  const int grey = b.addRenderMaterial("block", {0.55, 0.57, 0.60, 1.0}, 0.2, 0.6);
+
+  const int hole = b.addNode(
+      {{"name", "Hole"}, {"extras", {{"haptic", {{"stiffness", quantize(kHoleStiffness_n_per_m)}}}}}});
+  b.addRoot(hole);
+  auto part = [&](const std::string& name, const Vec3& size, const Vec3& centre) {
+    const int mesh = b.addMesh(name, boxMesh(size), grey);
+    const int n = b.addNode({{"name", name}, {"mesh", mesh}, {"translation", jsonVec(centre)}});
+    meshCollider(b, n);
+    b.addChild(hole, n);
+  };
+  part("Hole_floor", {kBaseSide_m, kBaseThickness_m, kBaseSide_m}, {0.0, -0.5 * kBaseThickness_m, 0.0});
+  // four walls in a pinwheel around the square opening of half-width a
+  const double a = 0.5 * kPegSide_m + kClearance_m;
+  const double t = kWallThickness_m;
+  const double len = 2.0 * a + t;  // each wall covers one side and one corner
+  const double y = 0.5 * kHoleDepth_m;
+  part("Hole_wall_east", {t, kHoleDepth_m, len}, {a + 0.5 * t, y, 0.5 * t});
+  part("Hole_wall_north", {len, kHoleDepth_m, t}, {-0.5 * t, y, a + 0.5 * t});
+  part("Hole_wall_west", {t, kHoleDepth_m, len}, {-a - 0.5 * t, y, -0.5 * t});
+  part("Hole_wall_south", {len, kHoleDepth_m, t}, {0.5 * t, y, -a - 0.5 * t});
+
+  const int peg_mesh = b.addMesh("Peg", boxMesh({kPegSide_m, kPegLength_m, kPegSide_m}), wood);
+  // starts with its end 40 mm above the wall tops, off to one side (the pose stream's first row)
+  const Vec3 start{0.030, kHoleDepth_m + 0.5 * kPegLength_m + 0.040, 0.020};
+  const int peg_node = b.addNode({{"name", "Peg"},
+                                  {"mesh", peg_mesh},
+                                  {"translation", jsonVec(start)},
+                                  {"extensions", physics({{"motion", {{"isKinematic", true}}}})},
+                                  {"extras", {{"haptic", {{"probe", true}}}}}});
+  meshCollider(b, peg_node);
+  b.addRoot(peg_node);
+  return b.finish("peg_in_hole");
+}
+
+/// Four cubes, four spheres and four ellipsoids (320 faces each) on a floor under gravity, and a
+/// stick held by the probe (§6.2, "a dynamic scene of multiple moving objects").
+std::vector<std::uint8_t> makeDynamic() {
+  using namespace dynamic;
+  GltfBuilder b;
+  const int floor_colour = b.addRenderMaterial("floor", {0.35, 0.37, 0.40, 1.0}, 0.0, 0.9);
+  const int red = b.addRenderMaterial("cube", {0.80, 0.20, 0.15, 1.0}, 0.0, 0.6);
+  const int green = b.addRenderMaterial("sphere", {0.20, 0.70, 0.25, 1.0}, 0.0, 0.5);
+  const int blue = b.addRenderMaterial("ellipsoid", {0.20, 0.35, 0.85, 1.0}, 0.0, 0.4);
+  const int yellow = b.addRenderMaterial("stick", {0.90, 0.80, 0.20, 1.0}, 0.0, 0.6);
+
+  const int floor_mat = b.addPhysicsMaterial(
+      {{"name", "floor"}, {"staticFriction", 0.6}, {"dynamicFriction", 0.5}, {"restitution", 0.2}});
+  const int wood = b.addPhysicsMaterial(
+      {{"name", "wood"}, {"staticFriction", 0.5}, {"dynamicFriction", 0.4}, {"restitution", 0.3}});
+  const int rubber = b.addPhysicsMaterial(
+      {{"name", "rubber"}, {"staticFriction", 0.9}, {"dynamicFriction", 0.8}, {"restitution", 0.7}});
+  const int plastic = b.addPhysicsMaterial(
+      {{"name", "plastic"}, {"staticFriction", 0.4}, {"dynamicFriction", 0.3}, {"restitution", 0.5}});
+
+  // floor: 1 m x 1 m, 20 mm thick, top at y = 0
+  const Vec3 floor_size{1.0, 0.02, 1.0};
+  const int floor_shape = b.addShape(boxShape(floor_size));
+  const int floor_mesh = b.addMesh("Floor", boxMesh(floor_size), floor_colour);
+  const int floor_node =
+      b.addNode({{"name", "Floor"}, {"mesh", floor_mesh}, {"translation", jsonVec({0.0, -0.01, 0.0})}});
+  shapeCollider(b, floor_node, floor_shape, floor_mat);
+  b.addRoot(floor_node);
+
+  const Vec3 cube_size{kCubeSide_m, kCubeSide_m, kCubeSide_m};
+  const int cube_shape = b.addShape(boxShape(cube_size));
+  const int cube_mesh = b.addMesh("Cube", boxMesh(cube_size), red);
+  for (int i = 0; i < 4; ++i) {
+    const int n = b.addNode(
+        {{"name", numbered("Cube", i)},
+         {"mesh", cube_mesh},
+         {"translation", jsonVec({kRowX_m[i], 0.5 * kCubeSide_m + kDropGap_m, kCubeZ_m})},
+         {"extensions", physics({{"motion", {{"mass", quantize(kCubeMass_kg)}}}})}});
+    shapeCollider(b, n, cube_shape, wood);
+    b.addRoot(n);
+  }
+
+  // the spheres share one mesh and the ellipsoids another; each node's collider is the hull of
+  // its own mesh
+  const MeshData sphere = icosphereMesh(Vec3{kSphereRadius_m}, 2);
+  const double sphere_inertia = 0.4 * kSphereMass_kg * kSphereRadius_m * kSphereRadius_m;
+  const int sphere_mesh = b.addMesh("Sphere", sphere, green);
+  for (int i = 0; i < 4; ++i) {
+    const int mesh = sphere_mesh;
+    double min_y = 0.0;
+    for (const Vec3& p : sphere.positions) min_y = std::min(min_y, p.y);
+    const int n = b.addNode(
+        {{"name", numbered("Sphere", i)},
+         {"mesh", mesh},
+         {"translation", jsonVec({kRowX_m[i], -min_y + kDropGap_m, kSphereZ_m})},
+         {"extensions",
+          physics({{"motion",
+                    {{"mass", quantize(kSphereMass_kg)},
+                     {"inertiaDiagonal", jsonVec(Vec3{sphere_inertia})}}}})}});
+    meshCollider(b, n, rubber);
+    b.addRoot(n);
+  }
+
+  const MeshData ellipsoid =
+      icosphereMesh({kEllipsoidRadii_m[0], kEllipsoidRadii_m[1], kEllipsoidRadii_m[2]}, 2);
+  const int ellipsoid_mesh = b.addMesh("Ellipsoid", ellipsoid, blue);
+  for (int i = 0; i < 4; ++i) {
+    const int mesh = ellipsoid_mesh;
+    double min_y = 0.0;
+    for (const Vec3& p : ellipsoid.positions) min_y = std::min(min_y, p.y);
+    // turned about Y by 0, 30, 60, 90 degrees; mass and inertia left to the loader
+    const int n = b.addNode(
+        {{"name", numbered("Ellipsoid", i)},
+         {"mesh", mesh},
+         {"translation", jsonVec({kRowX_m[i], -min_y + kDropGap_m, kEllipsoidZ_m})},
+         {"rotation", jsonQuatAxisAngle({0.0, 1.0, 0.0}, i * kPi / 6.0)},
+         {"extensions", physics({{"motion", Json::object()}})}});
+    meshCollider(b, n, plastic);
+    b.addRoot(n);
+  }
+
+  const Vec3 stick_size{kStickSize_m[0], kStickSize_m[1], kStickSize_m[2]};
+  const int stick_mesh = b.addMesh("Stick", boxMesh(stick_size), yellow);
+  const int stick = b.addNode({{"name", "Stick"},
+                               {"mesh", stick_mesh},
+                               {"translation", jsonVec({0.0, 0.20, 0.25})},
+                               {"extensions", physics({{"motion", {{"isKinematic", true}}}})},
+                               {"extras", {{"haptic", {{"probe", true}}}}}});
+  meshCollider(b, stick, wood);
+  b.addRoot(stick);
+
+  b.setSceneExtras({{"haptic", {{"gravity", Json::array({0.0, -9.81, 0.0})}}}});
+  return b.finish("dynamic");
+}
+
+/// A field of 32 x 32 static pillars with 16 dynamic blocks on their tops, a floor and a held
+/// sphere: over a thousand primitives for the broad phase.
+std::vector<std::uint8_t> makeStress() {
+  using namespace stress;
+  GltfBuilder b;
+  const int grey = b.addRenderMaterial("pillar", {0.60, 0.60, 0.62, 1.0}, 0.1, 0.7);
+  const int floor_colour = b.addRenderMaterial("floor", {0.30, 0.32, 0.35, 1.0}, 0.0, 0.9);
+  const int orange = b.addRenderMaterial("block", {0.95, 0.55, 0.15, 1.0}, 0.0, 0.6);
+  const int white = b.addRenderMaterial("sweeper", {0.95, 0.95, 0.95, 1.0}, 0.0, 0.3);
+
+  const Vec3 floor_size{1.2, 0.02, 1.2};
+  const int floor_shape = b.addShape(boxShape(floor_size));
+  const int floor_mesh = b.addMesh("Floor", boxMesh(floor_size), floor_colour);
+  const int floor_node =
+      b.addNode({{"name", "Floor"}, {"mesh", floor_mesh}, {"translation", jsonVec({0.0, -0.01, 0.0})}});
+  shapeCollider(b, floor_node, floor_shape);
+  b.addRoot(floor_node);
+
+  const Vec3 pillar_size{kPillarSize_m[0], kPillarSize_m[1], kPillarSize_m[2]};
+  const int pillar_shape = b.addShape(boxShape(pillar_size));
+  const int pillar_mesh = b.addMesh("Pillar", boxMesh(pillar_size), grey);
+  const int field = b.addNode({{"name", "Field"}});
+  b.addRoot(field);
+  for (int i = 0; i < kGrid; ++i) {
+    for (int j = 0; j < kGrid; ++j) {
+      char name[32];
+      std::snprintf(name, sizeof name, "Pillar_%02d_%02d", i, j);
+      const int n = b.addNode(
+          {{"name", name},
+           {"mesh", pillar_mesh},
+           {"translation",
+            jsonVec({pillarCoordinate(i), 0.5 * kPillarSize_m[1], pillarCoordinate(j)})}});
+      shapeCollider(b, n, pillar_shape);
+      b.addChild(field, n);
+    }
+  }
+
+  const Vec3 block_size{kBlockSide_m, kBlockSide_m, kBlockSide_m};
+  const int block_shape = b.addShape(boxShape(block_size));
+  const int block_mesh = b.addMesh("Block", boxMesh(block_size), orange);
+  for (int i = 0; i < kBlocksPerSide; ++i) {
+    for (int j = 0; j < kBlocksPerSide; ++j) {
+      const int n = b.addNode(
+          {{"name", numbered("Block", i * kBlocksPerSide + j)},
+           {"mesh", block_mesh},
+           {"translation",
+            jsonVec({blockCoordinate(i), kPillarSize_m[1] + 0.5 * kBlockSide_m + 0.001,
+                     blockCoordinate(j)})},
+           {"extensions", physics({{"motion", {{"mass", quantize(kBlockMass_kg)}}}})}});
+      shapeCollider(b, n, block_shape);
+      b.addRoot(n);
+    }
+  }
+
+  const int sweeper_shape =
+      b.addShape({{"type", "sphere"}, {"sphere", {{"radius", quantize(kSweeperRadius_m)}}}});
+  const int sweeper_mesh = b.addMesh("Sweeper", icosphereMesh(Vec3{kSweeperRadius_m}, 2), white);
+  const int sweeper = b.addNode(
+      {{"name", "Sweeper"},
+       {"mesh", sweeper_mesh},
+       {"translation", jsonVec({-0.52, 0.1, pillarCoordinate(4)})},  // the stream's first row
+       {"extensions", physics({{"motion", {{"isKinematic", true}}}})},
+       {"extras", {{"haptic", {{"probe", true}}}}}});
+  shapeCollider(b, sweeper, sweeper_shape);
+  b.addRoot(sweeper);
+
+  b.setSceneExtras({{"haptic", {{"gravity", Json::array({0.0, -9.81, 0.0})}}}});
+  return b.finish("stress");
+}
+
+}  // namespace
+
+namespace gears {
+SpurGear gear() {
+  SpurGear g;
+  g.teeth = 19;
+  g.module_m = 0.005;
+  g.backlash_m = 0.001;
+  g.face_width_m = 0.015;
+  g.flank_samples = 3;
+  g.root_inset_m = 0.001;
+  return g;
+}
+}  // namespace gears
+
+std::vector<std::string_view> demoSceneNames() { return {"gears", "peg_in_hole", "dynamic", "stress"}; }
+
+std::vector<std::uint8_t> makeDemoScene(std::string_view name) {
+  if (name == "gears") return makeGears();
+  if (name == "peg_in_hole") return makePegInHole();
+  if (name == "dynamic") return makeDynamic();
+  if (name == "stress") return makeStress();
+  return {};
+}
+
+}  // namespace hapticd::scenes

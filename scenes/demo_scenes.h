@@ -1,0 +1,73 @@
+#pragma once
+/// \file
+/// The demo scenes of the paper's §6.2 (Gregory et al. 2000), generated reproducibly as glTF 2.0
+/// binaries with KHR_physics_rigid_bodies and KHR_implicit_shapes (../shared/DESIGN.md, Scenes):
+/// "gears", "peg_in_hole", "dynamic" and "stress". docs/demo-scenes.md describes each one.
+/// The same call gives the same bytes on every run and build; scenes/*.glb are its output
+/// (written by the `make_scenes` tool). Any thread; allocates.
+
+#include <cstdint>
+#include <string_view>
+#include <vector>
+
+#include "scenes/meshes.h"
+
+namespace hapticd::scenes {
+
+/// The demo scene names, in a fixed order.
+std::vector<std::string_view> demoSceneNames();
+
+/// The .glb bytes of the named demo scene; empty when `name` is not a demo scene.
+std::vector<std::uint8_t> makeDemoScene(std::string_view name);
+
+/// Dimensions of the scenes, shared by the generator, the pose streams, tests and docs (metres,
+/// kilograms). Y is up in every scene.
+namespace gears {
+/// Both gears: 19 teeth, module 5 mm, 20° pressure angle, 1 mm backlash, 15 mm face width.
+SpurGear gear();
+/// Gear A turns about +Z through (-kCentreDistance_m / 2, 0, 0), gear B through (+.../2, 0, 0).
+inline constexpr double kCentreDistance_m = 0.095;  // 2 * pitch radius
+inline constexpr double kMass_kg = 0.15;            // each gear (declared)
+inline constexpr double kRodRadius_m = 0.003;       // the held handle: a rod along Z
+inline constexpr double kRodLength_m = 0.036;
+inline constexpr int kRodSides = 16;
+}  // namespace gears
+
+namespace peg {
+inline constexpr double kPegSide_m = 0.020;    // square section, along X and Z
+inline constexpr double kPegLength_m = 0.060;  // along Y
+inline constexpr double kClearance_m = 0.0005; // each side, between peg and wall
+inline constexpr double kWallThickness_m = 0.010;
+inline constexpr double kHoleDepth_m = 0.040;  // hole floor at y = 0, wall tops at y = depth
+inline constexpr double kBaseSide_m = 0.100;   // the floor slab under the walls, 10 mm thick
+inline constexpr double kBaseThickness_m = 0.010;
+inline constexpr double kHoleStiffness_n_per_m = 600.0;  // extras.haptic.stiffness of the hole
+}  // namespace peg
+
+namespace dynamic {
+inline constexpr double kCubeSide_m = 0.040;
+inline constexpr double kCubeMass_kg = 0.050;
+inline constexpr double kSphereRadius_m = 0.025;
+inline constexpr double kSphereMass_kg = 0.065;
+inline constexpr double kEllipsoidRadii_m[3] = {0.040, 0.020, 0.025};  // mass not declared
+inline constexpr double kStickSize_m[3] = {0.020, 0.150, 0.020};
+inline constexpr double kDropGap_m = 0.001;  // bodies start this far above the floor
+inline constexpr double kRowX_m[4] = {-0.15, -0.05, 0.05, 0.15};
+inline constexpr double kCubeZ_m = -0.10, kSphereZ_m = 0.0, kEllipsoidZ_m = 0.10;
+}  // namespace dynamic
+
+namespace stress {
+inline constexpr int kGrid = 32;                 // kGrid x kGrid static pillars
+inline constexpr double kPitch_m = 0.030;
+inline constexpr double kPillarSize_m[3] = {0.012, 0.040, 0.012};
+inline constexpr int kBlocksPerSide = 4;         // 16 dynamic blocks on the pillar tops
+inline constexpr double kBlockSide_m = 0.040;
+inline constexpr double kBlockMass_kg = 0.050;
+inline constexpr double kSweeperRadius_m = 0.015;
+/// Centre of pillar (i, j) on X (Z alike).
+inline constexpr double pillarCoordinate(int i) { return (i - 0.5 * (kGrid - 1)) * kPitch_m; }
+/// Centre of block (i, j) on X (Z alike): over the middle of a 2 x 2 group of pillars.
+inline constexpr double blockCoordinate(int i) { return (8 * i + 4 - 0.5 * kGrid) * kPitch_m; }
+}  // namespace stress
+
+}  // namespace hapticd::scenes

@@ -1,0 +1,55 @@
+#pragma once
+/// \file
+/// Convex meshes for the demo scenes: boxes, icospheres (320 faces after two subdivisions, as in
+/// the paper's dynamic scene, §6.2), prisms of convex polygons, and involute spur-gear teeth.
+/// Metres; every mesh closed, triangles counter-clockwise seen from outside. Any thread.
+
+#include <cstdint>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "scenes/glb_builder.h"
+
+namespace hapticd::scenes {
+
+using Vec2 = glm::dvec2;
+
+/// An axis-aligned box centred at the origin: 8 vertices, 12 triangles.
+MeshData boxMesh(const Vec3& size);
+
+/// An icosahedron subdivided `levels` times, projected onto the unit sphere, then scaled by
+/// `radii` (an ellipsoid when they differ): 20 * 4^levels triangles (320 for levels = 2),
+/// 10 * 4^levels + 2 vertices (162).
+MeshData icosphereMesh(const Vec3& radii, int levels);
+
+/// A right prism of a convex polygon in the XY plane (counter-clockwise), from z = -width/2 to
+/// +width/2: 2n vertices, 4n - 4 triangles (fans on the caps).
+MeshData prismMesh(const std::vector<Vec2>& polygon_ccw, double width);
+
+/// A standard involute spur gear (pressure angle 20°, addendum = module, dedendum = 1.25 module),
+/// teeth thinned at the pitch circle by half the pair's backlash.
+struct SpurGear {
+  int teeth = 19;
+  double module_m = 0.005;
+  double pressure_angle_rad = 0.3490658503988659;  // 20 degrees
+  double backlash_m = 0.001;   ///< circumferential backlash of the pair at the pitch circle
+  double face_width_m = 0.015;
+  int flank_samples = 3;       ///< involute points per flank above the base circle
+  double root_inset_m = 0.001; ///< teeth reach this far inside the root circle into the hub
+
+  double pitchRadius() const { return 0.5 * module_m * teeth; }
+  double baseRadius() const;
+  double tipRadius() const { return pitchRadius() + module_m; }
+  double rootRadius() const { return pitchRadius() - 1.25 * module_m; }
+  /// Half the angular thickness of a tooth at radius r (r >= base radius: on the involute).
+  double toothHalfAngle(double r) const;
+  /// One tooth's cross-section, centred on angle `centre_rad`: radial flank from the inset root up
+  /// to the base circle, involute flank up to the tip circle; convex, counter-clockwise.
+  std::vector<Vec2> toothPolygon(double centre_rad) const;
+  /// The hub: a polygon with one vertex on the root circle at the centre of every gap
+  /// (`first_tooth_rad` + (k + 1/2) * pitch angle), counter-clockwise.
+  std::vector<Vec2> hubPolygon(double first_tooth_rad) const;
+};
+
+}  // namespace hapticd::scenes

@@ -1,0 +1,746 @@
+// The scene loader on hand-built glTF: shapes, meshes, materials, filters, joints, extras, mass
+// properties against closed forms, the plan, unit scale, and external URIs.
+#include "core/scene/loader.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <numbers>
+
+#include "tests/core/scene/gltf_builder.h"
+
+namespace hapticd::scene {
+namespace {
+
+using testing::GltfBuilder;
+using testing::json;
+
+LoadReport load(const GltfBuilder& b, const LoadOptions& options = {}) {
+  const std::string text = b.gltf();
+  return loadScene(testing::bytesOf(text), "test.gltf", options);
+}
+
+const Body& bodyNamed(const SceneModel& s, const std::string& name) {
+  for (const Body& b : s.bodies) {
+    if (b.name == name) return b;
+  }
+  ADD_FAILURE() << "no body " << name;
+  return s.bodies.front();
+}
+
+/// A dynamic body node with a collider of `shape`.
+int dynamicShape(GltfBuilder& b, const std::string& name, int shape, Vec3 t, json motion = json::object()) {
+  json n = GltfBuilder::node(name, t);
+  GltfBuilder::physics(n)["motion"] = motion;
+  GltfBuilder::physics(n)["collider"] = GltfBuilder::shapeCollider(shape);
+  return b.addNode(n);
+}
+
+int staticShape(GltfBuilder& b, const std::string& name, int shape, Vec3 t, int parent = -1) {
+  json n = GltfBuilder::node(name, t);
+  GltfBuilder::physics(n)["collider"] = GltfBuilder::shapeCollider(shape);
+  return b.addNode(n, parent);
+}
+
+bool hasProblem(const LoadReport& r, const std::string& what) {
+  return r.message().find(what) != std::string::npos;
+}
+
+TEST(SceneLoader, StaticOnlySceneRunsContactForcesAndNothingMore) {
+  GltfBuilder b;
+  staticShape(b, "Floor", b.box({2.0, 0.1, 2.0}), {0.0, -0.05, 0.0});
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  const SceneModel& s = *r.scene;
+  ASSERT_EQ(s.bodies.size(), 1u);
+  EXPECT_EQ(s.bodies[0].motion, Motion::kStatic);
+  EXPECT_EQ(s.bodies[0].mass, 0.0);
+  ASSERT_EQ(s.bodies[0].primitives.size(), 1u);
+  EXPECT_EQ(s.bodies[0].primitives[0].source, ShapeSource::kBox);
+  EXPECT_EQ(s.bodies[0].primitives[0].shape->vertices().size(), 8u);
+  EXPECT_EQ(s.bodies[0].primitives[0].shape->faces().size(), 6u);
+  EXPECT_TRUE(s.plan.contact_forces);
+  EXPECT_FALSE(s.plan.dynamics);
+  EXPECT_FALSE(s.plan.gravity);
+  EXPECT_FALSE(s.plan.friction);
+  EXPECT_FALSE(s.plan.restitution);
+  EXPECT_FALSE(s.plan.joints);
+  EXPECT_EQ(s.plan.static_primitives, 1u);
+  EXPECT_EQ(s.plan.moving_primitives, 0u);
+  EXPECT_NEAR(s.length_scale, std::sqrt(4.0 + 0.01 + 4.0), 1e-9);
+  EXPECT_EQ(s.probe_body, -1);
+}
+
+TEST(SceneLoader, GlbAndGltfGiveTheSameScene) {
+  GltfBuilder b;
+  b.addNode([&] {
+    json n = GltfBuilder::node("Cube", {0.0, 1.0, 0.0});
+    n["mesh"] = b.addMesh(testing::cubeMesh(), "CubeMesh");
+    GltfBuilder::physics(n)["motion"] = json::object();
+    GltfBuilder::physics(n)["collider"] = {{"geometry", {{"node", 0}}}};
+    return n;
+  }());
+  const auto glb = b.glb();
+  const LoadReport a = loadScene(glb, "cube.glb");
+  const LoadReport c = load(b);
+  ASSERT_TRUE(a.ok()) << a.message();
+  ASSERT_TRUE(c.ok()) << c.message();
+  EXPECT_EQ(a.scene->bodies.size(), c.scene->bodies.size());
+  EXPECT_DOUBLE_EQ(a.scene->bodies[0].mass, c.scene->bodies[0].mass);
+  EXPECT_NEAR(a.scene->bodies[0].mass, 1000.0, 1e-9);
+  EXPECT_EQ(a.scene->bodies[0].primitives[0].source, ShapeSource::kConvexMesh);
+}
+
+TEST(SceneLoader, EveryImplicitShapeBecomesAPolytopeWithinTolerance) {
+  GltfBuilder b;
+  const double r = 0.3;
+  staticShape(b, "Box", b.box({1.0, 2.0, 3.0}), {0.0, 0.0, 0.0});
+  staticShape(b, "Sphere", b.sphere(r), {5.0, 0.0, 0.0});
+  staticShape(b, "Capsule", b.capsule(1.0, r, r), {10.0, 0.0, 0.0});
+  staticShape(b, "Cone", b.cylinder(1.0, 0.0, r), {15.0, 0.0, 0.0});
+  staticShape(b, "Cylinder", b.cylinder(1.0, r, r), {20.0, 0.0, 0.0});
+  LoadOptions options;
+  options.limits.tessellation_tolerance = 1e-3;
+  const LoadReport rep = load(b, options);
+  ASSERT_TRUE(rep.ok()) << rep.message();
+  // all static colliders under separate roots: one static body each
+  ASSERT_EQ(rep.scene->bodies.size(), 5u);
+  const double tol = options.limits.tessellation_tolerance;
+  {
+    const Primitive& p = bodyNamed(*rep.scene, "Sphere").primitives[0];
+    EXPECT_EQ(p.source, ShapeSource::kSphere);
+    // every vertex within (1 + tol) r and every face at least (1 - tol) r from the centre
+    for (const auto& v : p.shape->vertices()) {
+      EXPECT_LE(glm::length(v.p), r * (1.0 + tol) * (1.0 + 1e-12));
+      EXPECT_GE(glm::length(v.p), r);
+    }
+    for (const auto& f : p.shape->faces()) EXPECT_GE(f.offset, r * (1.0 - tol) * (1.0 - 1e-12));
+  }
+  {
+    const Primitive& p = bodyNamed(*rep.scene, "Cylinder").primitives[0];
+    EXPECT_EQ(p.source, ShapeSource::kCylinder);
+    for (const auto& v : p.shape->vertices()) {
+      const double radial = std::hypot(v.p.x, v.p.z);
+      EXPECT_LE(radial, r * (1.0 + tol) * (1.0 + 1e-12));
+      EXPECT_NEAR(std::abs(v.p.y), 0.5, 1e-12);
+    }
+    // the faces around the side sink in by at most tol * r
+    for (const auto& f : p.shape->faces()) {
+      if (std::abs(f.normal.y) < 1e-9) {
+        EXPECT_GE(f.offset, r * (1.0 - tol) * (1.0 - 1e-12));
+      }
+    }
+  }
+  {
+    const Primitive& p = bodyNamed(*rep.scene, "Capsule").primitives[0];
+    EXPECT_EQ(p.source, ShapeSource::kCapsule);
+    double top = -1.0;
+    for (const auto& v : p.shape->vertices()) top = std::max(top, v.p.y);
+    EXPECT_GE(top, 0.5 + r);
+    EXPECT_LE(top, (0.5 + r * (1.0 + tol)) * (1.0 + 1e-12));
+  }
+  {
+    const Primitive& p = bodyNamed(*rep.scene, "Cone").primitives[0];
+    double top = -1.0;
+    for (const auto& v : p.shape->vertices()) top = std::max(top, v.p.y);
+    EXPECT_NEAR(top, 0.5, 1e-12);  // the apex
+  }
+}
+
+TEST(SceneLoader, AnInfinitePlaneBecomesALargeBoxUnderTheScene) {
+  GltfBuilder b;
+  staticShape(b, "Ground", b.plane(), {0.0, 0.0, 0.0});
+  dynamicShape(b, "Cube", b.box({1.0, 1.0, 1.0}), {3.0, 0.5, 0.0});
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  const Body& ground = bodyNamed(*r.scene, "Ground");
+  ASSERT_EQ(ground.primitives.size(), 1u);
+  const Primitive& p = ground.primitives[0];
+  EXPECT_EQ(p.source, ShapeSource::kPlane);
+  const auto X = p.X_BP.toTransform();
+  double top = -1e300, bottom = 1e300, xmin = 1e300, xmax = -1e300;
+  for (const auto& v : p.shape->vertices()) {
+    const Vec3 w = X.apply(v.p);
+    top = std::max(top, w.y);
+    bottom = std::min(bottom, w.y);
+    xmin = std::min(xmin, w.x);
+    xmax = std::max(xmax, w.x);
+  }
+  EXPECT_NEAR(top, 0.0, 1e-12);
+  // the scene (the cube) spans sqrt(3); the box reaches 10 extents beyond its centre
+  const double extent = std::sqrt(3.0);
+  EXPECT_NEAR(bottom, -extent, 1e-9);
+  EXPECT_NEAR(xmax - 3.0, 10.0 * extent, 1e-9);
+  EXPECT_NEAR(3.0 - xmin, 10.0 * extent, 1e-9);
+  // length_scale leaves the infinite plane out
+  EXPECT_NEAR(r.scene->length_scale, extent, 1e-9);
+}
+
+TEST(SceneLoader, MeshHullAndConvexMeshAndNonConvexRefused) {
+  {
+    GltfBuilder b;
+    json n = GltfBuilder::node("Dented");
+    n["mesh"] = b.addMesh(testing::dentedCubeMesh(), "DentedMesh");
+    GltfBuilder::physics(n)["collider"] = {{"geometry", {{"node", 0}, {"convexHull", true}}}};
+    b.addNode(n);
+    const LoadReport r = load(b);
+    ASSERT_TRUE(r.ok()) << r.message();
+    const Primitive& p = r.scene->bodies[0].primitives[0];
+    EXPECT_EQ(p.source, ShapeSource::kMeshHull);
+    EXPECT_EQ(p.shape->vertices().size(), 8u);  // the dent is inside the hull
+  }
+  {
+    GltfBuilder b;
+    json n = GltfBuilder::node("Cube");
+    n["mesh"] = b.addMesh(testing::cubeMesh(), "CubeMesh");
+    GltfBuilder::physics(n)["collider"] = {{"geometry", {{"node", 0}}}};
+    b.addNode(n);
+    const LoadReport r = load(b);
+    ASSERT_TRUE(r.ok()) << r.message();
+    const Primitive& p = r.scene->bodies[0].primitives[0];
+    EXPECT_EQ(p.source, ShapeSource::kConvexMesh);
+    EXPECT_EQ(p.shape->vertices().size(), 8u);
+    EXPECT_EQ(p.shape->faces().size(), 6u);
+  }
+  {
+    GltfBuilder b;
+    json n = GltfBuilder::node("Dented");
+    n["mesh"] = b.addMesh(testing::dentedCubeMesh(), "DentedMesh");
+    GltfBuilder::physics(n)["collider"] = {{"geometry", {{"node", 0}}}};
+    b.addNode(n);
+    const LoadReport r = load(b);
+    ASSERT_FALSE(r.ok());
+    EXPECT_TRUE(hasProblem(r, "non-convex mesh collider without convexHull (convex decomposition "
+                              "is not supported)"))
+        << r.message();
+    EXPECT_TRUE(hasProblem(r, "mesh 0 'DentedMesh'")) << r.message();
+    EXPECT_TRUE(hasProblem(r, "node 0 'Dented'")) << r.message();
+  }
+}
+
+TEST(SceneLoader, ScaleIsFoldedIntoTheShapeAndPosesStayRigid) {
+  GltfBuilder b;
+  json parent = GltfBuilder::node("Parent", {1.0, 2.0, 3.0});
+  parent["scale"] = {2.0, 3.0, 4.0};
+  parent["rotation"] = {0.0, std::sin(0.25), 0.0, std::cos(0.25)};
+  GltfBuilder::physics(parent)["motion"] = json::object();
+  const int p = b.addNode(parent);
+  json child = GltfBuilder::node("Child", {1.0, 0.0, 0.0});
+  GltfBuilder::physics(child)["collider"] = GltfBuilder::shapeCollider(b.box({1.0, 1.0, 1.0}));
+  b.addNode(child, p);
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  const Body& body = r.scene->bodies[0];
+  EXPECT_NEAR(glm::length(body.X_WB.rotation), 1.0, 1e-12);
+  EXPECT_NEAR(body.X_WB.translation.x, 1.0, 1e-12);
+  const Primitive& prim = body.primitives[0];
+  // the child sits at parent-local (1, 0, 0), i.e. (2, 0, 0) in the unscaled body frame
+  EXPECT_NEAR(prim.X_BP.translation.x, 2.0, 1e-12);
+  EXPECT_NEAR(glm::length(prim.X_BP.rotation), 1.0, 1e-12);
+  Vec3 hi{-1e300};
+  for (const auto& v : prim.shape->vertices()) hi = glm::max(hi, v.p);
+  EXPECT_NEAR(hi.x, 1.0, 1e-12);
+  EXPECT_NEAR(hi.y, 1.5, 1e-12);
+  EXPECT_NEAR(hi.z, 2.0, 1e-12);
+  // 2 x 3 x 4 box at 1000 kg/m^3
+  EXPECT_NEAR(body.mass, 24000.0, 1e-6);
+}
+
+TEST(SceneLoader, MassPropertiesOfABoxMatchTheClosedForm) {
+  GltfBuilder b;
+  dynamicShape(b, "Box", b.box({1.0, 2.0, 3.0}), {0.0, 0.0, 0.0});
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  const Body& body = r.scene->bodies[0];
+  const double m = 6000.0;
+  EXPECT_NEAR(body.mass, m, 1e-9 * m);
+  EXPECT_NEAR(body.inverse_mass, 1.0 / m, 1e-12);
+  EXPECT_FALSE(body.mass_declared);
+  EXPECT_NEAR(glm::length(body.com_B), 0.0, 1e-12);
+  const double ix = m / 12.0 * (4.0 + 9.0), iy = m / 12.0 * (1.0 + 9.0), iz = m / 12.0 * (1.0 + 4.0);
+  EXPECT_NEAR(body.inertia_B[0][0], ix, 1e-9 * ix);
+  EXPECT_NEAR(body.inertia_B[1][1], iy, 1e-9 * iy);
+  EXPECT_NEAR(body.inertia_B[2][2], iz, 1e-9 * iz);
+  EXPECT_NEAR(body.inertia_B[0][1], 0.0, 1e-9 * ix);
+  EXPECT_NEAR(body.inverse_inertia_B[0][0], 1.0 / ix, 1e-9 / ix);
+}
+
+TEST(SceneLoader, MassPropertiesOfATessellatedSphereWithinTheTolerance) {
+  for (const double tol : {1e-2, 1e-3}) {
+    GltfBuilder b;
+    const double r = 0.25;
+    dynamicShape(b, "Ball", b.sphere(r), {0.0, 0.0, 0.0});
+    LoadOptions options;
+    options.limits.tessellation_tolerance = tol;
+    const LoadReport rep = load(b, options);
+    ASSERT_TRUE(rep.ok()) << rep.message();
+    const Body& body = rep.scene->bodies[0];
+    const double m = 1000.0 * 4.0 / 3.0 * std::numbers::pi * r * r * r;
+    const double i = 0.4 * m * r * r;
+    EXPECT_LE(std::abs(body.mass - m) / m, tol) << "tolerance " << tol;
+    for (int k = 0; k < 3; ++k) EXPECT_LE(std::abs(body.inertia_B[k][k] - i) / i, tol);
+  }
+}
+
+TEST(SceneLoader, DeclaredMassPropertiesAndInfiniteValues) {
+  GltfBuilder b;
+  dynamicShape(b, "Declared", b.box({1.0, 1.0, 1.0}), {0.0, 0.0, 0.0},
+               {{"mass", 2.0}, {"centerOfMass", {0.1, 0.0, 0.0}}});
+  dynamicShape(b, "Inertia", b.box({1.0, 1.0, 1.0}), {5.0, 0.0, 0.0},
+               {{"mass", 3.0}, {"inertiaDiagonal", {1.0, 0.0, 2.0}},
+                {"linearVelocity", {1.0, 2.0, 3.0}}, {"gravityFactor", 0.5}});
+  dynamicShape(b, "Infinite", b.box({1.0, 1.0, 1.0}), {10.0, 0.0, 0.0}, {{"mass", 0.0}});
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  const Body& d = bodyNamed(*r.scene, "Declared");
+  EXPECT_TRUE(d.mass_declared);
+  EXPECT_DOUBLE_EQ(d.mass, 2.0);
+  EXPECT_NEAR(d.com_B.x, 0.1, 1e-12);
+  // computed inertia (m/6 about the centre) scaled to 2 kg, moved 0.1 along x
+  EXPECT_NEAR(d.inertia_B[0][0], 2.0 / 6.0, 1e-9);
+  EXPECT_NEAR(d.inertia_B[1][1], 2.0 / 6.0 + 2.0 * 0.01, 1e-9);
+  const Body& i = bodyNamed(*r.scene, "Inertia");
+  EXPECT_TRUE(i.inertia_declared);
+  EXPECT_DOUBLE_EQ(i.inertia_B[0][0], 1.0);
+  EXPECT_DOUBLE_EQ(i.inertia_B[2][2], 2.0);
+  EXPECT_DOUBLE_EQ(i.inverse_inertia_B[1][1], 0.0);  // 0 declared: infinite
+  EXPECT_DOUBLE_EQ(i.inverse_inertia_B[2][2], 0.5);
+  EXPECT_DOUBLE_EQ(i.linear_velocity_W.z, 3.0);
+  EXPECT_DOUBLE_EQ(i.gravity_factor, 0.5);
+  const Body& inf = bodyNamed(*r.scene, "Infinite");
+  EXPECT_DOUBLE_EQ(inf.inverse_mass, 0.0);
+  EXPECT_DOUBLE_EQ(inf.inverse_inertia_B[0][0], 0.0);
+}
+
+TEST(SceneLoader, ACompoundBodyOwnsItsDescendantColliders) {
+  GltfBuilder b;
+  json body = GltfBuilder::node("Stick", {0.0, 1.0, 0.0});
+  GltfBuilder::physics(body)["motion"] = {{"isKinematic", true}};
+  const int s = b.addNode(body);
+  staticShape(b, "Part1", b.box({1.0, 0.1, 0.1}), {0.5, 0.0, 0.0}, s);
+  staticShape(b, "Part2", b.sphere(0.1), {-0.5, 0.0, 0.0}, s);
+  // a child with its own motion is a separate body
+  json inner = GltfBuilder::node("Inner", {0.0, 0.5, 0.0});
+  GltfBuilder::physics(inner)["motion"] = json::object();
+  GltfBuilder::physics(inner)["collider"] = GltfBuilder::shapeCollider(b.box({0.1, 0.1, 0.1}));
+  b.addNode(inner, s);
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  ASSERT_EQ(r.scene->bodies.size(), 2u);
+  const Body& stick = bodyNamed(*r.scene, "Stick");
+  EXPECT_EQ(stick.motion, Motion::kKinematic);
+  EXPECT_EQ(stick.mass, 0.0);
+  EXPECT_EQ(stick.primitives.size(), 2u);
+  EXPECT_EQ(bodyNamed(*r.scene, "Inner").primitives.size(), 1u);
+  EXPECT_EQ(bodyNamed(*r.scene, "Inner").motion, Motion::kDynamic);
+  EXPECT_EQ(r.scene->plan.moving_primitives, 3u);
+}
+
+TEST(SceneLoader, MaterialsDecideFrictionAndRestitution) {
+  const auto planOf = [](double friction, double restitution, const char* combine, bool on_floor) {
+    GltfBuilder b;
+    const int m = b.material(friction, restitution, combine);
+    json floor = GltfBuilder::node("Floor");
+    GltfBuilder::physics(floor)["collider"] = GltfBuilder::shapeCollider(b.box({4.0, 0.1, 4.0}));
+    json cube = GltfBuilder::node("Cube", {0.0, 1.0, 0.0});
+    GltfBuilder::physics(cube)["motion"] = json::object();
+    GltfBuilder::physics(cube)["collider"] = GltfBuilder::shapeCollider(b.box({1.0, 1.0, 1.0}));
+    GltfBuilder::physics(on_floor ? floor : cube)["collider"]["physicsMaterial"] = m;
+    b.addNode(floor);
+    b.addNode(cube);
+    const LoadReport r = load(b);
+    EXPECT_TRUE(r.ok()) << r.message();
+    return r.scene ? r.scene->plan : SimulationPlan{};
+  };
+  EXPECT_TRUE(planOf(0.5, 0.0, "average", false).friction);
+  EXPECT_FALSE(planOf(0.5, 0.0, "average", false).restitution);
+  EXPECT_TRUE(planOf(0.0, 0.3, "average", false).restitution);
+  EXPECT_FALSE(planOf(0.0, 0.3, "average", false).friction);
+  // a material on the floor asks for friction against the cube (average with 0)
+  EXPECT_TRUE(planOf(0.5, 0.0, "average", true).friction);
+  // both materials multiply (or take the minimum) and the cube's is 0: nothing to simulate
+  const auto both = [](const char* combine) {
+    GltfBuilder b;
+    const int floor_material = b.material(0.5, 0.5, combine);
+    const int cube_material = b.material(0.0, 0.0, combine);
+    json floor = GltfBuilder::node("Floor");
+    GltfBuilder::physics(floor)["collider"] = GltfBuilder::shapeCollider(
+        b.box({4.0, 0.1, 4.0}), {{"physicsMaterial", floor_material}});
+    json cube = GltfBuilder::node("Cube", {0.0, 1.0, 0.0});
+    GltfBuilder::physics(cube)["motion"] = json::object();
+    GltfBuilder::physics(cube)["collider"] = GltfBuilder::shapeCollider(
+        b.box({1.0, 1.0, 1.0}), {{"physicsMaterial", cube_material}});
+    b.addNode(floor);
+    b.addNode(cube);
+    const LoadReport r = load(b);
+    EXPECT_TRUE(r.ok()) << r.message();
+    return r.scene ? r.scene->plan : SimulationPlan{};
+  };
+  EXPECT_FALSE(both("multiply").friction);
+  EXPECT_FALSE(both("multiply").restitution);
+  EXPECT_FALSE(both("minimum").friction);
+  EXPECT_TRUE(both("maximum").friction);
+  EXPECT_TRUE(both("maximum").restitution);
+  // the floor's material meets the cube's default (no material: 0, average)
+  EXPECT_TRUE(planOf(0.5, 0.5, "multiply", true).friction);
+
+  GltfBuilder b;
+  b.material(0.5, 0.5);
+  staticShape(b, "Unused", b.box({1.0, 1.0, 1.0}), {0.0, 0.0, 0.0});
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok());
+  ASSERT_EQ(r.scene->materials.size(), 1u);
+  EXPECT_DOUBLE_EQ(r.scene->materials[0].static_friction, 0.5);
+  // a material no collider uses asks for nothing
+  EXPECT_FALSE(r.scene->plan.friction);
+  EXPECT_FALSE(r.scene->plan.restitution);
+}
+
+TEST(SceneLoader, CollisionFiltersBecomeBits) {
+  GltfBuilder b;
+  const int f0 = b.addPhysics("collisionFilters",
+                              {{"collisionSystems", {"character"}}, {"collideWithSystems", {"landscape"}}});
+  const int f1 = b.addPhysics("collisionFilters",
+                              {{"collisionSystems", {"landscape"}}, {"notCollideWithSystems", {"debris"}}});
+  json a = GltfBuilder::node("A");
+  GltfBuilder::physics(a)["collider"] = GltfBuilder::shapeCollider(b.box({1.0, 1.0, 1.0}), {{"collisionFilter", f0}});
+  json c = GltfBuilder::node("B", {3.0, 0.0, 0.0});
+  GltfBuilder::physics(c)["collider"] = GltfBuilder::shapeCollider(b.box({1.0, 1.0, 1.0}), {{"collisionFilter", f1}});
+  json d = GltfBuilder::node("C", {6.0, 0.0, 0.0});
+  GltfBuilder::physics(d)["collider"] = GltfBuilder::shapeCollider(b.box({1.0, 1.0, 1.0}));
+  b.addNode(a);
+  b.addNode(c);
+  b.addNode(d);
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  const Primitive& pa = bodyNamed(*r.scene, "A").primitives[0];
+  const Primitive& pb = bodyNamed(*r.scene, "B").primitives[0];
+  const Primitive& pc = bodyNamed(*r.scene, "C").primitives[0];
+  // bits in order of first appearance: character 1, landscape 2, debris 4
+  EXPECT_EQ(pa.group, 1u);
+  EXPECT_EQ(pa.mask, 2u);
+  EXPECT_EQ(pb.group, 2u);
+  EXPECT_EQ(pb.mask, ~4u);
+  EXPECT_EQ(pc.group, ~0u);
+  EXPECT_EQ(pc.mask, ~0u);
+  const auto collide = [](const Primitive& x, const Primitive& y) {
+    return (x.group & y.mask) && (y.group & x.mask);
+  };
+  EXPECT_TRUE(collide(pa, pb));
+  EXPECT_TRUE(collide(pa, pc));
+
+  GltfBuilder many;
+  json systems = json::array();
+  for (int i = 0; i < 33; ++i) systems.push_back("s" + std::to_string(i));
+  const int f = many.addPhysics("collisionFilters", {{"collisionSystems", systems}});
+  json n = GltfBuilder::node("N");
+  GltfBuilder::physics(n)["collider"] = GltfBuilder::shapeCollider(many.box({1.0, 1.0, 1.0}), {{"collisionFilter", f}});
+  many.addNode(n);
+  const LoadReport bad = load(many);
+  EXPECT_FALSE(bad.ok());
+  EXPECT_TRUE(hasProblem(bad, "more than 32 collision systems")) << bad.message();
+}
+
+json lockedLinear() { return {{"linearAxes", {0, 1, 2}}, {"max", 0.0}}; }
+
+LoadReport jointScene(const json& limits) {
+  GltfBuilder b;
+  const int j = b.addPhysics("physicsJoints", {{"limits", limits}});
+  json wheel = GltfBuilder::node("Wheel", {0.0, 1.0, 0.0});
+  GltfBuilder::physics(wheel)["motion"] = json::object();
+  GltfBuilder::physics(wheel)["collider"] = GltfBuilder::shapeCollider(b.cylinder(0.1, 0.5, 0.5));
+  const int w = b.addNode(wheel);
+  const int anchor = b.addNode(GltfBuilder::node("Anchor", {0.0, 1.0, 0.0}));
+  json pivot = GltfBuilder::node("Pivot");
+  GltfBuilder::physics(pivot)["joint"] = {{"connectedNode", anchor}, {"joint", j}};
+  b.addNode(pivot, w);
+  return load(b);
+}
+
+TEST(SceneLoader, JointsAreClassifiedFixedOrHinge) {
+  {
+    const LoadReport r = jointScene(
+        {lockedLinear(), {{"angularAxes", {0, 1, 2}}, {"max", 0.0}}});
+    ASSERT_TRUE(r.ok()) << r.message();
+    ASSERT_EQ(r.scene->joints.size(), 1u);
+    EXPECT_EQ(r.scene->joints[0].kind, JointKind::kFixed);
+    EXPECT_EQ(r.scene->joints[0].body_a, 0);
+    EXPECT_EQ(r.scene->joints[0].body_b, -1);  // the anchor is the scene frame
+    EXPECT_NEAR(r.scene->joints[0].X_BJ.translation.y, 1.0, 1e-12);
+    EXPECT_TRUE(r.scene->plan.joints);
+  }
+  {
+    const LoadReport r = jointScene({lockedLinear(), {{"angularAxes", {0, 2}}, {"max", 0.0}},
+                                     {{"angularAxes", {1}}, {"min", -0.5}, {"max", 0.5}}});
+    ASSERT_TRUE(r.ok()) << r.message();
+    const Joint& j = r.scene->joints[0];
+    EXPECT_EQ(j.kind, JointKind::kHinge);
+    EXPECT_EQ(j.hinge_axis, 1);
+    ASSERT_TRUE(j.hinge_min && j.hinge_max);
+    EXPECT_DOUBLE_EQ(*j.hinge_min, -0.5);
+    EXPECT_DOUBLE_EQ(*j.hinge_max, 0.5);
+    EXPECT_EQ(j.limits.size(), 3u);
+    EXPECT_FALSE(j.enable_collision);
+  }
+  {
+    // a free hinge: one-axis locks, no limit on the free axis
+    const LoadReport r = jointScene({lockedLinear(), {{"angularAxes", {0}}, {"min", 0.0}, {"max", 0.0}},
+                                     {{"angularAxes", {1}}, {"min", 0.0}, {"max", 0.0}}});
+    ASSERT_TRUE(r.ok()) << r.message();
+    EXPECT_EQ(r.scene->joints[0].hinge_axis, 2);
+    EXPECT_FALSE(r.scene->joints[0].hinge_min);
+  }
+  {
+    const LoadReport r = jointScene(json::array({lockedLinear()}));  // a ball joint
+    EXPECT_FALSE(r.ok());
+    EXPECT_TRUE(hasProblem(r, "node 2 'Pivot' joint: is neither fixed nor a hinge: 3 free angular axes"))
+        << r.message();
+  }
+  {
+    const LoadReport r = jointScene({{{"linearAxes", {0, 2}}, {"max", 0.0}},
+                                     {{"angularAxes", {0, 1, 2}}, {"max", 0.0}}});  // prismatic
+    EXPECT_FALSE(r.ok());
+    EXPECT_TRUE(hasProblem(r, "not every linear axis is locked")) << r.message();
+  }
+}
+
+TEST(SceneLoader, HapticExtrasProbeStiffnessGravity) {
+  GltfBuilder b;
+  json peg = GltfBuilder::node("Peg", {0.0, 1.0, 0.0});
+  GltfBuilder::physics(peg)["collider"] = GltfBuilder::shapeCollider(b.box({0.02, 0.1, 0.02}));
+  peg["extras"]["haptic"] = {{"probe", true}, {"stiffness", 2000.0}};
+  b.addNode(peg);
+  staticShape(b, "Floor", b.box({1.0, 0.1, 1.0}), {0.0, 0.0, 0.0});
+  b.gravity({0.0, -9.81, 0.0});
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  const SceneModel& s = *r.scene;
+  ASSERT_GE(s.probe_body, 0);
+  const Body& probe = s.bodies[static_cast<std::size_t>(s.probe_body)];
+  EXPECT_EQ(probe.name, "Peg");
+  EXPECT_TRUE(probe.probe);
+  EXPECT_EQ(probe.motion, Motion::kKinematic);  // a probe without motion: moved by the device
+  ASSERT_TRUE(probe.stiffness_n_per_m);
+  EXPECT_DOUBLE_EQ(*probe.stiffness_n_per_m, 2000.0);
+  ASSERT_TRUE(s.gravity_W);
+  EXPECT_DOUBLE_EQ(s.gravity_W->y, -9.81);
+  // gravity declared, but nothing dynamic feels it
+  EXPECT_FALSE(s.plan.gravity);
+  EXPECT_FALSE(s.plan.dynamics);
+}
+
+TEST(SceneLoader, GravityOnTheAssetAndTheGravityFactor) {
+  const auto plan = [](double factor, bool on_asset) {
+    GltfBuilder b;
+    dynamicShape(b, "Cube", b.box({1.0, 1.0, 1.0}), {0.0, 1.0, 0.0}, {{"gravityFactor", factor}});
+    if (on_asset) {
+      b.doc["asset"]["extras"]["haptic"]["gravity"] = {0.0, -9.81, 0.0};
+    } else {
+      b.gravity({0.0, -9.81, 0.0});
+    }
+    const LoadReport r = load(b);
+    EXPECT_TRUE(r.ok()) << r.message();
+    return r.scene ? r.scene->plan : SimulationPlan{};
+  };
+  EXPECT_TRUE(plan(1.0, false).gravity);
+  EXPECT_TRUE(plan(1.0, true).gravity);
+  EXPECT_TRUE(plan(1.0, false).dynamics);
+  EXPECT_FALSE(plan(0.0, false).gravity);
+
+  GltfBuilder none;
+  dynamicShape(none, "Cube", none.box({1.0, 1.0, 1.0}), {0.0, 1.0, 0.0});
+  const LoadReport r = load(none);
+  ASSERT_TRUE(r.ok());
+  EXPECT_FALSE(r.scene->gravity_W);
+  EXPECT_FALSE(r.scene->plan.gravity);  // no gravity declared: none simulated
+}
+
+TEST(SceneLoader, DescribePlanNamesEveryStage) {
+  SimulationPlan plan;
+  plan.dynamics = true;
+  plan.static_primitives = 4;
+  plan.moving_primitives = 2;
+  const std::string text = describePlan(plan);
+  EXPECT_NE(text.find("contact forces: on"), std::string::npos);
+  EXPECT_NE(text.find("dynamics: on"), std::string::npos);
+  EXPECT_NE(text.find("gravity: off"), std::string::npos);
+  EXPECT_NE(text.find("friction: off"), std::string::npos);
+  EXPECT_NE(text.find("restitution: off"), std::string::npos);
+  EXPECT_NE(text.find("joints: off"), std::string::npos);
+  EXPECT_NE(text.find("2 moving primitives, 4 static primitives"), std::string::npos);
+}
+
+/// The same scene with every length multiplied by `s`.
+LoadReport scaledScene(double s) {
+  GltfBuilder b;
+  staticShape(b, "Floor", b.box({4.0 * s, 0.2 * s, 4.0 * s}), {0.0, -0.1 * s, 0.0});
+  dynamicShape(b, "Ball", b.sphere(0.3 * s), {0.0, 0.5 * s, 0.0});
+  json cube = GltfBuilder::node("Cube", {1.0 * s, 0.5 * s, 0.0});
+  cube["mesh"] = b.addMesh(testing::cubeMesh(0.25 * s), "CubeMesh");
+  GltfBuilder::physics(cube)["motion"] = json::object();
+  GltfBuilder::physics(cube)["collider"] = {{"geometry", {{"node", 2}}}};
+  b.addNode(cube);
+  return load(b);
+}
+
+TEST(SceneLoader, TheSameSceneInMillimetresMetresAndKilometres) {
+  const LoadReport m = scaledScene(1.0);
+  ASSERT_TRUE(m.ok()) << m.message();
+  for (const double s : {1e-3, 1e3}) {
+    const LoadReport r = scaledScene(s);
+    ASSERT_TRUE(r.ok()) << r.message();
+    EXPECT_NEAR(r.scene->length_scale / m.scene->length_scale, s, 1e-6 * s);
+    ASSERT_EQ(r.scene->bodies.size(), m.scene->bodies.size());
+    for (std::size_t i = 0; i < r.scene->bodies.size(); ++i) {
+      const Body& a = m.scene->bodies[i];
+      const Body& c = r.scene->bodies[i];
+      ASSERT_EQ(a.primitives.size(), c.primitives.size());
+      for (std::size_t k = 0; k < a.primitives.size(); ++k) {
+        EXPECT_EQ(a.primitives[k].shape->vertices().size(), c.primitives[k].shape->vertices().size());
+        EXPECT_EQ(a.primitives[k].shape->faces().size(), c.primitives[k].shape->faces().size());
+      }
+      if (a.motion == Motion::kDynamic) {
+        EXPECT_NEAR(c.mass / a.mass, s * s * s, 1e-6 * s * s * s);
+        EXPECT_NEAR(c.inertia_B[0][0] / a.inertia_B[0][0], std::pow(s, 5), 1e-6 * std::pow(s, 5));
+      }
+      EXPECT_NEAR(glm::length(c.X_WB.translation) / s, glm::length(a.X_WB.translation), 1e-9);
+    }
+    EXPECT_EQ(r.scene->plan.dynamics, m.scene->plan.dynamics);
+    EXPECT_EQ(r.scene->plan.static_primitives, m.scene->plan.static_primitives);
+  }
+}
+
+TEST(SceneLoader, EveryProblemIsReportedNotJustTheFirst) {
+  GltfBuilder b;
+  json n0 = GltfBuilder::node("A");
+  n0["translation"] = "up";
+  n0["children"] = {7};
+  b.addNode(n0);
+  json n1 = GltfBuilder::node("B");
+  n1["rotation"] = {0.0, 0.0, 0.0, 3.0};
+  b.addNode(n1);
+  b.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+  const LoadReport r = load(b);
+  ASSERT_FALSE(r.ok());
+  EXPECT_GE(r.problems.size(), 4u) << r.message();
+  EXPECT_TRUE(hasProblem(r, "node 0 'A': translation must be an array of 3 numbers"));
+  EXPECT_TRUE(hasProblem(r, "node 0 'A': children index 7 out of range (2 nodes)"));
+  EXPECT_TRUE(hasProblem(r, "node 1 'B': rotation is not a unit quaternion (norm 3"));
+  EXPECT_TRUE(hasProblem(r, "unsupported required extension 'KHR_draco_mesh_compression'"));
+}
+
+TEST(SceneLoader, NearlyUnitQuaternionsAreNormalised) {
+  GltfBuilder b;
+  json n = GltfBuilder::node("Q");
+  n["rotation"] = {0.0, 0.0, 0.0, 1.0004};
+  GltfBuilder::physics(n)["collider"] = GltfBuilder::shapeCollider(b.box({1.0, 1.0, 1.0}));
+  b.addNode(n);
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  EXPECT_NEAR(glm::length(r.scene->bodies[0].X_WB.rotation), 1.0, 1e-15);
+}
+
+class ExternalUri : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("hapticd_uri_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::remove_all(dir_);
+    std::filesystem::create_directories(dir_ / "inside");
+    // a scene whose buffer is the file cube.bin
+    testing::GltfBuilder b;
+    json n = GltfBuilder::node("Cube");
+    n["mesh"] = b.addMesh(testing::cubeMesh(), "CubeMesh");
+    GltfBuilder::physics(n)["collider"] = {{"geometry", {{"node", 0}}}};
+    b.addNode(n);
+    bin_ = b.bin;
+    std::ofstream(dir_ / "inside" / "cube.bin", std::ios::binary)
+        .write(reinterpret_cast<const char*>(bin_.data()), static_cast<std::streamsize>(bin_.size()));
+    std::ofstream(dir_ / "outside.bin", std::ios::binary)
+        .write(reinterpret_cast<const char*>(bin_.data()), static_cast<std::streamsize>(bin_.size()));
+    std::filesystem::create_symlink(dir_ / "outside.bin", dir_ / "inside" / "link.bin");
+    doc_ = b.doc;
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+
+  LoadReport withUri(const std::string& uri, bool allow) {
+    json d = doc_;
+    d["buffers"] = json::array({json{{"byteLength", bin_.size()}, {"uri", uri}}});
+    LoadOptions options;
+    if (allow) options.allowed_uri_dir = dir_ / "inside";
+    return loadScene(testing::bytesOf(d.dump()), "uri.gltf", options);
+  }
+
+  std::filesystem::path dir_;
+  std::vector<std::uint8_t> bin_;
+  json doc_;
+};
+
+TEST_F(ExternalUri, RefusedUnlessAFolderIsAllowedThenOnlyInsideIt) {
+  const LoadReport refused = withUri("cube.bin", false);
+  EXPECT_FALSE(refused.ok());
+  EXPECT_TRUE(hasProblem(refused, "buffer 0: external URI 'cube.bin' refused: no folder is allowed"))
+      << refused.message();
+
+  const LoadReport allowed = withUri("cube.bin", true);
+  ASSERT_TRUE(allowed.ok()) << allowed.message();
+  EXPECT_EQ(allowed.scene->bodies[0].primitives[0].shape->vertices().size(), 8u);
+
+  const LoadReport up = withUri("../outside.bin", true);
+  EXPECT_TRUE(hasProblem(up, "traverses out of the allowed folder")) << up.message();
+  const LoadReport encoded = withUri("%2e%2e/outside.bin", true);
+  EXPECT_TRUE(hasProblem(encoded, "traverses out of the allowed folder")) << encoded.message();
+  const LoadReport absolute = withUri((dir_ / "outside.bin").string(), true);
+  EXPECT_TRUE(hasProblem(absolute, "is an absolute path")) << absolute.message();
+  const LoadReport link = withUri("link.bin", true);
+  EXPECT_TRUE(hasProblem(link, "resolves outside the allowed folder")) << link.message();
+  const LoadReport missing = withUri("nothing.bin", true);
+  EXPECT_TRUE(hasProblem(missing, "no such file")) << missing.message();
+  const LoadReport scheme = withUri("file:///etc/passwd", true);
+  EXPECT_TRUE(hasProblem(scheme, "has a scheme")) << scheme.message();
+}
+
+TEST(SceneLoader, LoadSceneFileChecksTheSizeFirst) {
+  const auto path = std::filesystem::temp_directory_path() / "hapticd_size_test.gltf";
+  GltfBuilder b;
+  staticShape(b, "Box", b.box({1.0, 1.0, 1.0}), {0.0, 0.0, 0.0});
+  { std::ofstream(path) << b.gltf(); }
+  LoadOptions small;
+  small.limits.max_file_bytes = 10;
+  const LoadReport r = loadSceneFile(path, small);
+  EXPECT_FALSE(r.ok());
+  EXPECT_TRUE(hasProblem(r, "exceeds max_file_bytes (10)")) << r.message();
+  const LoadReport ok = loadSceneFile(path);
+  EXPECT_TRUE(ok.ok()) << ok.message();
+  EXPECT_EQ(ok.scene->name, "hapticd_size_test.gltf");
+  std::filesystem::remove(path);
+  const LoadReport none = loadSceneFile(path);
+  EXPECT_TRUE(hasProblem(none, "cannot read")) << none.message();
+}
+
+TEST(SceneLoader, LimitsAreEnforced) {
+  GltfBuilder b;
+  for (int i = 0; i < 5; ++i) staticShape(b, "B" + std::to_string(i), b.box({1.0, 1.0, 1.0}), {2.0 * i, 0.0, 0.0});
+  LoadOptions options;
+  options.limits.max_primitives = 4;
+  EXPECT_TRUE(hasProblem(load(b, options), "5 colliders exceeds max_primitives (4)"));
+  options = {};
+  options.limits.max_nodes = 3;
+  EXPECT_TRUE(hasProblem(load(b, options), "5 nodes exceeds max_nodes (3)"));
+  options = {};
+  options.limits.max_bodies = 2;
+  EXPECT_TRUE(hasProblem(load(b, options), "5 bodies exceeds max_bodies (2)"));
+  GltfBuilder s;
+  staticShape(s, "Ball", s.sphere(1.0), {0.0, 0.0, 0.0});
+  options = {};
+  options.limits.tessellation_tolerance = 1e-7;
+  EXPECT_TRUE(hasProblem(load(s, options), "needs more than 4096 hull vertices"));
+  options.limits.tessellation_tolerance = 0.0;
+  EXPECT_TRUE(hasProblem(load(s, options), "tessellation_tolerance 0 must be in (0, 0.5)"));
+}
+
+}  // namespace
+}  // namespace hapticd::scene

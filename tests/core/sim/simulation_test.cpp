@@ -1,0 +1,125 @@
+// The whole tick on the hard cases of issue 5, driven tick by tick on simulated time. Every case
+// checks the invariants of tests/core/sim/harness.h on every tick and prints its figures.
+#include "core/sim/simulation.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <numbers>
+
+#include "tests/core/alloc_counter.h"
+#include "tests/core/sim/harness.h"
+
+namespace hapticd::simtest {
+namespace {
+
+using scene::Motion;
+
+constexpr double kPi = std::numbers::pi;
+
+Pose at(double x, double y, double z, Quat q = Quat{1, 0, 0, 0}) { return Pose{Vec3{x, y, z}, q}; }
+
+// A floor: a static box whose top face is y = 0.
+scene::Body floorBody(double s = 1.0) {
+  return makeBody("floor", Motion::kStatic, at(0, -0.05 * s, 0), {boxShape(Vec3{0.2, 0.05, 0.2} * s)});
+}
+
+std::unique_ptr<sim::Simulation> make(std::shared_ptr<const scene::SceneModel> s, const sim::SimOptions& o) {
+  auto r = sim::Simulation::create(std::move(s), o);
+  EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
+  return std::move(r).value();
+}
+
+TEST(Simulation, ProbeSphereDriven50mmIntoAWall) {
+  scene::SceneModel s;
+  s.name = "wall";
+  s.bodies.push_back(floorBody());
+  sim::SimOptions o;
+  o.response.ramp_s = 0.0;
+  Runner run(make(finish(s), o), o);
+  const double r = o.probe_sphere_radius_m;
+  Path path({{0.0, at(0, r + 0.02, 0)},
+             {2.0, at(0, r - 0.05, 0)},   // 50 mm inside the wall
+             {2.5, at(0, r - 0.05, 0)},
+             {4.5, at(0, r + 0.02, 0)},
+             {5.0, at(0, r + 0.02, 0)}});
+  double f_at_5mm = -1.0, delta = 0.0;
+  const Figures f = run.run(path, [&](const sim::TickInput& in, const sim::TickOutput& out) {
+    if (f_at_5mm < 0.0 && in.X_W_device.translation.y <= r - 0.005) {
+      f_at_5mm = out.force_W_n.y;
+      delta = out.delta_m;
+    }
+    EXPECT_GE(out.X_W_proxy.translation.y, r - 1e-3);  // the proxy stays at the surface
+  });
+  f.print("probe 50 mm into a wall");
+  std::printf("  force at 5 mm depth %.4f N (k_s (delta + D) = %.4f N for a true sphere; the "
+              "hull's lowest point is above -r)\n",
+              f_at_5mm, o.response.stiffness_n_per_m * (delta + 0.005));
+  expectInvariants(f, o, 1e-3);
+  EXPECT_NEAR(f.max_force_n, o.response.max_force_n, 1e-9);  // the limit was reached and held
+}
+
+TEST(Simulation, FaceRestingOnFace) {
+  scene::SceneModel s;
+  s.name = "face on face";
+  s.bodies.push_back(floorBody());
+  auto cube = makeBody("cube", Motion::kKinematic, at(0, 0.05, 0), {boxShape(Vec3{0.01})});
+  cube.probe = true;
+  s.bodies.push_back(cube);
+  sim::SimOptions o;
+  o.response.ramp_s = 0.0;
+  Runner run(make(finish(s), o), o);
+  const double D = 0.002;  // device 2 mm below the floor
+  Path path({{0.0, at(0, 0.05, 0)},
+             {1.0, at(0, 0.01 - D, 0)},
+             {2.0, at(0, 0.01 - D, 0)},
+             {2.5, at(0, 0.01 - D, 0, axisAngle(Vec3{1, 0, 0}, 0.01))},  // tilt the hand
+             {3.0, at(0, 0.01 - D, 0, axisAngle(Vec3{1, 0, 0}, 0.01))},
+             {3.5, at(0, 0.01 - D, 0)},
+             {4.5, at(0, 0.03, 0)},
+             {5.0, at(0, 0.03, 0)}});
+  double f_rest = 0.0, t_rest = 1.0, t_tilt = 0.0, delta = 0.0;
+  std::uint32_t contacts_rest = 0;
+  const Figures f = run.run(path, [&](const sim::TickInput& in, const sim::TickOutput& out) {
+    if (std::abs(in.t_s - 1.9) < 1e-9) {
+      f_rest = out.force_W_n.y;
+      t_rest = glm::length(out.torque_W_nm);
+      contacts_rest = out.contacts;
+      delta = out.delta_m;
+    }
+    if (std::abs(in.t_s - 2.9) < 1e-9) t_tilt = out.torque_W_nm.x;
+    if (std::getenv("TRACE")) std::printf("T %.3f dev %.6f prx %.6f F %.6f Fc %.6f c %u pen %.3g fl %u\n", in.t_s, in.X_W_device.translation.y, out.X_W_proxy.translation.y, out.force_W_n.y, out.contact_force_W_n.y, out.contacts, out.max_penetration_m, out.flags);
+  });
+  f.print("face resting on face");
+  const double expect = o.response.stiffness_n_per_m * (delta + D);
+  std::printf("  resting force %.5f N (k_s (delta + D) = %.5f N, delta %.3g mm), torque %.3g N m, "
+              "%u contacts; torque with the hand tilted 10 mrad %.5f N m\n",
+              f_rest, expect, 1e3 * delta, t_rest, contacts_rest, t_tilt);
+  expectInvariants(f, o, 1e-3);
+  EXPECT_NEAR(f_rest, expect, 0.01 * expect);
+  EXPECT_LT(t_rest, 1e-6);
+  EXPECT_EQ(contacts_rest, 4u);
+  EXPECT_LT(t_tilt, 0.0);  // the floor resists the tilt: the torque turns the hand back
+}
+
+TEST(Simulation, StepAllocatesNothingAfterCreate) {
+  scene::SceneModel s;
+  s.bodies.push_back(floorBody());
+  sim::SimOptions o;
+  auto sim = make(finish(s), o);
+  const double r = o.probe_sphere_radius_m;
+  Path path({{0.0, at(0, r + 0.01, 0)}, {1.0, at(0, r - 0.01, 0.01)}, {2.0, at(0.01, r + 0.01, 0)}});
+  const std::uint64_t before = testing_alloc::count();
+  for (int k = 0; k <= 2000; ++k) {
+    sim::TickInput in;
+    in.t_s = k * 0.001;
+    in.X_W_device = path.at(in.t_s);
+    in.buttons = static_cast<std::uint32_t>((k / 300) % 2);
+    (void)sim->step(in);
+  }
+  EXPECT_EQ(testing_alloc::count() - before, 0u);
+}
+
+}  // namespace
+}  // namespace hapticd::simtest
