@@ -32,7 +32,7 @@ std::optional<int> parseCommandLine(int argc, char** argv, CommandLine& o) {
   app.add_option("--record-bodies", o.record_bodies,
                  "write the pose of every non-static body per tick (tick,t,body,px..qw)");
   app.add_option("--status-file", o.status_file, "write the status (JSON) to this file twice a second and at exit");
-  app.add_option("--ticks", o.ticks, "stop (ramping the force to zero) after this many ticks; 0 no limit");
+  app.add_option("--ticks", o.ticks, "end after exactly this many ticks (the force is then set to zero); 0: no limit");
   app.add_flag("--check-config", o.check_config, "check the configuration and exit (0 good, 2 bad)");
   app.add_flag("--print-config", o.print_config, "print the effective configuration as TOML and exit");
   try {

@@ -297,7 +297,7 @@ int Daemon::run() {
   // 7. scene and its simulation, handed over before the loop starts
   auto scene = buildScene(config_, ++generation_);
   if (!scene) {
-    logError("scene: " + scene.error().message);
+    logError("cannot load the scene: " + scene.error().message);
     return kExitFailure;
   }
   loop_->offerScene(std::move(scene.value()));

@@ -31,7 +31,11 @@ Result<std::shared_ptr<const scene::SceneModel>> loadConfiguredScene(const daemo
   } else {
     report = scene::loadSceneFile(c.scene.path, options);
   }
-  if (!report.ok()) return Error{report.message()};
+  if (!report.ok()) {
+    const std::string what = c.scene.path.empty() ? "demo scene '" + c.scene.demo + "'"
+                                                  : "scene file '" + c.scene.path + "'";
+    return Error{what + ": " + report.message()};
+  }
   return std::shared_ptr<const scene::SceneModel>(
       std::make_shared<scene::SceneModel>(std::move(*report.scene)));
 }

@@ -266,7 +266,7 @@ TEST_F(DaemonTest, StartupFailuresAreClearAndExitNonZero) {
   cli.scene = "nothing.glb";
   ::testing::internal::CaptureStderr();
   EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitFailure);
-  EXPECT_NE(::testing::internal::GetCapturedStderr().find("scene: file 'nothing.glb'"),
+  EXPECT_NE(::testing::internal::GetCapturedStderr().find("cannot load the scene: file 'nothing.glb'"),
             std::string::npos);
 
   writeConfig("[servo]\nrate_hz = -3\n");
