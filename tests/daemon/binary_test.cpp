@@ -10,11 +10,14 @@
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
+#include <sys/socket.h>
+#include <sys/un.h>
 #include <sys/syscall.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
 #include <chrono>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -55,7 +58,13 @@ class BinaryTest : public ::testing::Test {
 
   // Starts hapticd with `args`; stdout and stderr go to files. `prepare` runs in the child
   // before exec (async-signal-safe calls only).
-  void start(const std::vector<std::string>& args, void (*prepare)() = nullptr) {
+  void start(const std::vector<std::string>& args, void (*prepare)() = nullptr,
+             const std::vector<std::string>& extra_env = {}) {
+    std::vector<std::string> env_strings(extra_env);
+    for (char** e = environ; *e != nullptr; ++e) env_strings.emplace_back(*e);
+    std::vector<char*> envp;
+    for (auto& e : env_strings) envp.push_back(e.data());
+    envp.push_back(nullptr);
     std::vector<std::string> all{HAPTICD_BINARY};
     all.insert(all.end(), args.begin(), args.end());
     std::vector<char*> argv;
@@ -73,7 +82,7 @@ class BinaryTest : public ::testing::Test {
       sigemptyset(&none);
       sigprocmask(SIG_SETMASK, &none, nullptr);
       if (prepare) prepare();
-      execv(argv[0], argv.data());
+      execve(argv[0], argv.data(), envp.data());
       _exit(127);
     }
   }
@@ -278,6 +287,43 @@ TEST_F(BinaryTest, RealtimeRefusedByTheKernelPreferRunsWithWarningsRequireRefuse
 
   EXPECT_EQ(run({"--realtime", "require", "--ticks", "500"}, &dropRealtime), 1);
   EXPECT_NE(err().find("realtime = \"require\""), std::string::npos) << err();
+}
+
+TEST_F(BinaryTest, NotifiesSystemdReadyWatchdogAndStopping) {
+  // a stand-in for systemd's notification socket
+  const std::string sock_path = path("notify.sock");
+  const int sock = socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  ASSERT_GE(sock, 0);
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  ASSERT_LT(sock_path.size(), sizeof addr.sun_path);
+  std::memcpy(addr.sun_path, sock_path.c_str(), sock_path.size() + 1);
+  ASSERT_EQ(bind(sock, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+  timeval tv{0, 100'000};
+  setsockopt(sock, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  start({"--realtime", "off"}, nullptr, {"NOTIFY_SOCKET=" + sock_path, "WATCHDOG_USEC=200000"});
+  std::vector<std::string> messages;
+  auto receiveUntil = [&](const std::string& what) {
+    for (int i = 0; i < 600; ++i) {
+      char buf[512];
+      const ssize_t n = recv(sock, buf, sizeof buf, 0);
+      if (n > 0) {
+        messages.emplace_back(buf, static_cast<std::size_t>(n));
+        if (messages.back().find(what) != std::string::npos) return true;
+      }
+    }
+    return false;
+  };
+  EXPECT_TRUE(receiveUntil("READY=1")) << err();
+  EXPECT_TRUE(receiveUntil("WATCHDOG=1")) << err();
+  EXPECT_TRUE(receiveUntil("WATCHDOG=1"));  // fed again while the loop ticks
+  kill(pid_, SIGTERM);
+  EXPECT_TRUE(receiveUntil("STOPPING=1"));
+  EXPECT_EQ(wait(), 0);
+  close(sock);
+  // READY came before any WATCHDOG
+  ASSERT_FALSE(messages.empty());
+  EXPECT_NE(messages.front().find("READY=1"), std::string::npos) << messages.front();
 }
 
 TEST_F(BinaryTest, FourKilohertzRuns) {
