@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <future>
+#include <optional>
 #include <nlohmann/json.hpp>
 #include <thread>
 
@@ -42,8 +43,19 @@ class Daemon {
   int run();
 
  private:
-  Result<std::unique_ptr<ServoScene>> buildScene(const Config& config, std::uint64_t generation);
-  void reload();
+  // A scene pipeline built off the servo thread (on the main thread at start-up, on the builder
+  // thread on SIGHUP), with what the main thread records about it.
+  struct Built {
+    std::unique_ptr<ServoScene> scene;
+    std::string name;
+    std::vector<std::string> body_names;
+  };
+  Result<Built> buildScene(const Config& config, std::uint64_t generation) const;
+  // Main thread: hands a built scene to the servo loop.
+  void install(Built built);
+  // SIGHUP: starts the builder thread (one at a time); finishReload() applies its outcome.
+  void startReload();
+  void finishReload();
   void drainEvents();
   void writeStatus(const char* phase);
   void logStatusLine();
@@ -62,59 +74,90 @@ class Daemon {
   RealtimeReport process_rt_;
   std::string last_reload_ = "none";
   std::atomic<bool> servo_done_{false};
+  // the reload builder: written by it before reload_done_, read by the main thread after
+  Thread reload_thread_;
+  std::atomic<bool> reload_done_{false};
+  std::optional<Built> reload_result_;
+  std::string reload_error_;
+  Config reload_config_;
   std::atomic<int> exit_reason_{-1};
 };
 
-Result<std::unique_ptr<ServoScene>> Daemon::buildScene(const Config& config,
-                                                       std::uint64_t generation) {
+Result<Daemon::Built> Daemon::buildScene(const Config& config, std::uint64_t generation) const {
   auto scene = backends_.load_scene(config);
   if (!scene) return scene.error();
   auto model = scene.value();
   auto sim = backends_.make_simulation(model, toSimOptions(config));
   if (!sim) return Error{"scene '" + model->name + "': " + sim.error().message};
-  auto s = std::make_unique<ServoScene>();
-  s->sim = std::move(sim.value());
-  s->generation = generation;
-  std::vector<std::string> names;
-  names.reserve(model->bodies.size());
-  for (const auto& b : model->bodies) names.push_back(b.name);
-  if (writer_) writer_->setBodyNames(generation, std::move(names));
-  scene_name_ = model->name;
-  return s;
+  Built built;
+  built.scene = std::make_unique<ServoScene>();
+  built.scene->sim = std::move(sim.value());
+  built.scene->generation = generation;
+  built.name = model->name;
+  built.body_names.reserve(model->bodies.size());
+  for (const auto& b : model->bodies) built.body_names.push_back(b.name);
+  return built;
 }
 
-void Daemon::reload() {
+void Daemon::install(Built built) {
+  generation_ = built.scene->generation;
+  scene_name_ = built.name;
+  if (writer_) writer_->setBodyNames(generation_, std::move(built.body_names));
+  loop_->offerScene(std::move(built.scene));
+}
+
+void Daemon::startReload() {
+  if (reload_thread_.joinable()) {
+    logWarning("SIGHUP: a reload is still being built; this one is ignored");
+    return;
+  }
   notifyReloading();
   logInfo("SIGHUP: reloading the configuration and the scene");
-  auto config = buildConfig(cli_);
-  if (!config) {
-    last_reload_ = "refused: " + config.error().message;
-    logError("reload refused, keeping the running configuration and scene: " +
-             config.error().message);
+  reload_done_ = false;
+  reload_result_.reset();
+  reload_error_.clear();
+  auto started = reload_thread_.start("hapticd-build", 4 << 20, [this] {
+    // off the main thread, so that a large scene does not hold up the watchdog and the log
+    auto config = buildConfig(cli_);
+    if (!config) {
+      reload_error_ = config.error().message;
+    } else {
+      Config next = config.value();
+      reload_config_ = next;
+      next.servo = config_.servo;  // restart-only sections keep running as they are
+      next.device = config_.device;
+      next.network = config_.network;
+      auto built = buildScene(next, generation_ + 1);
+      if (!built)
+        reload_error_ = built.error().message;
+      else
+        reload_result_ = std::move(built.value());
+    }
+    reload_done_ = true;
+  });
+  if (!started) logError("reload: " + started.error().message);
+}
+
+void Daemon::finishReload() {
+  if (!reload_thread_.joinable() || !reload_done_.load()) return;
+  reload_thread_.join();
+  if (!reload_result_) {
+    last_reload_ = "refused: " + reload_error_;
+    logError("reload refused, keeping the running configuration and scene: " + reload_error_);
     notifyReady("running; last reload refused");
     return;
   }
-  Config next = config.value();
+  Config next = reload_config_;
   if (!(next.servo == config_.servo) || !(next.device == config_.device) ||
       !(next.network == config_.network))
     logWarning("reload: changes to [servo], [device] and [network] take effect at restart");
   next.servo = config_.servo;
   next.device = config_.device;
   next.network = config_.network;
-  const std::string old_name = scene_name_;
-  auto scene = buildScene(next, generation_ + 1);
-  if (!scene) {
-    scene_name_ = old_name;
-    last_reload_ = "refused: " + scene.error().message;
-    logError("reload refused, keeping the running configuration and scene: " +
-             scene.error().message);
-    notifyReady("running; last reload refused");
-    return;
-  }
-  ++generation_;
-  loop_->offerScene(std::move(scene.value()));
   config_ = next;
   setLogLevel(config_.log.level);
+  install(std::move(*reload_result_));
+  reload_result_.reset();
   last_reload_ = "ok: scene '" + scene_name_ + "' generation " + std::to_string(generation_);
   logInfo("reload: scene '" + scene_name_ + "' (generation " + std::to_string(generation_) +
           ") handed to the servo loop");
@@ -295,12 +338,12 @@ int Daemon::run() {
   }
 
   // 7. scene and its simulation, handed over before the loop starts
-  auto scene = buildScene(config_, ++generation_);
+  auto scene = buildScene(config_, 1);
   if (!scene) {
     logError("cannot load the scene: " + scene.error().message);
     return kExitFailure;
   }
-  loop_->offerScene(std::move(scene.value()));
+  install(std::move(scene.value()));
   logInfo("scene: '" + scene_name_ + "'");
 
   if (writer_) {
@@ -370,19 +413,24 @@ int Daemon::run() {
       notifyStopping();
       loop_->requestStop();
     } else if (sig == SIGHUP && !stopping) {
-      reload();
+      startReload();
     }
+    finishReload();
     drainEvents();
     loop_->reclaimScenes();
     if (secondsSince(last_service) >= config_.device.service_interval_s) {
       device_->service();
       last_service = SteadyClock::now();
     }
-    // the watchdog is fed only while the loop ticks and no overrun fault is latched
+    // the watchdog is fed only while the loop is healthy: it ticked since the last feed and is
+    // not in a run of overruns as long as the one that latches the miss fault (a latched fault
+    // after the loop recovered is a safe state, force zero until re-armed: the daemon stays up)
     if (watchdog.count() > 0 &&
-        SteadyClock::now() - last_watchdog >= std::chrono::duration_cast<SteadyClock::duration>(watchdog / 4)) {
+        SteadyClock::now() - last_watchdog >=
+            std::chrono::duration_cast<SteadyClock::duration>(watchdog / 4)) {
       const ServoState st = loop_->state();
-      if (st.tick > watchdog_tick && (st.faults & kFaultMisses) == 0) notifyWatchdog();
+      if (st.tick > watchdog_tick && st.consecutive_misses < config_.servo.miss_fault_count)
+        notifyWatchdog();
       watchdog_tick = st.tick;
       last_watchdog = SteadyClock::now();
     }
@@ -397,7 +445,9 @@ int Daemon::run() {
     }
   }
 
-  // 10. reverse teardown: servo thread, writer, scenes, device
+  // 10. reverse teardown: reload builder, servo thread, writer, scenes, device
+  reload_thread_.join();
+  reload_result_.reset();
   servo_thread.join();
   drainEvents();
   loop_->reclaimScenes();
