@@ -120,14 +120,39 @@ std::string toToml(const Config& c) {
      << "\nworkspace_translation_m = " << arr(d.workspace_translation_m)
      << "\nworkspace_rotation = " << arr(d.workspace_rotation)
      << "\nworkspace_scale = " << d.workspace_scale
-     << "\nservice_interval_s = " << d.service_interval_s << "\n";
+     << "\nservice_interval_s = " << d.service_interval_s
+     << "\nsim_hand_inertia_kg_m2 = " << d.sim_hand_inertia_kg_m2
+     << "\nsim_hand_rot_stiffness_nm_per_rad = " << d.sim_hand_rot_stiffness_nm_per_rad
+     << "\nsim_hand_rot_damping_nm_s_per_rad = " << d.sim_hand_rot_damping_nm_s_per_rad
+     << "\nsim_idle_amplitude_m = " << d.sim_idle_amplitude_m
+     << "\nsim_idle_angle_rad = " << d.sim_idle_angle_rad
+     << "\nsim_max_step_s = " << d.sim_max_step_s
+     << "\nreplay_quat_tolerance = " << d.replay_quat_tolerance
+     << "\nhid_spacemouse_speed_m_per_s = " << d.hid_spacemouse_speed_m_per_s
+     << "\nhid_spacemouse_angular_speed_rad_per_s = " << d.hid_spacemouse_angular_speed_rad_per_s
+     << "\nhid_spacemouse_full_scale = " << d.hid_spacemouse_full_scale
+     << "\nhid_spacemouse_deadband = " << d.hid_spacemouse_deadband
+     << "\nhid_spacemouse_workspace_m = " << d.hid_spacemouse_workspace_m
+     << "\nusb_silence_lost_s = " << d.usb_silence_lost_s
+     << "\nusb_falcon_max_motor_command = " << d.usb_falcon_max_motor_command << "\n";
   const auto& r = c.response;
   os << "\n[response]\nstiffness_n_per_m = " << r.stiffness_n_per_m << "\ntick_s = " << r.tick_s
      << "\nmax_force_n = " << r.max_force_n << "\nmax_torque_nm = " << r.max_torque_nm
      << "\nmax_force_step_n = " << r.max_force_step_n
      << "\nmax_torque_step_nm = " << r.max_torque_step_nm << "\nramp_s = " << r.ramp_s
      << "\nmax_pairs_per_tick = " << r.max_pairs_per_tick
-     << "\nprobe_sphere_radius_m = " << r.probe_sphere_radius_m << "\n";
+     << "\nprobe_sphere_radius_m = " << r.probe_sphere_radius_m
+     << "\nmax_speed_m_per_s = " << r.max_speed_m_per_s << "\nspeed_decay_s = " << r.speed_decay_s
+     << "\nmin_predictive_fraction = " << r.min_predictive_fraction
+     << "\nproxy_stiffness_ratio = " << r.proxy_stiffness_ratio
+     << "\ncoupling_damping_factor = " << r.coupling_damping_factor
+     << "\nrot_stiffness_nm_per_rad = " << r.rot_stiffness_nm_per_rad
+     << "\npenetration_allowance_m = " << r.penetration_allowance_m
+     << "\ncrease_angle_deg = " << r.crease_angle_deg
+     << "\nattach_button_mask = " << r.attach_button_mask
+     << "\nattach_distance_m = " << r.attach_distance_m
+     << "\nhinge_attach = " << q(toString(r.hinge_attach))
+     << "\ncentre_radius_fraction = " << r.centre_radius_fraction << "\n";
   const auto& s = c.scene;
   os << "\n[scene]\npath = " << q(s.path) << "\ndemo = " << q(s.demo)
      << "\nmax_file_bytes = " << s.max_file_bytes << "\nmax_nodes = " << s.max_nodes

@@ -226,6 +226,20 @@ void readAll(const toml::table& root, const std::string& name, Config& c,
     s.quaternion("workspace_rotation", d.workspace_rotation);
     s.positive("workspace_scale", d.workspace_scale, 1e9);
     s.positive("service_interval_s", d.service_interval_s, 10.0, " s");
+    s.positive("sim_hand_inertia_kg_m2", d.sim_hand_inertia_kg_m2, 1000.0, " kg m^2");
+    s.positive("sim_hand_rot_stiffness_nm_per_rad", d.sim_hand_rot_stiffness_nm_per_rad, 1e6, " N m/rad");
+    s.number("sim_hand_rot_damping_nm_s_per_rad", d.sim_hand_rot_damping_nm_s_per_rad, 0.0, 1e6, " N m s/rad");
+    s.number("sim_idle_amplitude_m", d.sim_idle_amplitude_m, 0.0, 1e6, " m");
+    s.number("sim_idle_angle_rad", d.sim_idle_angle_rad, 0.0, 3.14159, " rad");
+    s.positive("sim_max_step_s", d.sim_max_step_s, 1.0, " s");
+    s.positive("replay_quat_tolerance", d.replay_quat_tolerance, 0.5);
+    s.positive("hid_spacemouse_speed_m_per_s", d.hid_spacemouse_speed_m_per_s, 1e3, " m/s");
+    s.positive("hid_spacemouse_angular_speed_rad_per_s", d.hid_spacemouse_angular_speed_rad_per_s, 1e3, " rad/s");
+    s.positive("hid_spacemouse_full_scale", d.hid_spacemouse_full_scale, 32767.0);
+    s.number("hid_spacemouse_deadband", d.hid_spacemouse_deadband, 0.0, 32767.0);
+    s.positive("hid_spacemouse_workspace_m", d.hid_spacemouse_workspace_m, 1e6, " m");
+    s.positive("usb_silence_lost_s", d.usb_silence_lost_s, 60.0, " s");
+    s.integer("usb_falcon_max_motor_command", d.usb_falcon_max_motor_command, 1, 32767);
   }
   {
     Section s(sectionOf(root, "response", name, errors), "response", name, errors, keys, all_keys);
@@ -239,6 +253,18 @@ void readAll(const toml::table& root, const std::string& name, Config& c,
     s.number("ramp_s", r.ramp_s, 0.0, 60.0, " s");
     s.integer("max_pairs_per_tick", r.max_pairs_per_tick, 0, 100000000);
     s.positive("probe_sphere_radius_m", r.probe_sphere_radius_m, 1e6, " m");
+    s.positive("max_speed_m_per_s", r.max_speed_m_per_s, 1e6, " m/s");
+    s.positive("speed_decay_s", r.speed_decay_s, 60.0, " s");
+    s.number("min_predictive_fraction", r.min_predictive_fraction, 0.0, 1.0);
+    s.positive("proxy_stiffness_ratio", r.proxy_stiffness_ratio, 1e6);
+    s.number("coupling_damping_factor", r.coupling_damping_factor, 0.0, 1e3);
+    s.number("rot_stiffness_nm_per_rad", r.rot_stiffness_nm_per_rad, 0.0, 1e6, " N m/rad");
+    s.positive("penetration_allowance_m", r.penetration_allowance_m, 1e6, " m");
+    s.number("crease_angle_deg", r.crease_angle_deg, 0.0, 180.0, " degrees");
+    s.integer("attach_button_mask", r.attach_button_mask, 0, 0xffffffffll);
+    s.number("attach_distance_m", r.attach_distance_m, 0.0, 1e6, " m");
+    s.choice("hinge_attach", r.hinge_attach, &parseHingeAttach);
+    s.number("centre_radius_fraction", r.centre_radius_fraction, 0.0, 1.0);
   }
   {
     Section s(sectionOf(root, "scene", name, errors), "scene", name, errors, keys, all_keys);
@@ -336,6 +362,20 @@ sim::SimOptions toSimOptions(const Config& c) {
   o.response.ramp_s = c.response.ramp_s;
   o.max_pairs_per_tick = c.response.max_pairs_per_tick;
   o.probe_sphere_radius_m = c.response.probe_sphere_radius_m;
+  auto& r = o.response;
+  const auto& cr = c.response;
+  r.max_speed_m_per_s = cr.max_speed_m_per_s;
+  r.speed_decay_s = cr.speed_decay_s;
+  r.min_predictive_fraction = cr.min_predictive_fraction;
+  r.proxy_stiffness_ratio = cr.proxy_stiffness_ratio;
+  r.coupling_damping_factor = cr.coupling_damping_factor;
+  r.rot_stiffness_nm_per_rad = cr.rot_stiffness_nm_per_rad;
+  r.penetration_allowance_m = cr.penetration_allowance_m;
+  r.crease_angle_deg = cr.crease_angle_deg;
+  r.attach_button_mask = cr.attach_button_mask;
+  r.attach_distance_m = cr.attach_distance_m;
+  r.hinge_attach = cr.hinge_attach;
+  r.centre_radius_fraction = cr.centre_radius_fraction;
   return o;
 }
 
@@ -354,6 +394,21 @@ device::DeviceOptions toDeviceOptions(const Config& c) {
   o.sim_hand_damping_n_s_per_m = c.device.sim_hand_damping_n_s_per_m;
   o.sim_idle_motion_after_s = c.device.sim_idle_motion_after_s;
   o.sim_home = poseOf(c.device.sim_home_translation_m, c.device.sim_home_rotation);
+  const auto& d = c.device;
+  o.sim_hand_inertia_kg_m2 = d.sim_hand_inertia_kg_m2;
+  o.sim_hand_rot_stiffness_nm_per_rad = d.sim_hand_rot_stiffness_nm_per_rad;
+  o.sim_hand_rot_damping_nm_s_per_rad = d.sim_hand_rot_damping_nm_s_per_rad;
+  o.sim_idle_amplitude_m = d.sim_idle_amplitude_m;
+  o.sim_idle_angle_rad = d.sim_idle_angle_rad;
+  o.sim_max_step_s = d.sim_max_step_s;
+  o.replay_quat_tolerance = d.replay_quat_tolerance;
+  o.hid_spacemouse_speed_m_per_s = d.hid_spacemouse_speed_m_per_s;
+  o.hid_spacemouse_angular_speed_rad_per_s = d.hid_spacemouse_angular_speed_rad_per_s;
+  o.hid_spacemouse_full_scale = d.hid_spacemouse_full_scale;
+  o.hid_spacemouse_deadband = d.hid_spacemouse_deadband;
+  o.hid_spacemouse_workspace_m = d.hid_spacemouse_workspace_m;
+  o.usb_silence_lost_s = d.usb_silence_lost_s;
+  o.usb_falcon_max_motor_command = d.usb_falcon_max_motor_command;
   return o;
 }
 
@@ -416,6 +471,22 @@ Result<LogLevel> parseLogLevel(std::string_view t) {
   if (t == "info") return LogLevel::kInfo;
   if (t == "debug") return LogLevel::kDebug;
   return Error{"\"" + std::string(t) + "\" is not one of \"error\", \"warning\", \"info\", \"debug\""};
+}
+
+const char* toString(sim::ResponseOptions::HingeAttach a) {
+  switch (a) {
+    case sim::ResponseOptions::HingeAttach::kAuto: return "auto";
+    case sim::ResponseOptions::HingeAttach::kRim: return "rim";
+    case sim::ResponseOptions::HingeAttach::kCentre: return "centre";
+  }
+  return "?";
+}
+
+Result<sim::ResponseOptions::HingeAttach> parseHingeAttach(std::string_view t) {
+  if (t == "auto") return sim::ResponseOptions::HingeAttach::kAuto;
+  if (t == "rim") return sim::ResponseOptions::HingeAttach::kRim;
+  if (t == "centre") return sim::ResponseOptions::HingeAttach::kCentre;
+  return Error{"\"" + std::string(t) + "\" is not one of \"auto\", \"rim\", \"centre\""};
 }
 
 Result<ClockKind> parseClockKind(std::string_view t) {

@@ -60,6 +60,20 @@ struct DeviceConfig {
   std::array<double, 4> workspace_rotation{0.0, 0.0, 0.0, 1.0};  ///< x, y, z, w
   double workspace_scale = 1.0;
   double service_interval_s = 0.1;
+  double sim_hand_inertia_kg_m2 = 0.001;
+  double sim_hand_rot_stiffness_nm_per_rad = 1.0;
+  double sim_hand_rot_damping_nm_s_per_rad = 0.06;
+  double sim_idle_amplitude_m = 0.02;
+  double sim_idle_angle_rad = 0.1;
+  double sim_max_step_s = 0.001;
+  double replay_quat_tolerance = 0.01;
+  double hid_spacemouse_speed_m_per_s = 0.1;
+  double hid_spacemouse_angular_speed_rad_per_s = 1.0;
+  double hid_spacemouse_full_scale = 350.0;
+  double hid_spacemouse_deadband = 8.0;
+  double hid_spacemouse_workspace_m = 0.2;
+  double usb_silence_lost_s = 0.1;
+  int usb_falcon_max_motor_command = 4096;
   bool operator==(const DeviceConfig&) const = default;
 };
 
@@ -74,6 +88,18 @@ struct ResponseConfig {
   double ramp_s = 0.5;
   std::uint32_t max_pairs_per_tick = 0;
   double probe_sphere_radius_m = 0.01;
+  double max_speed_m_per_s = 0.5;
+  double speed_decay_s = 0.02;
+  double min_predictive_fraction = 1e-3;
+  double proxy_stiffness_ratio = 50.0;
+  double coupling_damping_factor = 1.0;
+  double rot_stiffness_nm_per_rad = 0.0;
+  double penetration_allowance_m = 0.5e-3;
+  double crease_angle_deg = 40.0;
+  std::uint32_t attach_button_mask = 1u;
+  double attach_distance_m = 1e-3;
+  sim::ResponseOptions::HingeAttach hinge_attach = sim::ResponseOptions::HingeAttach::kAuto;
+  double centre_radius_fraction = 0.3;
   bool operator==(const ResponseConfig&) const = default;
 };
 
@@ -147,5 +173,7 @@ const char* toString(ClockKind kind);
 const char* toString(LogLevel level);
 Result<LogLevel> parseLogLevel(std::string_view text);
 Result<ClockKind> parseClockKind(std::string_view text);
+const char* toString(sim::ResponseOptions::HingeAttach attach);
+Result<sim::ResponseOptions::HingeAttach> parseHingeAttach(std::string_view text);
 
 }  // namespace hapticd::daemon
