@@ -12,12 +12,15 @@ namespace {
 
 constexpr double kPi = std::numbers::pi;
 
-Json physics(Json body) { return {{"KHR_physics_rigid_bodies", std::move(body)}}; }
+Json physics(Json body) {
+  return {{"KHR_physics_rigid_bodies", std::move(body)}};
+}
 
 /// A collider on node `index` whose geometry is that node's own mesh, as a convex hull.
 void meshCollider(GltfBuilder& b, int index, int material = -1) {
   Json collider = {{"geometry", {{"node", index}, {"convexHull", true}}}};
-  if (material >= 0) collider["physicsMaterial"] = material;
+  if (material >= 0)
+    collider["physicsMaterial"] = material;
   Json& n = b.node(index);
   n["extensions"]["KHR_physics_rigid_bodies"]["collider"] = collider;
 }
@@ -25,11 +28,14 @@ void meshCollider(GltfBuilder& b, int index, int material = -1) {
 /// A collider of implicit shape `shape` on node `index`.
 void shapeCollider(GltfBuilder& b, int index, int shape, int material = -1) {
   Json collider = {{"geometry", {{"shape", shape}}}};
-  if (material >= 0) collider["physicsMaterial"] = material;
+  if (material >= 0)
+    collider["physicsMaterial"] = material;
   b.node(index)["extensions"]["KHR_physics_rigid_bodies"]["collider"] = collider;
 }
 
-Json boxShape(const Vec3& size) { return {{"type", "box"}, {"box", {{"size", jsonVec(size)}}}}; }
+Json boxShape(const Vec3& size) {
+  return {{"type", "box"}, {"box", {{"size", jsonVec(size)}}}};
+}
 
 std::string numbered(const char* prefix, int i) {
   char buf[64];
@@ -64,14 +70,13 @@ std::vector<std::uint8_t> makeGears() {
     const double first_tooth = which == 0 ? 0.0 : kPi + 0.5 * pitch;
     const int render = which == 0 ? steel : brass;
 
-    const int body = b.addNode(
-        {{"name", name},
-         {"translation", jsonVec(centre)},
-         {"extensions",
-          physics({{"motion",
-                    {{"mass", quantize(kMass_kg)},
-                     {"centerOfMass", jsonVec(Vec3{0.0})},
-                     {"inertiaDiagonal", jsonVec(inertia)}}}})}});
+    const int body =
+        b.addNode({{"name", name},
+                   {"translation", jsonVec(centre)},
+                   {"extensions", physics({{"motion",
+                                            {{"mass", quantize(kMass_kg)},
+                                             {"centerOfMass", jsonVec(Vec3{0.0})},
+                                             {"inertiaDiagonal", jsonVec(inertia)}}}})}});
     b.addRoot(body);
 
     const int hub_mesh = b.addMesh(name + "_hub", prismMesh(g.hubPolygon(first_tooth), w), render);
@@ -94,7 +99,8 @@ std::vector<std::uint8_t> makeGears() {
     const int joint = b.addNode(
         {{"name", name + "_hinge"},
          {"extensions",
-          physics({{"joint", {{"connectedNode", axle}, {"joint", hinge}, {"enableCollision", false}}}})}});
+          physics({{"joint",
+                    {{"connectedNode", axle}, {"joint", hinge}, {"enableCollision", false}}}})}});
     b.addChild(body, joint);
   }
 
@@ -125,8 +131,9 @@ std::vector<std::uint8_t> makePegInHole() {
   const int wood = b.addRenderMaterial("peg", {0.85, 0.65, 0.40, 1.0}, 0.0, 0.7);
   const int grey = b.addRenderMaterial("block", {0.55, 0.57, 0.60, 1.0}, 0.2, 0.6);
 
-  const int hole = b.addNode(
-      {{"name", "Hole"}, {"extras", {{"haptic", {{"stiffness", quantize(kHoleStiffness_n_per_m)}}}}}});
+  const int hole =
+      b.addNode({{"name", "Hole"},
+                 {"extras", {{"haptic", {{"stiffness", quantize(kHoleStiffness_n_per_m)}}}}}});
   b.addRoot(hole);
   auto part = [&](const std::string& name, const Vec3& size, const Vec3& centre) {
     const int mesh = b.addMesh(name, boxMesh(size), grey);
@@ -134,7 +141,8 @@ std::vector<std::uint8_t> makePegInHole() {
     meshCollider(b, n);
     b.addChild(hole, n);
   };
-  part("Hole_floor", {kBaseSide_m, kBaseThickness_m, kBaseSide_m}, {0.0, -0.5 * kBaseThickness_m, 0.0});
+  part("Hole_floor", {kBaseSide_m, kBaseThickness_m, kBaseSide_m},
+       {0.0, -0.5 * kBaseThickness_m, 0.0});
   // four walls in a pinwheel around the square opening of half-width a
   const double a = 0.5 * kPegSide_m + kClearance_m;
   const double t = kWallThickness_m;
@@ -173,17 +181,21 @@ std::vector<std::uint8_t> makeDynamic() {
       {{"name", "floor"}, {"staticFriction", 0.6}, {"dynamicFriction", 0.5}, {"restitution", 0.2}});
   const int wood = b.addPhysicsMaterial(
       {{"name", "wood"}, {"staticFriction", 0.5}, {"dynamicFriction", 0.4}, {"restitution", 0.3}});
-  const int rubber = b.addPhysicsMaterial(
-      {{"name", "rubber"}, {"staticFriction", 0.9}, {"dynamicFriction", 0.8}, {"restitution", 0.7}});
-  const int plastic = b.addPhysicsMaterial(
-      {{"name", "plastic"}, {"staticFriction", 0.4}, {"dynamicFriction", 0.3}, {"restitution", 0.5}});
+  const int rubber = b.addPhysicsMaterial({{"name", "rubber"},
+                                           {"staticFriction", 0.9},
+                                           {"dynamicFriction", 0.8},
+                                           {"restitution", 0.7}});
+  const int plastic = b.addPhysicsMaterial({{"name", "plastic"},
+                                            {"staticFriction", 0.4},
+                                            {"dynamicFriction", 0.3},
+                                            {"restitution", 0.5}});
 
   // floor: 1 m x 1 m, 20 mm thick, top at y = 0
   const Vec3 floor_size{1.0, 0.02, 1.0};
   const int floor_shape = b.addShape(boxShape(floor_size));
   const int floor_mesh = b.addMesh("Floor", boxMesh(floor_size), floor_colour);
-  const int floor_node =
-      b.addNode({{"name", "Floor"}, {"mesh", floor_mesh}, {"translation", jsonVec({0.0, -0.01, 0.0})}});
+  const int floor_node = b.addNode(
+      {{"name", "Floor"}, {"mesh", floor_mesh}, {"translation", jsonVec({0.0, -0.01, 0.0})}});
   shapeCollider(b, floor_node, floor_shape, floor_mat);
   b.addRoot(floor_node);
 
@@ -191,11 +203,11 @@ std::vector<std::uint8_t> makeDynamic() {
   const int cube_shape = b.addShape(boxShape(cube_size));
   const int cube_mesh = b.addMesh("Cube", boxMesh(cube_size), red);
   for (int i = 0; i < 4; ++i) {
-    const int n = b.addNode(
-        {{"name", numbered("Cube", i)},
-         {"mesh", cube_mesh},
-         {"translation", jsonVec({kRowX_m[i], 0.5 * kCubeSide_m + kDropGap_m, kCubeZ_m})},
-         {"extensions", physics({{"motion", {{"mass", quantize(kCubeMass_kg)}}}})}});
+    const int n =
+        b.addNode({{"name", numbered("Cube", i)},
+                   {"mesh", cube_mesh},
+                   {"translation", jsonVec({kRowX_m[i], 0.5 * kCubeSide_m + kDropGap_m, kCubeZ_m})},
+                   {"extensions", physics({{"motion", {{"mass", quantize(kCubeMass_kg)}}}})}});
     shapeCollider(b, n, cube_shape, wood);
     b.addRoot(n);
   }
@@ -208,15 +220,15 @@ std::vector<std::uint8_t> makeDynamic() {
   for (int i = 0; i < 4; ++i) {
     const int mesh = sphere_mesh;
     double min_y = 0.0;
-    for (const Vec3& p : sphere.positions) min_y = std::min(min_y, p.y);
+    for (const Vec3& p : sphere.positions)
+      min_y = std::min(min_y, p.y);
     const int n = b.addNode(
         {{"name", numbered("Sphere", i)},
          {"mesh", mesh},
          {"translation", jsonVec({kRowX_m[i], -min_y + kDropGap_m, kSphereZ_m})},
-         {"extensions",
-          physics({{"motion",
-                    {{"mass", quantize(kSphereMass_kg)},
-                     {"inertiaDiagonal", jsonVec(Vec3{sphere_inertia})}}}})}});
+         {"extensions", physics({{"motion",
+                                  {{"mass", quantize(kSphereMass_kg)},
+                                   {"inertiaDiagonal", jsonVec(Vec3{sphere_inertia})}}}})}});
     meshCollider(b, n, rubber);
     b.addRoot(n);
   }
@@ -227,14 +239,15 @@ std::vector<std::uint8_t> makeDynamic() {
   for (int i = 0; i < 4; ++i) {
     const int mesh = ellipsoid_mesh;
     double min_y = 0.0;
-    for (const Vec3& p : ellipsoid.positions) min_y = std::min(min_y, p.y);
+    for (const Vec3& p : ellipsoid.positions)
+      min_y = std::min(min_y, p.y);
     // turned about Y by 0, 30, 60, 90 degrees; mass and inertia left to the loader
-    const int n = b.addNode(
-        {{"name", numbered("Ellipsoid", i)},
-         {"mesh", mesh},
-         {"translation", jsonVec({kRowX_m[i], -min_y + kDropGap_m, kEllipsoidZ_m})},
-         {"rotation", jsonQuatAxisAngle({0.0, 1.0, 0.0}, i * kPi / 6.0)},
-         {"extensions", physics({{"motion", Json::object()}})}});
+    const int n =
+        b.addNode({{"name", numbered("Ellipsoid", i)},
+                   {"mesh", mesh},
+                   {"translation", jsonVec({kRowX_m[i], -min_y + kDropGap_m, kEllipsoidZ_m})},
+                   {"rotation", jsonQuatAxisAngle({0.0, 1.0, 0.0}, i * kPi / 6.0)},
+                   {"extensions", physics({{"motion", Json::object()}})}});
     meshCollider(b, n, plastic);
     b.addRoot(n);
   }
@@ -266,8 +279,8 @@ std::vector<std::uint8_t> makeStress() {
   const Vec3 floor_size{1.2, 0.02, 1.2};
   const int floor_shape = b.addShape(boxShape(floor_size));
   const int floor_mesh = b.addMesh("Floor", boxMesh(floor_size), floor_colour);
-  const int floor_node =
-      b.addNode({{"name", "Floor"}, {"mesh", floor_mesh}, {"translation", jsonVec({0.0, -0.01, 0.0})}});
+  const int floor_node = b.addNode(
+      {{"name", "Floor"}, {"mesh", floor_mesh}, {"translation", jsonVec({0.0, -0.01, 0.0})}});
   shapeCollider(b, floor_node, floor_shape);
   b.addRoot(floor_node);
 
@@ -280,11 +293,10 @@ std::vector<std::uint8_t> makeStress() {
     for (int j = 0; j < kGrid; ++j) {
       char name[32];
       std::snprintf(name, sizeof name, "Pillar_%02d_%02d", i, j);
-      const int n = b.addNode(
-          {{"name", name},
-           {"mesh", pillar_mesh},
-           {"translation",
-            jsonVec({pillarCoordinate(i), 0.5 * kPillarSize_m[1], pillarCoordinate(j)})}});
+      const int n = b.addNode({{"name", name},
+                               {"mesh", pillar_mesh},
+                               {"translation", jsonVec({pillarCoordinate(i), 0.5 * kPillarSize_m[1],
+                                                        pillarCoordinate(j)})}});
       shapeCollider(b, n, pillar_shape);
       b.addChild(field, n);
     }
@@ -295,13 +307,13 @@ std::vector<std::uint8_t> makeStress() {
   const int block_mesh = b.addMesh("Block", boxMesh(block_size), orange);
   for (int i = 0; i < kBlocksPerSide; ++i) {
     for (int j = 0; j < kBlocksPerSide; ++j) {
-      const int n = b.addNode(
-          {{"name", numbered("Block", i * kBlocksPerSide + j)},
-           {"mesh", block_mesh},
-           {"translation",
-            jsonVec({blockCoordinate(i), kPillarSize_m[1] + 0.5 * kBlockSide_m + 0.001,
-                     blockCoordinate(j)})},
-           {"extensions", physics({{"motion", {{"mass", quantize(kBlockMass_kg)}}}})}});
+      const int n =
+          b.addNode({{"name", numbered("Block", i * kBlocksPerSide + j)},
+                     {"mesh", block_mesh},
+                     {"translation",
+                      jsonVec({blockCoordinate(i), kPillarSize_m[1] + 0.5 * kBlockSide_m + 0.001,
+                               blockCoordinate(j)})},
+                     {"extensions", physics({{"motion", {{"mass", quantize(kBlockMass_kg)}}}})}});
       shapeCollider(b, n, block_shape);
       b.addRoot(n);
     }
@@ -338,13 +350,19 @@ SpurGear gear() {
 }
 }  // namespace gears
 
-std::vector<std::string_view> demoSceneNames() { return {"gears", "peg_in_hole", "dynamic", "stress"}; }
+std::vector<std::string_view> demoSceneNames() {
+  return {"gears", "peg_in_hole", "dynamic", "stress"};
+}
 
 std::vector<std::uint8_t> makeDemoScene(std::string_view name) {
-  if (name == "gears") return makeGears();
-  if (name == "peg_in_hole") return makePegInHole();
-  if (name == "dynamic") return makeDynamic();
-  if (name == "stress") return makeStress();
+  if (name == "gears")
+    return makeGears();
+  if (name == "peg_in_hole")
+    return makePegInHole();
+  if (name == "dynamic")
+    return makeDynamic();
+  if (name == "stress")
+    return makeStress();
   return {};
 }
 

@@ -34,9 +34,9 @@ inline constexpr int kRodSides = 16;
 }  // namespace gears
 
 namespace peg {
-inline constexpr double kPegSide_m = 0.020;    // square section, along X and Z
-inline constexpr double kPegLength_m = 0.060;  // along Y
-inline constexpr double kClearance_m = 0.0005; // each side, between peg and wall
+inline constexpr double kPegSide_m = 0.020;     // square section, along X and Z
+inline constexpr double kPegLength_m = 0.060;   // along Y
+inline constexpr double kClearance_m = 0.0005;  // each side, between peg and wall
 inline constexpr double kWallThickness_m = 0.010;
 inline constexpr double kHoleDepth_m = 0.040;  // hole floor at y = 0, wall tops at y = depth
 inline constexpr double kBaseSide_m = 0.100;   // the floor slab under the walls, 10 mm thick
@@ -57,17 +57,21 @@ inline constexpr double kCubeZ_m = -0.10, kSphereZ_m = 0.0, kEllipsoidZ_m = 0.10
 }  // namespace dynamic
 
 namespace stress {
-inline constexpr int kGrid = 32;                 // kGrid x kGrid static pillars
+inline constexpr int kGrid = 32;  // kGrid x kGrid static pillars
 inline constexpr double kPitch_m = 0.030;
 inline constexpr double kPillarSize_m[3] = {0.012, 0.040, 0.012};
-inline constexpr int kBlocksPerSide = 4;         // 16 dynamic blocks on the pillar tops
+inline constexpr int kBlocksPerSide = 4;  // 16 dynamic blocks on the pillar tops
 inline constexpr double kBlockSide_m = 0.040;
 inline constexpr double kBlockMass_kg = 0.050;
 inline constexpr double kSweeperRadius_m = 0.015;
 /// Centre of pillar (i, j) on X (Z alike).
-inline constexpr double pillarCoordinate(int i) { return (i - 0.5 * (kGrid - 1)) * kPitch_m; }
+inline constexpr double pillarCoordinate(int i) {
+  return (i - 0.5 * (kGrid - 1)) * kPitch_m;
+}
 /// Centre of block (i, j) on X (Z alike): over the middle of a 2 x 2 group of pillars.
-inline constexpr double blockCoordinate(int i) { return (8 * i + 4 - 0.5 * kGrid) * kPitch_m; }
+inline constexpr double blockCoordinate(int i) {
+  return (8 * i + 4 - 0.5 * kGrid) * kPitch_m;
+}
 }  // namespace stress
 
 }  // namespace hapticd::scenes

@@ -20,17 +20,22 @@ constexpr int kTriangles = 4;
 // a last-bit difference in a libm result changes the rounded float only when the double lies
 // within that bit of a float rounding boundary (about 2^-29 of all values): the float cast is the
 // quantization
-float vertexCoordinate(double x) { return static_cast<float>(x); }
+float vertexCoordinate(double x) {
+  return static_cast<float>(x);
+}
 
 void appendLe32(std::vector<std::uint8_t>& out, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i) out.push_back(static_cast<std::uint8_t>((v >> (8 * i)) & 0xffu));
+  for (int i = 0; i < 4; ++i)
+    out.push_back(static_cast<std::uint8_t>((v >> (8 * i)) & 0xffu));
 }
 
 }  // namespace
 
 double quantize(double x) {
-  if (!std::isfinite(x)) throw std::invalid_argument("scene generator: non-finite number");
-  if (std::fabs(x) < 1e-12) return 0.0;
+  if (!std::isfinite(x))
+    throw std::invalid_argument("scene generator: non-finite number");
+  if (std::fabs(x) < 1e-12)
+    return 0.0;
   char buf[64];
   const auto r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::scientific, 9);
   double y = 0.0;
@@ -38,17 +43,21 @@ double quantize(double x) {
   return y;
 }
 
-Json jsonVec(const Vec3& v) { return Json::array({quantize(v.x), quantize(v.y), quantize(v.z)}); }
+Json jsonVec(const Vec3& v) {
+  return Json::array({quantize(v.x), quantize(v.y), quantize(v.z)});
+}
 
 Json jsonQuatAxisAngle(const Vec3& axis, double angle_rad) {
   const Vec3 a = glm::normalize(axis);
   const double s = std::sin(0.5 * angle_rad);
-  return Json::array(
-      {quantize(a.x * s), quantize(a.y * s), quantize(a.z * s), quantize(std::cos(0.5 * angle_rad))});
+  return Json::array({quantize(a.x * s), quantize(a.y * s), quantize(a.z * s),
+                      quantize(std::cos(0.5 * angle_rad))});
 }
 
-int GltfBuilder::addRenderMaterial(const std::string& name, const std::array<double, 4>& rgba,
-                                   double metallic, double roughness) {
+int GltfBuilder::addRenderMaterial(const std::string& name,
+                                   const std::array<double, 4>& rgba,
+                                   double metallic,
+                                   double roughness) {
   Json m;
   m["name"] = name;
   m["pbrMetallicRoughness"] = {
@@ -62,7 +71,8 @@ int GltfBuilder::addRenderMaterial(const std::string& name, const std::array<dou
 
 int GltfBuilder::addView(const void* data, std::size_t bytes, int target) {
   // every view starts on a 4-byte boundary (float and uint32 alignment)
-  while (bin_.size() % 4 != 0) bin_.push_back(0);
+  while (bin_.size() % 4 != 0)
+    bin_.push_back(0);
   const std::size_t offset = bin_.size();
   bin_.resize(offset + bytes);
   std::memcpy(bin_.data() + offset, data, bytes);
@@ -116,16 +126,21 @@ int GltfBuilder::addMesh(const std::string& name, const MeshData& mesh, int rend
     std::vector<std::uint32_t> idx;
     idx.reserve(n_index);
     for (const auto& t : mesh.triangles)
-      for (std::uint32_t i : t) idx.push_back(i);
+      for (std::uint32_t i : t)
+        idx.push_back(i);
     index_view = addView(idx.data(), idx.size() * sizeof(std::uint32_t), kElementArrayBuffer);
     component = kUnsignedInt;
   }
-  accessors_.push_back(
-      {{"bufferView", index_view}, {"componentType", component}, {"count", n_index}, {"type", "SCALAR"}});
+  accessors_.push_back({{"bufferView", index_view},
+                        {"componentType", component},
+                        {"count", n_index},
+                        {"type", "SCALAR"}});
   const int index_accessor = static_cast<int>(accessors_.size()) - 1;
 
-  Json prim = {{"attributes", {{"POSITION", pos_index}}}, {"indices", index_accessor}, {"mode", kTriangles}};
-  if (render_material >= 0) prim["material"] = render_material;
+  Json prim = {
+      {"attributes", {{"POSITION", pos_index}}}, {"indices", index_accessor}, {"mode", kTriangles}};
+  if (render_material >= 0)
+    prim["material"] = render_material;
   meshes_.push_back({{"name", name}, {"primitives", Json::array({std::move(prim)})}});
   return static_cast<int>(meshes_.size()) - 1;
 }
@@ -137,7 +152,8 @@ int GltfBuilder::addNode(Json node) {
 
 void GltfBuilder::addChild(int parent, int child) {
   Json& p = node(parent);
-  if (!p.contains("children")) p["children"] = Json::array();
+  if (!p.contains("children"))
+    p["children"] = Json::array();
   p["children"].push_back(child);
 }
 
@@ -160,44 +176,62 @@ std::vector<std::uint8_t> GltfBuilder::finish(const std::string& scene_name) con
   Json doc;
   doc["asset"] = {{"version", "2.0"}, {"generator", "hapticd make_scenes"}};
   Json used = Json::array();
-  if (!shapes_.empty()) used.push_back("KHR_implicit_shapes");
+  if (!shapes_.empty())
+    used.push_back("KHR_implicit_shapes");
   used.push_back("KHR_physics_rigid_bodies");
   doc["extensionsUsed"] = used;
   doc["extensionsRequired"] = used;
 
   Json physics = Json::object();
-  if (!physics_materials_.empty()) physics["physicsMaterials"] = physics_materials_;
-  if (!physics_joints_.empty()) physics["physicsJoints"] = physics_joints_;
+  if (!physics_materials_.empty())
+    physics["physicsMaterials"] = physics_materials_;
+  if (!physics_joints_.empty())
+    physics["physicsJoints"] = physics_joints_;
   Json extensions = Json::object();
-  if (!physics.empty()) extensions["KHR_physics_rigid_bodies"] = physics;
-  if (!shapes_.empty()) extensions["KHR_implicit_shapes"] = {{"shapes", shapes_}};
-  if (!extensions.empty()) doc["extensions"] = extensions;
+  if (!physics.empty())
+    extensions["KHR_physics_rigid_bodies"] = physics;
+  if (!shapes_.empty())
+    extensions["KHR_implicit_shapes"] = {{"shapes", shapes_}};
+  if (!extensions.empty())
+    doc["extensions"] = extensions;
 
   Json nodes = Json::array();
-  for (const Json& n : nodes_) nodes.push_back(n);
+  for (const Json& n : nodes_)
+    nodes.push_back(n);
   doc["nodes"] = nodes;
   Json scene = {{"name", scene_name}, {"nodes", roots_}};
-  if (!scene_extras_.is_null()) scene["extras"] = scene_extras_;
+  if (!scene_extras_.is_null())
+    scene["extras"] = scene_extras_;
   doc["scenes"] = Json::array({scene});
   doc["scene"] = 0;
-  if (!meshes_.empty()) doc["meshes"] = meshes_;
-  if (!render_materials_.empty()) doc["materials"] = render_materials_;
-  if (!accessors_.empty()) doc["accessors"] = accessors_;
-  if (!buffer_views_.empty()) doc["bufferViews"] = buffer_views_;
+  if (!meshes_.empty())
+    doc["meshes"] = meshes_;
+  if (!render_materials_.empty())
+    doc["materials"] = render_materials_;
+  if (!accessors_.empty())
+    doc["accessors"] = accessors_;
+  if (!buffer_views_.empty())
+    doc["bufferViews"] = buffer_views_;
   std::vector<std::uint8_t> bin = bin_;
-  while (bin.size() % 4 != 0) bin.push_back(0);
-  if (!bin.empty()) doc["buffers"] = Json::array({{{"byteLength", bin.size()}}});
+  while (bin.size() % 4 != 0)
+    bin.push_back(0);
+  if (!bin.empty())
+    doc["buffers"] = Json::array({{{"byteLength", bin.size()}}});
   return packGlb(doc.dump(), bin);
 }
 
-std::vector<std::uint8_t> packGlb(const std::string& json_text, const std::vector<std::uint8_t>& bin) {
+std::vector<std::uint8_t> packGlb(const std::string& json_text,
+                                  const std::vector<std::uint8_t>& bin) {
   std::string text = json_text;
-  while (text.size() % 4 != 0) text.push_back(' ');
+  while (text.size() % 4 != 0)
+    text.push_back(' ');
   std::vector<std::uint8_t> padded_bin = bin;
-  while (padded_bin.size() % 4 != 0) padded_bin.push_back(0);
+  while (padded_bin.size() % 4 != 0)
+    padded_bin.push_back(0);
 
   std::size_t total = 12 + 8 + text.size();
-  if (!padded_bin.empty()) total += 8 + padded_bin.size();
+  if (!padded_bin.empty())
+    total += 8 + padded_bin.size();
   if (total > std::numeric_limits<std::uint32_t>::max())
     throw std::length_error("scene generator: GLB over 4 GiB");
 

@@ -3,6 +3,7 @@
 // makes now. Exit 0: written / identical; 1: a file differs or is missing (--check), or a write
 // failed.
 
+#include <CLI/CLI.hpp>
 #include <cstdint>
 #include <cstdio>
 #include <filesystem>
@@ -10,8 +11,6 @@
 #include <iterator>
 #include <string>
 #include <vector>
-
-#include <CLI/CLI.hpp>
 
 #include "scenes/demo_scenes.h"
 #include "scenes/pose_streams.h"
@@ -22,7 +21,8 @@ namespace fs = std::filesystem;
 
 bool sameContents(const fs::path& path, const std::vector<std::uint8_t>& bytes) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
+  if (!in)
+    return false;
   const std::vector<std::uint8_t> have((std::istreambuf_iterator<char>(in)),
                                        std::istreambuf_iterator<char>());
   return have == bytes;
@@ -30,7 +30,8 @@ bool sameContents(const fs::path& path, const std::vector<std::uint8_t>& bytes) 
 
 bool writeFile(const fs::path& path, const std::vector<std::uint8_t>& bytes) {
   std::ofstream out(path, std::ios::binary | std::ios::trunc);
-  out.write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+  out.write(reinterpret_cast<const char*>(bytes.data()),
+            static_cast<std::streamsize>(bytes.size()));
   out.close();
   return static_cast<bool>(out);
 }

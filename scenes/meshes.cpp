@@ -11,7 +11,9 @@ namespace {
 
 using Tri = std::array<std::uint32_t, 3>;
 
-double involute(double alpha) { return std::tan(alpha) - alpha; }
+double involute(double alpha) {
+  return std::tan(alpha) - alpha;
+}
 
 }  // namespace
 
@@ -34,10 +36,11 @@ MeshData boxMesh(const Vec3& size) {
 
 MeshData icosphereMesh(const Vec3& radii, int levels) {
   const double phi = 0.5 * (1.0 + std::sqrt(5.0));
-  std::vector<Vec3> v = {{-1, phi, 0}, {1, phi, 0},  {-1, -phi, 0}, {1, -phi, 0},
-                         {0, -1, phi}, {0, 1, phi},  {0, -1, -phi}, {0, 1, -phi},
-                         {phi, 0, -1}, {phi, 0, 1},  {-phi, 0, -1}, {-phi, 0, 1}};
-  for (Vec3& p : v) p = glm::normalize(p);
+  std::vector<Vec3> v = {{-1, phi, 0}, {1, phi, 0}, {-1, -phi, 0}, {1, -phi, 0},
+                         {0, -1, phi}, {0, 1, phi}, {0, -1, -phi}, {0, 1, -phi},
+                         {phi, 0, -1}, {phi, 0, 1}, {-phi, 0, -1}, {-phi, 0, 1}};
+  for (Vec3& p : v)
+    p = glm::normalize(p);
   std::vector<Tri> t = {{0, 11, 5}, {0, 5, 1},  {0, 1, 7},   {0, 7, 10}, {0, 10, 11},
                         {1, 5, 9},  {5, 11, 4}, {11, 10, 2}, {10, 7, 6}, {7, 1, 8},
                         {3, 9, 4},  {3, 4, 2},  {3, 2, 6},   {3, 6, 8},  {3, 8, 9},
@@ -47,7 +50,8 @@ MeshData icosphereMesh(const Vec3& radii, int levels) {
     auto mid = [&](std::uint32_t a, std::uint32_t b) {
       const auto key = std::minmax(a, b);
       const auto it = midpoints.find(key);
-      if (it != midpoints.end()) return it->second;
+      if (it != midpoints.end())
+        return it->second;
       v.push_back(glm::normalize(v[a] + v[b]));
       const auto index = static_cast<std::uint32_t>(v.size() - 1);
       midpoints.emplace(key, index);
@@ -66,17 +70,21 @@ MeshData icosphereMesh(const Vec3& radii, int levels) {
   }
   MeshData m;
   m.positions.reserve(v.size());
-  for (const Vec3& p : v) m.positions.push_back(p * radii);
+  for (const Vec3& p : v)
+    m.positions.push_back(p * radii);
   m.triangles = std::move(t);
   return m;
 }
 
 MeshData prismMesh(const std::vector<Vec2>& polygon_ccw, double width) {
   const auto n = static_cast<std::uint32_t>(polygon_ccw.size());
-  if (n < 3) throw std::invalid_argument("scene generator: prism of fewer than 3 points");
+  if (n < 3)
+    throw std::invalid_argument("scene generator: prism of fewer than 3 points");
   MeshData m;
-  for (const Vec2& p : polygon_ccw) m.positions.push_back({p.x, p.y, -0.5 * width});
-  for (const Vec2& p : polygon_ccw) m.positions.push_back({p.x, p.y, 0.5 * width});
+  for (const Vec2& p : polygon_ccw)
+    m.positions.push_back({p.x, p.y, -0.5 * width});
+  for (const Vec2& p : polygon_ccw)
+    m.positions.push_back({p.x, p.y, 0.5 * width});
   for (std::uint32_t i = 0; i < n; ++i) {
     const std::uint32_t j = (i + 1) % n;
     m.triangles.push_back({i, j, n + j});
@@ -89,7 +97,9 @@ MeshData prismMesh(const std::vector<Vec2>& polygon_ccw, double width) {
   return m;
 }
 
-double SpurGear::baseRadius() const { return pitchRadius() * std::cos(pressure_angle_rad); }
+double SpurGear::baseRadius() const {
+  return pitchRadius() * std::cos(pressure_angle_rad);
+}
 
 double SpurGear::toothHalfAngle(double r) const {
   const double rp = pitchRadius();
@@ -97,7 +107,8 @@ double SpurGear::toothHalfAngle(double r) const {
   const double thickness_at_pitch = 0.5 * std::numbers::pi * module_m - 0.5 * backlash_m;
   const double half_at_pitch = 0.5 * thickness_at_pitch / rp;
   const double at_base = half_at_pitch + involute(pressure_angle_rad);
-  if (r <= rb) return at_base;
+  if (r <= rb)
+    return at_base;
   return at_base - involute(std::acos(rb / r));
 }
 
@@ -105,7 +116,8 @@ std::vector<Vec2> SpurGear::toothPolygon(double centre_rad) const {
   const double rb = baseRadius();
   const double ra = tipRadius();
   const double r0 = rootRadius() - root_inset_m;
-  if (!(rb > r0)) throw std::invalid_argument("scene generator: base circle inside the root");
+  if (!(rb > r0))
+    throw std::invalid_argument("scene generator: base circle inside the root");
   // right flank (clockwise side) from the root up: radii and polar half-angles
   std::vector<std::pair<double, double>> flank;  // (radius, half-angle)
   flank.emplace_back(r0, toothHalfAngle(r0));

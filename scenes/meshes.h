@@ -5,9 +5,8 @@
 /// Metres; every mesh closed, triangles counter-clockwise seen from outside. Any thread.
 
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "scenes/glb_builder.h"
 
@@ -33,10 +32,10 @@ struct SpurGear {
   int teeth = 19;
   double module_m = 0.005;
   double pressure_angle_rad = 0.3490658503988659;  // 20 degrees
-  double backlash_m = 0.001;   ///< circumferential backlash of the pair at the pitch circle
+  double backlash_m = 0.001;  ///< circumferential backlash of the pair at the pitch circle
   double face_width_m = 0.015;
-  int flank_samples = 3;       ///< involute points per flank above the base circle
-  double root_inset_m = 0.001; ///< teeth reach this far inside the root circle into the hub
+  int flank_samples = 3;        ///< involute points per flank above the base circle
+  double root_inset_m = 0.001;  ///< teeth reach this far inside the root circle into the hub
 
   double pitchRadius() const { return 0.5 * module_m * teeth; }
   double baseRadius() const;

@@ -4,11 +4,10 @@
 #include <cmath>
 #include <cstdint>
 #include <functional>
+#include <glm/glm.hpp>
 #include <numbers>
 #include <stdexcept>
 #include <vector>
-
-#include <glm/glm.hpp>
 
 #include "scenes/demo_scenes.h"
 
@@ -21,8 +20,8 @@ constexpr double kPi = std::numbers::pi;
 /// smoothstep (zero velocity at both keys); buttons hold from a key until the next one.
 struct Key {
   double t;
-  Vec3 a;            // position, or scene-specific coordinates (the gears use polar ones)
-  Vec3 rot{0.0};     // rotation vector (axis * angle, rad)
+  Vec3 a;         // position, or scene-specific coordinates (the gears use polar ones)
+  Vec3 rot{0.0};  // rotation vector (axis * angle, rad)
   std::uint32_t buttons = 0;
 };
 
@@ -32,10 +31,13 @@ struct Sample {
   std::uint32_t buttons;
 };
 
-double smoothstep(double u) { return u * u * (3.0 - 2.0 * u); }
+double smoothstep(double u) {
+  return u * u * (3.0 - 2.0 * u);
+}
 
 Sample sampleKeys(const std::vector<Key>& keys, double t) {
-  if (t <= keys.front().t) return {keys.front().a, keys.front().rot, keys.front().buttons};
+  if (t <= keys.front().t)
+    return {keys.front().a, keys.front().rot, keys.front().buttons};
   for (std::size_t i = 1; i < keys.size(); ++i) {
     if (t <= keys[i].t) {
       const Key& k0 = keys[i - 1];
@@ -49,8 +51,10 @@ Sample sampleKeys(const std::vector<Key>& keys, double t) {
 
 /// Appends x in fixed notation with `digits` decimals; never "-0.000".
 void appendFixed(std::string& out, double x, int digits) {
-  if (!std::isfinite(x)) throw std::invalid_argument("pose stream: non-finite value");
-  if (std::fabs(x) < 0.5 * std::pow(10.0, -digits)) x = 0.0;
+  if (!std::isfinite(x))
+    throw std::invalid_argument("pose stream: non-finite value");
+  if (std::fabs(x) < 0.5 * std::pow(10.0, -digits))
+    x = 0.0;
   char buf[64];
   const auto r = std::to_chars(buf, buf + sizeof buf, x, std::chars_format::fixed, digits);
   out.append(buf, r.ptr);
@@ -72,7 +76,8 @@ std::string writeStream(double duration_s, const std::function<Pose(double)>& po
     // quaternion of the rotation vector, continuous in t (no sign flips)
     const double angle = glm::length(x.rot);
     Vec3 axis{0.0, 1.0, 0.0};
-    if (angle > 0.0) axis = x.rot / angle;
+    if (angle > 0.0)
+      axis = x.rot / angle;
     double q[4] = {axis.x * std::sin(0.5 * angle), axis.y * std::sin(0.5 * angle),
                    axis.z * std::sin(0.5 * angle), std::cos(0.5 * angle)};
     const double n = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
@@ -101,13 +106,13 @@ std::string pegStream() {
   const std::vector<Key> keys = {
       {0.0, {0.030, top + h + 0.040, 0.020}},
       {1.0, {0.030, top + h + 0.040, 0.020}},
-      {3.0, {0.0, top + h + 0.005, 0.0}},                              // over the hole
-      {6.0, {0.0, h + 0.015, 0.0}},                                    // 25 mm in (wobble added)
-      {7.5, {0.001, h + 0.012, 0.0}, {0.0, 0.0, 4.0 * kPi / 180.0}},   // tilt 4 degrees: jam
+      {3.0, {0.0, top + h + 0.005, 0.0}},                             // over the hole
+      {6.0, {0.0, h + 0.015, 0.0}},                                   // 25 mm in (wobble added)
+      {7.5, {0.001, h + 0.012, 0.0}, {0.0, 0.0, 4.0 * kPi / 180.0}},  // tilt 4 degrees: jam
       {8.5, {0.001, h + 0.012, 0.0}, {0.0, 0.0, 4.0 * kPi / 180.0}},
-      {10.0, {0.0, h - 0.002, 0.0}},                                   // straight, 2 mm into floor
+      {10.0, {0.0, h - 0.002, 0.0}},  // straight, 2 mm into floor
       {11.0, {0.0, h - 0.002, 0.0}},
-      {13.5, {0.0003, top + h + 0.040, 0.0}},                          // out, rubbing one wall
+      {13.5, {0.0003, top + h + 0.040, 0.0}},  // out, rubbing one wall
       {14.5, {0.030, top + h + 0.040, 0.020}},
       {15.0, {0.030, top + h + 0.040, 0.020}},
   };
@@ -139,9 +144,9 @@ std::string gearsStream() {
   const double turn = 30.0 * kPi / 180.0;
   // channels: (polar angle about gear A's axis, distance from the axis, z)
   const std::vector<Key> keys = {
-      {0.0, {gap, out, 0.0}},         {1.0, {gap, out, 0.0}},         {3.0, {gap, in, 0.0}},
-      {4.0, {gap, in, 0.0}},          {7.0, {gap - turn, in, 0.0}},   {8.0, {gap - turn, in, 0.0}},
-      {13.0, {gap + turn, in, 0.0}},  {14.0, {gap + turn, in, 0.0}},  {15.5, {gap + turn, out, 0.0}},
+      {0.0, {gap, out, 0.0}},         {1.0, {gap, out, 0.0}},        {3.0, {gap, in, 0.0}},
+      {4.0, {gap, in, 0.0}},          {7.0, {gap - turn, in, 0.0}},  {8.0, {gap - turn, in, 0.0}},
+      {13.0, {gap + turn, in, 0.0}},  {14.0, {gap + turn, in, 0.0}}, {15.5, {gap + turn, out, 0.0}},
       {16.0, {gap + turn, out, 0.0}},
   };
   const Vec3 centre{-0.5 * kCentreDistance_m, 0.0, 0.0};
@@ -160,25 +165,25 @@ std::string dynamicStream() {
   const std::vector<Key> keys = {
       {0.0, {0.0, 0.20, 0.25}},
       {1.0, {0.0, 0.20, 0.25}},
-      {2.5, {-0.21, 0.090, kCubeZ_m}},              // left of Cube0, lower end 15 mm up
-      {4.5, {-0.125, 0.090, kCubeZ_m}},             // push it 55 mm along +X
+      {2.5, {-0.21, 0.090, kCubeZ_m}},   // left of Cube0, lower end 15 mm up
+      {4.5, {-0.125, 0.090, kCubeZ_m}},  // push it 55 mm along +X
       {5.0, {-0.125, 0.090, kCubeZ_m}},
       {5.8, {-0.125, 0.17, kCubeZ_m}},
-      {7.0, {0.21, 0.10, kSphereZ_m}},              // right of Sphere3, at its equator
+      {7.0, {0.21, 0.10, kSphereZ_m}},  // right of Sphere3, at its equator
       {7.5, {0.21, 0.10, kSphereZ_m}},
-      {7.8, {0.14, 0.10, kSphereZ_m}},              // strike: 70 mm in 0.3 s
+      {7.8, {0.14, 0.10, kSphereZ_m}},  // strike: 70 mm in 0.3 s
       {8.3, {0.14, 0.10, kSphereZ_m}},
       {8.8, {0.21, 0.10, kSphereZ_m}},
       {9.5, {0.21, 0.17, kSphereZ_m}},
-      {10.5, {-0.05, 0.14, kEllipsoidZ_m}, {tilt, 0.0, 0.0}},  // over Ellipsoid1, tilted
-      {12.0, {-0.05, 0.110, kEllipsoidZ_m}, {tilt, 0.0, 0.0}}, // press into its top
+      {10.5, {-0.05, 0.14, kEllipsoidZ_m}, {tilt, 0.0, 0.0}},   // over Ellipsoid1, tilted
+      {12.0, {-0.05, 0.110, kEllipsoidZ_m}, {tilt, 0.0, 0.0}},  // press into its top
       {12.5, {-0.05, 0.110, kEllipsoidZ_m}, {tilt, 0.0, 0.0}},
       {13.0, {-0.05, 0.17, kEllipsoidZ_m}},
-      {14.0, {0.05, 0.17, kCubeZ_m}},               // over Cube2
-      {15.0, {0.05, 0.116, kCubeZ_m}, Vec3{0.0}, 1},    // on its top; button 1 held from here
-      {16.5, {0.05, 0.20, kCubeZ_m}, Vec3{0.0}, 1},     // lift
-      {17.5, {0.05, 0.20, 0.20}, Vec3{0.0}, 1},         // carry
-      {18.0, {0.05, 0.14, 0.20}},                   // lower, release: it drops
+      {14.0, {0.05, 0.17, kCubeZ_m}},                 // over Cube2
+      {15.0, {0.05, 0.116, kCubeZ_m}, Vec3{0.0}, 1},  // on its top; button 1 held from here
+      {16.5, {0.05, 0.20, kCubeZ_m}, Vec3{0.0}, 1},   // lift
+      {17.5, {0.05, 0.20, 0.20}, Vec3{0.0}, 1},       // carry
+      {18.0, {0.05, 0.14, 0.20}},                     // lower, release: it drops
       {19.0, {0.05, 0.22, 0.20}},
       {19.5, {0.05, 0.22, 0.20}},
   };
@@ -226,10 +231,14 @@ std::string stressStream() {
 }  // namespace
 
 std::string makePoseStream(std::string_view scene) {
-  if (scene == "gears") return gearsStream();
-  if (scene == "peg_in_hole") return pegStream();
-  if (scene == "dynamic") return dynamicStream();
-  if (scene == "stress") return stressStream();
+  if (scene == "gears")
+    return gearsStream();
+  if (scene == "peg_in_hole")
+    return pegStream();
+  if (scene == "dynamic")
+    return dynamicStream();
+  if (scene == "stress")
+    return stressStream();
   return {};
 }
 

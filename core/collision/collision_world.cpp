@@ -173,6 +173,7 @@ StepStats CollisionWorld::step() {
     if (!b.live || !b.moved) continue;
     for (const std::uint32_t pi : b.prims) sap_.update(prims_[pi].box, primitiveBox(prims_[pi]));
     b.moved = false;
+    b.moved_tick = tick_;
   }
   moved_.clear();
   sap_.commit();
@@ -182,7 +183,10 @@ StepStats CollisionWorld::step() {
   // then pairs in contact last tick, then the rest by time since their last test
   order_.clear();
   for (std::uint32_t si = 0; si < pair_states_.size(); ++si) {
-    if (pair_states_[si].live) order_.push_back(si);
+    const PairState& s = pair_states_[si];
+    if (!s.live || resting(s)) continue;
+    if (options_.skip_unmoved_pairs && unchanged(s)) continue;
+    order_.push_back(si);
   }
   const auto count = static_cast<std::uint32_t>(order_.size());
   stats.pairs_overlapping = count;
@@ -226,7 +230,7 @@ StepStats CollisionWorld::step() {
   // every close pair's latest answer, grouped by body pair
   contacts_.clear();
   for (const PairState& s : pair_states_) {
-    if (!s.live) continue;
+    if (!s.live || resting(s)) continue;
     contacts_.push_back(s.last);
     contacts_.back().age = static_cast<std::uint32_t>(std::min<std::uint64_t>(tick_ - s.last_tested, 0xffffffffu));
   }

@@ -56,6 +56,9 @@ struct WorldOptions {
   double box_margin = 0.0;
   SchedulerBudget budget;
   QueryOptions query;
+  /// A pair whose bodies have not been given a pose since its last test keeps that answer (it
+  /// is exact still) instead of being tested again; it stays listed in contacts() with its age.
+  bool skip_unmoved_pairs = false;
 };
 
 /// One primitive pair's answer this tick, in world coordinates.
@@ -98,6 +101,10 @@ class CollisionWorld {
   /// Moves a non-static body. Servo thread.
   void setPose(std::uint32_t body, const geom::Pose& X_WB);
   const geom::Pose& pose(std::uint32_t body) const { return bodies_[body].X_WB; }
+  /// A sleeping body is not moving and nothing about it is asked: its pairs with sleeping and
+  /// static bodies are neither tested nor listed in contacts() (pairs with an awake body are).
+  /// For bodies no stage moves (a scene without dynamics). Servo thread; no allocation.
+  void setAsleep(std::uint32_t body, bool asleep) { bodies_[body].asleep = asleep; }
 
   /// One tick: boxes, sweep and prune, scheduling, narrow phase. Servo thread.
   StepStats step();
@@ -118,6 +125,8 @@ class CollisionWorld {
     std::vector<std::uint32_t> prims;  // indices into prims_
     bool live = false;
     bool moved = false;
+    bool asleep = false;
+    std::uint64_t moved_tick = 0;  // the step in which its last pose took effect
   };
   struct Prim {
     std::uint32_t body = 0, index = 0;  // body and index within it
@@ -138,6 +147,16 @@ class CollisionWorld {
   Transform primitiveTransform(const Prim& p) const;
   void applyEvents(StepStats* stats);
   void test(PairState& s);
+  bool unchanged(const PairState& s) const {
+    return s.last.answered && bodies_[prims_[s.prim_a].body].moved_tick <= s.last_tested &&
+           bodies_[prims_[s.prim_b].body].moved_tick <= s.last_tested;
+  }
+  bool resting(const PairState& s) const {
+    const Body& a = bodies_[prims_[s.prim_a].body];
+    const Body& b = bodies_[prims_[s.prim_b].body];
+    return (a.asleep || a.desc.kind == BodyKind::kStatic) &&
+           (b.asleep || b.desc.kind == BodyKind::kStatic);
+  }
 
   WorldOptions options_;
   SweepAndPrune sap_;

@@ -2,7 +2,9 @@
 
 namespace hapticd::response {
 
-Wrench VirtualCoupling::step(const Vec3& h_dev_W, const Quat& q_dev, const Vec3& h_prx_W,
+Wrench VirtualCoupling::step(const Vec3& h_dev_W,
+                             const Quat& q_dev,
+                             const Vec3& h_prx_W,
                              const Quat& q_prx) {
   Vec3 v_rel{0.0}, w_rel{0.0};
   if (have_prev_) {

@@ -30,18 +30,24 @@ std::uint32_t bestFace(const Polytope& shape, const Vec3& n_P, Feature feature);
 /// Points of a face-face contact, world frame.
 struct FaceContact {
   static constexpr std::size_t kMaxPoints = 32;
-  std::array<Vec3, kMaxPoints> p_W{};  ///< on the held face
+  std::array<Vec3, kMaxPoints> p_W{};    ///< on the held face
   std::array<double, kMaxPoints> gap{};  ///< to the environment's face plane, > 0 apart
   std::uint32_t count = 0;
-  Vec3 n_W{0.0};              ///< the environment face's outward normal
+  Vec3 n_W{0.0};  ///< the environment face's outward normal
   std::uint32_t env_face = 0;
 };
 
 /// The clipped region (see the file comment) when both faces are within `cos_tolerance` of the
 /// pair's normal n_out_W (out of the environment); false otherwise or when the faces are too
 /// large for the fixed buffers (the caller keeps the manifold). Servo thread; no allocation.
-bool faceContact(const Polytope& env, const Transform& X_WE, Feature env_feature,
-                 const Polytope& held, const Transform& X_WH, Feature held_feature,
-                 const Vec3& n_out_W, double cos_tolerance, FaceContact* out);
+bool faceContact(const Polytope& env,
+                 const Transform& X_WE,
+                 Feature env_feature,
+                 const Polytope& held,
+                 const Transform& X_WH,
+                 Feature held_feature,
+                 const Vec3& n_out_W,
+                 double cos_tolerance,
+                 FaceContact* out);
 
 }  // namespace hapticd::response

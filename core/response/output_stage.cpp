@@ -7,7 +7,8 @@ namespace {
 
 Vec3 clampLength(const Vec3& v, double max_length, bool* clamped) {
   const double l = std::sqrt(glm::dot(v, v));
-  if (l <= max_length) return v;
+  if (l <= max_length)
+    return v;
   *clamped = true;
   return v * (max_length / l);
 }

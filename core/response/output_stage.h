@@ -33,10 +33,10 @@ struct OutputLimits {
 
 /// What the output stage did this tick.
 struct OutputReport {
-  bool ramping = false;      ///< the ramp scale is below 1
-  bool clamped = false;      ///< a device limit cut the wrench
-  bool step_limited = false; ///< F_max (or its torque twin) cut the change
-  bool non_finite = false;   ///< the input was NaN or Inf: zero was sent and the ramp restarted
+  bool ramping = false;       ///< the ramp scale is below 1
+  bool clamped = false;       ///< a device limit cut the wrench
+  bool step_limited = false;  ///< F_max (or its torque twin) cut the change
+  bool non_finite = false;    ///< the input was NaN or Inf: zero was sent and the ramp restarted
 };
 
 /// Wrench to the device. Servo thread: no allocation.

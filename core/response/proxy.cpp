@@ -8,6 +8,9 @@ namespace {
 
 using Mat6 = std::array<std::array<double, 6>, 6>;
 using Vec6 = std::array<double, 6>;
+constexpr std::size_t kMaxDofs = 6 + ProxyProblem::kMaxDriven;
+using MatN = std::array<std::array<double, kMaxDofs>, kMaxDofs>;
+using VecN = std::array<double, kMaxDofs>;
 
 constexpr std::size_t kMaxPasses = 16;
 
@@ -18,36 +21,43 @@ Vec6 rowJacobian(const ContactRow& r, const Vec3& c_W) {
 
 double dot6(const Vec6& a, const Vec6& b) {
   double s = 0.0;
-  for (std::size_t i = 0; i < 6; ++i) s += a[i] * b[i];
+  for (std::size_t i = 0; i < 6; ++i)
+    s += a[i] * b[i];
   return s;
 }
 
 // Solves A x = b for the leading n x n block of a symmetric positive definite A (Cholesky).
 // Returns false (x untouched) if A is not positive definite.
-bool choleskySolve(Mat6 A, Vec6 b, std::size_t n, Vec6* x) {
+bool choleskySolve(MatN A, VecN b, std::size_t n, VecN* x) {
   for (std::size_t j = 0; j < n; ++j) {
     double d = A[j][j];
-    for (std::size_t k = 0; k < j; ++k) d -= A[j][k] * A[j][k];
-    if (!(d > 0.0)) return false;
+    for (std::size_t k = 0; k < j; ++k)
+      d -= A[j][k] * A[j][k];
+    if (!(d > 0.0))
+      return false;
     const double l = std::sqrt(d);
     A[j][j] = l;
     for (std::size_t i = j + 1; i < n; ++i) {
       double s = A[i][j];
-      for (std::size_t k = 0; k < j; ++k) s -= A[i][k] * A[j][k];
+      for (std::size_t k = 0; k < j; ++k)
+        s -= A[i][k] * A[j][k];
       A[i][j] = s / l;
     }
   }
   for (std::size_t i = 0; i < n; ++i) {
     double s = b[i];
-    for (std::size_t k = 0; k < i; ++k) s -= A[i][k] * b[k];
+    for (std::size_t k = 0; k < i; ++k)
+      s -= A[i][k] * b[k];
     b[i] = s / A[i][i];
   }
   for (std::size_t ii = n; ii-- > 0;) {
     double s = b[ii];
-    for (std::size_t k = ii + 1; k < n; ++k) s -= A[k][ii] * b[k];
+    for (std::size_t k = ii + 1; k < n; ++k)
+      s -= A[k][ii] * b[k];
     b[ii] = s / A[ii][ii];
   }
-  for (std::size_t i = 0; i < n; ++i) (*x)[i] = b[i];
+  for (std::size_t i = 0; i < n; ++i)
+    (*x)[i] = b[i];
   return true;
 }
 
@@ -61,7 +71,8 @@ Vec3 clampLength(const Vec3& v, double max_length) {
 ProxyBasis ProxyBasis::free() {
   ProxyBasis b;
   b.dofs = 6;
-  for (std::size_t i = 0; i < 6; ++i) b.column[i][i] = 1.0;
+  for (std::size_t i = 0; i < 6; ++i)
+    b.column[i][i] = 1.0;
   return b;
 }
 
@@ -76,7 +87,8 @@ ProxyBasis ProxyBasis::hinge(const Vec3& o_W, const Vec3& a_W, const Vec3& c_W) 
 Wrench penaltyWrench(std::span<const ContactRow> rows, const Vec3& c_W, double delta) {
   Wrench w;
   for (const ContactRow& r : rows) {
-    if (r.gap >= delta) continue;
+    if (r.gap >= delta || r.first >= 0)
+      continue;
     const Vec3 f = r.stiffness * (delta - r.gap) * r.n_W;
     w.force_n += f;
     w.torque_nm += glm::cross(r.p_W - c_W, f);
@@ -84,11 +96,14 @@ Wrench penaltyWrench(std::span<const ContactRow> rows, const Vec3& c_W, double d
   return w;
 }
 
-ProxyStep solveProxyStep(const ProxyProblem& pb, std::span<const ContactRow> rows,
+ProxyStep solveProxyStep(const ProxyProblem& pb,
+                         std::span<const ContactRow> rows,
                          const ProxyParams& params) {
   ProxyStep out;
   const ProxyBasis& S = pb.basis;
-  const std::size_t n = S.dofs;
+  const std::size_t nh = S.dofs;
+  const std::size_t nd = std::min<std::size_t>(pb.driven_count, ProxyProblem::kMaxDriven);
+  const std::size_t n = nh + nd;
 
   // the coupling part of the 6 x 6 system about c: a linear spring at the handle h and a
   // rotational spring; its force is clamped to the device limits
@@ -111,85 +126,117 @@ ProxyStep solveProxyStep(const ProxyProblem& pb, std::span<const ContactRow> row
     for (std::size_t i = 0; i < 6; ++i) {
       for (std::size_t j = 0; j < 6; ++j) {
         double s = 0.0;
-        for (int k = 0; k < 3; ++k) s += jx[k][i] * jx[k][j];
+        for (int k = 0; k < 3; ++k)
+          s += jx[k][i] * jx[k][j];
         A0[i][j] = kc * s;
       }
-      for (int k = 0; k < 3; ++k) b0[i] += kc * jx[k][i] * e_lin[k];
+      for (int k = 0; k < 3; ++k)
+        b0[i] += kc * jx[k][i] * e_lin[k];
     }
     for (std::size_t i = 0; i < 3; ++i) {
       A0[3 + i][3 + i] += kr;
       b0[3 + i] += kr * e_rot[static_cast<int>(i)];
     }
   }
+  // in the free coordinates: (S^T A0 S), S^T b0, then each driven hinge's drag
+  MatN Ac{};
+  VecN bc{};
+  for (std::size_t p = 0; p < nh; ++p) {
+    for (std::size_t q = 0; q < nh; ++q) {
+      double s = 0.0;
+      for (std::size_t a = 0; a < 6; ++a) {
+        double t = 0.0;
+        for (std::size_t c = 0; c < 6; ++c)
+          t += A0[a][c] * S.column[q][c];
+        s += S.column[p][a] * t;
+      }
+      Ac[p][q] = s;
+    }
+    bc[p] = dot6(S.column[p], b0);
+  }
+  for (std::size_t d = 0; d < nd; ++d)
+    Ac[nh + d][nh + d] += pb.driven[d].drag;
+
+  // each row's generalised Jacobian: how its gap changes with every coordinate
+  const std::size_t nr = std::min(rows.size(), kMaxRows);
+  out.rows_dropped = rows.size() > kMaxRows;
+  std::array<VecN, kMaxRows> g;
+  std::array<std::uint8_t, kMaxRows> active{};
+  for (std::size_t i = 0; i < nr; ++i) {
+    const ContactRow& row = rows[i];
+    g[i] = VecN{};
+    // the first side moving along n opens the gap; the second side moving along n closes it
+    auto hingeRate = [&](std::int32_t d) {
+      const DrivenHinge& h = pb.driven[static_cast<std::size_t>(d)];
+      return glm::dot(glm::cross(h.a_W, row.p_W - h.o_W), row.n_W);
+    };
+    if (row.first < 0) {
+      const Vec6 J = rowJacobian(row, pb.c_W);
+      for (std::size_t q = 0; q < nh; ++q)
+        g[i][q] = dot6(J, S.column[q]);
+    } else if (static_cast<std::size_t>(row.first) < nd) {
+      g[i][nh + static_cast<std::size_t>(row.first)] += hingeRate(row.first);
+    }
+    if (row.second >= 0 && static_cast<std::size_t>(row.second) < nd) {
+      g[i][nh + static_cast<std::size_t>(row.second)] -= hingeRate(row.second);
+    }
+    active[i] = rows[i].gap < params.delta ? 1 : 0;
+  }
 
   // active set: rows within delta now; passes add rows that would come within delta and drop
   // rows that would pull
-  constexpr std::size_t kMaxRows = 256;  // rows beyond this are solved as a group of their own
-  std::array<std::uint8_t, kMaxRows> active{};
-  const std::size_t nr = std::min(rows.size(), kMaxRows);
-  for (std::size_t i = 0; i < nr; ++i) active[i] = rows[i].gap < params.delta ? 1 : 0;
-
-  Vec6 x{};
-  const std::size_t passes = std::min<std::size_t>(std::max<std::uint32_t>(params.max_passes, 1), kMaxPasses);
+  VecN x{};
+  const std::size_t passes =
+      std::min<std::size_t>(std::max<std::uint32_t>(params.max_passes, 1), kMaxPasses);
   for (std::size_t pass = 0; pass < passes; ++pass) {
     ++out.passes;
-    Mat6 A6 = A0;
-    Vec6 b6 = b0;
+    MatN A = Ac;
+    VecN b = bc;
     for (std::size_t i = 0; i < nr; ++i) {
-      if (!active[i]) continue;
-      const Vec6 J = rowJacobian(rows[i], pb.c_W);
+      if (!active[i])
+        continue;
       const double k = rows[i].stiffness;
       const double f = k * (params.delta - rows[i].gap);
-      for (std::size_t a = 0; a < 6; ++a) {
-        for (std::size_t b = 0; b < 6; ++b) A6[a][b] += k * J[a] * J[b];
-        b6[a] += f * J[a];
+      for (std::size_t p = 0; p < n; ++p) {
+        if (g[i][p] == 0.0)
+          continue;
+        for (std::size_t q = 0; q < n; ++q)
+          A[p][q] += k * g[i][p] * g[i][q];
+        b[p] += f * g[i][p];
       }
     }
-    // project on the free coordinates: (S^T A S) x = S^T b
-    Mat6 A{};
-    Vec6 b{};
-    for (std::size_t p = 0; p < n; ++p) {
-      Vec6 As{};
-      for (std::size_t a = 0; a < 6; ++a) As[a] = 0.0;
-      for (std::size_t q = 0; q < n; ++q) {
-        double s = 0.0;
-        for (std::size_t a = 0; a < 6; ++a) {
-          double t = 0.0;
-          for (std::size_t c = 0; c < 6; ++c) t += A6[a][c] * S.column[q][c];
-          s += S.column[p][a] * t;
-        }
-        A[p][q] = s;
-      }
-      b[p] = dot6(S.column[p], b6);
-    }
-    Vec6 xs{};
-    if (!choleskySolve(A, b, n, &xs)) xs = Vec6{};
+    VecN xs{};
+    if (!choleskySolve(A, b, n, &xs))
+      xs = VecN{};
     x = xs;
-    // the twist and the rows' predicted gaps
-    Vec6 twist{};
-    for (std::size_t q = 0; q < n; ++q) {
-      for (std::size_t a = 0; a < 6; ++a) twist[a] += S.column[q][a] * x[q];
-    }
     bool changed = false;
     for (std::size_t i = 0; i < nr; ++i) {
-      const double g = rows[i].gap + dot6(rowJacobian(rows[i], pb.c_W), twist);
-      const bool want = g < params.delta;
+      double gp = rows[i].gap;
+      for (std::size_t p = 0; p < n; ++p)
+        gp += g[i][p] * x[p];
+      const bool want = gp < params.delta;
       if (want != static_cast<bool>(active[i])) {
         active[i] = want ? 1 : 0;
         changed = true;
       }
     }
-    if (!changed) break;
+    if (!changed)
+      break;
   }
-  for (std::size_t i = 0; i < nr; ++i) out.active += active[i];
+  for (std::size_t i = 0; i < nr; ++i)
+    out.active += active[i];
 
   Vec6 twist{};
-  for (std::size_t q = 0; q < n; ++q) {
-    for (std::size_t a = 0; a < 6; ++a) twist[a] += S.column[q][a] * x[q];
+  for (std::size_t q = 0; q < nh; ++q) {
+    for (std::size_t a = 0; a < 6; ++a)
+      twist[a] += S.column[q][a] * x[q];
   }
   Vec3 dc{twist[0], twist[1], twist[2]}, dth{twist[3], twist[4], twist[5]};
-  // the safe distance: no point of the held set moves farther than max_travel
-  const double travel = std::sqrt(glm::dot(dc, dc)) + std::sqrt(glm::dot(dth, dth)) * pb.radius;
+  // the safe distance: no point of the held set, nor of a driven body, moves farther than
+  // max_travel
+  double travel = std::sqrt(glm::dot(dc, dc)) + std::sqrt(glm::dot(dth, dth)) * pb.radius;
+  for (std::size_t d = 0; d < nd; ++d)
+    travel = std::max(travel, std::abs(x[nh + d]) * pb.driven[d].radius);
   double scale = 1.0;
   if (travel > params.max_travel) {
     scale = params.max_travel / travel;
@@ -197,7 +244,10 @@ ProxyStep solveProxyStep(const ProxyProblem& pb, std::span<const ContactRow> row
   }
   out.dc_W = dc * scale;
   out.dtheta_W = dth * scale;
-  for (std::size_t q = 0; q < 6; ++q) out.x[q] = x[q] * scale;
+  for (std::size_t q = 0; q < nh; ++q)
+    out.x[q] = x[q] * scale;
+  for (std::size_t d = 0; d < nd; ++d)
+    out.driven_angle[d] = x[nh + d] * scale;
   return out;
 }
 

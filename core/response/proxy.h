@@ -33,10 +33,14 @@ namespace hapticd::response {
 
 /// One contact point of the held set against the environment, world frame.
 struct ContactRow {
-  Vec3 p_W{0.0};       ///< contact point
-  Vec3 n_W{0.0};       ///< unit; the direction that pushes the held set out (possibly shaded)
-  double gap = 0.0;    ///< along n_W: > 0 apart, < 0 penetrating (scene units)
+  Vec3 p_W{0.0};           ///< contact point
+  Vec3 n_W{0.0};           ///< unit; the direction that pushes the held set out (possibly shaded)
+  double gap = 0.0;        ///< along n_W: > 0 apart, < 0 penetrating (scene units)
   double stiffness = 0.0;  ///< this point's share of its pair's stiffness (N per scene unit)
+  /// The side n_W pushes: -1 the held set, d >= 0 driven hinge d of the problem.
+  std::int32_t first = -1;
+  /// The side n_W pushes against: -1 fixed, d >= 0 driven hinge d.
+  std::int32_t second = -1;
 };
 
 /// Fixed-capacity row buffer: reserve() off the servo thread, then push() never allocates; a full
@@ -44,10 +48,15 @@ struct ContactRow {
 class ContactRows {
  public:
   void reserve(std::size_t n) { rows_.reserve(n); }
-  void clear() { rows_.clear(); full_ = false; }
+  void clear() {
+    rows_.clear();
+    full_ = false;
+  }
   void push(const ContactRow& r) {
-    if (rows_.size() < rows_.capacity()) rows_.push_back(r);
-    else full_ = true;
+    if (rows_.size() < rows_.capacity())
+      rows_.push_back(r);
+    else
+      full_ = true;
   }
   std::span<const ContactRow> rows() const { return rows_; }
   std::span<ContactRow> rows() { return rows_; }
@@ -58,8 +67,8 @@ class ContactRows {
   bool full_ = false;
 };
 
-/// The penalty wrench of §5.1–5.2 on the held set: sum over rows with gap < delta of
-/// f_i = k_i (delta - gap_i) n_i, torque about c_W. Any thread; no allocation.
+/// The penalty wrench of §5.1–5.2 on the held set: sum over its rows (first == -1) with gap < delta
+/// of f_i = k_i (delta - gap_i) n_i, torque about c_W. Any thread; no allocation.
 Wrench penaltyWrench(std::span<const ContactRow> rows, const Vec3& c_W, double delta);
 
 /// How the proxy may move: its velocity twist (dc, dtheta) about the reference point is
@@ -74,39 +83,58 @@ struct ProxyBasis {
 };
 
 struct ProxyParams {
-  double coupling_stiffness = 600.0;      ///< k_c, N per scene unit
-  double rot_coupling_stiffness = 1.0;    ///< k_r, N m per radian
-  double delta = 0.0005;                  ///< predictive distance, scene units
-  double max_travel = 0.0005;             ///< safe distance per tick, scene units
-  double max_force_n = 10.0;              ///< coupling force on the proxy is clamped to this
+  double coupling_stiffness = 600.0;    ///< k_c, N per scene unit
+  double rot_coupling_stiffness = 1.0;  ///< k_r, N m per radian
+  double delta = 0.0005;                ///< predictive distance, scene units
+  double max_travel = 0.0005;           ///< safe distance per tick, scene units
+  double max_force_n = 10.0;            ///< coupling force on the proxy is clamped to this
   double max_torque_nm = 1.0;
-  std::uint32_t max_passes = 8;           ///< active-set passes
+  std::uint32_t max_passes = 8;  ///< active-set passes
+};
+
+/// A body on a hinge that the held set may turn (a gear meshing with the held one): a massless,
+/// quasi-static extra coordinate, its angle about the axis a_W through o_W.
+struct DrivenHinge {
+  Vec3 o_W{0.0};
+  Vec3 a_W{0.0, 0.0, 1.0};
+  double radius = 0.0;  ///< largest distance of its points from the axis (for the safe distance)
+  double drag = 1e-6;   ///< rotational stiffness holding it when untouched (N m per radian)
 };
 
 /// One tick's problem.
 struct ProxyProblem {
-  Vec3 c_W{0.0};            ///< reference point (the held set's centre), world
-  Vec3 h_W{0.0};            ///< the proxy's handle point (coupled to the device), world
+  static constexpr std::size_t kMaxDriven = 4;
+  Vec3 c_W{0.0};              ///< reference point (the held set's centre), world
+  Vec3 h_W{0.0};              ///< the proxy's handle point (coupled to the device), world
   bool handle_fixed = false;  ///< the handle point does not move with the proxy (centre attach)
-  Vec3 h_target_W{0.0};     ///< the device's handle point
+  Vec3 h_target_W{0.0};       ///< the device's handle point
   Quat q_handle{1.0, 0.0, 0.0, 0.0};  ///< the proxy handle's orientation
   Quat q_target{1.0, 0.0, 0.0, 0.0};  ///< the device's orientation
-  double radius = 0.0;      ///< largest distance of a held point from c_W
+  double radius = 0.0;                ///< largest distance of a held point from c_W
   ProxyBasis basis = ProxyBasis::free();
+  std::array<DrivenHinge, kMaxDriven> driven{};
+  std::uint32_t driven_count = 0;
 };
 
 /// What the step decided.
 struct ProxyStep {
-  Vec3 dc_W{0.0};      ///< translation of the reference point
-  Vec3 dtheta_W{0.0};  ///< rotation vector about the reference point
+  Vec3 dc_W{0.0};             ///< translation of the reference point
+  Vec3 dtheta_W{0.0};         ///< rotation vector about the reference point
   std::array<double, 6> x{};  ///< the free coordinates' step
+  std::array<double, ProxyProblem::kMaxDriven> driven_angle{};  ///< each driven hinge's turn
   bool travel_limited = false;
+  bool rows_dropped = false;  ///< more rows than the solver holds (kMaxRows): the rest ignored
   std::uint32_t passes = 0;
   std::uint32_t active = 0;  ///< rows active at the end
 };
 
-/// One proxy step (see the file comment). Servo thread; no allocation.
-ProxyStep solveProxyStep(const ProxyProblem& problem, std::span<const ContactRow> rows,
+/// Rows the solver takes; more are ignored (ProxyStep::rows_dropped).
+inline constexpr std::size_t kMaxRows = 256;
+
+/// One proxy step (see the file comment). Driven hinges are coordinates of their own, moved only
+/// by their rows with the held set. Servo thread; no allocation.
+ProxyStep solveProxyStep(const ProxyProblem& problem,
+                         std::span<const ContactRow> rows,
                          const ProxyParams& params);
 
 }  // namespace hapticd::response

@@ -1,9 +1,9 @@
 #include "core/response/shading.h"
 
-#include "core/response/face_contact.h"
-
 #include <algorithm>
 #include <cmath>
+
+#include "core/response/face_contact.h"
 
 namespace hapticd::response {
 
@@ -18,15 +18,16 @@ ShadingTable::ShadingTable(const Polytope& shape, double crease_angle_rad) {
     first_[f] = static_cast<std::uint32_t>(face_edges_.size());
     Vec3 centroid{0.0};
     const auto fes = shape.faceEdges(f);
-    for (const auto& fe : fes) centroid += shape.vertices()[fe.vertex].p;
+    for (const auto& fe : fes)
+      centroid += shape.vertices()[fe.vertex].p;
     centroid /= static_cast<double>(fes.size());
     for (const auto& fe : fes) {
       const auto& e = shape.edges()[fe.edge];
       EdgeInfo info;
       info.neighbour = e.face[0] == f ? e.face[1] : e.face[0];
       info.inset = glm::dot(centroid - shape.vertices()[fe.vertex].p, fe.side);
-      info.smooth = info.inset > 0.0 &&
-                    glm::dot(faces[f].normal, faces[info.neighbour].normal) > cos_crease;
+      info.smooth =
+          info.inset > 0.0 && glm::dot(faces[f].normal, faces[info.neighbour].normal) > cos_crease;
       if (info.smooth) {
         any_smooth_[f] = 1;
         ++smooth_edges_;
@@ -37,22 +38,29 @@ ShadingTable::ShadingTable(const Polytope& shape, double crease_angle_rad) {
   smooth_edges_ /= 2;  // each edge seen from both faces
 }
 
-Vec3 ShadingTable::shadedNormal(const Polytope& shape, const Vec3& x_P, const Vec3& n_P,
+Vec3 ShadingTable::shadedNormal(const Polytope& shape,
+                                const Vec3& x_P,
+                                const Vec3& n_P,
                                 Feature feature) const {
   const std::uint32_t f = bestFace(shape, n_P, feature);
-  if (!any_smooth_[f]) return n_P;
+  if (!any_smooth_[f])
+    return n_P;
   return shadedNormalOnFace(shape, f, x_P);
 }
 
-Vec3 ShadingTable::shadedNormalOnFace(const Polytope& shape, std::uint32_t f, const Vec3& x_P) const {
-  if (!any_smooth_[f]) return shape.faces()[f].normal;
+Vec3 ShadingTable::shadedNormalOnFace(const Polytope& shape,
+                                      std::uint32_t f,
+                                      const Vec3& x_P) const {
+  if (!any_smooth_[f])
+    return shape.faces()[f].normal;
   const auto faces = shape.faces();
   const Vec3 nf = faces[f].normal;
   Vec3 n = nf;
   const auto fes = shape.faceEdges(f);
   for (std::size_t k = 0; k < fes.size(); ++k) {
     const EdgeInfo& info = face_edges_[first_[f] + k];
-    if (!info.smooth) continue;
+    if (!info.smooth)
+      continue;
     const double s = glm::dot(x_P - shape.vertices()[fes[k].vertex].p, fes[k].side);
     const double t = std::clamp(s / info.inset, 0.0, 1.0);
     n += 0.5 * (1.0 - t) * (faces[info.neighbour].normal - nf);

@@ -32,11 +32,15 @@ class ShadingTable {
   /// The shaded outward normal at x_P (the shape's frame) for a contact whose geometric outward
   /// normal is n_P and whose feature on this shape is `feature` (Feature{} if unknown). Returns
   /// n_P unchanged when no smooth edge is near.
-  geom::Vec3 shadedNormal(const Polytope& shape, const geom::Vec3& x_P, const geom::Vec3& n_P,
+  geom::Vec3 shadedNormal(const Polytope& shape,
+                          const geom::Vec3& x_P,
+                          const geom::Vec3& n_P,
                           Feature feature) const;
 
   /// The same on a known face f of the shape.
-  geom::Vec3 shadedNormalOnFace(const Polytope& shape, std::uint32_t f, const geom::Vec3& x_P) const;
+  geom::Vec3 shadedNormalOnFace(const Polytope& shape,
+                                std::uint32_t f,
+                                const geom::Vec3& x_P) const;
 
   /// Edges of this shape that are smoothed.
   std::uint32_t smoothEdges() const { return smooth_edges_; }
@@ -47,8 +51,8 @@ class ShadingTable {
     double inset = 0.0;           // distance of the face's centroid from the edge (> 0)
     bool smooth = false;
   };
-  std::vector<EdgeInfo> face_edges_;  // parallel to Polytope's face-edge array
-  std::vector<std::uint32_t> first_;  // per face: its first entry in face_edges_
+  std::vector<EdgeInfo> face_edges_;      // parallel to Polytope's face-edge array
+  std::vector<std::uint32_t> first_;      // per face: its first entry in face_edges_
   std::vector<std::uint8_t> any_smooth_;  // per face
   std::uint32_t smooth_edges_ = 0;
 };

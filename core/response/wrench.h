@@ -22,7 +22,8 @@ inline Vec3 rotationVector(const Quat& q_in) {
   const Quat q = q_in.w < 0.0 ? -q_in : q_in;  // the shorter way round
   const Vec3 v{q.x, q.y, q.z};
   const double s = std::sqrt(glm::dot(v, v));
-  if (s < 1e-12) return 2.0 * v;  // small angles: 2 * sin(a/2) * axis ~ a * axis
+  if (s < 1e-12)
+    return 2.0 * v;  // small angles: 2 * sin(a/2) * axis ~ a * axis
   const double angle = 2.0 * std::atan2(s, q.w);
   return v * (angle / s);
 }
@@ -30,7 +31,8 @@ inline Vec3 rotationVector(const Quat& q_in) {
 /// The unit quaternion of a rotation vector (axis * angle). Any thread.
 inline Quat quatFromRotationVector(const Vec3& w) {
   const double angle = std::sqrt(glm::dot(w, w));
-  if (angle < 1e-12) return glm::normalize(Quat(1.0, 0.5 * w.x, 0.5 * w.y, 0.5 * w.z));
+  if (angle < 1e-12)
+    return glm::normalize(Quat(1.0, 0.5 * w.x, 0.5 * w.y, 0.5 * w.z));
   const double s = std::sin(0.5 * angle) / angle;
   return Quat(std::cos(0.5 * angle), w.x * s, w.y * s, w.z * s);
 }

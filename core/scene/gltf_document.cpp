@@ -1,6 +1,7 @@
 #include "core/scene/gltf_document.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstring>
 #include <filesystem>
@@ -18,7 +19,9 @@ constexpr double kUnitQuaternionTolerance = 1e-3;
 
 const char* const kSupportedExtensions[] = {"KHR_physics_rigid_bodies", "KHR_implicit_shapes"};
 
-std::string inQuotes(const std::string& s) { return "'" + s + "'"; }
+std::string inQuotes(const std::string& s) {
+  return "'" + s + "'";
+}
 
 std::string num(double v) {
   char buf[64];
@@ -28,7 +31,9 @@ std::string num(double v) {
 
 enum class Got { kAbsent, kOk, kBad };
 
-const char* typeName(const json& j) { return j.type_name(); }
+const char* typeName(const json& j) {
+  return j.type_name();
+}
 
 /// Typed access to JSON members, each reporting its own problem.
 class Checker {
@@ -38,76 +43,109 @@ class Checker {
   void add(const std::string& where, std::string what) { p_->add(where, std::move(what)); }
 
   static const json* find(const json& o, const char* key) {
-    if (!o.is_object()) return nullptr;
+    if (!o.is_object())
+      return nullptr;
     const auto it = o.find(key);
     return it == o.end() ? nullptr : &*it;
   }
 
-  Got object(const json& o, const char* key, const std::string& where, const json** out,
+  Got object(const json& o,
+             const char* key,
+             const std::string& where,
+             const json** out,
              bool required = false) {
     const json* j = find(o, key);
-    if (!j) return missing(where, key, required);
-    if (!j->is_object()) return wrong(where, key, "an object", *j);
+    if (!j)
+      return missing(where, key, required);
+    if (!j->is_object())
+      return wrong(where, key, "an object", *j);
     *out = j;
     return Got::kOk;
   }
 
-  Got array(const json& o, const char* key, const std::string& where, const json** out,
+  Got array(const json& o,
+            const char* key,
+            const std::string& where,
+            const json** out,
             bool required = false) {
     const json* j = find(o, key);
-    if (!j) return missing(where, key, required);
-    if (!j->is_array()) return wrong(where, key, "an array", *j);
+    if (!j)
+      return missing(where, key, required);
+    if (!j->is_array())
+      return wrong(where, key, "an array", *j);
     *out = j;
     return Got::kOk;
   }
 
   Got boolean(const json& o, const char* key, const std::string& where, bool* out) {
     const json* j = find(o, key);
-    if (!j) return Got::kAbsent;
-    if (!j->is_boolean()) return wrong(where, key, "a boolean", *j);
+    if (!j)
+      return Got::kAbsent;
+    if (!j->is_boolean())
+      return wrong(where, key, "a boolean", *j);
     *out = j->get<bool>();
     return Got::kOk;
   }
 
-  Got string(const json& o, const char* key, const std::string& where, std::string* out,
+  Got string(const json& o,
+             const char* key,
+             const std::string& where,
+             std::string* out,
              bool required = false) {
     const json* j = find(o, key);
-    if (!j) return missing(where, key, required);
-    if (!j->is_string()) return wrong(where, key, "a string", *j);
+    if (!j)
+      return missing(where, key, required);
+    if (!j->is_string())
+      return wrong(where, key, "a string", *j);
     *out = j->get<std::string>();
     return Got::kOk;
   }
 
-  Got uinteger(const json& o, const char* key, const std::string& where, std::uint64_t* out,
+  Got uinteger(const json& o,
+               const char* key,
+               const std::string& where,
+               std::uint64_t* out,
                bool required = false) {
     const json* j = find(o, key);
-    if (!j) return missing(where, key, required);
+    if (!j)
+      return missing(where, key, required);
     if (j->is_number_unsigned()) {
       *out = j->get<std::uint64_t>();
       return Got::kOk;
     }
     if (j->is_number_integer()) {
-      add(where, std::string(key) + " is negative (" + std::to_string(j->get<std::int64_t>()) + ")");
+      add(where,
+          std::string(key) + " is negative (" + std::to_string(j->get<std::int64_t>()) + ")");
       return Got::kBad;
     }
     return wrong(where, key, "a non-negative integer", *j);
   }
 
   /// An index into an array of `count` `things`.
-  Got index(const json& o, const char* key, std::size_t count, const char* things,
-            const std::string& where, std::int32_t* out, bool required = false) {
+  Got index(const json& o,
+            const char* key,
+            std::size_t count,
+            const char* things,
+            const std::string& where,
+            std::int32_t* out,
+            bool required = false) {
     const json* j = find(o, key);
-    if (!j) return missing(where, key, required);
+    if (!j)
+      return missing(where, key, required);
     return indexValue(*j, key, count, things, where, out);
   }
 
-  Got indexValue(const json& j, const std::string& key, std::size_t count, const char* things,
-                 const std::string& where, std::int32_t* out) {
+  Got indexValue(const json& j,
+                 const std::string& key,
+                 std::size_t count,
+                 const char* things,
+                 const std::string& where,
+                 std::int32_t* out) {
     if (j.is_number_unsigned()) {
       const std::uint64_t v = j.get<std::uint64_t>();
       if (v >= count) {
-        add(where, key + " index " + std::to_string(v) + " out of range (" +
-                       std::to_string(count) + " " + things + ")");
+        add(where, key + " index " + std::to_string(v) + " out of range (" + std::to_string(count) +
+                       " " + things + ")");
         return Got::kBad;
       }
       *out = static_cast<std::int32_t>(v);
@@ -124,8 +162,10 @@ class Checker {
 
   Got number(const json& o, const char* key, const std::string& where, double* out) {
     const json* j = find(o, key);
-    if (!j) return Got::kAbsent;
-    if (!j->is_number()) return wrong(where, key, "a number", *j);
+    if (!j)
+      return Got::kAbsent;
+    if (!j->is_number())
+      return wrong(where, key, "a number", *j);
     const double v = j->get<double>();
     if (!std::isfinite(v)) {
       add(where, std::string(key) + " is not finite");
@@ -136,24 +176,29 @@ class Checker {
   }
 
   /// A number that must be >= min (or > min when exclusive).
-  Got bounded(const json& o, const char* key, const std::string& where, double* out, double min,
+  Got bounded(const json& o,
+              const char* key,
+              const std::string& where,
+              double* out,
+              double min,
               bool exclusive) {
     double v = 0.0;
     const Got got = number(o, key, where, &v);
-    if (got != Got::kOk) return got;
+    if (got != Got::kOk)
+      return got;
     if (exclusive ? !(v > min) : !(v >= min)) {
-      add(where, std::string(key) + " must be " + (exclusive ? "> " : ">= ") + num(min) +
-                     ", got " + num(v));
+      add(where, std::string(key) + " must be " + (exclusive ? "> " : ">= ") + num(min) + ", got " +
+                     num(v));
       return Got::kBad;
     }
     *out = v;
     return Got::kOk;
   }
 
-  Got vector(const json& o, const char* key, std::size_t n, const std::string& where,
-             double* out) {
+  Got vector(const json& o, const char* key, std::size_t n, const std::string& where, double* out) {
     const json* j = find(o, key);
-    if (!j) return Got::kAbsent;
+    if (!j)
+      return Got::kAbsent;
     if (!j->is_array() || j->size() != n) {
       add(where, std::string(key) + " must be an array of " + std::to_string(n) + " numbers");
       return Got::kBad;
@@ -161,8 +206,8 @@ class Checker {
     for (std::size_t i = 0; i < n; ++i) {
       const json& e = (*j)[i];
       if (!e.is_number()) {
-        add(where, std::string(key) + "[" + std::to_string(i) + "] must be a number, got " +
-                       typeName(e));
+        add(where,
+            std::string(key) + "[" + std::to_string(i) + "] must be a number, got " + typeName(e));
         return Got::kBad;
       }
       out[i] = e.get<double>();
@@ -177,7 +222,8 @@ class Checker {
   Got vec3(const json& o, const char* key, const std::string& where, Vec3* out) {
     double v[3];
     const Got got = vector(o, key, 3, where, v);
-    if (got == Got::kOk) *out = {v[0], v[1], v[2]};
+    if (got == Got::kOk)
+      *out = {v[0], v[1], v[2]};
     return got;
   }
 
@@ -185,7 +231,8 @@ class Checker {
   Got quaternion(const json& o, const char* key, const std::string& where, geom::Quat* out) {
     double v[4];
     const Got got = vector(o, key, 4, where, v);
-    if (got != Got::kOk) return got;
+    if (got != Got::kOk)
+      return got;
     const double norm = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] + v[3] * v[3]);
     if (!(std::abs(norm - 1.0) <= kUnitQuaternionTolerance)) {
       add(where, std::string(key) + " is not a unit quaternion (norm " + num(norm) +
@@ -197,13 +244,18 @@ class Checker {
   }
 
   /// An array of strings.
-  Got strings(const json& o, const char* key, const std::string& where,
+  Got strings(const json& o,
+              const char* key,
+              const std::string& where,
               std::vector<std::string>* out) {
     const json* j = find(o, key);
-    if (!j) return Got::kAbsent;
-    if (!j->is_array()) return wrong(where, key, "an array of strings", *j);
+    if (!j)
+      return Got::kAbsent;
+    if (!j->is_array())
+      return wrong(where, key, "an array of strings", *j);
     for (const json& e : *j) {
-      if (!e.is_string()) return wrong(where, key, "an array of strings", *j);
+      if (!e.is_string())
+        return wrong(where, key, "an array of strings", *j);
       out->push_back(e.get<std::string>());
     }
     return Got::kOk;
@@ -211,7 +263,8 @@ class Checker {
 
  private:
   Got missing(const std::string& where, const char* key, bool required) {
-    if (!required) return Got::kAbsent;
+    if (!required)
+      return Got::kAbsent;
     add(where, std::string("required property ") + key + " is missing");
     return Got::kBad;
   }
@@ -235,35 +288,55 @@ std::size_t jsonDepth(std::string_view text) {
   for (std::size_t i = 0; i < text.size(); ++i) {
     const char c = text[i];
     if (in_string) {
-      if (c == '\\') ++i;
-      else if (c == '"') in_string = false;
+      if (c == '\\')
+        ++i;
+      else if (c == '"')
+        in_string = false;
       continue;
     }
-    if (c == '"') in_string = true;
-    else if (c == '[' || c == '{') worst = std::max(worst, ++depth);
-    else if ((c == ']' || c == '}') && depth > 0) --depth;
-    if (worst > kMaxJsonDepth) break;
+    if (c == '"')
+      in_string = true;
+    else if (c == '[' || c == '{')
+      worst = std::max(worst, ++depth);
+    else if ((c == ']' || c == '}') && depth > 0)
+      --depth;
+    if (worst > kMaxJsonDepth)
+      break;
   }
   return worst;
 }
 
 std::uint32_t componentBytes(std::uint32_t component_type) {
   switch (component_type) {
-    case 5120: case 5121: return 1;
-    case 5122: case 5123: return 2;
-    case 5125: case 5126: return 4;
-    default: return 0;
+    case 5120:
+    case 5121:
+      return 1;
+    case 5122:
+    case 5123:
+      return 2;
+    case 5125:
+    case 5126:
+      return 4;
+    default:
+      return 0;
   }
 }
 
 std::uint32_t typeComponents(const std::string& type) {
-  if (type == "SCALAR") return 1;
-  if (type == "VEC2") return 2;
-  if (type == "VEC3") return 3;
-  if (type == "VEC4") return 4;
-  if (type == "MAT2") return 4;
-  if (type == "MAT3") return 9;
-  if (type == "MAT4") return 16;
+  if (type == "SCALAR")
+    return 1;
+  if (type == "VEC2")
+    return 2;
+  if (type == "VEC3")
+    return 3;
+  if (type == "VEC4")
+    return 4;
+  if (type == "MAT2")
+    return 4;
+  if (type == "MAT3")
+    return 9;
+  if (type == "MAT4")
+    return 16;
   return 0;
 }
 
@@ -296,7 +369,8 @@ std::vector<Problem> Problems::take() {
 }
 
 glm::dmat4 NodeDef::local() const {
-  if (has_matrix) return matrix;
+  if (has_matrix)
+    return matrix;
   glm::dmat4 m = glm::mat4_cast(rotation);
   m[0] *= scale.x;
   m[1] *= scale.y;
@@ -318,17 +392,20 @@ std::uint64_t AccessorDef::strideBytes(const std::vector<ViewDef>& views) const 
 
 std::string nodeWhere(const Document& doc, std::size_t node) {
   std::string s = "node " + std::to_string(node);
-  if (node < doc.nodes.size() && !doc.nodes[node].name.empty()) s += " " + inQuotes(doc.nodes[node].name);
+  if (node < doc.nodes.size() && !doc.nodes[node].name.empty())
+    s += " " + inQuotes(doc.nodes[node].name);
   return s;
 }
 
 std::string meshWhere(const Document& doc, std::size_t mesh) {
   std::string s = "mesh " + std::to_string(mesh);
-  if (mesh < doc.meshes.size() && !doc.meshes[mesh].name.empty()) s += " " + inQuotes(doc.meshes[mesh].name);
+  if (mesh < doc.meshes.size() && !doc.meshes[mesh].name.empty())
+    s += " " + inQuotes(doc.meshes[mesh].name);
   return s;
 }
 
-std::optional<std::string> resolveUri(const std::string& uri, const LoadOptions& options,
+std::optional<std::string> resolveUri(const std::string& uri,
+                                      const LoadOptions& options,
                                       std::string* why) {
   namespace fs = std::filesystem;
   if (!options.allowed_uri_dir) {
@@ -340,7 +417,8 @@ std::optional<std::string> resolveUri(const std::string& uri, const LoadOptions&
   // percent-decoding, as tinygltf does before it opens the file
   std::string decoded;
   for (std::size_t i = 0; i < uri.size(); ++i) {
-    if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
+    if (uri[i] == '%' && i + 2 < uri.size() &&
+        std::isxdigit(static_cast<unsigned char>(uri[i + 1])) &&
         std::isxdigit(static_cast<unsigned char>(uri[i + 2]))) {
       decoded.push_back(static_cast<char>(std::stoi(uri.substr(i + 1, 2), nullptr, 16)));
       i += 2;
@@ -353,7 +431,8 @@ std::optional<std::string> resolveUri(const std::string& uri, const LoadOptions&
     return std::nullopt;
   }
   if (decoded.front() == '/' || decoded.front() == '\\') {
-    *why = "external URI " + inQuotes(uri) + " is an absolute path (only paths inside the allowed "
+    *why = "external URI " + inQuotes(uri) +
+           " is an absolute path (only paths inside the allowed "
            "folder are read)";
     return std::nullopt;
   }
@@ -365,12 +444,14 @@ std::optional<std::string> resolveUri(const std::string& uri, const LoadOptions&
   std::size_t start = 0;
   while (start <= decoded.size()) {
     const std::size_t end = decoded.find_first_of("/\\", start);
-    const std::string part = decoded.substr(start, end == std::string::npos ? std::string::npos : end - start);
+    const std::string part =
+        decoded.substr(start, end == std::string::npos ? std::string::npos : end - start);
     if (part == "..") {
       *why = "external URI " + inQuotes(uri) + " traverses out of the allowed folder ('..')";
       return std::nullopt;
     }
-    if (end == std::string::npos) break;
+    if (end == std::string::npos)
+      break;
     start = end + 1;
   }
   std::error_code ec;
@@ -398,8 +479,11 @@ std::optional<std::string> resolveUri(const std::string& uri, const LoadOptions&
   return file.string();
 }
 
-bool parseContainer(std::span<const std::uint8_t> bytes, const LoadOptions& options,
-                    Document* doc, Problems* problems, nlohmann::json* out) {
+bool parseContainer(std::span<const std::uint8_t> bytes,
+                    const LoadOptions& options,
+                    Document* doc,
+                    Problems* problems,
+                    nlohmann::json* out) {
   const std::uint64_t size = bytes.size();
   if (size > options.limits.max_file_bytes || size > 0xFFFFFFF0ull) {
     problems->add("file", std::to_string(size) + " bytes exceeds max_file_bytes (" +
@@ -434,11 +518,12 @@ bool parseContainer(std::span<const std::uint8_t> bytes, const LoadOptions& opti
     const std::uint64_t json_length = readU32(p + 12);
     const std::uint32_t json_type = readU32(p + 16);
     if (json_type != 0x4E4F534Au) {
-      problems->add("file", "GLB chunk 0 is not JSON (type 0x" + [&] {
-        char b[16];
-        std::snprintf(b, sizeof b, "%08X", json_type);
-        return std::string(b);
-      }() + ")");
+      problems->add(
+          "file", "GLB chunk 0 is not JSON (type 0x" + [&] {
+            char b[16];
+            std::snprintf(b, sizeof b, "%08X", json_type);
+            return std::string(b);
+          }() + ")");
       return false;
     }
     if (json_length == 0 || 20 + json_length > size) {
@@ -480,13 +565,14 @@ bool parseContainer(std::span<const std::uint8_t> bytes, const LoadOptions& opti
     }
   } else {
     std::size_t first = 0;
-    while (first < size && (p[first] == ' ' || p[first] == '\t' || p[first] == '\n' ||
-                            p[first] == '\r')) {
+    while (first < size &&
+           (p[first] == ' ' || p[first] == '\t' || p[first] == '\n' || p[first] == '\r')) {
       ++first;
     }
     if (first == size || p[first] != '{') {
-      problems->add("file", "not glTF: wrong magic (a .glb starts with 'glTF', a .gltf with a "
-                            "JSON object '{')");
+      problems->add("file",
+                    "not glTF: wrong magic (a .glb starts with 'glTF', a .gltf with a "
+                    "JSON object '{')");
       return false;
     }
     text = std::string_view(reinterpret_cast<const char*>(p), size);
@@ -516,33 +602,48 @@ bool parseContainer(std::span<const std::uint8_t> bytes, const LoadOptions& opti
 
 namespace {
 
-void parseHapticExtras(Checker& c, const json& owner, const std::string& where, bool* probe,
-                       std::optional<double>* stiffness, std::optional<Vec3>* gravity) {
+void parseHapticExtras(Checker& c,
+                       const json& owner,
+                       const std::string& where,
+                       bool* probe,
+                       std::optional<double>* stiffness,
+                       std::optional<Vec3>* gravity) {
   const json* extras = Checker::find(owner, "extras");
-  if (!extras || !extras->is_object()) return;  // extras are free-form; only ours are checked
+  if (!extras || !extras->is_object())
+    return;  // extras are free-form; only ours are checked
   const json* haptic = nullptr;
-  if (c.object(*extras, "haptic", where + " extras", &haptic) != Got::kOk) return;
+  if (c.object(*extras, "haptic", where + " extras", &haptic) != Got::kOk)
+    return;
   const std::string w = where + " extras.haptic";
   for (auto it = haptic->begin(); it != haptic->end(); ++it) {
     const std::string& key = it.key();
     const bool known = (probe && key == "probe") || (stiffness && key == "stiffness") ||
                        (gravity && key == "gravity");
-    if (!known) c.add(w, "unknown property " + inQuotes(key));
+    if (!known)
+      c.add(w, "unknown property " + inQuotes(key));
   }
-  if (probe) c.boolean(*haptic, "probe", w, probe);
+  if (probe)
+    c.boolean(*haptic, "probe", w, probe);
   double k = 0.0;
-  if (stiffness && c.bounded(*haptic, "stiffness", w, &k, 0.0, true) == Got::kOk) *stiffness = k;
+  if (stiffness && c.bounded(*haptic, "stiffness", w, &k, 0.0, true) == Got::kOk)
+    *stiffness = k;
   Vec3 g{0.0};
-  if (gravity && c.vec3(*haptic, "gravity", w, &g) == Got::kOk) *gravity = g;
+  if (gravity && c.vec3(*haptic, "gravity", w, &g) == Got::kOk)
+    *gravity = g;
 }
 
 Combine parseCombine(Checker& c, const json& o, const char* key, const std::string& where) {
   std::string s;
-  if (c.string(o, key, where, &s) != Got::kOk) return Combine::kAverage;
-  if (s == "average") return Combine::kAverage;
-  if (s == "minimum") return Combine::kMinimum;
-  if (s == "maximum") return Combine::kMaximum;
-  if (s == "multiply") return Combine::kMultiply;
+  if (c.string(o, key, where, &s) != Got::kOk)
+    return Combine::kAverage;
+  if (s == "average")
+    return Combine::kAverage;
+  if (s == "minimum")
+    return Combine::kMinimum;
+  if (s == "maximum")
+    return Combine::kMaximum;
+  if (s == "multiply")
+    return Combine::kMultiply;
   c.add(where, std::string(key) + " " + inQuotes(s) +
                    " is not one of 'average', 'minimum', 'maximum', 'multiply'");
   return Combine::kAverage;
@@ -550,7 +651,8 @@ Combine parseCombine(Checker& c, const json& o, const char* key, const std::stri
 
 void parseShapes(Checker& c, const json& ext, Document* doc) {
   const json* shapes = nullptr;
-  if (c.array(ext, "shapes", "KHR_implicit_shapes", &shapes) != Got::kOk) return;
+  if (c.array(ext, "shapes", "KHR_implicit_shapes", &shapes) != Got::kOk)
+    return;
   for (std::size_t i = 0; i < shapes->size(); ++i) {
     const json& s = (*shapes)[i];
     const std::string w = "KHR_implicit_shapes shape " + std::to_string(i);
@@ -565,14 +667,16 @@ void parseShapes(Checker& c, const json& ext, Document* doc) {
       const json* p = nullptr;
       const Got got = c.object(s, type.c_str(), w, &p);
       static const json kEmpty = json::object();
-      if (got == Got::kAbsent) p = &kEmpty;  // every parameter has a default
+      if (got == Got::kAbsent)
+        p = &kEmpty;  // every parameter has a default
       if (p) {
         if (type == "box") {
           def.type = ShapeType::kBox;
           if (c.vec3(*p, "size", w + " box", &def.size) == Got::kOk &&
               !(def.size.x > 0.0 && def.size.y > 0.0 && def.size.z > 0.0)) {
-            c.add(w + " box", "size must be positive on every axis (degenerate shapes are "
-                              "prohibited)");
+            c.add(w + " box",
+                  "size must be positive on every axis (degenerate shapes are "
+                  "prohibited)");
           }
         } else if (type == "sphere") {
           def.type = ShapeType::kSphere;
@@ -589,8 +693,10 @@ void parseShapes(Checker& c, const json& ext, Document* doc) {
         } else if (type == "plane") {
           def.type = ShapeType::kPlane;
           double v = 0.0;
-          if (c.bounded(*p, "sizeX", w + " plane", &v, 0.0, true) == Got::kOk) def.size_x = v;
-          if (c.bounded(*p, "sizeZ", w + " plane", &v, 0.0, true) == Got::kOk) def.size_z = v;
+          if (c.bounded(*p, "sizeX", w + " plane", &v, 0.0, true) == Got::kOk)
+            def.size_x = v;
+          if (c.bounded(*p, "sizeZ", w + " plane", &v, 0.0, true) == Got::kOk)
+            def.size_z = v;
           if (def.size_x.has_value() != def.size_z.has_value()) {
             c.add(w + " plane", "give both sizeX and sizeZ, or neither (infinite)");
           }
@@ -671,13 +777,17 @@ void parsePhysicsRoot(Checker& c, const json& ext, Document* doc) {
           }
           const auto axes = [&](const char* key, std::uint8_t* bits) {
             const json* a = nullptr;
-            if (c.array(l, key, lw, &a) != Got::kOk) return false;
-            if (a->empty() || a->size() > 3) c.add(lw, std::string(key) + " must list 1 to 3 axes");
+            if (c.array(l, key, lw, &a) != Got::kOk)
+              return false;
+            if (a->empty() || a->size() > 3)
+              c.add(lw, std::string(key) + " must list 1 to 3 axes");
             for (const json& e : *a) {
               std::int32_t axis = 0;
-              if (c.indexValue(e, key, 3, "axes", lw, &axis) != Got::kOk) continue;
+              if (c.indexValue(e, key, 3, "axes", lw, &axis) != Got::kOk)
+                continue;
               const auto bit = static_cast<std::uint8_t>(1u << axis);
-              if (*bits & bit) c.add(lw, std::string(key) + " lists axis " + std::to_string(axis) + " twice");
+              if (*bits & bit)
+                c.add(lw, std::string(key) + " lists axis " + std::to_string(axis) + " twice");
               *bits = static_cast<std::uint8_t>(*bits | bit);
             }
             return true;
@@ -688,12 +798,15 @@ void parsePhysicsRoot(Checker& c, const json& ext, Document* doc) {
             c.add(lw, "give exactly one of linearAxes and angularAxes");
           }
           double v = 0.0;
-          if (c.number(l, "min", lw, &v) == Got::kOk) lim.min = v;
-          if (c.number(l, "max", lw, &v) == Got::kOk) lim.max = v;
+          if (c.number(l, "min", lw, &v) == Got::kOk)
+            lim.min = v;
+          if (c.number(l, "max", lw, &v) == Got::kOk)
+            lim.max = v;
           if (lim.min && lim.max && *lim.min > *lim.max) {
             c.add(lw, "min " + num(*lim.min) + " is above max " + num(*lim.max));
           }
-          if (c.bounded(l, "stiffness", lw, &v, 0.0, false) == Got::kOk) lim.stiffness = v;
+          if (c.bounded(l, "stiffness", lw, &v, 0.0, false) == Got::kOk)
+            lim.stiffness = v;
           c.bounded(l, "damping", lw, &lim.damping, 0.0, false);
           def.limits.push_back(lim);
         }
@@ -703,17 +816,23 @@ void parsePhysicsRoot(Checker& c, const json& ext, Document* doc) {
   }
 }
 
-void parseNodePhysics(Checker& c, const json& ext, const std::string& w, std::size_t node_count,
-                      const Document& doc, NodeDef* node) {
+void parseNodePhysics(Checker& c,
+                      const json& ext,
+                      const std::string& w,
+                      std::size_t node_count,
+                      const Document& doc,
+                      NodeDef* node) {
   const json* motion = nullptr;
   if (c.object(ext, "motion", w, &motion) == Got::kOk) {
     const std::string mw = w + " motion";
     MotionDef m;
     c.boolean(*motion, "isKinematic", mw, &m.kinematic);
     double v = 0.0;
-    if (c.bounded(*motion, "mass", mw, &v, 0.0, false) == Got::kOk) m.mass = v;
+    if (c.bounded(*motion, "mass", mw, &v, 0.0, false) == Got::kOk)
+      m.mass = v;
     Vec3 vec{0.0};
-    if (c.vec3(*motion, "centerOfMass", mw, &vec) == Got::kOk) m.center_of_mass = vec;
+    if (c.vec3(*motion, "centerOfMass", mw, &vec) == Got::kOk)
+      m.center_of_mass = vec;
     if (c.vec3(*motion, "inertiaDiagonal", mw, &vec) == Got::kOk) {
       if (vec.x < 0.0 || vec.y < 0.0 || vec.z < 0.0) {
         c.add(mw, "inertiaDiagonal must not be negative");
@@ -760,7 +879,9 @@ void parseNodePhysics(Checker& c, const json& ext, const std::string& w, std::si
 
 }  // namespace
 
-bool validateDocument(const nlohmann::json& root, const LoadOptions& options, Document* doc,
+bool validateDocument(const nlohmann::json& root,
+                      const LoadOptions& options,
+                      Document* doc,
                       Problems* problems) {
   Checker c(problems);
   const SceneLimits& limits = options.limits;
@@ -794,13 +915,15 @@ bool validateDocument(const nlohmann::json& root, const LoadOptions& options, Do
   const auto top = [&](const char* key) -> const json* {
     const json* a = nullptr;
     const Got got = c.array(root, key, key, &a);
-    if (got == Got::kBad) structure_ok = false;
-    if (got != Got::kOk) return nullptr;
+    if (got == Got::kBad)
+      structure_ok = false;
+    if (got != Got::kOk)
+      return nullptr;
     for (std::size_t i = 0; i < a->size(); ++i) {
       if (!(*a)[i].is_object()) {
         structure_ok = false;
-        c.add(std::string(key) + " " + std::to_string(i), "must be an object, got " +
-                                                              std::string((*a)[i].type_name()));
+        c.add(std::string(key) + " " + std::to_string(i),
+              "must be an object, got " + std::string((*a)[i].type_name()));
         return nullptr;
       }
     }
@@ -814,7 +937,8 @@ bool validateDocument(const nlohmann::json& root, const LoadOptions& options, Do
   const json* scenes = top("scenes");
   const json* materials = top("materials");
   const json* images = top("images");
-  if (!structure_ok) return false;
+  if (!structure_ok)
+    return false;
 
   // buffers: external URIs only inside the allowed folder
   if (buffers) {
@@ -829,14 +953,14 @@ bool validateDocument(const nlohmann::json& root, const LoadOptions& options, Do
       if (c.string(b, "uri", w, &def.uri) == Got::kOk) {
         if (def.uri.rfind("data:", 0) != 0) {
           std::string why;
-          if (!resolveUri(def.uri, options, &why)) c.add(w, why);
+          if (!resolveUri(def.uri, options, &why))
+            c.add(w, why);
         }
       } else if (!(doc->glb && i == 0)) {
         c.add(w, "has no uri and is not the GLB binary chunk");
       } else if (def.byte_length > doc->bin.size()) {
-        c.add(w, "byteLength " + std::to_string(def.byte_length) +
-                     " exceeds the GLB BIN chunk (" + std::to_string(doc->bin.size()) +
-                     " bytes)");
+        c.add(w, "byteLength " + std::to_string(def.byte_length) + " exceeds the GLB BIN chunk (" +
+                     std::to_string(doc->bin.size()) + " bytes)");
       }
       doc->buffers.push_back(def);
     }
@@ -847,7 +971,8 @@ bool validateDocument(const nlohmann::json& root, const LoadOptions& options, Do
       const std::string w = "image " + std::to_string(i);
       if (c.string((*images)[i], "uri", w, &uri) == Got::kOk && uri.rfind("data:", 0) != 0) {
         std::string why;
-        if (!resolveUri(uri, options, &why)) c.add(w, why);
+        if (!resolveUri(uri, options, &why))
+          c.add(w, why);
       }
     }
   }
@@ -903,10 +1028,12 @@ bool validateDocument(const nlohmann::json& root, const LoadOptions& options, Do
       }
       if (c.string(a, "type", wn, &def.type, true) == Got::kOk) {
         def.components = typeComponents(def.type);
-        if (def.components == 0) c.add(wn, "type " + inQuotes(def.type) + " is not a glTF type");
+        if (def.components == 0)
+          c.add(wn, "type " + inQuotes(def.type) + " is not a glTF type");
       }
       c.boolean(a, "normalized", wn, &def.normalized);
-      if (Checker::find(a, "sparse")) c.add(wn, "sparse accessors are not supported");
+      if (Checker::find(a, "sparse"))
+        c.add(wn, "sparse accessors are not supported");
       // the data must lie inside the view: offset + (count - 1) * stride + element <= length,
       // in 64 bits with overflow checks (a count near 2^32 must not wrap)
       if (def.view >= 0 && def.component_type != 0 && def.components != 0 && def.count > 0) {
@@ -938,10 +1065,12 @@ bool validateDocument(const nlohmann::json& root, const LoadOptions& options, Do
       const json& m = (*meshes)[i];
       MeshDef def;
       c.string(m, "name", "mesh " + std::to_string(i), &def.name);
-      const std::string w = "mesh " + std::to_string(i) + (def.name.empty() ? "" : " " + inQuotes(def.name));
+      const std::string w =
+          "mesh " + std::to_string(i) + (def.name.empty() ? "" : " " + inQuotes(def.name));
       const json* prims = nullptr;
       if (c.array(m, "primitives", w, &prims, true) == Got::kOk) {
-        if (prims->empty()) c.add(w, "primitives is empty");
+        if (prims->empty())
+          c.add(w, "primitives is empty");
         for (std::size_t k = 0; k < prims->size(); ++k) {
           const json& p = (*prims)[k];
           const std::string pw = w + " primitive " + std::to_string(k);
@@ -1010,7 +1139,8 @@ bool validateDocument(const nlohmann::json& root, const LoadOptions& options, Do
     if (c.array(n, "children", w, &children) == Got::kOk) {
       for (const json& e : *children) {
         std::int32_t child = -1;
-        if (c.indexValue(e, "children", node_count, "nodes", w, &child) != Got::kOk) continue;
+        if (c.indexValue(e, "children", node_count, "nodes", w, &child) != Got::kOk)
+          continue;
         if (static_cast<std::size_t>(child) == i) {
           c.add(w, "lists itself as a child (a node cycle)");
           continue;
@@ -1033,7 +1163,8 @@ bool validateDocument(const nlohmann::json& root, const LoadOptions& options, Do
       }
       def.has_matrix = true;
       for (int col = 0; col < 4; ++col) {
-        for (int row = 0; row < 4; ++row) def.matrix[col][row] = m[col * 4 + row];
+        for (int row = 0; row < 4; ++row)
+          def.matrix[col][row] = m[col * 4 + row];
       }
     }
     const json* ext = nullptr;
@@ -1050,7 +1181,10 @@ bool validateDocument(const nlohmann::json& root, const LoadOptions& options, Do
   for (std::size_t i = 0; i < node_count; ++i) {
     for (std::uint32_t child : doc->nodes[i].children) {
       NodeDef& cn = doc->nodes[child];
-      if (cn.parent >= 0) {
+      if (cn.parent == static_cast<std::int32_t>(i)) {
+        c.add(nodeWhere(*doc, child),
+              "is listed twice among the children of " + nodeWhere(*doc, i));
+      } else if (cn.parent >= 0) {
         c.add(nodeWhere(*doc, child), "has two parents (" +
                                           nodeWhere(*doc, static_cast<std::size_t>(cn.parent)) +
                                           " and " + nodeWhere(*doc, i) + ")");
@@ -1068,18 +1202,22 @@ bool validateDocument(const nlohmann::json& root, const LoadOptions& options, Do
       std::size_t k = i;
       bool cycle = false;
       while (true) {
-        if (state[k] == 2) break;
+        if (state[k] == 2)
+          break;
         if (state[k] == 1) {
           cycle = true;
           break;
         }
         state[k] = 1;
         trail.push_back(k);
-        if (doc->nodes[k].parent < 0) break;
+        if (doc->nodes[k].parent < 0)
+          break;
         k = static_cast<std::size_t>(doc->nodes[k].parent);
       }
-      if (cycle) c.add(nodeWhere(*doc, k), "is in a cycle of node children");
-      for (std::size_t t : trail) state[t] = 2;
+      if (cycle)
+        c.add(nodeWhere(*doc, k), "is in a cycle of node children");
+      for (std::size_t t : trail)
+        state[t] = 2;
     }
   }
 
@@ -1090,20 +1228,23 @@ bool validateDocument(const nlohmann::json& root, const LoadOptions& options, Do
       const json& s = (*scenes)[i];
       const std::string w = "scene " + std::to_string(i);
       std::vector<std::uint32_t> roots;
+      std::vector<bool> listed(node_count, false);
       const json* list = nullptr;
       if (c.array(s, "nodes", w, &list) == Got::kOk) {
         for (const json& e : *list) {
           std::int32_t idx = -1;
-          if (c.indexValue(e, "nodes", node_count, "nodes", w, &idx) != Got::kOk) continue;
+          if (c.indexValue(e, "nodes", node_count, "nodes", w, &idx) != Got::kOk)
+            continue;
           if (doc->nodes[static_cast<std::size_t>(idx)].parent >= 0) {
             c.add(w, nodeWhere(*doc, static_cast<std::size_t>(idx)) +
                          " is listed as a root but has a parent");
             continue;
           }
-          if (std::find(roots.begin(), roots.end(), static_cast<std::uint32_t>(idx)) != roots.end()) {
+          if (listed[static_cast<std::size_t>(idx)]) {
             c.add(w, nodeWhere(*doc, static_cast<std::size_t>(idx)) + " is listed twice");
             continue;
           }
+          listed[static_cast<std::size_t>(idx)] = true;
           roots.push_back(static_cast<std::uint32_t>(idx));
         }
       }
@@ -1124,7 +1265,8 @@ bool validateDocument(const nlohmann::json& root, const LoadOptions& options, Do
   } else {
     // no scenes: every root node is in the scene
     for (std::size_t i = 0; i < node_count; ++i) {
-      if (doc->nodes[i].parent < 0) doc->scene_roots.push_back(static_cast<std::uint32_t>(i));
+      if (doc->nodes[i].parent < 0)
+        doc->scene_roots.push_back(static_cast<std::uint32_t>(i));
     }
   }
   if (asset) {

@@ -7,12 +7,11 @@
 /// Any thread but the servo thread.
 
 #include <cstdint>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <span>
 #include <string>
 #include <vector>
-
-#include <nlohmann/json.hpp>
 
 #include "core/scene/loader.h"
 
@@ -24,6 +23,8 @@ class Problems {
   static constexpr std::size_t kMax = 200;
   void add(std::string where, std::string what);
   bool any() const { return !list_.empty() || dropped_ > 0; }
+  /// The list is full: further work would only be counted, not reported.
+  bool full() const { return list_.size() >= kMax; }
   std::vector<Problem> take();
 
  private:
@@ -35,10 +36,10 @@ enum class ShapeType : std::uint8_t { kBox, kSphere, kCapsule, kCylinder, kPlane
 
 struct ShapeDef {
   ShapeType type = ShapeType::kBox;
-  Vec3 size{1.0};              ///< box
-  double radius = 0.5;         ///< sphere
-  double height = 0.5;         ///< capsule (between cap centres), cylinder
-  double radius_top = 0.25;    ///< capsule, cylinder
+  Vec3 size{1.0};            ///< box
+  double radius = 0.5;       ///< sphere
+  double height = 0.5;       ///< capsule (between cap centres), cylinder
+  double radius_top = 0.25;  ///< capsule, cylinder
   double radius_bottom = 0.25;
   std::optional<double> size_x, size_z;  ///< plane; absent: infinite
   bool double_sided = false;
@@ -56,7 +57,7 @@ struct MotionDef {
 };
 
 struct ColliderDef {
-  std::int32_t shape = -1;     ///< KHR_implicit_shapes index
+  std::int32_t shape = -1;  ///< KHR_implicit_shapes index
   std::int32_t geometry_node = -1;
   bool convex_hull = false;
   std::int32_t material = -1;
@@ -131,8 +132,8 @@ struct MeshDef {
 /// Everything the model builder reads, validated.
 struct Document {
   bool glb = false;
-  std::string json_text;                 ///< the JSON (for tinygltf)
-  std::span<const std::uint8_t> bin;     ///< GLB binary chunk, empty if none
+  std::string json_text;              ///< the JSON (for tinygltf)
+  std::span<const std::uint8_t> bin;  ///< GLB binary chunk, empty if none
   std::vector<NodeDef> nodes;
   std::vector<MeshDef> meshes;
   std::vector<AccessorDef> accessors;
@@ -152,15 +153,21 @@ std::string nodeWhere(const Document& doc, std::size_t node);
 std::string meshWhere(const Document& doc, std::size_t mesh);
 
 /// Splits the container and parses the JSON (syntax, depth, number range).
-bool parseContainer(std::span<const std::uint8_t> bytes, const LoadOptions& options,
-                    Document* doc, Problems* problems, nlohmann::json* json);
+bool parseContainer(std::span<const std::uint8_t> bytes,
+                    const LoadOptions& options,
+                    Document* doc,
+                    Problems* problems,
+                    nlohmann::json* json);
 
 /// Checks the JSON document and fills `doc`. False when any problem was found.
-bool validateDocument(const nlohmann::json& json, const LoadOptions& options, Document* doc,
+bool validateDocument(const nlohmann::json& json,
+                      const LoadOptions& options,
+                      Document* doc,
                       Problems* problems);
 
 /// Percent-decodes a URI and checks it against the folder policy; the file's canonical path.
-std::optional<std::string> resolveUri(const std::string& uri, const LoadOptions& options,
+std::optional<std::string> resolveUri(const std::string& uri,
+                                      const LoadOptions& options,
                                       std::string* why);
 
 }  // namespace hapticd::scene::detail

@@ -3,12 +3,14 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <limits>
 #include <map>
 #include <numeric>
+#include <tuple>
 
 #include "core/scene/gltf_document.h"
 #include "core/scene/shapes.h"
@@ -40,13 +42,18 @@ std::string num(double v) {
 bool finite(const glm::dmat4& m) {
   for (int c = 0; c < 4; ++c) {
     for (int r = 0; r < 4; ++r) {
-      if (!std::isfinite(m[c][r])) return false;
+      if (!std::isfinite(m[c][r]))
+        return false;
     }
   }
   return true;
 }
-bool finite(const Vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
-bool finite(const Mat3& m) { return finite(m[0]) && finite(m[1]) && finite(m[2]); }
+bool finite(const Vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+bool finite(const Mat3& m) {
+  return finite(m[0]) && finite(m[1]) && finite(m[2]);
+}
 
 // ---- tinygltf with no file access except inside the allowed folder --------------------------
 
@@ -56,31 +63,41 @@ struct FsPolicy {
 
 bool fsFileExists(const std::string& path, void* user) {
   const auto* policy = static_cast<const FsPolicy*>(user);
-  if (!policy->options->allowed_uri_dir) return false;
+  if (!policy->options->allowed_uri_dir)
+    return false;
   // tinygltf joins base_dir (the allowed folder) and the URI; check the relative part again
   const std::string base = policy->options->allowed_uri_dir->string();
-  if (path.rfind(base, 0) != 0) return false;
+  if (path.rfind(base, 0) != 0)
+    return false;
   std::string rel = path.substr(base.size());
-  while (!rel.empty() && (rel.front() == '/' || rel.front() == '\\')) rel.erase(0, 1);
+  while (!rel.empty() && (rel.front() == '/' || rel.front() == '\\'))
+    rel.erase(0, 1);
   std::string why;
   return detail::resolveUri(rel, *policy->options, &why).has_value();
 }
 
-std::string fsExpandFilePath(const std::string& path, void*) { return path; }  // no wordexp
+std::string fsExpandFilePath(const std::string& path, void*) {
+  return path;
+}  // no wordexp
 
-bool fsReadWholeFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+bool fsReadWholeFile(std::vector<unsigned char>* out,
+                     std::string* err,
+                     const std::string& path,
                      void* user) {
   const auto* policy = static_cast<const FsPolicy*>(user);
   if (!fsFileExists(path, user)) {
-    if (err) *err += "external file refused: " + path + "\n";
+    if (err)
+      *err += "external file refused: " + path + "\n";
     return false;
   }
   std::ifstream in(path, std::ios::binary);
-  if (!in) return false;
+  if (!in)
+    return false;
   in.seekg(0, std::ios::end);
   const auto size = static_cast<std::uint64_t>(std::max<std::streamoff>(in.tellg(), 0));
   if (size > policy->options->limits.max_file_bytes) {
-    if (err) *err += "external file " + path + " exceeds max_file_bytes\n";
+    if (err)
+      *err += "external file " + path + " exceeds max_file_bytes\n";
     return false;
   }
   in.seekg(0);
@@ -94,8 +111,15 @@ bool fsWriteWholeFile(std::string*, const std::string&, const std::vector<unsign
 }
 
 // images are never decoded: the scene needs none
-bool noImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-             const unsigned char*, int, void*) {
+bool noImage(tinygltf::Image*,
+             const int,
+             std::string*,
+             std::string*,
+             int,
+             int,
+             const unsigned char*,
+             int,
+             void*) {
   return true;
 }
 
@@ -103,7 +127,9 @@ bool noImage(tinygltf::Image*, const int, std::string*, std::string*, int, int,
 
 class Builder {
  public:
-  Builder(const Document& doc, const tinygltf::Model& model, const LoadOptions& options,
+  Builder(const Document& doc,
+          const tinygltf::Model& model,
+          const LoadOptions& options,
           Problems* problems)
       : doc_(doc), model_(model), options_(options), p_(problems) {}
 
@@ -123,17 +149,46 @@ class Builder {
   void computeWorld();
   std::string where(std::size_t node) const { return detail::nodeWhere(doc_, node); }
   bool readPositions(std::size_t accessor, const std::string& use, std::vector<Vec3>* out);
-  bool readIndices(std::size_t accessor, std::size_t vertex_count, const std::string& use,
+  bool readIndices(std::size_t accessor,
+                   std::size_t vertex_count,
+                   const std::string& use,
                    std::vector<std::uint32_t>* out);
   /// Points and triangles of a geometry node's meshes (and its descendants'), in its frame.
-  bool meshGeometry(std::uint32_t node, std::vector<Vec3>* points,
+  /// `triangles` null: only the vertices are wanted (a convex hull), any primitive mode.
+  bool meshGeometry(std::uint32_t node,
+                    std::vector<Vec3>* points,
                     std::vector<std::uint32_t>* triangles);
   void addCollider(SceneModel& scene, std::uint32_t body, std::uint32_t node);
-  void addPlane(SceneModel& scene, const PendingPlane& plane, const Vec3& lo, const Vec3& hi,
+  void addPlane(SceneModel& scene,
+                const PendingPlane& plane,
+                const Vec3& lo,
+                const Vec3& hi,
                 bool have_box);
-  bool finishPrimitive(Body& body, std::uint32_t node, ShapeSource source,
-                       const std::vector<Vec3>& points_C, const std::vector<std::uint32_t>* tris,
-                       const std::string& mesh_name);
+  /// The collider's frame in its body: X_BP (rigid) and S, the scale and shear folded into
+  /// the points (A_BC = X_BP * S).
+  struct Placement {
+    Mat3 R{1.0}, S{1.0};
+    Vec3 t{0.0};
+  };
+  Placement placement(const Body& body, std::uint32_t node) const;
+  /// Hulls already built for the same geometry under the same scale are shared (a field of
+  /// identical pillars builds one hull). Key: kind (0 shape, 1 mesh hull, 2 convex mesh), index,
+  /// S exactly.
+  using HullKey = std::tuple<int, std::int32_t, std::array<double, 9>>;
+  static HullKey hullKey(int kind, std::int32_t index, const Mat3& S);
+  bool reuse(Body& body,
+             std::uint32_t node,
+             ShapeSource source,
+             const Placement& at,
+             const HullKey& key);
+  bool finishPrimitive(Body& body,
+                       std::uint32_t node,
+                       ShapeSource source,
+                       const Placement& at,
+                       const std::vector<Vec3>& points_C,
+                       const std::vector<std::uint32_t>* tris,
+                       const std::string& mesh_name,
+                       const HullKey* key);
   void massProperties(Body& body, const detail::MotionDef& motion, std::uint32_t node);
   void buildJoints(SceneModel& scene);
   void filterBits(SceneModel& scene);
@@ -142,14 +197,15 @@ class Builder {
   const tinygltf::Model& model_;
   const LoadOptions& options_;
   Problems* p_;
-  std::vector<glm::dmat4> world_;          // per node
-  std::vector<std::uint8_t> in_scene_;     // per node
-  std::vector<std::int32_t> owner_;        // per node: node index of its body root, -1 static
-  std::vector<std::int32_t> root_;         // per node: its top ancestor
-  std::vector<std::int32_t> body_of_node_; // per body-root node (or static root): body index
-  std::vector<std::uint32_t> order_;       // scene nodes, parents before children
+  std::vector<glm::dmat4> world_;           // per node
+  std::vector<std::uint8_t> in_scene_;      // per node
+  std::vector<std::int32_t> owner_;         // per node: node index of its body root, -1 static
+  std::vector<std::int32_t> root_;          // per node: its top ancestor
+  std::vector<std::int32_t> body_of_node_;  // per body-root node (or static root): body index
+  std::vector<std::uint32_t> order_;        // scene nodes, parents before children
   std::vector<PendingPlane> planes_;
   std::uint64_t hull_points_ = 0;
+  std::map<HullKey, std::shared_ptr<const geom::Polytope>> hulls_;
   std::optional<detail::SphereGrid> grid_;
   std::optional<std::uint32_t> segments_;
 };
@@ -164,7 +220,8 @@ void Builder::computeWorld() {
     std::size_t k = i;
     while (!done[k]) {
       chain.push_back(k);
-      if (doc_.nodes[k].parent < 0) break;
+      if (doc_.nodes[k].parent < 0)
+        break;
       k = static_cast<std::size_t>(doc_.nodes[k].parent);
     }
     for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
@@ -192,7 +249,8 @@ bool Builder::readPositions(std::size_t index, const std::string& use, std::vect
   const std::size_t count = static_cast<std::size_t>(a.count);
   const std::size_t start = out->size();
   out->resize(start + count, Vec3{0.0});
-  if (a.view < 0) return true;  // all zeros (glTF)
+  if (a.view < 0)
+    return true;  // all zeros (glTF)
   const detail::ViewDef& view = doc_.views[static_cast<std::size_t>(a.view)];
   const auto& data = model_.buffers[view.buffer].data;
   const std::uint64_t stride = a.strideBytes(doc_.views);
@@ -213,18 +271,23 @@ bool Builder::readPositions(std::size_t index, const std::string& use, std::vect
   return true;
 }
 
-bool Builder::readIndices(std::size_t index, std::size_t vertex_count, const std::string& use,
+bool Builder::readIndices(std::size_t index,
+                          std::size_t vertex_count,
+                          const std::string& use,
                           std::vector<std::uint32_t>* out) {
   const detail::AccessorDef& a = doc_.accessors[index];
   const std::string w = "accessor " + std::to_string(index);
-  const std::uint32_t size = a.component_type == 5121 ? 1 : a.component_type == 5123 ? 2
-                             : a.component_type == 5125 ? 4 : 0;
+  const std::uint32_t size = a.component_type == 5121   ? 1
+                             : a.component_type == 5123 ? 2
+                             : a.component_type == 5125 ? 4
+                                                        : 0;
   if (a.type != "SCALAR" || size == 0) {
     p_->add(w, use + " indices must be SCALAR of UNSIGNED_BYTE, UNSIGNED_SHORT or UNSIGNED_INT");
     return false;
   }
   if (a.count % 3 != 0) {
-    p_->add(w, use + ": " + std::to_string(a.count) + " indices is not a whole number of triangles");
+    p_->add(w,
+            use + ": " + std::to_string(a.count) + " indices is not a whole number of triangles");
     return false;
   }
   if (a.count > 6ull * options_.limits.max_hull_input_points) {
@@ -268,7 +331,8 @@ bool Builder::readIndices(std::size_t index, std::size_t vertex_count, const std
   return true;
 }
 
-bool Builder::meshGeometry(std::uint32_t node, std::vector<Vec3>* points,
+bool Builder::meshGeometry(std::uint32_t node,
+                           std::vector<Vec3>* points,
                            std::vector<std::uint32_t>* triangles) {
   // the geometry node's subtree, each mesh placed by its transform relative to the geometry node
   struct Item {
@@ -284,15 +348,17 @@ bool Builder::meshGeometry(std::uint32_t node, std::vector<Vec3>* points,
     for (std::uint32_t child : def.children) {
       stack.push_back({child, item.X * doc_.nodes[child].local()});
     }
-    if (def.mesh < 0) continue;
+    if (def.mesh < 0)
+      continue;
     const auto mi = static_cast<std::size_t>(def.mesh);
     const detail::MeshDef& mesh = doc_.meshes[mi];
     for (std::size_t k = 0; k < mesh.primitives.size(); ++k) {
       const detail::MeshPrimitiveDef& prim = mesh.primitives[k];
       const std::string use = detail::meshWhere(doc_, mi) + " primitive " + std::to_string(k);
-      if (prim.mode != 4) {
+      if (triangles && prim.mode != 4) {
         p_->add(use, "mode " + std::to_string(prim.mode) +
-                         " is not TRIANGLES (4), the only mode a collider mesh may use");
+                         " is not TRIANGLES (4), the only mode a convex mesh collider may use "
+                         "(with convexHull any mode will do)");
         return false;
       }
       if (prim.position < 0) {
@@ -300,6 +366,14 @@ bool Builder::meshGeometry(std::uint32_t node, std::vector<Vec3>* points,
         return false;
       }
       const std::size_t first = points->size();
+      const std::uint64_t count_declared =
+          doc_.accessors[static_cast<std::size_t>(prim.position)].count;
+      if (hull_points_ + count_declared > options_.limits.max_total_hull_input_points) {
+        p_->add(where(node), "the scene's colliders have more than max_total_hull_input_points (" +
+                                 std::to_string(options_.limits.max_total_hull_input_points) +
+                                 ") hull input points in all");
+        return false;
+      }
       if (!readPositions(static_cast<std::size_t>(prim.position), use + " POSITION", points)) {
         return false;
       }
@@ -314,10 +388,14 @@ bool Builder::meshGeometry(std::uint32_t node, std::vector<Vec3>* points,
       for (std::size_t v = first; v < points->size(); ++v) {
         (*points)[v] = Vec3(item.X * glm::dvec4((*points)[v], 1.0));
       }
-      if (prim.indices >= 0) {
+      if (!triangles) {
+        // a hull needs only the vertices
+      } else if (prim.indices >= 0) {
         std::vector<std::uint32_t> local;
-        if (!readIndices(static_cast<std::size_t>(prim.indices), count, use, &local)) return false;
-        for (std::uint32_t v : local) triangles->push_back(static_cast<std::uint32_t>(first) + v);
+        if (!readIndices(static_cast<std::size_t>(prim.indices), count, use, &local))
+          return false;
+        for (std::uint32_t v : local)
+          triangles->push_back(static_cast<std::uint32_t>(first) + v);
       } else {
         if (count % 3 != 0) {
           p_->add(use, "has " + std::to_string(count) +
@@ -338,22 +416,57 @@ bool Builder::meshGeometry(std::uint32_t node, std::vector<Vec3>* points,
   return true;
 }
 
-bool Builder::finishPrimitive(Body& body, std::uint32_t node, ShapeSource source,
-                              const std::vector<Vec3>& points_C,
-                              const std::vector<std::uint32_t>* tris,
-                              const std::string& mesh_name) {
+Builder::Placement Builder::placement(const Body& body, std::uint32_t node) const {
   // collider frame C -> body frame B: A_BC = X_WB^-1 * W_C (with scale); its rigid part is
   // X_BP, the rest (scale, shear) is folded into the points: p_P = S * p_C
-  const Transform X_WB = body.X_WB.toTransform();
-  const Transform X_BW = X_WB.inverse();
+  const Transform X_BW = body.X_WB.toTransform().inverse();
   const glm::dmat4& W = world_[node];
-  const Mat3 A = X_BW.R * Mat3(W);
-  const Vec3 t = X_BW.apply(Vec3(W[3]));
-  Mat3 R, S;
-  detail::splitRigid(A, &R, &S);
+  Placement at;
+  at.t = X_BW.apply(Vec3(W[3]));
+  detail::splitRigid(X_BW.R * Mat3(W), &at.R, &at.S);
+  return at;
+}
+
+Builder::HullKey Builder::hullKey(int kind, std::int32_t index, const Mat3& S) {
+  std::array<double, 9> m{};
+  for (int c = 0; c < 3; ++c) {
+    for (int r = 0; r < 3; ++r)
+      m[static_cast<std::size_t>(3 * c + r)] = S[c][r];
+  }
+  return {kind, index, m};
+}
+
+bool Builder::reuse(Body& body,
+                    std::uint32_t node,
+                    ShapeSource source,
+                    const Placement& at,
+                    const HullKey& key) {
+  const auto it = hulls_.find(key);
+  if (it == hulls_.end())
+    return false;
+  Primitive prim;
+  prim.shape = it->second;
+  prim.X_BP.translation = at.t;
+  prim.X_BP.rotation = glm::normalize(glm::quat_cast(at.R));
+  prim.source = source;
+  prim.node = static_cast<std::int32_t>(node);
+  prim.material = doc_.nodes[node].collider->material;
+  body.primitives.push_back(std::move(prim));
+  return true;
+}
+
+bool Builder::finishPrimitive(Body& body,
+                              std::uint32_t node,
+                              ShapeSource source,
+                              const Placement& at,
+                              const std::vector<Vec3>& points_C,
+                              const std::vector<std::uint32_t>* tris,
+                              const std::string& mesh_name,
+                              const HullKey* key) {
   std::vector<Vec3> points_P;
   points_P.reserve(points_C.size());
-  for (const Vec3& p : points_C) points_P.push_back(S * p);
+  for (const Vec3& p : points_C)
+    points_P.push_back(at.S * p);
   if (hull_points_ > options_.limits.max_total_hull_input_points) {
     p_->add(where(node), "the scene's colliders have more than max_total_hull_input_points (" +
                              std::to_string(options_.limits.max_total_hull_input_points) +
@@ -379,14 +492,16 @@ bool Builder::finishPrimitive(Body& body, std::uint32_t node, ShapeSource source
       return false;
     }
   }
+  auto shape = std::make_shared<const geom::Polytope>(std::move(poly).value());
+  if (key)
+    hulls_.emplace(*key, shape);
   Primitive prim;
-  prim.shape = std::make_shared<const geom::Polytope>(std::move(poly).value());
-  prim.X_BP.translation = t;
-  prim.X_BP.rotation = glm::normalize(glm::quat_cast(R));
+  prim.shape = std::move(shape);
+  prim.X_BP.translation = at.t;
+  prim.X_BP.rotation = glm::normalize(glm::quat_cast(at.R));
   prim.source = source;
   prim.node = static_cast<std::int32_t>(node);
-  const auto& collider = *doc_.nodes[node].collider;
-  prim.material = collider.material;
+  prim.material = doc_.nodes[node].collider->material;
   body.primitives.push_back(std::move(prim));
   return true;
 }
@@ -400,8 +515,17 @@ void Builder::addCollider(SceneModel& scene, std::uint32_t body_index, std::uint
   }
   const double tol = options_.limits.tessellation_tolerance;
   const std::uint32_t max_v = options_.limits.max_hull_vertices;
+  const Placement at = placement(body, node);
   if (collider.shape >= 0) {
     const detail::ShapeDef& shape = doc_.shapes[static_cast<std::size_t>(collider.shape)];
+    static constexpr ShapeSource kSources[] = {ShapeSource::kBox, ShapeSource::kSphere,
+                                               ShapeSource::kCapsule, ShapeSource::kCylinder,
+                                               ShapeSource::kPlane};
+    const HullKey key = hullKey(0, collider.shape, at.S);
+    if (shape.type != ShapeType::kPlane &&
+        reuse(body, node, kSources[static_cast<int>(shape.type)], at, key)) {
+      return;
+    }
     std::vector<Vec3> points;
     ShapeSource source = ShapeSource::kBox;
     const auto needGrid = [&](std::optional<detail::SphereGrid>* grid, std::uint32_t limit) {
@@ -421,14 +545,15 @@ void Builder::addCollider(SceneModel& scene, std::uint32_t body_index, std::uint
         source = ShapeSource::kBox;
         break;
       case ShapeType::kSphere:
-        if (!needGrid(&grid_, max_v)) return;
+        if (!needGrid(&grid_, max_v))
+          return;
         points = detail::spherePoints(shape.radius, *grid_);
         source = ShapeSource::kSphere;
         break;
       case ShapeType::kCapsule:
-        if (!needGrid(&grid_, max_v)) return;
-        points = detail::capsulePoints(shape.height, shape.radius_top, shape.radius_bottom,
-                                       *grid_);
+        if (!needGrid(&grid_, max_v))
+          return;
+        points = detail::capsulePoints(shape.height, shape.radius_top, shape.radius_bottom, *grid_);
         source = ShapeSource::kCapsule;
         break;
       case ShapeType::kCylinder: {
@@ -440,8 +565,8 @@ void Builder::addCollider(SceneModel& scene, std::uint32_t body_index, std::uint
           }
           segments_ = s.value();
         }
-        points = detail::cylinderPoints(shape.height, shape.radius_top, shape.radius_bottom,
-                                        *segments_);
+        points =
+            detail::cylinderPoints(shape.height, shape.radius_top, shape.radius_bottom, *segments_);
         source = ShapeSource::kCylinder;
         break;
       }
@@ -452,33 +577,43 @@ void Builder::addCollider(SceneModel& scene, std::uint32_t body_index, std::uint
           return;
         }
         if (shape.double_sided) {
-          p_->add(where(node), "double-sided planes are not supported (a plane is the solid "
-                               "half-space below it)");
+          p_->add(where(node),
+                  "double-sided planes are not supported (a plane is the solid "
+                  "half-space below it)");
           return;
         }
         planes_.push_back({body_index, node, &shape});
         return;
     }
     hull_points_ += points.size();
-    finishPrimitive(body, node, source, points, nullptr, "");
+    finishPrimitive(body, node, source, at, points, nullptr, "", &key);
     return;
   }
   const auto g = static_cast<std::uint32_t>(collider.geometry_node);
+  const HullKey key = hullKey(collider.convex_hull ? 1 : 2, collider.geometry_node, at.S);
+  const ShapeSource source =
+      collider.convex_hull ? ShapeSource::kMeshHull : ShapeSource::kConvexMesh;
+  if (reuse(body, node, source, at, key))
+    return;
   std::vector<Vec3> points;
   std::vector<std::uint32_t> triangles;
-  if (!meshGeometry(g, &points, &triangles)) return;
+  if (!meshGeometry(g, &points, collider.convex_hull ? nullptr : &triangles))
+    return;
   std::string mesh_name;
   if (doc_.nodes[g].mesh >= 0) {
     mesh_name = detail::meshWhere(doc_, static_cast<std::size_t>(doc_.nodes[g].mesh));
   } else {
     mesh_name = "the meshes under " + where(g);
   }
-  finishPrimitive(body, node, collider.convex_hull ? ShapeSource::kMeshHull : ShapeSource::kConvexMesh,
-                  points, collider.convex_hull ? nullptr : &triangles, mesh_name);
+  finishPrimitive(body, node, source, at, points, collider.convex_hull ? nullptr : &triangles,
+                  mesh_name, &key);
 }
 
-void Builder::addPlane(SceneModel& scene, const PendingPlane& plane, const Vec3& lo,
-                       const Vec3& hi, bool have_box) {
+void Builder::addPlane(SceneModel& scene,
+                       const PendingPlane& plane,
+                       const Vec3& lo,
+                       const Vec3& hi,
+                       bool have_box) {
   // a plane is the half-space y <= 0 of its node; it becomes a box whose top face is the plane:
   // finite planes sizeX x sizeZ and 0.1 * min(sizeX, sizeZ) deep; infinite ones 2 * 10 scene
   // extents wide, centred under the scene, one scene extent deep
@@ -489,14 +624,15 @@ void Builder::addPlane(SceneModel& scene, const PendingPlane& plane, const Vec3&
     p_->add(where(plane.node), "plane collider with a singular scale");
     return;
   }
-  const double s_min = std::max(1e-300, std::min({glm::length(L[0]), glm::length(L[1]), glm::length(L[2])}));
+  const double s_min =
+      std::max(1e-300, std::min({glm::length(L[0]), glm::length(L[1]), glm::length(L[2])}));
   std::vector<Vec3> points;
   if (plane.shape->size_x) {
     const double sx = *plane.shape->size_x, sz = *plane.shape->size_z;
     const double depth = 0.1 * std::min(sx, sz);
     for (int i = 0; i < 8; ++i) {
-      points.push_back({(i & 1) ? 0.5 * sx : -0.5 * sx, (i & 2) ? 0.0 : -depth,
-                        (i & 4) ? 0.5 * sz : -0.5 * sz});
+      points.push_back(
+          {(i & 1) ? 0.5 * sx : -0.5 * sx, (i & 2) ? 0.0 : -depth, (i & 4) ? 0.5 * sz : -0.5 * sz});
     }
   } else {
     const double extent = have_box ? glm::length(hi - lo) : 1.0;
@@ -509,7 +645,9 @@ void Builder::addPlane(SceneModel& scene, const PendingPlane& plane, const Vec3&
                         centre_C.z + ((i & 4) ? half : -half)});
     }
   }
-  finishPrimitive(scene.bodies[plane.body], plane.node, ShapeSource::kPlane, points, nullptr, "");
+  Body& body = scene.bodies[plane.body];
+  finishPrimitive(body, plane.node, ShapeSource::kPlane, placement(body, plane.node), points,
+                  nullptr, "", nullptr);
 }
 
 void Builder::massProperties(Body& body, const detail::MotionDef& motion, std::uint32_t node) {
@@ -571,7 +709,8 @@ void Builder::filterBits(SceneModel& scene) {
   for (const auto& f : doc_.filters) {
     for (const auto* list : {&f.systems, &f.collide_with, &f.not_collide_with}) {
       for (const std::string& s : *list) {
-        if (bits.count(s)) continue;
+        if (bits.count(s))
+          continue;
         if (bits.size() == 32) {
           p_->add("collisionFilters", "more than 32 collision systems (at '" + s + "')");
           return;
@@ -583,7 +722,8 @@ void Builder::filterBits(SceneModel& scene) {
   }
   const auto mask = [&](const std::vector<std::string>& names) {
     std::uint32_t m = 0;
-    for (const std::string& s : names) m |= bits[s];
+    for (const std::string& s : names)
+      m |= bits[s];
     return m;
   };
   for (Body& body : scene.bodies) {
@@ -618,14 +758,16 @@ void Builder::buildJoints(SceneModel& scene) {
     Mat3 R, S;
     detail::splitRigid(Mat3(world_[node]), &R, &S);
     Pose X_WJ{Vec3(world_[node][3]), glm::normalize(glm::quat_cast(R))};
-    if (body < 0) return X_WJ;
+    if (body < 0)
+      return X_WJ;
     const Pose& X_WB = scene.bodies[static_cast<std::size_t>(body)].X_WB;
     const Transform X_BJ = geom::relativeTransform(X_WB, X_WJ);
     return Pose{X_BJ.t, glm::normalize(glm::quat_cast(X_BJ.R))};
   };
   for (std::uint32_t node : order_) {
     const NodeDef& def = doc_.nodes[node];
-    if (!def.joint) continue;
+    if (!def.joint)
+      continue;
     const std::string w = where(node) + " joint";
     const detail::JointRef& ref = *def.joint;
     const auto connected = static_cast<std::size_t>(ref.connected_node);
@@ -662,23 +804,27 @@ void Builder::buildJoints(SceneModel& scene) {
       const bool locks = !lim.stiffness && lim.max && *lim.max == 0.0 &&
                          (axes > 1 ? (!lim.min || *lim.min <= 0.0) : (lim.min && *lim.min == 0.0));
       if (lim.linear_axes) {
-        if (locks) linear = static_cast<std::uint8_t>(linear | lim.linear_axes);
+        if (locks)
+          linear = static_cast<std::uint8_t>(linear | lim.linear_axes);
       } else if (locks) {
         angular = static_cast<std::uint8_t>(angular | lim.angular_axes);
       } else if (axes == 1) {
-        angular_limit[static_cast<std::size_t>(std::countr_zero(static_cast<unsigned>(lim.angular_axes)))] = &lim;
+        angular_limit[static_cast<std::size_t>(
+            std::countr_zero(static_cast<unsigned>(lim.angular_axes)))] = &lim;
       }
     }
     if (linear != 7) {
-      p_->add(w, "is neither fixed nor a hinge: not every linear axis is locked at 0 (only fixed "
-                 "and hinge joints are supported)");
+      p_->add(w,
+              "is neither fixed nor a hinge: not every linear axis is locked at 0 (only fixed "
+              "and hinge joints are supported)");
       continue;
     }
     if (angular == 7) {
       joint.kind = JointKind::kFixed;
     } else if (std::popcount(static_cast<unsigned>(angular)) == 2) {
       joint.kind = JointKind::kHinge;
-      joint.hinge_axis = static_cast<std::uint8_t>(std::countr_zero(static_cast<unsigned>(~angular & 7u)));
+      joint.hinge_axis =
+          static_cast<std::uint8_t>(std::countr_zero(static_cast<unsigned>(~angular & 7u)));
       if (const JointLimit* lim = angular_limit[joint.hinge_axis]) {
         joint.hinge_min = lim->min;
         joint.hinge_max = lim->max;
@@ -702,9 +848,11 @@ std::optional<SceneModel> Builder::build(const std::string& name) {
   const std::size_t n = doc_.nodes.size();
   computeWorld();
   for (std::size_t i = 0; i < n; ++i) {
-    if (!finite(world_[i])) p_->add(where(i), "world transform is not finite (values too large)");
+    if (!finite(world_[i]))
+      p_->add(where(i), "world transform is not finite (values too large)");
   }
-  if (p_->any()) return std::nullopt;
+  if (p_->any())
+    return std::nullopt;
 
   // scene nodes, parents first; body roots: nodes with motion, and a probe without motion
   in_scene_.assign(n, 0);
@@ -721,11 +869,13 @@ std::optional<SceneModel> Builder::build(const std::string& name) {
       order_.push_back(k);
       const NodeDef& def = doc_.nodes[k];
       const bool body_root = def.motion.has_value() || (def.probe && owner_[k] < 0);
-      if (body_root) owner_[k] = static_cast<std::int32_t>(k);
-      for (std::uint32_t child : def.children) {
-        owner_[child] = owner_[k];
-        root_[child] = root_[k];
-        stack.push_back(child);
+      if (body_root)
+        owner_[k] = static_cast<std::int32_t>(k);
+      // reversed onto the stack: children come out in document order
+      for (auto it = def.children.rbegin(); it != def.children.rend(); ++it) {
+        owner_[*it] = owner_[k];
+        root_[*it] = root_[k];
+        stack.push_back(*it);
       }
     }
   }
@@ -736,7 +886,8 @@ std::optional<SceneModel> Builder::build(const std::string& name) {
   std::size_t colliders = 0;
   for (std::uint32_t k : order_) {
     const NodeDef& def = doc_.nodes[k];
-    if (def.collider) ++colliders;
+    if (def.collider)
+      ++colliders;
     if (def.probe) {
       if (probe_node >= 0) {
         p_->add(where(k), "is a second probe (" + where(static_cast<std::size_t>(probe_node)) +
@@ -750,7 +901,8 @@ std::optional<SceneModel> Builder::build(const std::string& name) {
     p_->add("file", std::to_string(colliders) + " colliders exceeds max_primitives (" +
                         std::to_string(options_.limits.max_primitives) + ")");
   }
-  if (p_->any()) return std::nullopt;
+  if (p_->any())
+    return std::nullopt;
 
   const auto rigid = [&](std::size_t node) {
     Mat3 R, S;
@@ -759,7 +911,8 @@ std::optional<SceneModel> Builder::build(const std::string& name) {
   };
   // moving bodies, in scene order
   for (std::uint32_t k : order_) {
-    if (owner_[k] != static_cast<std::int32_t>(k)) continue;
+    if (owner_[k] != static_cast<std::int32_t>(k))
+      continue;
     const NodeDef& def = doc_.nodes[k];
     Body body;
     body.name = def.name.empty() ? "node" + std::to_string(k) : def.name;
@@ -777,9 +930,11 @@ std::optional<SceneModel> Builder::build(const std::string& name) {
   }
   // static bodies: the static colliders under each scene root form one body
   for (std::uint32_t k : order_) {
-    if (!doc_.nodes[k].collider || owner_[k] >= 0) continue;
+    if (!doc_.nodes[k].collider || owner_[k] >= 0)
+      continue;
     const auto r = static_cast<std::size_t>(root_[k]);
-    if (body_of_node_[r] >= 0) continue;
+    if (body_of_node_[r] >= 0)
+      continue;
     Body body;
     body.name = doc_.nodes[r].name.empty() ? "node" + std::to_string(r) : doc_.nodes[r].name;
     body.node = static_cast<std::int32_t>(r);
@@ -795,14 +950,19 @@ std::optional<SceneModel> Builder::build(const std::string& name) {
   }
   const auto bodyIndexOf = [&](std::size_t node) -> std::int32_t {
     const std::int32_t o = owner_[node];
-    if (o >= 0) return body_of_node_[static_cast<std::size_t>(o)];
+    if (o >= 0)
+      return body_of_node_[static_cast<std::size_t>(o)];
     return body_of_node_[static_cast<std::size_t>(root_[node])];
   };
   for (std::uint32_t k : order_) {
-    if (!doc_.nodes[k].collider) continue;
+    if (!doc_.nodes[k].collider)
+      continue;
+    if (p_->full())
+      break;  // a hostile file: stop building once the report is full
     addCollider(scene, static_cast<std::uint32_t>(bodyIndexOf(k)), k);
   }
-  if (p_->any()) return std::nullopt;
+  if (p_->any())
+    return std::nullopt;
 
   // the scene's extent (without infinite planes), then the planes
   Vec3 lo{std::numeric_limits<double>::infinity()}, hi{-std::numeric_limits<double>::infinity()};
@@ -820,30 +980,37 @@ std::optional<SceneModel> Builder::build(const std::string& name) {
     }
   }
   for (const PendingPlane& plane : planes_) {
-    if (!plane.shape->size_x) continue;
+    if (!plane.shape->size_x)
+      continue;
     addPlane(scene, plane, lo, hi, have_box);
   }
   for (const PendingPlane& plane : planes_) {
-    if (plane.shape->size_x) continue;
+    if (plane.shape->size_x)
+      continue;
     addPlane(scene, plane, lo, hi, have_box);
   }
-  if (p_->any()) return std::nullopt;
+  if (p_->any())
+    return std::nullopt;
   scene.length_scale = have_box ? glm::length(hi - lo) : 1.0;
-  if (!(scene.length_scale > 0.0) || !std::isfinite(scene.length_scale)) scene.length_scale = 1.0;
+  if (!(scene.length_scale > 0.0) || !std::isfinite(scene.length_scale))
+    scene.length_scale = 1.0;
 
   // mass properties, stiffness, probe
   for (Body& body : scene.bodies) {
-    if (body.motion != Motion::kDynamic) continue;
+    if (body.motion != Motion::kDynamic)
+      continue;
     const auto k = static_cast<std::uint32_t>(body.node);
     massProperties(body, *doc_.nodes[k].motion, k);
   }
   for (std::uint32_t k : order_) {
     const NodeDef& def = doc_.nodes[k];
-    if (!def.stiffness) continue;
+    if (!def.stiffness)
+      continue;
     const std::int32_t b = bodyIndexOf(k);
     if (b < 0) {
-      p_->add(where(k), "extras.haptic.stiffness on a node that belongs to no body (no motion "
-                        "above it and no static collider under its root)");
+      p_->add(where(k),
+              "extras.haptic.stiffness on a node that belongs to no body (no motion "
+              "above it and no static collider under its root)");
       continue;
     }
     scene.bodies[static_cast<std::size_t>(b)].stiffness_n_per_m = def.stiffness;
@@ -856,19 +1023,23 @@ std::optional<SceneModel> Builder::build(const std::string& name) {
   scene.materials = doc_.materials;
   filterBits(scene);
   buildJoints(scene);
-  if (doc_.gravity) scene.gravity_W = doc_.gravity;
-  if (p_->any()) return std::nullopt;
+  if (doc_.gravity)
+    scene.gravity_W = doc_.gravity;
+  if (p_->any())
+    return std::nullopt;
   scene.plan = makePlan(scene);
   return scene;
 }
 
-LoadReport loadImpl(std::span<const std::uint8_t> bytes, const std::string& name,
+LoadReport loadImpl(std::span<const std::uint8_t> bytes,
+                    const std::string& name,
                     const LoadOptions& options) {
   LoadReport report;
   Problems problems;
   const auto finish = [&]() {
     report.problems = problems.take();
-    if (!report.problems.empty()) report.scene.reset();
+    if (!report.problems.empty())
+      report.scene.reset();
     return report;
   };
   const SceneLimits& limits = options.limits;
@@ -879,14 +1050,16 @@ LoadReport loadImpl(std::span<const std::uint8_t> bytes, const std::string& name
   }
   Document doc;
   nlohmann::json json;
-  if (!detail::parseContainer(bytes, options, &doc, &problems, &json)) return finish();
-  if (!detail::validateDocument(json, options, &doc, &problems)) return finish();
+  if (!detail::parseContainer(bytes, options, &doc, &problems, &json))
+    return finish();
+  if (!detail::validateDocument(json, options, &doc, &problems))
+    return finish();
   json = nlohmann::json();  // free it before the model is built
 
   tinygltf::TinyGLTF gltf;
   FsPolicy policy{&options};
-  gltf.SetFsCallbacks({&fsFileExists, &fsExpandFilePath, &fsReadWholeFile, &fsWriteWholeFile,
-                       &policy});
+  gltf.SetFsCallbacks(
+      {&fsFileExists, &fsExpandFilePath, &fsReadWholeFile, &fsWriteWholeFile, &policy});
   gltf.SetImageLoader(&noImage, nullptr);
   tinygltf::Model model;
   std::string err, warn;
@@ -897,7 +1070,8 @@ LoadReport loadImpl(std::span<const std::uint8_t> bytes, const std::string& name
               : gltf.LoadASCIIFromString(&model, &err, &warn, doc.json_text.data(),
                                          static_cast<unsigned int>(doc.json_text.size()), base);
   if (!ok) {
-    while (!err.empty() && (err.back() == '\n' || err.back() == '\r')) err.pop_back();
+    while (!err.empty() && (err.back() == '\n' || err.back() == '\r'))
+      err.pop_back();
     problems.add("file", "glTF: " + (err.empty() ? std::string("tinygltf refused the file") : err));
     return finish();
   }
@@ -908,13 +1082,14 @@ LoadReport loadImpl(std::span<const std::uint8_t> bytes, const std::string& name
   }
   for (std::size_t i = 0; i < doc.buffers.size(); ++i) {
     if (model.buffers[i].data.size() < doc.buffers[i].byte_length) {
-      problems.add("buffer " + std::to_string(i),
-                   "holds " + std::to_string(model.buffers[i].data.size()) +
-                       " bytes, less than its byteLength " +
-                       std::to_string(doc.buffers[i].byte_length));
+      problems.add("buffer " + std::to_string(i), "holds " +
+                                                      std::to_string(model.buffers[i].data.size()) +
+                                                      " bytes, less than its byteLength " +
+                                                      std::to_string(doc.buffers[i].byte_length));
     }
   }
-  if (problems.any()) return finish();
+  if (problems.any())
+    return finish();
 
   Builder builder(doc, model, options, &problems);
   report.scene = builder.build(name);
@@ -934,7 +1109,8 @@ std::string LoadReport::message() const {
   return out;
 }
 
-LoadReport loadScene(std::span<const std::uint8_t> bytes, const std::string& name,
+LoadReport loadScene(std::span<const std::uint8_t> bytes,
+                     const std::string& name,
                      const LoadOptions& options) {
   try {
     return loadImpl(bytes, name, options);

@@ -44,7 +44,8 @@ struct LoadReport {
 
 /// Loads from bytes already in memory (a file's contents, an upload). `name` names the scene in
 /// messages. Never throws, never crashes, never hangs on any input.
-LoadReport loadScene(std::span<const std::uint8_t> bytes, const std::string& name,
+LoadReport loadScene(std::span<const std::uint8_t> bytes,
+                     const std::string& name,
                      const LoadOptions& options = {});
 
 /// Reads and loads a file (size checked before reading).

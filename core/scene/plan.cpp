@@ -10,15 +10,19 @@ namespace {
 // KHR_physics_rigid_bodies: average if either asks, else minimum, else maximum, else multiply
 double combine(double a, Combine ca, double b, Combine cb) {
   const auto either = [&](Combine c) { return ca == c || cb == c; };
-  if (either(Combine::kAverage)) return 0.5 * (a + b);
-  if (either(Combine::kMinimum)) return std::min(a, b);
-  if (either(Combine::kMaximum)) return std::max(a, b);
+  if (either(Combine::kAverage))
+    return 0.5 * (a + b);
+  if (either(Combine::kMinimum))
+    return std::min(a, b);
+  if (either(Combine::kMaximum))
+    return std::max(a, b);
   return a * b;
 }
 
 // a primitive without a material: no friction, no restitution, combined by average
 Material materialOf(const SceneModel& scene, std::int32_t index) {
-  if (index < 0 || static_cast<std::size_t>(index) >= scene.materials.size()) return Material{};
+  if (index < 0 || static_cast<std::size_t>(index) >= scene.materials.size())
+    return Material{};
   return scene.materials[static_cast<std::size_t>(index)];
 }
 
@@ -33,15 +37,18 @@ SimulationPlan makePlan(const SceneModel& scene) {
     const Body& body = scene.bodies[b];
     const bool is_dynamic = body.motion == Motion::kDynamic;
     const bool is_probe = body.probe || static_cast<std::int32_t>(b) == scene.probe_body;
-    if (is_dynamic) plan.dynamics = true;
+    if (is_dynamic)
+      plan.dynamics = true;
     if (is_dynamic && body.gravity_factor != 0.0 && scene.gravity_W &&
         (scene.gravity_W->x != 0.0 || scene.gravity_W->y != 0.0 || scene.gravity_W->z != 0.0)) {
       plan.gravity = true;
     }
     for (const Primitive& prim : body.primitives) {
       all.insert(prim.material);
-      if (is_dynamic || is_probe) touching.insert(prim.material);
-      if (is_dynamic) dynamic.insert(prim.material);
+      if (is_dynamic || is_probe)
+        touching.insert(prim.material);
+      if (is_dynamic)
+        dynamic.insert(prim.material);
       if (body.motion == Motion::kStatic) {
         ++plan.static_primitives;
       } else {
@@ -57,10 +64,10 @@ SimulationPlan makePlan(const SceneModel& scene) {
           combine(ma.static_friction, ma.friction_combine, mb.static_friction, mb.friction_combine),
           combine(ma.dynamic_friction, ma.friction_combine, mb.dynamic_friction,
                   mb.friction_combine));
-      if (friction > 0.0) plan.friction = true;
-      if (dynamic.count(a) &&
-          combine(ma.restitution, ma.restitution_combine, mb.restitution, mb.restitution_combine) >
-              0.0) {
+      if (friction > 0.0)
+        plan.friction = true;
+      if (dynamic.count(a) && combine(ma.restitution, ma.restitution_combine, mb.restitution,
+                                      mb.restitution_combine) > 0.0) {
         plan.restitution = true;
       }
     }

@@ -1,14 +1,16 @@
 #pragma once
 /// \file
-/// The compiled scene model: what exists in a scene and so what must be simulated (../shared/DESIGN.md,
-/// Scenes; KHR_physics_rigid_bodies, KHR_implicit_shapes). Built off the servo thread by the loader
-/// (core/scene/loader.h) or by code; immutable once built; read by collision, response, dynamics
-/// and the daemon (MuJoCo's model: `step(const SceneModel&, state...)`).
+/// The compiled scene model: what exists in a scene and so what must be simulated
+/// (../shared/DESIGN.md, Scenes; KHR_physics_rigid_bodies, KHR_implicit_shapes). Built off the
+/// servo thread by the loader (core/scene/loader.h) or by code; immutable once built; read by
+/// collision, response, dynamics and the daemon (MuJoCo's model: `step(const SceneModel&,
+/// state...)`).
 ///
 /// This header is the contract between the scene loader, the simulation and the daemon: fields may
 /// be added, none renamed or removed.
 ///
-/// Units: metres, kilograms, seconds, radians; Y up. Frames: W = scene (world), B = body, P = primitive.
+/// Units: metres, kilograms, seconds, radians; Y up. Frames: W = scene (world), B = body, P =
+/// primitive.
 
 #include <cstdint>
 #include <memory>
@@ -47,7 +49,11 @@ struct Material {
 
 /// What a primitive was made from, for messages and `hapticctl check`.
 enum class ShapeSource : std::uint8_t {
-  kBox, kSphere, kCapsule, kCylinder, kPlane,  ///< KHR_implicit_shapes (curved ones tessellated)
+  kBox,
+  kSphere,
+  kCapsule,
+  kCylinder,
+  kPlane,       ///< KHR_implicit_shapes (curved ones tessellated)
   kMeshHull,    ///< a mesh node with `convexHull: true`
   kConvexMesh,  ///< a mesh node verified convex
   kCode,        ///< built by code, not from a file
@@ -56,10 +62,10 @@ enum class ShapeSource : std::uint8_t {
 /// One convex primitive of a body.
 struct Primitive {
   std::shared_ptr<const geom::Polytope> shape;  ///< in the primitive's frame P
-  Pose X_BP;                    ///< the primitive's pose in its body's frame
+  Pose X_BP;                                    ///< the primitive's pose in its body's frame
   ShapeSource source = ShapeSource::kCode;
-  std::int32_t node = -1;       ///< glTF node index of the collider, -1 if none
-  std::int32_t material = -1;   ///< index into SceneModel::materials, -1: no material declared
+  std::int32_t node = -1;      ///< glTF node index of the collider, -1 if none
+  std::int32_t material = -1;  ///< index into SceneModel::materials, -1: no material declared
   /// Collision filter as bits (KHR `collisionFilters`, one bit per collision system name):
   /// two primitives collide when (a.group & b.mask) && (b.group & a.mask).
   std::uint32_t group = 1;
@@ -68,14 +74,14 @@ struct Primitive {
 
 /// One rigid body: a node with `motion`, or a static collider (or a group of them).
 struct Body {
-  std::string name;            ///< node name (record-bodies uses it); "node<i>" when unnamed
-  std::int32_t node = -1;      ///< glTF node index, -1 when built by code
+  std::string name;        ///< node name (record-bodies uses it); "node<i>" when unnamed
+  std::int32_t node = -1;  ///< glTF node index, -1 when built by code
   Motion motion = Motion::kStatic;
-  bool probe = false;          ///< `extras.haptic.probe`: the body the probe holds
+  bool probe = false;  ///< `extras.haptic.probe`: the body the probe holds
   /// Mass in kg; 0 for static and kinematic bodies. For a dynamic body: the declared mass, or
   /// computed from the primitives' volume at density 1000 kg/m^3 when not declared.
   double mass = 0.0;
-  Vec3 com_B{0.0};             ///< centre of mass in the body frame
+  Vec3 com_B{0.0};  ///< centre of mass in the body frame
   /// Inertia tensor about the centre of mass, in the body frame (kg m^2); declared or computed.
   Mat3 inertia_B{0.0};
   bool mass_declared = false;
@@ -91,7 +97,7 @@ struct Body {
   double gravity_factor = 1.0;
   /// `extras.haptic.stiffness` (N/m): contact stiffness of this body's surfaces, if declared.
   std::optional<double> stiffness_n_per_m;
-  Pose X_WB;                   ///< initial pose in the scene
+  Pose X_WB;  ///< initial pose in the scene
   std::vector<Primitive> primitives;
 };
 
@@ -120,8 +126,8 @@ struct Joint {
   Pose X_BJ;                 ///< attachment frame in body b's frame (scene frame when body_b < 0)
   std::uint8_t hinge_axis = 0;  ///< kHinge: the free angular axis (0..2) of the attachment frame
   std::optional<double> hinge_min, hinge_max;  ///< kHinge: limits in radians, where declared
-  std::vector<JointLimit> limits;  ///< as declared
-  bool enable_collision = false;   ///< KHR default: constrained bodies do not collide
+  std::vector<JointLimit> limits;              ///< as declared
+  bool enable_collision = false;               ///< KHR default: constrained bodies do not collide
 };
 
 /// Which stages run for this scene: "simulate only the effects a scene calls for".
@@ -129,9 +135,9 @@ struct SimulationPlan {
   bool contact_forces = true;  ///< always
   bool dynamics = false;       ///< at least one dynamic body
   bool gravity = false;        ///< the scene declares gravity and a dynamic body feels it
-  bool friction = false;       ///< a material with non-zero friction is used by a dynamic or probe body
-  bool restitution = false;    ///< a material with non-zero restitution is used by a dynamic body
-  bool joints = false;         ///< at least one joint
+  bool friction = false;  ///< a material with non-zero friction is used by a dynamic or probe body
+  bool restitution = false;  ///< a material with non-zero restitution is used by a dynamic body
+  bool joints = false;       ///< at least one joint
   /// Primitives the broad phase keeps (static ones are tracked but never paired with each other).
   std::uint32_t static_primitives = 0;
   std::uint32_t moving_primitives = 0;
@@ -154,13 +160,15 @@ struct SceneLimits {
 
 /// The whole compiled scene. Immutable after building; any thread may read it.
 struct SceneModel {
-  std::string name;                 ///< file name or demo name
+  std::string name;  ///< file name or demo name
   std::vector<Body> bodies;
   std::vector<Material> materials;
   std::vector<Joint> joints;
-  std::optional<Vec3> gravity_W;    ///< `extras.haptic.gravity` on the scene; absent: no gravity
-  std::int32_t probe_body = -1;     ///< index of the body with `probe: true`, -1: a probe sphere from config
-  /// Characteristic length (m): the bounding-box diagonal of all primitives, for relative tolerances.
+  std::optional<Vec3> gravity_W;  ///< `extras.haptic.gravity` on the scene; absent: no gravity
+  std::int32_t probe_body =
+      -1;  ///< index of the body with `probe: true`, -1: a probe sphere from config
+  /// Characteristic length (m): the bounding-box diagonal of all primitives, for relative
+  /// tolerances.
   double length_scale = 1.0;
   SimulationPlan plan;
 };

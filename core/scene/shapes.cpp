@@ -13,7 +13,8 @@ constexpr double kPi = std::numbers::pi;
 double planeDistance(const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 n = glm::cross(b - a, c - a);
   const double len = glm::length(n);
-  if (len <= 0.0) return 0.0;
+  if (len <= 0.0)
+    return 0.0;
   return std::abs(glm::dot(n, a)) / len;
 }
 
@@ -25,7 +26,9 @@ Vec3 gridPoint(std::uint32_t ring, std::uint32_t bands, std::uint32_t j, std::ui
 
 // the deviation of a hull scaled out by 2 / (2 - d) from the unit sphere or circle it was
 // inscribed in with deviation d: vertices stick out by as much as the faces sink in
-double straddled(double inscribed) { return inscribed / (2.0 - inscribed); }
+double straddled(double inscribed) {
+  return inscribed / (2.0 - inscribed);
+}
 
 }  // namespace
 
@@ -36,9 +39,10 @@ Result<SphereGrid> sphereGridFor(double tolerance, std::uint32_t max_vertices) {
   for (std::uint32_t bands = 2;; ++bands) {
     const std::uint64_t vertices =
         2 + static_cast<std::uint64_t>(bands - 1) * 2ull * static_cast<std::uint64_t>(bands);
-    if (vertices > max_vertices) {
+    if (vertices > max_vertices || bands > 4096) {
       return Error{"tessellation_tolerance " + std::to_string(tolerance) + " needs more than " +
-                   std::to_string(max_vertices) + " hull vertices (max_hull_vertices) for a sphere"};
+                   std::to_string(std::min<std::uint64_t>(vertices - 1, max_vertices)) +
+                   " hull vertices (max_hull_vertices) for a sphere"};
     }
     const std::uint32_t segments = 2 * bands;
     // the hull's faces are the grid's cells: polar triangles and planar trapezoids
@@ -46,12 +50,13 @@ Result<SphereGrid> sphereGridFor(double tolerance, std::uint32_t max_vertices) {
     for (std::uint32_t ring = 0; ring < bands; ++ring) {
       const Vec3 a = gridPoint(ring, bands, 0, segments);
       const Vec3 b = gridPoint(ring + 1, bands, 0, segments);
-      const Vec3 c = ring == 0 ? gridPoint(ring + 1, bands, 1, segments)
-                               : gridPoint(ring, bands, 1, segments);
+      const Vec3 c =
+          ring == 0 ? gridPoint(ring + 1, bands, 1, segments) : gridPoint(ring, bands, 1, segments);
       min_distance = std::min(min_distance, planeDistance(a, b, c));
     }
     const double inscribed = 1.0 - min_distance;
-    if (straddled(inscribed) <= tolerance) return SphereGrid{bands, inscribed};
+    if (straddled(inscribed) <= tolerance)
+      return SphereGrid{bands, inscribed};
   }
 }
 
@@ -60,13 +65,14 @@ Result<std::uint32_t> circleSegmentsFor(double tolerance, std::uint32_t max_vert
     return Error{"tessellation_tolerance " + std::to_string(tolerance) + " must be in (0, 0.5)"};
   }
   for (std::uint32_t n = 3;; ++n) {
-    if (2ull * n > max_vertices) {
+    if (2ull * n > max_vertices || n > 1000000) {
       return Error{"tessellation_tolerance " + std::to_string(tolerance) + " needs more than " +
                    std::to_string(max_vertices) +
                    " hull vertices (max_hull_vertices) for a cylinder"};
     }
     const double inscribed = 1.0 - std::cos(kPi / static_cast<double>(n));
-    if (straddled(inscribed) <= tolerance) return n;
+    if (straddled(inscribed) <= tolerance)
+      return n;
   }
 }
 
@@ -95,7 +101,9 @@ std::vector<Vec3> spherePoints(double radius, const SphereGrid& grid) {
   return out;
 }
 
-std::vector<Vec3> capsulePoints(double height, double radius_top, double radius_bottom,
+std::vector<Vec3> capsulePoints(double height,
+                                double radius_top,
+                                double radius_bottom,
                                 const SphereGrid& grid) {
   std::vector<Vec3> out;
   const auto add = [&](double radius, double y) {
@@ -103,14 +111,17 @@ std::vector<Vec3> capsulePoints(double height, double radius_top, double radius_
       out.push_back({0.0, y, 0.0});
       return;
     }
-    for (const Vec3& p : spherePoints(radius, grid)) out.push_back(p + Vec3{0.0, y, 0.0});
+    for (const Vec3& p : spherePoints(radius, grid))
+      out.push_back(p + Vec3{0.0, y, 0.0});
   };
   add(radius_top, 0.5 * height);
   add(radius_bottom, -0.5 * height);
   return out;
 }
 
-std::vector<Vec3> cylinderPoints(double height, double radius_top, double radius_bottom,
+std::vector<Vec3> cylinderPoints(double height,
+                                 double radius_top,
+                                 double radius_bottom,
                                  std::uint32_t segments) {
   const double inscribed = 1.0 - std::cos(kPi / static_cast<double>(segments));
   const double scale = 2.0 / (2.0 - inscribed);
@@ -141,7 +152,8 @@ VolumeIntegrals polytopeIntegrals(const Polytope& shape, const Transform& X_BP) 
   Mat3 second{0.0};
   for (std::uint32_t f = 0; f < shape.faces().size(); ++f) {
     const auto boundary = shape.faceEdges(f);
-    if (boundary.size() < 3) continue;
+    if (boundary.size() < 3)
+      continue;
     const Vec3 a = X_BP.rotate(vertices[boundary[0].vertex].p - shape.centroid());
     for (std::size_t i = 1; i + 1 < boundary.size(); ++i) {
       const Vec3 b = X_BP.rotate(vertices[boundary[i].vertex].p - shape.centroid());
@@ -150,8 +162,8 @@ VolumeIntegrals polytopeIntegrals(const Polytope& shape, const Transform& X_BP) 
       const Vec3 s = a + b + c;  // the fourth vertex is the origin of y
       volume += v;
       first += v * s / 4.0;
-      const Mat3 sum = glm::outerProduct(a, a) + glm::outerProduct(b, b) +
-                       glm::outerProduct(c, c) + glm::outerProduct(s, s);
+      const Mat3 sum = glm::outerProduct(a, a) + glm::outerProduct(b, b) + glm::outerProduct(c, c) +
+                       glm::outerProduct(s, s);
       second += (v / 20.0) * sum;
     }
   }
@@ -165,7 +177,8 @@ VolumeIntegrals polytopeIntegrals(const Polytope& shape, const Transform& X_BP) 
 
 MassProperties massFromIntegrals(const VolumeIntegrals& v, double density) {
   MassProperties out;
-  if (!(v.volume > 0.0)) return out;
+  if (!(v.volume > 0.0))
+    return out;
   out.mass = density * v.volume;
   out.com = v.first / v.volume;
   const Mat3 j = density * (v.second - v.volume * glm::outerProduct(out.com, out.com));
@@ -182,7 +195,8 @@ MassProperties massFromIntegrals(const VolumeIntegrals& v, double density) {
   return out;
 }
 
-double convexityViolation(const Polytope& hull, std::span<const Vec3> points,
+double convexityViolation(const Polytope& hull,
+                          std::span<const Vec3> points,
                           std::span<const std::uint32_t> triangles) {
   const double size = std::max(hull.radius(), 1e-300);
   double worst = 0.0;
@@ -195,7 +209,8 @@ double convexityViolation(const Polytope& hull, std::span<const Vec3> points,
     const Vec3 n = glm::cross(b - a, c - a);
     const double len = glm::length(n);
     // a degenerate (zero-area) triangle has no plane to test
-    if (!(len > 1e-12 * size * size)) continue;
+    if (!(len > 1e-12 * size * size))
+      continue;
     const Vec3 u = n / len;
     hint = hull.support(u, hint);
     const double front = glm::dot(u, vertices[hint].p - a);
@@ -210,7 +225,8 @@ void splitRigid(const Mat3& A, Mat3* R, Mat3* S) {
   const double scale = std::max({glm::length(A[0]), glm::length(A[1]), glm::length(A[2])});
   const double tiny = scale * 1e-12;
   Vec3 x = A[0];
-  if (!(glm::length(x) > tiny)) x = Vec3{1.0, 0.0, 0.0};
+  if (!(glm::length(x) > tiny))
+    x = Vec3{1.0, 0.0, 0.0};
   x = glm::normalize(x);
   Vec3 y = A[1] - glm::dot(A[1], x) * x;
   if (!(glm::length(y) > tiny)) {

@@ -43,17 +43,21 @@ Result<std::uint32_t> circleSegmentsFor(double tolerance, std::uint32_t max_vert
 std::vector<Vec3> boxPoints(const Vec3& size);
 std::vector<Vec3> spherePoints(double radius, const SphereGrid& grid);
 /// Capsule: the hull of two spheres at y = +-height/2 (radii may differ, one may be 0).
-std::vector<Vec3> capsulePoints(double height, double radius_top, double radius_bottom,
+std::vector<Vec3> capsulePoints(double height,
+                                double radius_top,
+                                double radius_bottom,
                                 const SphereGrid& grid);
 /// Cylinder (a cone when one radius is 0), y in [-height/2, height/2].
-std::vector<Vec3> cylinderPoints(double height, double radius_top, double radius_bottom,
+std::vector<Vec3> cylinderPoints(double height,
+                                 double radius_top,
+                                 double radius_bottom,
                                  std::uint32_t segments);
 
 /// Volume integrals of a solid: volume, first moment and second moment about the frame origin.
 struct VolumeIntegrals {
-  double volume = 0.0;     ///< m^3
-  Vec3 first{0.0};         ///< integral of x dV
-  Mat3 second{0.0};        ///< integral of x x^T dV
+  double volume = 0.0;  ///< m^3
+  Vec3 first{0.0};      ///< integral of x dV
+  Mat3 second{0.0};     ///< integral of x x^T dV
   void add(const VolumeIntegrals& o) {
     volume += o.volume;
     first += o.first;
@@ -76,7 +80,8 @@ MassProperties massFromIntegrals(const VolumeIntegrals& v, double density);
 /// triangles, each triangle taken with whichever orientation suits it better (so the winding
 /// does not matter). 0 for a convex mesh (up to rounding); positive when some triangle's plane cuts
 /// the hull, i.e. the mesh is not convex. `triangles` index `points`; the hull is of `points`.
-double convexityViolation(const Polytope& hull, std::span<const Vec3> points,
+double convexityViolation(const Polytope& hull,
+                          std::span<const Vec3> points,
                           std::span<const std::uint32_t> triangles);
 
 /// The rigid part of an affine map (Gram-Schmidt on the columns, always a proper rotation) and the

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "core/collision/collision_world.h"
+#include "core/collision/penetration.h"
 #include "core/response/coupling.h"
 #include "core/response/face_contact.h"
 #include "core/response/output_stage.h"
@@ -23,19 +24,24 @@ using geom::Transform;
 using response::ContactRow;
 
 constexpr std::uint32_t kNone = 0xffffffffu;
+constexpr std::int32_t kRoleHeld = -2, kRoleFixed = -1;
 // faces within ~18 degrees of the pair's normal on both sides make a face-face contact
 constexpr double kFaceCosTolerance = 0.95;
 
 enum class Mode : std::uint8_t { kFree = 0, kGrab = 1, kRim = 2, kCentre = 3 };
 
-bool finitePositive(double v) { return std::isfinite(v) && v > 0.0; }
+bool finitePositive(double v) {
+  return std::isfinite(v) && v > 0.0;
+}
 
 bool finitePose(const Vec3& p, const Quat& q) {
   return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(q.w) &&
          std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z);
 }
 
-Vec3 rotate(const Quat& q, const Vec3& v) { return q * v; }
+Vec3 rotate(const Quat& q, const Vec3& v) {
+  return q * v;
+}
 
 // Points on a sphere (golden-angle spiral), for the probe sphere's hull.
 std::vector<Vec3> spherePoints(double radius, int n) {
@@ -57,7 +63,8 @@ struct BodyInfo {
   double stiffness = 0.0;  // felt stiffness of this body's surfaces (N per scene unit)
   // a hinge to the scene frame (or to a static body), for the attach modes
   bool hinge = false;
-  Vec3 hinge_o_B{0.0}, hinge_a_B{0.0};  // in this body's frame at its initial pose
+  Vec3 hinge_o_B{0.0}, hinge_a_B{0.0};          // in this body's frame at its initial pose
+  double hinge_radius = 0.0;                    // largest distance of its points from the axis
   std::vector<response::ShadingTable> shading;  // per primitive (empty: shading off)
 };
 
@@ -76,6 +83,8 @@ class SimulationImpl final : public Simulation {
     // pairs within the predictive distance plus one tick's travel are found
     w.box_margin = 2.0 * delta;
     w.budget.max_pairs = o.max_pairs_per_tick;
+    // a pair of bodies that did not move keeps its exact answer
+    w.skip_unmoved_pairs = true;
     return w;
   }
   static response::OutputLimits outputLimits(const ResponseOptions& r) {
@@ -95,17 +104,30 @@ class SimulationImpl final : public Simulation {
   std::span<const BodyPose> bodyPoses() const override { return body_poses_; }
   void restartRamp() override { output_.restartRamp(); }
   const scene::SceneModel& scene() const override { return *scene_; }
+  void prepareThread() override;
 
  private:
   bool isHeld(std::uint32_t body) const {
     for (std::uint32_t i = 0; i < held_count_; ++i) {
-      if (held_[i] == body) return true;
+      if (held_[i] == body)
+        return true;
     }
     return false;
   }
+  std::int32_t role(std::uint32_t body) const {
+    if (isHeld(body))
+      return kRoleHeld;
+    for (std::uint32_t d = 0; d < driven_count_; ++d) {
+      if (driven_ids_[d] == body)
+        return static_cast<std::int32_t>(d);
+    }
+    return kRoleFixed;
+  }
+  void updateDriven();
   bool excluded(std::uint32_t a, std::uint32_t b) const {
     for (const auto& [x, y] : excluded_pairs_) {
-      if ((x == a && y == b) || (x == b && y == a)) return true;
+      if ((x == a && y == b) || (x == b && y == a))
+        return true;
     }
     return false;
   }
@@ -140,7 +162,7 @@ class SimulationImpl final : public Simulation {
   double delta_ = 0.0;       // this tick's predictive distance
   double max_travel_ = 0.0;  // safe distance per tick
   double speed_decay_ = 0.0;
-  double v_c_ = 0.0;         // current speed bound of the held body's points
+  double v_c_ = 0.0;  // current speed bound of the held body's points
   bool have_prev_device_ = false;
   Vec3 prev_h_dev_{0.0};
   Quat prev_q_dev_{1.0, 0.0, 0.0, 0.0};
@@ -155,47 +177,66 @@ class SimulationImpl final : public Simulation {
   std::uint32_t held_count_ = 1;
   Mode mode_ = Mode::kFree;
   std::uint32_t attached_ = kNone;
-  Transform X_probe_attached_;   // kGrab: the attached body in the probe's frame
-  Transform X_attached_probe_;   // kRim: the probe in the attached body's frame
+  Transform X_probe_attached_;                 // kGrab: the attached body in the probe's frame
+  Transform X_attached_probe_;                 // kRim: the probe in the attached body's frame
   Quat q_attached_probe_{1.0, 0.0, 0.0, 0.0};  // kCentre: the probe's rotation relative to the body
-  Vec3 centre_h_W_{0.0};         // kCentre: the fixed handle point
+  Vec3 centre_h_W_{0.0};                       // kCentre: the fixed handle point
   Vec3 hinge_o_W_{0.0}, hinge_a_W_{0.0};
   double held_radius_ = 0.0;
   std::uint32_t last_buttons_ = 0;
+  // bodies on a hinge to the scene that the held set may turn (quasi-static coordinates)
+  std::array<std::uint32_t, response::ProxyProblem::kMaxDriven> driven_ids_{};
+  std::uint32_t driven_count_ = 0;
+  std::array<geom::Pose, response::ProxyProblem::kMaxDriven> driven_before_{};
   bool first_step_ = true;
-  geom::Pose X_W_probe_;  // the proxy: the probe body's pose
+  const geom::Polytope* max_shape_ = nullptr;  // the polytope with the most faces
+  std::size_t max_faces_ = 0;
+  double last_penetration_ = 0.0;  // of the rows at the current proxy pose
+  geom::Pose X_W_probe_;           // the proxy: the probe body's pose
 };
 
 double SimulationImpl::radiusAbout(std::uint32_t body, const Vec3& c_W) const {
   const Transform X = world_.pose(body).toTransform();
   double r = 0.0;
   if (info_[body].scene_index < 0) {
-    for (const auto& v : probe_sphere_->vertices()) r = std::max(r, glm::length(X.apply(v.p) - c_W));
+    for (const auto& v : probe_sphere_->vertices())
+      r = std::max(r, glm::length(X.apply(v.p) - c_W));
     return r;
   }
-  for (const auto& p : scene_->bodies[static_cast<std::size_t>(info_[body].scene_index)].primitives) {
+  for (const auto& p :
+       scene_->bodies[static_cast<std::size_t>(info_[body].scene_index)].primitives) {
     const Transform XP = X * p.X_BP.toTransform();
-    for (const auto& v : p.shape->vertices()) r = std::max(r, glm::length(XP.apply(v.p) - c_W));
+    for (const auto& v : p.shape->vertices())
+      r = std::max(r, glm::length(XP.apply(v.p) - c_W));
   }
   return r;
 }
 
 double SimulationImpl::heldRadius(const Vec3& c_W) const {
   double r = 0.0;
-  for (std::uint32_t i = 0; i < held_count_; ++i) r = std::max(r, radiusAbout(held_[i], c_W));
+  for (std::uint32_t i = 0; i < held_count_; ++i)
+    r = std::max(r, radiusAbout(held_[i], c_W));
   return r;
 }
 
 Result<bool> SimulationImpl::build() {
   const ResponseOptions& r = options_.response;
-  if (!finitePositive(r.stiffness_n_per_m)) return Error{"response.stiffness must be > 0"};
-  if (!finitePositive(r.tick_s)) return Error{"response.tick must be > 0"};
-  if (!finitePositive(r.max_force_n)) return Error{"response.max_force must be > 0"};
-  if (!finitePositive(r.max_torque_nm)) return Error{"response.max_torque must be > 0"};
-  if (!finitePositive(r.max_force_step_n)) return Error{"response.max_force_step must be > 0"};
-  if (!finitePositive(r.max_torque_step_nm)) return Error{"response.max_torque_step must be > 0"};
-  if (!std::isfinite(r.ramp_s) || r.ramp_s < 0.0) return Error{"response.ramp must be >= 0"};
-  if (!finitePositive(r.max_speed_m_per_s)) return Error{"response.max_speed must be > 0"};
+  if (!finitePositive(r.stiffness_n_per_m))
+    return Error{"response.stiffness must be > 0"};
+  if (!finitePositive(r.tick_s))
+    return Error{"response.tick must be > 0"};
+  if (!finitePositive(r.max_force_n))
+    return Error{"response.max_force must be > 0"};
+  if (!finitePositive(r.max_torque_nm))
+    return Error{"response.max_torque must be > 0"};
+  if (!finitePositive(r.max_force_step_n))
+    return Error{"response.max_force_step must be > 0"};
+  if (!finitePositive(r.max_torque_step_nm))
+    return Error{"response.max_torque_step must be > 0"};
+  if (!std::isfinite(r.ramp_s) || r.ramp_s < 0.0)
+    return Error{"response.ramp must be >= 0"};
+  if (!finitePositive(r.max_speed_m_per_s))
+    return Error{"response.max_speed must be > 0"};
   if (!std::isfinite(r.speed_decay_s) || r.speed_decay_s < 0.0)
     return Error{"response.speed_decay must be >= 0"};
   if (!std::isfinite(r.min_predictive_fraction) || r.min_predictive_fraction <= 0.0 ||
@@ -233,7 +274,7 @@ Result<bool> SimulationImpl::build() {
     const scene::Body& b = sc.bodies[i];
     collision::BodyDesc desc;
     const bool is_probe = static_cast<std::int32_t>(i) == sc.probe_body;
-    desc.kind = is_probe ? BodyKind::kProbe
+    desc.kind = is_probe                                ? BodyKind::kProbe
                 : b.motion == scene::Motion::kStatic    ? BodyKind::kStatic
                 : b.motion == scene::Motion::kKinematic ? BodyKind::kKinematic
                                                         : BodyKind::kDynamic;
@@ -242,26 +283,32 @@ Result<bool> SimulationImpl::build() {
     info.kind = desc.kind;
     info.com_B = b.com_B;
     info.stiffness = b.stiffness_n_per_m.has_value() ? std::min(*b.stiffness_n_per_m, k_s_) : k_s_;
-    if (!(info.stiffness > 0.0)) return Error{"body '" + b.name + "': stiffness must be > 0"};
+    if (!(info.stiffness > 0.0))
+      return Error{"body '" + b.name + "': stiffness must be > 0"};
     for (const scene::Primitive& p : b.primitives) {
-      if (!p.shape) return Error{"body '" + b.name + "': a primitive has no shape"};
+      if (!p.shape)
+        return Error{"body '" + b.name + "': a primitive has no shape"};
       collision::PrimitiveDesc pd;
       pd.shape = p.shape;
       pd.X_BP = p.X_BP.toTransform();
       pd.group = p.group;
       pd.mask = p.mask;
       desc.primitives.push_back(pd);
-      if (crease > 0.0) info.shading.emplace_back(*p.shape, crease);
+      if (crease > 0.0)
+        info.shading.emplace_back(*p.shape, crease);
     }
     total_prims += b.primitives.size();
-    if (desc.kind != BodyKind::kStatic) moving_prims += b.primitives.size();
+    if (desc.kind != BodyKind::kStatic)
+      moving_prims += b.primitives.size();
     const std::uint32_t id = world_.addBody(desc, b.X_WB);
-    if (id != i) return Error{"collision world: unexpected body id"};
+    if (id != i)
+      return Error{"collision world: unexpected body id"};
     info_.push_back(std::move(info));
   }
   if (sc.probe_body < 0) {
     auto hull = geom::Polytope::fromPoints(spherePoints(options_.probe_sphere_radius_m, 64));
-    if (!hull.ok()) return Error{"probe sphere: " + hull.error().message};
+    if (!hull.ok())
+      return Error{"probe sphere: " + hull.error().message};
     probe_sphere_ = std::make_shared<const geom::Polytope>(std::move(hull).value());
     collision::BodyDesc desc;
     desc.kind = BodyKind::kProbe;
@@ -269,7 +316,8 @@ Result<bool> SimulationImpl::build() {
     BodyInfo info;
     info.kind = BodyKind::kProbe;
     info.stiffness = k_s_;
-    if (crease > 0.0) info.shading.emplace_back(*probe_sphere_, crease);
+    if (crease > 0.0)
+      info.shading.emplace_back(*probe_sphere_, crease);
     probe_ = world_.addBody(desc, geom::Pose{});
     info_.push_back(std::move(info));
     ++total_prims;
@@ -282,14 +330,17 @@ Result<bool> SimulationImpl::build() {
   // joint keeps from colliding
   for (const scene::Joint& j : sc.joints) {
     const auto nb = static_cast<std::int32_t>(sc.bodies.size());
-    if (j.body_a < 0 || j.body_a >= nb || j.body_b >= nb) return Error{"joint: body out of range"};
+    if (j.body_a < 0 || j.body_a >= nb || j.body_b >= nb)
+      return Error{"joint: body out of range"};
     if (j.body_b >= 0 && !j.enable_collision)
       excluded_pairs_.emplace_back(static_cast<std::uint32_t>(j.body_a),
                                    static_cast<std::uint32_t>(j.body_b));
-    if (j.kind != scene::JointKind::kHinge || j.hinge_axis > 2) continue;
+    if (j.kind != scene::JointKind::kHinge || j.hinge_axis > 2)
+      continue;
     const bool to_ground = j.body_b < 0 || sc.bodies[static_cast<std::size_t>(j.body_b)].motion ==
                                                scene::Motion::kStatic;
-    if (!to_ground) continue;
+    if (!to_ground)
+      continue;
     BodyInfo& info = info_[static_cast<std::size_t>(j.body_a)];
     info.hinge = true;
     info.hinge_o_B = j.X_AJ.translation;
@@ -298,21 +349,62 @@ Result<bool> SimulationImpl::build() {
     info.hinge_a_B = glm::normalize(rotate(j.X_AJ.rotation, axis));
   }
 
+  // the polytope with the most faces (prepareThread)
+  for (std::uint32_t id = 0; id < info_.size(); ++id) {
+    const BodyInfo& bi = info_[id];
+    const std::size_t count =
+        bi.scene_index < 0 ? 1 : sc.bodies[static_cast<std::size_t>(bi.scene_index)].primitives.size();
+    for (std::uint32_t k = 0; k < count; ++k) {
+      const geom::Polytope& shape = primShape(id, k);
+      if (shape.faces().size() > max_faces_) max_faces_ = shape.faces().size(), max_shape_ = &shape;
+    }
+  }
+
   // capacities: every pair a moving primitive can make, bounded
   const std::size_t pairs = std::min<std::size_t>(moving_prims * total_prims + 64, 1u << 16);
   world_.reserve(total_prims + 1, pairs);
   rows_.reserve(pairs * collision::Manifold::kMaxPoints);
   for (std::uint32_t id = 0; id < info_.size(); ++id) {
-    if (info_[id].kind == BodyKind::kStatic) continue;
-    if (info_[id].scene_index < 0) continue;
+    if (info_[id].kind == BodyKind::kStatic)
+      continue;
+    if (info_[id].scene_index < 0)
+      continue;
     pose_bodies_.push_back(id);
     body_poses_.push_back({static_cast<std::uint32_t>(info_[id].scene_index), world_.pose(id)});
+  }
+
+  // no stage moves the other bodies (the dynamics are not part of this tick yet): they sleep,
+  // so that their pairs with each other and with static bodies cost nothing; an attached body
+  // wakes while it is held
+  for (std::uint32_t id = 0; id < info_.size(); ++id) {
+    if (id != probe_ && info_[id].kind != BodyKind::kStatic)
+      world_.setAsleep(id, true);
+  }
+  // bodies on a hinge are quasi-static coordinates that the held set may turn: they stay awake
+  for (std::uint32_t id = 0; id < info_.size(); ++id) {
+    BodyInfo& bi = info_[id];
+    if (!bi.hinge || id == probe_ || bi.kind == BodyKind::kStatic)
+      continue;
+    const geom::Pose& X = world_.pose(id);
+    const Vec3 o = X.translation + rotate(X.rotation, bi.hinge_o_B);
+    const Vec3 a = glm::normalize(rotate(X.rotation, bi.hinge_a_B));
+    double hr = 0.0;
+    const Transform XB = X.toTransform();
+    for (const auto& p : sc.bodies[static_cast<std::size_t>(bi.scene_index)].primitives) {
+      const Transform XP = XB * p.X_BP.toTransform();
+      for (const auto& v : p.shape->vertices()) {
+        const Vec3 d = XP.apply(v.p) - o;
+        hr = std::max(hr, glm::length(d - glm::dot(d, a) * a));
+      }
+    }
+    bi.hinge_radius = hr;
   }
 
   // the probe starts at its scene pose (the sphere at the origin) and is coupled to the device
   X_W_probe_ = world_.pose(probe_);
   held_[0] = probe_;
   held_count_ = 1;
+  updateDriven();
   probe_radius_ = std::max(radiusAbout(probe_, comW(probe_)), 1e-9);
   held_radius_ = probe_radius_;
   delta_ = std::min(max_travel_, r.min_predictive_fraction * held_radius_);
@@ -342,16 +434,19 @@ Result<bool> SimulationImpl::build() {
 
 const geom::Polytope& SimulationImpl::primShape(std::uint32_t body, std::uint32_t prim) const {
   const BodyInfo& bi = info_[body];
-  if (bi.scene_index < 0) return *probe_sphere_;
+  if (bi.scene_index < 0)
+    return *probe_sphere_;
   return *scene_->bodies[static_cast<std::size_t>(bi.scene_index)].primitives[prim].shape;
 }
 
 Transform SimulationImpl::primTransform(std::uint32_t body, std::uint32_t prim) const {
   const BodyInfo& bi = info_[body];
   const Transform X_WB = world_.pose(body).toTransform();
-  if (bi.scene_index < 0) return X_WB;
-  return X_WB *
-         scene_->bodies[static_cast<std::size_t>(bi.scene_index)].primitives[prim].X_BP.toTransform();
+  if (bi.scene_index < 0)
+    return X_WB;
+  return X_WB * scene_->bodies[static_cast<std::size_t>(bi.scene_index)]
+                    .primitives[prim]
+                    .X_BP.toTransform();
 }
 
 void SimulationImpl::gatherRows(double* max_penetration) {
@@ -359,15 +454,28 @@ void SimulationImpl::gatherRows(double* max_penetration) {
   double pen = 0.0;
   response::FaceContact fc;
   for (const collision::Contact& c : world_.contacts()) {
-    if (!c.answered) continue;
-    const bool ha = isHeld(c.body_a), hb = isHeld(c.body_b);
-    if (ha == hb || excluded(c.body_a, c.body_b)) continue;
+    if (!c.answered)
+      continue;
+    // roles: the held set (-2), a driven hinge (d >= 0), fixed (-1); a row's first side is the
+    // held set if either side is, else a driven hinge; its second side is the other
+    const std::int32_t ra = role(c.body_a), rb = role(c.body_b);
+    if (ra == kRoleHeld && rb == kRoleHeld)
+      continue;
+    if (ra == kRoleFixed && rb == kRoleFixed)
+      continue;
+    if (excluded(c.body_a, c.body_b))
+      continue;
+    const bool ha = ra == kRoleHeld || (rb != kRoleHeld && ra >= 0);  // side a is the first
+    const bool hb = !ha;
+    const std::int32_t first = ha ? ra : rb, second = ha ? rb : ra;
     const std::uint32_t env = ha ? c.body_b : c.body_a;
     const std::uint32_t env_prim = ha ? c.prim_b : c.prim_a;
     const std::uint32_t held = ha ? c.body_a : c.body_b;
     const std::uint32_t held_prim = ha ? c.prim_a : c.prim_b;
     const geom::Feature env_feature = ha ? c.feature_b : c.feature_a;
     const geom::Feature held_feature = ha ? c.feature_a : c.feature_b;
+    const std::int32_t row_first = first == kRoleHeld ? -1 : first;
+    const std::int32_t row_second = second < 0 ? -1 : second;
     pen = std::max(pen, -c.distance);
     // the pair's stiffness: the environment body's felt stiffness k_f through the proxy's
     // contact spring k_p = k_f k_c / (k_c - k_f), so that k_c and k_p in series give k_f
@@ -385,7 +493,8 @@ void SimulationImpl::gatherRows(double* max_penetration) {
     if (response::faceContact(env_shape, X_WE, env_feature, primShape(held, held_prim),
                               primTransform(held, held_prim), held_feature, n_pair,
                               kFaceCosTolerance, &fc)) {
-      for (std::uint32_t i = 0; i < fc.count; ++i) pen = std::max(pen, -fc.gap[i]);
+      for (std::uint32_t i = 0; i < fc.count; ++i)
+        pen = std::max(pen, -fc.gap[i]);
       for (std::uint32_t i = 0; i < fc.count; ++i) {
         ContactRow row;
         row.p_W = fc.p_W[i];
@@ -396,13 +505,16 @@ void SimulationImpl::gatherRows(double* max_penetration) {
         }
         row.gap = fc.gap[i];
         row.stiffness = kp / static_cast<double>(fc.count);
+        row.first = row_first;
+        row.second = row_second;
         rows_.push(row);
       }
       continue;
     }
 
     auto shade = [&](const Vec3& p_W, const Vec3& n_W) {
-      if (table == nullptr) return n_W;
+      if (table == nullptr)
+        return n_W;
       const Vec3 x_P = glm::transpose(X_WE.R) * (p_W - X_WE.t);
       const Vec3 n_P = glm::transpose(X_WE.R) * n_W;
       return X_WE.R * table->shadedNormal(env_shape, x_P, n_P, env_feature);
@@ -414,6 +526,8 @@ void SimulationImpl::gatherRows(double* max_penetration) {
       row.n_W = shade(row.p_W, n_pair);
       row.gap = c.distance;
       row.stiffness = kp;
+      row.first = row_first;
+      row.second = row_second;
       rows_.push(row);
       continue;
     }
@@ -424,15 +538,19 @@ void SimulationImpl::gatherRows(double* max_penetration) {
       row.n_W = shade(cp.point, sign * cp.normal);
       row.gap = -cp.depth;
       row.stiffness = kp / static_cast<double>(m);
+      row.first = row_first;
+      row.second = row_second;
       rows_.push(row);
     }
   }
   *max_penetration = pen;
+  last_penetration_ = pen;
 }
 
 void SimulationImpl::setHeldPoses() {
   world_.setPose(probe_, X_W_probe_);
-  if (mode_ == Mode::kFree || attached_ == kNone) return;
+  if (mode_ == Mode::kFree || attached_ == kNone)
+    return;
   if (mode_ == Mode::kGrab) {
     const Transform T = X_W_probe_.toTransform() * X_probe_attached_;
     geom::Pose X;
@@ -443,6 +561,18 @@ void SimulationImpl::setHeldPoses() {
 }
 
 void SimulationImpl::applyStep(const response::ProxyStep& s) {
+  for (std::uint32_t d = 0; d < driven_count_; ++d) {
+    if (s.driven_angle[d] == 0.0) continue;  // unmoved: its pairs keep their answers
+    const std::uint32_t id = driven_ids_[d];
+    const BodyInfo& bi = info_[id];
+    geom::Pose X = world_.pose(id);
+    const Vec3 o = X.translation + rotate(X.rotation, bi.hinge_o_B);
+    const Vec3 a = glm::normalize(rotate(X.rotation, bi.hinge_a_B));
+    const Quat dq = response::quatFromRotationVector(a * s.driven_angle[d]);
+    X.rotation = glm::normalize(dq * X.rotation);
+    X.translation = o + rotate(dq, X.translation - o);
+    world_.setPose(id, X);
+  }
   if (mode_ == Mode::kFree || mode_ == Mode::kGrab) {
     const Vec3 c = comW(probe_);
     const Quat dq = response::quatFromRotationVector(s.dtheta_W);
@@ -471,8 +601,10 @@ void SimulationImpl::applyStep(const response::ProxyStep& s) {
 void SimulationImpl::attach(std::uint32_t body) {
   const BodyInfo& bi = info_[body];
   attached_ = body;
+  world_.setAsleep(body, false);
   held_[1] = body;
   held_count_ = 2;
+  updateDriven();
   const geom::Pose& Xb = world_.pose(body);
   if (!bi.hinge) {
     mode_ = Mode::kGrab;
@@ -505,12 +637,28 @@ void SimulationImpl::attach(std::uint32_t body) {
   setRotationalStiffness();
 }
 
+void SimulationImpl::updateDriven() {
+  driven_count_ = 0;
+  for (std::uint32_t id = 0; id < info_.size(); ++id) {
+    const BodyInfo& bi = info_[id];
+    if (!bi.hinge || isHeld(id) || bi.kind == BodyKind::kStatic)
+      continue;
+    if (driven_count_ == driven_ids_.size())
+      break;  // more stay fixed (docs/response.md)
+    driven_ids_[driven_count_++] = id;
+    world_.setAsleep(id, false);
+  }
+}
+
 void SimulationImpl::detach() {
+  if (attached_ != kNone && !info_[attached_].hinge)
+    world_.setAsleep(attached_, true);
   mode_ = Mode::kFree;
   attached_ = kNone;
   held_count_ = 1;
   held_radius_ = probe_radius_;
   setRotationalStiffness();
+  updateDriven();
 }
 
 void SimulationImpl::setRotationalStiffness() {
@@ -518,9 +666,10 @@ void SimulationImpl::setRotationalStiffness() {
   // or attached at its centre (its feel comes through the handle's torque), the probe's own when
   // free or attached at a rim (the hand does not turn with a rim: the probe's orientation does)
   const ResponseOptions& r = options_.response;
-  const double radius = mode_ == Mode::kGrab || mode_ == Mode::kCentre ? held_radius_ : probe_radius_;
-  const double kr = r.rot_stiffness_nm_per_rad > 0.0 ? r.rot_stiffness_nm_per_rad
-                                                     : k_c_ * radius * radius;
+  const double radius =
+      mode_ == Mode::kGrab || mode_ == Mode::kCentre ? held_radius_ : probe_radius_;
+  const double kr =
+      r.rot_stiffness_nm_per_rad > 0.0 ? r.rot_stiffness_nm_per_rad : k_c_ * radius * radius;
   coupling_.setRotational(kr, r.coupling_damping_factor * kr * r.tick_s);
   proxy_params_.rot_coupling_stiffness = kr;
 }
@@ -534,11 +683,15 @@ void SimulationImpl::updateAttachment(const TickInput& input) {
     std::uint32_t best = kNone;
     double best_d = options_.response.attach_distance_m;
     for (const collision::Contact& c : world_.contacts()) {
-      if (!c.answered) continue;
-      if (c.body_a != probe_ && c.body_b != probe_) continue;
+      if (!c.answered)
+        continue;
+      if (c.body_a != probe_ && c.body_b != probe_)
+        continue;
       const std::uint32_t other = c.body_a == probe_ ? c.body_b : c.body_a;
-      if (info_[other].kind == BodyKind::kStatic || excluded(probe_, other)) continue;
-      if (c.distance <= best_d) best_d = c.distance, best = other;
+      if (info_[other].kind == BodyKind::kStatic || excluded(probe_, other))
+        continue;
+      if (c.distance <= best_d)
+        best_d = c.distance, best = other;
     }
     if (best != kNone) {
       attach(best);
@@ -552,10 +705,25 @@ void SimulationImpl::updateAttachment(const TickInput& input) {
   }
 }
 
+// the most faces this thread's narrow-phase scratch has been sized for
+thread_local std::size_t t_prepared_faces = 0;
+
+void SimulationImpl::prepareThread() {
+  if (t_prepared_faces >= max_faces_ || max_shape_ == nullptr) return;
+  // the exact depth sizes its scratch by the faces of both polytopes: the largest with itself
+  collision::DepthCache cache;
+  Transform X;
+  (void)collision::penetrationDepthExact(*max_shape_, *max_shape_, X, cache);
+  t_prepared_faces = max_faces_;
+}
+
 TickOutput SimulationImpl::step(const TickInput& input) {
   TickOutput out;
-  if (first_step_ && info_[probe_].scene_index < 0 && std::isfinite(input.X_W_device.translation.x) &&
-      std::isfinite(input.X_W_device.translation.y) && std::isfinite(input.X_W_device.translation.z)) {
+  if (t_prepared_faces < max_faces_) prepareThread();
+  if (first_step_ && info_[probe_].scene_index < 0 &&
+      std::isfinite(input.X_W_device.translation.x) &&
+      std::isfinite(input.X_W_device.translation.y) &&
+      std::isfinite(input.X_W_device.translation.z)) {
     // the probe sphere has no pose in the scene: it starts where the device is
     X_W_probe_.translation = input.X_W_device.translation;
     world_.setPose(probe_, X_W_probe_);
@@ -583,9 +751,9 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     prev_h_dev_ = h_dev;
     prev_q_dev_ = q_dev;
   }
-  delta_ = std::clamp(v_c_ * options_.response.tick_s,
-                      std::min(max_travel_, options_.response.min_predictive_fraction * held_radius_),
-                      max_travel_);
+  delta_ = std::clamp(
+      v_c_ * options_.response.tick_s,
+      std::min(max_travel_, options_.response.min_predictive_fraction * held_radius_), max_travel_);
   proxy_params_.delta = delta_;
 
   response::ProxyProblem pb;
@@ -610,18 +778,40 @@ TickOutput SimulationImpl::step(const TickInput& input) {
 
   const geom::Pose probe_before = X_W_probe_;
   const geom::Pose attached_before = attached_ == kNone ? geom::Pose{} : world_.pose(attached_);
+  pb.driven_count = driven_count_;
+  for (std::uint32_t d = 0; d < driven_count_; ++d) {
+    const std::uint32_t id = driven_ids_[d];
+    const BodyInfo& bi = info_[id];
+    const geom::Pose& X = world_.pose(id);
+    driven_before_[d] = X;
+    pb.driven[d].o_W = X.translation + rotate(X.rotation, bi.hinge_o_B);
+    pb.driven[d].a_W = glm::normalize(rotate(X.rotation, bi.hinge_a_B));
+    pb.driven[d].radius = bi.hinge_radius;
+    // a faint hold, so that an untouched hinge stays put: 1e-6 of the coupling at its radius
+    pb.driven[d].drag = 1e-6 * k_c_ * std::max(bi.hinge_radius * bi.hinge_radius, 1e-12);
+  }
+  const double pen_before = last_penetration_;
   response::ProxyStep s = solveProxyStep(pb, rows_.rows(), proxy_params_);
   applyStep(s);
   collision::StepStats stats = world_.step();
   double pen = 0.0;
   gatherRows(&pen);
   // a step that went too deep (a contact the linearisation missed): bisect back
-  for (int k = 0; k < 3 && pen > options_.response.penetration_allowance_m; ++k) {
+  // (only when this step made it deeper by a jump, a twentieth of the allowance or more: a proxy
+  // pressed into several surfaces at once may rest deeper, and creeps there slowly)
+  const double allowance = options_.response.penetration_allowance_m;
+  for (int k = 0; k < 3 && pen > allowance && pen - pen_before > 0.05 * allowance; ++k) {
     out.flags |= kTickBackedOff;
     X_W_probe_ = probe_before;
-    if (attached_ != kNone) world_.setPose(attached_, attached_before);
+    if (attached_ != kNone)
+      world_.setPose(attached_, attached_before);
+    for (std::uint32_t d = 0; d < driven_count_; ++d)
+      world_.setPose(driven_ids_[d], driven_before_[d]);
+    for (std::size_t d = 0; d < s.driven_angle.size(); ++d)
+      s.driven_angle[d] *= 0.5;
     world_.setPose(probe_, X_W_probe_);
-    for (std::size_t q = 0; q < 6; ++q) s.x[q] *= 0.5;
+    for (std::size_t q = 0; q < 6; ++q)
+      s.x[q] *= 0.5;
     s.dc_W *= 0.5;
     s.dtheta_W *= 0.5;
     applyStep(s);
@@ -636,7 +826,8 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   const response::Wrench raw = coupling_.step(h_dev, q_dev, h_prx, X_W_probe_.rotation);
   response::OutputReport rep;
   const response::Wrench w = output_.apply(raw, input.device_ok && finite_input, &rep);
-  if (!input.device_ok || !finite_input) coupling_.reset();
+  if (!input.device_ok || !finite_input)
+    coupling_.reset();
 
   const Vec3 c_ref = mode_ == Mode::kRim || mode_ == Mode::kCentre ? comW(attached_) : comW(probe_);
   const response::Wrench pw = response::penaltyWrench(rows_.rows(), c_ref, delta_);
@@ -646,33 +837,44 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   out.contact_torque_W_nm = pw.torque_nm;
   out.X_W_proxy = X_W_probe_;
   std::uint32_t active = 0;
-  for (const ContactRow& r : rows_.rows()) active += r.gap < delta_ ? 1u : 0u;
+  for (const ContactRow& r : rows_.rows())
+    active += r.gap < delta_ && r.first < 0 ? 1u : 0u;
   out.contacts = active;
   out.max_penetration_m = std::max(0.0, pen);
   out.pairs_tested = stats.pairs_tested;
   out.pairs_skipped = stats.pairs_skipped;
-  if (rep.ramping) out.flags |= kTickRamping;
-  if (rep.clamped) out.flags |= kTickForceClamped;
-  if (rep.step_limited) out.flags |= kTickStepLimited;
-  if (rep.non_finite) out.flags |= kTickNonFinite;
-  if (stats.pairs_skipped > 0) out.flags |= kTickPairsSkipped;
-  if (rows_.full()) out.flags |= kTickCapacityFull;
+  if (rep.ramping)
+    out.flags |= kTickRamping;
+  if (rep.clamped)
+    out.flags |= kTickForceClamped;
+  if (rep.step_limited)
+    out.flags |= kTickStepLimited;
+  if (rep.non_finite)
+    out.flags |= kTickNonFinite;
+  if (stats.pairs_skipped > 0)
+    out.flags |= kTickPairsSkipped;
+  if (rows_.full() || s.rows_dropped)
+    out.flags |= kTickCapacityFull;
   out.attach_mode = static_cast<std::uint8_t>(mode_);
   out.attached_body = attached_ == kNone ? -1 : info_[attached_].scene_index;
   out.travel_limited = s.travel_limited;
   out.delta_m = delta_;
-  for (std::size_t i = 0; i < pose_bodies_.size(); ++i) body_poses_[i].X_WB = world_.pose(pose_bodies_[i]);
+  for (std::size_t i = 0; i < pose_bodies_.size(); ++i)
+    body_poses_[i].X_WB = world_.pose(pose_bodies_[i]);
   return out;
 }
 
 }  // namespace
 
 Result<std::unique_ptr<Simulation>> Simulation::create(
-    std::shared_ptr<const scene::SceneModel> scene, const SimOptions& options) {
-  if (!scene) return Error{"no scene"};
+    std::shared_ptr<const scene::SceneModel> scene,
+    const SimOptions& options) {
+  if (!scene)
+    return Error{"no scene"};
   auto sim = std::make_unique<SimulationImpl>(std::move(scene), options);
   auto built = sim->build();
-  if (!built.ok()) return built.error();
+  if (!built.ok())
+    return built.error();
   return std::unique_ptr<Simulation>(std::move(sim));
 }
 

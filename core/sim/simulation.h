@@ -144,6 +144,13 @@ class Simulation {
   virtual void restartRamp() = 0;
 
   virtual const scene::SceneModel& scene() const = 0;
+
+  /// Sizes the calling thread's scratch for this scene (the narrow phase keeps per-thread
+  /// buffers sized to the largest polytope it has seen; growing them allocates). Call once on the
+  /// servo thread before the first step(), outside any no-allocation window; may allocate.
+  /// step() calls it itself when it has not been called on its thread, so that only a first
+  /// tick could allocate.
+  virtual void prepareThread() = 0;
 };
 
 }  // namespace hapticd::sim

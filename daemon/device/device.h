@@ -133,6 +133,9 @@ struct DeviceOptions {
   /// usb (Falcon): the largest motor command magnitude sent (firmware units, at most 32767);
   /// commands above it are scaled down together, keeping the force direction.
   int usb_falcon_max_motor_command = 4096;
+  /// usb (Falcon): the Novint firmware file to load into a Falcon that does not answer (after
+  /// power-up); empty: never load (the Falcon must have its firmware already).
+  std::string usb_falcon_firmware;
 };
 
 /// Opens a device from its spec: "sim", "replay:FILE", "hid", "hid:PATH", "usb", "usb:falcon".

@@ -5,26 +5,16 @@
 #include <algorithm>
 #include <cstring>
 
+#include "daemon/device/falcon_firmware.h"
 #include "daemon/device/usb_device.h"
 
 namespace hapticd::device {
 
 namespace {
 
-// FTDI vendor requests (bmRequestType 0x40, host to device)
-constexpr std::uint8_t kFtdiRequestType = 0x40;
-constexpr std::uint8_t kSioReset = 0x00;
-constexpr std::uint8_t kSioSetFlowCtrl = 0x02;
-constexpr std::uint8_t kSioSetBaudRate = 0x03;
-constexpr std::uint8_t kSioSetData = 0x04;
-constexpr std::uint8_t kSioSetLatencyTimer = 0x09;
-constexpr std::uint16_t kResetSio = 0;
-constexpr std::uint16_t kPurgeRx = 1;
-constexpr std::uint16_t kPurgeTx = 2;
-// baud divisor 2 of the 3 MHz clock: 1.5 Mbaud, the rate of the Falcon's firmware
-constexpr std::uint16_t kBaudDivisor = 0x0002;
-constexpr std::uint16_t kData8N1 = 8;
-constexpr std::uint16_t kLatency1ms = 1;
+using namespace falcon;  // the FTDI request constants of falcon_firmware.h
+
+constexpr std::uint8_t kFtdiRequestType = 0x40;  // vendor request, host to device
 constexpr unsigned kControlTimeout_ms = 1000;
 constexpr std::uint8_t kEndpointIn = 0x81;
 constexpr std::uint8_t kEndpointOut = 0x02;
@@ -71,6 +61,40 @@ class LibusbTransport final : public UsbTransport {
   std::array<std::uint8_t, 64> out_{};
 };
 
+// the blocking link the firmware loader talks through (normal thread)
+class BlockingLink final : public falcon::FtdiLink {
+ public:
+  explicit BlockingLink(libusb_device_handle* h) : h_(h) {}
+  bool control(std::uint8_t request, std::uint16_t value) override {
+    return libusb_control_transfer(h_, kFtdiRequestType, request, value, 0, nullptr, 0,
+                                   kControlTimeout_ms) >= 0;
+  }
+  int write(std::span<const std::uint8_t> bytes, unsigned timeout_ms) override {
+    std::array<std::uint8_t, 64> out{};
+    const std::size_t n = std::min(bytes.size(), out.size());
+    std::copy_n(bytes.begin(), n, out.begin());
+    int sent = 0;
+    const int rc =
+        libusb_bulk_transfer(h_, kEndpointOut, out.data(), static_cast<int>(n), &sent, timeout_ms);
+    return rc == 0 || rc == LIBUSB_ERROR_TIMEOUT ? sent : -1;
+  }
+  int read(std::span<std::uint8_t> buf, unsigned timeout_ms) override {
+    std::array<std::uint8_t, kFtdiPacket> raw{};
+    int got = 0;
+    const int rc = libusb_bulk_transfer(h_, kEndpointIn, raw.data(), static_cast<int>(raw.size()),
+                                        &got, timeout_ms);
+    if (rc != 0 && rc != LIBUSB_ERROR_TIMEOUT)
+      return -1;
+    std::size_t out = 0;
+    for (int i = 2; i < got && out < buf.size(); ++i)
+      buf[out++] = raw[static_cast<std::size_t>(i)];
+    return static_cast<int>(out);
+  }
+
+ private:
+  libusb_device_handle* h_;
+};
+
 class LibusbBackend final : public UsbBackend {
  public:
   explicit LibusbBackend(libusb_context* ctx) : ctx_(ctx) {}
@@ -110,29 +134,34 @@ class LibusbBackend final : public UsbBackend {
       libusb_free_device_list(list, 1);
     return count;
   }
-  Result<std::unique_ptr<UsbTransport>> open() override {
-    libusb_device_handle* h =
-        libusb_open_device_with_vid_pid(ctx_, falcon::kVendorId, falcon::kProductId);
+  Result<bool> loadFirmware(std::span<const std::uint8_t> firmware) override {
+    auto h = claim();
     if (!h)
-      return Error{"libusb_open failed (no device, or no permission)"};
-    libusb_set_auto_detach_kernel_driver(h, 1);
-    if (const int rc = libusb_claim_interface(h, 0); rc != 0) {
-      libusb_close(h);
-      return Error{std::string("cannot claim interface 0: ") + libusb_error_name(rc)};
-    }
+      return h.error();
+    BlockingLink link(h.value());
+    auto r = falcon::loadFirmware(link, firmware);
+    libusb_release_interface(h.value(), 0);
+    libusb_close(h.value());
+    return r;
+  }
+  Result<std::unique_ptr<UsbTransport>> open() override {
+    auto claimed = claim();
+    if (!claimed)
+      return claimed.error();
+    libusb_device_handle* h = claimed.value();
     struct Setup {
       std::uint8_t request;
       std::uint16_t value;
       const char* what;
     };
     const Setup steps[] = {
-        {kSioReset, kResetSio, "reset"},
-        {kSioSetLatencyTimer, kLatency1ms, "latency timer"},
-        {kSioSetBaudRate, kBaudDivisor, "baud rate"},
-        {kSioSetData, kData8N1, "line properties"},
-        {kSioSetFlowCtrl, 0, "flow control"},
-        {kSioReset, kPurgeRx, "purge rx"},
-        {kSioReset, kPurgeTx, "purge tx"},
+        {kFtdiReset, 0, "reset"},
+        {kFtdiSetLatencyTimer, 1, "latency timer"},
+        {kFtdiSetBaudRate, kFtdiBaudNormal, "baud rate"},
+        {kFtdiSetData, kFtdiData8N1, "line properties"},
+        {kFtdiSetFlowCtrl, 0, "flow control"},
+        {kFtdiReset, kFtdiPurgeRx, "purge rx"},
+        {kFtdiReset, kFtdiPurgeTx, "purge tx"},
     };
     for (const Setup& s : steps) {
       const int rc = libusb_control_transfer(h, kFtdiRequestType, s.request, s.value, 0, nullptr, 0,
@@ -147,6 +176,19 @@ class LibusbBackend final : public UsbBackend {
   }
 
  private:
+  Result<libusb_device_handle*> claim() {
+    libusb_device_handle* h =
+        libusb_open_device_with_vid_pid(ctx_, falcon::kVendorId, falcon::kProductId);
+    if (!h)
+      return Error{"libusb_open failed (no device, or no permission)"};
+    libusb_set_auto_detach_kernel_driver(h, 1);
+    if (const int rc = libusb_claim_interface(h, 0); rc != 0) {
+      libusb_close(h);
+      return Error{std::string("cannot claim interface 0: ") + libusb_error_name(rc)};
+    }
+    return h;
+  }
+
   static int LIBUSB_CALL onHotplug(libusb_context*,
                                    libusb_device*,
                                    libusb_hotplug_event event,

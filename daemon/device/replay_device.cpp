@@ -4,6 +4,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -213,6 +214,11 @@ Result<std::unique_ptr<Device>> makeReplayDevice(std::string_view file,
   const std::string name = "replay:" + std::string(file);
   if (!(options.replay_quat_tolerance >= 0.0 && options.replay_quat_tolerance < 1.0))
     return Error{"device '" + name + "': replay_quat_tolerance must be in [0, 1)"};
+  std::error_code ec;
+  if (!std::filesystem::exists(std::string(file), ec))
+    return Error{"device '" + name + "': cannot open the file (missing or unreadable)"};
+  if (!std::filesystem::is_regular_file(std::string(file), ec))
+    return Error{"device '" + name + "': not a regular file"};
   std::ifstream in{std::string(file), std::ios::binary};
   if (!in)
     return Error{"device '" + name + "': cannot open the file (missing or unreadable)"};

@@ -1,11 +1,21 @@
 #include "daemon/device/usb_device.h"
 
 #include <array>
+#include <chrono>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <thread>
 
+#include "daemon/device/falcon_firmware.h"
 #include "daemon/device/rotation_util.h"
 
 namespace hapticd::device {
+
+namespace {
+// how long a Falcon has to answer a probe at open
+constexpr auto kProbeTimeout = std::chrono::milliseconds(100);
+}  // namespace
 
 FalconDevice::FalconDevice(std::unique_ptr<UsbBackend> backend, const DeviceOptions& options)
     : backend_(std::move(backend)), options_(options) {
@@ -25,11 +35,27 @@ Result<std::unique_ptr<FalconDevice>> FalconDevice::open(std::unique_ptr<UsbBack
     return Error{"device 'usb:falcon': usb_silence_lost_s must be a finite number > 0"};
   if (options.usb_falcon_max_motor_command < 0 || options.usb_falcon_max_motor_command > 32767)
     return Error{"device 'usb:falcon': usb_falcon_max_motor_command must be in [0, 32767]"};
+  std::vector<std::uint8_t> firmware;
+  if (!options.usb_falcon_firmware.empty()) {
+    const std::string& path = options.usb_falcon_firmware;
+    const std::string what = "device 'usb:falcon': usb_falcon_firmware '" + path + "': ";
+    std::error_code ec;
+    if (!std::filesystem::is_regular_file(path, ec))
+      return Error{what + "not a regular file (missing?)"};
+    const auto size = std::filesystem::file_size(path, ec);
+    if (ec || size == 0 || size > falcon::kMaxFirmwareBytes)
+      return Error{what + "empty, unreadable, or larger than 1 MiB"};
+    std::ifstream in(path, std::ios::binary);
+    firmware.resize(static_cast<std::size_t>(size));
+    if (!in.read(reinterpret_cast<char*>(firmware.data()), static_cast<std::streamsize>(size)))
+      return Error{what + "cannot read the file"};
+  }
   if (backend->countFalcons() == 0)
     return Error{
         "device 'usb:falcon': no device found (no USB device 0403:cb48; is the Falcon "
         "plugged in and powered?)"};
   std::unique_ptr<FalconDevice> dev(new FalconDevice(std::move(backend), options));
+  dev->firmware_ = std::move(firmware);
   FalconDevice* self = dev.get();
   dev->hotplug_ = dev->backend_->startHotplug([self](UsbHotplugEvent e) {
     if (e == UsbHotplugEvent::kLeft)
@@ -39,9 +65,7 @@ Result<std::unique_ptr<FalconDevice>> FalconDevice::open(std::unique_ptr<UsbBack
   });
   dev->state_.store(kLost);
   if (!dev->reopen())
-    return Error{
-        "device 'usb:falcon': cannot open the Falcon (permissions? see docs/devices.md "
-        "udev rules)"};
+    return Error{"device 'usb:falcon': " + dev->last_error_};
   return dev;
 }
 
@@ -55,14 +79,72 @@ void FalconDevice::markLost() noexcept {
   homed_.store(false, std::memory_order_relaxed);
 }
 
-bool FalconDevice::reopen() {
+bool FalconDevice::probe() {
+  // a zero command; the firmware answers each command with one packet
+  falcon::OutPacket zero;
+  zero.homing_mode = true;
+  zero.leds = falcon::kLedRed;
+  std::array<std::uint8_t, falcon::kPacketSize> bytes{};
+  falcon::encodeOut(zero, bytes);
+  if (transport_->write(bytes) < 0)
+    return false;
+  falcon::PacketReader reader;
+  std::array<std::uint8_t, 64> buf{};
+  const auto deadline = std::chrono::steady_clock::now() + kProbeTimeout;
+  while (std::chrono::steady_clock::now() < deadline) {
+    const int n = transport_->read(buf);
+    if (n < 0)
+      return false;
+    if (n == 0) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      continue;
+    }
+    if (reader.feed(std::span<const std::uint8_t>(buf.data(), static_cast<std::size_t>(n))) > 0)
+      return true;
+  }
+  return false;
+}
+
+FalconDevice::Probe FalconDevice::openAndProbe() {
   transport_.reset();
   auto t = backend_->open();
-  if (!t)
-    return false;
+  if (!t) {
+    last_error_ = "cannot open the Falcon: " + t.error().message +
+                  " (permissions? see docs/devices.md, udev)";
+    return Probe::kOpenFailed;
+  }
   transport_ = std::move(t).value();
-  // the Falcon answers each command: prime it with a zero command so that the first read has a
-  // packet
+  if (probe())
+    return Probe::kAnswered;
+  transport_.reset();
+  return Probe::kSilent;
+}
+
+bool FalconDevice::reopen() {
+  Probe p = openAndProbe();
+  if (p == Probe::kOpenFailed)
+    return false;
+  if (p == Probe::kSilent) {
+    if (firmware_.empty()) {
+      last_error_ =
+          "the Falcon does not answer: its firmware is not loaded (set usb_falcon_firmware to the "
+          "Novint firmware file, or load it with another tool)";
+      return false;
+    }
+    if (auto loaded = backend_->loadFirmware(firmware_); !loaded) {
+      last_error_ = loaded.error().message;
+      return false;
+    }
+    p = openAndProbe();
+    if (p == Probe::kOpenFailed)
+      return false;
+    if (p == Probe::kSilent) {
+      last_error_ = "the Falcon does not answer after its firmware was loaded";
+      return false;
+    }
+  }
+  last_error_.clear();
+  // prime: the first servo read then has a packet
   falcon::OutPacket zero;
   zero.homing_mode = true;
   zero.leds = falcon::kLedRed;
@@ -70,6 +152,7 @@ bool FalconDevice::reopen() {
   falcon::encodeOut(zero, bytes);
   if (transport_->write(bytes) < 0) {
     transport_.reset();
+    last_error_ = "write to the Falcon failed";
     return false;
   }
   reader_ = falcon::PacketReader{};

@@ -8,6 +8,8 @@
 #include <functional>
 #include <memory>
 #include <span>
+#include <string>
+#include <vector>
 
 #include "daemon/device/device.h"
 #include "daemon/device/falcon.h"
@@ -41,12 +43,16 @@ class UsbBackend {
   virtual int countFalcons() = 0;
   /// Opens the first Falcon and configures its FTDI (docs/devices.md "usb").
   virtual Result<std::unique_ptr<UsbTransport>> open() = 0;
+  /// Loads firmware into the first Falcon (falcon_firmware.h); no transport may be open.
+  virtual Result<bool> loadFirmware(std::span<const std::uint8_t> firmware) = 0;
 };
 
 /// The libusb backend (own libusb context). Fails when libusb cannot initialise.
 Result<std::unique_ptr<UsbBackend>> makeLibusbBackend();
 
 /// The Falcon. read()/write() on the servo thread; service() handles hotplug and reconnects.
+/// Opening (and every reconnection) probes the Falcon with a zero command; one that does not
+/// answer within 100 ms gets usb_falcon_firmware loaded when it is set, else the open fails.
 /// Pose: position in the device frame (origin at falcon::homePosition, x right, y up, z toward
 /// the user), identity orientation; force only (torque ignored). Until the firmware reports all
 /// three axes homed, forces are zero and the homing mode is on (the user moves the grip through
@@ -82,7 +88,10 @@ class FalconDevice final : public Device {
  private:
   FalconDevice(std::unique_ptr<UsbBackend> backend, const DeviceOptions& options);
   void markLost() noexcept;
+  enum class Probe : std::uint8_t { kAnswered, kSilent, kOpenFailed };
   bool reopen();
+  Probe openAndProbe();
+  bool probe();
 
   enum State : int { kConnected, kLost };
   std::unique_ptr<UsbBackend> backend_;
@@ -92,6 +101,8 @@ class FalconDevice final : public Device {
   falcon::Geometry geometry_;
   Vec3 home_F_;  // the workspace middle, Falcon frame
   bool hotplug_ = false;
+  std::vector<std::uint8_t> firmware_;  // empty: never load
+  std::string last_error_;              // why the last reopen failed (normal thread)
   std::atomic<int> state_{kConnected};
   std::atomic<bool> removal_requested_{false};  // set by the hotplug callback
   std::atomic<bool> arrival_seen_{false};

@@ -3,6 +3,8 @@
 // asks for, measured from the written data: gears that mesh with a small backlash, a peg with
 // 0.5 mm clearance, 320-face round bodies, over a thousand primitives.
 
+#include "scenes/demo_scenes.h"
+
 #include <gtest/gtest.h>
 #include <tiny_gltf.h>
 
@@ -14,7 +16,6 @@
 
 #include "core/collision/pair_query.h"
 #include "core/geometry/polytope.h"
-#include "scenes/demo_scenes.h"
 #include "scenes/pose_streams.h"
 #include "tests/scenes/glb_reader.h"
 
@@ -36,9 +37,11 @@ Glb loadDemo(const std::string& name) {
 std::size_t trianglesUnder(const Glb& glb, int node) {
   std::size_t n = 0;
   for (int c : collidersUnder(glb, node)) {
-    const Json& g = (*physicsOf(glb.json["nodes"][static_cast<std::size_t>(c)]))["collider"]["geometry"];
+    const Json& g =
+        (*physicsOf(glb.json["nodes"][static_cast<std::size_t>(c)]))["collider"]["geometry"];
     if (g.contains("node"))
-      n += readMesh(glb, glb.json["nodes"][g["node"].get<std::size_t>()]["mesh"].get<int>()).triangles.size();
+      n += readMesh(glb, glb.json["nodes"][g["node"].get<std::size_t>()]["mesh"].get<int>())
+               .triangles.size();
   }
   return n;
 }
@@ -47,7 +50,9 @@ std::size_t trianglesUnder(const Glb& glb, int node) {
 std::vector<Vec3> worldVertices(const Glb& glb, int node) {
   const Rigid X = worldTransform(glb, node);
   std::vector<Vec3> out;
-  for (const Vec3& p : readMesh(glb, glb.json["nodes"][static_cast<std::size_t>(node)]["mesh"].get<int>()).positions)
+  for (const Vec3& p :
+       readMesh(glb, glb.json["nodes"][static_cast<std::size_t>(node)]["mesh"].get<int>())
+           .positions)
     out.push_back(X.apply(p));
   return out;
 }
@@ -62,7 +67,8 @@ struct Box3 {
 
 Box3 bounds(const std::vector<Vec3>& pts) {
   Box3 b;
-  for (const Vec3& p : pts) b.add(p);
+  for (const Vec3& p : pts)
+    b.add(p);
   return b;
 }
 
@@ -109,16 +115,20 @@ TEST(DemoScenes, StructurallyValid) {
     std::vector<std::string> problems;
     const auto glb = splitGlb(bytes, problems);
     ASSERT_TRUE(glb.has_value());
-    for (const auto& p : problems) ADD_FAILURE() << p;
-    for (const auto& p : checkReferences(*glb)) ADD_FAILURE() << p;
+    for (const auto& p : problems)
+      ADD_FAILURE() << p;
+    for (const auto& p : checkReferences(*glb))
+      ADD_FAILURE() << p;
     EXPECT_EQ(glb->json["extensionsRequired"], glb->json["extensionsUsed"]);
     // every collider mesh is closed and convex (its hull is itself)
     for (std::size_t i = 0; i < glb->json["nodes"].size(); ++i) {
       const Json& node = glb->json["nodes"][i];
       const Json* body = physicsOf(node);
-      if (body == nullptr || !body->contains("collider")) continue;
+      if (body == nullptr || !body->contains("collider"))
+        continue;
       const Json& g = (*body)["collider"]["geometry"];
-      if (!g.contains("node")) continue;
+      if (!g.contains("node"))
+        continue;
       const Json& mesh_node = glb->json["nodes"][g["node"].get<std::size_t>()];
       for (const auto& p : checkClosedConvex(readMesh(*glb, mesh_node["mesh"].get<int>())))
         ADD_FAILURE() << node.value("name", "") << ": " << p;
@@ -138,8 +148,10 @@ TEST(DemoScenes, GearsHaveTwentyPrimitivesEachAndHingeJoints) {
   for (const Json& l : joints[0]["limits"]) {
     EXPECT_EQ(l["min"].get<double>(), 0.0);
     EXPECT_EQ(l["max"].get<double>(), 0.0);
-    for (const Json& a : l.value("linearAxes", Json::array())) linear.insert(a.get<int>());
-    for (const Json& a : l.value("angularAxes", Json::array())) angular.insert(a.get<int>());
+    for (const Json& a : l.value("linearAxes", Json::array()))
+      linear.insert(a.get<int>());
+    for (const Json& a : l.value("angularAxes", Json::array()))
+      angular.insert(a.get<int>());
   }
   EXPECT_EQ(linear, (std::set<int>{0, 1, 2}));
   EXPECT_EQ(angular, (std::set<int>{0, 1}));
@@ -172,8 +184,10 @@ TEST(DemoScenes, GearsHaveTwentyPrimitivesEachAndHingeJoints) {
   }
   const int handle = nodeNamed(glb, "Handle");
   ASSERT_GE(handle, 0);
-  EXPECT_TRUE(j["nodes"][static_cast<std::size_t>(handle)]["extras"]["haptic"]["probe"].get<bool>());
-  EXPECT_TRUE((*physicsOf(j["nodes"][static_cast<std::size_t>(handle)]))["motion"]["isKinematic"].get<bool>());
+  EXPECT_TRUE(
+      j["nodes"][static_cast<std::size_t>(handle)]["extras"]["haptic"]["probe"].get<bool>());
+  EXPECT_TRUE((*physicsOf(j["nodes"][static_cast<std::size_t>(handle)]))["motion"]["isKinematic"]
+                  .get<bool>());
 }
 
 /// Hulls of a gear's primitives (in the scene frame of its body) from the written vertices.
@@ -183,7 +197,8 @@ std::vector<geom::Polytope> gearHulls(const Glb& glb, const std::string& name, V
   std::vector<geom::Polytope> hulls;
   for (int c : collidersUnder(glb, body)) {
     std::vector<Vec3> pts;
-    for (const Vec3& p : worldVertices(glb, c)) pts.push_back(p - centre);
+    for (const Vec3& p : worldVertices(glb, c))
+      pts.push_back(p - centre);
     auto hull = geom::Polytope::fromPoints(pts);
     EXPECT_TRUE(hull.ok());
     hulls.push_back(std::move(hull.value()));
@@ -192,8 +207,11 @@ std::vector<geom::Polytope> gearHulls(const Glb& glb, const std::string& name, V
 }
 
 /// Smallest distance between the two gears with gear B turned by `angle` about its axis (Z).
-double gearDistance(const std::vector<geom::Polytope>& a, const Vec3& ca,
-                    const std::vector<geom::Polytope>& b, const Vec3& cb, double angle) {
+double gearDistance(const std::vector<geom::Polytope>& a,
+                    const Vec3& ca,
+                    const std::vector<geom::Polytope>& b,
+                    const Vec3& cb,
+                    double angle) {
   double best = 1e300;
   const geom::Pose X_WA{ca, geom::Quat(1.0, 0.0, 0.0, 0.0)};
   const geom::Pose X_WB{cb, glm::angleAxis(angle, Vec3{0.0, 0.0, 1.0})};
@@ -234,10 +252,11 @@ TEST(DemoScenes, GearsMeshWithASmallBacklash) {
   };
   const double plus = firstContact(1.0), minus = firstContact(-1.0);
   const double backlash_m = (plus + minus) * g.pitchRadius();
-  std::printf("gap as placed %.3f mm; B turns +%.3f / -%.3f deg to contact; backlash at the pitch "
-              "circle %.3f mm (designed %.3f mm)\n",
-              d0 * 1e3, plus * 180 / std::numbers::pi, minus * 180 / std::numbers::pi,
-              backlash_m * 1e3, g.backlash_m * 1e3);
+  std::printf(
+      "gap as placed %.3f mm; B turns +%.3f / -%.3f deg to contact; backlash at the pitch "
+      "circle %.3f mm (designed %.3f mm)\n",
+      d0 * 1e3, plus * 180 / std::numbers::pi, minus * 180 / std::numbers::pi, backlash_m * 1e3,
+      g.backlash_m * 1e3);
   EXPECT_GT(plus, 0.0);
   EXPECT_GT(minus, 0.0);
   // the chords of the sampled involute lie inside the true flank: never less than designed, and
@@ -284,10 +303,14 @@ TEST(DemoScenes, PegHasHalfAMillimetreClearanceOnEachSide) {
     }
     walls.push_back(w);
     // the opening's sides: the wall faces nearest the axis
-    if (w.lo.x > 0.0) east = std::min(east, w.lo.x);
-    if (w.hi.x < 0.0) west = std::max(west, w.hi.x);
-    if (w.lo.z > 0.0) north = std::min(north, w.lo.z);
-    if (w.hi.z < 0.0) south = std::max(south, w.hi.z);
+    if (w.lo.x > 0.0)
+      east = std::min(east, w.lo.x);
+    if (w.hi.x < 0.0)
+      west = std::max(west, w.hi.x);
+    if (w.lo.z > 0.0)
+      north = std::min(north, w.lo.z);
+    if (w.hi.z < 0.0)
+      south = std::max(south, w.hi.z);
   }
   ASSERT_EQ(walls.size(), 4u);
   const double cx = 0.5 * ((east - west) - (pb.hi.x - pb.lo.x));
@@ -309,11 +332,13 @@ TEST(DemoScenes, PegHasHalfAMillimetreClearanceOnEachSide) {
   for (double x = -0.0204; x <= 0.0204; x += 0.0004)
     for (double z = -0.0204; z <= 0.0204; z += 0.0004) {
       const bool in_opening = x > west && x < east && z > south && z < north;
-      if (in_opening) continue;
+      if (in_opening)
+        continue;
       const bool covered = std::any_of(walls.begin(), walls.end(), [&](const Box3& w) {
         return x >= w.lo.x && x <= w.hi.x && z >= w.lo.z && z <= w.hi.z;
       });
-      if (!covered) ++uncovered;
+      if (!covered)
+        ++uncovered;
     }
   EXPECT_EQ(uncovered, 0);
 }
@@ -358,13 +383,15 @@ TEST(DemoScenes, DynamicHasCubesSpheresEllipsoidsOf320FacesAndAStick) {
       const Vec3 extent = local.hi - local.lo;
       if (kind == "Sphere") {
         EXPECT_DOUBLE_EQ(body["motion"]["mass"].get<double>(), dynamic::kSphereMass_kg);
-        for (const Vec3& p : mesh.positions) EXPECT_NEAR(glm::length(p), 0.025, 1e-6 * 0.025);
+        for (const Vec3& p : mesh.positions)
+          EXPECT_NEAR(glm::length(p), 0.025, 1e-6 * 0.025);
       } else {
         EXPECT_FALSE(body["motion"].contains("mass")) << "ellipsoid masses are left to the loader";
         // a scaled icosphere: the vertices on the ellipsoid of radii 40, 20, 25 mm
         const Vec3 r{dynamic::kEllipsoidRadii_m[0], dynamic::kEllipsoidRadii_m[1],
                      dynamic::kEllipsoidRadii_m[2]};
-        for (const Vec3& p : mesh.positions) EXPECT_NEAR(glm::length(p / r), 1.0, 1e-6);
+        for (const Vec3& p : mesh.positions)
+          EXPECT_NEAR(glm::length(p / r), 1.0, 1e-6);
         EXPECT_GT(extent.x, 1.5 * extent.y);
       }
       boxes.push_back(bounds(worldVertices(glb, n)));
@@ -398,7 +425,8 @@ TEST(DemoScenes, StressHasOverAThousandPrimitivesUnderTwoMegabytes) {
   const std::vector<int> parent = parents(glb);
   for (std::size_t i = 0; i < glb.json["nodes"].size(); ++i) {
     const Json* body = physicsOf(glb.json["nodes"][i]);
-    if (body == nullptr || !body->contains("collider")) continue;
+    if (body == nullptr || !body->contains("collider"))
+      continue;
     ++colliders;
     bool has_motion = body->contains("motion");
     for (int k = parent[i]; k >= 0; k = parent[static_cast<std::size_t>(k)]) {
@@ -423,16 +451,18 @@ TEST(DemoScenes, ProbeBodyStartsWhereItsStreamStarts) {
     const Glb glb = loadDemo(std::string(name));
     int probes = 0;
     for (const Json& n : glb.json["nodes"])
-      if (n.contains("extras") && n["extras"]["haptic"].value("probe", false)) ++probes;
+      if (n.contains("extras") && n["extras"]["haptic"].value("probe", false))
+        ++probes;
     EXPECT_EQ(probes, 1);
     const int node = nodeNamed(glb, probe.at(std::string(name)));
     ASSERT_GE(node, 0);
     const Rigid X = worldTransform(glb, node);
     const std::string csv = makePoseStream(name);
-    const std::string row = csv.substr(csv.find('\n') + 1, csv.find('\n', csv.find('\n') + 1) - csv.find('\n') - 1);
+    const std::string row =
+        csv.substr(csv.find('\n') + 1, csv.find('\n', csv.find('\n') + 1) - csv.find('\n') - 1);
     double v[8];
-    ASSERT_EQ(std::sscanf(row.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2], &v[3],
-                          &v[4], &v[5], &v[6], &v[7]),
+    ASSERT_EQ(std::sscanf(row.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf", &v[0], &v[1], &v[2],
+                          &v[3], &v[4], &v[5], &v[6], &v[7]),
               8);
     EXPECT_EQ(v[0], 0.0);
     EXPECT_NEAR(X.t.x, v[1], 1e-7);

@@ -13,41 +13,60 @@ namespace {
 
 std::uint32_t le32(const std::vector<std::uint8_t>& b, std::size_t at) {
   return static_cast<std::uint32_t>(b[at]) | (static_cast<std::uint32_t>(b[at + 1]) << 8) |
-         (static_cast<std::uint32_t>(b[at + 2]) << 16) | (static_cast<std::uint32_t>(b[at + 3]) << 24);
+         (static_cast<std::uint32_t>(b[at + 2]) << 16) |
+         (static_cast<std::uint32_t>(b[at + 3]) << 24);
 }
 
 std::size_t componentSize(int type) {
   switch (type) {
-    case 5120: case 5121: return 1;
-    case 5122: case 5123: return 2;
-    case 5125: case 5126: return 4;
-    default: return 0;
+    case 5120:
+    case 5121:
+      return 1;
+    case 5122:
+    case 5123:
+      return 2;
+    case 5125:
+    case 5126:
+      return 4;
+    default:
+      return 0;
   }
 }
 
 std::size_t typeCount(const std::string& type) {
-  if (type == "SCALAR") return 1;
-  if (type == "VEC2") return 2;
-  if (type == "VEC3") return 3;
-  if (type == "VEC4") return 4;
-  if (type == "MAT4") return 16;
+  if (type == "SCALAR")
+    return 1;
+  if (type == "VEC2")
+    return 2;
+  if (type == "VEC3")
+    return 3;
+  if (type == "VEC4")
+    return 4;
+  if (type == "MAT4")
+    return 16;
   return 0;
 }
 
-std::size_t sizeOf(const Json& array) { return array.is_array() ? array.size() : 0; }
+std::size_t sizeOf(const Json& array) {
+  return array.is_array() ? array.size() : 0;
+}
 
 bool inRange(const Json& v, std::size_t n) {
-  return v.is_number_integer() && v.get<long long>() >= 0 && static_cast<std::size_t>(v.get<long long>()) < n;
+  return v.is_number_integer() && v.get<long long>() >= 0 &&
+         static_cast<std::size_t>(v.get<long long>()) < n;
 }
 
 /// The raw bytes of an accessor's elements, or empty on any range problem.
 std::vector<std::uint8_t> accessorBytes(const Glb& glb, int accessor, std::size_t& elem_size) {
   const Json& a = glb.json["accessors"][static_cast<std::size_t>(accessor)];
   const Json& v = glb.json["bufferViews"][a["bufferView"].get<std::size_t>()];
-  elem_size = componentSize(a["componentType"].get<int>()) * typeCount(a["type"].get<std::string>());
-  const std::size_t offset = v.value("byteOffset", std::size_t{0}) + a.value("byteOffset", std::size_t{0});
+  elem_size =
+      componentSize(a["componentType"].get<int>()) * typeCount(a["type"].get<std::string>());
+  const std::size_t offset =
+      v.value("byteOffset", std::size_t{0}) + a.value("byteOffset", std::size_t{0});
   const std::size_t bytes = elem_size * a["count"].get<std::size_t>();
-  if (offset + bytes > glb.bin.size()) return {};
+  if (offset + bytes > glb.bin.size())
+    return {};
   return {glb.bin.begin() + static_cast<std::ptrdiff_t>(offset),
           glb.bin.begin() + static_cast<std::ptrdiff_t>(offset + bytes)};
 }
@@ -59,17 +78,23 @@ std::vector<std::uint8_t> readFile(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-std::optional<Glb> splitGlb(const std::vector<std::uint8_t>& b, std::vector<std::string>& problems) {
+std::optional<Glb> splitGlb(const std::vector<std::uint8_t>& b,
+                            std::vector<std::string>& problems) {
   if (b.size() < 20) {
     problems.push_back("shorter than a header and a chunk header");
     return std::nullopt;
   }
-  if (le32(b, 0) != 0x46546C67u) problems.push_back("magic is not glTF");
-  if (le32(b, 4) != 2u) problems.push_back("version is not 2");
-  if (le32(b, 8) != b.size()) problems.push_back("total length differs from the size");
+  if (le32(b, 0) != 0x46546C67u)
+    problems.push_back("magic is not glTF");
+  if (le32(b, 4) != 2u)
+    problems.push_back("version is not 2");
+  if (le32(b, 8) != b.size())
+    problems.push_back("total length differs from the size");
   const std::size_t json_len = le32(b, 12);
-  if (le32(b, 16) != 0x4E4F534Au) problems.push_back("first chunk is not JSON");
-  if (json_len % 4 != 0) problems.push_back("JSON chunk length not a multiple of 4");
+  if (le32(b, 16) != 0x4E4F534Au)
+    problems.push_back("first chunk is not JSON");
+  if (json_len % 4 != 0)
+    problems.push_back("JSON chunk length not a multiple of 4");
   if (20 + json_len > b.size()) {
     problems.push_back("JSON chunk runs past the end");
     return std::nullopt;
@@ -92,10 +117,14 @@ std::optional<Glb> splitGlb(const std::vector<std::uint8_t>& b, std::vector<std:
       return std::nullopt;
     }
     const std::size_t bin_len = le32(b, at);
-    if (le32(b, at + 4) != 0x004E4942u) problems.push_back("second chunk is not BIN");
-    if (bin_len % 4 != 0) problems.push_back("BIN chunk length not a multiple of 4");
-    if (at + 8 + bin_len != b.size()) problems.push_back("BIN chunk does not end the file");
-    else glb.bin.assign(b.begin() + static_cast<std::ptrdiff_t>(at + 8), b.end());
+    if (le32(b, at + 4) != 0x004E4942u)
+      problems.push_back("second chunk is not BIN");
+    if (bin_len % 4 != 0)
+      problems.push_back("BIN chunk length not a multiple of 4");
+    if (at + 8 + bin_len != b.size())
+      problems.push_back("BIN chunk does not end the file");
+    else
+      glb.bin.assign(b.begin() + static_cast<std::ptrdiff_t>(at + 8), b.end());
   }
   return glb;
 }
@@ -105,7 +134,8 @@ std::vector<int> parents(const Glb& glb) {
   std::vector<int> parent(nodes.size(), -1);
   for (std::size_t i = 0; i < nodes.size(); ++i)
     for (const Json& c : nodes[i].value("children", Json::array()))
-      if (inRange(c, nodes.size())) parent[c.get<std::size_t>()] = static_cast<int>(i);
+      if (inRange(c, nodes.size()))
+        parent[c.get<std::size_t>()] = static_cast<int>(i);
   return parent;
 }
 
@@ -113,7 +143,8 @@ std::vector<std::string> checkReferences(const Glb& glb) {
   std::vector<std::string> p;
   const Json& j = glb.json;
   auto need = [&](bool ok, const std::string& what) {
-    if (!ok) p.push_back(what);
+    if (!ok)
+      p.push_back(what);
   };
   const std::size_t n_nodes = sizeOf(j.value("nodes", Json()));
   const std::size_t n_meshes = sizeOf(j.value("meshes", Json()));
@@ -125,7 +156,8 @@ std::vector<std::string> checkReferences(const Glb& glb) {
   need(j.contains("asset") && j["asset"].value("version", "") == "2.0", "asset.version is not 2.0");
   need(inRange(j.value("scene", Json()), sizeOf(j.value("scenes", Json()))), "scene out of range");
   for (const Json& s : j.value("scenes", Json::array()))
-    for (const Json& n : s.value("nodes", Json::array())) need(inRange(n, n_nodes), "scene node out of range");
+    for (const Json& n : s.value("nodes", Json::array()))
+      need(inRange(n, n_nodes), "scene node out of range");
 
   // buffers and views
   if (n_buffers > 0) {
@@ -136,8 +168,10 @@ std::vector<std::string> checkReferences(const Glb& glb) {
   }
   for (std::size_t i = 0; i < n_views; ++i) {
     const Json& v = j["bufferViews"][i];
-    need(inRange(v["buffer"], n_buffers), "bufferView " + std::to_string(i) + ": buffer out of range");
-    const std::size_t end = v.value("byteOffset", std::size_t{0}) + v["byteLength"].get<std::size_t>();
+    need(inRange(v["buffer"], n_buffers),
+         "bufferView " + std::to_string(i) + ": buffer out of range");
+    const std::size_t end =
+        v.value("byteOffset", std::size_t{0}) + v["byteLength"].get<std::size_t>();
     need(end <= glb.bin.size(), "bufferView " + std::to_string(i) + " runs past the buffer");
   }
   for (std::size_t i = 0; i < n_acc; ++i) {
@@ -147,10 +181,13 @@ std::vector<std::string> checkReferences(const Glb& glb) {
       continue;
     }
     const Json& v = j["bufferViews"][a["bufferView"].get<std::size_t>()];
-    const std::size_t elem = componentSize(a["componentType"].get<int>()) * typeCount(a["type"].get<std::string>());
+    const std::size_t elem =
+        componentSize(a["componentType"].get<int>()) * typeCount(a["type"].get<std::string>());
     need(elem > 0, "accessor " + std::to_string(i) + ": bad type");
-    const std::size_t end = a.value("byteOffset", std::size_t{0}) + elem * a["count"].get<std::size_t>();
-    need(end <= v["byteLength"].get<std::size_t>(), "accessor " + std::to_string(i) + " runs past its view");
+    const std::size_t end =
+        a.value("byteOffset", std::size_t{0}) + elem * a["count"].get<std::size_t>();
+    need(end <= v["byteLength"].get<std::size_t>(),
+         "accessor " + std::to_string(i) + " runs past its view");
     need(a["count"].get<std::size_t>() > 0, "accessor " + std::to_string(i) + " is empty");
   }
   // meshes: positions finite with exact min/max, indices below the vertex count
@@ -159,12 +196,15 @@ std::vector<std::string> checkReferences(const Glb& glb) {
       const Json& pos = prim["attributes"]["POSITION"];
       need(inRange(pos, n_acc), "mesh " + std::to_string(m) + ": POSITION out of range");
       need(inRange(prim["indices"], n_acc), "mesh " + std::to_string(m) + ": indices out of range");
-      if (prim.contains("material")) need(inRange(prim["material"], n_materials), "mesh material out of range");
-      if (!p.empty()) continue;
+      if (prim.contains("material"))
+        need(inRange(prim["material"], n_materials), "mesh material out of range");
+      if (!p.empty())
+        continue;
       const Json& a = j["accessors"][pos.get<std::size_t>()];
       need(a["componentType"] == 5126 && a["type"] == "VEC3", "POSITION is not float VEC3");
       const Mesh mesh = readMesh(glb, static_cast<int>(m));
-      need(mesh.positions.size() == a["count"].get<std::size_t>(), "mesh " + std::to_string(m) + ": positions unreadable");
+      need(mesh.positions.size() == a["count"].get<std::size_t>(),
+           "mesh " + std::to_string(m) + ": positions unreadable");
       Vec3 lo{1e300}, hi{-1e300};
       for (const Vec3& q : mesh.positions) {
         need(std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z), "non-finite position");
@@ -172,12 +212,17 @@ std::vector<std::string> checkReferences(const Glb& glb) {
         hi = glm::max(hi, q);
       }
       for (int k = 0; k < 3; ++k) {
-        need(a["min"][static_cast<std::size_t>(k)].get<double>() == lo[k], "mesh " + std::to_string(m) + ": POSITION min differs from the data");
-        need(a["max"][static_cast<std::size_t>(k)].get<double>() == hi[k], "mesh " + std::to_string(m) + ": POSITION max differs from the data");
+        need(a["min"][static_cast<std::size_t>(k)].get<double>() == lo[k],
+             "mesh " + std::to_string(m) + ": POSITION min differs from the data");
+        need(a["max"][static_cast<std::size_t>(k)].get<double>() == hi[k],
+             "mesh " + std::to_string(m) + ": POSITION max differs from the data");
       }
       for (const auto& t : mesh.triangles)
-        for (std::uint32_t i : t) need(i < mesh.positions.size(), "mesh " + std::to_string(m) + ": vertex index out of range");
-      need(mesh.triangles.size() * 3 == j["accessors"][prim["indices"].get<std::size_t>()]["count"].get<std::size_t>(),
+        for (std::uint32_t i : t)
+          need(i < mesh.positions.size(),
+               "mesh " + std::to_string(m) + ": vertex index out of range");
+      need(mesh.triangles.size() * 3 ==
+               j["accessors"][prim["indices"].get<std::size_t>()]["count"].get<std::size_t>(),
            "mesh " + std::to_string(m) + ": index count not a multiple of 3");
     }
   }
@@ -185,46 +230,61 @@ std::vector<std::string> checkReferences(const Glb& glb) {
   std::vector<int> parent_count(n_nodes, 0);
   for (std::size_t i = 0; i < n_nodes; ++i) {
     const Json& n = j["nodes"][i];
-    if (n.contains("mesh")) need(inRange(n["mesh"], n_meshes), "node " + std::to_string(i) + ": mesh out of range");
+    if (n.contains("mesh"))
+      need(inRange(n["mesh"], n_meshes), "node " + std::to_string(i) + ": mesh out of range");
     for (const Json& c : n.value("children", Json::array())) {
       need(inRange(c, n_nodes), "node " + std::to_string(i) + ": child out of range");
-      if (inRange(c, n_nodes)) ++parent_count[c.get<std::size_t>()];
+      if (inRange(c, n_nodes))
+        ++parent_count[c.get<std::size_t>()];
     }
   }
-  for (std::size_t i = 0; i < n_nodes; ++i) need(parent_count[i] <= 1, "node " + std::to_string(i) + " has two parents");
+  for (std::size_t i = 0; i < n_nodes; ++i)
+    need(parent_count[i] <= 1, "node " + std::to_string(i) + " has two parents");
   const std::vector<int> parent = parents(glb);
   for (std::size_t i = 0; i < n_nodes; ++i) {
     std::size_t steps = 0;
-    for (int k = static_cast<int>(i); k >= 0 && steps <= n_nodes; k = parent[static_cast<std::size_t>(k)]) ++steps;
+    for (int k = static_cast<int>(i); k >= 0 && steps <= n_nodes;
+         k = parent[static_cast<std::size_t>(k)])
+      ++steps;
     need(steps <= n_nodes, "node " + std::to_string(i) + " is in a cycle");
   }
   // the physics extensions
   const Json ext = j.value("extensions", Json::object());
   const Json rb = ext.value("KHR_physics_rigid_bodies", Json::object());
-  const std::size_t n_shapes = sizeOf(ext.value("KHR_implicit_shapes", Json::object()).value("shapes", Json()));
+  const std::size_t n_shapes =
+      sizeOf(ext.value("KHR_implicit_shapes", Json::object()).value("shapes", Json()));
   const std::size_t n_pmat = sizeOf(rb.value("physicsMaterials", Json()));
   const std::size_t n_joints = sizeOf(rb.value("physicsJoints", Json()));
   const Json used = j.value("extensionsUsed", Json::array());
-  auto listed = [&](const char* name) { return std::find(used.begin(), used.end(), name) != used.end(); };
+  auto listed = [&](const char* name) {
+    return std::find(used.begin(), used.end(), name) != used.end();
+  };
   need(listed("KHR_physics_rigid_bodies"), "KHR_physics_rigid_bodies not in extensionsUsed");
-  if (n_shapes > 0) need(listed("KHR_implicit_shapes"), "KHR_implicit_shapes not in extensionsUsed");
+  if (n_shapes > 0)
+    need(listed("KHR_implicit_shapes"), "KHR_implicit_shapes not in extensionsUsed");
   for (const Json& r : j.value("extensionsRequired", Json::array()))
     need(std::find(used.begin(), used.end(), r) != used.end(), "a required extension is not used");
   for (std::size_t i = 0; i < n_nodes; ++i) {
     const Json* body = physicsOf(j["nodes"][i]);
-    if (body == nullptr) continue;
+    if (body == nullptr)
+      continue;
     const std::string at = "node " + std::to_string(i) + ": ";
     if (body->contains("collider")) {
       const Json& c = (*body)["collider"];
       const Json& g = c["geometry"];
-      need(g.contains("shape") != g.contains("node"), at + "collider needs exactly one of shape, node");
-      if (g.contains("shape")) need(inRange(g["shape"], n_shapes), at + "shape out of range");
+      need(g.contains("shape") != g.contains("node"),
+           at + "collider needs exactly one of shape, node");
+      if (g.contains("shape"))
+        need(inRange(g["shape"], n_shapes), at + "shape out of range");
       if (g.contains("node")) {
         need(inRange(g["node"], n_nodes), at + "geometry node out of range");
-        if (inRange(g["node"], n_nodes)) need(j["nodes"][g["node"].get<std::size_t>()].contains("mesh"), at + "geometry node has no mesh");
+        if (inRange(g["node"], n_nodes))
+          need(j["nodes"][g["node"].get<std::size_t>()].contains("mesh"),
+               at + "geometry node has no mesh");
         need(g.value("convexHull", false), at + "mesh collider without convexHull");
       }
-      if (c.contains("physicsMaterial")) need(inRange(c["physicsMaterial"], n_pmat), at + "physicsMaterial out of range");
+      if (c.contains("physicsMaterial"))
+        need(inRange(c["physicsMaterial"], n_pmat), at + "physicsMaterial out of range");
     }
     if (body->contains("joint")) {
       const Json& jt = (*body)["joint"];
@@ -239,7 +299,8 @@ Mesh readMesh(const Glb& glb, int mesh_index) {
   Mesh out;
   const Json& prim = glb.json["meshes"][static_cast<std::size_t>(mesh_index)]["primitives"][0];
   std::size_t elem = 0;
-  const std::vector<std::uint8_t> pos = accessorBytes(glb, prim["attributes"]["POSITION"].get<int>(), elem);
+  const std::vector<std::uint8_t> pos =
+      accessorBytes(glb, prim["attributes"]["POSITION"].get<int>(), elem);
   for (std::size_t i = 0; i + 12 <= pos.size(); i += 12) {
     float f[3];
     std::memcpy(f, pos.data() + i, 12);
@@ -259,7 +320,8 @@ Mesh readMesh(const Glb& glb, int mesh_index) {
       flat.push_back(v);
     }
   }
-  for (std::size_t i = 0; i + 3 <= flat.size(); i += 3) out.triangles.push_back({flat[i], flat[i + 1], flat[i + 2]});
+  for (std::size_t i = 0; i + 3 <= flat.size(); i += 3)
+    out.triangles.push_back({flat[i], flat[i + 1], flat[i + 2]});
   return out;
 }
 
@@ -273,10 +335,13 @@ std::vector<std::string> checkClosedConvex(const Mesh& mesh) {
   const double size = glm::length(hi - lo);
   std::map<std::pair<std::uint32_t, std::uint32_t>, int> directed;
   for (const auto& t : mesh.triangles)
-    for (int k = 0; k < 3; ++k) ++directed[{t[static_cast<std::size_t>(k)], t[static_cast<std::size_t>((k + 1) % 3)]}];
+    for (int k = 0; k < 3; ++k)
+      ++directed[{t[static_cast<std::size_t>(k)], t[static_cast<std::size_t>((k + 1) % 3)]}];
   for (const auto& [edge, count] : directed) {
-    if (count != 1) p.push_back("edge used twice the same way");
-    if (directed.find({edge.second, edge.first}) == directed.end()) p.push_back("open edge");
+    if (count != 1)
+      p.push_back("edge used twice the same way");
+    if (directed.find({edge.second, edge.first}) == directed.end())
+      p.push_back("open edge");
   }
   for (const auto& t : mesh.triangles) {
     const Vec3 a = mesh.positions[t[0]], b = mesh.positions[t[1]], c = mesh.positions[t[2]];
@@ -303,7 +368,8 @@ Rigid localTransform(const Json& node) {
   }
   if (node.contains("rotation")) {
     const Json& q = node["rotation"];
-    r.q = glm::normalize(Quat(q[3].get<double>(), q[0].get<double>(), q[1].get<double>(), q[2].get<double>()));
+    r.q = glm::normalize(
+        Quat(q[3].get<double>(), q[0].get<double>(), q[1].get<double>(), q[2].get<double>()));
   }
   return r;
 }
@@ -311,22 +377,26 @@ Rigid localTransform(const Json& node) {
 Rigid worldTransform(const Glb& glb, int node) {
   const std::vector<int> parent = parents(glb);
   Rigid r = localTransform(glb.json["nodes"][static_cast<std::size_t>(node)]);
-  for (int k = parent[static_cast<std::size_t>(node)]; k >= 0; k = parent[static_cast<std::size_t>(k)])
+  for (int k = parent[static_cast<std::size_t>(node)]; k >= 0;
+       k = parent[static_cast<std::size_t>(k)])
     r = localTransform(glb.json["nodes"][static_cast<std::size_t>(k)]) * r;
   return r;
 }
 
 const Json* physicsOf(const Json& node) {
-  if (!node.contains("extensions")) return nullptr;
+  if (!node.contains("extensions"))
+    return nullptr;
   const Json& e = node["extensions"];
-  if (!e.contains("KHR_physics_rigid_bodies")) return nullptr;
+  if (!e.contains("KHR_physics_rigid_bodies"))
+    return nullptr;
   return &e["KHR_physics_rigid_bodies"];
 }
 
 int nodeNamed(const Glb& glb, const std::string& name) {
   const Json& nodes = glb.json["nodes"];
   for (std::size_t i = 0; i < nodes.size(); ++i)
-    if (nodes[i].value("name", "") == name) return static_cast<int>(i);
+    if (nodes[i].value("name", "") == name)
+      return static_cast<int>(i);
   return -1;
 }
 
@@ -338,9 +408,11 @@ std::vector<int> collidersUnder(const Glb& glb, int node) {
     stack.pop_back();
     const Json& nj = glb.json["nodes"][static_cast<std::size_t>(n)];
     const Json* body = physicsOf(nj);
-    if (body != nullptr && body->contains("collider")) out.push_back(n);
+    if (body != nullptr && body->contains("collider"))
+      out.push_back(n);
     const Json children = nj.value("children", Json::array());
-    for (auto it = children.rbegin(); it != children.rend(); ++it) stack.push_back(it->get<int>());
+    for (auto it = children.rbegin(); it != children.rend(); ++it)
+      stack.push_back(it->get<int>());
   }
   std::sort(out.begin(), out.end());
   return out;

@@ -5,14 +5,13 @@
 
 #include <array>
 #include <cstdint>
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <map>
+#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
-
-#include <glm/glm.hpp>
-#include <glm/gtc/quaternion.hpp>
-#include <nlohmann/json.hpp>
 
 namespace hapticd::scenes::testing {
 
@@ -28,7 +27,8 @@ struct Glb {
 };
 /// Splits a GLB into its JSON and BIN chunks; a problem is appended for every header or chunk
 /// field that is wrong (magic, version, total length, chunk types, lengths, padding).
-std::optional<Glb> splitGlb(const std::vector<std::uint8_t>& bytes, std::vector<std::string>& problems);
+std::optional<Glb> splitGlb(const std::vector<std::uint8_t>& bytes,
+                            std::vector<std::string>& problems);
 
 /// Every index in the document in range, every accessor inside its view, every view inside the
 /// buffer, every vertex index below the vertex count, POSITION min/max equal to the data, each

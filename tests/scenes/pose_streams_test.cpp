@@ -2,20 +2,20 @@
 // runs from 0 and only forwards, quaternions are unit and continuous, nothing jumps, and each
 // stream does what its scene is for (docs/demo-scenes.md).
 
+#include "scenes/pose_streams.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <cstdlib>
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
 #include <numbers>
 #include <sstream>
 #include <string>
 #include <vector>
 
-#include <glm/glm.hpp>
-#include <glm/gtc/quaternion.hpp>
-
 #include "scenes/demo_scenes.h"
-#include "scenes/pose_streams.h"
 
 namespace hapticd::scenes {
 namespace {
@@ -32,7 +32,8 @@ std::vector<Row> parse(const std::string& csv, std::vector<std::string>& problem
   std::istringstream in(csv);
   std::string line;
   std::getline(in, line);
-  if (line != "t,px,py,pz,qx,qy,qz,qw,buttons") problems.push_back("header: " + line);
+  if (line != "t,px,py,pz,qx,qy,qz,qw,buttons")
+    problems.push_back("header: " + line);
   std::vector<Row> rows;
   int number = 1;
   while (std::getline(in, line)) {
@@ -40,21 +41,26 @@ std::vector<Row> parse(const std::string& csv, std::vector<std::string>& problem
     std::vector<std::string> f;
     std::stringstream ss(line);
     std::string cell;
-    while (std::getline(ss, cell, ',')) f.push_back(cell);
+    while (std::getline(ss, cell, ','))
+      f.push_back(cell);
     if (f.size() != 9) {
-      problems.push_back("line " + std::to_string(number) + ": " + std::to_string(f.size()) + " fields");
+      problems.push_back("line " + std::to_string(number) + ": " + std::to_string(f.size()) +
+                         " fields");
       continue;
     }
     double v[8];
     for (int k = 0; k < 8; ++k) {
       char* end = nullptr;
       v[k] = std::strtod(f[static_cast<std::size_t>(k)].c_str(), &end);
-      if (*end != '\0' || !std::isfinite(v[k])) problems.push_back("line " + std::to_string(number) + ": bad number");
+      if (*end != '\0' || !std::isfinite(v[k]))
+        problems.push_back("line " + std::to_string(number) + ": bad number");
     }
     char* end = nullptr;
     const unsigned long b = std::strtoul(f[8].c_str(), &end, 10);
-    if (*end != '\0' || f[8].empty()) problems.push_back("line " + std::to_string(number) + ": bad buttons");
-    rows.push_back({v[0], {v[1], v[2], v[3]}, glm::dquat(v[7], v[4], v[5], v[6]), static_cast<unsigned>(b)});
+    if (*end != '\0' || f[8].empty())
+      problems.push_back("line " + std::to_string(number) + ": bad buttons");
+    rows.push_back(
+        {v[0], {v[1], v[2], v[3]}, glm::dquat(v[7], v[4], v[5], v[6]), static_cast<unsigned>(b)});
   }
   return rows;
 }
@@ -80,7 +86,8 @@ TEST(PoseStreams, ParseWithMonotonicTimeUnitQuaternionsAndNoJumps) {
     double max_speed = 0.0, max_turn_rate = 0.0;
     for (std::size_t i = 0; i < rows.size(); ++i) {
       EXPECT_NEAR(glm::length(rows[i].q), 1.0, 1e-8) << "row " << i;
-      if (i == 0) continue;
+      if (i == 0)
+        continue;
       const double dt = rows[i].t - rows[i - 1].t;
       ASSERT_GT(dt, 0.0) << "row " << i;
       EXPECT_NEAR(dt, 1.0 / kPoseStreamRate_hz, 1e-9);
@@ -98,7 +105,9 @@ TEST(PoseStreams, ParseWithMonotonicTimeUnitQuaternionsAndNoJumps) {
   }
 }
 
-TEST(PoseStreams, UnknownSceneHasNoStream) { EXPECT_TRUE(makePoseStream("nothing").empty()); }
+TEST(PoseStreams, UnknownSceneHasNoStream) {
+  EXPECT_TRUE(makePoseStream("nothing").empty());
+}
 
 double tiltDeg(const glm::dquat& q) {
   // angle between the body's Y axis and the scene's Y axis
@@ -117,8 +126,10 @@ TEST(PoseStreams, PegApproachesInsertsWithAWobbleJamsPushesAndPullsOut) {
   for (std::size_t i = 1; i < rows.size(); ++i) {
     const Row& r = rows[i];
     const double end_y = r.p.y - half;
-    if (r.t > 3.0 && r.t < 6.0) wobble_max = std::max(wobble_max, tiltDeg(r.q));
-    if (r.t > 7.4 && r.t < 8.6) jam_tilt = std::max(jam_tilt, tiltDeg(r.q));
+    if (r.t > 3.0 && r.t < 6.0)
+      wobble_max = std::max(wobble_max, tiltDeg(r.q));
+    if (r.t > 7.4 && r.t < 8.6)
+      jam_tilt = std::max(jam_tilt, tiltDeg(r.q));
     if (end_y < lowest_end) {
       lowest_end = end_y;
       t_lowest = r.t;
@@ -126,17 +137,18 @@ TEST(PoseStreams, PegApproachesInsertsWithAWobbleJamsPushesAndPullsOut) {
     if (end_y < peg::kHoleDepth_m)
       max_offset_inside = std::max(max_offset_inside, std::max(std::fabs(r.p.x), std::fabs(r.p.z)));
   }
-  std::printf("peg: wobble up to %.2f deg, jam tilt %.2f deg, lowest end %.2f mm, max offset in "
-              "the hole %.3f mm, deepest at %.2f s\n",
-              wobble_max, jam_tilt, lowest_end * 1e3, max_offset_inside * 1e3, t_lowest);
+  std::printf(
+      "peg: wobble up to %.2f deg, jam tilt %.2f deg, lowest end %.2f mm, max offset in "
+      "the hole %.3f mm, deepest at %.2f s\n",
+      wobble_max, jam_tilt, lowest_end * 1e3, max_offset_inside * 1e3, t_lowest);
   EXPECT_GT(wobble_max, 0.5);
   EXPECT_LT(wobble_max, 3.0);
-  EXPECT_GT(jam_tilt, 3.0);                // tilted past what the clearance allows at that depth
-  EXPECT_LT(lowest_end, 0.0);              // pushed into the hole's floor
+  EXPECT_GT(jam_tilt, 3.0);    // tilted past what the clearance allows at that depth
+  EXPECT_LT(lowest_end, 0.0);  // pushed into the hole's floor
   EXPECT_GT(lowest_end, -0.005);
-  EXPECT_LT(max_offset_inside, opening);   // the target stays over the opening while inside
+  EXPECT_LT(max_offset_inside, opening);  // the target stays over the opening while inside
   EXPECT_GT(rows.back().p.y - half, peg::kHoleDepth_m);  // out again at the end
-  EXPECT_GT(t_lowest, 8.5);                // deepest after the jam, in the push
+  EXPECT_GT(t_lowest, 8.5);                              // deepest after the jam, in the push
   EXPECT_LT(t_lowest, 11.5);
 }
 
@@ -158,10 +170,11 @@ TEST(PoseStreams, GearRodTurnsGearABothWays) {
     }
     min_radius = std::min(min_radius, radius);
   }
-  std::printf("gears: rod between the teeth from %.1f to %.1f deg about the gap, deepest %.2f mm "
-              "from the axis (root %.2f, tip %.2f)\n",
-              min_angle * 180 / std::numbers::pi, max_angle * 180 / std::numbers::pi,
-              min_radius * 1e3, g.rootRadius() * 1e3, g.tipRadius() * 1e3);
+  std::printf(
+      "gears: rod between the teeth from %.1f to %.1f deg about the gap, deepest %.2f mm "
+      "from the axis (root %.2f, tip %.2f)\n",
+      min_angle * 180 / std::numbers::pi, max_angle * 180 / std::numbers::pi, min_radius * 1e3,
+      g.rootRadius() * 1e3, g.tipRadius() * 1e3);
   // in the tooth band, with the rod clear of the root circle
   EXPECT_LT(min_radius, g.pitchRadius());
   EXPECT_GT(min_radius - gears::kRodRadius_m, g.rootRadius());
@@ -177,7 +190,8 @@ TEST(PoseStreams, StickPushesStrikesPressesAndGrabs) {
   double pressed_s = 0.0, low_in_cube_row = 1e9, strike_speed = 0.0;
   for (std::size_t i = 1; i < rows.size(); ++i) {
     const Row& r = rows[i];
-    if (r.buttons & 1u) pressed_s += 1.0 / kPoseStreamRate_hz;
+    if (r.buttons & 1u)
+      pressed_s += 1.0 / kPoseStreamRate_hz;
     if (std::fabs(r.p.z - dynamic::kCubeZ_m) < 1e-9)
       low_in_cube_row = std::min(low_in_cube_row, r.p.y - half);
     if (std::fabs(r.p.z - dynamic::kSphereZ_m) < 1e-9 && r.p.x < rows[i - 1].p.x)
@@ -200,9 +214,11 @@ TEST(PoseStreams, SweeperCrossesTheWholeField) {
   for (std::size_t i = 1; i < rows.size(); ++i) {
     const double step = glm::length(rows[i].p - rows[i - 1].p);
     length += step;
-    if (rows[i].p.y < press_y) low_length += step;
+    if (rows[i].p.y < press_y)
+      low_length += step;
   }
-  std::printf("stress: path %.2f m, %.2f m of it pressing on the pillar tops\n", length, low_length);
+  std::printf("stress: path %.2f m, %.2f m of it pressing on the pillar tops\n", length,
+              low_length);
   // seven passes across the field at pillar-top height
   EXPECT_GT(low_length, 7 * 2 * field);
   EXPECT_LT(rows.front().p.x, -field);

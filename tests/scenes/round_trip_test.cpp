@@ -28,24 +28,29 @@ SceneModel load(std::string_view name) {
   scene::LoadReport report = scene::loadScene(bytes, std::string(name));
   EXPECT_TRUE(report.ok()) << name << ":\n" << report.message();
   EXPECT_TRUE(report.problems.empty());
-  if (!report.ok()) return {};
+  if (!report.ok())
+    return {};
   return std::move(*report.scene);
 }
 
 const Body* bodyNamed(const SceneModel& s, const std::string& name) {
   for (const Body& b : s.bodies)
-    if (b.name == name) return &b;
+    if (b.name == name)
+      return &b;
   ADD_FAILURE() << "no body named " << name;
   return nullptr;
 }
 
-int indexOf(const SceneModel& s, const Body* b) { return static_cast<int>(b - s.bodies.data()); }
+int indexOf(const SceneModel& s, const Body* b) {
+  return static_cast<int>(b - s.bodies.data());
+}
 
 /// A primitive's vertices in the scene frame.
 std::vector<geom::Vec3> worldPoints(const Body& b, const scene::Primitive& p) {
   const geom::Transform X_WP = b.X_WB.toTransform() * p.X_BP.toTransform();
   std::vector<geom::Vec3> out;
-  for (const auto& v : p.shape->vertices()) out.push_back(X_WP.apply(v.p));
+  for (const auto& v : p.shape->vertices())
+    out.push_back(X_WP.apply(v.p));
   return out;
 }
 
@@ -60,7 +65,8 @@ TEST(SceneRoundTrip, EveryDemoSceneLoads) {
   for (std::string_view name : demoSceneNames()) {
     const SceneModel s = load(name);
     std::size_t prims = 0;
-    for (const Body& b : s.bodies) prims += b.primitives.size();
+    for (const Body& b : s.bodies)
+      prims += b.primitives.size();
     std::printf("%s: %zu bodies, %zu primitives, %zu joints\n%s\n", std::string(name).c_str(),
                 s.bodies.size(), prims, s.joints.size(), scene::describePlan(s.plan).c_str());
     // the plan stored is the plan of what the scene declares
@@ -100,8 +106,10 @@ TEST(SceneRoundTrip, GearsAreTwoDynamicBodiesOnHingesWithoutGravity) {
     for (const auto& p : b->primitives) {
       EXPECT_EQ(p.source, ShapeSource::kMeshHull);
       const std::size_t n = p.shape->vertices().size();
-      if (n == 2u * g.teeth) ++hubs;
-      if (n == 20u) ++teeth;  // a 10-gon prism
+      if (n == 2u * static_cast<unsigned>(g.teeth))
+        ++hubs;
+      if (n == 20u)
+        ++teeth;  // a 10-gon prism
       // every point within the tip circle and the face width
       for (const auto& q : worldPoints(*b, p)) {
         EXPECT_LE(std::hypot(q.x - x, q.y), g.tipRadius() * (1 + 1e-6));
@@ -132,7 +140,8 @@ TEST(SceneRoundTrip, GearsAreTwoDynamicBodiesOnHingesWithoutGravity) {
   EXPECT_TRUE(handle->probe);
   EXPECT_EQ(s.probe_body, indexOf(s, handle));
   ASSERT_EQ(handle->primitives.size(), 1u);
-  EXPECT_EQ(handle->primitives[0].shape->vertices().size(), 2u * gears::kRodSides);
+  EXPECT_EQ(handle->primitives[0].shape->vertices().size(),
+            2u * static_cast<unsigned>(gears::kRodSides));
   EXPECT_FALSE(s.gravity_W.has_value());
   EXPECT_TRUE(s.materials.empty());
   EXPECT_TRUE(s.plan.contact_forces);
@@ -179,9 +188,12 @@ TEST(SceneRoundTrip, PegInHoleNeedsOnlyContactForcesAndKeepsItsClearance) {
       hi = std::max(hi, q.x);
       top = std::max(top, q.y);
     }
-    if (top < 0.5 * peg::kHoleDepth_m) continue;  // the floor
-    if (lo > 0.0) east = std::min(east, lo);
-    if (hi < 0.0) west = std::max(west, hi);
+    if (top < 0.5 * peg::kHoleDepth_m)
+      continue;  // the floor
+    if (lo > 0.0)
+      east = std::min(east, lo);
+    if (hi < 0.0)
+      west = std::max(west, hi);
   }
   const double clearance = 0.5 * ((east - west) - (peg_hi - peg_lo));
   std::printf("peg_in_hole: clearance per side from the loaded hulls %.6f mm\n", clearance * 1e3);
@@ -206,7 +218,8 @@ double volume(const geom::Polytope& p) {
   for (std::uint32_t f = 0; f < p.faces().size(); ++f) {
     const auto fe = p.faceEdges(f);
     std::vector<geom::Vec3> ring;
-    for (const auto& e : fe) ring.push_back(p.vertices()[e.vertex].p);
+    for (const auto& e : fe)
+      ring.push_back(p.vertices()[e.vertex].p);
     for (std::size_t k = 1; k + 1 < ring.size(); ++k)
       v += glm::dot(ring[0] - c, glm::cross(ring[k] - c, ring[k + 1] - c)) / 6.0;
   }
@@ -243,7 +256,8 @@ TEST(SceneRoundTrip, DynamicHasDynamicsGravityFrictionAndRestitution) {
     EXPECT_DOUBLE_EQ(cube->mass, dynamic::kCubeMass_kg);
     const double a = dynamic::kCubeSide_m;
     const double i_cube = dynamic::kCubeMass_kg * a * a / 6.0;
-    for (int k = 0; k < 3; ++k) EXPECT_NEAR(cube->inertia_B[k][k], i_cube, 1e-6 * i_cube);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_NEAR(cube->inertia_B[k][k], i_cube, 1e-6 * i_cube);
     EXPECT_EQ(cube->primitives[0].shape->vertices().size(), 8u);
     expectPose(*cube, {x, 0.5 * a + dynamic::kDropGap_m, dynamic::kCubeZ_m}, kIdentity, 1e-12);
     EXPECT_EQ(s.materials[static_cast<std::size_t>(cube->primitives[0].material)].name, "wood");
@@ -269,7 +283,9 @@ TEST(SceneRoundTrip, DynamicHasDynamicsGravityFrictionAndRestitution) {
     EXPECT_GT(std::fabs(glm::dot(ellipsoid->X_WB.rotation,
                                  glm::angleAxis(i * std::numbers::pi / 6.0, geom::Vec3{0, 1, 0}))),
               1.0 - 1e-9);
-    if (i == 0) std::printf("ellipsoid mass computed %.6f kg (smooth ellipsoid %.6f kg)\n", ellipsoid->mass, true_mass);
+    if (i == 0)
+      std::printf("ellipsoid mass computed %.6f kg (smooth ellipsoid %.6f kg)\n", ellipsoid->mass,
+                  true_mass);
   }
   const Body* stick = bodyNamed(s, "Stick");
   ASSERT_NE(stick, nullptr);
@@ -297,16 +313,27 @@ TEST(SceneRoundTrip, StressHasOverAThousandPrimitivesMostlyStatic) {
   ASSERT_TRUE(field && sweeper);
   EXPECT_EQ(field->motion, Motion::kStatic);
   ASSERT_EQ(field->primitives.size(), static_cast<std::size_t>(stress::kGrid * stress::kGrid));
-  for (const auto& p : field->primitives) EXPECT_EQ(p.source, ShapeSource::kBox);
+  for (const auto& p : field->primitives)
+    EXPECT_EQ(p.source, ShapeSource::kBox);
   EXPECT_EQ(sweeper->motion, Motion::kKinematic);
   EXPECT_TRUE(sweeper->probe);
   ASSERT_EQ(sweeper->primitives.size(), 1u);
   EXPECT_EQ(sweeper->primitives[0].source, ShapeSource::kSphere);
+  // tessellated within the default tolerance (a fraction of the sphere's diameter)
+  const double tol = scene::SceneLimits{}.tessellation_tolerance * 2.0 * stress::kSweeperRadius_m;
   for (const auto& v : sweeper->primitives[0].shape->vertices())
-    EXPECT_LE(glm::length(v.p), stress::kSweeperRadius_m * (1 + 1e-9));
+    EXPECT_NEAR(glm::length(v.p), stress::kSweeperRadius_m, tol);
+  expectPose(*sweeper, {-0.52, 0.1, stress::pillarCoordinate(4)}, kIdentity, 1e-12);
   int blocks = 0;
   for (const Body& b : s.bodies) {
-    if (b.name.rfind("Block", 0) != 0) continue;
+    if (b.name.rfind("Block", 0) != 0)
+      continue;
+    const int k = std::stoi(b.name.substr(5));
+    const double y = stress::kPillarSize_m[1] + 0.5 * stress::kBlockSide_m + 0.001;
+    expectPose(b,
+               {stress::blockCoordinate(k / stress::kBlocksPerSide), y,
+                stress::blockCoordinate(k % stress::kBlocksPerSide)},
+               kIdentity, 1e-12);
     ++blocks;
     EXPECT_EQ(b.motion, Motion::kDynamic);
     EXPECT_DOUBLE_EQ(b.mass, stress::kBlockMass_kg);

@@ -63,7 +63,8 @@ OutputLimits limits() {
 TEST(OutputStage, NonFiniteInputGivesZeroAndRestartsTheRamp) {
   OutputStage s(limits());
   OutputReport r;
-  for (int i = 0; i < 200; ++i) s.apply({Vec3{0, 5, 0}, Vec3{0.0}}, true, &r);
+  for (int i = 0; i < 200; ++i)
+    s.apply({Vec3{0, 5, 0}, Vec3{0.0}}, true, &r);
   EXPECT_NEAR(s.last().force_n.y, 5.0, 1e-12);
   const double nan = std::numeric_limits<double>::quiet_NaN();
   const Wrench w = s.apply({Vec3{nan, 0, 0}, Vec3{0.0}}, true, &r);
@@ -71,7 +72,8 @@ TEST(OutputStage, NonFiniteInputGivesZeroAndRestartsTheRamp) {
   EXPECT_TRUE(std::isfinite(w.force_n.x) && std::isfinite(w.force_n.y));
   EXPECT_LE(glm::length(w.force_n - Vec3{0, 5, 0}), 0.5 + 1e-12);  // fades at the step limit
   EXPECT_EQ(s.rampScale(), 1.0 * 0.001 / 0.1);
-  const Wrench inf = s.apply({Vec3{0.0}, Vec3{std::numeric_limits<double>::infinity(), 0, 0}}, true, &r);
+  const Wrench inf =
+      s.apply({Vec3{0.0}, Vec3{std::numeric_limits<double>::infinity(), 0, 0}}, true, &r);
   EXPECT_TRUE(r.non_finite);
   EXPECT_TRUE(std::isfinite(inf.torque_nm.x));
 }
@@ -88,11 +90,13 @@ TEST(OutputStage, ClampsRampsAndCutsAtOnceWhenTheDeviceIsLost) {
     EXPECT_LE(glm::length(w.force_n), 10.0 + 1e-12);
     EXPECT_LE(glm::length(w.torque_nm), 1.0 + 1e-12);
     prev = w.force_n;
-    if (ticks_to_full < 0 && std::abs(w.force_n.y - 10.0) < 1e-12) ticks_to_full = i;
+    if (ticks_to_full < 0 && std::abs(w.force_n.y - 10.0) < 1e-12)
+      ticks_to_full = i;
   }
   EXPECT_TRUE(r.clamped);
   EXPECT_FALSE(r.ramping);
-  std::printf("[output stage] full 10 N after %d ticks (ramp 100 ticks, F_max 0.5 N)\n", ticks_to_full);
+  std::printf("[output stage] full 10 N after %d ticks (ramp 100 ticks, F_max 0.5 N)\n",
+              ticks_to_full);
   EXPECT_GE(ticks_to_full, 99);
   const Wrench lost = s.apply({Vec3{0, 40, 0}, Vec3{0.0}}, false, &r);
   EXPECT_TRUE(lost.force_n == Vec3(0.0));
@@ -133,8 +137,10 @@ TEST(VirtualCoupling, IsPassiveAtOneKilohertzWithTheDefaultDamping) {
     double abs0 = 0.0, abs1 = 0.0;
     const double e0 = wallEnergy(0.0, 0.005, hz, &abs0);
     const double e1 = wallEnergy(1.0, 0.005, hz, &abs1);
-    std::printf("[coupling] %5.1f Hz, 5 mm: energy to the hand without damping %+.3e J, with B = K dt "
-                "%+.3e J (of %.3e J moved)\n", hz, e0, e1, abs1);
+    std::printf(
+        "[coupling] %5.1f Hz, 5 mm: energy to the hand without damping %+.3e J, with B = K dt "
+        "%+.3e J (of %.3e J moved)\n",
+        hz, e0, e1, abs1);
     EXPECT_GT(e0, 0.0);  // the sampled spring alone is active
     EXPECT_LE(e1, 0.0);  // the damper makes it passive
   }
@@ -155,7 +161,8 @@ TEST(PenaltyWrench, TotalDoesNotDependOnThePointCountAndTorqueIsRxF) {
   ContactRow one{Vec3{0.01, 0, 0}, Vec3{0, 1, 0}, -2e-4, k};
   const Wrench w1 = penaltyWrench(std::span<const ContactRow>(&one, 1), Vec3{0.0}, delta);
   std::vector<ContactRow> four;
-  for (int i = 0; i < 4; ++i) four.push_back({Vec3{0.01, 0, 0.001 * (i - 1.5)}, Vec3{0, 1, 0}, -2e-4, k / 4});
+  for (int i = 0; i < 4; ++i)
+    four.push_back({Vec3{0.01, 0, 0.001 * (i - 1.5)}, Vec3{0, 1, 0}, -2e-4, k / 4});
   const Wrench w4 = penaltyWrench(four, Vec3{0.0}, delta);
   EXPECT_NEAR(w1.force_n.y, k * (delta + 2e-4), 1e-9);  // k (delta + D_p)
   EXPECT_NEAR(glm::length(w4.force_n - w1.force_n), 0.0, 1e-9);
@@ -166,7 +173,8 @@ TEST(PenaltyWrench, TotalDoesNotDependOnThePointCountAndTorqueIsRxF) {
   EXPECT_NEAR(penaltyWrench(std::span<const ContactRow>(&near, 1), Vec3{0.0}, delta).force_n.y,
               k * (delta - 0.4e-4), 1e-9);
   ContactRow far{Vec3{0.0}, Vec3{0, 1, 0}, 2e-4, k};
-  EXPECT_TRUE(penaltyWrench(std::span<const ContactRow>(&far, 1), Vec3{0.0}, delta).force_n == Vec3(0.0));
+  EXPECT_TRUE(penaltyWrench(std::span<const ContactRow>(&far, 1), Vec3{0.0}, delta).force_n ==
+              Vec3(0.0));
 }
 
 ProxyParams params() {
@@ -200,14 +208,17 @@ TEST(ProxyStep, AContactRowHoldsTheProxyAndARowThatWouldPullIsDropped) {
   // a floor under the proxy: four rows at gap 0.5 delta, the device 2 mm below
   std::vector<ContactRow> rows;
   for (int i = 0; i < 4; ++i) {
-    rows.push_back({Vec3{i & 1 ? 0.01 : -0.01, -0.01, i & 2 ? 0.01 : -0.01}, Vec3{0, 1, 0}, 0.5e-4, kp / 4});
+    rows.push_back(
+        {Vec3{i & 1 ? 0.01 : -0.01, -0.01, i & 2 ? 0.01 : -0.01}, Vec3{0, 1, 0}, 0.5e-4, kp / 4});
   }
   ProxyProblem pb;
   pb.radius = 0.0173;
   pb.h_target_W = Vec3{0, -0.002, 0};
   const ProxyStep s = solveProxyStep(pb, rows, p);
-  // equilibrium: k_c (target - x) = k_p (delta - gap - x)  =>  x = (k_c t + k_p (delta - gap)) / (k_c + k_p)
-  const double x = (p.coupling_stiffness * -0.002 + kp * (p.delta - 0.5e-4)) / (p.coupling_stiffness + kp);
+  // equilibrium: k_c (target - x) = k_p (delta - gap - x)  =>  x = (k_c t + k_p (delta - gap)) /
+  // (k_c + k_p)
+  const double x =
+      (p.coupling_stiffness * -0.002 + kp * (p.delta - 0.5e-4)) / (p.coupling_stiffness + kp);
   EXPECT_NEAR(s.dc_W.y, x, 1e-12);
   EXPECT_NEAR(glm::length(s.dtheta_W), 0.0, 1e-12);
   EXPECT_EQ(s.active, 4u);
@@ -221,7 +232,7 @@ TEST(ProxyStep, AContactRowHoldsTheProxyAndARowThatWouldPullIsDropped) {
 TEST(ProxyStep, AHingeBasisTurnsAboutItsAxisOnly) {
   ProxyProblem pb;
   pb.c_W = Vec3{0.0};
-  pb.h_W = Vec3{0.04, 0, 0};  // a rim handle 40 mm out
+  pb.h_W = Vec3{0.04, 0, 0};                 // a rim handle 40 mm out
   pb.h_target_W = Vec3{0.04, 0.001, 0.002};  // pulled up (tangent) and along the axis z
   pb.radius = 0.01;  // small enough that the safe distance does not cut this step
   pb.basis = ProxyBasis::hinge(Vec3{0.0}, Vec3{0, 0, 1}, pb.c_W);
@@ -265,11 +276,14 @@ TEST(ForceShading, NormalsAreContinuousAcrossSmoothEdgesAndCreasesStaySharp) {
     const Vec3 ns = table.shadedNormalOnFace(cyl, f, x);
     worst_true = std::max(worst_true, std::acos(std::min(1.0, glm::dot(ns, radial))));
     worst_facet = std::max(worst_facet, std::acos(std::min(1.0, glm::dot(face.normal, radial))));
-    if (i > 0) worst_jump = std::max(worst_jump, std::acos(std::min(1.0, glm::dot(ns, prev))));
+    if (i > 0)
+      worst_jump = std::max(worst_jump, std::acos(std::min(1.0, glm::dot(ns, prev))));
     prev = ns;
   }
-  std::printf("[shading] 32-gon: facet normal up to %.4f rad from the true normal, shaded %.4f rad; "
-              "largest jump between samples 2 mrad apart %.5f rad\n", worst_facet, worst_true, worst_jump);
+  std::printf(
+      "[shading] 32-gon: facet normal up to %.4f rad from the true normal, shaded %.4f rad; "
+      "largest jump between samples 2 mrad apart %.5f rad\n",
+      worst_facet, worst_true, worst_jump);
   EXPECT_LT(worst_true, 0.6 * worst_facet);
   EXPECT_LT(worst_jump, 0.01);  // no jump at the edges (the facet normal jumps 0.196 rad there)
   // a box keeps its creases
@@ -281,16 +295,18 @@ TEST(ForceShading, NormalsAreContinuousAcrossSmoothEdgesAndCreasesStaySharp) {
 TEST(FaceContact, ClipsTheHeldFaceToTheEnvironmentsFace) {
   auto square = [](double h, double t) {
     std::vector<Vec3> p;
-    for (int i = 0; i < 8; ++i) p.push_back(Vec3{i & 1 ? h : -h, i & 2 ? t : -t, i & 4 ? h : -h});
+    for (int i = 0; i < 8; ++i)
+      p.push_back(Vec3{i & 1 ? h : -h, i & 2 ? t : -t, i & 4 ? h : -h});
     return geom::Polytope::fromPoints(p).value();
   };
-  const auto floor = square(0.05, 0.01);   // top face y = 0.01
+  const auto floor = square(0.05, 0.01);  // top face y = 0.01
   const auto cube = square(0.01, 0.01);
   geom::Transform X_WE;
   geom::Transform X_WH;
-  X_WH.t = Vec3{0.045, 0.0201, 0.0};       // half over the floor's edge at x = 0.05, 0.1 mm above
+  X_WH.t = Vec3{0.045, 0.0201, 0.0};  // half over the floor's edge at x = 0.05, 0.1 mm above
   FaceContact fc;
-  ASSERT_TRUE(faceContact(floor, X_WE, geom::Feature{}, cube, X_WH, geom::Feature{}, Vec3{0, 1, 0}, 0.95, &fc));
+  ASSERT_TRUE(faceContact(floor, X_WE, geom::Feature{}, cube, X_WH, geom::Feature{}, Vec3{0, 1, 0},
+                          0.95, &fc));
   EXPECT_EQ(fc.count, 4u);
   double xmax = -1.0, xmin = 1.0;
   for (std::uint32_t i = 0; i < fc.count; ++i) {
@@ -298,7 +314,7 @@ TEST(FaceContact, ClipsTheHeldFaceToTheEnvironmentsFace) {
     xmax = std::max(xmax, fc.p_W[i].x);
     xmin = std::min(xmin, fc.p_W[i].x);
   }
-  EXPECT_NEAR(xmax, 0.05, 1e-12);   // clipped at the floor's edge
+  EXPECT_NEAR(xmax, 0.05, 1e-12);  // clipped at the floor's edge
   EXPECT_NEAR(xmin, 0.035, 1e-12);
   EXPECT_NEAR(fc.n_W.y, 1.0, 1e-15);
   // a normal far from both faces: no face contact (the caller keeps the manifold)

@@ -18,8 +18,7 @@ using nlohmann::json;
 using Vec3 = geom::Vec3;
 
 inline std::string base64(const std::vector<std::uint8_t>& data) {
-  static const char* kAlphabet =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  static const char* kAlphabet = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
   std::string out;
   out.reserve((data.size() + 2) / 3 * 4);
   for (std::size_t i = 0; i < data.size(); i += 3) {
@@ -43,9 +42,10 @@ struct Mesh {
 /// A unit cube [-h, h]^3, outward counter-clockwise triangles.
 inline Mesh cubeMesh(double h = 0.5) {
   Mesh m;
-  for (int i = 0; i < 8; ++i) m.vertices.push_back({(i & 1) ? h : -h, (i & 2) ? h : -h, (i & 4) ? h : -h});
-  m.triangles = {0, 2, 1, 1, 2, 3,  4, 5, 6, 5, 7, 6,  0, 1, 4, 1, 5, 4,
-                 2, 6, 3, 3, 6, 7,  0, 4, 2, 2, 4, 6,  1, 3, 5, 3, 7, 5};
+  for (int i = 0; i < 8; ++i)
+    m.vertices.push_back({(i & 1) ? h : -h, (i & 2) ? h : -h, (i & 4) ? h : -h});
+  m.triangles = {0, 2, 1, 1, 2, 3, 4, 5, 6, 5, 7, 6, 0, 1, 4, 1, 5, 4,
+                 2, 6, 3, 3, 6, 7, 0, 4, 2, 2, 4, 6, 1, 3, 5, 3, 7, 5};
   return m;
 }
 
@@ -74,12 +74,14 @@ class GltfBuilder {
 
   /// Appends raw bytes to the buffer (4-byte aligned) and returns a bufferView index.
   int addView(const void* data, std::size_t size, std::size_t stride = 0) {
-    while (bin.size() % 4 != 0) bin.push_back(0);
+    while (bin.size() % 4 != 0)
+      bin.push_back(0);
     const std::size_t offset = bin.size();
     const auto* p = static_cast<const std::uint8_t*>(data);
     bin.insert(bin.end(), p, p + size);
     json view = {{"buffer", 0}, {"byteOffset", offset}, {"byteLength", size}};
-    if (stride) view["byteStride"] = stride;
+    if (stride)
+      view["byteStride"] = stride;
     doc["bufferViews"].push_back(view);
     return static_cast<int>(doc["bufferViews"].size()) - 1;
   }
@@ -94,21 +96,29 @@ class GltfBuilder {
     std::vector<float> pos;
     Vec3 lo{1e300}, hi{-1e300};
     for (const Vec3& v : mesh.vertices) {
-      pos.insert(pos.end(), {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)});
+      pos.insert(pos.end(),
+                 {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)});
       lo = glm::min(lo, v);
       hi = glm::max(hi, v);
     }
     const int pv = addView(pos.data(), pos.size() * sizeof(float));
-    const int pa = addAccessor({{"bufferView", pv}, {"componentType", 5126}, {"count", mesh.vertices.size()},
-                                {"type", "VEC3"}, {"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}});
+    const int pa = addAccessor({{"bufferView", pv},
+                                {"componentType", 5126},
+                                {"count", mesh.vertices.size()},
+                                {"type", "VEC3"},
+                                {"min", {lo.x, lo.y, lo.z}},
+                                {"max", {hi.x, hi.y, hi.z}}});
     json prim = {{"attributes", {{"POSITION", pa}}}, {"mode", 4}};
     if (!mesh.triangles.empty()) {
       const int iv = addView(mesh.triangles.data(), mesh.triangles.size() * sizeof(std::uint32_t));
-      prim["indices"] = addAccessor(
-          {{"bufferView", iv}, {"componentType", 5125}, {"count", mesh.triangles.size()}, {"type", "SCALAR"}});
+      prim["indices"] = addAccessor({{"bufferView", iv},
+                                     {"componentType", 5125},
+                                     {"count", mesh.triangles.size()},
+                                     {"type", "SCALAR"}});
     }
     json m = {{"primitives", json::array({prim})}};
-    if (!name.empty()) m["name"] = name;
+    if (!name.empty())
+      m["name"] = name;
     doc["meshes"].push_back(m);
     return static_cast<int>(doc["meshes"].size()) - 1;
   }
@@ -118,7 +128,9 @@ class GltfBuilder {
     shapes.push_back(shape);
     return static_cast<int>(shapes.size()) - 1;
   }
-  int box(Vec3 size) { return addShape({{"type", "box"}, {"box", {{"size", {size.x, size.y, size.z}}}}}); }
+  int box(Vec3 size) {
+    return addShape({{"type", "box"}, {"box", {{"size", {size.x, size.y, size.z}}}}});
+  }
   int sphere(double r) { return addShape({{"type", "sphere"}, {"sphere", {{"radius", r}}}}); }
   int capsule(double height, double rt, double rb) {
     return addShape({{"type", "capsule"},
@@ -136,8 +148,10 @@ class GltfBuilder {
     return static_cast<int>(arr.size()) - 1;
   }
   int material(double friction, double restitution, const char* combine = "average") {
-    return addPhysics("physicsMaterials", {{"staticFriction", friction}, {"dynamicFriction", friction},
-                                           {"restitution", restitution}, {"frictionCombine", combine},
+    return addPhysics("physicsMaterials", {{"staticFriction", friction},
+                                           {"dynamicFriction", friction},
+                                           {"restitution", restitution},
+                                           {"frictionCombine", combine},
                                            {"restitutionCombine", combine}});
   }
 
@@ -172,8 +186,9 @@ class GltfBuilder {
   std::string gltf() const {
     json d = doc;
     if (!bin.empty()) {
-      d["buffers"] = json::array({json{{"byteLength", bin.size()},
-                                       {"uri", "data:application/octet-stream;base64," + base64(bin)}}});
+      d["buffers"] =
+          json::array({json{{"byteLength", bin.size()},
+                            {"uri", "data:application/octet-stream;base64," + base64(bin)}}});
     }
     return d.dump();
   }
@@ -182,17 +197,22 @@ class GltfBuilder {
   std::vector<std::uint8_t> glb() const {
     json d = doc;
     std::vector<std::uint8_t> b = bin;
-    while (b.size() % 4 != 0) b.push_back(0);
-    if (!b.empty()) d["buffers"] = json::array({json{{"byteLength", bin.size()}}});
+    while (b.size() % 4 != 0)
+      b.push_back(0);
+    if (!b.empty())
+      d["buffers"] = json::array({json{{"byteLength", bin.size()}}});
     std::string text = d.dump();
-    while (text.size() % 4 != 0) text.push_back(' ');
+    while (text.size() % 4 != 0)
+      text.push_back(' ');
     std::vector<std::uint8_t> out;
     out.reserve(28 + text.size() + b.size());
     const auto u32 = [&](std::uint32_t v) {
-      for (int k = 0; k < 4; ++k) out.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
+      for (int k = 0; k < 4; ++k)
+        out.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
     };
     const std::size_t total = 12 + 8 + text.size() + (b.empty() ? 0 : 8 + b.size());
-    for (const char c : {'g', 'l', 'T', 'F'}) out.push_back(static_cast<std::uint8_t>(c));
+    for (const char c : {'g', 'l', 'T', 'F'})
+      out.push_back(static_cast<std::uint8_t>(c));
     u32(2);
     u32(static_cast<std::uint32_t>(total));
     u32(static_cast<std::uint32_t>(text.size()));
@@ -207,6 +227,8 @@ class GltfBuilder {
   }
 };
 
-inline std::vector<std::uint8_t> bytesOf(const std::string& s) { return {s.begin(), s.end()}; }
+inline std::vector<std::uint8_t> bytesOf(const std::string& s) {
+  return {s.begin(), s.end()};
+}
 
 }  // namespace hapticd::scene::testing

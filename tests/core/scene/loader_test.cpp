@@ -24,14 +24,19 @@ LoadReport load(const GltfBuilder& b, const LoadOptions& options = {}) {
 
 const Body& bodyNamed(const SceneModel& s, const std::string& name) {
   for (const Body& b : s.bodies) {
-    if (b.name == name) return b;
+    if (b.name == name)
+      return b;
   }
   ADD_FAILURE() << "no body " << name;
   return s.bodies.front();
 }
 
 /// A dynamic body node with a collider of `shape`.
-int dynamicShape(GltfBuilder& b, const std::string& name, int shape, Vec3 t, json motion = json::object()) {
+int dynamicShape(GltfBuilder& b,
+                 const std::string& name,
+                 int shape,
+                 Vec3 t,
+                 json motion = json::object()) {
   json n = GltfBuilder::node(name, t);
   GltfBuilder::physics(n)["motion"] = motion;
   GltfBuilder::physics(n)["collider"] = GltfBuilder::shapeCollider(shape);
@@ -116,7 +121,8 @@ TEST(SceneLoader, EveryImplicitShapeBecomesAPolytopeWithinTolerance) {
       EXPECT_LE(glm::length(v.p), r * (1.0 + tol) * (1.0 + 1e-12));
       EXPECT_GE(glm::length(v.p), r);
     }
-    for (const auto& f : p.shape->faces()) EXPECT_GE(f.offset, r * (1.0 - tol) * (1.0 - 1e-12));
+    for (const auto& f : p.shape->faces())
+      EXPECT_GE(f.offset, r * (1.0 - tol) * (1.0 - 1e-12));
   }
   {
     const Primitive& p = bodyNamed(*rep.scene, "Cylinder").primitives[0];
@@ -137,14 +143,16 @@ TEST(SceneLoader, EveryImplicitShapeBecomesAPolytopeWithinTolerance) {
     const Primitive& p = bodyNamed(*rep.scene, "Capsule").primitives[0];
     EXPECT_EQ(p.source, ShapeSource::kCapsule);
     double top = -1.0;
-    for (const auto& v : p.shape->vertices()) top = std::max(top, v.p.y);
+    for (const auto& v : p.shape->vertices())
+      top = std::max(top, v.p.y);
     EXPECT_GE(top, 0.5 + r);
     EXPECT_LE(top, (0.5 + r * (1.0 + tol)) * (1.0 + 1e-12));
   }
   {
     const Primitive& p = bodyNamed(*rep.scene, "Cone").primitives[0];
     double top = -1.0;
-    for (const auto& v : p.shape->vertices()) top = std::max(top, v.p.y);
+    for (const auto& v : p.shape->vertices())
+      top = std::max(top, v.p.y);
     EXPECT_NEAR(top, 0.5, 1e-12);  // the apex
   }
 }
@@ -212,8 +220,9 @@ TEST(SceneLoader, MeshHullAndConvexMeshAndNonConvexRefused) {
     b.addNode(n);
     const LoadReport r = load(b);
     ASSERT_FALSE(r.ok());
-    EXPECT_TRUE(hasProblem(r, "non-convex mesh collider without convexHull (convex decomposition "
-                              "is not supported)"))
+    EXPECT_TRUE(hasProblem(r,
+                           "non-convex mesh collider without convexHull (convex decomposition "
+                           "is not supported)"))
         << r.message();
     EXPECT_TRUE(hasProblem(r, "mesh 0 'DentedMesh'")) << r.message();
     EXPECT_TRUE(hasProblem(r, "node 0 'Dented'")) << r.message();
@@ -240,7 +249,8 @@ TEST(SceneLoader, ScaleIsFoldedIntoTheShapeAndPosesStayRigid) {
   EXPECT_NEAR(prim.X_BP.translation.x, 2.0, 1e-12);
   EXPECT_NEAR(glm::length(prim.X_BP.rotation), 1.0, 1e-12);
   Vec3 hi{-1e300};
-  for (const auto& v : prim.shape->vertices()) hi = glm::max(hi, v.p);
+  for (const auto& v : prim.shape->vertices())
+    hi = glm::max(hi, v.p);
   EXPECT_NEAR(hi.x, 1.0, 1e-12);
   EXPECT_NEAR(hi.y, 1.5, 1e-12);
   EXPECT_NEAR(hi.z, 2.0, 1e-12);
@@ -259,7 +269,8 @@ TEST(SceneLoader, MassPropertiesOfABoxMatchTheClosedForm) {
   EXPECT_NEAR(body.inverse_mass, 1.0 / m, 1e-12);
   EXPECT_FALSE(body.mass_declared);
   EXPECT_NEAR(glm::length(body.com_B), 0.0, 1e-12);
-  const double ix = m / 12.0 * (4.0 + 9.0), iy = m / 12.0 * (1.0 + 9.0), iz = m / 12.0 * (1.0 + 4.0);
+  const double ix = m / 12.0 * (4.0 + 9.0), iy = m / 12.0 * (1.0 + 9.0),
+               iz = m / 12.0 * (1.0 + 4.0);
   EXPECT_NEAR(body.inertia_B[0][0], ix, 1e-9 * ix);
   EXPECT_NEAR(body.inertia_B[1][1], iy, 1e-9 * iy);
   EXPECT_NEAR(body.inertia_B[2][2], iz, 1e-9 * iz);
@@ -280,7 +291,8 @@ TEST(SceneLoader, MassPropertiesOfATessellatedSphereWithinTheTolerance) {
     const double m = 1000.0 * 4.0 / 3.0 * std::numbers::pi * r * r * r;
     const double i = 0.4 * m * r * r;
     EXPECT_LE(std::abs(body.mass - m) / m, tol) << "tolerance " << tol;
-    for (int k = 0; k < 3; ++k) EXPECT_LE(std::abs(body.inertia_B[k][k] - i) / i, tol);
+    for (int k = 0; k < 3; ++k)
+      EXPECT_LE(std::abs(body.inertia_B[k][k] - i) / i, tol);
   }
 }
 
@@ -289,8 +301,10 @@ TEST(SceneLoader, DeclaredMassPropertiesAndInfiniteValues) {
   dynamicShape(b, "Declared", b.box({1.0, 1.0, 1.0}), {0.0, 0.0, 0.0},
                {{"mass", 2.0}, {"centerOfMass", {0.1, 0.0, 0.0}}});
   dynamicShape(b, "Inertia", b.box({1.0, 1.0, 1.0}), {5.0, 0.0, 0.0},
-               {{"mass", 3.0}, {"inertiaDiagonal", {1.0, 0.0, 2.0}},
-                {"linearVelocity", {1.0, 2.0, 3.0}}, {"gravityFactor", 0.5}});
+               {{"mass", 3.0},
+                {"inertiaDiagonal", {1.0, 0.0, 2.0}},
+                {"linearVelocity", {1.0, 2.0, 3.0}},
+                {"gravityFactor", 0.5}});
   dynamicShape(b, "Infinite", b.box({1.0, 1.0, 1.0}), {10.0, 0.0, 0.0}, {{"mass", 0.0}});
   const LoadReport r = load(b);
   ASSERT_TRUE(r.ok()) << r.message();
@@ -366,12 +380,12 @@ TEST(SceneLoader, MaterialsDecideFrictionAndRestitution) {
     const int floor_material = b.material(0.5, 0.5, combine);
     const int cube_material = b.material(0.0, 0.0, combine);
     json floor = GltfBuilder::node("Floor");
-    GltfBuilder::physics(floor)["collider"] = GltfBuilder::shapeCollider(
-        b.box({4.0, 0.1, 4.0}), {{"physicsMaterial", floor_material}});
+    GltfBuilder::physics(floor)["collider"] =
+        GltfBuilder::shapeCollider(b.box({4.0, 0.1, 4.0}), {{"physicsMaterial", floor_material}});
     json cube = GltfBuilder::node("Cube", {0.0, 1.0, 0.0});
     GltfBuilder::physics(cube)["motion"] = json::object();
-    GltfBuilder::physics(cube)["collider"] = GltfBuilder::shapeCollider(
-        b.box({1.0, 1.0, 1.0}), {{"physicsMaterial", cube_material}});
+    GltfBuilder::physics(cube)["collider"] =
+        GltfBuilder::shapeCollider(b.box({1.0, 1.0, 1.0}), {{"physicsMaterial", cube_material}});
     b.addNode(floor);
     b.addNode(cube);
     const LoadReport r = load(b);
@@ -400,14 +414,16 @@ TEST(SceneLoader, MaterialsDecideFrictionAndRestitution) {
 
 TEST(SceneLoader, CollisionFiltersBecomeBits) {
   GltfBuilder b;
-  const int f0 = b.addPhysics("collisionFilters",
-                              {{"collisionSystems", {"character"}}, {"collideWithSystems", {"landscape"}}});
-  const int f1 = b.addPhysics("collisionFilters",
-                              {{"collisionSystems", {"landscape"}}, {"notCollideWithSystems", {"debris"}}});
+  const int f0 = b.addPhysics("collisionFilters", {{"collisionSystems", {"character"}},
+                                                   {"collideWithSystems", {"landscape"}}});
+  const int f1 = b.addPhysics("collisionFilters", {{"collisionSystems", {"landscape"}},
+                                                   {"notCollideWithSystems", {"debris"}}});
   json a = GltfBuilder::node("A");
-  GltfBuilder::physics(a)["collider"] = GltfBuilder::shapeCollider(b.box({1.0, 1.0, 1.0}), {{"collisionFilter", f0}});
+  GltfBuilder::physics(a)["collider"] =
+      GltfBuilder::shapeCollider(b.box({1.0, 1.0, 1.0}), {{"collisionFilter", f0}});
   json c = GltfBuilder::node("B", {3.0, 0.0, 0.0});
-  GltfBuilder::physics(c)["collider"] = GltfBuilder::shapeCollider(b.box({1.0, 1.0, 1.0}), {{"collisionFilter", f1}});
+  GltfBuilder::physics(c)["collider"] =
+      GltfBuilder::shapeCollider(b.box({1.0, 1.0, 1.0}), {{"collisionFilter", f1}});
   json d = GltfBuilder::node("C", {6.0, 0.0, 0.0});
   GltfBuilder::physics(d)["collider"] = GltfBuilder::shapeCollider(b.box({1.0, 1.0, 1.0}));
   b.addNode(a);
@@ -433,17 +449,21 @@ TEST(SceneLoader, CollisionFiltersBecomeBits) {
 
   GltfBuilder many;
   json systems = json::array();
-  for (int i = 0; i < 33; ++i) systems.push_back("s" + std::to_string(i));
+  for (int i = 0; i < 33; ++i)
+    systems.push_back("s" + std::to_string(i));
   const int f = many.addPhysics("collisionFilters", {{"collisionSystems", systems}});
   json n = GltfBuilder::node("N");
-  GltfBuilder::physics(n)["collider"] = GltfBuilder::shapeCollider(many.box({1.0, 1.0, 1.0}), {{"collisionFilter", f}});
+  GltfBuilder::physics(n)["collider"] =
+      GltfBuilder::shapeCollider(many.box({1.0, 1.0, 1.0}), {{"collisionFilter", f}});
   many.addNode(n);
   const LoadReport bad = load(many);
   EXPECT_FALSE(bad.ok());
   EXPECT_TRUE(hasProblem(bad, "more than 32 collision systems")) << bad.message();
 }
 
-json lockedLinear() { return {{"linearAxes", {0, 1, 2}}, {"max", 0.0}}; }
+json lockedLinear() {
+  return {{"linearAxes", {0, 1, 2}}, {"max", 0.0}};
+}
 
 LoadReport jointScene(const json& limits) {
   GltfBuilder b;
@@ -461,8 +481,7 @@ LoadReport jointScene(const json& limits) {
 
 TEST(SceneLoader, JointsAreClassifiedFixedOrHinge) {
   {
-    const LoadReport r = jointScene(
-        {lockedLinear(), {{"angularAxes", {0, 1, 2}}, {"max", 0.0}}});
+    const LoadReport r = jointScene({lockedLinear(), {{"angularAxes", {0, 1, 2}}, {"max", 0.0}}});
     ASSERT_TRUE(r.ok()) << r.message();
     ASSERT_EQ(r.scene->joints.size(), 1u);
     EXPECT_EQ(r.scene->joints[0].kind, JointKind::kFixed);
@@ -472,7 +491,8 @@ TEST(SceneLoader, JointsAreClassifiedFixedOrHinge) {
     EXPECT_TRUE(r.scene->plan.joints);
   }
   {
-    const LoadReport r = jointScene({lockedLinear(), {{"angularAxes", {0, 2}}, {"max", 0.0}},
+    const LoadReport r = jointScene({lockedLinear(),
+                                     {{"angularAxes", {0, 2}}, {"max", 0.0}},
                                      {{"angularAxes", {1}}, {"min", -0.5}, {"max", 0.5}}});
     ASSERT_TRUE(r.ok()) << r.message();
     const Joint& j = r.scene->joints[0];
@@ -486,7 +506,8 @@ TEST(SceneLoader, JointsAreClassifiedFixedOrHinge) {
   }
   {
     // a free hinge: one-axis locks, no limit on the free axis
-    const LoadReport r = jointScene({lockedLinear(), {{"angularAxes", {0}}, {"min", 0.0}, {"max", 0.0}},
+    const LoadReport r = jointScene({lockedLinear(),
+                                     {{"angularAxes", {0}}, {"min", 0.0}, {"max", 0.0}},
                                      {{"angularAxes", {1}}, {"min", 0.0}, {"max", 0.0}}});
     ASSERT_TRUE(r.ok()) << r.message();
     EXPECT_EQ(r.scene->joints[0].hinge_axis, 2);
@@ -495,7 +516,8 @@ TEST(SceneLoader, JointsAreClassifiedFixedOrHinge) {
   {
     const LoadReport r = jointScene(json::array({lockedLinear()}));  // a ball joint
     EXPECT_FALSE(r.ok());
-    EXPECT_TRUE(hasProblem(r, "node 2 'Pivot' joint: is neither fixed nor a hinge: 3 free angular axes"))
+    EXPECT_TRUE(
+        hasProblem(r, "node 2 'Pivot' joint: is neither fixed nor a hinge: 3 free angular axes"))
         << r.message();
   }
   {
@@ -598,7 +620,8 @@ TEST(SceneLoader, TheSameSceneInMillimetresMetresAndKilometres) {
       const Body& c = r.scene->bodies[i];
       ASSERT_EQ(a.primitives.size(), c.primitives.size());
       for (std::size_t k = 0; k < a.primitives.size(); ++k) {
-        EXPECT_EQ(a.primitives[k].shape->vertices().size(), c.primitives[k].shape->vertices().size());
+        EXPECT_EQ(a.primitives[k].shape->vertices().size(),
+                  c.primitives[k].shape->vertices().size());
         EXPECT_EQ(a.primitives[k].shape->faces().size(), c.primitives[k].shape->faces().size());
       }
       if (a.motion == Motion::kDynamic) {
@@ -646,8 +669,8 @@ class ExternalUri : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = std::filesystem::temp_directory_path() /
-           ("hapticd_uri_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+           ("hapticd_uri_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+            "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_ / "inside");
     // a scene whose buffer is the file cube.bin
@@ -658,9 +681,11 @@ class ExternalUri : public ::testing::Test {
     b.addNode(n);
     bin_ = b.bin;
     std::ofstream(dir_ / "inside" / "cube.bin", std::ios::binary)
-        .write(reinterpret_cast<const char*>(bin_.data()), static_cast<std::streamsize>(bin_.size()));
+        .write(reinterpret_cast<const char*>(bin_.data()),
+               static_cast<std::streamsize>(bin_.size()));
     std::ofstream(dir_ / "outside.bin", std::ios::binary)
-        .write(reinterpret_cast<const char*>(bin_.data()), static_cast<std::streamsize>(bin_.size()));
+        .write(reinterpret_cast<const char*>(bin_.data()),
+               static_cast<std::streamsize>(bin_.size()));
     std::filesystem::create_symlink(dir_ / "outside.bin", dir_ / "inside" / "link.bin");
     doc_ = b.doc;
   }
@@ -670,7 +695,8 @@ class ExternalUri : public ::testing::Test {
     json d = doc_;
     d["buffers"] = json::array({json{{"byteLength", bin_.size()}, {"uri", uri}}});
     LoadOptions options;
-    if (allow) options.allowed_uri_dir = dir_ / "inside";
+    if (allow)
+      options.allowed_uri_dir = dir_ / "inside";
     return loadScene(testing::bytesOf(d.dump()), "uri.gltf", options);
   }
 
@@ -682,7 +708,8 @@ class ExternalUri : public ::testing::Test {
 TEST_F(ExternalUri, RefusedUnlessAFolderIsAllowedThenOnlyInsideIt) {
   const LoadReport refused = withUri("cube.bin", false);
   EXPECT_FALSE(refused.ok());
-  EXPECT_TRUE(hasProblem(refused, "buffer 0: external URI 'cube.bin' refused: no folder is allowed"))
+  EXPECT_TRUE(
+      hasProblem(refused, "buffer 0: external URI 'cube.bin' refused: no folder is allowed"))
       << refused.message();
 
   const LoadReport allowed = withUri("cube.bin", true);
@@ -723,7 +750,8 @@ TEST(SceneLoader, LoadSceneFileChecksTheSizeFirst) {
 
 TEST(SceneLoader, LimitsAreEnforced) {
   GltfBuilder b;
-  for (int i = 0; i < 5; ++i) staticShape(b, "B" + std::to_string(i), b.box({1.0, 1.0, 1.0}), {2.0 * i, 0.0, 0.0});
+  for (int i = 0; i < 5; ++i)
+    staticShape(b, "B" + std::to_string(i), b.box({1.0, 1.0, 1.0}), {2.0 * i, 0.0, 0.0});
   LoadOptions options;
   options.limits.max_primitives = 4;
   EXPECT_TRUE(hasProblem(load(b, options), "5 colliders exceeds max_primitives (4)"));
@@ -733,6 +761,27 @@ TEST(SceneLoader, LimitsAreEnforced) {
   options = {};
   options.limits.max_bodies = 2;
   EXPECT_TRUE(hasProblem(load(b, options), "5 bodies exceeds max_bodies (2)"));
+  {
+    // three colliders on one mesh at three scales: three hulls of 8 points, over a budget of 20
+    GltfBuilder m;
+    const int mesh = m.addMesh(testing::cubeMesh(), "CubeMesh");
+    for (int i = 0; i < 3; ++i) {
+      json n = GltfBuilder::node("C" + std::to_string(i), {2.0 * i, 0.0, 0.0});
+      n["mesh"] = mesh;
+      n["scale"] = {1.0 + i, 1.0, 1.0};
+      GltfBuilder::physics(n)["collider"] = {{"geometry", {{"node", i}}}};
+      m.addNode(n);
+    }
+    options = {};
+    options.limits.max_total_hull_input_points = 20;
+    const LoadReport r = load(m, options);
+    EXPECT_TRUE(hasProblem(r,
+                           "node 2 'C2': the scene's colliders have more than "
+                           "max_total_hull_input_points (20)"))
+        << r.message();
+    options.limits.max_total_hull_input_points = 24;
+    EXPECT_TRUE(load(m, options).ok());
+  }
   GltfBuilder s;
   staticShape(s, "Ball", s.sphere(1.0), {0.0, 0.0, 0.0});
   options = {};
@@ -740,6 +789,184 @@ TEST(SceneLoader, LimitsAreEnforced) {
   EXPECT_TRUE(hasProblem(load(s, options), "needs more than 4096 hull vertices"));
   options.limits.tessellation_tolerance = 0.0;
   EXPECT_TRUE(hasProblem(load(s, options), "tessellation_tolerance 0 must be in (0, 0.5)"));
+}
+
+}  // namespace
+}  // namespace hapticd::scene
+
+namespace hapticd::scene {
+namespace {
+
+Body codeBody(Motion motion, std::int32_t material) {
+  Body b;
+  b.motion = motion;
+  Primitive p;
+  p.material = material;
+  b.primitives.push_back(p);
+  return b;
+}
+
+TEST(ScenePlan, OnlyWhatTheSceneCallsFor) {
+  SceneModel s;
+  s.materials.push_back(Material{"grippy", 0.8, 0.7, 0.0});
+  s.materials.push_back(Material{"bouncy", 0.0, 0.0, 0.9});
+  // kinematic bodies alone: contact forces, nothing else
+  s.bodies.push_back(codeBody(Motion::kKinematic, -1));
+  s.bodies.push_back(codeBody(Motion::kStatic, 0));
+  s.gravity_W = Vec3{0.0, -9.81, 0.0};
+  SimulationPlan p = makePlan(s);
+  EXPECT_TRUE(p.contact_forces);
+  EXPECT_FALSE(p.dynamics);
+  EXPECT_FALSE(p.gravity);   // declared, but nothing dynamic
+  EXPECT_FALSE(p.friction);  // the kinematic body is not the probe
+  EXPECT_EQ(p.static_primitives, 1u);
+  EXPECT_EQ(p.moving_primitives, 1u);
+  // the kinematic body becomes the probe: the static grippy floor gives it friction
+  s.bodies[0].probe = true;
+  s.probe_body = 0;
+  p = makePlan(s);
+  EXPECT_TRUE(p.friction);
+  EXPECT_FALSE(p.restitution);  // restitution needs a dynamic body
+  // a dynamic bouncy body: dynamics, gravity, restitution
+  s.bodies.push_back(codeBody(Motion::kDynamic, 1));
+  p = makePlan(s);
+  EXPECT_TRUE(p.dynamics);
+  EXPECT_TRUE(p.gravity);
+  EXPECT_TRUE(p.restitution);
+  // zero gravity declared: no gravity stage
+  s.gravity_W = Vec3{0.0};
+  EXPECT_FALSE(makePlan(s).gravity);
+  s.gravity_W.reset();
+  EXPECT_FALSE(makePlan(s).gravity);
+  EXPECT_FALSE(makePlan(s).joints);
+  s.joints.push_back(Joint{});
+  EXPECT_TRUE(makePlan(s).joints);
+}
+
+}  // namespace
+}  // namespace hapticd::scene
+
+namespace hapticd::scene {
+namespace {
+
+TEST(SceneLoader, IdenticalCollidersShareOneHull) {
+  GltfBuilder b;
+  const int box = b.box({0.1, 0.4, 0.1});
+  json field = GltfBuilder::node("Field");
+  const int f = b.addNode(field);
+  for (int i = 0; i < 3; ++i)
+    staticShape(b, "Pillar" + std::to_string(i), box, {0.3 * i, 0.0, 0.0}, f);
+  json big = GltfBuilder::node("Big", {2.0, 0.0, 0.0});
+  big["scale"] = {2.0, 2.0, 2.0};
+  GltfBuilder::physics(big)["collider"] = GltfBuilder::shapeCollider(box);
+  b.addNode(big, f);
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  ASSERT_EQ(r.scene->bodies.size(), 1u);  // one static body for the root Field
+  const auto& prims = r.scene->bodies[0].primitives;
+  ASSERT_EQ(prims.size(), 4u);
+  EXPECT_EQ(prims[0].shape.get(), prims[1].shape.get());
+  EXPECT_EQ(prims[0].shape.get(), prims[2].shape.get());
+  EXPECT_NE(prims[0].shape.get(), prims[3].shape.get());  // scaled: its own hull
+  EXPECT_NEAR(prims[2].X_BP.translation.x - prims[0].X_BP.translation.x, 0.6, 1e-12);
+}
+
+}  // namespace
+}  // namespace hapticd::scene
+
+namespace hapticd::scene {
+namespace {
+
+TEST(SceneLoader, AMatrixNodeMatchesTheSameTrsNode) {
+  const double a = 0.7;
+  const auto make = [&](bool matrix) {
+    GltfBuilder b;
+    json n = GltfBuilder::node("Box");
+    if (matrix) {
+      // column-major: rotation a about Z, scale (2, 1, 3), translation (1, 2, 3)
+      n.erase("translation");
+      n["matrix"] = {2 * std::cos(a),
+                     2 * std::sin(a),
+                     0,
+                     0,
+                     -std::sin(a),
+                     std::cos(a),
+                     0,
+                     0,
+                     0,
+                     0,
+                     3,
+                     0,
+                     1,
+                     2,
+                     3,
+                     1};
+    } else {
+      n["translation"] = {1, 2, 3};
+      n["rotation"] = {0, 0, std::sin(a / 2), std::cos(a / 2)};
+      n["scale"] = {2, 1, 3};
+    }
+    GltfBuilder::physics(n)["motion"] = json::object();
+    GltfBuilder::physics(n)["collider"] = GltfBuilder::shapeCollider(b.box({1.0, 1.0, 1.0}));
+    b.addNode(n);
+    return load(b);
+  };
+  const LoadReport m = make(true), t = make(false);
+  ASSERT_TRUE(m.ok()) << m.message();
+  ASSERT_TRUE(t.ok()) << t.message();
+  const Body& bm = m.scene->bodies[0];
+  const Body& bt = t.scene->bodies[0];
+  EXPECT_NEAR(glm::length(bm.X_WB.translation - bt.X_WB.translation), 0.0, 1e-12);
+  EXPECT_NEAR(std::abs(glm::dot(bm.X_WB.rotation, bt.X_WB.rotation)), 1.0, 1e-12);
+  EXPECT_NEAR(bm.mass, 6000.0, 1e-6);
+  EXPECT_NEAR(bt.mass, 6000.0, 1e-6);
+}
+
+TEST(SceneLoader, GeometryMayComeFromANodeOutsideTheScene) {
+  GltfBuilder b;
+  json n = GltfBuilder::node("Body");
+  GltfBuilder::physics(n)["motion"] = json::object();
+  GltfBuilder::physics(n)["collider"] = {{"geometry", {{"node", 1}, {"convexHull", true}}}};
+  b.addNode(n);
+  // node 1: not in the scene, only the geometry's source, with a child mesh offset by 1 on x
+  b.doc["nodes"].push_back({{"name", "Source"}, {"children", {2}}});
+  b.doc["nodes"].push_back({{"name", "Part"},
+                            {"translation", {1.0, 0.0, 0.0}},
+                            {"mesh", b.addMesh(testing::cubeMesh(), "CubeMesh")}});
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  ASSERT_EQ(r.scene->bodies.size(), 1u);
+  const Body& body = r.scene->bodies[0];
+  EXPECT_NEAR(body.com_B.x, 1.0, 1e-12);  // the child's offset is kept
+  EXPECT_NEAR(body.mass, 1000.0, 1e-9);
+}
+
+TEST(SceneLoader, ATaperedCapsuleIsTheHullOfItsTwoSpheres) {
+  GltfBuilder b;
+  staticShape(b, "Tapered", b.capsule(1.0, 0.1, 0.3), {0.0, 0.0, 0.0});
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  Vec3 lo{1e300}, hi{-1e300};
+  for (const auto& v : r.scene->bodies[0].primitives[0].shape->vertices()) {
+    lo = glm::min(lo, v.p);
+    hi = glm::max(hi, v.p);
+  }
+  EXPECT_NEAR(hi.y, 0.5 + 0.1, 0.1 * 1e-3 + 1e-12);
+  EXPECT_NEAR(lo.y, -0.5 - 0.3, 0.3 * 1e-3 + 1e-12);
+  EXPECT_NEAR(hi.x, 0.3, 0.3 * 1e-3 + 1e-12);
+}
+
+TEST(SceneLoader, ADeepHierarchyLoadsWithoutRecursion) {
+  GltfBuilder b;
+  int parent = b.addNode(GltfBuilder::node("Root"));
+  for (int i = 0; i < 5000; ++i)
+    parent = b.addNode(GltfBuilder::node("N", {0.001, 0.0, 0.0}), parent);
+  staticShape(b, "Leaf", b.box({1.0, 1.0, 1.0}), {0.0, 0.0, 0.0}, parent);
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  ASSERT_EQ(r.scene->bodies.size(), 1u);
+  EXPECT_EQ(r.scene->bodies[0].name, "Root");
+  EXPECT_NEAR(r.scene->bodies[0].primitives[0].X_BP.translation.x, 5.0, 1e-9);
 }
 
 }  // namespace

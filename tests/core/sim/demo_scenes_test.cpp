@@ -3,9 +3,12 @@
 // proxy's penetration within 1 mm; passivity where the stream comes back to where it started.
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <numbers>
 #include <string>
 
 #include "core/scene/loader.h"
+#include "tests/core/alloc_counter.h"
 #include "tests/core/sim/harness.h"
 
 namespace hapticd::simtest {
@@ -20,22 +23,31 @@ TEST_P(DemoScene, ReplaysItsPoseStreamWithinTheInvariants) {
   ASSERT_TRUE(report.ok()) << report.message();
   auto keys = readPoseStream(dir + "/tests/streams/" + name + ".csv");
   ASSERT_GE(keys.size(), 2u);
-  const bool closed = glm::length(keys.front().X.translation - keys.back().X.translation) < 1e-9 &&
-                      std::abs(glm::dot(keys.front().X.rotation, keys.back().X.rotation)) > 1.0 - 1e-12;
+  const bool closed =
+      glm::length(keys.front().X.translation - keys.back().X.translation) < 1e-9 &&
+      std::abs(glm::dot(keys.front().X.rotation, keys.back().X.rotation)) > 1.0 - 1e-12;
   auto model = std::make_shared<const scene::SceneModel>(std::move(*report.scene));
   sim::SimOptions o;
   auto created = sim::Simulation::create(model, o);
   ASSERT_TRUE(created.ok()) << created.error().message;
   Runner run(std::move(created).value(), o);
-  std::uint32_t max_pairs = 0, clamped = 0;
-  const Figures f = run.run(Path(keys), [&](const sim::TickInput&, const sim::TickOutput& out) {
+  std::uint32_t max_pairs = 0, clamped = 0, backed_off = 0;
+  const Path path(keys);
+  run.sim().prepareThread();
+  const std::uint64_t allocations_before = testing_alloc::count();
+  const Figures f = run.run(path, [&](const sim::TickInput&, const sim::TickOutput& out) {
     max_pairs = std::max(max_pairs, out.pairs_tested);
     clamped += (out.flags & sim::kTickForceClamped) ? 1u : 0u;
+    backed_off += (out.flags & sim::kTickBackedOff) ? 1u : 0u;
     EXPECT_EQ(out.flags & sim::kTickCapacityFull, 0u);
   });
+  const std::uint64_t allocations = testing_alloc::count() - allocations_before;
   f.print(name.c_str());
-  std::printf("  %zu bodies, stream %s, most pairs tested in a tick %u, ticks clamped %u\n",
-              model->bodies.size(), closed ? "closed" : "open", max_pairs, clamped);
+  EXPECT_EQ(allocations, 0u);  // the whole stream, after prepareThread()
+  std::printf(
+      "  %zu bodies, stream %s, most pairs tested in a tick %u, ticks clamped %u, ticks "
+      "whose step was bisected back %u\n",
+      model->bodies.size(), closed ? "closed" : "open", max_pairs, clamped, backed_off);
   if (!closed) {
     // an open path proves nothing about energy: check the rest
     EXPECT_TRUE(f.all_finite);
@@ -50,9 +62,73 @@ TEST_P(DemoScene, ReplaysItsPoseStreamWithinTheInvariants) {
   }
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes, DemoScene,
+INSTANTIATE_TEST_SUITE_P(Scenes,
+                         DemoScene,
                          ::testing::Values("peg_in_hole", "gears", "dynamic", "stress"),
                          [](const auto& param_info) { return std::string(param_info.param); });
+
+}  // namespace
+}  // namespace hapticd::simtest
+
+namespace hapticd::simtest {
+namespace {
+
+double angleZ(const Quat& q) {
+  return 2.0 * std::atan2(q.z, q.w);
+}
+
+// gears.glb and its stream: the rod pushes a tooth of gear A round; A and B are on hinges, so
+// they turn (quasi-statically: no dynamics, no inertia) and A drives B through the mesh.
+TEST(GearsScene, TheProbeTurnsOneGearAndItTurnsTheOther) {
+  const std::string dir = HAPTICD_SOURCE_DIR;
+  auto report = scene::loadSceneFile(dir + "/scenes/gears.glb");
+  ASSERT_TRUE(report.ok()) << report.message();
+  auto keys = readPoseStream(dir + "/tests/streams/gears.csv");
+  ASSERT_GE(keys.size(), 2u);
+  auto model = std::make_shared<const scene::SceneModel>(std::move(*report.scene));
+  sim::SimOptions o;
+  auto created = sim::Simulation::create(model, o);
+  ASSERT_TRUE(created.ok()) << created.error().message;
+  Runner run(std::move(created).value(), o);
+  const auto poses = run.sim().bodyPoses();
+  ASSERT_GE(poses.size(), 2u);
+  std::size_t ia = poses.size(), ib = poses.size();
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    const std::string& n = model->bodies[poses[i].body].name;
+    if (n.find("GearA") != std::string::npos)
+      ia = i;
+    if (n.find("GearB") != std::string::npos)
+      ib = i;
+  }
+  ASSERT_LT(ia, poses.size());
+  ASSERT_LT(ib, poses.size());
+  double a_min = 0.0, a_max = 0.0, worst_ratio_err = 0.0, max_force = 0.0;
+  const Figures f = run.run(Path(keys), [&](const sim::TickInput& in, const sim::TickOutput& out) {
+    const auto p = run.sim().bodyPoses();
+    const double a = angleZ(p[ia].X_WB.rotation), b = angleZ(p[ib].X_WB.rotation);
+    a_min = std::min(a_min, a);
+    a_max = std::max(a_max, a);
+    // once A has turned more than the backlash (about 0.6 degrees), B turns the other way by
+    // the same angle (19 teeth each), less the backlash
+    if (std::abs(a) > 2.0 * std::numbers::pi / 180.0) {
+      worst_ratio_err =
+          std::max(worst_ratio_err, std::abs(std::abs(b) - std::abs(a)) * 180.0 / std::numbers::pi);
+      EXPECT_LT(a * b, 0.0) << "at t = " << in.t_s;
+    }
+    max_force = std::max(max_force, glm::length(out.force_W_n));
+  });
+  f.print("gears turned by the probe");
+  std::printf(
+      "  gear A turned from %.2f to %.2f deg; | |B| - |A| | at most %.3f deg (backlash ~0.6); "
+      "largest force %.3f N\n",
+      a_min * 180 / std::numbers::pi, a_max * 180 / std::numbers::pi, worst_ratio_err, max_force);
+  EXPECT_LT(a_min * 180 / std::numbers::pi, -20.0);  // the stream sweeps 30 degrees clockwise
+  EXPECT_GT(a_max * 180 / std::numbers::pi, 10.0);   // and 60 back
+  EXPECT_LT(worst_ratio_err, 1.0);
+  EXPECT_TRUE(f.all_finite);
+  EXPECT_LE(f.max_force_step_n, o.response.max_force_step_n * (1.0 + 1e-9));
+  EXPECT_LE(f.max_penetration, 1e-3);
+}
 
 }  // namespace
 }  // namespace hapticd::simtest

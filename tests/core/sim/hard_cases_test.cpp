@@ -15,15 +15,20 @@ namespace {
 
 using scene::Motion;
 
-Pose at(double x, double y, double z, Quat q = Quat{1, 0, 0, 0}) { return Pose{Vec3{x, y, z}, q}; }
+Pose at(double x, double y, double z, Quat q = Quat{1, 0, 0, 0}) {
+  return Pose{Vec3{x, y, z}, q};
+}
 
-std::unique_ptr<sim::Simulation> make(std::shared_ptr<const scene::SceneModel> s, const sim::SimOptions& o) {
+std::unique_ptr<sim::Simulation> make(std::shared_ptr<const scene::SceneModel> s,
+                                      const sim::SimOptions& o) {
   auto r = sim::Simulation::create(std::move(s), o);
   EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
   return std::move(r).value();
 }
 
-scene::Body staticBox(const std::string& name, const Vec3& centre, const Vec3& half,
+scene::Body staticBox(const std::string& name,
+                      const Vec3& centre,
+                      const Vec3& half,
                       Quat q = Quat{1, 0, 0, 0}) {
   return makeBody(name, Motion::kStatic, Pose{centre, q}, {boxShape(half)});
 }
@@ -37,10 +42,14 @@ std::shared_ptr<const scene::SceneModel> pegInHole() {
   s.name = "peg in hole";
   s.bodies.push_back(staticBox("floor", Vec3{0, -0.01, 0}, Vec3{0.1, 0.01, 0.1}));
   const double c = kHoleHalf + kWall / 2;
-  s.bodies.push_back(staticBox("wall+x", Vec3{c, kDepth / 2, 0}, Vec3{kWall / 2, kDepth / 2, kHoleHalf + kWall}));
-  s.bodies.push_back(staticBox("wall-x", Vec3{-c, kDepth / 2, 0}, Vec3{kWall / 2, kDepth / 2, kHoleHalf + kWall}));
-  s.bodies.push_back(staticBox("wall+z", Vec3{0, kDepth / 2, c}, Vec3{kHoleHalf, kDepth / 2, kWall / 2}));
-  s.bodies.push_back(staticBox("wall-z", Vec3{0, kDepth / 2, -c}, Vec3{kHoleHalf, kDepth / 2, kWall / 2}));
+  s.bodies.push_back(
+      staticBox("wall+x", Vec3{c, kDepth / 2, 0}, Vec3{kWall / 2, kDepth / 2, kHoleHalf + kWall}));
+  s.bodies.push_back(
+      staticBox("wall-x", Vec3{-c, kDepth / 2, 0}, Vec3{kWall / 2, kDepth / 2, kHoleHalf + kWall}));
+  s.bodies.push_back(
+      staticBox("wall+z", Vec3{0, kDepth / 2, c}, Vec3{kHoleHalf, kDepth / 2, kWall / 2}));
+  s.bodies.push_back(
+      staticBox("wall-z", Vec3{0, kDepth / 2, -c}, Vec3{kHoleHalf, kDepth / 2, kWall / 2}));
   auto peg = makeBody("peg", Motion::kKinematic, at(0, 0.08, 0),
                       {boxShape(Vec3{kPegHalf, kPegHalfLength, kPegHalf})});
   peg.probe = true;
@@ -89,29 +98,34 @@ TEST(HardCases, PegInHoleWithATenthOfAMillimetreClearance) {
     const Vec3 p = out.X_W_proxy.translation;
     // the peg's lower end (the centre of its end face) must stay within the clearance
     const Vec3 end = p + out.X_W_proxy.rotation * Vec3{0, -kPegHalfLength, 0};
-    if (end.y < kDepth) max_lateral = std::max({max_lateral, std::abs(end.x), std::abs(end.z)});
+    if (end.y < kDepth)
+      max_lateral = std::max({max_lateral, std::abs(end.x), std::abs(end.z)});
     lowest = std::min(lowest, p.y - kPegHalfLength);
-    if (std::abs(in.t_s - 5.4) < 1e-9) push_force = out.force_W_n.y, delta = out.delta_m;
-    if (std::abs(in.t_s - 3.6) < 1e-9) jam_torque = out.torque_W_nm.z;
+    if (std::abs(in.t_s - 5.4) < 1e-9)
+      push_force = out.force_W_n.y, delta = out.delta_m;
+    if (std::abs(in.t_s - 3.6) < 1e-9)
+      jam_torque = out.torque_W_nm.z;
     end_gap = p - in.X_W_device.translation;
     if (std::getenv("TRACE"))
-      std::printf("T %.3f dev %.5f %.5f %.5f prx %.5f %.5f %.5f F %.4f %.4f %.4f c %u pen %.3g d %.3g\n", in.t_s,
-                  1e3 * in.X_W_device.translation.x, 1e3 * in.X_W_device.translation.y,
-                  1e3 * in.X_W_device.translation.z, 1e3 * p.x, 1e3 * p.y, 1e3 * p.z, out.force_W_n.x,
-                  out.force_W_n.y, out.force_W_n.z, out.contacts, out.max_penetration_m, 1e3 * out.delta_m);
+      std::printf(
+          "T %.3f dev %.5f %.5f %.5f prx %.5f %.5f %.5f F %.4f %.4f %.4f c %u pen %.3g d %.3g\n",
+          in.t_s, 1e3 * in.X_W_device.translation.x, 1e3 * in.X_W_device.translation.y,
+          1e3 * in.X_W_device.translation.z, 1e3 * p.x, 1e3 * p.y, 1e3 * p.z, out.force_W_n.x,
+          out.force_W_n.y, out.force_W_n.z, out.contacts, out.max_penetration_m, 1e3 * out.delta_m);
   });
   f.print("peg in hole, 0.1 mm clearance");
   const double expect = o.response.stiffness_n_per_m * (delta + 0.003);
-  std::printf("  push force %.4f N (k_s (delta + D) = %.4f N) | jam torque %.5f N m | largest "
-              "lateral offset of the end in the hole %.4g mm | lowest end %.4g mm | end offset %.3g m\n",
-              push_force, expect, jam_torque, 1e3 * max_lateral, 1e3 * lowest, glm::length(end_gap));
+  std::printf(
+      "  push force %.4f N (k_s (delta + D) = %.4f N) | jam torque %.5f N m | largest "
+      "lateral offset of the end in the hole %.4g mm | lowest end %.4g mm | end offset %.3g m\n",
+      push_force, expect, jam_torque, 1e3 * max_lateral, 1e3 * lowest, glm::length(end_gap));
   expectInvariants(f, o, 1e-3);
   EXPECT_NEAR(push_force, expect, 0.02 * expect);
-  EXPECT_LT(jam_torque, 0.0);               // the walls resist the tilt
-  EXPECT_LT(lowest, 1e-6);                  // the peg reached the floor: the walls did not block it
+  EXPECT_LT(jam_torque, 0.0);  // the walls resist the tilt
+  EXPECT_LT(lowest, 1e-6);     // the peg reached the floor: the walls did not block it
   // its end stayed in the hole: the 0.05 mm clearance per side, plus the penetration bound
   EXPECT_LT(max_lateral, kHoleHalf - kPegHalf + 1e-3 * 0.01);
-  EXPECT_LT(glm::length(end_gap), 1e-9);    // back out in free space the proxy is on the device
+  EXPECT_LT(glm::length(end_gap), 1e-9);  // back out in free space the proxy is on the device
 }
 
 // A bar's lower edge (along x) on a ridge's upper edge (along z): crossed edges, one contact point
@@ -135,7 +149,7 @@ TEST(HardCases, EdgeSlidingAlongAnEdge) {
   Path path({{0.0, at(0, ridge + 0.003, 0, r45)},
              {0.5, at(-0.03, y, 0, r45)},
              {1.0, at(-0.03, y, 0, r45)},
-             {3.0, at(0.03, y, 0, r45)},    // along the bar's edge
+             {3.0, at(0.03, y, 0, r45)},  // along the bar's edge
              {3.5, at(0.0, y, 0, r45)},
              {5.5, at(0.0, y, 0.05, r45)},  // along the ridge's edge
              {6.0, at(0.0, y, 0.05, r45)},
@@ -144,9 +158,11 @@ TEST(HardCases, EdgeSlidingAlongAnEdge) {
              {7.7, at(0, ridge + 0.003, 0, r45)}});
   double worst_ratio = 0.0, worst_err = 0.0, worst_balance = 0.0, fy = 0.0, ty = 0.0, fy_arm = 0.0;
   const Figures f = run.run(path, [&](const sim::TickInput& in, const sim::TickOutput& out) {
-    const bool along_bar = in.t_s > 1.2 && in.t_s < 3.0, along_ridge = in.t_s > 3.7 && in.t_s < 5.5;
-    if (!along_bar && !along_ridge) return;
-    worst_ratio = std::max(worst_ratio, std::hypot(out.force_W_n.x, out.force_W_n.z) / out.force_W_n.y);
+    const bool along_bar = in.t_s > 1.2 && in.t_s<3.0, along_ridge = in.t_s> 3.7 && in.t_s < 5.5;
+    if (!along_bar && !along_ridge)
+      return;
+    worst_ratio =
+        std::max(worst_ratio, std::hypot(out.force_W_n.x, out.force_W_n.z) / out.force_W_n.y);
     // the coupling balances the contact's penalty force (a quasi-static proxy)
     worst_balance = std::max(worst_balance, glm::length(out.force_W_n - out.contact_force_W_n) /
                                                 glm::length(out.force_W_n));
@@ -163,9 +179,11 @@ TEST(HardCases, EdgeSlidingAlongAnEdge) {
     }
   });
   f.print("edge sliding along an edge");
-  std::printf("  under the centre F_y %.4f N, worst |F_y - k_s (delta + D)| / k_s (delta + D) = %.3g; "
-              "largest |F_xz|/F_y %.3g; worst |F - F_contact|/|F| %.3g; torque with the contact "
-              "20 mm off centre %.4f N m\n", fy, worst_err, worst_ratio, worst_balance, ty);
+  std::printf(
+      "  under the centre F_y %.4f N, worst |F_y - k_s (delta + D)| / k_s (delta + D) = %.3g; "
+      "largest |F_xz|/F_y %.3g; worst |F - F_contact|/|F| %.3g; torque with the contact "
+      "20 mm off centre %.4f N m\n",
+      fy, worst_err, worst_ratio, worst_balance, ty);
   expectInvariants(f, o, 1e-3);
   EXPECT_LT(worst_err, 0.02);
   EXPECT_LT(worst_ratio, 0.02);  // frictionless: the ridge pushes up, not along or across
@@ -205,15 +223,17 @@ TEST(HardCases, VertexDrivenIntoAThreeWallCorner) {
              {3.2, at(0.02, 0.02, 0.02)}});
   Vec3 f_hold{0.0}, p_hold{0.0};
   const Figures f = run.run(path, [&](const sim::TickInput& in, const sim::TickOutput& out) {
-    if (std::abs(in.t_s - 1.9) < 1e-9) f_hold = out.force_W_n, p_hold = out.X_W_proxy.translation;
+    if (std::abs(in.t_s - 1.9) < 1e-9)
+      f_hold = out.force_W_n, p_hold = out.X_W_proxy.translation;
   });
   f.print("vertex into a three-wall corner");
   // the proxy's apex rests where the three grown walls meet, (delta', delta', delta'): the force
   // is k_s times the device's distance from there, along the diagonal
   const double angle = std::acos(glm::dot(glm::normalize(f_hold), d));
   const double expect = o.response.stiffness_n_per_m * glm::length(p_hold + D * d) * 0.98;
-  std::printf("  held force %.4f N at %.3g rad from the diagonal; proxy apex at (%.4g, %.4g, %.4g) mm\n",
-              glm::length(f_hold), angle, 1e3 * p_hold.x, 1e3 * p_hold.y, 1e3 * p_hold.z);
+  std::printf(
+      "  held force %.4f N at %.3g rad from the diagonal; proxy apex at (%.4g, %.4g, %.4g) mm\n",
+      glm::length(f_hold), angle, 1e3 * p_hold.x, 1e3 * p_hold.y, 1e3 * p_hold.z);
   expectInvariants(f, o, 1e-3);
   EXPECT_LT(angle, 1e-3);
   EXPECT_GT(glm::length(f_hold), expect);
@@ -229,7 +249,8 @@ TEST(HardCases, MillimetresAndMetresGiveTheSameAnswer) {
     const double s = unit == 0 ? 1.0 : 1000.0;
     scene::SceneModel sc;
     sc.bodies.push_back(staticBox("floor", Vec3{0, -0.05, 0} * s, Vec3{0.2, 0.05, 0.2} * s));
-    auto cube = makeBody("cube", Motion::kKinematic, at(0, 0.05 * s, 0), {boxShape(Vec3{0.01 * s})});
+    auto cube =
+        makeBody("cube", Motion::kKinematic, at(0, 0.05 * s, 0), {boxShape(Vec3{0.01 * s})});
     cube.probe = true;
     sc.bodies.push_back(cube);
     sim::SimOptions o;
@@ -258,7 +279,8 @@ TEST(HardCases, MillimetresAndMetresGiveTheSameAnswer) {
     worst = std::max(worst, glm::length(forces[0][i] - forces[1][i]));
     largest = std::max(largest, glm::length(forces[0][i]));
   }
-  std::printf("[unit scale] largest force %.4f N, largest difference m vs mm %.3g N\n", largest, worst);
+  std::printf("[unit scale] largest force %.4f N, largest difference m vs mm %.3g N\n", largest,
+              worst);
   EXPECT_GT(largest, 1.0);
   EXPECT_LT(worst, 1e-6 * largest);
 }

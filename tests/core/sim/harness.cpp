@@ -15,12 +15,16 @@ std::shared_ptr<const geom::Polytope> hullShape(const std::vector<Vec3>& points)
 
 std::shared_ptr<const geom::Polytope> boxShape(const Vec3& h) {
   std::vector<Vec3> p;
-  for (int i = 0; i < 8; ++i) p.push_back(Vec3{i & 1 ? h.x : -h.x, i & 2 ? h.y : -h.y, i & 4 ? h.z : -h.z});
+  for (int i = 0; i < 8; ++i)
+    p.push_back(Vec3{i & 1 ? h.x : -h.x, i & 2 ? h.y : -h.y, i & 4 ? h.z : -h.z});
   return hullShape(p);
 }
 
-scene::Body makeBody(const std::string& name, scene::Motion motion, const Pose& X_WB,
-                     std::vector<std::shared_ptr<const geom::Polytope>> shapes, std::vector<Pose> X_BP) {
+scene::Body makeBody(const std::string& name,
+                     scene::Motion motion,
+                     const Pose& X_WB,
+                     std::vector<std::shared_ptr<const geom::Polytope>> shapes,
+                     std::vector<Pose> X_BP) {
   scene::Body b;
   b.name = name;
   b.motion = motion;
@@ -28,21 +32,25 @@ scene::Body makeBody(const std::string& name, scene::Motion motion, const Pose& 
   for (std::size_t i = 0; i < shapes.size(); ++i) {
     scene::Primitive p;
     p.shape = shapes[i];
-    if (i < X_BP.size()) p.X_BP = X_BP[i];
+    if (i < X_BP.size())
+      p.X_BP = X_BP[i];
     b.primitives.push_back(p);
   }
-  if (motion == scene::Motion::kDynamic) b.mass = 1.0;
+  if (motion == scene::Motion::kDynamic)
+    b.mass = 1.0;
   return b;
 }
 
 std::shared_ptr<const scene::SceneModel> finish(scene::SceneModel s) {
   for (std::size_t i = 0; i < s.bodies.size(); ++i) {
-    if (s.bodies[i].probe) s.probe_body = static_cast<std::int32_t>(i);
+    if (s.bodies[i].probe)
+      s.probe_body = static_cast<std::int32_t>(i);
   }
   s.plan = scene::SimulationPlan{};
   s.plan.contact_forces = true;
   for (const auto& b : s.bodies) {
-    if (b.motion == scene::Motion::kDynamic) s.plan.dynamics = true;
+    if (b.motion == scene::Motion::kDynamic)
+      s.plan.dynamics = true;
     (b.motion == scene::Motion::kStatic ? s.plan.static_primitives : s.plan.moving_primitives) +=
         static_cast<std::uint32_t>(b.primitives.size());
   }
@@ -50,10 +58,13 @@ std::shared_ptr<const scene::SceneModel> finish(scene::SceneModel s) {
   return std::make_shared<const scene::SceneModel>(std::move(s));
 }
 
-Quat axisAngle(const Vec3& axis, double a) { return glm::angleAxis(a, glm::normalize(axis)); }
+Quat axisAngle(const Vec3& axis, double a) {
+  return glm::angleAxis(a, glm::normalize(axis));
+}
 
 Pose Path::at(double t) const {
-  if (t <= keys_.front().t_s) return keys_.front().X;
+  if (t <= keys_.front().t_s)
+    return keys_.front().X;
   for (std::size_t i = 1; i < keys_.size(); ++i) {
     if (t <= keys_[i].t_s) {
       const Key& a = keys_[i - 1];
@@ -71,7 +82,8 @@ Pose Path::at(double t) const {
 std::uint32_t Path::buttonsAt(double t) const {
   std::uint32_t b = keys_.front().buttons;
   for (const Key& k : keys_) {
-    if (k.t_s <= t) b = k.buttons;
+    if (k.t_s <= t)
+      b = k.buttons;
   }
   return b;
 }
@@ -79,7 +91,8 @@ std::uint32_t Path::buttonsAt(double t) const {
 std::vector<Key> readPoseStream(const std::string& file) {
   std::vector<Key> keys;
   std::FILE* f = std::fopen(file.c_str(), "r");
-  if (f == nullptr) return keys;
+  if (f == nullptr)
+    return keys;
   char line[512];
   bool header = true;
   while (std::fgets(line, sizeof line, f) != nullptr) {
@@ -114,13 +127,16 @@ void Figures::print(const char* name) const {
 namespace {
 void hashBytes(std::uint64_t& h, const void* p, std::size_t n) {
   const auto* b = static_cast<const unsigned char*>(p);
-  for (std::size_t i = 0; i < n; ++i) h = (h ^ b[i]) * 1099511628211ull;
+  for (std::size_t i = 0; i < n; ++i)
+    h = (h ^ b[i]) * 1099511628211ull;
 }
 void hashVec(std::uint64_t& h, const Vec3& v) {
   const double d[3] = {v.x, v.y, v.z};
   hashBytes(h, d, sizeof d);
 }
-bool finite(const Vec3& v) { return response::isFinite(v); }
+bool finite(const Vec3& v) {
+  return response::isFinite(v);
+}
 }  // namespace
 
 void Runner::account(const sim::TickInput& in, const sim::TickOutput& out) {
@@ -141,7 +157,8 @@ void Runner::account(const sim::TickInput& in, const sim::TickOutput& out) {
   hashBytes(fig_.hash, q, sizeof q);
   hashBytes(fig_.hash, &out.contacts, sizeof out.contacts);
   if (have_prev_) {
-    fig_.max_force_step_n = std::max(fig_.max_force_step_n, glm::length(out.force_W_n - prev_out_.force_W_n));
+    fig_.max_force_step_n =
+        std::max(fig_.max_force_step_n, glm::length(out.force_W_n - prev_out_.force_W_n));
     fig_.max_torque_step_nm =
         std::max(fig_.max_torque_step_nm, glm::length(out.torque_W_nm - prev_out_.torque_W_nm));
     // the force of the previous tick was held while the device moved from there to here
@@ -167,7 +184,8 @@ void Runner::account(const sim::TickInput& in, const sim::TickOutput& out) {
       } else if (sign != 0) {
         run_ = 0;
       }
-      if (sign != 0) last_sign_ = sign;
+      if (sign != 0)
+        last_sign_ = sign;
     } else {
       still_run_ = 0;
       run_ = 0;

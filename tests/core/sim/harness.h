@@ -22,7 +22,9 @@ std::shared_ptr<const geom::Polytope> boxShape(const Vec3& half);
 std::shared_ptr<const geom::Polytope> hullShape(const std::vector<Vec3>& points);
 
 /// A body of one primitive (or several), pose X_WB.
-scene::Body makeBody(const std::string& name, scene::Motion motion, const Pose& X_WB,
+scene::Body makeBody(const std::string& name,
+                     scene::Motion motion,
+                     const Pose& X_WB,
                      std::vector<std::shared_ptr<const geom::Polytope>> shapes,
                      std::vector<Pose> X_BP = {});
 
@@ -58,8 +60,8 @@ struct Figures {
   double max_force_n = 0.0, max_torque_nm = 0.0;
   double max_force_step_n = 0.0, max_torque_step_nm = 0.0;
   double max_penetration = 0.0;
-  double energy_to_hand_j = 0.0;   // sum F . dx (+ T . dtheta): what the device gives the hand
-  double energy_abs_j = 0.0;       // sum |F . dx| + |T . dtheta|
+  double energy_to_hand_j = 0.0;  // sum F . dx (+ T . dtheta): what the device gives the hand
+  double energy_abs_j = 0.0;      // sum |F . dx| + |T . dtheta|
   std::uint32_t longest_alternation = 0;  // still device: longest run of sign flips of dF_n
   std::uint32_t still_ticks = 0;
   std::uint32_t max_contacts = 0;

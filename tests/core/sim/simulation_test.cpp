@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <cstdlib>
+#include <limits>
 #include <numbers>
 
 #include "tests/core/alloc_counter.h"
@@ -16,16 +17,18 @@ namespace {
 
 using scene::Motion;
 
-constexpr double kPi = std::numbers::pi;
-
-Pose at(double x, double y, double z, Quat q = Quat{1, 0, 0, 0}) { return Pose{Vec3{x, y, z}, q}; }
+Pose at(double x, double y, double z, Quat q = Quat{1, 0, 0, 0}) {
+  return Pose{Vec3{x, y, z}, q};
+}
 
 // A floor: a static box whose top face is y = 0.
 scene::Body floorBody(double s = 1.0) {
-  return makeBody("floor", Motion::kStatic, at(0, -0.05 * s, 0), {boxShape(Vec3{0.2, 0.05, 0.2} * s)});
+  return makeBody("floor", Motion::kStatic, at(0, -0.05 * s, 0),
+                  {boxShape(Vec3{0.2, 0.05, 0.2} * s)});
 }
 
-std::unique_ptr<sim::Simulation> make(std::shared_ptr<const scene::SceneModel> s, const sim::SimOptions& o) {
+std::unique_ptr<sim::Simulation> make(std::shared_ptr<const scene::SceneModel> s,
+                                      const sim::SimOptions& o) {
   auto r = sim::Simulation::create(std::move(s), o);
   EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
   return std::move(r).value();
@@ -40,7 +43,7 @@ TEST(Simulation, ProbeSphereDriven50mmIntoAWall) {
   Runner run(make(finish(s), o), o);
   const double r = o.probe_sphere_radius_m;
   Path path({{0.0, at(0, r + 0.02, 0)},
-             {2.0, at(0, r - 0.05, 0)},   // 50 mm inside the wall
+             {2.0, at(0, r - 0.05, 0)},  // 50 mm inside the wall
              {2.5, at(0, r - 0.05, 0)},
              {4.5, at(0, r + 0.02, 0)},
              {5.0, at(0, r + 0.02, 0)}});
@@ -53,9 +56,10 @@ TEST(Simulation, ProbeSphereDriven50mmIntoAWall) {
     EXPECT_GE(out.X_W_proxy.translation.y, r - 1e-3);  // the proxy stays at the surface
   });
   f.print("probe 50 mm into a wall");
-  std::printf("  force at 5 mm depth %.4f N (k_s (delta + D) = %.4f N for a true sphere; the "
-              "hull's lowest point is above -r)\n",
-              f_at_5mm, o.response.stiffness_n_per_m * (delta + 0.005));
+  std::printf(
+      "  force at 5 mm depth %.4f N (k_s (delta + D) = %.4f N for a true sphere; the "
+      "hull's lowest point is above -r)\n",
+      f_at_5mm, o.response.stiffness_n_per_m * (delta + 0.005));
   expectInvariants(f, o, 1e-3);
   EXPECT_NEAR(f.max_force_n, o.response.max_force_n, 1e-9);  // the limit was reached and held
 }
@@ -88,14 +92,19 @@ TEST(Simulation, FaceRestingOnFace) {
       contacts_rest = out.contacts;
       delta = out.delta_m;
     }
-    if (std::abs(in.t_s - 2.9) < 1e-9) t_tilt = out.torque_W_nm.x;
-    if (std::getenv("TRACE")) std::printf("T %.3f dev %.6f prx %.6f F %.6f Fc %.6f c %u pen %.3g fl %u\n", in.t_s, in.X_W_device.translation.y, out.X_W_proxy.translation.y, out.force_W_n.y, out.contact_force_W_n.y, out.contacts, out.max_penetration_m, out.flags);
+    if (std::abs(in.t_s - 2.9) < 1e-9)
+      t_tilt = out.torque_W_nm.x;
+    if (std::getenv("TRACE"))
+      std::printf("T %.3f dev %.6f prx %.6f F %.6f Fc %.6f c %u pen %.3g fl %u\n", in.t_s,
+                  in.X_W_device.translation.y, out.X_W_proxy.translation.y, out.force_W_n.y,
+                  out.contact_force_W_n.y, out.contacts, out.max_penetration_m, out.flags);
   });
   f.print("face resting on face");
   const double expect = o.response.stiffness_n_per_m * (delta + D);
-  std::printf("  resting force %.5f N (k_s (delta + D) = %.5f N, delta %.3g mm), torque %.3g N m, "
-              "%u contacts; torque with the hand tilted 10 mrad %.5f N m\n",
-              f_rest, expect, 1e3 * delta, t_rest, contacts_rest, t_tilt);
+  std::printf(
+      "  resting force %.5f N (k_s (delta + D) = %.5f N, delta %.3g mm), torque %.3g N m, "
+      "%u contacts; torque with the hand tilted 10 mrad %.5f N m\n",
+      f_rest, expect, 1e3 * delta, t_rest, contacts_rest, t_tilt);
   expectInvariants(f, o, 1e-3);
   EXPECT_NEAR(f_rest, expect, 0.01 * expect);
   EXPECT_LT(t_rest, 1e-6);
@@ -109,7 +118,9 @@ TEST(Simulation, StepAllocatesNothingAfterCreate) {
   sim::SimOptions o;
   auto sim = make(finish(s), o);
   const double r = o.probe_sphere_radius_m;
-  Path path({{0.0, at(0, r + 0.01, 0)}, {1.0, at(0, r - 0.01, 0.01)}, {2.0, at(0.01, r + 0.01, 0)}});
+  Path path(
+      {{0.0, at(0, r + 0.01, 0)}, {1.0, at(0, r - 0.01, 0.01)}, {2.0, at(0.01, r + 0.01, 0)}});
+  sim->prepareThread();  // as the daemon does on its servo thread
   const std::uint64_t before = testing_alloc::count();
   for (int k = 0; k <= 2000; ++k) {
     sim::TickInput in;
@@ -119,6 +130,88 @@ TEST(Simulation, StepAllocatesNothingAfterCreate) {
     (void)sim->step(in);
   }
   EXPECT_EQ(testing_alloc::count() - before, 0u);
+}
+
+// The device lost, a NaN pose, restartRamp(): zero at once, nothing non-finite, ramp in again.
+TEST(Simulation, LostDeviceBadPoseAndRestartRampAreSafe) {
+  scene::SceneModel s;
+  s.bodies.push_back(floorBody());
+  sim::SimOptions o;
+  o.response.ramp_s = 0.1;
+  auto sim = make(finish(s), o);
+  const double r = o.probe_sphere_radius_m;
+  sim::TickInput in;
+  in.X_W_device = at(0, r - 0.005, 0);  // 5 mm into the floor
+  sim::TickOutput out;
+  int ramp_ticks = 0;
+  for (int k = 0; k < 400; ++k) {
+    in.t_s = k * 0.001;
+    out = sim->step(in);
+    if (out.flags & sim::kTickRamping)
+      ++ramp_ticks;
+  }
+  const double pressed = out.force_W_n.y;
+  EXPECT_GT(pressed, 2.5);
+  EXPECT_EQ(ramp_ticks, 100);
+  // lost: zero at once
+  in.device_ok = false;
+  out = sim->step(in);
+  EXPECT_EQ(glm::length(out.force_W_n), 0.0);
+  EXPECT_EQ(glm::length(out.torque_W_nm), 0.0);
+  // back: ramps in again, never faster than F_max per tick
+  in.device_ok = true;
+  double prev = 0.0, worst_step = 0.0;
+  for (int k = 0; k < 300; ++k) {
+    out = sim->step(in);
+    worst_step = std::max(worst_step, std::abs(out.force_W_n.y - prev));
+    prev = out.force_W_n.y;
+  }
+  EXPECT_NEAR(out.force_W_n.y, pressed, 1e-9);
+  EXPECT_LE(worst_step, o.response.max_force_step_n + 1e-12);
+  // a NaN pose: zero, finite; the proxy is not pulled anywhere (only its contacts may relax it,
+  // by less than one tick's safe distance)
+  const Pose proxy_before = out.X_W_proxy;
+  sim::TickInput bad = in;
+  bad.X_W_device.translation.x = std::numeric_limits<double>::quiet_NaN();
+  out = sim->step(bad);
+  EXPECT_EQ(glm::length(out.force_W_n), 0.0);
+  EXPECT_TRUE(std::isfinite(out.X_W_proxy.translation.x));
+  EXPECT_LE(glm::length(out.X_W_proxy.translation - proxy_before.translation),
+            o.response.max_speed_m_per_s * o.response.tick_s + 1e-12);
+  EXPECT_TRUE(out.flags & sim::kTickRamping);
+  bad.X_W_device.translation.x = std::numeric_limits<double>::infinity();
+  out = sim->step(bad);
+  EXPECT_EQ(glm::length(out.force_W_n), 0.0);
+  // restartRamp(): the force fades at the step limit and comes back
+  for (int k = 0; k < 300; ++k)
+    out = sim->step(in);
+  EXPECT_NEAR(out.force_W_n.y, pressed, 1e-9);
+  sim->restartRamp();
+  out = sim->step(in);
+  EXPECT_NEAR(out.force_W_n.y, pressed - o.response.max_force_step_n, 1e-9);
+  std::printf("[safety] pressed %.4f N; ramp %d ticks; largest step coming back %.4f N\n", pressed,
+              ramp_ticks, worst_step);
+}
+
+TEST(Simulation, CreateRefusesBadOptionsAndScenesWithAMessage) {
+  scene::SceneModel s;
+  s.bodies.push_back(floorBody());
+  s.probe_body = 3;
+  auto bad_probe =
+      sim::Simulation::create(std::make_shared<const scene::SceneModel>(s), sim::SimOptions{});
+  ASSERT_FALSE(bad_probe.ok());
+  std::printf("[create] %s\n", bad_probe.error().message.c_str());
+  EXPECT_NE(bad_probe.error().message.find("probe body 3"), std::string::npos);
+  s.probe_body = -1;
+  sim::SimOptions o;
+  o.response.stiffness_n_per_m = std::numeric_limits<double>::quiet_NaN();
+  auto bad_k = sim::Simulation::create(std::make_shared<const scene::SceneModel>(s), o);
+  ASSERT_FALSE(bad_k.ok());
+  EXPECT_NE(bad_k.error().message.find("stiffness"), std::string::npos);
+  o = sim::SimOptions{};
+  o.response.proxy_stiffness_ratio = 1.0;
+  EXPECT_FALSE(sim::Simulation::create(std::make_shared<const scene::SceneModel>(s), o).ok());
+  EXPECT_FALSE(sim::Simulation::create(nullptr, sim::SimOptions{}).ok());
 }
 
 }  // namespace

@@ -224,6 +224,14 @@ TEST(ReplayDevice, OpensFilesThroughMakeDevice) {
   EXPECT_NE(missing.error().message.find("'replay:/nonexistent/poses.csv'"), std::string::npos);
   EXPECT_NE(missing.error().message.find("cannot open"), std::string::npos);
 
+  // a directory and a character device are refused without reading (a FIFO would block)
+  auto dir_spec = makeDevice("replay:/tmp", DeviceOptions{});
+  ASSERT_FALSE(dir_spec.ok());
+  EXPECT_NE(dir_spec.error().message.find("not a regular file"), std::string::npos);
+  auto zero = makeDevice("replay:/dev/zero", DeviceOptions{});
+  ASSERT_FALSE(zero.ok());
+  EXPECT_NE(zero.error().message.find("not a regular file"), std::string::npos);
+
   const auto dir = std::filesystem::temp_directory_path();
   const auto bad = dir / "hapticd_replay_bad.csv";
   std::ofstream(bad) << kHeader << "0,0,0,0,0,0,0,1,0\n0.1,0,zero,0,0,0,0,1,0\n";

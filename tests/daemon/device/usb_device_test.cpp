@@ -10,9 +10,12 @@
 #include <cmath>
 #include <cstdio>
 #include <deque>
+#include <filesystem>
+#include <fstream>
 #include <numbers>
 #include <random>
 
+#include "daemon/device/falcon_firmware.h"
 #include "tests/core/alloc_counter.h"
 
 namespace hapticd::device {
@@ -203,9 +206,11 @@ TEST(FalconKinematics, MotorCommandsAreJacobianTransposeScaledTogether) {
 
 struct FakeFalcon {
   bool present = true;
-  bool mute = false;      // stops answering
-  bool io_error = false;  // the next transfers fail
-  InPacket state;         // what it reports
+  bool mute = false;                   // stops answering
+  bool io_error = false;               // the next transfers fail
+  bool firmware_loaded = true;         // else it does not answer
+  std::vector<std::uint8_t> firmware;  // what loadFirmware received
+  InPacket state;                      // what it reports
   std::array<std::uint8_t, 4096> pending{};
   std::size_t pending_n = 0;
   std::size_t chunk = 7;  // bytes handed out per read (reassembly across reads)
@@ -238,7 +243,7 @@ class FakeUsbTransport final : public UsbTransport {
       return static_cast<int>(bytes.size());
     }
     ++f_->commands;
-    if (!f_->mute && f_->pending_n + kPacketSize <= f_->pending.size()) {
+    if (!f_->mute && f_->firmware_loaded && f_->pending_n + kPacketSize <= f_->pending.size()) {
       std::array<std::uint8_t, kPacketSize> reply{};
       encodeIn(f_->state, reply);
       std::copy(reply.begin(), reply.end(),
@@ -279,8 +284,17 @@ class FakeUsbBackend final : public UsbBackend {
     f_->io_error = false;
     return std::unique_ptr<UsbTransport>(std::make_unique<FakeUsbTransport>(f_));
   }
+  Result<bool> loadFirmware(std::span<const std::uint8_t> firmware) override {
+    if (!f_->present)
+      return Error{"no device"};
+    ++firmware_loads;
+    f_->firmware.assign(firmware.begin(), firmware.end());
+    f_->firmware_loaded = true;
+    return true;
+  }
   void unplug() {
     f_->present = false;
+    f_->firmware_loaded = false;  // a power cycle loses the firmware
     if (hotplug_)
       events_.push_back(UsbHotplugEvent::kLeft);
   }
@@ -290,6 +304,7 @@ class FakeUsbBackend final : public UsbBackend {
       events_.push_back(UsbHotplugEvent::kArrived);
   }
   int opens = 0;
+  int firmware_loads = 0;
 
  private:
   std::shared_ptr<FakeFalcon> f_;
@@ -330,7 +345,7 @@ TEST(FalconDevice, EncodersInCommandsOutWithHoming) {
   Rig rig;
   FalconDevice& dev = *rig.dev;
   EXPECT_EQ(dev.info().capabilities & (kCapForce | kCapTorque | kCapOrientation), kCapForce);
-  EXPECT_EQ(rig.falcon->commands, 1);  // primed at open
+  EXPECT_EQ(rig.falcon->commands, 2);  // probed and primed at open
   const Geometry g;
   const Vec3 home = homePosition(g);
   rig.moveTo(home + Vec3(0.01, 0.02, -0.015));
@@ -402,6 +417,7 @@ void lostAndBack(bool hotplug) {
   EXPECT_FALSE(dev.service());
   EXPECT_EQ(dev.read(0.002, s), DeviceStatus::kLost);
   rig.backend->plug();
+  rig.falcon->firmware_loaded = true;  // (loaded by another tool; see FirmwareLoadedWhenSilent)
   EXPECT_TRUE(dev.service());
   EXPECT_TRUE(dev.connected());
   EXPECT_EQ(rig.backend->opens, 2);
@@ -478,6 +494,11 @@ TEST(FalconDevice, OpenErrors) {
     std::printf("  makeDevice(\"usb\") here: %s\n", real.error().message.c_str());
     EXPECT_NE(real.error().message.find("usb:falcon"), std::string::npos);
   }
+  auto any_hid = makeDevice("hid", DeviceOptions{});  // the real hidapi backend here
+  if (!any_hid.ok()) {
+    std::printf("  makeDevice(\"hid\") here: %s\n", any_hid.error().message.c_str());
+    EXPECT_EQ(any_hid.error().message.rfind("device 'hid': ", 0), 0u);
+  }
   auto hid = makeDevice("hid:/dev/nonexistent-hidraw", DeviceOptions{});
   ASSERT_FALSE(hid.ok());
   std::printf("  makeDevice(\"hid:/dev/nonexistent-hidraw\") here: %s\n",
@@ -522,6 +543,159 @@ TEST(FalconDevice, AnyEncoderValuesGiveFinitePoses) {
   }
   std::printf("  3000 random encoder packets: %llu forward kinematics solves failed (pose held)\n",
               static_cast<unsigned long long>(rig.dev->kinematicsFailures()));
+}
+
+}  // namespace
+}  // namespace hapticd::device
+
+namespace hapticd::device {
+namespace {
+
+// A Falcon in its bootloader, as the loading protocol describes it: it greets at 9600 baud with
+// DTR high, confirms 'A' at 140 kbaud, then echoes every byte.
+class FakeBootloader final : public FtdiLink {
+ public:
+  bool control(std::uint8_t request, std::uint16_t value) override {
+    if (fail_controls)
+      return false;
+    if (request == kFtdiSetBaudRate)
+      baud = value;
+    if (request == kFtdiSetLatencyTimer)
+      latency = value;
+    if (request == kFtdiModemCtrl && (value & 0x0100))
+      dtr_high = (value & 1) != 0;
+    if (request == kFtdiReset && value == kFtdiPurgeRx)
+      pending.clear();
+    return true;
+  }
+  int write(std::span<const std::uint8_t> bytes, unsigned) override {
+    const std::vector<std::uint8_t> b(bytes.begin(), bytes.end());
+    if (uploading) {
+      for (std::uint8_t x : b) {
+        pending.push_back(received.size() == corrupt_at ? static_cast<std::uint8_t>(x ^ 0xff) : x);
+        received.push_back(x);
+      }
+    } else if (b == std::vector<std::uint8_t>{0x0a, 0x43, 0x0d} && baud == kFtdiBaud9600 &&
+               dtr_high && !silent) {
+      if (++hellos >= 3)  // it takes a few tries to wake up
+        pending.insert(pending.end(), {0x0a, 0x44, 0x2c, 0x0d});
+    } else if (b == std::vector<std::uint8_t>{'A'} && baud == kFtdiBaud140k && !dtr_high) {
+      pending.push_back('A');
+      uploading = true;
+    }
+    return static_cast<int>(b.size());
+  }
+  int read(std::span<std::uint8_t> buf, unsigned) override {
+    const std::size_t n = std::min({buf.size(), pending.size(), std::size_t{20}});
+    std::copy_n(pending.begin(), n, buf.begin());
+    pending.erase(pending.begin(), pending.begin() + static_cast<std::ptrdiff_t>(n));
+    return static_cast<int>(n);
+  }
+  std::uint16_t baud = 0, latency = 0;
+  bool dtr_high = false, uploading = false, silent = false, fail_controls = false;
+  int hellos = 0;
+  std::size_t corrupt_at = static_cast<std::size_t>(-1);
+  std::vector<std::uint8_t> pending, received;
+};
+
+std::vector<std::uint8_t> someFirmware(std::size_t n) {
+  std::vector<std::uint8_t> f(n);
+  for (std::size_t i = 0; i < n; ++i)
+    f[i] = static_cast<std::uint8_t>(i * 37 + 11);
+  return f;
+}
+
+TEST(FalconFirmware, LoadsThroughTheBootloaderProtocol) {
+  FakeBootloader link;
+  const auto fw = someFirmware(1000);  // 16 chunks of 62 and a short one
+  auto r = loadFirmware(link, fw);
+  ASSERT_TRUE(r.ok()) << r.error().message;
+  EXPECT_EQ(link.received, fw);
+  EXPECT_EQ(link.hellos, 3);
+  // left in the normal mode
+  EXPECT_EQ(link.baud, kFtdiBaudNormal);
+  EXPECT_EQ(link.latency, 1);
+}
+
+TEST(FalconFirmware, EachFailureSaysWhere) {
+  const auto fw = someFirmware(300);
+  {
+    FakeBootloader link;
+    link.corrupt_at = 130;
+    auto r = loadFirmware(link, fw);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("echo mismatch at byte 130"), std::string::npos)
+        << r.error().message;
+  }
+  {
+    FakeBootloader link;
+    link.silent = true;
+    auto r = loadFirmware(link, fw);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("the bootloader did not answer"), std::string::npos);
+  }
+  {
+    FakeBootloader link;
+    link.fail_controls = true;
+    auto r = loadFirmware(link, fw);
+    ASSERT_FALSE(r.ok());
+    EXPECT_NE(r.error().message.find("FTDI request failed while entering the bootloader"),
+              std::string::npos);
+  }
+  FakeBootloader link;
+  EXPECT_FALSE(loadFirmware(link, {}).ok());
+}
+
+TEST(FalconDevice, FirmwareLoadedWhenSilent) {
+  const auto dir = std::filesystem::temp_directory_path();
+  const auto path = dir / "hapticd_test_falcon_firmware.bin";
+  const auto fw = someFirmware(500);
+  {
+    std::ofstream out(path, std::ios::binary);
+    out.write(reinterpret_cast<const char*>(fw.data()), static_cast<std::streamsize>(fw.size()));
+  }
+  auto falcon_state = std::make_shared<FakeFalcon>();
+  falcon_state->firmware_loaded = false;
+  // without a firmware file: a clear refusal
+  {
+    auto d =
+        FalconDevice::open(std::make_unique<FakeUsbBackend>(falcon_state, true), DeviceOptions{});
+    ASSERT_FALSE(d.ok());
+    EXPECT_NE(d.error().message.find("its firmware is not loaded"), std::string::npos)
+        << d.error().message;
+  }
+  // a missing file: named
+  {
+    DeviceOptions o;
+    o.usb_falcon_firmware = "/nonexistent/falcon.bin";
+    auto d = FalconDevice::open(std::make_unique<FakeUsbBackend>(falcon_state, true), o);
+    ASSERT_FALSE(d.ok());
+    EXPECT_NE(d.error().message.find("usb_falcon_firmware '/nonexistent/falcon.bin'"),
+              std::string::npos);
+    o.usb_falcon_firmware = "/dev/zero";  // never read forever
+    d = FalconDevice::open(std::make_unique<FakeUsbBackend>(falcon_state, true), o);
+    ASSERT_FALSE(d.ok());
+    EXPECT_NE(d.error().message.find("not a regular file"), std::string::npos);
+  }
+  DeviceOptions o;
+  o.usb_falcon_firmware = path.string();
+  auto backend = std::make_unique<FakeUsbBackend>(falcon_state, true);
+  FakeUsbBackend* b = backend.get();
+  auto d = FalconDevice::open(std::move(backend), o);
+  ASSERT_TRUE(d.ok()) << d.error().message;
+  EXPECT_EQ(b->firmware_loads, 1);
+  EXPECT_EQ(falcon_state->firmware, fw);
+  DeviceSample s;
+  EXPECT_EQ(d.value()->read(0.0, s), DeviceStatus::kOk);
+  // a power cycle (unplug, plug) loses the firmware: loaded again on reconnection
+  b->unplug();
+  d.value()->service();
+  EXPECT_EQ(d.value()->read(0.001, s), DeviceStatus::kLost);
+  b->plug();
+  EXPECT_TRUE(d.value()->service());
+  EXPECT_EQ(b->firmware_loads, 2);
+  EXPECT_EQ(d.value()->read(0.5, s), DeviceStatus::kOk);
+  std::filesystem::remove(path);
 }
 
 }  // namespace

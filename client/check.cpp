@@ -1,0 +1,192 @@
+#include "client/check.h"
+
+#include <cstdio>
+#include <nlohmann/json.hpp>
+
+namespace hapticd::client {
+namespace {
+
+using scene::Motion;
+using scene::ShapeSource;
+
+const char* motionName(Motion m) {
+  switch (m) {
+    case Motion::kStatic:
+      return "static";
+    case Motion::kKinematic:
+      return "kinematic";
+    case Motion::kDynamic:
+      return "dynamic";
+  }
+  return "?";
+}
+
+const char* sourceName(ShapeSource s) {
+  switch (s) {
+    case ShapeSource::kBox:
+      return "box";
+    case ShapeSource::kSphere:
+      return "sphere";
+    case ShapeSource::kCapsule:
+      return "capsule";
+    case ShapeSource::kCylinder:
+      return "cylinder";
+    case ShapeSource::kPlane:
+      return "plane";
+    case ShapeSource::kMeshHull:
+      return "mesh hull";
+    case ShapeSource::kConvexMesh:
+      return "convex mesh";
+    case ShapeSource::kCode:
+      return "code";
+  }
+  return "?";
+}
+
+std::string num(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.6g", v);
+  return buf;
+}
+
+nlohmann::json planJson(const scene::SimulationPlan& p) {
+  return {{"contact_forces", p.contact_forces},
+          {"dynamics", p.dynamics},
+          {"gravity", p.gravity},
+          {"friction", p.friction},
+          {"restitution", p.restitution},
+          {"joints", p.joints},
+          {"static_primitives", p.static_primitives},
+          {"moving_primitives", p.moving_primitives}};
+}
+
+nlohmann::json sceneJson(const scene::SceneModel& s) {
+  nlohmann::json bodies = nlohmann::json::array();
+  nlohmann::json prims = nlohmann::json::array();
+  for (std::size_t b = 0; b < s.bodies.size(); ++b) {
+    const scene::Body& body = s.bodies[b];
+    nlohmann::json jb = {{"name", body.name},
+                         {"node", body.node},
+                         {"motion", motionName(body.motion)},
+                         {"mass_kg", body.mass},
+                         {"mass_declared", body.mass_declared},
+                         {"probe", body.probe},
+                         {"primitives", body.primitives.size()}};
+    if (body.stiffness_n_per_m)
+      jb["stiffness_n_per_m"] = *body.stiffness_n_per_m;
+    bodies.push_back(jb);
+    for (std::size_t k = 0; k < body.primitives.size(); ++k) {
+      const scene::Primitive& p = body.primitives[k];
+      prims.push_back({{"body", b},
+                       {"index", k},
+                       {"source", sourceName(p.source)},
+                       {"node", p.node},
+                       {"vertices", p.shape->vertices().size()},
+                       {"faces", p.shape->faces().size()},
+                       {"material", p.material}});
+    }
+  }
+  nlohmann::json out = {{"ok", true},
+                        {"name", s.name},
+                        {"bodies", bodies},
+                        {"primitives", prims},
+                        {"joints", s.joints.size()},
+                        {"materials", s.materials.size()},
+                        {"probe_body", s.probe_body},
+                        {"length_scale_m", s.length_scale},
+                        {"plan", planJson(s.plan)}};
+  if (s.gravity_W)
+    out["gravity"] = {s.gravity_W->x, s.gravity_W->y, s.gravity_W->z};
+  return out;
+}
+
+}  // namespace
+
+std::string describeScene(const scene::SceneModel& s) {
+  std::string out;
+  out += "scene " + s.name + ": " + std::to_string(s.bodies.size()) + " bodies, length scale " +
+         num(s.length_scale) + " m";
+  if (s.gravity_W) {
+    out += ", gravity (" + num(s.gravity_W->x) + ", " + num(s.gravity_W->y) + ", " +
+           num(s.gravity_W->z) + ") m/s^2";
+  }
+  out += "\nbodies:\n";
+  std::size_t primitives = 0;
+  for (std::size_t b = 0; b < s.bodies.size(); ++b) {
+    const scene::Body& body = s.bodies[b];
+    out += "  " + std::to_string(b) + " '" + body.name + "' " + motionName(body.motion);
+    if (body.motion == Motion::kDynamic) {
+      out += ", mass " +
+             (body.inverse_mass == 0.0 ? std::string("infinite") : num(body.mass) + " kg") +
+             (body.mass_declared ? " (declared)" : " (computed at 1000 kg/m^3)");
+    }
+    if (body.probe)
+      out += ", probe";
+    if (body.stiffness_n_per_m)
+      out += ", stiffness " + num(*body.stiffness_n_per_m) + " N/m";
+    out += ", " + std::to_string(body.primitives.size()) + " primitives\n";
+    primitives += body.primitives.size();
+  }
+  out += "primitives (" + std::to_string(primitives) + "):\n";
+  for (std::size_t b = 0; b < s.bodies.size(); ++b) {
+    const scene::Body& body = s.bodies[b];
+    for (std::size_t k = 0; k < body.primitives.size(); ++k) {
+      const scene::Primitive& p = body.primitives[k];
+      out += "  body " + std::to_string(b) + " primitive " + std::to_string(k) + ": " +
+             sourceName(p.source) + " (node " + std::to_string(p.node) + "), " +
+             std::to_string(p.shape->vertices().size()) + " vertices, " +
+             std::to_string(p.shape->faces().size()) + " faces\n";
+    }
+  }
+  if (!s.joints.empty()) {
+    out += "joints:\n";
+    for (const scene::Joint& j : s.joints) {
+      out += "  " + std::string(j.kind == scene::JointKind::kFixed ? "fixed" : "hinge") +
+             " between body " + std::to_string(j.body_a) + " and " +
+             (j.body_b < 0 ? std::string("the scene") : "body " + std::to_string(j.body_b)) + "\n";
+    }
+  }
+  out += "plan:\n";
+  const std::string plan = scene::describePlan(s.plan);
+  std::size_t start = 0;
+  while (start < plan.size()) {
+    const std::size_t end = plan.find('\n', start);
+    out += "  " + plan.substr(start, end - start) + "\n";
+    if (end == std::string::npos)
+      break;
+    start = end + 1;
+  }
+  return out;
+}
+
+int runCheck(const std::filesystem::path& path,
+             const CheckOptions& options,
+             std::ostream& out,
+             std::ostream& err) {
+  const scene::LoadReport report = scene::loadSceneFile(path, options.load);
+  if (!report.ok()) {
+    for (const scene::Problem& p : report.problems) {
+      err << path.string() << ": " << p.where << ": " << p.what << '\n';
+    }
+    if (options.json) {
+      nlohmann::json problems = nlohmann::json::array();
+      for (const scene::Problem& p : report.problems) {
+        problems.push_back({{"where", p.where}, {"what", p.what}});
+      }
+      out << nlohmann::json{{"ok", false}, {"file", path.string()}, {"problems", problems}}.dump(
+                 -1, ' ', false, nlohmann::json::error_handler_t::replace)
+          << '\n';
+    }
+    return 1;
+  }
+  if (options.json) {
+    nlohmann::json j = sceneJson(*report.scene);
+    j["file"] = path.string();
+    out << j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
+  } else {
+    out << path.string() << ": ok\n" << describeScene(*report.scene);
+  }
+  return 0;
+}
+
+}  // namespace hapticd::client
