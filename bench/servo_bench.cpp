@@ -35,6 +35,7 @@ class WallSimulation final : public sim::Simulation {
   std::span<const sim::BodyPose> bodyPoses() const override { return {}; }
   void restartRamp() override {}
   const scene::SceneModel& scene() const override { return scene_; }
+  void prepareThread() override {}
 
  private:
   scene::SceneModel scene_;

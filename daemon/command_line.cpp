@@ -134,7 +134,8 @@ std::string toToml(const Config& c) {
      << "\nhid_spacemouse_deadband = " << d.hid_spacemouse_deadband
      << "\nhid_spacemouse_workspace_m = " << d.hid_spacemouse_workspace_m
      << "\nusb_silence_lost_s = " << d.usb_silence_lost_s
-     << "\nusb_falcon_max_motor_command = " << d.usb_falcon_max_motor_command << "\n";
+     << "\nusb_falcon_max_motor_command = " << d.usb_falcon_max_motor_command
+     << "\nusb_falcon_firmware = " << q(d.usb_falcon_firmware) << "\n";
   const auto& r = c.response;
   os << "\n[response]\nstiffness_n_per_m = " << r.stiffness_n_per_m << "\ntick_s = " << r.tick_s
      << "\nmax_force_n = " << r.max_force_n << "\nmax_torque_nm = " << r.max_torque_nm

@@ -240,6 +240,7 @@ void readAll(const toml::table& root, const std::string& name, Config& c,
     s.positive("hid_spacemouse_workspace_m", d.hid_spacemouse_workspace_m, 1e6, " m");
     s.positive("usb_silence_lost_s", d.usb_silence_lost_s, 60.0, " s");
     s.integer("usb_falcon_max_motor_command", d.usb_falcon_max_motor_command, 1, 32767);
+    s.string("usb_falcon_firmware", d.usb_falcon_firmware);
   }
   {
     Section s(sectionOf(root, "response", name, errors), "response", name, errors, keys, all_keys);
@@ -409,6 +410,7 @@ device::DeviceOptions toDeviceOptions(const Config& c) {
   o.hid_spacemouse_workspace_m = d.hid_spacemouse_workspace_m;
   o.usb_silence_lost_s = d.usb_silence_lost_s;
   o.usb_falcon_max_motor_command = d.usb_falcon_max_motor_command;
+  o.usb_falcon_firmware = d.usb_falcon_firmware;
   return o;
 }
 

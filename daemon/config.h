@@ -74,6 +74,7 @@ struct DeviceConfig {
   double hid_spacemouse_workspace_m = 0.2;
   double usb_silence_lost_s = 0.1;
   int usb_falcon_max_motor_command = 4096;
+  std::string usb_falcon_firmware;  ///< empty: never load firmware
   bool operator==(const DeviceConfig&) const = default;
 };
 

@@ -365,6 +365,7 @@ int Daemon::run() {
     if (r) s.report = r.value();
     else s.error = r.error().message;
     s.scheduling = describeThreadScheduling();
+    loop_->prepareServoThread();  // the scene's per-thread scratch, before the loop starts
     setup_promise.set_value(std::move(s));
     while (go.load(std::memory_order_acquire) == 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
     if (go.load() == 1) {

@@ -110,6 +110,7 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   drainCommands();
   if (stop_requested_.load(std::memory_order_acquire) && !s_.stopping) s_.stopping = true;
   if (scenes_.take(current_)) {
+    current_->sim->prepareThread();
     s_.scene_generation = current_->generation;
     emit(ServoEventKind::kSceneSwapped, static_cast<std::int64_t>(current_->generation));
   }
@@ -232,6 +233,15 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
       }
     }
   }
+}
+
+void ServoLoop::prepareServoThread() {
+  if (scenes_.take(current_)) {
+    s_.scene_generation = current_->generation;
+    emit(ServoEventKind::kSceneSwapped, static_cast<std::int64_t>(current_->generation));
+  }
+  if (current_ != nullptr) current_->sim->prepareThread();
+  state_.write(s_);
 }
 
 ServoExit ServoLoop::run() noexcept {

@@ -173,8 +173,14 @@ class ServoLoop {
   ServoLoop(const ServoLoop&) = delete;
   ServoLoop& operator=(const ServoLoop&) = delete;
 
+  /// Servo thread, once, before run(): takes a scene already offered and sizes this thread's
+  /// scratch for it (sim::Simulation::prepareThread()). May allocate: it is the last step of
+  /// the start, like the stack pre-faulting.
+  void prepareServoThread();
+
   /// The loop, until stopped (after its ramp), the end of a replay stream, or max_ticks.
-  /// Servo thread; call once.
+  /// Servo thread. A scene swapped in during the run is prepared at its tick boundary, which
+  /// allocates only when it holds a larger polytope than any this thread has seen.
   HAPTICD_SERVO_THREAD ServoExit run() noexcept;
 
   /// Any thread: ramp the force to zero, then leave run().

@@ -102,6 +102,7 @@ TEST(Config, DefaultsAreThoseOfTheSimulationAndDeviceOptions) {
   EXPECT_EQ(d.hid_spacemouse_workspace_m, f.hid_spacemouse_workspace_m);
   EXPECT_EQ(d.usb_silence_lost_s, f.usb_silence_lost_s);
   EXPECT_EQ(d.usb_falcon_max_motor_command, f.usb_falcon_max_motor_command);
+  EXPECT_EQ(d.usb_falcon_firmware, f.usb_falcon_firmware);
 
   const scene::LoadOptions l = toLoadOptions(c);
   const scene::SceneLimits g;

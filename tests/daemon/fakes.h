@@ -42,10 +42,12 @@ class FakeSimulation final : public sim::Simulation {
   std::span<const sim::BodyPose> bodyPoses() const override { return poses_; }
   void restartRamp() override { ++ramp_restarts; }
   const scene::SceneModel& scene() const override { return scene_; }
+  void prepareThread() override { ++prepared; }
 
   std::uint64_t steps = 0;
   std::uint64_t nan_at_step = 0;
   std::uint32_t ramp_restarts = 0;
+  std::uint32_t prepared = 0;
   sim::TickInput last_input;
 
  private:

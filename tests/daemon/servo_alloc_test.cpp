@@ -1,6 +1,7 @@
-// The servo thread allocates nothing after start: ServoLoop::run() over 100 000 ticks, counted by
-// a per-thread allocator hook (tests/daemon/alloc_counter.cpp), with the record rings on, commands
-// and scene swaps arriving, and state read from another thread. With the real libraries in the
+// The servo thread allocates nothing after start: ServoLoop::run() over 100 000 ticks (after
+// ServoLoop::prepareServoThread(), as in the daemon), counted by a per-thread allocator hook
+// (tests/daemon/alloc_counter.cpp), with the record rings on, commands and scene swaps (of the
+// same scene, freshly built) arriving, and state read from another thread. With the real libraries in the
 // tree it runs every demo scene through the real simulation and the replay device fed by the
 // scene's pose stream.
 #include <gtest/gtest.h>
@@ -40,6 +41,7 @@ Counts runCounted(ServoLoop& loop, bool offer_scenes,
   std::atomic<bool> done{false};
   Thread servo;
   auto started = servo.start("servo-test", 1 << 20, [&] {
+    loop.prepareServoThread();  // as the daemon's servo thread does before its loop
     const std::uint64_t before = testing::threadAllocations();
     c.exit = loop.run();
     c.servo_allocations = testing::threadAllocations() - before;

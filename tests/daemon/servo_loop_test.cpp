@@ -237,6 +237,30 @@ TEST(ServoLoop, SceneSwapsAtATickBoundaryAndTheOldOneIsFreedByTheOwner) {
   EXPECT_EQ(loop.currentScene()->generation, 50u);
 }
 
+TEST(ServoLoop, ScenesArePreparedOnTheServoThreadBeforeTheirFirstStep) {
+  VirtualClock clock;
+  FakeDevice device;
+  ServoOptions options;
+  options.max_ticks = 10;
+  ServoLoop loop(options, clock, device, nullptr);
+  FakeSimulation* first = nullptr;
+  loop.offerScene(fakeScene(&first, 1));
+  loop.prepareServoThread();  // takes the offer and prepares it
+  ASSERT_NE(loop.currentScene(), nullptr);
+  EXPECT_EQ(first->prepared, 1u);
+  EXPECT_EQ(first->steps, 0u);
+  loop.run();
+  EXPECT_EQ(first->steps, 10u);
+  FakeSimulation* second = nullptr;
+  loop.offerScene(fakeScene(&second, 2));
+  loop.setMaxTicks(11);
+  loop.run();  // swapped in at the tick boundary, prepared, then stepped
+  EXPECT_EQ(second->prepared, 1u);
+  EXPECT_EQ(second->steps, 1u);
+  EXPECT_EQ(loop.state().scene_generation, 2u);
+  loop.reclaimScenes();
+}
+
 TEST(ServoLoop, PoseCommandsGoToTheDeviceInItsOwnFrame) {
   VirtualClock clock;
   FakeDevice device;
