@@ -6,7 +6,9 @@
 
 #include <gtest/gtest.h>
 
+#include <cctype>
 #include <fstream>
+#include <ostream>
 #include <regex>
 #include <set>
 #include <sstream>
@@ -173,6 +175,11 @@ struct BadCase {
   const char* text;
   const char* expect;  // substring of the error: file:line: [section] key: what
 };
+
+// stable, readable test names (ctest lists them): the expected message, non-alphanumerics as '_'
+void PrintTo(const BadCase& c, std::ostream* os) {
+  for (const char* p = c.expect; *p != '\0'; ++p) *os << (std::isalnum(static_cast<unsigned char>(*p)) ? *p : '_');
+}
 
 class ConfigRefuses : public ::testing::TestWithParam<BadCase> {};
 
