@@ -29,7 +29,8 @@ class WallSimulation final : public sim::Simulation {
     sim::TickOutput out;
     out.X_W_proxy = in.X_W_device;
     const double depth = -in.X_W_device.translation.y;
-    if (depth > 0.0) out.force_W_n = geom::Vec3(0.0, 600.0 * depth, 0.0);
+    if (depth > 0.0)
+      out.force_W_n = geom::Vec3(0.0, 600.0 * depth, 0.0);
     return out;
   }
   std::span<const sim::BodyPose> bodyPoses() const override { return {}; }
@@ -58,7 +59,8 @@ class CircleDevice final : public device::Device {
 };
 
 double benchSeconds() {
-  if (const char* s = std::getenv("HAPTICD_SERVO_BENCH_S")) return std::atof(s) > 0 ? std::atof(s) : 10.0;
+  if (const char* s = std::getenv("HAPTICD_SERVO_BENCH_S"))
+    return std::atof(s) > 0 ? std::atof(s) : 10.0;
   return 10.0;
 }
 
@@ -114,11 +116,19 @@ void servoLoopRealClock(benchmark::State& state, double rate_hz, bool fifo) {
 
 }  // namespace
 
-BENCHMARK_CAPTURE(servoLoopRealClock, 1000Hz/SCHED_OTHER, 1000.0, false)
-    ->Name("ServoLoop/RealClock/1000Hz/SCHED_OTHER")->Iterations(1)->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(servoLoopRealClock, 1000Hz/SCHED_FIFO, 1000.0, true)
-    ->Name("ServoLoop/RealClock/1000Hz/SCHED_FIFO")->Iterations(1)->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(servoLoopRealClock, 4000Hz/SCHED_OTHER, 4000.0, false)
-    ->Name("ServoLoop/RealClock/4000Hz/SCHED_OTHER")->Iterations(1)->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(servoLoopRealClock, 4000Hz/SCHED_FIFO, 4000.0, true)
-    ->Name("ServoLoop/RealClock/4000Hz/SCHED_FIFO")->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(servoLoopRealClock, 1000Hz / SCHED_OTHER, 1000.0, false)
+    ->Name("ServoLoop/RealClock/1000Hz/SCHED_OTHER")
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(servoLoopRealClock, 1000Hz / SCHED_FIFO, 1000.0, true)
+    ->Name("ServoLoop/RealClock/1000Hz/SCHED_FIFO")
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(servoLoopRealClock, 4000Hz / SCHED_OTHER, 4000.0, false)
+    ->Name("ServoLoop/RealClock/4000Hz/SCHED_OTHER")
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(servoLoopRealClock, 4000Hz / SCHED_FIFO, 4000.0, true)
+    ->Name("ServoLoop/RealClock/4000Hz/SCHED_FIFO")
+    ->Iterations(1)
+    ->Unit(benchmark::kSecond);

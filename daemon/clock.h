@@ -36,7 +36,8 @@ class VirtualClock final : public Clock {
  public:
   std::int64_t nowNs() noexcept override { return now_ns_; }
   void sleepUntilNs(std::int64_t deadline_ns) noexcept override {
-    if (deadline_ns > now_ns_) now_ns_ = deadline_ns;
+    if (deadline_ns > now_ns_)
+      now_ns_ = deadline_ns;
   }
   bool isVirtual() const noexcept override { return true; }
 
@@ -64,7 +65,8 @@ class ScriptedClock final : public Clock {
     return now_ns_;
   }
   void sleepUntilNs(std::int64_t deadline_ns) noexcept override {
-    if (deadline_ns > now_ns_) now_ns_ = deadline_ns;
+    if (deadline_ns > now_ns_)
+      now_ns_ = deadline_ns;
     phase_ = Phase::kWake;
   }
   bool isVirtual() const noexcept override { return true; }

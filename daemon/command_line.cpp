@@ -14,15 +14,21 @@ std::optional<int> parseCommandLine(int argc, char** argv, CommandLine& o) {
                  "config file (TOML; config/hapticd.toml lists every key with its default); "
                  "without it the built-in defaults apply");
   app.add_option("--scene", o.scene, "scene file .glb/.gltf ([scene] path; empty: built-in demo)");
-  app.add_option("--demo", o.demo, "built-in demo scene served when no scene file is given ([scene] demo)");
-  app.add_option("--device", o.device, "device: sim, replay:FILE.csv, hid, hid:PATH, usb, usb:falcon ([device] spec)");
-  app.add_option("--clock", o.clock, "monotonic (real time) or virtual (ticks back to back) ([servo] clock)")
+  app.add_option("--demo", o.demo,
+                 "built-in demo scene served when no scene file is given ([scene] demo)");
+  app.add_option("--device", o.device,
+                 "device: sim, replay:FILE.csv, hid, hid:PATH, usb, usb:falcon ([device] spec)");
+  app.add_option("--clock", o.clock,
+                 "monotonic (real time) or virtual (ticks back to back) ([servo] clock)")
       ->check(CLI::IsMember({"monotonic", "virtual"}));
   app.add_option("--realtime", o.realtime, "require, prefer or off ([servo] realtime)")
       ->check(CLI::IsMember({"require", "prefer", "off"}));
-  app.add_option("--rate", o.rate_hz, "servo rate in Hz ([servo] rate_hz)")->check(CLI::Range(1.0, 20000.0));
-  app.add_option("--priority", o.priority, "SCHED_FIFO priority 1..99 ([servo] priority)")->check(CLI::Range(1, 99));
-  app.add_option("--cpu", o.cpu, "CPU to pin the servo thread to, -1 none ([servo] cpu)")->check(CLI::Range(-1, 1023));
+  app.add_option("--rate", o.rate_hz, "servo rate in Hz ([servo] rate_hz)")
+      ->check(CLI::Range(1.0, 20000.0));
+  app.add_option("--priority", o.priority, "SCHED_FIFO priority 1..99 ([servo] priority)")
+      ->check(CLI::Range(1, 99));
+  app.add_option("--cpu", o.cpu, "CPU to pin the servo thread to, -1 none ([servo] cpu)")
+      ->check(CLI::Range(-1, 1023));
   app.add_option("--udp", o.udp, "UDP address ADDRESS:PORT ([network] udp)");
   app.add_option("--log-level", o.log_level, "error, warning, info or debug ([log] level)")
       ->check(CLI::IsMember({"error", "warning", "info", "debug"}));
@@ -31,10 +37,14 @@ std::optional<int> parseCommandLine(int argc, char** argv, CommandLine& o) {
                  "pairs_tested,pairs_skipped,tick_ns)");
   app.add_option("--record-bodies", o.record_bodies,
                  "write the pose of every non-static body per tick (tick,t,body,px..qw)");
-  app.add_option("--status-file", o.status_file, "write the status (JSON) to this file twice a second and at exit");
-  app.add_option("--ticks", o.ticks, "end after exactly this many ticks (the force is then set to zero); 0: no limit");
-  app.add_flag("--check-config", o.check_config, "check the configuration and exit (0 good, 2 bad)");
-  app.add_flag("--print-config", o.print_config, "print the effective configuration as TOML and exit");
+  app.add_option("--status-file", o.status_file,
+                 "write the status (JSON) to this file twice a second and at exit");
+  app.add_option("--ticks", o.ticks,
+                 "end after exactly this many ticks (the force is then set to zero); 0: no limit");
+  app.add_flag("--check-config", o.check_config,
+               "check the configuration and exit (0 good, 2 bad)");
+  app.add_flag("--print-config", o.print_config,
+               "print the effective configuration as TOML and exit");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -47,32 +57,44 @@ Result<Config> buildConfig(const CommandLine& cli) {
   Config c;
   if (cli.config_path) {
     auto parsed = loadConfigFile(*cli.config_path);
-    if (!parsed) return parsed.error();
+    if (!parsed)
+      return parsed.error();
     c = parsed.value().config;
   }
-  if (cli.scene) c.scene.path = *cli.scene;
-  if (cli.demo) c.scene.demo = *cli.demo;
-  if (cli.device) c.device.spec = *cli.device;
+  if (cli.scene)
+    c.scene.path = *cli.scene;
+  if (cli.demo)
+    c.scene.demo = *cli.demo;
+  if (cli.device)
+    c.device.spec = *cli.device;
   if (cli.clock) {
     auto k = parseClockKind(*cli.clock);
-    if (!k) return Error{"--clock: " + k.error().message};
+    if (!k)
+      return Error{"--clock: " + k.error().message};
     c.servo.clock = k.value();
   }
   if (cli.realtime) {
     auto p = parseRealtimePolicy(*cli.realtime);
-    if (!p) return Error{"--realtime: " + p.error().message};
+    if (!p)
+      return Error{"--realtime: " + p.error().message};
     c.servo.realtime = p.value();
   }
-  if (cli.rate_hz) c.servo.rate_hz = *cli.rate_hz;
-  if (cli.priority) c.servo.priority = *cli.priority;
-  if (cli.cpu) c.servo.cpu = *cli.cpu;
-  if (cli.udp) c.network.udp = *cli.udp;
+  if (cli.rate_hz)
+    c.servo.rate_hz = *cli.rate_hz;
+  if (cli.priority)
+    c.servo.priority = *cli.priority;
+  if (cli.cpu)
+    c.servo.cpu = *cli.cpu;
+  if (cli.udp)
+    c.network.udp = *cli.udp;
   if (cli.log_level) {
     auto l = parseLogLevel(*cli.log_level);
-    if (!l) return Error{"--log-level: " + l.error().message};
+    if (!l)
+      return Error{"--log-level: " + l.error().message};
     c.log.level = l.value();
   }
-  if (auto v = validateConfig(c); !v) return v.error();
+  if (auto v = validateConfig(c); !v)
+    return v.error();
   return c;
 }
 
@@ -80,7 +102,8 @@ namespace {
 std::string q(const std::string& s) {
   std::string out = "\"";
   for (char ch : s) {
-    if (ch == '"' || ch == '\\') out += '\\';
+    if (ch == '"' || ch == '\\')
+      out += '\\';
     out += ch;
   }
   return out + "\"";
@@ -90,7 +113,8 @@ std::string arr(const std::array<double, N>& a) {
   std::ostringstream os;
   os.precision(17);
   os << "[";
-  for (std::size_t i = 0; i < N; ++i) os << (i ? ", " : "") << a[i];
+  for (std::size_t i = 0; i < N; ++i)
+    os << (i ? ", " : "") << a[i];
   os << "]";
   return os.str();
 }

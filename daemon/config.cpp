@@ -1,11 +1,12 @@
 #include "daemon/config.h"
 
+#include <toml++/toml.h>
+
 #include <cmath>
 #include <fstream>
 #include <functional>
 #include <set>
 #include <sstream>
-#include <toml++/toml.h>
 
 namespace hapticd::daemon {
 namespace {
@@ -19,8 +20,11 @@ std::string fmtNum(double v) {
 // Reads one [section] of the file; every problem becomes one line of `errors`.
 class Section {
  public:
-  Section(const toml::table* table, std::string section, const std::string& name,
-          std::vector<std::string>& errors, std::vector<std::string>& keys_set,
+  Section(const toml::table* table,
+          std::string section,
+          const std::string& name,
+          std::vector<std::string>& errors,
+          std::vector<std::string>& keys_set,
           std::vector<std::string>* all_keys)
       : t_(table),
         section_(std::move(section)),
@@ -30,7 +34,8 @@ class Section {
         all_keys_(all_keys) {}
 
   ~Section() {
-    if (t_ == nullptr) return;
+    if (t_ == nullptr)
+      return;
     for (auto&& [k, v] : *t_) {
       if (known_.count(std::string(k.str())) == 0)
         error(v, std::string(k.str()), "unknown key (see config/hapticd.toml for every key)");
@@ -39,14 +44,19 @@ class Section {
 
   void number(const char* key, double& out, double lo, double hi, const char* unit = "") {
     const toml::node* n = find(key);
-    if (n == nullptr) return;
+    if (n == nullptr)
+      return;
     std::optional<double> v;
-    if (auto f = n->value_exact<double>()) v = *f;
-    else if (auto i = n->value_exact<std::int64_t>()) v = static_cast<double>(*i);
-    if (!v) return error(*n, key, "must be a number");
+    if (auto f = n->value_exact<double>())
+      v = *f;
+    else if (auto i = n->value_exact<std::int64_t>())
+      v = static_cast<double>(*i);
+    if (!v)
+      return error(*n, key, "must be a number");
     if (!std::isfinite(*v) || *v < lo || *v > hi)
-      return error(*n, key, "must be in [" + fmtNum(lo) + ", " + fmtNum(hi) + "]" + unit +
-                                " (got " + fmtNum(*v) + ")");
+      return error(*n, key,
+                   "must be in [" + fmtNum(lo) + ", " + fmtNum(hi) + "]" + unit + " (got " +
+                       fmtNum(*v) + ")");
     out = *v;
   }
   void positive(const char* key, double& out, double hi, const char* unit = "") {
@@ -57,16 +67,20 @@ class Section {
     const std::size_t before = errors_.size();
     double v = out;
     number(key, v, 0.0, hi, unit);
-    if (errors_.size() != before) return;
-    if (v <= 0.0) return error(*t_->get(key), key, "must be > 0 (got " + fmtNum(v) + ")");
+    if (errors_.size() != before)
+      return;
+    if (v <= 0.0)
+      return error(*t_->get(key), key, "must be > 0 (got " + fmtNum(v) + ")");
     out = v;
   }
   template <class Int>
   void integer(const char* key, Int& out, std::int64_t lo, std::int64_t hi) {
     const toml::node* n = find(key);
-    if (n == nullptr) return;
+    if (n == nullptr)
+      return;
     auto i = n->value_exact<std::int64_t>();
-    if (!i) return error(*n, key, "must be an integer");
+    if (!i)
+      return error(*n, key, "must be an integer");
     if (*i < lo || *i > hi)
       return error(*n, key,
                    "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "] (got " +
@@ -75,48 +89,62 @@ class Section {
   }
   void boolean(const char* key, bool& out) {
     const toml::node* n = find(key);
-    if (n == nullptr) return;
+    if (n == nullptr)
+      return;
     auto b = n->value_exact<bool>();
-    if (!b) return error(*n, key, "must be true or false");
+    if (!b)
+      return error(*n, key, "must be true or false");
     out = *b;
   }
-  void string(const char* key, std::string& out,
+  void string(const char* key,
+              std::string& out,
               const std::function<std::optional<std::string>(const std::string&)>& check = {}) {
     const toml::node* n = find(key);
-    if (n == nullptr) return;
+    if (n == nullptr)
+      return;
     auto s = n->value_exact<std::string>();
-    if (!s) return error(*n, key, "must be a string");
+    if (!s)
+      return error(*n, key, "must be a string");
     if (check) {
-      if (auto problem = check(*s)) return error(*n, key, *problem);
+      if (auto problem = check(*s))
+        return error(*n, key, *problem);
     }
     out = *s;
   }
   template <class E>
   void choice(const char* key, E& out, Result<E> (*parse)(std::string_view)) {
     const toml::node* n = find(key);
-    if (n == nullptr) return;
+    if (n == nullptr)
+      return;
     auto s = n->value_exact<std::string>();
-    if (!s) return error(*n, key, "must be a string");
+    if (!s)
+      return error(*n, key, "must be a string");
     auto r = parse(*s);
-    if (!r) return error(*n, key, r.error().message);
+    if (!r)
+      return error(*n, key, r.error().message);
     out = r.value();
   }
   template <std::size_t N>
   void vector(const char* key, std::array<double, N>& out, double bound) {
     const toml::node* n = find(key);
-    if (n == nullptr) return;
+    if (n == nullptr)
+      return;
     const toml::array* a = n->as_array();
     if (a == nullptr || a->size() != N)
       return error(*n, key, "must be an array of " + std::to_string(N) + " numbers");
     std::array<double, N> v{};
     for (std::size_t i = 0; i < N; ++i) {
       const toml::node& e = *a->get(i);
-      if (auto f = e.value_exact<double>()) v[i] = *f;
-      else if (auto j = e.value_exact<std::int64_t>()) v[i] = static_cast<double>(*j);
-      else return error(*n, key, "element " + std::to_string(i) + " must be a number");
+      if (auto f = e.value_exact<double>())
+        v[i] = *f;
+      else if (auto j = e.value_exact<std::int64_t>())
+        v[i] = static_cast<double>(*j);
+      else
+        return error(*n, key, "element " + std::to_string(i) + " must be a number");
       if (!std::isfinite(v[i]) || std::abs(v[i]) > bound)
-        return error(*n, key, "element " + std::to_string(i) + " must be finite and within ±" +
-                                  fmtNum(bound) + " (got " + fmtNum(v[i]) + ")");
+        return error(*n, key,
+                     "element " + std::to_string(i) + " must be finite and within ±" +
+                         fmtNum(bound) + " (got " + fmtNum(v[i]) + ")");
     }
     out = v;
   }
@@ -125,7 +153,8 @@ class Section {
     std::array<double, 4> q = out;
     const std::size_t before = errors_.size();
     vector(key, q, 1.0 + 1e-9);
-    if (n == nullptr || errors_.size() != before) return;
+    if (n == nullptr || errors_.size() != before)
+      return;
     const double len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
     if (std::abs(len - 1.0) > 1e-6)
       return error(*n, key, "must be a unit quaternion [x, y, z, w] (length " + fmtNum(len) + ")");
@@ -135,10 +164,13 @@ class Section {
  private:
   const toml::node* find(const char* key) {
     known_.insert(key);
-    if (all_keys_ != nullptr) all_keys_->push_back(section_ + "." + key);
-    if (t_ == nullptr) return nullptr;
+    if (all_keys_ != nullptr)
+      all_keys_->push_back(section_ + "." + key);
+    if (t_ == nullptr)
+      return nullptr;
     const toml::node* n = t_->get(key);
-    if (n != nullptr) keys_set_.push_back(section_ + "." + key);
+    if (n != nullptr)
+      keys_set_.push_back(section_ + "." + key);
     return n;
   }
   void error(const toml::node& n, const std::string& key, const std::string& what) {
@@ -155,10 +187,13 @@ class Section {
   std::set<std::string> known_;
 };
 
-const toml::table* sectionOf(const toml::table& root, const char* name, const std::string& file,
+const toml::table* sectionOf(const toml::table& root,
+                             const char* name,
+                             const std::string& file,
                              std::vector<std::string>& errors) {
   const toml::node* n = root.get(name);
-  if (n == nullptr) return nullptr;
+  if (n == nullptr)
+    return nullptr;
   if (!n->is_table()) {
     errors.push_back(file + ":" + std::to_string(n->source().begin.line) + ": " + name +
                      ": must be a table ([" + name + "])");
@@ -172,22 +207,27 @@ std::optional<std::string> checkUdp(const std::string& s) {
   if (colon == std::string::npos || colon == 0)
     return "must be \"ADDRESS:PORT\" (got \"" + s + "\")";
   const std::string port = s.substr(colon + 1);
-  if (port.empty() || port.size() > 5 || port.find_first_not_of("0123456789") != std::string::npos ||
-      std::stoi(port) < 1 || std::stoi(port) > 65535)
+  if (port.empty() || port.size() > 5 ||
+      port.find_first_not_of("0123456789") != std::string::npos || std::stoi(port) < 1 ||
+      std::stoi(port) > 65535)
     return "port must be 1..65535 (got \"" + port + "\")";
   return std::nullopt;
 }
 
 std::optional<std::string> checkSpec(const std::string& s) {
-  if (s.empty()) return "must not be empty (\"sim\", \"replay:FILE\", \"hid\", \"usb\")";
+  if (s.empty())
+    return "must not be empty (\"sim\", \"replay:FILE\", \"hid\", \"usb\")";
   return std::nullopt;
 }
 
-void readAll(const toml::table& root, const std::string& name, Config& c,
-             std::vector<std::string>& errors, std::vector<std::string>& keys,
+void readAll(const toml::table& root,
+             const std::string& name,
+             Config& c,
+             std::vector<std::string>& errors,
+             std::vector<std::string>& keys,
              std::vector<std::string>* all_keys = nullptr) {
-  static const std::set<std::string> kSections = {"servo", "device", "response", "scene",
-                                                  "network", "log"};
+  static const std::set<std::string> kSections = {"servo", "device",  "response",
+                                                  "scene", "network", "log"};
   for (auto&& [k, v] : root)
     if (kSections.count(std::string(k.str())) == 0)
       errors.push_back(name + ":" + std::to_string(v.source().begin.line) + ": " +
@@ -227,14 +267,17 @@ void readAll(const toml::table& root, const std::string& name, Config& c,
     s.positive("workspace_scale", d.workspace_scale, 1e9);
     s.positive("service_interval_s", d.service_interval_s, 10.0, " s");
     s.positive("sim_hand_inertia_kg_m2", d.sim_hand_inertia_kg_m2, 1000.0, " kg m^2");
-    s.positive("sim_hand_rot_stiffness_nm_per_rad", d.sim_hand_rot_stiffness_nm_per_rad, 1e6, " N m/rad");
-    s.number("sim_hand_rot_damping_nm_s_per_rad", d.sim_hand_rot_damping_nm_s_per_rad, 0.0, 1e6, " N m s/rad");
+    s.positive("sim_hand_rot_stiffness_nm_per_rad", d.sim_hand_rot_stiffness_nm_per_rad, 1e6,
+               " N m/rad");
+    s.number("sim_hand_rot_damping_nm_s_per_rad", d.sim_hand_rot_damping_nm_s_per_rad, 0.0, 1e6,
+             " N m s/rad");
     s.number("sim_idle_amplitude_m", d.sim_idle_amplitude_m, 0.0, 1e6, " m");
     s.number("sim_idle_angle_rad", d.sim_idle_angle_rad, 0.0, 3.14159, " rad");
     s.positive("sim_max_step_s", d.sim_max_step_s, 1.0, " s");
     s.positive("replay_quat_tolerance", d.replay_quat_tolerance, 0.5);
     s.positive("hid_spacemouse_speed_m_per_s", d.hid_spacemouse_speed_m_per_s, 1e3, " m/s");
-    s.positive("hid_spacemouse_angular_speed_rad_per_s", d.hid_spacemouse_angular_speed_rad_per_s, 1e3, " rad/s");
+    s.positive("hid_spacemouse_angular_speed_rad_per_s", d.hid_spacemouse_angular_speed_rad_per_s,
+               1e3, " rad/s");
     s.positive("hid_spacemouse_full_scale", d.hid_spacemouse_full_scale, 32767.0);
     s.number("hid_spacemouse_deadband", d.hid_spacemouse_deadband, 0.0, 32767.0);
     s.positive("hid_spacemouse_workspace_m", d.hid_spacemouse_workspace_m, 1e6, " m");
@@ -272,7 +315,8 @@ void readAll(const toml::table& root, const std::string& name, Config& c,
     auto& sc = c.scene;
     s.string("path", sc.path);
     s.string("demo", sc.demo, [](const std::string& v) -> std::optional<std::string> {
-      if (v.empty()) return std::string("must name a demo scene");
+      if (v.empty())
+        return std::string("must name a demo scene");
       return std::nullopt;
     });
     s.integer("max_file_bytes", sc.max_file_bytes, 1, std::int64_t{1} << 40);
@@ -298,7 +342,8 @@ void readAll(const toml::table& root, const std::string& name, Config& c,
 std::string joinLines(const std::vector<std::string>& lines) {
   std::string out;
   for (const auto& l : lines) {
-    if (!out.empty()) out += '\n';
+    if (!out.empty())
+      out += '\n';
     out += l;
   }
   return out;
@@ -317,16 +362,19 @@ Result<ParsedConfig> parseConfig(std::string_view text, const std::string& name)
   ParsedConfig parsed;
   std::vector<std::string> errors;
   readAll(root, name, parsed.config, errors, parsed.keys_set);
-  if (!errors.empty()) return Error{joinLines(errors)};
+  if (!errors.empty())
+    return Error{joinLines(errors)};
   return parsed;
 }
 
 Result<ParsedConfig> loadConfigFile(const std::filesystem::path& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return Error{path.string() + ": cannot read the config file"};
+  if (!in)
+    return Error{path.string() + ": cannot read the config file"};
   std::ostringstream ss;
   ss << in.rdbuf();
-  if (ss.str().size() > (1u << 20)) return Error{path.string() + ": config file over 1 MiB"};
+  if (ss.str().size() > (1u << 20))
+    return Error{path.string() + ": config file over 1 MiB"};
   return parseConfig(ss.str(), path.string());
 }
 
@@ -341,14 +389,20 @@ std::vector<std::string> knownConfigKeys() {
 Result<bool> validateConfig(const Config& c) {
   std::vector<std::string> errors;
   if (!(c.servo.rate_hz >= 1.0 && c.servo.rate_hz <= 20000.0))
-    errors.push_back("[servo] rate_hz: must be in [1, 20000] Hz (got " + fmtNum(c.servo.rate_hz) + ")");
+    errors.push_back("[servo] rate_hz: must be in [1, 20000] Hz (got " + fmtNum(c.servo.rate_hz) +
+                     ")");
   if (c.servo.priority < 1 || c.servo.priority > 99)
-    errors.push_back("[servo] priority: must be in [1, 99] (got " + std::to_string(c.servo.priority) + ")");
+    errors.push_back("[servo] priority: must be in [1, 99] (got " +
+                     std::to_string(c.servo.priority) + ")");
   if (c.servo.cpu < -1 || c.servo.cpu > 1023)
-    errors.push_back("[servo] cpu: must be -1 or a CPU number (got " + std::to_string(c.servo.cpu) + ")");
-  if (c.device.spec.empty()) errors.push_back("[device] spec: must not be empty");
-  if (auto p = checkUdp(c.network.udp)) errors.push_back("[network] udp: " + *p);
-  if (!errors.empty()) return Error{joinLines(errors)};
+    errors.push_back("[servo] cpu: must be -1 or a CPU number (got " + std::to_string(c.servo.cpu) +
+                     ")");
+  if (c.device.spec.empty())
+    errors.push_back("[device] spec: must not be empty");
+  if (auto p = checkUdp(c.network.udp))
+    errors.push_back("[network] udp: " + *p);
+  if (!errors.empty())
+    return Error{joinLines(errors)};
   return true;
 }
 
@@ -423,7 +477,8 @@ scene::LoadOptions toLoadOptions(const Config& c) {
   o.limits.max_hull_input_points = c.scene.max_hull_input_points;
   o.limits.max_hull_vertices = c.scene.max_hull_vertices;
   o.limits.tessellation_tolerance = c.scene.tessellation_tolerance;
-  if (!c.scene.allowed_uri_dir.empty()) o.allowed_uri_dir = c.scene.allowed_uri_dir;
+  if (!c.scene.allowed_uri_dir.empty())
+    o.allowed_uri_dir = c.scene.allowed_uri_dir;
   return o;
 }
 
@@ -455,45 +510,64 @@ ServoOptions toServoOptions(const Config& c, const device::DeviceInfo& device) {
   return o;
 }
 
-const char* toString(ClockKind kind) { return kind == ClockKind::kVirtual ? "virtual" : "monotonic"; }
+const char* toString(ClockKind kind) {
+  return kind == ClockKind::kVirtual ? "virtual" : "monotonic";
+}
 
 const char* toString(LogLevel level) {
   switch (level) {
-    case LogLevel::kError: return "error";
-    case LogLevel::kWarning: return "warning";
-    case LogLevel::kInfo: return "info";
-    case LogLevel::kDebug: return "debug";
+    case LogLevel::kError:
+      return "error";
+    case LogLevel::kWarning:
+      return "warning";
+    case LogLevel::kInfo:
+      return "info";
+    case LogLevel::kDebug:
+      return "debug";
   }
   return "?";
 }
 
 Result<LogLevel> parseLogLevel(std::string_view t) {
-  if (t == "error") return LogLevel::kError;
-  if (t == "warning") return LogLevel::kWarning;
-  if (t == "info") return LogLevel::kInfo;
-  if (t == "debug") return LogLevel::kDebug;
-  return Error{"\"" + std::string(t) + "\" is not one of \"error\", \"warning\", \"info\", \"debug\""};
+  if (t == "error")
+    return LogLevel::kError;
+  if (t == "warning")
+    return LogLevel::kWarning;
+  if (t == "info")
+    return LogLevel::kInfo;
+  if (t == "debug")
+    return LogLevel::kDebug;
+  return Error{"\"" + std::string(t) +
+               "\" is not one of \"error\", \"warning\", \"info\", \"debug\""};
 }
 
 const char* toString(sim::ResponseOptions::HingeAttach a) {
   switch (a) {
-    case sim::ResponseOptions::HingeAttach::kAuto: return "auto";
-    case sim::ResponseOptions::HingeAttach::kRim: return "rim";
-    case sim::ResponseOptions::HingeAttach::kCentre: return "centre";
+    case sim::ResponseOptions::HingeAttach::kAuto:
+      return "auto";
+    case sim::ResponseOptions::HingeAttach::kRim:
+      return "rim";
+    case sim::ResponseOptions::HingeAttach::kCentre:
+      return "centre";
   }
   return "?";
 }
 
 Result<sim::ResponseOptions::HingeAttach> parseHingeAttach(std::string_view t) {
-  if (t == "auto") return sim::ResponseOptions::HingeAttach::kAuto;
-  if (t == "rim") return sim::ResponseOptions::HingeAttach::kRim;
-  if (t == "centre") return sim::ResponseOptions::HingeAttach::kCentre;
+  if (t == "auto")
+    return sim::ResponseOptions::HingeAttach::kAuto;
+  if (t == "rim")
+    return sim::ResponseOptions::HingeAttach::kRim;
+  if (t == "centre")
+    return sim::ResponseOptions::HingeAttach::kCentre;
   return Error{"\"" + std::string(t) + "\" is not one of \"auto\", \"rim\", \"centre\""};
 }
 
 Result<ClockKind> parseClockKind(std::string_view t) {
-  if (t == "monotonic") return ClockKind::kMonotonic;
-  if (t == "virtual") return ClockKind::kVirtual;
+  if (t == "monotonic")
+    return ClockKind::kMonotonic;
+  if (t == "virtual")
+    return ClockKind::kVirtual;
   return Error{"\"" + std::string(t) + "\" is not one of \"monotonic\", \"virtual\""};
 }
 

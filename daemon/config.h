@@ -106,7 +106,7 @@ struct ResponseConfig {
 
 /// [scene]: what to load, scene::SceneLimits, and where external URIs may be read from.
 struct SceneConfig {
-  std::string path;                ///< empty: the built-in demo scene `demo`
+  std::string path;  ///< empty: the built-in demo scene `demo`
   std::string demo = "peg_in_hole";
   std::uint64_t max_file_bytes = 64ull << 20;
   std::uint32_t max_nodes = 10000;
@@ -115,7 +115,7 @@ struct SceneConfig {
   std::uint32_t max_hull_input_points = 100000;
   std::uint32_t max_hull_vertices = 4096;
   double tessellation_tolerance = 1e-3;
-  std::string allowed_uri_dir;     ///< empty: external URIs refused
+  std::string allowed_uri_dir;  ///< empty: external URIs refused
   bool operator==(const SceneConfig&) const = default;
 };
 

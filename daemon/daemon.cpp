@@ -10,8 +10,8 @@
 #include <filesystem>
 #include <fstream>
 #include <future>
-#include <optional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <thread>
 
 #include "daemon/clock.h"
@@ -85,24 +85,28 @@ class Daemon {
 
 Result<Daemon::Built> Daemon::buildScene(const Config& config, std::uint64_t generation) const {
   auto scene = backends_.load_scene(config);
-  if (!scene) return scene.error();
+  if (!scene)
+    return scene.error();
   auto model = scene.value();
   auto sim = backends_.make_simulation(model, toSimOptions(config));
-  if (!sim) return Error{"scene '" + model->name + "': " + sim.error().message};
+  if (!sim)
+    return Error{"scene '" + model->name + "': " + sim.error().message};
   Built built;
   built.scene = std::make_unique<ServoScene>();
   built.scene->sim = std::move(sim.value());
   built.scene->generation = generation;
   built.name = model->name;
   built.body_names.reserve(model->bodies.size());
-  for (const auto& b : model->bodies) built.body_names.push_back(b.name);
+  for (const auto& b : model->bodies)
+    built.body_names.push_back(b.name);
   return built;
 }
 
 void Daemon::install(Built built) {
   generation_ = built.scene->generation;
   scene_name_ = built.name;
-  if (writer_) writer_->setBodyNames(generation_, std::move(built.body_names));
+  if (writer_)
+    writer_->setBodyNames(generation_, std::move(built.body_names));
   loop_->offerScene(std::move(built.scene));
 }
 
@@ -135,11 +139,13 @@ void Daemon::startReload() {
     }
     reload_done_ = true;
   });
-  if (!started) logError("reload: " + started.error().message);
+  if (!started)
+    logError("reload: " + started.error().message);
 }
 
 void Daemon::finishReload() {
-  if (!reload_thread_.joinable() || !reload_done_.load()) return;
+  if (!reload_thread_.joinable() || !reload_done_.load())
+    return;
   reload_thread_.join();
   if (!reload_result_) {
     last_reload_ = "refused: " + reload_error_;
@@ -167,17 +173,17 @@ void Daemon::finishReload() {
 void Daemon::drainEvents() {
   ServoEvent e;
   while (loop_->popEvent(e)) {
-    const bool bad = e.kind == ServoEventKind::kMissFault ||
-                     e.kind == ServoEventKind::kNonFiniteForce ||
-                     e.kind == ServoEventKind::kDeviceLost ||
-                     e.kind == ServoEventKind::kRecordDropped ||
-                     e.kind == ServoEventKind::kDeviceWriteFailed;
+    const bool bad =
+        e.kind == ServoEventKind::kMissFault || e.kind == ServoEventKind::kNonFiniteForce ||
+        e.kind == ServoEventKind::kDeviceLost || e.kind == ServoEventKind::kRecordDropped ||
+        e.kind == ServoEventKind::kDeviceWriteFailed;
     logLine(bad ? LogLevel::kWarning : LogLevel::kInfo, describe(e));
   }
 }
 
 void Daemon::writeStatus(const char* phase) {
-  if (cli_.status_file.empty()) return;
+  if (cli_.status_file.empty())
+    return;
   const ServoState st = loop_->state();
   nlohmann::json j;
   j["phase"] = phase;
@@ -189,7 +195,8 @@ void Daemon::writeStatus(const char* phase) {
   j["device"] = {{"name", device_->info().name},
                  {"connected", st.device_connected},
                  {"lost_count", st.device_lost_count}};
-  j["scene"] = {{"name", scene_name_}, {"generation", st.scene_generation},
+  j["scene"] = {{"name", scene_name_},
+                {"generation", st.scene_generation},
                 {"offered_generation", generation_}};
   j["armed"] = st.armed;
   j["stopping"] = st.stopping;
@@ -210,10 +217,14 @@ void Daemon::writeStatus(const char* phase) {
   j["records_dropped"] = st.records_dropped;
   const auto& lat = loop_->lateness();
   const auto& cmp = loop_->compute();
-  j["lateness_ns"] = {{"p50", lat.quantileNs(0.5)}, {"p99", lat.quantileNs(0.99)},
-                      {"p999", lat.quantileNs(0.999)}, {"max", lat.maxNs()}};
-  j["compute_ns"] = {{"p50", cmp.quantileNs(0.5)}, {"p99", cmp.quantileNs(0.99)},
-                     {"p999", cmp.quantileNs(0.999)}, {"max", cmp.maxNs()}};
+  j["lateness_ns"] = {{"p50", lat.quantileNs(0.5)},
+                      {"p99", lat.quantileNs(0.99)},
+                      {"p999", lat.quantileNs(0.999)},
+                      {"max", lat.maxNs()}};
+  j["compute_ns"] = {{"p50", cmp.quantileNs(0.5)},
+                     {"p99", cmp.quantileNs(0.99)},
+                     {"p999", cmp.quantileNs(0.999)},
+                     {"max", cmp.maxNs()}};
   j["realtime"] = {{"policy", toString(config_.servo.realtime)},
                    {"memory_locked", process_rt_.memory_locked},
                    {"fifo", setup_.report.fifo},
@@ -225,7 +236,8 @@ void Daemon::writeStatus(const char* phase) {
   {
     std::ofstream out(tmp, std::ios::trunc);
     out << j.dump(2) << "\n";
-    if (!out) return;
+    if (!out)
+      return;
   }
   std::error_code ec;
   std::filesystem::rename(tmp, cli_.status_file, ec);
@@ -235,7 +247,8 @@ void Daemon::logStatusLine() {
   const ServoState st = loop_->state();
   char buf[256];
   std::snprintf(buf, sizeof buf,
-                "status: tick %" PRIu64 ", faults %u, overruns %" PRIu64 ", device %s, force %.3f N",
+                "status: tick %" PRIu64 ", faults %u, overruns %" PRIu64
+                ", device %s, force %.3f N",
                 st.tick, st.faults, st.overruns, st.device_connected ? "connected" : "LOST",
                 glm::length(st.force_W_n));
   logInfo(std::string(buf) + "; lateness " + loop_->lateness().summary() + "; compute " +
@@ -249,9 +262,11 @@ std::string Daemon::summary(ServoExit exit) const {
                                                     : "stopped";
   char buf[512];
   std::snprintf(buf, sizeof buf,
-                "hapticd: %s: %" PRIu64 " ticks, %.3f s %s time, scene '%s', peak force %.6g N, "
+                "hapticd: %s: %" PRIu64
+                " ticks, %.3f s %s time, scene '%s', peak force %.6g N, "
                 "peak penetration %.6g m, contact ticks %" PRIu64 ", overruns %" PRIu64
-                ", faults %u, records %" PRIu64 " (dropped %" PRIu64 "), tick p50 %.1f us p99 %.1f us "
+                ", faults %u, records %" PRIu64 " (dropped %" PRIu64
+                "), tick p50 %.1f us p99 %.1f us "
                 "max %.1f us",
                 why, st.tick, static_cast<double>(st.tick) / config_.servo.rate_hz,
                 config_.servo.clock == ClockKind::kVirtual ? "simulated" : "loop",
@@ -304,7 +319,8 @@ int Daemon::run() {
     return kExitFailure;
   }
   process_rt_ = prt.value();
-  for (const auto& w : process_rt_.warnings) logWarning(w);
+  for (const auto& w : process_rt_.warnings)
+    logWarning(w);
 
   // 4. device
   auto device = backends_.make_device(config_.device.spec, toDeviceOptions(config_));
@@ -362,12 +378,15 @@ int Daemon::run() {
     ServoSetup s;
     auto r = setupServoThreadRealtime(rt, backends_.realtime);
     s.ok = r.ok();
-    if (r) s.report = r.value();
-    else s.error = r.error().message;
+    if (r)
+      s.report = r.value();
+    else
+      s.error = r.error().message;
     s.scheduling = describeThreadScheduling();
     loop_->prepareServoThread();  // the scene's per-thread scratch, before the loop starts
     setup_promise.set_value(std::move(s));
-    while (go.load(std::memory_order_acquire) == 0) std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    while (go.load(std::memory_order_acquire) == 0)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
     if (go.load() == 1) {
       exit_reason_ = static_cast<int>(loop_->run());
       // whatever ended the loop, the device is left at zero force
@@ -384,10 +403,12 @@ int Daemon::run() {
     go = 2;
     servo_thread.join();
     logError(setup_.error);
-    if (writer_) (void)writer_->finish();
+    if (writer_)
+      (void)writer_->finish();
     return kExitFailure;
   }
-  for (const auto& w : setup_.report.warnings) logWarning(w);
+  for (const auto& w : setup_.report.warnings)
+    logWarning(w);
   char rate[32];
   std::snprintf(rate, sizeof rate, "%g Hz", config_.servo.rate_hz);
   logInfo("servo thread: " + setup_.scheduling + ", " + rate + ", clock " +

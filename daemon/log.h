@@ -13,9 +13,17 @@ namespace hapticd::daemon {
 
 void setLogLevel(LogLevel level);
 void logLine(LogLevel level, const std::string& message);
-inline void logError(const std::string& m) { logLine(LogLevel::kError, m); }
-inline void logWarning(const std::string& m) { logLine(LogLevel::kWarning, m); }
-inline void logInfo(const std::string& m) { logLine(LogLevel::kInfo, m); }
-inline void logDebug(const std::string& m) { logLine(LogLevel::kDebug, m); }
+inline void logError(const std::string& m) {
+  logLine(LogLevel::kError, m);
+}
+inline void logWarning(const std::string& m) {
+  logLine(LogLevel::kWarning, m);
+}
+inline void logInfo(const std::string& m) {
+  logLine(LogLevel::kInfo, m);
+}
+inline void logDebug(const std::string& m) {
+  logLine(LogLevel::kDebug, m);
+}
 
 }  // namespace hapticd::daemon

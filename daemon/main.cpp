@@ -24,7 +24,8 @@ Result<std::shared_ptr<const scene::SceneModel>> loadConfiguredScene(const daemo
     const std::vector<std::uint8_t> bytes = scenes::makeDemoScene(c.scene.demo);
     if (bytes.empty()) {
       std::string known;
-      for (auto n : scenes::demoSceneNames()) known += (known.empty() ? "" : ", ") + std::string(n);
+      for (auto n : scenes::demoSceneNames())
+        known += (known.empty() ? "" : ", ") + std::string(n);
       return Error{"[scene] demo: \"" + c.scene.demo + "\" is not a demo scene (" + known + ")"};
     }
     report = scene::loadScene(bytes, c.scene.demo, options);
@@ -45,7 +46,8 @@ Result<std::shared_ptr<const scene::SceneModel>> loadConfiguredScene(const daemo
 int main(int argc, char** argv) {
   try {
     daemon::CommandLine cli;
-    if (auto code = daemon::parseCommandLine(argc, argv, cli)) return *code;
+    if (auto code = daemon::parseCommandLine(argc, argv, cli))
+      return *code;
     daemon::Backends backends;
     backends.make_device = &device::makeDevice;
     backends.load_scene = &loadConfiguredScene;

@@ -1,14 +1,13 @@
 #include "daemon/realtime.h"
 
+#include <alloca.h>
 #include <pthread.h>
 #include <sched.h>
 #include <sys/mman.h>
 
-#include <alloca.h>
-
+#include <algorithm>
 #include <cerrno>
 #include <cstring>
-#include <algorithm>
 #include <utility>
 
 namespace hapticd::daemon {
@@ -26,10 +25,15 @@ constexpr bool kAddressSanitizer = false;
 constexpr bool kAddressSanitizer = false;
 #endif
 
-std::string errnoText(int err) { return std::string(std::strerror(err)) + " (errno " + std::to_string(err) + ")"; }
+std::string errnoText(int err) {
+  return std::string(std::strerror(err)) + " (errno " + std::to_string(err) + ")";
+}
 
 // one refused step: an error under `require`, a warning under `prefer`
-bool refuse(const RealtimeOptions& options, RealtimeReport& report, std::string what, Error& error) {
+bool refuse(const RealtimeOptions& options,
+            RealtimeReport& report,
+            std::string what,
+            Error& error) {
   if (options.policy == RealtimePolicy::kRequire) {
     error.message = "realtime = \"require\": " + what +
                     " (set [servo] realtime = \"prefer\" to run without it, or grant the "
@@ -44,25 +48,35 @@ bool refuse(const RealtimeOptions& options, RealtimeReport& report, std::string 
 // the loop runs: a page fault inside a tick costs microseconds
 __attribute__((noinline)) void prefaultStack(std::size_t bytes) {
   auto* block = static_cast<volatile unsigned char*>(alloca(bytes));
-  for (std::size_t i = 0; i < bytes; i += 1024) block[i] = 0;
+  for (std::size_t i = 0; i < bytes; i += 1024)
+    block[i] = 0;
 }
 
 }  // namespace
 
-bool memoryLockingSupported() { return !kAddressSanitizer; }
+bool memoryLockingSupported() {
+  return !kAddressSanitizer;
+}
 
 Result<RealtimePolicy> parseRealtimePolicy(std::string_view text) {
-  if (text == "require") return RealtimePolicy::kRequire;
-  if (text == "prefer") return RealtimePolicy::kPrefer;
-  if (text == "off") return RealtimePolicy::kOff;
-  return Error{"realtime: \"" + std::string(text) + "\" is not one of \"require\", \"prefer\", \"off\""};
+  if (text == "require")
+    return RealtimePolicy::kRequire;
+  if (text == "prefer")
+    return RealtimePolicy::kPrefer;
+  if (text == "off")
+    return RealtimePolicy::kOff;
+  return Error{"realtime: \"" + std::string(text) +
+               "\" is not one of \"require\", \"prefer\", \"off\""};
 }
 
 const char* toString(RealtimePolicy policy) {
   switch (policy) {
-    case RealtimePolicy::kRequire: return "require";
-    case RealtimePolicy::kPrefer: return "prefer";
-    case RealtimePolicy::kOff: return "off";
+    case RealtimePolicy::kRequire:
+      return "require";
+    case RealtimePolicy::kPrefer:
+      return "prefer";
+    case RealtimePolicy::kOff:
+      return "off";
   }
   return "?";
 }
@@ -85,11 +99,14 @@ RealtimeOps RealtimeOps::system() {
   return ops;
 }
 
-Result<RealtimeReport> setupProcessRealtime(const RealtimeOptions& options, const RealtimeOps& ops) {
+Result<RealtimeReport> setupProcessRealtime(const RealtimeOptions& options,
+                                            const RealtimeOps& ops) {
   RealtimeReport report;
-  if (options.policy == RealtimePolicy::kOff) return report;
+  if (options.policy == RealtimePolicy::kOff)
+    return report;
   if (kAddressSanitizer) {
-    report.warnings.push_back("mlockall skipped: AddressSanitizer's shadow memory cannot be locked");
+    report.warnings.push_back(
+        "mlockall skipped: AddressSanitizer's shadow memory cannot be locked");
     return report;
   }
   Error error;
@@ -114,10 +131,13 @@ Result<RealtimeReport> setupServoThreadRealtime(const RealtimeOptions& options,
     pthread_attr_getstacksize(&attr, &stack_size);
     pthread_attr_destroy(&attr);
     constexpr std::size_t kMargin = 64 * 1024;
-    if (stack_size > 0) prefault = std::min(prefault, stack_size > 2 * kMargin ? stack_size - kMargin : stack_size / 2);
+    if (stack_size > 0)
+      prefault =
+          std::min(prefault, stack_size > 2 * kMargin ? stack_size - kMargin : stack_size / 2);
   }
   prefaultStack(prefault);
-  if (options.policy == RealtimePolicy::kOff) return report;
+  if (options.policy == RealtimePolicy::kOff)
+    return report;
   Error error;
   if (options.priority < 1 || options.priority > 99)
     return Error{"priority " + std::to_string(options.priority) + " is outside 1..99"};
@@ -152,14 +172,20 @@ std::string describeThreadScheduling() {
   sched_param param{};
   sched_getparam(0, &param);
   switch (policy & ~SCHED_RESET_ON_FORK) {
-    case SCHED_FIFO: return "SCHED_FIFO " + std::to_string(param.sched_priority);
-    case SCHED_RR: return "SCHED_RR " + std::to_string(param.sched_priority);
-    case SCHED_OTHER: return "SCHED_OTHER";
-    default: return "policy " + std::to_string(policy);
+    case SCHED_FIFO:
+      return "SCHED_FIFO " + std::to_string(param.sched_priority);
+    case SCHED_RR:
+      return "SCHED_RR " + std::to_string(param.sched_priority);
+    case SCHED_OTHER:
+      return "SCHED_OTHER";
+    default:
+      return "policy " + std::to_string(policy);
   }
 }
 
-Thread::~Thread() { join(); }
+Thread::~Thread() {
+  join();
+}
 
 void* Thread::trampoline(void* self) {
   auto* t = static_cast<Thread*>(self);
@@ -169,12 +195,14 @@ void* Thread::trampoline(void* self) {
 }
 
 Result<bool> Thread::start(const char* name, std::size_t stack_bytes, std::function<void()> body) {
-  if (started_) return Error{std::string("thread ") + name + " already started"};
+  if (started_)
+    return Error{std::string("thread ") + name + " already started"};
   body_ = std::move(body);
   name_ = name;
   pthread_attr_t attr;
   pthread_attr_init(&attr);
-  pthread_attr_setstacksize(&attr, std::max(stack_bytes, static_cast<std::size_t>(PTHREAD_STACK_MIN)));
+  pthread_attr_setstacksize(&attr,
+                            std::max(stack_bytes, static_cast<std::size_t>(PTHREAD_STACK_MIN)));
   // never inherit the creator's policy: every thread but the servo thread runs at normal priority
   pthread_attr_setinheritsched(&attr, PTHREAD_EXPLICIT_SCHED);
   pthread_attr_setschedpolicy(&attr, SCHED_OTHER);
@@ -183,14 +211,16 @@ Result<bool> Thread::start(const char* name, std::size_t stack_bytes, std::funct
   pthread_t handle{};
   const int err = pthread_create(&handle, &attr, &Thread::trampoline, this);
   pthread_attr_destroy(&attr);
-  if (err != 0) return Error{std::string("cannot start thread ") + name + ": " + errnoText(err)};
+  if (err != 0)
+    return Error{std::string("cannot start thread ") + name + ": " + errnoText(err)};
   handle_ = handle;
   started_ = true;
   return true;
 }
 
 void Thread::join() {
-  if (!started_) return;
+  if (!started_)
+    return;
   pthread_join(static_cast<pthread_t>(handle_), nullptr);
   started_ = false;
 }

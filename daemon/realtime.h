@@ -28,17 +28,17 @@ const char* toString(RealtimePolicy policy);
 /// Config [servo] realtime settings.
 struct RealtimeOptions {
   RealtimePolicy policy = RealtimePolicy::kPrefer;
-  int priority = 80;          ///< SCHED_FIFO priority of the servo thread, 1..99
-  int cpu = -1;               ///< CPU the servo thread is pinned to; -1: not pinned
+  int priority = 80;  ///< SCHED_FIFO priority of the servo thread, 1..99
+  int cpu = -1;       ///< CPU the servo thread is pinned to; -1: not pinned
   std::size_t stack_prefault_bytes = 256 * 1024;  ///< servo stack touched before the loop
 };
 
 /// The system calls the setup makes, injectable so that tests can simulate a refusal. Each
 /// returns 0 or an errno value.
 struct RealtimeOps {
-  std::function<int(int flags)> lock_memory;       ///< mlockall(flags)
-  std::function<int(int priority)> set_fifo;       ///< calling thread to SCHED_FIFO|RESET_ON_FORK
-  std::function<int(int cpu)> pin_to_cpu;          ///< calling thread's affinity to one CPU
+  std::function<int(int flags)> lock_memory;  ///< mlockall(flags)
+  std::function<int(int priority)> set_fifo;  ///< calling thread to SCHED_FIFO|RESET_ON_FORK
+  std::function<int(int cpu)> pin_to_cpu;     ///< calling thread's affinity to one CPU
   /// The real ones.
   static RealtimeOps system();
 };

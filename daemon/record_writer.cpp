@@ -34,8 +34,10 @@ Result<std::unique_ptr<RecordWriter>> RecordWriter::open(ServoLoop& loop,
 RecordWriter::~RecordWriter() {
   stop_ = true;
   thread_.join();
-  if (record_ != nullptr) std::fclose(record_);
-  if (bodies_ != nullptr) std::fclose(bodies_);
+  if (record_ != nullptr)
+    std::fclose(record_);
+  if (bodies_ != nullptr)
+    std::fclose(bodies_);
 }
 
 void RecordWriter::setBodyNames(std::uint64_t generation, std::vector<std::string> names) {
@@ -44,7 +46,8 @@ void RecordWriter::setBodyNames(std::uint64_t generation, std::vector<std::strin
 }
 
 Result<bool> RecordWriter::start() {
-  if (record_ == nullptr && bodies_ == nullptr) return true;
+  if (record_ == nullptr && bodies_ == nullptr)
+    return true;
   return thread_.start("hapticd-record", 256 * 1024, [this] { run(); });
 }
 
@@ -53,7 +56,8 @@ bool RecordWriter::drainOnce() {
   RecordRow r;
   for (int i = 0; i < 4096 && loop_.popRecord(r); ++i) {
     any = true;
-    if (record_ == nullptr) continue;
+    if (record_ == nullptr)
+      continue;
     const auto& d = r.X_W_device;
     const auto& p = r.X_W_proxy;
     const int n = std::fprintf(
@@ -66,26 +70,31 @@ bool RecordWriter::drainOnce() {
         r.force_n.x, r.force_n.y, r.force_n.z, r.torque_nm.x, r.torque_nm.y, r.torque_nm.z,
         r.contacts, r.max_penetration_m, r.pairs_tested, r.pairs_skipped,
         static_cast<long long>(r.tick_ns));
-    if (n < 0) write_failed_ = true;
+    if (n < 0)
+      write_failed_ = true;
     ++rows_;
   }
   BodyRow b;
   for (int i = 0; i < 16384 && loop_.popBody(b); ++i) {
     any = true;
-    if (bodies_ == nullptr) continue;
+    if (bodies_ == nullptr)
+      continue;
     std::string name;
     {
       std::lock_guard<std::mutex> lock(names_mutex_);
       auto it = names_.find(b.generation);
-      if (it != names_.end() && b.body < it->second.size()) name = it->second[b.body];
+      if (it != names_.end() && b.body < it->second.size())
+        name = it->second[b.body];
     }
-    if (name.empty()) name = "body" + std::to_string(b.body);
+    if (name.empty())
+      name = "body" + std::to_string(b.body);
     const auto& x = b.X_WB;
     const int n = std::fprintf(bodies_, "%llu,%.17g,%s,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g\n",
                                static_cast<unsigned long long>(b.tick), b.t_s, name.c_str(),
                                x.translation.x, x.translation.y, x.translation.z, x.rotation.x,
                                x.rotation.y, x.rotation.z, x.rotation.w);
-    if (n < 0) write_failed_ = true;
+    if (n < 0)
+      write_failed_ = true;
   }
   return any;
 }
@@ -94,8 +103,10 @@ void RecordWriter::run() {
   for (;;) {
     const bool stopping = stop_.load();
     const bool any = drainOnce();
-    if (stopping && !any) break;
-    if (!any) std::this_thread::sleep_for(std::chrono::microseconds(500));
+    if (stopping && !any)
+      break;
+    if (!any)
+      std::this_thread::sleep_for(std::chrono::microseconds(500));
   }
 }
 
@@ -105,10 +116,13 @@ Result<bool> RecordWriter::finish() {
   while (drainOnce()) {
   }
   bool ok = !write_failed_.load();
-  if (record_ != nullptr && std::fclose(record_) != 0) ok = false;
-  if (bodies_ != nullptr && std::fclose(bodies_) != 0) ok = false;
+  if (record_ != nullptr && std::fclose(record_) != 0)
+    ok = false;
+  if (bodies_ != nullptr && std::fclose(bodies_) != 0)
+    ok = false;
   record_ = bodies_ = nullptr;
-  if (!ok) return Error{"writing the record files failed (" + record_path_ + " " + bodies_path_ + ")"};
+  if (!ok)
+    return Error{"writing the record files failed (" + record_path_ + " " + bodies_path_ + ")"};
   return true;
 }
 

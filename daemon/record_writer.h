@@ -22,7 +22,8 @@ namespace hapticd::daemon {
 class RecordWriter {
  public:
   /// Opens the files (an empty path: not written). Main thread. Error: the file that failed.
-  static Result<std::unique_ptr<RecordWriter>> open(ServoLoop& loop, const std::string& record_path,
+  static Result<std::unique_ptr<RecordWriter>> open(ServoLoop& loop,
+                                                    const std::string& record_path,
                                                     const std::string& bodies_path);
   ~RecordWriter();
 

@@ -34,7 +34,9 @@ geom::Vec3 limitStep(const geom::Vec3& last, const geom::Vec3& target, double st
 
 }  // namespace
 
-ServoLoop::ServoLoop(const ServoOptions& options, Clock& clock, device::Device& device,
+ServoLoop::ServoLoop(const ServoOptions& options,
+                     Clock& clock,
+                     device::Device& device,
                      std::unique_ptr<ServoScene> initial_scene)
     : options_(options),
       clock_(clock),
@@ -53,10 +55,13 @@ ServoLoop::ServoLoop(const ServoOptions& options, Clock& clock, device::Device& 
   state_.write(s_);
 }
 
-ServoLoop::~ServoLoop() { delete current_; }
+ServoLoop::~ServoLoop() {
+  delete current_;
+}
 
 void ServoLoop::emit(ServoEventKind kind, std::int64_t a) noexcept {
-  if (!events_.push(ServoEvent{kind, s_.tick, a})) ++s_.log_dropped;
+  if (!events_.push(ServoEvent{kind, s_.tick, a}))
+    ++s_.log_dropped;
 }
 
 void ServoLoop::drainCommands() noexcept {
@@ -78,11 +83,13 @@ void ServoLoop::drainCommands() noexcept {
         s_.consecutive_misses = 0;
         s_.armed = true;
         s_.output_gain = 1.0;
-        if (current_ != nullptr) current_->sim->restartRamp();
+        if (current_ != nullptr)
+          current_->sim->restartRamp();
         emit(ServoEventKind::kArmed);
         break;
       case CommandKind::kDisarm:
-        if (s_.armed) emit(ServoEventKind::kDisarmed);
+        if (s_.armed)
+          emit(ServoEventKind::kDisarmed);
         s_.armed = false;
         break;
     }
@@ -92,7 +99,8 @@ void ServoLoop::drainCommands() noexcept {
 void ServoLoop::guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept {
   // the one place every force bound for the device is checked finite, clamped and rate-limited
   if (!finite(force_D) || !finite(torque_D)) {
-    if ((s_.faults & kFaultNonFinite) == 0) emit(ServoEventKind::kNonFiniteForce);
+    if ((s_.faults & kFaultNonFinite) == 0)
+      emit(ServoEventKind::kNonFiniteForce);
     s_.faults |= kFaultNonFinite;
     force_D = geom::Vec3(0.0);
     torque_D = geom::Vec3(0.0);
@@ -108,7 +116,8 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   const double t_s = static_cast<double>(period_index) * period_s_;
 
   drainCommands();
-  if (stop_requested_.load(std::memory_order_acquire) && !s_.stopping) s_.stopping = true;
+  if (stop_requested_.load(std::memory_order_acquire) && !s_.stopping)
+    s_.stopping = true;
   if (scenes_.take(current_)) {
     current_->sim->prepareThread();
     s_.scene_generation = current_->generation;
@@ -134,10 +143,12 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
     emit(ServoEventKind::kDeviceLost);
   } else if (connected && !s_.device_connected) {
     emit(ServoEventKind::kDeviceBack);
-    if (current_ != nullptr) current_->sim->restartRamp();
+    if (current_ != nullptr)
+      current_->sim->restartRamp();
   }
   s_.device_connected = connected;
-  if (connected) s_.X_W_device = options_.workspace.toScene(sample.X_WD);
+  if (connected)
+    s_.X_W_device = options_.workspace.toScene(sample.X_WD);
 
   sim::TickOutput out;
   if (current_ != nullptr) {
@@ -185,7 +196,8 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   s_.period_index = period_index;
   s_.peak_force_n = std::max(s_.peak_force_n, glm::length(s_.force_W_n));
   s_.peak_penetration_m = std::max(s_.peak_penetration_m, out.max_penetration_m);
-  if (out.contacts > 0) ++s_.contact_ticks;
+  if (out.contacts > 0)
+    ++s_.contact_ticks;
 
   if (s_.stopping && !stop_done_ && s_.output_gain == 0.0 && last_force_D_ == geom::Vec3(0.0) &&
       last_torque_D_ == geom::Vec3(0.0)) {
@@ -214,7 +226,8 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
     while (!records_.push(row)) {
       if (!options_.wait_for_record_space) {
         ++s_.records_dropped;
-        if (!record_drop_reported_) emit(ServoEventKind::kRecordDropped);
+        if (!record_drop_reported_)
+          emit(ServoEventKind::kRecordDropped);
         record_drop_reported_ = true;
         break;
       }
@@ -240,7 +253,8 @@ void ServoLoop::prepareServoThread() {
     s_.scene_generation = current_->generation;
     emit(ServoEventKind::kSceneSwapped, static_cast<std::int64_t>(current_->generation));
   }
-  if (current_ != nullptr) current_->sim->prepareThread();
+  if (current_ != nullptr)
+    current_->sim->prepareThread();
   state_.write(s_);
 }
 
@@ -302,23 +316,31 @@ ServoExit ServoLoop::run() noexcept {
 std::string describe(const ServoEvent& e) {
   const std::string at = " at tick " + std::to_string(e.tick);
   switch (e.kind) {
-    case ServoEventKind::kDeviceLost: return "device lost" + at + ": force set to zero";
-    case ServoEventKind::kDeviceBack: return "device back" + at + ": force ramps in again";
+    case ServoEventKind::kDeviceLost:
+      return "device lost" + at + ": force set to zero";
+    case ServoEventKind::kDeviceBack:
+      return "device back" + at + ": force ramps in again";
     case ServoEventKind::kMissFault:
       return "fault latched" + at + ": " + std::to_string(e.a) +
              " consecutive ticks overran their period; force fades to zero until re-armed";
     case ServoEventKind::kNonFiniteForce:
-      return "fault latched" + at + ": the simulation produced a non-finite force; force zero "
+      return "fault latched" + at +
+             ": the simulation produced a non-finite force; force zero "
              "until re-armed";
-    case ServoEventKind::kArmed: return "armed" + at;
-    case ServoEventKind::kDisarmed: return "disarmed" + at + ": force ramps to zero";
+    case ServoEventKind::kArmed:
+      return "armed" + at;
+    case ServoEventKind::kDisarmed:
+      return "disarmed" + at + ": force ramps to zero";
     case ServoEventKind::kSceneSwapped:
       return "scene " + std::to_string(e.a) + " swapped in" + at;
-    case ServoEventKind::kStopRampDone: return "force ramped to zero" + at;
-    case ServoEventKind::kEndOfStream: return "end of the pose stream" + at;
+    case ServoEventKind::kStopRampDone:
+      return "force ramped to zero" + at;
+    case ServoEventKind::kEndOfStream:
+      return "end of the pose stream" + at;
     case ServoEventKind::kRecordDropped:
       return "record ring full" + at + ": rows dropped (the writer is too slow; see status)";
-    case ServoEventKind::kDeviceWriteFailed: return "device write failed" + at;
+    case ServoEventKind::kDeviceWriteFailed:
+      return "device write failed" + at;
   }
   return "event" + at;
 }

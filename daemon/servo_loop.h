@@ -44,10 +44,10 @@ struct ServoScene {
 
 /// Loop settings (config [servo] and [device]).
 struct ServoOptions {
-  double rate_hz = 1000.0;             ///< tick rate; the period is rounded to whole ns
-  std::uint32_t miss_fault_count = 10; ///< consecutive overrunning ticks that latch a fault
-  double fault_fade_s = 0.05;          ///< the force fades to zero over this after a fault (s)
-  double stop_ramp_s = 0.2;            ///< SIGTERM / disarm: the force ramps to zero over this (s)
+  double rate_hz = 1000.0;              ///< tick rate; the period is rounded to whole ns
+  std::uint32_t miss_fault_count = 10;  ///< consecutive overrunning ticks that latch a fault
+  double fault_fade_s = 0.05;           ///< the force fades to zero over this after a fault (s)
+  double stop_ramp_s = 0.2;             ///< SIGTERM / disarm: the force ramps to zero over this (s)
   WorkspaceMapping workspace;
   device::DeviceLimits limits;         ///< clamp of the force written to the device (device frame)
   double max_force_step_n = 0.5;       ///< largest change of the written force per tick (N)
@@ -72,8 +72,8 @@ enum class CommandKind : std::uint8_t {
 
 struct ServoCommand {
   CommandKind kind = CommandKind::kPose;
-  std::uint64_t sequence = 0;     ///< echoed in ServoState::last_command_sequence
-  device::PoseCommand pose;       ///< kPose: target pose and velocities in the scene frame
+  std::uint64_t sequence = 0;  ///< echoed in ServoState::last_command_sequence
+  device::PoseCommand pose;    ///< kPose: target pose and velocities in the scene frame
 };
 
 /// Latched faults (ServoState::faults); cleared by kArm.
@@ -84,19 +84,19 @@ enum FaultBits : std::uint32_t {
 
 /// The state block, published once per tick through the seqlock. Scene frame, SI units.
 struct ServoState {
-  std::uint64_t tick = 0;             ///< ticks run so far
-  std::uint64_t period_index = 0;     ///< periods elapsed (ticks + skipped periods)
-  double t_s = 0.0;                   ///< loop time of the last tick
-  geom::Pose X_W_device;              ///< device pose after the workspace mapping
+  std::uint64_t tick = 0;          ///< ticks run so far
+  std::uint64_t period_index = 0;  ///< periods elapsed (ticks + skipped periods)
+  double t_s = 0.0;                ///< loop time of the last tick
+  geom::Pose X_W_device;           ///< device pose after the workspace mapping
   geom::Pose X_W_proxy;
-  geom::Vec3 force_W_n{0.0};          ///< force written (after gain, clamp, step limit)
+  geom::Vec3 force_W_n{0.0};  ///< force written (after gain, clamp, step limit)
   geom::Vec3 torque_W_nm{0.0};
   std::uint32_t contacts = 0;
   std::uint32_t pairs_tested = 0;
   std::uint32_t pairs_skipped = 0;
-  std::uint32_t tick_flags = 0;       ///< sim::TickFlags of the last tick
+  std::uint32_t tick_flags = 0;  ///< sim::TickFlags of the last tick
   double max_penetration_m = 0.0;
-  std::uint32_t faults = 0;           ///< FaultBits
+  std::uint32_t faults = 0;  ///< FaultBits
   std::uint32_t consecutive_misses = 0;
   std::uint64_t overruns = 0;         ///< ticks whose end passed the next deadline
   std::uint64_t skipped_periods = 0;  ///< periods skipped after overruns
@@ -105,15 +105,15 @@ struct ServoState {
   std::uint64_t last_command_sequence = 0;
   std::uint64_t records_dropped = 0;
   std::uint64_t log_dropped = 0;
-  std::int64_t last_tick_ns = 0;      ///< compute time of the last tick
-  double output_gain = 1.0;           ///< 1 normally, fading to 0 on fault, disarm and stop
-  double peak_force_n = 0.0;          ///< largest |force| written so far
-  double peak_penetration_m = 0.0;    ///< largest max_penetration so far
-  std::uint64_t contact_ticks = 0;    ///< ticks with at least one contact
+  std::int64_t last_tick_ns = 0;    ///< compute time of the last tick
+  double output_gain = 1.0;         ///< 1 normally, fading to 0 on fault, disarm and stop
+  double peak_force_n = 0.0;        ///< largest |force| written so far
+  double peak_penetration_m = 0.0;  ///< largest max_penetration so far
+  std::uint64_t contact_ticks = 0;  ///< ticks with at least one contact
   bool device_connected = false;
   bool armed = false;
   bool stopping = false;
-  bool running = false;               ///< the loop is inside run()
+  bool running = false;  ///< the loop is inside run()
 };
 
 /// One --record row (../shared/DESIGN.md "Records"): scene frame, N, N m, m.
@@ -144,14 +144,14 @@ struct BodyRow {
 enum class ServoEventKind : std::uint8_t {
   kDeviceLost,
   kDeviceBack,
-  kMissFault,        ///< a = consecutive misses
+  kMissFault,  ///< a = consecutive misses
   kNonFiniteForce,
   kArmed,
   kDisarmed,
-  kSceneSwapped,     ///< a = generation
+  kSceneSwapped,  ///< a = generation
   kStopRampDone,
   kEndOfStream,
-  kRecordDropped,    ///< first dropped row (later drops only count)
+  kRecordDropped,  ///< first dropped row (later drops only count)
   kDeviceWriteFailed,
 };
 
@@ -167,7 +167,9 @@ enum class ServoExit : std::uint8_t { kStopped, kEndOfStream, kMaxTicks };
 class ServoLoop {
  public:
   /// Allocates every ring. Off the servo thread. `clock` and `device` outlive the loop.
-  ServoLoop(const ServoOptions& options, Clock& clock, device::Device& device,
+  ServoLoop(const ServoOptions& options,
+            Clock& clock,
+            device::Device& device,
             std::unique_ptr<ServoScene> initial_scene);
   ~ServoLoop();
   ServoLoop(const ServoLoop&) = delete;

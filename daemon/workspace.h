@@ -37,9 +37,7 @@ struct WorkspaceMapping {
   geom::Vec3 torqueToDevice(const geom::Vec3& tau_S) const noexcept {
     return glm::conjugate(X_SD.rotation) * tau_S;
   }
-  geom::Vec3 torqueToScene(const geom::Vec3& tau_D) const noexcept {
-    return X_SD.rotation * tau_D;
-  }
+  geom::Vec3 torqueToScene(const geom::Vec3& tau_D) const noexcept { return X_SD.rotation * tau_D; }
 };
 
 }  // namespace hapticd::daemon

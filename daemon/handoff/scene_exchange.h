@@ -30,10 +30,13 @@ class PointerExchange {
   /// reclaimed: `current` becomes the offered one and the old one goes back to the owner;
   /// returns true. Otherwise leaves `current` alone and returns false. Never allocates or frees.
   bool take(T*& current) noexcept {
-    if (pending_.load(std::memory_order_acquire) == nullptr) return false;
-    if (retired_.load(std::memory_order_acquire) != nullptr) return false;
+    if (pending_.load(std::memory_order_acquire) == nullptr)
+      return false;
+    if (retired_.load(std::memory_order_acquire) != nullptr)
+      return false;
     T* next = pending_.exchange(nullptr, std::memory_order_acq_rel);
-    if (next == nullptr) return false;
+    if (next == nullptr)
+      return false;
     retired_.store(current, std::memory_order_release);
     current = next;
     return true;

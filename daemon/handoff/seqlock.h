@@ -30,7 +30,8 @@ class Seqlock {
     const std::uint64_t s = seq_.load(std::memory_order_relaxed);
     seq_.store(s + 1, std::memory_order_relaxed);
     std::atomic_thread_fence(std::memory_order_release);
-    for (std::size_t i = 0; i < kWords; ++i) data_[i].store(words[i], std::memory_order_relaxed);
+    for (std::size_t i = 0; i < kWords; ++i)
+      data_[i].store(words[i], std::memory_order_relaxed);
     seq_.store(s + 2, std::memory_order_release);
   }
 
@@ -39,10 +40,13 @@ class Seqlock {
     std::uint64_t words[kWords];
     for (;;) {
       const std::uint64_t s1 = seq_.load(std::memory_order_acquire);
-      if (s1 & 1u) continue;
-      for (std::size_t i = 0; i < kWords; ++i) words[i] = data_[i].load(std::memory_order_relaxed);
+      if (s1 & 1u)
+        continue;
+      for (std::size_t i = 0; i < kWords; ++i)
+        words[i] = data_[i].load(std::memory_order_relaxed);
       std::atomic_thread_fence(std::memory_order_acquire);
-      if (seq_.load(std::memory_order_relaxed) == s1) break;
+      if (seq_.load(std::memory_order_relaxed) == s1)
+        break;
     }
     T value;
     std::memcpy(&value, words, sizeof(T));

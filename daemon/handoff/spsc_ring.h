@@ -22,7 +22,8 @@ class SpscRing {
   /// `capacity` is rounded up to a power of two (at least 2). Allocates; off the servo thread.
   explicit SpscRing(std::size_t capacity) {
     std::size_t c = 2;
-    while (c < capacity) c <<= 1;
+    while (c < capacity)
+      c <<= 1;
     mask_ = c - 1;
     slots_ = std::make_unique<T[]>(c);
   }
@@ -32,7 +33,8 @@ class SpscRing {
   /// Producer only. False (and nothing stored) when the ring is full.
   bool push(const T& value) noexcept {
     const std::uint64_t head = head_.load(std::memory_order_relaxed);
-    if (head - tail_.load(std::memory_order_acquire) > mask_) return false;
+    if (head - tail_.load(std::memory_order_acquire) > mask_)
+      return false;
     slots_[head & mask_] = value;
     head_.store(head + 1, std::memory_order_release);
     return true;
@@ -41,7 +43,8 @@ class SpscRing {
   /// Consumer only. False when the ring is empty.
   bool pop(T& out) noexcept {
     const std::uint64_t tail = tail_.load(std::memory_order_relaxed);
-    if (tail == head_.load(std::memory_order_acquire)) return false;
+    if (tail == head_.load(std::memory_order_acquire))
+      return false;
     out = slots_[tail & mask_];
     tail_.store(tail + 1, std::memory_order_release);
     return true;

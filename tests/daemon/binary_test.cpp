@@ -11,8 +11,8 @@
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/socket.h>
-#include <sys/un.h>
 #include <sys/syscall.h>
+#include <sys/un.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -58,17 +58,21 @@ class BinaryTest : public ::testing::Test {
 
   // Starts hapticd with `args`; stdout and stderr go to files. `prepare` runs in the child
   // before exec (async-signal-safe calls only).
-  void start(const std::vector<std::string>& args, void (*prepare)() = nullptr,
+  void start(const std::vector<std::string>& args,
+             void (*prepare)() = nullptr,
              const std::vector<std::string>& extra_env = {}) {
     std::vector<std::string> env_strings(extra_env);
-    for (char** e = environ; *e != nullptr; ++e) env_strings.emplace_back(*e);
+    for (char** e = environ; *e != nullptr; ++e)
+      env_strings.emplace_back(*e);
     std::vector<char*> envp;
-    for (auto& e : env_strings) envp.push_back(e.data());
+    for (auto& e : env_strings)
+      envp.push_back(e.data());
     envp.push_back(nullptr);
     std::vector<std::string> all{HAPTICD_BINARY};
     all.insert(all.end(), args.begin(), args.end());
     std::vector<char*> argv;
-    for (auto& a : all) argv.push_back(a.data());
+    for (auto& a : all)
+      argv.push_back(a.data());
     argv.push_back(nullptr);
     const std::string out = (dir_ / "stdout").string(), err = (dir_ / "stderr").string();
     pid_ = fork();
@@ -81,7 +85,8 @@ class BinaryTest : public ::testing::Test {
       sigset_t none;
       sigemptyset(&none);
       sigprocmask(SIG_SETMASK, &none, nullptr);
-      if (prepare) prepare();
+      if (prepare)
+        prepare();
       execve(argv[0], argv.data(), envp.data());
       _exit(127);
     }
@@ -117,7 +122,8 @@ class BinaryTest : public ::testing::Test {
   bool waitForStatus(const std::function<bool(const nlohmann::json&)>& pred) {
     for (int i = 0; i < 12000; ++i) {
       const auto j = status();
-      if (!j.empty() && pred(j)) return true;
+      if (!j.empty() && pred(j))
+        return true;
       int st = 0;
       if (waitpid(pid_, &st, WNOHANG) == pid_) {
         pid_ = -1;
@@ -146,9 +152,8 @@ TEST_F(BinaryTest, BadConfigIsRefusedWithFileLineAndKey) {
   std::ofstream(path("bad.toml")) << "[servo]\nrate_hz = 1000\n\n[device]\nmax_force = 3\n";
   EXPECT_EQ(run({"--config", path("bad.toml")}), 2);
   EXPECT_NE(err().find("bad.toml:5: [device] max_force: unknown key"), std::string::npos) << err();
-  EXPECT_EQ(run({"--config", (fs::path(kSource) / "config/hapticd.toml").string(),
-                 "--check-config"}),
-            0);
+  EXPECT_EQ(
+      run({"--config", (fs::path(kSource) / "config/hapticd.toml").string(), "--check-config"}), 0);
 }
 
 // every column but tick_ns (the last) of a record
@@ -156,7 +161,8 @@ std::vector<std::string> withoutTickNs(const std::string& csv) {
   std::vector<std::string> rows;
   std::istringstream in(csv);
   std::string line;
-  while (std::getline(in, line)) rows.push_back(line.substr(0, line.rfind(',')));
+  while (std::getline(in, line))
+    rows.push_back(line.substr(0, line.rfind(',')));
   return rows;
 }
 
@@ -165,9 +171,9 @@ class ReplayTest : public BinaryTest, public ::testing::WithParamInterface<const
 TEST_P(ReplayTest, HeadlessReplayIsBitwiseRepeatableButForTickNs) {
   const std::string scene = GetParam();
   const std::vector<std::string> base{
-      "--scene", kSource + "/scenes/" + scene + ".glb",
+      "--scene",  kSource + "/scenes/" + scene + ".glb",
       "--device", "replay:" + kSource + "/tests/streams/" + scene + ".csv",
-      "--clock", "virtual"};
+      "--clock",  "virtual"};
   auto args = base;
   args.insert(args.end(), {"--record", path("a.csv"), "--record-bodies", path("ab.csv")});
   ASSERT_EQ(run(args), 0) << err();
@@ -186,12 +192,14 @@ TEST_P(ReplayTest, HeadlessReplayIsBitwiseRepeatableButForTickNs) {
             "prx_qy,prx_qz,prx_qw,fx,fy,fz,tx,ty,tz,contacts,max_penetration,pairs_tested,"
             "pairs_skipped");
   ASSERT_EQ(a.size(), b.size());
-  for (std::size_t i = 0; i < a.size(); ++i) ASSERT_EQ(a[i], b[i]) << "row " << i;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    ASSERT_EQ(a[i], b[i]) << "row " << i;
   EXPECT_EQ(slurp(path("ab.csv")), slurp(path("bb.csv")));
   EXPECT_EQ(slurp(path("ab.csv")).rfind("tick,t,body,px,py,pz,qx,qy,qz,qw\n", 0), 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(DemoScenes, ReplayTest,
+INSTANTIATE_TEST_SUITE_P(DemoScenes,
+                         ReplayTest,
                          ::testing::Values("gears", "peg_in_hole", "dynamic", "stress"));
 
 TEST_F(BinaryTest, ServesWithNoSceneArgumentsAndStopsOnSigtermWithTheRamp) {
@@ -216,7 +224,8 @@ TEST_F(BinaryTest, ServesWithNoSceneArgumentsAndStopsOnSigtermWithTheRamp) {
 
 TEST_F(BinaryTest, SighupReloadsAGoodSceneAndKeepsTheOldOnABadSceneOrConfig) {
   auto config = [&](const std::string& scene_line) {
-    std::ofstream(path("hapticd.toml")) << "[servo]\nrealtime = \"off\"\n[scene]\n" << scene_line << "\n";
+    std::ofstream(path("hapticd.toml")) << "[servo]\nrealtime = \"off\"\n[scene]\n"
+                                        << scene_line << "\n";
   };
   config("path = \"" + kSource + "/scenes/peg_in_hole.glb\"");
   start({"--config", path("hapticd.toml"), "--status-file", path("status.json")});
@@ -243,7 +252,8 @@ TEST_F(BinaryTest, SighupReloadsAGoodSceneAndKeepsTheOldOnABadSceneOrConfig) {
   })) << err();
   EXPECT_EQ(status()["scene"]["name"], "gears.glb");
   EXPECT_EQ(status()["scene"]["generation"], 2);
-  EXPECT_NE(err().find("hapticd.toml:5: [scene] stiffness: unknown key"), std::string::npos) << err();
+  EXPECT_NE(err().find("hapticd.toml:5: [scene] stiffness: unknown key"), std::string::npos)
+      << err();
   EXPECT_NE(err().find("broken.glb"), std::string::npos);
   EXPECT_TRUE(status()["running"].get<bool>());
 
@@ -309,7 +319,8 @@ TEST_F(BinaryTest, NotifiesSystemdReadyWatchdogAndStopping) {
       const ssize_t n = recv(sock, buf, sizeof buf, 0);
       if (n > 0) {
         messages.emplace_back(buf, static_cast<std::size_t>(n));
-        if (messages.back().find(what) != std::string::npos) return true;
+        if (messages.back().find(what) != std::string::npos)
+          return true;
       }
     }
     return false;

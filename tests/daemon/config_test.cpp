@@ -2,8 +2,6 @@
 // its default; bad values, wrong types and unknown keys are refused with the key and the line.
 #include "daemon/config.h"
 
-#include "daemon/command_line.h"
-
 #include <gtest/gtest.h>
 
 #include <cctype>
@@ -12,6 +10,8 @@
 #include <regex>
 #include <set>
 #include <sstream>
+
+#include "daemon/command_line.h"
 
 namespace hapticd::daemon {
 namespace {
@@ -178,7 +178,8 @@ struct BadCase {
 
 // stable, readable test names (ctest lists them): the expected message, non-alphanumerics as '_'
 void PrintTo(const BadCase& c, std::ostream* os) {
-  for (const char* p = c.expect; *p != '\0'; ++p) *os << (std::isalnum(static_cast<unsigned char>(*p)) ? *p : '_');
+  for (const char* p = c.expect; *p != '\0'; ++p)
+    *os << (std::isalnum(static_cast<unsigned char>(*p)) ? *p : '_');
 }
 
 class ConfigRefuses : public ::testing::TestWithParam<BadCase> {};
@@ -191,30 +192,36 @@ TEST_P(ConfigRefuses, NamingFileLineAndKey) {
 }
 
 INSTANTIATE_TEST_SUITE_P(
-    Config, ConfigRefuses,
+    Config,
+    ConfigRefuses,
     ::testing::Values(
         BadCase{"[servo]\nrate_hz = 0\n", "bad.toml:2: [servo] rate_hz: must be in [1, 20000]"},
         BadCase{"[servo]\n\nrate_hz = \"fast\"\n", "bad.toml:3: [servo] rate_hz: must be a number"},
         BadCase{"[servo]\nrate_hz = nan\n", "bad.toml:2: [servo] rate_hz"},
-        BadCase{"[servo]\nrealtime = \"always\"\n", "bad.toml:2: [servo] realtime: realtime: \"always\""},
+        BadCase{"[servo]\nrealtime = \"always\"\n",
+                "bad.toml:2: [servo] realtime: realtime: \"always\""},
         BadCase{"[servo]\npriority = 100\n", "bad.toml:2: [servo] priority: must be in [1, 99]"},
         BadCase{"[servo]\nrate_hs = 1000\n", "bad.toml:2: [servo] rate_hs: unknown key"},
         BadCase{"[srevo]\nrate_hz = 1000\n", "bad.toml:1: srevo: unknown section"},
         BadCase{"[device]\nmax_force_n = -1\n", "bad.toml:2: [device] max_force_n"},
         BadCase{"[device]\nmax_force_n = 0\n", "bad.toml:2: [device] max_force_n: must be > 0"},
-        BadCase{"[device]\nworkspace_rotation = [0, 0, 0, 2]\n", "bad.toml:2: [device] workspace_rotation"},
+        BadCase{"[device]\nworkspace_rotation = [0, 0, 0, 2]\n",
+                "bad.toml:2: [device] workspace_rotation"},
         BadCase{"[device]\nworkspace_rotation = [0, 0, 0.5, 0.5]\n", "unit quaternion"},
         BadCase{"[device]\nsim_home_translation_m = [0, 0]\n", "must be an array of 3 numbers"},
         BadCase{"[device]\nspec = \"\"\n", "bad.toml:2: [device] spec: must not be empty"},
-        BadCase{"[response]\nmax_pairs_per_tick = 1.5\n", "[response] max_pairs_per_tick: must be an integer"},
+        BadCase{"[response]\nmax_pairs_per_tick = 1.5\n",
+                "[response] max_pairs_per_tick: must be an integer"},
         BadCase{"[network]\nudp = \"127.0.0.1\"\n", "bad.toml:2: [network] udp"},
         BadCase{"[network]\nudp = \"127.0.0.1:70000\"\n", "port must be 1..65535"},
         BadCase{"[log]\nlevel = \"loud\"\n", "bad.toml:2: [log] level"},
         BadCase{"servo = 3\n", "bad.toml:1: servo: must be a table"},
         BadCase{"[servo\nrate_hz = 1\n", "bad.toml:1:"},
         BadCase{"[scene]\nmax_nodes = -4\n", "bad.toml:2: [scene] max_nodes"},
-        BadCase{"[response]\nhinge_attach = \"side\"\n", "bad.toml:2: [response] hinge_attach: \"side\""},
-        BadCase{"[device]\nusb_falcon_max_motor_command = 40000\n", "[device] usb_falcon_max_motor_command: must be in [1, 32767]"}));
+        BadCase{"[response]\nhinge_attach = \"side\"\n",
+                "bad.toml:2: [response] hinge_attach: \"side\""},
+        BadCase{"[device]\nusb_falcon_max_motor_command = 40000\n",
+                "[device] usb_falcon_max_motor_command: must be in [1, 32767]"}));
 
 TEST(Config, EveryProblemOfAFileIsListed) {
   auto parsed = parseConfig("[servo]\nrate_hz = 0\npriority = 0\n[log]\nlevel = 3\n", "f.toml");

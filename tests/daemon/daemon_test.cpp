@@ -46,11 +46,14 @@ class DaemonTest : public ::testing::Test {
 
   Backends fakeBackends() {
     Backends b;
-    b.make_device = [this](std::string_view spec, const device::DeviceOptions&)
-        -> Result<std::unique_ptr<device::Device>> {
-      if (spec == "missing") return Error{"no such device"};
+    b.make_device = [this](
+                        std::string_view spec,
+                        const device::DeviceOptions&) -> Result<std::unique_ptr<device::Device>> {
+      if (spec == "missing")
+        return Error{"no such device"};
       auto d = std::make_unique<FakeDevice>();
-      if (spec.rfind("end:", 0) == 0) d->end_after = std::stoull(std::string(spec.substr(4)));
+      if (spec.rfind("end:", 0) == 0)
+        d->end_after = std::stoull(std::string(spec.substr(4)));
       d->depth_offset = 0.002;
       device_ = d.get();
       return std::unique_ptr<device::Device>(std::move(d));
@@ -58,7 +61,8 @@ class DaemonTest : public ::testing::Test {
     // [scene] path "good:NAME" is a scene called NAME; anything else is refused
     b.load_scene = [](const Config& c) -> Result<std::shared_ptr<const scene::SceneModel>> {
       const std::string& p = c.scene.path.empty() ? "good:" + c.scene.demo : c.scene.path;
-      if (p.rfind("good:", 0) != 0) return Error{"file '" + p + "': not a scene"};
+      if (p.rfind("good:", 0) != 0)
+        return Error{"file '" + p + "': not a scene"};
       auto m = std::make_shared<scene::SceneModel>();
       m->name = p.substr(5);
       m->bodies.resize(2);
@@ -66,8 +70,8 @@ class DaemonTest : public ::testing::Test {
       m->bodies[1].name = "Box";
       return std::shared_ptr<const scene::SceneModel>(m);
     };
-    b.make_simulation = [](std::shared_ptr<const scene::SceneModel>, const sim::SimOptions&)
-        -> Result<std::unique_ptr<sim::Simulation>> {
+    b.make_simulation = [](std::shared_ptr<const scene::SceneModel>,
+                           const sim::SimOptions&) -> Result<std::unique_ptr<sim::Simulation>> {
       return std::unique_ptr<sim::Simulation>(std::make_unique<FakeSimulation>());
     };
     return b;
@@ -85,15 +89,14 @@ class DaemonTest : public ::testing::Test {
   bool waitFor(const std::function<bool(const nlohmann::json&)>& pred) {
     for (int i = 0; i < 6000; ++i) {
       const auto j = status();
-      if (!j.empty() && pred(j)) return true;
+      if (!j.empty() && pred(j))
+        return true;
       std::this_thread::sleep_for(std::chrono::milliseconds(10));
     }
     return false;
   }
 
-  void writeConfig(const std::string& text) {
-    std::ofstream(dir_ / "hapticd.toml") << text;
-  }
+  void writeConfig(const std::string& text) { std::ofstream(dir_ / "hapticd.toml") << text; }
 
   CommandLine baseCli() {
     CommandLine cli;
@@ -212,12 +215,14 @@ TEST_F(DaemonTest, DeviceLostAndBack) {
   std::thread helper([&] {
     ASSERT_TRUE(waitFor([](const auto& j) { return j.value("tick", 0) > 50; }));
     device_->lost_flag = true;
-    ASSERT_TRUE(waitFor([](const auto& s) { return !s["device"]["connected"].template get<bool>(); }));
+    ASSERT_TRUE(
+        waitFor([](const auto& s) { return !s["device"]["connected"].template get<bool>(); }));
     auto j = status();
     EXPECT_EQ(j["device"]["lost_count"], 1);
     EXPECT_EQ(j["force_n"], nlohmann::json({0.0, 0.0, 0.0}));
     device_->lost_flag = false;
-    ASSERT_TRUE(waitFor([](const auto& s) { return s["device"]["connected"].template get<bool>(); }));
+    ASSERT_TRUE(
+        waitFor([](const auto& s) { return s["device"]["connected"].template get<bool>(); }));
     EXPECT_EQ(status()["device"]["lost_count"], 1);
     kill(getpid(), SIGTERM);
   });
@@ -246,7 +251,8 @@ TEST_F(DaemonTest, VirtualClockReplayEndsAtTheEndOfTheStreamWithARecord) {
             "prx_qy,prx_qz,prx_qw,fx,fy,fz,tx,ty,tz,contacts,max_penetration,pairs_tested,"
             "pairs_skipped,tick_ns");
   int rows = 0;
-  while (std::getline(rec, line)) ++rows;
+  while (std::getline(rec, line))
+    ++rows;
   EXPECT_EQ(rows, 5000);
   std::ifstream bodies(dir_ / "bodies.csv");
   std::getline(bodies, header);
@@ -269,8 +275,9 @@ TEST_F(DaemonTest, StartupFailuresAreClearAndExitNonZero) {
   cli.scene = "nothing.glb";
   ::testing::internal::CaptureStderr();
   EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitFailure);
-  EXPECT_NE(::testing::internal::GetCapturedStderr().find("cannot load the scene: file 'nothing.glb'"),
-            std::string::npos);
+  EXPECT_NE(
+      ::testing::internal::GetCapturedStderr().find("cannot load the scene: file 'nothing.glb'"),
+      std::string::npos);
 
   writeConfig("[servo]\nrate_hz = -3\n");
   cli = baseCli();

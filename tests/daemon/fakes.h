@@ -19,7 +19,8 @@ class FakeSimulation final : public sim::Simulation {
  public:
   explicit FakeSimulation(double stiffness = 600.0, std::uint32_t bodies = 2)
       : stiffness_(stiffness), poses_(bodies) {
-    for (std::uint32_t i = 0; i < bodies; ++i) poses_[i].body = i;
+    for (std::uint32_t i = 0; i < bodies; ++i)
+      poses_[i].body = i;
   }
   sim::TickOutput step(const sim::TickInput& in) override {
     ++steps;
@@ -34,9 +35,11 @@ class FakeSimulation final : public sim::Simulation {
       out.max_penetration_m = depth;
       out.X_W_proxy.translation.y = 0.0;
     }
-    if (nan_at_step != 0 && steps == nan_at_step) out.force_W_n.x = std::nan("");
+    if (nan_at_step != 0 && steps == nan_at_step)
+      out.force_W_n.x = std::nan("");
     out.pairs_tested = 1;
-    for (auto& p : poses_) p.X_WB.translation = in.X_W_device.translation + geom::Vec3(p.body);
+    for (auto& p : poses_)
+      p.X_WB.translation = in.X_W_device.translation + geom::Vec3(p.body);
     return out;
   }
   std::span<const sim::BodyPose> bodyPoses() const override { return poses_; }
@@ -67,9 +70,12 @@ class FakeDevice final : public device::Device {
   const device::DeviceInfo& info() const override { return info_; }
   device::DeviceStatus read(double t_s, device::DeviceSample& out) noexcept override {
     const std::uint64_t n = reads++;
-    if (end_after != 0 && n >= end_after) return device::DeviceStatus::kEndOfStream;
-    if (n >= lost_from && n < lost_until) return device::DeviceStatus::kLost;
-    if (lost_flag.load()) return device::DeviceStatus::kLost;
+    if (end_after != 0 && n >= end_after)
+      return device::DeviceStatus::kEndOfStream;
+    if (n >= lost_from && n < lost_until)
+      return device::DeviceStatus::kLost;
+    if (lost_flag.load())
+      return device::DeviceStatus::kLost;
     out.X_WD.translation = geom::Vec3(0.001 * t_s, -0.01 * std::sin(t_s * 3.0) - depth_offset, 0.0);
     return device::DeviceStatus::kOk;
   }
@@ -78,9 +84,11 @@ class FakeDevice final : public device::Device {
     last_force = f;
     last_torque = tau;
     const double len = glm::length(f);
-    if (len > max_written_n) max_written_n = len;
+    if (len > max_written_n)
+      max_written_n = len;
     const double step = glm::length(f - prev_force);
-    if (step > max_step_n) max_step_n = step;
+    if (step > max_step_n)
+      max_step_n = step;
     prev_force = f;
     return device::DeviceStatus::kOk;
   }

@@ -17,7 +17,8 @@ namespace {
 TEST(SpscRing, RefusesWhenFullAndKeepsOrder) {
   SpscRing<int> ring(4);
   EXPECT_EQ(ring.capacity(), 4u);
-  for (int i = 0; i < 4; ++i) EXPECT_TRUE(ring.push(i));
+  for (int i = 0; i < 4; ++i)
+    EXPECT_TRUE(ring.push(i));
   EXPECT_FALSE(ring.push(99));
   int v = -1;
   for (int i = 0; i < 4; ++i) {
@@ -32,7 +33,8 @@ TEST(SpscRing, TwoThreadsPassAMillionValuesInOrder) {
   constexpr std::uint64_t kN = 1'000'000;
   std::thread producer([&] {
     for (std::uint64_t i = 0; i < kN;)
-      if (ring.push(i)) ++i;
+      if (ring.push(i))
+        ++i;
   });
   std::uint64_t expected = 0;
   std::uint64_t v = 0;
@@ -68,7 +70,8 @@ TEST(Seqlock, ReaderNeverSeesATornValue) {
     ASSERT_EQ(b.a, b.d);
     ASSERT_EQ(b.a, b.e);
     ASSERT_GE(b.a, last);  // never goes back in time
-    if (b.a != last) ++changes;
+    if (b.a != last)
+      ++changes;
     last = b.a;
   }
   stop = true;
@@ -125,7 +128,9 @@ TEST(PointerExchange, SwapsUnderContentionWithoutLeakOrDoubleFree) {
     Node* current = new Node;
     std::atomic<bool> stop{false};
     std::thread servo([&] {
-      while (!stop.load()) if (ex.take(current)) ++swaps;
+      while (!stop.load())
+        if (ex.take(current))
+          ++swaps;
     });
     for (int i = 0; i < 20000; ++i) {
       ex.offer(std::make_unique<Node>());

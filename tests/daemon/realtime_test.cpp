@@ -21,15 +21,18 @@ namespace {
 RealtimeOps refusing(int* calls = nullptr) {
   RealtimeOps ops;
   ops.lock_memory = [calls](int) {
-    if (calls) ++*calls;
+    if (calls)
+      ++*calls;
     return ENOMEM;
   };
   ops.set_fifo = [calls](int) {
-    if (calls) ++*calls;
+    if (calls)
+      ++*calls;
     return EPERM;
   };
   ops.pin_to_cpu = [calls](int) {
-    if (calls) ++*calls;
+    if (calls)
+      ++*calls;
     return EINVAL;
   };
   return ops;
@@ -51,8 +54,9 @@ TEST(Realtime, PreferWarnsForEveryRefusedStepAndRuns) {
   auto p = setupProcessRealtime(o, refusing());
   ASSERT_TRUE(p);
   ASSERT_EQ(p.value().warnings.size(), 1u);
-  EXPECT_NE(p.value().warnings[0].find(memoryLockingSupported() ? "mlockall(MCL_CURRENT | MCL_FUTURE) refused"
-                                                                : "mlockall skipped"),
+  EXPECT_NE(p.value().warnings[0].find(memoryLockingSupported()
+                                           ? "mlockall(MCL_CURRENT | MCL_FUTURE) refused"
+                                           : "mlockall skipped"),
             std::string::npos);
   EXPECT_FALSE(p.value().memory_locked);
   auto t = setupServoThreadRealtime(o, refusing());
@@ -97,33 +101,43 @@ TEST(Realtime, PriorityOutsideTheRangeIsAnError) {
 // SCHED_FIFO. Exit code: 0 when prefer ran with a warning and require refused; else a step number.
 int childWithoutRealtime() {
   rlimit zero{0, 0};
-  if (setrlimit(RLIMIT_RTPRIO, &zero) != 0) return 10;
+  if (setrlimit(RLIMIT_RTPRIO, &zero) != 0)
+    return 10;
   __user_cap_header_struct header{_LINUX_CAPABILITY_VERSION_3, 0};
   __user_cap_data_struct data[2] = {};
-  if (syscall(SYS_capget, &header, data) != 0) return 11;
+  if (syscall(SYS_capget, &header, data) != 0)
+    return 11;
   data[CAP_SYS_NICE / 32].effective &= ~(1u << (CAP_SYS_NICE % 32));
   data[CAP_SYS_NICE / 32].permitted &= ~(1u << (CAP_SYS_NICE % 32));
   data[CAP_SYS_NICE / 32].inheritable &= ~(1u << (CAP_SYS_NICE % 32));
-  if (syscall(SYS_capset, &header, data) != 0) return 12;
+  if (syscall(SYS_capset, &header, data) != 0)
+    return 12;
   RealtimeOptions o;
   o.policy = RealtimePolicy::kPrefer;
   o.stack_prefault_bytes = 64 * 1024;
   auto prefer = setupServoThreadRealtime(o);
-  if (!prefer) return 13;
-  if (prefer.value().fifo) return 14;
-  if (prefer.value().warnings.size() != 1) return 15;
-  if (prefer.value().warnings[0].find("Operation not permitted") == std::string::npos) return 16;
-  if (describeThreadScheduling() != "SCHED_OTHER") return 17;
+  if (!prefer)
+    return 13;
+  if (prefer.value().fifo)
+    return 14;
+  if (prefer.value().warnings.size() != 1)
+    return 15;
+  if (prefer.value().warnings[0].find("Operation not permitted") == std::string::npos)
+    return 16;
+  if (describeThreadScheduling() != "SCHED_OTHER")
+    return 17;
   o.policy = RealtimePolicy::kRequire;
   auto require = setupServoThreadRealtime(o);
-  if (require) return 18;
+  if (require)
+    return 18;
   return 0;
 }
 
 TEST(Realtime, KernelRefusalWithoutRtprioOrCapSysNice) {
   const pid_t pid = fork();
   ASSERT_GE(pid, 0);
-  if (pid == 0) _exit(childWithoutRealtime());
+  if (pid == 0)
+    _exit(childWithoutRealtime());
   int status = 0;
   ASSERT_EQ(waitpid(pid, &status, 0), pid);
   ASSERT_TRUE(WIFEXITED(status));

@@ -1,8 +1,8 @@
 // The servo thread allocates nothing after start: ServoLoop::run() over 100 000 ticks (after
 // ServoLoop::prepareServoThread(), as in the daemon), counted by a per-thread allocator hook
 // (tests/daemon/alloc_counter.cpp), with the record rings on, commands and scene swaps (of the
-// same scene, freshly built) arriving, and state read from another thread. With the real libraries in the
-// tree it runs every demo scene through the real simulation and the replay device fed by the
+// same scene, freshly built) arriving, and state read from another thread. With the real libraries
+// in the tree it runs every demo scene through the real simulation and the replay device fed by the
 // scene's pose stream.
 #include <gtest/gtest.h>
 
@@ -35,7 +35,8 @@ struct Counts {
 
 // Runs the loop on its own thread (allocations counted inside run() only) while this thread
 // drains the record rings, reads the seqlock state and sends pose commands.
-Counts runCounted(ServoLoop& loop, bool offer_scenes,
+Counts runCounted(ServoLoop& loop,
+                  bool offer_scenes,
                   const std::function<std::unique_ptr<ServoScene>(std::uint64_t)>& make_scene) {
   Counts c;
   std::atomic<bool> done{false};
@@ -52,8 +53,10 @@ Counts runCounted(ServoLoop& loop, bool offer_scenes,
   RecordRow r;
   BodyRow b;
   while (!done.load()) {
-    while (loop.popRecord(r)) ++c.rows;
-    while (loop.popBody(b)) ++c.body_rows;
+    while (loop.popRecord(r))
+      ++c.rows;
+    while (loop.popBody(b))
+      ++c.body_rows;
     const ServoState st = loop.state();
     ++c.state_reads;
     ServoCommand cmd;
@@ -67,8 +70,10 @@ Counts runCounted(ServoLoop& loop, bool offer_scenes,
     std::this_thread::yield();
   }
   servo.join();
-  while (loop.popRecord(r)) ++c.rows;
-  while (loop.popBody(b)) ++c.body_rows;
+  while (loop.popRecord(r))
+    ++c.rows;
+  while (loop.popBody(b))
+    ++c.body_rows;
   loop.reclaimScenes();
   return c;
 }
@@ -119,7 +124,8 @@ std::string repeatedStream(const std::string& path, double seconds, const std::s
   std::vector<std::string> rows;
   double last_t = 0.0;
   while (std::getline(in, line)) {
-    if (line.empty()) continue;
+    if (line.empty())
+      continue;
     rows.push_back(line);
     last_t = std::stod(line.substr(0, line.find(',')));
   }
@@ -157,8 +163,8 @@ TEST_P(ServoAllocationDemo, NoneOnTheServoThreadOver100000Ticks) {
     return s;
   };
   const std::string stream = std::string(HAPTICD_SOURCE_DIR) + "/tests/streams/" + name + ".csv";
-  const std::string long_stream = repeatedStream(
-      stream, 101.0, ::testing::TempDir() + "/alloc_" + name + ".csv");
+  const std::string long_stream =
+      repeatedStream(stream, 101.0, ::testing::TempDir() + "/alloc_" + name + ".csv");
   auto device = device::makeDevice("replay:" + long_stream, device::DeviceOptions{});
   ASSERT_TRUE(device.ok()) << device.error().message;
   VirtualClock clock;
@@ -175,7 +181,8 @@ TEST_P(ServoAllocationDemo, NoneOnTheServoThreadOver100000Ticks) {
   EXPECT_GT(loop.state().contact_ticks, 0u) << name << ": the stream never touched anything";
 }
 
-INSTANTIATE_TEST_SUITE_P(DemoScenes, ServoAllocationDemo,
+INSTANTIATE_TEST_SUITE_P(DemoScenes,
+                         ServoAllocationDemo,
                          ::testing::Values("gears", "peg_in_hole", "dynamic", "stress"));
 #endif
 

@@ -20,7 +20,8 @@ using testing::FakeSimulation;
 
 std::unique_ptr<ServoScene> fakeScene(FakeSimulation** out = nullptr, std::uint64_t gen = 1) {
   auto sim = std::make_unique<FakeSimulation>();
-  if (out != nullptr) *out = sim.get();
+  if (out != nullptr)
+    *out = sim.get();
   auto s = std::make_unique<ServoScene>();
   s->sim = std::move(sim);
   s->generation = gen;
@@ -30,13 +31,15 @@ std::unique_ptr<ServoScene> fakeScene(FakeSimulation** out = nullptr, std::uint6
 std::vector<ServoEvent> drainEvents(ServoLoop& loop) {
   std::vector<ServoEvent> events;
   ServoEvent e;
-  while (loop.popEvent(e)) events.push_back(e);
+  while (loop.popEvent(e))
+    events.push_back(e);
   return events;
 }
 
 bool hasEvent(const std::vector<ServoEvent>& events, ServoEventKind kind) {
   for (const auto& e : events)
-    if (e.kind == kind) return true;
+    if (e.kind == kind)
+      return true;
   return false;
 }
 
@@ -300,7 +303,8 @@ TEST(ServoLoop, VirtualClockRunsAreIdenticalButForTickNs) {
         if (loop.popRecord(r)) {
           rows.push_back(r);
         } else if (done.load()) {
-          while (loop.popRecord(r)) rows.push_back(r);
+          while (loop.popRecord(r))
+            rows.push_back(r);
           break;
         }
       }
