@@ -268,7 +268,7 @@ std::string Daemon::summary(ServoExit exit) const {
                 ", faults %u, records %" PRIu64 " (dropped %" PRIu64
                 "), tick p50 %.1f us p99 %.1f us "
                 "max %.1f us",
-                why, st.tick, static_cast<double>(st.tick) / config_.servo.rate_hz,
+                why, st.tick, st.tick > 0 ? st.t_s + 1.0 / config_.servo.rate_hz : 0.0,
                 config_.servo.clock == ClockKind::kVirtual ? "simulated" : "loop",
                 scene_name_.c_str(), st.peak_force_n, st.peak_penetration_m, st.contact_ticks,
                 st.overruns, st.faults, writer_ ? writer_->rowsWritten() : 0, st.records_dropped,
