@@ -264,6 +264,33 @@ TEST(ServoLoop, ScenesArePreparedOnTheServoThreadBeforeTheirFirstStep) {
   loop.reclaimScenes();
 }
 
+TEST(ServoLoop, StateReadFromAnotherThreadIsAlwaysOneWholeTick) {
+  // on the virtual clock no period is skipped: every snapshot must have tick == period_index + 1
+  // and t == period_index * period, whatever moment the reader catches
+  VirtualClock clock;
+  FakeDevice device;
+  ServoOptions options;
+  options.max_ticks = 200'000;
+  ServoLoop loop(options, clock, device, fakeScene());
+  std::thread servo([&] { loop.run(); });
+  std::uint64_t reads = 0, last_tick = 0;
+  for (;;) {
+    const ServoState st = loop.state();
+    if (st.tick > 0) {
+      ASSERT_EQ(st.tick, st.period_index + 1);
+      ASSERT_EQ(st.t_s, static_cast<double>(st.period_index) * 0.001);
+      ASSERT_EQ(st.X_W_device.translation.x, 0.001 * st.t_s);  // the fake device's path
+      ASSERT_GE(st.tick, last_tick);
+      last_tick = st.tick;
+      ++reads;
+    }
+    if (!st.running && st.tick == options.max_ticks)
+      break;
+  }
+  servo.join();
+  EXPECT_GT(reads, 0u);
+}
+
 TEST(ServoLoop, PoseCommandsGoToTheDeviceInItsOwnFrame) {
   VirtualClock clock;
   FakeDevice device;
