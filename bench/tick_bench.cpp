@@ -89,6 +89,7 @@ void runTicks(benchmark::State& state,
     return;
   }
   auto sim = std::move(created).value();
+  sim->prepareThread();  // as the daemon does on its servo thread before the first tick
   std::vector<sim::TickInput> inputs(kTicks);
   for (std::size_t k = 0; k < kTicks; ++k)
     inputs[k] = inputAt(keys, static_cast<double>(k) * 0.001);
@@ -207,6 +208,17 @@ void tickCodePegInHole(benchmark::State& state) {
   runTicks(state, std::make_shared<const scene::SceneModel>(std::move(s)), keys);
 }
 
+// The noise floor of this machine: a probe sphere moving in an empty scene (no pair, no contact):
+// whatever its tail shows is the VM, not the work.
+void tickEmpty(benchmark::State& state) {
+  scene::SceneModel s;
+  s.name = "empty";
+  std::vector<Key> keys{{0.0, Pose{Vec3{0.0}, Quat{1, 0, 0, 0}}, 0},
+                        {5.0, Pose{Vec3{0.1, 0.05, 0.0}, Quat{1, 0, 0, 0}}, 0}};
+  runTicks(state, std::make_shared<const scene::SceneModel>(std::move(s)), keys);
+}
+
+BENCHMARK(tickEmpty)->Name("Tick/empty")->Iterations(1)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(tickScene, peg_in_hole, "peg_in_hole")
     ->Name("Tick/peg_in_hole")
     ->Iterations(1)

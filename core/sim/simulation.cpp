@@ -353,10 +353,12 @@ Result<bool> SimulationImpl::build() {
   for (std::uint32_t id = 0; id < info_.size(); ++id) {
     const BodyInfo& bi = info_[id];
     const std::size_t count =
-        bi.scene_index < 0 ? 1 : sc.bodies[static_cast<std::size_t>(bi.scene_index)].primitives.size();
+        bi.scene_index < 0 ? 1
+                           : sc.bodies[static_cast<std::size_t>(bi.scene_index)].primitives.size();
     for (std::uint32_t k = 0; k < count; ++k) {
       const geom::Polytope& shape = primShape(id, k);
-      if (shape.faces().size() > max_faces_) max_faces_ = shape.faces().size(), max_shape_ = &shape;
+      if (shape.faces().size() > max_faces_)
+        max_faces_ = shape.faces().size(), max_shape_ = &shape;
     }
   }
 
@@ -477,6 +479,11 @@ void SimulationImpl::gatherRows(double* max_penetration) {
     const std::int32_t row_first = first == kRoleHeld ? -1 : first;
     const std::int32_t row_second = second < 0 ? -1 : second;
     pen = std::max(pen, -c.distance);
+    // a pair farther than the largest delta plus what one step can close (one safe distance
+    // per moving side) cannot act next tick: no rows
+    const double sides = second >= 0 ? 2.0 : 1.0;
+    if (c.distance > max_travel_ * (1.0 + sides))
+      continue;
     // the pair's stiffness: the environment body's felt stiffness k_f through the proxy's
     // contact spring k_p = k_f k_c / (k_c - k_f), so that k_c and k_p in series give k_f
     const double kf = info_[env].stiffness;
@@ -562,7 +569,8 @@ void SimulationImpl::setHeldPoses() {
 
 void SimulationImpl::applyStep(const response::ProxyStep& s) {
   for (std::uint32_t d = 0; d < driven_count_; ++d) {
-    if (s.driven_angle[d] == 0.0) continue;  // unmoved: its pairs keep their answers
+    if (s.driven_angle[d] == 0.0)
+      continue;  // unmoved: its pairs keep their answers
     const std::uint32_t id = driven_ids_[d];
     const BodyInfo& bi = info_[id];
     geom::Pose X = world_.pose(id);
@@ -709,17 +717,21 @@ void SimulationImpl::updateAttachment(const TickInput& input) {
 thread_local std::size_t t_prepared_faces = 0;
 
 void SimulationImpl::prepareThread() {
-  if (t_prepared_faces >= max_faces_ || max_shape_ == nullptr) return;
-  // the exact depth sizes its scratch by the faces of both polytopes: the largest with itself
+  if (t_prepared_faces >= max_faces_ || max_shape_ == nullptr)
+    return;
+  // the exact depth sizes its scratch by the faces of both polytopes before any work: the
+  // largest with itself, placed well apart so that the first separating face ends the query
   collision::DepthCache cache;
   Transform X;
+  X.t = Vec3{4.0 * max_shape_->radius(), 0.0, 0.0};
   (void)collision::penetrationDepthExact(*max_shape_, *max_shape_, X, cache);
   t_prepared_faces = max_faces_;
 }
 
 TickOutput SimulationImpl::step(const TickInput& input) {
   TickOutput out;
-  if (t_prepared_faces < max_faces_) prepareThread();
+  if (t_prepared_faces < max_faces_)
+    prepareThread();
   if (first_step_ && info_[probe_].scene_index < 0 &&
       std::isfinite(input.X_W_device.translation.x) &&
       std::isfinite(input.X_W_device.translation.y) &&

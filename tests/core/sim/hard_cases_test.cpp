@@ -242,6 +242,52 @@ TEST(HardCases, VertexDrivenIntoAThreeWallCorner) {
   EXPECT_GT(p_hold.z, 0.0);
 }
 
+// The degenerate twin: an axis-aligned cube's corner into the same corner, so that its three
+// faces meet the three walls at once (three face-face contacts, the vertex and its edges in the
+// walls' planes).
+TEST(HardCases, CubeCornerDrivenIntoAThreeWallCorner) {
+  scene::SceneModel s;
+  s.name = "cube corner";
+  s.bodies.push_back(staticBox("floor", Vec3{0.05, -0.05, 0.05}, Vec3{0.15, 0.05, 0.15}));
+  s.bodies.push_back(staticBox("wall x", Vec3{-0.05, 0.1, 0.05}, Vec3{0.05, 0.1, 0.15}));
+  s.bodies.push_back(staticBox("wall z", Vec3{0.1, 0.1, -0.05}, Vec3{0.1, 0.1, 0.05}));
+  const double h = 0.01;
+  auto cube = makeBody("cube", Motion::kKinematic, at(0.03, 0.03, 0.03), {boxShape(Vec3{h})});
+  cube.probe = true;
+  s.bodies.push_back(cube);
+  sim::SimOptions o;
+  o.response.ramp_s = 0.0;
+  Runner run(make(finish(s), o), o);
+  const Vec3 d = glm::normalize(Vec3{1, 1, 1});
+  run.setNormal(d);
+  const double D = 0.002;  // each face 2 mm into its wall
+  Path path({{0.0, at(0.03, 0.03, 0.03)},
+             {1.0, at(h - D, h - D, h - D)},
+             {2.0, at(h - D, h - D, h - D)},
+             {3.0, at(0.03, 0.03, 0.03)},
+             {3.2, at(0.03, 0.03, 0.03)}});
+  Vec3 f_hold{0.0}, t_hold{0.0}, p_hold{0.0};
+  double delta = 0.0;
+  const Figures f = run.run(path, [&](const sim::TickInput& in, const sim::TickOutput& out) {
+    if (std::abs(in.t_s - 1.9) < 1e-9) {
+      f_hold = out.force_W_n, t_hold = out.torque_W_nm, p_hold = out.X_W_proxy.translation;
+      delta = out.delta_m;
+    }
+  });
+  f.print("cube corner into a three-wall corner");
+  const double expect = o.response.stiffness_n_per_m * (delta + D);
+  std::printf(
+      "  held force (%.4f, %.4f, %.4f) N (k_s (delta + D) = %.4f N on each axis), torque "
+      "%.2g N m\n",
+      f_hold.x, f_hold.y, f_hold.z, expect, glm::length(t_hold));
+  expectInvariants(f, o, 1e-3);
+  for (int k = 0; k < 3; ++k) {
+    EXPECT_NEAR(f_hold[k], expect, 0.02 * expect);  // each wall pushes along its own normal
+    EXPECT_GT(p_hold[k], h - 1e-3);                 // and the cube stays out of it
+  }
+  EXPECT_LT(glm::length(t_hold), 1e-4);
+}
+
 // The face-on-face case built in metres and in millimetres gives the same forces (relative).
 TEST(HardCases, MillimetresAndMetresGiveTheSameAnswer) {
   std::vector<Vec3> forces[2];
