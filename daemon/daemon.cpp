@@ -1,0 +1,500 @@
+#include "daemon/daemon.h"
+
+#include <pthread.h>
+#include <signal.h>
+
+#include <atomic>
+#include <chrono>
+#include <cinttypes>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <future>
+#include <nlohmann/json.hpp>
+#include <optional>
+#include <thread>
+
+#include "daemon/clock.h"
+#include "daemon/log.h"
+#include "daemon/notify.h"
+#include "daemon/record_writer.h"
+#include "daemon/servo_loop.h"
+
+namespace hapticd::daemon {
+namespace {
+
+using SteadyClock = std::chrono::steady_clock;
+
+double secondsSince(SteadyClock::time_point t) {
+  return std::chrono::duration<double>(SteadyClock::now() - t).count();
+}
+
+// What the servo thread's real-time setup achieved, handed to the main thread before the loop.
+struct ServoSetup {
+  bool ok = false;
+  std::string error;
+  RealtimeReport report;
+  std::string scheduling;
+};
+
+class Daemon {
+ public:
+  Daemon(const CommandLine& cli, const Backends& backends) : cli_(cli), backends_(backends) {}
+  int run();
+
+ private:
+  // A scene pipeline built off the servo thread (on the main thread at start-up, on the builder
+  // thread on SIGHUP), with what the main thread records about it.
+  struct Built {
+    std::unique_ptr<ServoScene> scene;
+    std::string name;
+    std::vector<std::string> body_names;
+  };
+  Result<Built> buildScene(const Config& config, std::uint64_t generation) const;
+  // Main thread: hands a built scene to the servo loop.
+  void install(Built built);
+  // SIGHUP: starts the builder thread (one at a time); finishReload() applies its outcome.
+  void startReload();
+  void finishReload();
+  void drainEvents();
+  void writeStatus(const char* phase);
+  void logStatusLine();
+  std::string summary(ServoExit exit) const;
+
+  const CommandLine& cli_;
+  const Backends& backends_;
+  Config config_;
+  std::unique_ptr<Clock> clock_;
+  std::unique_ptr<device::Device> device_;
+  std::unique_ptr<ServoLoop> loop_;
+  std::unique_ptr<RecordWriter> writer_;
+  std::string scene_name_;
+  std::uint64_t generation_ = 0;
+  ServoSetup setup_;
+  RealtimeReport process_rt_;
+  std::string last_reload_ = "none";
+  std::atomic<bool> servo_done_{false};
+  // the reload builder: written by it before reload_done_, read by the main thread after
+  Thread reload_thread_;
+  std::atomic<bool> reload_done_{false};
+  std::optional<Built> reload_result_;
+  std::string reload_error_;
+  Config reload_config_;
+  std::atomic<int> exit_reason_{-1};
+};
+
+Result<Daemon::Built> Daemon::buildScene(const Config& config, std::uint64_t generation) const {
+  auto scene = backends_.load_scene(config);
+  if (!scene)
+    return scene.error();
+  auto model = scene.value();
+  auto sim = backends_.make_simulation(model, toSimOptions(config));
+  if (!sim)
+    return Error{"scene '" + model->name + "': " + sim.error().message};
+  Built built;
+  built.scene = std::make_unique<ServoScene>();
+  built.scene->sim = std::move(sim.value());
+  built.scene->generation = generation;
+  built.name = model->name;
+  built.body_names.reserve(model->bodies.size());
+  for (const auto& b : model->bodies)
+    built.body_names.push_back(b.name);
+  return built;
+}
+
+void Daemon::install(Built built) {
+  generation_ = built.scene->generation;
+  scene_name_ = built.name;
+  if (writer_)
+    writer_->setBodyNames(generation_, std::move(built.body_names));
+  loop_->offerScene(std::move(built.scene));
+}
+
+void Daemon::startReload() {
+  if (reload_thread_.joinable()) {
+    logWarning("SIGHUP: a reload is still being built; this one is ignored");
+    return;
+  }
+  notifyReloading();
+  logInfo("SIGHUP: reloading the configuration and the scene");
+  reload_done_ = false;
+  reload_result_.reset();
+  reload_error_.clear();
+  auto started = reload_thread_.start("hapticd-build", 4 << 20, [this] {
+    // off the main thread, so that a large scene does not hold up the watchdog and the log
+    auto config = buildConfig(cli_);
+    if (!config) {
+      reload_error_ = config.error().message;
+    } else {
+      Config next = config.value();
+      reload_config_ = next;
+      next.servo = config_.servo;  // restart-only sections keep running as they are
+      next.device = config_.device;
+      next.network = config_.network;
+      auto built = buildScene(next, generation_ + 1);
+      if (!built)
+        reload_error_ = built.error().message;
+      else
+        reload_result_ = std::move(built.value());
+    }
+    reload_done_ = true;
+  });
+  if (!started)
+    logError("reload: " + started.error().message);
+}
+
+void Daemon::finishReload() {
+  if (!reload_thread_.joinable() || !reload_done_.load())
+    return;
+  reload_thread_.join();
+  if (!reload_result_) {
+    last_reload_ = "refused: " + reload_error_;
+    logError("reload refused, keeping the running configuration and scene: " + reload_error_);
+    notifyReady("running; last reload refused");
+    return;
+  }
+  Config next = reload_config_;
+  if (!(next.servo == config_.servo) || !(next.device == config_.device) ||
+      !(next.network == config_.network))
+    logWarning("reload: changes to [servo], [device] and [network] take effect at restart");
+  next.servo = config_.servo;
+  next.device = config_.device;
+  next.network = config_.network;
+  config_ = next;
+  setLogLevel(config_.log.level);
+  install(std::move(*reload_result_));
+  reload_result_.reset();
+  last_reload_ = "ok: scene '" + scene_name_ + "' generation " + std::to_string(generation_);
+  logInfo("reload: scene '" + scene_name_ + "' (generation " + std::to_string(generation_) +
+          ") handed to the servo loop");
+  notifyReady("running; reloaded");
+}
+
+void Daemon::drainEvents() {
+  ServoEvent e;
+  while (loop_->popEvent(e)) {
+    const bool bad =
+        e.kind == ServoEventKind::kMissFault || e.kind == ServoEventKind::kNonFiniteForce ||
+        e.kind == ServoEventKind::kDeviceLost || e.kind == ServoEventKind::kRecordDropped ||
+        e.kind == ServoEventKind::kDeviceWriteFailed;
+    logLine(bad ? LogLevel::kWarning : LogLevel::kInfo, describe(e));
+  }
+}
+
+void Daemon::writeStatus(const char* phase) {
+  if (cli_.status_file.empty())
+    return;
+  const ServoState st = loop_->state();
+  nlohmann::json j;
+  j["phase"] = phase;
+  j["tick"] = st.tick;
+  j["t_s"] = st.t_s;
+  j["period_index"] = st.period_index;
+  j["rate_hz"] = config_.servo.rate_hz;
+  j["clock"] = toString(config_.servo.clock);
+  j["device"] = {{"name", device_->info().name},
+                 {"connected", st.device_connected},
+                 {"lost_count", st.device_lost_count}};
+  j["scene"] = {{"name", scene_name_},
+                {"generation", st.scene_generation},
+                {"offered_generation", generation_}};
+  j["armed"] = st.armed;
+  j["stopping"] = st.stopping;
+  j["running"] = st.running;
+  j["faults"] = {{"bits", st.faults},
+                 {"misses", (st.faults & kFaultMisses) != 0},
+                 {"non_finite", (st.faults & kFaultNonFinite) != 0}};
+  j["overruns"] = st.overruns;
+  j["skipped_periods"] = st.skipped_periods;
+  j["consecutive_misses"] = st.consecutive_misses;
+  j["force_n"] = {st.force_W_n.x, st.force_W_n.y, st.force_W_n.z};
+  j["torque_nm"] = {st.torque_W_nm.x, st.torque_W_nm.y, st.torque_W_nm.z};
+  j["contacts"] = st.contacts;
+  j["max_penetration_m"] = st.max_penetration_m;
+  j["peak_force_n"] = st.peak_force_n;
+  j["output_gain"] = st.output_gain;
+  j["last_command_sequence"] = st.last_command_sequence;
+  j["records_dropped"] = st.records_dropped;
+  const auto& lat = loop_->lateness();
+  const auto& cmp = loop_->compute();
+  j["lateness_ns"] = {{"p50", lat.quantileNs(0.5)},
+                      {"p99", lat.quantileNs(0.99)},
+                      {"p999", lat.quantileNs(0.999)},
+                      {"max", lat.maxNs()}};
+  j["compute_ns"] = {{"p50", cmp.quantileNs(0.5)},
+                     {"p99", cmp.quantileNs(0.99)},
+                     {"p999", cmp.quantileNs(0.999)},
+                     {"max", cmp.maxNs()}};
+  j["realtime"] = {{"policy", toString(config_.servo.realtime)},
+                   {"memory_locked", process_rt_.memory_locked},
+                   {"fifo", setup_.report.fifo},
+                   {"pinned", setup_.report.pinned},
+                   {"servo_scheduling", setup_.scheduling}};
+  j["last_reload"] = last_reload_;
+  j["pid"] = static_cast<long>(getpid());
+  const std::string tmp = cli_.status_file + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::trunc);
+    out << j.dump(2) << "\n";
+    if (!out)
+      return;
+  }
+  std::error_code ec;
+  std::filesystem::rename(tmp, cli_.status_file, ec);
+}
+
+void Daemon::logStatusLine() {
+  const ServoState st = loop_->state();
+  char buf[256];
+  std::snprintf(buf, sizeof buf,
+                "status: tick %" PRIu64 ", faults %u, overruns %" PRIu64
+                ", device %s, force %.3f N",
+                st.tick, st.faults, st.overruns, st.device_connected ? "connected" : "LOST",
+                glm::length(st.force_W_n));
+  logInfo(std::string(buf) + "; lateness " + loop_->lateness().summary() + "; compute " +
+          loop_->compute().summary());
+}
+
+std::string Daemon::summary(ServoExit exit) const {
+  const ServoState st = loop_->state();
+  const char* why = exit == ServoExit::kEndOfStream ? "end of stream"
+                    : exit == ServoExit::kMaxTicks  ? "tick limit"
+                                                    : "stopped";
+  char buf[512];
+  std::snprintf(buf, sizeof buf,
+                "hapticd: %s: %" PRIu64
+                " ticks, %.3f s %s time, scene '%s', peak force %.6g N, "
+                "peak penetration %.6g m, contact ticks %" PRIu64 ", overruns %" PRIu64
+                ", faults %u, records %" PRIu64 " (dropped %" PRIu64
+                "), tick p50 %.1f us p99 %.1f us "
+                "max %.1f us",
+                why, st.tick, st.tick > 0 ? st.t_s + 1.0 / config_.servo.rate_hz : 0.0,
+                config_.servo.clock == ClockKind::kVirtual ? "simulated" : "loop",
+                scene_name_.c_str(), st.peak_force_n, st.peak_penetration_m, st.contact_ticks,
+                st.overruns, st.faults, writer_ ? writer_->rowsWritten() : 0, st.records_dropped,
+                static_cast<double>(loop_->compute().quantileNs(0.5)) / 1e3,
+                static_cast<double>(loop_->compute().quantileNs(0.99)) / 1e3,
+                static_cast<double>(loop_->compute().maxNs()) / 1e3);
+  return buf;
+}
+
+int Daemon::run() {
+  // 1. configuration
+  auto config = buildConfig(cli_);
+  if (!config) {
+    logError(config.error().message);
+    return kExitBadConfig;
+  }
+  config_ = config.value();
+  setLogLevel(config_.log.level);
+  if (cli_.print_config) {
+    std::fputs(toToml(config_).c_str(), stdout);
+    return kExitOk;
+  }
+  if (cli_.check_config) {
+    std::printf("configuration ok%s\n",
+                cli_.config_path ? (": " + *cli_.config_path).c_str() : " (built-in defaults)");
+    return kExitOk;
+  }
+  const bool virtual_clock = config_.servo.clock == ClockKind::kVirtual;
+
+  // 2. signals: blocked here so that every thread started below inherits the mask; the main
+  // thread takes them with sigtimedwait()
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGTERM);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGHUP);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+
+  // 3. process real-time setup (memory locking), before any thread starts
+  RealtimeOptions rt = toRealtimeOptions(config_);
+  if (virtual_clock && rt.policy != RealtimePolicy::kOff) {
+    logInfo("virtual clock: real-time scheduling and memory locking skipped");
+    rt.policy = RealtimePolicy::kOff;
+  }
+  auto prt = setupProcessRealtime(rt, backends_.realtime);
+  if (!prt) {
+    logError(prt.error().message);
+    return kExitFailure;
+  }
+  process_rt_ = prt.value();
+  for (const auto& w : process_rt_.warnings)
+    logWarning(w);
+
+  // 4. device
+  auto device = backends_.make_device(config_.device.spec, toDeviceOptions(config_));
+  if (!device) {
+    logError("device: " + device.error().message);
+    return kExitFailure;
+  }
+  device_ = std::move(device.value());
+  logInfo("device: " + device_->info().name);
+
+  // 5. clock and servo loop (rings allocated here, before the loop starts)
+  if (virtual_clock)
+    clock_ = std::make_unique<VirtualClock>();
+  else
+    clock_ = std::make_unique<MonotonicClock>();
+  ServoOptions servo = toServoOptions(config_, device_->info());
+  servo.record = !cli_.record.empty();
+  servo.record_bodies = !cli_.record_bodies.empty();
+  servo.wait_for_record_space = virtual_clock;
+  servo.max_ticks = cli_.ticks;
+  loop_ = std::make_unique<ServoLoop>(servo, *clock_, *device_, nullptr);
+
+  // 6. record writer (files opened now: a bad path fails start-up)
+  if (servo.record || servo.record_bodies) {
+    auto w = RecordWriter::open(*loop_, cli_.record, cli_.record_bodies);
+    if (!w) {
+      logError(w.error().message);
+      return kExitFailure;
+    }
+    writer_ = std::move(w.value());
+  }
+
+  // 7. scene and its simulation, handed over before the loop starts
+  auto scene = buildScene(config_, 1);
+  if (!scene) {
+    logError("cannot load the scene: " + scene.error().message);
+    return kExitFailure;
+  }
+  install(std::move(scene.value()));
+  logInfo("scene: '" + scene_name_ + "'");
+
+  if (writer_) {
+    if (auto started = writer_->start(); !started) {
+      logError(started.error().message);
+      return kExitFailure;
+    }
+  }
+
+  // 8. the servo thread: its own real-time setup, then (on the main thread's word) the loop
+  std::promise<ServoSetup> setup_promise;
+  auto setup_future = setup_promise.get_future();
+  std::atomic<int> go{0};  // 1: run the loop, 2: end without running it
+  Thread servo_thread;
+  auto started = servo_thread.start("hapticd-servo", 1 << 20, [&] {
+    ServoSetup s;
+    auto r = setupServoThreadRealtime(rt, backends_.realtime);
+    s.ok = r.ok();
+    if (r)
+      s.report = r.value();
+    else
+      s.error = r.error().message;
+    s.scheduling = describeThreadScheduling();
+    loop_->prepareServoThread();  // the scene's per-thread scratch, before the loop starts
+    setup_promise.set_value(std::move(s));
+    while (go.load(std::memory_order_acquire) == 0)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (go.load() == 1) {
+      exit_reason_ = static_cast<int>(loop_->run());
+      // whatever ended the loop, the device is left at zero force
+      device_->write(geom::Vec3(0.0), geom::Vec3(0.0));
+    }
+    servo_done_ = true;
+  });
+  if (!started) {
+    logError(started.error().message);
+    return kExitFailure;
+  }
+  setup_ = setup_future.get();
+  if (!setup_.ok) {
+    go = 2;
+    servo_thread.join();
+    logError(setup_.error);
+    if (writer_)
+      (void)writer_->finish();
+    return kExitFailure;
+  }
+  for (const auto& w : setup_.report.warnings)
+    logWarning(w);
+  char rate[32];
+  std::snprintf(rate, sizeof rate, "%g Hz", config_.servo.rate_hz);
+  logInfo("servo thread: " + setup_.scheduling + ", " + rate + ", clock " +
+          toString(config_.servo.clock) +
+          (process_rt_.memory_locked ? ", memory locked" : ", memory not locked"));
+  go = 1;
+  notifyReady("running: scene '" + scene_name_ + "', device " + device_->info().name);
+
+  // 9. the main thread's service loop
+  const auto watchdog = watchdogInterval();
+  auto last_service = SteadyClock::now();
+  auto last_watchdog = SteadyClock::now();
+  auto last_status_file = SteadyClock::now();
+  auto last_status_line = SteadyClock::now();
+  std::uint64_t watchdog_tick = 0;
+  bool stopping = false;
+  writeStatus("running");
+  while (!servo_done_.load()) {
+    timespec timeout{0, 20'000'000};
+    const int sig = sigtimedwait(&signals, nullptr, &timeout);
+    if ((sig == SIGTERM || sig == SIGINT) && !stopping) {
+      stopping = true;
+      logInfo(std::string(sig == SIGTERM ? "SIGTERM" : "SIGINT") + ": ramping the force to zero");
+      notifyStopping();
+      loop_->requestStop();
+    } else if (sig == SIGHUP && !stopping) {
+      startReload();
+    }
+    finishReload();
+    drainEvents();
+    loop_->reclaimScenes();
+    if (secondsSince(last_service) >= config_.device.service_interval_s) {
+      device_->service();
+      last_service = SteadyClock::now();
+    }
+    // the watchdog is fed only while the loop is healthy: it ticked since the last feed and is
+    // not in a run of overruns as long as the one that latches the miss fault (a latched fault
+    // after the loop recovered is a safe state, force zero until re-armed: the daemon stays up)
+    if (watchdog.count() > 0 &&
+        SteadyClock::now() - last_watchdog >=
+            std::chrono::duration_cast<SteadyClock::duration>(watchdog / 4)) {
+      const ServoState st = loop_->state();
+      if (st.tick > watchdog_tick && st.consecutive_misses < config_.servo.miss_fault_count)
+        notifyWatchdog();
+      watchdog_tick = st.tick;
+      last_watchdog = SteadyClock::now();
+    }
+    if (secondsSince(last_status_file) >= 0.5) {
+      writeStatus(stopping ? "stopping" : "running");
+      last_status_file = SteadyClock::now();
+    }
+    if (config_.log.status_interval_s > 0.0 &&
+        secondsSince(last_status_line) >= config_.log.status_interval_s) {
+      logStatusLine();
+      last_status_line = SteadyClock::now();
+    }
+  }
+
+  // 10. reverse teardown: reload builder, servo thread, writer, scenes, device
+  reload_thread_.join();
+  reload_result_.reset();
+  servo_thread.join();
+  drainEvents();
+  loop_->reclaimScenes();
+  int code = kExitOk;
+  if (writer_) {
+    if (auto done = writer_->finish(); !done) {
+      logError(done.error().message);
+      code = kExitFailure;
+    }
+  }
+  const auto exit = static_cast<ServoExit>(exit_reason_.load());
+  writeStatus("stopped");
+  std::printf("%s\n", summary(exit).c_str());
+  std::fflush(stdout);
+  writer_.reset();
+  loop_.reset();
+  device_.reset();
+  return code;
+}
+
+}  // namespace
+
+int runDaemon(const CommandLine& cli, const Backends& backends) {
+  Daemon daemon(cli, backends);
+  return daemon.run();
+}
+
+}  // namespace hapticd::daemon

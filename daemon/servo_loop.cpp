@@ -1,0 +1,348 @@
+#include "daemon/servo_loop.h"
+
+#include <algorithm>
+#include <cmath>
+#include <ctime>
+#include <string>
+#include <thread>
+
+namespace hapticd::daemon {
+namespace {
+
+std::int64_t realNowNs() noexcept {
+  timespec ts{};
+  clock_gettime(CLOCK_MONOTONIC, &ts);
+  return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
+}
+
+bool finite(const geom::Vec3& v) noexcept {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+// scales v down to magnitude `limit` when longer
+geom::Vec3 clampLength(const geom::Vec3& v, double limit) noexcept {
+  const double len = glm::length(v);
+  return len > limit && len > 0.0 ? v * (limit / len) : v;
+}
+
+// moves from `last` toward `target` by at most `step`
+geom::Vec3 limitStep(const geom::Vec3& last, const geom::Vec3& target, double step) noexcept {
+  const geom::Vec3 d = target - last;
+  const double len = glm::length(d);
+  return len > step ? last + d * (step / len) : target;
+}
+
+}  // namespace
+
+ServoLoop::ServoLoop(const ServoOptions& options,
+                     Clock& clock,
+                     device::Device& device,
+                     std::unique_ptr<ServoScene> initial_scene)
+    : options_(options),
+      clock_(clock),
+      device_(device),
+      period_ns_(std::max<std::int64_t>(1, std::llround(1e9 / options.rate_hz))),
+      period_s_(static_cast<double>(period_ns_) * 1e-9),
+      commands_(options.command_capacity),
+      events_(options.log_capacity),
+      records_(options.record ? options.record_capacity : 2),
+      bodies_(options.record_bodies ? options.body_capacity : 2),
+      current_(initial_scene.release()) {
+  s_.armed = options_.armed_at_start;
+  s_.output_gain = s_.armed ? 1.0 : 0.0;
+  s_.device_connected = true;
+  s_.scene_generation = current_ != nullptr ? current_->generation : 0;
+  state_.write(s_);
+}
+
+ServoLoop::~ServoLoop() {
+  delete current_;
+}
+
+void ServoLoop::emit(ServoEventKind kind, std::int64_t a) noexcept {
+  if (!events_.push(ServoEvent{kind, s_.tick, a}))
+    ++s_.log_dropped;
+}
+
+void ServoLoop::drainCommands() noexcept {
+  ServoCommand cmd;
+  // bounded: at most one ring's worth per tick
+  for (std::size_t i = 0; i < commands_.capacity() && commands_.pop(cmd); ++i) {
+    s_.last_command_sequence = cmd.sequence;
+    switch (cmd.kind) {
+      case CommandKind::kPose: {
+        device::PoseCommand c = cmd.pose;
+        c.X_W_target = options_.workspace.toDevice(cmd.pose.X_W_target);
+        c.linear_velocity = options_.workspace.velocityToDevice(cmd.pose.linear_velocity);
+        c.angular_velocity = options_.workspace.angularToDevice(cmd.pose.angular_velocity);
+        device_.command(c);
+        break;
+      }
+      case CommandKind::kArm:
+        s_.faults = 0;
+        s_.consecutive_misses = 0;
+        s_.armed = true;
+        s_.output_gain = 1.0;
+        if (current_ != nullptr)
+          current_->sim->restartRamp();
+        emit(ServoEventKind::kArmed);
+        break;
+      case CommandKind::kDisarm:
+        if (s_.armed)
+          emit(ServoEventKind::kDisarmed);
+        s_.armed = false;
+        break;
+    }
+  }
+}
+
+void ServoLoop::guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept {
+  // the one place every force bound for the device is checked finite, clamped and rate-limited
+  if (!finite(force_D) || !finite(torque_D)) {
+    if ((s_.faults & kFaultNonFinite) == 0)
+      emit(ServoEventKind::kNonFiniteForce);
+    s_.faults |= kFaultNonFinite;
+    force_D = geom::Vec3(0.0);
+    torque_D = geom::Vec3(0.0);
+  }
+  force_D = clampLength(force_D, options_.limits.max_force_n);
+  torque_D = clampLength(torque_D, options_.limits.max_torque_nm);
+  force_D = limitStep(last_force_D_, force_D, options_.max_force_step_n);
+  torque_D = limitStep(last_torque_D_, torque_D, options_.max_torque_step_nm);
+}
+
+void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept {
+  const std::int64_t t0 = realNowNs();
+  const double t_s = static_cast<double>(period_index) * period_s_;
+
+  drainCommands();
+  if (stop_requested_.load(std::memory_order_acquire) && !s_.stopping)
+    s_.stopping = true;
+  if (scenes_.take(current_)) {
+    current_->sim->prepareThread();
+    s_.scene_generation = current_->generation;
+    emit(ServoEventKind::kSceneSwapped, static_cast<std::int64_t>(current_->generation));
+  }
+
+  device::DeviceSample sample;
+  const device::DeviceStatus status = device_.read(t_s, sample);
+  if (status == device::DeviceStatus::kEndOfStream) {
+    // the stream is over: zero force, no simulation step, no record row; run() returns
+    end_of_stream_ = true;
+    emit(ServoEventKind::kEndOfStream);
+    device_.write(geom::Vec3(0.0), geom::Vec3(0.0));
+    last_force_D_ = last_torque_D_ = geom::Vec3(0.0);
+    s_.force_W_n = s_.torque_W_nm = geom::Vec3(0.0);
+    tick_ns = realNowNs() - t0;
+    state_.write(s_);
+    return;
+  }
+  const bool connected = status == device::DeviceStatus::kOk;
+  if (!connected && status == device::DeviceStatus::kLost && s_.device_connected) {
+    ++s_.device_lost_count;
+    emit(ServoEventKind::kDeviceLost);
+  } else if (connected && !s_.device_connected) {
+    emit(ServoEventKind::kDeviceBack);
+    if (current_ != nullptr)
+      current_->sim->restartRamp();
+  }
+  s_.device_connected = connected;
+  if (connected)
+    s_.X_W_device = options_.workspace.toScene(sample.X_WD);
+
+  sim::TickOutput out;
+  if (current_ != nullptr) {
+    sim::TickInput in;
+    in.t_s = t_s;
+    in.X_W_device = s_.X_W_device;
+    in.buttons = sample.buttons;
+    in.device_ok = connected;
+    out = current_->sim->step(in);
+  }
+
+  // the output gain fades to zero on a fault, a disarm and a stop; kArm sets it back to 1
+  const bool hold_zero = s_.faults != 0 || !s_.armed || s_.stopping;
+  if (hold_zero && s_.output_gain > 0.0) {
+    const double fade_s = s_.faults != 0 ? options_.fault_fade_s : options_.stop_ramp_s;
+    const double step = fade_s > 0.0 ? period_s_ / fade_s : 1.0;
+    s_.output_gain = std::max(0.0, s_.output_gain - step);
+  }
+
+  geom::Vec3 force_D(0.0), torque_D(0.0);
+  if (connected) {
+    force_D = options_.workspace.forceToDevice(out.force_W_n * s_.output_gain);
+    torque_D = options_.workspace.torqueToDevice(out.torque_W_nm * s_.output_gain);
+    guardOutput(force_D, torque_D);
+    if (device_.write(force_D, torque_D) != device::DeviceStatus::kOk) {
+      // counted as lost at the next read; force state goes to zero at once
+      emit(ServoEventKind::kDeviceWriteFailed);
+      force_D = geom::Vec3(0.0);
+      torque_D = geom::Vec3(0.0);
+    }
+  }
+  // a lost device: zero at once (nothing to ramp on a device that is gone)
+  last_force_D_ = force_D;
+  last_torque_D_ = torque_D;
+
+  s_.force_W_n = options_.workspace.forceToScene(force_D);
+  s_.torque_W_nm = options_.workspace.torqueToScene(torque_D);
+  s_.X_W_proxy = out.X_W_proxy;
+  s_.contacts = out.contacts;
+  s_.pairs_tested = out.pairs_tested;
+  s_.pairs_skipped = out.pairs_skipped;
+  s_.tick_flags = out.flags;
+  s_.max_penetration_m = out.max_penetration_m;
+  s_.t_s = t_s;
+  s_.period_index = period_index;
+  s_.peak_force_n = std::max(s_.peak_force_n, glm::length(s_.force_W_n));
+  s_.peak_penetration_m = std::max(s_.peak_penetration_m, out.max_penetration_m);
+  if (out.contacts > 0)
+    ++s_.contact_ticks;
+
+  if (s_.stopping && !stop_done_ && s_.output_gain == 0.0 && last_force_D_ == geom::Vec3(0.0) &&
+      last_torque_D_ == geom::Vec3(0.0)) {
+    stop_done_ = true;
+    emit(ServoEventKind::kStopRampDone);
+  }
+
+  tick_ns = realNowNs() - t0;
+  s_.last_tick_ns = tick_ns;
+  ++s_.tick;
+  state_.write(s_);
+
+  if (options_.record) {
+    RecordRow row;
+    row.tick = s_.tick - 1;
+    row.t_s = t_s;
+    row.X_W_device = s_.X_W_device;
+    row.X_W_proxy = s_.X_W_proxy;
+    row.force_n = s_.force_W_n;
+    row.torque_nm = s_.torque_W_nm;
+    row.contacts = out.contacts;
+    row.pairs_tested = out.pairs_tested;
+    row.pairs_skipped = out.pairs_skipped;
+    row.max_penetration_m = out.max_penetration_m;
+    row.tick_ns = tick_ns;
+    while (!records_.push(row)) {
+      if (!options_.wait_for_record_space) {
+        ++s_.records_dropped;
+        if (!record_drop_reported_)
+          emit(ServoEventKind::kRecordDropped);
+        record_drop_reported_ = true;
+        break;
+      }
+      std::this_thread::yield();
+    }
+  }
+  if (options_.record_bodies && current_ != nullptr) {
+    for (const sim::BodyPose& b : current_->sim->bodyPoses()) {
+      const BodyRow row{s_.tick - 1, t_s, current_->generation, b.body, b.X_WB};
+      while (!bodies_.push(row)) {
+        if (!options_.wait_for_record_space) {
+          ++s_.records_dropped;
+          break;
+        }
+        std::this_thread::yield();
+      }
+    }
+  }
+}
+
+void ServoLoop::prepareServoThread() {
+  if (scenes_.take(current_)) {
+    s_.scene_generation = current_->generation;
+    emit(ServoEventKind::kSceneSwapped, static_cast<std::int64_t>(current_->generation));
+  }
+  if (current_ != nullptr)
+    current_->sim->prepareThread();
+  state_.write(s_);
+}
+
+ServoExit ServoLoop::run() noexcept {
+  s_.running = true;
+  state_.write(s_);
+  std::uint64_t period_index = 0;
+  std::int64_t deadline = clock_.nowNs();
+  ServoExit exit = ServoExit::kStopped;
+  for (;;) {
+    clock_.sleepUntilNs(deadline);
+    const std::int64_t wake = clock_.nowNs();
+    lateness_.add(wake - deadline);
+
+    std::int64_t tick_ns = 0;
+    tick(period_index, tick_ns);
+    compute_.add(tick_ns);
+
+    // overrun: the tick ended past the next deadline. The periods it ran into are skipped (the
+    // next tick is the first whose deadline is still ahead), never queued.
+    const std::int64_t end = clock_.nowNs();
+    std::int64_t next = deadline + period_ns_;
+    if (end > next) {
+      const std::int64_t late_periods = (end - next) / period_ns_ + 1;
+      next += late_periods * period_ns_;
+      period_index += static_cast<std::uint64_t>(late_periods);
+      s_.skipped_periods += static_cast<std::uint64_t>(late_periods);
+      ++s_.overruns;
+      ++s_.consecutive_misses;
+      if (s_.consecutive_misses >= options_.miss_fault_count && (s_.faults & kFaultMisses) == 0) {
+        s_.faults |= kFaultMisses;
+        emit(ServoEventKind::kMissFault, s_.consecutive_misses);
+      }
+      state_.write(s_);
+    } else {
+      s_.consecutive_misses = 0;
+    }
+    ++period_index;
+    deadline = next;
+
+    if (end_of_stream_) {
+      exit = ServoExit::kEndOfStream;
+      break;
+    }
+    if (stop_done_) {
+      exit = ServoExit::kStopped;
+      break;
+    }
+    if (options_.max_ticks != 0 && s_.tick >= options_.max_ticks) {
+      exit = ServoExit::kMaxTicks;
+      break;
+    }
+  }
+  s_.running = false;
+  state_.write(s_);
+  return exit;
+}
+
+std::string describe(const ServoEvent& e) {
+  const std::string at = " at tick " + std::to_string(e.tick);
+  switch (e.kind) {
+    case ServoEventKind::kDeviceLost:
+      return "device lost" + at + ": force set to zero";
+    case ServoEventKind::kDeviceBack:
+      return "device back" + at + ": force ramps in again";
+    case ServoEventKind::kMissFault:
+      return "fault latched" + at + ": " + std::to_string(e.a) +
+             " consecutive ticks overran their period; force fades to zero until re-armed";
+    case ServoEventKind::kNonFiniteForce:
+      return "fault latched" + at +
+             ": the simulation produced a non-finite force; force zero "
+             "until re-armed";
+    case ServoEventKind::kArmed:
+      return "armed" + at;
+    case ServoEventKind::kDisarmed:
+      return "disarmed" + at + ": force ramps to zero";
+    case ServoEventKind::kSceneSwapped:
+      return "scene " + std::to_string(e.a) + " swapped in" + at;
+    case ServoEventKind::kStopRampDone:
+      return "force ramped to zero" + at;
+    case ServoEventKind::kEndOfStream:
+      return "end of the pose stream" + at;
+    case ServoEventKind::kRecordDropped:
+      return "record ring full" + at + ": rows dropped (the writer is too slow; see status)";
+    case ServoEventKind::kDeviceWriteFailed:
+      return "device write failed" + at;
+  }
+  return "event" + at;
+}
+
+}  // namespace hapticd::daemon

@@ -1,0 +1,254 @@
+#pragma once
+/// \file
+/// The servo loop (../shared/DESIGN.md "One servo tick"): each period it reads the device, maps
+/// the pose into the scene, steps the simulation, checks and limits the force, writes it to the
+/// device, publishes state and hands a record row on. It is paced by a Clock (real monotonic,
+/// virtual, scripted), measures each tick's wake-up lateness and compute time into fixed
+/// histograms, skips missed periods instead of queueing them, and after `miss_fault_count`
+/// consecutive overruns fades the force to zero and latches a fault until re-armed.
+///
+/// Threads (STYLE.md rule 6): run() is the servo thread. It meets the other threads only at
+///  - a command ring (single producer: the owner thread; sendCommand()),
+///  - a scene pointer exchange (offerScene() / reclaimScenes() on the owner thread),
+///  - a seqlock state block (state(), any thread),
+///  - lock-free rings of log events and record rows (popLog(), popRecord(), popBody(): one
+///    consumer thread each),
+///  - the atomic stop flag (requestStop(), any thread) and relaxed-atomic histograms.
+/// run() never allocates, locks, logs, throws or does I/O other than the device and its sleep
+/// (one exception: with `wait_for_record_space`, meant for virtual clocks, a full record ring
+/// makes it wait for the writer instead of dropping rows).
+
+#include <atomic>
+#include <cstdint>
+#include <memory>
+
+#include "core/sim/simulation.h"
+#include "daemon/clock.h"
+#include "daemon/device/device.h"
+#include "daemon/handoff/scene_exchange.h"
+#include "daemon/handoff/seqlock.h"
+#include "daemon/handoff/spsc_ring.h"
+#include "daemon/histogram.h"
+#include "daemon/workspace.h"
+
+namespace hapticd::daemon {
+
+/// The marker of functions that run on the servo thread (a hook for a real-time sanitizer).
+#define HAPTICD_SERVO_THREAD
+
+/// One scene's pipeline, built off the servo thread and handed over whole.
+struct ServoScene {
+  std::unique_ptr<sim::Simulation> sim;
+  std::uint64_t generation = 0;  ///< set by the owner: 1 for the first scene, +1 per reload
+};
+
+/// Loop settings (config [servo] and [device]).
+struct ServoOptions {
+  double rate_hz = 1000.0;              ///< tick rate; the period is rounded to whole ns
+  std::uint32_t miss_fault_count = 10;  ///< consecutive overrunning ticks that latch a fault
+  double fault_fade_s = 0.05;           ///< the force fades to zero over this after a fault (s)
+  double stop_ramp_s = 0.2;             ///< SIGTERM / disarm: the force ramps to zero over this (s)
+  WorkspaceMapping workspace;
+  device::DeviceLimits limits;         ///< clamp of the force written to the device (device frame)
+  double max_force_step_n = 0.5;       ///< largest change of the written force per tick (N)
+  double max_torque_step_nm = 0.05;    ///< largest change of the written torque per tick (N m)
+  bool armed_at_start = true;          ///< false: forces stay zero until an arm command
+  std::uint64_t max_ticks = 0;         ///< run() returns after this many ticks; 0: no limit
+  bool record = false;                 ///< push a RecordRow per tick
+  bool record_bodies = false;          ///< push a BodyRow per non-static body per tick
+  bool wait_for_record_space = false;  ///< full record ring: wait (virtual clock) or drop (real)
+  std::size_t command_capacity = 256;
+  std::size_t log_capacity = 1024;
+  std::size_t record_capacity = 1 << 14;
+  std::size_t body_capacity = 1 << 16;
+};
+
+/// What the owner asks of the servo thread.
+enum class CommandKind : std::uint8_t {
+  kPose,    ///< a client's pose command (scene frame): handed to the device
+  kArm,     ///< clear latched faults, ramp forces in again
+  kDisarm,  ///< ramp forces to zero and hold them there
+};
+
+struct ServoCommand {
+  CommandKind kind = CommandKind::kPose;
+  std::uint64_t sequence = 0;  ///< echoed in ServoState::last_command_sequence
+  device::PoseCommand pose;    ///< kPose: target pose and velocities in the scene frame
+};
+
+/// Latched faults (ServoState::faults); cleared by kArm.
+enum FaultBits : std::uint32_t {
+  kFaultMisses = 1u << 0,     ///< miss_fault_count consecutive ticks overran their period
+  kFaultNonFinite = 1u << 1,  ///< the simulation produced a non-finite force or torque
+};
+
+/// The state block, published once per tick through the seqlock. Scene frame, SI units.
+struct ServoState {
+  std::uint64_t tick = 0;          ///< ticks run so far
+  std::uint64_t period_index = 0;  ///< periods elapsed (ticks + skipped periods)
+  double t_s = 0.0;                ///< loop time of the last tick
+  geom::Pose X_W_device;           ///< device pose after the workspace mapping
+  geom::Pose X_W_proxy;
+  geom::Vec3 force_W_n{0.0};  ///< force written (after gain, clamp, step limit)
+  geom::Vec3 torque_W_nm{0.0};
+  std::uint32_t contacts = 0;
+  std::uint32_t pairs_tested = 0;
+  std::uint32_t pairs_skipped = 0;
+  std::uint32_t tick_flags = 0;  ///< sim::TickFlags of the last tick
+  double max_penetration_m = 0.0;
+  std::uint32_t faults = 0;  ///< FaultBits
+  std::uint32_t consecutive_misses = 0;
+  std::uint64_t overruns = 0;         ///< ticks whose end passed the next deadline
+  std::uint64_t skipped_periods = 0;  ///< periods skipped after overruns
+  std::uint64_t device_lost_count = 0;
+  std::uint64_t scene_generation = 0;
+  std::uint64_t last_command_sequence = 0;
+  std::uint64_t records_dropped = 0;
+  std::uint64_t log_dropped = 0;
+  std::int64_t last_tick_ns = 0;    ///< compute time of the last tick
+  double output_gain = 1.0;         ///< 1 normally, fading to 0 on fault, disarm and stop
+  double peak_force_n = 0.0;        ///< largest |force| written so far
+  double peak_penetration_m = 0.0;  ///< largest max_penetration so far
+  std::uint64_t contact_ticks = 0;  ///< ticks with at least one contact
+  bool device_connected = false;
+  bool armed = false;
+  bool stopping = false;
+  bool running = false;  ///< the loop is inside run()
+};
+
+/// One --record row (../shared/DESIGN.md "Records"): scene frame, N, N m, m.
+struct RecordRow {
+  std::uint64_t tick = 0;
+  double t_s = 0.0;
+  geom::Pose X_W_device;
+  geom::Pose X_W_proxy;
+  geom::Vec3 force_n{0.0};
+  geom::Vec3 torque_nm{0.0};
+  std::uint32_t contacts = 0;
+  std::uint32_t pairs_tested = 0;
+  std::uint32_t pairs_skipped = 0;
+  double max_penetration_m = 0.0;
+  std::int64_t tick_ns = 0;
+};
+
+/// One --record-bodies row.
+struct BodyRow {
+  std::uint64_t tick = 0;
+  double t_s = 0.0;
+  std::uint64_t generation = 0;  ///< the scene (ServoScene::generation) the index refers to
+  std::uint32_t body = 0;        ///< index into that scene's bodies
+  geom::Pose X_WB;
+};
+
+/// Events the servo thread reports; formatted and logged by a normal thread.
+enum class ServoEventKind : std::uint8_t {
+  kDeviceLost,
+  kDeviceBack,
+  kMissFault,  ///< a = consecutive misses
+  kNonFiniteForce,
+  kArmed,
+  kDisarmed,
+  kSceneSwapped,  ///< a = generation
+  kStopRampDone,
+  kEndOfStream,
+  kRecordDropped,  ///< first dropped row (later drops only count)
+  kDeviceWriteFailed,
+};
+
+struct ServoEvent {
+  ServoEventKind kind = ServoEventKind::kDeviceLost;
+  std::uint64_t tick = 0;
+  std::int64_t a = 0;
+};
+
+/// Why run() returned.
+enum class ServoExit : std::uint8_t { kStopped, kEndOfStream, kMaxTicks };
+
+class ServoLoop {
+ public:
+  /// Allocates every ring. Off the servo thread. `clock` and `device` outlive the loop.
+  ServoLoop(const ServoOptions& options,
+            Clock& clock,
+            device::Device& device,
+            std::unique_ptr<ServoScene> initial_scene);
+  ~ServoLoop();
+  ServoLoop(const ServoLoop&) = delete;
+  ServoLoop& operator=(const ServoLoop&) = delete;
+
+  /// Servo thread, once, before run(): takes a scene already offered and sizes this thread's
+  /// scratch for it (sim::Simulation::prepareThread()). May allocate: it is the last step of
+  /// the start, like the stack pre-faulting.
+  void prepareServoThread();
+
+  /// The loop, until stopped (after its ramp), the end of a replay stream, or max_ticks.
+  /// Servo thread. A scene swapped in during the run is prepared at its tick boundary, which
+  /// allocates only when it holds a larger polytope than any this thread has seen.
+  HAPTICD_SERVO_THREAD ServoExit run() noexcept;
+
+  /// Any thread: ramp the force to zero, then leave run().
+  void requestStop() noexcept { stop_requested_.store(true, std::memory_order_release); }
+
+  /// Owner thread (the one producer). False when the ring is full (the command is dropped).
+  bool sendCommand(const ServoCommand& command) noexcept { return commands_.push(command); }
+  /// Owner thread: hands a new scene over; the servo thread takes it at the next tick boundary.
+  void offerScene(std::unique_ptr<ServoScene> scene) { scenes_.offer(std::move(scene)); }
+  /// Owner thread: frees the scene the servo thread replaced (call regularly).
+  void reclaimScenes() { scenes_.reclaim(); }
+  /// Owner thread: an offered scene has not been taken yet.
+  bool sceneOfferPending() const { return scenes_.pending(); }
+
+  /// Any thread.
+  ServoState state() const noexcept { return state_.read(); }
+  const DurationHistogram& lateness() const noexcept { return lateness_; }
+  const DurationHistogram& compute() const noexcept { return compute_; }
+  std::int64_t periodNs() const noexcept { return period_ns_; }
+
+  /// One consumer thread each.
+  bool popEvent(ServoEvent& out) noexcept { return events_.pop(out); }
+  bool popRecord(RecordRow& out) noexcept { return records_.pop(out); }
+  bool popBody(BodyRow& out) noexcept { return bodies_.pop(out); }
+
+  /// Changes ServoOptions::max_ticks (the total tick count at which run() returns). Only while
+  /// run() is not running.
+  void setMaxTicks(std::uint64_t ticks) { options_.max_ticks = ticks; }
+
+  /// The scene the loop runs now. Only while run() is not running (before or after it).
+  const ServoScene* currentScene() const { return current_; }
+
+ private:
+  HAPTICD_SERVO_THREAD void tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept;
+  HAPTICD_SERVO_THREAD void drainCommands() noexcept;
+  HAPTICD_SERVO_THREAD void emit(ServoEventKind kind, std::int64_t a = 0) noexcept;
+  HAPTICD_SERVO_THREAD void guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept;
+
+  ServoOptions options_;
+  Clock& clock_;
+  device::Device& device_;
+  std::int64_t period_ns_;
+  double period_s_;
+
+  SpscRing<ServoCommand> commands_;
+  SpscRing<ServoEvent> events_;
+  SpscRing<RecordRow> records_;
+  SpscRing<BodyRow> bodies_;
+  PointerExchange<ServoScene> scenes_;
+  Seqlock<ServoState> state_;
+  DurationHistogram lateness_;
+  DurationHistogram compute_;
+  std::atomic<bool> stop_requested_{false};
+
+  // servo-thread state
+  ServoScene* current_ = nullptr;
+  ServoState s_;
+  geom::Vec3 last_force_D_{0.0};
+  geom::Vec3 last_torque_D_{0.0};
+  double fade_per_tick_ = 0.0;
+  bool end_of_stream_ = false;
+  bool stop_done_ = false;
+  bool record_drop_reported_ = false;
+};
+
+/// A one-line description of an event ("device lost at tick 1200"). Any thread; allocates.
+std::string describe(const ServoEvent& event);
+
+}  // namespace hapticd::daemon

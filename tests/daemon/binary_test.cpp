@@ -1,0 +1,349 @@
+// The real hapticd binary as a subprocess: --help, a bad config, headless replay of every demo
+// scene twice (bitwise identical records but tick_ns), start/status/stop (SIGTERM ramps the force
+// to zero, exit 0), reload (SIGHUP with good and bad scenes and configs), realtime refused by the
+// kernel (RLIMIT_RTPRIO 0, no CAP_SYS_NICE / CAP_IPC_LOCK): prefer runs with warnings, require
+// refuses to start. Waits are bounded by a kill after a generous limit (a hang fails the test);
+// no wall-clock duration is asserted.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <linux/capability.h>
+#include <signal.h>
+#include <sys/prctl.h>
+#include <sys/resource.h>
+#include <sys/socket.h>
+#include <sys/syscall.h>
+#include <sys/un.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kSource = HAPTICD_SOURCE_DIR;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+class BinaryTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("hapticd_binary_test_" + std::to_string(getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (pid_ > 0) {
+      kill(pid_, SIGKILL);
+      waitpid(pid_, nullptr, 0);
+    }
+    fs::remove_all(dir_);
+  }
+
+  // Starts hapticd with `args`; stdout and stderr go to files. `prepare` runs in the child
+  // before exec (async-signal-safe calls only).
+  void start(const std::vector<std::string>& args,
+             void (*prepare)() = nullptr,
+             const std::vector<std::string>& extra_env = {}) {
+    std::vector<std::string> env_strings(extra_env);
+    for (char** e = environ; *e != nullptr; ++e)
+      env_strings.emplace_back(*e);
+    std::vector<char*> envp;
+    for (auto& e : env_strings)
+      envp.push_back(e.data());
+    envp.push_back(nullptr);
+    std::vector<std::string> all{HAPTICD_BINARY};
+    all.insert(all.end(), args.begin(), args.end());
+    std::vector<char*> argv;
+    for (auto& a : all)
+      argv.push_back(a.data());
+    argv.push_back(nullptr);
+    const std::string out = (dir_ / "stdout").string(), err = (dir_ / "stderr").string();
+    pid_ = fork();
+    ASSERT_GE(pid_, 0);
+    if (pid_ == 0) {
+      const int o = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+      const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+      dup2(o, 1);
+      dup2(e, 2);
+      sigset_t none;
+      sigemptyset(&none);
+      sigprocmask(SIG_SETMASK, &none, nullptr);
+      if (prepare)
+        prepare();
+      execve(argv[0], argv.data(), envp.data());
+      _exit(127);
+    }
+  }
+
+  // Exit code, or -1 after killing a child that did not end within `limit_s` (a hang).
+  int wait(double limit_s = 240.0) {
+    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
+    int status = 0;
+    while (std::chrono::steady_clock::now() < until) {
+      const pid_t r = waitpid(pid_, &status, WNOHANG);
+      if (r == pid_) {
+        pid_ = -1;
+        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    kill(pid_, SIGKILL);
+    waitpid(pid_, nullptr, 0);
+    pid_ = -1;
+    return -1;
+  }
+
+  int run(const std::vector<std::string>& args, void (*prepare)() = nullptr) {
+    start(args, prepare);
+    return wait();
+  }
+
+  nlohmann::json status() {
+    auto j = nlohmann::json::parse(slurp(dir_ / "status.json"), nullptr, false);
+    return j.is_discarded() ? nlohmann::json::object() : j;
+  }
+  bool waitForStatus(const std::function<bool(const nlohmann::json&)>& pred) {
+    for (int i = 0; i < 12000; ++i) {
+      const auto j = status();
+      if (!j.empty() && pred(j))
+        return true;
+      int st = 0;
+      if (waitpid(pid_, &st, WNOHANG) == pid_) {
+        pid_ = -1;
+        return false;  // ended early
+      }
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  }
+  std::string out() { return slurp(dir_ / "stdout"); }
+  std::string err() { return slurp(dir_ / "stderr"); }
+  std::string path(const char* name) { return (dir_ / name).string(); }
+
+  fs::path dir_;
+  pid_t pid_ = -1;
+};
+
+TEST_F(BinaryTest, HelpListsTheOptions) {
+  EXPECT_EQ(run({"--help"}), 0);
+  for (const char* opt : {"--config", "--scene", "--device", "--clock", "--record",
+                          "--record-bodies", "--rate", "--realtime", "--status-file"})
+    EXPECT_NE(out().find(opt), std::string::npos) << opt;
+}
+
+TEST_F(BinaryTest, BadConfigIsRefusedWithFileLineAndKey) {
+  std::ofstream(path("bad.toml")) << "[servo]\nrate_hz = 1000\n\n[device]\nmax_force = 3\n";
+  EXPECT_EQ(run({"--config", path("bad.toml")}), 2);
+  EXPECT_NE(err().find("bad.toml:5: [device] max_force: unknown key"), std::string::npos) << err();
+  EXPECT_EQ(
+      run({"--config", (fs::path(kSource) / "config/hapticd.toml").string(), "--check-config"}), 0);
+}
+
+// every column but tick_ns (the last) of a record
+std::vector<std::string> withoutTickNs(const std::string& csv) {
+  std::vector<std::string> rows;
+  std::istringstream in(csv);
+  std::string line;
+  while (std::getline(in, line))
+    rows.push_back(line.substr(0, line.rfind(',')));
+  return rows;
+}
+
+class ReplayTest : public BinaryTest, public ::testing::WithParamInterface<const char*> {};
+
+TEST_P(ReplayTest, HeadlessReplayIsBitwiseRepeatableButForTickNs) {
+  const std::string scene = GetParam();
+  const std::vector<std::string> base{
+      "--scene",  kSource + "/scenes/" + scene + ".glb",
+      "--device", "replay:" + kSource + "/tests/streams/" + scene + ".csv",
+      "--clock",  "virtual"};
+  auto args = base;
+  args.insert(args.end(), {"--record", path("a.csv"), "--record-bodies", path("ab.csv")});
+  ASSERT_EQ(run(args), 0) << err();
+  const std::string summary = out();
+  EXPECT_EQ(summary.rfind("hapticd: end of stream: ", 0), 0u) << summary;
+  EXPECT_EQ(std::count(summary.begin(), summary.end(), '\n'), 1);
+  args = base;
+  args.insert(args.end(), {"--record", path("b.csv"), "--record-bodies", path("bb.csv")});
+  ASSERT_EQ(run(args), 0) << err();
+
+  const auto a = withoutTickNs(slurp(path("a.csv")));
+  const auto b = withoutTickNs(slurp(path("b.csv")));
+  ASSERT_GT(a.size(), 1000u);
+  EXPECT_EQ(a[0],
+            "tick,t,dev_px,dev_py,dev_pz,dev_qx,dev_qy,dev_qz,dev_qw,prx_px,prx_py,prx_pz,prx_qx,"
+            "prx_qy,prx_qz,prx_qw,fx,fy,fz,tx,ty,tz,contacts,max_penetration,pairs_tested,"
+            "pairs_skipped");
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t i = 0; i < a.size(); ++i)
+    ASSERT_EQ(a[i], b[i]) << "row " << i;
+  EXPECT_EQ(slurp(path("ab.csv")), slurp(path("bb.csv")));
+  EXPECT_EQ(slurp(path("ab.csv")).rfind("tick,t,body,px,py,pz,qx,qy,qz,qw\n", 0), 0u);
+}
+
+INSTANTIATE_TEST_SUITE_P(DemoScenes,
+                         ReplayTest,
+                         ::testing::Values("gears", "peg_in_hole", "dynamic", "stress"));
+
+TEST_F(BinaryTest, ServesWithNoSceneArgumentsAndStopsOnSigtermWithTheRamp) {
+  start({"--realtime", "off", "--status-file", path("status.json")});
+  ASSERT_TRUE(waitForStatus([](const auto& j) { return j.value("tick", 0) > 300; })) << err();
+  auto j = status();
+  EXPECT_EQ(j["phase"], "running");
+  EXPECT_EQ(j["device"]["name"], "sim");
+  EXPECT_EQ(j["scene"]["name"], "peg_in_hole");
+  EXPECT_TRUE(j["device"]["connected"].get<bool>());
+  kill(pid_, SIGTERM);
+  EXPECT_EQ(wait(), 0) << err();
+  j = status();
+  EXPECT_EQ(j["phase"], "stopped");
+  EXPECT_TRUE(j["stopping"].get<bool>());
+  EXPECT_EQ(j["output_gain"].get<double>(), 0.0);
+  EXPECT_EQ(j["force_n"], nlohmann::json({0.0, 0.0, 0.0}));
+  EXPECT_NE(err().find("SIGTERM: ramping the force to zero"), std::string::npos);
+  EXPECT_NE(err().find("force ramped to zero"), std::string::npos);
+  EXPECT_EQ(out().rfind("hapticd: stopped: ", 0), 0u) << out();
+}
+
+TEST_F(BinaryTest, SighupReloadsAGoodSceneAndKeepsTheOldOnABadSceneOrConfig) {
+  auto config = [&](const std::string& scene_line) {
+    std::ofstream(path("hapticd.toml")) << "[servo]\nrealtime = \"off\"\n[scene]\n"
+                                        << scene_line << "\n";
+  };
+  config("path = \"" + kSource + "/scenes/peg_in_hole.glb\"");
+  start({"--config", path("hapticd.toml"), "--status-file", path("status.json")});
+  ASSERT_TRUE(waitForStatus([](const auto& j) { return j.value("tick", 0) > 100; })) << err();
+
+  std::ofstream(path("broken.glb")) << "glTF this is not a binary glTF";
+  config("path = \"" + path("broken.glb") + "\"");
+  kill(pid_, SIGHUP);
+  ASSERT_TRUE(waitForStatus([](const auto& j) {
+    return j["last_reload"].template get<std::string>().rfind("refused", 0) == 0;
+  })) << err();
+  EXPECT_EQ(status()["scene"]["name"], "peg_in_hole.glb");
+  EXPECT_EQ(status()["scene"]["generation"], 1);
+
+  config("path = \"" + kSource + "/scenes/gears.glb\"");
+  kill(pid_, SIGHUP);
+  ASSERT_TRUE(waitForStatus([](const auto& j) { return j["scene"]["generation"] == 2; })) << err();
+  EXPECT_EQ(status()["scene"]["name"], "gears.glb");
+
+  config("path = \"" + kSource + "/scenes/dynamic.glb\"\nstiffness = 3");
+  kill(pid_, SIGHUP);
+  ASSERT_TRUE(waitForStatus([](const auto& j) {
+    return j["last_reload"].template get<std::string>().find("stiffness") != std::string::npos;
+  })) << err();
+  EXPECT_EQ(status()["scene"]["name"], "gears.glb");
+  EXPECT_EQ(status()["scene"]["generation"], 2);
+  EXPECT_NE(err().find("hapticd.toml:5: [scene] stiffness: unknown key"), std::string::npos)
+      << err();
+  EXPECT_NE(err().find("broken.glb"), std::string::npos);
+  EXPECT_TRUE(status()["running"].get<bool>());
+
+  kill(pid_, SIGTERM);
+  EXPECT_EQ(wait(), 0) << err();
+}
+
+// In the child before exec: no real-time priority, no memory locking, and neither capability
+// (dropped from the bounding set, so the exec'd root process does not regain them).
+void dropRealtime() {
+  rlimit zero{0, 0};
+  setrlimit(RLIMIT_RTPRIO, &zero);
+  rlimit small{64 * 1024, 64 * 1024};
+  setrlimit(RLIMIT_MEMLOCK, &small);
+  prctl(PR_CAPBSET_DROP, CAP_SYS_NICE, 0, 0, 0);
+  prctl(PR_CAPBSET_DROP, CAP_IPC_LOCK, 0, 0, 0);
+  __user_cap_header_struct header{_LINUX_CAPABILITY_VERSION_3, 0};
+  __user_cap_data_struct data[2] = {};
+  syscall(SYS_capget, &header, data);
+  for (int cap : {CAP_SYS_NICE, CAP_IPC_LOCK}) {
+    data[cap / 32].effective &= ~(1u << (cap % 32));
+    data[cap / 32].permitted &= ~(1u << (cap % 32));
+    data[cap / 32].inheritable &= ~(1u << (cap % 32));
+  }
+  syscall(SYS_capset, &header, data);
+}
+
+TEST_F(BinaryTest, RealtimeRefusedByTheKernelPreferRunsWithWarningsRequireRefuses) {
+  EXPECT_EQ(run({"--realtime", "prefer", "--ticks", "500", "--status-file", path("status.json")},
+                &dropRealtime),
+            0)
+      << err();
+  EXPECT_NE(err().find("warning: realtime = \"prefer\": SCHED_FIFO priority 80 refused for the "
+                       "servo thread: Operation not permitted"),
+            std::string::npos)
+      << err();
+  auto j = status();
+  EXPECT_EQ(j["tick"], 500);
+  EXPECT_FALSE(j["realtime"]["fifo"].get<bool>());
+  EXPECT_EQ(j["realtime"]["servo_scheduling"], "SCHED_OTHER");
+
+  EXPECT_EQ(run({"--realtime", "require", "--ticks", "500"}, &dropRealtime), 1);
+  EXPECT_NE(err().find("realtime = \"require\""), std::string::npos) << err();
+}
+
+TEST_F(BinaryTest, NotifiesSystemdReadyWatchdogAndStopping) {
+  // a stand-in for systemd's notification socket
+  const std::string sock_path = path("notify.sock");
+  const int sock = socket(AF_UNIX, SOCK_DGRAM | SOCK_CLOEXEC, 0);
+  ASSERT_GE(sock, 0);
+  sockaddr_un addr{};
+  addr.sun_family = AF_UNIX;
+  ASSERT_LT(sock_path.size(), sizeof addr.sun_path);
+  std::memcpy(addr.sun_path, sock_path.c_str(), sock_path.size() + 1);
+  ASSERT_EQ(bind(sock, reinterpret_cast<sockaddr*>(&addr), sizeof addr), 0);
+  timeval tv{0, 100'000};
+  setsockopt(sock, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  start({"--realtime", "off"}, nullptr, {"NOTIFY_SOCKET=" + sock_path, "WATCHDOG_USEC=200000"});
+  std::vector<std::string> messages;
+  auto receiveUntil = [&](const std::string& what) {
+    for (int i = 0; i < 600; ++i) {
+      char buf[512];
+      const ssize_t n = recv(sock, buf, sizeof buf, 0);
+      if (n > 0) {
+        messages.emplace_back(buf, static_cast<std::size_t>(n));
+        if (messages.back().find(what) != std::string::npos)
+          return true;
+      }
+    }
+    return false;
+  };
+  EXPECT_TRUE(receiveUntil("READY=1")) << err();
+  EXPECT_TRUE(receiveUntil("WATCHDOG=1")) << err();
+  EXPECT_TRUE(receiveUntil("WATCHDOG=1"));  // fed again while the loop ticks
+  kill(pid_, SIGTERM);
+  EXPECT_TRUE(receiveUntil("STOPPING=1"));
+  EXPECT_EQ(wait(), 0);
+  close(sock);
+  // READY came before any WATCHDOG
+  ASSERT_FALSE(messages.empty());
+  EXPECT_NE(messages.front().find("READY=1"), std::string::npos) << messages.front();
+}
+
+TEST_F(BinaryTest, FourKilohertzRuns) {
+  EXPECT_EQ(run({"--realtime", "off", "--rate", "4000", "--ticks", "4000", "--status-file",
+                 path("status.json")}),
+            0)
+      << err();
+  EXPECT_EQ(status()["tick"], 4000);
+  EXPECT_EQ(status()["rate_hz"], 4000.0);
+}
+
+}  // namespace

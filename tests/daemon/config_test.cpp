@@ -1,0 +1,242 @@
+// The configuration: the shipped file equals the built-in defaults and documents every key with
+// its default; bad values, wrong types and unknown keys are refused with the key and the line.
+#include "daemon/config.h"
+
+#include <gtest/gtest.h>
+
+#include <cctype>
+#include <fstream>
+#include <ostream>
+#include <regex>
+#include <set>
+#include <sstream>
+
+#include "daemon/command_line.h"
+
+namespace hapticd::daemon {
+namespace {
+
+const std::string kFile = std::string(HAPTICD_SOURCE_DIR) + "/config/hapticd.toml";
+
+TEST(Config, ShippedFileEqualsTheBuiltInDefaults) {
+  auto parsed = loadConfigFile(kFile);
+  ASSERT_TRUE(parsed) << parsed.error().message;
+  EXPECT_TRUE(parsed.value().config == Config{});
+}
+
+TEST(Config, ShippedFileSetsEveryKeyOnceWithItsDefaultInTheCommentAbove) {
+  auto parsed = loadConfigFile(kFile);
+  ASSERT_TRUE(parsed) << parsed.error().message;
+  const auto known = knownConfigKeys();
+  EXPECT_EQ(parsed.value().keys_set, known);  // every key, in the reader's order
+  EXPECT_EQ(std::set<std::string>(known.begin(), known.end()).size(), known.size());
+
+  std::ifstream in(kFile);
+  std::string line, comments;
+  const std::regex key_line(R"(^([a-z0-9_]+) = (.*)$)");
+  int keys = 0;
+  while (std::getline(in, line)) {
+    std::smatch m;
+    if (line.rfind('#', 0) == 0) {
+      comments += line + "\n";
+    } else if (std::regex_match(line, m, key_line)) {
+      ++keys;
+      // the comment block right above the key ends with "(default: VALUE)", VALUE as set
+      const std::string expect = "(default: " + m[2].str() + ")";
+      EXPECT_NE(comments.find(expect), std::string::npos) << "key line: " << line;
+      comments.clear();
+    } else {
+      comments.clear();
+    }
+  }
+  EXPECT_EQ(static_cast<std::size_t>(keys), known.size());
+}
+
+TEST(Config, DefaultsAreThoseOfTheSimulationAndDeviceOptions) {
+  const Config c;
+  const sim::SimOptions a = toSimOptions(c);
+  const sim::SimOptions b;
+  const sim::ResponseOptions& r = a.response;
+  const sim::ResponseOptions& e = b.response;
+  EXPECT_EQ(r.stiffness_n_per_m, e.stiffness_n_per_m);
+  EXPECT_EQ(r.tick_s, e.tick_s);  // 0 follows 1 kHz: 1 ms
+  EXPECT_EQ(r.max_force_n, e.max_force_n);
+  EXPECT_EQ(r.max_torque_nm, e.max_torque_nm);
+  EXPECT_EQ(r.max_force_step_n, e.max_force_step_n);
+  EXPECT_EQ(r.max_torque_step_nm, e.max_torque_step_nm);
+  EXPECT_EQ(r.ramp_s, e.ramp_s);
+  EXPECT_EQ(r.max_speed_m_per_s, e.max_speed_m_per_s);
+  EXPECT_EQ(r.speed_decay_s, e.speed_decay_s);
+  EXPECT_EQ(r.min_predictive_fraction, e.min_predictive_fraction);
+  EXPECT_EQ(r.proxy_stiffness_ratio, e.proxy_stiffness_ratio);
+  EXPECT_EQ(r.coupling_damping_factor, e.coupling_damping_factor);
+  EXPECT_EQ(r.rot_stiffness_nm_per_rad, e.rot_stiffness_nm_per_rad);
+  EXPECT_EQ(r.penetration_allowance_m, e.penetration_allowance_m);
+  EXPECT_EQ(r.crease_angle_deg, e.crease_angle_deg);
+  EXPECT_EQ(r.attach_button_mask, e.attach_button_mask);
+  EXPECT_EQ(r.attach_distance_m, e.attach_distance_m);
+  EXPECT_EQ(r.hinge_attach, e.hinge_attach);
+  EXPECT_EQ(r.centre_radius_fraction, e.centre_radius_fraction);
+  EXPECT_EQ(a.max_pairs_per_tick, b.max_pairs_per_tick);
+  EXPECT_EQ(a.probe_sphere_radius_m, b.probe_sphere_radius_m);
+
+  const device::DeviceOptions d = toDeviceOptions(c);
+  const device::DeviceOptions f;
+  EXPECT_EQ(d.limits.max_force_n, f.limits.max_force_n);
+  EXPECT_EQ(d.limits.max_torque_nm, f.limits.max_torque_nm);
+  EXPECT_EQ(d.sim_hand_mass_kg, f.sim_hand_mass_kg);
+  EXPECT_EQ(d.sim_hand_stiffness_n_per_m, f.sim_hand_stiffness_n_per_m);
+  EXPECT_EQ(d.sim_hand_damping_n_s_per_m, f.sim_hand_damping_n_s_per_m);
+  EXPECT_EQ(d.sim_idle_motion_after_s, f.sim_idle_motion_after_s);
+  EXPECT_EQ(d.sim_home.translation, f.sim_home.translation);
+  EXPECT_EQ(d.sim_home.rotation, f.sim_home.rotation);
+  EXPECT_EQ(d.sim_hand_inertia_kg_m2, f.sim_hand_inertia_kg_m2);
+  EXPECT_EQ(d.sim_hand_rot_stiffness_nm_per_rad, f.sim_hand_rot_stiffness_nm_per_rad);
+  EXPECT_EQ(d.sim_hand_rot_damping_nm_s_per_rad, f.sim_hand_rot_damping_nm_s_per_rad);
+  EXPECT_EQ(d.sim_idle_amplitude_m, f.sim_idle_amplitude_m);
+  EXPECT_EQ(d.sim_idle_angle_rad, f.sim_idle_angle_rad);
+  EXPECT_EQ(d.sim_max_step_s, f.sim_max_step_s);
+  EXPECT_EQ(d.replay_quat_tolerance, f.replay_quat_tolerance);
+  EXPECT_EQ(d.hid_spacemouse_speed_m_per_s, f.hid_spacemouse_speed_m_per_s);
+  EXPECT_EQ(d.hid_spacemouse_angular_speed_rad_per_s, f.hid_spacemouse_angular_speed_rad_per_s);
+  EXPECT_EQ(d.hid_spacemouse_full_scale, f.hid_spacemouse_full_scale);
+  EXPECT_EQ(d.hid_spacemouse_deadband, f.hid_spacemouse_deadband);
+  EXPECT_EQ(d.hid_spacemouse_workspace_m, f.hid_spacemouse_workspace_m);
+  EXPECT_EQ(d.usb_silence_lost_s, f.usb_silence_lost_s);
+  EXPECT_EQ(d.usb_falcon_max_motor_command, f.usb_falcon_max_motor_command);
+  EXPECT_EQ(d.usb_falcon_firmware, f.usb_falcon_firmware);
+
+  const scene::LoadOptions l = toLoadOptions(c);
+  const scene::SceneLimits g;
+  EXPECT_EQ(l.limits.max_file_bytes, g.max_file_bytes);
+  EXPECT_EQ(l.limits.max_nodes, g.max_nodes);
+  EXPECT_EQ(l.limits.max_bodies, g.max_bodies);
+  EXPECT_EQ(l.limits.max_primitives, g.max_primitives);
+  EXPECT_EQ(l.limits.max_hull_input_points, g.max_hull_input_points);
+  EXPECT_EQ(l.limits.max_hull_vertices, g.max_hull_vertices);
+  EXPECT_EQ(l.limits.tessellation_tolerance, g.tessellation_tolerance);
+  EXPECT_FALSE(l.allowed_uri_dir.has_value());
+}
+
+TEST(Config, PrintedConfigParsesBackToTheSame) {
+  Config c;
+  c.servo.rate_hz = 4000.0;
+  c.device.spec = "replay:a \"quoted\" name.csv";
+  c.device.workspace_scale = 0.1;
+  c.response.hinge_attach = sim::ResponseOptions::HingeAttach::kRim;
+  auto parsed = parseConfig(toToml(c), "printed.toml");
+  ASSERT_TRUE(parsed) << parsed.error().message;
+  EXPECT_TRUE(parsed.value().config == c);
+  auto defaults = parseConfig(toToml(Config{}), "printed.toml");
+  ASSERT_TRUE(defaults);
+  EXPECT_TRUE(defaults.value().config == Config{});
+}
+
+TEST(Config, EmptyTextGivesTheDefaults) {
+  auto parsed = parseConfig("", "empty.toml");
+  ASSERT_TRUE(parsed);
+  EXPECT_TRUE(parsed.value().config == Config{});
+}
+
+TEST(Config, ValuesAreRead) {
+  auto parsed = parseConfig(R"([servo]
+rate_hz = 4000
+realtime = "require"
+cpu = 1
+[device]
+spec = "replay:x.csv"
+workspace_scale = 2.5
+workspace_rotation = [0.0, 0.0, 1.0, 0.0]
+[response]
+stiffness_n_per_m = 1200.0
+[scene]
+path = "a.glb"
+[network]
+udp = "0.0.0.0:5000"
+[log]
+level = "debug"
+)",
+                            "t.toml");
+  ASSERT_TRUE(parsed) << parsed.error().message;
+  const Config& c = parsed.value().config;
+  EXPECT_EQ(c.servo.rate_hz, 4000.0);
+  EXPECT_EQ(c.servo.realtime, RealtimePolicy::kRequire);
+  EXPECT_EQ(c.servo.cpu, 1);
+  EXPECT_EQ(c.device.spec, "replay:x.csv");
+  EXPECT_EQ(c.device.workspace_scale, 2.5);
+  EXPECT_EQ(c.response.stiffness_n_per_m, 1200.0);
+  EXPECT_EQ(c.scene.path, "a.glb");
+  EXPECT_EQ(c.network.udp, "0.0.0.0:5000");
+  EXPECT_EQ(c.log.level, LogLevel::kDebug);
+  EXPECT_DOUBLE_EQ(toSimOptions(c).response.tick_s, 1.0 / 4000.0);  // tick follows the rate
+}
+
+struct BadCase {
+  const char* text;
+  const char* expect;  // substring of the error: file:line: [section] key: what
+};
+
+// stable, readable test names (ctest lists them): the expected message, non-alphanumerics as '_'
+void PrintTo(const BadCase& c, std::ostream* os) {
+  for (const char* p = c.expect; *p != '\0'; ++p)
+    *os << (std::isalnum(static_cast<unsigned char>(*p)) ? *p : '_');
+}
+
+class ConfigRefuses : public ::testing::TestWithParam<BadCase> {};
+
+TEST_P(ConfigRefuses, NamingFileLineAndKey) {
+  auto parsed = parseConfig(GetParam().text, "bad.toml");
+  ASSERT_FALSE(parsed) << GetParam().text;
+  EXPECT_NE(parsed.error().message.find(GetParam().expect), std::string::npos)
+      << "error was: " << parsed.error().message;
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    Config,
+    ConfigRefuses,
+    ::testing::Values(
+        BadCase{"[servo]\nrate_hz = 0\n", "bad.toml:2: [servo] rate_hz: must be in [1, 20000]"},
+        BadCase{"[servo]\n\nrate_hz = \"fast\"\n", "bad.toml:3: [servo] rate_hz: must be a number"},
+        BadCase{"[servo]\nrate_hz = nan\n", "bad.toml:2: [servo] rate_hz"},
+        BadCase{"[servo]\nrealtime = \"always\"\n",
+                "bad.toml:2: [servo] realtime: realtime: \"always\""},
+        BadCase{"[servo]\npriority = 100\n", "bad.toml:2: [servo] priority: must be in [1, 99]"},
+        BadCase{"[servo]\nrate_hs = 1000\n", "bad.toml:2: [servo] rate_hs: unknown key"},
+        BadCase{"[srevo]\nrate_hz = 1000\n", "bad.toml:1: srevo: unknown section"},
+        BadCase{"[device]\nmax_force_n = -1\n", "bad.toml:2: [device] max_force_n"},
+        BadCase{"[device]\nmax_force_n = 0\n", "bad.toml:2: [device] max_force_n: must be > 0"},
+        BadCase{"[device]\nworkspace_rotation = [0, 0, 0, 2]\n",
+                "bad.toml:2: [device] workspace_rotation"},
+        BadCase{"[device]\nworkspace_rotation = [0, 0, 0.5, 0.5]\n", "unit quaternion"},
+        BadCase{"[device]\nsim_home_translation_m = [0, 0]\n", "must be an array of 3 numbers"},
+        BadCase{"[device]\nspec = \"\"\n", "bad.toml:2: [device] spec: must not be empty"},
+        BadCase{"[response]\nmax_pairs_per_tick = 1.5\n",
+                "[response] max_pairs_per_tick: must be an integer"},
+        BadCase{"[network]\nudp = \"127.0.0.1\"\n", "bad.toml:2: [network] udp"},
+        BadCase{"[network]\nudp = \"127.0.0.1:70000\"\n", "port must be 1..65535"},
+        BadCase{"[log]\nlevel = \"loud\"\n", "bad.toml:2: [log] level"},
+        BadCase{"servo = 3\n", "bad.toml:1: servo: must be a table"},
+        BadCase{"[servo\nrate_hz = 1\n", "bad.toml:1:"},
+        BadCase{"[scene]\nmax_nodes = -4\n", "bad.toml:2: [scene] max_nodes"},
+        BadCase{"[response]\nhinge_attach = \"side\"\n",
+                "bad.toml:2: [response] hinge_attach: \"side\""},
+        BadCase{"[device]\nusb_falcon_max_motor_command = 40000\n",
+                "[device] usb_falcon_max_motor_command: must be in [1, 32767]"}));
+
+TEST(Config, EveryProblemOfAFileIsListed) {
+  auto parsed = parseConfig("[servo]\nrate_hz = 0\npriority = 0\n[log]\nlevel = 3\n", "f.toml");
+  ASSERT_FALSE(parsed);
+  const std::string& m = parsed.error().message;
+  EXPECT_NE(m.find("f.toml:2:"), std::string::npos);
+  EXPECT_NE(m.find("f.toml:3:"), std::string::npos);
+  EXPECT_NE(m.find("f.toml:5:"), std::string::npos);
+}
+
+TEST(Config, MissingFileIsAClearError) {
+  auto parsed = loadConfigFile("/nonexistent/hapticd.toml");
+  ASSERT_FALSE(parsed);
+  EXPECT_NE(parsed.error().message.find("/nonexistent/hapticd.toml"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace hapticd::daemon

@@ -1,0 +1,292 @@
+// runDaemon() in-process with fake backends: start, status (the status file), stop on SIGTERM
+// with the force ramp, reload on SIGHUP with good and bad scenes and configs, realtime refused
+// (prefer runs with a warning, require refuses to start), device lost and back, headless replay
+// on the virtual clock with a record.
+#include "daemon/daemon.h"
+
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <thread>
+
+#include "tests/daemon/fakes.h"
+
+namespace hapticd::daemon {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::FakeDevice;
+using testing::FakeSimulation;
+
+// A scratch folder per test.
+class DaemonTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("hapticd_daemon_test_" + std::to_string(getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    // every thread of this process blocks the daemon's signals; runDaemon takes them
+    sigset_t set;
+    sigemptyset(&set);
+    sigaddset(&set, SIGTERM);
+    sigaddset(&set, SIGHUP);
+    sigaddset(&set, SIGINT);
+    pthread_sigmask(SIG_BLOCK, &set, nullptr);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+
+  Backends fakeBackends() {
+    Backends b;
+    b.make_device = [this](
+                        std::string_view spec,
+                        const device::DeviceOptions&) -> Result<std::unique_ptr<device::Device>> {
+      if (spec == "missing")
+        return Error{"no such device"};
+      auto d = std::make_unique<FakeDevice>();
+      if (spec.rfind("end:", 0) == 0)
+        d->end_after = std::stoull(std::string(spec.substr(4)));
+      d->depth_offset = 0.002;
+      device_ = d.get();
+      return std::unique_ptr<device::Device>(std::move(d));
+    };
+    // [scene] path "good:NAME" is a scene called NAME; anything else is refused
+    b.load_scene = [](const Config& c) -> Result<std::shared_ptr<const scene::SceneModel>> {
+      const std::string& p = c.scene.path.empty() ? "good:" + c.scene.demo : c.scene.path;
+      if (p.rfind("good:", 0) != 0)
+        return Error{"file '" + p + "': not a scene"};
+      auto m = std::make_shared<scene::SceneModel>();
+      m->name = p.substr(5);
+      m->bodies.resize(2);
+      m->bodies[0].name = "Probe";
+      m->bodies[1].name = "Box";
+      return std::shared_ptr<const scene::SceneModel>(m);
+    };
+    b.make_simulation = [](std::shared_ptr<const scene::SceneModel>,
+                           const sim::SimOptions&) -> Result<std::unique_ptr<sim::Simulation>> {
+      return std::unique_ptr<sim::Simulation>(std::make_unique<FakeSimulation>());
+    };
+    return b;
+  }
+
+  nlohmann::json status() {
+    std::ifstream in(dir_ / "status.json");
+    std::stringstream ss;
+    ss << in.rdbuf();
+    auto j = nlohmann::json::parse(ss.str(), nullptr, false);
+    return j.is_discarded() ? nlohmann::json::object() : j;
+  }
+
+  // waits (bounded by a generous count of polls, never asserting a duration) for a status
+  bool waitFor(const std::function<bool(const nlohmann::json&)>& pred) {
+    for (int i = 0; i < 6000; ++i) {
+      const auto j = status();
+      if (!j.empty() && pred(j))
+        return true;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return false;
+  }
+
+  void writeConfig(const std::string& text) { std::ofstream(dir_ / "hapticd.toml") << text; }
+
+  CommandLine baseCli() {
+    CommandLine cli;
+    cli.realtime = "off";
+    cli.status_file = (dir_ / "status.json").string();
+    return cli;
+  }
+
+  fs::path dir_;
+  FakeDevice* device_ = nullptr;
+};
+
+TEST_F(DaemonTest, StartsServesAndStopsOnSigtermWithTheRampThenExitsZero) {
+  CommandLine cli = baseCli();
+  std::thread helper([&] {
+    ASSERT_TRUE(waitFor([](const auto& j) { return j.value("tick", 0) > 200; }));
+    const auto j = status();
+    EXPECT_EQ(j["phase"], "running");
+    EXPECT_TRUE(j["device"]["connected"].get<bool>());
+    EXPECT_EQ(j["scene"]["name"], "peg_in_hole");  // the built-in demo by default
+    EXPECT_GT(j["peak_force_n"].get<double>(), 0.5);
+    kill(getpid(), SIGTERM);
+  });
+  const int code = runDaemon(cli, fakeBackends());
+  helper.join();
+  EXPECT_EQ(code, kExitOk);
+  const auto j = status();
+  EXPECT_EQ(j["phase"], "stopped");
+  EXPECT_TRUE(j["stopping"].get<bool>());
+  EXPECT_FALSE(j["running"].get<bool>());
+  EXPECT_EQ(j["output_gain"].get<double>(), 0.0);
+  EXPECT_EQ(j["force_n"], nlohmann::json({0.0, 0.0, 0.0}));
+  ASSERT_NE(device_, nullptr);
+}
+
+TEST_F(DaemonTest, SighupReloadsGoodScenesAndKeepsTheOldOnBadScenesAndConfigs) {
+  writeConfig("[scene]\npath = \"good:first\"\n");
+  CommandLine cli = baseCli();
+  cli.config_path = (dir_ / "hapticd.toml").string();
+  std::thread helper([&] {
+    ASSERT_TRUE(waitFor([](const auto& j) { return j.value("tick", 0) > 10; }));
+    EXPECT_EQ(status()["scene"]["name"], "first");
+
+    writeConfig("[scene]\npath = \"broken.glb\"\n");  // a scene the loader refuses
+    kill(getpid(), SIGHUP);
+    ASSERT_TRUE(waitFor([](const auto& j) {
+      return j["last_reload"].template get<std::string>().find("refused") != std::string::npos;
+    }));
+    auto j = status();
+    EXPECT_NE(j["last_reload"].get<std::string>().find("broken.glb"), std::string::npos);
+    EXPECT_EQ(j["scene"]["name"], "first");
+    EXPECT_EQ(j["scene"]["generation"], 1);
+
+    writeConfig("[scene]\npath = \"good:second\"\n");
+    kill(getpid(), SIGHUP);
+    ASSERT_TRUE(waitFor([](const auto& s) { return s["scene"]["generation"] == 2; }));
+    EXPECT_EQ(status()["scene"]["name"], "second");
+
+    writeConfig("[scene]\npath = \"good:third\"\nbogus_key = 1\n");  // a bad config
+    kill(getpid(), SIGHUP);
+    ASSERT_TRUE(waitFor([](const auto& s) {
+      return s["last_reload"].template get<std::string>().find("bogus_key") != std::string::npos;
+    }));
+    j = status();
+    EXPECT_NE(j["last_reload"].get<std::string>().find("hapticd.toml:3"), std::string::npos);
+    EXPECT_EQ(j["scene"]["name"], "second");
+    EXPECT_EQ(j["scene"]["generation"], 2);
+    kill(getpid(), SIGTERM);
+  });
+  EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitOk);
+  helper.join();
+}
+
+TEST_F(DaemonTest, RealtimeRefusedUnderPreferRunsWithAWarning) {
+  Backends b = fakeBackends();
+  b.realtime.lock_memory = [](int) { return EPERM; };
+  b.realtime.set_fifo = [](int) { return EPERM; };
+  b.realtime.pin_to_cpu = [](int) { return EINVAL; };
+  CommandLine cli = baseCli();
+  cli.realtime = "prefer";
+  cli.cpu = 0;
+  cli.ticks = 300;
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(runDaemon(cli, b), kExitOk);
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  if (memoryLockingSupported())
+    EXPECT_NE(err.find("warning: realtime = \"prefer\": mlockall"), std::string::npos) << err;
+  else  // AddressSanitizer
+    EXPECT_NE(err.find("warning: mlockall skipped"), std::string::npos) << err;
+  EXPECT_NE(err.find("warning: realtime = \"prefer\": SCHED_FIFO priority 80 refused"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("pinning the servo thread to CPU 0 refused"), std::string::npos) << err;
+  const auto j = status();
+  EXPECT_EQ(j["tick"], 300);
+  EXPECT_FALSE(j["realtime"]["fifo"].get<bool>());
+  EXPECT_FALSE(j["realtime"]["memory_locked"].get<bool>());
+  EXPECT_EQ(j["realtime"]["servo_scheduling"], "SCHED_OTHER");
+}
+
+TEST_F(DaemonTest, RealtimeRefusedUnderRequireRefusesToStart) {
+  Backends b = fakeBackends();
+  b.realtime.lock_memory = [](int) { return 0; };
+  b.realtime.set_fifo = [](int) { return EPERM; };
+  CommandLine cli = baseCli();
+  cli.realtime = "require";
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(runDaemon(cli, b), kExitFailure);
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("realtime = \"require\": SCHED_FIFO priority 80 refused"), std::string::npos)
+      << err;
+}
+
+TEST_F(DaemonTest, DeviceLostAndBack) {
+  CommandLine cli = baseCli();
+  std::thread helper([&] {
+    ASSERT_TRUE(waitFor([](const auto& j) { return j.value("tick", 0) > 50; }));
+    device_->lost_flag = true;
+    ASSERT_TRUE(
+        waitFor([](const auto& s) { return !s["device"]["connected"].template get<bool>(); }));
+    auto j = status();
+    EXPECT_EQ(j["device"]["lost_count"], 1);
+    EXPECT_EQ(j["force_n"], nlohmann::json({0.0, 0.0, 0.0}));
+    device_->lost_flag = false;
+    ASSERT_TRUE(
+        waitFor([](const auto& s) { return s["device"]["connected"].template get<bool>(); }));
+    EXPECT_EQ(status()["device"]["lost_count"], 1);
+    kill(getpid(), SIGTERM);
+  });
+  EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitOk);
+  helper.join();
+}
+
+TEST_F(DaemonTest, VirtualClockReplayEndsAtTheEndOfTheStreamWithARecord) {
+  CommandLine cli = baseCli();
+  cli.device = "end:5000";
+  cli.clock = "virtual";
+  cli.record = (dir_ / "out.csv").string();
+  cli.record_bodies = (dir_ / "bodies.csv").string();
+  ::testing::internal::CaptureStdout();
+  EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitOk);
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  EXPECT_NE(out.find("hapticd: end of stream: 5000 ticks, 5.000 s simulated time"),
+            std::string::npos)
+      << out;
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1);  // a one-line summary
+  std::ifstream rec(dir_ / "out.csv");
+  std::string header, line;
+  std::getline(rec, header);
+  EXPECT_EQ(header,
+            "tick,t,dev_px,dev_py,dev_pz,dev_qx,dev_qy,dev_qz,dev_qw,prx_px,prx_py,prx_pz,prx_qx,"
+            "prx_qy,prx_qz,prx_qw,fx,fy,fz,tx,ty,tz,contacts,max_penetration,pairs_tested,"
+            "pairs_skipped,tick_ns");
+  int rows = 0;
+  while (std::getline(rec, line))
+    ++rows;
+  EXPECT_EQ(rows, 5000);
+  std::ifstream bodies(dir_ / "bodies.csv");
+  std::getline(bodies, header);
+  EXPECT_EQ(header, "tick,t,body,px,py,pz,qx,qy,qz,qw");
+  std::getline(bodies, line);
+  EXPECT_EQ(line.rfind("0,0,Probe,", 0), 0u) << line;
+  std::getline(bodies, line);
+  EXPECT_EQ(line.rfind("0,0,Box,", 0), 0u) << line;
+}
+
+TEST_F(DaemonTest, StartupFailuresAreClearAndExitNonZero) {
+  CommandLine cli = baseCli();
+  cli.device = "missing";
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitFailure);
+  EXPECT_NE(::testing::internal::GetCapturedStderr().find("device: no such device"),
+            std::string::npos);
+
+  cli = baseCli();
+  cli.scene = "nothing.glb";
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitFailure);
+  EXPECT_NE(
+      ::testing::internal::GetCapturedStderr().find("cannot load the scene: file 'nothing.glb'"),
+      std::string::npos);
+
+  writeConfig("[servo]\nrate_hz = -3\n");
+  cli = baseCli();
+  cli.config_path = (dir_ / "hapticd.toml").string();
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitBadConfig);
+  EXPECT_NE(::testing::internal::GetCapturedStderr().find("hapticd.toml:2: [servo] rate_hz"),
+            std::string::npos);
+}
+
+}  // namespace
+}  // namespace hapticd::daemon
