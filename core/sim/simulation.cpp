@@ -397,6 +397,7 @@ Result<bool> SimulationImpl::build() {
     dynamics::DynamicsOptions dopt;
     dopt.tick_s = r.tick_s;
     dopt.held_max_force_n = r.max_force_n;
+    dopt.impulse_window_s = options_.dynamics_impulse_window_s;
     if (sc.probe_body < 0)
       dopt.extra_probe_body = static_cast<std::int32_t>(sc.bodies.size());
     auto created = dynamics::Dynamics::create(sc, world_, dopt);

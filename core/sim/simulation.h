@@ -86,6 +86,10 @@ struct SimOptions {
   std::uint32_t max_pairs_per_tick = 0;
   /// Radius (m) of the probe sphere used when the scene marks no probe body.
   double probe_sphere_radius_m = 0.01;
+  /// With dynamics: the window (s) over which each impulse on the held body is spread as a
+  /// force on the hand (DynamicsOptions::impulse_window_s; docs/dynamics.md has what it does to
+  /// the force record). 0: one tick of force J / dt.
+  double dynamics_impulse_window_s = 0.020;
 };
 
 /// One tick's input, in scene coordinates (after the device-to-scene workspace mapping).
