@@ -815,8 +815,8 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   }
   delta_ = options_.response.predictive
                ? std::clamp(v_c_ * options_.response.tick_s,
-                            std::min(max_travel_, options_.response.min_predictive_fraction *
-                                                      held_radius_),
+                            std::min(max_travel_,
+                                     options_.response.min_predictive_fraction * held_radius_),
                             max_travel_)
                : 0.0;
   proxy_params_.delta = delta_;

@@ -135,7 +135,7 @@ DemoRun runDynamicDemo(int loops) {
       in.X_W_device = path.at(static_cast<double>(k) * dt);
       in.buttons = path.buttonsAt(static_cast<double>(k) * dt);
       const sim::TickOutput out = run.sim().step(in);
-      const double fo[6] = {out.force_W_n.x,  out.force_W_n.y,  out.force_W_n.z,
+      const double fo[6] = {out.force_W_n.x,   out.force_W_n.y,   out.force_W_n.z,
                             out.torque_W_nm.x, out.torque_W_nm.y, out.torque_W_nm.z};
       mix(r.hash, fo, sizeof fo);
       for (double v : fo)
@@ -245,8 +245,8 @@ TEST(SimDynamics, ProbePushingADynamicBoxMovesItAndFeelsItOpposeThePush) {
   Runner run(sim::Simulation::create(finish(s), o).value(), o);
   const double x0 = -0.02 - r - 0.002;  // 2 mm left of the box
   Path path({{0.0, at(x0, 0.02, 0)},
-             {0.5, at(x0, 0.02, 0)},          // the box settles
-             {1.5, at(x0 + 0.1, 0.02, 0)},   // push 10 cm at 0.1 m/s
+             {0.5, at(x0, 0.02, 0)},        // the box settles
+             {1.5, at(x0 + 0.1, 0.02, 0)},  // push 10 cm at 0.1 m/s
              {1.6, at(x0 + 0.1, 0.02, 0)}});
   double fx_sum = 0.0, fx_impact_sum = 0.0;
   int n = 0;
@@ -285,8 +285,8 @@ TEST(SimDynamics, ImpactOnTheHeldBodyIsASpreadPulseInTheForceRecord) {
     s.bodies.push_back(
         makeBody("paddle", Motion::kKinematic, at(0, 0, 0), {boxShape(Vec3{0.05, 0.005, 0.05})}));
     s.bodies[0].probe = true;
-    s.bodies.push_back(makeBody("ball", Motion::kDynamic, at(0, 0.005 + 0.005 + 0.01, 0),
-                                {sphereShape(0.005)}));
+    s.bodies.push_back(
+        makeBody("ball", Motion::kDynamic, at(0, 0.005 + 0.005 + 0.01, 0), {sphereShape(0.005)}));
     s.bodies[1].mass = 0.001;
     s.gravity_W = Vec3{0.0, -9.81, 0.0};
     sim::SimOptions o;
