@@ -268,6 +268,9 @@ Result<bool> SimulationImpl::build() {
   if (!std::isfinite(r.dynamic_backstop_fraction) || r.dynamic_backstop_fraction < 0.0 ||
       r.dynamic_backstop_fraction > 1.0)
     return Error{"response.dynamic_backstop_fraction must be in [0, 1]"};
+  if (!std::isfinite(options_.dynamics_impulse_window_s) ||
+      options_.dynamics_impulse_window_s < 0.0)
+    return Error{"dynamics impulse window must be >= 0 s"};
   if (!std::isfinite(r.attach_distance_m) || r.attach_distance_m < 0.0)
     return Error{"response.attach_distance must be >= 0"};
   const scene::SceneModel& sc = *scene_;
@@ -402,7 +405,7 @@ Result<bool> SimulationImpl::build() {
       dopt.extra_probe_body = static_cast<std::int32_t>(sc.bodies.size());
     auto created = dynamics::Dynamics::create(sc, world_, dopt);
     if (!created.ok())
-      return Error{"dynamics: " + created.error().message};
+      return created.error();
     dyn_ = std::move(created).value();
     dyn_active_ = dyn_->active();
     backstop_ = r.dynamic_backstop_fraction * r.penetration_allowance_m;

@@ -330,5 +330,27 @@ TEST(SimDynamics, ImpactOnTheHeldBodyIsASpreadPulseInTheForceRecord) {
   EXPECT_NEAR(rows[0].integral_ns, expected, 0.1 * expected);
 }
 
+TEST(SimDynamics, BadDynamicsOptionsAreRefusedWithAMessage) {
+  scene::SceneModel s;
+  s.bodies.push_back(makeBody("box", Motion::kDynamic, at(0, 0, 0), {boxShape(Vec3{0.01})}));
+  const auto model = finish(s);
+  sim::SimOptions o;
+  o.dynamics_impulse_window_s = -0.01;
+  auto a = sim::Simulation::create(model, o);
+  ASSERT_FALSE(a.ok());
+  EXPECT_NE(a.error().message.find("impulse window"), std::string::npos) << a.error().message;
+  o = sim::SimOptions{};
+  o.response.dynamic_backstop_fraction = std::nan("");
+  auto b = sim::Simulation::create(model, o);
+  ASSERT_FALSE(b.ok());
+  EXPECT_NE(b.error().message.find("dynamic_backstop_fraction"), std::string::npos);
+  o = sim::SimOptions{};
+  scene::SceneModel bad = s;
+  bad.bodies[0].mass = -1.0;
+  auto c = sim::Simulation::create(finish(bad), o);
+  ASSERT_FALSE(c.ok());
+  EXPECT_NE(c.error().message.find("box"), std::string::npos) << c.error().message;
+}
+
 }  // namespace
 }  // namespace hapticd::simtest
