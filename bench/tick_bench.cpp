@@ -2,9 +2,9 @@
 // (scenes/<name>.glb through the loader) driven by its pose stream (tests/streams/<name>.csv,
 // interpolated at 1 kHz, played forwards then backwards so that the motion never jumps) over
 // 100 000 ticks, and Tick/code_peg_in_hole, a peg in a hole with 0.1 mm clearance built in code,
-// and Tick/stack100: 100 boxes in 25 stacks of four under gravity (the dynamics step every tick:
-// the probe sphere circles above them, so the scene never sleeps). dynamics_ticks counts the
-// ticks the dynamics stepped (0 for a scene without dynamic bodies).
+// and Tick/stack100: 100 boxes in 25 stacks of four under gravity, the dynamics' sleep off (every
+// tick solved), Tick/stack100_sleeping the same with the default sleep. dynamics_ticks counts the
+// ticks the dynamics did work (0 for a scene without dynamic bodies).
 // Each tick is timed on its own; the counters are the percentiles of compute time per tick in
 // microseconds (the paper's Table 1: average 179 us, worst 343 us on 2000 hardware).
 #include <benchmark/benchmark.h>
@@ -85,8 +85,10 @@ sim::TickInput inputAt(const std::vector<Key>& keys, double t) {
 
 void runTicks(benchmark::State& state,
               std::shared_ptr<const scene::SceneModel> model,
-              const std::vector<Key>& keys) {
+              const std::vector<Key>& keys,
+              double dynamics_sleep_time_s = sim::SimOptions{}.dynamics_sleep_time_s) {
   sim::SimOptions options;
+  options.dynamics_sleep_time_s = dynamics_sleep_time_s;
   auto created = sim::Simulation::create(model, options);
   if (!created.ok()) {
     state.SkipWithError(created.error().message.c_str());
@@ -215,8 +217,9 @@ void tickCodePegInHole(benchmark::State& state) {
 }
 
 // 100 boxes of 10 cm (density 500) in a 5 x 5 grid of stacks four high on a floor, friction 0.6,
-// under gravity; the probe sphere circles 20 cm above the stacks (touching none, so the dynamics
-// work every tick and the figures are of a scene that is never asleep).
+// under gravity; the probe sphere circles 20 cm above the stacks, touching none. state.range(0):
+// 1 = the dynamics' sleep off (every tick solved: the cost of a pile that is never at rest),
+// 0 = the default sleep (the stacks settle and the scene sleeps: the collision step only).
 void tickStack100(benchmark::State& state) {
   scene::SceneModel s;
   s.name = "stack100";
@@ -257,7 +260,8 @@ void tickStack100(benchmark::State& state) {
     keys.push_back(
         {0.25 * k, Pose{Vec3{0.3 * std::cos(a), 0.6, 0.3 * std::sin(a)}, Quat{1, 0, 0, 0}}, 0});
   }
-  runTicks(state, std::make_shared<const scene::SceneModel>(std::move(s)), keys);
+  runTicks(state, std::make_shared<const scene::SceneModel>(std::move(s)), keys,
+           state.range(0) != 0 ? 0.0 : sim::SimOptions{}.dynamics_sleep_time_s);
 }
 
 // The noise floor of this machine: a probe sphere moving in an empty scene (no pair, no contact):
@@ -287,7 +291,16 @@ BENCHMARK_CAPTURE(tickScene, stress, "stress")
     ->Name("Tick/stress")
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
-BENCHMARK(tickStack100)->Name("Tick/stack100")->Iterations(1)->Unit(benchmark::kMillisecond);
+BENCHMARK(tickStack100)
+    ->Name("Tick/stack100")
+    ->Arg(1)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(tickStack100)
+    ->Name("Tick/stack100_sleeping")
+    ->Arg(0)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 BENCHMARK(tickCodePegInHole)
     ->Name("Tick/code_peg_in_hole")
     ->Iterations(1)

@@ -1249,6 +1249,18 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
       // spreader's window are delivered
       ++counters_.ticks_asleep;
       if (held_ >= 0) {
+        // a kinematically held body that touches nothing moves on while the scene sleeps
+        // (taken straight to its target: it pushes nothing), so that it does not jump on waking
+        BodyState& h = bodies_[static_cast<std::size_t>(held_)];
+        const Quat& tq = held != nullptr ? held->X_WB_target.rotation : Quat{1.0, 0.0, 0.0, 0.0};
+        if (held != nullptr && held->mode == HeldMode::kKinematic &&
+            finite(held->X_WB_target.translation) && std::isfinite(glm::length(tq)) &&
+            glm::length(tq) > 0.5) {
+          h.q = glm::normalize(held->X_WB_target.rotation);
+          h.x_W = held->X_WB_target.translation + glm::mat3_cast(h.q) * h.com_B;
+          h.v_W = h.w_W = Vec3{0.0};
+          h.updateInertia();
+        }
         HeldFeedback fb;
         fb.com_W = bodies_[static_cast<std::size_t>(held_)].x_W;
         spreader_.pop(&fb.force_W_n, &fb.torque_W_nm);
@@ -1421,7 +1433,9 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
       const double speed = glm::length(b.v_W) + glm::length(b.w_W) * b.size;
       still = still && speed <= options_.sleep_speed_fraction * b.size;
     }
-    still = still && !held_kinematic_;
+    // a held body moving in free space does not keep the scene awake; one touching a dynamic
+    // body does
+    still = still && !(held_kinematic_ && heldTouchesDynamic());
     rest_s_ = still ? rest_s_ + dt : 0.0;
     if (rest_s_ >= options_.sleep_time_s) {
       asleep_ = true;
@@ -1437,6 +1451,27 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
 
 // anything that could move a resting scene: the held body's input, a kinematic target, an
 // external wrench
+// the held body (or a body driven with it) has a contact this tick, within the world's box
+// margin, with a dynamic body the dynamics move
+bool Dynamics::heldTouchesDynamic() const {
+  const double margin = world_->options().box_margin;
+  const auto heldSet = [&](std::uint32_t i) {
+    return static_cast<std::int32_t>(i) == held_ || bodies_[i].driven;
+  };
+  for (const collision::Contact& c : world_->contacts()) {
+    if (!c.answered || c.body_a >= bodies_.size() || c.body_b >= bodies_.size())
+      continue;
+    const bool ha = heldSet(c.body_a), hb = heldSet(c.body_b);
+    if (ha == hb)
+      continue;
+    const BodyState& other = bodies_[ha ? c.body_b : c.body_a];
+    if (other.motion == scene::Motion::kDynamic && !other.driven && !other.coast &&
+        c.distance <= margin)
+      return true;
+  }
+  return false;
+}
+
 bool Dynamics::wakeRequested(const HeldInput* held) const {
   if (held != nullptr && held_ >= 0) {
     if (held->mode == HeldMode::kWrench &&
@@ -1446,7 +1481,8 @@ bool Dynamics::wakeRequested(const HeldInput* held) const {
       const BodyState& h = bodies_[static_cast<std::size_t>(held_)];
       const Vec3 x =
           held->X_WB_target.translation + glm::mat3_cast(held->X_WB_target.rotation) * h.com_B;
-      if (x != h.x_W || std::abs(glm::dot(held->X_WB_target.rotation, h.q)) < 1.0)
+      if ((x != h.x_W || std::abs(glm::dot(held->X_WB_target.rotation, h.q)) < 1.0) &&
+          heldTouchesDynamic())
         return true;
     }
   }

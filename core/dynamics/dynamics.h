@@ -85,6 +85,9 @@ struct DynamicsOptions {
   /// Sleep: when every dynamic body has moved slower than sleep_speed_fraction of its size per
   /// second for sleep_time_s, the whole scene sleeps (velocities zeroed, steps do nothing)
   /// until the held body's input, a kinematic target or an external wrench moves something.
+  /// A kinematically held body keeps the scene awake (or wakes it) only while it moves with a
+  /// contact, within the world's box margin, with a dynamic body; in free space it is taken to
+  /// its target while the scene sleeps.
   /// 0 s: never sleep.
   double sleep_time_s = 0.5;
   double sleep_speed_fraction = 1e-3;
@@ -259,6 +262,7 @@ class Dynamics {
   void advance(double h);
   void correctPositions(double dt);
   bool wakeRequested(const HeldInput* held) const;
+  bool heldTouchesDynamic() const;
   void storeWarmStart();
 
   std::uint32_t step_flags_ = 0;

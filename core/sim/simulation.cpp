@@ -271,6 +271,8 @@ Result<bool> SimulationImpl::build() {
   if (!std::isfinite(options_.dynamics_impulse_window_s) ||
       options_.dynamics_impulse_window_s < 0.0)
     return Error{"dynamics impulse window must be >= 0 s"};
+  if (!std::isfinite(options_.dynamics_sleep_time_s) || options_.dynamics_sleep_time_s < 0.0)
+    return Error{"dynamics sleep time must be >= 0 s"};
   if (!std::isfinite(r.attach_distance_m) || r.attach_distance_m < 0.0)
     return Error{"response.attach_distance must be >= 0"};
   const scene::SceneModel& sc = *scene_;
@@ -401,6 +403,7 @@ Result<bool> SimulationImpl::build() {
     dopt.tick_s = r.tick_s;
     dopt.held_max_force_n = r.max_force_n;
     dopt.impulse_window_s = options_.dynamics_impulse_window_s;
+    dopt.sleep_time_s = options_.dynamics_sleep_time_s;
     if (sc.probe_body < 0)
       dopt.extra_probe_body = static_cast<std::int32_t>(sc.bodies.size());
     auto created = dynamics::Dynamics::create(sc, world_, dopt);

@@ -90,6 +90,9 @@ struct SimOptions {
   /// force on the hand (DynamicsOptions::impulse_window_s; docs/dynamics.md has what it does to
   /// the force record). 0: one tick of force J / dt.
   double dynamics_impulse_window_s = 0.020;
+  /// With dynamics: the whole-scene sleep (DynamicsOptions::sleep_time_s): still this long (s),
+  /// with the held body touching no dynamic body, the dynamics skip their solve. 0: never.
+  double dynamics_sleep_time_s = 0.5;
 };
 
 /// One tick's input, in scene coordinates (after the device-to-scene workspace mapping).
