@@ -180,8 +180,9 @@ class Simulation {
   virtual const scene::SceneModel& scene() const = 0;
 
   /// The dynamics stage's counters and energy (all zero for a scene without dynamics). Servo
-  /// thread, or the owner thread between steps.
-  virtual DynamicsStatus dynamicsStatus() const = 0;
+  /// thread, or the owner thread between steps. Not pure, so that other implementations (test
+  /// fakes) need not define it: the default reports no dynamics.
+  virtual DynamicsStatus dynamicsStatus() const { return {}; }
 
   /// Sizes the calling thread's scratch for this scene (the narrow phase keeps per-thread
   /// buffers sized to the largest polytope it has seen; growing them allocates). Call once on the
