@@ -1,7 +1,10 @@
 // hapticbench, the whole servo tick (core/sim/simulation.h): Tick/<scene> for every demo scene
 // (scenes/<name>.glb through the loader) driven by its pose stream (tests/streams/<name>.csv,
 // interpolated at 1 kHz, played forwards then backwards so that the motion never jumps) over
-// 100 000 ticks, and Tick/code_peg_in_hole, a peg in a hole with 0.1 mm clearance built in code.
+// 100 000 ticks, and Tick/code_peg_in_hole, a peg in a hole with 0.1 mm clearance built in code,
+// and Tick/stack100: 100 boxes in 25 stacks of four under gravity, the dynamics' sleep off (every
+// tick solved), Tick/stack100_sleeping the same with the default sleep. dynamics_ticks counts the
+// ticks the dynamics did work (0 for a scene without dynamic bodies).
 // Each tick is timed on its own; the counters are the percentiles of compute time per tick in
 // microseconds (the paper's Table 1: average 179 us, worst 343 us on 2000 hardware).
 #include <benchmark/benchmark.h>
@@ -16,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "core/dynamics/dynamics.h"
 #include "core/scene/loader.h"
 #include "core/sim/simulation.h"
 
@@ -81,8 +85,10 @@ sim::TickInput inputAt(const std::vector<Key>& keys, double t) {
 
 void runTicks(benchmark::State& state,
               std::shared_ptr<const scene::SceneModel> model,
-              const std::vector<Key>& keys) {
+              const std::vector<Key>& keys,
+              double dynamics_sleep_time_s = sim::SimOptions{}.dynamics_sleep_time_s) {
   sim::SimOptions options;
+  options.dynamics_sleep_time_s = dynamics_sleep_time_s;
   auto created = sim::Simulation::create(model, options);
   if (!created.ok()) {
     state.SkipWithError(created.error().message.c_str());
@@ -100,7 +106,7 @@ void runTicks(benchmark::State& state,
     return static_cast<double>(ts.tv_sec) * 1e9 + static_cast<double>(ts.tv_nsec);
   };
   double checksum = 0.0;
-  std::uint64_t contacts = 0, pairs = 0;
+  std::uint64_t contacts = 0, pairs = 0, dynamics_ticks = 0;
   for (auto _ : state) {
     for (std::size_t k = 0; k < kTicks; ++k) {
       const double c0 = threadCpuNs();
@@ -113,6 +119,7 @@ void runTicks(benchmark::State& state,
       checksum += out.force_W_n.y;
       contacts += out.contacts;
       pairs += out.pairs_tested;
+      dynamics_ticks += (out.flags & sim::kTickDynamics) != 0 ? 1u : 0u;
     }
   }
   benchmark::DoNotOptimize(checksum);
@@ -139,6 +146,7 @@ void runTicks(benchmark::State& state,
   report(cpu_us, "cpu_");
   state.counters["contacts_per_tick"] = static_cast<double>(contacts) / static_cast<double>(kTicks);
   state.counters["pairs_per_tick"] = static_cast<double>(pairs) / static_cast<double>(kTicks);
+  state.counters["dynamics_ticks"] = static_cast<double>(dynamics_ticks);
 }
 
 void tickScene(benchmark::State& state, const char* name) {
@@ -208,6 +216,54 @@ void tickCodePegInHole(benchmark::State& state) {
   runTicks(state, std::make_shared<const scene::SceneModel>(std::move(s)), keys);
 }
 
+// 100 boxes of 10 cm (density 500) in a 5 x 5 grid of stacks four high on a floor, friction 0.6,
+// under gravity; the probe sphere circles 20 cm above the stacks, touching none. state.range(0):
+// 1 = the dynamics' sleep off (every tick solved: the cost of a pile that is never at rest),
+// 0 = the default sleep (the stacks settle and the scene sleeps: the collision step only).
+void tickStack100(benchmark::State& state) {
+  scene::SceneModel s;
+  s.name = "stack100";
+  s.gravity_W = Vec3{0, -9.81, 0};
+  scene::Material m;
+  m.static_friction = m.dynamic_friction = 0.6;
+  s.materials.push_back(m);
+  scene::Body floor = staticBox(Vec3{0, -0.1, 0}, Vec3{1, 0.1, 1});
+  floor.primitives[0].material = 0;
+  s.bodies.push_back(floor);
+  const double h = 0.05;
+  const auto cube = box(Vec3{h});
+  for (int i = 0; i < 25; ++i) {
+    for (int level = 0; level < 4; ++level) {
+      scene::Body b;
+      b.name = "box";
+      b.motion = scene::Motion::kDynamic;
+      b.X_WB.translation = Vec3{-0.5 + 0.25 * (i % 5), h + 2 * h * level, -0.5 + 0.25 * (i / 5)};
+      b.primitives.push_back(scene::Primitive{cube, Pose{}, scene::ShapeSource::kCode, -1, 0});
+      const auto mp = dynamics::computeMassProperties(b.primitives, 500.0);
+      b.mass = mp.mass;
+      b.inverse_mass = 1.0 / mp.mass;
+      b.com_B = mp.com_B;
+      b.inertia_B = mp.inertia_B;
+      s.bodies.push_back(b);
+    }
+  }
+  s.length_scale = std::sqrt(2.0 * 2.0 * 2 + 0.6 * 0.6);
+  s.plan.contact_forces = true;
+  s.plan.dynamics = true;
+  s.plan.gravity = true;
+  s.plan.friction = true;
+  s.plan.static_primitives = 1;
+  s.plan.moving_primitives = 100;
+  std::vector<Key> keys;
+  for (int k = 0; k <= 40; ++k) {
+    const double a = 2.0 * std::numbers::pi * k / 40.0;
+    keys.push_back(
+        {0.25 * k, Pose{Vec3{0.3 * std::cos(a), 0.6, 0.3 * std::sin(a)}, Quat{1, 0, 0, 0}}, 0});
+  }
+  runTicks(state, std::make_shared<const scene::SceneModel>(std::move(s)), keys,
+           state.range(0) != 0 ? 0.0 : sim::SimOptions{}.dynamics_sleep_time_s);
+}
+
 // The noise floor of this machine: a probe sphere moving in an empty scene (no pair, no contact):
 // whatever its tail shows is the VM, not the work.
 void tickEmpty(benchmark::State& state) {
@@ -233,6 +289,16 @@ BENCHMARK_CAPTURE(tickScene, dynamic, "dynamic")
     ->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(tickScene, stress, "stress")
     ->Name("Tick/stress")
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(tickStack100)
+    ->Name("Tick/stack100")
+    ->Arg(1)
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK(tickStack100)
+    ->Name("Tick/stack100_sleeping")
+    ->Arg(0)
     ->Iterations(1)
     ->Unit(benchmark::kMillisecond);
 BENCHMARK(tickCodePegInHole)

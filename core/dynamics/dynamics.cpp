@@ -133,6 +133,7 @@ struct Dynamics::BodyState {
   Vec3 inertia_P{1.0};            // principal moments (0: infinite about that axis)
   Vec3 inv_inertia_P{1.0};        // their inverses (0 for an infinite one)
   bool coast = false;             // infinite mass (declared 0): keeps its velocities
+  bool driven = false;            // a dynamic body the caller moves (setDriven): infinite mass
   bool isotropic = false;         // all three equal (cubes, regular polyhedra)
   Mat3 inv_inertia_W{0.0};
   Vec3 com_B{0.0};
@@ -195,6 +196,7 @@ struct Dynamics::ContactPoint {
   double total_n = 0.0;                   // whole tick
   Vec3 total_t{0.0};                      // whole tick, world
   double lp = 0.0;                        // split impulse
+  double ln_max = 0.0;  // largest normal impulse per solve (held_max_force_n), 0: none
   bool active = false;
   bool speculative = false;
 };
@@ -288,7 +290,8 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
       !(options.velocity_tolerance_fraction >= 0.0 && options.velocity_tolerance_fraction < 1.0) ||
       !(options.sleep_time_s >= 0.0) || !std::isfinite(options.sleep_time_s) ||
       !(options.sleep_speed_fraction >= 0.0) || !std::isfinite(options.sleep_speed_fraction) ||
-      !(options.impulse_window_s >= 0.0) || !(options.tick_s > 0.0) ||
+      !(options.impulse_window_s >= 0.0) || !(options.held_max_force_n >= 0.0) ||
+      !std::isfinite(options.held_max_force_n) || !(options.tick_s > 0.0) ||
       !std::isfinite(options.impulse_window_s) ||
       !std::isfinite(options.restitution_threshold_ticks) ||
       !std::isfinite(options.restitution_threshold_fraction)) {
@@ -454,7 +457,7 @@ void Dynamics::setKinematicPose(std::uint32_t body, const Pose& X_WB) {
     return;
   BodyState& b = bodies_[body];
   const bool held = static_cast<std::int32_t>(body) == held_;
-  if (b.motion != scene::Motion::kKinematic && !held)
+  if (b.motion != scene::Motion::kKinematic && !held && !b.driven)
     return;
   const Quat& q = X_WB.rotation;
   const double qn = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
@@ -463,6 +466,18 @@ void Dynamics::setKinematicPose(std::uint32_t body, const Pose& X_WB) {
   b.has_target = true;
   b.target_q = glm::normalize(X_WB.rotation);
   b.target_x = X_WB.translation + glm::mat3_cast(b.target_q) * b.com_B;
+}
+
+void Dynamics::setDriven(std::uint32_t body, bool driven) {
+  if (!active_ || body >= bodies_.size())
+    return;
+  BodyState& b = bodies_[body];
+  if (b.motion != scene::Motion::kDynamic || static_cast<std::int32_t>(body) == held_)
+    return;
+  b.driven = driven;
+  b.has_target = false;
+  if (driven)
+    asleep_ = false, rest_s_ = 0.0;
 }
 
 void Dynamics::setExternalWrench(std::uint32_t body,
@@ -540,7 +555,7 @@ void Dynamics::integrateForces(double dt, const HeldInput* held) {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     BodyState& b = bodies_[i];
     const bool held_here = held_kinematic_ && static_cast<std::int32_t>(i) == held_;
-    b.infinite = b.motion != scene::Motion::kDynamic || held_here;
+    b.infinite = b.motion != scene::Motion::kDynamic || held_here || b.driven;
     b.pv = Vec3{0.0};
     b.pw = Vec3{0.0};
     if (b.infinite) {
@@ -683,6 +698,21 @@ void Dynamics::gatherContacts(StepReport& report) {
           cp.total_t = warm_[w].lt;
         }
       }
+    }
+  }
+  // the held set pushes with at most held_max_force_n, shared by its points
+  if (options_.held_max_force_n > 0.0) {
+    const auto heldSet = [&](std::uint32_t i) {
+      return static_cast<std::int32_t>(i) == held_ || bodies_[i].driven;
+    };
+    std::uint32_t n = 0;
+    for (const ContactPoint& cp : points_)
+      n += heldSet(cp.a) || heldSet(cp.b) ? 1u : 0u;
+    const double per_point = n > 0 ? options_.held_max_force_n * tick_dt_ / n : 0.0;
+    for (ContactPoint& cp : points_) {
+      cp.ln_max = heldSet(cp.a) || heldSet(cp.b) ? per_point : 0.0;
+      if (cp.ln_max > 0.0)
+        cp.total_n = std::min(cp.total_n, cp.ln_max);
     }
   }
   report.contact_points = static_cast<std::uint32_t>(points_.size());
@@ -933,6 +963,8 @@ void Dynamics::solveVelocities(double remaining) {
       const double target = cp.speculative ? cp.min_vn : 0.0;
       const double old = cp.ln;
       cp.ln = std::max(0.0, old + cp.rn.mass * (target - vn));
+      if (cp.ln_max > 0.0)
+        cp.ln = std::min(cp.ln, cp.ln_max);
       push(cp.n, cp.rn, cp.ln - old);
       if (cp.rn.mass > 0.0)
         residual = std::max(residual, std::abs(cp.ln - old) / cp.rn.mass);
@@ -1217,6 +1249,18 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
       // spreader's window are delivered
       ++counters_.ticks_asleep;
       if (held_ >= 0) {
+        // a kinematically held body that touches nothing moves on while the scene sleeps
+        // (taken straight to its target: it pushes nothing), so that it does not jump on waking
+        BodyState& h = bodies_[static_cast<std::size_t>(held_)];
+        const Quat& tq = held != nullptr ? held->X_WB_target.rotation : Quat{1.0, 0.0, 0.0, 0.0};
+        if (held != nullptr && held->mode == HeldMode::kKinematic &&
+            finite(held->X_WB_target.translation) && std::isfinite(glm::length(tq)) &&
+            glm::length(tq) > 0.5) {
+          h.q = glm::normalize(held->X_WB_target.rotation);
+          h.x_W = held->X_WB_target.translation + glm::mat3_cast(h.q) * h.com_B;
+          h.v_W = h.w_W = Vec3{0.0};
+          h.updateInertia();
+        }
         HeldFeedback fb;
         fb.com_W = bodies_[static_cast<std::size_t>(held_)].x_W;
         spreader_.pop(&fb.force_W_n, &fb.torque_W_nm);
@@ -1329,7 +1373,7 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
     b.x_W = b.target_x;
     b.q = b.target_q;
     b.updateInertia();
-    if (b.motion == scene::Motion::kKinematic)
+    if (b.motion == scene::Motion::kKinematic || b.driven)
       b.has_target = false;
   }
 
@@ -1339,12 +1383,14 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
     const auto h = static_cast<std::uint32_t>(held_);
     const BodyState& H = bodies_[h];
     fb.com_W = H.x_W;
+    // the held body and the bodies the caller drives with it (setDriven: an attached body)
+    auto heldSet = [&](std::uint32_t i) { return i == h || bodies_[i].driven; };
     for (const ContactPoint& cp : points_) {
-      if (cp.a != h && cp.b != h)
+      if (!heldSet(cp.a) && !heldSet(cp.b))
         continue;
       const Vec3 J = cp.n * cp.total_n + cp.total_t;
       const Vec3 p = bodies_[cp.b].x_W + cp.rb;  // the contact point, end of tick
-      const Vec3 Jh = cp.b == h ? J : -J;
+      const Vec3 Jh = heldSet(cp.b) ? J : -J;
       fb.impulse_W_ns += Jh;
       fb.angular_impulse_W_nms += glm::cross(p - H.x_W, Jh);
     }
@@ -1381,12 +1427,15 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
   if (options_.sleep_time_s > 0.0) {
     bool still = true;
     for (const BodyState& b : bodies_) {
-      if (b.motion == scene::Motion::kStatic || (b.motion == scene::Motion::kKinematic && !b.coast))
+      if (b.motion == scene::Motion::kStatic || b.driven ||
+          (b.motion == scene::Motion::kKinematic && !b.coast))
         continue;
       const double speed = glm::length(b.v_W) + glm::length(b.w_W) * b.size;
       still = still && speed <= options_.sleep_speed_fraction * b.size;
     }
-    still = still && !held_kinematic_;
+    // a held body moving in free space does not keep the scene awake; one touching a dynamic
+    // body does
+    still = still && !(held_kinematic_ && heldTouchesDynamic());
     rest_s_ = still ? rest_s_ + dt : 0.0;
     if (rest_s_ >= options_.sleep_time_s) {
       asleep_ = true;
@@ -1402,6 +1451,27 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
 
 // anything that could move a resting scene: the held body's input, a kinematic target, an
 // external wrench
+// the held body (or a body driven with it) has a contact this tick, within the world's box
+// margin, with a dynamic body the dynamics move
+bool Dynamics::heldTouchesDynamic() const {
+  const double margin = world_->options().box_margin;
+  const auto heldSet = [&](std::uint32_t i) {
+    return static_cast<std::int32_t>(i) == held_ || bodies_[i].driven;
+  };
+  for (const collision::Contact& c : world_->contacts()) {
+    if (!c.answered || c.body_a >= bodies_.size() || c.body_b >= bodies_.size())
+      continue;
+    const bool ha = heldSet(c.body_a), hb = heldSet(c.body_b);
+    if (ha == hb)
+      continue;
+    const BodyState& other = bodies_[ha ? c.body_b : c.body_a];
+    if (other.motion == scene::Motion::kDynamic && !other.driven && !other.coast &&
+        c.distance <= margin)
+      return true;
+  }
+  return false;
+}
+
 bool Dynamics::wakeRequested(const HeldInput* held) const {
   if (held != nullptr && held_ >= 0) {
     if (held->mode == HeldMode::kWrench &&
@@ -1411,12 +1481,13 @@ bool Dynamics::wakeRequested(const HeldInput* held) const {
       const BodyState& h = bodies_[static_cast<std::size_t>(held_)];
       const Vec3 x =
           held->X_WB_target.translation + glm::mat3_cast(held->X_WB_target.rotation) * h.com_B;
-      if (x != h.x_W || std::abs(glm::dot(held->X_WB_target.rotation, h.q)) < 1.0)
+      if ((x != h.x_W || std::abs(glm::dot(held->X_WB_target.rotation, h.q)) < 1.0) &&
+          heldTouchesDynamic())
         return true;
     }
   }
   for (const BodyState& b : bodies_) {
-    if (b.has_target && b.motion == scene::Motion::kKinematic)
+    if (b.has_target && (b.motion == scene::Motion::kKinematic || b.driven))
       return true;
     if (b.motion == scene::Motion::kDynamic &&
         (glm::length(b.force_W) > 0.0 || glm::length(b.torque_W) > 0.0))

@@ -85,6 +85,9 @@ struct DynamicsOptions {
   /// Sleep: when every dynamic body has moved slower than sleep_speed_fraction of its size per
   /// second for sleep_time_s, the whole scene sleeps (velocities zeroed, steps do nothing)
   /// until the held body's input, a kinematic target or an external wrench moves something.
+  /// A kinematically held body keeps the scene awake (or wakes it) only while it moves with a
+  /// contact, within the world's box margin, with a dynamic body; in free space it is taken to
+  /// its target while the scene sleeps.
   /// 0 s: never sleep.
   double sleep_time_s = 0.5;
   double sleep_speed_fraction = 1e-3;
@@ -98,6 +101,13 @@ struct DynamicsOptions {
   double impulse_window_s = 0.020;
   /// Servo tick (s) the spreader is built for; step() takes its dt per call.
   double tick_s = 0.001;
+  /// The held body (and the bodies driven with it, setDriven) pushes dynamic bodies with at most
+  /// this force (N), shared equally by its contact points (a cap on each point's normal impulse
+  /// per solve of held_max_force_n * dt / points): the hand cannot push harder than the device
+  /// can render, and a body wedged between the held body and something fixed is not squeezed
+  /// out at high speed. 0: unlimited (an infinite-mass pusher). The Simulation sets it to the
+  /// device's force limit.
+  double held_max_force_n = 0.0;
 };
 
 /// How the held body (SceneModel::probe_body) is driven this tick.
@@ -208,6 +218,14 @@ class Dynamics {
   /// HeldInput::kKinematic, which is ignored for a pose that is not finite). Servo thread.
   void setKinematicPose(std::uint32_t body, const Pose& X_WB);
 
+  /// Hands a dynamic body over to the caller (driven = true) or back (false): while driven it has
+  /// infinite mass, follows setKinematicPose() like a kinematic body (standing still without a
+  /// new target) and its contact impulses count in heldFeedback() as the held body's (the
+  /// Simulation drives a body attached to the probe this way, docs/dynamics.md). Handed back, it
+  /// moves on from the velocity of its last driven tick. Ignored for other bodies, the held body
+  /// and an index out of range. Servo thread.
+  void setDriven(std::uint32_t body, bool driven);
+
   /// A force (at the centre of mass) and torque applied to a dynamic body on every step until
   /// changed (N, N m, scene frame). Ignored for other bodies or values that are not finite.
   /// Servo thread.
@@ -244,6 +262,7 @@ class Dynamics {
   void advance(double h);
   void correctPositions(double dt);
   bool wakeRequested(const HeldInput* held) const;
+  bool heldTouchesDynamic() const;
   void storeWarmStart();
 
   std::uint32_t step_flags_ = 0;

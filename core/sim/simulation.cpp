@@ -8,6 +8,7 @@
 
 #include "core/collision/collision_world.h"
 #include "core/collision/penetration.h"
+#include "core/dynamics/dynamics.h"
 #include "core/response/coupling.h"
 #include "core/response/face_contact.h"
 #include "core/response/output_stage.h"
@@ -73,15 +74,18 @@ class SimulationImpl final : public Simulation {
   SimulationImpl(std::shared_ptr<const scene::SceneModel> scene, const SimOptions& options)
       : scene_(std::move(scene)),
         options_(options),
-        world_(worldOptions(options)),
+        world_(worldOptions(options, *scene_)),
         coupling_(response::CouplingParams{}),
         output_(outputLimits(options.response)) {}
 
-  static collision::WorldOptions worldOptions(const SimOptions& o) {
+  static collision::WorldOptions worldOptions(const SimOptions& o, const scene::SceneModel& sc) {
     collision::WorldOptions w;
     const double delta = o.response.max_speed_m_per_s * o.response.tick_s;
-    // pairs within the predictive distance plus one tick's travel are found
+    // pairs within the predictive distance plus one tick's travel are found; with dynamics, at
+    // least the margin within which the dynamics see contacts before they touch (time of impact)
     w.box_margin = 2.0 * delta;
+    if (sc.plan.dynamics)
+      w.box_margin = std::max(w.box_margin, dynamics::recommendedBoxMargin(sc));
     w.budget.max_pairs = o.max_pairs_per_tick;
     // a pair of bodies that did not move keeps its exact answer
     w.skip_unmoved_pairs = true;
@@ -103,6 +107,7 @@ class SimulationImpl final : public Simulation {
   TickOutput step(const TickInput& input) override;
   std::span<const BodyPose> bodyPoses() const override { return body_poses_; }
   void restartRamp() override { output_.restartRamp(); }
+  DynamicsStatus dynamicsStatus() const override;
   const scene::SceneModel& scene() const override { return *scene_; }
   void prepareThread() override;
 
@@ -147,9 +152,17 @@ class SimulationImpl final : public Simulation {
   void setHeldPoses();
   void setRotationalStiffness();
 
+  // a dynamic body the dynamics move (not held, not driven by this tick's proxy step)
+  bool movedByDynamics(std::uint32_t body) const {
+    return dyn_active_ && info_[body].kind == BodyKind::kDynamic && role(body) == kRoleFixed;
+  }
+
   std::shared_ptr<const scene::SceneModel> scene_;
   SimOptions options_;
   CollisionWorld world_;
+  std::unique_ptr<dynamics::Dynamics> dyn_;  // only when the plan has dynamics
+  bool dyn_active_ = false;
+  double backstop_ = 0.0;  // depth into a dynamic body beyond which its penalty rows act
   response::VirtualCoupling coupling_;
   response::OutputStage output_;
   response::ProxyParams proxy_params_;
@@ -252,6 +265,14 @@ Result<bool> SimulationImpl::build() {
     return Error{"response.penetration_allowance must be > 0"};
   if (!std::isfinite(r.crease_angle_deg) || r.crease_angle_deg < 0.0 || r.crease_angle_deg >= 90.0)
     return Error{"response.crease_angle must be in [0, 90) degrees"};
+  if (!std::isfinite(r.dynamic_backstop_fraction) || r.dynamic_backstop_fraction < 0.0 ||
+      r.dynamic_backstop_fraction > 1.0)
+    return Error{"response.dynamic_backstop_fraction must be in [0, 1]"};
+  if (!std::isfinite(options_.dynamics_impulse_window_s) ||
+      options_.dynamics_impulse_window_s < 0.0)
+    return Error{"dynamics impulse window must be >= 0 s"};
+  if (!std::isfinite(options_.dynamics_sleep_time_s) || options_.dynamics_sleep_time_s < 0.0)
+    return Error{"dynamics sleep time must be >= 0 s"};
   if (!std::isfinite(r.attach_distance_m) || r.attach_distance_m < 0.0)
     return Error{"response.attach_distance must be >= 0"};
   const scene::SceneModel& sc = *scene_;
@@ -375,12 +396,34 @@ Result<bool> SimulationImpl::build() {
     body_poses_.push_back({static_cast<std::uint32_t>(info_[id].scene_index), world_.pose(id)});
   }
 
-  // no stage moves the other bodies (the dynamics are not part of this tick yet): they sleep,
-  // so that their pairs with each other and with static bodies cost nothing; an attached body
-  // wakes while it is held
+  // the dynamics, exactly when the plan asks (world ids are the scene's body indices, the probe
+  // sphere, if any, right after them)
+  if (sc.plan.dynamics) {
+    dynamics::DynamicsOptions dopt;
+    dopt.tick_s = r.tick_s;
+    dopt.held_max_force_n = r.max_force_n;
+    dopt.impulse_window_s = options_.dynamics_impulse_window_s;
+    dopt.sleep_time_s = options_.dynamics_sleep_time_s;
+    if (sc.probe_body < 0)
+      dopt.extra_probe_body = static_cast<std::int32_t>(sc.bodies.size());
+    auto created = dynamics::Dynamics::create(sc, world_, dopt);
+    if (!created.ok())
+      return created.error();
+    dyn_ = std::move(created).value();
+    dyn_active_ = dyn_->active();
+    backstop_ = r.dynamic_backstop_fraction * r.penetration_allowance_m;
+  }
+
+  // the bodies no stage moves sleep, so that their pairs with each other and with static bodies
+  // cost nothing: without dynamics every non-static body but the probe (an attached body wakes
+  // while it is held); with dynamics the kinematic ones only (the dynamic bodies stay awake: the
+  // dynamics read their contacts every tick and have their own whole-scene sleep)
   for (std::uint32_t id = 0; id < info_.size(); ++id) {
-    if (id != probe_ && info_[id].kind != BodyKind::kStatic)
-      world_.setAsleep(id, true);
+    if (id == probe_ || info_[id].kind == BodyKind::kStatic)
+      continue;
+    if (dyn_active_ && info_[id].kind == BodyKind::kDynamic)
+      continue;
+    world_.setAsleep(id, true);
   }
   // bodies on a hinge are quasi-static coordinates that the held set may turn: they stay awake
   for (std::uint32_t id = 0; id < info_.size(); ++id) {
@@ -479,10 +522,16 @@ void SimulationImpl::gatherRows(double* max_penetration) {
     const std::int32_t row_first = first == kRoleHeld ? -1 : first;
     const std::int32_t row_second = second < 0 ? -1 : second;
     pen = std::max(pen, -c.distance);
+    // a body the dynamics move: its contacts with the held set are the dynamics' (impulses on
+    // the held body, spread, reach the hand in step()). Its penalty rows act only behind a
+    // backstop, the held set deeper than backstop_ into it: when the dynamics cannot push it out
+    // of the way (wedged against something fixed), the proxy stops there as at a fixed body
+    // (docs/dynamics.md, "In the Simulation")
+    const double shift = movedByDynamics(env) ? backstop_ : 0.0;
     // a pair farther than the largest delta plus what one step can close (one safe distance
     // per moving side) cannot act next tick: no rows
     const double sides = second >= 0 ? 2.0 : 1.0;
-    if (c.distance > max_travel_ * (1.0 + sides))
+    if (c.distance + shift > max_travel_ * (1.0 + sides))
       continue;
     // the pair's stiffness: the environment body's felt stiffness k_f through the proxy's
     // contact spring k_p = k_f k_c / (k_c - k_f), so that k_c and k_p in series give k_f
@@ -510,7 +559,7 @@ void SimulationImpl::gatherRows(double* max_penetration) {
           const Vec3 x_E = glm::transpose(X_WE.R) * (fc.p_W[i] - X_WE.t);
           row.n_W = X_WE.rotate(table->shadedNormalOnFace(env_shape, fc.env_face, x_E));
         }
-        row.gap = fc.gap[i];
+        row.gap = fc.gap[i] + shift;
         row.stiffness = kp / static_cast<double>(fc.count);
         row.first = row_first;
         row.second = row_second;
@@ -531,7 +580,7 @@ void SimulationImpl::gatherRows(double* max_penetration) {
       ContactRow row;
       row.p_W = 0.5 * (c.point_a + c.point_b);
       row.n_W = shade(row.p_W, n_pair);
-      row.gap = c.distance;
+      row.gap = c.distance + shift;
       row.stiffness = kp;
       row.first = row_first;
       row.second = row_second;
@@ -543,7 +592,7 @@ void SimulationImpl::gatherRows(double* max_penetration) {
       ContactRow row;
       row.p_W = cp.point;
       row.n_W = shade(cp.point, sign * cp.normal);
-      row.gap = -cp.depth;
+      row.gap = -cp.depth + shift;
       row.stiffness = kp / static_cast<double>(m);
       row.first = row_first;
       row.second = row_second;
@@ -610,6 +659,8 @@ void SimulationImpl::attach(std::uint32_t body) {
   const BodyInfo& bi = info_[body];
   attached_ = body;
   world_.setAsleep(body, false);
+  if (dyn_active_)
+    dyn_->setDriven(body, true);  // the proxy step moves it now; the dynamics see it as held
   held_[1] = body;
   held_count_ = 2;
   updateDriven();
@@ -651,6 +702,8 @@ void SimulationImpl::updateDriven() {
     const BodyInfo& bi = info_[id];
     if (!bi.hinge || isHeld(id) || bi.kind == BodyKind::kStatic)
       continue;
+    if (dyn_active_ && bi.kind == BodyKind::kDynamic)
+      continue;  // the dynamics turn it on its hinge joint, with its inertia
     if (driven_count_ == driven_ids_.size())
       break;  // more stay fixed (docs/response.md)
     driven_ids_[driven_count_++] = id;
@@ -659,7 +712,10 @@ void SimulationImpl::updateDriven() {
 }
 
 void SimulationImpl::detach() {
-  if (attached_ != kNone && !info_[attached_].hinge)
+  if (attached_ != kNone && dyn_active_)
+    dyn_->setDriven(attached_, false);
+  if (attached_ != kNone && !info_[attached_].hinge &&
+      !(dyn_active_ && info_[attached_].kind == BodyKind::kDynamic))
     world_.setAsleep(attached_, true);
   mode_ = Mode::kFree;
   attached_ = kNone;
@@ -765,8 +821,8 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   }
   delta_ = options_.response.predictive
                ? std::clamp(v_c_ * options_.response.tick_s,
-                            std::min(max_travel_, options_.response.min_predictive_fraction *
-                                                      held_radius_),
+                            std::min(max_travel_,
+                                     options_.response.min_predictive_fraction * held_radius_),
                             max_travel_)
                : 0.0;
   proxy_params_.delta = delta_;
@@ -836,9 +892,36 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     gatherRows(&pen);
   }
 
+  // the dynamics (only when the plan asks): after this tick's collision step, with the held body
+  // (and an attached dynamic body) following the proxy with infinite mass
+  Vec3 impact_force{0.0}, impact_torque{0.0};
+  if (dyn_active_) {
+    if (attached_ != kNone && info_[attached_].kind == BodyKind::kDynamic)
+      dyn_->setKinematicPose(attached_, world_.pose(attached_));
+    dynamics::HeldInput held;
+    held.mode = dynamics::HeldMode::kKinematic;
+    held.X_WB_target = X_W_probe_;
+    const dynamics::StepReport dr = dyn_->step(options_.response.tick_s, &held);
+    if ((dr.flags & dynamics::kStepAsleep) == 0)
+      out.flags |= kTickDynamics;
+    if ((dr.flags & dynamics::kStepCapacityFull) != 0)
+      out.flags |= kTickCapacityFull;
+    out.dynamics_contact_points = dr.contact_points;
+    const dynamics::HeldFeedback& fb = dyn_->heldFeedback();
+    impact_force = fb.force_W_n;
+    impact_torque = fb.torque_W_nm;
+  }
+
   // the coupling between the device and the proxy, then the one output stage
   const Vec3 h_prx = mode_ == Mode::kCentre ? centre_h_W_ : comW(probe_);
-  const response::Wrench raw = coupling_.step(h_dev, q_dev, h_prx, X_W_probe_.rotation);
+  response::Wrench raw = coupling_.step(h_dev, q_dev, h_prx, X_W_probe_.rotation);
+  if (dyn_active_) {
+    // the spread impulses on the held set, moved from its centre of mass to the handle point
+    const Vec3 c_fb = dyn_->heldFeedback().com_W;
+    impact_torque += glm::cross(c_fb - h_prx, impact_force);
+    raw.force_n += impact_force;
+    raw.torque_nm += impact_torque;
+  }
   response::OutputReport rep;
   const response::Wrench w = output_.apply(raw, input.device_ok && finite_input, &rep);
   if (!input.device_ok || !finite_input)
@@ -850,6 +933,8 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   out.torque_W_nm = w.torque_nm;
   out.contact_force_W_n = pw.force_n;
   out.contact_torque_W_nm = pw.torque_nm;
+  out.impact_force_W_n = impact_force;
+  out.impact_torque_W_nm = impact_torque;
   out.X_W_proxy = X_W_probe_;
   std::uint32_t active = 0;
   for (const ContactRow& r : rows_.rows())
@@ -874,9 +959,24 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   out.attached_body = attached_ == kNone ? -1 : info_[attached_].scene_index;
   out.travel_limited = s.travel_limited;
   out.delta_m = delta_;
-  for (std::size_t i = 0; i < pose_bodies_.size(); ++i)
-    body_poses_[i].X_WB = world_.pose(pose_bodies_[i]);
+  for (std::size_t i = 0; i < pose_bodies_.size(); ++i) {
+    const std::uint32_t id = pose_bodies_[i];
+    body_poses_[i].X_WB =
+        dyn_active_ && info_[id].kind == BodyKind::kDynamic ? dyn_->pose(id) : world_.pose(id);
+  }
   return out;
+}
+
+DynamicsStatus SimulationImpl::dynamicsStatus() const {
+  DynamicsStatus st;
+  if (!dyn_)
+    return st;
+  st.active = dyn_active_;
+  st.ticks = dyn_->counters().ticks;
+  st.ticks_asleep = dyn_->counters().ticks_asleep;
+  st.kinetic_energy_j = dyn_->kineticEnergy();
+  st.potential_energy_j = dyn_->potentialEnergy();
+  return st;
 }
 
 }  // namespace

@@ -59,6 +59,12 @@ struct ResponseOptions {
   double rot_stiffness_nm_per_rad = 0.0;
   /// A proxy step that would leave the proxy deeper than this (scene units) is bisected back.
   double penetration_allowance_m = 0.5e-3;
+  /// With dynamics: the held set's contacts with a dynamic body are the dynamics' (impulses,
+  /// spread, felt through TickOutput::impact_force_W_n); its penalty rows act only once the held
+  /// set is deeper than this fraction of penetration_allowance_m into the body (a body the
+  /// dynamics cannot push away, wedged against something fixed): a backstop. 0: penalty rows
+  /// from the surface, as for a fixed body (and the dynamics' impulses on top).
+  double dynamic_backstop_fraction = 0.5;
   /// Force shading (§5.3): edges whose faces bend by less than this are smoothed; 0: off.
   double crease_angle_deg = 40.0;
   /// Buttons that attach the probe to the body it touches (§6.2) while held down.
@@ -80,6 +86,13 @@ struct SimOptions {
   std::uint32_t max_pairs_per_tick = 0;
   /// Radius (m) of the probe sphere used when the scene marks no probe body.
   double probe_sphere_radius_m = 0.01;
+  /// With dynamics: the window (s) over which each impulse on the held body is spread as a
+  /// force on the hand (DynamicsOptions::impulse_window_s; docs/dynamics.md has what it does to
+  /// the force record). 0: one tick of force J / dt.
+  double dynamics_impulse_window_s = 0.020;
+  /// With dynamics: the whole-scene sleep (DynamicsOptions::sleep_time_s): still this long (s),
+  /// with the held body touching no dynamic body, the dynamics skip their solve. 0: never.
+  double dynamics_sleep_time_s = 0.5;
 };
 
 /// One tick's input, in scene coordinates (after the device-to-scene workspace mapping).
@@ -99,6 +112,7 @@ enum TickFlags : std::uint32_t {
   kTickCapacityFull = 1u << 4,  ///< some fixed capacity was full: work was dropped, visibly
   kTickNonFinite = 1u << 5,     ///< the coupling gave NaN or Inf: zero was sent, the ramp restarted
   kTickBackedOff = 1u << 6,     ///< the proxy's step went too deep and was bisected back
+  kTickDynamics = 1u << 7,      ///< the dynamics stepped this tick (never for a scene without them)
 };
 
 /// One tick's output, in scene coordinates.
@@ -121,6 +135,23 @@ struct TickOutput {
   std::int32_t attached_body = -1;   ///< scene body index, -1: none
   bool travel_limited = false;       ///< the safe distance cut the proxy's step
   double delta_m = 0.0;              ///< this tick's predictive distance delta (scene units)
+  // --- added by the dynamics integration (docs/dynamics.md "In the Simulation") ---
+  /// The dynamics' feedback on the held set this tick: its contact and joint impulses with the
+  /// bodies the dynamics move, spread over DynamicsOptions::impulse_window_s, added to the
+  /// coupling's wrench before the output stage (torque about the handle point). N, N m, world.
+  Vec3 impact_force_W_n{0.0};
+  Vec3 impact_torque_W_nm{0.0};
+  /// Contact points the dynamics took in this tick (0 without dynamics).
+  std::uint32_t dynamics_contact_points = 0;
+};
+
+/// The dynamics stage's state (Simulation::dynamicsStatus), for status and tests.
+struct DynamicsStatus {
+  bool active = false;              ///< the scene's plan has dynamics (a dynamic body exists)
+  std::uint64_t ticks = 0;          ///< ticks the dynamics did work
+  std::uint64_t ticks_asleep = 0;   ///< ticks skipped because the scene was at rest
+  double kinetic_energy_j = 0.0;    ///< of the dynamic bodies (J)
+  double potential_energy_j = 0.0;  ///< in the scene's gravity (J, zero at the origin)
 };
 
 /// The pose of one non-static body (for --record-bodies and the state stream).
@@ -147,6 +178,11 @@ class Simulation {
   virtual void restartRamp() = 0;
 
   virtual const scene::SceneModel& scene() const = 0;
+
+  /// The dynamics stage's counters and energy (all zero for a scene without dynamics). Servo
+  /// thread, or the owner thread between steps. Not pure, so that other implementations (test
+  /// fakes) need not define it: the default reports no dynamics.
+  virtual DynamicsStatus dynamicsStatus() const { return {}; }
 
   /// Sizes the calling thread's scratch for this scene (the narrow phase keeps per-thread
   /// buffers sized to the largest polytope it has seen; growing them allocates). Call once on the

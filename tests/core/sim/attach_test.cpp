@@ -42,6 +42,10 @@ TEST(Attach, GrabARigidBodyCarryItSetItDownAndLetGo) {
   s.bodies.push_back(
       makeBody("floor", Motion::kStatic, at(0, -0.05, 0), {boxShape(Vec3{0.2, 0.05, 0.2})}));
   s.bodies.push_back(makeBody("box", Motion::kDynamic, at(0, 0.01, 0), {boxShape(Vec3{0.01})}));
+  // under gravity: the dynamics move the box once it is let go (it leaves the hand with the
+  // hand's last velocity; without gravity it would drift on from there), so it comes to rest on
+  // the floor where it was set down
+  s.gravity_W = Vec3{0.0, -9.81, 0.0};
   sim::SimOptions o;
   o.response.ramp_s = 0.0;
   Runner run(make(finish(s), o), o);

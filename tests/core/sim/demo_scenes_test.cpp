@@ -77,8 +77,9 @@ double angleZ(const Quat& q) {
   return 2.0 * std::atan2(q.z, q.w);
 }
 
-// gears.glb and its stream: the rod pushes a tooth of gear A round; A and B are on hinges, so
-// they turn (quasi-statically: no dynamics, no inertia) and A drives B through the mesh.
+// gears.glb and its stream: the rod pushes a tooth of gear A round; A and B are dynamic bodies on
+// hinges, so the dynamics turn them (with their inertia, only about their axes) and A drives B
+// through the mesh.
 TEST(GearsScene, TheProbeTurnsOneGearAndItTurnsTheOther) {
   const std::string dir = HAPTICD_SOURCE_DIR;
   auto report = scene::loadSceneFile(dir + "/scenes/gears.glb");
