@@ -426,6 +426,10 @@ Result<bool> Daemon::startNetwork() {
     std::lock_guard<std::mutex> lock(upload_mutex_);
     uploads_.push_back(std::move(up));
   };
+  h.on_scene_update = [](std::uint64_t, const proto::SceneUpdate&, std::string* error) {
+    *error = "scene updates are not applied by this daemon yet (upload the whole scene)";
+    return false;  // refused, not silently acknowledged
+  };
   h.fill_state = [this](proto::State& st) { return fillState(st); };
   h.fill_status = [this](proto::StatusReply& r) { fillStatus(r); };
   auto created = proto::Server::create(cfg, std::move(h));

@@ -77,7 +77,7 @@ int waitFor(pid_t pid, double limit_s) {
   return -1;
 }
 
-struct Run {
+struct CtlRun {
   int code = -1;
   std::string out, err;
 };
@@ -122,13 +122,13 @@ class NetTest : public ::testing::Test {
     ASSERT_GT(port_, 0) << slurp(dir_ / "d.err");
   }
 
-  Run ctl(std::vector<std::string> args, double limit_s = 120.0) {
+  CtlRun ctl(std::vector<std::string> args, double limit_s = 120.0) {
     std::vector<std::string> all{HAPTICCTL_BINARY};
     all.insert(all.end(), args.begin(), args.end());
     all.push_back("--port");
     all.push_back(std::to_string(port_));
     const pid_t p = spawn(all, dir_ / "c.out", dir_ / "c.err");
-    Run r;
+    CtlRun r;
     r.code = waitFor(p, limit_s);
     r.out = slurp(dir_ / "c.out");
     r.err = slurp(dir_ / "c.err");
@@ -146,7 +146,7 @@ class NetTest : public ::testing::Test {
   }
 
   nlohmann::json statusJson() {
-    Run r = ctl({"status", "--json"});
+    CtlRun r = ctl({"status", "--json"});
     EXPECT_EQ(r.code, 0) << r.err;
     auto j = nlohmann::json::parse(r.out, nullptr, false);
     return j.is_discarded() ? nlohmann::json::object() : j;
@@ -195,19 +195,19 @@ TEST_F(NetTest, StatusShowsTheSceneAndPlanAndLoadAcceptsGoodAndRefusesBadScenes)
   EXPECT_NE(j["device"].get<std::string>().find("sim"), std::string::npos) << j.dump();
   EXPECT_TRUE(j["refused"].is_object());
 
-  Run text = ctl({"status"});
+  CtlRun text = ctl({"status"});
   EXPECT_EQ(text.code, 0) << text.err;
   EXPECT_NE(text.out.find("scene peg_in_hole.glb"), std::string::npos) << text.out;
   EXPECT_NE(text.out.find("plan:"), std::string::npos);
 
-  Run good = ctl({"load", kSource + "/scenes/gears.glb"});
+  CtlRun good = ctl({"load", kSource + "/scenes/gears.glb"});
   EXPECT_EQ(good.code, 0) << good.err;
   j = statusJson();
   EXPECT_EQ(j["scene"], "gears.glb");
   EXPECT_FALSE(j["plan"].get<std::string>().empty());
 
   std::ofstream(dir_ / "broken.glb") << "glTF this is not a binary glTF";
-  Run bad = ctl({"load", (dir_ / "broken.glb").string()});
+  CtlRun bad = ctl({"load", (dir_ / "broken.glb").string()});
   EXPECT_EQ(bad.code, 1);
   EXPECT_NE(bad.err.find("refused"), std::string::npos) << bad.err;
   EXPECT_NE(bad.err.find("broken.glb"), std::string::npos) << bad.err;  // the loader's text
@@ -224,7 +224,8 @@ TEST_F(NetTest, PoseCommandsMoveTheSimDeviceThenTheStreamStopRampsAndLatchesAFau
   ASSERT_TRUE(first);
   ASSERT_TRUE(c->arm());
   const proto::Vec3 start = first->X_WD.p;
-  const proto::Vec3 target{start[0] + 0.01, start[1] - 0.005, start[2] + 0.005};
+  // +y: away from the peg-in-hole contact the idle hand rests in (its force pushes +y)
+  const proto::Vec3 target{start[0] + 0.01, start[1] + 0.05, start[2] + 0.005};
   const double d0 = dist(start, target);
   // stream the target at ~500 Hz until the device is within 10% of the first distance
   bool reached = false;
@@ -243,7 +244,7 @@ TEST_F(NetTest, PoseCommandsMoveTheSimDeviceThenTheStreamStopRampsAndLatchesAFau
       s = c->receiveState(0);
     }
   }
-  ASSERT_TRUE(reached) << "device at " << st.X_WD.p[0] << " " << st.X_WD.p[1] << " "
+  ASSERT_TRUE(reached) << "start " << start[0] << " " << start[1] << " " << start[2] << " contacts " << st.contact_count << " force " << st.force_n[1] << " device at " << st.X_WD.p[0] << " " << st.X_WD.p[1] << " "
                        << st.X_WD.p[2];
   EXPECT_NE(st.state_flags & proto::kStateStreaming, 0u);
   EXPECT_EQ(st.fault_bits, 0u);
@@ -272,12 +273,12 @@ TEST_F(NetTest, PoseCommandsMoveTheSimDeviceThenTheStreamStopRampsAndLatchesAFau
   EXPECT_GT(statusJson()["commands_dropped"].get<std::uint64_t>(), dropped_before);
 
   // disarm and arm through hapticctl
-  Run d = ctl({"disarm"});
+  CtlRun d = ctl({"disarm"});
   EXPECT_EQ(d.code, 0) << d.err;
   EXPECT_TRUE(until(*c, [](const proto::State& s) {
     return (s.state_flags & proto::kStateArmed) == 0 && s.force_scale == 0.0;
   }));
-  Run a = ctl({"arm"});
+  CtlRun a = ctl({"arm"});
   EXPECT_EQ(a.code, 0) << a.err;
   EXPECT_TRUE(
       until(*c, [](const proto::State& s) { return (s.state_flags & proto::kStateArmed) != 0; }));
@@ -285,21 +286,21 @@ TEST_F(NetTest, PoseCommandsMoveTheSimDeviceThenTheStreamStopRampsAndLatchesAFau
 
 TEST_F(NetTest, HapticctlPoseReplayRecordAndWatch) {
   startDaemon();
-  Run p = ctl({"pose", "0.01", "0.02", "0.03", "--seconds", "1.0"});
+  CtlRun p = ctl({"pose", "0.01", "0.02", "0.03", "--seconds", "1.0"});
   EXPECT_EQ(p.code, 0) << p.err;
   EXPECT_EQ(p.out.rfind("device at ", 0), 0u) << p.out;
 
   std::ofstream(dir_ / "stream.csv") << "t,px,py,pz,qx,qy,qz,qw,buttons\n0,0,0,0,0,0,0,1,0\n"
                                         "0.05,0.001,0,0,0,0,0,1,0\n0.1,0.002,0,0,0,0,0,1,0\n";
-  Run r = ctl({"replay", (dir_ / "stream.csv").string(), "--rate", "200"});
+  CtlRun r = ctl({"replay", (dir_ / "stream.csv").string(), "--rate", "200"});
   EXPECT_EQ(r.code, 0) << r.err;
   EXPECT_NE(r.out.find("replayed"), std::string::npos);
   std::ofstream(dir_ / "bad.csv") << "t,px,py,pz,qx,qy,qz,qw,buttons\n0,0,0,zero,0,0,0,1,0\n";
-  Run rb = ctl({"replay", (dir_ / "bad.csv").string()});
+  CtlRun rb = ctl({"replay", (dir_ / "bad.csv").string()});
   EXPECT_EQ(rb.code, 2);
   EXPECT_NE(rb.err.find("bad.csv:2"), std::string::npos) << rb.err;
 
-  Run rec = ctl({"record", (dir_ / "rec.csv").string(), "--seconds", "0.5"});
+  CtlRun rec = ctl({"record", (dir_ / "rec.csv").string(), "--seconds", "0.5"});
   ASSERT_EQ(rec.code, 0) << rec.err;
   std::ifstream in(dir_ / "rec.csv");
   std::string header;
@@ -320,7 +321,7 @@ TEST_F(NetTest, HapticctlPoseReplayRecordAndWatch) {
   }
   EXPECT_GT(rows, 0u);
 
-  Run w = ctl({"watch", "--count", "3", "--rate", "50"});
+  CtlRun w = ctl({"watch", "--count", "3", "--rate", "50"});
   EXPECT_EQ(w.code, 0) << w.err;
   EXPECT_EQ(std::count(w.out.begin(), w.out.end(), '\n'), 3) << w.out;
   EXPECT_NE(w.out.find("tick p50"), std::string::npos) << w.out;
@@ -329,10 +330,10 @@ TEST_F(NetTest, HapticctlPoseReplayRecordAndWatch) {
 
 TEST_F(NetTest, NoDaemonAnswersIsExitOneWithAClearMessage) {
   port_ = 1;  // a privileged port no daemon of this test serves
-  Run r = ctl({"status", "--timeout-ms", "300"});
+  CtlRun r = ctl({"status", "--timeout-ms", "300"});
   EXPECT_EQ(r.code, 1);
   EXPECT_NE(r.err.find("no daemon at 127.0.0.1:1"), std::string::npos) << r.err;
-  Run l = ctl({"arm", "--timeout-ms", "300"});
+  CtlRun l = ctl({"arm", "--timeout-ms", "300"});
   EXPECT_EQ(l.code, 1);
   EXPECT_NE(l.err.find("no daemon at 127.0.0.1:1"), std::string::npos) << l.err;
 }
@@ -377,7 +378,7 @@ TEST_F(NetTest, TenClientsSubscribedAtOnceAllGetStatesAndTheFigures) {
   }
   ASSERT_FALSE(rtt_us.empty());
   std::sort(rtt_us.begin(), rtt_us.end());
-  auto q = [&](double f) { return rtt_us[static_cast<std::size_t>(f * (rtt_us.size() - 1))]; };
+  auto q = [&](double f) { return rtt_us[static_cast<std::size_t>(f * static_cast<double>(rtt_us.size() - 1))]; };
   std::printf(
       "NetFigures: round trip pose -> state over UDP (10 clients at 1 kHz): n=%zu p50 %.1f us "
       "p99 %.1f us max %.1f us\n",

@@ -62,6 +62,12 @@ Counts runCounted(ServoLoop& loop,
     ServoCommand cmd;
     cmd.sequence = ++seq;
     cmd.pose.X_W_target.translation = geom::Vec3(0.0, 0.01 * std::sin(st.t_s), 0.0);
+    // every other command goes through the CommandGate, as a network client's do; an arm now
+    // and then (the gate's stream-stop fault latches between them on the virtual clock)
+    cmd.gated = seq % 2 == 0;
+    cmd.session_id = 7;
+    if (seq % 1000 == 0)
+      cmd.kind = CommandKind::kArm;
     (void)loop.sendCommand(cmd);
     if (offer_scenes && st.tick > gen * 20'000 && !loop.sceneOfferPending()) {
       loop.offerScene(make_scene(++gen));
