@@ -108,9 +108,8 @@ void streamPose(proto::Client& c,
     (void)c.sendPose(cmd);
     const auto next = Clock::now() + std::chrono::duration_cast<Clock::duration>(period);
     while (Clock::now() < next) {
-      const int ms = static_cast<int>(std::chrono::duration_cast<std::chrono::milliseconds>(
-                                          next - Clock::now())
-                                          .count());
+      const int ms = static_cast<int>(
+          std::chrono::duration_cast<std::chrono::milliseconds>(next - Clock::now()).count());
       if (auto s = c.receiveState(std::max(ms, 0)))
         last = std::move(*s);
       else if (ms <= 0)
@@ -170,14 +169,16 @@ int runStatus(const DaemonTarget& t, const StatusOptions& o, std::ostream& out, 
   }
   char buf[512];
   std::snprintf(buf, sizeof buf,
-                "daemon %s\ndevice %s\nscene %s\nticks %" PRIu64 " (%.1f Hz measured, %.1f Hz "
-                "configured), misses %" PRIu64 "\ntick compute p50 %.1f us, p99 %.1f us, max "
+                "daemon %s\ndevice %s\nscene %s\nticks %" PRIu64
+                " (%.1f Hz measured, %.1f Hz "
+                "configured), misses %" PRIu64
+                "\ntick compute p50 %.1f us, p99 %.1f us, max "
                 "%.1f us\nfaults %s, %s\nsessions %u, subscribers %u (%u states/s)\npackets "
                 "received %" PRIu64 ", sent %" PRIu64 "\ncommands accepted %" PRIu64
                 ", dropped %" PRIu64 "\n",
-                address(t).c_str(), s.device.c_str(), s.scene.c_str(), s.ticks,
-                s.measured_tick_hz, s.tick_rate_hz, s.tick_misses, s.tick_p50_ns / 1e3,
-                s.tick_p99_ns / 1e3, s.tick_max_ns / 1e3, faultText(s.fault_bits).c_str(),
+                address(t).c_str(), s.device.c_str(), s.scene.c_str(), s.ticks, s.measured_tick_hz,
+                s.tick_rate_hz, s.tick_misses, s.tick_p50_ns / 1e3, s.tick_p99_ns / 1e3,
+                s.tick_max_ns / 1e3, faultText(s.fault_bits).c_str(),
                 (s.state_flags & proto::kStateArmed) != 0 ? "armed" : "disarmed", s.sessions,
                 s.subscribers, s.state_rate_hz, s.packets_received, s.packets_sent,
                 s.commands_accepted, s.commands_dropped);
@@ -189,7 +190,8 @@ int runStatus(const DaemonTarget& t, const StatusOptions& o, std::ostream& out, 
     out << " " << name << "=" << n.get<std::uint64_t>();
     any = true;
   }
-  out << (any ? "" : " none") << "\nplan:\n" << s.plan << (s.plan.empty() || s.plan.back() == '\n' ? "" : "\n");
+  out << (any ? "" : " none") << "\nplan:\n"
+      << s.plan << (s.plan.empty() || s.plan.back() == '\n' ? "" : "\n");
   return 0;
 }
 
@@ -204,9 +206,8 @@ int runLoad(const DaemonTarget& t, const std::string& file, std::ostream& out, s
   auto c = connect(t, err);
   if (!c)
     return 1;
-  std::string name = file.substr(file.find_last_of('/') == std::string::npos
-                                     ? 0
-                                     : file.find_last_of('/') + 1);
+  std::string name =
+      file.substr(file.find_last_of('/') == std::string::npos ? 0 : file.find_last_of('/') + 1);
   if (name.size() > proto::kMaxSceneNameBytes)
     name.resize(proto::kMaxSceneNameBytes);
   auto r = c->load(bytes, name);
@@ -287,8 +288,8 @@ int runReplay(const DaemonTarget& t, const ReplayOptions& o, std::ostream& out, 
       continue;
     double v[8];
     unsigned buttons = 0;
-    if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%u", &v[0], &v[1], &v[2],
-                    &v[3], &v[4], &v[5], &v[6], &v[7], &buttons) < 8 ||
+    if (std::sscanf(line.c_str(), "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%u", &v[0], &v[1], &v[2], &v[3],
+                    &v[4], &v[5], &v[6], &v[7], &buttons) < 8 ||
         !finite({v[0], v[1], v[2], v[3], v[4], v[5], v[6], v[7]}) ||
         v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7] < 1e-12 ||
         (!rows.empty() && v[0] < rows.back().t)) {
@@ -320,16 +321,18 @@ int runReplay(const DaemonTarget& t, const ReplayOptions& o, std::ostream& out, 
     for (double ts = rows.front().t; ts <= rows.back().t + 1e-12; ts += period) {
       while (i + 1 < rows.size() && rows[i + 1].t <= ts)
         ++i;
-      std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
-                                                std::chrono::duration<double>(ts - rows.front().t)));
+      std::this_thread::sleep_until(start +
+                                    std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double>(ts - rows.front().t)));
       (void)c->sendPose(rows[i].cmd);
       c->pump();
       ++sent;
     }
   } else {
     for (const Row& r : rows) {
-      std::this_thread::sleep_until(start + std::chrono::duration_cast<Clock::duration>(
-                                                std::chrono::duration<double>(r.t - rows.front().t)));
+      std::this_thread::sleep_until(start +
+                                    std::chrono::duration_cast<Clock::duration>(
+                                        std::chrono::duration<double>(r.t - rows.front().t)));
       (void)c->sendPose(r.cmd);
       c->pump();
       ++sent;
@@ -377,7 +380,8 @@ int runRecord(const DaemonTarget& t, const RecordOptions& o, std::ostream& out, 
       max_pen = std::max(max_pen, ct.depth_m);
     // the stream carries no per-tick pair counts nor compute time: those columns stay empty
     std::fprintf(f,
-                 "%" PRIu64 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
+                 "%" PRIu64
+                 ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
                  "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%u,%.17g,,,\n",
                  s->tick - 1, static_cast<double>(s->sim_time_ns) * 1e-9, d.p[0], d.p[1], d.p[2],
                  d.q[0], d.q[1], d.q[2], d.q[3], p.p[0], p.p[1], p.p[2], p.q[0], p.q[1], p.q[2],
@@ -414,8 +418,8 @@ int runWatch(const DaemonTarget& t, const WatchOptions& o, std::ostream& out, st
     if (!s) {
       silent_ms += 200;
       if (silent_ms >= std::max(t.timeout_ms, 1000)) {
-        err << "hapticctl watch: no state from the daemon at " << address(t) << " for "
-            << silent_ms << " ms\n";
+        err << "hapticctl watch: no state from the daemon at " << address(t) << " for " << silent_ms
+            << " ms\n";
         return 1;
       }
       continue;
@@ -423,12 +427,12 @@ int runWatch(const DaemonTarget& t, const WatchOptions& o, std::ostream& out, st
     silent_ms = 0;
     char buf[320];
     std::snprintf(buf, sizeof buf,
-                  "tick %" PRIu64 " t %.3f s | tick p50 %.1f us p99 %.1f us max %.1f us | force "
+                  "tick %" PRIu64
+                  " t %.3f s | tick p50 %.1f us p99 %.1f us max %.1f us | force "
                   "%.4g N torque %.4g N m scale %.2f | contacts %u | faults %s%s\n",
                   s->tick, static_cast<double>(s->sim_time_ns) * 1e-9, s->tick_p50_ns / 1e3,
-                  s->tick_p99_ns / 1e3, s->tick_max_ns / 1e3, norm(s->force_n),
-                  norm(s->torque_nm), s->force_scale, s->contact_count,
-                  faultText(s->fault_bits).c_str(),
+                  s->tick_p99_ns / 1e3, s->tick_max_ns / 1e3, norm(s->force_n), norm(s->torque_nm),
+                  s->force_scale, s->contact_count, faultText(s->fault_bits).c_str(),
                   (s->state_flags & proto::kStateArmed) != 0 ? " | armed" : " | disarmed");
     out << buf << std::flush;
     ++lines;

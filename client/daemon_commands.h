@@ -31,13 +31,13 @@ struct PoseOptions {
   bool arm = true;       ///< take control (arm) first: the gate takes commands of its controller
 };
 struct ReplayOptions {
-  std::string file;      ///< pose stream CSV (t,px,py,pz,qx,qy,qz,qw,buttons)
-  double rate_hz = 0;    ///< 0: rows at their own times; >0: resampled (held) at this rate
+  std::string file;    ///< pose stream CSV (t,px,py,pz,qx,qy,qz,qw,buttons)
+  double rate_hz = 0;  ///< 0: rows at their own times; >0: resampled (held) at this rate
   bool arm = true;
 };
 struct RecordOptions {
-  std::string file;       ///< output CSV, the daemon's --record columns
-  double seconds = 1.0;   ///< how long to record
+  std::string file;      ///< output CSV, the daemon's --record columns
+  double seconds = 1.0;  ///< how long to record
   std::uint32_t rate_hz = 1000;
 };
 struct WatchOptions {

@@ -5,18 +5,17 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
-#include <cmath>
-#include <cstdlib>
-#include <cstring>
-
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
 #include <filesystem>
 #include <fstream>
-#include <deque>
 #include <future>
 #include <mutex>
 #include <nlohmann/json.hpp>
@@ -67,8 +66,8 @@ class Daemon {
   // The network thread's protocol server (issue 8): created before the servo loop runs.
   Result<bool> startNetwork();
   void stopNetwork();
-  bool onCommand(const proto::CommandEvent& e);  // network thread: the command ring's producer
-  bool fillState(proto::State& out) const;        // network thread
+  bool onCommand(const proto::CommandEvent& e);    // network thread: the command ring's producer
+  bool fillState(proto::State& out) const;         // network thread
   void fillStatus(proto::StatusReply& out) const;  // network thread
   // Main thread: an uploaded scene waiting, and no build running: start building it.
   void startUpload();
@@ -113,7 +112,7 @@ class Daemon {
   std::string info_scene_;
   std::string info_plan_;
   std::mutex upload_mutex_;
-  std::deque<proto::SceneUploadDone> uploads_;  // guarded by upload_mutex_
+  std::deque<proto::SceneUploadDone> uploads_;             // guarded by upload_mutex_
   std::optional<proto::SceneUploadDone> upload_building_;  // main thread: the one being built
 };
 
@@ -200,8 +199,8 @@ void Daemon::finishReload() {
     reload_result_->name = up.name.empty() ? reload_result_->name : up.name;
     install(std::move(*reload_result_));
     reload_result_.reset();
-    last_reload_ = "ok: uploaded scene '" + scene_name_ + "' generation " +
-                   std::to_string(generation_);
+    last_reload_ =
+        "ok: uploaded scene '" + scene_name_ + "' generation " + std::to_string(generation_);
     logInfo("upload: scene '" + scene_name_ + "' (generation " + std::to_string(generation_) +
             ") handed to the servo loop");
     if (server_)
@@ -308,10 +307,9 @@ bool Daemon::onCommand(const proto::CommandEvent& e) {
       break;
     case proto::CommandEvent::Kind::kPose:
       c.kind = CommandKind::kPose;
-      c.pose.X_W_target =
-          geom::Pose::fromXyzw(geom::Vec3(e.pose.X_WT.p[0], e.pose.X_WT.p[1], e.pose.X_WT.p[2]),
-                               e.pose.X_WT.q[0], e.pose.X_WT.q[1], e.pose.X_WT.q[2],
-                               e.pose.X_WT.q[3]);
+      c.pose.X_W_target = geom::Pose::fromXyzw(
+          geom::Vec3(e.pose.X_WT.p[0], e.pose.X_WT.p[1], e.pose.X_WT.p[2]), e.pose.X_WT.q[0],
+          e.pose.X_WT.q[1], e.pose.X_WT.q[2], e.pose.X_WT.q[3]);
       c.pose.linear_velocity = geom::Vec3(e.pose.v_W[0], e.pose.v_W[1], e.pose.v_W[2]);
       c.pose.angular_velocity = geom::Vec3(e.pose.w_W[0], e.pose.w_W[1], e.pose.w_W[2]);
       c.pose.buttons = e.pose.buttons;

@@ -132,8 +132,8 @@ void ServoLoop::applyGate(std::uint64_t now_ns) noexcept {
       (g.mode == proto::GateMode::kStreaming || g.mode == proto::GateMode::kRamping)) {
     device::PoseCommand c;
     const geom::Pose X_W = geom::Pose::fromXyzw(
-        geom::Vec3(g.target.X_WT.p[0], g.target.X_WT.p[1], g.target.X_WT.p[2]),
-        g.target.X_WT.q[0], g.target.X_WT.q[1], g.target.X_WT.q[2], g.target.X_WT.q[3]);
+        geom::Vec3(g.target.X_WT.p[0], g.target.X_WT.p[1], g.target.X_WT.p[2]), g.target.X_WT.q[0],
+        g.target.X_WT.q[1], g.target.X_WT.q[2], g.target.X_WT.q[3]);
     c.X_W_target = options_.workspace.toDevice(X_W);
     c.linear_velocity = options_.workspace.velocityToDevice(
         geom::Vec3(g.target.v_W[0], g.target.v_W[1], g.target.v_W[2]));
@@ -168,8 +168,8 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   const std::int64_t t0 = realNowNs();
   const double t_s = static_cast<double>(period_index) * period_s_;
 
-  const std::uint64_t now_ns = static_cast<std::uint64_t>(period_index) *
-                               static_cast<std::uint64_t>(period_ns_);
+  const std::uint64_t now_ns =
+      static_cast<std::uint64_t>(period_index) * static_cast<std::uint64_t>(period_ns_);
   drainCommands(now_ns);
   applyGate(now_ns);
   if (stop_requested_.load(std::memory_order_acquire) && !s_.stopping)

@@ -83,9 +83,9 @@ struct ServoCommand {
 
 /// Latched faults (ServoState::faults); cleared by kArm.
 enum FaultBits : std::uint32_t {
-  kFaultMisses = 1u << 0,     ///< miss_fault_count consecutive ticks overran their period
-  kFaultNonFinite = 1u << 1,  ///< the simulation produced a non-finite force or torque
-  kFaultStreamLost = 1u << 2, ///< a client's pose stream stopped (CommandGate, 200 ms)
+  kFaultMisses = 1u << 0,      ///< miss_fault_count consecutive ticks overran their period
+  kFaultNonFinite = 1u << 1,   ///< the simulation produced a non-finite force or torque
+  kFaultStreamLost = 1u << 2,  ///< a client's pose stream stopped (CommandGate, 200 ms)
 };
 
 /// The state block, published once per tick through the seqlock. Scene frame, SI units.
@@ -116,8 +116,8 @@ struct ServoState {
   double peak_force_n = 0.0;        ///< largest |force| written so far
   double peak_penetration_m = 0.0;  ///< largest max_penetration so far
   std::uint64_t contact_ticks = 0;  ///< ticks with at least one contact
-  std::uint8_t gate_mode = 0;         ///< proto::GateMode of the CommandGate
-  double gate_scale = 1.0;            ///< the gate's force scale applied this tick (1 when unused)
+  std::uint8_t gate_mode = 0;       ///< proto::GateMode of the CommandGate
+  double gate_scale = 1.0;          ///< the gate's force scale applied this tick (1 when unused)
   std::uint64_t commands_accepted = 0;  ///< gated pose commands accepted (newest)
   std::uint64_t commands_dropped = 0;   ///< gated pose commands dropped (older, duplicate, ...)
   bool device_connected = false;

@@ -210,9 +210,9 @@ TEST_F(NetTest, StatusShowsTheSceneAndPlanAndLoadAcceptsGoodAndRefusesBadScenes)
   CtlRun bad = ctl({"load", (dir_ / "broken.glb").string()});
   EXPECT_EQ(bad.code, 1);
   EXPECT_NE(bad.err.find("refused"), std::string::npos) << bad.err;
-  EXPECT_NE(bad.err.find("broken.glb"), std::string::npos) << bad.err;  // the loader's text
+  EXPECT_NE(bad.err.find("broken.glb"), std::string::npos) << bad.err;       // the loader's text
   EXPECT_EQ(bad.err.find("hapticd-upload-"), std::string::npos) << bad.err;  // not the temp file
-  EXPECT_EQ(statusJson()["scene"], "gears.glb");  // the old scene stays
+  EXPECT_EQ(statusJson()["scene"], "gears.glb");                             // the old scene stays
 }
 
 TEST_F(NetTest, PoseCommandsMoveTheSimDeviceThenTheStreamStopRampsAndLatchesAFault) {
@@ -244,8 +244,9 @@ TEST_F(NetTest, PoseCommandsMoveTheSimDeviceThenTheStreamStopRampsAndLatchesAFau
       s = c->receiveState(0);
     }
   }
-  ASSERT_TRUE(reached) << "start " << start[0] << " " << start[1] << " " << start[2] << " contacts " << st.contact_count << " force " << st.force_n[1] << " device at " << st.X_WD.p[0] << " " << st.X_WD.p[1] << " "
-                       << st.X_WD.p[2];
+  ASSERT_TRUE(reached) << "start " << start[0] << " " << start[1] << " " << start[2] << " contacts "
+                       << st.contact_count << " force " << st.force_n[1] << " device at "
+                       << st.X_WD.p[0] << " " << st.X_WD.p[1] << " " << st.X_WD.p[2];
   EXPECT_NE(st.state_flags & proto::kStateStreaming, 0u);
   EXPECT_EQ(st.fault_bits, 0u);
   EXPECT_LE(st.last_command_sequence, last_seq);
@@ -372,26 +373,27 @@ TEST_F(NetTest, TenClientsSubscribedAtOnceAllGetStatesAndTheFigures) {
     const auto t0 = SteadyClock::now();
     auto seq = c0.sendPose(poseAt({0.0, 0.0, 0.0}));
     ASSERT_TRUE(seq);
-    if (until(c0, [&](const proto::State& s) { return s.last_command_sequence >= seq.value(); },
-              5.0))
+    if (until(
+            c0, [&](const proto::State& s) { return s.last_command_sequence >= seq.value(); }, 5.0))
       rtt_us.push_back(std::chrono::duration<double, std::micro>(SteadyClock::now() - t0).count());
   }
   ASSERT_FALSE(rtt_us.empty());
   std::sort(rtt_us.begin(), rtt_us.end());
-  auto q = [&](double f) { return rtt_us[static_cast<std::size_t>(f * static_cast<double>(rtt_us.size() - 1))]; };
+  auto q = [&](double f) {
+    return rtt_us[static_cast<std::size_t>(f * static_cast<double>(rtt_us.size() - 1))];
+  };
   std::printf(
       "NetFigures: round trip pose -> state over UDP (10 clients at 1 kHz): n=%zu p50 %.1f us "
       "p99 %.1f us max %.1f us\n",
       rtt_us.size(), q(0.5), q(0.99), rtt_us.back());
-  std::printf("NetFigures: daemon tick compute before clients p50 %.1f us p99 %.1f us; "
-              "with ten 1 kHz subscribers (cumulative histogram) p50 %.1f us p99 %.1f us max "
-              "%.1f us; misses %llu\n",
-              before["tick_ns"]["p50"].get<double>() / 1e3,
-              before["tick_ns"]["p99"].get<double>() / 1e3,
-              with10["tick_ns"]["p50"].get<double>() / 1e3,
-              with10["tick_ns"]["p99"].get<double>() / 1e3,
-              with10["tick_ns"]["max"].get<double>() / 1e3,
-              static_cast<unsigned long long>(with10["tick_misses"].get<std::uint64_t>()));
+  std::printf(
+      "NetFigures: daemon tick compute before clients p50 %.1f us p99 %.1f us; "
+      "with ten 1 kHz subscribers (cumulative histogram) p50 %.1f us p99 %.1f us max "
+      "%.1f us; misses %llu\n",
+      before["tick_ns"]["p50"].get<double>() / 1e3, before["tick_ns"]["p99"].get<double>() / 1e3,
+      with10["tick_ns"]["p50"].get<double>() / 1e3, with10["tick_ns"]["p99"].get<double>() / 1e3,
+      with10["tick_ns"]["max"].get<double>() / 1e3,
+      static_cast<unsigned long long>(with10["tick_misses"].get<std::uint64_t>()));
   EXPECT_EQ(rtt_us.size(), 300u);  // every command's echo came back
 }
 
