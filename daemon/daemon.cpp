@@ -107,6 +107,7 @@ class Daemon {
   Thread net_thread_;
   std::atomic<bool> net_stop_{false};
   SteadyClock::time_point started_at_ = SteadyClock::now();
+  double servo_rate_hz_ = 1000.0;  // [servo] rate_hz (restart-only), set before the network runs
   mutable std::mutex info_mutex_;  // guards the three strings below (network thread reads them)
   std::string info_device_;
   std::string info_scene_;
@@ -381,8 +382,8 @@ void Daemon::fillStatus(proto::StatusReply& r) const {
           .count());
   r.ticks = st.tick;
   r.tick_misses = st.overruns;
-  r.tick_rate_hz = config_.servo.rate_hz;
-  const double loop_s = st.t_s + 1.0 / config_.servo.rate_hz;
+  r.tick_rate_hz = servo_rate_hz_;
+  const double loop_s = st.t_s + 1.0 / servo_rate_hz_;
   r.measured_tick_hz = st.tick > 0 && loop_s > 0.0 ? static_cast<double>(st.tick) / loop_s : 0.0;
   const auto& cmp = loop_->compute();
   r.tick_p50_ns = clampU32(cmp.quantileNs(0.5));
@@ -401,6 +402,7 @@ void Daemon::fillStatus(proto::StatusReply& r) const {
 Result<bool> Daemon::startNetwork() {
   proto::ServerConfig cfg;
   cfg.bind_address = config_.network.udp;
+  servo_rate_hz_ = config_.servo.rate_hz;
   cfg.tick_rate_hz = static_cast<std::uint32_t>(std::lround(config_.servo.rate_hz));
   cfg.rate_limit.packets_per_s = config_.network.rate_limit_packets_per_s;
   cfg.rate_limit.burst = config_.network.rate_limit_burst;

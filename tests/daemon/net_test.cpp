@@ -2,7 +2,7 @@
 // hapticctl binary and by the protocol Client: status, load (accepted, refused with the loader's
 // first error while the old scene stays), pose commands moving the sim device, arm/disarm, the
 // stream-stop ramp and latched fault through the daemon, record, watch, ten clients at once, and
-// "no daemon" answers. Waits are bounded by generous limits (a hang fails); no wall-clock
+// "no daemon" answers, and a pre-shared key (only keyed clients served). Waits are bounded by generous limits (a hang fails); no wall-clock
 // duration is asserted. The round trip and tick figures are printed (NetFigures), not asserted.
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -24,6 +24,7 @@
 #include <thread>
 #include <vector>
 
+#include "protocol/auth.h"
 #include "protocol/client.h"
 
 namespace {
@@ -102,9 +103,11 @@ class NetTest : public ::testing::Test {
 
   // Starts hapticd (real clock, realtime off, sim device) on a free loopback port and waits for
   // its status file to name the port.
-  void startDaemon(const std::string& scene = kSource + "/scenes/peg_in_hole.glb") {
+  void startDaemon(const std::string& scene = kSource + "/scenes/peg_in_hole.glb",
+                   const std::string& network = "") {
     std::ofstream(dir_ / "hapticd.toml")
-        << "[servo]\nrealtime = \"off\"\n[scene]\npath = \"" << scene << "\"\n";
+        << "[servo]\nrealtime = \"off\"\n[scene]\npath = \"" << scene << "\"\n[network]\n"
+        << network;
     pid_ = spawn({HAPTICD_BINARY, "--config", (dir_ / "hapticd.toml").string(), "--udp",
                   "127.0.0.1:0", "--status-file", (dir_ / "status.json").string()},
                  dir_ / "d.out", dir_ / "d.err");
@@ -327,6 +330,32 @@ TEST_F(NetTest, HapticctlPoseReplayRecordAndWatch) {
   EXPECT_EQ(std::count(w.out.begin(), w.out.end(), '\n'), 3) << w.out;
   EXPECT_NE(w.out.find("tick p50"), std::string::npos) << w.out;
   EXPECT_NE(w.out.find("faults"), std::string::npos);
+}
+
+TEST_F(NetTest, WithAKeyFileOnlyClientsWithTheKeyAreServed) {
+  const std::string key = proto::keyToHex(proto::randomKey());
+  std::ofstream(dir_ / "key") << key << "\n";
+  std::ofstream(dir_ / "wrong") << proto::keyToHex(proto::randomKey()) << "\n";
+  startDaemon(kSource + "/scenes/peg_in_hole.glb",
+              "key_file = \"" + (dir_ / "key").string() + "\"\n");
+  CtlRun keyed =
+      ctl({"load", kSource + "/scenes/gears.glb", "--key-file", (dir_ / "key").string()});
+  EXPECT_EQ(keyed.code, 0) << keyed.err;
+  CtlRun st = ctl({"status", "--json", "--key-file", (dir_ / "key").string()});
+  ASSERT_EQ(st.code, 0) << st.err;
+  EXPECT_EQ(nlohmann::json::parse(st.out)["scene"], "gears.glb");
+  CtlRun unkeyed = ctl({"load", kSource + "/scenes/dynamic.glb", "--timeout-ms", "500"});
+  EXPECT_EQ(unkeyed.code, 1);
+  CtlRun wrong = ctl({"arm", "--key-file", (dir_ / "wrong").string(), "--timeout-ms", "500"});
+  EXPECT_EQ(wrong.code, 1);
+  st = ctl({"status", "--json", "--key-file", (dir_ / "key").string()});
+  ASSERT_EQ(st.code, 0) << st.err;
+  const auto j = nlohmann::json::parse(st.out);
+  EXPECT_EQ(j["scene"], "gears.glb");  // the unkeyed upload changed nothing
+  std::uint64_t refused = 0;
+  for (auto& [name, n] : j["refused"].items())
+    refused += n.get<std::uint64_t>();
+  EXPECT_GT(refused, 0u) << j.dump();
 }
 
 TEST_F(NetTest, NoDaemonAnswersIsExitOneWithAClearMessage) {
