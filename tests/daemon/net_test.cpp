@@ -3,7 +3,8 @@
 // first error while the old scene stays), pose commands moving the sim device, arm/disarm, the
 // stream-stop ramp and latched fault through the daemon, record, watch, ten clients at once, a
 // pre-shared key (only keyed clients served) and "no daemon" answers. Waits are bounded by
-// generous limits (a hang fails); no wall-clock duration is asserted. The round trip and tick figures are printed (NetFigures), not asserted.
+// generous limits (a hang fails); no wall-clock duration is asserted. The round trip and tick
+// figures are printed (NetFigures), not asserted.
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
