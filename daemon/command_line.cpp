@@ -186,7 +186,11 @@ std::string toToml(const Config& c) {
      << "\nmax_hull_vertices = " << s.max_hull_vertices
      << "\ntessellation_tolerance = " << s.tessellation_tolerance
      << "\nallowed_uri_dir = " << q(s.allowed_uri_dir) << "\n";
-  os << "\n[network]\nudp = " << q(c.network.udp) << "\n";
+  os << "\n[network]\nudp = " << q(c.network.udp) << "\nkey_file = " << q(c.network.key_file)
+     << "\nrate_limit_packets_per_s = " << c.network.rate_limit_packets_per_s
+     << "\nrate_limit_burst = " << c.network.rate_limit_burst
+     << "\nmax_datagram_bytes = " << c.network.max_datagram_bytes
+     << "\nmax_state_rate_hz = " << c.network.max_state_rate_hz << "\n";
   os << "\n[log]\nlevel = " << q(toString(c.log.level))
      << "\nstatus_interval_s = " << c.log.status_interval_s << "\n";
   return os.str();

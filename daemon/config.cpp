@@ -208,9 +208,8 @@ std::optional<std::string> checkUdp(const std::string& s) {
     return "must be \"ADDRESS:PORT\" (got \"" + s + "\")";
   const std::string port = s.substr(colon + 1);
   if (port.empty() || port.size() > 5 ||
-      port.find_first_not_of("0123456789") != std::string::npos || std::stoi(port) < 1 ||
-      std::stoi(port) > 65535)
-    return "port must be 1..65535 (got \"" + port + "\")";
+      port.find_first_not_of("0123456789") != std::string::npos || std::stoi(port) > 65535)
+    return "port must be 0..65535, 0 for any free port (got \"" + port + "\")";
   return std::nullopt;
 }
 
@@ -331,6 +330,11 @@ void readAll(const toml::table& root,
   {
     Section s(sectionOf(root, "network", name, errors), "network", name, errors, keys, all_keys);
     s.string("udp", c.network.udp, &checkUdp);
+    s.string("key_file", c.network.key_file);
+    s.number("rate_limit_packets_per_s", c.network.rate_limit_packets_per_s, 0.0, 1e9);
+    s.number("rate_limit_burst", c.network.rate_limit_burst, 1.0, 1e9);
+    s.integer("max_datagram_bytes", c.network.max_datagram_bytes, 512, 65507);
+    s.number("max_state_rate_hz", c.network.max_state_rate_hz, 1.0, 1000.0, " Hz");
   }
   {
     Section s(sectionOf(root, "log", name, errors), "log", name, errors, keys, all_keys);

@@ -121,7 +121,12 @@ struct SceneConfig {
 
 /// [network]
 struct NetworkConfig {
-  std::string udp = "127.0.0.1:47100";
+  std::string udp = "127.0.0.1:47100";        ///< the protocol server's address
+  std::string key_file;                       ///< 64 hex digits; empty: no pre-shared key
+  double rate_limit_packets_per_s = 20000.0;  ///< per peer, sustained; 0: unlimited
+  double rate_limit_burst = 2000.0;           ///< per peer, datagrams
+  std::int64_t max_datagram_bytes = 16384;    ///< larger datagrams are refused (512..65507)
+  double max_state_rate_hz = 1000.0;          ///< subscribe rates are clamped to this
   bool operator==(const NetworkConfig&) const = default;
 };
 

@@ -2,14 +2,22 @@
 
 #include <pthread.h>
 #include <signal.h>
+#include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
+#include <cerrno>
 #include <chrono>
 #include <cinttypes>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <deque>
 #include <filesystem>
 #include <fstream>
 #include <future>
+#include <mutex>
 #include <nlohmann/json.hpp>
 #include <optional>
 #include <thread>
@@ -19,6 +27,7 @@
 #include "daemon/notify.h"
 #include "daemon/record_writer.h"
 #include "daemon/servo_loop.h"
+#include "protocol/server.h"
 
 namespace hapticd::daemon {
 namespace {
@@ -40,6 +49,9 @@ struct ServoSetup {
 class Daemon {
  public:
   Daemon(const CommandLine& cli, const Backends& backends) : cli_(cli), backends_(backends) {}
+  ~Daemon() { stopNetwork(); }
+  Daemon(const Daemon&) = delete;
+  Daemon& operator=(const Daemon&) = delete;
   int run();
 
  private:
@@ -48,8 +60,17 @@ class Daemon {
   struct Built {
     std::unique_ptr<ServoScene> scene;
     std::string name;
+    std::string plan;  // scene::describePlan of its plan
     std::vector<std::string> body_names;
   };
+  // The network thread's protocol server (issue 8): created before the servo loop runs.
+  Result<bool> startNetwork();
+  void stopNetwork();
+  bool onCommand(const proto::CommandEvent& e);    // network thread: the command ring's producer
+  bool fillState(proto::State& out) const;         // network thread
+  void fillStatus(proto::StatusReply& out) const;  // network thread
+  // Main thread: an uploaded scene waiting, and no build running: start building it.
+  void startUpload();
   Result<Built> buildScene(const Config& config, std::uint64_t generation) const;
   // Main thread: hands a built scene to the servo loop.
   void install(Built built);
@@ -81,6 +102,19 @@ class Daemon {
   std::string reload_error_;
   Config reload_config_;
   std::atomic<int> exit_reason_{-1};
+  // network
+  std::unique_ptr<proto::Server> server_;
+  Thread net_thread_;
+  std::atomic<bool> net_stop_{false};
+  SteadyClock::time_point started_at_ = SteadyClock::now();
+  double servo_rate_hz_ = 1000.0;  // [servo] rate_hz (restart-only), set before the network runs
+  mutable std::mutex info_mutex_;  // guards the three strings below (network thread reads them)
+  std::string info_device_;
+  std::string info_scene_;
+  std::string info_plan_;
+  std::mutex upload_mutex_;
+  std::deque<proto::SceneUploadDone> uploads_;             // guarded by upload_mutex_
+  std::optional<proto::SceneUploadDone> upload_building_;  // main thread: the one being built
 };
 
 Result<Daemon::Built> Daemon::buildScene(const Config& config, std::uint64_t generation) const {
@@ -96,6 +130,7 @@ Result<Daemon::Built> Daemon::buildScene(const Config& config, std::uint64_t gen
   built.scene->sim = std::move(sim.value());
   built.scene->generation = generation;
   built.name = model->name;
+  built.plan = scene::describePlan(model->plan);
   built.body_names.reserve(model->bodies.size());
   for (const auto& b : model->bodies)
     built.body_names.push_back(b.name);
@@ -105,6 +140,11 @@ Result<Daemon::Built> Daemon::buildScene(const Config& config, std::uint64_t gen
 void Daemon::install(Built built) {
   generation_ = built.scene->generation;
   scene_name_ = built.name;
+  {
+    std::lock_guard<std::mutex> lock(info_mutex_);
+    info_scene_ = built.name;
+    info_plan_ = built.plan;
+  }
   if (writer_)
     writer_->setBodyNames(generation_, std::move(built.body_names));
   loop_->offerScene(std::move(built.scene));
@@ -147,6 +187,27 @@ void Daemon::finishReload() {
   if (!reload_thread_.joinable() || !reload_done_.load())
     return;
   reload_thread_.join();
+  if (upload_building_) {
+    const proto::SceneUploadDone up = std::move(*upload_building_);
+    upload_building_.reset();
+    if (!reload_result_) {
+      logError("upload '" + up.name + "' refused, keeping scene '" + scene_name_ +
+               "': " + reload_error_);
+      if (server_)
+        server_->finishScene(up.ticket, false, reload_error_);
+      return;
+    }
+    reload_result_->name = up.name.empty() ? reload_result_->name : up.name;
+    install(std::move(*reload_result_));
+    reload_result_.reset();
+    last_reload_ =
+        "ok: uploaded scene '" + scene_name_ + "' generation " + std::to_string(generation_);
+    logInfo("upload: scene '" + scene_name_ + "' (generation " + std::to_string(generation_) +
+            ") handed to the servo loop");
+    if (server_)
+      server_->finishScene(up.ticket, true, "");
+    return;
+  }
   if (!reload_result_) {
     last_reload_ = "refused: " + reload_error_;
     logError("reload refused, keeping the running configuration and scene: " + reload_error_);
@@ -168,6 +229,226 @@ void Daemon::finishReload() {
   logInfo("reload: scene '" + scene_name_ + "' (generation " + std::to_string(generation_) +
           ") handed to the servo loop");
   notifyReady("running; reloaded");
+}
+
+void Daemon::startUpload() {
+  if (reload_thread_.joinable())
+    return;  // a build (SIGHUP or upload) runs; this one waits
+  {
+    std::lock_guard<std::mutex> lock(upload_mutex_);
+    if (uploads_.empty())
+      return;
+    upload_building_ = std::move(uploads_.front());
+    uploads_.pop_front();
+  }
+  reload_done_ = false;
+  reload_result_.reset();
+  reload_error_.clear();
+  logInfo("upload: building scene '" + upload_building_->name + "' (" +
+          std::to_string(upload_building_->bytes.size()) + " bytes)");
+  auto started = reload_thread_.start("hapticd-build", 4 << 20, [this] {
+    // the same loader as SIGHUP, on the uploaded bytes: they go to a private file that the
+    // configured loader reads, then the file is removed; the loader's text names the upload
+    const proto::SceneUploadDone& up = *upload_building_;
+    std::error_code ec;
+    std::string tmpl =
+        (std::filesystem::temp_directory_path(ec) / "hapticd-upload-XXXXXX.glb").string();
+    const int fd = mkstemps(tmpl.data(), 4);
+    if (fd < 0) {
+      reload_error_ = "cannot store the upload in " + tmpl + ": " + std::strerror(errno);
+      reload_done_ = true;
+      return;
+    }
+    std::size_t done = 0;
+    while (done < up.bytes.size()) {
+      const ssize_t n = ::write(fd, up.bytes.data() + done, up.bytes.size() - done);
+      if (n <= 0)
+        break;
+      done += static_cast<std::size_t>(n);
+    }
+    ::close(fd);
+    if (done != up.bytes.size()) {
+      reload_error_ = "cannot store the upload in " + tmpl;
+    } else {
+      Config next = config_;
+      next.scene.path = tmpl;
+      auto built = buildScene(next, generation_ + 1);
+      if (built) {
+        reload_result_ = std::move(built.value());
+      } else {
+        std::string text = built.error().message;
+        const std::string label = up.name.empty() ? std::string("upload") : up.name;
+        for (std::size_t at = text.find(tmpl); at != std::string::npos; at = text.find(tmpl))
+          text.replace(at, tmpl.size(), label);
+        reload_error_ = text;
+      }
+    }
+    std::filesystem::remove(tmpl, ec);
+    reload_done_ = true;
+  });
+  if (!started) {
+    logError("upload: " + started.error().message);
+    if (server_)
+      server_->finishScene(upload_building_->ticket, false, started.error().message);
+    upload_building_.reset();
+  }
+}
+
+bool Daemon::onCommand(const proto::CommandEvent& e) {
+  ServoCommand c;
+  c.gated = true;
+  c.session_id = e.session_id;
+  c.sequence = e.sequence;
+  switch (e.kind) {
+    case proto::CommandEvent::Kind::kArm:
+      c.kind = CommandKind::kArm;
+      break;
+    case proto::CommandEvent::Kind::kDisarm:
+      c.kind = CommandKind::kDisarm;
+      break;
+    case proto::CommandEvent::Kind::kPose:
+      c.kind = CommandKind::kPose;
+      c.pose.X_W_target = geom::Pose::fromXyzw(
+          geom::Vec3(e.pose.X_WT.p[0], e.pose.X_WT.p[1], e.pose.X_WT.p[2]), e.pose.X_WT.q[0],
+          e.pose.X_WT.q[1], e.pose.X_WT.q[2], e.pose.X_WT.q[3]);
+      c.pose.linear_velocity = geom::Vec3(e.pose.v_W[0], e.pose.v_W[1], e.pose.v_W[2]);
+      c.pose.angular_velocity = geom::Vec3(e.pose.w_W[0], e.pose.w_W[1], e.pose.w_W[2]);
+      c.pose.buttons = e.pose.buttons;
+      break;
+  }
+  return loop_->sendCommand(c);
+}
+
+namespace {
+proto::WirePose toWire(const geom::Pose& X) {
+  proto::WirePose w;
+  w.p = {X.translation.x, X.translation.y, X.translation.z};
+  w.q = {X.rotation.x, X.rotation.y, X.rotation.z, X.rotation.w};
+  return w;
+}
+std::uint32_t toWireFaults(std::uint32_t f) {
+  std::uint32_t w = 0;
+  if ((f & kFaultStreamLost) != 0)
+    w |= proto::kFaultStreamLost;
+  if ((f & kFaultMisses) != 0)
+    w |= proto::kFaultTickOverrun;
+  if ((f & kFaultNonFinite) != 0)
+    w |= proto::kFaultNotFinite;
+  return w;
+}
+std::uint32_t toWireFlags(const ServoState& st) {
+  std::uint32_t w = st.armed ? proto::kStateArmed : 0u;
+  const auto mode = static_cast<proto::GateMode>(st.gate_mode);
+  if (mode == proto::GateMode::kStreaming)
+    w |= proto::kStateStreaming;
+  if (mode == proto::GateMode::kRamping)
+    w |= proto::kStateRamping;
+  return w;
+}
+std::uint32_t clampU32(std::int64_t ns) {
+  return static_cast<std::uint32_t>(std::clamp<std::int64_t>(ns, 0, 0xffffffffLL));
+}
+}  // namespace
+
+bool Daemon::fillState(proto::State& out) const {
+  const ServoState st = loop_->state();
+  if (st.tick == 0)
+    return false;
+  out.tick = st.tick;
+  out.sim_time_ns = static_cast<std::uint64_t>(std::llround(st.t_s * 1e9));
+  out.X_WD = toWire(st.X_W_device);
+  out.X_WP = toWire(st.X_W_proxy);
+  out.force_n = {st.force_W_n.x, st.force_W_n.y, st.force_W_n.z};
+  out.torque_nm = {st.torque_W_nm.x, st.torque_W_nm.y, st.torque_W_nm.z};
+  out.force_scale = std::clamp(st.output_gain * st.gate_scale, 0.0, 1.0);
+  out.last_command_sequence = st.last_command_sequence;
+  out.tick_misses = st.overruns;
+  const auto& cmp = loop_->compute();
+  out.tick_p50_ns = clampU32(cmp.quantileNs(0.5));
+  out.tick_p99_ns = clampU32(cmp.quantileNs(0.99));
+  out.tick_max_ns = clampU32(cmp.maxNs());
+  out.fault_bits = toWireFaults(st.faults);
+  out.state_flags = toWireFlags(st);
+  out.contact_count = st.contacts;
+  out.contacts.clear();
+  out.bodies.clear();
+  return true;
+}
+
+void Daemon::fillStatus(proto::StatusReply& r) const {
+  const ServoState st = loop_->state();
+  r.uptime_ns = static_cast<std::uint64_t>(
+      std::chrono::duration_cast<std::chrono::nanoseconds>(SteadyClock::now() - started_at_)
+          .count());
+  r.ticks = st.tick;
+  r.tick_misses = st.overruns;
+  r.tick_rate_hz = servo_rate_hz_;
+  const double loop_s = st.t_s + 1.0 / servo_rate_hz_;
+  r.measured_tick_hz = st.tick > 0 && loop_s > 0.0 ? static_cast<double>(st.tick) / loop_s : 0.0;
+  const auto& cmp = loop_->compute();
+  r.tick_p50_ns = clampU32(cmp.quantileNs(0.5));
+  r.tick_p99_ns = clampU32(cmp.quantileNs(0.99));
+  r.tick_max_ns = clampU32(cmp.maxNs());
+  r.fault_bits = toWireFaults(st.faults);
+  r.state_flags = toWireFlags(st);
+  r.commands_accepted = st.commands_accepted;
+  r.commands_dropped = st.commands_dropped;
+  std::lock_guard<std::mutex> lock(info_mutex_);
+  r.device = info_device_.substr(0, proto::kMaxDeviceBytes);
+  r.scene = info_scene_.substr(0, proto::kMaxSceneNameBytes);
+  r.plan = info_plan_.substr(0, proto::kMaxPlanBytes);
+}
+
+Result<bool> Daemon::startNetwork() {
+  proto::ServerConfig cfg;
+  cfg.bind_address = config_.network.udp;
+  servo_rate_hz_ = config_.servo.rate_hz;
+  cfg.tick_rate_hz = static_cast<std::uint32_t>(std::lround(config_.servo.rate_hz));
+  cfg.rate_limit.packets_per_s = config_.network.rate_limit_packets_per_s;
+  cfg.rate_limit.burst = config_.network.rate_limit_burst;
+  cfg.max_datagram_bytes = static_cast<std::size_t>(config_.network.max_datagram_bytes);
+  cfg.max_state_rate_hz =
+      static_cast<std::uint32_t>(std::lround(config_.network.max_state_rate_hz));
+  if (!config_.network.key_file.empty()) {
+    std::ifstream in(config_.network.key_file);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in && !in.eof())
+      return Error{"[network] key_file: cannot read '" + config_.network.key_file + "'"};
+    std::string why;
+    auto key = proto::parseKeyHex(text, &why);
+    if (!key)
+      return Error{"[network] key_file '" + config_.network.key_file + "': " + why};
+    cfg.key = *key;
+  }
+  proto::ServerHandlers h;
+  h.on_command = [this](const proto::CommandEvent& e) { return onCommand(e); };
+  h.on_scene = [this](proto::SceneUploadDone&& up) {
+    std::lock_guard<std::mutex> lock(upload_mutex_);
+    uploads_.push_back(std::move(up));
+  };
+  h.on_scene_update = [](std::uint64_t, const proto::SceneUpdate&, std::string* error) {
+    *error = "scene updates are not applied by this daemon yet (upload the whole scene)";
+    return false;  // refused, not silently acknowledged
+  };
+  h.fill_state = [this](proto::State& st) { return fillState(st); };
+  h.fill_status = [this](proto::StatusReply& r) { fillStatus(r); };
+  auto created = proto::Server::create(cfg, std::move(h));
+  if (!created)
+    return Error{"[network] udp " + config_.network.udp + ": " + created.error().message};
+  server_ = std::move(created.value());
+  logInfo("network: protocol on udp " + server_->localAddress().toString() +
+          (cfg.key ? ", pre-shared key" : ", no key"));
+  auto started = net_thread_.start("hapticd-net", 1 << 20, [this] { server_->run(net_stop_); });
+  if (!started) {
+    server_.reset();
+    return started.error();
+  }
+  return true;
+}
+
+void Daemon::stopNetwork() {
+  net_stop_ = true;
+  net_thread_.join();
 }
 
 void Daemon::drainEvents() {
@@ -231,6 +512,15 @@ void Daemon::writeStatus(const char* phase) {
                    {"pinned", setup_.report.pinned},
                    {"servo_scheduling", setup_.scheduling}};
   j["last_reload"] = last_reload_;
+  if (server_) {
+    const auto& c = server_->counters();
+    j["network"] = {{"udp", server_->localAddress().toString()},
+                    {"sessions", c.sessions.load()},
+                    {"received", c.received.load()},
+                    {"states_sent", c.states_sent.load()},
+                    {"commands_forwarded", c.commands_forwarded.load()},
+                    {"commands_queue_full", c.commands_queue_full.load()}};
+  }
   j["pid"] = static_cast<long>(getpid());
   const std::string tmp = cli_.status_file + ".tmp";
   {
@@ -330,6 +620,10 @@ int Daemon::run() {
   }
   device_ = std::move(device.value());
   logInfo("device: " + device_->info().name);
+  {
+    std::lock_guard<std::mutex> lock(info_mutex_);
+    info_device_ = device_->info().name;
+  }
 
   // 5. clock and servo loop (rings allocated here, before the loop starts)
   if (virtual_clock)
@@ -361,6 +655,13 @@ int Daemon::run() {
   }
   install(std::move(scene.value()));
   logInfo("scene: '" + scene_name_ + "'");
+
+  // 7b. the network thread (an ordinary thread): the protocol server; commands go to the servo
+  // through the loop's command ring, whose only producer it is
+  if (auto net = startNetwork(); !net) {
+    logError(net.error().message);
+    return kExitFailure;
+  }
 
   if (writer_) {
     if (auto started = writer_->start(); !started) {
@@ -438,6 +739,7 @@ int Daemon::run() {
       startReload();
     }
     finishReload();
+    startUpload();
     drainEvents();
     loop_->reclaimScenes();
     if (secondsSince(last_service) >= config_.device.service_interval_s) {
@@ -467,7 +769,8 @@ int Daemon::run() {
     }
   }
 
-  // 10. reverse teardown: reload builder, servo thread, writer, scenes, device
+  // 10. reverse teardown: network, reload builder, servo thread, writer, scenes, device
+  stopNetwork();
   reload_thread_.join();
   reload_result_.reset();
   servo_thread.join();

@@ -64,11 +64,32 @@ void ServoLoop::emit(ServoEventKind kind, std::int64_t a) noexcept {
     ++s_.log_dropped;
 }
 
-void ServoLoop::drainCommands() noexcept {
+void ServoLoop::drainCommands(std::uint64_t now_ns) noexcept {
   ServoCommand cmd;
   // bounded: at most one ring's worth per tick
   for (std::size_t i = 0; i < commands_.capacity() && commands_.pop(cmd); ++i) {
-    s_.last_command_sequence = cmd.sequence;
+    if (cmd.gated) {
+      gate_used_ = true;
+      if (cmd.kind == CommandKind::kPose) {
+        proto::PoseCommand p;
+        const geom::Pose& X = cmd.pose.X_W_target;
+        p.X_WT.p = {X.translation.x, X.translation.y, X.translation.z};
+        p.X_WT.q = {X.rotation.x, X.rotation.y, X.rotation.z, X.rotation.w};
+        p.v_W = {cmd.pose.linear_velocity.x, cmd.pose.linear_velocity.y,
+                 cmd.pose.linear_velocity.z};
+        p.w_W = {cmd.pose.angular_velocity.x, cmd.pose.angular_velocity.y,
+                 cmd.pose.angular_velocity.z};
+        p.buttons = cmd.pose.buttons;
+        (void)gate_.submit(cmd.session_id, cmd.sequence, p, now_ns);
+        continue;  // the gate hands the newest to the device in applyGate()
+      }
+      if (cmd.kind == CommandKind::kArm)
+        gate_.arm(cmd.session_id, now_ns);
+      else
+        gate_.disarm(now_ns);
+    } else {
+      s_.last_command_sequence = cmd.sequence;
+    }
     switch (cmd.kind) {
       case CommandKind::kPose: {
         device::PoseCommand c = cmd.pose;
@@ -96,6 +117,38 @@ void ServoLoop::drainCommands() noexcept {
   }
 }
 
+void ServoLoop::applyGate(std::uint64_t now_ns) noexcept {
+  if (!gate_used_) {
+    s_.gate_scale = 1.0;
+    return;
+  }
+  const proto::GateOutput g = gate_.update(now_ns);
+  s_.gate_mode = static_cast<std::uint8_t>(g.mode);
+  s_.commands_accepted = gate_.accepted();
+  s_.commands_dropped = gate_.droppedTotal();
+  if (g.last_sequence != 0)
+    s_.last_command_sequence = g.last_sequence;
+  if (g.has_target &&
+      (g.mode == proto::GateMode::kStreaming || g.mode == proto::GateMode::kRamping)) {
+    device::PoseCommand c;
+    const geom::Pose X_W = geom::Pose::fromXyzw(
+        geom::Vec3(g.target.X_WT.p[0], g.target.X_WT.p[1], g.target.X_WT.p[2]), g.target.X_WT.q[0],
+        g.target.X_WT.q[1], g.target.X_WT.q[2], g.target.X_WT.q[3]);
+    c.X_W_target = options_.workspace.toDevice(X_W);
+    c.linear_velocity = options_.workspace.velocityToDevice(
+        geom::Vec3(g.target.v_W[0], g.target.v_W[1], g.target.v_W[2]));
+    c.angular_velocity = options_.workspace.angularToDevice(
+        geom::Vec3(g.target.w_W[0], g.target.w_W[1], g.target.w_W[2]));
+    c.buttons = g.target.buttons;
+    device_.command(c);
+  }
+  // a disarmed gate (never armed by a client, or disarmed) leaves the servo's own arm state in
+  // charge; an armed gate scales the force by its ramp
+  s_.gate_scale = g.mode == proto::GateMode::kDisarmed ? 1.0 : g.force_scale;
+  if ((g.fault_bits & proto::kFaultStreamLost) != 0)
+    s_.faults |= kFaultStreamLost;
+}
+
 void ServoLoop::guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept {
   // the one place every force bound for the device is checked finite, clamped and rate-limited
   if (!finite(force_D) || !finite(torque_D)) {
@@ -115,7 +168,10 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   const std::int64_t t0 = realNowNs();
   const double t_s = static_cast<double>(period_index) * period_s_;
 
-  drainCommands();
+  const std::uint64_t now_ns =
+      static_cast<std::uint64_t>(period_index) * static_cast<std::uint64_t>(period_ns_);
+  drainCommands(now_ns);
+  applyGate(now_ns);
   if (stop_requested_.load(std::memory_order_acquire) && !s_.stopping)
     s_.stopping = true;
   if (scenes_.take(current_)) {
@@ -170,8 +226,9 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
 
   geom::Vec3 force_D(0.0), torque_D(0.0);
   if (connected) {
-    force_D = options_.workspace.forceToDevice(out.force_W_n * s_.output_gain);
-    torque_D = options_.workspace.torqueToDevice(out.torque_W_nm * s_.output_gain);
+    const double gain = s_.output_gain * s_.gate_scale;
+    force_D = options_.workspace.forceToDevice(out.force_W_n * gain);
+    torque_D = options_.workspace.torqueToDevice(out.torque_W_nm * gain);
     guardOutput(force_D, torque_D);
     if (device_.write(force_D, torque_D) != device::DeviceStatus::kOk) {
       // counted as lost at the next read; force state goes to zero at once

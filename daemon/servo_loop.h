@@ -30,6 +30,7 @@
 #include "daemon/handoff/spsc_ring.h"
 #include "daemon/histogram.h"
 #include "daemon/workspace.h"
+#include "protocol/command_gate.h"
 
 namespace hapticd::daemon {
 
@@ -74,12 +75,17 @@ struct ServoCommand {
   CommandKind kind = CommandKind::kPose;
   std::uint64_t sequence = 0;  ///< echoed in ServoState::last_command_sequence
   device::PoseCommand pose;    ///< kPose: target pose and velocities in the scene frame
+  /// true: a network client's command, passed through the protocol's CommandGate (newest wins
+  /// per session, stream-stop hold, ramp and fault); false: applied directly (tests, replay).
+  bool gated = false;
+  std::uint64_t session_id = 0;  ///< gated: the client session (the gate's controller)
 };
 
 /// Latched faults (ServoState::faults); cleared by kArm.
 enum FaultBits : std::uint32_t {
-  kFaultMisses = 1u << 0,     ///< miss_fault_count consecutive ticks overran their period
-  kFaultNonFinite = 1u << 1,  ///< the simulation produced a non-finite force or torque
+  kFaultMisses = 1u << 0,      ///< miss_fault_count consecutive ticks overran their period
+  kFaultNonFinite = 1u << 1,   ///< the simulation produced a non-finite force or torque
+  kFaultStreamLost = 1u << 2,  ///< a client's pose stream stopped (CommandGate, 200 ms)
 };
 
 /// The state block, published once per tick through the seqlock. Scene frame, SI units.
@@ -110,6 +116,10 @@ struct ServoState {
   double peak_force_n = 0.0;        ///< largest |force| written so far
   double peak_penetration_m = 0.0;  ///< largest max_penetration so far
   std::uint64_t contact_ticks = 0;  ///< ticks with at least one contact
+  std::uint8_t gate_mode = 0;       ///< proto::GateMode of the CommandGate
+  double gate_scale = 1.0;          ///< the gate's force scale applied this tick (1 when unused)
+  std::uint64_t commands_accepted = 0;  ///< gated pose commands accepted (newest)
+  std::uint64_t commands_dropped = 0;   ///< gated pose commands dropped (older, duplicate, ...)
   bool device_connected = false;
   bool armed = false;
   bool stopping = false;
@@ -217,7 +227,8 @@ class ServoLoop {
 
  private:
   HAPTICD_SERVO_THREAD void tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept;
-  HAPTICD_SERVO_THREAD void drainCommands() noexcept;
+  HAPTICD_SERVO_THREAD void drainCommands(std::uint64_t now_ns) noexcept;
+  HAPTICD_SERVO_THREAD void applyGate(std::uint64_t now_ns) noexcept;
   HAPTICD_SERVO_THREAD void emit(ServoEventKind kind, std::int64_t a = 0) noexcept;
   HAPTICD_SERVO_THREAD void guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept;
 
@@ -238,6 +249,8 @@ class ServoLoop {
   std::atomic<bool> stop_requested_{false};
 
   // servo-thread state
+  proto::CommandGate gate_;
+  bool gate_used_ = false;  // a gated command arrived (the gate's scale then applies)
   ServoScene* current_ = nullptr;
   ServoState s_;
   geom::Vec3 last_force_D_{0.0};

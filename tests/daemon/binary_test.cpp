@@ -16,6 +16,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstring>
 #include <filesystem>
@@ -70,6 +71,10 @@ class BinaryTest : public ::testing::Test {
     envp.push_back(nullptr);
     std::vector<std::string> all{HAPTICD_BINARY};
     all.insert(all.end(), args.begin(), args.end());
+    if (std::find(args.begin(), args.end(), "--help") == args.end()) {
+      all.push_back("--udp");  // any free port: test runs in parallel do not collide
+      all.push_back("127.0.0.1:0");
+    }
     std::vector<char*> argv;
     for (auto& a : all)
       argv.push_back(a.data());

@@ -213,7 +213,7 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"[response]\nmax_pairs_per_tick = 1.5\n",
                 "[response] max_pairs_per_tick: must be an integer"},
         BadCase{"[network]\nudp = \"127.0.0.1\"\n", "bad.toml:2: [network] udp"},
-        BadCase{"[network]\nudp = \"127.0.0.1:70000\"\n", "port must be 1..65535"},
+        BadCase{"[network]\nudp = \"127.0.0.1:70000\"\n", "port must be 0..65535"},
         BadCase{"[log]\nlevel = \"loud\"\n", "bad.toml:2: [log] level"},
         BadCase{"servo = 3\n", "bad.toml:1: servo: must be a table"},
         BadCase{"[servo\nrate_hz = 1\n", "bad.toml:1:"},

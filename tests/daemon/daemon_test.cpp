@@ -102,6 +102,7 @@ class DaemonTest : public ::testing::Test {
     CommandLine cli;
     cli.realtime = "off";
     cli.status_file = (dir_ / "status.json").string();
+    cli.udp = "127.0.0.1:0";  // the network thread on any free port
     return cli;
   }
 

@@ -14,6 +14,8 @@
 
 #include "daemon/realtime.h"
 #include "daemon/servo_loop.h"
+#include "protocol/client.h"
+#include "protocol/server.h"
 #include "tests/daemon/alloc_counter.h"
 #include "tests/daemon/fakes.h"
 
@@ -62,6 +64,12 @@ Counts runCounted(ServoLoop& loop,
     ServoCommand cmd;
     cmd.sequence = ++seq;
     cmd.pose.X_W_target.translation = geom::Vec3(0.0, 0.01 * std::sin(st.t_s), 0.0);
+    // every other command goes through the CommandGate, as a network client's do; an arm now
+    // and then (the gate's stream-stop fault latches between them on the virtual clock)
+    cmd.gated = seq % 2 == 0;
+    cmd.session_id = 7;
+    if (seq % 1000 == 0)
+      cmd.kind = CommandKind::kArm;
     (void)loop.sendCommand(cmd);
     if (offer_scenes && st.tick > gen * 20'000 && !loop.sceneOfferPending()) {
       loop.offerScene(make_scene(++gen));
@@ -83,6 +91,77 @@ std::unique_ptr<ServoScene> fakeScene(std::uint64_t gen) {
   s->sim = std::make_unique<testing::FakeSimulation>();
   s->generation = gen;
   return s;
+}
+
+// The daemon's wiring: a network thread running proto::Server is the command ring's only
+// producer; a protocol client arms, streams pose commands (gated) and subscribes to state at
+// 1 kHz while the loop runs on the real clock.
+TEST(ServoAllocation, NoneOnTheServoThreadWithTheNetworkThreadFeedingTheGate) {
+  MonotonicClock clock;
+  testing::FakeDevice device;
+  ServoOptions options;
+  options.max_ticks = 3000;
+  ServoLoop loop(options, clock, device, fakeScene(1));
+  proto::ServerConfig cfg;
+  cfg.bind_address = "127.0.0.1:0";
+  proto::ServerHandlers h;
+  h.on_command = [&](const proto::CommandEvent& e) {
+    ServoCommand c;
+    c.gated = true;
+    c.session_id = e.session_id;
+    c.sequence = e.sequence;
+    c.kind = e.kind == proto::CommandEvent::Kind::kArm      ? CommandKind::kArm
+             : e.kind == proto::CommandEvent::Kind::kDisarm ? CommandKind::kDisarm
+                                                            : CommandKind::kPose;
+    c.pose.X_W_target.translation =
+        geom::Vec3(e.pose.X_WT.p[0], e.pose.X_WT.p[1], e.pose.X_WT.p[2]);
+    return loop.sendCommand(c);
+  };
+  h.fill_state = [&](proto::State& st) {
+    const ServoState s = loop.state();
+    st.tick = s.tick;
+    st.last_command_sequence = s.last_command_sequence;
+    return s.tick > 0;
+  };
+  auto server = proto::Server::create(cfg, h);
+  ASSERT_TRUE(server) << server.error().message;
+  std::atomic<bool> stop{false};
+  std::thread net([&] { server.value()->run(stop); });
+
+  proto::ClientConfig cc;
+  cc.server = server.value()->localAddress().toString();
+  auto client = proto::Client::connect(cc);
+  ASSERT_TRUE(client) << client.error().message;
+  ASSERT_TRUE(client.value()->arm());
+  ASSERT_TRUE(client.value()->subscribe(1000));
+
+  std::atomic<bool> done{false};
+  std::uint64_t allocations = ~0ull;
+  Thread servo;
+  ASSERT_TRUE(servo
+                  .start("servo-test", 1 << 20,
+                         [&] {
+                           loop.prepareServoThread();
+                           const std::uint64_t before = testing::threadAllocations();
+                           (void)loop.run();
+                           allocations = testing::threadAllocations() - before;
+                           done = true;
+                         })
+                  .ok());
+  std::uint64_t states = 0;
+  proto::PoseCommand cmd;
+  while (!done.load()) {
+    cmd.X_WT.p[1] = 0.001 * static_cast<double>(states % 10);
+    (void)client.value()->sendPose(cmd);
+    while (client.value()->receiveState(1))
+      ++states;
+  }
+  servo.join();
+  stop = true;
+  net.join();
+  EXPECT_EQ(allocations, 0u);
+  EXPECT_GT(states, 0u);
+  EXPECT_GT(loop.state().commands_accepted, 0u);  // the gate took the network's commands
 }
 
 TEST(ServoAllocation, NoneOnTheServoThreadOver100000TicksWithFakes) {

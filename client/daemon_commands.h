@@ -1,0 +1,60 @@
+#pragma once
+/// \file
+/// hapticctl's commands that talk to a running hapticd over the UDP protocol (protocol/client.h):
+/// status, load, pose, replay, record, watch, arm, disarm (../shared/DESIGN.md "hapticctl").
+/// Each returns the process exit code: 0 done, 1 refused or no daemon answered, 2 bad input
+/// (a file that cannot be read, a bad CSV line). Messages go to `err`, results to `out`.
+/// Thread: the caller's (one Client, one thread).
+
+#include <cstdint>
+#include <iosfwd>
+#include <string>
+
+namespace hapticd::client {
+
+/// How to reach the daemon. Every field has its default.
+struct DaemonTarget {
+  std::string host = "127.0.0.1";
+  std::uint16_t port = 47100;
+  std::string key_file;   ///< 64 hex digits; empty: no key
+  int timeout_ms = 2000;  ///< per request; no answer this long: "no daemon at HOST:PORT"
+};
+
+struct StatusOptions {
+  bool json = false;
+};
+struct PoseOptions {
+  double px = 0, py = 0, pz = 0;
+  double qx = 0, qy = 0, qz = 0, qw = 1;
+  double seconds = 0.5;  ///< the pose is streamed this long (then the daemon's gate ramps)
+  double rate_hz = 200;  ///< stream rate
+  bool arm = true;       ///< take control (arm) first: the gate takes commands of its controller
+};
+struct ReplayOptions {
+  std::string file;    ///< pose stream CSV (t,px,py,pz,qx,qy,qz,qw,buttons)
+  double rate_hz = 0;  ///< 0: rows at their own times; >0: resampled (held) at this rate
+  bool arm = true;
+};
+struct RecordOptions {
+  std::string file;      ///< output CSV, the daemon's --record columns
+  double seconds = 1.0;  ///< how long to record
+  std::uint32_t rate_hz = 1000;
+};
+struct WatchOptions {
+  std::uint32_t rate_hz = 10;
+  std::uint64_t count = 0;  ///< stop after this many lines; 0: until interrupted
+};
+
+int runStatus(const DaemonTarget& t, const StatusOptions& o, std::ostream& out, std::ostream& err);
+int runLoad(const DaemonTarget& t, const std::string& file, std::ostream& out, std::ostream& err);
+int runPose(const DaemonTarget& t, const PoseOptions& o, std::ostream& out, std::ostream& err);
+int runReplay(const DaemonTarget& t, const ReplayOptions& o, std::ostream& out, std::ostream& err);
+int runRecord(const DaemonTarget& t, const RecordOptions& o, std::ostream& out, std::ostream& err);
+int runWatch(const DaemonTarget& t, const WatchOptions& o, std::ostream& out, std::ostream& err);
+/// arm = true: arm (clear latched faults); false: disarm.
+int runArm(const DaemonTarget& t, bool arm, std::ostream& out, std::ostream& err);
+
+/// The record header (the daemon's --record columns, ../shared/DESIGN.md "Records").
+const char* recordHeader();
+
+}  // namespace hapticd::client

@@ -1,0 +1,430 @@
+// The real hapticd binary on a free loopback port (real clock, sim device), driven by the real
+// hapticctl binary and by the protocol Client: status, load (accepted, refused with the loader's
+// first error while the old scene stays), pose commands moving the sim device, arm/disarm, the
+// stream-stop ramp and latched fault through the daemon, record, watch, ten clients at once, a
+// pre-shared key (only keyed clients served) and "no daemon" answers. Waits are bounded by
+// generous limits (a hang fails); no wall-clock duration is asserted. The round trip and tick
+// figures are printed (NetFigures), not asserted.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "protocol/auth.h"
+#include "protocol/client.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+namespace proto = hapticd::proto;
+const std::string kSource = HAPTICD_SOURCE_DIR;
+using SteadyClock = std::chrono::steady_clock;
+
+std::string slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+// Runs `argv` with stdout and stderr to files; returns the pid.
+pid_t spawn(const std::vector<std::string>& args, const fs::path& out, const fs::path& err) {
+  std::vector<std::string> all(args);
+  std::vector<char*> argv;
+  for (auto& a : all)
+    argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const std::string o = out.string(), e = err.string();
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const int fo = open(o.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    const int fe = open(e.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    dup2(fo, 1);
+    dup2(fe, 2);
+    sigset_t none;
+    sigemptyset(&none);
+    sigprocmask(SIG_SETMASK, &none, nullptr);
+    execv(argv[0], argv.data());
+    _exit(127);
+  }
+  return pid;
+}
+
+// Exit code, or -1 after killing a child that did not end within limit_s (a hang).
+int waitFor(pid_t pid, double limit_s) {
+  const auto until = SteadyClock::now() + std::chrono::duration<double>(limit_s);
+  int status = 0;
+  while (SteadyClock::now() < until) {
+    if (waitpid(pid, &status, WNOHANG) == pid)
+      return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  kill(pid, SIGKILL);
+  waitpid(pid, nullptr, 0);
+  return -1;
+}
+
+struct CtlRun {
+  int code = -1;
+  std::string out, err;
+};
+
+class NetTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("hapticd_net_test_" + std::to_string(getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    if (pid_ > 0) {
+      kill(pid_, SIGTERM);
+      if (waitFor(pid_, 60.0) != 0)
+        ADD_FAILURE() << "hapticd did not stop cleanly on SIGTERM\n" << slurp(dir_ / "d.err");
+    }
+    fs::remove_all(dir_);
+  }
+
+  // Starts hapticd (real clock, realtime off, sim device) on a free loopback port and waits for
+  // its status file to name the port.
+  void startDaemon(const std::string& scene = kSource + "/scenes/peg_in_hole.glb",
+                   const std::string& network = "") {
+    std::ofstream(dir_ / "hapticd.toml")
+        << "[servo]\nrealtime = \"off\"\n[scene]\npath = \"" << scene << "\"\n[network]\n"
+        << network;
+    pid_ = spawn({HAPTICD_BINARY, "--config", (dir_ / "hapticd.toml").string(), "--udp",
+                  "127.0.0.1:0", "--status-file", (dir_ / "status.json").string()},
+                 dir_ / "d.out", dir_ / "d.err");
+    ASSERT_GT(pid_, 0);
+    for (int i = 0; i < 6000 && port_ == 0; ++i) {
+      auto j = nlohmann::json::parse(slurp(dir_ / "status.json"), nullptr, false);
+      if (!j.is_discarded() && j.contains("network") && j.value("tick", 0) > 0) {
+        const std::string a = j["network"]["udp"];
+        port_ = std::stoi(a.substr(a.rfind(':') + 1));
+      }
+      int st = 0;
+      ASSERT_NE(waitpid(pid_, &st, WNOHANG), pid_) << "hapticd ended\n" << slurp(dir_ / "d.err");
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    ASSERT_GT(port_, 0) << slurp(dir_ / "d.err");
+  }
+
+  CtlRun ctl(std::vector<std::string> args, double limit_s = 120.0) {
+    std::vector<std::string> all{HAPTICCTL_BINARY};
+    all.insert(all.end(), args.begin(), args.end());
+    all.push_back("--port");
+    all.push_back(std::to_string(port_));
+    const pid_t p = spawn(all, dir_ / "c.out", dir_ / "c.err");
+    CtlRun r;
+    r.code = waitFor(p, limit_s);
+    r.out = slurp(dir_ / "c.out");
+    r.err = slurp(dir_ / "c.err");
+    return r;
+  }
+
+  std::unique_ptr<proto::Client> client(const std::string& name = "net_test") {
+    proto::ClientConfig c;
+    c.server = "127.0.0.1:" + std::to_string(port_);
+    c.name = name;
+    c.timeout_ms = 10000;
+    auto r = proto::Client::connect(c);
+    EXPECT_TRUE(r) << (r ? "" : r.error().message);
+    return r ? std::move(r.value()) : nullptr;
+  }
+
+  nlohmann::json statusJson() {
+    CtlRun r = ctl({"status", "--json"});
+    EXPECT_EQ(r.code, 0) << r.err;
+    auto j = nlohmann::json::parse(r.out, nullptr, false);
+    return j.is_discarded() ? nlohmann::json::object() : j;
+  }
+
+  // Receives states until `pred` holds (true) or limit_s passes (false).
+  static bool until(proto::Client& c,
+                    const std::function<bool(const proto::State&)>& pred,
+                    double limit_s = 30.0,
+                    proto::State* last = nullptr) {
+    const auto end = SteadyClock::now() + std::chrono::duration<double>(limit_s);
+    while (SteadyClock::now() < end) {
+      auto s = c.receiveState(100);
+      if (!s)
+        continue;
+      if (last)
+        *last = *s;
+      if (pred(*s))
+        return true;
+    }
+    return false;
+  }
+
+  fs::path dir_;
+  pid_t pid_ = -1;
+  int port_ = 0;
+};
+
+proto::PoseCommand poseAt(const proto::Vec3& p) {
+  proto::PoseCommand c;
+  c.X_WT.p = p;
+  return c;
+}
+
+double dist(const proto::Vec3& a, const proto::Vec3& b) {
+  return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
+                   (a[2] - b[2]) * (a[2] - b[2]));
+}
+
+TEST_F(NetTest, StatusShowsTheSceneAndPlanAndLoadAcceptsGoodAndRefusesBadScenes) {
+  startDaemon();
+  auto j = statusJson();
+  EXPECT_EQ(j["scene"], "peg_in_hole.glb");
+  EXPECT_FALSE(j["plan"].get<std::string>().empty());
+  EXPECT_GT(j["ticks"].get<std::uint64_t>(), 0u);
+  EXPECT_NE(j["device"].get<std::string>().find("sim"), std::string::npos) << j.dump();
+  EXPECT_TRUE(j["refused"].is_object());
+
+  CtlRun text = ctl({"status"});
+  EXPECT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("scene peg_in_hole.glb"), std::string::npos) << text.out;
+  EXPECT_NE(text.out.find("plan:"), std::string::npos);
+
+  CtlRun good = ctl({"load", kSource + "/scenes/gears.glb"});
+  EXPECT_EQ(good.code, 0) << good.err;
+  j = statusJson();
+  EXPECT_EQ(j["scene"], "gears.glb");
+  EXPECT_FALSE(j["plan"].get<std::string>().empty());
+
+  std::ofstream(dir_ / "broken.glb") << "glTF this is not a binary glTF";
+  CtlRun bad = ctl({"load", (dir_ / "broken.glb").string()});
+  EXPECT_EQ(bad.code, 1);
+  EXPECT_NE(bad.err.find("refused"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("broken.glb"), std::string::npos) << bad.err;       // the loader's text
+  EXPECT_EQ(bad.err.find("hapticd-upload-"), std::string::npos) << bad.err;  // not the temp file
+  EXPECT_EQ(statusJson()["scene"], "gears.glb");                             // the old scene stays
+}
+
+TEST_F(NetTest, PoseCommandsMoveTheSimDeviceThenTheStreamStopRampsAndLatchesAFault) {
+  startDaemon();
+  auto c = client();
+  ASSERT_TRUE(c);
+  ASSERT_TRUE(c->subscribe(1000));
+  auto first = c->receiveState(10000);
+  ASSERT_TRUE(first);
+  ASSERT_TRUE(c->arm());
+  const proto::Vec3 start = first->X_WD.p;
+  // +y: away from the peg-in-hole contact the idle hand rests in (its force pushes +y)
+  const proto::Vec3 target{start[0] + 0.01, start[1] + 0.05, start[2] + 0.005};
+  const double d0 = dist(start, target);
+  // stream the target at ~500 Hz until the device is within 10% of the first distance
+  bool reached = false;
+  std::uint64_t last_seq = 0;
+  proto::State st;
+  const auto end = SteadyClock::now() + std::chrono::seconds(30);
+  while (!reached && SteadyClock::now() < end) {
+    auto seq = c->sendPose(poseAt(target));
+    ASSERT_TRUE(seq);
+    last_seq = seq.value();
+    auto s = c->receiveState(2);
+    while (s) {
+      st = *s;
+      if (dist(s->X_WD.p, target) < 0.1 * d0 && s->last_command_sequence > 0)
+        reached = true;
+      s = c->receiveState(0);
+    }
+  }
+  ASSERT_TRUE(reached) << "start " << start[0] << " " << start[1] << " " << start[2] << " contacts "
+                       << st.contact_count << " force " << st.force_n[1] << " device at "
+                       << st.X_WD.p[0] << " " << st.X_WD.p[1] << " " << st.X_WD.p[2];
+  EXPECT_NE(st.state_flags & proto::kStateStreaming, 0u);
+  EXPECT_EQ(st.fault_bits, 0u);
+  EXPECT_LE(st.last_command_sequence, last_seq);
+
+  // the stream stops: held, ramping (scale strictly between 0 and 1 seen), then the fault
+  bool saw_ramp = false;
+  ASSERT_TRUE(until(
+      *c,
+      [&](const proto::State& s) {
+        if ((s.state_flags & proto::kStateRamping) != 0 && s.force_scale > 0.0 &&
+            s.force_scale < 1.0)
+          saw_ramp = true;
+        return (s.fault_bits & proto::kFaultStreamLost) != 0;
+      },
+      30.0, &st));
+  EXPECT_TRUE(saw_ramp);
+  EXPECT_TRUE(until(*c, [](const proto::State& s) { return s.force_scale == 0.0; }));
+  EXPECT_NE(statusJson()["faults"].get<std::string>().find("stream_lost"), std::string::npos);
+  // a command while faulted is dropped; re-arm clears the fault
+  const auto dropped_before = statusJson()["commands_dropped"].get<std::uint64_t>();
+  ASSERT_TRUE(c->sendPose(poseAt(start)));
+  EXPECT_TRUE(until(*c, [](const proto::State&) { return true; }));
+  ASSERT_TRUE(c->arm());
+  EXPECT_TRUE(until(*c, [](const proto::State& s) { return s.fault_bits == 0; }));
+  EXPECT_GT(statusJson()["commands_dropped"].get<std::uint64_t>(), dropped_before);
+
+  // disarm and arm through hapticctl
+  CtlRun d = ctl({"disarm"});
+  EXPECT_EQ(d.code, 0) << d.err;
+  EXPECT_TRUE(until(*c, [](const proto::State& s) {
+    return (s.state_flags & proto::kStateArmed) == 0 && s.force_scale == 0.0;
+  }));
+  CtlRun a = ctl({"arm"});
+  EXPECT_EQ(a.code, 0) << a.err;
+  EXPECT_TRUE(
+      until(*c, [](const proto::State& s) { return (s.state_flags & proto::kStateArmed) != 0; }));
+}
+
+TEST_F(NetTest, HapticctlPoseReplayRecordAndWatch) {
+  startDaemon();
+  CtlRun p = ctl({"pose", "0.01", "0.02", "0.03", "--seconds", "1.0"});
+  EXPECT_EQ(p.code, 0) << p.err;
+  EXPECT_EQ(p.out.rfind("device at ", 0), 0u) << p.out;
+
+  std::ofstream(dir_ / "stream.csv") << "t,px,py,pz,qx,qy,qz,qw,buttons\n0,0,0,0,0,0,0,1,0\n"
+                                        "0.05,0.001,0,0,0,0,0,1,0\n0.1,0.002,0,0,0,0,0,1,0\n";
+  CtlRun r = ctl({"replay", (dir_ / "stream.csv").string(), "--rate", "200"});
+  EXPECT_EQ(r.code, 0) << r.err;
+  EXPECT_NE(r.out.find("replayed"), std::string::npos);
+  std::ofstream(dir_ / "bad.csv") << "t,px,py,pz,qx,qy,qz,qw,buttons\n0,0,0,zero,0,0,0,1,0\n";
+  CtlRun rb = ctl({"replay", (dir_ / "bad.csv").string()});
+  EXPECT_EQ(rb.code, 2);
+  EXPECT_NE(rb.err.find("bad.csv:2"), std::string::npos) << rb.err;
+
+  CtlRun rec = ctl({"record", (dir_ / "rec.csv").string(), "--seconds", "0.5"});
+  ASSERT_EQ(rec.code, 0) << rec.err;
+  std::ifstream in(dir_ / "rec.csv");
+  std::string header;
+  std::getline(in, header);
+  EXPECT_EQ(header,
+            "tick,t,dev_px,dev_py,dev_pz,dev_qx,dev_qy,dev_qz,dev_qw,prx_px,prx_py,prx_pz,prx_qx,"
+            "prx_qy,prx_qz,prx_qw,fx,fy,fz,tx,ty,tz,contacts,max_penetration,pairs_tested,"
+            "pairs_skipped,tick_ns");
+  std::string line;
+  std::size_t rows = 0;
+  long long prev_tick = -1;
+  while (std::getline(in, line)) {
+    EXPECT_EQ(std::count(line.begin(), line.end(), ','), 26) << line;
+    const long long tick = std::stoll(line.substr(0, line.find(',')));
+    EXPECT_GT(tick, prev_tick);
+    prev_tick = tick;
+    ++rows;
+  }
+  EXPECT_GT(rows, 0u);
+
+  CtlRun w = ctl({"watch", "--count", "3", "--rate", "50"});
+  EXPECT_EQ(w.code, 0) << w.err;
+  EXPECT_EQ(std::count(w.out.begin(), w.out.end(), '\n'), 3) << w.out;
+  EXPECT_NE(w.out.find("tick p50"), std::string::npos) << w.out;
+  EXPECT_NE(w.out.find("faults"), std::string::npos);
+}
+
+TEST_F(NetTest, WithAKeyFileOnlyClientsWithTheKeyAreServed) {
+  const std::string key = proto::keyToHex(proto::randomKey());
+  std::ofstream(dir_ / "key") << key << "\n";
+  std::ofstream(dir_ / "wrong") << proto::keyToHex(proto::randomKey()) << "\n";
+  startDaemon(kSource + "/scenes/peg_in_hole.glb",
+              "key_file = \"" + (dir_ / "key").string() + "\"\n");
+  CtlRun keyed =
+      ctl({"load", kSource + "/scenes/gears.glb", "--key-file", (dir_ / "key").string()});
+  EXPECT_EQ(keyed.code, 0) << keyed.err;
+  CtlRun st = ctl({"status", "--json", "--key-file", (dir_ / "key").string()});
+  ASSERT_EQ(st.code, 0) << st.err;
+  EXPECT_EQ(nlohmann::json::parse(st.out)["scene"], "gears.glb");
+  CtlRun unkeyed = ctl({"load", kSource + "/scenes/dynamic.glb", "--timeout-ms", "500"});
+  EXPECT_EQ(unkeyed.code, 1);
+  CtlRun wrong = ctl({"arm", "--key-file", (dir_ / "wrong").string(), "--timeout-ms", "500"});
+  EXPECT_EQ(wrong.code, 1);
+  st = ctl({"status", "--json", "--key-file", (dir_ / "key").string()});
+  ASSERT_EQ(st.code, 0) << st.err;
+  const auto j = nlohmann::json::parse(st.out);
+  EXPECT_EQ(j["scene"], "gears.glb");  // the unkeyed upload changed nothing
+  std::uint64_t refused = 0;
+  for (auto& [name, n] : j["refused"].items())
+    refused += n.get<std::uint64_t>();
+  EXPECT_GT(refused, 0u) << j.dump();
+}
+
+TEST_F(NetTest, NoDaemonAnswersIsExitOneWithAClearMessage) {
+  port_ = 1;  // a privileged port no daemon of this test serves
+  CtlRun r = ctl({"status", "--timeout-ms", "300"});
+  EXPECT_EQ(r.code, 1);
+  EXPECT_NE(r.err.find("no daemon at 127.0.0.1:1"), std::string::npos) << r.err;
+  CtlRun l = ctl({"arm", "--timeout-ms", "300"});
+  EXPECT_EQ(l.code, 1);
+  EXPECT_NE(l.err.find("no daemon at 127.0.0.1:1"), std::string::npos) << l.err;
+}
+
+TEST_F(NetTest, TenClientsSubscribedAtOnceAllGetStatesAndTheFigures) {
+  startDaemon();
+  auto before = statusJson();
+  std::vector<std::unique_ptr<proto::Client>> clients;
+  for (int i = 0; i < 10; ++i) {
+    clients.push_back(client("c" + std::to_string(i)));
+    ASSERT_TRUE(clients.back());
+    ASSERT_TRUE(clients.back()->subscribe(1000));
+  }
+  auto j = statusJson();
+  EXPECT_EQ(j["subscribers"].get<std::uint32_t>(), 10u);
+  for (auto& c : clients) {
+    int got = 0;
+    EXPECT_TRUE(until(*c, [&](const proto::State&) { return ++got >= 20; }));
+  }
+  // let the daemon run a while with ten 1 kHz subscribers, draining every client
+  const auto end = SteadyClock::now() + std::chrono::seconds(2);
+  while (SteadyClock::now() < end)
+    for (auto& c : clients)
+      while (c->receiveState(0)) {
+      }
+  auto with10 = statusJson();
+
+  // round trip: a pose command out, the state that echoes its sequence back
+  auto& c0 = *clients[0];
+  ASSERT_TRUE(c0.arm());
+  std::vector<double> rtt_us;
+  for (int i = 0; i < 300; ++i) {
+    for (auto& c : clients)
+      while (c->receiveState(0)) {
+      }
+    const auto t0 = SteadyClock::now();
+    auto seq = c0.sendPose(poseAt({0.0, 0.0, 0.0}));
+    ASSERT_TRUE(seq);
+    if (until(
+            c0, [&](const proto::State& s) { return s.last_command_sequence >= seq.value(); }, 5.0))
+      rtt_us.push_back(std::chrono::duration<double, std::micro>(SteadyClock::now() - t0).count());
+  }
+  ASSERT_FALSE(rtt_us.empty());
+  std::sort(rtt_us.begin(), rtt_us.end());
+  auto q = [&](double f) {
+    return rtt_us[static_cast<std::size_t>(f * static_cast<double>(rtt_us.size() - 1))];
+  };
+  std::printf(
+      "NetFigures: round trip pose -> state over UDP (10 clients at 1 kHz): n=%zu p50 %.1f us "
+      "p99 %.1f us max %.1f us\n",
+      rtt_us.size(), q(0.5), q(0.99), rtt_us.back());
+  std::printf(
+      "NetFigures: daemon tick compute before clients p50 %.1f us p99 %.1f us; "
+      "with ten 1 kHz subscribers (cumulative histogram) p50 %.1f us p99 %.1f us max "
+      "%.1f us; misses %llu\n",
+      before["tick_ns"]["p50"].get<double>() / 1e3, before["tick_ns"]["p99"].get<double>() / 1e3,
+      with10["tick_ns"]["p50"].get<double>() / 1e3, with10["tick_ns"]["p99"].get<double>() / 1e3,
+      with10["tick_ns"]["max"].get<double>() / 1e3,
+      static_cast<unsigned long long>(with10["tick_misses"].get<std::uint64_t>()));
+  EXPECT_EQ(rtt_us.size(), 300u);  // every command's echo came back
+}
+
+}  // namespace
