@@ -139,6 +139,7 @@ std::string toToml(const Config& c) {
      << "\nsim_hand_stiffness_n_per_m = " << d.sim_hand_stiffness_n_per_m
      << "\nsim_hand_damping_n_s_per_m = " << d.sim_hand_damping_n_s_per_m
      << "\nsim_idle_motion_after_s = " << d.sim_idle_motion_after_s
+     << "\nsim_home_from_scene = " << (d.sim_home_from_scene ? "true" : "false")
      << "\nsim_home_translation_m = " << arr(d.sim_home_translation_m)
      << "\nsim_home_rotation = " << arr(d.sim_home_rotation)
      << "\nworkspace_translation_m = " << arr(d.workspace_translation_m)

@@ -259,6 +259,7 @@ void readAll(const toml::table& root,
     s.positive("sim_hand_stiffness_n_per_m", d.sim_hand_stiffness_n_per_m, 1e7, " N/m");
     s.number("sim_hand_damping_n_s_per_m", d.sim_hand_damping_n_s_per_m, 0.0, 1e6, " N s/m");
     s.number("sim_idle_motion_after_s", d.sim_idle_motion_after_s, 0.0, 1e6, " s");
+    s.boolean("sim_home_from_scene", d.sim_home_from_scene);
     s.vector("sim_home_translation_m", d.sim_home_translation_m, 1e9);
     s.quaternion("sim_home_rotation", d.sim_home_rotation);
     s.vector("workspace_translation_m", d.workspace_translation_m, 1e9);

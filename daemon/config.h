@@ -54,6 +54,9 @@ struct DeviceConfig {
   double sim_hand_stiffness_n_per_m = 200.0;
   double sim_hand_damping_n_s_per_m = 20.0;
   double sim_idle_motion_after_s = 1.0;
+  /// The sim hand starts at the held body's start pose in the scene (mapped back through the
+  /// workspace); false: at sim_home_translation_m / sim_home_rotation.
+  bool sim_home_from_scene = true;
   std::array<double, 3> sim_home_translation_m{0.0, 0.0, 0.0};
   std::array<double, 4> sim_home_rotation{0.0, 0.0, 0.0, 1.0};  ///< x, y, z, w
   std::array<double, 3> workspace_translation_m{0.0, 0.0, 0.0};

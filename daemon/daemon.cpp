@@ -612,8 +612,32 @@ int Daemon::run() {
   for (const auto& w : process_rt_.warnings)
     logWarning(w);
 
-  // 4. device
-  auto device = backends_.make_device(config_.device.spec, toDeviceOptions(config_));
+  // 4. the scene and its simulation (handed to the loop below, before it starts); first, so that
+  // the sim hand can start where the held body starts
+  auto scene = buildScene(config_, 1);
+  if (!scene) {
+    logError("cannot load the scene: " + scene.error().message);
+    return kExitFailure;
+  }
+
+  // 4b. device
+  device::DeviceOptions device_options = toDeviceOptions(config_);
+  if (config_.device.sim_home_from_scene && scene.value().scene && scene.value().scene->sim) {
+    const scene::SceneModel& model = scene.value().scene->sim->scene();
+    if (model.probe_body >= 0) {
+      WorkspaceMapping w;
+      w.X_SD = geom::Pose::fromXyzw(
+          geom::Vec3(config_.device.workspace_translation_m[0],
+                     config_.device.workspace_translation_m[1],
+                     config_.device.workspace_translation_m[2]),
+          config_.device.workspace_rotation[0], config_.device.workspace_rotation[1],
+          config_.device.workspace_rotation[2], config_.device.workspace_rotation[3]);
+      w.scale = config_.device.workspace_scale;
+      device_options.sim_home =
+          w.toDevice(model.bodies[static_cast<std::size_t>(model.probe_body)].X_WB);
+    }
+  }
+  auto device = backends_.make_device(config_.device.spec, device_options);
   if (!device) {
     logError("device: " + device.error().message);
     return kExitFailure;
@@ -647,12 +671,7 @@ int Daemon::run() {
     writer_ = std::move(w.value());
   }
 
-  // 7. scene and its simulation, handed over before the loop starts
-  auto scene = buildScene(config_, 1);
-  if (!scene) {
-    logError("cannot load the scene: " + scene.error().message);
-    return kExitFailure;
-  }
+  // 7. the scene built in step 4, handed over before the loop starts
   install(std::move(scene.value()));
   logInfo("scene: '" + scene_name_ + "'");
 
