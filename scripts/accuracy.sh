@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # The accuracy study, one command: install what is missing, build (release), run hapticstudy, which
 # writes docs/accuracy/results.csv, docs/accuracy/tables.md, the PNG plots (gnuplot) and the
-# tables section of docs/accuracy.md. Takes about 10 minutes on the 2-core CI machine.
+# tables section of docs/accuracy.md. Takes about 2 minutes on the 2-core CI machine.
 # Usage: scripts/accuracy.sh [--quick]    (--quick: a smoke run with fewer configurations)
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -113,15 +113,15 @@ void plots(const std::filesystem::path& dir, const std::vector<Row>& rows) {
     std::replace(name.begin(), name.end(), '/', '_');
     std::ofstream dat(dir / (name + ".dat"));
     for (const Row* r : list) {
-      // a method without error is drawn at 1e-9 N so that it shows on the log scale
+      // a method without error is drawn at 1e-16 N so that it shows on the log scale
       dat << std::max(stats(r->time_ns).mean, 1.0) << ' '
-          << std::max(stats(r->force_err_n).p99, 1e-9) << " \"" << label(*r) << "\"\n";
+          << std::max(stats(r->force_err_n).p99, 1e-16) << " \"" << label(*r) << "\"\n";
     }
     gp << "set output '" << (dir / (name + ".png")).string() << "'\n"
        << "set title 'Force error against time: " << part << "'\n"
        << "plot '" << (dir / (name + ".dat")).string()
-       << "' using 1:2 with points pt 7 ps 1.5, '' using 1:2:3 with labels offset 0,1 font "
-          "'Sans,8'\n";
+       << "' using 1:2 with points pt 7 ps 1.5, '' using 1:2:3 with labels rotate by 35 left "
+          "offset 0.6,0.6 font 'Sans,8'\n";
   }
   gp.close();
   const std::string cmd = "gnuplot " + (dir / "plots.gp").string();
