@@ -235,6 +235,12 @@ struct State {
   std::uint32_t contact_count = 0;            ///< contacts this tick (may exceed contacts.size())
   std::vector<Contact> contacts;              ///< ≤ kMaxStateContacts
   std::vector<SceneUpdate::BodyPose> bodies;  ///< ≤ kMaxStateBodies, non-static bodies
+  // --- minor version 1: appended after the lists (a 1.0 reader ignores them; from a 1.0
+  // sender they read as 0) ---
+  std::uint32_t pairs_tested = 0;   ///< narrow-phase pair tests this tick
+  std::uint32_t pairs_skipped = 0;  ///< close pairs the scheduler left untested this tick
+  double max_penetration_m = 0.0;   ///< deepest penetration of the held set this tick, ≥ 0
+  std::uint32_t tick_ns = 0;        ///< compute time of this tick, ns
   bool operator==(const State&) const = default;
 };
 

@@ -99,6 +99,10 @@ struct Body {
   std::optional<double> stiffness_n_per_m;
   Pose X_WB;  ///< initial pose in the scene
   std::vector<Primitive> primitives;
+  /// `extras.haptic.active` (default true). An inactive body is in the scene but out of it: it
+  /// neither collides nor moves until a client's scene update adds it (SceneUpdate::added) at a
+  /// pose; a scene update's `removed` makes a body inactive again. Static bodies are always active.
+  bool active = true;
 };
 
 /// One limit of a joint (KHR `physicsJoints[i].limits[j]`), in the joint's attachment frame.

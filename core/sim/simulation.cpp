@@ -981,6 +981,28 @@ DynamicsStatus SimulationImpl::dynamicsStatus() const {
 
 }  // namespace
 
+const char* toString(EditStatus s) {
+  switch (s) {
+    case EditStatus::kOk:
+      return "ok";
+    case EditStatus::kUnsupported:
+      return "scene edits not supported";
+    case EditStatus::kNoSuchBody:
+      return "no such body";
+    case EditStatus::kNotKinematic:
+      return "not a kinematic body";
+    case EditStatus::kStaticBody:
+      return "a static body";
+    case EditStatus::kHeldBody:
+      return "the held (probe) body";
+    case EditStatus::kInactive:
+      return "an inactive body";
+    case EditStatus::kNotFinite:
+      return "not a finite pose with a unit quaternion";
+  }
+  return "unknown";
+}
+
 Result<std::unique_ptr<Simulation>> Simulation::create(
     std::shared_ptr<const scene::SceneModel> scene,
     const SimOptions& options) {

@@ -160,6 +160,29 @@ struct BodyPose {
   Pose X_WB;
 };
 
+/// One contact point of the held set after the last step (for the state stream).
+struct ContactPoint {
+  Vec3 p_W{0.0};        ///< contact point, scene frame
+  Vec3 n_W{0.0, 0.0, 1.0};  ///< unit normal pushing the held set out
+  double depth_m = 0.0;  ///< penetration depth (> 0 penetrating, < 0 a gap inside delta)
+  std::int32_t body = -1;  ///< scene index of the other body, -1 if unknown
+};
+
+/// The answer of a scene edit (Simulation::setKinematicPose, setBodyActive).
+enum class EditStatus : std::uint8_t {
+  kOk,
+  kUnsupported,    ///< this implementation does not edit scenes
+  kNoSuchBody,     ///< index out of range
+  kNotKinematic,   ///< a pose for a body that is not kinematic
+  kStaticBody,     ///< static bodies are never added, removed or moved
+  kHeldBody,       ///< the probe (held) body cannot be moved, added or removed by a client
+  kInactive,       ///< a pose for a body that is not active (add it first)
+  kNotFinite,      ///< a pose with NaN or Inf, or a quaternion that is not unit
+};
+
+/// A name for an EditStatus ("not kinematic"). Any thread.
+const char* toString(EditStatus s);
+
 class Simulation {
  public:
   /// Builds the per-scene pipeline (only the stages the scene's plan asks for) and every capacity
@@ -190,6 +213,36 @@ class Simulation {
   /// step() calls it itself when it has not been called on its thread, so that only a first
   /// tick could allocate.
   virtual void prepareThread() = 0;
+
+  // --- scene edits (protocol SceneUpdate; issue 6 "kinematic bodies moved by clients") ---
+  // All servo thread, between steps; no allocation, lock or log. An edit takes effect in the
+  // next step(). The defaults (test fakes) refuse with kUnsupported.
+
+  /// Moves kinematic body `body` (scene index) to X_WB by the end of the next step: the collision
+  /// world sees it there, and the dynamics move it with the velocity that takes it there in one
+  /// tick (so that it pushes dynamic bodies and the proxy instead of teleporting through them).
+  virtual EditStatus setKinematicPose(std::uint32_t body, const Pose& X_WB) {
+    (void)body;
+    (void)X_WB;
+    return EditStatus::kUnsupported;
+  }
+  /// Makes body `body` (scene index, kinematic or dynamic, not the probe) active at X_WB (its
+  /// velocity zero), or inactive (`active` false; X_WB ignored): an inactive body neither
+  /// collides nor moves nor appears in bodyPoses()' contacts. Adding an active body moves it.
+  virtual EditStatus setBodyActive(std::uint32_t body, bool active, const Pose& X_WB) {
+    (void)body;
+    (void)active;
+    (void)X_WB;
+    return EditStatus::kUnsupported;
+  }
+  /// Whether body `body` (scene index) is active now.
+  virtual bool bodyActive(std::uint32_t body) const {
+    (void)body;
+    return true;
+  }
+  /// The held set's contact points after the last step (at most a fixed capacity, in the order
+  /// the response used them). Servo thread or the owner between steps.
+  virtual std::span<const ContactPoint> contactPoints() const { return {}; }
 };
 
 }  // namespace hapticd::sim
