@@ -40,6 +40,20 @@ bool finitePose(const Vec3& p, const Quat& q) {
          std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z);
 }
 
+// A finite pose with a unit quaternion (|‖q‖ − 1| <= kUnitTolerance), normalised into *out.
+constexpr double kUnitTolerance = 1e-6;
+bool unitPose(const geom::Pose& in, geom::Pose* out) {
+  if (!finitePose(in.translation, in.rotation))
+    return false;
+  const Quat& q = in.rotation;
+  const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  if (!std::isfinite(n) || std::abs(n - 1.0) > kUnitTolerance)
+    return false;
+  out->translation = in.translation;
+  out->rotation = Quat{q.w / n, q.x / n, q.y / n, q.z / n};
+  return true;
+}
+
 Vec3 rotate(const Quat& q, const Vec3& v) {
   return q * v;
 }
@@ -110,6 +124,12 @@ class SimulationImpl final : public Simulation {
   DynamicsStatus dynamicsStatus() const override;
   const scene::SceneModel& scene() const override { return *scene_; }
   void prepareThread() override;
+  EditStatus setKinematicPose(std::uint32_t body, const Pose& X_WB) override;
+  EditStatus setBodyActive(std::uint32_t body, bool active, const Pose& X_WB) override;
+  bool bodyActive(std::uint32_t body) const override {
+    return body < scene_->bodies.size() && active_[body] != 0;
+  }
+  std::span<const ContactPoint> contactPoints() const override { return contact_points_; }
 
  private:
   bool isHeld(std::uint32_t body) const {
@@ -151,6 +171,13 @@ class SimulationImpl final : public Simulation {
   void detach();
   void setHeldPoses();
   void setRotationalStiffness();
+  void pushRow(const ContactRow& row, std::uint32_t env) {
+    const std::size_t n = rows_.rows().size();
+    rows_.push(row);
+    if (rows_.rows().size() > n)
+      row_env_.push_back(env);
+  }
+  void fillContactPoints(TickOutput* out);
 
   // a dynamic body the dynamics move (not held, not driven by this tick's proxy step)
   bool movedByDynamics(std::uint32_t body) const {
@@ -172,6 +199,17 @@ class SimulationImpl final : public Simulation {
   std::vector<BodyPose> body_poses_;
   std::vector<std::uint32_t> pose_bodies_;  // world ids of body_poses_
   response::ContactRows rows_;
+  std::vector<std::uint32_t> row_env_;  // per row of rows_: the environment body's world id
+  std::vector<ContactPoint> contact_points_;  // contactPoints(): capacity fixed in build()
+  // scene edits: per world body 1 active, 0 out of the scene (setBodyActive)
+  std::vector<std::uint8_t> active_;
+  // an edit changed the collision world since the last gatherRows: the next step() runs the
+  // collision step once before the proxy's, so that the proxy sees the edit (moved, added or
+  // removed bodies) instead of stepping on stale rows
+  bool world_dirty_ = false;
+  // with dynamics: a kinematic target given to the dynamics, which move the body in this tick's
+  // dynamics step (the collision world sees it from the next tick on)
+  bool kinematic_target_pending_ = false;
   double delta_ = 0.0;       // this tick's predictive distance
   double max_travel_ = 0.0;  // safe distance per tick
   double speed_decay_ = 0.0;
@@ -325,6 +363,14 @@ Result<bool> SimulationImpl::build() {
     if (id != i)
       return Error{"collision world: unexpected body id"};
     info_.push_back(std::move(info));
+    // extras.haptic.active false: out of the scene until a scene edit adds it (static bodies
+    // are always active; the probe cannot be inactive)
+    const bool starts_active = b.active || desc.kind == BodyKind::kStatic;
+    if (!starts_active && is_probe)
+      return Error{"body '" + b.name + "': the probe body cannot be inactive"};
+    active_.push_back(starts_active ? 1 : 0);
+    if (!starts_active)
+      world_.setEnabled(id, false);
   }
   if (sc.probe_body < 0) {
     auto hull = geom::Polytope::fromPoints(spherePoints(options_.probe_sphere_radius_m, 64));
@@ -341,6 +387,7 @@ Result<bool> SimulationImpl::build() {
       info.shading.emplace_back(*probe_sphere_, crease);
     probe_ = world_.addBody(desc, geom::Pose{});
     info_.push_back(std::move(info));
+    active_.push_back(1);
     ++total_prims;
     ++moving_prims;
   } else {
@@ -387,6 +434,8 @@ Result<bool> SimulationImpl::build() {
   const std::size_t pairs = std::min<std::size_t>(moving_prims * total_prims + 64, 1u << 16);
   world_.reserve(total_prims + 1, pairs);
   rows_.reserve(pairs * collision::Manifold::kMaxPoints);
+  row_env_.reserve(pairs * collision::Manifold::kMaxPoints);
+  contact_points_.reserve(response::kMaxRows);
   for (std::uint32_t id = 0; id < info_.size(); ++id) {
     if (info_[id].kind == BodyKind::kStatic)
       continue;
@@ -496,6 +545,7 @@ Transform SimulationImpl::primTransform(std::uint32_t body, std::uint32_t prim) 
 
 void SimulationImpl::gatherRows(double* max_penetration) {
   rows_.clear();
+  row_env_.clear();
   double pen = 0.0;
   response::FaceContact fc;
   for (const collision::Contact& c : world_.contacts()) {
@@ -563,7 +613,7 @@ void SimulationImpl::gatherRows(double* max_penetration) {
         row.stiffness = kp / static_cast<double>(fc.count);
         row.first = row_first;
         row.second = row_second;
-        rows_.push(row);
+        pushRow(row, env);
       }
       continue;
     }
@@ -584,7 +634,7 @@ void SimulationImpl::gatherRows(double* max_penetration) {
       row.stiffness = kp;
       row.first = row_first;
       row.second = row_second;
-      rows_.push(row);
+      pushRow(row, env);
       continue;
     }
     for (std::size_t i = 0; i < m; ++i) {
@@ -596,7 +646,7 @@ void SimulationImpl::gatherRows(double* max_penetration) {
       row.stiffness = kp / static_cast<double>(m);
       row.first = row_first;
       row.second = row_second;
-      rows_.push(row);
+      pushRow(row, env);
     }
   }
   *max_penetration = pen;
@@ -700,7 +750,7 @@ void SimulationImpl::updateDriven() {
   driven_count_ = 0;
   for (std::uint32_t id = 0; id < info_.size(); ++id) {
     const BodyInfo& bi = info_[id];
-    if (!bi.hinge || isHeld(id) || bi.kind == BodyKind::kStatic)
+    if (!bi.hinge || isHeld(id) || bi.kind == BodyKind::kStatic || active_[id] == 0)
       continue;
     if (dyn_active_ && bi.kind == BodyKind::kDynamic)
       continue;  // the dynamics turn it on its hinge joint, with its inertia
@@ -800,6 +850,15 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     gatherRows(&pen);
   }
   first_step_ = false;
+  // a scene edit since the last tick: the collision world and the rows see it before the proxy
+  // steps (a kinematic body moved into the proxy pushes it out from this tick's rows)
+  std::uint32_t edit_pairs_tested = 0;
+  if (world_dirty_) {
+    world_dirty_ = false;
+    edit_pairs_tested = world_.step().pairs_tested;
+    double pen = 0.0;
+    gatherRows(&pen);
+  }
   updateAttachment(input);
 
   // the device's handle: the probe body's centre of mass placed at the device pose
@@ -910,6 +969,11 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     const dynamics::HeldFeedback& fb = dyn_->heldFeedback();
     impact_force = fb.force_W_n;
     impact_torque = fb.torque_W_nm;
+    if (kinematic_target_pending_) {
+      // the dynamics moved a kinematic body to its new target in this step
+      kinematic_target_pending_ = false;
+      world_dirty_ = true;
+    }
   }
 
   // the coupling between the device and the proxy, then the one output stage
@@ -941,7 +1005,7 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     active += r.gap < delta_ && r.first < 0 ? 1u : 0u;
   out.contacts = active;
   out.max_penetration_m = std::max(0.0, pen);
-  out.pairs_tested = stats.pairs_tested;
+  out.pairs_tested = stats.pairs_tested + edit_pairs_tested;
   out.pairs_skipped = stats.pairs_skipped;
   if (rep.ramping)
     out.flags |= kTickRamping;
@@ -964,7 +1028,85 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     body_poses_[i].X_WB =
         dyn_active_ && info_[id].kind == BodyKind::kDynamic ? dyn_->pose(id) : world_.pose(id);
   }
+  fillContactPoints(&out);
   return out;
+}
+
+void SimulationImpl::fillContactPoints(TickOutput* out) {
+  // the rows the response used this tick (the held set's, within delta), as TickOutput::contacts
+  // counts them; the depth without the backstop's shift
+  contact_points_.clear();
+  const auto rows = rows_.rows();
+  for (std::size_t i = 0; i < rows.size() && i < row_env_.size(); ++i) {
+    const ContactRow& r = rows[i];
+    if (!(r.gap < delta_ && r.first < 0))
+      continue;
+    if (contact_points_.size() == contact_points_.capacity()) {
+      out->flags |= kTickCapacityFull;
+      break;
+    }
+    const std::uint32_t env = row_env_[i];
+    const double shift = movedByDynamics(env) ? backstop_ : 0.0;
+    ContactPoint cp;
+    cp.p_W = r.p_W;
+    cp.n_W = r.n_W;
+    cp.depth_m = -(r.gap - shift);
+    cp.body = info_[env].scene_index;
+    contact_points_.push_back(cp);
+  }
+}
+
+EditStatus SimulationImpl::setKinematicPose(std::uint32_t body, const Pose& X_WB) {
+  if (body >= scene_->bodies.size())
+    return EditStatus::kNoSuchBody;
+  const BodyInfo& bi = info_[body];
+  if (bi.kind == BodyKind::kStatic)
+    return EditStatus::kStaticBody;
+  if (body == probe_ || isHeld(body))
+    return EditStatus::kHeldBody;
+  if (bi.kind != BodyKind::kKinematic)
+    return EditStatus::kNotKinematic;
+  if (active_[body] == 0)
+    return EditStatus::kInactive;
+  geom::Pose X;
+  if (!unitPose(X_WB, &X))
+    return EditStatus::kNotFinite;
+  if (dyn_active_) {
+    // the dynamics move it there in the next step with the velocity that takes it there, so
+    // that it pushes the dynamic bodies in its way; the collision world follows
+    dyn_->setKinematicPose(body, X);
+    kinematic_target_pending_ = true;
+  } else {
+    // no dynamics: the collision world has it there in the next step, before the proxy moves
+    // (asleep as before: its pairs with static and other resting bodies stay untested; its pair
+    // with the awake probe is tested again because it moved)
+    world_.setPose(body, X);
+    world_dirty_ = true;
+  }
+  return EditStatus::kOk;
+}
+
+EditStatus SimulationImpl::setBodyActive(std::uint32_t body, bool active, const Pose& X_WB) {
+  if (body >= scene_->bodies.size())
+    return EditStatus::kNoSuchBody;
+  const BodyInfo& bi = info_[body];
+  if (bi.kind == BodyKind::kStatic)
+    return EditStatus::kStaticBody;
+  if (body == probe_ || isHeld(body))
+    return EditStatus::kHeldBody;
+  geom::Pose X;
+  if (active && !unitPose(X_WB, &X))
+    return EditStatus::kNotFinite;
+  active_[body] = active ? 1 : 0;
+  world_.setEnabled(body, active);
+  if (active)
+    world_.setPose(body, X);
+  if (dyn_active_)
+    dyn_->setEnabled(body, active, X);
+  if (bi.hinge)
+    updateDriven();
+  world_dirty_ = true;
+  return EditStatus::kOk;
 }
 
 DynamicsStatus SimulationImpl::dynamicsStatus() const {
