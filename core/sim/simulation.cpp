@@ -76,6 +76,7 @@ struct BodyInfo {
   BodyKind kind = BodyKind::kStatic;
   Vec3 com_B{0.0};
   double stiffness = 0.0;  // felt stiffness of this body's surfaces (N per scene unit)
+  double origin_radius = 0.0;  // largest distance of its points from its origin (scene units)
   // a hinge to the scene frame (or to a static body), for the attach modes
   bool hinge = false;
   Vec3 hinge_o_B{0.0}, hinge_a_B{0.0};          // in this body's frame at its initial pose
@@ -210,6 +211,10 @@ class SimulationImpl final : public Simulation {
   // with dynamics: a kinematic target given to the dynamics, which move the body in this tick's
   // dynamics step (the collision world sees it from the next tick on)
   bool kinematic_target_pending_ = false;
+  // per world body: how far (scene units) its points moved by setKinematicPose since the last
+  // collision step that saw the move; a pusher moving faster than the proxy's safe distance
+  // raises the proxy's travel bound by this on the tick it touches the held set
+  std::vector<double> edit_travel_;
   double delta_ = 0.0;       // this tick's predictive distance
   double max_travel_ = 0.0;  // safe distance per tick
   double speed_decay_ = 0.0;
@@ -342,6 +347,13 @@ Result<bool> SimulationImpl::build() {
     info.kind = desc.kind;
     info.com_B = b.com_B;
     info.stiffness = b.stiffness_n_per_m.has_value() ? std::min(*b.stiffness_n_per_m, k_s_) : k_s_;
+    for (const scene::Primitive& p : b.primitives) {
+      if (!p.shape)
+        continue;
+      const Transform X = p.X_BP.toTransform();
+      for (const auto& v : p.shape->vertices())
+        info.origin_radius = std::max(info.origin_radius, glm::length(X.apply(v.p)));
+    }
     if (!(info.stiffness > 0.0))
       return Error{"body '" + b.name + "': stiffness must be > 0"};
     for (const scene::Primitive& p : b.primitives) {
@@ -436,6 +448,7 @@ Result<bool> SimulationImpl::build() {
   rows_.reserve(pairs * collision::Manifold::kMaxPoints);
   row_env_.reserve(pairs * collision::Manifold::kMaxPoints);
   contact_points_.reserve(response::kMaxRows);
+  edit_travel_.assign(info_.size(), 0.0);
   for (std::uint32_t id = 0; id < info_.size(); ++id) {
     if (info_[id].kind == BodyKind::kStatic)
       continue;
@@ -853,11 +866,18 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   // a scene edit since the last tick: the collision world and the rows see it before the proxy
   // steps (a kinematic body moved into the proxy pushes it out from this tick's rows)
   std::uint32_t edit_pairs_tested = 0;
+  double pusher_travel = 0.0;  // the farthest a kinematic body touching the held set was moved
   if (world_dirty_) {
     world_dirty_ = false;
     edit_pairs_tested = world_.step().pairs_tested;
     double pen = 0.0;
     gatherRows(&pen);
+    const auto rows = rows_.rows();
+    for (std::size_t i = 0; i < rows.size() && i < row_env_.size(); ++i) {
+      if (rows[i].first < 0)
+        pusher_travel = std::max(pusher_travel, edit_travel_[row_env_[i]]);
+    }
+    std::fill(edit_travel_.begin(), edit_travel_.end(), 0.0);
   }
   updateAttachment(input);
 
@@ -921,7 +941,11 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     pb.driven[d].drag = 1e-6 * k_c_ * std::max(bi.hinge_radius * bi.hinge_radius, 1e-12);
   }
   const double pen_before = last_penetration_;
+  // a kinematic body pushing the held set moves it as far as it moved itself, so that a pusher
+  // faster than the safe distance does not run over the proxy (docs/dynamics.md)
+  proxy_params_.max_travel = max_travel_ + pusher_travel;
   response::ProxyStep s = solveProxyStep(pb, rows_.rows(), proxy_params_);
+  proxy_params_.max_travel = max_travel_;
   applyStep(s);
   collision::StepStats stats = world_.step();
   double pen = 0.0;
@@ -1071,6 +1095,15 @@ EditStatus SimulationImpl::setKinematicPose(std::uint32_t body, const Pose& X_WB
   geom::Pose X;
   if (!unitPose(X_WB, &X))
     return EditStatus::kNotFinite;
+  {
+    const geom::Pose& from = world_.pose(body);
+    const double angle =
+        glm::length(response::rotationVector(X.rotation * glm::conjugate(from.rotation)));
+    const double travel =
+        glm::length(X.translation - from.translation) + angle * info_[body].origin_radius;
+    if (std::isfinite(travel))
+      edit_travel_[body] += travel;
+  }
   if (dyn_active_) {
     // the dynamics move it there in the next step with the velocity that takes it there, so
     // that it pushes the dynamic bodies in its way; the collision world follows
