@@ -9,6 +9,7 @@
 #include <limits>
 #include <vector>
 
+#include "core/scene/loader.h"
 #include "tests/core/alloc_counter.h"
 #include "tests/core/sim/harness.h"
 
@@ -471,6 +472,52 @@ TEST(SimEdits, AnInactiveBoxDoesNotFallAddedItFallsAndRestsRemovedWhatRestsOnItF
   EXPECT_TRUE(samePose(poseOf(*sim, 1), a_last));
   const sim::DynamicsStatus st = sim->dynamicsStatus();
   EXPECT_TRUE(std::isfinite(st.kinetic_energy_j));
+}
+
+// A scene file with extras.haptic.active false: that body starts inactive in the Simulation
+// (frozen under gravity), and a client's add drops it onto the floor.
+TEST(SimEdits, ASceneFileWithAnInactiveBodyStartsItInactive) {
+  const std::string gltf = R"({
+    "asset": {"version": "2.0"},
+    "extensions": {"KHR_implicit_shapes": {"shapes": [
+      {"type": "box", "box": {"size": [2.0, 0.1, 2.0]}},
+      {"type": "box", "box": {"size": [0.1, 0.1, 0.1]}}]}},
+    "extensionsUsed": ["KHR_implicit_shapes", "KHR_physics_rigid_bodies"],
+    "nodes": [
+      {"name": "Floor", "translation": [0.0, -0.05, 0.0],
+       "extensions": {"KHR_physics_rigid_bodies": {"collider": {"geometry": {"shape": 0}}}}},
+      {"name": "Crate", "translation": [0.0, 0.5, 0.0],
+       "extensions": {"KHR_physics_rigid_bodies": {"motion": {"mass": 1.0},
+                                                   "collider": {"geometry": {"shape": 1}}}},
+       "extras": {"haptic": {"active": false}}}],
+    "scene": 0,
+    "scenes": [{"nodes": [0, 1], "extras": {"haptic": {"gravity": [0.0, -9.81, 0.0]}}}]
+  })";
+  const std::vector<std::uint8_t> bytes(gltf.begin(), gltf.end());
+  scene::LoadReport r = scene::loadScene(bytes, "inactive.gltf");
+  ASSERT_TRUE(r.ok()) << r.message();
+  auto model = std::make_shared<const scene::SceneModel>(std::move(*r.scene));
+  std::uint32_t crate = 0;
+  for (std::uint32_t i = 0; i < model->bodies.size(); ++i) {
+    if (model->bodies[i].name == "Crate")
+      crate = i;
+  }
+  ASSERT_FALSE(model->bodies[crate].active);
+  ASSERT_TRUE(model->plan.dynamics);
+  sim::SimOptions o;
+  auto sim = make(model, o);
+  ASSERT_TRUE(sim);
+  EXPECT_FALSE(sim->bodyActive(crate));
+  const Pose device = at(0.0, 2.0, 0.0);
+  std::uint64_t k = 0;
+  for (; k < 300; ++k)
+    sim->step(tick(k, device));
+  EXPECT_EQ(poseOf(*sim, crate).translation.y, 0.5);
+  EXPECT_EQ(sim->dynamicsStatus().kinetic_energy_j, 0.0);
+  ASSERT_EQ(sim->setBodyActive(crate, true, at(0.0, 0.5, 0.0)), EditStatus::kOk);
+  for (; k < 2300; ++k)
+    sim->step(tick(k, device));
+  EXPECT_NEAR(poseOf(*sim, crate).translation.y, 0.05, 5e-4);
 }
 
 TEST(SimEdits, TheProbePassesThroughAnInactiveBodyWithoutForce) {
