@@ -553,6 +553,25 @@ Vec3 Dynamics::centerOfMass(std::uint32_t body) const {
   return bodies_[body].x_W;
 }
 
+MassProperties Dynamics::massProperties(std::uint32_t body) const {
+  MassProperties mp;
+  if (!active_ || body >= bodies_.size())
+    return mp;
+  const BodyState& b = bodies_[body];
+  if (b.motion != scene::Motion::kDynamic || !(b.inv_mass > 0.0))
+    return mp;
+  mp.mass = 1.0 / b.inv_mass;
+  mp.com_B = b.com_B;
+  mp.inertia_B = b.inertia_B;
+  return mp;
+}
+
+Vec3 Dynamics::gravity(std::uint32_t body) const {
+  if (!active_ || body >= bodies_.size() || bodies_[body].motion != scene::Motion::kDynamic)
+    return Vec3{0.0};
+  return bodies_[body].gravity_W;
+}
+
 double Dynamics::kineticEnergy() const {
   double e = 0.0;
   for (const BodyState& b : bodies_) {

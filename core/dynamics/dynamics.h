@@ -251,6 +251,14 @@ class Dynamics {
   Vec3 angularVelocity(std::uint32_t body) const;
   /// Centre of mass in the scene frame.
   Vec3 centerOfMass(std::uint32_t body) const;
+  /// A dynamic body's mass (kg), centre of mass (body frame) and inertia about it (body frame,
+  /// kg m^2), as the dynamics use them (declared, or computed from the primitives); all zero for
+  /// a body of infinite mass (static, kinematic, a declared mass of 0), an inactive stage or an
+  /// index out of range.
+  MassProperties massProperties(std::uint32_t body) const;
+  /// The acceleration gravity gives a dynamic body (the scene's gravity times its
+  /// gravity_factor, scene units per s^2); zero for other bodies.
+  Vec3 gravity(std::uint32_t body) const;
   /// Kinetic energy of all dynamic bodies (J) and their potential energy in the scene's
   /// gravity (J, zero at the origin). For tests and status.
   double kineticEnergy() const;

@@ -215,6 +215,19 @@ class SimulationImpl final : public Simulation {
   // collision step that saw the move; a pusher moving faster than the proxy's safe distance
   // raises the proxy's travel bound by this on the tick it touches the held set
   std::vector<double> edit_travel_;
+  // a dynamic body grabbed rigidly (kGrab): its mass properties for its weight and inertia at
+  // the hand (grab_mass_ 0: nothing of the kind is grabbed)
+  double grab_mass_ = 0.0;
+  Vec3 grab_gravity_W_{0.0};
+  Vec3 grab_com_B_{0.0};
+  geom::Mat3 grab_inertia_B_{0.0};
+  Vec3 grab_r_P_{0.0};  // its centre of mass from the handle point, in the probe's frame
+  std::uint32_t grab_history_ = 0;  // device poses seen since the grab (up to 2)
+  Vec3 grab_c1_{0.0}, grab_c2_{0.0};  // the device-side centre of mass, last two ticks
+  Quat grab_q1_{1.0, 0.0, 0.0, 0.0};  // the device's rotation, last tick
+  Vec3 grab_w1_{0.0};                 // the device's angular velocity, last tick
+  Vec3 grab_a_f_{0.0}, grab_alpha_f_{0.0};  // low-passed accelerations
+  double grab_beta_ = 1.0;                  // the low-pass's gain per tick
   double delta_ = 0.0;       // this tick's predictive distance
   double max_travel_ = 0.0;  // safe distance per tick
   double speed_decay_ = 0.0;
@@ -318,6 +331,10 @@ Result<bool> SimulationImpl::build() {
     return Error{"dynamics sleep time must be >= 0 s"};
   if (!std::isfinite(r.attach_distance_m) || r.attach_distance_m < 0.0)
     return Error{"response.attach_distance must be >= 0"};
+  if (!std::isfinite(r.grab_inertia_filter_s) || r.grab_inertia_filter_s < 0.0)
+    return Error{"response.grab_inertia_filter must be >= 0 s"};
+  grab_beta_ = r.grab_inertia_filter_s > 0.0 ? 1.0 - std::exp(-r.tick_s / r.grab_inertia_filter_s)
+                                             : 1.0;
   const scene::SceneModel& sc = *scene_;
   if (sc.probe_body >= static_cast<std::int32_t>(sc.bodies.size()))
     return Error{"scene: probe body " + std::to_string(sc.probe_body) + " out of range (" +
@@ -733,6 +750,20 @@ void SimulationImpl::attach(std::uint32_t body) {
     X_probe_attached_ = geom::relativeTransform(X_W_probe_, Xb);
     held_radius_ = heldRadius(comW(probe_));
     setRotationalStiffness();
+    grab_mass_ = 0.0;
+    if (dyn_active_ && bi.kind == BodyKind::kDynamic) {
+      const dynamics::MassProperties mp = dyn_->massProperties(body);
+      if (mp.mass > 0.0 && std::isfinite(mp.mass)) {
+        grab_mass_ = mp.mass;
+        grab_gravity_W_ = dyn_->gravity(body);
+        grab_com_B_ = mp.com_B;
+        grab_inertia_B_ = mp.inertia_B;
+        const Vec3 c = Xb.translation + rotate(Xb.rotation, grab_com_B_);
+        grab_r_P_ = rotate(glm::conjugate(X_W_probe_.rotation), c - comW(probe_));
+        grab_history_ = 0;
+        grab_a_f_ = grab_alpha_f_ = Vec3{0.0};
+      }
+    }
     return;
   }
   hinge_o_W_ = Xb.translation + rotate(Xb.rotation, bi.hinge_o_B);
@@ -782,6 +813,7 @@ void SimulationImpl::detach() {
     world_.setAsleep(attached_, true);
   mode_ = Mode::kFree;
   attached_ = kNone;
+  grab_mass_ = 0.0;
   held_count_ = 1;
   held_radius_ = probe_radius_;
   setRotationalStiffness();
@@ -925,6 +957,21 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     pb.h_target_W = pb.h_W;
     pb.q_target = pb.q_handle;
   }
+  // a grabbed dynamic body's weight at its centre of mass: the proxy's target shifted by what
+  // the coupling needs to carry it, so that the hand feels m g in free space and a surface the
+  // held set rests on takes it (docs/dynamics.md)
+  Vec3 grab_weight{0.0};
+  if (grab_mass_ > 0.0 && mode_ == Mode::kGrab && options_.response.grab_weight && finite_input) {
+    const geom::Pose& Xb = world_.pose(attached_);
+    const Vec3 c = Xb.translation + rotate(Xb.rotation, grab_com_B_);
+    grab_weight = grab_mass_ * grab_gravity_W_;
+    const Vec3 torque = glm::cross(c - pb.h_W, grab_weight);
+    const double kc = proxy_params_.coupling_stiffness, kr = proxy_params_.rot_coupling_stiffness;
+    if (kc > 0.0)
+      pb.h_target_W = h_dev + grab_weight / kc;
+    if (kr > 0.0)
+      pb.q_target = glm::normalize(response::quatFromRotationVector(torque / kr) * q_dev);
+  }
 
   const geom::Pose probe_before = X_W_probe_;
   const geom::Pose attached_before = attached_ == kNone ? geom::Pose{} : world_.pose(attached_);
@@ -1010,6 +1057,44 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     raw.force_n += impact_force;
     raw.torque_nm += impact_torque;
   }
+  Vec3 grab_inertia_force{0.0}, grab_inertia_torque{0.0};
+  if (grab_mass_ > 0.0 && mode_ == Mode::kGrab && options_.response.grab_inertia) {
+    if (!finite_input) {
+      grab_history_ = 0;
+      grab_a_f_ = grab_alpha_f_ = Vec3{0.0};
+    } else {
+      // the body rigidly at the device's pose: its centre of mass, the device's rotation
+      const double dt = options_.response.tick_s;
+      const Vec3 c_dev = h_dev + rotate(q_dev, grab_r_P_);
+      Vec3 w_dev{0.0};
+      if (grab_history_ >= 1)
+        w_dev = response::rotationVector(q_dev * glm::conjugate(grab_q1_)) / dt;
+      if (grab_history_ >= 2) {
+        const Vec3 a = (c_dev - 2.0 * grab_c1_ + grab_c2_) / (dt * dt);
+        const Vec3 alpha = (w_dev - grab_w1_) / dt;
+        if (response::isFinite(a) && response::isFinite(alpha)) {
+          grab_a_f_ += grab_beta_ * (a - grab_a_f_);
+          grab_alpha_f_ += grab_beta_ * (alpha - grab_alpha_f_);
+        }
+      }
+      grab_c2_ = grab_c1_;
+      grab_c1_ = c_dev;
+      grab_q1_ = q_dev;
+      grab_w1_ = w_dev;
+      grab_history_ = std::min<std::uint32_t>(grab_history_ + 1, 2);
+      const geom::Mat3 R = glm::mat3_cast(world_.pose(attached_).rotation);
+      const geom::Mat3 I_W = R * grab_inertia_B_ * glm::transpose(R);
+      grab_inertia_force = -grab_mass_ * grab_a_f_;
+      grab_inertia_torque = -(I_W * grab_alpha_f_ + glm::cross(w_dev, I_W * w_dev)) +
+                            glm::cross(c_dev - h_dev, grab_inertia_force);
+      if (response::isFinite(grab_inertia_force) && response::isFinite(grab_inertia_torque)) {
+        raw.force_n += grab_inertia_force;
+        raw.torque_nm += grab_inertia_torque;
+      } else {
+        grab_inertia_force = grab_inertia_torque = Vec3{0.0};
+      }
+    }
+  }
   response::OutputReport rep;
   const response::Wrench w = output_.apply(raw, input.device_ok && finite_input, &rep);
   if (!input.device_ok || !finite_input)
@@ -1023,6 +1108,9 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   out.contact_torque_W_nm = pw.torque_nm;
   out.impact_force_W_n = impact_force;
   out.impact_torque_W_nm = impact_torque;
+  out.grab_weight_W_n = grab_weight;
+  out.grab_inertia_force_W_n = grab_inertia_force;
+  out.grab_inertia_torque_W_nm = grab_inertia_torque;
   out.X_W_proxy = X_W_probe_;
   std::uint32_t active = 0;
   for (const ContactRow& r : rows_.rows())
