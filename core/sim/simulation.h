@@ -248,6 +248,8 @@ class Simulation {
   /// Makes body `body` (scene index, kinematic or dynamic, not the probe) active at X_WB (its
   /// velocity zero), or inactive (`active` false; X_WB ignored): an inactive body neither
   /// collides nor moves nor appears in bodyPoses()' contacts. Adding an active body moves it.
+  /// bodyPoses() keeps listing an inactive body at its last pose (bodyActive() tells which);
+  /// what rested on a removed body falls (docs/dynamics.md "Scene edits").
   virtual EditStatus setBodyActive(std::uint32_t body, bool active, const Pose& X_WB) {
     (void)body;
     (void)active;
