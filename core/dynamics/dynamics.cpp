@@ -797,8 +797,8 @@ void Dynamics::prepareJoints() {
     js.total_J = Vec3{0.0};
     js.total_L = Vec3{0.0};
     js.tot_lo = js.tot_hi = 0.0;
-    js.off = !bodies_[js.a].enabled ||
-             (js.b >= 0 && !bodies_[static_cast<std::size_t>(js.b)].enabled);
+    js.off =
+        !bodies_[js.a].enabled || (js.b >= 0 && !bodies_[static_cast<std::size_t>(js.b)].enabled);
     if (js.off) {
       js.warm_J = js.warm_L = Vec3{0.0};
       js.warm_lo = js.warm_hi = 0.0;

@@ -75,7 +75,7 @@ struct BodyInfo {
   std::int32_t scene_index = -1;  // -1: the probe sphere
   BodyKind kind = BodyKind::kStatic;
   Vec3 com_B{0.0};
-  double stiffness = 0.0;  // felt stiffness of this body's surfaces (N per scene unit)
+  double stiffness = 0.0;      // felt stiffness of this body's surfaces (N per scene unit)
   double origin_radius = 0.0;  // largest distance of its points from its origin (scene units)
   // a hinge to the scene frame (or to a static body), for the attach modes
   bool hinge = false;
@@ -200,7 +200,7 @@ class SimulationImpl final : public Simulation {
   std::vector<BodyPose> body_poses_;
   std::vector<std::uint32_t> pose_bodies_;  // world ids of body_poses_
   response::ContactRows rows_;
-  std::vector<std::uint32_t> row_env_;  // per row of rows_: the environment body's world id
+  std::vector<std::uint32_t> row_env_;        // per row of rows_: the environment body's world id
   std::vector<ContactPoint> contact_points_;  // contactPoints(): capacity fixed in build()
   // scene edits: per world body 1 active, 0 out of the scene (setBodyActive)
   std::vector<std::uint8_t> active_;
@@ -222,14 +222,14 @@ class SimulationImpl final : public Simulation {
   Vec3 grab_com_B_{0.0};
   geom::Mat3 grab_inertia_B_{0.0};
   Vec3 grab_r_P_{0.0};  // its centre of mass from the handle point, in the probe's frame
-  std::uint32_t grab_history_ = 0;  // device poses seen since the grab (up to 2)
-  Vec3 grab_c1_{0.0}, grab_c2_{0.0};  // the device-side centre of mass, last two ticks
-  Quat grab_q1_{1.0, 0.0, 0.0, 0.0};  // the device's rotation, last tick
-  Vec3 grab_w1_{0.0};                 // the device's angular velocity, last tick
+  std::uint32_t grab_history_ = 0;          // device poses seen since the grab (up to 2)
+  Vec3 grab_c1_{0.0}, grab_c2_{0.0};        // the device-side centre of mass, last two ticks
+  Quat grab_q1_{1.0, 0.0, 0.0, 0.0};        // the device's rotation, last tick
+  Vec3 grab_w1_{0.0};                       // the device's angular velocity, last tick
   Vec3 grab_a_f_{0.0}, grab_alpha_f_{0.0};  // low-passed accelerations
   double grab_beta_ = 1.0;                  // the low-pass's gain per tick
-  double delta_ = 0.0;       // this tick's predictive distance
-  double max_travel_ = 0.0;  // safe distance per tick
+  double delta_ = 0.0;                      // this tick's predictive distance
+  double max_travel_ = 0.0;                 // safe distance per tick
   double speed_decay_ = 0.0;
   double v_c_ = 0.0;  // current speed bound of the held body's points
   bool have_prev_device_ = false;
@@ -333,8 +333,8 @@ Result<bool> SimulationImpl::build() {
     return Error{"response.attach_distance must be >= 0"};
   if (!std::isfinite(r.grab_inertia_filter_s) || r.grab_inertia_filter_s < 0.0)
     return Error{"response.grab_inertia_filter must be >= 0 s"};
-  grab_beta_ = r.grab_inertia_filter_s > 0.0 ? 1.0 - std::exp(-r.tick_s / r.grab_inertia_filter_s)
-                                             : 1.0;
+  grab_beta_ =
+      r.grab_inertia_filter_s > 0.0 ? 1.0 - std::exp(-r.tick_s / r.grab_inertia_filter_s) : 1.0;
   const scene::SceneModel& sc = *scene_;
   if (sc.probe_body >= static_cast<std::int32_t>(sc.bodies.size()))
     return Error{"scene: probe body " + std::to_string(sc.probe_body) + " out of range (" +

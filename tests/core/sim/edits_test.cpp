@@ -94,7 +94,8 @@ struct PushRun {
 PushRun runPaddle(double s) {
   PushRun r;
   scene::SceneModel sc;
-  sc.bodies.push_back(box("floor", Motion::kStatic, Vec3{0, -0.05, 0} * s, Vec3{1.0, 0.05, 0.5} * s));
+  sc.bodies.push_back(
+      box("floor", Motion::kStatic, Vec3{0, -0.05, 0} * s, Vec3{1.0, 0.05, 0.5} * s));
   sc.bodies.push_back(box("box", Motion::kDynamic, Vec3{0, 0.05, 0} * s, Vec3{0.05} * s));
   sc.bodies.push_back(
       box("paddle", Motion::kKinematic, Vec3{-0.2, 0.06, 0} * s, Vec3{0.01, 0.05, 0.1} * s));
@@ -166,10 +167,10 @@ TEST(SimEdits, ThePaddlePushesTheSameInMillimetresAndKilometres) {
 // ---- a kinematic wall moved into the resting probe (no dynamics)
 
 struct WallRun {
-  std::vector<Vec3> force;     // per tick
+  std::vector<Vec3> force;  // per tick
   double max_force = 0.0;
-  double max_pen = 0.0;        // largest reported penetration (per s)
-  double end_pen = 0.0;        // wall face past the proxy sphere's back at the end (per s)
+  double max_pen = 0.0;  // largest reported penetration (per s)
+  double end_pen = 0.0;  // wall face past the proxy sphere's back at the end (per s)
   double end_force_x = 0.0;
   double first_force_s = -1.0;
   double min_fx_in_contact = 1e9;
@@ -270,8 +271,9 @@ TEST(SimEdits, TheWallPushesTheSameInMillimetresAndKilometres) {
 TEST(SimEdits, AWallFasterThanTheSafeDistanceStillPushesTheProbeOut) {
   const sim::SimOptions o;
   const WallRun r = runWall(1.0, 2.0);
-  std::printf("  wall at 2 m/s: largest |F| %.4f N, largest penetration %.3e m, at the end %.3e m\n",
-              r.max_force, r.max_pen, r.end_pen);
+  std::printf(
+      "  wall at 2 m/s: largest |F| %.4f N, largest penetration %.3e m, at the end %.3e m\n",
+      r.max_force, r.max_pen, r.end_pen);
   EXPECT_TRUE(r.finite);
   EXPECT_LE(r.max_force, o.response.max_force_n * (1.0 + 1e-12));
   EXPECT_NEAR(r.end_force_x, o.response.max_force_n, 1e-6 * o.response.max_force_n);

@@ -21,9 +21,9 @@ Pose at(double x, double y, double z) {
 }
 
 struct GrabRun {
-  Vec3 resting_force{0.0};  // held, the box still on the floor
-  Vec3 lifted_force{0.0};   // mean over the last 0.5 s of holding it still in the air
-  Vec3 weight{0.0};         // TickOutput::grab_weight_W_n then
+  Vec3 resting_force{0.0};     // held, the box still on the floor
+  Vec3 lifted_force{0.0};      // mean over the last 0.5 s of holding it still in the air
+  Vec3 weight{0.0};            // TickOutput::grab_weight_W_n then
   double accel_force_x = 0.0;  // mean F_x while accelerating at +1 m/s^2 along x
   double box_y = 0.0;          // box centre after the lift
   bool attached = false;
@@ -35,8 +35,8 @@ struct GrabRun {
 GrabRun runGrab(const sim::SimOptions& o) {
   GrabRun r;
   scene::SceneModel sc;
-  sc.bodies.push_back(makeBody("floor", Motion::kStatic, at(0, -0.05, 0),
-                               {boxShape(Vec3{1.0, 0.05, 1.0})}));
+  sc.bodies.push_back(
+      makeBody("floor", Motion::kStatic, at(0, -0.05, 0), {boxShape(Vec3{1.0, 0.05, 1.0})}));
   sc.bodies.push_back(makeBody("box", Motion::kDynamic, at(0, 0.05, 0), {boxShape(Vec3{0.05})}));
   sc.gravity_W = Vec3{0, -9.81, 0};
   sc.length_scale = 2.9;
@@ -131,9 +131,9 @@ TEST(SimGrab, WithoutTheKnobsNoWeightAndNoInertia) {
 // the inertia fed back (a 1 kg box is twice the hand's mass) must not make the loop ring or
 // diverge: the hand settles, the force settles at m g.
 struct LoopRun {
-  double settle_speed = 0.0;   // largest hand speed over the last 0.5 s, 2.5 s after the jump
-  double settle_spin = 0.0;    // largest hand angular speed then (rad/s)
-  Vec3 settle_force{0.0};      // mean force then
+  double settle_speed = 0.0;  // largest hand speed over the last 0.5 s, 2.5 s after the jump
+  double settle_spin = 0.0;   // largest hand angular speed then (rad/s)
+  Vec3 settle_force{0.0};     // mean force then
   double max_force = 0.0;
   bool finite = true;
   bool attached = false;
@@ -142,8 +142,8 @@ struct LoopRun {
 LoopRun runLoop(bool inertia) {
   LoopRun r;
   scene::SceneModel sc;
-  sc.bodies.push_back(makeBody("floor", Motion::kStatic, at(0, -0.05, 0),
-                               {boxShape(Vec3{1.0, 0.05, 1.0})}));
+  sc.bodies.push_back(
+      makeBody("floor", Motion::kStatic, at(0, -0.05, 0), {boxShape(Vec3{1.0, 0.05, 1.0})}));
   sc.bodies.push_back(makeBody("box", Motion::kDynamic, at(0, 0.05, 0), {boxShape(Vec3{0.05})}));
   sc.gravity_W = Vec3{0, -9.81, 0};
   sc.length_scale = 2.9;
