@@ -567,6 +567,28 @@ TEST(SimEdits, TheProbePassesThroughAnInactiveBodyWithoutForce) {
   }
 }
 
+// A scene built in code whose probe body is inactive is refused with a message naming it; a
+// static body marked inactive is simply active (static bodies always are).
+TEST(SimEdits, AnInactiveProbeIsRefusedAStaticBodyIsAlwaysActive) {
+  scene::SceneModel sc;
+  auto floor = box("floor", Motion::kStatic, Vec3{0, -0.05, 0}, Vec3{1.0, 0.05, 1.0});
+  floor.active = false;
+  sc.bodies.push_back(floor);
+  auto probe = box("stick", Motion::kKinematic, Vec3{0.0, 0.1, 0.0}, Vec3{0.01});
+  probe.probe = true;
+  probe.active = false;
+  sc.bodies.push_back(probe);
+  auto created = sim::Simulation::create(finish(sc), sim::SimOptions{});
+  ASSERT_FALSE(created.ok());
+  EXPECT_NE(created.error().message.find("'stick': the probe body cannot be inactive"),
+            std::string::npos)
+      << created.error().message;
+  sc.bodies[1].active = true;
+  auto sim = make(finish(sc), sim::SimOptions{});
+  ASSERT_TRUE(sim);
+  EXPECT_TRUE(sim->bodyActive(0));
+}
+
 // ---- no allocation
 
 TEST(SimEdits, EditsAndStepsAllocateNothingAfterTheFirstStep) {
