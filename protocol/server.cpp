@@ -251,7 +251,8 @@ void Server::handleDatagram(std::span<const std::uint8_t> d,
           [&](const SceneUpdate& x) {
             std::string error;
             if (handlers_.on_scene_update && !handlers_.on_scene_update(s.id, x, &error))
-              return refuse(Errc::kBadValue, from, &h, &s, true, "scene_update refused: " + error);
+              return refuse(Errc::kBadValue, from, &h, &s, true,
+                          error.empty() ? std::string("scene update refused") : error);
             sendTo(s, Ack{h.sequence, h.type});
           },
           [&](const PoseCommand& x) { command(CommandEvent::Kind::kPose, &x); },
