@@ -269,6 +269,33 @@ TEST(DaemonCommands, ReplayRateIsClampedToTheTickRate) {
   expectPoses(got, 40.0);
 }
 
+TEST(DaemonCommands, ALongReplayReportsProgressOnStderrUnlessQuiet) {
+  FakeDaemon d(20);
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  const auto file = tempFile("long.csv");
+  std::ofstream(file) << "0,0,0,0,0,0,0,1,0\n2.5,0.1,0,0,0,0,0,1,0\n";
+  ReplayOptions o;
+  o.file = file.string();
+  std::ostringstream out, err;
+  ASSERT_EQ(runReplay(d.target(), o, out, err), 0) << err.str();
+  // sends run to t = 2.5 s of the stream, so at least the line of the first second comes
+  std::istringstream lines(err.str());
+  std::string line;
+  std::size_t n = 0;
+  while (std::getline(lines, line)) {
+    EXPECT_EQ(line.rfind("hapticctl replay: ", 0), 0u) << line;
+    EXPECT_NE(line.find(" / 2.5 s, "), std::string::npos) << line;
+    EXPECT_NE(line.find(" of 51 poses sent"), std::string::npos) << line;
+    ++n;
+  }
+  EXPECT_GE(n, 1u) << err.str();
+  EXPECT_NE(out.str().find("replayed 51 pose commands"), std::string::npos) << out.str();
+  o.quiet = true;
+  std::ostringstream out2, err2;
+  ASSERT_EQ(runReplay(d.target(), o, out2, err2), 0) << err2.str();
+  EXPECT_TRUE(err2.str().empty()) << err2.str();
+}
+
 TEST(DaemonCommands, ReplayRefusesBadFilesWithFileLineAndExit2) {
   DaemonTarget t;  // never reached: the file is checked first
   t.port = 1;
