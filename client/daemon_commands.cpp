@@ -185,7 +185,8 @@ class ShmLink final : public Link {
   }
   bool subscribe(std::uint32_t, std::uint32_t, std::string*) override { return true; }
   std::optional<proto::State> receiveState(int timeout_ms) override {
-    const std::uint64_t end = nowNs() + static_cast<std::uint64_t>(std::max(timeout_ms, 0)) * 1'000'000;
+    const std::uint64_t end =
+        nowNs() + static_cast<std::uint64_t>(std::max(timeout_ms, 0)) * 1'000'000;
     proto::ShmState s{};
     for (;;) {
       c_.beat(nowNs());
@@ -257,13 +258,13 @@ std::unique_ptr<Link> openLink(const DaemonTarget& t, const char* command, std::
   }
   auto c = proto::ShmClient::attach(t.shm_name);
   if (!c) {
-    err << "hapticctl " << command << ": --shm " << t.shm_name << ": " << c.error().message
-        << "\n";
+    err << "hapticctl " << command << ": --shm " << t.shm_name << ": " << c.error().message << "\n";
     return nullptr;
   }
   auto link = std::make_unique<ShmLink>(std::move(c).value());
   // the daemon beats every tick; wait a little for a first beat, as UDP waits for Welcome
-  const std::uint64_t timeout_ns = static_cast<std::uint64_t>(std::max(t.timeout_ms, 1)) * 1'000'000;
+  const std::uint64_t timeout_ns =
+      static_cast<std::uint64_t>(std::max(t.timeout_ms, 1)) * 1'000'000;
   const std::uint64_t end = nowNs() + timeout_ns;
   while (!link->serverAlive(timeout_ns)) {
     if (nowNs() >= end) {
@@ -328,8 +329,8 @@ nlohmann::json stateJson(const proto::State& s, std::size_t deepest) {
   nlohmann::json j;
   j["tick"] = s.tick;
   j["t_s"] = static_cast<double>(s.sim_time_ns) * 1e-9;
-  j["tick_ns"] = {{"p50", s.tick_p50_ns}, {"p99", s.tick_p99_ns}, {"max", s.tick_max_ns},
-                  {"this", s.tick_ns}};
+  j["tick_ns"] = {
+      {"p50", s.tick_p50_ns}, {"p99", s.tick_p99_ns}, {"max", s.tick_max_ns}, {"this", s.tick_ns}};
   j["tick_misses"] = s.tick_misses;
   j["pairs_tested"] = s.pairs_tested;
   j["pairs_skipped"] = s.pairs_skipped;
@@ -564,8 +565,9 @@ int runReplay(const DaemonTarget& t, const ReplayOptions& o, std::ostream& out, 
     ++sent;
     if (progress && Clock::now() >= next_progress) {
       char buf[160];
-      std::snprintf(buf, sizeof buf, "hapticctl replay: %.1f / %.1f s, %" PRIu64 " of %" PRIu64
-                    " poses sent\n", ts, duration, sent, total);
+      std::snprintf(buf, sizeof buf,
+                    "hapticctl replay: %.1f / %.1f s, %" PRIu64 " of %" PRIu64 " poses sent\n", ts,
+                    duration, sent, total);
       err << buf << std::flush;
       next_progress += std::chrono::seconds(1);
     }
@@ -613,9 +615,9 @@ int runRecord(const DaemonTarget& t, const RecordOptions& o, std::ostream& out, 
         ",%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,"
         "%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%.17g,%u,%.17g,%u,%u,%u\n",
         s.tick - 1, static_cast<double>(s.sim_time_ns) * 1e-9, d.p[0], d.p[1], d.p[2], d.q[0],
-        d.q[1], d.q[2], d.q[3], p.p[0], p.p[1], p.p[2], p.q[0], p.q[1], p.q[2], p.q[3], s.force_n[0],
-        s.force_n[1], s.force_n[2], s.torque_nm[0], s.torque_nm[1], s.torque_nm[2], s.contact_count,
-        s.max_penetration_m, s.pairs_tested, s.pairs_skipped, s.tick_ns);
+        d.q[1], d.q[2], d.q[3], p.p[0], p.p[1], p.p[2], p.q[0], p.q[1], p.q[2], p.q[3],
+        s.force_n[0], s.force_n[1], s.force_n[2], s.torque_nm[0], s.torque_nm[1], s.torque_nm[2],
+        s.contact_count, s.max_penetration_m, s.pairs_tested, s.pairs_skipped, s.tick_ns);
     if (n < 0)
       write_failed = true;
   });

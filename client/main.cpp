@@ -68,9 +68,10 @@ int main(int argc, char** argv) {
   pose->add_option("--seconds", pose_options.seconds, "stream the pose this long (default 0.5)");
   pose->add_option("--rate", pose_options.rate_hz, "stream rate, Hz (default 200)");
   hc::ReplayOptions replay_options;
-  auto* replay = daemonCommand("replay", "Arm and send a pose stream CSV as pose commands, "
-                                         "interpolated (lerp, slerp) at the send rate and timed "
-                                         "by its t");
+  auto* replay = daemonCommand("replay",
+                               "Arm and send a pose stream CSV as pose commands, "
+                               "interpolated (lerp, slerp) at the send rate and timed "
+                               "by its t");
   replay->add_option("FILE", replay_options.file, "t,px,py,pz,qx,qy,qz,qw,buttons")->required();
   replay->add_option("--rate", replay_options.rate_hz,
                      "send rate, Hz, at most the daemon's tick rate (default 0: the tick rate)");
@@ -96,13 +97,16 @@ int main(int argc, char** argv) {
   // scene edits: one SceneUpdate each
   hc::SceneEditOptions edit_options;
   std::vector<double> edit_values;
-  auto* move = daemonCommand("move", "Set a kinematic body's pose (scene frame, metres, glTF "
-                                     "quaternion order): exit 0 acknowledged, 1 refused");
-  move->add_option("BODY", edit_options.body, "body index in the scene (hapticctl check lists them)")
+  auto* move = daemonCommand("move",
+                             "Set a kinematic body's pose (scene frame, metres, glTF "
+                             "quaternion order): exit 0 acknowledged, 1 refused");
+  move->add_option("BODY", edit_options.body,
+                   "body index in the scene (hapticctl check lists them)")
       ->required();
   move->add_option("POSE", edit_values, "PX PY PZ [QX QY QZ QW]")->required()->expected(3, 7);
-  auto* add = daemonCommand("add", "Make an inactive body active at a pose: exit 0 "
-                                   "acknowledged, 1 refused");
+  auto* add = daemonCommand("add",
+                            "Make an inactive body active at a pose: exit 0 "
+                            "acknowledged, 1 refused");
   add->add_option("BODY", edit_options.body, "body index in the scene")->required();
   add->add_option("POSE", edit_values, "PX PY PZ [QX QY QZ QW]")->required()->expected(3, 7);
   auto* remove = daemonCommand("remove", "Make a body inactive: exit 0 acknowledged, 1 refused");

@@ -93,16 +93,18 @@ Result<std::vector<PoseSample>> parsePoseStream(std::istream& in, const std::str
       continue;
     const auto f = split(t);
     if (f[0] == "t") {  // a header
-      const bool ok = (f.size() == 8 || f.size() == 9) &&
-                      std::equal(f.begin(), f.end(), std::begin(kColumns));
+      const bool ok =
+          (f.size() == 8 || f.size() == 9) && std::equal(f.begin(), f.end(), std::begin(kColumns));
       if (!ok || !rows.empty())
         return fail(rows.empty() ? "header must be t,px,py,pz,qx,qy,qz,qw,buttons"
                                  : "a header after the first row");
       continue;
     }
     if (f.size() != 8 && f.size() != 9)
-      return fail("expected 9 columns t,px,py,pz,qx,qy,qz,qw,buttons (buttons may be left out), "
-                  "got " + std::to_string(f.size()));
+      return fail(
+          "expected 9 columns t,px,py,pz,qx,qy,qz,qw,buttons (buttons may be left out), "
+          "got " +
+          std::to_string(f.size()));
     double v[8];
     for (std::size_t i = 0; i < 8; ++i) {
       const char* s = f[i].c_str();

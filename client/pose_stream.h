@@ -20,12 +20,12 @@ namespace hapticd::client {
 
 /// One row of a pose stream, or a sample between rows.
 struct PoseSample {
-  double t_s = 0.0;                                ///< seconds (stream time)
-  std::array<double, 3> p_W{0.0, 0.0, 0.0};        ///< position, metres, scene frame
-  std::array<double, 4> q_W{0.0, 0.0, 0.0, 1.0};   ///< unit quaternion x, y, z, w
-  std::uint32_t buttons = 0;                       ///< bit mask
-  std::array<double, 3> v_W{0.0, 0.0, 0.0};        ///< sample(): segment velocity, m/s
-  std::array<double, 3> w_W{0.0, 0.0, 0.0};        ///< sample(): segment angular velocity, rad/s
+  double t_s = 0.0;                               ///< seconds (stream time)
+  std::array<double, 3> p_W{0.0, 0.0, 0.0};       ///< position, metres, scene frame
+  std::array<double, 4> q_W{0.0, 0.0, 0.0, 1.0};  ///< unit quaternion x, y, z, w
+  std::uint32_t buttons = 0;                      ///< bit mask
+  std::array<double, 3> v_W{0.0, 0.0, 0.0};       ///< sample(): segment velocity, m/s
+  std::array<double, 3> w_W{0.0, 0.0, 0.0};       ///< sample(): segment angular velocity, rad/s
 };
 
 /// A quaternion whose norm differs from 1 by more than this is refused (the protocol's bound).
@@ -49,6 +49,8 @@ std::array<double, 4> slerp(const std::array<double, 4>& q0,
 /// i and i+1 the lerp of p and slerp of q at u = (t − t_i)/(t_{i+1} − t_i), the buttons of row
 /// i, and the segment's velocities (zero at and after the last row). `rows` non-empty, t strictly
 /// increasing. `hint` (optional) keeps the segment index between calls with increasing t.
-PoseSample samplePoseStream(std::span<const PoseSample> rows, double t_s, std::size_t* hint = nullptr);
+PoseSample samplePoseStream(std::span<const PoseSample> rows,
+                            double t_s,
+                            std::size_t* hint = nullptr);
 
 }  // namespace hapticd::client

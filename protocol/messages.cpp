@@ -483,8 +483,8 @@ DecodeError get(Reader& r, State& m, std::uint8_t minor) {
   if (nb > kMaxStateBodies)
     return err(Errc::kBadValue, t, nb, kMaxStateBodies, "listed_bodies");
   const std::size_t tail = minor >= 1 ? State::kMinor1Size : 0;
-  if (auto e = checkLength(t, total,
-                           State::kFixedSize + kContactSize * nc + kBodyPoseSize * nb + tail, exact);
+  if (auto e = checkLength(
+          t, total, State::kFixedSize + kContactSize * nc + kBodyPoseSize * nb + tail, exact);
       e.code != Errc::kOk)
     return e;
   m.contacts.resize(nc);

@@ -252,7 +252,7 @@ void Server::handleDatagram(std::span<const std::uint8_t> d,
             std::string error;
             if (handlers_.on_scene_update && !handlers_.on_scene_update(s.id, x, &error))
               return refuse(Errc::kBadValue, from, &h, &s, true,
-                          error.empty() ? std::string("scene update refused") : error);
+                            error.empty() ? std::string("scene update refused") : error);
             sendTo(s, Ack{h.sequence, h.type});
           },
           [&](const PoseCommand& x) { command(CommandEvent::Kind::kPose, &x); },

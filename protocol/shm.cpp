@@ -79,8 +79,9 @@ void toState(const ShmState& in, State& out) {
     out.bodies.push_back({u32(in.bodies[b].index), pose(in.bodies[b].X_WB)});
   out.pairs_tested = u32(in.pairs_tested);
   out.pairs_skipped = u32(in.pairs_skipped);
-  out.max_penetration_m =
-      std::isfinite(in.max_penetration_m) && in.max_penetration_m > 0.0 ? in.max_penetration_m : 0.0;
+  out.max_penetration_m = std::isfinite(in.max_penetration_m) && in.max_penetration_m > 0.0
+                              ? in.max_penetration_m
+                              : 0.0;
   out.tick_ns = u32(in.tick_ns);
 }
 

@@ -11,10 +11,9 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
-
-#include <nlohmann/json.hpp>
 
 #include "tests/client/fake_daemon.h"
 
@@ -26,8 +25,8 @@ using testing::FakeShmDaemon;
 using testing::stateFor;
 
 std::filesystem::path tempFile(const std::string& name) {
-  const auto dir = std::filesystem::temp_directory_path() /
-                   ("hapticctl-test-" + std::to_string(::getpid()));
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("hapticctl-test-" + std::to_string(::getpid()));
   std::filesystem::create_directories(dir);
   return dir / name;
 }
@@ -91,12 +90,28 @@ RecordCheck checkRecord(const std::filesystem::path& file,
     const proto::State s = stateFor(tick);
     const proto::WirePose& d = device ? *device : s.X_WD;
     const std::vector<double> want{static_cast<double>(s.sim_time_ns) * 1e-9,
-                                   d.p[0], d.p[1], d.p[2], d.q[0], d.q[1], d.q[2], d.q[3],
-                                   s.X_WP.p[0], s.X_WP.p[1], s.X_WP.p[2],
-                                   s.X_WP.q[0], s.X_WP.q[1], s.X_WP.q[2], s.X_WP.q[3],
-                                   s.force_n[0], s.force_n[1], s.force_n[2],
-                                   s.torque_nm[0], s.torque_nm[1], s.torque_nm[2],
-                                   static_cast<double>(s.contact_count), s.max_penetration_m,
+                                   d.p[0],
+                                   d.p[1],
+                                   d.p[2],
+                                   d.q[0],
+                                   d.q[1],
+                                   d.q[2],
+                                   d.q[3],
+                                   s.X_WP.p[0],
+                                   s.X_WP.p[1],
+                                   s.X_WP.p[2],
+                                   s.X_WP.q[0],
+                                   s.X_WP.q[1],
+                                   s.X_WP.q[2],
+                                   s.X_WP.q[3],
+                                   s.force_n[0],
+                                   s.force_n[1],
+                                   s.force_n[2],
+                                   s.torque_nm[0],
+                                   s.torque_nm[1],
+                                   s.torque_nm[2],
+                                   static_cast<double>(s.contact_count),
+                                   s.max_penetration_m,
                                    static_cast<double>(s.pairs_tested),
                                    static_cast<double>(s.pairs_skipped),
                                    static_cast<double>(s.tick_ns)};

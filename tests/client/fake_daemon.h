@@ -143,7 +143,8 @@ class FakeDaemon {
 /// publishes a state whose device pose is the newest commanded pose (else stateFor's).
 class FakeShmDaemon {
  public:
-  explicit FakeShmDaemon(const char* what, std::chrono::microseconds period = std::chrono::microseconds(1000))
+  explicit FakeShmDaemon(const char* what,
+                         std::chrono::microseconds period = std::chrono::microseconds(1000))
       : name_("/hapticctl-test-" + std::to_string(::getpid()) + "-" + what) {
     auto s = proto::ShmServer::create(name_);
     if (!s) {

@@ -43,8 +43,9 @@ const char* kStream =
     "1.5,3,2,-4,0,0,-1,0,4\n";
 
 TEST(PoseStream, ParsesRowsAndOptionalButtonsAndComments) {
-  auto r = parse("# a comment\nt,px,py,pz,qx,qy,qz,qw,buttons\n\n0,1,2,3,0,0,0,1,7\n"
-                 "0.25,1,2,3,0,0,0,1\r\n");
+  auto r = parse(
+      "# a comment\nt,px,py,pz,qx,qy,qz,qw,buttons\n\n0,1,2,3,0,0,0,1,7\n"
+      "0.25,1,2,3,0,0,0,1\r\n");
   ASSERT_TRUE(r) << r.error().message;
   ASSERT_EQ(r.value().size(), 2u);
   EXPECT_EQ(r.value()[0].buttons, 7u);

@@ -31,7 +31,7 @@ TEST(TickOrder, ReordersWithinTheWindowAndCountsGaps) {
   EXPECT_EQ(out, (std::vector<std::uint64_t>{10, 11, 12, 13, 14, 16, 17}));
   EXPECT_EQ(pairs, (std::vector<std::uint32_t>{100, 110, 120, 130, 140, 160, 170}));
   EXPECT_EQ(order.written(), 7u);
-  EXPECT_EQ(order.missing(), 1u);  // 15
+  EXPECT_EQ(order.missing(), 1u);     // 15
   EXPECT_EQ(order.duplicates(), 2u);  // the second 12, and 11 again after it was written
   EXPECT_EQ(order.late(), 0u);
   EXPECT_EQ(order.firstTick(), 10u);
