@@ -643,8 +643,8 @@ int runRecord(const DaemonTarget& t, const RecordOptions& o, std::ostream& out, 
     return 1;
   }
   const std::uint64_t first = order.firstTick() - 1, last = order.lastTick() - 1;
-  out << "recorded " << order.written() << " rows (ticks " << first << ".." << last << ") to "
-      << o.file << ", " << order.missing() << " ticks missing\n";
+  out << "recorded " << order.written() << " rows to " << o.file << " (ticks " << first << ".."
+      << last << ", " << order.missing() << " ticks missing)\n";
   if (order.missing() > 0)
     err << "hapticctl record: warning: " << order.missing() << " of the " << (last - first + 1)
         << " ticks from " << first << " to " << last
@@ -693,22 +693,24 @@ int runWatch(const DaemonTarget& t, const WatchOptions& o, std::ostream& out, st
       ++lines;
       continue;
     }
+    // the 1.0 line as it was, then what minor 1 and the contact list add
     char buf[512];
     std::snprintf(buf, sizeof buf,
                   "tick %" PRIu64
-                  " t %.3f s | tick p50 %.1f us p99 %.1f us max %.1f us this %.1f us | pairs "
-                  "%u tested %u skipped | force %.4g N torque %.4g N m scale %.2f | contacts %u "
-                  "max pen %.3g m",
+                  " t %.3f s | tick p50 %.1f us p99 %.1f us max %.1f us | force "
+                  "%.4g N torque %.4g N m scale %.2f | contacts %u | faults %s%s",
                   s->tick, static_cast<double>(s->sim_time_ns) * 1e-9, s->tick_p50_ns / 1e3,
-                  s->tick_p99_ns / 1e3, s->tick_max_ns / 1e3, s->tick_ns / 1e3, s->pairs_tested,
-                  s->pairs_skipped, norm(s->force_n), norm(s->torque_nm), s->force_scale,
-                  s->contact_count, s->max_penetration_m);
+                  s->tick_p99_ns / 1e3, s->tick_max_ns / 1e3, norm(s->force_n), norm(s->torque_nm),
+                  s->force_scale, s->contact_count, faultText(s->fault_bits).c_str(),
+                  (s->state_flags & proto::kStateArmed) != 0 ? " | armed" : " | disarmed");
     std::string line = buf;
+    std::snprintf(buf, sizeof buf,
+                  " | this tick %.1f us, pairs %u tested %u skipped, max pen %.3g m",
+                  s->tick_ns / 1e3, s->pairs_tested, s->pairs_skipped, s->max_penetration_m);
+    line += buf;
     const std::string deepest = formatContacts(*s, o.deepest);
     if (!deepest.empty())
-      line += " (deepest " + deepest + ")";
-    line += " | faults " + faultText(s->fault_bits) +
-            ((s->state_flags & proto::kStateArmed) != 0 ? " | armed" : " | disarmed");
+      line += " | deepest " + deepest;
     out << line << "\n" << std::flush;
     ++lines;
   }

@@ -146,7 +146,9 @@ TEST(DaemonCommands, RecordWritesEveryColumnWithTheDaemonsValuesAndCountsMissing
   for (std::uint64_t m : c.missing_ticks)
     EXPECT_EQ(m % 7, 0u) << "tick " << m << " missing (lost on loopback?)";
   EXPECT_EQ(reportedMissing(out.str()), c.gaps) << out.str();
-  EXPECT_NE(out.str().find("recorded " + std::to_string(c.rows) + " rows"), std::string::npos)
+  EXPECT_EQ(
+      out.str().rfind("recorded " + std::to_string(c.rows) + " rows to " + o.file + " (ticks ", 0),
+      0u)
       << out.str();
   EXPECT_NE(err.str().find("warning: " + std::to_string(c.gaps) + " of the"), std::string::npos)
       << err.str();
@@ -463,11 +465,21 @@ TEST(DaemonCommands, WatchTextLineShowsPercentilesPairsAndDeepestContacts) {
   ASSERT_EQ(runWatch(d.target(), o, out, err), 0) << err.str();
   const std::string s = out.str();
   EXPECT_EQ(std::count(s.begin(), s.end(), '\n'), 2) << s;
-  EXPECT_NE(s.find("tick p50 11.0 us p99 22.0 us max 33.0 us"), std::string::npos) << s;
-  EXPECT_NE(s.find("tested"), std::string::npos) << s;
-  EXPECT_NE(s.find("(deepest 0.0003 m at (0.1, 0, "), std::string::npos) << s;
+  // the 1.0 line first, unchanged, for scripts that read it
+  EXPECT_EQ(s.rfind("tick ", 0), 0u) << s;
+  EXPECT_NE(s.find(" s | tick p50 11.0 us p99 22.0 us max 33.0 us | force "), std::string::npos)
+      << s;
+  EXPECT_NE(s.find(" | faults none | armed | this tick "), std::string::npos) << s;
+  // then the minor-1 fields of that tick and the deepest contacts
+  const std::uint64_t tick = std::stoull(s.substr(5, s.find(' ', 5) - 5));
+  const proto::State st = stateFor(tick);
+  char want[160];
+  std::snprintf(want, sizeof want, "this tick %.1f us, pairs %u tested %u skipped, max pen %.3g m",
+                st.tick_ns / 1e3, st.pairs_tested, st.pairs_skipped, st.max_penetration_m);
+  EXPECT_NE(s.find(want), std::string::npos) << want << "\n" << s;
+  EXPECT_NE(s.find(" | deepest 0.0003 m at (0.1, 0, "), std::string::npos) << s;
+  EXPECT_NE(s.find(", 0.0002 m at (0, 0, "), std::string::npos) << s;
   EXPECT_EQ(s.find("0.0001 m at"), std::string::npos) << s;  // only the deepest two
-  EXPECT_NE(s.find("faults none | armed"), std::string::npos) << s;
 }
 
 // ---- shared memory --------------------------------------------------------------------------
