@@ -596,7 +596,7 @@ int runRecord(const DaemonTarget& t, const RecordOptions& o, std::ostream& out, 
   std::uint32_t rate = o.rate_hz > 0 ? o.rate_hz : (tick_hz > 0 ? tick_hz : max_rate);
   rate = std::clamp<std::uint32_t>(rate, 1, max_rate);
   std::string why;
-  if (!c->subscribe(rate, 0, &why)) {
+  if (!c->subscribe(rate, proto::kSubscribeEachTick, &why)) {
     err << "hapticctl record: subscribe: " << why << "\n";
     std::fclose(f);
     return 1;

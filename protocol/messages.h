@@ -184,6 +184,9 @@ struct PoseCommand {
 /// Subscribe::flags bits.
 inline constexpr std::uint32_t kSubscribeBodies = 1u << 0;
 inline constexpr std::uint32_t kSubscribeContacts = 1u << 1;
+/// (1.1) Each state of a tick not sent before, as soon as the server sees it, at most rate_hz:
+/// no duplicates when the rate is at or above the tick rate (a 1.0 server ignores the bit).
+inline constexpr std::uint32_t kSubscribeEachTick = 1u << 2;
 
 /// Client → server: send State at `rate_hz` (0 stops). Fixed 8 bytes.
 struct Subscribe {

@@ -23,7 +23,9 @@ namespace hapticd::proto {
 //                    heartbeat, error, ack, status request/reply, bye; HMAC-SHA512-256 tag.
 //   1.1  2026-12-01  State appends 24 bytes after its lists: pairs_tested u32, pairs_skipped
 //                    u32, max_penetration_m f64 (>= 0), tick_ns u32, reserved u32. A 1.0
-//                    State decodes with these 0; a 1.0 reader ignores them.
+//                    State decodes with these 0; a 1.0 reader ignores them. Subscribe flag
+//                    bit 2 each_tick: only states of ticks not sent before (a 1.0 server
+//                    ignores it).
 //
 // Rules for later versions. A minor version may only (a) append fields at the end of a
 // message's payload (after its lists and strings) or (b) add message types; a receiver of an

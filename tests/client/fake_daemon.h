@@ -50,8 +50,8 @@ inline proto::State stateFor(std::uint64_t tick) {
 /// A proto::Server on 127.0.0.1 (a free port) on its own thread, with recording handlers.
 class FakeDaemon {
  public:
-  /// tick_rate_hz: told in Welcome. skip_every: ticks that are multiples of it are never sent
-  /// (0: none skipped).
+  /// tick_rate_hz: told in Welcome, and the fake's tick rate on the monotonic clock. skip_every:
+  /// ticks that are multiples of it are never shown (0: none skipped).
   explicit FakeDaemon(std::uint32_t tick_rate_hz = 1000, std::uint64_t skip_every = 0)
       : skip_every_(skip_every) {
     proto::ServerConfig cfg;
@@ -72,11 +72,14 @@ class FakeDaemon {
       }
       return true;
     };
-    h.fill_state = [this](proto::State& s) {
-      ++tick_;
-      if (skip_every_ != 0 && tick_ % skip_every_ == 0)
-        ++tick_;
-      s = stateFor(tick_);
+    // a servo ticking at tick_rate_hz since construction: the newest tick now (a skipped tick
+    // is never newest: its predecessor is shown until the next one)
+    start_ns_ = proto::monotonicNs();
+    h.fill_state = [this, tick_rate_hz](proto::State& s) {
+      std::uint64_t tick = 1 + (proto::monotonicNs() - start_ns_) * tick_rate_hz / 1'000'000'000;
+      if (skip_every_ != 0 && tick % skip_every_ == 0)
+        --tick;
+      s = stateFor(tick);
       return true;
     };
     auto s = proto::Server::create(cfg, h);
@@ -128,7 +131,7 @@ class FakeDaemon {
 
  private:
   std::uint64_t skip_every_;
-  std::uint64_t tick_ = 0;  // server thread only
+  std::uint64_t start_ns_ = 0;
   std::unique_ptr<proto::Server> server_;
   std::string error_;
   std::atomic<bool> stop_{false};
