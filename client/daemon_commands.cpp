@@ -542,6 +542,12 @@ int runReplay(const DaemonTarget& t, const ReplayOptions& o, std::ostream& out, 
     rate = tick_hz;
   const double t0 = rows.front().t_s;
   const double duration = rows.back().t_s - t0;
+  if (!(duration * rate < 1e15)) {  // also keeps the send count inside a u64
+    err << "hapticctl replay: " << o.file << ": the stream lasts " << duration
+        << " s: too long to replay at " << rate << " Hz\n";
+    c->close();
+    return 2;
+  }
   // send times t0 + k/rate for k = 0..n, and the last row itself when it falls between
   const auto n = static_cast<std::uint64_t>(std::floor(duration * rate + 1e-9));
   const bool extra_last = static_cast<double>(n) / rate < duration - 1e-12;

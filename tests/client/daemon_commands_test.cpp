@@ -336,6 +336,19 @@ TEST(DaemonCommands, ALongReplayReportsProgressOnStderrUnlessQuiet) {
   EXPECT_TRUE(err2.str().empty()) << err2.str();
 }
 
+TEST(DaemonCommands, AStreamTooLongToReplayIsRefusedNotOverflowed) {
+  FakeDaemon d(1000);
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  const auto file = tempFile("huge.csv");
+  std::ofstream(file) << "0,0,0,0,0,0,0,1,0\n1e300,0,0,0,0,0,0,1,0\n";
+  ReplayOptions o;
+  o.file = file.string();
+  std::ostringstream out, err;
+  EXPECT_EQ(runReplay(d.target(), o, out, err), 2);
+  EXPECT_NE(err.str().find("too long to replay"), std::string::npos) << err.str();
+  EXPECT_TRUE(d.poses(0).empty());
+}
+
 TEST(DaemonCommands, ReplayRefusesBadFilesWithFileLineAndExit2) {
   DaemonTarget t;  // never reached: the file is checked first
   t.port = 1;
