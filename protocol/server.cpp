@@ -15,9 +15,9 @@ std::uint64_t monotonicNs() {
 
 namespace {
 
-// kSubscribeEachTick: a session looks for a new tick every min(period / 8, this), and may send
+// kSubscribeEachTick: a session looks for a new tick every min(period / 4, this), and may send
 // up to kEachTickBurst states in a row when ticks came close together (on average rate_hz).
-constexpr std::uint64_t kEachTickLookNs = 100'000;
+constexpr std::uint64_t kEachTickLookNs = 250'000;
 constexpr double kEachTickBurst = 4.0;
 
 bool privileged(std::uint16_t type) {
@@ -559,7 +559,7 @@ void Server::sendStates(std::uint64_t t) {
       s.state_credit = std::min(
           kEachTickBurst, s.state_credit + static_cast<double>(t - s.credit_ns) * s.rate_hz * 1e-9);
       s.credit_ns = t;
-      s.next_state_ns = t + std::min<std::uint64_t>(period / 8 + 1, kEachTickLookNs);
+      s.next_state_ns = t + std::min<std::uint64_t>(period / 4 + 1, kEachTickLookNs);
       if (!have || (s.sent_state && full.tick <= s.last_state_tick) || s.state_credit < 1.0)
         continue;
       s.state_credit -= 1.0;
