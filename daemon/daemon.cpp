@@ -686,6 +686,9 @@ void Daemon::writeStatus(const char* phase) {
   j["torque_nm"] = {st.torque_W_nm.x, st.torque_W_nm.y, st.torque_W_nm.z};
   j["contacts"] = st.contacts;
   j["max_penetration_m"] = st.max_penetration_m;
+  j["pairs_tested"] = st.pairs_tested;
+  j["pairs_skipped"] = st.pairs_skipped;
+  j["last_tick_ns"] = st.last_tick_ns;
   j["peak_force_n"] = st.peak_force_n;
   j["output_gain"] = st.output_gain;
   j["last_command_sequence"] = st.last_command_sequence;

@@ -228,6 +228,8 @@ class FakeDevice final : public device::Device {
     if (lost_flag.load())
       return device::DeviceStatus::kLost;
     out.X_WD.translation = geom::Vec3(0.001 * t_s, -0.01 * std::sin(t_s * 3.0) - depth_offset, 0.0);
+    if (follow_commands && commands > 0)
+      out.X_WD = last_command.X_W_target;  // a perfectly stiff commanded device
     return device::DeviceStatus::kOk;
   }
   device::DeviceStatus write(const geom::Vec3& f, const geom::Vec3& tau) noexcept override {
@@ -253,6 +255,7 @@ class FakeDevice final : public device::Device {
   std::uint64_t lost_from = ~0ull, lost_until = ~0ull, end_after = 0;
   std::atomic<bool> lost_flag{false};
   double depth_offset = 0.0;
+  bool follow_commands = false;  ///< read() returns the last commanded pose once there is one
   geom::Vec3 last_force{0.0}, last_torque{0.0}, prev_force{0.0};
   double max_written_n = 0.0, max_step_n = 0.0;
   device::PoseCommand last_command;
