@@ -8,6 +8,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -27,6 +28,8 @@
 
 #include "protocol/auth.h"
 #include "protocol/client.h"
+#include "protocol/server.h"
+#include "protocol/shm.h"
 
 namespace {
 
@@ -106,9 +109,13 @@ class NetTest : public ::testing::Test {
   // its status file to name the port.
   void startDaemon(const std::string& scene = kSource + "/scenes/peg_in_hole.glb",
                    const std::string& network = "") {
+    // a shm segment of its own per test (runs in parallel do not collide)
+    shm_ = "/hapticd-net-test-" + std::to_string(getpid()) + "-" +
+           ::testing::UnitTest::GetInstance()->current_test_info()->name();
     std::ofstream(dir_ / "hapticd.toml")
         << "[servo]\nrealtime = \"off\"\n[scene]\npath = \"" << scene << "\"\n[network]\n"
-        << network;
+        << network
+        << (network.find("shm =") == std::string::npos ? "shm = \"" + shm_ + "\"\n" : "");
     pid_ = spawn({HAPTICD_BINARY, "--config", (dir_ / "hapticd.toml").string(), "--udp",
                   "127.0.0.1:0", "--status-file", (dir_ / "status.json").string()},
                  dir_ / "d.out", dir_ / "d.err");
@@ -177,6 +184,7 @@ class NetTest : public ::testing::Test {
   fs::path dir_;
   pid_t pid_ = -1;
   int port_ = 0;
+  std::string shm_;
 };
 
 proto::PoseCommand poseAt(const proto::Vec3& p) {
@@ -287,6 +295,71 @@ TEST_F(NetTest, PoseCommandsMoveTheSimDeviceThenTheStreamStopRampsAndLatchesAFau
   EXPECT_EQ(a.code, 0) << a.err;
   EXPECT_TRUE(
       until(*c, [](const proto::State& s) { return (s.state_flags & proto::kStateArmed) != 0; }));
+}
+
+TEST_F(NetTest, AShmClientMovesTheSimDeviceThenTheStreamStopRampsAndLatchesAFault) {
+  startDaemon();
+  auto attached = proto::ShmClient::attach(shm_);
+  ASSERT_TRUE(attached) << attached.error().message << "\n" << slurp(dir_ / "d.err");
+  proto::ShmClient& c = attached.value();
+  c.beat(proto::monotonicNs());
+  proto::ShmState st{};
+  for (int i = 0; i < 10000 && !c.readState(st); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_GT(st.tick, 0u);
+  ASSERT_TRUE(c.pushArm(proto::monotonicNs()));
+  const proto::Vec3 start{st.X_WD[0], st.X_WD[1], st.X_WD[2]};
+  // +y: away from the peg-in-hole contact the idle hand rests in (as the UDP test)
+  const proto::Vec3 target{start[0] + 0.01, start[1] + 0.05, start[2] + 0.005};
+  const double d0 = dist(start, target);
+  bool reached = false;
+  std::uint64_t seq = 0;
+  for (int i = 0; i < 30000 && !reached; ++i) {  // ~1 kHz for at most ~30 s
+    c.beat(proto::monotonicNs());
+    (void)c.pushPose(poseAt(target), proto::monotonicNs(), &seq);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (c.readState(st) && st.last_command_sequence > 0 &&
+        dist({st.X_WD[0], st.X_WD[1], st.X_WD[2]}, target) < 0.1 * d0)
+      reached = true;
+  }
+  ASSERT_TRUE(reached) << "device at " << st.X_WD[0] << " " << st.X_WD[1] << " " << st.X_WD[2];
+  EXPECT_NE(st.state_flags & proto::kStateStreaming, 0u);
+  EXPECT_LE(st.last_command_sequence, seq);
+  EXPECT_GT(st.last_command_sequence, 0u);
+  EXPECT_EQ(st.fault_bits, 0u);
+
+  bool saw_ramp = false, faulted = false;
+  for (int i = 0; i < 30000 && !faulted; ++i) {
+    c.beat(proto::monotonicNs());
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (!c.readState(st))
+      continue;
+    if ((st.state_flags & proto::kStateRamping) != 0 && st.force_scale > 0.0 &&
+        st.force_scale < 1.0)
+      saw_ramp = true;
+    faulted = (st.fault_bits & proto::kFaultStreamLost) != 0;
+  }
+  ASSERT_TRUE(faulted);
+  EXPECT_TRUE(saw_ramp);
+  EXPECT_EQ(st.force_scale, 0.0);
+  // hapticctl sees the same latched fault (one gate for UDP and shm clients)
+  EXPECT_NE(statusJson()["faults"].get<std::string>().find("stream_lost"), std::string::npos);
+  ASSERT_TRUE(c.pushArm(proto::monotonicNs()));
+  bool cleared = false;
+  for (int i = 0; i < 30000 && !cleared; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    cleared = c.readState(st) && st.fault_bits == 0;
+  }
+  EXPECT_TRUE(cleared);
+
+  // the segment is removed when the daemon ends
+  kill(pid_, SIGTERM);
+  EXPECT_EQ(waitFor(pid_, 60.0), 0) << slurp(dir_ / "d.err");
+  pid_ = -1;
+  const int fd = shm_open(shm_.c_str(), O_RDONLY, 0);
+  EXPECT_LT(fd, 0) << shm_ << " still exists";
+  if (fd >= 0)
+    close(fd);
 }
 
 TEST_F(NetTest, HapticctlPoseReplayRecordAndWatch) {
