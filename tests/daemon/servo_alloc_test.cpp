@@ -55,6 +55,19 @@ Counts runCounted(ServoLoop& loop,
                   const Extras* extras = nullptr) {
   Counts c;
   std::atomic<bool> done{false};
+  if (extras != nullptr) {
+    // queued before the start, so that a loop that outruns this thread (virtual clock, loaded
+    // machine) still meets an edit batch and a shm command inside its counted run
+    EditBatch e;
+    e.generation = loop.state().scene_generation;
+    e.pose_count = 1;
+    e.poses[0] = {extras->edit_body, geom::Pose{}};
+    c.edits_sent += loop.sendEdits(e) ? 1u : 0u;
+    if (extras->shm != nullptr) {
+      c.shm_sent += extras->shm->pushArm(proto::monotonicNs()) ? 1u : 0u;
+      c.shm_sent += extras->shm->pushPose(proto::PoseCommand{}, proto::monotonicNs()) ? 1u : 0u;
+    }
+  }
   Thread servo;
   auto started = servo.start("servo-test", 1 << 20, [&] {
     loop.prepareServoThread();  // as the daemon's servo thread does before its loop
@@ -87,13 +100,13 @@ Counts runCounted(ServoLoop& loop,
     if (extras != nullptr) {
       const ServoLists l = loop.lists();
       c.state_reads += l.tick > 0 ? 1u : 0u;
-      if (seq % 50 == 0) {
+      if (seq % 5 == 0) {
         EditBatch e;
         e.generation = st.scene_generation;
         e.id = seq;
         e.pose_count = 1;
         e.poses[0] = {extras->edit_body, cmd.pose.X_W_target};
-        if (seq % 100 == 0) {
+        if (seq % 10 == 0) {
           e.add_count = 1;
           e.added[0] = {extras->toggle_body, cmd.pose.X_W_target};
         } else {
