@@ -71,6 +71,7 @@ nlohmann::json sceneJson(const scene::SceneModel& s) {
                          {"mass_kg", body.mass},
                          {"mass_declared", body.mass_declared},
                          {"probe", body.probe},
+                         {"active", body.active},
                          {"primitives", body.primitives.size()}};
     if (body.stiffness_n_per_m)
       jb["stiffness_n_per_m"] = *body.stiffness_n_per_m;
@@ -122,6 +123,8 @@ std::string describeScene(const scene::SceneModel& s) {
     }
     if (body.probe)
       out += ", probe";
+    if (!body.active)
+      out += ", inactive (extras.haptic.active false: out of the scene until a client adds it)";
     if (body.stiffness_n_per_m)
       out += ", stiffness " + num(*body.stiffness_n_per_m) + " N/m";
     out += ", " + std::to_string(body.primitives.size()) + " primitives\n";

@@ -118,6 +118,15 @@ void CollisionWorld::setPose(std::uint32_t body, const geom::Pose& X_WB) {
   b.moved = true;
 }
 
+void CollisionWorld::setEnabled(std::uint32_t body, bool enabled) {
+  Body& b = bodies_[body];
+  if (enabled && !b.enabled) {
+    // its pairs' answers are from before it left: as if it moved in the next step
+    b.moved_tick = tick_ + 1;
+  }
+  b.enabled = enabled;
+}
+
 void CollisionWorld::applyEvents(StepStats* stats) {
   for (const PairEvent& e : sap_.takeEvents()) {
     const std::uint64_t k = pairKey(e.pair.lo, e.pair.hi);

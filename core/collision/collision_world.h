@@ -105,6 +105,13 @@ class CollisionWorld {
   /// static bodies are neither tested nor listed in contacts() (pairs with an awake body are).
   /// For bodies no stage moves (a scene without dynamics). Servo thread; no allocation.
   void setAsleep(std::uint32_t body, bool asleep) { bodies_[body].asleep = asleep; }
+  /// A disabled body is out of the scene: none of its pairs is tested or listed in contacts()
+  /// (its boxes stay in the sweep and prune, so that disabling and enabling allocate nothing and
+  /// cost no sort). Enabled again, its pairs are tested at the next step even when
+  /// skip_unmoved_pairs would keep their old answers. Bodies start enabled. Servo thread; no
+  /// allocation.
+  void setEnabled(std::uint32_t body, bool enabled);
+  bool enabled(std::uint32_t body) const { return bodies_[body].enabled; }
 
   /// One tick: boxes, sweep and prune, scheduling, narrow phase. Servo thread.
   StepStats step();
@@ -126,6 +133,7 @@ class CollisionWorld {
     bool live = false;
     bool moved = false;
     bool asleep = false;
+    bool enabled = true;
     std::uint64_t moved_tick = 0;  // the step in which its last pose took effect
   };
   struct Prim {
@@ -151,9 +159,11 @@ class CollisionWorld {
     return s.last.answered && bodies_[prims_[s.prim_a].body].moved_tick <= s.last_tested &&
            bodies_[prims_[s.prim_b].body].moved_tick <= s.last_tested;
   }
+  // a pair nothing asks about: both sides asleep or static, or either side disabled
   bool resting(const PairState& s) const {
     const Body& a = bodies_[prims_[s.prim_a].body];
     const Body& b = bodies_[prims_[s.prim_b].body];
+    if (!a.enabled || !b.enabled) return true;
     return (a.asleep || a.desc.kind == BodyKind::kStatic) &&
            (b.asleep || b.desc.kind == BodyKind::kStatic);
   }

@@ -134,6 +134,7 @@ struct Dynamics::BodyState {
   Vec3 inv_inertia_P{1.0};        // their inverses (0 for an infinite one)
   bool coast = false;             // infinite mass (declared 0): keeps its velocities
   bool driven = false;            // a dynamic body the caller moves (setDriven): infinite mass
+  bool enabled = true;            // false: out of the scene (setEnabled): frozen, no contacts
   bool isotropic = false;         // all three equal (cubes, regular polyhedra)
   Mat3 inv_inertia_W{0.0};
   Vec3 com_B{0.0};
@@ -203,6 +204,7 @@ struct Dynamics::ContactPoint {
 
 struct Dynamics::JointState {
   const scene::Joint* joint = nullptr;
+  bool off = false;  // this tick: a body of the joint is disabled (setEnabled): the joint is inert
   std::uint32_t a = 0;
   std::int32_t b = -1;  // -1: the scene frame
   Vec3 ra{0.0}, rb{0.0};
@@ -269,7 +271,9 @@ std::unique_ptr<collision::CollisionWorld> buildCollisionWorld(const scene::Scen
     }
     if (b.primitives.empty())
       d.group = 1, d.mask = ~0u;
-    world->addBody(d, b.X_WB);
+    const std::uint32_t id = world->addBody(d, b.X_WB);
+    if (!b.active && !b.probe && b.motion != scene::Motion::kStatic)
+      world->setEnabled(id, false);
   }
   return world;
 }
@@ -318,6 +322,10 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
     b.motion = sb.motion;
     b.infinite = sb.motion != scene::Motion::kDynamic;
     b.com_B = sb.com_B;
+    // extras.haptic.active false: in the scene but out of it until setEnabled (never the held
+    // body or a static one)
+    b.enabled = sb.active || sb.motion == scene::Motion::kStatic ||
+                static_cast<std::int32_t>(i) == scene.probe_body;
     if (sb.motion == scene::Motion::kDynamic && sb.mass_declared && sb.mass == 0.0) {
       // KHR_physics_rigid_bodies: a mass of 0 is an infinite mass. Nothing pushes the body;
       // it coasts at its initial velocities (no gravity: it cannot be accelerated either)
@@ -457,7 +465,7 @@ void Dynamics::setKinematicPose(std::uint32_t body, const Pose& X_WB) {
     return;
   BodyState& b = bodies_[body];
   const bool held = static_cast<std::int32_t>(body) == held_;
-  if (b.motion != scene::Motion::kKinematic && !held && !b.driven)
+  if ((b.motion != scene::Motion::kKinematic && !held && !b.driven) || !b.enabled)
     return;
   const Quat& q = X_WB.rotation;
   const double qn = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
@@ -466,6 +474,40 @@ void Dynamics::setKinematicPose(std::uint32_t body, const Pose& X_WB) {
   b.has_target = true;
   b.target_q = glm::normalize(X_WB.rotation);
   b.target_x = X_WB.translation + glm::mat3_cast(b.target_q) * b.com_B;
+}
+
+void Dynamics::setEnabled(std::uint32_t body, bool enabled, const Pose& X_WB) {
+  if (!active_ || body >= bodies_.size() || static_cast<std::int32_t>(body) == held_)
+    return;
+  BodyState& b = bodies_[body];
+  if (b.motion == scene::Motion::kStatic)
+    return;
+  if (enabled) {
+    const Quat& q = X_WB.rotation;
+    const double qn = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+    if (!finite(X_WB.translation) || !std::isfinite(qn) || !(qn > 0.5))
+      return;  // not a pose: ignored, nothing changes
+    b.q = glm::normalize(q);
+    b.R = glm::mat3_cast(b.q);
+    b.x_W = X_WB.translation + b.R * b.com_B;
+  }
+  b.enabled = enabled;
+  if (!b.coast || !enabled)
+    b.v_W = b.w_W = Vec3{0.0};
+  b.pv = b.pw = Vec3{0.0};
+  b.has_target = false;
+  b.updateInertia();
+  // last tick's impulses on it belong to a contact that is gone (no allocation: in place)
+  warm_.erase(std::remove_if(warm_.begin(), warm_.end(),
+                             [body](const WarmPoint& w) { return w.a == body || w.b == body; }),
+              warm_.end());
+  // something changed: what rested on it (or under where it appears) must move
+  asleep_ = false;
+  rest_s_ = 0.0;
+}
+
+bool Dynamics::enabled(std::uint32_t body) const {
+  return !active_ || body >= bodies_.size() || bodies_[body].enabled;
 }
 
 void Dynamics::setDriven(std::uint32_t body, bool driven) {
@@ -511,10 +553,29 @@ Vec3 Dynamics::centerOfMass(std::uint32_t body) const {
   return bodies_[body].x_W;
 }
 
+MassProperties Dynamics::massProperties(std::uint32_t body) const {
+  MassProperties mp;
+  if (!active_ || body >= bodies_.size())
+    return mp;
+  const BodyState& b = bodies_[body];
+  if (b.motion != scene::Motion::kDynamic || !(b.inv_mass > 0.0))
+    return mp;
+  mp.mass = 1.0 / b.inv_mass;
+  mp.com_B = b.com_B;
+  mp.inertia_B = b.inertia_B;
+  return mp;
+}
+
+Vec3 Dynamics::gravity(std::uint32_t body) const {
+  if (!active_ || body >= bodies_.size() || bodies_[body].motion != scene::Motion::kDynamic)
+    return Vec3{0.0};
+  return bodies_[body].gravity_W;
+}
+
 double Dynamics::kineticEnergy() const {
   double e = 0.0;
   for (const BodyState& b : bodies_) {
-    if (b.motion != scene::Motion::kDynamic)
+    if (b.motion != scene::Motion::kDynamic || !b.enabled)
       continue;
     const Vec3 w_B = glm::transpose(b.R) * b.w_W;
     e += 0.5 * glm::dot(b.v_W, b.v_W) / b.inv_mass + 0.5 * glm::dot(w_B, b.inertia_B * w_B);
@@ -525,7 +586,7 @@ double Dynamics::kineticEnergy() const {
 double Dynamics::potentialEnergy() const {
   double e = 0.0;
   for (const BodyState& b : bodies_) {
-    if (b.motion != scene::Motion::kDynamic)
+    if (b.motion != scene::Motion::kDynamic || !b.enabled)
       continue;
     e -= glm::dot(b.gravity_W, b.x_W) / b.inv_mass;
   }
@@ -555,9 +616,16 @@ void Dynamics::integrateForces(double dt, const HeldInput* held) {
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     BodyState& b = bodies_[i];
     const bool held_here = held_kinematic_ && static_cast<std::int32_t>(i) == held_;
-    b.infinite = b.motion != scene::Motion::kDynamic || held_here || b.driven;
+    b.infinite = b.motion != scene::Motion::kDynamic || held_here || b.driven || !b.enabled;
     b.pv = Vec3{0.0};
     b.pw = Vec3{0.0};
+    if (!b.enabled) {
+      // out of the scene: frozen where it left (no gravity, no velocity)
+      b.inv_inertia_W = Mat3{0.0};
+      b.v_W = b.w_W = Vec3{0.0};
+      b.has_target = false;
+      continue;
+    }
     if (b.infinite) {
       b.inv_inertia_W = Mat3{0.0};
       if (b.motion == scene::Motion::kStatic)
@@ -613,7 +681,7 @@ void Dynamics::gatherContacts(StepReport& report) {
       continue;
     BodyState& A = bodies_[c.body_a];
     BodyState& B = bodies_[c.body_b];
-    if (A.infinite && B.infinite)
+    if ((A.infinite && B.infinite) || !A.enabled || !B.enabled)
       continue;
     if (!no_collide_.empty() &&
         std::binary_search(no_collide_.begin(), no_collide_.end(), pairKey(c.body_a, c.body_b))) {
@@ -729,6 +797,13 @@ void Dynamics::prepareJoints() {
     js.total_J = Vec3{0.0};
     js.total_L = Vec3{0.0};
     js.tot_lo = js.tot_hi = 0.0;
+    js.off =
+        !bodies_[js.a].enabled || (js.b >= 0 && !bodies_[static_cast<std::size_t>(js.b)].enabled);
+    if (js.off) {
+      js.warm_J = js.warm_L = Vec3{0.0};
+      js.warm_lo = js.warm_hi = 0.0;
+      continue;
+    }
     const scene::Joint& j = *js.joint;
     const BodyState& A = bodies_[js.a];
     const Pose X_WA{A.x_W - A.R * A.com_B, A.q};
@@ -816,6 +891,8 @@ void Dynamics::solveVelocities(double remaining) {
   if (warm_pending_) {
     warm_pending_ = false;
     for (JointState& js : joints_) {
+      if (js.off)
+        continue;
       BodyState& A = bodies_[js.a];
       BodyState* B = js.b >= 0 ? &bodies_[static_cast<std::size_t>(js.b)] : nullptr;
       js.l_lo = js.has_min ? js.warm_lo : 0.0;
@@ -863,6 +940,8 @@ void Dynamics::solveVelocities(double remaining) {
     // episode has converged and stops early
     double residual = 0.0;
     for (JointState& js : joints_) {
+      if (js.off)
+        continue;
       BodyState& A = bodies_[js.a];
       BodyState* B = js.b >= 0 ? &bodies_[static_cast<std::size_t>(js.b)] : nullptr;
       const Vec3 wb = B != nullptr ? B->w_W : Vec3{0.0};
@@ -1031,6 +1110,8 @@ void Dynamics::solveVelocities(double remaining) {
     cp.bounce = 0.0;  // restitution acts once: later episodes only keep the points apart
   }
   for (JointState& js : joints_) {
+    if (js.off)
+      continue;
     js.tot_lo += js.l_lo;
     js.tot_hi += js.l_hi;
   }
@@ -1105,6 +1186,8 @@ void Dynamics::correctPositions(double dt) {
   }
   // joint errors at the end of the tick
   for (JointState& js : joints_) {
+    if (js.off)
+      continue;
     const scene::Joint& j = *js.joint;
     const BodyState& A = bodies_[js.a];
     js.ra = A.R * (j.X_AJ.translation - A.com_B);
@@ -1149,6 +1232,8 @@ void Dynamics::correctPositions(double dt) {
     return;
   for (std::uint32_t it = 0; it < options_.position_iterations; ++it) {
     for (JointState& js : joints_) {
+      if (js.off)
+        continue;
       BodyState& A = bodies_[js.a];
       BodyState* B = js.b >= 0 ? &bodies_[static_cast<std::size_t>(js.b)] : nullptr;
       const Vec3 pwb = B != nullptr ? B->pw : Vec3{0.0};
@@ -1419,7 +1504,7 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
     report.impulse_points += cp.total_n > 0.0;
   for (std::uint32_t i = 0; i < bodies_.size(); ++i) {
     const BodyState& b = bodies_[i];
-    if (b.motion == scene::Motion::kStatic)
+    if (b.motion == scene::Motion::kStatic || !b.enabled)
       continue;
     world_->setPose(i, Pose{b.x_W - b.R * b.com_B, b.q});
   }
@@ -1427,7 +1512,7 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
   if (options_.sleep_time_s > 0.0) {
     bool still = true;
     for (const BodyState& b : bodies_) {
-      if (b.motion == scene::Motion::kStatic || b.driven ||
+      if (b.motion == scene::Motion::kStatic || b.driven || !b.enabled ||
           (b.motion == scene::Motion::kKinematic && !b.coast))
         continue;
       const double speed = glm::length(b.v_W) + glm::length(b.w_W) * b.size;
@@ -1487,6 +1572,8 @@ bool Dynamics::wakeRequested(const HeldInput* held) const {
     }
   }
   for (const BodyState& b : bodies_) {
+    if (!b.enabled)
+      continue;
     if (b.has_target && (b.motion == scene::Motion::kKinematic || b.driven))
       return true;
     if (b.motion == scene::Motion::kDynamic &&

@@ -218,6 +218,19 @@ class Dynamics {
   /// HeldInput::kKinematic, which is ignored for a pose that is not finite). Servo thread.
   void setKinematicPose(std::uint32_t body, const Pose& X_WB);
 
+  /// Takes a kinematic or dynamic body (not the held one) out of the scene (enabled = false) or
+  /// puts it back at X_WB (true): while disabled it is frozen where it was (no gravity, no
+  /// velocity, not integrated), has no contacts (the Simulation also disables it in the
+  /// CollisionWorld), its joints are inert, and it counts in neither the energies nor the
+  /// scene's sleep; pose() keeps its last pose. Enabled, it starts at X_WB at rest (a coasting
+  /// body, mass 0, with its velocities). Either way the scene wakes (what rested on it falls).
+  /// Bodies with SceneModel::Body::active false start disabled. Ignored for a static body, the
+  /// held body, an index out of range, or (enabling) a pose that is not finite. Servo thread; no
+  /// allocation.
+  void setEnabled(std::uint32_t body, bool enabled, const Pose& X_WB = Pose{});
+  /// Whether a body is in the scene (true for an inactive stage or an index out of range).
+  bool enabled(std::uint32_t body) const;
+
   /// Hands a dynamic body over to the caller (driven = true) or back (false): while driven it has
   /// infinite mass, follows setKinematicPose() like a kinematic body (standing still without a
   /// new target) and its contact impulses count in heldFeedback() as the held body's (the
@@ -238,6 +251,14 @@ class Dynamics {
   Vec3 angularVelocity(std::uint32_t body) const;
   /// Centre of mass in the scene frame.
   Vec3 centerOfMass(std::uint32_t body) const;
+  /// A dynamic body's mass (kg), centre of mass (body frame) and inertia about it (body frame,
+  /// kg m^2), as the dynamics use them (declared, or computed from the primitives); all zero for
+  /// a body of infinite mass (static, kinematic, a declared mass of 0), an inactive stage or an
+  /// index out of range.
+  MassProperties massProperties(std::uint32_t body) const;
+  /// The acceleration gravity gives a dynamic body (the scene's gravity times its
+  /// gravity_factor, scene units per s^2); zero for other bodies.
+  Vec3 gravity(std::uint32_t body) const;
   /// Kinetic energy of all dynamic bodies (J) and their potential energy in the scene's
   /// gravity (J, zero at the origin). For tests and status.
   double kineticEnergy() const;

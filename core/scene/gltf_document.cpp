@@ -607,7 +607,8 @@ void parseHapticExtras(Checker& c,
                        const std::string& where,
                        bool* probe,
                        std::optional<double>* stiffness,
-                       std::optional<Vec3>* gravity) {
+                       std::optional<Vec3>* gravity,
+                       std::optional<bool>* active) {
   const json* extras = Checker::find(owner, "extras");
   if (!extras || !extras->is_object())
     return;  // extras are free-form; only ours are checked
@@ -618,7 +619,7 @@ void parseHapticExtras(Checker& c,
   for (auto it = haptic->begin(); it != haptic->end(); ++it) {
     const std::string& key = it.key();
     const bool known = (probe && key == "probe") || (stiffness && key == "stiffness") ||
-                       (gravity && key == "gravity");
+                       (gravity && key == "gravity") || (active && key == "active");
     if (!known)
       c.add(w, "unknown property " + inQuotes(key));
   }
@@ -630,6 +631,9 @@ void parseHapticExtras(Checker& c,
   Vec3 g{0.0};
   if (gravity && c.vec3(*haptic, "gravity", w, &g) == Got::kOk)
     *gravity = g;
+  bool on = true;
+  if (active && c.boolean(*haptic, "active", w, &on) == Got::kOk)
+    *active = on;
 }
 
 Combine parseCombine(Checker& c, const json& o, const char* key, const std::string& where) {
@@ -1174,7 +1178,7 @@ bool validateDocument(const nlohmann::json& root,
         parseNodePhysics(c, *physics, w, node_count, *doc, &def);
       }
     }
-    parseHapticExtras(c, n, w, &def.probe, &def.stiffness, nullptr);
+    parseHapticExtras(c, n, w, &def.probe, &def.stiffness, nullptr, &def.active);
   }
 
   // hierarchy: one parent per node, no cycles
@@ -1257,7 +1261,8 @@ bool validateDocument(const nlohmann::json& root,
     const auto si = static_cast<std::size_t>(scene);
     doc->scene_roots = scene_nodes[si];
     std::optional<Vec3> g;
-    parseHapticExtras(c, (*scenes)[si], "scene " + std::to_string(scene), nullptr, nullptr, &g);
+    parseHapticExtras(c, (*scenes)[si], "scene " + std::to_string(scene), nullptr, nullptr, &g,
+                      nullptr);
     if (g) {
       doc->gravity = g;
       doc->gravity_where = "scene " + std::to_string(scene);
@@ -1271,7 +1276,7 @@ bool validateDocument(const nlohmann::json& root,
   }
   if (asset) {
     std::optional<Vec3> g;
-    parseHapticExtras(c, *asset, "asset", nullptr, nullptr, &g);
+    parseHapticExtras(c, *asset, "asset", nullptr, nullptr, &g, nullptr);
     if (g && doc->gravity && *g != *doc->gravity) {
       c.add("asset", "gravity differs from the gravity of " + doc->gravity_where);
     } else if (g && !doc->gravity) {

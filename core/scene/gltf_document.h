@@ -85,6 +85,7 @@ struct NodeDef {
   std::optional<JointRef> joint;
   bool probe = false;
   std::optional<double> stiffness;
+  std::optional<bool> active;  ///< extras.haptic.active, where declared
   glm::dmat4 local() const;
 };
 

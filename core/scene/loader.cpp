@@ -1020,6 +1020,32 @@ std::optional<SceneModel> Builder::build(const std::string& name) {
     scene.probe_body = b;
     scene.bodies[static_cast<std::size_t>(b)].probe = true;
   }
+  // extras.haptic.active: a body out of the scene until a client adds it (docs/scenes.md);
+  // static colliders and the probe are always in it
+  for (std::uint32_t k : order_) {
+    const NodeDef& def = doc_.nodes[k];
+    if (!def.active)
+      continue;
+    const std::int32_t b = bodyIndexOf(k);
+    if (b < 0) {
+      p_->add(where(k),
+              "extras.haptic.active on a node that belongs to no body (no motion above it and no "
+              "static collider under its root)");
+      continue;
+    }
+    Body& body = scene.bodies[static_cast<std::size_t>(b)];
+    if (!*def.active && body.motion == Motion::kStatic) {
+      p_->add(where(k),
+              "extras.haptic.active false on a static collider: static bodies are always "
+              "active (give the body a motion, isKinematic true, to add and remove it)");
+      continue;
+    }
+    if (!*def.active && body.probe) {
+      p_->add(where(k), "extras.haptic.active false on the probe body: the probe is always active");
+      continue;
+    }
+    body.active = *def.active;
+  }
   scene.materials = doc_.materials;
   filterBits(scene);
   buildJoints(scene);

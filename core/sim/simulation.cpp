@@ -40,6 +40,20 @@ bool finitePose(const Vec3& p, const Quat& q) {
          std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z);
 }
 
+// A finite pose with a unit quaternion (|‖q‖ − 1| <= kUnitTolerance), normalised into *out.
+constexpr double kUnitTolerance = 1e-6;
+bool unitPose(const geom::Pose& in, geom::Pose* out) {
+  if (!finitePose(in.translation, in.rotation))
+    return false;
+  const Quat& q = in.rotation;
+  const double n = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
+  if (!std::isfinite(n) || std::abs(n - 1.0) > kUnitTolerance)
+    return false;
+  out->translation = in.translation;
+  out->rotation = Quat{q.w / n, q.x / n, q.y / n, q.z / n};
+  return true;
+}
+
 Vec3 rotate(const Quat& q, const Vec3& v) {
   return q * v;
 }
@@ -61,7 +75,8 @@ struct BodyInfo {
   std::int32_t scene_index = -1;  // -1: the probe sphere
   BodyKind kind = BodyKind::kStatic;
   Vec3 com_B{0.0};
-  double stiffness = 0.0;  // felt stiffness of this body's surfaces (N per scene unit)
+  double stiffness = 0.0;      // felt stiffness of this body's surfaces (N per scene unit)
+  double origin_radius = 0.0;  // largest distance of its points from its origin (scene units)
   // a hinge to the scene frame (or to a static body), for the attach modes
   bool hinge = false;
   Vec3 hinge_o_B{0.0}, hinge_a_B{0.0};          // in this body's frame at its initial pose
@@ -110,6 +125,12 @@ class SimulationImpl final : public Simulation {
   DynamicsStatus dynamicsStatus() const override;
   const scene::SceneModel& scene() const override { return *scene_; }
   void prepareThread() override;
+  EditStatus setKinematicPose(std::uint32_t body, const Pose& X_WB) override;
+  EditStatus setBodyActive(std::uint32_t body, bool active, const Pose& X_WB) override;
+  bool bodyActive(std::uint32_t body) const override {
+    return body < scene_->bodies.size() && active_[body] != 0;
+  }
+  std::span<const ContactPoint> contactPoints() const override { return contact_points_; }
 
  private:
   bool isHeld(std::uint32_t body) const {
@@ -151,6 +172,13 @@ class SimulationImpl final : public Simulation {
   void detach();
   void setHeldPoses();
   void setRotationalStiffness();
+  void pushRow(const ContactRow& row, std::uint32_t env) {
+    const std::size_t n = rows_.rows().size();
+    rows_.push(row);
+    if (rows_.rows().size() > n)
+      row_env_.push_back(env);
+  }
+  void fillContactPoints(TickOutput* out);
 
   // a dynamic body the dynamics move (not held, not driven by this tick's proxy step)
   bool movedByDynamics(std::uint32_t body) const {
@@ -172,8 +200,36 @@ class SimulationImpl final : public Simulation {
   std::vector<BodyPose> body_poses_;
   std::vector<std::uint32_t> pose_bodies_;  // world ids of body_poses_
   response::ContactRows rows_;
-  double delta_ = 0.0;       // this tick's predictive distance
-  double max_travel_ = 0.0;  // safe distance per tick
+  std::vector<std::uint32_t> row_env_;        // per row of rows_: the environment body's world id
+  std::vector<ContactPoint> contact_points_;  // contactPoints(): capacity fixed in build()
+  // scene edits: per world body 1 active, 0 out of the scene (setBodyActive)
+  std::vector<std::uint8_t> active_;
+  // an edit changed the collision world since the last gatherRows: the next step() runs the
+  // collision step once before the proxy's, so that the proxy sees the edit (moved, added or
+  // removed bodies) instead of stepping on stale rows
+  bool world_dirty_ = false;
+  // with dynamics: a kinematic target given to the dynamics, which move the body in this tick's
+  // dynamics step (the collision world sees it from the next tick on)
+  bool kinematic_target_pending_ = false;
+  // per world body: how far (scene units) its points moved by setKinematicPose since the last
+  // collision step that saw the move; a pusher moving faster than the proxy's safe distance
+  // raises the proxy's travel bound by this on the tick it touches the held set
+  std::vector<double> edit_travel_;
+  // a dynamic body grabbed rigidly (kGrab): its mass properties for its weight and inertia at
+  // the hand (grab_mass_ 0: nothing of the kind is grabbed)
+  double grab_mass_ = 0.0;
+  Vec3 grab_gravity_W_{0.0};
+  Vec3 grab_com_B_{0.0};
+  geom::Mat3 grab_inertia_B_{0.0};
+  Vec3 grab_r_P_{0.0};  // its centre of mass from the handle point, in the probe's frame
+  std::uint32_t grab_history_ = 0;          // device poses seen since the grab (up to 2)
+  Vec3 grab_c1_{0.0}, grab_c2_{0.0};        // the device-side centre of mass, last two ticks
+  Quat grab_q1_{1.0, 0.0, 0.0, 0.0};        // the device's rotation, last tick
+  Vec3 grab_w1_{0.0};                       // the device's angular velocity, last tick
+  Vec3 grab_a_f_{0.0}, grab_alpha_f_{0.0};  // low-passed accelerations
+  double grab_beta_ = 1.0;                  // the low-pass's gain per tick
+  double delta_ = 0.0;                      // this tick's predictive distance
+  double max_travel_ = 0.0;                 // safe distance per tick
   double speed_decay_ = 0.0;
   double v_c_ = 0.0;  // current speed bound of the held body's points
   bool have_prev_device_ = false;
@@ -275,6 +331,10 @@ Result<bool> SimulationImpl::build() {
     return Error{"dynamics sleep time must be >= 0 s"};
   if (!std::isfinite(r.attach_distance_m) || r.attach_distance_m < 0.0)
     return Error{"response.attach_distance must be >= 0"};
+  if (!std::isfinite(r.grab_inertia_filter_s) || r.grab_inertia_filter_s < 0.0)
+    return Error{"response.grab_inertia_filter must be >= 0 s"};
+  grab_beta_ =
+      r.grab_inertia_filter_s > 0.0 ? 1.0 - std::exp(-r.tick_s / r.grab_inertia_filter_s) : 1.0;
   const scene::SceneModel& sc = *scene_;
   if (sc.probe_body >= static_cast<std::int32_t>(sc.bodies.size()))
     return Error{"scene: probe body " + std::to_string(sc.probe_body) + " out of range (" +
@@ -304,6 +364,13 @@ Result<bool> SimulationImpl::build() {
     info.kind = desc.kind;
     info.com_B = b.com_B;
     info.stiffness = b.stiffness_n_per_m.has_value() ? std::min(*b.stiffness_n_per_m, k_s_) : k_s_;
+    for (const scene::Primitive& p : b.primitives) {
+      if (!p.shape)
+        continue;
+      const Transform X = p.X_BP.toTransform();
+      for (const auto& v : p.shape->vertices())
+        info.origin_radius = std::max(info.origin_radius, glm::length(X.apply(v.p)));
+    }
     if (!(info.stiffness > 0.0))
       return Error{"body '" + b.name + "': stiffness must be > 0"};
     for (const scene::Primitive& p : b.primitives) {
@@ -325,6 +392,14 @@ Result<bool> SimulationImpl::build() {
     if (id != i)
       return Error{"collision world: unexpected body id"};
     info_.push_back(std::move(info));
+    // extras.haptic.active false: out of the scene until a scene edit adds it (static bodies
+    // are always active; the probe cannot be inactive)
+    const bool starts_active = b.active || desc.kind == BodyKind::kStatic;
+    if (!starts_active && is_probe)
+      return Error{"body '" + b.name + "': the probe body cannot be inactive"};
+    active_.push_back(starts_active ? 1 : 0);
+    if (!starts_active)
+      world_.setEnabled(id, false);
   }
   if (sc.probe_body < 0) {
     auto hull = geom::Polytope::fromPoints(spherePoints(options_.probe_sphere_radius_m, 64));
@@ -341,6 +416,7 @@ Result<bool> SimulationImpl::build() {
       info.shading.emplace_back(*probe_sphere_, crease);
     probe_ = world_.addBody(desc, geom::Pose{});
     info_.push_back(std::move(info));
+    active_.push_back(1);
     ++total_prims;
     ++moving_prims;
   } else {
@@ -387,6 +463,9 @@ Result<bool> SimulationImpl::build() {
   const std::size_t pairs = std::min<std::size_t>(moving_prims * total_prims + 64, 1u << 16);
   world_.reserve(total_prims + 1, pairs);
   rows_.reserve(pairs * collision::Manifold::kMaxPoints);
+  row_env_.reserve(pairs * collision::Manifold::kMaxPoints);
+  contact_points_.reserve(response::kMaxRows);
+  edit_travel_.assign(info_.size(), 0.0);
   for (std::uint32_t id = 0; id < info_.size(); ++id) {
     if (info_[id].kind == BodyKind::kStatic)
       continue;
@@ -496,6 +575,7 @@ Transform SimulationImpl::primTransform(std::uint32_t body, std::uint32_t prim) 
 
 void SimulationImpl::gatherRows(double* max_penetration) {
   rows_.clear();
+  row_env_.clear();
   double pen = 0.0;
   response::FaceContact fc;
   for (const collision::Contact& c : world_.contacts()) {
@@ -563,7 +643,7 @@ void SimulationImpl::gatherRows(double* max_penetration) {
         row.stiffness = kp / static_cast<double>(fc.count);
         row.first = row_first;
         row.second = row_second;
-        rows_.push(row);
+        pushRow(row, env);
       }
       continue;
     }
@@ -584,7 +664,7 @@ void SimulationImpl::gatherRows(double* max_penetration) {
       row.stiffness = kp;
       row.first = row_first;
       row.second = row_second;
-      rows_.push(row);
+      pushRow(row, env);
       continue;
     }
     for (std::size_t i = 0; i < m; ++i) {
@@ -596,7 +676,7 @@ void SimulationImpl::gatherRows(double* max_penetration) {
       row.stiffness = kp / static_cast<double>(m);
       row.first = row_first;
       row.second = row_second;
-      rows_.push(row);
+      pushRow(row, env);
     }
   }
   *max_penetration = pen;
@@ -670,6 +750,20 @@ void SimulationImpl::attach(std::uint32_t body) {
     X_probe_attached_ = geom::relativeTransform(X_W_probe_, Xb);
     held_radius_ = heldRadius(comW(probe_));
     setRotationalStiffness();
+    grab_mass_ = 0.0;
+    if (dyn_active_ && bi.kind == BodyKind::kDynamic) {
+      const dynamics::MassProperties mp = dyn_->massProperties(body);
+      if (mp.mass > 0.0 && std::isfinite(mp.mass)) {
+        grab_mass_ = mp.mass;
+        grab_gravity_W_ = dyn_->gravity(body);
+        grab_com_B_ = mp.com_B;
+        grab_inertia_B_ = mp.inertia_B;
+        const Vec3 c = Xb.translation + rotate(Xb.rotation, grab_com_B_);
+        grab_r_P_ = rotate(glm::conjugate(X_W_probe_.rotation), c - comW(probe_));
+        grab_history_ = 0;
+        grab_a_f_ = grab_alpha_f_ = Vec3{0.0};
+      }
+    }
     return;
   }
   hinge_o_W_ = Xb.translation + rotate(Xb.rotation, bi.hinge_o_B);
@@ -700,7 +794,7 @@ void SimulationImpl::updateDriven() {
   driven_count_ = 0;
   for (std::uint32_t id = 0; id < info_.size(); ++id) {
     const BodyInfo& bi = info_[id];
-    if (!bi.hinge || isHeld(id) || bi.kind == BodyKind::kStatic)
+    if (!bi.hinge || isHeld(id) || bi.kind == BodyKind::kStatic || active_[id] == 0)
       continue;
     if (dyn_active_ && bi.kind == BodyKind::kDynamic)
       continue;  // the dynamics turn it on its hinge joint, with its inertia
@@ -719,6 +813,7 @@ void SimulationImpl::detach() {
     world_.setAsleep(attached_, true);
   mode_ = Mode::kFree;
   attached_ = kNone;
+  grab_mass_ = 0.0;
   held_count_ = 1;
   held_radius_ = probe_radius_;
   setRotationalStiffness();
@@ -800,6 +895,22 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     gatherRows(&pen);
   }
   first_step_ = false;
+  // a scene edit since the last tick: the collision world and the rows see it before the proxy
+  // steps (a kinematic body moved into the proxy pushes it out from this tick's rows)
+  std::uint32_t edit_pairs_tested = 0;
+  double pusher_travel = 0.0;  // the farthest a kinematic body touching the held set was moved
+  if (world_dirty_) {
+    world_dirty_ = false;
+    edit_pairs_tested = world_.step().pairs_tested;
+    double pen = 0.0;
+    gatherRows(&pen);
+    const auto rows = rows_.rows();
+    for (std::size_t i = 0; i < rows.size() && i < row_env_.size(); ++i) {
+      if (rows[i].first < 0)
+        pusher_travel = std::max(pusher_travel, edit_travel_[row_env_[i]]);
+    }
+    std::fill(edit_travel_.begin(), edit_travel_.end(), 0.0);
+  }
   updateAttachment(input);
 
   // the device's handle: the probe body's centre of mass placed at the device pose
@@ -846,6 +957,21 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     pb.h_target_W = pb.h_W;
     pb.q_target = pb.q_handle;
   }
+  // a grabbed dynamic body's weight at its centre of mass: the proxy's target shifted by what
+  // the coupling needs to carry it, so that the hand feels m g in free space and a surface the
+  // held set rests on takes it (docs/dynamics.md)
+  Vec3 grab_weight{0.0};
+  if (grab_mass_ > 0.0 && mode_ == Mode::kGrab && options_.response.grab_weight && finite_input) {
+    const geom::Pose& Xb = world_.pose(attached_);
+    const Vec3 c = Xb.translation + rotate(Xb.rotation, grab_com_B_);
+    grab_weight = grab_mass_ * grab_gravity_W_;
+    const Vec3 torque = glm::cross(c - pb.h_W, grab_weight);
+    const double kc = proxy_params_.coupling_stiffness, kr = proxy_params_.rot_coupling_stiffness;
+    if (kc > 0.0)
+      pb.h_target_W = h_dev + grab_weight / kc;
+    if (kr > 0.0)
+      pb.q_target = glm::normalize(response::quatFromRotationVector(torque / kr) * q_dev);
+  }
 
   const geom::Pose probe_before = X_W_probe_;
   const geom::Pose attached_before = attached_ == kNone ? geom::Pose{} : world_.pose(attached_);
@@ -862,7 +988,11 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     pb.driven[d].drag = 1e-6 * k_c_ * std::max(bi.hinge_radius * bi.hinge_radius, 1e-12);
   }
   const double pen_before = last_penetration_;
+  // a kinematic body pushing the held set moves it as far as it moved itself, so that a pusher
+  // faster than the safe distance does not run over the proxy (docs/dynamics.md)
+  proxy_params_.max_travel = max_travel_ + pusher_travel;
   response::ProxyStep s = solveProxyStep(pb, rows_.rows(), proxy_params_);
+  proxy_params_.max_travel = max_travel_;
   applyStep(s);
   collision::StepStats stats = world_.step();
   double pen = 0.0;
@@ -910,6 +1040,11 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     const dynamics::HeldFeedback& fb = dyn_->heldFeedback();
     impact_force = fb.force_W_n;
     impact_torque = fb.torque_W_nm;
+    if (kinematic_target_pending_) {
+      // the dynamics moved a kinematic body to its new target in this step
+      kinematic_target_pending_ = false;
+      world_dirty_ = true;
+    }
   }
 
   // the coupling between the device and the proxy, then the one output stage
@@ -921,6 +1056,44 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     impact_torque += glm::cross(c_fb - h_prx, impact_force);
     raw.force_n += impact_force;
     raw.torque_nm += impact_torque;
+  }
+  Vec3 grab_inertia_force{0.0}, grab_inertia_torque{0.0};
+  if (grab_mass_ > 0.0 && mode_ == Mode::kGrab && options_.response.grab_inertia) {
+    if (!finite_input) {
+      grab_history_ = 0;
+      grab_a_f_ = grab_alpha_f_ = Vec3{0.0};
+    } else {
+      // the body rigidly at the device's pose: its centre of mass, the device's rotation
+      const double dt = options_.response.tick_s;
+      const Vec3 c_dev = h_dev + rotate(q_dev, grab_r_P_);
+      Vec3 w_dev{0.0};
+      if (grab_history_ >= 1)
+        w_dev = response::rotationVector(q_dev * glm::conjugate(grab_q1_)) / dt;
+      if (grab_history_ >= 2) {
+        const Vec3 a = (c_dev - 2.0 * grab_c1_ + grab_c2_) / (dt * dt);
+        const Vec3 alpha = (w_dev - grab_w1_) / dt;
+        if (response::isFinite(a) && response::isFinite(alpha)) {
+          grab_a_f_ += grab_beta_ * (a - grab_a_f_);
+          grab_alpha_f_ += grab_beta_ * (alpha - grab_alpha_f_);
+        }
+      }
+      grab_c2_ = grab_c1_;
+      grab_c1_ = c_dev;
+      grab_q1_ = q_dev;
+      grab_w1_ = w_dev;
+      grab_history_ = std::min<std::uint32_t>(grab_history_ + 1, 2);
+      const geom::Mat3 R = glm::mat3_cast(world_.pose(attached_).rotation);
+      const geom::Mat3 I_W = R * grab_inertia_B_ * glm::transpose(R);
+      grab_inertia_force = -grab_mass_ * grab_a_f_;
+      grab_inertia_torque = -(I_W * grab_alpha_f_ + glm::cross(w_dev, I_W * w_dev)) +
+                            glm::cross(c_dev - h_dev, grab_inertia_force);
+      if (response::isFinite(grab_inertia_force) && response::isFinite(grab_inertia_torque)) {
+        raw.force_n += grab_inertia_force;
+        raw.torque_nm += grab_inertia_torque;
+      } else {
+        grab_inertia_force = grab_inertia_torque = Vec3{0.0};
+      }
+    }
   }
   response::OutputReport rep;
   const response::Wrench w = output_.apply(raw, input.device_ok && finite_input, &rep);
@@ -935,13 +1108,16 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   out.contact_torque_W_nm = pw.torque_nm;
   out.impact_force_W_n = impact_force;
   out.impact_torque_W_nm = impact_torque;
+  out.grab_weight_W_n = grab_weight;
+  out.grab_inertia_force_W_n = grab_inertia_force;
+  out.grab_inertia_torque_W_nm = grab_inertia_torque;
   out.X_W_proxy = X_W_probe_;
   std::uint32_t active = 0;
   for (const ContactRow& r : rows_.rows())
     active += r.gap < delta_ && r.first < 0 ? 1u : 0u;
   out.contacts = active;
   out.max_penetration_m = std::max(0.0, pen);
-  out.pairs_tested = stats.pairs_tested;
+  out.pairs_tested = stats.pairs_tested + edit_pairs_tested;
   out.pairs_skipped = stats.pairs_skipped;
   if (rep.ramping)
     out.flags |= kTickRamping;
@@ -964,7 +1140,94 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     body_poses_[i].X_WB =
         dyn_active_ && info_[id].kind == BodyKind::kDynamic ? dyn_->pose(id) : world_.pose(id);
   }
+  fillContactPoints(&out);
   return out;
+}
+
+void SimulationImpl::fillContactPoints(TickOutput* out) {
+  // the rows the response used this tick (the held set's, within delta), as TickOutput::contacts
+  // counts them; the depth without the backstop's shift
+  contact_points_.clear();
+  const auto rows = rows_.rows();
+  for (std::size_t i = 0; i < rows.size() && i < row_env_.size(); ++i) {
+    const ContactRow& r = rows[i];
+    if (!(r.gap < delta_ && r.first < 0))
+      continue;
+    if (contact_points_.size() == contact_points_.capacity()) {
+      out->flags |= kTickCapacityFull;
+      break;
+    }
+    const std::uint32_t env = row_env_[i];
+    const double shift = movedByDynamics(env) ? backstop_ : 0.0;
+    ContactPoint cp;
+    cp.p_W = r.p_W;
+    cp.n_W = r.n_W;
+    cp.depth_m = -(r.gap - shift);
+    cp.body = info_[env].scene_index;
+    contact_points_.push_back(cp);
+  }
+}
+
+EditStatus SimulationImpl::setKinematicPose(std::uint32_t body, const Pose& X_WB) {
+  if (body >= scene_->bodies.size())
+    return EditStatus::kNoSuchBody;
+  const BodyInfo& bi = info_[body];
+  if (bi.kind == BodyKind::kStatic)
+    return EditStatus::kStaticBody;
+  if (body == probe_ || isHeld(body))
+    return EditStatus::kHeldBody;
+  if (bi.kind != BodyKind::kKinematic)
+    return EditStatus::kNotKinematic;
+  if (active_[body] == 0)
+    return EditStatus::kInactive;
+  geom::Pose X;
+  if (!unitPose(X_WB, &X))
+    return EditStatus::kNotFinite;
+  {
+    const geom::Pose& from = world_.pose(body);
+    const double angle =
+        glm::length(response::rotationVector(X.rotation * glm::conjugate(from.rotation)));
+    const double travel =
+        glm::length(X.translation - from.translation) + angle * info_[body].origin_radius;
+    if (std::isfinite(travel))
+      edit_travel_[body] += travel;
+  }
+  if (dyn_active_) {
+    // the dynamics move it there in the next step with the velocity that takes it there, so
+    // that it pushes the dynamic bodies in its way; the collision world follows
+    dyn_->setKinematicPose(body, X);
+    kinematic_target_pending_ = true;
+  } else {
+    // no dynamics: the collision world has it there in the next step, before the proxy moves
+    // (asleep as before: its pairs with static and other resting bodies stay untested; its pair
+    // with the awake probe is tested again because it moved)
+    world_.setPose(body, X);
+    world_dirty_ = true;
+  }
+  return EditStatus::kOk;
+}
+
+EditStatus SimulationImpl::setBodyActive(std::uint32_t body, bool active, const Pose& X_WB) {
+  if (body >= scene_->bodies.size())
+    return EditStatus::kNoSuchBody;
+  const BodyInfo& bi = info_[body];
+  if (bi.kind == BodyKind::kStatic)
+    return EditStatus::kStaticBody;
+  if (body == probe_ || isHeld(body))
+    return EditStatus::kHeldBody;
+  geom::Pose X;
+  if (active && !unitPose(X_WB, &X))
+    return EditStatus::kNotFinite;
+  active_[body] = active ? 1 : 0;
+  world_.setEnabled(body, active);
+  if (active)
+    world_.setPose(body, X);
+  if (dyn_active_)
+    dyn_->setEnabled(body, active, X);
+  if (bi.hinge)
+    updateDriven();
+  world_dirty_ = true;
+  return EditStatus::kOk;
 }
 
 DynamicsStatus SimulationImpl::dynamicsStatus() const {

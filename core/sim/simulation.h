@@ -76,6 +76,18 @@ struct ResponseOptions {
   enum class HingeAttach : std::uint8_t { kAuto, kRim, kCentre };
   HingeAttach hinge_attach = HingeAttach::kAuto;
   double centre_radius_fraction = 0.3;
+  // --- added by the scene edits (docs/dynamics.md "A grabbed dynamic body's weight and inertia")
+  /// With dynamics, a dynamic body grabbed rigidly (attach mode 1) is felt with its weight: m g
+  /// (the scene's gravity times its gravity factor) at its centre of mass shifts the proxy's
+  /// target by F / k_c (and the torque of the weight about the handle by T / k_r), so that in
+  /// free space the hand carries m g and, set down on a table, the table does. false: not felt.
+  bool grab_weight = true;
+  /// ... and with its inertia: -m a and -(I α + ω × I ω) of the body rigidly at the device's
+  /// pose, a and α the device's accelerations (second differences of its pose, low-passed with
+  /// grab_inertia_filter_s), added to the hand's wrench before the output stage. false: off.
+  bool grab_inertia = true;
+  /// Time constant (s) of the one-pole low-pass on the device's accelerations; 0: unfiltered.
+  double grab_inertia_filter_s = 0.010;
 };
 
 /// Everything the simulation needs besides the scene.
@@ -143,6 +155,13 @@ struct TickOutput {
   Vec3 impact_torque_W_nm{0.0};
   /// Contact points the dynamics took in this tick (0 without dynamics).
   std::uint32_t dynamics_contact_points = 0;
+  // --- added by the scene edits: a grabbed dynamic body (ResponseOptions::grab_weight, _inertia)
+  /// Its weight m g (N, world): what shifted the proxy's target this tick (felt through the
+  /// coupling, so a surface the held set rests on carries it). Zero when nothing is grabbed.
+  Vec3 grab_weight_W_n{0.0};
+  /// Its inertial wrench (N, N m about the handle point, world), added to the hand's wrench.
+  Vec3 grab_inertia_force_W_n{0.0};
+  Vec3 grab_inertia_torque_W_nm{0.0};
 };
 
 /// The dynamics stage's state (Simulation::dynamicsStatus), for status and tests.
@@ -229,6 +248,8 @@ class Simulation {
   /// Makes body `body` (scene index, kinematic or dynamic, not the probe) active at X_WB (its
   /// velocity zero), or inactive (`active` false; X_WB ignored): an inactive body neither
   /// collides nor moves nor appears in bodyPoses()' contacts. Adding an active body moves it.
+  /// bodyPoses() keeps listing an inactive body at its last pose (bodyActive() tells which);
+  /// what rested on a removed body falls (docs/dynamics.md "Scene edits").
   virtual EditStatus setBodyActive(std::uint32_t body, bool active, const Pose& X_WB) {
     (void)body;
     (void)active;

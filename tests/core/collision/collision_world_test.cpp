@@ -277,5 +277,67 @@ TEST(CollisionWorld, StepAllocatesNothingAfterReserve) {
   EXPECT_EQ(testing_alloc::count() - before, 0u);
 }
 
+// A disabled body's pairs are neither tested nor listed; enabled again (even unmoved, with
+// skip_unmoved_pairs) they are tested at the next step; toggling allocates nothing.
+TEST(CollisionWorld, ADisabledBodyHasNoPairsAndIsTestedAgainWhenEnabled) {
+  WorldOptions o;
+  o.box_margin = 1e-3;
+  o.skip_unmoved_pairs = true;
+  CollisionWorld world(o);
+  world.reserve(8, 64);
+  const auto cube = shape(box(0.01));
+  BodyDesc floor_desc;
+  floor_desc.kind = BodyKind::kStatic;
+  floor_desc.primitives.push_back({cube, Transform{}});
+  BodyDesc kin_desc = floor_desc;
+  kin_desc.kind = BodyKind::kKinematic;
+  BodyDesc probe_desc = floor_desc;
+  probe_desc.kind = BodyKind::kProbe;
+  const std::uint32_t floor = world.addBody(floor_desc, Pose{Vec3{0.0}, Quat{1, 0, 0, 0}});
+  const std::uint32_t kin = world.addBody(kin_desc, Pose{Vec3{0.0, 0.0195, 0.0}, Quat{1, 0, 0, 0}});
+  const std::uint32_t probe =
+      world.addBody(probe_desc, Pose{Vec3{0.0, 0.039, 0.0}, Quat{1, 0, 0, 0}});
+  const auto pairsWith = [&](std::uint32_t body) {
+    std::uint32_t n = 0;
+    for (const Contact& c : world.contacts()) n += c.body_a == body || c.body_b == body;
+    return n;
+  };
+  StepStats st = world.step();
+  EXPECT_EQ(pairsWith(kin), 2u);  // with the floor and the probe
+  EXPECT_EQ(st.pairs_tested, 2u);
+  // unmoved: nothing is tested again
+  st = world.step();
+  EXPECT_EQ(st.pairs_tested, 0u);
+  const std::uint64_t before = testing_alloc::count();
+  world.setEnabled(kin, false);
+  EXPECT_FALSE(world.enabled(kin));
+  st = world.step();
+  EXPECT_EQ(pairsWith(kin), 0u);
+  EXPECT_EQ(st.pairs_tested, 0u);
+  // moved while disabled: still no pairs
+  world.setPose(kin, Pose{Vec3{0.0, 0.02, 0.0}, Quat{1, 0, 0, 0}});
+  st = world.step();
+  EXPECT_EQ(pairsWith(kin), 0u);
+  EXPECT_EQ(st.pairs_tested, 0u);
+  world.setEnabled(kin, true);
+  st = world.step();
+  EXPECT_EQ(pairsWith(kin), 2u);
+  EXPECT_EQ(st.pairs_tested, 2u);
+  for (const Contact& c : world.contacts()) {
+    EXPECT_TRUE(c.answered);
+    EXPECT_EQ(c.age, 0u);
+  }
+  // a disabled body moved far away and enabled there: its old pairs leave, no new ones
+  world.setEnabled(kin, false);
+  world.setPose(kin, Pose{Vec3{1.0, 0.0, 0.0}, Quat{1, 0, 0, 0}});
+  world.step();
+  world.setEnabled(kin, true);
+  world.step();
+  EXPECT_EQ(pairsWith(kin), 0u);
+  EXPECT_EQ(pairsWith(probe), 0u);  // the probe and the floor are 19 mm apart
+  EXPECT_EQ(pairsWith(floor), 0u);
+  EXPECT_EQ(testing_alloc::count() - before, 0u);
+}
+
 }  // namespace
 }  // namespace hapticd::collision

@@ -420,6 +420,17 @@ inline std::vector<CorpusFile> badCorpus() {
   }
   {
     GltfBuilder b = baseScene();
+    b.doc["nodes"][1]["extras"]["haptic"]["active"] = "no";
+    add("active_not_bool.gltf", bytesOf(b.gltf()), "node 1 'Cube' extras.haptic: active");
+  }
+  {
+    GltfBuilder b = baseScene();
+    b.doc["nodes"][0]["extras"]["haptic"]["active"] = false;
+    add("active_false_static.gltf", bytesOf(b.gltf()),
+        "node 0 'Floor': extras.haptic.active false on a static collider");
+  }
+  {
+    GltfBuilder b = baseScene();
     json n = GltfBuilder::node("Ghost", {3.0, 0.0, 0.0});
     GltfBuilder::physics(n)["motion"] = json::object();
     b.addNode(n);

@@ -553,6 +553,57 @@ TEST(SceneLoader, HapticExtrasProbeStiffnessGravity) {
   EXPECT_FALSE(s.plan.dynamics);
 }
 
+// extras.haptic.active: false keeps a kinematic or dynamic body out of the scene until a client
+// adds it; absent or true: active; not a boolean, or false on a static collider or the probe:
+// an error naming the node.
+TEST(SceneLoader, HapticExtrasActive) {
+  GltfBuilder b;
+  staticShape(b, "Floor", b.box({1.0, 0.1, 1.0}), {0.0, -0.05, 0.0});
+  json shelf = GltfBuilder::node("Shelf", {0.5, 0.5, 0.0});
+  GltfBuilder::physics(shelf)["motion"] = {{"isKinematic", true}};
+  GltfBuilder::physics(shelf)["collider"] = GltfBuilder::shapeCollider(b.box({0.2, 0.02, 0.2}));
+  shelf["extras"]["haptic"] = {{"active", false}};
+  b.addNode(shelf);
+  const int crate = dynamicShape(b, "Crate", b.box({0.1, 0.1, 0.1}), {0.0, 0.5, 0.0});
+  b.doc["nodes"][static_cast<std::size_t>(crate)]["extras"]["haptic"] = {{"active", false}};
+  const int ball = dynamicShape(b, "Ball", b.sphere(0.05), {0.3, 0.5, 0.0});
+  b.doc["nodes"][static_cast<std::size_t>(ball)]["extras"]["haptic"] = {{"active", true}};
+  dynamicShape(b, "Plain", b.box({0.1, 0.1, 0.1}), {-0.3, 0.5, 0.0});
+  {
+    const LoadReport r = load(b);
+    ASSERT_TRUE(r.ok()) << r.message();
+    EXPECT_FALSE(bodyNamed(*r.scene, "Shelf").active);
+    EXPECT_FALSE(bodyNamed(*r.scene, "Crate").active);
+    EXPECT_TRUE(bodyNamed(*r.scene, "Ball").active);
+    EXPECT_TRUE(bodyNamed(*r.scene, "Plain").active);
+    EXPECT_TRUE(bodyNamed(*r.scene, "Floor").active);
+  }
+  {
+    GltfBuilder bad = b;
+    bad.doc["nodes"][static_cast<std::size_t>(crate)]["extras"]["haptic"]["active"] = 0;
+    const LoadReport r = load(bad);
+    EXPECT_FALSE(r.ok());
+    EXPECT_TRUE(hasProblem(r, "'Crate' extras.haptic: active")) << r.message();
+  }
+  {
+    GltfBuilder bad = b;
+    bad.doc["nodes"][0]["extras"]["haptic"]["active"] = false;
+    const LoadReport r = load(bad);
+    EXPECT_FALSE(r.ok());
+    EXPECT_TRUE(hasProblem(r, "'Floor': extras.haptic.active false on a static collider"))
+        << r.message();
+  }
+  {
+    GltfBuilder bad = b;
+    bad.doc["nodes"][static_cast<std::size_t>(ball)]["extras"]["haptic"] = {{"active", false},
+                                                                            {"probe", true}};
+    const LoadReport r = load(bad);
+    EXPECT_FALSE(r.ok());
+    EXPECT_TRUE(hasProblem(r, "'Ball': extras.haptic.active false on the probe body"))
+        << r.message();
+  }
+}
+
 TEST(SceneLoader, GravityOnTheAssetAndTheGravityFactor) {
   const auto plan = [](double factor, bool on_asset) {
     GltfBuilder b;
