@@ -213,11 +213,17 @@ void ServoLoop::publishLists() noexcept {
   if (current_ != nullptr) {
     const auto poses = current_->sim->bodyPoses();
     const auto contacts = current_->sim->contactPoints();
-    l_.bodies_total = static_cast<std::uint32_t>(poses.size());
+    // active bodies only: bodyPoses() keeps an inactive body at its last pose, and a client
+    // reading the list should not draw a body that was removed
+    for (const sim::BodyPose& b : poses) {
+      if (!current_->sim->bodyActive(b.body))
+        continue;
+      if (l_.body_count < kListBodies)
+        l_.bodies[l_.body_count++] = b;
+      ++l_.bodies_total;
+    }
     l_.contacts_total = static_cast<std::uint32_t>(contacts.size());
-    l_.body_count = static_cast<std::uint32_t>(std::min(poses.size(), kListBodies));
     l_.contact_count = static_cast<std::uint32_t>(std::min(contacts.size(), kListContacts));
-    std::copy_n(poses.begin(), l_.body_count, l_.bodies.begin());
     std::copy_n(contacts.begin(), l_.contact_count, l_.contacts.begin());
   }
   // only what is used: the counts, the used bodies, the used contacts

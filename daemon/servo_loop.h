@@ -177,10 +177,11 @@ struct ServoLists {
   std::uint64_t tick = 0;              ///< ServoState::tick of the tick these are from
   std::uint64_t scene_generation = 0;  ///< the scene the body indices refer to
   std::uint32_t body_count = 0;        ///< entries used in bodies
-  std::uint32_t bodies_total = 0;      ///< non-static bodies the simulation reported (may be more)
+  std::uint32_t bodies_total = 0;      ///< active non-static bodies (may be more than listed)
   std::uint32_t contact_count = 0;     ///< entries used in contacts
   std::uint32_t contacts_total = 0;    ///< contact points the simulation reported (may be more)
-  std::array<sim::BodyPose, kListBodies> bodies{};  ///< Simulation::bodyPoses(), in index order
+  /// Simulation::bodyPoses() of the active bodies (Simulation::bodyActive), in index order
+  std::array<sim::BodyPose, kListBodies> bodies{};
   std::array<sim::ContactPoint, kListContacts> contacts{};  ///< Simulation::contactPoints()
 };
 
