@@ -22,10 +22,12 @@
 #include <fstream>
 #include <functional>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <sstream>
 #include <thread>
 
 #include "daemon/daemon.h"
+#include "protocol/auth.h"
 #include "protocol/client.h"
 #include "protocol/server.h"
 #include "protocol/shm.h"
@@ -121,9 +123,10 @@ class DaemonEditTest : public ::testing::Test {
     return code;
   }
 
-  std::unique_ptr<proto::Client> client() {
+  std::unique_ptr<proto::Client> client(std::optional<proto::Key> key = std::nullopt) {
     const std::string a = status()["network"]["udp"];
     proto::ClientConfig c;
+    c.key = key;
     c.server = a;
     c.name = "daemon_edit_test";
     c.timeout_ms = 10000;
@@ -250,6 +253,41 @@ TEST_F(DaemonEditTest, BadUpdatesGetAnErrorNamingTheEntryAndNothingChanges) {
     })) << status().dump();
     EXPECT_EQ(status()["edits"]["entries_refused"], 0);
     EXPECT_NE(bodyIn(st, 5), nullptr);  // the crate was not removed by the refused update
+  });
+  EXPECT_EQ(code, kExitOk);
+}
+
+TEST_F(DaemonEditTest, WithAKeyOnlyAuthenticatedPeersChangeTheScene) {
+  const proto::Key key = proto::randomKey();
+  std::ofstream(dir_ / "key") << proto::keyToHex(key) << "\n";
+  std::ofstream(dir_ / "hapticd.toml")
+      << "[network]\nkey_file = \"" << (dir_ / "key").string() << "\"\n";
+  CommandLine c = cli("");
+  c.config_path = (dir_ / "hapticd.toml").string();
+  const int code = runWith(c, [&] {
+    proto::SceneUpdate u;
+    u.poses.push_back({3, wireAt(3.0, 0.75, 0.0)});
+    auto plain = client();
+    ASSERT_TRUE(plain);
+    auto r = plain->sceneUpdate(u);
+    ASSERT_FALSE(r);
+    EXPECT_NE(r.error().message.find("needs a tag"), std::string::npos) << r.error().message;
+    auto keyed = client(key);
+    ASSERT_TRUE(keyed);
+    ASSERT_TRUE(keyed->subscribe(200, proto::kSubscribeBodies));
+    // the refused update changed nothing: the slider is where the scene put it
+    proto::State st;
+    ASSERT_TRUE(until(
+        *keyed, [](const proto::State& s) { return bodyIn(s, 3) != nullptr; }, &st));
+    EXPECT_EQ(bodyIn(st, 3)->X_WB.p, (proto::Vec3{3.0, 0.0, 0.0}));
+    auto ok = keyed->sceneUpdate(u);
+    ASSERT_TRUE(ok) << ok.error().message;
+    EXPECT_TRUE(until(*keyed, [](const proto::State& s) {
+      const auto* b = bodyIn(s, 3);
+      return b != nullptr && b->X_WB.p == proto::Vec3{3.0, 0.75, 0.0};
+    }));
+    EXPECT_TRUE(
+        waitStatus([](const nlohmann::json& j) { return j["edits"]["batches_applied"] == 1; }));
   });
   EXPECT_EQ(code, kExitOk);
 }
