@@ -55,26 +55,62 @@ int main(int argc, char** argv) {
   load->add_option("FILE", load_file, "scene file (.glb)")->required();
   hc::PoseOptions pose_options;
   std::vector<double> pose_values;
+  // --shm for the streaming commands: the shared-memory segment instead of UDP
+  auto shmFlag = [&](CLI::App* sub) {
+    sub->add_flag("--shm{/hapticd}", target.shm_name,
+                  "use the daemon's shared memory instead of UDP: --shm is /hapticd, --shm=NAME "
+                  "another segment (default: off, UDP)");
+  };
   auto* pose = daemonCommand("pose", "Arm and stream one target pose to the sim device (scene "
                                      "frame, metres, glTF quaternion order)");
+  shmFlag(pose);
   pose->add_option("VALUES", pose_values, "PX PY PZ [QX QY QZ QW]")->required()->expected(3, 7);
   pose->add_option("--seconds", pose_options.seconds, "stream the pose this long (default 0.5)");
   pose->add_option("--rate", pose_options.rate_hz, "stream rate, Hz (default 200)");
   hc::ReplayOptions replay_options;
-  auto* replay = daemonCommand("replay", "Arm and send a pose stream CSV as pose commands");
+  auto* replay = daemonCommand("replay",
+                               "Arm and send a pose stream CSV as pose commands, "
+                               "interpolated (lerp, slerp) at the send rate and timed "
+                               "by its t");
   replay->add_option("FILE", replay_options.file, "t,px,py,pz,qx,qy,qz,qw,buttons")->required();
   replay->add_option("--rate", replay_options.rate_hz,
-                     "resample at this rate, Hz (default 0: rows at their own times)");
+                     "send rate, Hz, at most the daemon's tick rate (default 0: the tick rate)");
+  replay->add_flag("--quiet", replay_options.quiet,
+                   "no progress lines on stderr (default: one a second for replays over 2 s)");
+  shmFlag(replay);
   hc::RecordOptions record_options;
   auto* record = daemonCommand("record", "Write the state stream as the daemon's --record CSV");
   record->add_option("OUT", record_options.file, "output CSV")->required();
   record->add_option("--seconds", record_options.seconds, "how long (default 1)");
-  record->add_option("--rate", record_options.rate_hz, "state rate, Hz (default 1000)");
+  record->add_option("--rate", record_options.rate_hz,
+                     "state rate, Hz (default 0: the daemon's tick rate, at most 1000)");
+  shmFlag(record);
   hc::WatchOptions watch_options;
   auto* watch = daemonCommand("watch", "Live tick percentiles, force, contacts and faults, one "
                                        "line per state");
   watch->add_option("--count", watch_options.count, "stop after N lines (default 0: never)");
   watch->add_option("--rate", watch_options.rate_hz, "lines per second (default 10)");
+  watch->add_flag("--json", watch_options.json, "one JSON object per line");
+  watch->add_option("--deepest", watch_options.deepest,
+                    "contacts listed per line, deepest first (default 3)");
+  shmFlag(watch);
+  // scene edits: one SceneUpdate each
+  hc::SceneEditOptions edit_options;
+  std::vector<double> edit_values;
+  auto* move = daemonCommand("move",
+                             "Set a kinematic body's pose (scene frame, metres, glTF "
+                             "quaternion order): exit 0 acknowledged, 1 refused");
+  move->add_option("BODY", edit_options.body,
+                   "body index in the scene (hapticctl check lists them)")
+      ->required();
+  move->add_option("POSE", edit_values, "PX PY PZ [QX QY QZ QW]")->required()->expected(3, 7);
+  auto* add = daemonCommand("add",
+                            "Make an inactive body active at a pose: exit 0 "
+                            "acknowledged, 1 refused");
+  add->add_option("BODY", edit_options.body, "body index in the scene")->required();
+  add->add_option("POSE", edit_values, "PX PY PZ [QX QY QZ QW]")->required()->expected(3, 7);
+  auto* remove = daemonCommand("remove", "Make a body inactive: exit 0 acknowledged, 1 refused");
+  remove->add_option("BODY", edit_options.body, "body index in the scene")->required();
   auto* arm = daemonCommand("arm", "Enable forces; clears a latched fault");
   auto* disarm = daemonCommand("disarm", "Force to zero now");
   CLI11_PARSE(app, argc, argv);
@@ -86,6 +122,29 @@ int main(int argc, char** argv) {
   if (record->parsed()) return hc::runRecord(target, record_options, std::cout, std::cerr);
   if (watch->parsed()) return hc::runWatch(target, watch_options, std::cout, std::cerr);
   if (replay->parsed()) return hc::runReplay(target, replay_options, std::cout, std::cerr);
+  if (remove->parsed()) {
+    edit_options.kind = hc::SceneEditOptions::Kind::kRemove;
+    return hc::runSceneEdit(target, edit_options, std::cout, std::cerr);
+  }
+  if (move->parsed() || add->parsed()) {
+    const char* verb = move->parsed() ? "move" : "add";
+    if (edit_values.size() != 3 && edit_values.size() != 7) {
+      std::cerr << "hapticctl " << verb << ": give BODY PX PY PZ or BODY PX PY PZ QX QY QZ QW\n";
+      return 2;
+    }
+    edit_options.kind =
+        move->parsed() ? hc::SceneEditOptions::Kind::kMove : hc::SceneEditOptions::Kind::kAdd;
+    edit_options.px = edit_values[0];
+    edit_options.py = edit_values[1];
+    edit_options.pz = edit_values[2];
+    if (edit_values.size() == 7) {
+      edit_options.qx = edit_values[3];
+      edit_options.qy = edit_values[4];
+      edit_options.qz = edit_values[5];
+      edit_options.qw = edit_values[6];
+    }
+    return hc::runSceneEdit(target, edit_options, std::cout, std::cerr);
+  }
   if (pose->parsed()) {
     if (pose_values.size() != 3 && pose_values.size() != 7) {
       std::cerr << "hapticctl pose: give PX PY PZ or PX PY PZ QX QY QZ QW\n";

@@ -414,7 +414,8 @@ DecodeError get(Reader& r, Subscribe& m, bool exact) {
 
 constexpr std::size_t kContactSize = 56;
 std::size_t size(const State& m) {
-  return State::kFixedSize + kContactSize * m.contacts.size() + kBodyPoseSize * m.bodies.size();
+  return State::kFixedSize + kContactSize * m.contacts.size() + kBodyPoseSize * m.bodies.size() +
+         State::kMinor1Size;
 }
 bool fits(const State& m) {
   return m.contacts.size() <= kMaxStateContacts && m.bodies.size() <= kMaxStateBodies;
@@ -445,8 +446,17 @@ void put(Writer& w, const State& m) {
   }
   for (const auto& b : m.bodies)
     putBodyPose(w, b);
+  // minor 1
+  w.u32(m.pairs_tested);
+  w.u32(m.pairs_skipped);
+  w.f64(m.max_penetration_m);
+  w.u32(m.tick_ns);
+  w.u32(0);
 }
-DecodeError get(Reader& r, State& m, bool exact) {
+// State is the one message whose length depends on the sender's minor: 1.0 has no tail, 1.1
+// appends kMinor1Size bytes; the length is exact up to our minor and "at least" above it.
+DecodeError get(Reader& r, State& m, std::uint8_t minor) {
+  const bool exact = minor <= kVersionMinor;
   const std::size_t total = r.remaining();
   constexpr auto t = State::kType;
   if (total < State::kFixedSize)
@@ -472,8 +482,9 @@ DecodeError get(Reader& r, State& m, bool exact) {
     return err(Errc::kBadValue, t, nc, kMaxStateContacts, "listed_contacts");
   if (nb > kMaxStateBodies)
     return err(Errc::kBadValue, t, nb, kMaxStateBodies, "listed_bodies");
-  if (auto e =
-          checkLength(t, total, State::kFixedSize + kContactSize * nc + kBodyPoseSize * nb, exact);
+  const std::size_t tail = minor >= 1 ? State::kMinor1Size : 0;
+  if (auto e = checkLength(
+          t, total, State::kFixedSize + kContactSize * nc + kBodyPoseSize * nb + tail, exact);
       e.code != Errc::kOk)
     return e;
   m.contacts.resize(nc);
@@ -485,8 +496,17 @@ DecodeError get(Reader& r, State& m, bool exact) {
   m.bodies.resize(nb);
   for (auto& b : m.bodies)
     b = getBodyPose(r);
+  if (minor >= 1) {
+    m.pairs_tested = r.u32();
+    m.pairs_skipped = r.u32();
+    m.max_penetration_m = r.f64();
+    m.tick_ns = r.u32();
+    r.u32();
+  }  // else: a 1.0 sender, the minor-1 fields stay 0
   if (r.nonFinite())
     return {};  // reported by the caller with its offset
+  if (!(m.max_penetration_m >= 0.0))
+    return err(Errc::kBadValue, t, 0, 0, "max_penetration_m (>= 0)");
   if (!(m.force_scale >= 0.0 && m.force_scale <= 1.0))
     return err(Errc::kBadValue, t, 0, 1, "force_scale (0..1)");
   if (!unitQuat(m.X_WD))
@@ -710,22 +730,33 @@ static_assert(SceneChunkAck::kFixedSize == 4 + 4 + 8 * 3);
 static_assert(SceneStatus::kFixedSize == 4 + 2 + 2 + 8 + 8 + 2 + 2 + 4);
 static_assert(PoseCommand::kFixedSize == kPoseSize + 3 * 8 + 3 * 8 + 4 + 4);
 static_assert(State::kFixedSize == 8 + 8 + 2 * kPoseSize + 6 * 8 + 8 + 8 + 8 + 6 * 4 + 2 + 2 + 4);
+static_assert(State::kMinor1Size == 4 + 4 + 8 + 4 + 4);
 static_assert(StatusReply::kFixedSize == 3 * 8 + 2 * 8 + 8 * 4 + 4 * 8 + 4 * 2);
 static_assert(ErrorMsg::kFixedSize == 8 + 2 + 2 + 2 + 2);
 static_assert(Ack::kFixedSize == 16);
 static_assert(kErrcCount <= kMaxRefusalCounters);
 // the largest messages fit the largest datagram
 static_assert(kHeaderSize + State::kFixedSize + kMaxStateContacts * kContactSize +
-                  kMaxStateBodies * kBodyPoseSize + kMacSize <=
+                  kMaxStateBodies * kBodyPoseSize + State::kMinor1Size + kMacSize <=
               8192);
 static_assert(kHeaderSize + SceneChunk::kFixedSize + kMaxChunkBytes + kMacSize <=
               kMaxDatagramLimit);
 
+// Every message but State has one layout per major: exact length up to our minor.
 template <class M>
-DecodeError decodeAs(std::span<const std::uint8_t> payload, bool exact, Message& out) {
+DecodeError getAt(Reader& r, M& m, std::uint8_t minor) {
+  return get(r, m, minor <= kVersionMinor);
+}
+template <>
+DecodeError getAt(Reader& r, State& m, std::uint8_t minor) {
+  return get(r, m, minor);
+}
+
+template <class M>
+DecodeError decodeAs(std::span<const std::uint8_t> payload, std::uint8_t minor, Message& out) {
   M m{};
   Reader r(payload);
-  DecodeError e = get(r, m, exact);
+  DecodeError e = getAt(r, m, minor);
   if (e.code != Errc::kOk)
     return e;
   if (r.nonFinite())
@@ -774,46 +805,45 @@ DecodeError decodePayload(std::uint16_t type,
                           std::uint8_t minor,
                           std::span<const std::uint8_t> payload,
                           Message& out) {
-  const bool exact = minor <= kVersionMinor;
   switch (static_cast<MsgType>(type)) {
     case MsgType::kHello:
-      return decodeAs<Hello>(payload, exact, out);
+      return decodeAs<Hello>(payload, minor, out);
     case MsgType::kWelcome:
-      return decodeAs<Welcome>(payload, exact, out);
+      return decodeAs<Welcome>(payload, minor, out);
     case MsgType::kSceneBegin:
-      return decodeAs<SceneBegin>(payload, exact, out);
+      return decodeAs<SceneBegin>(payload, minor, out);
     case MsgType::kSceneChunk:
-      return decodeAs<SceneChunk>(payload, exact, out);
+      return decodeAs<SceneChunk>(payload, minor, out);
     case MsgType::kSceneChunkAck:
-      return decodeAs<SceneChunkAck>(payload, exact, out);
+      return decodeAs<SceneChunkAck>(payload, minor, out);
     case MsgType::kSceneCommit:
-      return decodeAs<SceneCommit>(payload, exact, out);
+      return decodeAs<SceneCommit>(payload, minor, out);
     case MsgType::kSceneStatus:
-      return decodeAs<SceneStatus>(payload, exact, out);
+      return decodeAs<SceneStatus>(payload, minor, out);
     case MsgType::kSceneUpdate:
-      return decodeAs<SceneUpdate>(payload, exact, out);
+      return decodeAs<SceneUpdate>(payload, minor, out);
     case MsgType::kPoseCommand:
-      return decodeAs<PoseCommand>(payload, exact, out);
+      return decodeAs<PoseCommand>(payload, minor, out);
     case MsgType::kSubscribe:
-      return decodeAs<Subscribe>(payload, exact, out);
+      return decodeAs<Subscribe>(payload, minor, out);
     case MsgType::kState:
-      return decodeAs<State>(payload, exact, out);
+      return decodeAs<State>(payload, minor, out);
     case MsgType::kArm:
-      return decodeAs<Arm>(payload, exact, out);
+      return decodeAs<Arm>(payload, minor, out);
     case MsgType::kDisarm:
-      return decodeAs<Disarm>(payload, exact, out);
+      return decodeAs<Disarm>(payload, minor, out);
     case MsgType::kHeartbeat:
-      return decodeAs<Heartbeat>(payload, exact, out);
+      return decodeAs<Heartbeat>(payload, minor, out);
     case MsgType::kError:
-      return decodeAs<ErrorMsg>(payload, exact, out);
+      return decodeAs<ErrorMsg>(payload, minor, out);
     case MsgType::kStatusRequest:
-      return decodeAs<StatusRequest>(payload, exact, out);
+      return decodeAs<StatusRequest>(payload, minor, out);
     case MsgType::kStatusReply:
-      return decodeAs<StatusReply>(payload, exact, out);
+      return decodeAs<StatusReply>(payload, minor, out);
     case MsgType::kAck:
-      return decodeAs<Ack>(payload, exact, out);
+      return decodeAs<Ack>(payload, minor, out);
     case MsgType::kBye:
-      return decodeAs<Bye>(payload, exact, out);
+      return decodeAs<Bye>(payload, minor, out);
   }
   return {Errc::kUnknownType, type, type, kMsgTypeEnd - 1, "type"};
 }

@@ -184,6 +184,9 @@ struct PoseCommand {
 /// Subscribe::flags bits.
 inline constexpr std::uint32_t kSubscribeBodies = 1u << 0;
 inline constexpr std::uint32_t kSubscribeContacts = 1u << 1;
+/// (1.1) Each state of a tick not sent before, as soon as the server sees it, at most rate_hz:
+/// no duplicates when the rate is at or above the tick rate (a 1.0 server ignores the bit).
+inline constexpr std::uint32_t kSubscribeEachTick = 1u << 2;
 
 /// Client → server: send State at `rate_hz` (0 stops). Fixed 8 bytes.
 struct Subscribe {
@@ -208,10 +211,13 @@ inline constexpr std::uint32_t kStateRamping = 1u << 2;    ///< stream stopped, 
 inline constexpr std::uint32_t kStateContactsTruncated = 1u << 3;
 inline constexpr std::uint32_t kStateBodiesTruncated = 1u << 4;
 
-/// Server → subscriber: one servo tick's state. Fixed 232 + 56 per contact + 64 per body.
+/// Server → subscriber: one servo tick's state. Fixed 232 + 56 per contact + 64 per body, then
+/// (minor ≥ 1) the kMinor1Size bytes of the minor-1 fields. A 1.0 State (no tail) decodes with
+/// those fields 0; a newer minor's further bytes are ignored.
 struct State {
   static constexpr MsgType kType = MsgType::kState;
   static constexpr std::size_t kFixedSize = 232;
+  static constexpr std::size_t kMinor1Size = 24;  ///< appended by minor 1, after the lists
   struct Contact {
     Vec3 p_W{0.0, 0.0, 0.0};  ///< contact point, scene frame, metres
     Vec3 n_W{0.0, 0.0, 1.0};  ///< unit normal, scene frame
@@ -239,7 +245,8 @@ struct State {
   // sender they read as 0) ---
   std::uint32_t pairs_tested = 0;   ///< narrow-phase pair tests this tick
   std::uint32_t pairs_skipped = 0;  ///< close pairs the scheduler left untested this tick
-  double max_penetration_m = 0.0;   ///< deepest penetration of the held set this tick, ≥ 0
+  double max_penetration_m = 0.0;   ///< deepest penetration of the held set this tick, ≥ 0 m
+                                    ///< (decode refuses a negative one, kBadValue)
   std::uint32_t tick_ns = 0;        ///< compute time of this tick, ns
   bool operator==(const State&) const = default;
 };
@@ -354,8 +361,9 @@ std::size_t payloadSize(const Message& m);
 std::size_t encode(Header h, const Message& m, std::span<std::uint8_t> out, Errc* error = nullptr);
 
 /// Decodes the payload of a message of `type` sent with minor version `minor`. The payload
-/// length must match the type exactly when minor ≤ kVersionMinor; a newer minor may append
-/// bytes, which are ignored. Any thread. `out` views `payload` for SceneChunk.
+/// length must match the type (as laid out in that minor: State has a 1.0 and a 1.1 layout)
+/// exactly when minor ≤ kVersionMinor; a newer minor may append bytes, which are ignored.
+/// Any thread. `out` views `payload` for SceneChunk.
 DecodeError decodePayload(std::uint16_t type,
                           std::uint8_t minor,
                           std::span<const std::uint8_t> payload,

@@ -15,6 +15,11 @@ std::uint64_t monotonicNs() {
 
 namespace {
 
+// kSubscribeEachTick: a session looks for a new tick every min(period / 4, this), and may send
+// up to kEachTickBurst states in a row when ticks came close together (on average rate_hz).
+constexpr std::uint64_t kEachTickLookNs = 250'000;
+constexpr double kEachTickBurst = 4.0;
+
 bool privileged(std::uint16_t type) {
   switch (static_cast<MsgType>(type)) {
     case MsgType::kSceneBegin:
@@ -251,7 +256,8 @@ void Server::handleDatagram(std::span<const std::uint8_t> d,
           [&](const SceneUpdate& x) {
             std::string error;
             if (handlers_.on_scene_update && !handlers_.on_scene_update(s.id, x, &error))
-              return refuse(Errc::kBadValue, from, &h, &s, true, "scene_update refused: " + error);
+              return refuse(Errc::kBadValue, from, &h, &s, true,
+                            error.empty() ? std::string("scene update refused") : error);
             sendTo(s, Ack{h.sequence, h.type});
           },
           [&](const PoseCommand& x) { command(CommandEvent::Kind::kPose, &x); },
@@ -271,6 +277,9 @@ void Server::handleDatagram(std::span<const std::uint8_t> d,
             s.rate_hz = std::min(x.rate_hz, config_.max_state_rate_hz);
             s.sub_flags = x.flags;
             s.next_state_ns = t;
+            s.sent_state = false;
+            s.state_credit = 1.0;
+            s.credit_ns = t;
             sendTo(s, Ack{h.sequence, h.type});
           },
           [&](const Heartbeat&) { sendTo(s, Heartbeat{h.timestamp_ns}); },
@@ -545,9 +554,20 @@ void Server::sendStates(std::uint64_t t) {
     if (s.rate_hz == 0 || t < s.next_state_ns)
       continue;
     const std::uint64_t period = 1'000'000'000ull / s.rate_hz;
-    s.next_state_ns += period;
-    if (s.next_state_ns < t)
-      s.next_state_ns = t + period;  // no burst after a stall
+    if ((s.sub_flags & kSubscribeEachTick) != 0) {
+      // each new tick once, as soon as it is seen, paced by a token bucket at rate_hz
+      s.state_credit = std::min(
+          kEachTickBurst, s.state_credit + static_cast<double>(t - s.credit_ns) * s.rate_hz * 1e-9);
+      s.credit_ns = t;
+      s.next_state_ns = t + std::min<std::uint64_t>(period / 4 + 1, kEachTickLookNs);
+      if (!have || (s.sent_state && full.tick <= s.last_state_tick) || s.state_credit < 1.0)
+        continue;
+      s.state_credit -= 1.0;
+    } else {
+      s.next_state_ns += period;
+      if (s.next_state_ns < t)
+        s.next_state_ns = t + period;  // no burst after a stall
+    }
     if (!have)
       continue;
     State st = full;
@@ -563,6 +583,8 @@ void Server::sendStates(std::uint64_t t) {
       st.bodies.resize(config_.max_state_bodies);
       st.state_flags |= kStateBodiesTruncated;
     }
+    s.sent_state = true;
+    s.last_state_tick = st.tick;
     sendTo(s, st);
     counters_.states_sent.fetch_add(1, std::memory_order_relaxed);
   }

@@ -165,7 +165,11 @@ class Server {
     ReplayWindow replay;
     std::uint32_t rate_hz = 0;
     std::uint32_t sub_flags = 0;
-    std::uint64_t next_state_ns = 0;
+    std::uint64_t next_state_ns = 0;  // next state slot; kSubscribeEachTick: next look
+    bool sent_state = false;
+    std::uint64_t last_state_tick = 0;  // tick of the last state sent
+    double state_credit = 0.0;          // kSubscribeEachTick: states that may be sent now
+    std::uint64_t credit_ns = 0;        // when state_credit was last refilled
     Reassembly upload;
     UploadState upload_state = UploadState::kNone;
     std::uint32_t upload_id = 0;  // of the current or last finished upload

@@ -77,6 +77,12 @@ void toState(const ShmState& in, State& out) {
   const std::size_t n = std::min<std::uint64_t>(in.body_count, kShmBodies);
   for (std::size_t b = 0; b < n; ++b)
     out.bodies.push_back({u32(in.bodies[b].index), pose(in.bodies[b].X_WB)});
+  out.pairs_tested = u32(in.pairs_tested);
+  out.pairs_skipped = u32(in.pairs_skipped);
+  out.max_penetration_m = std::isfinite(in.max_penetration_m) && in.max_penetration_m > 0.0
+                              ? in.max_penetration_m
+                              : 0.0;
+  out.tick_ns = u32(in.tick_ns);
 }
 
 // ---- server --------------------------------------------------------------------------------

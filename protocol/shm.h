@@ -28,11 +28,13 @@ namespace hapticd::proto {
 
 // Shared-memory layout version; its own changelog:
 //   1.0  2026-12-01  header, seqlock state (ShmState 1.0), command ring of ShmCommand 1.0.
+//   1.1  2026-12-01  ShmState appends pairs_tested, pairs_skipped, max_penetration_m, tick_ns
+//                    (the State minor-1 fields of the UDP protocol).
 // A minor version may only append fields to ShmState or ShmCommand (sizes in the header tell a
 // reader how much is there); anything else is a new major, refused by attach().
 inline constexpr std::uint32_t kShmMagic = 0x4d535048u;  // "HPSM"
 inline constexpr std::uint16_t kShmMajor = 1;
-inline constexpr std::uint16_t kShmMinor = 0;
+inline constexpr std::uint16_t kShmMinor = 1;
 inline constexpr const char* kDefaultShmName = "/hapticd";
 inline constexpr std::uint32_t kShmRingSlots = 256;  ///< power of two
 inline constexpr std::size_t kShmBodies = 16;        ///< body poses in the state block
@@ -84,6 +86,11 @@ struct ShmState {
     std::uint64_t index;  ///< body index in the scene
     double X_WB[7];       ///< body pose
   } bodies[kShmBodies];
+  // --- layout minor 1 ---
+  std::uint64_t pairs_tested;   ///< narrow-phase pair tests this tick
+  std::uint64_t pairs_skipped;  ///< close pairs the scheduler left untested this tick
+  double max_penetration_m;     ///< deepest penetration of the held set this tick, m, ≥ 0
+  std::uint64_t tick_ns;        ///< compute time of this tick, ns
 };
 static_assert(sizeof(ShmState) % 8 == 0);
 inline constexpr std::size_t kShmStateWords = sizeof(ShmState) / 8;
@@ -125,7 +132,8 @@ struct ShmCommandEvent {
 };
 
 /// Converts a published ShmState into the UDP State message (no contacts list: ShmState has
-/// none; body poses: the first body_count ≤ kShmBodies). Any thread.
+/// none; body poses: the first body_count ≤ kShmBodies; the minor-1 fields, counts saturated at
+/// 2^32 − 1, a negative or non-finite depth as 0). Any thread.
 void toState(const ShmState& in, State& out);
 
 /// The daemon's side: creates (replacing a stale one) and owns the segment; unlinks it on

@@ -21,6 +21,11 @@ namespace hapticd::proto {
 //   1.0  2026-12-01  first version: hello/welcome, chunked scene upload (begin, chunk, ack,
 //                    commit, status), scene update, pose command, subscribe, state, arm, disarm,
 //                    heartbeat, error, ack, status request/reply, bye; HMAC-SHA512-256 tag.
+//   1.1  2026-12-01  State appends 24 bytes after its lists: pairs_tested u32, pairs_skipped
+//                    u32, max_penetration_m f64 (>= 0), tick_ns u32, reserved u32. A 1.0
+//                    State decodes with these 0; a 1.0 reader ignores them. Subscribe flag
+//                    bit 2 each_tick: only states of ticks not sent before (a 1.0 server
+//                    ignores it).
 //
 // Rules for later versions. A minor version may only (a) append fields at the end of a
 // message's payload (after its lists and strings) or (b) add message types; a receiver of an
@@ -28,7 +33,7 @@ namespace hapticd::proto {
 // Error kUnknownType. Anything else (moved fields, changed units, new header fields) is a new
 // major version, which a receiver refuses (Errc::kBadMajor).
 inline constexpr std::uint8_t kVersionMajor = 1;
-inline constexpr std::uint8_t kVersionMinor = 0;
+inline constexpr std::uint8_t kVersionMinor = 1;
 
 /// "HPTC" in the first four bytes of every datagram (0x43545048 read little-endian).
 inline constexpr std::uint32_t kMagic = 0x43545048u;

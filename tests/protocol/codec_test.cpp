@@ -238,6 +238,7 @@ TEST(Codec, NanAndInfRefusedInEveryFloatField) {
     for (std::size_t k = 0; k < st.bodies.size(); ++k, at += 64)
       for (std::size_t i = 0; i < 7; ++i)
         offs.push_back(at + 8 + 8 * i);
+    offs.push_back(at + 8);  // minor 1: max_penetration_m
     cases.push_back({find(MsgType::kState), offs});
   }
   {
@@ -270,7 +271,7 @@ TEST(Codec, NanAndInfRefusedInEveryFloatField) {
       }
     }
   }
-  EXPECT_EQ(checked, 4u * (13 + 21 + 3 * 7 + 4 * 7 + 3 * 7 + 2));
+  EXPECT_EQ(checked, 4u * (13 + 21 + 3 * 7 + 4 * 7 + 1 + 3 * 7 + 2));
 }
 
 TEST(Codec, EncodeRefusesNonFinite) {
@@ -359,6 +360,139 @@ TEST(Codec, CountsOverBoundsRefusedBeforeReading) {
   sb.total_bytes = 0;
   b = encodeOrDie(sb);
   EXPECT_EQ(decode(b, got, back).code, Errc::kBadValue);
+}
+
+// ---- State minor 1: pairs_tested, pairs_skipped, max_penetration_m, tick_ns after the lists ----
+
+State sampleState() {
+  for (const auto& m : sampleMessages())
+    if (const auto* s = std::get_if<State>(&m))
+      return *s;
+  return {};
+}
+
+// Re-labels an encoded datagram as sent with `minor` and sets its payload length.
+void relabel(std::vector<std::uint8_t>& b, std::uint8_t minor) {
+  b[5] = minor;
+  putU32(b, 12, static_cast<std::uint32_t>(b.size() - kHeaderSize));
+}
+
+TEST(CodecStateMinor1, FieldsRoundTripAtTheDocumentedOffsets) {
+  State s = sampleState();
+  s.pairs_tested = 0xA1B2C3D4u;
+  s.pairs_skipped = 0x01020304u;
+  s.max_penetration_m = 0.375;
+  s.tick_ns = 0x0F0E0D0Cu;
+  const auto b = encodeOrDie(s);
+  const std::size_t lists = State::kFixedSize + 56 * s.contacts.size() + 64 * s.bodies.size();
+  ASSERT_EQ(b.size(), kHeaderSize + lists + State::kMinor1Size);
+  EXPECT_EQ(b[5], 1u);  // minor 1 on the wire
+  const std::size_t at = kHeaderSize + lists;
+  EXPECT_EQ(b[at + 0], 0xD4);
+  EXPECT_EQ(b[at + 3], 0xA1);
+  EXPECT_EQ(b[at + 4], 0x04);
+  EXPECT_EQ(b[at + 7], 0x01);
+  std::uint64_t pen = 0;
+  for (std::size_t i = 0; i < 8; ++i)
+    pen |= static_cast<std::uint64_t>(b[at + 8 + i]) << (8 * i);
+  EXPECT_EQ(std::bit_cast<double>(pen), 0.375);
+  EXPECT_EQ(b[at + 16], 0x0C);
+  EXPECT_EQ(b[at + 19], 0x0F);
+  for (std::size_t i = 20; i < 24; ++i)
+    EXPECT_EQ(b[at + i], 0u) << "reserved byte " << i;
+  Header h;
+  Message back;
+  ASSERT_EQ(decode(b, h, back).code, Errc::kOk);
+  EXPECT_EQ(std::get<State>(back), s);
+}
+
+TEST(CodecStateMinor1, AOneZeroStateWithoutTheFieldsDecodesWithZeros) {
+  const State s = sampleState();
+  ASSERT_NE(s.pairs_tested, 0u);
+  auto b = encodeOrDie(s);
+  b.resize(b.size() - State::kMinor1Size);  // what a 1.0 sender writes
+  relabel(b, 0);
+  Header h;
+  Message back;
+  const auto e = decode(b, h, back);
+  ASSERT_EQ(e.code, Errc::kOk) << describe(e);
+  const State& got = std::get<State>(back);
+  EXPECT_EQ(got.pairs_tested, 0u);
+  EXPECT_EQ(got.pairs_skipped, 0u);
+  EXPECT_EQ(got.max_penetration_m, 0.0);
+  EXPECT_EQ(got.tick_ns, 0u);
+  State expect = s;
+  expect.pairs_tested = expect.pairs_skipped = expect.tick_ns = 0;
+  expect.max_penetration_m = 0.0;
+  EXPECT_EQ(got, expect);
+  // an empty State from 1.0 too
+  auto e0 = encodeOrDie(State{});
+  e0.resize(e0.size() - State::kMinor1Size);
+  relabel(e0, 0);
+  EXPECT_EQ(decode(e0, h, back).code, Errc::kOk);
+}
+
+TEST(CodecStateMinor1, AOneZeroStateMustStillBeExact) {
+  // 1.0 had no tail: a 1.0 State with the 24 bytes (or one byte more) is refused
+  auto b = encodeOrDie(sampleState());
+  relabel(b, 0);
+  Header h;
+  Message back;
+  auto e = decode(b, h, back);
+  EXPECT_EQ(e.code, Errc::kBadPayloadLength) << describe(e);
+  b.resize(b.size() - State::kMinor1Size + 1);
+  relabel(b, 0);
+  EXPECT_EQ(decode(b, h, back).code, Errc::kBadPayloadLength);
+}
+
+TEST(CodecStateMinor1, ANewerMinorsTrailingBytesAreIgnored) {
+  const State s = sampleState();
+  auto b = encodeOrDie(s);
+  for (int i = 0; i < 40; ++i)  // a 1.2 field list we do not know
+    b.push_back(static_cast<std::uint8_t>(0x80 + i));
+  relabel(b, 2);
+  Header h;
+  Message back;
+  const auto e = decode(b, h, back);
+  ASSERT_EQ(e.code, Errc::kOk) << describe(e);
+  EXPECT_EQ(std::get<State>(back), s);  // the 1.1 fields are read, the rest ignored
+  EXPECT_EQ(h.minor, 2u);
+}
+
+TEST(CodecStateMinor1, OneByteShortIsRefusedAtMinorOneAndAbove) {
+  for (std::uint8_t minor : {std::uint8_t{1}, std::uint8_t{2}}) {
+    auto b = encodeOrDie(sampleState());
+    b.pop_back();
+    relabel(b, minor);
+    Header h;
+    Message back;
+    const auto e = decode(b, h, back);
+    EXPECT_EQ(e.code, Errc::kBadPayloadLength) << int(minor) << ": " << describe(e);
+    EXPECT_EQ(e.expected, e.got + 1) << describe(e);
+  }
+  // and the 1.0 prefix alone, labelled 1.1, is short by the whole tail
+  auto b = encodeOrDie(sampleState());
+  b.resize(b.size() - State::kMinor1Size);
+  relabel(b, 1);
+  Header h;
+  Message back;
+  EXPECT_EQ(decode(b, h, back).code, Errc::kBadPayloadLength);
+}
+
+TEST(CodecStateMinor1, NegativePenetrationRefusedNanRefusedAtItsOffset) {
+  State s = sampleState();
+  s.max_penetration_m = -1e-6;
+  auto b = encodeOrDie(s);
+  Header h;
+  Message back;
+  auto e = decode(b, h, back);
+  EXPECT_EQ(e.code, Errc::kBadValue);
+  EXPECT_STREQ(e.field, "max_penetration_m (>= 0)");
+  s.max_penetration_m = std::numeric_limits<double>::quiet_NaN();
+  std::vector<std::uint8_t> buf(8192);
+  Errc ec = Errc::kOk;
+  EXPECT_EQ(encode({}, s, buf, &ec), 0u);
+  EXPECT_EQ(ec, Errc::kNotFinite);
 }
 
 TEST(Codec, DescribeNamesWhatAndWhere) {

@@ -53,9 +53,28 @@ inline std::vector<std::vector<std::uint8_t>> fuzzSeeds(const std::string& targe
     if (target == "messages") {
       out.push_back(d);
       // the payload alone, behind a type byte and a minor byte
-      std::vector<std::uint8_t> p{static_cast<std::uint8_t>(typeOf(m)), 1};
+      std::vector<std::uint8_t> p{static_cast<std::uint8_t>(typeOf(m)), kVersionMinor};
       p.insert(p.end(), d.begin() + static_cast<long>(kHeaderSize), d.end());
       out.push_back(p);
+      if (typeOf(m) == MsgType::kState) {
+        // a 1.0 State (no minor-1 tail) and a 1.2 one (a longer tail), whole and as payloads
+        auto v10 = d;
+        v10.resize(v10.size() - State::kMinor1Size);
+        v10[5] = 0;
+        const auto n10 = static_cast<std::uint32_t>(v10.size() - kHeaderSize);
+        for (std::size_t i = 0; i < 4; ++i)
+          v10[12 + i] = static_cast<std::uint8_t>(n10 >> (8 * i));
+        out.push_back(v10);
+        // the payload behind its two bytes: reuse the header's last two bytes' room
+        std::vector<std::uint8_t> p10(v10.begin() + static_cast<long>(kHeaderSize) - 2, v10.end());
+        p10[0] = static_cast<std::uint8_t>(MsgType::kState);
+        p10[1] = 0;
+        out.push_back(p10);
+        auto p12 = p;
+        p12[1] = 2;
+        p12.resize(p12.size() + 16, 0x5a);
+        out.push_back(p12);
+      }
     } else {
       d.resize(std::min<std::size_t>(d.size(), kHeaderSize + 8));
       out.push_back(d);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <poll.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <list>
@@ -970,6 +971,95 @@ TEST(Server, StatesAtEachSubscribersRateOnSimulatedTime) {
   }));
   EXPECT_EQ(n_slow, 100);
   EXPECT_EQ(n_fast, 1000);
+}
+
+TEST(Server, EachTickSubscribersGetEveryJitteredTickOnceOnSimulatedTime) {
+  // a 1 kHz "servo" whose tick boundaries jitter by up to ±300 µs (seeded), the server polled
+  // every 50 µs of simulated time for 1 s; two subscribers at 1 kHz: the plain one is sampled
+  // on its grid (duplicates and gaps), the each_tick one gets every tick exactly once
+  std::uint64_t fake_now = 1'000'000'000;
+  const std::uint64_t t0 = fake_now;
+  std::vector<std::uint64_t> boundary;  // tick k (1-based) exists from boundary[k - 1]
+  std::mt19937 rng(7);
+  std::uniform_int_distribution<int> jitter(-300'000, 300'000);
+  for (int k = 0; k < 1200; ++k)
+    boundary.push_back(static_cast<std::uint64_t>(static_cast<std::int64_t>(t0) +
+                                                  1'000'000ll * (k + 1) + jitter(rng)));
+  ServerConfig cfg;
+  cfg.bind_address = "127.0.0.1:0";
+  cfg.clock = [&] { return fake_now; };
+  ServerHandlers h;
+  h.fill_state = [&](State& s) {
+    s.tick = static_cast<std::uint64_t>(
+        std::upper_bound(boundary.begin(), boundary.end(), fake_now) - boundary.begin());
+    return s.tick > 0;
+  };
+  auto created = Server::create(cfg, h);
+  ASSERT_TRUE(created) << created.error().message;
+  Server& server = *created.value();
+  const std::string addr = server.localAddress().toString();
+  Raw plain(addr), each(addr);
+  auto open = [&](Raw& r, std::uint32_t flags, std::uint64_t expect_received) {
+    r.sendMessage(Hello{}, 0, 1);
+    std::optional<std::uint64_t> sid;
+    for (int i = 0; i < 100 && !sid; ++i) {
+      server.poll(10);
+      if (auto m = r.receive(1); m && std::holds_alternative<Welcome>(*m))
+        sid = std::get<Welcome>(*m).session_id;
+    }
+    EXPECT_TRUE(sid.has_value());
+    r.sendMessage(Subscribe{1000, flags}, sid.value_or(0), 2);
+    for (int i = 0; i < 100 && server.counters().received.load() < expect_received; ++i)
+      server.poll(10);
+  };
+  open(plain, 0, 2);
+  open(each, kSubscribeEachTick, 4);
+  ASSERT_EQ(server.counters().received.load(), 4u);
+  auto drain = [](Raw& r, std::vector<std::uint64_t>& ticks) {
+    std::vector<std::uint8_t> buf(kMaxDatagramLimit);
+    for (;;) {
+      SocketAddress from;
+      auto got = r.sock.receive(buf, from);
+      if (!got.got)
+        return;
+      Header hh;
+      Message m;
+      if (decode(std::span(buf.data(), got.size), hh, m).code == Errc::kOk &&
+          std::holds_alternative<State>(m))
+        ticks.push_back(std::get<State>(m).tick);
+    }
+  };
+  std::vector<std::uint64_t> tp, te;
+  drain(plain, tp);
+  drain(each, te);
+  tp.clear();
+  te.clear();
+  const std::uint64_t sent_before = server.counters().states_sent.load();
+  for (int step = 0; step < 20000; ++step) {  // 20000 × 50 µs = 1 s
+    fake_now += 50'000;
+    server.poll(0);
+    if (step % 20 == 0) {
+      drain(plain, tp);
+      drain(each, te);
+    }
+  }
+  ASSERT_TRUE(waitUntil([&] {
+    drain(plain, tp);
+    drain(each, te);
+    return tp.size() + te.size() == server.counters().states_sent.load() - sent_before;
+  }));
+  // each_tick: strictly consecutive ticks, each once, about a second's worth
+  ASSERT_GT(te.size(), 990u);
+  for (std::size_t i = 1; i < te.size(); ++i)
+    ASSERT_EQ(te[i], te[i - 1] + 1) << "at " << i;
+  // plain: the grid samples the newest, so some ticks twice and some never
+  std::size_t dup = 0, gap = 0;
+  for (std::size_t i = 1; i < tp.size(); ++i) {
+    dup += tp[i] == tp[i - 1] ? 1u : 0u;
+    gap += tp[i] > tp[i - 1] + 1 ? tp[i] - tp[i - 1] - 1 : 0;
+  }
+  EXPECT_GT(dup, 0u);
+  EXPECT_GT(gap, 0u);
 }
 
 TEST(Server, AWatchingClientKeepsItsSessionByHeartbeat) {

@@ -111,6 +111,10 @@ inline std::vector<Message> sampleMessages() {
       s.contacts.push_back({{0.1 * i, 0.2, 0.3}, {0.0, 1.0, 0.0}, 1e-4 * i});
     for (std::uint32_t i = 0; i < 4; ++i)
       s.bodies.push_back({i * 2, samplePose(i)});
+    s.pairs_tested = 17;  // minor 1
+    s.pairs_skipped = 3;
+    s.max_penetration_m = 2.5e-4;
+    s.tick_ns = 18500;
     out.push_back(s);
   }
   out.push_back(Arm{});

@@ -145,6 +145,26 @@ TEST(Shm, ToStateCarriesEveryField) {
   EXPECT_EQ(out.bodies[1].X_WB.p[0], 3.0);
 }
 
+TEST(Shm, ToStateCarriesTheMinorOneFieldsSaturatedAndChecked) {
+  ShmState in = stateFor(3);
+  in.pairs_tested = 41;
+  in.pairs_skipped = (1ull << 40);  // saturates
+  in.max_penetration_m = 2.5e-4;
+  in.tick_ns = 17000;
+  State out;
+  toState(in, out);
+  EXPECT_EQ(out.pairs_tested, 41u);
+  EXPECT_EQ(out.pairs_skipped, 0xffffffffu);
+  EXPECT_EQ(out.max_penetration_m, 2.5e-4);
+  EXPECT_EQ(out.tick_ns, 17000u);
+  in.max_penetration_m = -1.0;  // never negative in a State (its decoder would refuse it)
+  toState(in, out);
+  EXPECT_EQ(out.max_penetration_m, 0.0);
+  in.max_penetration_m = std::nan("");
+  toState(in, out);
+  EXPECT_EQ(out.max_penetration_m, 0.0);
+}
+
 TEST(Shm, CommandRingAcrossThreadsInOrderAndBadSlotsRefused) {
   auto server = ShmServer::create(uniqueName("ring"));
   ASSERT_TRUE(server) << server.error().message;

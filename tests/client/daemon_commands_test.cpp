@@ -1,0 +1,634 @@
+// hapticctl's daemon commands (client/daemon_commands.h) called as a library against fakes of
+// the daemon (tests/client/fake_daemon.h): an in-process proto::Server on loopback with
+// recording handlers, and an in-process ShmServer. Contents and order are asserted, never
+// timing.
+#include "client/daemon_commands.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <numbers>
+#include <sstream>
+
+#include "tests/client/fake_daemon.h"
+
+namespace hapticd::client {
+namespace {
+
+using testing::FakeDaemon;
+using testing::FakeShmDaemon;
+using testing::stateFor;
+
+std::filesystem::path tempFile(const std::string& name) {
+  const auto dir =
+      std::filesystem::temp_directory_path() / ("hapticctl-test-" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return dir / name;
+}
+
+std::vector<std::string> split(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream in(line);
+  std::string f;
+  while (std::getline(in, f, ','))
+    out.push_back(f);
+  if (!line.empty() && line.back() == ',')
+    out.emplace_back();
+  return out;
+}
+
+double num(const std::string& s) {
+  return std::strtod(s.c_str(), nullptr);
+}
+
+std::array<double, 4> aboutZ(double deg) {
+  const double h = 0.5 * deg * std::numbers::pi / 180.0;
+  return {0.0, 0.0, std::sin(h), std::cos(h)};
+}
+double rotationGap(const std::array<double, 4>& q, const std::array<double, 4>& r) {
+  return 1.0 - std::fabs(q[0] * r[0] + q[1] * r[1] + q[2] * r[2] + q[3] * r[3]);
+}
+
+// ---- record ---------------------------------------------------------------------------------
+
+struct RecordCheck {
+  std::size_t rows = 0;
+  std::uint64_t gaps = 0;                    // ticks missing between rows, counted from the file
+  std::vector<std::uint64_t> missing_ticks;  // state ticks (1-based)
+};
+
+// Reads a record file and checks every column of every row against stateFor(tick)
+// (device pose from `device` when given).
+RecordCheck checkRecord(const std::filesystem::path& file,
+                        const proto::WirePose* device = nullptr) {
+  RecordCheck c;
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, recordHeader());
+  EXPECT_EQ(split(line).size(), 27u);
+  std::uint64_t prev = 0;
+  while (std::getline(in, line)) {
+    const auto f = split(line);
+    EXPECT_EQ(f.size(), 27u) << line;
+    if (f.size() != 27)
+      continue;
+    const std::uint64_t tick = std::stoull(f[0]) + 1;  // the record's tick is State::tick − 1
+    if (c.rows > 0) {
+      EXPECT_GT(tick, prev) << "rows out of tick order";
+      for (std::uint64_t m = prev + 1; m < tick; ++m)
+        c.missing_ticks.push_back(m);
+      c.gaps += tick - prev - 1;
+    }
+    prev = tick;
+    ++c.rows;
+    const proto::State s = stateFor(tick);
+    const proto::WirePose& d = device ? *device : s.X_WD;
+    const std::vector<double> want{static_cast<double>(s.sim_time_ns) * 1e-9,
+                                   d.p[0],
+                                   d.p[1],
+                                   d.p[2],
+                                   d.q[0],
+                                   d.q[1],
+                                   d.q[2],
+                                   d.q[3],
+                                   s.X_WP.p[0],
+                                   s.X_WP.p[1],
+                                   s.X_WP.p[2],
+                                   s.X_WP.q[0],
+                                   s.X_WP.q[1],
+                                   s.X_WP.q[2],
+                                   s.X_WP.q[3],
+                                   s.force_n[0],
+                                   s.force_n[1],
+                                   s.force_n[2],
+                                   s.torque_nm[0],
+                                   s.torque_nm[1],
+                                   s.torque_nm[2],
+                                   static_cast<double>(s.contact_count),
+                                   s.max_penetration_m,
+                                   static_cast<double>(s.pairs_tested),
+                                   static_cast<double>(s.pairs_skipped),
+                                   static_cast<double>(s.tick_ns)};
+    for (std::size_t i = 0; i < want.size(); ++i) {
+      EXPECT_FALSE(f[i + 1].empty()) << "column " << i + 1 << " empty: " << line;
+      EXPECT_EQ(num(f[i + 1]), want[i]) << "column " << i + 1 << " of tick " << tick;
+    }
+  }
+  return c;
+}
+
+std::uint64_t reportedMissing(const std::string& out) {
+  const auto at = out.find(" ticks missing");
+  if (at == std::string::npos)
+    return ~0ull;
+  const auto start = out.rfind(' ', at - 1);
+  return std::stoull(out.substr(start + 1, at - start - 1));
+}
+
+TEST(DaemonCommands, RecordWritesEveryColumnWithTheDaemonsValuesAndCountsMissingTicks) {
+  FakeDaemon d(/*tick_rate_hz=*/500, /*skip_every=*/7);  // ticks 7, 14, 21, ... never shown
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  RecordOptions o;
+  o.file = tempFile("rec.csv").string();
+  o.seconds = 0.3;
+  std::ostringstream out, err;
+  ASSERT_EQ(runRecord(d.target(), o, out, err), 0) << err.str();
+  const RecordCheck c = checkRecord(o.file);
+  ASSERT_GT(c.rows, 20u);
+  // every tick the fake never showed is missing, and every missing tick is counted
+  ASSERT_GT(c.gaps, 0u);
+  std::uint64_t first = 0, last = 0;
+  {
+    std::ifstream in(o.file);
+    std::string line;
+    std::getline(in, line);
+    bool any = false;
+    while (std::getline(in, line)) {
+      last = std::stoull(line.substr(0, line.find(','))) + 1;
+      if (!any)
+        first = last;
+      any = true;
+    }
+  }
+  for (std::uint64_t k = first; k <= last; ++k) {
+    if (k % 7 == 0) {
+      EXPECT_NE(std::find(c.missing_ticks.begin(), c.missing_ticks.end(), k), c.missing_ticks.end())
+          << "tick " << k << " was never shown but is in the record";
+    }
+  }
+  EXPECT_EQ(reportedMissing(out.str()), c.gaps) << out.str();
+  EXPECT_EQ(
+      out.str().rfind("recorded " + std::to_string(c.rows) + " rows to " + o.file + " (ticks ", 0),
+      0u)
+      << out.str();
+  EXPECT_NE(err.str().find("warning: " + std::to_string(c.gaps) + " of the"), std::string::npos)
+      << err.str();
+  EXPECT_NE(err.str().find("not complete"), std::string::npos) << err.str();
+}
+
+TEST(DaemonCommands, RecordWarnsExactlyWhenTicksAreMissing) {
+  FakeDaemon d(500, 0);
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  RecordOptions o;
+  o.file = tempFile("rec_full.csv").string();
+  o.seconds = 0.2;
+  std::ostringstream out, err;
+  ASSERT_EQ(runRecord(d.target(), o, out, err), 0) << err.str();
+  const RecordCheck c = checkRecord(o.file);
+  EXPECT_GT(c.rows, 10u);
+  EXPECT_EQ(reportedMissing(out.str()), c.gaps) << out.str();
+  // each_tick: no tick twice; a tick is only missed when the fake's server thread was off the
+  // CPU for a whole tick (2 ms), which the count then says
+  if (c.gaps == 0) {
+    EXPECT_EQ(err.str().find("warning"), std::string::npos) << err.str();
+  } else {
+    EXPECT_NE(err.str().find("warning: " + std::to_string(c.gaps) + " of the"), std::string::npos)
+        << err.str();
+  }
+}
+
+TEST(DaemonCommands, RecordWithoutADaemonExits1) {
+  DaemonTarget t;
+  t.port = 1;
+  t.timeout_ms = 200;
+  RecordOptions o;
+  o.file = tempFile("rec_none.csv").string();
+  std::ostringstream out, err;
+  EXPECT_EQ(runRecord(t, o, out, err), 1);
+  EXPECT_NE(err.str().find("no daemon at 127.0.0.1:1"), std::string::npos) << err.str();
+}
+
+// ---- replay ---------------------------------------------------------------------------------
+
+// 0 → 0.05 s: p to (0.01, 0.02, −0.03), 0° → 90° about z; 0.05 → 0.105 s: p to (0.03, ...),
+// 90° → 180° written as −(0, 0, 1, 0) (the shorter arc must be taken); buttons 1, 2, 4.
+const char* kStream =
+    "t,px,py,pz,qx,qy,qz,qw,buttons\n"
+    "0,0,0,0,0,0,0,1,1\n"
+    "0.05,0.01,0.02,-0.03,0,0,0.70710678118654752,0.70710678118654752,2\n"
+    "0.105,0.03,0.02,-0.03,0,0,-1,0,4\n";
+
+struct Expected {
+  std::array<double, 3> p;
+  std::array<double, 4> q;
+  std::uint32_t buttons;
+};
+
+// The stream at t, from the closed forms above.
+Expected expectedAt(double t) {
+  if (t < 0.05) {
+    const double u = t / 0.05;
+    return {{0.01 * u, 0.02 * u, -0.03 * u}, aboutZ(90.0 * u), 1};
+  }
+  if (t < 0.105) {
+    const double u = (t - 0.05) / 0.055;
+    return {{0.01 + 0.02 * u, 0.02, -0.03}, aboutZ(90.0 + 90.0 * u), 2};
+  }
+  return {{0.03, 0.02, -0.03}, {0.0, 0.0, -1.0, 0.0}, 4};
+}
+
+// The send times of a replay of kStream at `rate`: k/rate up to 0.105, then 0.105 itself.
+std::vector<double> sendTimes(double rate) {
+  std::vector<double> t;
+  for (std::uint64_t k = 0; static_cast<double>(k) / rate <= 0.105 + 1e-12; ++k)
+    t.push_back(static_cast<double>(k) / rate);
+  if (t.back() < 0.105 - 1e-12)
+    t.push_back(0.105);
+  return t;
+}
+
+void expectPoses(const std::vector<proto::PoseCommand>& got, double rate) {
+  const auto times = sendTimes(rate);
+  ASSERT_EQ(got.size(), times.size());
+  for (std::size_t i = 0; i < got.size(); ++i) {
+    const Expected e = expectedAt(times[i]);
+    for (std::size_t k = 0; k < 3; ++k)
+      EXPECT_NEAR(got[i].X_WT.p[k], e.p[k], 1e-15) << "pose " << i << " t " << times[i];
+    EXPECT_LT(rotationGap(got[i].X_WT.q, e.q), 1e-14) << "pose " << i << " t " << times[i];
+    EXPECT_EQ(got[i].buttons, e.buttons) << "pose " << i << " t " << times[i];
+  }
+}
+
+TEST(DaemonCommands, ReplaySendsTheInterpolatedStreamInOrderAtTheTickRate) {
+  FakeDaemon d(/*tick_rate_hz=*/100);
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  const auto file = tempFile("stream.csv");
+  std::ofstream(file) << kStream;
+  ReplayOptions o;
+  o.file = file.string();
+  std::ostringstream out, err;
+  ASSERT_EQ(runReplay(d.target(), o, out, err), 0) << err.str();
+  EXPECT_NE(out.str().find("replayed 12 pose commands"), std::string::npos) << out.str();
+  const auto cmds = d.commands();
+  ASSERT_FALSE(cmds.empty());
+  EXPECT_EQ(cmds.front().kind, proto::CommandEvent::Kind::kArm);  // control first
+  const auto poses = d.poses(12);
+  std::vector<proto::PoseCommand> got;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    if (i > 0) {
+      EXPECT_GT(poses[i].sequence, poses[i - 1].sequence);  // in order
+    }
+    got.push_back(poses[i].pose);
+  }
+  expectPoses(got, 100.0);
+  // the first segment's velocity travels with the pose; the last pose stands still
+  EXPECT_NEAR(got[1].v_W[0], 0.01 / 0.05, 1e-9);
+  EXPECT_NEAR(got[1].w_W[2], (std::numbers::pi / 2) / 0.05, 1e-6);
+  EXPECT_EQ(got.back().v_W, (proto::Vec3{0.0, 0.0, 0.0}));
+}
+
+TEST(DaemonCommands, ReplayRateIsClampedToTheTickRate) {
+  FakeDaemon d(100);
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  const auto file = tempFile("stream2.csv");
+  std::ofstream(file) << kStream;
+  ReplayOptions o;
+  o.file = file.string();
+  o.rate_hz = 1000;
+  std::ostringstream out, err;
+  ASSERT_EQ(runReplay(d.target(), o, out, err), 0) << err.str();
+  EXPECT_NE(out.str().find("at 100 Hz"), std::string::npos) << out.str();
+  std::vector<proto::PoseCommand> got;
+  for (const auto& e : d.poses(12))
+    got.push_back(e.pose);
+  expectPoses(got, 100.0);
+  // a lower rate than the tick rate is kept
+  FakeDaemon d2(100);
+  o.rate_hz = 40;
+  std::ostringstream out2, err2;
+  ASSERT_EQ(runReplay(d2.target(), o, out2, err2), 0) << err2.str();
+  got.clear();
+  for (const auto& e : d2.poses(sendTimes(40).size()))
+    got.push_back(e.pose);
+  expectPoses(got, 40.0);
+}
+
+TEST(DaemonCommands, ALongReplayReportsProgressOnStderrUnlessQuiet) {
+  FakeDaemon d(20);
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  const auto file = tempFile("long.csv");
+  std::ofstream(file) << "0,0,0,0,0,0,0,1,0\n2.5,0.1,0,0,0,0,0,1,0\n";
+  ReplayOptions o;
+  o.file = file.string();
+  std::ostringstream out, err;
+  ASSERT_EQ(runReplay(d.target(), o, out, err), 0) << err.str();
+  // sends run to t = 2.5 s of the stream, so at least the line of the first second comes
+  std::istringstream lines(err.str());
+  std::string line;
+  std::size_t n = 0;
+  while (std::getline(lines, line)) {
+    EXPECT_EQ(line.rfind("hapticctl replay: ", 0), 0u) << line;
+    EXPECT_NE(line.find(" / 2.5 s, "), std::string::npos) << line;
+    EXPECT_NE(line.find(" of 51 poses sent"), std::string::npos) << line;
+    ++n;
+  }
+  EXPECT_GE(n, 1u) << err.str();
+  EXPECT_NE(out.str().find("replayed 51 pose commands"), std::string::npos) << out.str();
+  o.quiet = true;
+  std::ostringstream out2, err2;
+  ASSERT_EQ(runReplay(d.target(), o, out2, err2), 0) << err2.str();
+  EXPECT_TRUE(err2.str().empty()) << err2.str();
+}
+
+TEST(DaemonCommands, AStreamTooLongToReplayIsRefusedNotOverflowed) {
+  FakeDaemon d(1000);
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  const auto file = tempFile("huge.csv");
+  std::ofstream(file) << "0,0,0,0,0,0,0,1,0\n1e300,0,0,0,0,0,0,1,0\n";
+  ReplayOptions o;
+  o.file = file.string();
+  std::ostringstream out, err;
+  EXPECT_EQ(runReplay(d.target(), o, out, err), 2);
+  EXPECT_NE(err.str().find("too long to replay"), std::string::npos) << err.str();
+  EXPECT_TRUE(d.poses(0).empty());
+}
+
+TEST(DaemonCommands, ReplayRefusesBadFilesWithFileLineAndExit2) {
+  DaemonTarget t;  // never reached: the file is checked first
+  t.port = 1;
+  struct Case {
+    const char* text;
+    const char* message;
+  };
+  const Case cases[] = {
+      {"t,px,py,pz,qx,qy,qz,qw,buttons\n0,0,0,zero,0,0,0,1,0\n", "bad.csv:2: column 4 (pz)"},
+      {"0,0,0,0,0,0,0,1,0\n0,0,0,0,0,0,0,1,0\n", "bad.csv:2: t 0 is not after"},
+      {"0,0,0,0,0,0,0,1,0\n1,0,0,0,0,0,0.5,0.5,0\n", "bad.csv:2: quaternion (0, 0, 0.5, 0.5)"},
+  };
+  for (const auto& c : cases) {
+    const auto file = tempFile("bad.csv");
+    std::ofstream(file) << c.text;
+    ReplayOptions o;
+    o.file = file.string();
+    std::ostringstream out, err;
+    EXPECT_EQ(runReplay(t, o, out, err), 2) << c.text;
+    EXPECT_NE(err.str().find(c.message), std::string::npos) << err.str();
+  }
+  ReplayOptions o;
+  o.file = tempFile("does-not-exist.csv").string();
+  std::ostringstream out, err;
+  EXPECT_EQ(runReplay(t, o, out, err), 2);
+  EXPECT_NE(err.str().find("cannot open"), std::string::npos);
+}
+
+// ---- move, add, remove ----------------------------------------------------------------------
+
+TEST(DaemonCommands, MoveAddRemoveDeliverTheSceneUpdate) {
+  FakeDaemon d;
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  SceneEditOptions move;
+  move.kind = SceneEditOptions::Kind::kMove;
+  move.body = 3;
+  move.px = 0.5;
+  move.py = -0.25;
+  move.pz = 2.0;
+  move.qz = 1.0;
+  move.qw = 1.0;  // normalised before sending
+  std::ostringstream out, err;
+  ASSERT_EQ(runSceneEdit(d.target(), move, out, err), 0) << err.str();
+  EXPECT_EQ(out.str(), "moved body 3 at 0.5 -0.25 2\n");
+  SceneEditOptions add;
+  add.kind = SceneEditOptions::Kind::kAdd;
+  add.body = 5;
+  add.px = 1.0;
+  ASSERT_EQ(runSceneEdit(d.target(), add, out, err), 0) << err.str();
+  SceneEditOptions remove;
+  remove.kind = SceneEditOptions::Kind::kRemove;
+  remove.body = 7;
+  ASSERT_EQ(runSceneEdit(d.target(), remove, out, err), 0) << err.str();
+  EXPECT_NE(out.str().find("removed body 7"), std::string::npos);
+
+  const auto u = d.updates();
+  ASSERT_EQ(u.size(), 3u);
+  ASSERT_EQ(u[0].poses.size(), 1u);
+  EXPECT_TRUE(u[0].added.empty());
+  EXPECT_TRUE(u[0].removed.empty());
+  EXPECT_EQ(u[0].poses[0].body_index, 3u);
+  EXPECT_EQ(u[0].poses[0].X_WB.p, (proto::Vec3{0.5, -0.25, 2.0}));
+  EXPECT_NEAR(u[0].poses[0].X_WB.q[2], std::sqrt(0.5), 1e-15);
+  EXPECT_NEAR(u[0].poses[0].X_WB.q[3], std::sqrt(0.5), 1e-15);
+  ASSERT_EQ(u[1].added.size(), 1u);
+  EXPECT_TRUE(u[1].poses.empty());
+  EXPECT_EQ(u[1].added[0].body_index, 5u);
+  EXPECT_EQ(u[1].added[0].X_WB.p, (proto::Vec3{1.0, 0.0, 0.0}));
+  EXPECT_EQ(u[1].added[0].X_WB.q, (std::array<double, 4>{0.0, 0.0, 0.0, 1.0}));
+  EXPECT_EQ(u[2].removed, (std::vector<std::uint32_t>{7}));
+  EXPECT_TRUE(u[2].poses.empty());
+  EXPECT_TRUE(u[2].added.empty());
+}
+
+TEST(DaemonCommands, ARefusedSceneUpdateExits1WithTheDaemonsText) {
+  FakeDaemon d;
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  d.refuseUpdatesWith("body 9 is static: only kinematic bodies can be moved");
+  SceneEditOptions move;
+  move.body = 9;
+  std::ostringstream out, err;
+  EXPECT_EQ(runSceneEdit(d.target(), move, out, err), 1);
+  EXPECT_NE(err.str().find("hapticctl move: body 9: "), std::string::npos) << err.str();
+  EXPECT_NE(err.str().find("body 9 is static: only kinematic bodies can be moved"),
+            std::string::npos)
+      << err.str();
+  EXPECT_TRUE(out.str().empty());
+  EXPECT_FALSE(d.updates().empty());  // it did reach the daemon
+}
+
+TEST(DaemonCommands, SceneEditWithABadPoseExits2AndSendsNothing) {
+  FakeDaemon d;
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  SceneEditOptions move;
+  move.body = 1;
+  move.qw = 0.0;  // a zero quaternion
+  std::ostringstream out, err;
+  EXPECT_EQ(runSceneEdit(d.target(), move, out, err), 2);
+  move.qw = 1.0;
+  move.px = std::nan("");
+  EXPECT_EQ(runSceneEdit(d.target(), move, out, err), 2);
+  EXPECT_TRUE(d.updates().empty());
+}
+
+// ---- watch ----------------------------------------------------------------------------------
+
+TEST(DaemonCommands, WatchJsonCarriesTheMinorOneFieldsAndTheDeepestContacts) {
+  FakeDaemon d;
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  WatchOptions o;
+  o.rate_hz = 50;
+  o.count = 3;
+  o.json = true;
+  std::ostringstream out, err;
+  ASSERT_EQ(runWatch(d.target(), o, out, err), 0) << err.str();
+  std::istringstream lines(out.str());
+  std::string line;
+  std::size_t n = 0;
+  while (std::getline(lines, line)) {
+    ++n;
+    const auto j = nlohmann::json::parse(line);
+    const std::uint64_t tick = j["tick"];
+    const proto::State s = stateFor(tick);
+    EXPECT_EQ(j["pairs_tested"], s.pairs_tested);
+    EXPECT_EQ(j["pairs_skipped"], s.pairs_skipped);
+    EXPECT_EQ(j["tick_ns"]["this"], s.tick_ns);
+    EXPECT_EQ(j["tick_ns"]["p99"], s.tick_p99_ns);
+    EXPECT_EQ(j["max_penetration_m"], s.max_penetration_m);
+    EXPECT_EQ(j["contacts"], s.contact_count);
+    EXPECT_EQ(j["force_n"][0], s.force_n[0]);
+    EXPECT_EQ(j["faults"], "none");
+    EXPECT_EQ(j["armed"], true);
+    ASSERT_EQ(j["deepest"].size(), 3u);
+    EXPECT_EQ(j["deepest"][0]["depth_m"], 1e-4 * 3);  // sorted deepest first
+    EXPECT_EQ(j["deepest"][1]["depth_m"], 1e-4 * 2);
+    EXPECT_EQ(j["deepest"][2]["depth_m"], 1e-4 * 1);
+    EXPECT_EQ(j["deepest"][0]["p"][0], 0.1);
+  }
+  EXPECT_EQ(n, 3u);
+}
+
+TEST(DaemonCommands, WatchTextLineShowsPercentilesPairsAndDeepestContacts) {
+  FakeDaemon d;
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  WatchOptions o;
+  o.rate_hz = 50;
+  o.count = 2;
+  o.deepest = 2;
+  std::ostringstream out, err;
+  ASSERT_EQ(runWatch(d.target(), o, out, err), 0) << err.str();
+  const std::string s = out.str();
+  EXPECT_EQ(std::count(s.begin(), s.end(), '\n'), 2) << s;
+  // the 1.0 line first, unchanged, for scripts that read it
+  EXPECT_EQ(s.rfind("tick ", 0), 0u) << s;
+  EXPECT_NE(s.find(" s | tick p50 11.0 us p99 22.0 us max 33.0 us | force "), std::string::npos)
+      << s;
+  EXPECT_NE(s.find(" | faults none | armed | this tick "), std::string::npos) << s;
+  // then the minor-1 fields of that tick and the deepest contacts
+  const std::uint64_t tick = std::stoull(s.substr(5, s.find(' ', 5) - 5));
+  const proto::State st = stateFor(tick);
+  char want[160];
+  std::snprintf(want, sizeof want, "this tick %.1f us, pairs %u tested %u skipped, max pen %.3g m",
+                st.tick_ns / 1e3, st.pairs_tested, st.pairs_skipped, st.max_penetration_m);
+  EXPECT_NE(s.find(want), std::string::npos) << want << "\n" << s;
+  EXPECT_NE(s.find(" | deepest 0.0003 m at (0.1, 0, "), std::string::npos) << s;
+  EXPECT_NE(s.find(", 0.0002 m at (0, 0, "), std::string::npos) << s;
+  EXPECT_EQ(s.find("0.0001 m at"), std::string::npos) << s;  // only the deepest two
+}
+
+// ---- shared memory --------------------------------------------------------------------------
+
+TEST(DaemonCommandsShm, PoseOverSharedMemory) {
+  FakeShmDaemon d("pose");
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  PoseOptions o;
+  o.px = 0.01;
+  o.py = 0.02;
+  o.pz = 0.03;
+  o.seconds = 0.1;
+  o.rate_hz = 100;
+  std::ostringstream out, err;
+  ASSERT_EQ(runPose(d.target(), o, out, err), 0) << err.str();
+  EXPECT_EQ(out.str().rfind("device at 0.01 0.02 0.03,", 0), 0u) << out.str();  // the fake echoes
+  const auto ev = d.events();
+  ASSERT_GE(ev.size(), 2u);
+  EXPECT_EQ(ev.front().kind, proto::ShmCommandEvent::Kind::kArm);
+  for (std::size_t i = 1; i < ev.size(); ++i) {
+    EXPECT_EQ(ev[i].kind, proto::ShmCommandEvent::Kind::kPose);
+    EXPECT_GT(ev[i].sequence, ev[i - 1].sequence);
+    EXPECT_EQ(ev[i].pose.X_WT.p, (proto::Vec3{0.01, 0.02, 0.03}));
+  }
+}
+
+TEST(DaemonCommandsShm, ReplayOverSharedMemorySendsTheInterpolatedStream) {
+  FakeShmDaemon d("replay");
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  const auto file = tempFile("shm_stream.csv");
+  std::ofstream(file) << kStream;
+  ReplayOptions o;
+  o.file = file.string();
+  o.rate_hz = 100;
+  std::ostringstream out, err;
+  ASSERT_EQ(runReplay(d.target(), o, out, err), 0) << err.str();
+  // the fake's clock says 500 Hz (2 ms of sim time per tick): 100 Hz is kept
+  EXPECT_NE(out.str().find("at 100 Hz"), std::string::npos) << out.str();
+  const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+  std::vector<proto::PoseCommand> got;
+  while (got.size() < 12 && std::chrono::steady_clock::now() < until) {
+    got.clear();
+    for (const auto& e : d.events())
+      if (e.kind == proto::ShmCommandEvent::Kind::kPose)
+        got.push_back(e.pose);
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  expectPoses(got, 100.0);
+}
+
+TEST(DaemonCommandsShm, ReplayOverSharedMemoryDefaultsToTheMeasuredTickRate) {
+  FakeShmDaemon d("replay_rate");
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  const auto file = tempFile("shm_stream2.csv");
+  std::ofstream(file) << kStream;
+  ReplayOptions o;
+  o.file = file.string();
+  std::ostringstream out, err;
+  ASSERT_EQ(runReplay(d.target(), o, out, err), 0) << err.str();
+  EXPECT_NE(out.str().find("replayed " + std::to_string(sendTimes(500).size()) + " pose commands"),
+            std::string::npos)
+      << out.str();
+  EXPECT_NE(out.str().find("at 500 Hz"), std::string::npos) << out.str();
+}
+
+TEST(DaemonCommandsShm, RecordOverSharedMemoryWritesEveryColumn) {
+  FakeShmDaemon d("record");
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  RecordOptions o;
+  o.file = tempFile("shm_rec.csv").string();
+  o.seconds = 0.2;
+  std::ostringstream out, err;
+  ASSERT_EQ(runRecord(d.target(), o, out, err), 0) << err.str();
+  const RecordCheck c = checkRecord(o.file);
+  EXPECT_GT(c.rows, 5u);
+  EXPECT_EQ(reportedMissing(out.str()), c.gaps) << out.str();
+}
+
+TEST(DaemonCommandsShm, WatchOverSharedMemoryPrintsAtMostTheRate) {
+  FakeShmDaemon d("watch");
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  WatchOptions o;
+  o.rate_hz = 1000;
+  o.count = 3;
+  o.json = true;
+  std::ostringstream out, err;
+  ASSERT_EQ(runWatch(d.target(), o, out, err), 0) << err.str();
+  std::istringstream lines(out.str());
+  std::string line;
+  std::uint64_t prev = 0;
+  std::size_t n = 0;
+  while (std::getline(lines, line)) {
+    const auto j = nlohmann::json::parse(line);
+    const std::uint64_t tick = j["tick"];
+    EXPECT_GT(tick, prev);
+    prev = tick;
+    EXPECT_EQ(j["pairs_tested"], stateFor(tick).pairs_tested);
+    EXPECT_EQ(j["tick_ns"]["this"], stateFor(tick).tick_ns);
+    EXPECT_TRUE(j["deepest"].empty());  // the segment lists no contacts
+    ++n;
+  }
+  EXPECT_EQ(n, 3u);
+}
+
+TEST(DaemonCommandsShm, NoSegmentExits1WithWhy) {
+  DaemonTarget t;
+  t.shm_name = "/hapticctl-test-none-" + std::to_string(::getpid());
+  t.port = 1;
+  PoseOptions o;
+  std::ostringstream out, err;
+  EXPECT_EQ(runPose(t, o, out, err), 1);
+  EXPECT_NE(err.str().find("hapticctl pose: --shm " + t.shm_name), std::string::npos) << err.str();
+}
+
+}  // namespace
+}  // namespace hapticd::client
