@@ -492,8 +492,7 @@ void Dynamics::setEnabled(std::uint32_t body, bool enabled, const Pose& X_WB) {
     b.x_W = X_WB.translation + b.R * b.com_B;
   }
   b.enabled = enabled;
-  if (!b.coast || !enabled)
-    b.v_W = b.w_W = Vec3{0.0};
+  b.v_W = b.w_W = Vec3{0.0};
   b.pv = b.pw = Vec3{0.0};
   b.has_target = false;
   b.updateInertia();

@@ -223,7 +223,7 @@ class Dynamics {
   /// velocity, not integrated), has no contacts (the Simulation also disables it in the
   /// CollisionWorld), its joints are inert, and it counts in neither the energies nor the
   /// scene's sleep; pose() keeps its last pose. Enabled, it starts at X_WB at rest (a coasting
-  /// body, mass 0, with its velocities). Either way the scene wakes (what rested on it falls).
+  /// body, declared mass 0, too). Either way the scene wakes (what rested on it falls).
   /// Bodies with SceneModel::Body::active false start disabled. Ignored for a static body, the
   /// held body, an index out of range, or (enabling) a pose that is not finite. Servo thread; no
   /// allocation.

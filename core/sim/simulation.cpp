@@ -910,6 +910,10 @@ TickOutput SimulationImpl::step(const TickInput& input) {
         pusher_travel = std::max(pusher_travel, edit_travel_[row_env_[i]]);
     }
     std::fill(edit_travel_.begin(), edit_travel_.end(), 0.0);
+    // at most one more safe distance: the rows see every surface within two of them (pairs
+    // within max_travel * (1 + sides) get rows), so the proxy never steps past one it has no
+    // row for, even when a client teleports a body touching it
+    pusher_travel = std::min(pusher_travel, max_travel_);
   }
   updateAttachment(input);
 
