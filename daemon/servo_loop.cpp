@@ -264,6 +264,11 @@ void ServoLoop::publishShm(std::int64_t now_real_ns) noexcept {
   m.fault_bits = wireFaultBits(s_.faults);
   m.state_flags = wireStateFlags(s_);
   m.contact_count = s_.contacts;
+  m.pairs_tested = s_.pairs_tested;  // layout minor 1
+  m.pairs_skipped = s_.pairs_skipped;
+  m.max_penetration_m =
+      std::isfinite(s_.max_penetration_m) ? std::max(0.0, s_.max_penetration_m) : 0.0;
+  m.tick_ns = static_cast<std::uint64_t>(std::max<std::int64_t>(0, s_.last_tick_ns));
   const std::size_t n = std::min<std::size_t>(l_.body_count, proto::kShmBodies);
   m.body_count = n;
   for (std::size_t i = 0; i < n; ++i) {

@@ -394,6 +394,10 @@ TEST(ServoShm, ShmCommandsDriveTheDeviceThroughTheGateAndTheStreamStopRampsThenF
   EXPECT_EQ(shm.force_scale, 1.0);
   EXPECT_EQ(device.last_command.X_W_target.translation, geom::Vec3(0.01, 0.02, 0.03));
   EXPECT_EQ(s.loop->state().shm_commands, 51u);
+  // layout minor 1: this tick's pair tests (the fake's 3 in contact), depth and compute time
+  EXPECT_EQ(shm.pairs_tested, 3u);
+  EXPECT_GT(shm.max_penetration_m, 0.0);
+  EXPECT_GT(shm.tick_ns, 0u);
   EXPECT_GT(device.commands, 40u);
 
   // the stream stops at tick t0: full force for 20 ms, then a ramp, zero and a fault by 200 ms
