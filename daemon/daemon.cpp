@@ -361,7 +361,9 @@ geom::Pose fromWire(const proto::WirePose& w) {
   return geom::Pose::fromXyzw(geom::Vec3(w.p[0], w.p[1], w.p[2]), w.q[0], w.q[1], w.q[2], w.q[3]);
 }
 // The pid of a live hapticd other than this process serving segment `name`, or 0 (no segment,
-// a stale one, or this process's own).
+// a stale one, or this process's own). Stale: its server process is gone, or its heartbeat (each
+// tick) stopped more than 5 s ago, so that a dead daemon's pid reused by another process does not
+// keep the segment forever (a heartbeat of 0: the server has not ticked yet, it counts as live).
 std::uint64_t liveShmOwner(const std::string& name) {
   const int fd = ::shm_open(name.c_str(), O_RDONLY | O_CLOEXEC, 0);
   if (fd < 0)
@@ -371,10 +373,15 @@ std::uint64_t liveShmOwner(const std::string& name) {
   if (p == MAP_FAILED)
     return 0;
   const auto* h = static_cast<const proto::ShmHeader*>(p);
-  std::uint64_t pid = 0;
-  if (h->magic == proto::kShmMagic)
+  std::uint64_t pid = 0, beat = 0;
+  if (h->magic == proto::kShmMagic) {
     pid = h->server_pid.load(std::memory_order_acquire);
+    beat = h->server_heartbeat_ns.load(std::memory_order_acquire);
+  }
   ::munmap(p, sizeof(proto::ShmHeader));
+  const std::uint64_t now = proto::monotonicNs();
+  if (beat != 0 && now > beat && now - beat > 5'000'000'000ull)
+    return 0;
   if (pid == 0 || pid == static_cast<std::uint64_t>(::getpid()) || pid > 0x7fffffff)
     return 0;
   // alive: kill(pid, 0) succeeds, or fails only for permission (another user's process)

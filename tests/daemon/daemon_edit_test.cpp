@@ -2,10 +2,11 @@
 // inactive bodies; a simulation with the scene-edit contract), driven over UDP by proto::Client
 // and over shared memory by proto::ShmClient: a scene update moving a kinematic body is
 // acknowledged and later states list it at its new pose; bad updates get an Error naming the entry
-// and change nothing; states carry contacts and the minor-1 fields; a shm client's commands drive
-// the device, the segment's state echoes their sequence, a stopped stream ramps to zero and
-// latches a fault until re-armed; shm = "" creates no segment; a segment that cannot be created,
-// or one another live daemon holds, is a warning and the daemon runs. Waits are bounded by
+// and change nothing; with a key only keyed peers change the scene; states carry contacts and the
+// minor-1 fields; a shm client's commands drive the device, the segment's state echoes their
+// sequence, a stopped stream ramps to zero and latches a fault until re-armed; shm = "" creates
+// no segment; a segment that cannot be created, or one another live daemon holds, is a warning
+// and the daemon runs; one whose server stopped beating is taken over. Waits are bounded by
 // generous poll counts; no wall-clock duration is asserted.
 #include <fcntl.h>
 #include <gtest/gtest.h>
@@ -454,24 +455,58 @@ TEST_F(DaemonEditTest, ASegmentThatCannotBeCreatedIsAWarningAndTheDaemonRuns) {
   EXPECT_NE(err.find("running without shared memory"), std::string::npos) << err;
 }
 
-TEST_F(DaemonEditTest, ASegmentAnotherLiveDaemonServesIsLeftAlone) {
-  // another process serves the segment (as another hapticd would)
-  const std::string name = shmName();  // before the fork: the name holds this pid
+// Forks a process that serves segment `name` (as another hapticd would) and beats once at
+// `beat_age_ns` in the past (0: never beats); returns its pid, -1 on failure.
+pid_t forkShmServer(const std::string& name, std::uint64_t beat_age_ns) {
   int ready[2];
-  ASSERT_EQ(pipe(ready), 0);
+  if (pipe(ready) != 0)
+    return -1;
   const pid_t other = fork();
-  ASSERT_GE(other, 0);
   if (other == 0) {
     prctl(PR_SET_PDEATHSIG, SIGKILL);  // never outlives this test process
     auto s = proto::ShmServer::create(name);
+    if (s && beat_age_ns != 0)
+      s.value().beat(proto::monotonicNs() - beat_age_ns);
     const char ok = s ? '1' : '0';
     (void)!write(ready[1], &ok, 1);
     for (;;)
       pause();
   }
   char ok = 0;
-  ASSERT_EQ(read(ready[0], &ok, 1), 1);
-  ASSERT_EQ(ok, '1');
+  const bool started = other > 0 && read(ready[0], &ok, 1) == 1 && ok == '1';
+  close(ready[0]);
+  close(ready[1]);
+  if (!started && other > 0) {
+    kill(other, SIGKILL);
+    waitpid(other, nullptr, 0);
+  }
+  return started ? other : -1;
+}
+
+TEST_F(DaemonEditTest, ASegmentWhoseServerStoppedBeatingIsTakenOver) {
+  const pid_t other = forkShmServer(shmName(), 10'000'000'000ull);  // last beat 10 s ago
+  ASSERT_GT(other, 0);
+  const int code = runWith(cli(shmName()), [&] {
+    const auto j = status();
+    EXPECT_TRUE(j["shm"]["serving"].get<bool>()) << j.dump();
+    auto c = proto::ShmClient::attach(shmName());
+    ASSERT_TRUE(c) << c.error().message;
+    proto::ShmState st{};
+    bool fresh = false;
+    for (int i = 0; i < 10000 && !fresh; ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      fresh = c.value().readState(st) && st.tick > 0;
+    }
+    EXPECT_TRUE(fresh);  // this daemon's segment, not the old one
+  });
+  EXPECT_EQ(code, kExitOk);
+  kill(other, SIGKILL);
+  waitpid(other, nullptr, 0);
+}
+
+TEST_F(DaemonEditTest, ASegmentAnotherLiveDaemonServesIsLeftAlone) {
+  const pid_t other = forkShmServer(shmName(), 1'000'000);  // alive, beat 1 ms ago
+  ASSERT_GT(other, 0);
   ::testing::internal::CaptureStderr();
   const int code = runWith(cli(shmName()), [&] {
     const auto j = status();
@@ -488,8 +523,6 @@ TEST_F(DaemonEditTest, ASegmentAnotherLiveDaemonServesIsLeftAlone) {
   kill(other, SIGKILL);
   waitpid(other, nullptr, 0);
   shm_unlink(shmName().c_str());
-  close(ready[0]);
-  close(ready[1]);
 }
 
 }  // namespace
