@@ -6,18 +6,49 @@
 // skipped periods. The full histograms go to stderr. The tick computes a penalty wall (a fixed,
 // cheap workload: this measures the loop and the machine, not the collision code; Tick/<scene>
 // measures that). Figures for this VM are in bench/README.md and docs/daemon.md.
+//
+// Round trip pose command -> state through the real ServoLoop at 1 kHz on the real clock:
+//   Daemon/RoundTrip/Shm  a proto::ShmClient pushes a pose command into the segment; the servo
+//                         thread drains it into the command gate and publishes a ShmState after
+//                         its tick; the client spins on the segment until the state echoes the
+//                         command's sequence.
+//   Daemon/RoundTrip/Udp  a proto::Client sends a PoseCommand to a proto::Server on loopback (its
+//                         own thread, wired as the daemon wires it: on_command -> the loop's
+//                         command ring, fill_state <- the loop's seqlock), subscribed at 1 kHz,
+//                         until a State echoes the sequence.
+// Commands are sent at pseudo-random phases of the tick (a 0..1 ms pause between samples), so the
+// figures include the wait for the next tick as a client sees it. HAPTICD_ROUNDTRIP_N samples
+// (default 3000). Counters in microseconds: rtt_p50_us, rtt_p99_us, rtt_max_us.
+//
+// The per-tick cost of the state lists and the shm publish (virtual clock, back-to-back ticks,
+// wall time per tick over 200 000 ticks):
+//   Daemon/Tick/Virtual/Bare          no bodies, no contacts, no segment
+//   Daemon/Tick/Virtual/Lists64x32    64 body poses and 32 contacts published per tick
+//   Daemon/Tick/Virtual/Lists64x32Shm the same and a ShmState (16 bodies) published per tick
+//   Daemon/Tick/Virtual/Lists4x2[Shm] 4 bodies and 2 contacts (a small scene), without / with shm
+// (the fake simulation writes the poses and contacts it reports each step: a few ns per entry of
+// the difference is its own work, not the publishing)
 #include <benchmark/benchmark.h>
+#include <unistd.h>
 
+#include <algorithm>
+#include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <optional>
 #include <span>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "daemon/clock.h"
 #include "daemon/realtime.h"
 #include "daemon/servo_loop.h"
+#include "protocol/client.h"
+#include "protocol/server.h"
+#include "protocol/shm.h"
 
 namespace {
 
@@ -57,6 +88,9 @@ class CircleDevice final : public device::Device {
  private:
   device::DeviceInfo info_;
 };
+
+constexpr std::size_t kListBodiesForBench = daemon::kListBodies;
+constexpr std::size_t kListContactsForBench = daemon::kListContacts;
 
 double benchSeconds() {
   if (const char* s = std::getenv("HAPTICD_SERVO_BENCH_S"))
@@ -114,7 +148,264 @@ void servoLoopRealClock(benchmark::State& state, double rate_hz, bool fifo) {
   }
 }
 
+// The penalty wall with `bodies` non-static body poses and `contacts` contact points to publish.
+class ListSimulation final : public sim::Simulation {
+ public:
+  ListSimulation(std::size_t bodies, std::size_t contacts) : poses_(bodies), points_(contacts) {
+    for (std::size_t i = 0; i < bodies; ++i)
+      poses_[i].body = static_cast<std::uint32_t>(i);
+  }
+  sim::TickOutput step(const sim::TickInput& in) override {
+    sim::TickOutput out;
+    out.X_W_proxy = in.X_W_device;
+    for (auto& p : poses_)
+      p.X_WB.translation = in.X_W_device.translation;
+    for (auto& c : points_)
+      c.p_W = in.X_W_device.translation;
+    out.contacts = static_cast<std::uint32_t>(points_.size());
+    return out;
+  }
+  std::span<const sim::BodyPose> bodyPoses() const override { return poses_; }
+  std::span<const sim::ContactPoint> contactPoints() const override { return points_; }
+  void restartRamp() override {}
+  const scene::SceneModel& scene() const override { return scene_; }
+  void prepareThread() override {}
+
+ private:
+  std::vector<sim::BodyPose> poses_;
+  std::vector<sim::ContactPoint> points_;
+  scene::SceneModel scene_;
+};
+
+std::size_t roundTripSamples() {
+  if (const char* s = std::getenv("HAPTICD_ROUNDTRIP_N"))
+    return std::atoi(s) > 0 ? static_cast<std::size_t>(std::atoi(s)) : 3000;
+  return 3000;
+}
+
+std::unique_ptr<daemon::ServoScene> listScene(std::size_t bodies, std::size_t contacts) {
+  auto scene = std::make_unique<daemon::ServoScene>();
+  scene->sim = std::make_unique<ListSimulation>(bodies, contacts);
+  scene->generation = 1;
+  return scene;
+}
+
+void reportRoundTrip(benchmark::State& state, std::vector<double>& us, std::size_t wanted) {
+  if (us.empty()) {
+    state.SkipWithError("no round trip completed");
+    return;
+  }
+  std::sort(us.begin(), us.end());
+  auto q = [&](double f) {
+    return us[static_cast<std::size_t>(f * static_cast<double>(us.size() - 1))];
+  };
+  state.counters["rtt_p50_us"] = q(0.5);
+  state.counters["rtt_p99_us"] = q(0.99);
+  state.counters["rtt_max_us"] = us.back();
+  state.counters["samples"] = static_cast<double>(us.size());
+  state.counters["lost"] = static_cast<double>(wanted - us.size());
+}
+
+// a pause of 0..1 ms (a pseudo-random phase of the 1 kHz tick)
+void randomPhase(std::uint64_t& rng) {
+  rng = rng * 6364136223846793005ull + 1442695040888963407ull;
+  std::this_thread::sleep_for(std::chrono::microseconds((rng >> 33) % 1000));
+}
+
+void roundTripShm(benchmark::State& state) {
+  for (auto _ : state) {
+    const std::string name = "/hapticd-bench-" + std::to_string(getpid());
+    auto server = proto::ShmServer::create(name);
+    if (!server) {
+      state.SkipWithError(server.error().message.c_str());
+      return;
+    }
+    daemon::MonotonicClock clock;
+    CircleDevice device;
+    daemon::ServoOptions options;
+    options.miss_fault_count = 1u << 30;
+    daemon::ServoLoop loop(options, clock, device, listScene(4, 4));
+    loop.attachShm(&server.value());
+    daemon::Thread servo;
+    (void)servo.start("servo-bench", 1 << 20, [&] {
+      loop.prepareServoThread();
+      loop.run();
+    });
+    auto client = proto::ShmClient::attach(name);
+    if (!client) {
+      loop.requestStop();
+      servo.join();
+      state.SkipWithError(client.error().message.c_str());
+      return;
+    }
+    proto::ShmClient& c = client.value();
+    c.beat(proto::monotonicNs());
+    (void)c.pushArm(proto::monotonicNs());
+    const std::size_t n = roundTripSamples();
+    std::vector<double> us;
+    us.reserve(n);
+    std::uint64_t rng = 1;
+    proto::PoseCommand cmd;
+    proto::ShmState st{};
+    for (std::size_t i = 0; i < n; ++i) {
+      randomPhase(rng);
+      const std::uint64_t t0 = proto::monotonicNs();
+      c.beat(t0);
+      std::uint64_t seq = 0;
+      cmd.X_WT.p[1] = 0.001 * static_cast<double>(i % 10);
+      if (!c.pushPose(cmd, t0, &seq))
+        continue;
+      while (proto::monotonicNs() - t0 < 100'000'000) {  // 100 ms: lost
+        if (c.readState(st) && st.last_command_sequence >= seq) {
+          us.push_back(static_cast<double>(proto::monotonicNs() - t0) / 1e3);
+          break;
+        }
+      }
+    }
+    loop.requestStop();
+    servo.join();
+    reportRoundTrip(state, us, n);
+  }
+}
+
+void roundTripUdp(benchmark::State& state) {
+  for (auto _ : state) {
+    daemon::MonotonicClock clock;
+    CircleDevice device;
+    daemon::ServoOptions options;
+    options.miss_fault_count = 1u << 30;
+    daemon::ServoLoop loop(options, clock, device, listScene(4, 4));
+    proto::ServerConfig cfg;
+    cfg.bind_address = "127.0.0.1:0";
+    proto::ServerHandlers h;
+    h.on_command = [&](const proto::CommandEvent& e) {
+      daemon::ServoCommand c;
+      c.gated = true;
+      c.session_id = e.session_id;
+      c.sequence = e.sequence;
+      c.kind = e.kind == proto::CommandEvent::Kind::kArm      ? daemon::CommandKind::kArm
+               : e.kind == proto::CommandEvent::Kind::kDisarm ? daemon::CommandKind::kDisarm
+                                                              : daemon::CommandKind::kPose;
+      c.pose.X_W_target = geom::Pose::fromXyzw(
+          geom::Vec3(e.pose.X_WT.p[0], e.pose.X_WT.p[1], e.pose.X_WT.p[2]), e.pose.X_WT.q[0],
+          e.pose.X_WT.q[1], e.pose.X_WT.q[2], e.pose.X_WT.q[3]);
+      return loop.sendCommand(c);
+    };
+    h.fill_state = [&](proto::State& out) {
+      const daemon::ServoState s = loop.state();
+      out.tick = s.tick;
+      out.last_command_sequence = s.last_command_sequence;
+      out.X_WD.p = {s.X_W_device.translation.x, s.X_W_device.translation.y,
+                    s.X_W_device.translation.z};
+      out.contact_count = s.contacts;
+      return s.tick > 0;
+    };
+    auto server = proto::Server::create(cfg, h);
+    if (!server) {
+      state.SkipWithError(server.error().message.c_str());
+      return;
+    }
+    std::atomic<bool> stop{false};
+    std::thread net([&] { server.value()->run(stop); });
+    daemon::Thread servo;
+    (void)servo.start("servo-bench", 1 << 20, [&] {
+      loop.prepareServoThread();
+      loop.run();
+    });
+    proto::ClientConfig cc;
+    cc.server = server.value()->localAddress().toString();
+    auto client = proto::Client::connect(cc);
+    std::vector<double> us;
+    const std::size_t n = roundTripSamples();
+    if (client && client.value()->arm() && client.value()->subscribe(1000)) {
+      proto::Client& c = *client.value();
+      us.reserve(n);
+      std::uint64_t rng = 1;
+      proto::PoseCommand cmd;
+      for (std::size_t i = 0; i < n; ++i) {
+        randomPhase(rng);
+        while (c.receiveState(0)) {
+        }
+        const std::uint64_t t0 = proto::monotonicNs();
+        cmd.X_WT.p[1] = 0.001 * static_cast<double>(i % 10);
+        auto seq = c.sendPose(cmd);
+        if (!seq)
+          continue;
+        while (proto::monotonicNs() - t0 < 100'000'000) {
+          auto s = c.receiveState(1);
+          if (s && s->last_command_sequence >= seq.value()) {
+            us.push_back(static_cast<double>(proto::monotonicNs() - t0) / 1e3);
+            break;
+          }
+        }
+      }
+    }
+    loop.requestStop();
+    servo.join();
+    stop = true;
+    net.join();
+    if (!client) {
+      state.SkipWithError(client.error().message.c_str());
+      return;
+    }
+    reportRoundTrip(state, us, n);
+  }
+}
+
+void tickVirtual(benchmark::State& state, std::size_t bodies, std::size_t contacts, bool shm) {
+  constexpr std::uint64_t kTicks = 200'000;
+  for (auto _ : state) {
+    std::optional<proto::ShmServer> server;
+    if (shm) {
+      auto created = proto::ShmServer::create("/hapticd-bench-tick-" + std::to_string(getpid()));
+      if (!created) {
+        state.SkipWithError(created.error().message.c_str());
+        return;
+      }
+      server.emplace(std::move(created.value()));
+    }
+    daemon::VirtualClock clock;
+    CircleDevice device;
+    daemon::ServoOptions options;
+    options.max_ticks = kTicks;
+    daemon::ServoLoop loop(options, clock, device, listScene(bodies, contacts));
+    if (server)
+      loop.attachShm(&*server);
+    loop.prepareServoThread();
+    const auto t0 = std::chrono::steady_clock::now();
+    loop.run();
+    const double ns =
+        std::chrono::duration<double, std::nano>(std::chrono::steady_clock::now() - t0).count();
+    state.counters["ns_per_tick"] = ns / static_cast<double>(kTicks);
+    state.counters["compute_p50_us"] = static_cast<double>(loop.compute().quantileNs(0.5)) / 1e3;
+    state.counters["compute_p99_us"] = static_cast<double>(loop.compute().quantileNs(0.99)) / 1e3;
+  }
+}
+
 }  // namespace
+
+BENCHMARK(roundTripShm)->Name("Daemon/RoundTrip/Shm")->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK(roundTripUdp)->Name("Daemon/RoundTrip/Udp")->Iterations(1)->Unit(benchmark::kSecond);
+BENCHMARK_CAPTURE(tickVirtual, Bare, 0, 0, false)
+    ->Name("Daemon/Tick/Virtual/Bare")
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(tickVirtual, Lists64x32, kListBodiesForBench, kListContactsForBench, false)
+    ->Name("Daemon/Tick/Virtual/Lists64x32")
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(tickVirtual, Lists4x2, 4, 2, false)
+    ->Name("Daemon/Tick/Virtual/Lists4x2")
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(tickVirtual, Lists4x2Shm, 4, 2, true)
+    ->Name("Daemon/Tick/Virtual/Lists4x2Shm")
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
+BENCHMARK_CAPTURE(tickVirtual, Lists64x32Shm, kListBodiesForBench, kListContactsForBench, true)
+    ->Name("Daemon/Tick/Virtual/Lists64x32Shm")
+    ->Iterations(1)
+    ->Unit(benchmark::kMillisecond);
 
 BENCHMARK_CAPTURE(servoLoopRealClock, 1000Hz / SCHED_OTHER, 1000.0, false)
     ->Name("ServoLoop/RealClock/1000Hz/SCHED_OTHER")

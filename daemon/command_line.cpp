@@ -30,6 +30,7 @@ std::optional<int> parseCommandLine(int argc, char** argv, CommandLine& o) {
   app.add_option("--cpu", o.cpu, "CPU to pin the servo thread to, -1 none ([servo] cpu)")
       ->check(CLI::Range(-1, 1023));
   app.add_option("--udp", o.udp, "UDP address ADDRESS:PORT ([network] udp)");
+  app.add_option("--shm", o.shm, "shared-memory segment /NAME, \"\" for none ([network] shm)");
   app.add_option("--log-level", o.log_level, "error, warning, info or debug ([log] level)")
       ->check(CLI::IsMember({"error", "warning", "info", "debug"}));
   app.add_option("--record", o.record,
@@ -87,6 +88,8 @@ Result<Config> buildConfig(const CommandLine& cli) {
     c.servo.cpu = *cli.cpu;
   if (cli.udp)
     c.network.udp = *cli.udp;
+  if (cli.shm)
+    c.network.shm = *cli.shm;
   if (cli.log_level) {
     auto l = parseLogLevel(*cli.log_level);
     if (!l)
@@ -191,7 +194,8 @@ std::string toToml(const Config& c) {
      << "\nrate_limit_packets_per_s = " << c.network.rate_limit_packets_per_s
      << "\nrate_limit_burst = " << c.network.rate_limit_burst
      << "\nmax_datagram_bytes = " << c.network.max_datagram_bytes
-     << "\nmax_state_rate_hz = " << c.network.max_state_rate_hz << "\n";
+     << "\nmax_state_rate_hz = " << c.network.max_state_rate_hz << "\nshm = " << q(c.network.shm)
+     << "\n";
   os << "\n[log]\nlevel = " << q(toString(c.log.level))
      << "\nstatus_interval_s = " << c.log.status_interval_s << "\n";
   return os.str();

@@ -213,6 +213,15 @@ std::optional<std::string> checkUdp(const std::string& s) {
   return std::nullopt;
 }
 
+// "" (off) or "/name" (POSIX shm_open: one leading slash, no other, at most NAME_MAX)
+std::optional<std::string> checkShmName(const std::string& s) {
+  if (s.empty())
+    return std::nullopt;
+  if (s.size() < 2 || s[0] != '/' || s.find('/', 1) != std::string::npos || s.size() > 255)
+    return "must be empty (no shared memory) or \"/NAME\" with no other '/' (got \"" + s + "\")";
+  return std::nullopt;
+}
+
 std::optional<std::string> checkSpec(const std::string& s) {
   if (s.empty())
     return "must not be empty (\"sim\", \"replay:FILE\", \"hid\", \"usb\")";
@@ -336,6 +345,7 @@ void readAll(const toml::table& root,
     s.number("rate_limit_burst", c.network.rate_limit_burst, 1.0, 1e9);
     s.integer("max_datagram_bytes", c.network.max_datagram_bytes, 512, 65507);
     s.number("max_state_rate_hz", c.network.max_state_rate_hz, 1.0, 1000.0, " Hz");
+    s.string("shm", c.network.shm, &checkShmName);
   }
   {
     Section s(sectionOf(root, "log", name, errors), "log", name, errors, keys, all_keys);
@@ -406,6 +416,8 @@ Result<bool> validateConfig(const Config& c) {
     errors.push_back("[device] spec: must not be empty");
   if (auto p = checkUdp(c.network.udp))
     errors.push_back("[network] udp: " + *p);
+  if (auto p = checkShmName(c.network.shm))
+    errors.push_back("[network] shm: " + *p);
   if (!errors.empty())
     return Error{joinLines(errors)};
   return true;

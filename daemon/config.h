@@ -130,6 +130,10 @@ struct NetworkConfig {
   double rate_limit_burst = 2000.0;           ///< per peer, datagrams
   std::int64_t max_datagram_bytes = 16384;    ///< larger datagrams are refused (512..65507)
   double max_state_rate_hz = 1000.0;          ///< subscribe rates are clamped to this
+  /// Shared-memory segment for clients on this host (POSIX shm name, "/" then a name without
+  /// "/"); empty: no shared memory. A segment that cannot be created is a warning: the daemon
+  /// runs without it.
+  std::string shm = "/hapticd";
   bool operator==(const NetworkConfig&) const = default;
 };
 

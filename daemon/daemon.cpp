@@ -1,7 +1,9 @@
 #include "daemon/daemon.h"
 
+#include <fcntl.h>
 #include <pthread.h>
 #include <signal.h>
+#include <sys/mman.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -28,6 +30,7 @@
 #include "daemon/record_writer.h"
 #include "daemon/servo_loop.h"
 #include "protocol/server.h"
+#include "protocol/shm.h"
 
 namespace hapticd::daemon {
 namespace {
@@ -62,11 +65,18 @@ class Daemon {
     std::string name;
     std::string plan;  // scene::describePlan of its plan
     std::vector<std::string> body_names;
+    std::shared_ptr<const scene::SceneModel> model;  // what scene updates are validated against
   };
   // The network thread's protocol server (issue 8): created before the servo loop runs.
   Result<bool> startNetwork();
   void stopNetwork();
-  bool onCommand(const proto::CommandEvent& e);    // network thread: the command ring's producer
+  bool onCommand(const proto::CommandEvent& e);  // network thread: the command ring's producer
+  // network thread: the edit ring's producer. Validates `u` against the running scene model;
+  // false with *error naming the first bad entry (nothing queued), or the ring full.
+  bool onSceneUpdate(const proto::SceneUpdate& u, std::string* error);
+  // Main thread, before the servo thread starts: creates the shm segment ([network] shm); a
+  // failure is a warning and the daemon runs without it.
+  void startShm();
   bool fillState(proto::State& out) const;         // network thread
   void fillStatus(proto::StatusReply& out) const;  // network thread
   // Main thread: an uploaded scene waiting, and no build running: start building it.
@@ -88,6 +98,8 @@ class Daemon {
   std::unique_ptr<Clock> clock_;
   std::unique_ptr<device::Device> device_;
   std::unique_ptr<ServoLoop> loop_;
+  std::unique_ptr<proto::ShmServer> shm_;  // outlives the servo thread's run (reset after join)
+  std::string shm_error_;                  // why [network] shm is not served ("" when it is)
   std::unique_ptr<RecordWriter> writer_;
   std::string scene_name_;
   std::uint64_t generation_ = 0;
@@ -112,6 +124,12 @@ class Daemon {
   std::string info_device_;
   std::string info_scene_;
   std::string info_plan_;
+  // the scene updates are validated against (network thread reads; guarded by info_mutex_):
+  // set after the scene is offered, so that a batch validated against it meets it at the servo
+  std::shared_ptr<const scene::SceneModel> edit_model_;
+  std::uint64_t edit_generation_ = 0;
+  std::uint64_t edit_batches_ = 0;   // network thread: batches numbered for the log
+  std::unique_ptr<EditBatch> edit_;  // network thread: scratch (too big for the stack)
   std::mutex upload_mutex_;
   std::deque<proto::SceneUploadDone> uploads_;             // guarded by upload_mutex_
   std::optional<proto::SceneUploadDone> upload_building_;  // main thread: the one being built
@@ -130,6 +148,7 @@ Result<Daemon::Built> Daemon::buildScene(const Config& config, std::uint64_t gen
   built.scene->sim = std::move(sim.value());
   built.scene->generation = generation;
   built.name = model->name;
+  built.model = model;
   built.plan = scene::describePlan(model->plan);
   built.body_names.reserve(model->bodies.size());
   for (const auto& b : model->bodies)
@@ -147,7 +166,11 @@ void Daemon::install(Built built) {
   }
   if (writer_)
     writer_->setBodyNames(generation_, std::move(built.body_names));
+  auto model = std::move(built.model);
   loop_->offerScene(std::move(built.scene));
+  std::lock_guard<std::mutex> lock(info_mutex_);
+  edit_model_ = std::move(model);
+  edit_generation_ = generation_;
 }
 
 void Daemon::startReload() {
@@ -327,23 +350,73 @@ proto::WirePose toWire(const geom::Pose& X) {
   return w;
 }
 std::uint32_t toWireFaults(std::uint32_t f) {
-  std::uint32_t w = 0;
-  if ((f & kFaultStreamLost) != 0)
-    w |= proto::kFaultStreamLost;
-  if ((f & kFaultMisses) != 0)
-    w |= proto::kFaultTickOverrun;
-  if ((f & kFaultNonFinite) != 0)
-    w |= proto::kFaultNotFinite;
-  return w;
+  return wireFaultBits(f);
 }
 std::uint32_t toWireFlags(const ServoState& st) {
-  std::uint32_t w = st.armed ? proto::kStateArmed : 0u;
-  const auto mode = static_cast<proto::GateMode>(st.gate_mode);
-  if (mode == proto::GateMode::kStreaming)
-    w |= proto::kStateStreaming;
-  if (mode == proto::GateMode::kRamping)
-    w |= proto::kStateRamping;
-  return w;
+  return wireStateFlags(st);
+}
+// after poseProblem() found nothing: the quaternion, within the wire's tolerance of unit length,
+// is normalised
+geom::Pose fromWire(const proto::WirePose& w) {
+  return geom::Pose::fromXyzw(geom::Vec3(w.p[0], w.p[1], w.p[2]), w.q[0], w.q[1], w.q[2], w.q[3]);
+}
+// The pid of a live hapticd other than this process serving segment `name`, or 0 (no segment,
+// a stale one, or this process's own). Stale: its server process is gone, or its heartbeat (each
+// tick) stopped more than 5 s ago, so that a dead daemon's pid reused by another process does not
+// keep the segment forever (a heartbeat of 0: the server has not ticked yet, it counts as live).
+std::uint64_t liveShmOwner(const std::string& name) {
+  const int fd = ::shm_open(name.c_str(), O_RDONLY | O_CLOEXEC, 0);
+  if (fd < 0)
+    return 0;
+  void* p = ::mmap(nullptr, sizeof(proto::ShmHeader), PROT_READ, MAP_SHARED, fd, 0);
+  ::close(fd);
+  if (p == MAP_FAILED)
+    return 0;
+  const auto* h = static_cast<const proto::ShmHeader*>(p);
+  std::uint64_t pid = 0, beat = 0;
+  if (h->magic == proto::kShmMagic) {
+    pid = h->server_pid.load(std::memory_order_acquire);
+    beat = h->server_heartbeat_ns.load(std::memory_order_acquire);
+  }
+  ::munmap(p, sizeof(proto::ShmHeader));
+  const std::uint64_t now = proto::monotonicNs();
+  if (beat != 0 && now > beat && now - beat > 5'000'000'000ull)
+    return 0;
+  if (pid == 0 || pid == static_cast<std::uint64_t>(::getpid()) || pid > 0x7fffffff)
+    return 0;
+  // alive: kill(pid, 0) succeeds, or fails only for permission (another user's process)
+  if (::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM)
+    return pid;
+  return 0;
+}
+const char* motionName(scene::Motion m) {
+  switch (m) {
+    case scene::Motion::kStatic:
+      return "static";
+    case scene::Motion::kKinematic:
+      return "kinematic";
+    case scene::Motion::kDynamic:
+      return "dynamic";
+  }
+  return "?";
+}
+// "" when `w` is a finite pose with a unit quaternion (the wire's tolerance), else what is wrong
+std::string poseProblem(const proto::WirePose& w) {
+  for (double v : w.p)
+    if (!std::isfinite(v))
+      return "its position is not finite";
+  double n2 = 0.0;
+  for (double v : w.q) {
+    if (!std::isfinite(v))
+      return "its quaternion is not finite";
+    n2 += v * v;
+  }
+  if (std::fabs(std::sqrt(n2) - 1.0) > proto::kQuatNormTolerance) {
+    char buf[96];
+    std::snprintf(buf, sizeof buf, "its quaternion has length %.6g, not 1", std::sqrt(n2));
+    return buf;
+  }
+  return "";
 }
 std::uint32_t clampU32(std::int64_t ns) {
   return static_cast<std::uint32_t>(std::clamp<std::int64_t>(ns, 0, 0xffffffffLL));
@@ -370,8 +443,112 @@ bool Daemon::fillState(proto::State& out) const {
   out.fault_bits = toWireFaults(st.faults);
   out.state_flags = toWireFlags(st);
   out.contact_count = st.contacts;
+  out.pairs_tested = st.pairs_tested;
+  out.pairs_skipped = st.pairs_skipped;
+  out.max_penetration_m =
+      std::isfinite(st.max_penetration_m) ? std::max(0.0, st.max_penetration_m) : 0.0;
+  out.tick_ns = clampU32(st.last_tick_ns);
+  // the lists of the newest tick (published by the servo thread right after the state block: at
+  // most a tick apart from the fields above)
+  const ServoLists l = loop_->lists();
   out.contacts.clear();
   out.bodies.clear();
+  out.contacts.reserve(l.contact_count);
+  for (std::uint32_t i = 0; i < l.contact_count && i < kListContacts; ++i) {
+    const sim::ContactPoint& c = l.contacts[i];
+    proto::State::Contact w;
+    w.p_W = {c.p_W.x, c.p_W.y, c.p_W.z};
+    w.n_W = {c.n_W.x, c.n_W.y, c.n_W.z};
+    w.depth_m = c.depth_m;
+    out.contacts.push_back(w);
+  }
+  if (l.contacts_total > l.contact_count)
+    out.state_flags |= proto::kStateContactsTruncated;
+  out.bodies.reserve(l.body_count);
+  for (std::uint32_t i = 0; i < l.body_count && i < kListBodies; ++i)
+    out.bodies.push_back({l.bodies[i].body, toWire(l.bodies[i].X_WB)});
+  if (l.bodies_total > l.body_count)
+    out.state_flags |= proto::kStateBodiesTruncated;
+  return true;
+}
+
+bool Daemon::onSceneUpdate(const proto::SceneUpdate& u, std::string* error) {
+  std::shared_ptr<const scene::SceneModel> model;
+  std::uint64_t generation = 0;
+  {
+    std::lock_guard<std::mutex> lock(info_mutex_);
+    model = edit_model_;
+    generation = edit_generation_;
+  }
+  if (!model) {
+    *error = "no scene is running";
+    return false;
+  }
+  if (u.poses.size() > kMaxEditEntries || u.added.size() > kMaxEditEntries ||
+      u.removed.size() > kMaxEditEntries) {
+    *error = "more than " + std::to_string(kMaxEditEntries) + " entries in a list";
+    return false;
+  }
+  const std::size_t n = model->bodies.size();
+  // the first bad entry, named: "poses[2]: body 7 'lid' is dynamic, not kinematic"
+  auto check = [&](const char* list, std::size_t i, std::uint32_t body, bool pose_for_kinematic,
+                   const proto::WirePose* X) -> bool {
+    const std::string at =
+        std::string(list) + "[" + std::to_string(i) + "]: body " + std::to_string(body);
+    if (body >= n) {
+      *error = at + " does not exist (scene '" + model->name + "' has " + std::to_string(n) +
+               " bodies, 0.." + std::to_string(n == 0 ? 0 : n - 1) + ")";
+      return false;
+    }
+    const scene::Body& b = model->bodies[body];
+    const std::string named = at + " '" + b.name + "'";
+    if (static_cast<std::int32_t>(body) == model->probe_body || b.probe) {
+      *error = named + " is the probe (held) body: clients cannot move, add or remove it";
+      return false;
+    }
+    if (b.motion == scene::Motion::kStatic) {
+      *error = named + " is static: static bodies are never moved, added or removed";
+      return false;
+    }
+    if (pose_for_kinematic && b.motion != scene::Motion::kKinematic) {
+      *error = named + " is " + motionName(b.motion) + ", not kinematic";
+      return false;
+    }
+    if (X != nullptr) {
+      if (const std::string p = poseProblem(*X); !p.empty()) {
+        *error = named + ": " + p;
+        return false;
+      }
+    }
+    return true;
+  };
+  for (std::size_t i = 0; i < u.poses.size(); ++i)
+    if (!check("poses", i, u.poses[i].body_index, true, &u.poses[i].X_WB))
+      return false;
+  for (std::size_t i = 0; i < u.added.size(); ++i)
+    if (!check("added", i, u.added[i].body_index, false, &u.added[i].X_WB))
+      return false;
+  for (std::size_t i = 0; i < u.removed.size(); ++i)
+    if (!check("removed", i, u.removed[i], false, nullptr))
+      return false;
+
+  EditBatch& b = *edit_;
+  b.generation = generation;
+  b.id = ++edit_batches_;
+  b.pose_count = static_cast<std::uint32_t>(u.poses.size());
+  b.add_count = static_cast<std::uint32_t>(u.added.size());
+  b.remove_count = static_cast<std::uint32_t>(u.removed.size());
+  for (std::size_t i = 0; i < u.poses.size(); ++i)
+    b.poses[i] = {u.poses[i].body_index, fromWire(u.poses[i].X_WB)};
+  for (std::size_t i = 0; i < u.added.size(); ++i)
+    b.added[i] = {u.added[i].body_index, fromWire(u.added[i].X_WB)};
+  for (std::size_t i = 0; i < u.removed.size(); ++i)
+    b.removed[i] = u.removed[i];
+  if (!loop_->sendEdits(b)) {
+    *error = "the servo's edit queue is full (" + std::to_string(loop_->editCapacity()) +
+             " updates waiting): send it again";
+    return false;
+  }
   return true;
 }
 
@@ -397,6 +574,29 @@ void Daemon::fillStatus(proto::StatusReply& r) const {
   r.device = info_device_.substr(0, proto::kMaxDeviceBytes);
   r.scene = info_scene_.substr(0, proto::kMaxSceneNameBytes);
   r.plan = info_plan_.substr(0, proto::kMaxPlanBytes);
+}
+
+void Daemon::startShm() {
+  const std::string& name = config_.network.shm;
+  if (name.empty()) {
+    shm_error_ = "off ([network] shm = \"\")";
+    return;
+  }
+  if (const std::uint64_t pid = liveShmOwner(name); pid != 0) {
+    shm_error_ =
+        "segment " + name + " is served by another hapticd (pid " + std::to_string(pid) + ")";
+    logWarning("[network] shm \"" + name + "\": " + shm_error_ + "; running without shared memory");
+    return;
+  }
+  auto created = proto::ShmServer::create(name);
+  if (!created) {
+    shm_error_ = created.error().message;
+    logWarning("[network] shm \"" + name + "\": " + shm_error_ + "; running without shared memory");
+    return;
+  }
+  shm_ = std::make_unique<proto::ShmServer>(std::move(created.value()));
+  loop_->attachShm(shm_.get());
+  logInfo("shared memory: segment " + name + " (clients on this host: proto::ShmClient)");
 }
 
 Result<bool> Daemon::startNetwork() {
@@ -426,9 +626,9 @@ Result<bool> Daemon::startNetwork() {
     std::lock_guard<std::mutex> lock(upload_mutex_);
     uploads_.push_back(std::move(up));
   };
-  h.on_scene_update = [](std::uint64_t, const proto::SceneUpdate&, std::string* error) {
-    *error = "scene updates are not applied by this daemon yet (upload the whole scene)";
-    return false;  // refused, not silently acknowledged
+  edit_ = std::make_unique<EditBatch>();
+  h.on_scene_update = [this](std::uint64_t, const proto::SceneUpdate& u, std::string* error) {
+    return onSceneUpdate(u, error);
   };
   h.fill_state = [this](proto::State& st) { return fillState(st); };
   h.fill_status = [this](proto::StatusReply& r) { fillStatus(r); };
@@ -457,7 +657,8 @@ void Daemon::drainEvents() {
     const bool bad =
         e.kind == ServoEventKind::kMissFault || e.kind == ServoEventKind::kNonFiniteForce ||
         e.kind == ServoEventKind::kDeviceLost || e.kind == ServoEventKind::kRecordDropped ||
-        e.kind == ServoEventKind::kDeviceWriteFailed;
+        e.kind == ServoEventKind::kDeviceWriteFailed || e.kind == ServoEventKind::kEditRefused ||
+        e.kind == ServoEventKind::kEditBatchDropped;
     logLine(bad ? LogLevel::kWarning : LogLevel::kInfo, describe(e));
   }
 }
@@ -492,6 +693,9 @@ void Daemon::writeStatus(const char* phase) {
   j["torque_nm"] = {st.torque_W_nm.x, st.torque_W_nm.y, st.torque_W_nm.z};
   j["contacts"] = st.contacts;
   j["max_penetration_m"] = st.max_penetration_m;
+  j["pairs_tested"] = st.pairs_tested;
+  j["pairs_skipped"] = st.pairs_skipped;
+  j["last_tick_ns"] = st.last_tick_ns;
   j["peak_force_n"] = st.peak_force_n;
   j["output_gain"] = st.output_gain;
   j["last_command_sequence"] = st.last_command_sequence;
@@ -512,6 +716,24 @@ void Daemon::writeStatus(const char* phase) {
                    {"pinned", setup_.report.pinned},
                    {"servo_scheduling", setup_.scheduling}};
   j["last_reload"] = last_reload_;
+  j["edits"] = {{"batches_applied", st.edit_batches_applied},
+                {"batches_dropped", st.edit_batches_dropped},
+                {"entries_applied", st.edits_applied},
+                {"entries_refused", st.edits_refused},
+                {"pending", loop_->editsPending()}};
+  {
+    nlohmann::json shm = {{"name", config_.network.shm}, {"serving", shm_ != nullptr}};
+    if (shm_) {
+      const std::uint64_t now = proto::monotonicNs();
+      shm["client_attached"] = shm_->clientAlive(now, UINT64_MAX);
+      shm["client_alive"] = shm_->clientAlive(now, kShmAliveTimeoutNs);
+      shm["commands"] = st.shm_commands;
+      shm["commands_refused"] = shm_->commandsRefused();
+    } else {
+      shm["why_not"] = shm_error_;
+    }
+    j["shm"] = shm;
+  }
   if (server_) {
     const auto& c = server_->counters();
     j["network"] = {{"udp", server_->localAddress().toString()},
@@ -675,6 +897,10 @@ int Daemon::run() {
   install(std::move(scene.value()));
   logInfo("scene: '" + scene_name_ + "'");
 
+  // 7a. shared memory: created before the servo thread runs (its publish and command ring are
+  // the servo thread's from then on)
+  startShm();
+
   // 7b. the network thread (an ordinary thread): the protocol server; commands go to the servo
   // through the loop's command ring, whose only producer it is
   if (auto net = startNetwork(); !net) {
@@ -804,6 +1030,7 @@ int Daemon::run() {
   }
   const auto exit = static_cast<ServoExit>(exit_reason_.load());
   writeStatus("stopped");
+  shm_.reset();  // unlinks the segment (the servo thread that used it has ended)
   std::printf("%s\n", summary(exit).c_str());
   std::fflush(stdout);
   writer_.reset();

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <ctime>
 #include <string>
 #include <thread>
@@ -32,7 +33,66 @@ geom::Vec3 limitStep(const geom::Vec3& last, const geom::Vec3& target, double st
   return len > step ? last + d * (step / len) : target;
 }
 
+void putPose(const geom::Pose& X, double* out) noexcept {
+  out[0] = X.translation.x;
+  out[1] = X.translation.y;
+  out[2] = X.translation.z;
+  out[3] = X.rotation.x;
+  out[4] = X.rotation.y;
+  out[5] = X.rotation.z;
+  out[6] = X.rotation.w;
+}
+
+// sim::toString(EditStatus) lives in hapticd_sim, which this library does not link (tests run
+// it with fakes of the simulation)
+const char* editStatusText(std::int64_t status) {
+  switch (static_cast<sim::EditStatus>(status)) {
+    case sim::EditStatus::kOk:
+      return "ok";
+    case sim::EditStatus::kUnsupported:
+      return "this simulation does not edit scenes";
+    case sim::EditStatus::kNoSuchBody:
+      return "no such body";
+    case sim::EditStatus::kNotKinematic:
+      return "not kinematic";
+    case sim::EditStatus::kStaticBody:
+      return "a static body";
+    case sim::EditStatus::kHeldBody:
+      return "the probe (held) body";
+    case sim::EditStatus::kInactive:
+      return "not active (add it first)";
+    case sim::EditStatus::kNotFinite:
+      return "not finite or not a unit quaternion";
+  }
+  return "refused";
+}
+
+const char* editListName(std::int64_t list) {
+  return list == 0 ? "poses" : list == 1 ? "added" : "removed";
+}
+
 }  // namespace
+
+std::uint32_t wireFaultBits(std::uint32_t f) noexcept {
+  std::uint32_t w = 0;
+  if ((f & kFaultStreamLost) != 0)
+    w |= proto::kFaultStreamLost;
+  if ((f & kFaultMisses) != 0)
+    w |= proto::kFaultTickOverrun;
+  if ((f & kFaultNonFinite) != 0)
+    w |= proto::kFaultNotFinite;
+  return w;
+}
+
+std::uint32_t wireStateFlags(const ServoState& st) noexcept {
+  std::uint32_t w = st.armed ? proto::kStateArmed : 0u;
+  const auto mode = static_cast<proto::GateMode>(st.gate_mode);
+  if (mode == proto::GateMode::kStreaming)
+    w |= proto::kStateStreaming;
+  if (mode == proto::GateMode::kRamping)
+    w |= proto::kStateRamping;
+  return w;
+}
 
 ServoLoop::ServoLoop(const ServoOptions& options,
                      Clock& clock,
@@ -44,6 +104,7 @@ ServoLoop::ServoLoop(const ServoOptions& options,
       period_ns_(std::max<std::int64_t>(1, std::llround(1e9 / options.rate_hz))),
       period_s_(static_cast<double>(period_ns_) * 1e-9),
       commands_(options.command_capacity),
+      edits_(options.edit_capacity),
       events_(options.log_capacity),
       records_(options.record ? options.record_capacity : 2),
       bodies_(options.record_bodies ? options.body_capacity : 2),
@@ -53,67 +114,216 @@ ServoLoop::ServoLoop(const ServoOptions& options,
   s_.device_connected = true;
   s_.scene_generation = current_ != nullptr ? current_->generation : 0;
   state_.write(s_);
+  lists_.write(l_);
 }
 
 ServoLoop::~ServoLoop() {
   delete current_;
 }
 
-void ServoLoop::emit(ServoEventKind kind, std::int64_t a) noexcept {
-  if (!events_.push(ServoEvent{kind, s_.tick, a}))
+void ServoLoop::emit(ServoEventKind kind, std::int64_t a, std::int64_t b, std::int64_t c) noexcept {
+  if (!events_.push(ServoEvent{kind, s_.tick, a, b, c}))
     ++s_.log_dropped;
 }
 
 void ServoLoop::drainCommands(std::uint64_t now_ns) noexcept {
   ServoCommand cmd;
   // bounded: at most one ring's worth per tick
-  for (std::size_t i = 0; i < commands_.capacity() && commands_.pop(cmd); ++i) {
-    if (cmd.gated) {
-      gate_used_ = true;
-      if (cmd.kind == CommandKind::kPose) {
-        proto::PoseCommand p;
-        const geom::Pose& X = cmd.pose.X_W_target;
-        p.X_WT.p = {X.translation.x, X.translation.y, X.translation.z};
-        p.X_WT.q = {X.rotation.x, X.rotation.y, X.rotation.z, X.rotation.w};
-        p.v_W = {cmd.pose.linear_velocity.x, cmd.pose.linear_velocity.y,
-                 cmd.pose.linear_velocity.z};
-        p.w_W = {cmd.pose.angular_velocity.x, cmd.pose.angular_velocity.y,
-                 cmd.pose.angular_velocity.z};
-        p.buttons = cmd.pose.buttons;
-        (void)gate_.submit(cmd.session_id, cmd.sequence, p, now_ns);
-        continue;  // the gate hands the newest to the device in applyGate()
-      }
-      if (cmd.kind == CommandKind::kArm)
-        gate_.arm(cmd.session_id, now_ns);
-      else
-        gate_.disarm(now_ns);
-    } else {
-      s_.last_command_sequence = cmd.sequence;
-    }
-    switch (cmd.kind) {
-      case CommandKind::kPose: {
-        device::PoseCommand c = cmd.pose;
-        c.X_W_target = options_.workspace.toDevice(cmd.pose.X_W_target);
-        c.linear_velocity = options_.workspace.velocityToDevice(cmd.pose.linear_velocity);
-        c.angular_velocity = options_.workspace.angularToDevice(cmd.pose.angular_velocity);
-        device_.command(c);
+  for (std::size_t i = 0; i < commands_.capacity() && commands_.pop(cmd); ++i)
+    applyCommand(cmd, now_ns);
+}
+
+void ServoLoop::drainShm(std::uint64_t now_ns) noexcept {
+  if (shm_ == nullptr)
+    return;
+  proto::ShmCommandEvent e;
+  // bounded: at most one segment ring's worth per tick
+  for (std::uint32_t i = 0; i < proto::kShmRingSlots && shm_->popCommand(e); ++i) {
+    ServoCommand c;
+    c.gated = true;  // the same gate as the network's commands: newest wins, stream-stop fault
+    c.session_id = e.session_id;
+    c.sequence = e.sequence;
+    switch (e.kind) {
+      case proto::ShmCommandEvent::Kind::kArm:
+        c.kind = CommandKind::kArm;
         break;
-      }
-      case CommandKind::kArm:
-        s_.faults = 0;
-        s_.consecutive_misses = 0;
-        s_.armed = true;
-        s_.output_gain = 1.0;
-        if (current_ != nullptr)
-          current_->sim->restartRamp();
-        emit(ServoEventKind::kArmed);
+      case proto::ShmCommandEvent::Kind::kDisarm:
+        c.kind = CommandKind::kDisarm;
         break;
-      case CommandKind::kDisarm:
-        if (s_.armed)
-          emit(ServoEventKind::kDisarmed);
-        s_.armed = false;
+      case proto::ShmCommandEvent::Kind::kPose:
+        c.kind = CommandKind::kPose;
+        c.pose.X_W_target = geom::Pose::fromXyzw(
+            geom::Vec3(e.pose.X_WT.p[0], e.pose.X_WT.p[1], e.pose.X_WT.p[2]), e.pose.X_WT.q[0],
+            e.pose.X_WT.q[1], e.pose.X_WT.q[2], e.pose.X_WT.q[3]);
+        c.pose.linear_velocity = geom::Vec3(e.pose.v_W[0], e.pose.v_W[1], e.pose.v_W[2]);
+        c.pose.angular_velocity = geom::Vec3(e.pose.w_W[0], e.pose.w_W[1], e.pose.w_W[2]);
+        c.pose.buttons = e.pose.buttons;
         break;
     }
+    ++s_.shm_commands;
+    applyCommand(c, now_ns);
+  }
+}
+
+void ServoLoop::applyEdits() noexcept {
+  // bounded: at most one ring's worth per tick; every batch whole at this one boundary
+  for (std::size_t i = 0; i < edits_.capacity(); ++i) {
+    const EditBatch* b = edits_.front();
+    if (b == nullptr)
+      return;
+    const std::uint64_t running = current_ != nullptr ? current_->generation : 0;
+    if (current_ == nullptr || b->generation != running) {
+      // validated against a scene offered but not taken yet (the swap waits for the owner's
+      // reclaim): it waits for that swap. Any other generation is gone: dropped, counted.
+      if (current_ != nullptr && b->generation > running && scenes_.pending())
+        return;
+      ++s_.edit_batches_dropped;
+      emit(ServoEventKind::kEditBatchDropped, static_cast<std::int64_t>(b->generation),
+           static_cast<std::int64_t>(running), static_cast<std::int64_t>(b->id));
+      edits_.dropFront();
+      continue;
+    }
+    sim::Simulation& sim = *current_->sim;
+    auto count = [&](sim::EditStatus st, std::uint32_t body, std::int64_t list) {
+      if (st == sim::EditStatus::kOk) {
+        ++s_.edits_applied;
+        return;
+      }
+      ++s_.edits_refused;
+      emit(ServoEventKind::kEditRefused, body, static_cast<std::int64_t>(st), list);
+    };
+    const std::uint32_t nr = std::min<std::uint32_t>(b->remove_count, kMaxEditEntries);
+    const std::uint32_t na = std::min<std::uint32_t>(b->add_count, kMaxEditEntries);
+    const std::uint32_t np = std::min<std::uint32_t>(b->pose_count, kMaxEditEntries);
+    for (std::uint32_t k = 0; k < nr; ++k)
+      count(sim.setBodyActive(b->removed[k], false, geom::Pose{}), b->removed[k], 2);
+    for (std::uint32_t k = 0; k < na; ++k)
+      count(sim.setBodyActive(b->added[k].body, true, b->added[k].X_WB), b->added[k].body, 1);
+    for (std::uint32_t k = 0; k < np; ++k)
+      count(sim.setKinematicPose(b->poses[k].body, b->poses[k].X_WB), b->poses[k].body, 0);
+    ++s_.edit_batches_applied;
+    edits_.dropFront();
+  }
+}
+
+void ServoLoop::publishLists() noexcept {
+  l_.tick = s_.tick;
+  l_.scene_generation = s_.scene_generation;
+  l_.body_count = l_.bodies_total = l_.contact_count = l_.contacts_total = 0;
+  if (current_ != nullptr) {
+    const auto poses = current_->sim->bodyPoses();
+    const auto contacts = current_->sim->contactPoints();
+    // active bodies only: bodyPoses() keeps an inactive body at its last pose, and a client
+    // reading the list should not draw a body that was removed
+    for (const sim::BodyPose& b : poses) {
+      if (!current_->sim->bodyActive(b.body))
+        continue;
+      if (l_.body_count < kListBodies)
+        l_.bodies[l_.body_count++] = b;
+      ++l_.bodies_total;
+    }
+    l_.contacts_total = static_cast<std::uint32_t>(contacts.size());
+    l_.contact_count = static_cast<std::uint32_t>(std::min(contacts.size(), kListContacts));
+    std::copy_n(contacts.begin(), l_.contact_count, l_.contacts.begin());
+  }
+  // only what is used: the counts, the used bodies, the used contacts
+  using Range = Seqlock<ServoLists>::Range;
+  const Range ranges[3] = {
+      {0, offsetof(ServoLists, bodies)},
+      {offsetof(ServoLists, bodies), l_.body_count * sizeof(sim::BodyPose)},
+      {offsetof(ServoLists, contacts), l_.contact_count * sizeof(sim::ContactPoint)}};
+  lists_.writeRanges(l_, ranges, 3);
+}
+
+void ServoLoop::publishShm(std::int64_t now_real_ns) noexcept {
+  if (shm_ == nullptr)
+    return;
+  proto::ShmState& m = shm_state_;
+  m.tick = s_.tick;
+  m.sim_time_ns =
+      static_cast<std::uint64_t>(s_.period_index) * static_cast<std::uint64_t>(period_ns_);
+  m.publish_ns = static_cast<std::uint64_t>(now_real_ns);
+  putPose(s_.X_W_device, m.X_WD);
+  putPose(s_.X_W_proxy, m.X_WP);
+  m.force_n[0] = s_.force_W_n.x;
+  m.force_n[1] = s_.force_W_n.y;
+  m.force_n[2] = s_.force_W_n.z;
+  m.torque_nm[0] = s_.torque_W_nm.x;
+  m.torque_nm[1] = s_.torque_W_nm.y;
+  m.torque_nm[2] = s_.torque_W_nm.z;
+  m.force_scale = std::clamp(s_.output_gain * s_.gate_scale, 0.0, 1.0);
+  m.last_command_sequence = s_.last_command_sequence;
+  m.tick_misses = s_.overruns;
+  if (s_.tick % kShmPercentileEveryTicks == 1) {
+    shm_p50_ns_ = static_cast<std::uint64_t>(std::max<std::int64_t>(0, compute_.quantileNs(0.5)));
+    shm_p99_ns_ = static_cast<std::uint64_t>(std::max<std::int64_t>(0, compute_.quantileNs(0.99)));
+  }
+  m.tick_p50_ns = shm_p50_ns_;
+  m.tick_p99_ns = shm_p99_ns_;
+  m.tick_max_ns = static_cast<std::uint64_t>(std::max<std::int64_t>(0, compute_.maxNs()));
+  m.fault_bits = wireFaultBits(s_.faults);
+  m.state_flags = wireStateFlags(s_);
+  m.contact_count = s_.contacts;
+  m.pairs_tested = s_.pairs_tested;  // layout minor 1
+  m.pairs_skipped = s_.pairs_skipped;
+  m.max_penetration_m =
+      std::isfinite(s_.max_penetration_m) ? std::max(0.0, s_.max_penetration_m) : 0.0;
+  m.tick_ns = static_cast<std::uint64_t>(std::max<std::int64_t>(0, s_.last_tick_ns));
+  const std::size_t n = std::min<std::size_t>(l_.body_count, proto::kShmBodies);
+  m.body_count = n;
+  for (std::size_t i = 0; i < n; ++i) {
+    m.bodies[i].index = l_.bodies[i].body;
+    putPose(l_.bodies[i].X_WB, m.bodies[i].X_WB);
+  }
+  shm_->publish(m);
+  shm_->beat(static_cast<std::uint64_t>(now_real_ns));
+}
+
+void ServoLoop::applyCommand(const ServoCommand& cmd, std::uint64_t now_ns) noexcept {
+  if (cmd.gated) {
+    gate_used_ = true;
+    if (cmd.kind == CommandKind::kPose) {
+      proto::PoseCommand p;
+      const geom::Pose& X = cmd.pose.X_W_target;
+      p.X_WT.p = {X.translation.x, X.translation.y, X.translation.z};
+      p.X_WT.q = {X.rotation.x, X.rotation.y, X.rotation.z, X.rotation.w};
+      p.v_W = {cmd.pose.linear_velocity.x, cmd.pose.linear_velocity.y, cmd.pose.linear_velocity.z};
+      p.w_W = {cmd.pose.angular_velocity.x, cmd.pose.angular_velocity.y,
+               cmd.pose.angular_velocity.z};
+      p.buttons = cmd.pose.buttons;
+      (void)gate_.submit(cmd.session_id, cmd.sequence, p, now_ns);
+      return;  // the gate hands the newest to the device in applyGate()
+    }
+    if (cmd.kind == CommandKind::kArm)
+      gate_.arm(cmd.session_id, now_ns);
+    else
+      gate_.disarm(now_ns);
+  } else {
+    s_.last_command_sequence = cmd.sequence;
+  }
+  switch (cmd.kind) {
+    case CommandKind::kPose: {
+      device::PoseCommand c = cmd.pose;
+      c.X_W_target = options_.workspace.toDevice(cmd.pose.X_W_target);
+      c.linear_velocity = options_.workspace.velocityToDevice(cmd.pose.linear_velocity);
+      c.angular_velocity = options_.workspace.angularToDevice(cmd.pose.angular_velocity);
+      device_.command(c);
+      break;
+    }
+    case CommandKind::kArm:
+      s_.faults = 0;
+      s_.consecutive_misses = 0;
+      s_.armed = true;
+      s_.output_gain = 1.0;
+      if (current_ != nullptr)
+        current_->sim->restartRamp();
+      emit(ServoEventKind::kArmed);
+      break;
+    case CommandKind::kDisarm:
+      if (s_.armed)
+        emit(ServoEventKind::kDisarmed);
+      s_.armed = false;
+      break;
   }
 }
 
@@ -171,6 +381,7 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   const std::uint64_t now_ns =
       static_cast<std::uint64_t>(period_index) * static_cast<std::uint64_t>(period_ns_);
   drainCommands(now_ns);
+  drainShm(now_ns);
   applyGate(now_ns);
   if (stop_requested_.load(std::memory_order_acquire) && !s_.stopping)
     s_.stopping = true;
@@ -179,6 +390,7 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
     s_.scene_generation = current_->generation;
     emit(ServoEventKind::kSceneSwapped, static_cast<std::int64_t>(current_->generation));
   }
+  applyEdits();  // after the swap: a batch validated against the new scene meets it
 
   device::DeviceSample sample;
   const device::DeviceStatus status = device_.read(t_s, sample);
@@ -191,6 +403,7 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
     s_.force_W_n = s_.torque_W_nm = geom::Vec3(0.0);
     tick_ns = realNowNs() - t0;
     state_.write(s_);
+    publishShm(realNowNs());
     return;
   }
   const bool connected = status == device::DeviceStatus::kOk;
@@ -262,10 +475,17 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
     emit(ServoEventKind::kStopRampDone);
   }
 
-  tick_ns = realNowNs() - t0;
-  s_.last_tick_ns = tick_ns;
+  if (shm_ != nullptr)
+    s_.shm_client_alive =
+        shm_->clientAlive(static_cast<std::uint64_t>(realNowNs()), kShmAliveTimeoutNs);
+
   ++s_.tick;
+  publishLists();
+  const std::int64_t t_end = realNowNs();
+  tick_ns = t_end - t0;
+  s_.last_tick_ns = tick_ns;
   state_.write(s_);
+  publishShm(t_end);
 
   if (options_.record) {
     RecordRow row;
@@ -398,6 +618,14 @@ std::string describe(const ServoEvent& e) {
       return "record ring full" + at + ": rows dropped (the writer is too slow; see status)";
     case ServoEventKind::kDeviceWriteFailed:
       return "device write failed" + at;
+    case ServoEventKind::kEditRefused:
+      return "scene edit refused" + at + ": " + editListName(e.c) + " entry for body " +
+             std::to_string(e.a) + ": " + editStatusText(e.b) +
+             " (the rest of its update was applied)";
+    case ServoEventKind::kEditBatchDropped:
+      return "scene update " + std::to_string(e.c) + " dropped" + at +
+             ": validated against scene generation " + std::to_string(e.a) +
+             ", the running scene is generation " + std::to_string(e.b);
   }
   return "event" + at;
 }

@@ -9,8 +9,14 @@
 ///
 /// Threads (STYLE.md rule 6): run() is the servo thread. It meets the other threads only at
 ///  - a command ring (single producer: the owner thread; sendCommand()),
+///  - a ring of scene edit batches (single producer; sendEdits()), applied whole at one tick
+///    boundary before step(),
+///  - an optional shared-memory segment (proto::ShmServer, attachShm()): its command ring is
+///    drained into the same command gate as the network's commands, and a proto::ShmState is
+///    published after every tick,
 ///  - a scene pointer exchange (offerScene() / reclaimScenes() on the owner thread),
-///  - a seqlock state block (state(), any thread),
+///  - a seqlock state block (state(), any thread) and a second one with the tick's lists (body
+///    poses and contact points; lists(), any thread),
 ///  - lock-free rings of log events and record rows (popLog(), popRecord(), popBody(): one
 ///    consumer thread each),
 ///  - the atomic stop flag (requestStop(), any thread) and relaxed-atomic histograms.
@@ -18,6 +24,7 @@
 /// (one exception: with `wait_for_record_space`, meant for virtual clocks, a full record ring
 /// makes it wait for the writer instead of dropping rows).
 
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -31,6 +38,8 @@
 #include "daemon/histogram.h"
 #include "daemon/workspace.h"
 #include "protocol/command_gate.h"
+#include "protocol/messages.h"
+#include "protocol/shm.h"
 
 namespace hapticd::daemon {
 
@@ -59,6 +68,7 @@ struct ServoOptions {
   bool record_bodies = false;          ///< push a BodyRow per non-static body per tick
   bool wait_for_record_space = false;  ///< full record ring: wait (virtual clock) or drop (real)
   std::size_t command_capacity = 256;
+  std::size_t edit_capacity = 16;  ///< scene edit batches waiting for the servo thread
   std::size_t log_capacity = 1024;
   std::size_t record_capacity = 1 << 14;
   std::size_t body_capacity = 1 << 16;
@@ -118,13 +128,73 @@ struct ServoState {
   std::uint64_t contact_ticks = 0;  ///< ticks with at least one contact
   std::uint8_t gate_mode = 0;       ///< proto::GateMode of the CommandGate
   double gate_scale = 1.0;          ///< the gate's force scale applied this tick (1 when unused)
-  std::uint64_t commands_accepted = 0;  ///< gated pose commands accepted (newest)
-  std::uint64_t commands_dropped = 0;   ///< gated pose commands dropped (older, duplicate, ...)
+  std::uint64_t commands_accepted = 0;     ///< gated pose commands accepted (newest)
+  std::uint64_t commands_dropped = 0;      ///< gated pose commands dropped (older, duplicate, ...)
+  std::uint64_t edit_batches_applied = 0;  ///< edit batches applied (at their tick boundary)
+  std::uint64_t edit_batches_dropped = 0;  ///< batches for a scene generation no longer current
+  std::uint64_t edits_applied = 0;         ///< edit entries the simulation accepted
+  std::uint64_t edits_refused = 0;         ///< edit entries it refused (sim::EditStatus != kOk)
+  std::uint64_t shm_commands = 0;          ///< commands taken from the shared-memory ring
+  bool shm_client_alive = false;           ///< a shm client beat within kShmAliveTimeoutNs
   bool device_connected = false;
   bool armed = false;
   bool stopping = false;
   bool running = false;  ///< the loop is inside run()
 };
+
+/// Capacity of each list of an edit batch: one protocol SceneUpdate.
+inline constexpr std::size_t kMaxEditEntries = proto::kMaxUpdateEntries;
+
+/// One entry of an edit batch: a scene body index and a pose (scene frame; ignored for removes).
+struct EditEntry {
+  std::uint32_t body = 0;
+  geom::Pose X_WB;
+};
+
+/// One client scene update (a proto::SceneUpdate), validated by the owner against the scene of
+/// `generation` and applied whole by the servo thread at one tick boundary, before step(), in
+/// the order removes, adds, poses (so that an update may add a body and move it, or take a body
+/// out and put it back at a pose). A batch for a generation other than the running scene's is
+/// dropped and counted (ServoState::edit_batches_dropped). Trivially copyable.
+struct EditBatch {
+  std::uint64_t generation = 0;  ///< ServoScene::generation it was validated against
+  std::uint64_t id = 0;          ///< the owner's number for it (events name it)
+  std::uint32_t pose_count = 0;
+  std::uint32_t add_count = 0;
+  std::uint32_t remove_count = 0;
+  std::array<EditEntry, kMaxEditEntries> poses{};        ///< setKinematicPose
+  std::array<EditEntry, kMaxEditEntries> added{};        ///< setBodyActive(body, true, X_WB)
+  std::array<std::uint32_t, kMaxEditEntries> removed{};  ///< setBodyActive(body, false)
+};
+
+/// Capacities of the lists block (the protocol's State lists).
+inline constexpr std::size_t kListBodies = proto::kMaxStateBodies;
+inline constexpr std::size_t kListContacts = proto::kMaxStateContacts;
+
+/// The tick's lists, published once per tick through a second seqlock (only the used entries
+/// are copied). Scene frame. Read with ServoLoop::lists().
+struct ServoLists {
+  std::uint64_t tick = 0;              ///< ServoState::tick of the tick these are from
+  std::uint64_t scene_generation = 0;  ///< the scene the body indices refer to
+  std::uint32_t body_count = 0;        ///< entries used in bodies
+  std::uint32_t bodies_total = 0;      ///< active non-static bodies (may be more than listed)
+  std::uint32_t contact_count = 0;     ///< entries used in contacts
+  std::uint32_t contacts_total = 0;    ///< contact points the simulation reported (may be more)
+  /// Simulation::bodyPoses() of the active bodies (Simulation::bodyActive), in index order
+  std::array<sim::BodyPose, kListBodies> bodies{};
+  std::array<sim::ContactPoint, kListContacts> contacts{};  ///< Simulation::contactPoints()
+};
+
+/// A shm client counts as alive while its heartbeat is younger than this (CLOCK_MONOTONIC).
+inline constexpr std::uint64_t kShmAliveTimeoutNs = 500'000'000;
+/// The tick percentiles in the shm state are refreshed this often (ticks): a percentile scans
+/// the histogram, too much work for every tick.
+inline constexpr std::uint64_t kShmPercentileEveryTicks = 100;
+
+/// ServoState::faults as the protocol's State::fault_bits. Any thread.
+std::uint32_t wireFaultBits(std::uint32_t faults) noexcept;
+/// ServoState as the protocol's State::state_flags (armed, streaming, ramping). Any thread.
+std::uint32_t wireStateFlags(const ServoState& st) noexcept;
 
 /// One --record row (../shared/DESIGN.md "Records"): scene frame, N, N m, m.
 struct RecordRow {
@@ -163,12 +233,16 @@ enum class ServoEventKind : std::uint8_t {
   kEndOfStream,
   kRecordDropped,  ///< first dropped row (later drops only count)
   kDeviceWriteFailed,
+  kEditRefused,       ///< a = body, b = sim::EditStatus, c = list (0 poses, 1 added, 2 removed)
+  kEditBatchDropped,  ///< a = the batch's generation, b = the running generation, c = batch id
 };
 
 struct ServoEvent {
   ServoEventKind kind = ServoEventKind::kDeviceLost;
   std::uint64_t tick = 0;
   std::int64_t a = 0;
+  std::int64_t b = 0;
+  std::int64_t c = 0;
 };
 
 /// Why run() returned.
@@ -200,6 +274,15 @@ class ServoLoop {
 
   /// Owner thread (the one producer). False when the ring is full (the command is dropped).
   bool sendCommand(const ServoCommand& command) noexcept { return commands_.push(command); }
+  /// The edit ring's one producer thread. False when the ring is full (nothing queued).
+  bool sendEdits(const EditBatch& batch) noexcept { return edits_.push(batch); }
+  /// Edit batches waiting now (any thread, a snapshot) and the ring's capacity.
+  std::size_t editsPending() const noexcept { return edits_.size(); }
+  std::size_t editCapacity() const noexcept { return edits_.capacity(); }
+  /// Serves shared memory: the servo thread drains `shm`'s command ring every tick into the
+  /// command gate (gated, session from the segment), publishes a ShmState after every tick and
+  /// beats. Only before run(); `shm` outlives the loop's run. nullptr: no shared memory.
+  void attachShm(proto::ShmServer* shm) noexcept { shm_ = shm; }
   /// Owner thread: hands a new scene over; the servo thread takes it at the next tick boundary.
   void offerScene(std::unique_ptr<ServoScene> scene) { scenes_.offer(std::move(scene)); }
   /// Owner thread: frees the scene the servo thread replaced (call regularly).
@@ -209,6 +292,7 @@ class ServoLoop {
 
   /// Any thread.
   ServoState state() const noexcept { return state_.read(); }
+  ServoLists lists() const noexcept { return lists_.read(); }
   const DurationHistogram& lateness() const noexcept { return lateness_; }
   const DurationHistogram& compute() const noexcept { return compute_; }
   std::int64_t periodNs() const noexcept { return period_ns_; }
@@ -228,8 +312,16 @@ class ServoLoop {
  private:
   HAPTICD_SERVO_THREAD void tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept;
   HAPTICD_SERVO_THREAD void drainCommands(std::uint64_t now_ns) noexcept;
+  HAPTICD_SERVO_THREAD void applyCommand(const ServoCommand& cmd, std::uint64_t now_ns) noexcept;
+  HAPTICD_SERVO_THREAD void drainShm(std::uint64_t now_ns) noexcept;
+  HAPTICD_SERVO_THREAD void applyEdits() noexcept;
+  HAPTICD_SERVO_THREAD void publishLists() noexcept;
+  HAPTICD_SERVO_THREAD void publishShm(std::int64_t now_real_ns) noexcept;
   HAPTICD_SERVO_THREAD void applyGate(std::uint64_t now_ns) noexcept;
-  HAPTICD_SERVO_THREAD void emit(ServoEventKind kind, std::int64_t a = 0) noexcept;
+  HAPTICD_SERVO_THREAD void emit(ServoEventKind kind,
+                                 std::int64_t a = 0,
+                                 std::int64_t b = 0,
+                                 std::int64_t c = 0) noexcept;
   HAPTICD_SERVO_THREAD void guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept;
 
   ServoOptions options_;
@@ -239,11 +331,13 @@ class ServoLoop {
   double period_s_;
 
   SpscRing<ServoCommand> commands_;
+  SpscRing<EditBatch> edits_;
   SpscRing<ServoEvent> events_;
   SpscRing<RecordRow> records_;
   SpscRing<BodyRow> bodies_;
   PointerExchange<ServoScene> scenes_;
   Seqlock<ServoState> state_;
+  Seqlock<ServoLists> lists_;
   DurationHistogram lateness_;
   DurationHistogram compute_;
   std::atomic<bool> stop_requested_{false};
@@ -253,6 +347,10 @@ class ServoLoop {
   bool gate_used_ = false;  // a gated command arrived (the gate's scale then applies)
   ServoScene* current_ = nullptr;
   ServoState s_;
+  ServoLists l_;  // the lists being built (a member: too big for the servo stack per tick)
+  proto::ShmServer* shm_ = nullptr;
+  proto::ShmState shm_state_{};
+  std::uint64_t shm_p50_ns_ = 0, shm_p99_ns_ = 0;
   geom::Vec3 last_force_D_{0.0};
   geom::Vec3 last_torque_D_{0.0};
   double fade_per_tick_ = 0.0;

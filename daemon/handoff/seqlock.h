@@ -35,6 +35,36 @@ class Seqlock {
     seq_.store(s + 2, std::memory_order_release);
   }
 
+  /// A byte range of T (offset and length in bytes) for writeRanges().
+  struct Range {
+    std::size_t offset = 0;
+    std::size_t bytes = 0;
+  };
+
+  /// Writer only: publishes only the words that cover `ranges` of `value` (each rounded out to
+  /// whole 8-byte words); the other words keep what an earlier write left there. For a block
+  /// with fixed-capacity lists of which a count says how much is used: a tick copies what it
+  /// uses, not the whole capacity. Ranges must lie inside T. Never blocks.
+  void writeRanges(const T& value, const Range* ranges, std::size_t count) noexcept {
+    const auto* bytes = reinterpret_cast<const unsigned char*>(&value);
+    const std::uint64_t s = seq_.load(std::memory_order_relaxed);
+    seq_.store(s + 1, std::memory_order_relaxed);
+    std::atomic_thread_fence(std::memory_order_release);
+    for (std::size_t r = 0; r < count; ++r) {
+      const std::size_t first = ranges[r].offset / 8;
+      std::size_t end = (ranges[r].offset + ranges[r].bytes + 7) / 8;
+      if (end > kWords)
+        end = kWords;
+      for (std::size_t i = first; i < end; ++i) {
+        std::uint64_t w = 0;
+        const std::size_t at = i * 8;
+        std::memcpy(&w, bytes + at, at + 8 <= sizeof(T) ? 8 : sizeof(T) - at);
+        data_[i].store(w, std::memory_order_relaxed);
+      }
+    }
+    seq_.store(s + 2, std::memory_order_release);
+  }
+
   /// Any thread. A consistent copy of the last write.
   T read() const noexcept {
     std::uint64_t words[kWords];

@@ -50,6 +50,24 @@ class SpscRing {
     return true;
   }
 
+  /// Consumer only: the value pop() would take next, without taking it (nullptr when empty).
+  /// Valid until the consumer's next pop().
+  const T* front() const noexcept {
+    const std::uint64_t tail = tail_.load(std::memory_order_relaxed);
+    if (tail == head_.load(std::memory_order_acquire))
+      return nullptr;
+    return &slots_[tail & mask_];
+  }
+
+  /// Consumer only: drops the front value (after front()); false when empty.
+  bool dropFront() noexcept {
+    const std::uint64_t tail = tail_.load(std::memory_order_relaxed);
+    if (tail == head_.load(std::memory_order_acquire))
+      return false;
+    tail_.store(tail + 1, std::memory_order_release);
+    return true;
+  }
+
   /// Either side: values queued now (a snapshot).
   std::size_t size() const noexcept {
     return static_cast<std::size_t>(head_.load(std::memory_order_acquire) -

@@ -74,6 +74,12 @@ class BinaryTest : public ::testing::Test {
     if (std::find(args.begin(), args.end(), "--help") == args.end()) {
       all.push_back("--udp");  // any free port: test runs in parallel do not collide
       all.push_back("127.0.0.1:0");
+      if (std::find(args.begin(), args.end(), "--shm") == args.end()) {
+        static int runs = 0;  // a segment of its own per run, for the same reason
+        all.push_back("--shm");
+        all.push_back("/hapticd-binary-test-" + std::to_string(getpid()) + "-" +
+                      std::to_string(++runs));
+      }
     }
     std::vector<char*> argv;
     for (auto& a : all)

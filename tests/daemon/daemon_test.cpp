@@ -103,6 +103,7 @@ class DaemonTest : public ::testing::Test {
     cli.realtime = "off";
     cli.status_file = (dir_ / "status.json").string();
     cli.udp = "127.0.0.1:0";  // the network thread on any free port
+    cli.shm = "";             // no shared memory (daemon_edit_test covers it)
     return cli;
   }
 

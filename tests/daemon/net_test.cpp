@@ -8,6 +8,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <sys/mman.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -27,6 +28,13 @@
 
 #include "protocol/auth.h"
 #include "protocol/client.h"
+#include "protocol/server.h"
+#include "protocol/shm.h"
+
+#ifdef HAPTICD_HAVE_SCENEGEN
+#include "core/scene/loader.h"
+#include "scenes/glb_builder.h"
+#endif
 
 namespace {
 
@@ -106,9 +114,13 @@ class NetTest : public ::testing::Test {
   // its status file to name the port.
   void startDaemon(const std::string& scene = kSource + "/scenes/peg_in_hole.glb",
                    const std::string& network = "") {
+    // a shm segment of its own per test (runs in parallel do not collide)
+    shm_ = "/hapticd-net-test-" + std::to_string(getpid()) + "-" +
+           ::testing::UnitTest::GetInstance()->current_test_info()->name();
     std::ofstream(dir_ / "hapticd.toml")
         << "[servo]\nrealtime = \"off\"\n[scene]\npath = \"" << scene << "\"\n[network]\n"
-        << network;
+        << network
+        << (network.find("shm =") == std::string::npos ? "shm = \"" + shm_ + "\"\n" : "");
     pid_ = spawn({HAPTICD_BINARY, "--config", (dir_ / "hapticd.toml").string(), "--udp",
                   "127.0.0.1:0", "--status-file", (dir_ / "status.json").string()},
                  dir_ / "d.out", dir_ / "d.err");
@@ -177,6 +189,7 @@ class NetTest : public ::testing::Test {
   fs::path dir_;
   pid_t pid_ = -1;
   int port_ = 0;
+  std::string shm_;
 };
 
 proto::PoseCommand poseAt(const proto::Vec3& p) {
@@ -288,6 +301,195 @@ TEST_F(NetTest, PoseCommandsMoveTheSimDeviceThenTheStreamStopRampsAndLatchesAFau
   EXPECT_TRUE(
       until(*c, [](const proto::State& s) { return (s.state_flags & proto::kStateArmed) != 0; }));
 }
+
+TEST_F(NetTest, AShmClientMovesTheSimDeviceThenTheStreamStopRampsAndLatchesAFault) {
+  startDaemon();
+  auto attached = proto::ShmClient::attach(shm_);
+  ASSERT_TRUE(attached) << attached.error().message << "\n" << slurp(dir_ / "d.err");
+  proto::ShmClient& c = attached.value();
+  c.beat(proto::monotonicNs());
+  proto::ShmState st{};
+  for (int i = 0; i < 10000 && !c.readState(st); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  ASSERT_GT(st.tick, 0u);
+  ASSERT_TRUE(c.pushArm(proto::monotonicNs()));
+  const proto::Vec3 start{st.X_WD[0], st.X_WD[1], st.X_WD[2]};
+  // +y: away from the peg-in-hole contact the idle hand rests in (as the UDP test)
+  const proto::Vec3 target{start[0] + 0.01, start[1] + 0.05, start[2] + 0.005};
+  const double d0 = dist(start, target);
+  bool reached = false;
+  std::uint64_t seq = 0;
+  for (int i = 0; i < 30000 && !reached; ++i) {  // ~1 kHz for at most ~30 s
+    c.beat(proto::monotonicNs());
+    (void)c.pushPose(poseAt(target), proto::monotonicNs(), &seq);
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (c.readState(st) && st.last_command_sequence > 0 &&
+        dist({st.X_WD[0], st.X_WD[1], st.X_WD[2]}, target) < 0.1 * d0)
+      reached = true;
+  }
+  ASSERT_TRUE(reached) << "device at " << st.X_WD[0] << " " << st.X_WD[1] << " " << st.X_WD[2];
+  EXPECT_NE(st.state_flags & proto::kStateStreaming, 0u);
+  EXPECT_LE(st.last_command_sequence, seq);
+  EXPECT_GT(st.last_command_sequence, 0u);
+  EXPECT_EQ(st.fault_bits, 0u);
+
+  bool saw_ramp = false, faulted = false;
+  for (int i = 0; i < 30000 && !faulted; ++i) {
+    c.beat(proto::monotonicNs());
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    if (!c.readState(st))
+      continue;
+    if ((st.state_flags & proto::kStateRamping) != 0 && st.force_scale > 0.0 &&
+        st.force_scale < 1.0)
+      saw_ramp = true;
+    faulted = (st.fault_bits & proto::kFaultStreamLost) != 0;
+  }
+  ASSERT_TRUE(faulted);
+  EXPECT_TRUE(saw_ramp);
+  EXPECT_EQ(st.force_scale, 0.0);
+  // hapticctl sees the same latched fault (one gate for UDP and shm clients)
+  EXPECT_NE(statusJson()["faults"].get<std::string>().find("stream_lost"), std::string::npos);
+  ASSERT_TRUE(c.pushArm(proto::monotonicNs()));
+  bool cleared = false;
+  for (int i = 0; i < 30000 && !cleared; ++i) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    cleared = c.readState(st) && st.fault_bits == 0;
+  }
+  EXPECT_TRUE(cleared);
+
+  // the segment is removed when the daemon ends
+  kill(pid_, SIGTERM);
+  EXPECT_EQ(waitFor(pid_, 60.0), 0) << slurp(dir_ / "d.err");
+  pid_ = -1;
+  const int fd = shm_open(shm_.c_str(), O_RDONLY, 0);
+  EXPECT_LT(fd, 0) << shm_ << " still exists";
+  if (fd >= 0)
+    close(fd);
+}
+
+#ifdef HAPTICD_HAVE_SCENEGEN
+// A scene with a body of every kind: a static floor, the probe (kinematic, held), a kinematic
+// slider a client moves, a dynamic lid (no gravity: it stays where it is).
+std::vector<std::uint8_t> editScene() {
+  using hapticd::scenes::GltfBuilder;
+  using hapticd::scenes::Json;
+  using hapticd::scenes::jsonVec;
+  GltfBuilder b;
+  auto box = [&](const char* name, hapticd::scenes::Vec3 at, double size, Json motion, bool probe) {
+    const int shape =
+        b.addShape({{"type", "box"}, {"box", {{"size", jsonVec({size, size, size})}}}});
+    Json physics = {{"collider", {{"geometry", {{"shape", shape}}}}}};
+    if (!motion.is_null())
+      physics["motion"] = motion;
+    Json node = {{"name", name},
+                 {"translation", jsonVec(at)},
+                 {"extensions", {{"KHR_physics_rigid_bodies", physics}}}};
+    if (probe)
+      node["extras"] = {{"haptic", {{"probe", true}}}};
+    b.addRoot(b.addNode(node));
+  };
+  box("Floor", {0.0, -0.5, 0.0}, 0.8, nullptr, false);
+  box("Probe", {0.0, 0.1, 0.0}, 0.02, {{"isKinematic", true}}, true);
+  box("Slider", {0.3, 0.1, 0.0}, 0.05, {{"isKinematic", true}}, false);
+  box("Lid", {-0.3, 0.1, 0.0}, 0.05, {{"mass", 1.0}}, false);
+  return b.finish("edits");
+}
+
+std::uint32_t bodyIndex(const hapticd::scene::SceneModel& m, const std::string& name) {
+  for (std::size_t i = 0; i < m.bodies.size(); ++i)
+    if (m.bodies[i].name == name)
+      return static_cast<std::uint32_t>(i);
+  ADD_FAILURE() << "no body " << name;
+  return 0;
+}
+
+const proto::SceneUpdate::BodyPose* listed(const proto::State& s, std::uint32_t body) {
+  for (const auto& b : s.bodies)
+    if (b.body_index == body)
+      return &b;
+  return nullptr;
+}
+
+TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts) {
+  const auto bytes = editScene();
+  std::ofstream(dir_ / "edits.glb", std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
+  auto report = hapticd::scene::loadScene(bytes, "edits.glb");
+  ASSERT_TRUE(report.ok()) << report.message();
+  const auto& model = *report.scene;
+  const std::uint32_t floor = bodyIndex(model, "Floor"), slider = bodyIndex(model, "Slider"),
+                      lid = bodyIndex(model, "Lid"), probe = bodyIndex(model, "Probe");
+  startDaemon((dir_ / "edits.glb").string());
+  auto c = client();
+  ASSERT_TRUE(c);
+  ASSERT_TRUE(c->subscribe(200, proto::kSubscribeBodies | proto::kSubscribeContacts));
+  proto::State st;
+  ASSERT_TRUE(until(
+      *c, [&](const proto::State& s) { return listed(s, slider) != nullptr; }, 30.0, &st));
+  EXPECT_NEAR(listed(st, slider)->X_WB.p[0], 0.3, 1e-6);
+  EXPECT_EQ(listed(st, floor), nullptr);  // static bodies are not listed
+  EXPECT_NE(listed(st, lid), nullptr);
+  EXPECT_EQ(st.contacts.size(), 0u);  // the probe touches nothing yet
+
+  // refused, named, nothing changed
+  proto::SceneUpdate bad;
+  bad.poses.push_back({lid, {}});
+  auto r = c->sceneUpdate(bad);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("poses[0]: body " + std::to_string(lid) +
+                                   " 'Lid' is dynamic, not kinematic"),
+            std::string::npos)
+      << r.error().message;
+  bad.poses = {{slider, {}}, {floor, {}}};
+  r = c->sceneUpdate(bad);
+  ASSERT_FALSE(r);
+  EXPECT_NE(
+      r.error().message.find("poses[1]: body " + std::to_string(floor) + " 'Floor' is static"),
+      std::string::npos)
+      << r.error().message;
+  bad.poses = {{probe, {}}};
+  EXPECT_FALSE(c->sceneUpdate(bad));
+  bad.poses = {{static_cast<std::uint32_t>(model.bodies.size()), {}}};
+  r = c->sceneUpdate(bad);
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("does not exist"), std::string::npos) << r.error().message;
+  ASSERT_TRUE(until(
+      *c, [](const proto::State&) { return true; }, 30.0, &st));
+  EXPECT_NEAR(listed(st, slider)->X_WB.p[0], 0.3, 1e-6);  // the slider did not move
+
+  // moved: acknowledged, then listed at the new pose
+  proto::SceneUpdate move;
+  proto::WirePose to;
+  to.p = {0.3, 0.25, 0.1};
+  move.poses.push_back({slider, to});
+  auto ok = c->sceneUpdate(move);
+  ASSERT_TRUE(ok) << ok.error().message;
+  ASSERT_TRUE(until(
+      *c,
+      [&](const proto::State& s) {
+        const auto* b = listed(s, slider);
+        return b != nullptr && dist(b->X_WB.p, to.p) < 1e-9;
+      },
+      30.0, &st));
+
+  // moved onto the probe: the state carries the contacts, and the minor-1 fields are filled
+  const proto::Vec3 probe_at = st.X_WP.p;
+  move.poses[0].X_WB.p = {probe_at[0] + 0.03, probe_at[1], probe_at[2]};
+  ASSERT_TRUE(c->sceneUpdate(move));
+  ASSERT_TRUE(until(
+      *c, [](const proto::State& s) { return !s.contacts.empty(); }, 30.0, &st))
+      << "contact_count " << st.contact_count;
+  EXPECT_GT(st.contact_count, 0u);
+  EXPECT_LE(st.contacts.size(), static_cast<std::size_t>(st.contact_count));
+  if (proto::kVersionMinor >= 1) {
+    EXPECT_GT(st.pairs_tested, 0u);
+    EXPECT_GT(st.tick_ns, 0u);
+  }
+  const auto j = statusJson();
+  EXPECT_EQ(j["scene"], "edits.glb");
+}
+#endif
 
 TEST_F(NetTest, HapticctlPoseReplayRecordAndWatch) {
   startDaemon();

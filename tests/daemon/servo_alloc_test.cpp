@@ -1,10 +1,13 @@
 // The servo thread allocates nothing after start: ServoLoop::run() over 100 000 ticks (after
 // ServoLoop::prepareServoThread(), as in the daemon), counted by a per-thread allocator hook
 // (tests/daemon/alloc_counter.cpp), with the record rings on, commands and scene swaps (of the
-// same scene, freshly built) arriving, and state read from another thread. With the real libraries
+// same scene, freshly built) arriving, scene edit batches arriving, a shared-memory segment
+// served (a client pushing commands, the state published every tick), and state and lists read
+// from another thread. With the real libraries
 // in the tree it runs every demo scene through the real simulation and the replay device fed by the
 // scene's pose stream.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <atomic>
 #include <cmath>
@@ -16,6 +19,7 @@
 #include "daemon/servo_loop.h"
 #include "protocol/client.h"
 #include "protocol/server.h"
+#include "protocol/shm.h"
 #include "tests/daemon/alloc_counter.h"
 #include "tests/daemon/fakes.h"
 
@@ -32,16 +36,38 @@ constexpr std::uint64_t kTicks = 100'000;
 struct Counts {
   std::uint64_t servo_allocations = ~0ull;
   ServoExit exit = ServoExit::kStopped;
-  std::uint64_t rows = 0, body_rows = 0, state_reads = 0;
+  std::uint64_t rows = 0, body_rows = 0, state_reads = 0, edits_sent = 0, shm_sent = 0;
+};
+
+// What runCounted adds when given: edit batches (a pose for `edit_body` now and then, an add and
+// a remove of `toggle_body`) and a shm client's commands.
+struct Extras {
+  std::uint32_t edit_body = 3;
+  std::uint32_t toggle_body = 4;
+  proto::ShmClient* shm = nullptr;
 };
 
 // Runs the loop on its own thread (allocations counted inside run() only) while this thread
 // drains the record rings, reads the seqlock state and sends pose commands.
 Counts runCounted(ServoLoop& loop,
                   bool offer_scenes,
-                  const std::function<std::unique_ptr<ServoScene>(std::uint64_t)>& make_scene) {
+                  const std::function<std::unique_ptr<ServoScene>(std::uint64_t)>& make_scene,
+                  const Extras* extras = nullptr) {
   Counts c;
   std::atomic<bool> done{false};
+  if (extras != nullptr) {
+    // queued before the start, so that a loop that outruns this thread (virtual clock, loaded
+    // machine) still meets an edit batch and a shm command inside its counted run
+    EditBatch e;
+    e.generation = loop.state().scene_generation;
+    e.pose_count = 1;
+    e.poses[0] = {extras->edit_body, geom::Pose{}};
+    c.edits_sent += loop.sendEdits(e) ? 1u : 0u;
+    if (extras->shm != nullptr) {
+      c.shm_sent += extras->shm->pushArm(proto::monotonicNs()) ? 1u : 0u;
+      c.shm_sent += extras->shm->pushPose(proto::PoseCommand{}, proto::monotonicNs()) ? 1u : 0u;
+    }
+  }
   Thread servo;
   auto started = servo.start("servo-test", 1 << 20, [&] {
     loop.prepareServoThread();  // as the daemon's servo thread does before its loop
@@ -71,6 +97,35 @@ Counts runCounted(ServoLoop& loop,
     if (seq % 1000 == 0)
       cmd.kind = CommandKind::kArm;
     (void)loop.sendCommand(cmd);
+    if (extras != nullptr) {
+      const ServoLists l = loop.lists();
+      c.state_reads += l.tick > 0 ? 1u : 0u;
+      if (seq % 5 == 0) {
+        EditBatch e;
+        e.generation = st.scene_generation;
+        e.id = seq;
+        e.pose_count = 1;
+        e.poses[0] = {extras->edit_body, cmd.pose.X_W_target};
+        if (seq % 10 == 0) {
+          e.add_count = 1;
+          e.added[0] = {extras->toggle_body, cmd.pose.X_W_target};
+        } else {
+          e.remove_count = 1;
+          e.removed[0] = extras->toggle_body;
+        }
+        c.edits_sent += loop.sendEdits(e) ? 1u : 0u;
+      }
+      if (extras->shm != nullptr) {
+        const std::uint64_t now = proto::monotonicNs();
+        extras->shm->beat(now);
+        proto::PoseCommand p;
+        p.X_WT.p[1] = cmd.pose.X_W_target.translation.y;
+        const bool ok = seq % 997 == 0 ? extras->shm->pushArm(now) : extras->shm->pushPose(p, now);
+        c.shm_sent += ok ? 1u : 0u;
+        proto::ShmState shm_state;
+        (void)extras->shm->readState(shm_state);
+      }
+    }
     if (offer_scenes && st.tick > gen * 20'000 && !loop.sceneOfferPending()) {
       loop.offerScene(make_scene(++gen));
     }
@@ -183,6 +238,45 @@ TEST(ServoAllocation, NoneOnTheServoThreadOver100000TicksWithFakes) {
   EXPECT_GT(device.commands, 0u);
 }
 
+std::unique_ptr<ServoScene> editableScene(std::uint64_t gen) {
+  auto s = std::make_unique<ServoScene>();
+  s->sim = std::make_unique<testing::EditableSimulation>();
+  s->generation = gen;
+  return s;
+}
+
+TEST(ServoAllocation, NoneOnTheServoThreadWithEditsListsAndSharedMemory) {
+  const std::string name = "/hapticd-alloc-test-" + std::to_string(getpid());
+  auto server = proto::ShmServer::create(name);
+  ASSERT_TRUE(server) << server.error().message;
+  auto client = proto::ShmClient::attach(name);
+  ASSERT_TRUE(client) << client.error().message;
+  VirtualClock clock;
+  testing::FakeDevice device;
+  device.depth_offset = 0.002;  // in contact: contact lists every tick
+  ServoOptions options;
+  options.max_ticks = kTicks;
+  options.record = true;
+  options.wait_for_record_space = true;
+  ServoLoop loop(options, clock, device, editableScene(1));
+  loop.attachShm(&server.value());
+  Extras extras;
+  extras.shm = &client.value();
+  const Counts c = runCounted(loop, true, &editableScene, &extras);
+  EXPECT_EQ(c.exit, ServoExit::kMaxTicks);
+  EXPECT_EQ(c.servo_allocations, 0u);
+  const ServoState st = loop.state();
+  EXPECT_GT(c.edits_sent, 0u);
+  EXPECT_GT(st.edit_batches_applied, 0u);  // the edits were applied (and refusals reported)
+  EXPECT_GT(st.edits_applied, 0u);
+  EXPECT_GT(c.shm_sent, 0u);
+  EXPECT_GT(st.shm_commands, 0u);
+  EXPECT_GE(st.scene_generation, 2u);
+  proto::ShmState shm{};
+  ASSERT_TRUE(client.value().readState(shm));
+  EXPECT_EQ(shm.tick, kTicks);
+}
+
 TEST(ServoAllocation, TheHookCountsThisThreadsAllocations) {
   // the hook must see an allocation, or the zeros above prove nothing
   const std::uint64_t before = testing::threadAllocations();
@@ -253,7 +347,22 @@ TEST_P(ServoAllocationDemo, NoneOnTheServoThreadOver100000Ticks) {
   options.record_bodies = true;
   options.wait_for_record_space = true;
   ServoLoop loop(options, clock, *device.value(), make(1));
-  const Counts c = runCounted(loop, true, make);
+  // edits of the first non-static, non-probe bodies (whatever the simulation answers: refusals
+  // are events, never allocations) and a shm segment served
+  Extras extras;
+  for (std::size_t i = 0, found = 0; i < model->bodies.size() && found < 2; ++i) {
+    if (model->bodies[i].motion == scene::Motion::kStatic || model->bodies[i].probe)
+      continue;
+    (found++ == 0 ? extras.edit_body : extras.toggle_body) = static_cast<std::uint32_t>(i);
+  }
+  const std::string shm_name = "/hapticd-alloc-test-" + std::to_string(getpid()) + "-" + name;
+  auto server = proto::ShmServer::create(shm_name);
+  ASSERT_TRUE(server) << server.error().message;
+  auto client = proto::ShmClient::attach(shm_name);
+  ASSERT_TRUE(client) << client.error().message;
+  loop.attachShm(&server.value());
+  extras.shm = &client.value();
+  const Counts c = runCounted(loop, true, make, &extras);
   EXPECT_EQ(c.exit, ServoExit::kMaxTicks);
   EXPECT_EQ(c.servo_allocations, 0u) << name;
   EXPECT_EQ(c.rows, kTicks);
