@@ -318,6 +318,9 @@ void readAll(const toml::table& root,
     s.number("attach_distance_m", r.attach_distance_m, 0.0, 1e6, " m");
     s.choice("hinge_attach", r.hinge_attach, &parseHingeAttach);
     s.number("centre_radius_fraction", r.centre_radius_fraction, 0.0, 1.0);
+    s.boolean("grab_weight", r.grab_weight);
+    s.boolean("grab_inertia", r.grab_inertia);
+    s.number("grab_inertia_filter_s", r.grab_inertia_filter_s, 0.0, 10.0, " s");
   }
   {
     Section s(sectionOf(root, "scene", name, errors), "scene", name, errors, keys, all_keys);
@@ -448,6 +451,9 @@ sim::SimOptions toSimOptions(const Config& c) {
   r.attach_distance_m = cr.attach_distance_m;
   r.hinge_attach = cr.hinge_attach;
   r.centre_radius_fraction = cr.centre_radius_fraction;
+  r.grab_weight = cr.grab_weight;
+  r.grab_inertia = cr.grab_inertia;
+  r.grab_inertia_filter_s = cr.grab_inertia_filter_s;
   return o;
 }
 

@@ -104,6 +104,9 @@ struct ResponseConfig {
   double attach_distance_m = 1e-3;
   sim::ResponseOptions::HingeAttach hinge_attach = sim::ResponseOptions::HingeAttach::kAuto;
   double centre_radius_fraction = 0.3;
+  bool grab_weight = true;
+  bool grab_inertia = true;
+  double grab_inertia_filter_s = 0.010;
   bool operator==(const ResponseConfig&) const = default;
 };
 

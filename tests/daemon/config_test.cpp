@@ -77,6 +77,9 @@ TEST(Config, DefaultsAreThoseOfTheSimulationAndDeviceOptions) {
   EXPECT_EQ(r.attach_distance_m, e.attach_distance_m);
   EXPECT_EQ(r.hinge_attach, e.hinge_attach);
   EXPECT_EQ(r.centre_radius_fraction, e.centre_radius_fraction);
+  EXPECT_EQ(r.grab_weight, e.grab_weight);
+  EXPECT_EQ(r.grab_inertia, e.grab_inertia);
+  EXPECT_EQ(r.grab_inertia_filter_s, e.grab_inertia_filter_s);
   EXPECT_EQ(a.max_pairs_per_tick, b.max_pairs_per_tick);
   EXPECT_EQ(a.probe_sphere_radius_m, b.probe_sphere_radius_m);
 
@@ -149,6 +152,8 @@ workspace_scale = 2.5
 workspace_rotation = [0.0, 0.0, 1.0, 0.0]
 [response]
 stiffness_n_per_m = 1200.0
+grab_weight = false
+grab_inertia_filter_s = 0.02
 [scene]
 path = "a.glb"
 [network]
@@ -165,6 +170,9 @@ level = "debug"
   EXPECT_EQ(c.device.spec, "replay:x.csv");
   EXPECT_EQ(c.device.workspace_scale, 2.5);
   EXPECT_EQ(c.response.stiffness_n_per_m, 1200.0);
+  EXPECT_FALSE(toSimOptions(c).response.grab_weight);
+  EXPECT_TRUE(toSimOptions(c).response.grab_inertia);
+  EXPECT_EQ(toSimOptions(c).response.grab_inertia_filter_s, 0.02);
   EXPECT_EQ(c.scene.path, "a.glb");
   EXPECT_EQ(c.network.udp, "0.0.0.0:5000");
   EXPECT_EQ(c.log.level, LogLevel::kDebug);

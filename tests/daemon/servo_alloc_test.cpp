@@ -337,7 +337,9 @@ TEST_P(ServoAllocationDemo, NoneOnTheServoThreadOver100000Ticks) {
   };
   const std::string stream = std::string(HAPTICD_SOURCE_DIR) + "/tests/streams/" + name + ".csv";
   const std::string long_stream =
-      repeatedStream(stream, 101.0, ::testing::TempDir() + "/alloc_" + name + ".csv");
+      repeatedStream(stream, 101.0,
+                     ::testing::TempDir() + "/alloc_" + name + "_" + std::to_string(::getpid()) +
+                         ".csv");  // per process: two checkouts may run this test at once
   auto device = device::makeDevice("replay:" + long_stream, device::DeviceOptions{});
   ASSERT_TRUE(device.ok()) << device.error().message;
   VirtualClock clock;
