@@ -486,6 +486,31 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
     EXPECT_GT(st.pairs_tested, 0u);
     EXPECT_GT(st.tick_ns, 0u);
   }
+
+  // the same through hapticctl, as a user types it: move, a refusal with the daemon's text,
+  // remove and add
+  const std::string S = std::to_string(slider), L = std::to_string(lid);
+  CtlRun mv = ctl({"move", S, "0.3", "0.25", "-0.1"});
+  EXPECT_EQ(mv.code, 0) << mv.err;
+  ASSERT_TRUE(until(
+      *c,
+      [&](const proto::State& s) {
+        const auto* b = listed(s, slider);
+        return b != nullptr && dist(b->X_WB.p, proto::Vec3{0.3, 0.25, -0.1}) < 1e-9;
+      },
+      30.0, &st));
+  CtlRun no = ctl({"move", L, "0", "0", "0"});
+  EXPECT_EQ(no.code, 1);
+  EXPECT_NE(no.err.find("'Lid' is dynamic, not kinematic"), std::string::npos) << no.err;
+  CtlRun rm = ctl({"remove", L});
+  EXPECT_EQ(rm.code, 0) << rm.err;
+  ASSERT_TRUE(until(
+      *c, [&](const proto::State& s) { return listed(s, lid) == nullptr; }, 30.0, &st));
+  CtlRun ad = ctl({"add", L, "-0.3", "0.5", "0.2"});
+  EXPECT_EQ(ad.code, 0) << ad.err;
+  ASSERT_TRUE(until(
+      *c, [&](const proto::State& s) { return listed(s, lid) != nullptr; }, 30.0, &st));
+
   const auto j = statusJson();
   EXPECT_EQ(j["scene"], "edits.glb");
 }
@@ -517,7 +542,7 @@ TEST_F(NetTest, HapticctlPoseReplayRecordAndWatch) {
             "prx_qy,prx_qz,prx_qw,fx,fy,fz,tx,ty,tz,contacts,max_penetration,pairs_tested,"
             "pairs_skipped,tick_ns");
   std::string line;
-  std::size_t rows = 0;
+  std::size_t rows = 0, timed_rows = 0;
   long long prev_tick = -1;
   while (std::getline(in, line)) {
     EXPECT_EQ(std::count(line.begin(), line.end(), ','), 26) << line;
@@ -525,8 +550,13 @@ TEST_F(NetTest, HapticctlPoseReplayRecordAndWatch) {
     EXPECT_GT(tick, prev_tick);
     prev_tick = tick;
     ++rows;
+    // every column is filled: the last, tick_ns, is the tick's compute time (> 0)
+    const std::string tick_ns = line.substr(line.rfind(',') + 1);
+    ASSERT_FALSE(tick_ns.empty()) << line;
+    timed_rows += std::stoll(tick_ns) > 0 ? 1u : 0u;
   }
   EXPECT_GT(rows, 0u);
+  EXPECT_EQ(timed_rows, rows);
 
   CtlRun w = ctl({"watch", "--count", "3", "--rate", "50"});
   EXPECT_EQ(w.code, 0) << w.err;
