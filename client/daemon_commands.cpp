@@ -403,6 +403,16 @@ int runStatus(const DaemonTarget& t, const StatusOptions& o, std::ostream& out, 
     j["commands_accepted"] = s.commands_accepted;
     j["commands_dropped"] = s.commands_dropped;
     j["refused"] = refused;
+    j["shm"] = {{"name", s.shm_name},
+                {"serving", (s.shm_flags & proto::kShmServing) != 0},
+                {"client_attached", (s.shm_flags & proto::kShmClientAttached) != 0},
+                {"client_alive", (s.shm_flags & proto::kShmClientAlive) != 0},
+                {"commands", s.shm_commands},
+                {"commands_refused", s.shm_commands_refused}};
+    j["edits"] = {{"batches_applied", s.edit_batches_applied},
+                  {"batches_dropped", s.edit_batches_dropped},
+                  {"entries_applied", s.edits_applied},
+                  {"entries_refused", s.edits_refused}};
     out << j.dump(2) << "\n";
     return 0;
   }
@@ -429,7 +439,18 @@ int runStatus(const DaemonTarget& t, const StatusOptions& o, std::ostream& out, 
     out << " " << name << "=" << n.get<std::uint64_t>();
     any = true;
   }
-  out << (any ? "" : " none") << "\nplan:\n"
+  out << (any ? "" : " none") << "\n";
+  if ((s.shm_flags & proto::kShmServing) != 0)
+    out << "shm " << s.shm_name << ", client "
+        << ((s.shm_flags & proto::kShmClientAlive) != 0      ? "alive"
+            : (s.shm_flags & proto::kShmClientAttached) != 0 ? "attached, not beating"
+                                                             : "none")
+        << ", commands " << s.shm_commands << ", refused " << s.shm_commands_refused << "\n";
+  else
+    out << "shm off\n";
+  out << "scene updates applied " << s.edit_batches_applied << " (entries " << s.edits_applied
+      << ", refused at the tick " << s.edits_refused << "), dropped " << s.edit_batches_dropped
+      << "\nplan:\n"
       << s.plan << (s.plan.empty() || s.plan.back() == '\n' ? "" : "\n");
   return 0;
 }

@@ -570,6 +570,20 @@ void Daemon::fillStatus(proto::StatusReply& r) const {
   r.state_flags = toWireFlags(st);
   r.commands_accepted = st.commands_accepted;
   r.commands_dropped = st.commands_dropped;
+  r.edit_batches_applied = st.edit_batches_applied;  // protocol minor 1
+  r.edit_batches_dropped = st.edit_batches_dropped;
+  r.edits_applied = st.edits_applied;
+  r.edits_refused = st.edits_refused;
+  r.shm_commands = st.shm_commands;
+  if (shm_) {
+    r.shm_name = shm_->name().substr(0, proto::kMaxShmNameBytes);
+    r.shm_flags = proto::kShmServing;
+    if (shm_->clientAttached())
+      r.shm_flags |= proto::kShmClientAttached;
+    if (shm_->clientAlive(proto::monotonicNs(), kShmAliveTimeoutNs))
+      r.shm_flags |= proto::kShmClientAlive;
+    r.shm_commands_refused = shm_->commandsRefused();
+  }
   std::lock_guard<std::mutex> lock(info_mutex_);
   r.device = info_device_.substr(0, proto::kMaxDeviceBytes);
   r.scene = info_scene_.substr(0, proto::kMaxSceneNameBytes);
@@ -725,7 +739,7 @@ void Daemon::writeStatus(const char* phase) {
     nlohmann::json shm = {{"name", config_.network.shm}, {"serving", shm_ != nullptr}};
     if (shm_) {
       const std::uint64_t now = proto::monotonicNs();
-      shm["client_attached"] = shm_->clientAlive(now, UINT64_MAX);
+      shm["client_attached"] = shm_->clientAttached();
       shm["client_alive"] = shm_->clientAlive(now, kShmAliveTimeoutNs);
       shm["commands"] = st.shm_commands;
       shm["commands_refused"] = shm_->commandsRefused();

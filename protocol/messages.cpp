@@ -621,11 +621,12 @@ DecodeError get(Reader& r, ErrorMsg& m, bool exact) {
 
 std::size_t size(const StatusReply& m) {
   return StatusReply::kFixedSize + 8 * m.refused.size() + m.device.size() + m.scene.size() +
-         m.plan.size();
+         m.plan.size() + StatusReply::kMinor1FixedSize + m.shm_name.size();
 }
 bool fits(const StatusReply& m) {
   return m.refused.size() <= kMaxRefusalCounters && m.device.size() <= kMaxDeviceBytes &&
-         m.scene.size() <= kMaxSceneNameBytes && m.plan.size() <= kMaxPlanBytes;
+         m.scene.size() <= kMaxSceneNameBytes && m.plan.size() <= kMaxPlanBytes &&
+         m.shm_name.size() <= kMaxShmNameBytes;
 }
 void put(Writer& w, const StatusReply& m) {
   w.u64(m.uptime_ns);
@@ -654,8 +655,22 @@ void put(Writer& w, const StatusReply& m) {
   putText(w, m.device);
   putText(w, m.scene);
   putText(w, m.plan);
+  // minor 1
+  w.u64(m.shm_commands);
+  w.u64(m.shm_commands_refused);
+  w.u64(m.edit_batches_applied);
+  w.u64(m.edit_batches_dropped);
+  w.u64(m.edits_applied);
+  w.u64(m.edits_refused);
+  w.u32(m.shm_flags);
+  w.u16(static_cast<std::uint16_t>(m.shm_name.size()));
+  w.u16(0);
+  putText(w, m.shm_name);
 }
-DecodeError get(Reader& r, StatusReply& m, bool exact) {
+// Like State, StatusReply gained a tail in minor 1 (after its texts): one exact length per
+// minor up to ours, "at least" above it.
+DecodeError get(Reader& r, StatusReply& m, std::uint8_t minor) {
+  const bool exact = minor <= kVersionMinor;
   const std::size_t total = r.remaining();
   constexpr auto t = StatusReply::kType;
   if (total < StatusReply::kFixedSize)
@@ -686,15 +701,36 @@ DecodeError get(Reader& r, StatusReply& m, bool exact) {
     return err(Errc::kBadValue, t, ns, kMaxSceneNameBytes, "scene_length");
   if (np > kMaxPlanBytes)
     return err(Errc::kBadValue, t, np, kMaxPlanBytes, "plan_length");
-  if (auto e = checkLength(t, total, StatusReply::kFixedSize + 8 * nc + nd + ns + np, exact);
-      e.code != Errc::kOk)
-    return e;
+  const std::size_t head = StatusReply::kFixedSize + 8 * nc + nd + ns + np;
+  if (minor == 0) {
+    if (auto e = checkLength(t, total, head, exact); e.code != Errc::kOk)
+      return e;
+  } else if (total < head + StatusReply::kMinor1FixedSize) {
+    return checkLength(t, total, head + StatusReply::kMinor1FixedSize, false);
+  }
   m.refused.resize(nc);
   for (auto& c : m.refused)
     c = r.u64();
   m.device = getText(r, nd);
   m.scene = getText(r, ns);
   m.plan = getText(r, np);
+  if (minor >= 1) {
+    m.shm_commands = r.u64();
+    m.shm_commands_refused = r.u64();
+    m.edit_batches_applied = r.u64();
+    m.edit_batches_dropped = r.u64();
+    m.edits_applied = r.u64();
+    m.edits_refused = r.u64();
+    m.shm_flags = r.u32();
+    const std::size_t nn = r.u16();
+    r.u16();
+    if (nn > kMaxShmNameBytes)
+      return err(Errc::kBadValue, t, nn, kMaxShmNameBytes, "shm_name_length");
+    if (auto e = checkLength(t, total, head + StatusReply::kMinor1FixedSize + nn, exact);
+        e.code != Errc::kOk)
+      return e;
+    m.shm_name = getText(r, nn);
+  }  // else: a 1.0 sender, the minor-1 fields stay 0 and ""
   return {};
 }
 
@@ -732,6 +768,7 @@ static_assert(PoseCommand::kFixedSize == kPoseSize + 3 * 8 + 3 * 8 + 4 + 4);
 static_assert(State::kFixedSize == 8 + 8 + 2 * kPoseSize + 6 * 8 + 8 + 8 + 8 + 6 * 4 + 2 + 2 + 4);
 static_assert(State::kMinor1Size == 4 + 4 + 8 + 4 + 4);
 static_assert(StatusReply::kFixedSize == 3 * 8 + 2 * 8 + 8 * 4 + 4 * 8 + 4 * 2);
+static_assert(StatusReply::kMinor1FixedSize == 6 * 8 + 4 + 2 + 2);
 static_assert(ErrorMsg::kFixedSize == 8 + 2 + 2 + 2 + 2);
 static_assert(Ack::kFixedSize == 16);
 static_assert(kErrcCount <= kMaxRefusalCounters);
@@ -749,6 +786,9 @@ DecodeError getAt(Reader& r, M& m, std::uint8_t minor) {
 }
 template <>
 DecodeError getAt(Reader& r, State& m, std::uint8_t minor) {
+  return get(r, m, minor);
+}
+DecodeError getAt(Reader& r, StatusReply& m, std::uint8_t minor) {
   return get(r, m, minor);
 }
 

@@ -44,6 +44,7 @@ inline constexpr std::uint32_t kMaxStateRateHz = 1000;  ///< Subscribe rate
 inline constexpr std::size_t kMaxRefusalCounters = 64;  ///< StatusReply counters
 inline constexpr std::size_t kMaxDeviceBytes = 128;     ///< StatusReply device text
 inline constexpr std::size_t kMaxPlanBytes = 4096;      ///< StatusReply plan text
+inline constexpr std::size_t kMaxShmNameBytes = 255;    ///< StatusReply shm segment name (NAME_MAX)
 
 /// Capability bits (Hello::capabilities, Welcome::capabilities).
 inline constexpr std::uint32_t kCapUdp = 1u << 0;
@@ -312,8 +313,24 @@ struct StatusReply {
   std::string device;                  ///< ≤ kMaxDeviceBytes
   std::string scene;                   ///< ≤ kMaxSceneNameBytes
   std::string plan;                    ///< the simulation plan as text, ≤ kMaxPlanBytes
+  // --- minor version 1: appended after the texts (kMinor1FixedSize + shm_name; a 1.0 reader
+  // ignores them; from a 1.0 sender they read as 0 and "") ---
+  static constexpr std::size_t kMinor1FixedSize = 56;
+  std::uint64_t shm_commands = 0;          ///< commands taken from the shared-memory ring
+  std::uint64_t shm_commands_refused = 0;  ///< shm slots refused (non-finite, bad kind, ...)
+  std::uint64_t edit_batches_applied = 0;  ///< scene updates applied at a tick boundary
+  std::uint64_t edit_batches_dropped = 0;  ///< scene updates dropped (their scene was replaced)
+  std::uint64_t edits_applied = 0;         ///< entries of scene updates applied
+  std::uint64_t edits_refused = 0;         ///< entries the simulation refused at the tick
+  std::uint32_t shm_flags = 0;             ///< kShmServing | kShmClientAttached | kShmClientAlive
+  std::string shm_name;                    ///< the segment served, "" when none; ≤ kMaxShmNameBytes
   bool operator==(const StatusReply&) const = default;
 };
+/// StatusReply::shm_flags bits.
+inline constexpr std::uint32_t kShmServing = 1u << 0;        ///< the daemon serves the segment
+inline constexpr std::uint32_t kShmClientAttached = 1u << 1; ///< a client has attached
+inline constexpr std::uint32_t kShmClientAlive = 1u << 2;    ///< ... and beat within 500 ms
+
 /// Server → client: a request that has no other answer (arm, disarm, subscribe, scene update)
 /// was accepted. Fixed 16 bytes.
 struct Ack {

@@ -208,6 +208,10 @@ bool ShmServer::clientAlive(std::uint64_t now_ns, std::uint64_t timeout_ns) cons
   return t != 0 && now_ns - t <= timeout_ns;
 }
 
+bool ShmServer::clientAttached() const noexcept {
+  return header(base_)->client_pid.load(std::memory_order_acquire) != 0;
+}
+
 std::uint64_t ShmServer::commandsRefused() const noexcept {
   return header(base_)->commands_refused.load(std::memory_order_relaxed);
 }

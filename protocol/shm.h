@@ -155,6 +155,8 @@ class ShmServer {
   void beat(std::uint64_t now_ns) noexcept;
   /// True when a client is attached and beat within timeout_ns of now_ns.
   bool clientAlive(std::uint64_t now_ns, std::uint64_t timeout_ns) const noexcept;
+  /// True when a client has attached (its pid is in the header), beating or not.
+  bool clientAttached() const noexcept;
   const std::string& name() const { return name_; }
   std::uint64_t commandsRefused() const noexcept;
 

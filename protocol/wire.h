@@ -25,7 +25,9 @@ namespace hapticd::proto {
 //                    u32, max_penetration_m f64 (>= 0), tick_ns u32, reserved u32. A 1.0
 //                    State decodes with these 0; a 1.0 reader ignores them. Subscribe flag
 //                    bit 2 each_tick: only states of ticks not sent before (a 1.0 server
-//                    ignores it).
+//                    ignores it). StatusReply appends, after its texts, the shm and
+//                    scene-edit counters (6 u64), shm_flags u32, shm_name_length u16,
+//                    reserved u16, shm_name.
 //
 // Rules for later versions. A minor version may only (a) append fields at the end of a
 // message's payload (after its lists and strings) or (b) add message types; a receiver of an

@@ -204,6 +204,13 @@ TEST_F(DaemonEditTest, ASceneUpdateMovingAKinematicBodyIsAckedAndLaterStatesList
     EXPECT_TRUE(waitStatus([](const nlohmann::json& j) {
       return j["edits"]["batches_applied"] == 2 && j["edits"]["entries_applied"] == 3;
     })) << status().dump();
+    auto sr = c->status();  // the protocol's StatusReply (minor 1) counts them too
+    ASSERT_TRUE(sr) << sr.error().message;
+    EXPECT_EQ(sr.value().edit_batches_applied, 2u);
+    EXPECT_EQ(sr.value().edits_applied, 3u);
+    EXPECT_EQ(sr.value().edits_refused, 0u);
+    EXPECT_EQ(sr.value().shm_flags, 0u);  // this daemon serves no shm
+    EXPECT_TRUE(sr.value().shm_name.empty());
   });
   EXPECT_EQ(code, kExitOk);
 }
@@ -360,9 +367,6 @@ TEST_F(DaemonEditTest, AShmClientDrivesTheDeviceAndAStoppedStreamRampsThenFaults
           st.force_scale < 1.0)
         saw_ramp = true;
       faulted = (st.fault_bits & proto::kFaultStreamLost) != 0;
-      if (getenv("DEBUG_RAMP"))
-        fprintf(stderr, "RAMP tick %lu flags %lu scale %g faults %lu\n", (unsigned long)st.tick,
-                (unsigned long)st.state_flags, st.force_scale, (unsigned long)st.fault_bits);
     }
     ASSERT_TRUE(faulted);
     EXPECT_TRUE(saw_ramp);
@@ -390,6 +394,16 @@ TEST_F(DaemonEditTest, AShmClientDrivesTheDeviceAndAStoppedStreamRampsThenFaults
     })) << status().dump();
     EXPECT_GT(status()["shm"]["commands"].get<std::uint64_t>(), 0u);
     EXPECT_EQ(status()["shm"]["commands_refused"].get<std::uint64_t>(), 0u);
+    // the protocol's StatusReply (minor 1) says the same
+    auto c = client();
+    ASSERT_TRUE(c);
+    auto sr = c->status();
+    ASSERT_TRUE(sr) << sr.error().message;
+    EXPECT_EQ(sr.value().shm_name, shmName());
+    EXPECT_NE(sr.value().shm_flags & proto::kShmServing, 0u);
+    EXPECT_NE(sr.value().shm_flags & proto::kShmClientAttached, 0u);
+    EXPECT_GT(sr.value().shm_commands, 0u);
+    EXPECT_EQ(sr.value().shm_commands_refused, 0u);
   });
   EXPECT_EQ(code, kExitOk);
   // unlinked at exit

@@ -505,5 +505,95 @@ TEST(Codec, DescribeNamesWhatAndWhere) {
   EXPECT_EQ(describe(e), "pose_command: payload length 100 bytes, expected 112");
 }
 
+
+// ---- StatusReply minor 1: shm and scene-edit counters after the texts ----
+StatusReply sampleStatus() {
+  for (const Message& m : sampleMessages())
+    if (const auto* r = std::get_if<StatusReply>(&m))
+      return *r;
+  return {};
+}
+std::size_t statusTail(const StatusReply& r) {
+  return StatusReply::kMinor1FixedSize + r.shm_name.size();
+}
+
+TEST(CodecStatusMinor1, FieldsRoundTripAtTheDocumentedOffsets) {
+  const StatusReply r = sampleStatus();
+  ASSERT_FALSE(r.shm_name.empty());
+  const auto b = encodeOrDie(r);
+  const std::size_t texts = kHeaderSize + StatusReply::kFixedSize + 8 * r.refused.size() +
+                            r.device.size() + r.scene.size() + r.plan.size();
+  ASSERT_EQ(b.size(), texts + statusTail(r));
+  EXPECT_EQ(b[texts], 77u);        // shm_commands, u64 little-endian
+  EXPECT_EQ(b[texts + 8], 2u);     // shm_commands_refused
+  EXPECT_EQ(b[texts + 16], 9u);    // edit_batches_applied
+  EXPECT_EQ(b[texts + 24], 1u);    // edit_batches_dropped
+  EXPECT_EQ(b[texts + 32], 30u);   // edits_applied
+  EXPECT_EQ(b[texts + 40], 4u);    // edits_refused
+  EXPECT_EQ(b[texts + 48], kShmServing | kShmClientAttached);  // shm_flags u32
+  EXPECT_EQ(b[texts + 52], r.shm_name.size());                 // shm_name_length u16
+  EXPECT_EQ(std::string(b.begin() + static_cast<long>(texts + 56), b.end()), r.shm_name);
+  Header h;
+  Message back;
+  ASSERT_EQ(decode(b, h, back).code, Errc::kOk);
+  EXPECT_EQ(std::get<StatusReply>(back), r);
+}
+
+TEST(CodecStatusMinor1, AOneZeroStatusWithoutTheTailDecodesWithZerosAndMustBeExact) {
+  const StatusReply r = sampleStatus();
+  auto b = encodeOrDie(r);
+  b.resize(b.size() - statusTail(r));  // what a 1.0 sender writes
+  relabel(b, 0);
+  Header h;
+  Message back;
+  const auto e = decode(b, h, back);
+  ASSERT_EQ(e.code, Errc::kOk) << describe(e);
+  StatusReply expect = r;
+  expect.shm_commands = expect.shm_commands_refused = 0;
+  expect.edit_batches_applied = expect.edit_batches_dropped = 0;
+  expect.edits_applied = expect.edits_refused = 0;
+  expect.shm_flags = 0;
+  expect.shm_name.clear();
+  EXPECT_EQ(std::get<StatusReply>(back), expect);
+  // 1.0 had no tail: a 1.0 StatusReply carrying it is refused
+  auto full = encodeOrDie(r);
+  relabel(full, 0);
+  EXPECT_EQ(decode(full, h, back).code, Errc::kBadPayloadLength);
+}
+
+TEST(CodecStatusMinor1, ShortLongAndNewerMinor) {
+  const StatusReply r = sampleStatus();
+  Header h;
+  Message back;
+  // one byte short at 1.1 (in the name) and without the whole tail
+  auto b = encodeOrDie(r);
+  b.pop_back();
+  relabel(b, 1);
+  EXPECT_EQ(decode(b, h, back).code, Errc::kBadPayloadLength);
+  b = encodeOrDie(r);
+  b.resize(b.size() - statusTail(r));
+  relabel(b, 1);
+  EXPECT_EQ(decode(b, h, back).code, Errc::kBadPayloadLength);
+  // one byte long at our minor
+  b = encodeOrDie(r);
+  b.push_back(0);
+  relabel(b, kVersionMinor);
+  EXPECT_EQ(decode(b, h, back).code, Errc::kBadPayloadLength);
+  // a newer minor's trailing bytes are ignored
+  b = encodeOrDie(r);
+  for (int i = 0; i < 17; ++i)
+    b.push_back(static_cast<std::uint8_t>(i));
+  relabel(b, static_cast<std::uint8_t>(kVersionMinor + 1));
+  ASSERT_EQ(decode(b, h, back).code, Errc::kOk);
+  EXPECT_EQ(std::get<StatusReply>(back), r);
+  // a name over its bound is refused on both sides
+  StatusReply longer = r;
+  longer.shm_name.assign(kMaxShmNameBytes + 1, 'x');
+  std::vector<std::uint8_t> out(65536);
+  Errc why = Errc::kOk;
+  EXPECT_EQ(encode(Header{}, longer, out, &why), 0u);
+  EXPECT_EQ(why, Errc::kBadValue);
+}
+
 }  // namespace
 }  // namespace hapticd::proto

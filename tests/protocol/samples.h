@@ -147,6 +147,14 @@ inline std::vector<Message> sampleMessages() {
     r.device = "sim";
     r.scene = "peg_in_hole.glb";
     r.plan = "contact forces: on\ndynamics: off\ngravity: off";
+    r.shm_commands = 77;  // minor 1
+    r.shm_commands_refused = 2;
+    r.edit_batches_applied = 9;
+    r.edit_batches_dropped = 1;
+    r.edits_applied = 30;
+    r.edits_refused = 4;
+    r.shm_flags = kShmServing | kShmClientAttached;
+    r.shm_name = "/hapticd";
     out.push_back(r);
   }
   out.push_back(Ack{77, static_cast<std::uint16_t>(MsgType::kArm)});
