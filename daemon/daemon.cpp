@@ -318,28 +318,10 @@ void Daemon::startUpload() {
 }
 
 bool Daemon::onCommand(const proto::CommandEvent& e) {
-  ServoCommand c;
-  c.gated = true;
-  c.session_id = e.session_id;
-  c.sequence = e.sequence;
-  switch (e.kind) {
-    case proto::CommandEvent::Kind::kArm:
-      c.kind = CommandKind::kArm;
-      break;
-    case proto::CommandEvent::Kind::kDisarm:
-      c.kind = CommandKind::kDisarm;
-      break;
-    case proto::CommandEvent::Kind::kPose:
-      c.kind = CommandKind::kPose;
-      c.pose.X_W_target = geom::Pose::fromXyzw(
-          geom::Vec3(e.pose.X_WT.p[0], e.pose.X_WT.p[1], e.pose.X_WT.p[2]), e.pose.X_WT.q[0],
-          e.pose.X_WT.q[1], e.pose.X_WT.q[2], e.pose.X_WT.q[3]);
-      c.pose.linear_velocity = geom::Vec3(e.pose.v_W[0], e.pose.v_W[1], e.pose.v_W[2]);
-      c.pose.angular_velocity = geom::Vec3(e.pose.w_W[0], e.pose.w_W[1], e.pose.w_W[2]);
-      c.pose.buttons = e.pose.buttons;
-      break;
-  }
-  return loop_->sendCommand(c);
+  const CommandKind kind = e.kind == proto::CommandEvent::Kind::kArm      ? CommandKind::kArm
+                           : e.kind == proto::CommandEvent::Kind::kDisarm ? CommandKind::kDisarm
+                                                                          : CommandKind::kPose;
+  return loop_->sendCommand(gatedCommand(kind, e.session_id, e.sequence, e.pose));
 }
 
 namespace {

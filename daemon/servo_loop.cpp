@@ -73,6 +73,25 @@ const char* editListName(std::int64_t list) {
 
 }  // namespace
 
+ServoCommand gatedCommand(CommandKind kind,
+                          std::uint64_t session_id,
+                          std::uint64_t sequence,
+                          const proto::PoseCommand& p) noexcept {
+  ServoCommand c;
+  c.kind = kind;
+  c.gated = true;
+  c.session_id = session_id;
+  c.sequence = sequence;
+  if (kind == CommandKind::kPose) {
+    c.pose.X_W_target = geom::Pose::fromXyzw(geom::Vec3(p.X_WT.p[0], p.X_WT.p[1], p.X_WT.p[2]),
+                                             p.X_WT.q[0], p.X_WT.q[1], p.X_WT.q[2], p.X_WT.q[3]);
+    c.pose.linear_velocity = geom::Vec3(p.v_W[0], p.v_W[1], p.v_W[2]);
+    c.pose.angular_velocity = geom::Vec3(p.w_W[0], p.w_W[1], p.w_W[2]);
+    c.pose.buttons = p.buttons;
+  }
+  return c;
+}
+
 std::uint32_t wireFaultBits(std::uint32_t f) noexcept {
   std::uint32_t w = 0;
   if ((f & kFaultStreamLost) != 0)
@@ -139,27 +158,12 @@ void ServoLoop::drainShm(std::uint64_t now_ns) noexcept {
   proto::ShmCommandEvent e;
   // bounded: at most one segment ring's worth per tick
   for (std::uint32_t i = 0; i < proto::kShmRingSlots && shm_->popCommand(e); ++i) {
-    ServoCommand c;
-    c.gated = true;  // the same gate as the network's commands: newest wins, stream-stop fault
-    c.session_id = e.session_id;
-    c.sequence = e.sequence;
-    switch (e.kind) {
-      case proto::ShmCommandEvent::Kind::kArm:
-        c.kind = CommandKind::kArm;
-        break;
-      case proto::ShmCommandEvent::Kind::kDisarm:
-        c.kind = CommandKind::kDisarm;
-        break;
-      case proto::ShmCommandEvent::Kind::kPose:
-        c.kind = CommandKind::kPose;
-        c.pose.X_W_target = geom::Pose::fromXyzw(
-            geom::Vec3(e.pose.X_WT.p[0], e.pose.X_WT.p[1], e.pose.X_WT.p[2]), e.pose.X_WT.q[0],
-            e.pose.X_WT.q[1], e.pose.X_WT.q[2], e.pose.X_WT.q[3]);
-        c.pose.linear_velocity = geom::Vec3(e.pose.v_W[0], e.pose.v_W[1], e.pose.v_W[2]);
-        c.pose.angular_velocity = geom::Vec3(e.pose.w_W[0], e.pose.w_W[1], e.pose.w_W[2]);
-        c.pose.buttons = e.pose.buttons;
-        break;
-    }
+    // the same gate as the network's commands: newest wins, stream-stop fault
+    const CommandKind kind = e.kind == proto::ShmCommandEvent::Kind::kArm ? CommandKind::kArm
+                             : e.kind == proto::ShmCommandEvent::Kind::kDisarm
+                                 ? CommandKind::kDisarm
+                                 : CommandKind::kPose;
+    const ServoCommand c = gatedCommand(kind, e.session_id, e.sequence, e.pose);
     ++s_.shm_commands;
     applyCommand(c, now_ns);
   }

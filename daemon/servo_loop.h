@@ -191,6 +191,13 @@ inline constexpr std::uint64_t kShmAliveTimeoutNs = 500'000'000;
 /// the histogram, too much work for every tick.
 inline constexpr std::uint64_t kShmPercentileEveryTicks = 100;
 
+/// A client's command (UDP or shared memory) for the servo's command gate: gated, from session
+/// `session_id`, ordered by `sequence`; the pose (scene frame) only for kPose. Any thread.
+ServoCommand gatedCommand(CommandKind kind,
+                          std::uint64_t session_id,
+                          std::uint64_t sequence,
+                          const proto::PoseCommand& pose) noexcept;
+
 /// ServoState::faults as the protocol's State::fault_bits. Any thread.
 std::uint32_t wireFaultBits(std::uint32_t faults) noexcept;
 /// ServoState as the protocol's State::state_flags (armed, streaming, ramping). Any thread.
