@@ -63,9 +63,10 @@ class DaemonEditTest : public ::testing::Test {
 
   Backends backends() {
     Backends b;
-    b.make_device = [this](
-                        std::string_view,
-                        const device::DeviceOptions&) -> Result<std::unique_ptr<device::Device>> {
+    b.make_device =
+        [this](std::string_view,
+               const device::DeviceOptions& options) -> Result<std::unique_ptr<device::Device>> {
+      device_options_ = options;
       auto d = std::make_unique<FakeDevice>();
       d->depth_offset = 0.002;  // the wall is touched most of the time
       d->follow_commands = follow_commands_;
@@ -155,6 +156,7 @@ class DaemonEditTest : public ::testing::Test {
   std::string name_;
   fs::path dir_;
   FakeDevice* device_ = nullptr;
+  device::DeviceOptions device_options_;  // what the daemon opened the device with
   bool follow_commands_ = false;
 };
 
@@ -537,6 +539,22 @@ TEST_F(DaemonEditTest, ASegmentAnotherLiveDaemonServesIsLeftAlone) {
   kill(other, SIGKILL);
   waitpid(other, nullptr, 0);
   shm_unlink(shmName().c_str());
+}
+
+TEST_F(DaemonEditTest, TheSimHandStartsAtTheHeldBodysScenePoseUnlessConfiguredNot) {
+  // device.sim_home_from_scene (default true): the sim device's home is the probe body's pose in
+  // the scene (body 1 'Probe' at x = 1 in the editable scene), through the workspace mapping
+  EXPECT_EQ(runWith(cli(""), [] {}), kExitOk);
+  EXPECT_EQ(device_options_.sim_home.translation, geom::Vec3(1.0, 0.0, 0.0));
+  EXPECT_EQ(device_options_.sim_home.rotation, geom::Pose{}.rotation);
+  // off: the configured home (its default), whatever the scene says
+  std::ofstream(dir_ / "home.toml") << "[device]\nsim_home_from_scene = false\n";
+  CommandLine c = cli("");
+  c.config_path = (dir_ / "home.toml").string();
+  device_options_ = {};
+  device_options_.sim_home.translation = geom::Vec3(-7.0);  // overwritten by the daemon
+  EXPECT_EQ(runWith(c, [] {}), kExitOk);
+  EXPECT_EQ(device_options_.sim_home.translation, device::DeviceOptions{}.sim_home.translation);
 }
 
 }  // namespace
