@@ -181,7 +181,13 @@ std::string toToml(const Config& c) {
      << "\nattach_button_mask = " << r.attach_button_mask
      << "\nattach_distance_m = " << r.attach_distance_m
      << "\nhinge_attach = " << q(toString(r.hinge_attach))
-     << "\ncentre_radius_fraction = " << r.centre_radius_fraction << "\n";
+     << "\ncentre_radius_fraction = " << r.centre_radius_fraction
+     << "\ngrab_weight = " << (r.grab_weight ? "true" : "false")
+     << "\ngrab_inertia = " << (r.grab_inertia ? "true" : "false")
+     << "\ngrab_inertia_filter_s = " << r.grab_inertia_filter_s
+     << "\ndynamic_backstop_fraction = " << r.dynamic_backstop_fraction
+     << "\nimpulse_window_s = " << r.impulse_window_s
+     << "\ndynamics_sleep_time_s = " << r.dynamics_sleep_time_s << "\n";
   const auto& s = c.scene;
   os << "\n[scene]\npath = " << q(s.path) << "\ndemo = " << q(s.demo)
      << "\nmax_file_bytes = " << s.max_file_bytes << "\nmax_nodes = " << s.max_nodes

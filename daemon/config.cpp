@@ -321,6 +321,9 @@ void readAll(const toml::table& root,
     s.boolean("grab_weight", r.grab_weight);
     s.boolean("grab_inertia", r.grab_inertia);
     s.number("grab_inertia_filter_s", r.grab_inertia_filter_s, 0.0, 10.0, " s");
+    s.number("dynamic_backstop_fraction", r.dynamic_backstop_fraction, 0.0, 1e3);
+    s.number("impulse_window_s", r.impulse_window_s, 0.0, 10.0, " s");
+    s.number("dynamics_sleep_time_s", r.dynamics_sleep_time_s, 0.0, 1e6, " s");
   }
   {
     Section s(sectionOf(root, "scene", name, errors), "scene", name, errors, keys, all_keys);
@@ -454,6 +457,9 @@ sim::SimOptions toSimOptions(const Config& c) {
   r.grab_weight = cr.grab_weight;
   r.grab_inertia = cr.grab_inertia;
   r.grab_inertia_filter_s = cr.grab_inertia_filter_s;
+  r.dynamic_backstop_fraction = cr.dynamic_backstop_fraction;
+  o.dynamics_impulse_window_s = cr.impulse_window_s;
+  o.dynamics_sleep_time_s = cr.dynamics_sleep_time_s;
   return o;
 }
 

@@ -107,6 +107,9 @@ struct ResponseConfig {
   bool grab_weight = true;
   bool grab_inertia = true;
   double grab_inertia_filter_s = 0.010;
+  double dynamic_backstop_fraction = 0.5;
+  double impulse_window_s = 0.020;
+  double dynamics_sleep_time_s = 0.5;
   bool operator==(const ResponseConfig&) const = default;
 };
 

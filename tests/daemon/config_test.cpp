@@ -80,6 +80,9 @@ TEST(Config, DefaultsAreThoseOfTheSimulationAndDeviceOptions) {
   EXPECT_EQ(r.grab_weight, e.grab_weight);
   EXPECT_EQ(r.grab_inertia, e.grab_inertia);
   EXPECT_EQ(r.grab_inertia_filter_s, e.grab_inertia_filter_s);
+  EXPECT_EQ(r.dynamic_backstop_fraction, e.dynamic_backstop_fraction);
+  EXPECT_EQ(a.dynamics_impulse_window_s, b.dynamics_impulse_window_s);
+  EXPECT_EQ(a.dynamics_sleep_time_s, b.dynamics_sleep_time_s);
   EXPECT_EQ(a.max_pairs_per_tick, b.max_pairs_per_tick);
   EXPECT_EQ(a.probe_sphere_radius_m, b.probe_sphere_radius_m);
 
@@ -127,6 +130,11 @@ TEST(Config, PrintedConfigParsesBackToTheSame) {
   c.device.spec = "replay:a \"quoted\" name.csv";
   c.device.workspace_scale = 0.1;
   c.response.hinge_attach = sim::ResponseOptions::HingeAttach::kRim;
+  c.response.grab_weight = false;
+  c.response.grab_inertia_filter_s = 0.03;
+  c.response.impulse_window_s = 0.01;
+  c.response.dynamics_sleep_time_s = 0.0;
+  c.network.shm = "/hapticd-printed";
   auto parsed = parseConfig(toToml(c), "printed.toml");
   ASSERT_TRUE(parsed) << parsed.error().message;
   EXPECT_TRUE(parsed.value().config == c);
@@ -154,6 +162,7 @@ workspace_rotation = [0.0, 0.0, 1.0, 0.0]
 stiffness_n_per_m = 1200.0
 grab_weight = false
 grab_inertia_filter_s = 0.02
+impulse_window_s = 0.04
 [scene]
 path = "a.glb"
 [network]
@@ -173,6 +182,7 @@ level = "debug"
   EXPECT_FALSE(toSimOptions(c).response.grab_weight);
   EXPECT_TRUE(toSimOptions(c).response.grab_inertia);
   EXPECT_EQ(toSimOptions(c).response.grab_inertia_filter_s, 0.02);
+  EXPECT_EQ(toSimOptions(c).dynamics_impulse_window_s, 0.04);
   EXPECT_EQ(c.scene.path, "a.glb");
   EXPECT_EQ(c.network.udp, "0.0.0.0:5000");
   EXPECT_EQ(c.log.level, LogLevel::kDebug);
