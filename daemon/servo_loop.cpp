@@ -43,30 +43,6 @@ void putPose(const geom::Pose& X, double* out) noexcept {
   out[6] = X.rotation.w;
 }
 
-// sim::toString(EditStatus) lives in hapticd_sim, which this library does not link (tests run
-// it with fakes of the simulation)
-const char* editStatusText(std::int64_t status) {
-  switch (static_cast<sim::EditStatus>(status)) {
-    case sim::EditStatus::kOk:
-      return "ok";
-    case sim::EditStatus::kUnsupported:
-      return "this simulation does not edit scenes";
-    case sim::EditStatus::kNoSuchBody:
-      return "no such body";
-    case sim::EditStatus::kNotKinematic:
-      return "not kinematic";
-    case sim::EditStatus::kStaticBody:
-      return "a static body";
-    case sim::EditStatus::kHeldBody:
-      return "the probe (held) body";
-    case sim::EditStatus::kInactive:
-      return "not active (add it first)";
-    case sim::EditStatus::kNotFinite:
-      return "not finite or not a unit quaternion";
-  }
-  return "refused";
-}
-
 const char* editListName(std::int64_t list) {
   return list == 0 ? "poses" : list == 1 ? "added" : "removed";
 }
@@ -624,7 +600,7 @@ std::string describe(const ServoEvent& e) {
       return "device write failed" + at;
     case ServoEventKind::kEditRefused:
       return "scene edit refused" + at + ": " + editListName(e.c) + " entry for body " +
-             std::to_string(e.a) + ": " + editStatusText(e.b) +
+             std::to_string(e.a) + ": " + sim::toString(static_cast<sim::EditStatus>(e.b)) +
              " (the rest of its update was applied)";
     case ServoEventKind::kEditBatchDropped:
       return "scene update " + std::to_string(e.c) + " dropped" + at +

@@ -126,6 +126,8 @@ class SimulationImpl final : public Simulation {
   const scene::SceneModel& scene() const override { return *scene_; }
   void prepareThread() override;
   EditStatus setKinematicPose(std::uint32_t body, const Pose& X_WB) override;
+  // the checks both edits share: in range, not static, not held (kOk when editable)
+  EditStatus editable(std::uint32_t body) const;
   EditStatus setBodyActive(std::uint32_t body, bool active, const Pose& X_WB) override;
   bool bodyActive(std::uint32_t body) const override {
     return body < scene_->bodies.size() && active_[body] != 0;
@@ -1172,14 +1174,20 @@ void SimulationImpl::fillContactPoints(TickOutput* out) {
   }
 }
 
-EditStatus SimulationImpl::setKinematicPose(std::uint32_t body, const Pose& X_WB) {
+EditStatus SimulationImpl::editable(std::uint32_t body) const {
   if (body >= scene_->bodies.size())
     return EditStatus::kNoSuchBody;
-  const BodyInfo& bi = info_[body];
-  if (bi.kind == BodyKind::kStatic)
+  if (info_[body].kind == BodyKind::kStatic)
     return EditStatus::kStaticBody;
   if (body == probe_ || isHeld(body))
     return EditStatus::kHeldBody;
+  return EditStatus::kOk;
+}
+
+EditStatus SimulationImpl::setKinematicPose(std::uint32_t body, const Pose& X_WB) {
+  if (const EditStatus st = editable(body); st != EditStatus::kOk)
+    return st;
+  const BodyInfo& bi = info_[body];
   if (bi.kind != BodyKind::kKinematic)
     return EditStatus::kNotKinematic;
   if (active_[body] == 0)
@@ -1212,13 +1220,9 @@ EditStatus SimulationImpl::setKinematicPose(std::uint32_t body, const Pose& X_WB
 }
 
 EditStatus SimulationImpl::setBodyActive(std::uint32_t body, bool active, const Pose& X_WB) {
-  if (body >= scene_->bodies.size())
-    return EditStatus::kNoSuchBody;
+  if (const EditStatus st = editable(body); st != EditStatus::kOk)
+    return st;
   const BodyInfo& bi = info_[body];
-  if (bi.kind == BodyKind::kStatic)
-    return EditStatus::kStaticBody;
-  if (body == probe_ || isHeld(body))
-    return EditStatus::kHeldBody;
   geom::Pose X;
   if (active && !unitPose(X_WB, &X))
     return EditStatus::kNotFinite;
@@ -1247,28 +1251,6 @@ DynamicsStatus SimulationImpl::dynamicsStatus() const {
 }
 
 }  // namespace
-
-const char* toString(EditStatus s) {
-  switch (s) {
-    case EditStatus::kOk:
-      return "ok";
-    case EditStatus::kUnsupported:
-      return "scene edits not supported";
-    case EditStatus::kNoSuchBody:
-      return "no such body";
-    case EditStatus::kNotKinematic:
-      return "not a kinematic body";
-    case EditStatus::kStaticBody:
-      return "a static body";
-    case EditStatus::kHeldBody:
-      return "the held (probe) body";
-    case EditStatus::kInactive:
-      return "an inactive body";
-    case EditStatus::kNotFinite:
-      return "not a finite pose with a unit quaternion";
-  }
-  return "unknown";
-}
 
 Result<std::unique_ptr<Simulation>> Simulation::create(
     std::shared_ptr<const scene::SceneModel> scene,

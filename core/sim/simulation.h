@@ -27,12 +27,12 @@ using geom::Vec3;
 
 /// Knobs of the response (config [response]); defaults: §5 of the paper and ../shared/DESIGN.md.
 struct ResponseOptions {
-  double stiffness_n_per_m = 600.0;   ///< k_s: 0.6 N/mm (§5.1)
-  double tick_s = 0.001;              ///< Δt: 1 ms (§5.2)
-  double max_force_n = 10.0;          ///< device limit
-  double max_torque_nm = 1.0;         ///< device limit
-  double max_force_step_n = 0.5;      ///< F_max (§5.3): largest force change between ticks
-  double max_torque_step_nm = 0.05;   ///< the same for torque
+  double stiffness_n_per_m = 600.0;  ///< k_s: 0.6 N/mm (§5.1)
+  double tick_s = 0.001;             ///< Δt: 1 ms (§5.2)
+  double max_force_n = 10.0;         ///< device limit
+  double max_torque_nm = 1.0;        ///< device limit
+  double max_force_step_n = 0.5;     ///< F_max (§5.3): largest force change between ticks
+  double max_torque_step_nm = 0.05;  ///< the same for torque
   /// Longest the force takes to ramp from zero to full at start and after a fault (s).
   double ramp_s = 0.5;
 
@@ -109,10 +109,10 @@ struct SimOptions {
 
 /// One tick's input, in scene coordinates (after the device-to-scene workspace mapping).
 struct TickInput {
-  double t_s = 0.0;          ///< simulated time of this tick
-  Pose X_W_device;           ///< target pose of the held body's origin
+  double t_s = 0.0;  ///< simulated time of this tick
+  Pose X_W_device;   ///< target pose of the held body's origin
   std::uint32_t buttons = 0;
-  bool device_ok = true;     ///< false: the device is lost or faulted: force goes to zero at once
+  bool device_ok = true;  ///< false: the device is lost or faulted: force goes to zero at once
 };
 
 /// Status bits of a tick (TickOutput::flags).
@@ -129,14 +129,14 @@ enum TickFlags : std::uint32_t {
 
 /// One tick's output, in scene coordinates.
 struct TickOutput {
-  Vec3 force_W_n{0.0};       ///< force on the hand (device), N
-  Vec3 torque_W_nm{0.0};     ///< torque on the hand, N m
-  Pose X_W_proxy;            ///< the proxy's pose
-  std::uint32_t contacts = 0;         ///< contact points used this tick
-  double max_penetration_m = 0.0;     ///< >= 0
+  Vec3 force_W_n{0.0};             ///< force on the hand (device), N
+  Vec3 torque_W_nm{0.0};           ///< torque on the hand, N m
+  Pose X_W_proxy;                  ///< the proxy's pose
+  std::uint32_t contacts = 0;      ///< contact points used this tick
+  double max_penetration_m = 0.0;  ///< >= 0
   std::uint32_t pairs_tested = 0;
   std::uint32_t pairs_skipped = 0;
-  std::uint32_t flags = 0;            ///< TickFlags
+  std::uint32_t flags = 0;  ///< TickFlags
   // --- added by the response ---
   /// The penalty wrench of §5.1–5.2 on the proxy (about the held body's centre of mass): what
   /// the coupling balances at rest. World frame, N and N m.
@@ -144,9 +144,9 @@ struct TickOutput {
   Vec3 contact_torque_W_nm{0.0};
   /// 0: free; 1: a body grabbed rigidly; 2: attached at a rim point; 3: attached at the centre.
   std::uint8_t attach_mode = 0;
-  std::int32_t attached_body = -1;   ///< scene body index, -1: none
-  bool travel_limited = false;       ///< the safe distance cut the proxy's step
-  double delta_m = 0.0;              ///< this tick's predictive distance delta (scene units)
+  std::int32_t attached_body = -1;  ///< scene body index, -1: none
+  bool travel_limited = false;      ///< the safe distance cut the proxy's step
+  double delta_m = 0.0;             ///< this tick's predictive distance delta (scene units)
   // --- added by the dynamics integration (docs/dynamics.md "In the Simulation") ---
   /// The dynamics' feedback on the held set this tick: its contact and joint impulses with the
   /// bodies the dynamics move, spread over DynamicsOptions::impulse_window_s, added to the
@@ -175,32 +175,53 @@ struct DynamicsStatus {
 
 /// The pose of one non-static body (for --record-bodies and the state stream).
 struct BodyPose {
-  std::uint32_t body = 0;   ///< index into SceneModel::bodies
+  std::uint32_t body = 0;  ///< index into SceneModel::bodies
   Pose X_WB;
 };
 
 /// One contact point of the held set after the last step (for the state stream).
 struct ContactPoint {
-  Vec3 p_W{0.0};        ///< contact point, scene frame
+  Vec3 p_W{0.0};            ///< contact point, scene frame
   Vec3 n_W{0.0, 0.0, 1.0};  ///< unit normal pushing the held set out
-  double depth_m = 0.0;  ///< penetration depth (> 0 penetrating, < 0 a gap inside delta)
-  std::int32_t body = -1;  ///< scene index of the other body, -1 if unknown
+  double depth_m = 0.0;     ///< penetration depth (> 0 penetrating, < 0 a gap inside delta)
+  std::int32_t body = -1;   ///< scene index of the other body, -1 if unknown
 };
 
 /// The answer of a scene edit (Simulation::setKinematicPose, setBodyActive).
 enum class EditStatus : std::uint8_t {
   kOk,
-  kUnsupported,    ///< this implementation does not edit scenes
-  kNoSuchBody,     ///< index out of range
-  kNotKinematic,   ///< a pose for a body that is not kinematic
-  kStaticBody,     ///< static bodies are never added, removed or moved
-  kHeldBody,       ///< the probe (held) body cannot be moved, added or removed by a client
-  kInactive,       ///< a pose for a body that is not active (add it first)
-  kNotFinite,      ///< a pose with NaN or Inf, or a quaternion that is not unit
+  kUnsupported,   ///< this implementation does not edit scenes
+  kNoSuchBody,    ///< index out of range
+  kNotKinematic,  ///< a pose for a body that is not kinematic
+  kStaticBody,    ///< static bodies are never added, removed or moved
+  kHeldBody,      ///< the probe (held) body cannot be moved, added or removed by a client
+  kInactive,      ///< a pose for a body that is not active (add it first)
+  kNotFinite,     ///< a pose with NaN or Inf, or a quaternion that is not unit
 };
 
-/// A name for an EditStatus ("not kinematic"). Any thread.
-const char* toString(EditStatus s);
+/// A name for an EditStatus ("not a kinematic body"). Any thread; inline, so that code which
+/// does not link the simulation (the servo loop with test fakes) names it the same way.
+inline const char* toString(EditStatus s) {
+  switch (s) {
+    case EditStatus::kOk:
+      return "ok";
+    case EditStatus::kUnsupported:
+      return "scene edits not supported";
+    case EditStatus::kNoSuchBody:
+      return "no such body";
+    case EditStatus::kNotKinematic:
+      return "not a kinematic body";
+    case EditStatus::kStaticBody:
+      return "a static body";
+    case EditStatus::kHeldBody:
+      return "the held (probe) body";
+    case EditStatus::kInactive:
+      return "not active (add it first)";
+    case EditStatus::kNotFinite:
+      return "not a finite pose with a unit quaternion";
+  }
+  return "unknown";
+}
 
 class Simulation {
  public:
