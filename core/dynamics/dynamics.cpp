@@ -1191,39 +1191,28 @@ void Dynamics::correctPositions(double dt) {
     const BodyState& A = bodies_[js.a];
     js.ra = A.R * (j.X_AJ.translation - A.com_B);
     const Quat qa = A.q * j.X_AJ.rotation;
+    // b's attachment frame in the world: on body b, or fixed in the scene frame
+    Quat qb = j.X_BJ.rotation;
     if (js.b >= 0) {
       const BodyState& B = bodies_[static_cast<std::size_t>(js.b)];
       js.rb = B.R * (j.X_BJ.translation - B.com_B);
       js.err_point = (B.x_W + js.rb) - (A.x_W + js.ra);  // error, b's anchor from a's
-      const Quat qb = B.q * j.X_BJ.rotation;
-      js.err_ang = logMap(qb * glm::conjugate(qa));
-      if (j.kind == scene::JointKind::kHinge) {
-        Vec3 e{0.0};
-        e[j.hinge_axis] = 1.0;
-        js.err_ang = glm::cross(qa * e, qb * e);
-        const Quat rel = glm::conjugate(qa) * qb;
-        const double theta =
-            std::remainder(2.0 * std::atan2(rel[j.hinge_axis], rel.w), 2.0 * std::numbers::pi);
-        js.c_min = js.has_min ? theta - *j.hinge_min : 0.0;
-        js.c_max = js.has_max ? *j.hinge_max - theta : 0.0;
-        js.axis = glm::normalize(qa * e);
-      }
+      qb = B.q * j.X_BJ.rotation;
     } else {
       js.rb = Vec3{0.0};
       js.err_point = j.X_BJ.translation - (A.x_W + js.ra);
-      const Quat qb = j.X_BJ.rotation;
-      js.err_ang = logMap(qb * glm::conjugate(qa));
-      if (j.kind == scene::JointKind::kHinge) {
-        Vec3 e{0.0};
-        e[j.hinge_axis] = 1.0;
-        js.err_ang = glm::cross(qa * e, qb * e);
-        const Quat rel = glm::conjugate(qa) * qb;
-        const double theta =
-            std::remainder(2.0 * std::atan2(rel[j.hinge_axis], rel.w), 2.0 * std::numbers::pi);
-        js.c_min = js.has_min ? theta - *j.hinge_min : 0.0;
-        js.c_max = js.has_max ? *j.hinge_max - theta : 0.0;
-        js.axis = glm::normalize(qa * e);
-      }
+    }
+    js.err_ang = logMap(qb * glm::conjugate(qa));
+    if (j.kind == scene::JointKind::kHinge) {
+      Vec3 e{0.0};
+      e[j.hinge_axis] = 1.0;
+      js.err_ang = glm::cross(qa * e, qb * e);
+      const Quat rel = glm::conjugate(qa) * qb;
+      const double theta =
+          std::remainder(2.0 * std::atan2(rel[j.hinge_axis], rel.w), 2.0 * std::numbers::pi);
+      js.c_min = js.has_min ? theta - *j.hinge_min : 0.0;
+      js.c_max = js.has_max ? *j.hinge_max - theta : 0.0;
+      js.axis = glm::normalize(qa * e);
     }
     any = true;
   }
