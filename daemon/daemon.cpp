@@ -331,12 +331,6 @@ proto::WirePose toWire(const geom::Pose& X) {
   w.q = {X.rotation.x, X.rotation.y, X.rotation.z, X.rotation.w};
   return w;
 }
-std::uint32_t toWireFaults(std::uint32_t f) {
-  return wireFaultBits(f);
-}
-std::uint32_t toWireFlags(const ServoState& st) {
-  return wireStateFlags(st);
-}
 // after poseProblem() found nothing: the quaternion, within the wire's tolerance of unit length,
 // is normalised
 geom::Pose fromWire(const proto::WirePose& w) {
@@ -422,8 +416,8 @@ bool Daemon::fillState(proto::State& out) const {
   out.tick_p50_ns = clampU32(cmp.quantileNs(0.5));
   out.tick_p99_ns = clampU32(cmp.quantileNs(0.99));
   out.tick_max_ns = clampU32(cmp.maxNs());
-  out.fault_bits = toWireFaults(st.faults);
-  out.state_flags = toWireFlags(st);
+  out.fault_bits = wireFaultBits(st.faults);
+  out.state_flags = wireStateFlags(st);
   out.contact_count = st.contacts;
   out.pairs_tested = st.pairs_tested;
   out.pairs_skipped = st.pairs_skipped;
@@ -548,8 +542,8 @@ void Daemon::fillStatus(proto::StatusReply& r) const {
   r.tick_p50_ns = clampU32(cmp.quantileNs(0.5));
   r.tick_p99_ns = clampU32(cmp.quantileNs(0.99));
   r.tick_max_ns = clampU32(cmp.maxNs());
-  r.fault_bits = toWireFaults(st.faults);
-  r.state_flags = toWireFlags(st);
+  r.fault_bits = wireFaultBits(st.faults);
+  r.state_flags = wireStateFlags(st);
   r.commands_accepted = st.commands_accepted;
   r.commands_dropped = st.commands_dropped;
   r.edit_batches_applied = st.edit_batches_applied;  // protocol minor 1
