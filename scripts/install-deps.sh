@@ -8,6 +8,7 @@ set -euo pipefail
 PACKAGES=(
   build-essential cmake ninja-build pkg-config git
   clang libclang-rt-14-dev            # the asan preset's UBSan runtime and the fuzz targets
+  clang-format clang-tidy             # scripts/format.sh and scripts/tidy.sh (CI enforces the format)
   libglm-dev                          # math (core)
   libqhull-dev                        # convex hulls (core)
   nlohmann-json3-dev                  # hapticctl query: JSON lines
