@@ -280,7 +280,7 @@ TEST(DaemonCommands, ReplaySendsTheInterpolatedStreamInOrderAtTheTickRate) {
   // the first segment's velocity travels with the pose; the last pose stands still
   EXPECT_NEAR(got[1].v_W[0], 0.01 / 0.05, 1e-9);
   EXPECT_NEAR(got[1].w_W[2], (std::numbers::pi / 2) / 0.05, 1e-6);
-  EXPECT_EQ(got.back().v_W, (proto::Vec3{0.0, 0.0, 0.0}));
+  EXPECT_EQ(got.back().v_W, (proto::WireVec3{0.0, 0.0, 0.0}));
 }
 
 TEST(DaemonCommands, ReplayRateIsClampedToTheTickRate) {
@@ -410,13 +410,13 @@ TEST(DaemonCommands, MoveAddRemoveDeliverTheSceneUpdate) {
   EXPECT_TRUE(u[0].added.empty());
   EXPECT_TRUE(u[0].removed.empty());
   EXPECT_EQ(u[0].poses[0].body_index, 3u);
-  EXPECT_EQ(u[0].poses[0].X_WB.p, (proto::Vec3{0.5, -0.25, 2.0}));
+  EXPECT_EQ(u[0].poses[0].X_WB.p, (proto::WireVec3{0.5, -0.25, 2.0}));
   EXPECT_NEAR(u[0].poses[0].X_WB.q[2], std::sqrt(0.5), 1e-15);
   EXPECT_NEAR(u[0].poses[0].X_WB.q[3], std::sqrt(0.5), 1e-15);
   ASSERT_EQ(u[1].added.size(), 1u);
   EXPECT_TRUE(u[1].poses.empty());
   EXPECT_EQ(u[1].added[0].body_index, 5u);
-  EXPECT_EQ(u[1].added[0].X_WB.p, (proto::Vec3{1.0, 0.0, 0.0}));
+  EXPECT_EQ(u[1].added[0].X_WB.p, (proto::WireVec3{1.0, 0.0, 0.0}));
   EXPECT_EQ(u[1].added[0].X_WB.q, (std::array<double, 4>{0.0, 0.0, 0.0, 1.0}));
   EXPECT_EQ(u[2].removed, (std::vector<std::uint32_t>{7}));
   EXPECT_TRUE(u[2].poses.empty());
@@ -538,7 +538,7 @@ TEST(DaemonCommandsShm, PoseOverSharedMemory) {
   for (std::size_t i = 1; i < ev.size(); ++i) {
     EXPECT_EQ(ev[i].kind, proto::ShmCommandEvent::Kind::kPose);
     EXPECT_GT(ev[i].sequence, ev[i - 1].sequence);
-    EXPECT_EQ(ev[i].pose.X_WT.p, (proto::Vec3{0.01, 0.02, 0.03}));
+    EXPECT_EQ(ev[i].pose.X_WT.p, (proto::WireVec3{0.01, 0.02, 0.03}));
   }
 }
 
