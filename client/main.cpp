@@ -112,7 +112,9 @@ int main(int argc, char** argv) {
   auto* remove = daemonCommand("remove", "Make a body inactive: exit 0 acknowledged, 1 refused");
   remove->add_option("BODY", edit_options.body, "body index in the scene")->required();
   auto* arm = daemonCommand("arm", "Enable forces; clears a latched fault");
-  auto* disarm = daemonCommand("disarm", "Force to zero now");
+  auto* disarm = daemonCommand("disarm",
+                               "Ramp the force to zero over [servo] stop_ramp_s (0.2 s by "
+                               "default)");
   CLI11_PARSE(app, argc, argv);
 
   if (status->parsed()) return hc::runStatus(target, status_options, std::cout, std::cerr);

@@ -49,7 +49,9 @@ std::string fmt17(double v) {
 class Parser {
  public:
   Parser(std::string_view source, double quat_tolerance, PoseStreamDialect dialect)
-      : source_(source), tolerance_(quat_tolerance), strict_(dialect == PoseStreamDialect::kStrict) {}
+      : source_(source),
+        tolerance_(quat_tolerance),
+        strict_(dialect == PoseStreamDialect::kStrict) {}
 
   Result<std::vector<PoseStreamRow>> run(std::string_view text);
 
