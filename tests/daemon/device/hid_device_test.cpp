@@ -424,11 +424,6 @@ TEST(HidDevice, ServoCallsDoNotAllocate) {
   EXPECT_EQ(testing_alloc::count(), before);
 }
 
-}  // namespace
-}  // namespace hapticd::device
-
-namespace hapticd::device {
-namespace {
 
 // random report bytes of every length: parsed or refused, never a non-finite pose
 TEST(HidReports, RandomReportsNeverCrash) {

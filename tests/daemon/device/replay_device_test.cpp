@@ -268,11 +268,6 @@ TEST(ReplayDevice, OpensFilesThroughMakeDevice) {
   EXPECT_EQ(s.buttons, 1u);
 }
 
-}  // namespace
-}  // namespace hapticd::device
-
-namespace hapticd::device {
-namespace {
 
 // mutated files: every outcome is a row list or an error with a line number; no crash (ASan)
 TEST(ReplayDevice, MutatedFilesNeverCrash) {
