@@ -22,6 +22,7 @@
 #include "core/dynamics/dynamics.h"
 #include "core/scene/loader.h"
 #include "core/sim/simulation.h"
+#include "protocol/pose_stream.h"
 
 namespace hapticd::bench {
 namespace {
@@ -32,54 +33,30 @@ using geom::Vec3;
 
 constexpr std::size_t kTicks = 100000;
 
-struct Key {
-  double t;
-  Pose X;
-  std::uint32_t buttons;
-};
+// a pose-stream row (protocol/pose_stream.h); the code-built scenes below write theirs by hand
+using Key = proto::PoseStreamRow;
 
 std::vector<Key> readStream(const std::string& file) {
-  std::vector<Key> keys;
-  std::FILE* f = std::fopen(file.c_str(), "r");
-  if (f == nullptr)
-    return keys;
-  char line[512];
-  bool header = true;
-  while (std::fgets(line, sizeof line, f) != nullptr) {
-    if (header) {
-      header = false;
-      continue;
-    }
-    double t, px, py, pz, qx, qy, qz, qw;
-    unsigned b = 0;
-    if (std::sscanf(line, "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%u", &t, &px, &py, &pz, &qx, &qy, &qz,
-                    &qw, &b) != 9) {
-      keys.clear();
-      break;
-    }
-    keys.push_back({t, Pose::fromXyzw(Vec3{px, py, pz}, qx, qy, qz, qw), b});
-  }
-  std::fclose(f);
-  return keys;
+  auto text = proto::readPoseStreamFile(file);
+  if (!text)
+    return {};
+  auto rows = proto::parsePoseStream(text.value(), file, 1e-3, proto::PoseStreamDialect::kStrict);
+  return rows ? std::move(rows).value() : std::vector<Key>{};
 }
 
-// The pose at time t of a stream played forwards then backwards, again and again.
+// The pose at time t of a stream played forwards then backwards, again and again (the stream's
+// own interpolation, proto::samplePoseStream).
 sim::TickInput inputAt(const std::vector<Key>& keys, double t) {
-  const double T = keys.back().t;
+  const double T = keys.back().t_s;
   double u = std::fmod(t, 2.0 * T);
   if (u > T)
     u = 2.0 * T - u;
-  const auto it = std::lower_bound(keys.begin() + 1, keys.end() - 1, u,
-                                   [](const Key& k, double v) { return k.t < v; });
-  const auto i = static_cast<std::size_t>(it - keys.begin());
-  const Key& a = keys[i - 1];
-  const Key& b = keys[i];
-  const double s = b.t > a.t ? std::clamp((u - a.t) / (b.t - a.t), 0.0, 1.0) : 0.0;
+  std::size_t cursor = 0;
+  const Key k = proto::samplePoseStream(keys, u, cursor);
   sim::TickInput in;
   in.t_s = t;
-  in.X_W_device.translation = a.X.translation + s * (b.X.translation - a.X.translation);
-  in.X_W_device.rotation = glm::normalize(glm::slerp(a.X.rotation, b.X.rotation, s));
-  in.buttons = a.buttons;
+  in.X_W_device = k.X_WD;
+  in.buttons = k.buttons;
   return in;
 }
 

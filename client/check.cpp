@@ -1,6 +1,7 @@
 #include "client/check.h"
 
 #include <cstdio>
+#include <iterator>
 #include <nlohmann/json.hpp>
 
 namespace hapticd::client {
@@ -9,38 +10,20 @@ namespace {
 using scene::Motion;
 using scene::ShapeSource;
 
+// in enum order
+constexpr const char* kMotionNames[] = {"static", "kinematic", "dynamic"};
+constexpr const char* kSourceNames[] = {"box",   "sphere",    "capsule",     "cylinder",
+                                        "plane", "mesh hull", "convex mesh", "code"};
+static_assert(std::size(kSourceNames) == static_cast<std::size_t>(ShapeSource::kCode) + 1);
+
 const char* motionName(Motion m) {
-  switch (m) {
-    case Motion::kStatic:
-      return "static";
-    case Motion::kKinematic:
-      return "kinematic";
-    case Motion::kDynamic:
-      return "dynamic";
-  }
-  return "?";
+  const auto i = static_cast<std::size_t>(m);
+  return i < std::size(kMotionNames) ? kMotionNames[i] : "?";
 }
 
 const char* sourceName(ShapeSource s) {
-  switch (s) {
-    case ShapeSource::kBox:
-      return "box";
-    case ShapeSource::kSphere:
-      return "sphere";
-    case ShapeSource::kCapsule:
-      return "capsule";
-    case ShapeSource::kCylinder:
-      return "cylinder";
-    case ShapeSource::kPlane:
-      return "plane";
-    case ShapeSource::kMeshHull:
-      return "mesh hull";
-    case ShapeSource::kConvexMesh:
-      return "convex mesh";
-    case ShapeSource::kCode:
-      return "code";
-  }
-  return "?";
+  const auto i = static_cast<std::size_t>(s);
+  return i < std::size(kSourceNames) ? kSourceNames[i] : "?";
 }
 
 std::string num(double v) {

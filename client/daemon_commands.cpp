@@ -76,7 +76,7 @@ std::string faultText(std::uint32_t bits) {
   return s;
 }
 
-double norm(const proto::Vec3& v) {
+double norm(const proto::WireVec3& v) {
   return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
@@ -302,12 +302,15 @@ bool streamPose(Link& c,
   return true;
 }
 
+// the sample on the wire: the one conversion of the client's replay
 proto::PoseCommand commandOf(const PoseSample& s) {
+  const geom::Vec3& p = s.X_WD.translation;
+  const geom::Quat& q = s.X_WD.rotation;
   proto::PoseCommand c;
-  c.X_WT.p = s.p_W;
-  c.X_WT.q = s.q_W;
-  c.v_W = s.v_W;
-  c.w_W = s.w_W;
+  c.X_WT.p = {p.x, p.y, p.z};
+  c.X_WT.q = {q.x, q.y, q.z, q.w};
+  c.v_W = {s.v_W.x, s.v_W.y, s.v_W.z};
+  c.w_W = {s.w_W.x, s.w_W.y, s.w_W.z};
   c.buttons = s.buttons;
   return c;
 }
@@ -537,17 +540,17 @@ int runReplay(const DaemonTarget& t, const ReplayOptions& o, std::ostream& out, 
     err << "hapticctl replay: --rate must be a finite number ≥ 0 (0: the daemon's tick rate)\n";
     return 2;
   }
-  std::ifstream in(o.file);
-  if (!in) {
-    err << "hapticctl replay: cannot open " << o.file << "\n";
+  auto text = proto::readPoseStreamFile(o.file);
+  if (!text) {
+    err << "hapticctl replay: cannot open " << o.file << ": " << text.error().message << "\n";
     return 2;
   }
-  auto parsed = parsePoseStream(in, o.file);
+  auto parsed = parsePoseStream(text.value(), o.file);
   if (!parsed) {
     err << "hapticctl replay: " << parsed.error().message << "\n";
     return 2;
   }
-  const std::vector<PoseSample>& rows = parsed.value();
+  const std::vector<proto::PoseStreamRow>& rows = parsed.value();
   auto c = openLink(t, "replay", err);
   if (!c)
     return 1;

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// hapticctl's commands that talk to a running hapticd over the UDP protocol (protocol/client.h):
-/// status, load, pose, replay, record, watch, arm, disarm (../shared/DESIGN.md "hapticctl"), and
+/// status, load, pose, replay, record, watch, arm, disarm (docs/architecture.md "hapticctl"), and
 /// the scene edits move, add, remove (SceneUpdate). pose, replay, watch and record can use the
 /// shared-memory segment instead (DaemonTarget::shm_name, protocol/shm.h).
 /// Each returns the process exit code: 0 done, 1 refused or no daemon answered, 2 bad input
@@ -80,7 +80,7 @@ int runSceneEdit(const DaemonTarget& t,
                  std::ostream& out,
                  std::ostream& err);
 
-/// The record header (the daemon's --record columns, ../shared/DESIGN.md "Records").
+/// The record header (the daemon's --record columns, docs/architecture.md "Records").
 const char* recordHeader();
 
 }  // namespace hapticd::client

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// `hapticctl query`: offline pair queries, one JSON object per line in, one result per line out
-/// (format in docs/query.md and ../shared/DESIGN.md, "Pair queries").
+/// (format in docs/query.md and docs/architecture.md, "Pair queries").
 
 #include <istream>
 #include <ostream>

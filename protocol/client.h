@@ -92,7 +92,6 @@ class Client {
 
   const Welcome& welcome() const { return welcome_; }
   const ClientCounters& counters() const { return counters_; }
-  SocketAddress serverAddress() const { return server_; }
 
  private:
   Client(ClientConfig config, UdpSocket socket, SocketAddress server);

@@ -14,7 +14,7 @@ void putPose(Writer& w, const WirePose& x) {
   for (double v : x.q)
     w.f64(v);
 }
-void putVec(Writer& w, const Vec3& v) {
+void putVec(Writer& w, const WireVec3& v) {
   for (double c : v)
     w.f64(c);
 }
@@ -26,8 +26,8 @@ WirePose getPose(Reader& r) {
     v = r.f64();
   return x;
 }
-Vec3 getVec(Reader& r) {
-  Vec3 v;
+WireVec3 getVec(Reader& r) {
+  WireVec3 v;
   for (double& c : v)
     c = r.f64();
   return v;

@@ -18,13 +18,15 @@
 
 namespace hapticd::proto {
 
-using Vec3 = std::array<double, 3>;
+/// A vector on the wire: x, y, z (unit and frame named by each field), plain doubles in the
+/// codec's order; not geom::Vec3, the geometry type the daemon converts it to where it enters.
+using WireVec3 = std::array<double, 3>;
 
 /// A pose on the wire (56 bytes): translation p (metres, scene frame), unit quaternion q
 /// (x, y, z, w). Decoders refuse a quaternion whose norm differs from 1 by more than
 /// kQuatNormTolerance (Errc::kBadValue).
 struct WirePose {
-  Vec3 p{0.0, 0.0, 0.0};
+  WireVec3 p{0.0, 0.0, 0.0};
   std::array<double, 4> q{0.0, 0.0, 0.0, 1.0};
   bool operator==(const WirePose&) const = default;
 };
@@ -176,8 +178,8 @@ struct PoseCommand {
   static constexpr MsgType kType = MsgType::kPoseCommand;
   static constexpr std::size_t kFixedSize = 112;
   WirePose X_WT;              ///< target pose of the held body's origin, scene frame
-  Vec3 v_W{0.0, 0.0, 0.0};    ///< linear velocity, m/s, scene frame
-  Vec3 w_W{0.0, 0.0, 0.0};    ///< angular velocity, rad/s, scene frame
+  WireVec3 v_W{0.0, 0.0, 0.0};    ///< linear velocity, m/s, scene frame
+  WireVec3 w_W{0.0, 0.0, 0.0};    ///< angular velocity, rad/s, scene frame
   std::uint32_t buttons = 0;  ///< bit mask
   bool operator==(const PoseCommand&) const = default;
 };
@@ -220,8 +222,8 @@ struct State {
   static constexpr std::size_t kFixedSize = 232;
   static constexpr std::size_t kMinor1Size = 24;  ///< appended by minor 1, after the lists
   struct Contact {
-    Vec3 p_W{0.0, 0.0, 0.0};  ///< contact point, scene frame, metres
-    Vec3 n_W{0.0, 0.0, 1.0};  ///< unit normal, scene frame
+    WireVec3 p_W{0.0, 0.0, 0.0};  ///< contact point, scene frame, metres
+    WireVec3 n_W{0.0, 0.0, 1.0};  ///< unit normal, scene frame
     double depth_m = 0.0;     ///< penetration depth ≥ 0 (negative: gap)
     bool operator==(const Contact&) const = default;
   };
@@ -229,8 +231,8 @@ struct State {
   std::uint64_t sim_time_ns = 0;  ///< servo clock (monotonic or virtual), ns
   WirePose X_WD;                  ///< device (probe) pose, scene frame
   WirePose X_WP;                  ///< proxy pose, scene frame
-  Vec3 force_n{0.0, 0.0, 0.0};    ///< force on the held body, N, scene frame
-  Vec3 torque_nm{0.0, 0.0, 0.0};  ///< torque about the held body's origin, N·m, scene frame
+  WireVec3 force_n{0.0, 0.0, 0.0};    ///< force on the held body, N, scene frame
+  WireVec3 torque_nm{0.0, 0.0, 0.0};  ///< torque about the held body's origin, N·m, scene frame
   double force_scale = 1.0;       ///< 0..1, the command gate's ramp
   std::uint64_t last_command_sequence = 0;  ///< sequence of the newest accepted PoseCommand
   std::uint64_t tick_misses = 0;            ///< ticks over their deadline since start

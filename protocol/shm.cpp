@@ -22,7 +22,7 @@ constexpr std::size_t alignUp(std::size_t v, std::size_t a) {
 }
 constexpr std::size_t kRingOffset = alignUp(kStateOffset + sizeof(ShmStateBlock), 64);
 constexpr std::size_t kSegmentBytes = alignUp(kRingOffset + sizeof(ShmRing), 4096);
-static_assert((kShmRingSlots & (kShmRingSlots - 1)) == 0);
+static_assert(kShmRingSlots >= 2 && (kShmRingSlots & (kShmRingSlots - 1)) == 0);
 
 ShmHeader* header(void* base) {
   return static_cast<ShmHeader*>(base);
@@ -142,32 +142,21 @@ ShmServer::~ShmServer() {
 }
 
 void ShmServer::publish(const ShmState& s) noexcept {
-  ShmStateBlock* b = stateBlock(base_);
-  std::uint64_t words[kShmStateWords];
-  std::memcpy(words, &s, sizeof s);
-  const std::uint64_t q = b->seq.load(std::memory_order_relaxed);
-  b->seq.store(q + 1, std::memory_order_relaxed);
-  std::atomic_thread_fence(std::memory_order_release);
-  for (std::size_t i = 0; i < kShmStateWords; ++i)
-    b->words[i].store(words[i], std::memory_order_relaxed);
-  b->seq.store(q + 2, std::memory_order_release);
+  stateBlock(base_)->write(s);
 }
 
 bool ShmServer::popCommand(ShmCommandEvent& out) noexcept {
   ShmRing* r = ring(base_);
   ShmHeader* h = header(base_);
+  SpscRingRef<ShmCommand> q(r->indices, r->slots, kShmRingSlots);
   for (;;) {
-    const std::uint64_t tail = r->tail.load(std::memory_order_relaxed);
-    const std::uint64_t head = r->head.load(std::memory_order_acquire);
-    if (tail == head)
-      return false;
-    if (head - tail > kShmRingSlots) {  // a broken producer: resynchronise
-      r->tail.store(head, std::memory_order_release);
-      h->commands_refused.fetch_add(head - tail, std::memory_order_relaxed);
+    if (const std::uint64_t skipped = q.resync()) {  // a broken producer
+      h->commands_refused.fetch_add(skipped, std::memory_order_relaxed);
       return false;
     }
-    const ShmCommand c = r->slots[tail & (kShmRingSlots - 1)];
-    r->tail.store(tail + 1, std::memory_order_release);
+    ShmCommand c;
+    if (!q.pop(c))
+      return false;
     bool ok = c.kind >= 1 && c.kind <= 3;
     if (ok && c.kind == 1) {
       ok = finiteAll(c.X_WT, 7) && finiteAll(c.v_W, 3) && finiteAll(c.w_W, 3);
@@ -278,35 +267,13 @@ ShmClient::~ShmClient() {
 }
 
 bool ShmClient::readState(ShmState& out, int max_tries) const noexcept {
-  const ShmStateBlock* b = stateBlock(base_);
-  std::uint64_t words[kShmStateWords];
-  for (int i = 0; i < max_tries; ++i) {
-    const std::uint64_t s1 = b->seq.load(std::memory_order_acquire);
-    if (s1 == 0)
-      return false;  // nothing published yet
-    if (s1 & 1)
-      continue;
-    for (std::size_t w = 0; w < kShmStateWords; ++w)
-      words[w] = b->words[w].load(std::memory_order_relaxed);
-    std::atomic_thread_fence(std::memory_order_acquire);
-    const std::uint64_t s2 = b->seq.load(std::memory_order_relaxed);
-    if (s1 == s2) {
-      std::memcpy(&out, words, sizeof out);
-      return true;
-    }
-  }
-  return false;
+  return stateBlock(base_)->tryRead(out, max_tries);
 }
 
 bool ShmClient::push(ShmCommand c) noexcept {
   ShmRing* r = ring(base_);
-  const std::uint64_t head = r->head.load(std::memory_order_relaxed);
-  if (head - r->tail.load(std::memory_order_acquire) >= kShmRingSlots)
-    return false;
   c.generation = generation_;
-  r->slots[head & (kShmRingSlots - 1)] = c;
-  r->head.store(head + 1, std::memory_order_release);
-  return true;
+  return SpscRingRef<ShmCommand>(r->indices, r->slots, kShmRingSlots).push(c);
 }
 
 bool ShmClient::pushPose(const PoseCommand& cmd,
@@ -330,22 +297,21 @@ bool ShmClient::pushPose(const PoseCommand& cmd,
   return push(c);
 }
 
-bool ShmClient::pushArm(std::uint64_t now_ns) noexcept {
+bool ShmClient::pushControl(std::uint64_t kind, std::uint64_t now_ns) noexcept {
   ShmCommand c{};
-  c.kind = 2;
+  c.kind = kind;
   c.sequence = ++sequence_;
   c.timestamp_ns = now_ns;
   c.X_WT[6] = 1.0;
   return push(c);
 }
 
+bool ShmClient::pushArm(std::uint64_t now_ns) noexcept {
+  return pushControl(2, now_ns);
+}
+
 bool ShmClient::pushDisarm(std::uint64_t now_ns) noexcept {
-  ShmCommand c{};
-  c.kind = 3;
-  c.sequence = ++sequence_;
-  c.timestamp_ns = now_ns;
-  c.X_WT[6] = 1.0;
-  return push(c);
+  return pushControl(3, now_ns);
 }
 
 void ShmClient::beat(std::uint64_t now_ns) noexcept {

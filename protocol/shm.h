@@ -18,11 +18,15 @@
 
 #include <array>
 #include <atomic>
+#include <cstddef>
 #include <cstdint>
 #include <string>
+#include <type_traits>
 
 #include "core/common/result.h"
 #include "protocol/messages.h"
+#include "protocol/seqlock.h"
+#include "protocol/spsc_ring.h"
 
 namespace hapticd::proto {
 
@@ -108,18 +112,19 @@ struct ShmCommand {
 };
 static_assert(sizeof(ShmCommand) == 18 * 8);
 
-/// The state block: seqlock word (odd while the writer is inside) and the words.
-struct ShmStateBlock {
-  alignas(64) std::atomic<std::uint64_t> seq;
-  std::atomic<std::uint64_t> words[kShmStateWords];
-};
+/// The state block: the seqlock word (odd while the writer is inside), then ShmState as 64-bit
+/// words (protocol/seqlock.h, the same seqlock the daemon uses in process).
+using ShmStateBlock = SeqlockBlock<ShmState>;
+static_assert(ShmStateBlock::kWords == kShmStateWords);
+static_assert(std::is_standard_layout_v<ShmStateBlock>);
 
-/// The command ring: head written by the client, tail by the daemon.
+/// The command ring (protocol/spsc_ring.h, the same ring the daemon uses in process): head
+/// written by the client, tail by the daemon, then the slots.
 struct ShmRing {
-  alignas(64) std::atomic<std::uint64_t> head;  ///< next slot the producer writes
-  alignas(64) std::atomic<std::uint64_t> tail;  ///< next slot the consumer reads
+  SpscIndices indices;
   alignas(64) ShmCommand slots[kShmRingSlots];
 };
+static_assert(offsetof(ShmRing, slots) == 128);
 
 /// A command taken from the ring, checked (finite, unit quaternion) and in the gate's terms.
 struct ShmCommandEvent {
@@ -196,6 +201,7 @@ class ShmClient {
  private:
   ShmClient() = default;
   bool push(ShmCommand c) noexcept;
+  bool pushControl(std::uint64_t kind, std::uint64_t now_ns) noexcept;  // arm or disarm
   void* base_ = nullptr;
   std::size_t size_ = 0;
   std::uint64_t generation_ = 0;

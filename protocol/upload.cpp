@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <iterator>
 
 namespace hapticd::proto {
 
@@ -15,22 +16,21 @@ std::array<std::uint8_t, 32> sha256(std::span<const std::uint8_t> bytes) {
   return h;
 }
 
+namespace {
+// in ChunkOutcome order
+constexpr const char* kChunkOutcomeTexts[] = {
+    "stored",
+    "duplicate (already held)",
+    "chunk reaches past the announced total size",
+    "chunk larger than the server's max chunk size",
+    "too many disjoint chunks held: send in order",
+    "no upload in progress with this id: send scene_begin"};
+static_assert(std::size(kChunkOutcomeTexts) ==
+              static_cast<std::size_t>(ChunkOutcome::kNotBegun) + 1);
+}  // namespace
+
 const char* chunkOutcomeText(ChunkOutcome o) {
-  switch (o) {
-    case ChunkOutcome::kStored:
-      return "stored";
-    case ChunkOutcome::kDuplicate:
-      return "duplicate (already held)";
-    case ChunkOutcome::kOutOfRange:
-      return "chunk reaches past the announced total size";
-    case ChunkOutcome::kTooLarge:
-      return "chunk larger than the server's max chunk size";
-    case ChunkOutcome::kTooFragmented:
-      return "too many disjoint chunks held: send in order";
-    case ChunkOutcome::kNotBegun:
-      return "no upload in progress with this id: send scene_begin";
-  }
-  return "unknown";
+  return nameOf(o, kChunkOutcomeTexts);
 }
 
 bool Reassembly::begin(const SceneBegin& b, std::uint64_t now_ns, std::string* error) {

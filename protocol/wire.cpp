@@ -1,99 +1,33 @@
 #include "protocol/wire.h"
 
 #include <cstdio>
+#include <iterator>
 
 namespace hapticd::proto {
+namespace {
+
+// in value order; 0 is no type
+constexpr const char* kMsgTypeNames[] = {
+    "unknown", "hello", "welcome", "scene_begin", "scene_chunk", "scene_chunk_ack", "scene_commit",
+    "scene_status", "scene_update", "pose_command", "subscribe", "state", "arm", "disarm",
+    "heartbeat", "error", "status_request", "status_reply", "ack", "bye"};
+static_assert(std::size(kMsgTypeNames) == kMsgTypeEnd);
+
+constexpr const char* kErrcNames[] = {
+    "ok", "too_short", "too_long", "bad_magic", "bad_major", "bad_flags", "unknown_type",
+    "bad_payload_length", "not_finite", "bad_value", "no_mac", "bad_mac", "replay", "rate_limited",
+    "unknown_session", "wrong_peer", "server_full", "upload_error", "not_expected",
+    "buffer_too_small"};
+static_assert(std::size(kErrcNames) == kErrcCount);
+
+}  // namespace
 
 const char* msgTypeName(std::uint16_t type) {
-  switch (static_cast<MsgType>(type)) {
-    case MsgType::kHello:
-      return "hello";
-    case MsgType::kWelcome:
-      return "welcome";
-    case MsgType::kSceneBegin:
-      return "scene_begin";
-    case MsgType::kSceneChunk:
-      return "scene_chunk";
-    case MsgType::kSceneChunkAck:
-      return "scene_chunk_ack";
-    case MsgType::kSceneCommit:
-      return "scene_commit";
-    case MsgType::kSceneStatus:
-      return "scene_status";
-    case MsgType::kSceneUpdate:
-      return "scene_update";
-    case MsgType::kPoseCommand:
-      return "pose_command";
-    case MsgType::kSubscribe:
-      return "subscribe";
-    case MsgType::kState:
-      return "state";
-    case MsgType::kArm:
-      return "arm";
-    case MsgType::kDisarm:
-      return "disarm";
-    case MsgType::kHeartbeat:
-      return "heartbeat";
-    case MsgType::kError:
-      return "error";
-    case MsgType::kStatusRequest:
-      return "status_request";
-    case MsgType::kStatusReply:
-      return "status_reply";
-    case MsgType::kAck:
-      return "ack";
-    case MsgType::kBye:
-      return "bye";
-  }
-  return "unknown";
+  return nameOf(type, kMsgTypeNames);
 }
 
 const char* errcName(Errc e) {
-  switch (e) {
-    case Errc::kOk:
-      return "ok";
-    case Errc::kTooShort:
-      return "too_short";
-    case Errc::kTooLong:
-      return "too_long";
-    case Errc::kBadMagic:
-      return "bad_magic";
-    case Errc::kBadMajor:
-      return "bad_major";
-    case Errc::kBadFlags:
-      return "bad_flags";
-    case Errc::kUnknownType:
-      return "unknown_type";
-    case Errc::kBadPayloadLength:
-      return "bad_payload_length";
-    case Errc::kNotFinite:
-      return "not_finite";
-    case Errc::kBadValue:
-      return "bad_value";
-    case Errc::kNoMac:
-      return "no_mac";
-    case Errc::kBadMac:
-      return "bad_mac";
-    case Errc::kReplay:
-      return "replay";
-    case Errc::kRateLimited:
-      return "rate_limited";
-    case Errc::kUnknownSession:
-      return "unknown_session";
-    case Errc::kWrongPeer:
-      return "wrong_peer";
-    case Errc::kServerFull:
-      return "server_full";
-    case Errc::kUploadError:
-      return "upload_error";
-    case Errc::kNotExpected:
-      return "not_expected";
-    case Errc::kBufferTooSmall:
-      return "buffer_too_small";
-    case Errc::kCount:
-      break;
-  }
-  return "unknown";
+  return nameOf(e, kErrcNames);
 }
 
 std::string describe(const DecodeError& e) {

@@ -50,6 +50,14 @@ inline constexpr std::size_t kMaxDatagramLimit = 65507;
 inline constexpr std::uint16_t kFlagMac = 1u << 0;  ///< a kMacSize tag follows the payload
 inline constexpr std::uint16_t kKnownFlags = kFlagMac;
 
+/// The entry of `names` (listed in value order from 0) for the enum or integer value `v`,
+/// `fallback` past its end: the protocol's names of its enum values come from such tables.
+template <class E, std::size_t N>
+constexpr const char* nameOf(E v, const char* const (&names)[N], const char* fallback = "unknown") {
+  const auto i = static_cast<std::size_t>(v);
+  return i < N ? names[i] : fallback;
+}
+
 /// Message types (Header::type). Values are part of the wire format: never reuse one.
 enum class MsgType : std::uint16_t {
   kHello = 1,

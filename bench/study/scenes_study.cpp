@@ -49,7 +49,7 @@ double nowNs() {
 
 // Runs the tick over the stream; false with a message when something cannot be opened.
 bool run(const std::shared_ptr<const scene::SceneModel>& model, const sim::SimOptions& options,
-         const std::vector<device::PoseStreamRow>& rows, std::size_t ticks,
+         const std::vector<proto::PoseStreamRow>& rows, std::size_t ticks,
          std::vector<TickRecord>& out) {
   auto created = sim::Simulation::create(model, options);
   if (!created.ok()) {
@@ -101,19 +101,13 @@ void runScenes(const Options& options, std::vector<Row>& rows) {
       continue;
     }
     auto model = std::make_shared<const scene::SceneModel>(std::move(*report.scene));
-    std::string text;
-    {
-      std::FILE* f = std::fopen(csv.c_str(), "rb");
-      if (!f) {
-        std::fprintf(stderr, "study: cannot read %s\n", csv.c_str());
-        continue;
-      }
-      char buf[65536];
-      std::size_t n = 0;
-      while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) text.append(buf, n);
-      std::fclose(f);
+    auto text = proto::readPoseStreamFile(csv);
+    if (!text.ok()) {
+      std::fprintf(stderr, "study: cannot read %s: %s\n", csv.c_str(), text.error().message.c_str());
+      continue;
     }
-    auto parsed = device::parsePoseStream(text, csv, 1e-3);
+    auto parsed =
+        proto::parsePoseStream(text.value(), csv, 1e-3, proto::PoseStreamDialect::kStrict);
     if (!parsed.ok()) {
       std::fprintf(stderr, "study: %s\n", parsed.error().message.c_str());
       continue;

@@ -4,7 +4,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "daemon/device/rotation_util.h"
+#include "core/geometry/rotation.h"
 
 namespace hapticd::device {
 
@@ -171,7 +171,7 @@ DeviceStatus HidDevice::read(double t_s, DeviceSample& out) noexcept {
     const double dt = t_s - previous_t_s_;
     velocity_ = (X.translation - previous_pose_.translation) / dt;
     angular_velocity_ =
-        detail::rotationVector(X.rotation * glm::conjugate(previous_pose_.rotation)) / dt;
+        geom::rotationVector(X.rotation * glm::conjugate(previous_pose_.rotation)) / dt;
   } else if (!has_previous_) {
     velocity_ = Vec3(0.0);
     angular_velocity_ = Vec3(0.0);
@@ -193,7 +193,7 @@ DeviceStatus HidDevice::write(const Vec3& force_n, const Vec3& torque_nm) noexce
     return DeviceStatus::kOk;
   GenericOutputReport r;
   r.sequence = ++out_sequence_;
-  const bool finite = detail::finite(force_n) && detail::finite(torque_nm);
+  const bool finite = geom::finite(force_n) && geom::finite(torque_nm);
   r.force_n = finite ? force_n : Vec3(0.0);
   r.torque_nm = finite ? torque_nm : Vec3(0.0);
   r.flags = finite ? kGenericFlagEnable : 0;

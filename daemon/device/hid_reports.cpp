@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "daemon/device/rotation_util.h"
+#include "core/geometry/rotation.h"
 
 namespace hapticd::device {
 
@@ -229,7 +229,7 @@ void integrateSpaceMouse(SpaceMouseState& s, const DeviceOptions& o, double t_s)
     }
   }
   s.X_WD.translation = p;
-  s.X_WD.rotation = glm::normalize(detail::quatFromRotationVector(dt * w) * s.X_WD.rotation);
+  s.X_WD.rotation = glm::normalize(geom::quatFromRotationVector(dt * w) * s.X_WD.rotation);
   s.linear_velocity = v;
   s.angular_velocity = w;
 }

@@ -1,38 +1,25 @@
 #pragma once
 /// \file
-/// The `replay:FILE` device: a pose stream (../shared/DESIGN.md "Pose streams") read and checked
-/// whole at open, then played back at the loop's tick times with lerp (position) and slerp
-/// (orientation) between rows.
+/// The `replay:FILE` device: a pose stream (protocol/pose_stream.h, the strict dialect) read and
+/// checked whole at open, then played back at the loop's tick times with the stream's one
+/// interpolation (lerp of the position, slerp of the orientation between rows).
 
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include "daemon/device/device.h"
+#include "protocol/pose_stream.h"
 
 namespace hapticd::device {
-
-/// One row of a pose stream.
-struct PoseStreamRow {
-  double t_s = 0.0;
-  Pose X_WD;  ///< rotation normalised
-  std::uint32_t buttons = 0;
-};
-
-/// Parses a whole pose stream CSV. The header must be exactly `t,px,py,pz,qx,qy,qz,qw,buttons`;
-/// every field a finite number; t >= 0 and strictly increasing; quaternions within
-/// quat_tolerance of unit length (normalised); buttons an unsigned 32-bit integer; at least one
-/// row. CRLF line ends and a final newline are accepted. Errors name `source`, the line (from 1)
-/// and the column (from 1, with its name). Any thread; allocates.
-Result<std::vector<PoseStreamRow>> parsePoseStream(std::string_view text,
-                                                   std::string_view source,
-                                                   double quat_tolerance);
 
 /// Plays rows back. Servo-thread calls allocate nothing.
 class ReplayDevice final : public Device {
  public:
-  /// rows: non-empty, checked by parsePoseStream. Off the servo thread.
-  ReplayDevice(std::string name, std::vector<PoseStreamRow> rows, const DeviceOptions& options);
+  /// rows: non-empty, checked by proto::parsePoseStream. Off the servo thread.
+  ReplayDevice(std::string name,
+               std::vector<proto::PoseStreamRow> rows,
+               const DeviceOptions& options);
 
   const DeviceInfo& info() const override { return info_; }
   /// The stream at t_s: before the first row, the first row; between rows, lerp/slerp; exactly at
@@ -45,18 +32,20 @@ class ReplayDevice final : public Device {
 
   /// The interpolated pose at t_s (clamped to the stream's span); moves the cursor. Servo thread.
   Pose poseAt(double t_s, std::uint32_t* buttons = nullptr) noexcept;
-  const std::vector<PoseStreamRow>& rows() const { return rows_; }
+  const std::vector<proto::PoseStreamRow>& rows() const { return rows_; }
 
  private:
   DeviceInfo info_;
-  std::vector<PoseStreamRow> rows_;
+  std::vector<proto::PoseStreamRow> rows_;
   std::size_t cursor_ = 0;  ///< rows_[cursor_].t_s <= t < rows_[cursor_ + 1].t_s
   bool has_previous_ = false;
   double previous_t_s_ = 0.0;
   Pose previous_pose_;
 };
 
-/// Reads FILE, parses it (parsePoseStream) and opens the device. Off the servo thread.
+/// Reads FILE (proto::readPoseStreamFile), parses it (proto::parsePoseStream, strict, within
+/// options.replay_quat_tolerance) and opens the device. Errors start "device 'replay:FILE': ".
+/// Off the servo thread.
 Result<std::unique_ptr<Device>> makeReplayDevice(std::string_view file,
                                                  const DeviceOptions& options);
 

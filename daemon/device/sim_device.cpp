@@ -4,14 +4,14 @@
 #include <cmath>
 #include <numbers>
 
-#include "daemon/device/rotation_util.h"
+#include "core/geometry/rotation.h"
 
 namespace hapticd::device {
 
 namespace {
 
-using detail::quatFromRotationVector;
-using detail::rotationVector;
+using geom::quatFromRotationVector;
+using geom::rotationVector;
 
 // periods of the idle path, seconds (pairwise incommensurate so the path does not repeat soon)
 constexpr double kIdlePeriodX_s = 7.0;
@@ -100,7 +100,7 @@ void SimDevice::target(double t_s,
   const double s_dot = smoothstepDerivative(x) / kIdleBlend_s;
   const Pose& X_cmd = command_.X_W_target;
   X_W_target.translation = X_cmd.translation + s * (X_idle.translation - X_cmd.translation);
-  X_W_target.rotation = detail::slerp(X_cmd.rotation, X_idle.rotation, s);
+  X_W_target.rotation = geom::slerp(X_cmd.rotation, X_idle.rotation, s);
   v_W_target = s * v_idle + s_dot * (X_idle.translation - X_cmd.translation);
   w_W_target =
       s * w_idle + s_dot * rotationVector(X_idle.rotation * glm::conjugate(X_cmd.rotation));
@@ -155,14 +155,14 @@ DeviceStatus SimDevice::read(double t_s, DeviceSample& out) noexcept {
 
 DeviceStatus SimDevice::write(const Vec3& force_n, const Vec3& torque_nm) noexcept {
   // the loop checks and clamps; a non-finite value here would still poison the state
-  force_W_ = detail::finite(force_n) ? force_n : Vec3(0.0);
-  torque_W_ = detail::finite(torque_nm) ? torque_nm : Vec3(0.0);
+  force_W_ = geom::finite(force_n) ? force_n : Vec3(0.0);
+  torque_W_ = geom::finite(torque_nm) ? torque_nm : Vec3(0.0);
   return DeviceStatus::kOk;
 }
 
 void SimDevice::command(const PoseCommand& cmd) noexcept {
-  if (!detail::finite(cmd.X_W_target.translation) || !detail::finite(cmd.linear_velocity) ||
-      !detail::finite(cmd.angular_velocity))
+  if (!geom::finite(cmd.X_W_target.translation) || !geom::finite(cmd.linear_velocity) ||
+      !geom::finite(cmd.angular_velocity))
     return;
   const geom::Quat& q = cmd.X_W_target.rotation;
   const double n2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
@@ -215,7 +215,7 @@ Result<std::unique_ptr<Device>> makeSimDevice(const DeviceOptions& o) {
   if (std::isnan(o.sim_idle_motion_after_s) || o.sim_idle_motion_after_s < 0.0)
     return Error{"device 'sim': sim_idle_motion_after_s must be >= 0 (inf: never), got " +
                  std::to_string(o.sim_idle_motion_after_s)};
-  if (!detail::finite(o.sim_home.translation))
+  if (!geom::finite(o.sim_home.translation))
     return Error{"device 'sim': sim_home translation is not finite"};
   const geom::Quat& q = o.sim_home.rotation;
   const double n2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;

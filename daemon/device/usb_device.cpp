@@ -8,7 +8,6 @@
 #include <thread>
 
 #include "daemon/device/falcon_firmware.h"
-#include "daemon/device/rotation_util.h"
 
 namespace hapticd::device {
 

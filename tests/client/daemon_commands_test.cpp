@@ -54,6 +54,16 @@ double rotationGap(const std::array<double, 4>& q, const std::array<double, 4>& 
   return 1.0 - std::fabs(q[0] * r[0] + q[1] * r[1] + q[2] * r[2] + q[3] * r[3]);
 }
 
+// the lines of `text`, each parsed as JSON
+std::vector<nlohmann::json> jsonLines(const std::string& text) {
+  std::vector<nlohmann::json> out;
+  std::istringstream lines(text);
+  std::string line;
+  while (std::getline(lines, line))
+    out.push_back(nlohmann::json::parse(line));
+  return out;
+}
+
 // ---- record ---------------------------------------------------------------------------------
 
 struct RecordCheck {
@@ -243,6 +253,15 @@ std::vector<double> sendTimes(double rate) {
   return t;
 }
 
+// replay options for `text` written to a temp file `name`
+ReplayOptions replayOf(const std::string& name, const char* text = kStream) {
+  const auto file = tempFile(name);
+  std::ofstream(file) << text;
+  ReplayOptions o;
+  o.file = file.string();
+  return o;
+}
+
 void expectPoses(const std::vector<proto::PoseCommand>& got, double rate) {
   const auto times = sendTimes(rate);
   ASSERT_EQ(got.size(), times.size());
@@ -258,10 +277,7 @@ void expectPoses(const std::vector<proto::PoseCommand>& got, double rate) {
 TEST(DaemonCommands, ReplaySendsTheInterpolatedStreamInOrderAtTheTickRate) {
   FakeDaemon d(/*tick_rate_hz=*/100);
   ASSERT_TRUE(d.error().empty()) << d.error();
-  const auto file = tempFile("stream.csv");
-  std::ofstream(file) << kStream;
-  ReplayOptions o;
-  o.file = file.string();
+  ReplayOptions o = replayOf("stream.csv");
   std::ostringstream out, err;
   ASSERT_EQ(runReplay(d.target(), o, out, err), 0) << err.str();
   EXPECT_NE(out.str().find("replayed 12 pose commands"), std::string::npos) << out.str();
@@ -280,16 +296,13 @@ TEST(DaemonCommands, ReplaySendsTheInterpolatedStreamInOrderAtTheTickRate) {
   // the first segment's velocity travels with the pose; the last pose stands still
   EXPECT_NEAR(got[1].v_W[0], 0.01 / 0.05, 1e-9);
   EXPECT_NEAR(got[1].w_W[2], (std::numbers::pi / 2) / 0.05, 1e-6);
-  EXPECT_EQ(got.back().v_W, (proto::Vec3{0.0, 0.0, 0.0}));
+  EXPECT_EQ(got.back().v_W, (proto::WireVec3{0.0, 0.0, 0.0}));
 }
 
 TEST(DaemonCommands, ReplayRateIsClampedToTheTickRate) {
   FakeDaemon d(100);
   ASSERT_TRUE(d.error().empty()) << d.error();
-  const auto file = tempFile("stream2.csv");
-  std::ofstream(file) << kStream;
-  ReplayOptions o;
-  o.file = file.string();
+  ReplayOptions o = replayOf("stream2.csv");
   o.rate_hz = 1000;
   std::ostringstream out, err;
   ASSERT_EQ(runReplay(d.target(), o, out, err), 0) << err.str();
@@ -312,10 +325,7 @@ TEST(DaemonCommands, ReplayRateIsClampedToTheTickRate) {
 TEST(DaemonCommands, ALongReplayReportsProgressOnStderrUnlessQuiet) {
   FakeDaemon d(20);
   ASSERT_TRUE(d.error().empty()) << d.error();
-  const auto file = tempFile("long.csv");
-  std::ofstream(file) << "0,0,0,0,0,0,0,1,0\n2.5,0.1,0,0,0,0,0,1,0\n";
-  ReplayOptions o;
-  o.file = file.string();
+  ReplayOptions o = replayOf("long.csv", "0,0,0,0,0,0,0,1,0\n2.5,0.1,0,0,0,0,0,1,0\n");
   std::ostringstream out, err;
   ASSERT_EQ(runReplay(d.target(), o, out, err), 0) << err.str();
   // sends run to t = 2.5 s of the stream, so at least the line of the first second comes
@@ -339,10 +349,7 @@ TEST(DaemonCommands, ALongReplayReportsProgressOnStderrUnlessQuiet) {
 TEST(DaemonCommands, AStreamTooLongToReplayIsRefusedNotOverflowed) {
   FakeDaemon d(1000);
   ASSERT_TRUE(d.error().empty()) << d.error();
-  const auto file = tempFile("huge.csv");
-  std::ofstream(file) << "0,0,0,0,0,0,0,1,0\n1e300,0,0,0,0,0,0,1,0\n";
-  ReplayOptions o;
-  o.file = file.string();
+  ReplayOptions o = replayOf("huge.csv", "0,0,0,0,0,0,0,1,0\n1e300,0,0,0,0,0,0,1,0\n");
   std::ostringstream out, err;
   EXPECT_EQ(runReplay(d.target(), o, out, err), 2);
   EXPECT_NE(err.str().find("too long to replay"), std::string::npos) << err.str();
@@ -410,13 +417,13 @@ TEST(DaemonCommands, MoveAddRemoveDeliverTheSceneUpdate) {
   EXPECT_TRUE(u[0].added.empty());
   EXPECT_TRUE(u[0].removed.empty());
   EXPECT_EQ(u[0].poses[0].body_index, 3u);
-  EXPECT_EQ(u[0].poses[0].X_WB.p, (proto::Vec3{0.5, -0.25, 2.0}));
+  EXPECT_EQ(u[0].poses[0].X_WB.p, (proto::WireVec3{0.5, -0.25, 2.0}));
   EXPECT_NEAR(u[0].poses[0].X_WB.q[2], std::sqrt(0.5), 1e-15);
   EXPECT_NEAR(u[0].poses[0].X_WB.q[3], std::sqrt(0.5), 1e-15);
   ASSERT_EQ(u[1].added.size(), 1u);
   EXPECT_TRUE(u[1].poses.empty());
   EXPECT_EQ(u[1].added[0].body_index, 5u);
-  EXPECT_EQ(u[1].added[0].X_WB.p, (proto::Vec3{1.0, 0.0, 0.0}));
+  EXPECT_EQ(u[1].added[0].X_WB.p, (proto::WireVec3{1.0, 0.0, 0.0}));
   EXPECT_EQ(u[1].added[0].X_WB.q, (std::array<double, 4>{0.0, 0.0, 0.0, 1.0}));
   EXPECT_EQ(u[2].removed, (std::vector<std::uint32_t>{7}));
   EXPECT_TRUE(u[2].poses.empty());
@@ -464,12 +471,9 @@ TEST(DaemonCommands, WatchJsonCarriesTheMinorOneFieldsAndTheDeepestContacts) {
   o.json = true;
   std::ostringstream out, err;
   ASSERT_EQ(runWatch(d.target(), o, out, err), 0) << err.str();
-  std::istringstream lines(out.str());
-  std::string line;
   std::size_t n = 0;
-  while (std::getline(lines, line)) {
+  for (const nlohmann::json& j : jsonLines(out.str())) {
     ++n;
-    const auto j = nlohmann::json::parse(line);
     const std::uint64_t tick = j["tick"];
     const proto::State s = stateFor(tick);
     EXPECT_EQ(j["pairs_tested"], s.pairs_tested);
@@ -538,17 +542,14 @@ TEST(DaemonCommandsShm, PoseOverSharedMemory) {
   for (std::size_t i = 1; i < ev.size(); ++i) {
     EXPECT_EQ(ev[i].kind, proto::ShmCommandEvent::Kind::kPose);
     EXPECT_GT(ev[i].sequence, ev[i - 1].sequence);
-    EXPECT_EQ(ev[i].pose.X_WT.p, (proto::Vec3{0.01, 0.02, 0.03}));
+    EXPECT_EQ(ev[i].pose.X_WT.p, (proto::WireVec3{0.01, 0.02, 0.03}));
   }
 }
 
 TEST(DaemonCommandsShm, ReplayOverSharedMemorySendsTheInterpolatedStream) {
   FakeShmDaemon d("replay");
   ASSERT_TRUE(d.error().empty()) << d.error();
-  const auto file = tempFile("shm_stream.csv");
-  std::ofstream(file) << kStream;
-  ReplayOptions o;
-  o.file = file.string();
+  ReplayOptions o = replayOf("shm_stream.csv");
   o.rate_hz = 100;
   std::ostringstream out, err;
   ASSERT_EQ(runReplay(d.target(), o, out, err), 0) << err.str();
@@ -569,10 +570,7 @@ TEST(DaemonCommandsShm, ReplayOverSharedMemorySendsTheInterpolatedStream) {
 TEST(DaemonCommandsShm, ReplayOverSharedMemoryDefaultsToTheMeasuredTickRate) {
   FakeShmDaemon d("replay_rate");
   ASSERT_TRUE(d.error().empty()) << d.error();
-  const auto file = tempFile("shm_stream2.csv");
-  std::ofstream(file) << kStream;
-  ReplayOptions o;
-  o.file = file.string();
+  ReplayOptions o = replayOf("shm_stream2.csv");
   std::ostringstream out, err;
   ASSERT_EQ(runReplay(d.target(), o, out, err), 0) << err.str();
   EXPECT_NE(out.str().find("replayed " + std::to_string(sendTimes(500).size()) + " pose commands"),
@@ -603,12 +601,9 @@ TEST(DaemonCommandsShm, WatchOverSharedMemoryPrintsAtMostTheRate) {
   o.json = true;
   std::ostringstream out, err;
   ASSERT_EQ(runWatch(d.target(), o, out, err), 0) << err.str();
-  std::istringstream lines(out.str());
-  std::string line;
   std::uint64_t prev = 0;
   std::size_t n = 0;
-  while (std::getline(lines, line)) {
-    const auto j = nlohmann::json::parse(line);
+  for (const nlohmann::json& j : jsonLines(out.str())) {
     const std::uint64_t tick = j["tick"];
     EXPECT_GT(tick, prev);
     prev = tick;

@@ -1,22 +1,25 @@
-// Pose streams (client/pose_stream.h): parsing with errors that name file, line and what, and
-// sampling: exact at the rows, lerp and slerp right at midpoints, the shorter arc when the
-// quaternions flip sign, buttons of the row at or before, clamped outside the stream. The
-// expected values come from closed forms (rotations about one axis), not from the code under
-// test.
+// Pose streams as hapticctl replay reads them (client/pose_stream.h: the lenient dialect of
+// protocol/pose_stream.h): parsing with errors that name file, line and what, and sampling: exact
+// at the rows, lerp and slerp right at midpoints, the shorter arc when the quaternions flip sign,
+// buttons of the row at or before, clamped outside the stream. The expected values come from
+// closed forms (rotations about one axis), not from the code under test.
 #include "client/pose_stream.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <numbers>
-#include <sstream>
+
+#include "core/geometry/rotation.h"
 
 namespace hapticd::client {
 namespace {
 
-Result<std::vector<PoseSample>> parse(const std::string& text) {
-  std::istringstream in(text);
-  return parsePoseStream(in, "s.csv");
+using geom::Quat;
+using geom::Vec3;
+
+Result<std::vector<proto::PoseStreamRow>> parse(const std::string& text) {
+  return parsePoseStream(text, "s.csv");
 }
 
 std::string errorOf(const std::string& text) {
@@ -24,15 +27,15 @@ std::string errorOf(const std::string& text) {
   return r ? std::string("(parsed)") : r.error().message;
 }
 
-// about z by `deg` degrees, glTF order
-std::array<double, 4> aboutZ(double deg) {
+// about z by `deg` degrees
+Quat aboutZ(double deg) {
   const double h = 0.5 * deg * std::numbers::pi / 180.0;
-  return {0.0, 0.0, std::sin(h), std::cos(h)};
+  return Quat(std::cos(h), 0.0, 0.0, std::sin(h));
 }
 
 // 1 − |q·r|: 0 when q and r are the same rotation
-double rotationGap(const std::array<double, 4>& q, const std::array<double, 4>& r) {
-  return 1.0 - std::fabs(q[0] * r[0] + q[1] * r[1] + q[2] * r[2] + q[3] * r[3]);
+double rotationGap(const Quat& q, const Quat& r) {
+  return 1.0 - std::fabs(q.x * r.x + q.y * r.y + q.z * r.z + q.w * r.w);
 }
 
 const char* kStream =
@@ -51,7 +54,7 @@ TEST(PoseStream, ParsesRowsAndOptionalButtonsAndComments) {
   EXPECT_EQ(r.value()[0].buttons, 7u);
   EXPECT_EQ(r.value()[1].buttons, 0u);
   EXPECT_EQ(r.value()[1].t_s, 0.25);
-  EXPECT_EQ(r.value()[0].p_W[2], 3.0);
+  EXPECT_EQ(r.value()[0].X_WD.translation.z, 3.0);
 }
 
 TEST(PoseStream, BadRowsNameFileLineAndWhat) {
@@ -84,8 +87,8 @@ TEST(PoseStream, NonUnitQuaternionRefusedNearUnitRenormalised) {
   EXPECT_NE(errorOf("0,0,0,0,0,0,0,0\n").find("has norm 0"), std::string::npos);
   auto r = parse("0,0,0,0,0,0,0.7071,0.7071\n");  // norm 0.99999: within 1e-3
   ASSERT_TRUE(r) << r.error().message;
-  const auto& q = r.value()[0].q_W;
-  EXPECT_NEAR(std::sqrt(q[2] * q[2] + q[3] * q[3]), 1.0, 1e-15);
+  const Quat& q = r.value()[0].X_WD.rotation;
+  EXPECT_NEAR(std::sqrt(q.z * q.z + q.w * q.w), 1.0, 1e-15);
 }
 
 TEST(PoseStream, ExactAtTheRows) {
@@ -94,8 +97,8 @@ TEST(PoseStream, ExactAtTheRows) {
   const auto& rows = r.value();
   for (const auto& row : rows) {
     const PoseSample s = samplePoseStream(rows, row.t_s);
-    EXPECT_EQ(s.p_W, row.p_W) << row.t_s;
-    EXPECT_EQ(s.q_W, row.q_W) << row.t_s;
+    EXPECT_EQ(s.X_WD.translation, row.X_WD.translation) << row.t_s;
+    EXPECT_EQ(s.X_WD.rotation, row.X_WD.rotation) << row.t_s;
     EXPECT_EQ(s.buttons, row.buttons) << row.t_s;
   }
 }
@@ -106,19 +109,19 @@ TEST(PoseStream, MidpointLerpAndSlerp) {
   const auto& rows = r.value();
   // first segment: p from (0,0,0) to (1,2,-4), q from 0° to 90° about z
   PoseSample s = samplePoseStream(rows, 0.25);
-  EXPECT_NEAR(s.p_W[0], 0.5, 1e-15);
-  EXPECT_NEAR(s.p_W[1], 1.0, 1e-15);
-  EXPECT_NEAR(s.p_W[2], -2.0, 1e-15);
-  EXPECT_LT(rotationGap(s.q_W, aboutZ(45.0)), 1e-15);
+  EXPECT_NEAR(s.X_WD.translation.x, 0.5, 1e-15);
+  EXPECT_NEAR(s.X_WD.translation.y, 1.0, 1e-15);
+  EXPECT_NEAR(s.X_WD.translation.z, -2.0, 1e-15);
+  EXPECT_LT(rotationGap(s.X_WD.rotation, aboutZ(45.0)), 1e-15);
   // at a quarter: 22.5° (slerp is uniform in angle, unlike normalised lerp)
   s = samplePoseStream(rows, 0.125);
-  EXPECT_LT(rotationGap(s.q_W, aboutZ(22.5)), 1e-15);
-  EXPECT_NEAR(s.p_W[2], -1.0, 1e-15);
+  EXPECT_LT(rotationGap(s.X_WD.rotation, aboutZ(22.5)), 1e-15);
+  EXPECT_NEAR(s.X_WD.translation.z, -1.0, 1e-15);
   // segment velocities
-  EXPECT_NEAR(s.v_W[0], 2.0, 1e-12);
-  EXPECT_NEAR(s.v_W[2], -8.0, 1e-12);
-  EXPECT_NEAR(s.w_W[2], (std::numbers::pi / 2) / 0.5, 1e-9);
-  EXPECT_NEAR(s.w_W[0], 0.0, 1e-12);
+  EXPECT_NEAR(s.v_W.x, 2.0, 1e-12);
+  EXPECT_NEAR(s.v_W.z, -8.0, 1e-12);
+  EXPECT_NEAR(s.w_W.z, (std::numbers::pi / 2) / 0.5, 1e-9);
+  EXPECT_NEAR(s.w_W.x, 0.0, 1e-12);
 }
 
 TEST(PoseStream, ShortestArcWhenTheQuaternionsFlipSign) {
@@ -127,26 +130,24 @@ TEST(PoseStream, ShortestArcWhenTheQuaternionsFlipSign) {
   const auto& rows = r.value();
   // second segment: 90° → -(180°) = 180°: the short way passes 135°, the long way 315°
   const PoseSample s = samplePoseStream(rows, 1.0);
-  EXPECT_LT(rotationGap(s.q_W, aboutZ(135.0)), 1e-15);
-  EXPECT_GT(rotationGap(s.q_W, aboutZ(315.0)), 0.5);
-  EXPECT_NEAR(std::sqrt(s.q_W[0] * s.q_W[0] + s.q_W[1] * s.q_W[1] + s.q_W[2] * s.q_W[2] +
-                        s.q_W[3] * s.q_W[3]),
-              1.0, 1e-15);
-  EXPECT_NEAR(s.w_W[2], (std::numbers::pi / 2) / 1.0, 1e-9);  // +90° in 1 s, not −270°
-  // slerp itself, both signs of the end give the same path
+  const Quat& q = s.X_WD.rotation;
+  EXPECT_LT(rotationGap(q, aboutZ(135.0)), 1e-15);
+  EXPECT_GT(rotationGap(q, aboutZ(315.0)), 0.5);
+  EXPECT_NEAR(std::sqrt(q.x * q.x + q.y * q.y + q.z * q.z + q.w * q.w), 1.0, 1e-15);
+  EXPECT_NEAR(s.w_W.z, (std::numbers::pi / 2) / 1.0, 1e-9);  // +90° in 1 s, not −270°
+  // slerp itself (the stream's, geom::slerp), both signs of the end give the same path
   for (double u : {0.1, 0.5, 0.9}) {
-    const auto a = slerp(aboutZ(90.0), {0.0, 0.0, 1.0, 0.0}, u);
-    const auto b = slerp(aboutZ(90.0), {0.0, 0.0, -1.0, 0.0}, u);
+    const Quat a = geom::slerp(aboutZ(90.0), Quat(0.0, 0.0, 0.0, 1.0), u);
+    const Quat b = geom::slerp(aboutZ(90.0), Quat(0.0, 0.0, 0.0, -1.0), u);
     EXPECT_LT(rotationGap(a, b), 1e-15) << u;
     EXPECT_LT(rotationGap(a, aboutZ(90.0 + 90.0 * u)), 1e-15) << u;
   }
 }
 
 TEST(PoseStream, NearlyEqualQuaternionsDoNotDivideByZero) {
-  const auto q = slerp(aboutZ(10.0), aboutZ(10.0 + 1e-9), 0.5);
+  const Quat q = geom::slerp(aboutZ(10.0), aboutZ(10.0 + 1e-9), 0.5);
   EXPECT_LT(rotationGap(q, aboutZ(10.0)), 1e-15);
-  for (double c : q)
-    EXPECT_TRUE(std::isfinite(c));
+  EXPECT_TRUE(geom::finite(q));
 }
 
 TEST(PoseStream, ButtonsOfTheRowAtOrBeforeAndClampedOutside) {
@@ -159,13 +160,13 @@ TEST(PoseStream, ButtonsOfTheRowAtOrBeforeAndClampedOutside) {
   EXPECT_EQ(samplePoseStream(rows, 1.4999).buttons, 2u);
   EXPECT_EQ(samplePoseStream(rows, 1.5).buttons, 4u);
   const PoseSample before = samplePoseStream(rows, -1.0);
-  EXPECT_EQ(before.p_W, rows.front().p_W);
-  EXPECT_EQ(before.v_W, (std::array<double, 3>{0.0, 0.0, 0.0}));
+  EXPECT_EQ(before.X_WD.translation, rows.front().X_WD.translation);
+  EXPECT_EQ(before.v_W, Vec3(0.0));
   const PoseSample after = samplePoseStream(rows, 9.0);
-  EXPECT_EQ(after.p_W, rows.back().p_W);
-  EXPECT_EQ(after.q_W, rows.back().q_W);
+  EXPECT_EQ(after.X_WD.translation, rows.back().X_WD.translation);
+  EXPECT_EQ(after.X_WD.rotation, rows.back().X_WD.rotation);
   EXPECT_EQ(after.buttons, 4u);
-  EXPECT_EQ(after.v_W, (std::array<double, 3>{0.0, 0.0, 0.0}));
+  EXPECT_EQ(after.v_W, Vec3(0.0));
 }
 
 TEST(PoseStream, HintGivesTheSameSamplesAsASearch) {
@@ -179,7 +180,7 @@ TEST(PoseStream, HintGivesTheSameSamplesAsASearch) {
   for (double t = -0.05; t < 5.1; t += 0.013) {
     const PoseSample a = samplePoseStream(r.value(), t, &hint);
     const PoseSample b = samplePoseStream(r.value(), t);
-    EXPECT_EQ(a.p_W, b.p_W) << t;
+    EXPECT_EQ(a.X_WD.translation, b.X_WD.translation) << t;
     EXPECT_EQ(a.buttons, b.buttons) << t;
   }
 }

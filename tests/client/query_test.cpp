@@ -1,4 +1,4 @@
-// hapticctl query: the JSON-lines format of ../shared/DESIGN.md, answers in scene coordinates.
+// hapticctl query: the JSON-lines format of docs/architecture.md, answers in scene coordinates.
 #include "client/query.h"
 
 #include <gtest/gtest.h>

@@ -181,7 +181,7 @@ TEST_F(DaemonEditTest, ASceneUpdateMovingAKinematicBodyIsAckedAndLaterStatesList
     proto::State st;
     ASSERT_TRUE(until(
         *c, [](const proto::State& s) { return bodyIn(s, 3) != nullptr; }, &st));
-    EXPECT_EQ(bodyIn(st, 3)->X_WB.p, (proto::Vec3{3.0, 0.0, 0.0}));
+    EXPECT_EQ(bodyIn(st, 3)->X_WB.p, (proto::WireVec3{3.0, 0.0, 0.0}));
     EXPECT_EQ(bodyIn(st, 4), nullptr);  // inactive at the start
 
     proto::SceneUpdate u;
@@ -193,11 +193,11 @@ TEST_F(DaemonEditTest, ASceneUpdateMovingAKinematicBodyIsAckedAndLaterStatesList
         *c,
         [](const proto::State& s) {
           const auto* b = bodyIn(s, 3);
-          return b != nullptr && b->X_WB.p == proto::Vec3{3.0, 0.25, -0.5};
+          return b != nullptr && b->X_WB.p == proto::WireVec3{3.0, 0.25, -0.5};
         },
         &st));
     ASSERT_NE(bodyIn(st, 4), nullptr);  // the same update, the same state
-    EXPECT_EQ(bodyIn(st, 4)->X_WB.p, (proto::Vec3{0.0, 1.0, 2.0}));
+    EXPECT_EQ(bodyIn(st, 4)->X_WB.p, (proto::WireVec3{0.0, 1.0, 2.0}));
 
     proto::SceneUpdate out;
     out.removed.push_back(4);
@@ -253,7 +253,7 @@ TEST_F(DaemonEditTest, BadUpdatesGetAnErrorNamingTheEntryAndNothingChanges) {
         *c,
         [](const proto::State& s) {
           const auto* b = bodyIn(s, 3);
-          return b != nullptr && b->X_WB.p == proto::Vec3{0.0, 0.0, 0.0};
+          return b != nullptr && b->X_WB.p == proto::WireVec3{0.0, 0.0, 0.0};
         },
         &st));
     EXPECT_NEAR(bodyIn(st, 3)->X_WB.q[3], 1.0, 1e-12);
@@ -289,12 +289,12 @@ TEST_F(DaemonEditTest, WithAKeyOnlyAuthenticatedPeersChangeTheScene) {
     proto::State st;
     ASSERT_TRUE(until(
         *keyed, [](const proto::State& s) { return bodyIn(s, 3) != nullptr; }, &st));
-    EXPECT_EQ(bodyIn(st, 3)->X_WB.p, (proto::Vec3{3.0, 0.0, 0.0}));
+    EXPECT_EQ(bodyIn(st, 3)->X_WB.p, (proto::WireVec3{3.0, 0.0, 0.0}));
     auto ok = keyed->sceneUpdate(u);
     ASSERT_TRUE(ok) << ok.error().message;
     EXPECT_TRUE(until(*keyed, [](const proto::State& s) {
       const auto* b = bodyIn(s, 3);
-      return b != nullptr && b->X_WB.p == proto::Vec3{3.0, 0.75, 0.0};
+      return b != nullptr && b->X_WB.p == proto::WireVec3{3.0, 0.75, 0.0};
     }));
     EXPECT_TRUE(
         waitStatus([](const nlohmann::json& j) { return j["edits"]["batches_applied"] == 1; }));
@@ -312,7 +312,7 @@ TEST_F(DaemonEditTest, StatesCarryContactsAndTheMinorOneFieldsWhileTheProbeTouch
         *c, [](const proto::State& s) { return !s.contacts.empty(); }, &st));
     EXPECT_EQ(st.contacts.size(), 2u);  // the fake's two points per touch
     EXPECT_EQ(st.contact_count, 2u);
-    EXPECT_EQ(st.contacts[0].n_W, (proto::Vec3{0.0, 1.0, 0.0}));
+    EXPECT_EQ(st.contacts[0].n_W, (proto::WireVec3{0.0, 1.0, 0.0}));
     EXPECT_GT(st.contacts[0].depth_m, 0.0);
     EXPECT_EQ(st.bodies.size(), 4u);
     // the minor-1 fields reach the wire once the codec speaks minor 1 (the cli branch)

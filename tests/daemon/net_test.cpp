@@ -192,13 +192,13 @@ class NetTest : public ::testing::Test {
   std::string shm_;
 };
 
-proto::PoseCommand poseAt(const proto::Vec3& p) {
+proto::PoseCommand poseAt(const proto::WireVec3& p) {
   proto::PoseCommand c;
   c.X_WT.p = p;
   return c;
 }
 
-double dist(const proto::Vec3& a, const proto::Vec3& b) {
+double dist(const proto::WireVec3& a, const proto::WireVec3& b) {
   return std::sqrt((a[0] - b[0]) * (a[0] - b[0]) + (a[1] - b[1]) * (a[1] - b[1]) +
                    (a[2] - b[2]) * (a[2] - b[2]));
 }
@@ -240,9 +240,9 @@ TEST_F(NetTest, PoseCommandsMoveTheSimDeviceThenTheStreamStopRampsAndLatchesAFau
   auto first = c->receiveState(10000);
   ASSERT_TRUE(first);
   ASSERT_TRUE(c->arm());
-  const proto::Vec3 start = first->X_WD.p;
+  const proto::WireVec3 start = first->X_WD.p;
   // +y: away from the peg-in-hole contact the idle hand rests in (its force pushes +y)
-  const proto::Vec3 target{start[0] + 0.01, start[1] + 0.05, start[2] + 0.005};
+  const proto::WireVec3 target{start[0] + 0.01, start[1] + 0.05, start[2] + 0.005};
   const double d0 = dist(start, target);
   // stream the target at ~500 Hz until the device is within 10% of the first distance
   bool reached = false;
@@ -313,9 +313,9 @@ TEST_F(NetTest, AShmClientMovesTheSimDeviceThenTheStreamStopRampsAndLatchesAFaul
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   ASSERT_GT(st.tick, 0u);
   ASSERT_TRUE(c.pushArm(proto::monotonicNs()));
-  const proto::Vec3 start{st.X_WD[0], st.X_WD[1], st.X_WD[2]};
+  const proto::WireVec3 start{st.X_WD[0], st.X_WD[1], st.X_WD[2]};
   // +y: away from the peg-in-hole contact the idle hand rests in (as the UDP test)
-  const proto::Vec3 target{start[0] + 0.01, start[1] + 0.05, start[2] + 0.005};
+  const proto::WireVec3 target{start[0] + 0.01, start[1] + 0.05, start[2] + 0.005};
   const double d0 = dist(start, target);
   bool reached = false;
   std::uint64_t seq = 0;
@@ -474,7 +474,7 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
       30.0, &st));
 
   // moved onto the probe: the state carries the contacts, and the minor-1 fields are filled
-  const proto::Vec3 probe_at = st.X_WP.p;
+  const proto::WireVec3 probe_at = st.X_WP.p;
   move.poses[0].X_WB.p = {probe_at[0] + 0.03, probe_at[1], probe_at[2]};
   ASSERT_TRUE(c->sceneUpdate(move));
   ASSERT_TRUE(until(
@@ -496,7 +496,7 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
       *c,
       [&](const proto::State& s) {
         const auto* b = listed(s, slider);
-        return b != nullptr && dist(b->X_WB.p, proto::Vec3{0.3, 0.25, -0.1}) < 1e-9;
+        return b != nullptr && dist(b->X_WB.p, proto::WireVec3{0.3, 0.25, -0.1}) < 1e-9;
       },
       30.0, &st));
   CtlRun no = ctl({"move", L, "0", "0", "0"});

@@ -168,7 +168,7 @@ TEST(CommandGate, ManySessionsForgetTheLeastRecentlyUsed) {
 
 TEST(CommandGate, ServoCallsDoNotAllocate) {
   CommandGate g;
-  SpscRing<std::uint64_t, 64> ring;
+  SpscRing<std::uint64_t> ring(64);
   g.arm(kS1, 0);
   const auto before = testing_alloc::count();
   std::uint64_t seq = 0;
@@ -186,7 +186,7 @@ TEST(CommandGate, ServoCallsDoNotAllocate) {
 }
 
 TEST(SpscRing, FifoAndFullAndEmpty) {
-  SpscRing<int, 4> r;
+  SpscRing<int> r(4);
   int v = 0;
   EXPECT_FALSE(r.pop(v));
   for (int i = 0; i < 4; ++i)

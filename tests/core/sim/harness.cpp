@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "core/response/wrench.h"
+#include "protocol/pose_stream.h"
 
 namespace hapticd::simtest {
 
@@ -89,27 +90,16 @@ std::uint32_t Path::buttonsAt(double t) const {
 }
 
 std::vector<Key> readPoseStream(const std::string& file) {
+  auto text = proto::readPoseStreamFile(file);
+  if (!text)
+    return {};
+  auto rows = proto::parsePoseStream(text.value(), file, 1e-3, proto::PoseStreamDialect::kStrict);
+  if (!rows)
+    return {};
   std::vector<Key> keys;
-  std::FILE* f = std::fopen(file.c_str(), "r");
-  if (f == nullptr)
-    return keys;
-  char line[512];
-  bool header = true;
-  while (std::fgets(line, sizeof line, f) != nullptr) {
-    if (header) {
-      header = false;
-      continue;
-    }
-    double t, px, py, pz, qx, qy, qz, qw;
-    unsigned buttons = 0;
-    if (std::sscanf(line, "%lf,%lf,%lf,%lf,%lf,%lf,%lf,%lf,%u", &t, &px, &py, &pz, &qx, &qy, &qz,
-                    &qw, &buttons) != 9) {
-      keys.clear();
-      break;
-    }
-    keys.push_back({t, Pose::fromXyzw(Vec3{px, py, pz}, qx, qy, qz, qw), buttons});
-  }
-  std::fclose(f);
+  keys.reserve(rows.value().size());
+  for (const proto::PoseStreamRow& r : rows.value())
+    keys.push_back({r.t_s, r.X_WD, r.buttons});
   return keys;
 }
 

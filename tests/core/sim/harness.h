@@ -50,8 +50,8 @@ class Path {
   std::vector<Key> keys_;
 };
 
-/// Reads a pose stream (CSV of ../shared/DESIGN.md: t,px,py,pz,qx,qy,qz,qw,buttons). Empty
-/// keys when the file cannot be read or a row is malformed.
+/// Reads a pose stream (protocol/pose_stream.h, the strict dialect, quaternions within 1e-3 of
+/// unit length). Empty keys when the file cannot be read or is malformed.
 std::vector<Key> readPoseStream(const std::string& file);
 
 /// What a run showed.

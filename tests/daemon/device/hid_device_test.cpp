@@ -11,7 +11,7 @@
 #include <memory>
 #include <random>
 
-#include "daemon/device/rotation_util.h"
+#include "core/geometry/rotation.h"
 #include "tests/core/alloc_counter.h"
 
 namespace hapticd::device {
@@ -128,7 +128,7 @@ TEST(HidReports, GenericInputLayoutAndRoundTrip) {
   ASSERT_EQ(parseGenericInput(bytes, back), HidReportStatus::kOk);
   EXPECT_EQ(back.sequence, 0xbeef);
   EXPECT_LT(glm::length(back.X_WD.translation - Vec3(0.001, -0.25, 1.5)), 1e-12);
-  EXPECT_LT(glm::length(detail::rotationVector(back.X_WD.rotation * glm::conjugate(q))), 1e-4);
+  EXPECT_LT(glm::length(geom::rotationVector(back.X_WD.rotation * glm::conjugate(q))), 1e-4);
   EXPECT_EQ(back.buttons, 0x80000005u);
   EXPECT_EQ(back.flags, kGenericFlagArmed);
   // compose(parse(bytes)) gives the same bytes
@@ -254,7 +254,7 @@ TEST(HidReports, SpaceMouseIntegration) {
   s.rotation = {0, 0, 350};
   for (int i = 3001; i <= 3500; ++i)
     integrateSpaceMouse(s, o, i * 1e-3);
-  const Vec3 r = detail::rotationVector(s.X_WD.rotation);
+  const Vec3 r = geom::rotationVector(s.X_WD.rotation);
   EXPECT_LT(glm::length(r - Vec3(0.0, -0.5, 0.0)), 1e-9);
   // the workspace box stops the integration
   s.rotation = {0, 0, 0};
@@ -424,11 +424,6 @@ TEST(HidDevice, ServoCallsDoNotAllocate) {
   EXPECT_EQ(testing_alloc::count(), before);
 }
 
-}  // namespace
-}  // namespace hapticd::device
-
-namespace hapticd::device {
-namespace {
 
 // random report bytes of every length: parsed or refused, never a non-finite pose
 TEST(HidReports, RandomReportsNeverCrash) {
@@ -443,7 +438,7 @@ TEST(HidReports, RandomReportsNeverCrash) {
       r[0] = static_cast<std::uint8_t>(1 + rng() % 3);
     GenericInputReport in;
     if (parseGenericInput(r, in) == HidReportStatus::kOk) {
-      ASSERT_TRUE(detail::finite(in.X_WD.translation));
+      ASSERT_TRUE(geom::finite(in.X_WD.translation));
       ASSERT_NEAR(glm::length(in.X_WD.rotation), 1.0, 1e-12);
     }
     GenericOutputReport out;
@@ -451,7 +446,7 @@ TEST(HidReports, RandomReportsNeverCrash) {
     for (const SpaceMouseModel& m : spaceMouseModels())
       (void)parseSpaceMouse(m, r, sm);
     integrateSpaceMouse(sm, o, k * 1e-3);
-    ASSERT_TRUE(detail::finite(sm.X_WD.translation));
+    ASSERT_TRUE(geom::finite(sm.X_WD.translation));
   }
 }
 

@@ -12,11 +12,19 @@
 #include <iterator>
 #include <random>
 
-#include "daemon/device/rotation_util.h"
+#include "core/geometry/rotation.h"
+#include "protocol/pose_stream.h"
 #include "tests/core/alloc_counter.h"
 
 namespace hapticd::device {
 namespace {
+
+// the replay device's grammar: the strict one
+Result<std::vector<proto::PoseStreamRow>> parsePoseStream(const std::string& text,
+                                                          std::string_view source,
+                                                          double quat_tolerance) {
+  return proto::parsePoseStream(text, source, quat_tolerance, proto::PoseStreamDialect::kStrict);
+}
 
 constexpr const char* kHeader = "t,px,py,pz,qx,qy,qz,qw,buttons\n";
 
@@ -28,7 +36,7 @@ std::unique_ptr<ReplayDevice> fromText(const std::string& text) {
 }
 
 double angleBetween(const geom::Quat& a, const geom::Quat& b) {
-  return glm::length(detail::rotationVector(a * glm::conjugate(b)));
+  return glm::length(geom::rotationVector(a * glm::conjugate(b)));
 }
 
 TEST(ReplayDevice, ExactAtRowsAndLerpSlerpBetween) {
@@ -84,7 +92,7 @@ TEST(ReplayDevice, ExactAtRowsAndLerpSlerpBetween) {
   ASSERT_EQ(d3->read(0.625, s), DeviceStatus::kOk);
   ASSERT_EQ(d3->read(std::nan(""), s), DeviceStatus::kOk);
   EXPECT_LT(glm::length(s.X_WD.translation - Vec3(1.5, 1.0, 3.25)), 1e-14);
-  EXPECT_TRUE(detail::finite(s.linear_velocity));
+  EXPECT_TRUE(geom::finite(s.linear_velocity));
   EXPECT_TRUE(d2->info().capabilities & kCapEndOfStream);
 }
 
@@ -260,11 +268,6 @@ TEST(ReplayDevice, OpensFilesThroughMakeDevice) {
   EXPECT_EQ(s.buttons, 1u);
 }
 
-}  // namespace
-}  // namespace hapticd::device
-
-namespace hapticd::device {
-namespace {
 
 // mutated files: every outcome is a row list or an error with a line number; no crash (ASan)
 TEST(ReplayDevice, MutatedFilesNeverCrash) {
@@ -303,7 +306,7 @@ TEST(ReplayDevice, MutatedFilesNeverCrash) {
     } else {
       for (const auto& row : r.value()) {
         ASSERT_TRUE(std::isfinite(row.t_s));
-        ASSERT_TRUE(detail::finite(row.X_WD.translation));
+        ASSERT_TRUE(geom::finite(row.X_WD.translation));
         ASSERT_NEAR(glm::length(row.X_WD.rotation), 1.0, 1e-12);
       }
     }

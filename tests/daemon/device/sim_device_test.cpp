@@ -10,7 +10,7 @@
 #include <limits>
 #include <vector>
 
-#include "daemon/device/rotation_util.h"
+#include "core/geometry/rotation.h"
 #include "tests/core/alloc_counter.h"
 
 namespace hapticd::device {
@@ -35,7 +35,7 @@ std::unique_ptr<Device> open(const DeviceOptions& o) {
 void closedLoopDecays(double rate_hz, double loop_k_n_per_m, double loop_kr_nm_per_rad) {
   DeviceOptions o = quietOptions();
   o.sim_home.translation = Vec3(0.05, -0.03, 0.02);  // start 6 cm from the target
-  o.sim_home.rotation = detail::quatFromRotationVector(Vec3(0.0, 0.6, 0.2));
+  o.sim_home.rotation = geom::quatFromRotationVector(Vec3(0.0, 0.6, 0.2));
   auto dev = open(o);
   auto* sim = dynamic_cast<SimDevice*>(dev.get());
   ASSERT_NE(sim, nullptr);
@@ -50,7 +50,7 @@ void closedLoopDecays(double rate_hz, double loop_k_n_per_m, double loop_kr_nm_p
   for (int i = 0; i <= ticks; ++i) {
     ASSERT_EQ(dev->read(i * dt, s), DeviceStatus::kOk);
     const Vec3 p = s.X_WD.translation;
-    const Vec3 r = detail::rotationVector(s.X_WD.rotation);
+    const Vec3 r = geom::rotationVector(s.X_WD.rotation);
     const double e = sim->energy() + 0.5 * loop_k_n_per_m * glm::dot(p, p) +
                      0.5 * loop_kr_nm_per_rad * glm::dot(r, r);
     if (e0 < 0.0)
@@ -88,7 +88,7 @@ TEST(SimDevice, FollowsCommands) {
     dev->read(i * 1e-3, s);
   const Vec3 dp = s.X_WD.translation - cmd.X_W_target.translation;
   const double angle = glm::length(
-      detail::rotationVector(s.X_WD.rotation * glm::conjugate(cmd.X_W_target.rotation)));
+      geom::rotationVector(s.X_WD.rotation * glm::conjugate(cmd.X_W_target.rotation)));
   std::printf("  after 3 s: position error %.3e m, angle error %.3e rad\n", glm::length(dp), angle);
   EXPECT_LT(glm::length(dp), 1e-6);
   EXPECT_LT(angle, 1e-6);
@@ -127,7 +127,7 @@ TEST(SimDevice, ForceFromTheLoopDisplacesTheHand) {
   // static equilibrium: the spring balances the force
   const Vec3 expected = f / o.sim_hand_stiffness_n_per_m;
   EXPECT_LT(glm::length(s.X_WD.translation - expected), 1e-9);
-  const Vec3 r = detail::rotationVector(s.X_WD.rotation);
+  const Vec3 r = geom::rotationVector(s.X_WD.rotation);
   EXPECT_NEAR(r.z, 0.05 / o.sim_hand_rot_stiffness_nm_per_rad, 1e-6);
 }
 
@@ -141,7 +141,7 @@ TEST(SimDevice, IdleMotionIsTheDerivativeOfItsPath) {
     simIdleMotion(home, 0.02, 0.1, t + h, b, va, wa);
     simIdleMotion(home, 0.02, 0.1, t, x, vx, wx);
     const Vec3 v_fd = (b.translation - a.translation) / (2.0 * h);
-    const Vec3 w_fd = detail::rotationVector(b.rotation * glm::conjugate(a.rotation)) / (2.0 * h);
+    const Vec3 w_fd = geom::rotationVector(b.rotation * glm::conjugate(a.rotation)) / (2.0 * h);
     EXPECT_LT(glm::length(v_fd - vx), 1e-8) << t;
     EXPECT_LT(glm::length(w_fd - wx), 1e-7) << t;
     EXPECT_LE(glm::length(x.translation - home.translation), 0.02 * 1.5 + 1e-12);
@@ -221,7 +221,7 @@ TEST(SimDevice, LongGapsAreSubSteppedAndNonFiniteInputIgnored) {
   cmd.X_W_target.translation = Vec3(0.05, 0.0, 0.0);
   dev->command(cmd);
   ASSERT_EQ(dev->read(0.05, s), DeviceStatus::kOk);  // one 50 ms gap
-  EXPECT_TRUE(detail::finite(s.X_WD.translation));
+  EXPECT_TRUE(geom::finite(s.X_WD.translation));
   EXPECT_GT(s.X_WD.translation.x, 0.0);
   EXPECT_LT(s.X_WD.translation.x, 0.05);
   // time going backwards, or not a number, changes nothing

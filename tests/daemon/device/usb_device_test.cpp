@@ -506,11 +506,6 @@ TEST(FalconDevice, OpenErrors) {
   EXPECT_NE(hid.error().message.find("'hid:/dev/nonexistent-hidraw'"), std::string::npos);
 }
 
-}  // namespace
-}  // namespace hapticd::device
-
-namespace hapticd::device {
-namespace {
 
 // random bytes, and random encoder packets through the device: no crash, finite poses
 TEST(FalconPackets, RandomBytesNeverCrash) {
@@ -545,11 +540,6 @@ TEST(FalconDevice, AnyEncoderValuesGiveFinitePoses) {
               static_cast<unsigned long long>(rig.dev->kinematicsFailures()));
 }
 
-}  // namespace
-}  // namespace hapticd::device
-
-namespace hapticd::device {
-namespace {
 
 // A Falcon in its bootloader, as the loading protocol describes it: it greets at 9600 baud with
 // DTR high, confirms 'A' at 140 kbaud, then echoes every byte.
