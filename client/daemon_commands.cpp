@@ -15,7 +15,7 @@
 #include <thread>
 #include <vector>
 
-#include "client/pose_stream.h"
+#include "client/replay_stream.h"
 #include "client/tick_order.h"
 #include "protocol/client.h"
 #include "protocol/command_gate.h"
@@ -32,8 +32,8 @@ std::string address(const DaemonTarget& t) {
   return (v6 ? "[" + t.host + "]" : t.host) + ":" + std::to_string(t.port);
 }
 
-// Connects, or says why not on `err` (exit code 1).
-std::unique_ptr<proto::Client> connect(const DaemonTarget& t, std::ostream& err) {
+// Connects over UDP, or says why not on `err` (exit code 1).
+std::unique_ptr<proto::Client> connectUdp(const DaemonTarget& t, std::ostream& err) {
   proto::ClientConfig c;
   c.server = address(t);
   c.timeout_ms = t.timeout_ms;
@@ -80,31 +80,26 @@ double norm(const proto::WireVec3& v) {
   return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
 }
 
-proto::PoseCommand poseCommand(double px,
-                               double py,
-                               double pz,
-                               double qx,
-                               double qy,
-                               double qz,
-                               double qw,
-                               std::uint32_t buttons) {
-  proto::PoseCommand c;
-  const double n = std::sqrt(qx * qx + qy * qy + qz * qz + qw * qw);
-  c.X_WT.p = {px, py, pz};
-  c.X_WT.q = {qx / n, qy / n, qz / n, qw / n};
-  c.buttons = buttons;
-  return c;
-}
-
-bool finite(std::initializer_list<double> v) {
-  return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+// The pose as typed, its quaternion normalised; nullopt (with why on `err`, exit code 2) when
+// it is not finite or the quaternion is zero.
+std::optional<proto::WirePose> wirePose(const TargetPose& o, const char* verb, std::ostream& err) {
+  const double n = std::sqrt(o.qx * o.qx + o.qy * o.qy + o.qz * o.qz + o.qw * o.qw);
+  const double v[] = {o.px, o.py, o.pz, o.qx, o.qy, o.qz, o.qw};
+  if (!std::all_of(std::begin(v), std::end(v), [](double x) { return std::isfinite(x); }) ||
+      !(n >= 1e-6)) {
+    err << "hapticctl " << verb
+        << ": the position must be finite and the quaternion finite and nonzero\n";
+    return std::nullopt;
+  }
+  proto::WirePose x;
+  x.p = {o.px, o.py, o.pz};
+  x.q = {o.qx / n, o.qy / n, o.qz / n, o.qw / n};
+  return x;
 }
 
 // ---- the two ways to a daemon: UDP (proto::Client) and shared memory (proto::ShmClient) ----
 
-std::uint64_t nowNs() {
-  return proto::monotonicNs();
-}
+using proto::monotonicNs;
 
 /// What pose, replay, watch and record need of a transport.
 class Link {
@@ -168,16 +163,16 @@ class ShmLink final : public Link {
  public:
   explicit ShmLink(proto::ShmClient c) : c_(std::move(c)) {}
   bool arm(std::string* why) override {
-    c_.beat(nowNs());
-    if (!pushWaiting([&] { return c_.pushArm(nowNs()); })) {
+    c_.beat(monotonicNs());
+    if (!pushWaiting([&] { return c_.pushArm(monotonicNs()); })) {
       *why = "the command ring stayed full (is the daemon consuming it?)";
       return false;
     }
     return true;
   }
   bool sendPose(const proto::PoseCommand& cmd, std::string* why) override {
-    c_.beat(nowNs());
-    if (!pushWaiting([&] { return c_.pushPose(cmd, nowNs()); })) {
+    c_.beat(monotonicNs());
+    if (!pushWaiting([&] { return c_.pushPose(cmd, monotonicNs()); })) {
       *why = "the command ring stayed full (is the daemon consuming it?)";
       return false;
     }
@@ -186,10 +181,10 @@ class ShmLink final : public Link {
   bool subscribe(std::uint32_t, std::uint32_t, std::string*) override { return true; }
   std::optional<proto::State> receiveState(int timeout_ms) override {
     const std::uint64_t end =
-        nowNs() + static_cast<std::uint64_t>(std::max(timeout_ms, 0)) * 1'000'000;
+        monotonicNs() + static_cast<std::uint64_t>(std::max(timeout_ms, 0)) * 1'000'000;
     proto::ShmState s{};
     for (;;) {
-      c_.beat(nowNs());
+      c_.beat(monotonicNs());
       if (c_.readState(s) && (!seen_ || s.tick != last_tick_)) {
         seen_ = true;
         last_tick_ = s.tick;
@@ -198,7 +193,7 @@ class ShmLink final : public Link {
         proto::toState(s, out);
         return out;
       }
-      if (nowNs() >= end)
+      if (monotonicNs() >= end)
         return std::nullopt;
       std::this_thread::sleep_for(std::chrono::microseconds(50));
     }
@@ -210,17 +205,19 @@ class ShmLink final : public Link {
     return rate_hz_;
   }
   std::uint32_t maxStateRateHz() const override { return proto::kMaxStateRateHz; }
-  void pump() override { c_.beat(nowNs()); }
+  void pump() override { c_.beat(monotonicNs()); }
   void close() override {}
-  bool serverAlive(std::uint64_t timeout_ns) const { return c_.serverAlive(nowNs(), timeout_ns); }
+  bool serverAlive(std::uint64_t timeout_ns) const {
+    return c_.serverAlive(monotonicNs(), timeout_ns);
+  }
 
  private:
   template <class F>
   bool pushWaiting(F push) {
     // the daemon drains the ring every tick: a full ring empties within a few ticks
-    const std::uint64_t end = nowNs() + 500'000'000;
+    const std::uint64_t end = monotonicNs() + 500'000'000;
     while (!push()) {
-      if (nowNs() >= end)
+      if (monotonicNs() >= end)
         return false;
       std::this_thread::sleep_for(std::chrono::microseconds(100));
     }
@@ -247,11 +244,10 @@ class ShmLink final : public Link {
   std::uint32_t rate_hz_ = 0;
 };
 
-// The link a command uses: shared memory when t.shm_name is set, else UDP. nullptr after saying
-// why on `err` (exit code 1).
-std::unique_ptr<Link> openLink(const DaemonTarget& t, const char* command, std::ostream& err) {
+// Shared memory when t.shm_name is set, else UDP. nullptr after saying why on `err`.
+std::unique_ptr<Link> openTransport(const DaemonTarget& t, const char* command, std::ostream& err) {
   if (t.shm_name.empty()) {
-    auto c = connect(t, err);
+    auto c = connectUdp(t, err);
     if (!c)
       return nullptr;
     return std::make_unique<UdpLink>(std::move(c));
@@ -265,14 +261,30 @@ std::unique_ptr<Link> openLink(const DaemonTarget& t, const char* command, std::
   // the daemon beats every tick; wait a little for a first beat, as UDP waits for Welcome
   const std::uint64_t timeout_ns =
       static_cast<std::uint64_t>(std::max(t.timeout_ms, 1)) * 1'000'000;
-  const std::uint64_t end = nowNs() + timeout_ns;
+  const std::uint64_t end = monotonicNs() + timeout_ns;
   while (!link->serverAlive(timeout_ns)) {
-    if (nowNs() >= end) {
+    if (monotonicNs() >= end) {
       err << "hapticctl " << command << ": --shm " << t.shm_name << ": the daemon's heartbeat is "
           << "older than " << t.timeout_ms << " ms (is hapticd running?)\n";
       return nullptr;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  return link;
+}
+
+// The link a command uses: shared memory when t.shm_name is set, else UDP; with `arm`, armed
+// (the gate takes the commands of the session that armed last). nullptr after saying why on
+// `err` (exit code 1).
+std::unique_ptr<Link> openLink(const DaemonTarget& t,
+                               const char* command,
+                               bool arm,
+                               std::ostream& err) {
+  std::unique_ptr<Link> link = openTransport(t, command, err);
+  std::string why;
+  if (link && arm && !link->arm(&why)) {
+    err << "hapticctl " << command << ": arm: " << why << "\n";
+    return nullptr;
   }
   return link;
 }
@@ -303,7 +315,7 @@ bool streamPose(Link& c,
 }
 
 // the sample on the wire: the one conversion of the client's replay
-proto::PoseCommand commandOf(const PoseSample& s) {
+proto::PoseCommand commandOf(const ReplaySample& s) {
   const geom::Vec3& p = s.X_WD.translation;
   const geom::Quat& q = s.X_WD.rotation;
   proto::PoseCommand c;
@@ -315,9 +327,15 @@ proto::PoseCommand commandOf(const PoseSample& s) {
   return c;
 }
 
-std::string formatContacts(const proto::State& s, std::size_t n) {
+// the contacts of `s`, deepest first
+std::vector<proto::State::Contact> deepestFirst(const proto::State& s) {
   std::vector<proto::State::Contact> c = s.contacts;
   std::sort(c.begin(), c.end(), [](const auto& a, const auto& b) { return a.depth_m > b.depth_m; });
+  return c;
+}
+
+std::string formatContacts(const proto::State& s, std::size_t n) {
+  const std::vector<proto::State::Contact> c = deepestFirst(s);
   std::string out;
   char buf[160];
   for (std::size_t i = 0; i < std::min(n, c.size()); ++i) {
@@ -329,113 +347,101 @@ std::string formatContacts(const proto::State& s, std::size_t n) {
 }
 
 nlohmann::json stateJson(const proto::State& s, std::size_t deepest) {
-  nlohmann::json j;
-  j["tick"] = s.tick;
-  j["t_s"] = static_cast<double>(s.sim_time_ns) * 1e-9;
-  j["tick_ns"] = {
-      {"p50", s.tick_p50_ns}, {"p99", s.tick_p99_ns}, {"max", s.tick_max_ns}, {"this", s.tick_ns}};
-  j["tick_misses"] = s.tick_misses;
-  j["pairs_tested"] = s.pairs_tested;
-  j["pairs_skipped"] = s.pairs_skipped;
-  j["device"] = {{"p", s.X_WD.p}, {"q", s.X_WD.q}};
-  j["proxy"] = {{"p", s.X_WP.p}, {"q", s.X_WP.q}};
-  j["force_n"] = s.force_n;
-  j["force_norm_n"] = norm(s.force_n);
-  j["torque_nm"] = s.torque_nm;
-  j["torque_norm_nm"] = norm(s.torque_nm);
-  j["force_scale"] = s.force_scale;
-  j["contacts"] = s.contact_count;
-  j["max_penetration_m"] = s.max_penetration_m;
-  std::vector<proto::State::Contact> c = s.contacts;
-  std::sort(c.begin(), c.end(), [](const auto& a, const auto& b) { return a.depth_m > b.depth_m; });
+  const std::vector<proto::State::Contact> c = deepestFirst(s);
   nlohmann::json list = nlohmann::json::array();
   for (std::size_t i = 0; i < std::min(deepest, c.size()); ++i)
     list.push_back({{"p", c[i].p_W}, {"n", c[i].n_W}, {"depth_m", c[i].depth_m}});
-  j["deepest"] = list;
-  j["faults"] = faultText(s.fault_bits);
-  j["fault_bits"] = s.fault_bits;
-  j["armed"] = (s.state_flags & proto::kStateArmed) != 0;
-  j["state_flags"] = s.state_flags;
-  j["last_command_sequence"] = s.last_command_sequence;
-  return j;
+  return {{"tick", s.tick},
+          {"t_s", static_cast<double>(s.sim_time_ns) * 1e-9},
+          {"tick_ns",
+           {{"p50", s.tick_p50_ns},
+            {"p99", s.tick_p99_ns},
+            {"max", s.tick_max_ns},
+            {"this", s.tick_ns}}},
+          {"tick_misses", s.tick_misses},
+          {"pairs_tested", s.pairs_tested},
+          {"pairs_skipped", s.pairs_skipped},
+          {"device", {{"p", s.X_WD.p}, {"q", s.X_WD.q}}},
+          {"proxy", {{"p", s.X_WP.p}, {"q", s.X_WP.q}}},
+          {"force_n", s.force_n},
+          {"force_norm_n", norm(s.force_n)},
+          {"torque_nm", s.torque_nm},
+          {"torque_norm_nm", norm(s.torque_nm)},
+          {"force_scale", s.force_scale},
+          {"contacts", s.contact_count},
+          {"max_penetration_m", s.max_penetration_m},
+          {"deepest", list},
+          {"faults", faultText(s.fault_bits)},
+          {"fault_bits", s.fault_bits},
+          {"armed", (s.state_flags & proto::kStateArmed) != 0},
+          {"state_flags", s.state_flags},
+          {"last_command_sequence", s.last_command_sequence}};
 }
 
-}  // namespace
-
-const char* recordHeader() {
-  return "tick,t,dev_px,dev_py,dev_pz,dev_qx,dev_qy,dev_qz,dev_qw,prx_px,prx_py,prx_pz,prx_qx,"
-         "prx_qy,prx_qz,prx_qw,fx,fy,fz,tx,ty,tz,contacts,max_penetration,pairs_tested,"
-         "pairs_skipped,tick_ns";
-}
-
-int runStatus(const DaemonTarget& t, const StatusOptions& o, std::ostream& out, std::ostream& err) {
-  auto c = connect(t, err);
-  if (!c)
-    return 1;
-  auto r = c->status();
-  c->bye();
-  if (!r) {
-    err << "hapticctl status: " << r.error().message << "\n";
-    return 1;
-  }
-  const proto::StatusReply& s = r.value();
+// the refusal counters by name (index 0, "ok", is not a refusal)
+nlohmann::json refusedJson(const proto::StatusReply& s) {
   nlohmann::json refused = nlohmann::json::object();
   for (std::size_t i = 1; i < s.refused.size() && i < proto::kErrcCount; ++i)
     refused[proto::errcName(static_cast<proto::Errc>(i))] = s.refused[i];
-  if (o.json) {
-    nlohmann::json j;
-    j["daemon"] = address(t);
-    j["device"] = s.device;
-    j["scene"] = s.scene;
-    j["plan"] = s.plan;
-    j["uptime_s"] = static_cast<double>(s.uptime_ns) * 1e-9;
-    j["ticks"] = s.ticks;
-    j["tick_misses"] = s.tick_misses;
-    j["tick_rate_hz"] = s.tick_rate_hz;
-    j["measured_tick_hz"] = s.measured_tick_hz;
-    j["tick_ns"] = {{"p50", s.tick_p50_ns}, {"p99", s.tick_p99_ns}, {"max", s.tick_max_ns}};
-    j["faults"] = faultText(s.fault_bits);
-    j["fault_bits"] = s.fault_bits;
-    j["armed"] = (s.state_flags & proto::kStateArmed) != 0;
-    j["state_flags"] = s.state_flags;
-    j["sessions"] = s.sessions;
-    j["subscribers"] = s.subscribers;
-    j["state_rate_hz"] = s.state_rate_hz;
-    j["packets_received"] = s.packets_received;
-    j["packets_sent"] = s.packets_sent;
-    j["commands_accepted"] = s.commands_accepted;
-    j["commands_dropped"] = s.commands_dropped;
-    j["refused"] = refused;
-    j["shm"] = {{"name", s.shm_name},
-                {"serving", (s.shm_flags & proto::kShmServing) != 0},
-                {"client_attached", (s.shm_flags & proto::kShmClientAttached) != 0},
-                {"client_alive", (s.shm_flags & proto::kShmClientAlive) != 0},
-                {"commands", s.shm_commands},
-                {"commands_refused", s.shm_commands_refused}};
-    j["edits"] = {{"batches_applied", s.edit_batches_applied},
-                  {"batches_dropped", s.edit_batches_dropped},
-                  {"entries_applied", s.edits_applied},
-                  {"entries_refused", s.edits_refused}};
-    out << j.dump(2) << "\n";
-    return 0;
-  }
+  return refused;
+}
+
+nlohmann::json statusJson(const proto::StatusReply& s, const std::string& daemon) {
+  const std::uint32_t shm = s.shm_flags;
+  return {{"daemon", daemon},
+          {"device", s.device},
+          {"scene", s.scene},
+          {"plan", s.plan},
+          {"uptime_s", static_cast<double>(s.uptime_ns) * 1e-9},
+          {"ticks", s.ticks},
+          {"tick_misses", s.tick_misses},
+          {"tick_rate_hz", s.tick_rate_hz},
+          {"measured_tick_hz", s.measured_tick_hz},
+          {"tick_ns", {{"p50", s.tick_p50_ns}, {"p99", s.tick_p99_ns}, {"max", s.tick_max_ns}}},
+          {"faults", faultText(s.fault_bits)},
+          {"fault_bits", s.fault_bits},
+          {"armed", (s.state_flags & proto::kStateArmed) != 0},
+          {"state_flags", s.state_flags},
+          {"sessions", s.sessions},
+          {"subscribers", s.subscribers},
+          {"state_rate_hz", s.state_rate_hz},
+          {"packets_received", s.packets_received},
+          {"packets_sent", s.packets_sent},
+          {"commands_accepted", s.commands_accepted},
+          {"commands_dropped", s.commands_dropped},
+          {"refused", refusedJson(s)},
+          {"shm",
+           {{"name", s.shm_name},
+            {"serving", (shm & proto::kShmServing) != 0},
+            {"client_attached", (shm & proto::kShmClientAttached) != 0},
+            {"client_alive", (shm & proto::kShmClientAlive) != 0},
+            {"commands", s.shm_commands},
+            {"commands_refused", s.shm_commands_refused}}},
+          {"edits",
+           {{"batches_applied", s.edit_batches_applied},
+            {"batches_dropped", s.edit_batches_dropped},
+            {"entries_applied", s.edits_applied},
+            {"entries_refused", s.edits_refused}}}};
+}
+
+std::string statusText(const proto::StatusReply& s, const std::string& daemon) {
   char buf[512];
   std::snprintf(buf, sizeof buf,
                 "daemon %s\ndevice %s\nscene %s\nticks %" PRIu64
-                " (%.1f Hz measured, %.1f Hz "
-                "configured), misses %" PRIu64
-                "\ntick compute p50 %.1f us, p99 %.1f us, max "
-                "%.1f us\nfaults %s, %s\nsessions %u, subscribers %u (%u states/s)\npackets "
-                "received %" PRIu64 ", sent %" PRIu64 "\ncommands accepted %" PRIu64
-                ", dropped %" PRIu64 "\n",
-                address(t).c_str(), s.device.c_str(), s.scene.c_str(), s.ticks, s.measured_tick_hz,
+                " (%.1f Hz measured, %.1f Hz configured), misses %" PRIu64
+                "\ntick compute p50 %.1f us, p99 %.1f us, max %.1f us\nfaults %s, %s\nsessions %u, "
+                "subscribers %u (%u states/s)\npackets received %" PRIu64 ", sent %" PRIu64
+                "\ncommands accepted %" PRIu64 ", dropped %" PRIu64 "\n",
+                daemon.c_str(), s.device.c_str(), s.scene.c_str(), s.ticks, s.measured_tick_hz,
                 s.tick_rate_hz, s.tick_misses, s.tick_p50_ns / 1e3, s.tick_p99_ns / 1e3,
                 s.tick_max_ns / 1e3, faultText(s.fault_bits).c_str(),
                 (s.state_flags & proto::kStateArmed) != 0 ? "armed" : "disarmed", s.sessions,
                 s.subscribers, s.state_rate_hz, s.packets_received, s.packets_sent,
                 s.commands_accepted, s.commands_dropped);
+  std::ostringstream out;
   out << buf << "refused";
   bool any = false;
+  const nlohmann::json refused = refusedJson(s);
   for (auto& [name, n] : refused.items()) {
     if (n.get<std::uint64_t>() == 0)
       continue;
@@ -455,6 +461,31 @@ int runStatus(const DaemonTarget& t, const StatusOptions& o, std::ostream& out, 
       << ", refused at the tick " << s.edits_refused << "), dropped " << s.edit_batches_dropped
       << "\nplan:\n"
       << s.plan << (s.plan.empty() || s.plan.back() == '\n' ? "" : "\n");
+  return out.str();
+}
+
+}  // namespace
+
+const char* recordHeader() {
+  return "tick,t,dev_px,dev_py,dev_pz,dev_qx,dev_qy,dev_qz,dev_qw,prx_px,prx_py,prx_pz,prx_qx,"
+         "prx_qy,prx_qz,prx_qw,fx,fy,fz,tx,ty,tz,contacts,max_penetration,pairs_tested,"
+         "pairs_skipped,tick_ns";
+}
+
+int runStatus(const DaemonTarget& t, const StatusOptions& o, std::ostream& out, std::ostream& err) {
+  auto c = connectUdp(t, err);
+  if (!c)
+    return 1;
+  auto r = c->status();
+  c->bye();
+  if (!r) {
+    err << "hapticctl status: " << r.error().message << "\n";
+    return 1;
+  }
+  if (o.json)
+    out << statusJson(r.value(), address(t)).dump(2) << "\n";
+  else
+    out << statusText(r.value(), address(t));
   return 0;
 }
 
@@ -466,7 +497,7 @@ int runLoad(const DaemonTarget& t, const std::string& file, std::ostream& out, s
   }
   const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
                                         std::istreambuf_iterator<char>());
-  auto c = connect(t, err);
+  auto c = connectUdp(t, err);
   if (!c)
     return 1;
   std::string name =
@@ -484,7 +515,7 @@ int runLoad(const DaemonTarget& t, const std::string& file, std::ostream& out, s
 }
 
 int runArm(const DaemonTarget& t, bool arm, std::ostream& out, std::ostream& err) {
-  auto c = connect(t, err);
+  auto c = connectUdp(t, err);
   if (!c)
     return 1;
   auto r = arm ? c->arm() : c->disarm();
@@ -498,26 +529,21 @@ int runArm(const DaemonTarget& t, bool arm, std::ostream& out, std::ostream& err
 }
 
 int runPose(const DaemonTarget& t, const PoseOptions& o, std::ostream& out, std::ostream& err) {
-  if (!finite({o.px, o.py, o.pz, o.qx, o.qy, o.qz, o.qw}) ||
-      o.qx * o.qx + o.qy * o.qy + o.qz * o.qz + o.qw * o.qw < 1e-12) {
-    err << "hapticctl pose: the position must be finite and the quaternion finite and nonzero\n";
+  const auto target = wirePose(o, "pose", err);
+  if (!target)
     return 2;
-  }
-  auto c = openLink(t, "pose", err);
+  auto c = openLink(t, "pose", o.arm, err);
   if (!c)
     return 1;
   std::string why;
-  if (o.arm && !c->arm(&why)) {
-    err << "hapticctl pose: arm: " << why << "\n";
-    return 1;
-  }
   if (!c->subscribe(static_cast<std::uint32_t>(std::clamp(o.rate_hz, 1.0, 1000.0)), 0, &why)) {
     err << "hapticctl pose: subscribe: " << why << "\n";
     return 1;
   }
+  proto::PoseCommand cmd;
+  cmd.X_WT = *target;
   std::optional<proto::State> last;
-  const bool sent = streamPose(*c, poseCommand(o.px, o.py, o.pz, o.qx, o.qy, o.qz, o.qw, 0),
-                               o.seconds, o.rate_hz, last, &why);
+  const bool sent = streamPose(*c, cmd, o.seconds, o.rate_hz, last, &why);
   c->close();
   if (!sent) {
     err << "hapticctl pose: " << why << "\n";
@@ -545,20 +571,16 @@ int runReplay(const DaemonTarget& t, const ReplayOptions& o, std::ostream& out, 
     err << "hapticctl replay: cannot open " << o.file << ": " << text.error().message << "\n";
     return 2;
   }
-  auto parsed = parsePoseStream(text.value(), o.file);
+  auto parsed = parseReplayStream(text.value(), o.file);
   if (!parsed) {
     err << "hapticctl replay: " << parsed.error().message << "\n";
     return 2;
   }
   const std::vector<proto::PoseStreamRow>& rows = parsed.value();
-  auto c = openLink(t, "replay", err);
+  auto c = openLink(t, "replay", o.arm, err);
   if (!c)
     return 1;
   std::string why;
-  if (o.arm && !c->arm(&why)) {
-    err << "hapticctl replay: arm: " << why << "\n";
-    return 1;
-  }
   // the send rate: the daemon's tick rate, or the one asked for clamped to it
   const std::uint32_t tick_hz = c->tickRateHz();
   double rate = o.rate_hz > 0.0 ? o.rate_hz : (tick_hz > 0 ? tick_hz : 1000.0);
@@ -583,7 +605,7 @@ int runReplay(const DaemonTarget& t, const ReplayOptions& o, std::ostream& out, 
   std::uint64_t sent = 0;
   for (std::uint64_t k = 0; k < total; ++k) {
     const double ts = k <= n ? static_cast<double>(k) / rate : duration;
-    const PoseSample s = samplePoseStream(rows, t0 + ts, &hint);
+    const ReplaySample s = sampleReplayStream(rows, t0 + ts, &hint);
     std::this_thread::sleep_until(
         start + std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(ts)));
     if (!c->sendPose(commandOf(s), &why)) {
@@ -615,7 +637,7 @@ int runRecord(const DaemonTarget& t, const RecordOptions& o, std::ostream& out, 
     err << "hapticctl record: cannot create " << o.file << "\n";
     return 2;
   }
-  auto c = openLink(t, "record", err);
+  auto c = openLink(t, "record", false, err);
   if (!c) {
     std::fclose(f);
     return 1;
@@ -684,7 +706,7 @@ int runRecord(const DaemonTarget& t, const RecordOptions& o, std::ostream& out, 
 }
 
 int runWatch(const DaemonTarget& t, const WatchOptions& o, std::ostream& out, std::ostream& err) {
-  auto c = openLink(t, "watch", err);
+  auto c = openLink(t, "watch", false, err);
   if (!c)
     return 1;
   const std::uint32_t rate = std::clamp<std::uint32_t>(o.rate_hz, 1, 1000);
@@ -758,16 +780,12 @@ int runSceneEdit(const DaemonTarget& t,
   if (o.kind == Kind::kRemove) {
     u.removed.push_back(o.body);
   } else {
-    if (!finite({o.px, o.py, o.pz, o.qx, o.qy, o.qz, o.qw}) ||
-        o.qx * o.qx + o.qy * o.qy + o.qz * o.qz + o.qw * o.qw < 1e-12) {
-      err << "hapticctl " << verb
-          << ": the position must be finite and the quaternion finite and nonzero\n";
+    const auto pose = wirePose(o, verb, err);
+    if (!pose)
       return 2;
-    }
-    const proto::PoseCommand c = poseCommand(o.px, o.py, o.pz, o.qx, o.qy, o.qz, o.qw, 0);
-    (o.kind == Kind::kMove ? u.poses : u.added).push_back({o.body, c.X_WT});
+    (o.kind == Kind::kMove ? u.poses : u.added).push_back({o.body, *pose});
   }
-  auto c = connect(t, err);
+  auto c = connectUdp(t, err);
   if (!c)
     return 1;
   auto r = c->sceneUpdate(u);

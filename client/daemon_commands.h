@@ -28,15 +28,19 @@ struct DaemonTarget {
 struct StatusOptions {
   bool json = false;
 };
-struct PoseOptions {
+/// A target pose as typed: position (metres, scene frame) and quaternion (glTF order x, y, z, w),
+/// normalised before sending; it must be finite and the quaternion nonzero (else exit 2).
+struct TargetPose {
   double px = 0, py = 0, pz = 0;
   double qx = 0, qy = 0, qz = 0, qw = 1;
+};
+struct PoseOptions : TargetPose {
   double seconds = 0.5;  ///< the pose is streamed this long (then the daemon's gate ramps)
   double rate_hz = 200;  ///< stream rate
   bool arm = true;       ///< take control (arm) first: the gate takes commands of its controller
 };
 struct ReplayOptions {
-  std::string file;  ///< pose stream CSV (t,px,py,pz,qx,qy,qz,qw,buttons), client/pose_stream.h
+  std::string file;  ///< pose stream CSV (t,px,py,pz,qx,qy,qz,qw,buttons), client/replay_stream.h
   /// Send rate, Hz: the stream is interpolated (lerp, slerp, buttons held) at t_0 + k/rate and
   /// sent at those times. 0 (default): the daemon's tick rate (Welcome; over shared memory,
   /// measured from the state's clock, else 1000); a larger rate is clamped to the tick rate.
@@ -57,12 +61,10 @@ struct WatchOptions {
   std::size_t deepest = 3;     ///< contacts listed per line, deepest first
 };
 /// `hapticctl move|add|remove BODY [PX PY PZ [QX QY QZ QW]]`: one SceneUpdate.
-struct SceneEditOptions {
+struct SceneEditOptions : TargetPose {
   enum class Kind { kMove, kAdd, kRemove };
   Kind kind = Kind::kMove;
   std::uint32_t body = 0;  ///< body index in the loaded scene (`hapticctl check` lists them)
-  double px = 0, py = 0, pz = 0;
-  double qx = 0, qy = 0, qz = 0, qw = 1;  ///< normalised before sending; must be nonzero
 };
 
 int runStatus(const DaemonTarget& t, const StatusOptions& o, std::ostream& out, std::ostream& err);

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
+#include <tuple>
 
 #include "tests/client/fake_daemon.h"
 
@@ -141,21 +142,32 @@ std::uint64_t reportedMissing(const std::string& out) {
   return std::stoull(out.substr(start + 1, at - start - 1));
 }
 
+// `hapticctl record` of `seconds` into the temp file `name`: its exit code, what it said, the file
+struct Recorded {
+  int rc = -1;
+  std::string out, err, file;
+};
+Recorded record(const DaemonTarget& t, const std::string& name, double seconds) {
+  RecordOptions o;
+  o.file = tempFile(name).string();
+  o.seconds = seconds;
+  std::ostringstream out, err;
+  const int rc = runRecord(t, o, out, err);
+  return {rc, out.str(), err.str(), o.file};
+}
+
 TEST(DaemonCommands, RecordWritesEveryColumnWithTheDaemonsValuesAndCountsMissingTicks) {
   FakeDaemon d(/*tick_rate_hz=*/500, /*skip_every=*/7);  // ticks 7, 14, 21, ... never shown
   ASSERT_TRUE(d.error().empty()) << d.error();
-  RecordOptions o;
-  o.file = tempFile("rec.csv").string();
-  o.seconds = 0.3;
-  std::ostringstream out, err;
-  ASSERT_EQ(runRecord(d.target(), o, out, err), 0) << err.str();
-  const RecordCheck c = checkRecord(o.file);
+  const Recorded r = record(d.target(), "rec.csv", 0.3);
+  ASSERT_EQ(r.rc, 0) << r.err;
+  const RecordCheck c = checkRecord(r.file);
   ASSERT_GT(c.rows, 20u);
   // every tick the fake never showed is missing, and every missing tick is counted
   ASSERT_GT(c.gaps, 0u);
   std::uint64_t first = 0, last = 0;
   {
-    std::ifstream in(o.file);
+    std::ifstream in(r.file);
     std::string line;
     std::getline(in, line);
     bool any = false;
@@ -172,34 +184,30 @@ TEST(DaemonCommands, RecordWritesEveryColumnWithTheDaemonsValuesAndCountsMissing
           << "tick " << k << " was never shown but is in the record";
     }
   }
-  EXPECT_EQ(reportedMissing(out.str()), c.gaps) << out.str();
+  EXPECT_EQ(reportedMissing(r.out), c.gaps) << r.out;
   EXPECT_EQ(
-      out.str().rfind("recorded " + std::to_string(c.rows) + " rows to " + o.file + " (ticks ", 0),
-      0u)
-      << out.str();
-  EXPECT_NE(err.str().find("warning: " + std::to_string(c.gaps) + " of the"), std::string::npos)
-      << err.str();
-  EXPECT_NE(err.str().find("not complete"), std::string::npos) << err.str();
+      r.out.rfind("recorded " + std::to_string(c.rows) + " rows to " + r.file + " (ticks ", 0), 0u)
+      << r.out;
+  EXPECT_NE(r.err.find("warning: " + std::to_string(c.gaps) + " of the"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("not complete"), std::string::npos) << r.err;
 }
 
 TEST(DaemonCommands, RecordWarnsExactlyWhenTicksAreMissing) {
   FakeDaemon d(500, 0);
   ASSERT_TRUE(d.error().empty()) << d.error();
-  RecordOptions o;
-  o.file = tempFile("rec_full.csv").string();
-  o.seconds = 0.2;
-  std::ostringstream out, err;
-  ASSERT_EQ(runRecord(d.target(), o, out, err), 0) << err.str();
-  const RecordCheck c = checkRecord(o.file);
+  const Recorded r = record(d.target(), "rec_full.csv", 0.2);
+  ASSERT_EQ(r.rc, 0) << r.err;
+  const RecordCheck c = checkRecord(r.file);
   EXPECT_GT(c.rows, 10u);
-  EXPECT_EQ(reportedMissing(out.str()), c.gaps) << out.str();
+  EXPECT_EQ(reportedMissing(r.out), c.gaps) << r.out;
   // each_tick: no tick twice; a tick is only missed when the fake's server thread was off the
   // CPU for a whole tick (2 ms), which the count then says
   if (c.gaps == 0) {
-    EXPECT_EQ(err.str().find("warning"), std::string::npos) << err.str();
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
   } else {
-    EXPECT_NE(err.str().find("warning: " + std::to_string(c.gaps) + " of the"), std::string::npos)
-        << err.str();
+    EXPECT_NE(r.err.find("warning: " + std::to_string(c.gaps) + " of the"), std::string::npos)
+        << r.err;
   }
 }
 
@@ -462,17 +470,29 @@ TEST(DaemonCommands, SceneEditWithABadPoseExits2AndSendsNothing) {
 
 // ---- watch ----------------------------------------------------------------------------------
 
+// `hapticctl watch --json` of `count` lines at `rate_hz`: its exit code, stderr, the lines parsed
+struct Watched {
+  int rc = -1;
+  std::string err;
+  std::vector<nlohmann::json> lines;
+};
+Watched watchJson(const DaemonTarget& t, std::uint32_t rate_hz, std::uint64_t count) {
+  WatchOptions o;
+  o.rate_hz = rate_hz;
+  o.count = count;
+  o.json = true;
+  std::ostringstream out, err;
+  const int rc = runWatch(t, o, out, err);
+  return {rc, err.str(), rc == 0 ? jsonLines(out.str()) : std::vector<nlohmann::json>{}};
+}
+
 TEST(DaemonCommands, WatchJsonCarriesTheMinorOneFieldsAndTheDeepestContacts) {
   FakeDaemon d;
   ASSERT_TRUE(d.error().empty()) << d.error();
-  WatchOptions o;
-  o.rate_hz = 50;
-  o.count = 3;
-  o.json = true;
-  std::ostringstream out, err;
-  ASSERT_EQ(runWatch(d.target(), o, out, err), 0) << err.str();
+  const Watched w = watchJson(d.target(), 50, 3);
+  ASSERT_EQ(w.rc, 0) << w.err;
   std::size_t n = 0;
-  for (const nlohmann::json& j : jsonLines(out.str())) {
+  for (const nlohmann::json& j : w.lines) {
     ++n;
     const std::uint64_t tick = j["tick"];
     const proto::State s = stateFor(tick);
@@ -528,9 +548,7 @@ TEST(DaemonCommandsShm, PoseOverSharedMemory) {
   FakeShmDaemon d("pose");
   ASSERT_TRUE(d.error().empty()) << d.error();
   PoseOptions o;
-  o.px = 0.01;
-  o.py = 0.02;
-  o.pz = 0.03;
+  std::tie(o.px, o.py, o.pz) = std::tuple(0.01, 0.02, 0.03);
   o.seconds = 0.1;
   o.rate_hz = 100;
   std::ostringstream out, err;
@@ -582,28 +600,21 @@ TEST(DaemonCommandsShm, ReplayOverSharedMemoryDefaultsToTheMeasuredTickRate) {
 TEST(DaemonCommandsShm, RecordOverSharedMemoryWritesEveryColumn) {
   FakeShmDaemon d("record");
   ASSERT_TRUE(d.error().empty()) << d.error();
-  RecordOptions o;
-  o.file = tempFile("shm_rec.csv").string();
-  o.seconds = 0.2;
-  std::ostringstream out, err;
-  ASSERT_EQ(runRecord(d.target(), o, out, err), 0) << err.str();
-  const RecordCheck c = checkRecord(o.file);
+  const Recorded r = record(d.target(), "shm_rec.csv", 0.2);
+  ASSERT_EQ(r.rc, 0) << r.err;
+  const RecordCheck c = checkRecord(r.file);
   EXPECT_GT(c.rows, 5u);
-  EXPECT_EQ(reportedMissing(out.str()), c.gaps) << out.str();
+  EXPECT_EQ(reportedMissing(r.out), c.gaps) << r.out;
 }
 
 TEST(DaemonCommandsShm, WatchOverSharedMemoryPrintsAtMostTheRate) {
   FakeShmDaemon d("watch");
   ASSERT_TRUE(d.error().empty()) << d.error();
-  WatchOptions o;
-  o.rate_hz = 1000;
-  o.count = 3;
-  o.json = true;
-  std::ostringstream out, err;
-  ASSERT_EQ(runWatch(d.target(), o, out, err), 0) << err.str();
+  const Watched w = watchJson(d.target(), 1000, 3);
+  ASSERT_EQ(w.rc, 0) << w.err;
   std::uint64_t prev = 0;
   std::size_t n = 0;
-  for (const nlohmann::json& j : jsonLines(out.str())) {
+  for (const nlohmann::json& j : w.lines) {
     const std::uint64_t tick = j["tick"];
     EXPECT_GT(tick, prev);
     prev = tick;

@@ -4,21 +4,20 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-#include <sstream>
-
 #include <nlohmann/json.hpp>
+#include <sstream>
 
 namespace hapticd::client {
 namespace {
 
 using nlohmann::json;
 
-const char* kCube =
-    "[[-1,-1,-1],[1,-1,-1],[-1,1,-1],[1,1,-1],[-1,-1,1],[1,-1,1],[-1,1,1],[1,1,1]]";
+const char* kCube = "[[-1,-1,-1],[1,-1,-1],[-1,1,-1],[1,1,-1],[-1,-1,1],[1,-1,1],[-1,1,1],[1,1,1]]";
 
 std::string pairLine(const std::string& id, const std::string& pose_a, const std::string& pose_b) {
-  return std::string("{\"id\":\"") + id + "\",\"a\":{\"vertices\":" + kCube + "},\"b\":{\"vertices\":" +
-         kCube + "},\"pose_a\":" + pose_a + ",\"pose_b\":" + pose_b + "}";
+  return std::string("{\"id\":\"") + id + "\",\"a\":{\"vertices\":" + kCube +
+         "},\"b\":{\"vertices\":" + kCube + "},\"pose_a\":" + pose_a + ",\"pose_b\":" + pose_b +
+         "}";
 }
 
 std::vector<json> run(const std::string& input, int& status) {
@@ -28,13 +27,15 @@ std::vector<json> run(const std::string& input, int& status) {
   std::vector<json> lines;
   std::istringstream res(out.str());
   std::string line;
-  while (std::getline(res, line)) lines.push_back(json::parse(line));
+  while (std::getline(res, line))
+    lines.push_back(json::parse(line));
   return lines;
 }
 
 TEST(Query, SeparatedTouchingPenetratingInSceneCoordinates) {
   // A turned 90 degrees about z and moved: answers must come back in scene coordinates
-  const std::string pose_a = "{\"translation\":[10,20,30],\"rotation\":[0,0,0.7071067811865476,0.7071067811865476]}";
+  const std::string pose_a =
+      "{\"translation\":[10,20,30],\"rotation\":[0,0,0.7071067811865476,0.7071067811865476]}";
   const std::string input =
       pairLine("gap", pose_a, "{\"translation\":[10,22.5,30],\"rotation\":[0,0,0,1]}") + "\n" +
       pairLine("touch", pose_a, "{\"translation\":[10,22,30.5],\"rotation\":[0,0,0,1]}") + "\n" +
@@ -56,7 +57,8 @@ TEST(Query, SeparatedTouchingPenetratingInSceneCoordinates) {
   EXPECT_EQ(out[2]["status"], "penetrating");
   EXPECT_NEAR(out[2]["distance"].get<double>(), -0.25, 1e-12);
   EXPECT_NEAR(out[2]["normal"][1].get<double>(), 1.0, 1e-12);
-  for (const auto& c : out[2]["contacts"]) EXPECT_NEAR(c["depth"].get<double>(), 0.25, 1e-12);
+  for (const auto& c : out[2]["contacts"])
+    EXPECT_NEAR(c["depth"].get<double>(), 0.25, 1e-12);
 }
 
 TEST(Query, CoherentSequenceIsTimed) {
@@ -67,7 +69,8 @@ TEST(Query, CoherentSequenceIsTimed) {
   }
   poses += "]";
   const std::string line = std::string("{\"id\":7,\"a\":{\"vertices\":") + kCube +
-                           "},\"b\":{\"vertices\":" + kCube + "},\"poses_b\":" + poses + ",\"repeat\":3}";
+                           "},\"b\":{\"vertices\":" + kCube + "},\"poses_b\":" + poses +
+                           ",\"repeat\":3}";
   int status = -1;
   const auto out = run(line + "\n", status);
   EXPECT_EQ(status, 0);
@@ -86,14 +89,20 @@ TEST(Query, BadLinesGetTheirErrorAndTheRestIsAnswered) {
       {"{not json", "invalid JSON"},
       {"[1,2,3]", "expected a JSON object"},
       {"{\"id\":1}", "a.vertices: missing"},
-      {"{\"id\":2,\"a\":{\"vertices\":[[0,0,0],[1,0,0],[0,1,0]]},\"b\":{\"vertices\":[]},\"pose_b\":{}}", "at least 4"},
-      {"{\"id\":3,\"a\":{\"vertices\":[[0,0,0],[1,0,0],[0,1,0],[0,0,\"x\"]]}}", "a.vertices[3][2]: expected a number"},
+      {"{\"id\":2,\"a\":{\"vertices\":[[0,0,0],[1,0,0],[0,1,0]]},\"b\":{\"vertices\":[]},\"pose_"
+       "b\":{}}",
+       "at least 4"},
+      {"{\"id\":3,\"a\":{\"vertices\":[[0,0,0],[1,0,0],[0,1,0],[0,0,\"x\"]]}}",
+       "a.vertices[3][2]: expected a number"},
       {"{\"id\":4,\"a\":{\"vertices\":[[0,0,0],[1,0,0],[0,1,0],[0,0,1e999]]}}", "number"},
       {pairLine("5", "{}", "{\"rotation\":[0,0,0,0]}"), "zero quaternion"},
       {pairLine("6", "{}", "{\"rotation\":[0,0,1]}"), "expected [qx, qy, qz, qw]"},
-      {std::string("{\"id\":8,\"a\":{\"vertices\":") + kCube + "},\"b\":{\"vertices\":" + kCube + "}}", "pose_b"},
+      {std::string("{\"id\":8,\"a\":{\"vertices\":") + kCube + "},\"b\":{\"vertices\":" + kCube +
+           "}}",
+       "pose_b"},
       {std::string("{\"id\":9,\"a\":{\"vertices\":") + kCube + "},\"b\":{\"vertices\":" + kCube +
-           "},\"poses_b\":[{}],\"repeat\":0}", "repeat"},
+           "},\"poses_b\":[{}],\"repeat\":0}",
+       "repeat"},
   };
   for (const auto& [line, expect] : bad) {
     int status = -1;
