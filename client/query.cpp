@@ -3,12 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <iterator>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "core/collision/pair_query.h"
+#include "protocol/wire.h"  // nameOf
 
 namespace hapticd::client {
 namespace {
@@ -89,17 +91,10 @@ json toJson(const Vec3& v) {
   return json::array({v.x, v.y, v.z});
 }
 
-const char* statusName(collision::ContactStatus s) {
-  switch (s) {
-    case collision::ContactStatus::kSeparated:
-      return "separated";
-    case collision::ContactStatus::kTouching:
-      return "touching";
-    case collision::ContactStatus::kPenetrating:
-      return "penetrating";
-  }
-  return "?";
-}
+// in collision::ContactStatus order
+constexpr const char* kStatusNames[] = {"separated", "touching", "penetrating"};
+static_assert(std::size(kStatusNames) ==
+              static_cast<std::size_t>(collision::ContactStatus::kPenetrating) + 1);
 
 // One answer in scene coordinates (results of queryPair are in A's frame); `id` first when given.
 json answer(const collision::PairResult& r, const geom::Transform& X_WA, const json* id = nullptr) {
@@ -113,7 +108,7 @@ json answer(const collision::PairResult& r, const geom::Transform& X_WA, const j
   json out = json::object();
   if (id != nullptr)
     out["id"] = *id;
-  out["status"] = statusName(r.status);
+  out["status"] = proto::nameOf(r.status, kStatusNames, "?");
   out["distance"] = r.distance;
   out["normal"] = toJson(X_WA.rotate(r.normal));
   out["point_a"] = toJson(X_WA.apply(r.point_a));
