@@ -5,6 +5,7 @@
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <variant>
 
 #include "client/check.h"
@@ -101,8 +102,9 @@ void defineStreaming(CLI::App& app, Commands& c) {
   CLI::App* pose = c.pose.app;
   shmFlag(pose, c);
   pose->add_option("VALUES", c.pose_values, "PX PY PZ [QX QY QZ QW]")->required()->expected(3, 7);
-  pose->add_option("--seconds", c.pose.options.seconds, "stream the pose this long (default 0.5)");
-  pose->add_option("--rate", c.pose.options.rate_hz, "stream rate, Hz (default 200)");
+  pose->add_option("--seconds", c.pose.options.seconds,
+                   "stream the pose this long, ≥ 0 (default 0.5; 0: once)");
+  pose->add_option("--rate", c.pose.options.rate_hz, "stream rate, Hz, > 0 (default 200)");
   daemonCommand(app, c, c.replay, "replay",
                 "Arm and send a pose stream CSV as pose commands, interpolated (lerp, slerp) at "
                 "the send rate and timed by its t");
@@ -120,6 +122,12 @@ void defineStreaming(CLI::App& app, Commands& c) {
   record->add_option("--seconds", c.record.options.seconds, "how long (default 1)");
   record->add_option("--rate", c.record.options.rate_hz,
                      "state rate, Hz (default 0: the daemon's tick rate, at most 1000)");
+  record->add_option("--bodies", c.record.options.bodies_file,
+                     "also write the body poses to this CSV, the daemon's --record-bodies columns "
+                     "(tick,t,body,px..qw; at most 64 bodies a state, 16 over --shm)");
+  record->add_option("--scene", c.record.options.scene_file,
+                     "the scene file the daemon runs, for the bodies' names in --bodies (default: "
+                     "body<index>)");
   shmFlag(record, c);
   daemonCommand(app, c, c.watch, "watch",
                 "Live tick percentiles, force, contacts and faults, one line per state");
@@ -129,12 +137,14 @@ void defineStreaming(CLI::App& app, Commands& c) {
   watch->add_option("--rate", w.rate_hz, "lines per second (default 10)");
   watch->add_flag("--json", w.json, "one JSON object per line");
   watch->add_option("--deepest", w.deepest, "contacts listed per line, deepest first (default 3)");
+  watch->add_flag("--bodies", w.bodies, "also the pose of every body the state lists");
   shmFlag(watch, c);
 }
 
 void defineControl(CLI::App& app, Commands& c) {
   daemonCommand(app, c, c.status, "status",
-                "The daemon's device, scene, plan, tick figures, faults and refusal counters");
+                "The daemon's device, scene, plan, tick figures, faults, force and contacts, and "
+                "refusal counters");
   c.status.app->add_flag("--json", c.status.options.json, "print JSON");
   daemonCommand(app, c, c.load, "load",
                 "Upload a scene (.glb) to the daemon: exit 0 accepted, 1 refused (the first error "
@@ -250,6 +260,30 @@ int runOffline(Commands& c) {
   return 0;
 }
 
+// Parses the command line: nullopt to run, or the exit code (0 after --help; 2 for a bad command
+// line, the problem on stderr: an unknown command by its name, else CLI11's message).
+std::optional<int> parse(CLI::App& app, int argc, char** argv) {
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+      known = known || sub->get_name() == argv[1];
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!known) {
+      std::cerr << "hapticctl: unknown command '" << argv[1] << "' (the commands: " << names
+                << "; hapticctl --help says more)\n";
+      return 2;
+    }
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // CLI11's own codes for a refusal are 100 and up
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -260,7 +294,8 @@ int main(int argc, char** argv) {
   defineControl(app, c);
   defineStreaming(app, c);
   defineEdits(app, c);
-  CLI11_PARSE(app, argc, argv);
+  if (const auto rc = parse(app, argc, argv))
+    return *rc;
   if (const int rc = runDaemonCommand(c); rc >= 0)
     return rc;
   return runOffline(c);

@@ -19,6 +19,9 @@ using json = nlohmann::ordered_json;
 using geom::Pose;
 using geom::Vec3;
 
+// The most pair queries one line may ask for (repeat x poses_b): about 1 to 10 s of work.
+constexpr long long kMaxQueriesPerLine = 10'000'000;
+
 // A bad line: the message names the field.
 struct BadLine : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -141,6 +144,11 @@ json answerLine(const json& q) {
       if (repeat < 1 || repeat > 1000000)
         throw BadLine("repeat: must be 1 to 1000000");
     }
+    // a bound on the work of one line, so that a line cannot run for hours in silence
+    if (static_cast<double>(repeat) * static_cast<double>(seq.size()) > kMaxQueriesPerLine)
+      throw BadLine("repeat x poses_b: " + std::to_string(repeat) + " x " +
+                    std::to_string(seq.size()) + " pair queries, over the limit of " +
+                    std::to_string(kMaxQueriesPerLine) + " per line: lower repeat");
     std::vector<geom::Transform> steps;
     steps.reserve(seq.size());
     for (std::size_t i = 0; i < seq.size(); ++i) {

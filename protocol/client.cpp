@@ -23,11 +23,52 @@ Client::Client(ClientConfig config, UdpSocket socket, SocketAddress server)
 
 Client::~Client() = default;
 
+namespace {
+
+// What a hello sent without a tag from a fresh socket gets: nullopt when nothing answers, else
+// the Welcome (its tag is not checked: this only tells whether a daemon runs there and has a
+// key). The probe's session is closed again with Bye.
+std::optional<Welcome> probeUntagged(const SocketAddress& server, int timeout_ms, int resend_ms) {
+  auto sock = UdpSocket::connectedTo(server);
+  if (!sock)
+    return std::nullopt;
+  std::vector<std::uint8_t> buf(kMaxDatagramLimit);
+  Header h;
+  h.sequence = 1;
+  h.timestamp_ns = monotonicNs();
+  const std::size_t n = encode(h, Hello{kCapUdp, "hapticctl-probe"}, buf);
+  const std::vector<std::uint8_t> hello(buf.begin(), buf.begin() + static_cast<long>(n));
+  const std::uint64_t end = monotonicNs() + static_cast<std::uint64_t>(timeout_ms) * kMs;
+  while (n != 0 && monotonicNs() < end) {
+    sock.value().sendTo(server, hello);
+    if (!sock.value().waitReadable(resend_ms))
+      continue;
+    SocketAddress from;
+    const Received r = sock.value().receive(buf, from);
+    if (r.refused)
+      return std::nullopt;
+    Header rh;
+    Message m;
+    if (!r.got || decode(std::span(buf.data(), r.size), rh, m).code != Errc::kOk ||
+        !std::holds_alternative<Welcome>(m))
+      continue;
+    Header bye;
+    bye.session_id = std::get<Welcome>(m).session_id;
+    bye.sequence = 2;
+    if (const std::size_t k = encode(bye, Bye{}, buf))
+      sock.value().sendTo(server, std::span(buf.data(), k));
+    return std::get<Welcome>(m);
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 Result<std::unique_ptr<Client>> Client::connect(ClientConfig config) {
   auto addr = parseAddress(config.server, kDefaultPort, true);
   if (!addr)
     return addr.error();
-  auto sock = UdpSocket::forPeer(addr.value(), 4 << 20);
+  auto sock = UdpSocket::connectedTo(addr.value(), 4 << 20);
   if (!sock)
     return sock.error();
   std::unique_ptr<Client> c(new Client(std::move(config), std::move(sock).value(), addr.value()));
@@ -40,8 +81,8 @@ Result<std::unique_ptr<Client>> Client::connect(ClientConfig config) {
   h.sequence = ++c->sequence_;
   h.timestamp_ns = monotonicNs();
   Errc e = Errc::kOk;
-  const std::size_t n =
-      encodeDatagram(h, hello, c->config_.key ? &*c->config_.key : nullptr, c->tx_, &e);
+  const Key* key = c->config_.key ? &*c->config_.key : nullptr;
+  const std::size_t n = encodeDatagram(h, hello, key, c->tx_, &e);
   if (n == 0)
     return Error{std::string("hello: cannot encode: ") + errcName(e)};
   const std::vector<std::uint8_t> datagram(c->tx_.begin(), c->tx_.begin() + static_cast<long>(n));
@@ -55,8 +96,7 @@ Result<std::unique_ptr<Client>> Client::connect(ClientConfig config) {
   };
   auto m = c->exchange([&] { c->sendBytes(datagram); }, want);
   if (!m)
-    return Error{"no answer from " + c->server_.toString() + " within " +
-                 std::to_string(c->config_.timeout_ms) + " ms (is hapticd running?)"};
+    return c->silence();
   if (const auto* err = std::get_if<ErrorMsg>(&*m))
     return Error{"server " + c->server_.toString() + " refused hello: " + refusalText(*err)};
   c->welcome_ = std::get<Welcome>(*m);
@@ -66,10 +106,31 @@ Result<std::unique_ptr<Client>> Client::connect(ClientConfig config) {
   return c;
 }
 
+Error Client::silence() const {
+  const std::string at = server_.toString();
+  if (unreachable_)
+    return Error{"no daemon at " + at + ": the port is unreachable, no answer from " + at +
+                 " (nothing listens there: is hapticd running, and is this its --udp address?)"};
+  const std::string waited = "no daemon at " + at + ": no answer from " + at + " within " +
+                             std::to_string(config_.timeout_ms) + " ms";
+  if (!config_.key)
+    return Error{waited + " (is hapticd running?)"};
+  // a keyed daemon drops a hello whose tag does not verify without a word (no oracle); one
+  // that answers a hello without a tag runs and has a key, and so refused ours: a wrong key
+  const auto probe = probeUntagged(server_, std::min(config_.timeout_ms, 1000), config_.resend_ms);
+  if (probe && (probe->flags & kWelcomeKeyRequired) != 0)
+    return Error{"wrong key: hapticd at " + at +
+                 " answers, but drops every datagram tagged with this key (the key file does "
+                 "not hold the daemon's key)"};
+  return Error{waited +
+               " (is hapticd running? A daemon with another key drops datagrams tagged with this "
+               "one without a word: the key may also be wrong)"};
+}
+
 std::optional<Message> Client::exchange(const std::function<void()>& send_once, const Want& want) {
   const std::uint64_t deadline =
       monotonicNs() + static_cast<std::uint64_t>(config_.timeout_ms) * kMs;
-  while (monotonicNs() < deadline) {
+  while (monotonicNs() < deadline && !unreachable_) {
     send_once();
     if (auto m = processIncoming(config_.resend_ms, &want))
       return m;
@@ -80,7 +141,10 @@ std::optional<Message> Client::exchange(const std::function<void()>& send_once, 
 bool Client::sendBytes(std::span<const std::uint8_t> d) {
   ++counters_.sent;
   last_send_ns_ = monotonicNs();
-  return socket_.sendTo(server_, d);
+  bool refused = false;
+  const bool sent = socket_.sendTo(server_, d, &refused);
+  unreachable_ = unreachable_ || refused;
+  return sent;
 }
 
 std::uint64_t Client::send(const Message& m) {
@@ -102,6 +166,10 @@ std::optional<Message> Client::processIncoming(int timeout_ms, const Want* want)
   for (;;) {
     SocketAddress from;
     Received r = socket_.receive(rx_, from);
+    if (r.refused)
+      unreachable_ = true;
+    if (unreachable_)
+      return std::nullopt;  // nobody there to wait for
     if (!r.got) {
       std::uint64_t t = monotonicNs();
       if (beat_ns > 0 && session_id_ != 0 && t - last_send_ns_ >= beat_ns) {
@@ -165,6 +233,9 @@ Result<Message> Client::call(const Message& m, const char* what, const Answers& 
     return answers(r, sent);
   };
   auto r = exchange([&] { sent.push_back(send(m)); }, want);
+  if (!r && unreachable_)
+    return Error{std::string(what) + ": no answer from " + server_.toString() +
+                 ": the port is unreachable (did hapticd stop?)"};
   if (!r)
     return Error{std::string(what) + ": no answer from " + server_.toString() + " within " +
                  std::to_string(config_.timeout_ms) + " ms"};

@@ -57,8 +57,11 @@ struct ClientCounters {
 /// See the file comment. Not thread-safe: one thread uses a Client.
 class Client {
  public:
-  /// Resolves the server, opens a socket and exchanges hello/welcome (hello resent every
-  /// resend_ms until timeout_ms). Errors: bad address, no answer, a refusal (its text).
+  /// Resolves the server, opens a socket connected to it and exchanges hello/welcome (hello
+  /// resent every resend_ms until timeout_ms). Errors: a bad address; a refusal (its text); no
+  /// answer: at once when the port is unreachable (nothing listens there; loopback says so at
+  /// once), else after timeout_ms; with a key, "wrong key" when the daemon answers an untagged
+  /// hello (it runs, has a key, and dropped ours), else that the key may also be wrong.
   static Result<std::unique_ptr<Client>> connect(ClientConfig config);
   ~Client();
 
@@ -91,6 +94,9 @@ class Client {
   void pump() { processIncoming(0); }
 
   const Welcome& welcome() const { return welcome_; }
+  /// The server's port was reported closed (ICMP port unreachable on the connected socket): no
+  /// daemon listens there any more; every wait now ends at once.
+  bool unreachable() const { return unreachable_; }
   const ClientCounters& counters() const { return counters_; }
 
  private:
@@ -100,6 +106,8 @@ class Client {
   /// Whether a reply answers a request, given the sequences of the copies sent so far.
   using Answers = std::function<bool(const Message&, const std::vector<std::uint64_t>& sent)>;
 
+  /// The error for a hello nobody answered (see connect()).
+  Error silence() const;
   std::uint64_t send(const Message& m);
   bool sendBytes(std::span<const std::uint8_t> datagram);
   /// Reads datagrams for up to timeout_ms; returns the first that `want` accepts (others are
@@ -134,6 +142,7 @@ class Client {
   std::uint64_t sequence_ = 0;
   std::uint32_t next_upload_id_ = 1;
   std::uint64_t last_send_ns_ = 0;
+  bool unreachable_ = false;
   std::deque<State> states_;
   std::vector<std::uint8_t> rx_;
   std::vector<std::uint8_t> tx_;

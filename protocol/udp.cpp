@@ -212,6 +212,15 @@ Result<UdpSocket> UdpSocket::forPeer(const SocketAddress& peer, int receive_buff
   return bind(a.value(), receive_buffer_bytes);
 }
 
+Result<UdpSocket> UdpSocket::connectedTo(const SocketAddress& peer, int receive_buffer_bytes) {
+  auto s = forPeer(peer, receive_buffer_bytes);
+  if (!s)
+    return s.error();
+  if (::connect(s.value().fd_, reinterpret_cast<const sockaddr*>(&peer.storage), peer.length) != 0)
+    return Error{"udp: cannot connect to " + peer.toString() + ": " + std::strerror(errno)};
+  return s;
+}
+
 Received UdpSocket::receive(std::span<std::uint8_t> buffer, SocketAddress& from) {
   Received r;
   for (;;) {
@@ -221,8 +230,7 @@ Received UdpSocket::receive(std::span<std::uint8_t> buffer, SocketAddress& from)
     if (n < 0) {
       if (errno == EINTR)
         continue;
-      if (errno == ECONNREFUSED)
-        continue;  // an ICMP error from an earlier send: skip it
+      r.refused = errno == ECONNREFUSED;  // an ICMP port unreachable after an earlier send
       return r;
     }
     r.got = true;
@@ -232,12 +240,14 @@ Received UdpSocket::receive(std::span<std::uint8_t> buffer, SocketAddress& from)
   }
 }
 
-bool UdpSocket::sendTo(const SocketAddress& to, std::span<const std::uint8_t> d) {
+bool UdpSocket::sendTo(const SocketAddress& to, std::span<const std::uint8_t> d, bool* refused) {
   for (;;) {
     const ssize_t n = ::sendto(fd_, d.data(), d.size(), MSG_NOSIGNAL,
                                reinterpret_cast<const sockaddr*>(&to.storage), to.length);
     if (n < 0 && errno == EINTR)
       continue;
+    if (refused != nullptr)
+      *refused = n < 0 && errno == ECONNREFUSED;
     return n == static_cast<ssize_t>(d.size());
   }
 }
@@ -248,7 +258,7 @@ bool UdpSocket::waitReadable(int timeout_ms) const {
     const int rc = ::poll(&p, 1, timeout_ms);
     if (rc < 0 && errno == EINTR)
       continue;
-    return rc > 0 && (p.revents & POLLIN);
+    return rc > 0 && (p.revents & (POLLIN | POLLERR));
   }
 }
 
@@ -260,7 +270,7 @@ bool UdpSocket::waitReadableNs(std::uint64_t timeout_ns) const {
     const int rc = ::ppoll(&p, 1, &ts, nullptr);
     if (rc < 0 && errno == EINTR)
       continue;
-    return rc > 0 && (p.revents & POLLIN);
+    return rc > 0 && (p.revents & (POLLIN | POLLERR));
   }
 }
 

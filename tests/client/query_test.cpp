@@ -83,6 +83,32 @@ TEST(Query, CoherentSequenceIsTimed) {
   EXPECT_EQ(out[0]["results"][49]["status"], "penetrating");
 }
 
+TEST(Query, ALineAskingForTooManyQueriesIsRefusedAtOnce) {
+  // repeat x poses_b over 10^7: refused before any query runs (at 10^8 queries it would run for
+  // minutes with no output); at the limit it is accepted (a small sequence, quickly)
+  auto line = [](int poses, long long repeat) {
+    std::string p = "[";
+    for (int k = 0; k < poses; ++k)
+      p += std::string(k ? "," : "") + "{\"translation\":[3,0,0]}";
+    return std::string("{\"id\":1,\"a\":{\"vertices\":") + kCube +
+           "},\"b\":{\"vertices\":" + kCube + "},\"poses_b\":" + p +
+           "],\"repeat\":" + std::to_string(repeat) + "}";
+  };
+  int status = -1;
+  auto out = run(line(200, 1000000) + "\n", status);
+  EXPECT_EQ(status, 1);
+  ASSERT_EQ(out.size(), 1u);
+  EXPECT_EQ(out[0]["error"],
+            "line 1: repeat x poses_b: 1000000 x 200 pair queries, over the limit of 10000000 per "
+            "line: lower repeat");
+  out = run(line(11, 1000000) + "\n", status);
+  EXPECT_EQ(status, 1);
+  EXPECT_TRUE(out[0].contains("error"));
+  out = run(line(2, 10) + "\n", status);
+  EXPECT_EQ(status, 0);
+  EXPECT_EQ(out[0]["results"].size(), 2u);
+}
+
 TEST(Query, BadLinesGetTheirErrorAndTheRestIsAnswered) {
   const std::string good = pairLine("ok", "{}", "{\"translation\":[3,0,0]}");
   const std::vector<std::pair<std::string, std::string>> bad = {

@@ -437,6 +437,39 @@ TEST(Server, NoAnswerIsAClearError) {
       << c.error().message;
 }
 
+TEST(Client, AClosedPortFailsAtOnceAsUnreachable) {
+  // a loopback port nothing listens on answers "port unreachable" at once: no waiting out a
+  // timeout (one of a minute here, which the message would name)
+  std::uint16_t port = 0;
+  {
+    auto s = UdpSocket::bind(parseAddress("127.0.0.1:0").value());
+    ASSERT_TRUE(s);
+    port = s.value().localAddress().port();
+  }
+  ClientConfig cc = clientFor("127.0.0.1:" + std::to_string(port));
+  cc.timeout_ms = 60000;
+  auto c = Client::connect(cc);
+  ASSERT_FALSE(c);
+  EXPECT_NE(c.error().message.find("the port is unreachable"), std::string::npos)
+      << c.error().message;
+  EXPECT_EQ(c.error().message.find("within"), std::string::npos) << c.error().message;
+}
+
+TEST(Client, ARequestAfterTheServerStoppedSaysUnreachable) {
+  auto st = std::make_unique<ServerThread>(ServerConfig{}, ServerHandlers{});
+  ClientConfig cc = clientFor(st->address());
+  cc.timeout_ms = 60000;
+  auto c = Client::connect(cc);
+  ASSERT_TRUE(c) << c.error().message;
+  st.reset();  // the server's socket closes
+  auto r = c.value()->arm();
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("arm: no answer from"), std::string::npos) << r.error().message;
+  EXPECT_NE(r.error().message.find("the port is unreachable"), std::string::npos)
+      << r.error().message;
+  EXPECT_TRUE(c.value()->unreachable());
+}
+
 // ---- scene upload ----------------------------------------------------------------------------
 
 TEST(SceneUpload, LoadAcceptedAndRefusedWithTheFirstError) {
@@ -738,6 +771,33 @@ TEST(Security, AuthOnOnlyKeyHoldersChangeThingsWrongKeyCounted) {
   std::lock_guard<std::mutex> l(rec.m);
   for (const auto& e : rec.commands)
     EXPECT_TRUE(e.authenticated);
+}
+
+TEST(Security, AWrongKeyIsSaidToBeWrong) {
+  // the server stays silent to the wrong tag (no oracle); the client then finds it answers an
+  // untagged hello with "key required", so the daemon runs and the key is what is wrong
+  ServerConfig cfg;
+  cfg.key = randomKey();
+  ServerThread st(cfg, {});
+  ClientConfig wrong = clientFor(st.address());
+  wrong.key = randomKey();
+  wrong.timeout_ms = 300;
+  auto w = Client::connect(wrong);
+  ASSERT_FALSE(w);
+  EXPECT_EQ(w.error().message.rfind("wrong key: hapticd at " + st.address() + " answers", 0), 0u)
+      << w.error().message;
+  EXPECT_GE(refused(st.server(), Errc::kBadMac), 1u);
+  // the probe's watch-only session is closed again
+  EXPECT_TRUE(waitUntil([&] { return st.server().sessionCount() == 0; }));
+  // a keyed client and a silent address (a server that drops everything): "may be wrong"
+  Raw sink("127.0.0.1:9");  // only its socket: it never answers
+  ClientConfig silent = clientFor(sink.sock.localAddress().toString());
+  silent.key = randomKey();
+  silent.timeout_ms = 200;
+  auto s = Client::connect(silent);
+  ASSERT_FALSE(s);
+  EXPECT_NE(s.error().message.find("the key may also be wrong"), std::string::npos)
+      << s.error().message;
 }
 
 TEST(Security, ReplayedDatagramRefused) {
