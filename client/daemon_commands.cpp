@@ -12,10 +12,8 @@
 #include <fstream>
 #include <iterator>
 #include <memory>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <ostream>
-#include <sstream>
 #include <thread>
 #include <vector>
 
@@ -56,7 +54,7 @@ bool streamPose(Link& c,
                 double rate_hz,
                 std::optional<proto::State>& last,
                 std::string* why) {
-  const auto period = std::chrono::duration<double>(1.0 / std::max(rate_hz, 1.0));
+  const auto period = std::chrono::duration<double>(1.0 / rate_hz);  // rate_hz > 0, checked
   const auto end = Clock::now() + std::chrono::duration<double>(std::max(seconds, 0.0));
   do {
     if (!c.sendPose(cmd, why))
