@@ -49,7 +49,8 @@ std::optional<int> parseCommandLine(int argc, char** argv, CommandLine& o) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help is 0; any refusal is 2 (CLI11's own codes are 100 and up)
+    return app.exit(e) == 0 ? 0 : 2;
   }
   return std::nullopt;
 }
