@@ -27,15 +27,17 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Fixed tuning of the search (relative to the concavity bound c or the diagonal).
 constexpr std::size_t kSamplePoints = 2500;     // hull points a candidate cut is scored with
-constexpr std::size_t kSearchEvaluations = 1500;  // distance queries per scored hull
+constexpr std::size_t kSearchEvaluations = 500;   // distance queries per scored hull
 constexpr std::size_t kLeafEvaluations = 40000;   // per piece's own measure
 constexpr std::size_t kSearchHullVertices = 256;
 constexpr double kHullTolerance = 0.1;      // of c: points this close to a hull are dropped
 constexpr double kSearchTolerance = 0.1;    // of c: branch-and-bound slack when scoring cuts
-constexpr double kSearchResolution = 0.3;   // of c: smallest triangle radius when scoring cuts
+constexpr double kSearchResolution = 0.5;   // of c: smallest triangle radius when scoring cuts
 constexpr double kLeafTolerance = 0.05;     // of c: slack of a piece's own measure
 constexpr double kLeafResolution = 0.1;     // of c: and its resolution (docs/decomposition.md)
 constexpr double kFloor = 0.25;             // of c: excess below this is not resolved further
+constexpr double kStuck = 0.85;  // a best cut above this share of the part's concavity: look ahead
+constexpr std::size_t kLookahead = 3;  // candidates looked two steps ahead
 
 struct Context {
   RepairedMesh mesh;
@@ -55,7 +57,7 @@ struct Part {
   std::vector<Vec3> sample;  // at most kSamplePoints of them, for scoring cuts
   HullMesh hull;
   ExcessBound excess;
-  double concavity = 0.0;  // max(excess.upper, coverage), absolute
+  double concavity = 0.0;  // max(excess.lower, coverage), absolute
   bool final = false;      // cannot or need not be cut further
 };
 
@@ -147,10 +149,14 @@ std::vector<Vec3> thicken(const std::vector<Vec3>& pts, double eps) {
   return out;
 }
 
+// the hull, or for points thinner than the tolerance the exact hull, or for flat points the hull
+// of a slab 2e-6 of the diagonal thick
 HullMesh hullOf(const Context& ctx, const std::vector<Vec3>& pts, double tol, std::size_t max_v) {
   HullMesh h = quickHull(pts, tol, max_v);
-  if (!h.valid() && !pts.empty()) h = quickHull(thicken(pts, 1e-6 * ctx.mesh.diagonal), tol, max_v);
-  return h;
+  if (h.valid() || pts.empty()) return h;
+  h = quickHull(pts, 0.0, max_v);
+  if (h.valid()) return h;
+  return quickHull(thicken(pts, 1e-6 * ctx.mesh.diagonal), 0.0, max_v);
 }
 
 // the hull, its measure and its concavity (the boundary excess and the hull's own coverage)
@@ -165,7 +171,7 @@ void finishPart(const Context& ctx, Part& part) {
   o.floor = kFloor * ctx.c_abs;
   o.max_evaluations = kLeafEvaluations;
   part.excess = hullExcess(ctx.view, part.hull, o);
-  part.concavity = std::max({part.excess.upper, part.hull.max_outside, tol});
+  part.concavity = std::max({part.excess.lower, part.hull.max_outside, tol});
 }
 
 struct Score {
@@ -217,7 +223,7 @@ Score scoreCut(const Context& ctx, const Part& part, const Plane& plane,
   for (auto& pts : side) {
     pts.insert(pts.end(), section.begin(), section.end());
     const HullMesh hull = quickHull(pts, kHullTolerance * ctx.c_abs, kSearchHullVertices);
-    if (!hull.valid()) continue;  // flat: on the surface
+    if (!hull.valid()) continue;  // flat (an open sheet): no excess
     ExcessOptions o;
     o.tolerance = kSearchTolerance * ctx.c_abs;
     o.resolution = kSearchResolution * ctx.c_abs;
@@ -225,8 +231,6 @@ Score scoreCut(const Context& ctx, const Part& part, const Plane& plane,
     o.max_evaluations = kSearchEvaluations;
     o.stop_above = bound.load(std::memory_order_relaxed);
     const ExcessBound e = hullExcess(ctx.view, hull, o);
-    if (std::getenv("DECOMP_DEBUG"))
-      std::fprintf(stderr, "  side pts=%zu hullv=%zu up=%.5f low=%.5f evals=%zu capped=%d q=(%.4f %.4f %.4f) p=(%.4f %.4f %.4f)\n", pts.size(), hull.vertices.size(), e.upper, e.lower, e.evaluations, e.capped, e.worst_q.x, e.worst_q.y, e.worst_q.z, e.worst_p.x, e.worst_p.y, e.worst_p.z);
     if (e.aborted) return {};
     score.cost = std::max(score.cost, e.upper);
     score.sum += e.upper;
@@ -251,48 +255,78 @@ std::vector<Plane> candidates(const Part& part) {
     Vec3 n{0.0};
     n[a] = 1.0;
     out.push_back({n, glm::dot(n, p0)});
-    for (double t : {0.25, 0.5, 0.75}) out.push_back({n, lo[a] + t * (hi[a] - lo[a])});
+    out.push_back({n, 0.5 * (lo[a] + hi[a])});
   }
   const Vec3 helper = std::abs(v.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
   const Vec3 a = glm::normalize(glm::cross(v, helper));
   const Vec3 b = glm::cross(v, a);
-  for (int k = 0; k < 8; ++k) {
-    const double t = k * std::numbers::pi / 8.0;
+  for (int k = 0; k < 6; ++k) {
+    const double t = k * std::numbers::pi / 6.0;
     const Vec3 n = a * std::cos(t) + b * std::sin(t);
     out.push_back({n, glm::dot(n, p0)});
   }
-  for (double t : {0.25, 0.5, 0.75}) out.push_back({v, glm::dot(v, p0) + t * depth});
+  for (double t : {0.33, 0.67}) out.push_back({v, glm::dot(v, p0) + t * depth});
   return out;
 }
 
-// scores `planes` on all threads; the best by (cost, sum, index)
-std::pair<int, Score> bestOf(const Context& ctx, const Part& part, const std::vector<Plane>& planes,
+// scores `planes` on all threads (a candidate worse than `incumbent` is dropped early)
+std::vector<Score> scoreAll(const Context& ctx, const Part& part, const std::vector<Plane>& planes,
                             double incumbent) {
   std::vector<Score> scores(planes.size());
   std::atomic<double> bound{incumbent};
   parallelFor(planes.size(), ctx.threads,
               [&](std::size_t i) { scores[i] = scoreCut(ctx, part, planes[i], bound); });
-  if (std::getenv("DECOMP_DEBUG"))
-    for (std::size_t i = 0; i < scores.size(); ++i)
-      std::fprintf(stderr, "cand %zu n=(%.3f %.3f %.3f) d=%.4f valid=%d cost=%.5f sum=%.5f\n", i, planes[i].n.x, planes[i].n.y, planes[i].n.z, planes[i].d, scores[i].valid, scores[i].cost, scores[i].sum);
-  int best = -1;
-  for (std::size_t i = 0; i < scores.size(); ++i) {
-    if (!scores[i].valid) continue;
-    const Score& s = scores[i];
-    if (best < 0 || s.cost < scores[static_cast<std::size_t>(best)].cost ||
-        (s.cost == scores[static_cast<std::size_t>(best)].cost &&
-         s.sum < scores[static_cast<std::size_t>(best)].sum))
-      best = static_cast<int>(i);
-  }
-  return {best, best >= 0 ? scores[static_cast<std::size_t>(best)] : Score{}};
+  return scores;
 }
 
-// the best cut: the candidates, then two rounds of shifting and tilting the winner
+bool better(const Score& a, const Score& b) {
+  return a.cost < b.cost || (a.cost == b.cost && a.sum < b.sum);
+}
+
+// the valid candidates, best first by (cost, sum, index)
+std::vector<std::size_t> ranked(const std::vector<Score>& scores) {
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < scores.size(); ++i)
+    if (scores[i].valid) order.push_back(i);
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return better(scores[a], scores[b]); });
+  return order;
+}
+
+bool splitPart(const Context& ctx, const Part& part, const Plane& plane, Part& below, Part& above);
+
+// two steps ahead (a depth-2 tree search, CoACD §5): the worst of the cut's better half and the
+// best single cut of its worse half
+double lookahead(const Context& ctx, const Part& part, const Plane& plane) {
+  Part below, above;
+  if (!splitPart(ctx, part, plane, below, above)) return kInf;
+  const Part& worse = below.concavity >= above.concavity ? below : above;
+  const Part& other = below.concavity >= above.concavity ? above : below;
+  if (worse.concavity <= ctx.c_abs) return other.concavity;
+  const std::vector<Score> next = scoreAll(ctx, worse, candidates(worse), kInf);
+  const std::vector<std::size_t> order = ranked(next);
+  const double step = order.empty() ? worse.concavity : std::min(worse.concavity, next[order[0]].cost);
+  return std::max(other.concavity, step);
+}
+
+// the best cut: the candidates (with a look two steps ahead when no single cut makes progress),
+// then two rounds of shifting and tilting the winner
 std::optional<Plane> chooseCut(const Context& ctx, const Part& part) {
   const std::vector<Plane> first = candidates(part);
-  auto [index, score] = bestOf(ctx, part, first, kInf);
-  if (index < 0) return std::nullopt;
-  Plane best = first[static_cast<std::size_t>(index)];
+  const std::vector<Score> scores = scoreAll(ctx, part, first, kInf);
+  const std::vector<std::size_t> order = ranked(scores);
+  if (order.empty()) return std::nullopt;
+  std::size_t index = order[0];
+  if (scores[index].cost > kStuck * part.concavity) {
+    double best_value = kInf;
+    for (std::size_t k = 0; k < std::min<std::size_t>(kLookahead, order.size()); ++k) {
+      const double value = lookahead(ctx, part, first[order[k]]);
+      if (value < best_value) best_value = value, index = order[k];
+    }
+    return first[index];
+  }
+  Plane best = first[index];
+  Score score = scores[index];
   Vec3 lo = part.points.front(), hi = lo;
   for (const Vec3& p : part.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
   double shift = 0.05 * glm::length(hi - lo), tilt = 0.15;
@@ -306,10 +340,11 @@ std::optional<Plane> chooseCut(const Context& ctx, const Part& part) {
       const Vec3 n = glm::normalize(best.n + axis * std::tan(tilt));
       near.push_back({n, glm::dot(n, centre)});
     }
-    auto [k, s] = bestOf(ctx, part, near, score.cost);
-    if (k >= 0 && (s.cost < score.cost || (s.cost == score.cost && s.sum < score.sum))) {
-      best = near[static_cast<std::size_t>(k)];
-      score = s;
+    const std::vector<Score> s = scoreAll(ctx, part, near, score.cost);
+    const std::vector<std::size_t> o = ranked(s);
+    if (!o.empty() && better(s[o[0]], score)) {
+      best = near[o[0]];
+      score = s[o[0]];
     }
   }
   return best;
@@ -355,7 +390,7 @@ Part mergedPart(const Context& ctx, const Part& a, const Part& b, double bound) 
   o.max_evaluations = kLeafEvaluations;
   o.stop_above = bound;
   m.excess = hullExcess(ctx.view, m.hull, o);
-  m.concavity = m.excess.aborted ? kInf : std::max({m.excess.upper, m.hull.max_outside, tol});
+  m.concavity = m.excess.aborted ? kInf : std::max({m.excess.lower, m.hull.max_outside, tol});
   m.final = true;
   return m;
 }
@@ -486,7 +521,7 @@ double unionExcess(const Context& ctx, std::span<const HullMesh> hulls, double t
     o.floor = floor;
     o.max_evaluations = kLeafEvaluations;
     o.others = others;
-    excess[i] = hullExcess(ctx.view, hulls[i], o).upper;
+    excess[i] = hullExcess(ctx.view, hulls[i], o).lower;
   });
   double worst = 0.0;
   for (double e : excess) worst = std::max(worst, e);
@@ -539,8 +574,7 @@ void finish(Run& run, DecompResult& result) {
   double coverage = 0.0;
   for (Part& p : run.leaves) {
     if (!geom::Polytope::fromPoints(p.hull.vertices).ok())
-      p.hull = quickHull(thicken(p.points, 1e-5 * ctx.mesh.diagonal), kHullTolerance * ctx.c_abs,
-                         ctx.max_piece_vertices);
+      p.hull = quickHull(thicken(p.points, 1e-5 * ctx.mesh.diagonal), 0.0, ctx.max_piece_vertices);
     if (!p.hull.valid()) continue;
     coverage = std::max({coverage, p.hull.max_outside, kHullTolerance * ctx.c_abs});
     hulls.push_back(p.hull);
@@ -676,7 +710,8 @@ std::string describe(const DecompReport& r) {
       {"unreferenced vertices dropped", c.unreferenced_vertices},
       {"degenerate triangles dropped", c.degenerate_triangles},
       {"duplicate triangles dropped", c.duplicate_triangles},
-      {"boundary edges (holes)", c.boundary_edges},
+      {"boundary edges", c.boundary_edges},
+      {"holes filled", c.holes_filled},
       {"non-manifold edges", c.non_manifold_edges},
       {"triangles re-wound", c.flipped_triangles},
       {"parts turned outside out", c.inverted_components},

@@ -12,8 +12,8 @@
 /// [BD92]); here the pieces become `convexHull` colliders.
 ///
 /// **Concavity** (the knob and the report), for the model's solid M (bounded by the repaired
-/// surface S; inside means a positive ray winding count, see docs/decomposition.md) and the union
-/// U of the pieces:
+/// surface S, holes filled; inside by the generalized winding number, see docs/decomposition.md)
+/// and the union U of the pieces:
 ///
 ///     concavity = max( sup over q on the boundary of U of d(q, M),
 ///                      sup over p on S of d(p, U) )
@@ -65,8 +65,9 @@ struct DecompOptions {
   std::size_t max_triangles = 400'000;
   std::size_t decimate_to = 200'000;
   std::size_t refuse_triangles = 20'000'000;
-  /// Vertices of one piece at most (a loader's hull limit is 4096).
-  std::size_t max_piece_vertices = 256;
+  /// Vertices of one piece at most (a loader's hull limit is 4096); the hull keeps the farthest
+  /// points first and the rest count in the concavity's coverage term.
+  std::size_t max_piece_vertices = 512;
   /// Merge neighbouring pieces whose merged hull stays within the concavity.
   bool merge = true;
 };
@@ -82,6 +83,7 @@ struct RepairCounts {
   std::size_t degenerate_triangles = 0;    ///< repeated vertex or zero area: dropped
   std::size_t duplicate_triangles = 0;     ///< same three vertices as another: dropped
   std::size_t boundary_edges = 0;          ///< edges of one triangle (holes, open parts)
+  std::size_t holes_filled = 0;            ///< boundary loops closed by a fan about their centre
   std::size_t non_manifold_edges = 0;      ///< edges of three or more triangles
   std::size_t flipped_triangles = 0;       ///< re-wound to agree with their neighbours
   std::size_t inverted_components = 0;     ///< closed parts wound inside out: turned
@@ -106,7 +108,7 @@ struct DecompReport {
   double concavity_target = 0.0;   ///< the option
   double diagonal = 0.0;           ///< bounding-box diagonal, input units
   double volume_ratio = 0.0;       ///< sum of piece volumes / model volume; 0 for open models
-  bool closed = false;             ///< every component closed (no boundary edge)
+  bool closed = false;             ///< closed after repair (holes filled, no non-manifold edge)
   double seconds = 0.0;
   std::size_t cuts = 0;            ///< planes cut
   std::size_t merges = 0;          ///< pairs merged

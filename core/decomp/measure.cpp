@@ -7,9 +7,12 @@
 namespace hapticd::decomp {
 namespace {
 
+constexpr std::uint32_t kNoTriangle = std::numeric_limits<std::uint32_t>::max();
+
 struct Cell {
   Vec3 a, b, c;
   double upper;
+  std::uint32_t tri;  // the surface triangle nearest to the centroid
 };
 bool lessUpper(const Cell& x, const Cell& y) { return x.upper < y.upper; }
 
@@ -22,7 +25,7 @@ class ExcessSearch {
   ExcessSearch(const ModelView& model, const ExcessOptions& o) : model_(model), o_(o) {}
 
   // evaluates the excess at the triangle's centroid; keeps the triangle if it may hold more
-  void visit(const Vec3& a, const Vec3& b, const Vec3& c) {
+  void visit(const Vec3& a, const Vec3& b, const Vec3& c, std::uint32_t parent_tri) {
     const Vec3 m = (a + b + c) / 3.0;
     const double r = circumradiusAbout(m, a, b, c);
     bool covered = false;
@@ -41,15 +44,11 @@ class ExcessSearch {
     // Lipschitz about the centroid, or convexity of the distance to one triangle of the surface
     const std::array<Vec3, 3> corners{a, b, c};
     double up = std::min(d + r, model_.bvh->farthestFrom(cl.triangle, corners));
-    if (up > done() && !finest) {
-      for (const Vec3& v : corners) {
-        const TriangleBvh::Closest cv = model_.bvh->closest(v, up);
-        if (cv.distance < up) up = std::min(up, model_.bvh->farthestFrom(cv.triangle, corners));
-      }
-    }
+    if (parent_tri != cl.triangle && parent_tri != kNoTriangle)
+      up = std::min(up, model_.bvh->farthestFrom(parent_tri, corners));
     // the sign matters when the centroid may be deep inside, or may raise the largest excess
     if (d > r || (d > out_.lower && !covered)) {
-      if (model_.bvh->inside(m)) {
+      if (model_.bvh->inside(m, cl)) {
         up = std::min(up, std::max(0.0, r - d));
       } else if (!covered && d > out_.lower) {
         out_.lower = d;
@@ -58,7 +57,7 @@ class ExcessSearch {
       }
     }
     if (up <= done() || finest) return;
-    heap_.push_back({a, b, c, up});
+    heap_.push_back({a, b, c, up, cl.triangle});
     std::push_heap(heap_.begin(), heap_.end(), lessUpper);
   }
 
@@ -77,14 +76,18 @@ class ExcessSearch {
       std::pop_heap(heap_.begin(), heap_.end(), lessUpper);
       heap_.pop_back();
       const Vec3 ab = (top.a + top.b) * 0.5, bc = (top.b + top.c) * 0.5, ca = (top.c + top.a) * 0.5;
-      visit(top.a, ab, ca);
-      visit(ab, top.b, bc);
-      visit(ca, bc, top.c);
-      visit(ab, bc, ca);
+      visit(top.a, ab, ca, top.tri);
+      visit(ab, top.b, bc, top.tri);
+      visit(ca, bc, top.c, top.tri);
+      visit(ab, bc, ca, top.tri);
     }
     const bool converged = heap_.empty() || heap_.front().upper <= done();
     out_.capped = !converged && !out_.aborted;
-    out_.upper = converged ? out_.lower : std::max(out_.lower, heap_.front().upper);
+    out_.upper = converged ? std::max(out_.lower, o_.floor) + o_.tolerance
+                           : std::max(out_.lower, heap_.front().upper);
+    out_.sampled_radius = o_.resolution;
+    for (const Cell& c : heap_)
+      out_.sampled_radius = std::max(out_.sampled_radius, circumradiusAbout((c.a + c.b + c.c) / 3.0, c.a, c.b, c.c));
     if (out_.lower > o_.stop_above) out_.aborted = true;
     return out_;
   }
@@ -123,7 +126,7 @@ HullPlanes HullPlanes::of(const HullMesh& hull) {
 ExcessBound hullExcess(const ModelView& model, const HullMesh& hull, const ExcessOptions& options) {
   ExcessSearch search(model, options);
   for (const Triangle& t : hull.triangles)
-    search.visit(hull.vertices[t[0]], hull.vertices[t[1]], hull.vertices[t[2]]);
+    search.visit(hull.vertices[t[0]], hull.vertices[t[1]], hull.vertices[t[2]], kNoTriangle);
   return search.run();
 }
 
@@ -167,7 +170,7 @@ double surfaceCoverage(std::span<const Vec3> positions, std::span<const Triangle
     return best;
   };
   for (const Triangle& t : triangles) {
-    stack.push_back({positions[t[0]], positions[t[1]], positions[t[2]], 0.0});
+    stack.push_back({positions[t[0]], positions[t[1]], positions[t[2]], 0.0, kNoTriangle});
     while (!stack.empty()) {
       const Cell cell = stack.back();
       stack.pop_back();
@@ -183,10 +186,10 @@ double surfaceCoverage(std::span<const Vec3> positions, std::span<const Triangle
         continue;
       }
       const Vec3 ab = (cell.a + cell.b) * 0.5, bc = (cell.b + cell.c) * 0.5, ca = (cell.c + cell.a) * 0.5;
-      stack.push_back({cell.a, ab, ca, 0.0});
-      stack.push_back({ab, cell.b, bc, 0.0});
-      stack.push_back({ca, bc, cell.c, 0.0});
-      stack.push_back({ab, bc, ca, 0.0});
+      stack.push_back({cell.a, ab, ca, 0.0, kNoTriangle});
+      stack.push_back({ab, cell.b, bc, 0.0, kNoTriangle});
+      stack.push_back({ca, bc, cell.c, 0.0, kNoTriangle});
+      stack.push_back({ab, bc, ca, 0.0, kNoTriangle});
     }
   }
   return std::max(lower, dropped);

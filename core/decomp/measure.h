@@ -7,8 +7,9 @@
 /// which is convex, so its largest value over T is at a corner. Triangles are split in four,
 /// largest bound first (Horst and Tuy, "Global Optimization", 1996, ch. 4, Lipschitz branch and
 /// bound), until every bound is within `tolerance` of the largest excess found or the triangle's
-/// radius is down to `resolution`: the answer is the largest excess at the centroids visited, and
-/// the true supremum is at most max(answer, floor) + max(tolerance, resolution).
+/// radius is down to `resolution`, or `max_evaluations`: the answer (`lower`) is the largest excess
+/// at the centroids visited, which sample the boundary at the radius `sampled_radius`; the true
+/// supremum is at most `upper`.
 /// Any thread; the context is read-only.
 
 #include <limits>
@@ -43,6 +44,7 @@ struct ExcessBound {
   Vec3 worst_p{0.0};   ///< its closest point on the model's surface
   bool aborted = false;  ///< lower exceeded `stop_above`
   bool capped = false;   ///< stopped at max_evaluations
+  double sampled_radius = 0.0;  ///< largest radius of a triangle left unsplit (its centroid seen)
   std::size_t evaluations = 0;
 };
 

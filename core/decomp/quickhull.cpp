@@ -43,7 +43,17 @@ class Builder {
   std::span<const Vec3> p_;
   double tol_;
   std::vector<Face> faces_;
-  std::vector<std::uint32_t> pending_;  // faces that may have outside points (a stack)
+  // faces that may have outside points, farthest point first (ties: lower face index)
+  std::vector<std::pair<double, std::uint32_t>> pending_;
+  void push(std::uint32_t f) {
+    if (faces_[f].outside.empty()) return;
+    pending_.push_back({faces_[f].far_d, f});
+    std::push_heap(pending_.begin(), pending_.end(), farther);
+  }
+  static bool farther(const std::pair<double, std::uint32_t>& a,
+                      const std::pair<double, std::uint32_t>& b) {
+    return a.first != b.first ? a.first < b.first : a.second > b.second;
+  }
   std::vector<std::uint32_t> visible_;
   std::vector<HorizonEdge> horizon_;
   std::vector<std::uint32_t> mark_;  // per face: the pass that saw it visible
@@ -135,7 +145,7 @@ bool Builder::init() {
   const std::array<std::uint32_t, 4> all{f0, f1, f2, f3};
   for (std::uint32_t i = 0; i < n; ++i)
     if (i != i0 && i != i1 && i != i2 && i != i3) assign(i, all);
-  pending_ = {f3, f2, f1, f0};
+  for (std::uint32_t f : all) push(f);
   by_a_.assign(n, kNone);
   by_a_pass_.assign(n, 0);
   return true;
@@ -200,7 +210,7 @@ void Builder::addPoint(std::uint32_t fi) {
       const double d = dist(f, q);
       if (d > f.far_d) f.far_d = d, f.far = q;
     }
-    pending_.push_back(fi);
+    push(fi);
     return;
   }
   std::vector<std::uint32_t> made;
@@ -229,12 +239,13 @@ void Builder::addPoint(std::uint32_t fi) {
     f.outside.shrink_to_fit();
   }
   ++vertex_count_;
-  for (auto it = made.rbegin(); it != made.rend(); ++it) pending_.push_back(*it);
+  for (std::uint32_t nf : made) push(nf);
 }
 
 void Builder::run(std::size_t max_vertices) {
   while (!pending_.empty()) {
-    const std::uint32_t fi = pending_.back();
+    std::pop_heap(pending_.begin(), pending_.end(), farther);
+    const std::uint32_t fi = pending_.back().second;
     pending_.pop_back();
     if (!faces_[fi].alive || faces_[fi].outside.empty()) continue;
     if (vertex_count_ >= max_vertices) {

@@ -245,6 +245,63 @@ std::vector<std::uint32_t> orient(std::vector<Triangle>& tris, const std::vector
   return comp;
 }
 
+// closes every boundary loop with a fan about its centroid (the scan's missing patch, as a
+// winding number would fill it); returns the boundary edges left open (loops it could not follow)
+std::size_t fillHoles(std::vector<Triangle>& tris, std::vector<Vec3>& p, RepairCounts& counts) {
+  const std::vector<EdgeUse> uses = edgeUses(tris);
+  // boundary edges as their triangle runs them: from -> to
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> boundary;
+  for (std::size_t i = 0; i < uses.size();) {
+    std::size_t j = i;
+    while (j < uses.size() && uses[j].key == uses[i].key) ++j;
+    if (j - i == 1) {
+      const auto lo = static_cast<std::uint32_t>(uses[i].key >> 32);
+      const auto hi = static_cast<std::uint32_t>(uses[i].key & 0xffffffffu);
+      boundary.push_back(uses[i].forward ? std::make_pair(lo, hi) : std::make_pair(hi, lo));
+    }
+    i = j;
+  }
+  std::sort(boundary.begin(), boundary.end());
+  std::vector<bool> used(boundary.size(), false);
+  std::size_t left_open = 0;
+  for (std::size_t s = 0; s < boundary.size(); ++s) {
+    if (used[s]) continue;
+    std::vector<std::uint32_t> loop{boundary[s].first};
+    std::vector<std::size_t> edges{s};
+    used[s] = true;
+    std::uint32_t at = boundary[s].second;
+    bool closed = false;
+    while (loop.size() <= boundary.size()) {
+      if (at == loop.front()) {
+        closed = true;
+        break;
+      }
+      // the first unused boundary edge leaving `at`
+      auto it = std::lower_bound(boundary.begin(), boundary.end(), std::make_pair(at, 0u));
+      while (it != boundary.end() && it->first == at && used[static_cast<std::size_t>(it - boundary.begin())]) ++it;
+      if (it == boundary.end() || it->first != at) break;
+      const auto k = static_cast<std::size_t>(it - boundary.begin());
+      used[k] = true;
+      edges.push_back(k);
+      loop.push_back(at);
+      at = it->second;
+    }
+    if (!closed || loop.size() < 3) {
+      left_open += edges.size();
+      continue;
+    }
+    Vec3 centre{0.0};
+    for (std::uint32_t v : loop) centre += p[v];
+    centre /= static_cast<double>(loop.size());
+    const auto c = static_cast<std::uint32_t>(p.size());
+    p.push_back(centre);
+    for (std::size_t i = 0; i < loop.size(); ++i)
+      tris.push_back({loop[(i + 1) % loop.size()], loop[i], c});
+    ++counts.holes_filled;
+  }
+  return left_open;
+}
+
 }  // namespace
 
 Result<RepairedMesh> repairMesh(const TriangleMesh& mesh, const RepairLimits& limits,
@@ -328,12 +385,13 @@ Result<RepairedMesh> repairMesh(const TriangleMesh& mesh, const RepairLimits& li
                                       }));
   counts.unreferenced_vertices = representatives - out.positions.size();
   orient(kept, out.positions, counts);
+  const std::size_t open_edges = fillHoles(kept, out.positions, counts);
   out.triangles = std::move(kept);
   out.lo = Vec3{std::numeric_limits<double>::max()};
   out.hi = Vec3{-std::numeric_limits<double>::max()};
   for (const Vec3& v : out.positions) out.lo = glm::min(out.lo, v), out.hi = glm::max(out.hi, v);
   out.diagonal = glm::length(out.hi - out.lo);
-  out.closed = counts.boundary_edges == 0 && counts.non_manifold_edges == 0;
+  out.closed = open_edges == 0 && counts.non_manifold_edges == 0;
   if (out.closed) out.volume = meshVolume(out.positions, out.triangles);
   const TriangleBvh bvh(out.positions, out.triangles);
   counts.self_intersections = bvh.countCrossingPairs(limits.max_crossing_pairs_tested,

@@ -4,7 +4,8 @@
 /// data dropped, equal vertices welded, degenerate and duplicate triangles dropped, unreferenced
 /// vertices dropped, winding made consistent across manifold edges (breadth first from each part's
 /// first triangle), each part turned to enclose positive volume (a sealed inner shell is turned too,
-/// so the void it bounds counts as inside: docs/decomposition.md), edges and crossings counted.
+/// so the void it bounds counts as inside: docs/decomposition.md), holes (boundary loops) closed by
+/// a fan about their centre, edges and crossings counted.
 /// Inputs above a triangle limit are decimated by vertex clustering (Rossignac and Borrel,
 /// "Multi-resolution 3D approximations for rendering complex scenes", 1993). Any thread.
 
