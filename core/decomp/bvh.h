@@ -27,7 +27,8 @@ class TriangleBvh {
   };
   /// The closest point of the surface to `p`, searched only within `max_distance` (farther: the
   /// returned distance is infinite).
-  Closest closest(const Vec3& p, double max_distance = std::numeric_limits<double>::infinity()) const;
+  Closest closest(const Vec3& p,
+                  double max_distance = std::numeric_limits<double>::infinity()) const;
   /// Exits minus entries of the ray p + t·dir, t > 0, through the outward-wound surface.
   int windingAlongRay(const Vec3& p, const Vec3& dir) const;
   /// Inside the solid: a positive crossing count on at least two of three fixed rays (robust to a
@@ -68,7 +69,9 @@ class TriangleBvh {
     std::uint32_t source = 0;        // index in the input's triangle array
   };
   void pseudonormals(std::span<const Vec3> positions, std::span<const Triangle> triangles);
-  void build(std::uint32_t index, std::uint32_t first, std::uint32_t count,
+  void build(std::uint32_t index,
+             std::uint32_t first,
+             std::uint32_t count,
              std::vector<Vec3>& centroids);
 
   std::vector<Node> nodes_;

@@ -2,10 +2,10 @@
 /// \file
 /// The exact geometry of a plane cut: a part's surface as convex polygons (mesh triangles clipped
 /// by the planes of its cell, Sutherland and Hodgman, CACM 17(1) 1974) and its cell as a convex
-/// polyhedron (face loops). The vertices of (model ∩ cell) are the polygons' vertices and the cell's
-/// vertices inside the model, so a piece is the hull of those. An edge's crossing is computed from
-/// its lexicographically smaller end, so two polygons sharing an edge get the same bits.
-/// Any thread.
+/// polyhedron (face loops). The vertices of (model ∩ cell) are the polygons' vertices and the
+/// cell's vertices inside the model, so a piece is the hull of those. An edge's crossing is
+/// computed from its lexicographically smaller end, so two polygons sharing an edge get the same
+/// bits. Any thread.
 
 #include <cstdint>
 #include <vector>
@@ -38,15 +38,25 @@ Cell boxCell(const Vec3& lo, const Vec3& hi);
 /// Splits every polygon by the plane. Points within `eps` of the plane count as on it; a vertex on
 /// the plane goes to both sides, a polygon lying in the plane to the side its normal faces away
 /// from (the model is behind its surface).
-void splitPolygons(const Polygons& in, const Plane& plane, double eps, Polygons& below,
+void splitPolygons(const Polygons& in,
+                   const Plane& plane,
+                   double eps,
+                   Polygons& below,
                    Polygons& above);
 /// The vertices on the plane (within eps) and the points where edges cross it, each with the side
 /// it belongs to: `both` for the section of the surface, `below` or `above` for the vertices of
 /// polygons lying in the plane. Shared edges are reported once per polygon; callers deduplicate.
-void sectionPoints(const Polygons& in, const Plane& plane, double eps, std::vector<Vec3>& both,
-                   std::vector<Vec3>& below, std::vector<Vec3>& above);
+void sectionPoints(const Polygons& in,
+                   const Plane& plane,
+                   double eps,
+                   std::vector<Vec3>& both,
+                   std::vector<Vec3>& below,
+                   std::vector<Vec3>& above);
 /// Splits a cell by the plane; `section` gets the vertices of the new face.
-void splitCell(const Cell& in, const Plane& plane, Cell& below, Cell& above,
+void splitCell(const Cell& in,
+               const Plane& plane,
+               Cell& below,
+               Cell& above,
                std::vector<Vec3>& section);
 /// The new face's vertices only (what splitCell puts in `section`).
 std::vector<Vec3> cellSection(const Cell& in, const Plane& plane);

@@ -4,8 +4,8 @@
 #include <atomic>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <cstdlib>
+#include <cstring>
 #include <memory>
 #include <numbers>
 #include <optional>
@@ -26,16 +26,16 @@ using Clock = std::chrono::steady_clock;
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
 // Fixed tuning of the search (relative to the concavity bound c or the diagonal).
-constexpr std::size_t kSamplePoints = 2500;     // hull points a candidate cut is scored with
-constexpr std::size_t kSearchEvaluations = 500;   // distance queries per scored hull
-constexpr std::size_t kLeafEvaluations = 40000;   // per piece's own measure
+constexpr std::size_t kSamplePoints = 2500;      // hull points a candidate cut is scored with
+constexpr std::size_t kSearchEvaluations = 500;  // distance queries per scored hull
+constexpr std::size_t kLeafEvaluations = 40000;  // per piece's own measure
 constexpr std::size_t kSearchHullVertices = 256;
-constexpr double kHullTolerance = 0.1;      // of c: points this close to a hull are dropped
-constexpr double kSearchTolerance = 0.1;    // of c: branch-and-bound slack when scoring cuts
-constexpr double kSearchResolution = 0.5;   // of c: smallest triangle radius when scoring cuts
-constexpr double kLeafTolerance = 0.05;     // of c: slack of a piece's own measure
-constexpr double kLeafResolution = 0.1;     // of c: and its resolution (docs/decomposition.md)
-constexpr double kFloor = 0.25;             // of c: excess below this is not resolved further
+constexpr double kHullTolerance = 0.1;     // of c: points this close to a hull are dropped
+constexpr double kSearchTolerance = 0.1;   // of c: branch-and-bound slack when scoring cuts
+constexpr double kSearchResolution = 0.5;  // of c: smallest triangle radius when scoring cuts
+constexpr double kLeafTolerance = 0.05;    // of c: slack of a piece's own measure
+constexpr double kLeafResolution = 0.1;    // of c: and its resolution (docs/decomposition.md)
+constexpr double kFloor = 0.25;            // of c: excess below this is not resolved further
 constexpr double kStuck = 0.85;  // a best cut above this share of the part's concavity: look ahead
 constexpr std::size_t kLookahead = 3;  // candidates looked two steps ahead
 
@@ -50,8 +50,8 @@ struct Context {
 };
 
 struct Part {
-  Polygons polys;          // the model's surface inside the cell
-  Cell cell;               // the convex cell (empty after a merge)
+  Polygons polys;            // the model's surface inside the cell
+  Cell cell;                 // the convex cell (empty after a merge)
   std::vector<Vec3> inside;  // cell vertices inside the model
   std::vector<Vec3> points;  // hull input: polygon vertices and `inside`, sorted, unique
   std::vector<Vec3> sample;  // at most kSamplePoints of them, for scoring cuts
@@ -66,86 +66,101 @@ template <class Fn>
 void parallelFor(std::size_t n, unsigned threads, const Fn& fn) {
   const unsigned t_count = static_cast<unsigned>(std::min<std::size_t>(threads, n));
   if (t_count <= 1) {
-    for (std::size_t i = 0; i < n; ++i) fn(i);
+    for (std::size_t i = 0; i < n; ++i)
+      fn(i);
     return;
   }
   std::vector<std::thread> pool;
   for (unsigned t = 1; t < t_count; ++t)
     pool.emplace_back([&, t] {
-      for (std::size_t i = t; i < n; i += t_count) fn(i);
+      for (std::size_t i = t; i < n; i += t_count)
+        fn(i);
     });
-  for (std::size_t i = 0; i < n; i += t_count) fn(i);
-  for (std::thread& th : pool) th.join();
+  for (std::size_t i = 0; i < n; i += t_count)
+    fn(i);
+  for (std::thread& th : pool)
+    th.join();
 }
 
-std::uint64_t mixBits(const Vec3& p) {
-  std::uint64_t h = 0xcbf29ce484222325ull;
-  for (int a = 0; a < 3; ++a) {
-    std::uint64_t b = 0;
-    std::memcpy(&b, &p[a], sizeof b);
-    h = (h ^ b) * 0x100000001b3ull;
-    h ^= h >> 29;
-  }
-  return h;
+// a fixed pseudo-random permutation key of an index (splitmix64's finaliser)
+std::uint64_t mixIndex(std::uint64_t i) {
+  std::uint64_t h = i + 0x9E3779B97F4A7C15ull;
+  h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
+  h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
+  return h ^ (h >> 31);
 }
 
-// a deterministic pseudo-random subset of at most k points, plus the extremes along 13 directions
+// a deterministic pseudo-random subset of at most k points (by index, so the same at any scale),
+// plus the extremes along 13 directions
 std::vector<Vec3> subsample(const std::vector<Vec3>& pts, std::size_t k) {
-  if (pts.size() <= k) return pts;
-  static constexpr double kDirs[13][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 0}, {1, -1, 0},
-                                          {1, 0, 1}, {1, 0, -1}, {0, 1, 1}, {0, 1, -1}, {1, 1, 1},
+  if (pts.size() <= k)
+    return pts;
+  static constexpr double kDirs[13][3] = {{1, 0, 0},  {0, 1, 0},  {0, 0, 1}, {1, 1, 0},  {1, -1, 0},
+                                          {1, 0, 1},  {1, 0, -1}, {0, 1, 1}, {0, 1, -1}, {1, 1, 1},
                                           {1, 1, -1}, {1, -1, 1}, {-1, 1, 1}};
   std::vector<std::uint32_t> keep;
   for (const auto& d : kDirs) {
     const Vec3 dir{d[0], d[1], d[2]};
     std::uint32_t lo = 0, hi = 0;
     for (std::uint32_t i = 0; i < pts.size(); ++i) {
-      if (glm::dot(pts[i], dir) < glm::dot(pts[lo], dir)) lo = i;
-      if (glm::dot(pts[i], dir) > glm::dot(pts[hi], dir)) hi = i;
+      if (glm::dot(pts[i], dir) < glm::dot(pts[lo], dir))
+        lo = i;
+      if (glm::dot(pts[i], dir) > glm::dot(pts[hi], dir))
+        hi = i;
     }
     keep.push_back(lo);
     keep.push_back(hi);
   }
   std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed(pts.size());
-  for (std::uint32_t i = 0; i < pts.size(); ++i) keyed[i] = {mixBits(pts[i]), i};
+  for (std::uint32_t i = 0; i < pts.size(); ++i)
+    keyed[i] = {mixIndex(i), i};
   std::nth_element(keyed.begin(), keyed.begin() + static_cast<std::ptrdiff_t>(k), keyed.end());
-  for (std::size_t i = 0; i < k; ++i) keep.push_back(keyed[i].second);
+  for (std::size_t i = 0; i < k; ++i)
+    keep.push_back(keyed[i].second);
   std::sort(keep.begin(), keep.end());
   keep.erase(std::unique(keep.begin(), keep.end()), keep.end());
   std::vector<Vec3> out;
   out.reserve(keep.size());
-  for (std::uint32_t i : keep) out.push_back(pts[i]);
+  for (std::uint32_t i : keep)
+    out.push_back(pts[i]);
   return out;
 }
 
 // points that span a plane or a line get copies pushed off it, so that the hull has volume
 std::vector<Vec3> thicken(const std::vector<Vec3>& pts, double eps) {
   std::vector<Vec3> out = pts;
-  if (pts.empty()) return out;
+  if (pts.empty())
+    return out;
   Vec3 lo = pts[0], hi = pts[0];
-  for (const Vec3& p : pts) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  for (const Vec3& p : pts)
+    lo = glm::min(lo, p), hi = glm::max(hi, p);
   Vec3 n{0.0};
   // the normal of the plane through the first point and the two that span most
   std::size_t i1 = 0;
   for (std::size_t i = 0; i < pts.size(); ++i)
-    if (glm::length(pts[i] - pts[0]) > glm::length(pts[i1] - pts[0])) i1 = i;
+    if (glm::length(pts[i] - pts[0]) > glm::length(pts[i1] - pts[0]))
+      i1 = i;
   double best = 0.0;
   for (std::size_t i = 0; i < pts.size(); ++i) {
     const Vec3 c = glm::cross(pts[i1] - pts[0], pts[i] - pts[0]);
-    if (glm::length(c) > best) best = glm::length(c), n = c;
+    if (glm::length(c) > best)
+      best = glm::length(c), n = c;
   }
   std::vector<Vec3> dirs;
   if (best > 0.0) {
     dirs.push_back(glm::normalize(n));
   } else {
-    const Vec3 axis = glm::length(pts[i1] - pts[0]) > 0.0 ? glm::normalize(pts[i1] - pts[0]) : Vec3{1, 0, 0};
+    const Vec3 axis =
+        glm::length(pts[i1] - pts[0]) > 0.0 ? glm::normalize(pts[i1] - pts[0]) : Vec3{1, 0, 0};
     const Vec3 helper = std::abs(axis.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
     dirs.push_back(glm::normalize(glm::cross(axis, helper)));
     dirs.push_back(glm::cross(axis, dirs[0]));
-    if (glm::length(pts[i1] - pts[0]) == 0.0) dirs.push_back(axis);
+    if (glm::length(pts[i1] - pts[0]) == 0.0)
+      dirs.push_back(axis);
   }
   for (const Vec3& d : dirs)
-    for (const Vec3& p : pts) out.push_back(p + d * eps), out.push_back(p - d * eps);
+    for (const Vec3& p : pts)
+      out.push_back(p + d * eps), out.push_back(p - d * eps);
   return out;
 }
 
@@ -153,9 +168,11 @@ std::vector<Vec3> thicken(const std::vector<Vec3>& pts, double eps) {
 // of a slab 2e-6 of the diagonal thick
 HullMesh hullOf(const Context& ctx, const std::vector<Vec3>& pts, double tol, std::size_t max_v) {
   HullMesh h = quickHull(pts, tol, max_v);
-  if (h.valid() || pts.empty()) return h;
+  if (h.valid() || pts.empty())
+    return h;
   h = quickHull(pts, 0.0, max_v);
-  if (h.valid()) return h;
+  if (h.valid())
+    return h;
   return quickHull(thicken(pts, 1e-6 * ctx.mesh.diagonal), 0.0, max_v);
 }
 
@@ -184,11 +201,14 @@ struct Score {
 std::vector<Vec3> insideSection(const Context& ctx, const Cell& cell, const Plane& plane) {
   std::vector<Vec3> out;
   for (const Vec3& v : cellSection(cell, plane))
-    if (ctx.bvh->inside(v)) out.push_back(v);
+    if (ctx.bvh->inside(v))
+      out.push_back(v);
   return out;
 }
 
-Score scoreCut(const Context& ctx, const Part& part, const Plane& plane,
+Score scoreCut(const Context& ctx,
+               const Part& part,
+               const Plane& plane,
                std::atomic<double>& bound) {
   // strictly off the plane from the sample; on it from the polygons (which side a vertex on the
   // plane belongs to depends on its polygon)
@@ -196,26 +216,35 @@ Score scoreCut(const Context& ctx, const Part& part, const Plane& plane,
   std::vector<Vec3> side[2];
   for (const Vec3& p : part.sample) {
     const double s = plane.signedDistance(p);
-    if (s < -eps) side[0].push_back(p);
-    if (s > eps) side[1].push_back(p);
+    if (s < -eps)
+      side[0].push_back(p);
+    if (s > eps)
+      side[1].push_back(p);
   }
   std::vector<Vec3> section;
   std::vector<Vec3> on[2];
   sectionPoints(part.polys, plane, eps, section, on[0], on[1]);
   sortUnique(section);
-  if (section.size() > kSamplePoints / 2) section = subsample(section, kSamplePoints / 2);
+  if (section.size() > kSamplePoints / 2)
+    section = subsample(section, kSamplePoints / 2);
   for (int k = 0; k < 2; ++k) {
     sortUnique(on[k]);
-    if (on[k].size() > kSamplePoints / 2) on[k] = subsample(on[k], kSamplePoints / 2);
+    if (on[k].size() > kSamplePoints / 2)
+      on[k] = subsample(on[k], kSamplePoints / 2);
     side[k].insert(side[k].end(), on[k].begin(), on[k].end());
   }
-  if (side[0].size() + section.size() < 4 || side[1].size() + section.size() < 4) return {};
-  if (side[0].empty() || side[1].empty()) return {};
-  for (const Vec3& v : insideSection(ctx, part.cell, plane)) section.push_back(v);
+  if (side[0].size() + section.size() < 4 || side[1].size() + section.size() < 4)
+    return {};
+  if (side[0].empty() || side[1].empty())
+    return {};
+  for (const Vec3& v : insideSection(ctx, part.cell, plane))
+    section.push_back(v);
   for (const Vec3& v : part.inside) {
     const double s = plane.signedDistance(v);
-    if (s <= eps) side[0].push_back(v);
-    if (s >= -eps) side[1].push_back(v);
+    if (s <= eps)
+      side[0].push_back(v);
+    if (s >= -eps)
+      side[1].push_back(v);
   }
   Score score;
   score.cost = 0.0;
@@ -223,7 +252,8 @@ Score scoreCut(const Context& ctx, const Part& part, const Plane& plane,
   for (auto& pts : side) {
     pts.insert(pts.end(), section.begin(), section.end());
     const HullMesh hull = quickHull(pts, kHullTolerance * ctx.c_abs, kSearchHullVertices);
-    if (!hull.valid()) continue;  // flat (an open sheet): no excess
+    if (!hull.valid())
+      continue;  // flat (an open sheet): no excess
     ExcessOptions o;
     o.tolerance = kSearchTolerance * ctx.c_abs;
     o.resolution = kSearchResolution * ctx.c_abs;
@@ -231,7 +261,8 @@ Score scoreCut(const Context& ctx, const Part& part, const Plane& plane,
     o.max_evaluations = kSearchEvaluations;
     o.stop_above = bound.load(std::memory_order_relaxed);
     const ExcessBound e = hullExcess(ctx.view, hull, o);
-    if (e.aborted) return {};
+    if (e.aborted)
+      return {};
     score.cost = std::max(score.cost, e.upper);
     score.sum += e.upper;
   }
@@ -246,7 +277,8 @@ Score scoreCut(const Context& ctx, const Part& part, const Plane& plane,
 std::vector<Plane> candidates(const Part& part) {
   std::vector<Plane> out;
   Vec3 lo = part.points.front(), hi = lo;
-  for (const Vec3& p : part.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  for (const Vec3& p : part.points)
+    lo = glm::min(lo, p), hi = glm::max(hi, p);
   const Vec3 p0 = part.excess.worst_p;
   Vec3 v = part.excess.worst_q - part.excess.worst_p;
   const double depth = glm::length(v);
@@ -265,12 +297,15 @@ std::vector<Plane> candidates(const Part& part) {
     const Vec3 n = a * std::cos(t) + b * std::sin(t);
     out.push_back({n, glm::dot(n, p0)});
   }
-  for (double t : {0.33, 0.67}) out.push_back({v, glm::dot(v, p0) + t * depth});
+  for (double t : {0.33, 0.67})
+    out.push_back({v, glm::dot(v, p0) + t * depth});
   return out;
 }
 
 // scores `planes` on all threads (a candidate worse than `incumbent` is dropped early)
-std::vector<Score> scoreAll(const Context& ctx, const Part& part, const std::vector<Plane>& planes,
+std::vector<Score> scoreAll(const Context& ctx,
+                            const Part& part,
+                            const std::vector<Plane>& planes,
                             double incumbent) {
   std::vector<Score> scores(planes.size());
   std::atomic<double> bound{incumbent};
@@ -287,7 +322,8 @@ bool better(const Score& a, const Score& b) {
 std::vector<std::size_t> ranked(const std::vector<Score>& scores) {
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < scores.size(); ++i)
-    if (scores[i].valid) order.push_back(i);
+    if (scores[i].valid)
+      order.push_back(i);
   std::stable_sort(order.begin(), order.end(),
                    [&](std::size_t a, std::size_t b) { return better(scores[a], scores[b]); });
   return order;
@@ -299,13 +335,16 @@ bool splitPart(const Context& ctx, const Part& part, const Plane& plane, Part& b
 // best single cut of its worse half
 double lookahead(const Context& ctx, const Part& part, const Plane& plane) {
   Part below, above;
-  if (!splitPart(ctx, part, plane, below, above)) return kInf;
+  if (!splitPart(ctx, part, plane, below, above))
+    return kInf;
   const Part& worse = below.concavity >= above.concavity ? below : above;
   const Part& other = below.concavity >= above.concavity ? above : below;
-  if (worse.concavity <= ctx.c_abs) return other.concavity;
+  if (worse.concavity <= ctx.c_abs)
+    return other.concavity;
   const std::vector<Score> next = scoreAll(ctx, worse, candidates(worse), kInf);
   const std::vector<std::size_t> order = ranked(next);
-  const double step = order.empty() ? worse.concavity : std::min(worse.concavity, next[order[0]].cost);
+  const double step =
+      order.empty() ? worse.concavity : std::min(worse.concavity, next[order[0]].cost);
   return std::max(other.concavity, step);
 }
 
@@ -315,20 +354,23 @@ std::optional<Plane> chooseCut(const Context& ctx, const Part& part) {
   const std::vector<Plane> first = candidates(part);
   const std::vector<Score> scores = scoreAll(ctx, part, first, kInf);
   const std::vector<std::size_t> order = ranked(scores);
-  if (order.empty()) return std::nullopt;
+  if (order.empty())
+    return std::nullopt;
   std::size_t index = order[0];
   if (scores[index].cost > kStuck * part.concavity) {
     double best_value = kInf;
     for (std::size_t k = 0; k < std::min<std::size_t>(kLookahead, order.size()); ++k) {
       const double value = lookahead(ctx, part, first[order[k]]);
-      if (value < best_value) best_value = value, index = order[k];
+      if (value < best_value)
+        best_value = value, index = order[k];
     }
     return first[index];
   }
   Plane best = first[index];
   Score score = scores[index];
   Vec3 lo = part.points.front(), hi = lo;
-  for (const Vec3& p : part.points) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  for (const Vec3& p : part.points)
+    lo = glm::min(lo, p), hi = glm::max(hi, p);
   double shift = 0.05 * glm::length(hi - lo), tilt = 0.15;
   for (int round = 0; round < 2; ++round, shift *= 0.5, tilt *= 0.5) {
     const Vec3 helper = std::abs(best.n.x) < 0.9 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
@@ -356,14 +398,18 @@ bool splitPart(const Context& ctx, const Part& part, const Plane& plane, Part& b
   std::vector<Vec3> section;
   splitCell(part.cell, plane, below.cell, above.cell, section);
   for (const Vec3& v : section)
-    if (ctx.bvh->inside(v)) below.inside.push_back(v), above.inside.push_back(v);
+    if (ctx.bvh->inside(v))
+      below.inside.push_back(v), above.inside.push_back(v);
   for (const Vec3& v : part.inside) {
     const double s = plane.signedDistance(v);
-    if (s <= ctx.eps) below.inside.push_back(v);
-    if (s >= -ctx.eps) above.inside.push_back(v);
+    if (s <= ctx.eps)
+      below.inside.push_back(v);
+    if (s >= -ctx.eps)
+      above.inside.push_back(v);
   }
   for (Part* child : {&below, &above}) {
-    if (child->polys.size() == 0) return false;
+    if (child->polys.size() == 0)
+      return false;
     child->points = child->polys.pts;
     child->points.insert(child->points.end(), child->inside.begin(), child->inside.end());
     finishPart(ctx, *child);
@@ -372,7 +418,8 @@ bool splitPart(const Context& ctx, const Part& part, const Plane& plane, Part& b
 }
 
 bool boxesTouch(const HullPlanes& a, const HullPlanes& b, double slack) {
-  return !(glm::any(glm::lessThan(a.hi + slack, b.lo)) || glm::any(glm::lessThan(b.hi + slack, a.lo)));
+  return !(glm::any(glm::lessThan(a.hi + slack, b.lo)) ||
+           glm::any(glm::lessThan(b.hi + slack, a.lo)));
 }
 
 // the hull of two parts together, measured; its concavity is infinite when above the bound
@@ -409,11 +456,13 @@ struct Run {
   bool outOfTime() const { return options.time_limit_s > 0.0 && elapsed() > options.time_limit_s; }
   double worst() const {
     double w = 0.0;
-    for (const Part& p : leaves) w = std::max(w, p.concavity);
+    for (const Part& p : leaves)
+      w = std::max(w, p.concavity);
     return w;
   }
   void tell(const char* stage) const {
-    if (progress) progress({leaves.size(), worst() / ctx.mesh.diagonal, elapsed(), stage});
+    if (progress)
+      progress({leaves.size(), worst() / ctx.mesh.diagonal, elapsed(), stage});
   }
   void add(Part&& p) {
     leaves.push_back(std::move(p));
@@ -431,7 +480,8 @@ void Run::cutAll() {
       if (!leaves[i].final && leaves[i].concavity > ctx.c_abs &&
           (w == leaves.size() || leaves[i].concavity > leaves[w].concavity))
         w = i;
-    if (w == leaves.size()) return;
+    if (w == leaves.size())
+      return;
     if (leaves.size() >= options.max_pieces) {
       report.max_pieces_hit = true;
       return;
@@ -468,19 +518,23 @@ void Run::mergeAll() {
       return;
     }
     std::vector<HullPlanes> boxes;
-    for (const Part& p : leaves) boxes.push_back(HullPlanes::of(p.hull));
+    for (const Part& p : leaves)
+      boxes.push_back(HullPlanes::of(p.hull));
     std::vector<std::pair<std::size_t, std::size_t>> todo;
     for (std::size_t i = 0; i < leaves.size(); ++i)
       for (std::size_t j = i + 1; j < leaves.size(); ++j) {
-        if (!boxesTouch(boxes[i], boxes[j], kHullTolerance * ctx.c_abs)) continue;
+        if (!boxesTouch(boxes[i], boxes[j], kHullTolerance * ctx.c_abs))
+          continue;
         const bool known = std::any_of(cache.begin(), cache.end(), [&](const Cost& c) {
           return c.a == ids[i] && c.b == ids[j];
         });
-        if (!known) todo.push_back({i, j});
+        if (!known)
+          todo.push_back({i, j});
       }
     std::vector<double> costs(todo.size());
     parallelFor(todo.size(), ctx.threads, [&](std::size_t k) {
-      costs[k] = mergedPart(ctx, leaves[todo[k].first], leaves[todo[k].second], ctx.c_abs).concavity;
+      costs[k] =
+          mergedPart(ctx, leaves[todo[k].first], leaves[todo[k].second], ctx.c_abs).concavity;
     });
     for (std::size_t k = 0; k < todo.size(); ++k)
       cache.push_back({ids[todo[k].first], ids[todo[k].second], costs[k]});
@@ -492,7 +546,8 @@ void Run::mergeAll() {
         for (const Cost& c : cache)
           if (c.a == ids[i] && c.b == ids[j] && c.concavity <= ctx.c_abs && c.concavity < best)
             best = c.concavity, bi = i, bj = j;
-    if (best == kInf) return;
+    if (best == kInf)
+      return;
     Part merged = mergedPart(ctx, leaves[bi], leaves[bj], kInf);
     leaves.erase(leaves.begin() + static_cast<std::ptrdiff_t>(bj));
     ids.erase(ids.begin() + static_cast<std::ptrdiff_t>(bj));
@@ -506,26 +561,32 @@ void Run::mergeAll() {
 
 // the global measure of decompose.h over the final hulls (boundary points inside another piece
 // are not on the union's boundary); absolute
-double unionExcess(const Context& ctx, std::span<const HullMesh> hulls, double tolerance,
-                   double resolution, double floor) {
+std::pair<double, double> unionExcess(const Context& ctx,
+                                      std::span<const HullMesh> hulls,
+                                      double tolerance,
+                                      double resolution,
+                                      double floor) {
   std::vector<HullPlanes> planes;
-  for (const HullMesh& h : hulls) planes.push_back(HullPlanes::of(h));
-  std::vector<double> excess(hulls.size(), 0.0);
+  for (const HullMesh& h : hulls)
+    planes.push_back(HullPlanes::of(h));
+  std::vector<ExcessBound> excess(hulls.size());
   parallelFor(hulls.size(), ctx.threads, [&](std::size_t i) {
     std::vector<HullPlanes> others;
     for (std::size_t j = 0; j < hulls.size(); ++j)
-      if (j != i && boxesTouch(planes[i], planes[j], 0.0)) others.push_back(planes[j]);
+      if (j != i && boxesTouch(planes[i], planes[j], 0.0))
+        others.push_back(planes[j]);
     ExcessOptions o;
     o.tolerance = tolerance;
     o.resolution = resolution;
     o.floor = floor;
     o.max_evaluations = kLeafEvaluations;
     o.others = others;
-    excess[i] = hullExcess(ctx.view, hulls[i], o).lower;
+    excess[i] = hullExcess(ctx.view, hulls[i], o);
   });
-  double worst = 0.0;
-  for (double e : excess) worst = std::max(worst, e);
-  return worst;
+  std::pair<double, double> worst{0.0, 0.0};
+  for (const ExcessBound& e : excess)
+    worst = {std::max(worst.first, e.lower), std::max(worst.second, e.upper)};
+  return worst;  // (sampled, bound)
 }
 
 std::string fixed(double v, int digits) {
@@ -534,20 +595,26 @@ std::string fixed(double v, int digits) {
   return buf;
 }
 
-Result<Context> prepare(const TriangleMesh& mesh, const DecompOptions& options, RepairCounts& counts,
+Result<Context> prepare(const TriangleMesh& mesh,
+                        const DecompOptions& options,
+                        RepairCounts& counts,
                         std::vector<std::string>& warnings) {
   if (!(options.concavity > 0.0 && options.concavity < 1.0))
     return Error{"concavity must be in (0, 1) (a fraction of the bounding-box diagonal), got " +
                  std::to_string(options.concavity)};
-  if (options.max_pieces < 1) return Error{"max_pieces must be at least 1"};
-  if (options.threads > 16) return Error{"threads must be 0 (automatic) to 16"};
-  if (options.max_piece_vertices < 8) return Error{"max_piece_vertices must be at least 8"};
+  if (options.max_pieces < 1)
+    return Error{"max_pieces must be at least 1"};
+  if (options.threads > 16)
+    return Error{"threads must be 0 (automatic) to 16"};
+  if (options.max_piece_vertices < 8)
+    return Error{"max_piece_vertices must be at least 8"};
   RepairLimits limits;
   limits.max_triangles = options.max_triangles;
   limits.decimate_to = std::min(options.decimate_to, options.max_triangles);
   limits.refuse_triangles = options.refuse_triangles;
   Result<RepairedMesh> repaired = repairMesh(mesh, limits, counts);
-  if (!repaired) return repaired.error();
+  if (!repaired)
+    return repaired.error();
   Context ctx;
   ctx.mesh = std::move(repaired).value();
   if (counts.decimated_from > 0)
@@ -575,20 +642,22 @@ void finish(Run& run, DecompResult& result) {
   for (Part& p : run.leaves) {
     if (!geom::Polytope::fromPoints(p.hull.vertices).ok())
       p.hull = quickHull(thicken(p.points, 1e-5 * ctx.mesh.diagonal), 0.0, ctx.max_piece_vertices);
-    if (!p.hull.valid()) continue;
+    if (!p.hull.valid())
+      continue;
     coverage = std::max({coverage, p.hull.max_outside, kHullTolerance * ctx.c_abs});
     hulls.push_back(p.hull);
     result.pieces.push_back({p.hull.vertices, p.hull.triangles});
   }
   DecompReport& r = run.report;
   r.pieces = result.pieces.size();
-  const double boundary =
-      unionExcess(ctx, hulls, kLeafTolerance * ctx.c_abs, kLeafResolution * ctx.c_abs,
-                  kFloor * ctx.c_abs);
+  const auto [boundary, bound] =
+      unionExcess(ctx, hulls, kLeafTolerance * ctx.c_abs, kLeafResolution * ctx.c_abs, 0.0);
   r.concavity = std::max(boundary, coverage) / ctx.mesh.diagonal;
+  r.concavity_bound = std::max(bound, coverage) / ctx.mesh.diagonal;
   if (ctx.mesh.closed && ctx.mesh.volume > 0.0) {
     double v = 0.0;
-    for (const HullMesh& h : hulls) v += meshVolume(h.vertices, h.triangles);
+    for (const HullMesh& h : hulls)
+      v += meshVolume(h.vertices, h.triangles);
     r.volume_ratio = v / ctx.mesh.volume;
   }
   if (r.time_limit_hit)
@@ -601,12 +670,14 @@ void finish(Run& run, DecompResult& result) {
 
 }  // namespace
 
-Result<DecompResult> decompose(const TriangleMesh& mesh, const DecompOptions& options,
+Result<DecompResult> decompose(const TriangleMesh& mesh,
+                               const DecompOptions& options,
                                const ProgressFn& progress) {
   const Clock::time_point start = Clock::now();
   DecompReport report;
   Result<Context> prepared = prepare(mesh, options, report.repairs, report.warnings);
-  if (!prepared) return prepared.error();
+  if (!prepared)
+    return prepared.error();
   const Context& ctx = prepared.value();
   Run run{ctx, options, progress, start, {}, {}, 0, std::move(report)};
   run.report.concavity_target = options.concavity;
@@ -615,7 +686,8 @@ Result<DecompResult> decompose(const TriangleMesh& mesh, const DecompOptions& op
   {
     Part root;
     for (const Triangle& t : ctx.mesh.triangles)
-      root.polys.add({ctx.mesh.positions[t[0]], ctx.mesh.positions[t[1]], ctx.mesh.positions[t[2]]});
+      root.polys.add(
+          {ctx.mesh.positions[t[0]], ctx.mesh.positions[t[1]], ctx.mesh.positions[t[2]]});
     const Vec3 margin{0.01 * ctx.mesh.diagonal};
     root.cell = boxCell(ctx.mesh.lo - margin, ctx.mesh.hi + margin);
     root.points = ctx.mesh.positions;
@@ -624,7 +696,8 @@ Result<DecompResult> decompose(const TriangleMesh& mesh, const DecompOptions& op
   }
   run.tell("cut");
   run.cutAll();
-  if (options.merge && !run.report.time_limit_hit) run.mergeAll();
+  if (options.merge && !run.report.time_limit_hit)
+    run.mergeAll();
   DecompResult result;
   finish(run, result);
   run.report.seconds = run.elapsed();
@@ -633,27 +706,32 @@ Result<DecompResult> decompose(const TriangleMesh& mesh, const DecompOptions& op
   return result;
 }
 
-Result<double> measureConcavity(const TriangleMesh& mesh, std::span<const ConvexPiece> pieces,
+Result<double> measureConcavity(const TriangleMesh& mesh,
+                                std::span<const ConvexPiece> pieces,
                                 double tolerance) {
   DecompOptions options;
   options.concavity = std::clamp(tolerance, 1e-6, 0.5);
   RepairCounts counts;
   std::vector<std::string> warnings;
   Result<Context> prepared = prepare(mesh, options, counts, warnings);
-  if (!prepared) return prepared.error();
+  if (!prepared)
+    return prepared.error();
   const Context& ctx = prepared.value();
   std::vector<HullMesh> hulls;
   std::vector<HullPlanes> planes;
   for (const ConvexPiece& p : pieces) {
     HullMesh h = quickHull(p.vertices, 0.0, std::numeric_limits<std::size_t>::max());
-    if (!h.valid()) continue;  // a flat piece covers no volume; its points count in coverage below
+    if (!h.valid())
+      continue;  // a flat piece covers no volume; its points count in coverage below
     planes.push_back(HullPlanes::of(h));
     hulls.push_back(std::move(h));
   }
-  if (hulls.empty()) return Error{"no piece has volume"};
+  if (hulls.empty())
+    return Error{"no piece has volume"};
   const double abs_tol = tolerance * ctx.mesh.diagonal;
-  const double boundary = unionExcess(ctx, hulls, abs_tol, abs_tol, 0.0);
-  const double coverage = surfaceCoverage(ctx.mesh.positions, ctx.mesh.triangles, hulls, planes, abs_tol);
+  const double boundary = unionExcess(ctx, hulls, abs_tol, abs_tol, 0.0).first;
+  const double coverage =
+      surfaceCoverage(ctx.mesh.positions, ctx.mesh.triangles, hulls, planes, abs_tol);
   return std::max(boundary, coverage) / ctx.mesh.diagonal;
 }
 
@@ -661,7 +739,8 @@ std::string contentHash(const TriangleMesh& mesh, const DecompOptions& options) 
   Sha256 h;
   auto putU64 = [&](std::uint64_t x) {
     std::array<std::uint8_t, 8> b{};
-    for (std::size_t i = 0; i < 8; ++i) b[i] = static_cast<std::uint8_t>(x >> (8 * i));
+    for (std::size_t i = 0; i < 8; ++i)
+      b[i] = static_cast<std::uint8_t>(x >> (8 * i));
     h.update(b);
   };
   auto putF64 = [&](double x) {
@@ -672,13 +751,14 @@ std::string contentHash(const TriangleMesh& mesh, const DecompOptions& options) 
   static constexpr char kTag[] = "hapticd-decomp algorithm 1";
   h.update(kTag, sizeof kTag - 1);
   putU64(mesh.positions.size());
-  for (const Vec3& p : mesh.positions) putF64(p.x), putF64(p.y), putF64(p.z);
+  for (const Vec3& p : mesh.positions)
+    putF64(p.x), putF64(p.y), putF64(p.z);
   putU64(mesh.triangles.size());
   for (const Triangle& t : mesh.triangles)
     for (std::uint32_t v : t) {
-      const std::array<std::uint8_t, 4> b{static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v >> 8),
-                                          static_cast<std::uint8_t>(v >> 16),
-                                          static_cast<std::uint8_t>(v >> 24)};
+      const std::array<std::uint8_t, 4> b{
+          static_cast<std::uint8_t>(v), static_cast<std::uint8_t>(v >> 8),
+          static_cast<std::uint8_t>(v >> 16), static_cast<std::uint8_t>(v >> 24)};
       h.update(b);
     }
   putF64(options.concavity);
@@ -714,14 +794,17 @@ std::string describe(const DecompReport& r) {
       {"holes filled", c.holes_filled},
       {"non-manifold edges", c.non_manifold_edges},
       {"triangles re-wound", c.flipped_triangles},
-      {"parts turned outside out", c.inverted_components},
+      {"parts wound inside out (turned)", c.inverted_components},
       {"crossing triangle pairs (self-intersections)", c.self_intersections}};
   std::string repairs;
   for (const auto& [what, n] : items)
-    if (n > 0) repairs += (repairs.empty() ? "" : ", ") + std::to_string(n) + " " + what;
-  if (c.self_intersections_capped) repairs += " (counting stopped at its budget)";
+    if (n > 0)
+      repairs += (repairs.empty() ? "" : ", ") + std::to_string(n) + " " + what;
+  if (c.self_intersections_capped)
+    repairs += " (counting stopped at its budget)";
   s += "repairs: " + (repairs.empty() ? std::string("none needed") : repairs) + "\n";
-  for (const std::string& w : r.warnings) s += "warning: " + w + "\n";
+  for (const std::string& w : r.warnings)
+    s += "warning: " + w + "\n";
   return s;
 }
 

@@ -1,6 +1,7 @@
 #pragma once
 /// \file
-/// Approximate convex decomposition of a triangle mesh as real files have it (docs/decomposition.md).
+/// Approximate convex decomposition of a triangle mesh as real files have it
+/// (docs/decomposition.md).
 ///
 /// The method is a hierarchy of plane cuts chosen by a concavity measure, in the family of
 /// Wei, Liu, Wang, Wang, Cai, Bai, "Approximate Convex Decomposition for 3D Meshes with
@@ -104,16 +105,20 @@ struct ConvexPiece {
 /// What decompose() reports.
 struct DecompReport {
   std::size_t pieces = 0;
-  double concavity = 0.0;          ///< reached, fraction of the diagonal (upper bound)
-  double concavity_target = 0.0;   ///< the option
-  double diagonal = 0.0;           ///< bounding-box diagonal, input units
-  double volume_ratio = 0.0;       ///< sum of piece volumes / model volume; 0 for open models
-  bool closed = false;             ///< closed after repair (holes filled, no non-manifold edge)
+  /// Reached, fraction of the diagonal: the largest excess found on the union's boundary, sampled
+  /// at triangles of radius 0.1 x the target or finer where the evaluation budget allowed.
+  double concavity = 0.0;
+  /// A rigorous upper bound of the same (Lipschitz bound over the unsampled remainder).
+  double concavity_bound = 0.0;
+  double concavity_target = 0.0;  ///< the option
+  double diagonal = 0.0;          ///< bounding-box diagonal, input units
+  double volume_ratio = 0.0;      ///< sum of piece volumes / model volume; 0 for open models
+  bool closed = false;            ///< closed after repair (holes filled, no non-manifold edge)
   double seconds = 0.0;
-  std::size_t cuts = 0;            ///< planes cut
-  std::size_t merges = 0;          ///< pairs merged
+  std::size_t cuts = 0;    ///< planes cut
+  std::size_t merges = 0;  ///< pairs merged
   bool time_limit_hit = false;
-  bool max_pieces_hit = false;     ///< stopped at max_pieces above the target concavity
+  bool max_pieces_hit = false;  ///< stopped at max_pieces above the target concavity
   RepairCounts repairs;
   std::vector<std::string> warnings;  ///< each a sentence (time limit, decimation, ...)
 };
@@ -138,13 +143,16 @@ using ProgressFn = std::function<void(const Progress&)>;
 /// `threads`, unless the time limit cuts it short (then report.time_limit_hit and a warning).
 /// Errors: no usable triangle (empty, all degenerate, all non-finite), bad options, or more than
 /// options.refuse_triangles triangles.
-Result<DecompResult> decompose(const TriangleMesh& mesh, const DecompOptions& options = {},
+Result<DecompResult> decompose(const TriangleMesh& mesh,
+                               const DecompOptions& options = {},
                                const ProgressFn& progress = {});
 
 /// The concavity of `pieces` against `mesh` as defined in this header (fraction of the mesh's
-/// diagonal; an upper bound within `tolerance` of the diagonal). The mesh is repaired as decompose()
-/// does. Used on the peers' pieces in the benchmarks with the same definition. Any thread.
-Result<double> measureConcavity(const TriangleMesh& mesh, std::span<const ConvexPiece> pieces,
+/// diagonal; an upper bound within `tolerance` of the diagonal). The mesh is repaired as
+/// decompose() does. Used on the peers' pieces in the benchmarks with the same definition. Any
+/// thread.
+Result<double> measureConcavity(const TriangleMesh& mesh,
+                                std::span<const ConvexPiece> pieces,
                                 double tolerance = 1e-3);
 
 /// A stable 256-bit content hash (SHA-256, hex) of the mesh's bytes (positions as IEEE doubles,

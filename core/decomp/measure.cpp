@@ -14,7 +14,9 @@ struct Cell {
   double upper;
   std::uint32_t tri;  // the surface triangle nearest to the centroid
 };
-bool lessUpper(const Cell& x, const Cell& y) { return x.upper < y.upper; }
+bool lessUpper(const Cell& x, const Cell& y) {
+  return x.upper < y.upper;
+}
 
 double circumradiusAbout(const Vec3& m, const Vec3& a, const Vec3& b, const Vec3& c) {
   return std::max({glm::length(a - m), glm::length(b - m), glm::length(c - m)});
@@ -30,14 +32,17 @@ class ExcessSearch {
     const double r = circumradiusAbout(m, a, b, c);
     bool covered = false;
     for (const HullPlanes& other : o_.others) {
-      if (glm::any(glm::lessThan(m, other.lo)) || glm::any(glm::greaterThan(m, other.hi))) continue;
+      if (glm::any(glm::lessThan(m, other.lo)) || glm::any(glm::greaterThan(m, other.hi)))
+        continue;
       const double depth = other.depth(m);
-      if (depth >= r) return;  // the whole triangle is inside another piece
+      if (depth >= r)
+        return;  // the whole triangle is inside another piece
       covered = covered || depth > 0.0;
     }
     // a small triangle on the edge of another piece holds points of the union's boundary
     const bool finest = r <= o_.resolution;
-    if (finest) covered = false;
+    if (finest)
+      covered = false;
     ++out_.evaluations;
     const TriangleBvh::Closest cl = model_.bvh->closest(m);
     const double d = cl.distance;
@@ -56,7 +61,8 @@ class ExcessSearch {
         out_.worst_p = cl.point;
       }
     }
-    if (up <= done() || finest) return;
+    if (up <= done() || finest)
+      return;
     heap_.push_back({a, b, c, up, cl.triangle});
     std::push_heap(heap_.begin(), heap_.end(), lessUpper);
   }
@@ -67,12 +73,14 @@ class ExcessSearch {
   ExcessBound run() {
     while (!heap_.empty()) {
       const Cell top = heap_.front();
-      if (top.upper <= done()) break;
+      if (top.upper <= done())
+        break;
       if (out_.lower > o_.stop_above) {
         out_.aborted = true;
         break;
       }
-      if (out_.evaluations >= o_.max_evaluations) break;
+      if (out_.evaluations >= o_.max_evaluations)
+        break;
       std::pop_heap(heap_.begin(), heap_.end(), lessUpper);
       heap_.pop_back();
       const Vec3 ab = (top.a + top.b) * 0.5, bc = (top.b + top.c) * 0.5, ca = (top.c + top.a) * 0.5;
@@ -87,8 +95,10 @@ class ExcessSearch {
                            : std::max(out_.lower, heap_.front().upper);
     out_.sampled_radius = o_.resolution;
     for (const Cell& c : heap_)
-      out_.sampled_radius = std::max(out_.sampled_radius, circumradiusAbout((c.a + c.b + c.c) / 3.0, c.a, c.b, c.c));
-    if (out_.lower > o_.stop_above) out_.aborted = true;
+      out_.sampled_radius =
+          std::max(out_.sampled_radius, circumradiusAbout((c.a + c.b + c.c) / 3.0, c.a, c.b, c.c));
+    if (out_.lower > o_.stop_above)
+      out_.aborted = true;
     return out_;
   }
 
@@ -103,7 +113,8 @@ class ExcessSearch {
 
 double HullPlanes::depth(const Vec3& q) const {
   double d = std::numeric_limits<double>::infinity();
-  for (std::size_t i = 0; i < normal.size(); ++i) d = std::min(d, offset[i] - glm::dot(normal[i], q));
+  for (std::size_t i = 0; i < normal.size(); ++i)
+    d = std::min(d, offset[i] - glm::dot(normal[i], q));
   return d;
 }
 
@@ -111,12 +122,14 @@ HullPlanes HullPlanes::of(const HullMesh& hull) {
   HullPlanes h;
   h.lo = Vec3{std::numeric_limits<double>::max()};
   h.hi = Vec3{-std::numeric_limits<double>::max()};
-  for (const Vec3& v : hull.vertices) h.lo = glm::min(h.lo, v), h.hi = glm::max(h.hi, v);
+  for (const Vec3& v : hull.vertices)
+    h.lo = glm::min(h.lo, v), h.hi = glm::max(h.hi, v);
   for (const Triangle& t : hull.triangles) {
     const Vec3& a = hull.vertices[t[0]];
     const Vec3 n = glm::cross(hull.vertices[t[1]] - a, hull.vertices[t[2]] - a);
     const double len = glm::length(n);
-    if (!(len > 0.0)) continue;
+    if (!(len > 0.0))
+      continue;
     h.normal.push_back(n / len);
     h.offset.push_back(glm::dot(n / len, a));
   }
@@ -131,18 +144,21 @@ ExcessBound hullExcess(const ModelView& model, const HullMesh& hull, const Exces
 }
 
 double distanceToHull(const Vec3& q, const HullMesh& hull, const HullPlanes& planes) {
-  if (planes.depth(q) >= 0.0) return 0.0;
+  if (planes.depth(q) >= 0.0)
+    return 0.0;
   double best = std::numeric_limits<double>::infinity();
   for (const Triangle& t : hull.triangles) {
-    const Vec3 c = closestPointOnTriangle(q, hull.vertices[t[0]], hull.vertices[t[1]],
-                                          hull.vertices[t[2]]);
+    const Vec3 c =
+        closestPointOnTriangle(q, hull.vertices[t[0]], hull.vertices[t[1]], hull.vertices[t[2]]);
     best = std::min(best, glm::length(c - q));
   }
   return best;
 }
 
-double surfaceCoverage(std::span<const Vec3> positions, std::span<const Triangle> triangles,
-                       std::span<const HullMesh> hulls, std::span<const HullPlanes> planes,
+double surfaceCoverage(std::span<const Vec3> positions,
+                       std::span<const Triangle> triangles,
+                       std::span<const HullMesh> hulls,
+                       std::span<const HullPlanes> planes,
                        double tolerance) {
   double lower = 0.0, dropped = 0.0;
   std::vector<Cell> stack;
@@ -156,9 +172,11 @@ double surfaceCoverage(std::span<const Vec3> positions, std::span<const Triangle
           glm::any(glm::greaterThan(lo - slack, planes[i].hi)))
         continue;
       const double da = distanceToHull(a, hulls[i], planes[i]);
-      if (da >= best) continue;
+      if (da >= best)
+        continue;
       const double db = distanceToHull(b, hulls[i], planes[i]);
-      if (db >= best) continue;
+      if (db >= best)
+        continue;
       best = std::min(best, std::max({da, db, distanceToHull(c, hulls[i], planes[i])}));
     }
     return best;
@@ -185,7 +203,8 @@ double surfaceCoverage(std::span<const Vec3> positions, std::span<const Triangle
         dropped = std::max(dropped, std::min(up, lower + tolerance));
         continue;
       }
-      const Vec3 ab = (cell.a + cell.b) * 0.5, bc = (cell.b + cell.c) * 0.5, ca = (cell.c + cell.a) * 0.5;
+      const Vec3 ab = (cell.a + cell.b) * 0.5, bc = (cell.b + cell.c) * 0.5,
+                 ca = (cell.c + cell.a) * 0.5;
       stack.push_back({cell.a, ab, ca, 0.0, kNoTriangle});
       stack.push_back({ab, cell.b, bc, 0.0, kNoTriangle});
       stack.push_back({ca, bc, cell.c, 0.0, kNoTriangle});

@@ -30,7 +30,7 @@ struct ModelView {
 struct HullPlanes {
   std::vector<Vec3> normal;  ///< outward unit normals
   std::vector<double> offset;
-  Vec3 lo{0.0}, hi{0.0};     ///< bounding box
+  Vec3 lo{0.0}, hi{0.0};  ///< bounding box
   /// Depth of q inside (> 0), or minus its plane distance outside.
   double depth(const Vec3& q) const;
   static HullPlanes of(const HullMesh& hull);
@@ -39,11 +39,11 @@ struct HullPlanes {
 struct ExcessBound {
   /// The estimate: `lower` when the search converged, else (capped) the largest bound left.
   double upper = 0.0;
-  double lower = 0.0;  ///< the largest excess found at a point
-  Vec3 worst_q{0.0};   ///< that point
-  Vec3 worst_p{0.0};   ///< its closest point on the model's surface
-  bool aborted = false;  ///< lower exceeded `stop_above`
-  bool capped = false;   ///< stopped at max_evaluations
+  double lower = 0.0;           ///< the largest excess found at a point
+  Vec3 worst_q{0.0};            ///< that point
+  Vec3 worst_p{0.0};            ///< its closest point on the model's surface
+  bool aborted = false;         ///< lower exceeded `stop_above`
+  bool capped = false;          ///< stopped at max_evaluations
   double sampled_radius = 0.0;  ///< largest radius of a triangle left unsplit (its centroid seen)
   std::size_t evaluations = 0;
 };
@@ -65,8 +65,10 @@ ExcessBound hullExcess(const ModelView& model, const HullMesh& hull, const Exces
 /// Largest distance from the model's surface to the union of `hulls` (upper bound within
 /// `tolerance`), by the same branch and bound: d(., H) is convex, so over a triangle it is at most
 /// its largest value at the corners, for any one hull.
-double surfaceCoverage(std::span<const Vec3> positions, std::span<const Triangle> triangles,
-                       std::span<const HullMesh> hulls, std::span<const HullPlanes> planes,
+double surfaceCoverage(std::span<const Vec3> positions,
+                       std::span<const Triangle> triangles,
+                       std::span<const HullMesh> hulls,
+                       std::span<const HullPlanes> planes,
                        double tolerance);
 
 /// Distance from q to a convex hull (0 inside).

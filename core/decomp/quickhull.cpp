@@ -46,7 +46,8 @@ class Builder {
   // faces that may have outside points, farthest point first (ties: lower face index)
   std::vector<std::pair<double, std::uint32_t>> pending_;
   void push(std::uint32_t f) {
-    if (faces_[f].outside.empty()) return;
+    if (faces_[f].outside.empty())
+      return;
     pending_.push_back({faces_[f].far_d, f});
     std::push_heap(pending_.begin(), pending_.end(), farther);
   }
@@ -84,7 +85,8 @@ void Builder::assign(std::uint32_t point, std::span<const std::uint32_t> faces) 
     const double d = dist(f, point);
     if (d > tol_) {
       f.outside.push_back(point);
-      if (d > f.far_d) f.far_d = d, f.far = point;
+      if (d > f.far_d)
+        f.far_d = d, f.far = point;
       return;
     }
   }
@@ -92,14 +94,17 @@ void Builder::assign(std::uint32_t point, std::span<const std::uint32_t> faces) 
 
 bool Builder::init() {
   const std::size_t n = p_.size();
-  if (n < 4) return false;
+  if (n < 4)
+    return false;
   // extreme points along the axes; the farthest pair of them starts the simplex
   std::array<std::uint32_t, 6> ext{};
   for (std::uint32_t i = 0; i < n; ++i) {
     for (std::size_t a = 0; a < 3; ++a) {
       const auto axis = static_cast<glm::length_t>(a);
-      if (p_[i][axis] < p_[ext[2 * a]][axis]) ext[2 * a] = i;
-      if (p_[i][axis] > p_[ext[2 * a + 1]][axis]) ext[2 * a + 1] = i;
+      if (p_[i][axis] < p_[ext[2 * a]][axis])
+        ext[2 * a] = i;
+      if (p_[i][axis] > p_[ext[2 * a + 1]][axis])
+        ext[2 * a + 1] = i;
     }
   }
   std::uint32_t i0 = 0, i1 = 0;
@@ -107,28 +112,35 @@ bool Builder::init() {
   for (std::size_t a = 0; a < 6; ++a)
     for (std::size_t b = a + 1; b < 6; ++b) {
       const double d = glm::length(p_[ext[a]] - p_[ext[b]]);
-      if (d > best) best = d, i0 = ext[a], i1 = ext[b];
+      if (d > best)
+        best = d, i0 = ext[a], i1 = ext[b];
     }
-  if (best <= tol_) return false;
+  if (best <= tol_)
+    return false;
   const Vec3 axis = (p_[i1] - p_[i0]) / best;
   std::uint32_t i2 = 0;
   best = -1.0;
   for (std::uint32_t i = 0; i < n; ++i) {
     const Vec3 r = p_[i] - p_[i0];
     const double d = glm::length(r - axis * glm::dot(r, axis));
-    if (d > best) best = d, i2 = i;
+    if (d > best)
+      best = d, i2 = i;
   }
-  if (best <= tol_) return false;
+  if (best <= tol_)
+    return false;
   const Vec3 nrm = glm::normalize(glm::cross(p_[i1] - p_[i0], p_[i2] - p_[i0]));
   std::uint32_t i3 = 0;
   best = -1.0;
   double side = 0.0;
   for (std::uint32_t i = 0; i < n; ++i) {
     const double d = glm::dot(p_[i] - p_[i0], nrm);
-    if (std::abs(d) > best) best = std::abs(d), i3 = i, side = d;
+    if (std::abs(d) > best)
+      best = std::abs(d), i3 = i, side = d;
   }
-  if (best <= tol_) return false;
-  if (side > 0.0) std::swap(i1, i2);  // i3 behind the face (i0, i1, i2)
+  if (best <= tol_)
+    return false;
+  if (side > 0.0)
+    std::swap(i1, i2);  // i3 behind the face (i0, i1, i2)
   const std::uint32_t f0 = addFace(i0, i1, i2);
   const std::uint32_t f1 = addFace(i0, i3, i1);
   const std::uint32_t f2 = addFace(i1, i3, i2);
@@ -139,13 +151,16 @@ bool Builder::init() {
       const std::uint32_t a = faces_[f].v[e], b = faces_[f].v[(e + 1) % 3];
       for (std::uint32_t g : {f0, f1, f2, f3})
         for (std::uint32_t k = 0; k < 3; ++k)
-          if (faces_[g].v[k] == b && faces_[g].v[(k + 1) % 3] == a) faces_[f].nb[e] = g;
+          if (faces_[g].v[k] == b && faces_[g].v[(k + 1) % 3] == a)
+            faces_[f].nb[e] = g;
     }
   vertex_count_ = 4;
   const std::array<std::uint32_t, 4> all{f0, f1, f2, f3};
   for (std::uint32_t i = 0; i < n; ++i)
-    if (i != i0 && i != i1 && i != i2 && i != i3) assign(i, all);
-  for (std::uint32_t f : all) push(f);
+    if (i != i0 && i != i1 && i != i2 && i != i3)
+      assign(i, all);
+  for (std::uint32_t f : all)
+    push(f);
   by_a_.assign(n, kNone);
   by_a_pass_.assign(n, 0);
   return true;
@@ -173,25 +188,32 @@ bool Builder::horizon(std::uint32_t start, std::uint32_t apex) {
     ++fr.k;
     const Face& f = faces_[fr.face];
     const std::uint32_t g = f.nb[e];
-    if (g == kNone) return false;
-    if (mark_[g] == pass_) continue;
+    if (g == kNone)
+      return false;
+    if (mark_[g] == pass_)
+      continue;
     if (dist(faces_[g], apex) > tol_) {
       mark_[g] = pass_;
       visible_.push_back(g);
       std::uint32_t back = 0;
-      while (back < 3 && faces_[g].nb[back] != fr.face) ++back;
-      if (back == 3) return false;
+      while (back < 3 && faces_[g].nb[back] != fr.face)
+        ++back;
+      if (back == 3)
+        return false;
       stack.push_back({g, (back + 1) % 3, 0});  // `fr` is not used after this
     } else {
       std::uint32_t back = 0;
-      while (back < 3 && faces_[g].nb[back] != fr.face) ++back;
-      if (back == 3) return false;
+      while (back < 3 && faces_[g].nb[back] != fr.face)
+        ++back;
+      if (back == 3)
+        return false;
       horizon_.push_back({f.v[e], f.v[(e + 1) % 3], g, back});
     }
   }
   // a simple loop: every vertex starts exactly one horizon edge
   for (const HorizonEdge& h : horizon_) {
-    if (by_a_pass_[h.a] == pass_) return false;
+    if (by_a_pass_[h.a] == pass_)
+      return false;
     by_a_pass_[h.a] = pass_;
   }
   return horizon_.size() >= 3;
@@ -208,7 +230,8 @@ void Builder::addPoint(std::uint32_t fi) {
     f.far_d = 0.0;
     for (std::uint32_t q : f.outside) {
       const double d = dist(f, q);
-      if (d > f.far_d) f.far_d = d, f.far = q;
+      if (d > f.far_d)
+        f.far_d = d, f.far = q;
     }
     push(fi);
     return;
@@ -234,12 +257,14 @@ void Builder::addPoint(std::uint32_t fi) {
     Face& f = faces_[vf];
     f.alive = false;
     for (std::uint32_t q : f.outside)
-      if (q != apex) assign(q, made);
+      if (q != apex)
+        assign(q, made);
     f.outside.clear();
     f.outside.shrink_to_fit();
   }
   ++vertex_count_;
-  for (std::uint32_t nf : made) push(nf);
+  for (std::uint32_t nf : made)
+    push(nf);
 }
 
 void Builder::run(std::size_t max_vertices) {
@@ -247,7 +272,8 @@ void Builder::run(std::size_t max_vertices) {
     std::pop_heap(pending_.begin(), pending_.end(), farther);
     const std::uint32_t fi = pending_.back().second;
     pending_.pop_back();
-    if (!faces_[fi].alive || faces_[fi].outside.empty()) continue;
+    if (!faces_[fi].alive || faces_[fi].outside.empty())
+      continue;
     if (vertex_count_ >= max_vertices) {
       max_outside_ = std::max(max_outside_, faces_[fi].far_d);
       continue;
@@ -260,7 +286,8 @@ HullMesh Builder::output() const {
   HullMesh h;
   std::vector<std::uint32_t> remap(p_.size(), kNone);
   for (const Face& f : faces_) {
-    if (!f.alive) continue;
+    if (!f.alive)
+      continue;
     Triangle t{};
     for (int k = 0; k < 3; ++k) {
       std::uint32_t& r = remap[f.v[static_cast<std::size_t>(k)]];
@@ -279,19 +306,24 @@ HullMesh Builder::output() const {
 }  // namespace
 
 HullMesh quickHull(std::span<const Vec3> points, double tolerance, std::size_t max_vertices) {
-  if (points.size() < 4) return {};
+  if (points.size() < 4)
+    return {};
   Vec3 lo{std::numeric_limits<double>::max()}, hi{-std::numeric_limits<double>::max()};
-  for (const Vec3& p : points) lo = glm::min(lo, p), hi = glm::max(hi, p);
+  for (const Vec3& p : points)
+    lo = glm::min(lo, p), hi = glm::max(hi, p);
   const double scale = glm::length(hi - lo);
-  if (!(scale > 0.0) || !std::isfinite(scale)) return {};
+  if (!(scale > 0.0) || !std::isfinite(scale))
+    return {};
   Builder b(points, std::max(tolerance, 1e-12 * scale));
-  if (!b.init()) return {};
+  if (!b.init())
+    return {};
   b.run(std::max<std::size_t>(max_vertices, 4));
   return b.output();
 }
 
 double meshVolume(std::span<const Vec3> vertices, std::span<const Triangle> triangles) {
-  if (vertices.empty()) return 0.0;
+  if (vertices.empty())
+    return 0.0;
   const Vec3 o = vertices[0];
   double six_v = 0.0;
   for (const Triangle& t : triangles) {

@@ -26,8 +26,8 @@ struct HullMesh {
 /// Convex hull of `points`. Points closer than `tolerance` to the growing hull are dropped (so the
 /// hull is an inner approximation within `tolerance` up to the vertex cap). At most `max_vertices`
 /// vertices: the point farthest outside the hull so far goes in first, so a capped hull is the
-/// greedy farthest-point approximation and `max_outside` its error. Fewer than 4 points, or all within `tolerance` of a
-/// plane: an empty (invalid) hull.
+/// greedy farthest-point approximation and `max_outside` its error. Fewer than 4 points, or all
+/// within `tolerance` of a plane: an empty (invalid) hull.
 HullMesh quickHull(std::span<const Vec3> points, double tolerance, std::size_t max_vertices);
 
 /// Volume of a closed, outward-wound triangle mesh (signed; positive for outward winding).

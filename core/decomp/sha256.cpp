@@ -15,18 +15,21 @@ constexpr std::array<std::uint32_t, 64> kRound = {
     0x19a4c116, 0x1e376c08, 0x2748774c, 0x34b0bcb5, 0x391c0cb3, 0x4ed8aa4a, 0x5b9cca4f, 0x682e6ff3,
     0x748f82ee, 0x78a5636f, 0x84c87814, 0x8cc70208, 0x90befffa, 0xa4506ceb, 0xbef9a3f7, 0xc67178f2};
 
-constexpr std::uint32_t rotr(std::uint32_t x, int n) { return (x >> n) | (x << (32 - n)); }
+constexpr std::uint32_t rotr(std::uint32_t x, int n) {
+  return (x >> n) | (x << (32 - n));
+}
 
 }  // namespace
 
 Sha256::Sha256()
-    : h_{0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a, 0x510e527f, 0x9b05688c, 0x1f83d9ab,
-         0x5be0cd19} {}
+    : h_{0x6a09e667, 0xbb67ae85, 0x3c6ef372, 0xa54ff53a,
+         0x510e527f, 0x9b05688c, 0x1f83d9ab, 0x5be0cd19} {}
 
 void Sha256::block(const std::uint8_t* p) {
   std::array<std::uint32_t, 64> w{};
   for (std::size_t i = 0; i < 16; ++i)
-    w[i] = static_cast<std::uint32_t>(p[4 * i]) << 24 | static_cast<std::uint32_t>(p[4 * i + 1]) << 16 |
+    w[i] = static_cast<std::uint32_t>(p[4 * i]) << 24 |
+           static_cast<std::uint32_t>(p[4 * i + 1]) << 16 |
            static_cast<std::uint32_t>(p[4 * i + 2]) << 8 | static_cast<std::uint32_t>(p[4 * i + 3]);
   for (std::size_t i = 16; i < 64; ++i) {
     const std::uint32_t s0 = rotr(w[i - 15], 7) ^ rotr(w[i - 15], 18) ^ (w[i - 15] >> 3);
@@ -50,7 +53,8 @@ void Sha256::block(const std::uint8_t* p) {
     v[1] = v[0];
     v[0] = t1 + t2;
   }
-  for (std::size_t i = 0; i < 8; ++i) h_[i] += v[i];
+  for (std::size_t i = 0; i < 8; ++i)
+    h_[i] += v[i];
 }
 
 void Sha256::update(const void* data, std::size_t size) {
@@ -73,14 +77,17 @@ std::string Sha256::hexDigest() {
   const std::uint8_t pad = 0x80;
   update(&pad, 1);
   const std::uint8_t zero = 0;
-  while (used_ != 56) update(&zero, 1);
+  while (used_ != 56)
+    update(&zero, 1);
   std::array<std::uint8_t, 8> len{};
-  for (std::size_t i = 0; i < 8; ++i) len[i] = static_cast<std::uint8_t>(bits >> (56 - 8 * i));
+  for (std::size_t i = 0; i < 8; ++i)
+    len[i] = static_cast<std::uint8_t>(bits >> (56 - 8 * i));
   update(len);
   static constexpr char kHex[] = "0123456789abcdef";
   std::string out;
   for (std::uint32_t x : h_)
-    for (int s = 28; s >= 0; s -= 4) out.push_back(kHex[(x >> s) & 0xF]);
+    for (int s = 28; s >= 0; s -= 4)
+      out.push_back(kHex[(x >> s) & 0xF]);
   return out;
 }
 

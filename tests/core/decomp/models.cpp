@@ -24,14 +24,17 @@ double hashNoise(std::uint64_t a, std::uint64_t b) {
   return static_cast<double>(h >> 11) / static_cast<double>(1ull << 53) * 2.0 - 1.0;
 }
 
-std::uint32_t u32(std::size_t i) { return static_cast<std::uint32_t>(i); }
+std::uint32_t u32(std::size_t i) {
+  return static_cast<std::uint32_t>(i);
+}
 
 }  // namespace
 
 void append(TriangleMesh& a, const TriangleMesh& b) {
   const std::uint32_t base = u32(a.positions.size());
   a.positions.insert(a.positions.end(), b.positions.begin(), b.positions.end());
-  for (const Triangle& t : b.triangles) a.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  for (const Triangle& t : b.triangles)
+    a.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
 }
 
 TriangleMesh box(const Vec3& lo, const Vec3& hi) {
@@ -52,18 +55,21 @@ TriangleMesh lBlock(double cell, int sub) {
   std::map<std::array<int, 3>, std::uint32_t> index;  // lattice points at 1/sub spacing
   auto vertex = [&](std::array<int, 3> q) {
     const auto [it, fresh] = index.try_emplace(q, u32(m.positions.size()));
-    if (fresh) m.positions.push_back(Vec3{q[0], q[1], q[2]} * (cell / sub));
+    if (fresh)
+      m.positions.push_back(Vec3{q[0], q[1], q[2]} * (cell / sub));
     return it->second;
   };
   for (int x = -1; x <= 2; ++x)
     for (int y = -1; y <= 2; ++y)
       for (int z = -1; z <= 1; ++z) {
-        if (!filled(x, y, z)) continue;
+        if (!filled(x, y, z))
+          continue;
         for (int axis = 0; axis < 3; ++axis)
           for (int side : {-1, 1}) {
             std::array<int, 3> nb{x, y, z};
             nb[static_cast<std::size_t>(axis)] += side;
-            if (filled(nb[0], nb[1], nb[2])) continue;
+            if (filled(nb[0], nb[1], nb[2]))
+              continue;
             const int u = (axis + 1) % 3, v = (axis + 2) % 3;
             for (int i = 0; i < sub; ++i)
               for (int j = 0; j < sub; ++j) {
@@ -74,7 +80,8 @@ TriangleMesh lBlock(double cell, int sub) {
                   q[static_cast<std::size_t>(v)] += j + dj;
                   return vertex(q);
                 };
-                const std::uint32_t a = corner(0, 0), b = corner(1, 0), c = corner(1, 1), d = corner(0, 1);
+                const std::uint32_t a = corner(0, 0), b = corner(1, 0), c = corner(1, 1),
+                                    d = corner(0, 1);
                 if (side > 0) {
                   m.triangles.push_back({a, b, c});
                   m.triangles.push_back({a, c, d});
@@ -93,10 +100,12 @@ TriangleMesh torus(double R, double r, int nu, int nv) {
   for (int i = 0; i < nu; ++i)
     for (int j = 0; j < nv; ++j) {
       const double u = 2 * kPi * i / nu, v = 2 * kPi * j / nv;
-      m.positions.push_back({(R + r * std::cos(v)) * std::cos(u), (R + r * std::cos(v)) * std::sin(u),
-                             r * std::sin(v)});
+      m.positions.push_back({(R + r * std::cos(v)) * std::cos(u),
+                             (R + r * std::cos(v)) * std::sin(u), r * std::sin(v)});
     }
-  auto id = [&](int i, int j) { return u32(static_cast<std::size_t>(((i + nu) % nu) * nv + (j + nv) % nv)); };
+  auto id = [&](int i, int j) {
+    return u32(static_cast<std::size_t>(((i + nu) % nu) * nv + (j + nv) % nv));
+  };
   for (int i = 0; i < nu; ++i)
     for (int j = 0; j < nv; ++j) {
       m.triangles.push_back({id(i, j), id(i + 1, j), id(i + 1, j + 1)});
@@ -113,18 +122,23 @@ TriangleMesh gear(int teeth, double radius, double width) {
   std::vector<double> outer(static_cast<std::size_t>(n));
   for (int k = 0; k < n; ++k) {
     const int phase = k % per_tooth;  // 0-1 root, 2 flank, 3-5 tip, 6 flank, 7 root
-    outer[static_cast<std::size_t>(k)] = phase >= 3 && phase <= 5 ? radius : (phase == 2 || phase == 6 ? 0.5 * (radius + root) : root);
+    outer[static_cast<std::size_t>(k)] =
+        phase >= 3 && phase <= 5 ? radius
+                                 : (phase == 2 || phase == 6 ? 0.5 * (radius + root) : root);
   }
   TriangleMesh m;
   for (int layer = 0; layer < 2; ++layer) {
     const double z = layer == 0 ? -0.5 * width : 0.5 * width;
     for (int k = 0; k < n; ++k) {
       const double a = 2 * kPi * k / n;
-      m.positions.push_back({outer[static_cast<std::size_t>(k)] * std::cos(a), outer[static_cast<std::size_t>(k)] * std::sin(a), z});
+      m.positions.push_back({outer[static_cast<std::size_t>(k)] * std::cos(a),
+                             outer[static_cast<std::size_t>(k)] * std::sin(a), z});
       m.positions.push_back({bore * std::cos(a), bore * std::sin(a), z});
     }
   }
-  auto o = [&](int layer, int k) { return u32(static_cast<std::size_t>(layer * 2 * n + ((k + n) % n) * 2)); };
+  auto o = [&](int layer, int k) {
+    return u32(static_cast<std::size_t>(layer * 2 * n + ((k + n) % n) * 2));
+  };
   auto b = [&](int layer, int k) { return o(layer, k) + 1; };
   for (int k = 0; k < n; ++k) {
     // caps (bottom faces -z, top +z)
@@ -141,7 +155,10 @@ TriangleMesh gear(int teeth, double radius, double width) {
   return m;
 }
 
-TriangleMesh noisySphere(double radius, std::size_t triangles, double noise, int holes,
+TriangleMesh noisySphere(double radius,
+                         std::size_t triangles,
+                         double noise,
+                         int holes,
                          double hole_rad) {
   const int n = std::max(4, static_cast<int>(std::sqrt(static_cast<double>(triangles) / 2.0)));
   const int n_lat = n, n_lon = n;
@@ -157,30 +174,37 @@ TriangleMesh noisySphere(double radius, std::size_t triangles, double noise, int
   dirs.push_back({0, 0, -1});
   for (std::size_t k = 0; k < dirs.size(); ++k)
     m.positions.push_back(dirs[k] * radius * (1.0 + noise * hashNoise(k, 7)));
-  auto ring = [&](int i, int j) { return u32(static_cast<std::size_t>(1 + (i - 1) * n_lon + (j + n_lon) % n_lon)); };
+  auto ring = [&](int i, int j) {
+    return u32(static_cast<std::size_t>(1 + (i - 1) * n_lon + (j + n_lon) % n_lon));
+  };
   const std::uint32_t south = u32(dirs.size() - 1);
   std::vector<Vec3> centres;
   for (int h = 0; h < holes; ++h) {
     const double z = 0.8 * hashNoise(static_cast<std::uint64_t>(h), 11);
     const double ph = kPi * (hashNoise(static_cast<std::uint64_t>(h), 13) + 1.0);
-    centres.push_back({std::sqrt(1 - z * z) * std::cos(ph), std::sqrt(1 - z * z) * std::sin(ph), z});
+    centres.push_back(
+        {std::sqrt(1 - z * z) * std::cos(ph), std::sqrt(1 - z * z) * std::sin(ph), z});
   }
   auto inHole = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
     const Vec3 d = glm::normalize(dirs[a] + dirs[b] + dirs[c]);
     for (const Vec3& ctr : centres)
-      if (std::acos(std::clamp(glm::dot(d, ctr), -1.0, 1.0)) < hole_rad) return true;
+      if (std::acos(std::clamp(glm::dot(d, ctr), -1.0, 1.0)) < hole_rad)
+        return true;
     return false;
   };
   auto add = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    if (!inHole(a, b, c)) m.triangles.push_back({a, b, c});
+    if (!inHole(a, b, c))
+      m.triangles.push_back({a, b, c});
   };
-  for (int j = 0; j < n_lon; ++j) add(0, ring(1, j), ring(1, j + 1));
+  for (int j = 0; j < n_lon; ++j)
+    add(0, ring(1, j), ring(1, j + 1));
   for (int i = 1; i + 1 < n_lat; ++i)
     for (int j = 0; j < n_lon; ++j) {
       add(ring(i, j), ring(i + 1, j), ring(i + 1, j + 1));
       add(ring(i, j), ring(i + 1, j + 1), ring(i, j + 1));
     }
-  for (int j = 0; j < n_lon; ++j) add(south, ring(n_lat - 1, j + 1), ring(n_lat - 1, j));
+  for (int j = 0; j < n_lon; ++j)
+    add(south, ring(n_lat - 1, j + 1), ring(n_lat - 1, j));
   return m;
 }
 
@@ -194,14 +218,14 @@ TriangleMesh defective() {
       m.positions.push_back(m.positions[v]);
       v = u32(m.positions.size() - 1);
     }
-  m.positions.push_back({5.0, 5.0, 5.0});        // unreferenced
-  m.positions.push_back({NAN, 0.0, 0.0});        // non-finite, used by a triangle below
+  m.positions.push_back({5.0, 5.0, 5.0});  // unreferenced
+  m.positions.push_back({NAN, 0.0, 0.0});  // non-finite, used by a triangle below
   const std::uint32_t nan_v = u32(m.positions.size() - 1);
   m.triangles.push_back({0, 1, nan_v});
   m.triangles.push_back({0, 1, u32(n + 1000)});  // index out of range
   m.triangles.push_back({2, 2, 3});              // repeated index
   const Triangle first = m.triangles[20];
-  m.triangles.push_back(first);                  // duplicate
+  m.triangles.push_back(first);  // duplicate
   // a zero-area triangle: three collinear lattice points on an edge of the block
   m.positions.push_back({0.0, 0.0, 0.0});
   m.positions.push_back({0.05, 0.0, 0.0});
@@ -217,7 +241,8 @@ TriangleMesh defective() {
   m.triangles.erase(m.triangles.begin() + 50);
   // part 2: inside out
   TriangleMesh inv = box({0.4, 0.0, 0.0}, {0.5, 0.1, 0.1});
-  for (Triangle& t : inv.triangles) std::swap(t[1], t[2]);
+  for (Triangle& t : inv.triangles)
+    std::swap(t[1], t[2]);
   append(m, inv);
   // part 3: a bar crossing the block's top face
   append(m, box({0.02, 0.02, 0.03}, {0.05, 0.05, 0.15}));
@@ -226,15 +251,19 @@ TriangleMesh defective() {
 
 std::optional<TriangleMesh> readSimple(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
-  if (!in) return std::nullopt;
+  if (!in)
+    return std::nullopt;
   const std::string data((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
   TriangleMesh m;
-  const bool stl = path.size() > 4 && (path.substr(path.size() - 4) == ".STL" || path.substr(path.size() - 4) == ".stl");
+  const bool stl = path.size() > 4 && (path.substr(path.size() - 4) == ".STL" ||
+                                       path.substr(path.size() - 4) == ".stl");
   if (stl) {
-    if (data.size() < 84) return std::nullopt;
+    if (data.size() < 84)
+      return std::nullopt;
     std::uint32_t count = 0;
     std::memcpy(&count, data.data() + 80, 4);
-    if (data.size() < 84 + 50ull * count) return std::nullopt;
+    if (data.size() < 84 + 50ull * count)
+      return std::nullopt;
     for (std::uint32_t t = 0; t < count; ++t) {
       const char* rec = data.data() + 84 + 50ull * t + 12;
       Triangle tri{};
@@ -261,11 +290,14 @@ std::optional<TriangleMesh> readSimple(const std::string& path) {
     } else if (tag == "f") {
       std::vector<std::uint32_t> poly;
       std::string tok;
-      while (ls >> tok) poly.push_back(u32(std::stoul(tok.substr(0, tok.find('/'))) - 1));
-      for (std::size_t k = 1; k + 1 < poly.size(); ++k) m.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+      while (ls >> tok)
+        poly.push_back(u32(std::stoul(tok.substr(0, tok.find('/'))) - 1));
+      for (std::size_t k = 1; k + 1 < poly.size(); ++k)
+        m.triangles.push_back({poly[0], poly[k], poly[k + 1]});
     }
   }
-  if (m.triangles.empty()) return std::nullopt;
+  if (m.triangles.empty())
+    return std::nullopt;
   return m;
 }
 
@@ -274,7 +306,8 @@ std::optional<TriangleMesh> sharedMesh(const std::string& file) {
   if (const char* dir = std::getenv("HAPTICD_MESHES_DIR"); dir != nullptr && *dir != 0) {
     std::error_code ec;
     const fs::path candidate = fs::path(dir) / file;
-    if (fs::is_regular_file(candidate, ec)) return readSimple(candidate.string());
+    if (fs::is_regular_file(candidate, ec))
+      return readSimple(candidate.string());
     return std::nullopt;
   }
   std::vector<fs::path> starts{fs::current_path()};
@@ -285,8 +318,10 @@ std::optional<TriangleMesh> sharedMesh(const std::string& file) {
     for (int up = 0; up < 6 && !dir.empty(); ++up, dir = dir.parent_path()) {
       const fs::path candidate = dir / "shared" / "meshes" / file;
       std::error_code ec;
-      if (fs::is_regular_file(candidate, ec)) return readSimple(candidate.string());
-      if (dir == dir.parent_path()) break;
+      if (fs::is_regular_file(candidate, ec))
+        return readSimple(candidate.string());
+      if (dir == dir.parent_path())
+        break;
     }
   }
   return std::nullopt;

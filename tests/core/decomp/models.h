@@ -21,11 +21,14 @@ TriangleMesh gear(int teeth = 12, double radius = 0.05, double width = 0.02);
 /// A sphere of radius `radius` as a latitude-longitude grid of about `triangles` triangles,
 /// radially perturbed by noise of amplitude `noise` (a fraction of the radius), with `holes`
 /// round holes of angular radius `hole_rad` removed: an open mesh, like a scan.
-TriangleMesh noisySphere(double radius = 0.1, std::size_t triangles = 70000, double noise = 0.002,
-                         int holes = 5, double hole_rad = 0.06);
+TriangleMesh noisySphere(double radius = 0.1,
+                         std::size_t triangles = 70000,
+                         double noise = 0.002,
+                         int holes = 5,
+                         double hole_rad = 0.06);
 /// Two closed parts, each with a known defect added: duplicate and unreferenced vertices, a
-/// degenerate (zero-area) and a repeated-index triangle, a duplicate triangle, a flipped triangle, a
-/// part wound inside out, a non-manifold fin, a hole, a non-finite vertex, an out-of-range index,
+/// degenerate (zero-area) and a repeated-index triangle, a duplicate triangle, a flipped triangle,
+/// a part wound inside out, a non-manifold fin, a hole, a non-finite vertex, an out-of-range index,
 /// and a crossing (self-intersecting) third part.
 TriangleMesh defective();
 /// A box as 12 triangles.
