@@ -1,7 +1,6 @@
 // hapticctl: the command-line client of hapticd: the offline `query` and `check` commands, and
 // the commands that talk to a running daemon over the protocol (client/daemon_commands.h).
 #include <CLI/CLI.hpp>
-
 #include <cerrno>
 #include <cstring>
 #include <fstream>
@@ -9,6 +8,7 @@
 
 #include "client/check.h"
 #include "client/daemon_commands.h"
+#include "client/import.h"
 #include "client/query.h"
 
 namespace {
@@ -45,17 +45,21 @@ struct Commands {
   std::vector<double> edit_values;
   CLI::App* arm = nullptr;
   CLI::App* disarm = nullptr;
+  CLI::App* import = nullptr;
+  hc::ImportOptions import_options;
 };
 
 void defineOffline(CLI::App& app, Commands& c) {
   c.query = app.add_subcommand(
-      "query", "Answer convex pair queries offline: one JSON object per line in FILE (- for stdin), "
-               "one result per line out (docs/query.md)");
+      "query",
+      "Answer convex pair queries offline: one JSON object per line in FILE (- for stdin), "
+      "one result per line out (docs/query.md)");
   c.query->add_option("FILE", c.query_file, "JSON-lines file of queries, or - for standard input")
       ->required();
   c.check = app.add_subcommand(
-      "check", "Validate a scene offline (.glb or .gltf): list its bodies, primitives and "
-               "simulation plan, or every problem (exit 1); docs/scenes.md");
+      "check",
+      "Validate a scene offline (.glb or .gltf): list its bodies, primitives and "
+      "simulation plan, or every problem (exit 1); docs/scenes.md");
   c.check->add_option("FILE", c.scene_file, "scene file (.glb or .gltf)")->required();
   c.check->add_flag("--json", c.check_options.json, "print a machine-readable JSON report");
   c.check->add_option("--allowed-uri-dir", c.allowed_dir,
@@ -99,8 +103,7 @@ void defineStreaming(CLI::App& app, Commands& c) {
                            "Arm and send a pose stream CSV as pose commands, "
                            "interpolated (lerp, slerp) at the send rate and timed "
                            "by its t");
-  c.replay->add_option("FILE", c.replay_options.file, "t,px,py,pz,qx,qy,qz,qw,buttons")
-      ->required();
+  c.replay->add_option("FILE", c.replay_options.file, "t,px,py,pz,qx,qy,qz,qw,buttons")->required();
   c.replay->add_option("--rate", c.replay_options.rate_hz,
                        "send rate, Hz, at most the daemon's tick rate (default 0: the tick rate)");
   c.replay->add_flag("--quiet", c.replay_options.quiet,
@@ -138,8 +141,9 @@ void defineEdits(CLI::App& app, Commands& c) {
   c.move = daemonCommand(app, c, "move",
                          "Set a kinematic body's pose (scene frame, metres, glTF "
                          "quaternion order): exit 0 acknowledged, 1 refused");
-  c.move->add_option("BODY", c.edit_options.body,
-                     "body index in the scene (hapticctl check lists them)")
+  c.move
+      ->add_option("BODY", c.edit_options.body,
+                   "body index in the scene (hapticctl check lists them)")
       ->required();
   c.move->add_option("POSE", c.edit_values, "PX PY PZ [QX QY QZ QW]")->required()->expected(3, 7);
   c.add = daemonCommand(app, c, "add",
@@ -175,13 +179,20 @@ bool takePose(const std::vector<double>& v, Options& o, const char* usage) {
 
 int runDaemonCommand(Commands& c) {
   const hc::DaemonTarget& t = c.target;
-  if (c.status->parsed()) return hc::runStatus(t, c.status_options, std::cout, std::cerr);
-  if (c.load->parsed()) return hc::runLoad(t, c.load_file, std::cout, std::cerr);
-  if (c.arm->parsed()) return hc::runArm(t, true, std::cout, std::cerr);
-  if (c.disarm->parsed()) return hc::runArm(t, false, std::cout, std::cerr);
-  if (c.record->parsed()) return hc::runRecord(t, c.record_options, std::cout, std::cerr);
-  if (c.watch->parsed()) return hc::runWatch(t, c.watch_options, std::cout, std::cerr);
-  if (c.replay->parsed()) return hc::runReplay(t, c.replay_options, std::cout, std::cerr);
+  if (c.status->parsed())
+    return hc::runStatus(t, c.status_options, std::cout, std::cerr);
+  if (c.load->parsed())
+    return hc::runLoad(t, c.load_file, std::cout, std::cerr);
+  if (c.arm->parsed())
+    return hc::runArm(t, true, std::cout, std::cerr);
+  if (c.disarm->parsed())
+    return hc::runArm(t, false, std::cout, std::cerr);
+  if (c.record->parsed())
+    return hc::runRecord(t, c.record_options, std::cout, std::cerr);
+  if (c.watch->parsed())
+    return hc::runWatch(t, c.watch_options, std::cout, std::cerr);
+  if (c.replay->parsed())
+    return hc::runReplay(t, c.replay_options, std::cout, std::cerr);
   if (c.remove->parsed()) {
     c.edit_options.kind = hc::SceneEditOptions::Kind::kRemove;
     return hc::runSceneEdit(t, c.edit_options, std::cout, std::cerr);
@@ -206,12 +217,16 @@ int runDaemonCommand(Commands& c) {
 }
 
 int runOffline(Commands& c) {
+  if (c.import->parsed())
+    return hc::runImport(c.import_options, std::cout, std::cerr);
   if (c.check->parsed()) {
-    if (!c.allowed_dir.empty()) c.check_options.load.allowed_uri_dir = c.allowed_dir;
+    if (!c.allowed_dir.empty())
+      c.check_options.load.allowed_uri_dir = c.allowed_dir;
     return hc::runCheck(c.scene_file, c.check_options, std::cout, std::cerr);
   }
   if (c.query->parsed()) {
-    if (c.query_file == "-") return hc::runQuery(std::cin, std::cout);
+    if (c.query_file == "-")
+      return hc::runQuery(std::cin, std::cout);
     std::ifstream in(c.query_file);
     if (!in) {
       std::cerr << "hapticctl query: cannot open " << c.query_file << ": " << std::strerror(errno)
@@ -233,6 +248,7 @@ int main(int argc, char** argv) {
   defineControl(app, c);
   defineStreaming(app, c);
   defineEdits(app, c);
+  c.import = hc::defineImport(app, c.import_options);
   CLI11_PARSE(app, argc, argv);
   if (const int rc = runDaemonCommand(c); rc >= 0)
     return rc;
