@@ -44,7 +44,7 @@ struct Context {
   std::unique_ptr<TriangleBvh> bvh;
   ModelView view;
   double c_abs = 0.0;
-  double eps = 0.0;  // points this close to a plane are on it (1e-9 of the diagonal)
+  double eps = 0.0;  // points this close to a plane are on it
   std::size_t max_piece_vertices = 256;
   unsigned threads = 1;
 };
@@ -627,7 +627,11 @@ Result<Context> prepare(const TriangleMesh& mesh,
   ctx.bvh = std::make_unique<TriangleBvh>(ctx.mesh.positions, ctx.mesh.triangles);
   ctx.view.bvh = ctx.bvh.get();
   ctx.c_abs = options.concavity * ctx.mesh.diagonal;
-  ctx.eps = 1e-9 * ctx.mesh.diagonal;
+  // on a plane within 1e-9 of the diagonal, or within the rounding of float32 inputs (STL, glTF)
+  double extent = 0.0;
+  for (int a = 0; a < 3; ++a)
+    extent = std::max({extent, std::abs(ctx.mesh.lo[a]), std::abs(ctx.mesh.hi[a])});
+  ctx.eps = std::max(1e-9 * ctx.mesh.diagonal, 2.5e-7 * extent);
   ctx.max_piece_vertices = options.max_piece_vertices;
   const unsigned hw = std::max(1u, std::min(2u, std::thread::hardware_concurrency()));
   ctx.threads = options.threads == 0 ? hw : options.threads;
