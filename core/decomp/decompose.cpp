@@ -176,10 +176,10 @@ HullMesh hullOf(const Context& ctx, const std::vector<Vec3>& pts, double tol, st
   return quickHull(thicken(pts, 1e-6 * ctx.mesh.diagonal), 0.0, max_v);
 }
 
-// the hull, its measure and its concavity (the boundary excess and the hull's own coverage)
-void finishPart(const Context& ctx, Part& part) {
+// the hull of the part's points, its measure and its concavity (the boundary excess and the
+// hull's own coverage); infinite when the excess passes `bound`
+void measurePart(const Context& ctx, Part& part, double bound) {
   sortUnique(part.points);
-  part.sample = subsample(part.points, kSamplePoints);
   const double tol = kHullTolerance * ctx.c_abs;
   part.hull = hullOf(ctx, part.points, tol, ctx.max_piece_vertices);
   ExcessOptions o;
@@ -187,8 +187,16 @@ void finishPart(const Context& ctx, Part& part) {
   o.resolution = kLeafResolution * ctx.c_abs;
   o.floor = kFloor * ctx.c_abs;
   o.max_evaluations = kLeafEvaluations;
+  o.stop_above = bound;
   part.excess = hullExcess(ctx.view, part.hull, o);
-  part.concavity = std::max({part.excess.lower, part.hull.max_outside, tol});
+  part.concavity =
+      part.excess.aborted ? kInf : std::max({part.excess.lower, part.hull.max_outside, tol});
+}
+
+// a new part: measured, and sampled for scoring its cuts
+void finishPart(const Context& ctx, Part& part) {
+  measurePart(ctx, part, kInf);
+  part.sample = subsample(part.points, kSamplePoints);
 }
 
 struct Score {
@@ -427,17 +435,7 @@ Part mergedPart(const Context& ctx, const Part& a, const Part& b, double bound) 
   Part m;
   m.points = a.points;
   m.points.insert(m.points.end(), b.points.begin(), b.points.end());
-  sortUnique(m.points);
-  const double tol = kHullTolerance * ctx.c_abs;
-  m.hull = hullOf(ctx, m.points, tol, ctx.max_piece_vertices);
-  ExcessOptions o;
-  o.tolerance = kLeafTolerance * ctx.c_abs;
-  o.resolution = kLeafResolution * ctx.c_abs;
-  o.floor = kFloor * ctx.c_abs;
-  o.max_evaluations = kLeafEvaluations;
-  o.stop_above = bound;
-  m.excess = hullExcess(ctx.view, m.hull, o);
-  m.concavity = m.excess.aborted ? kInf : std::max({m.excess.lower, m.hull.max_outside, tol});
+  measurePart(ctx, m, bound);
   m.final = true;
   return m;
 }
