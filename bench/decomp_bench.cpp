@@ -9,6 +9,7 @@
 #include <HACD/hacdHACD.h>
 #include <benchmark/benchmark.h>
 
+#include <array>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
