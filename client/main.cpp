@@ -10,6 +10,7 @@
 
 #include "client/check.h"
 #include "client/daemon_commands.h"
+#include "client/import.h"
 #include "client/query.h"
 
 namespace {
@@ -46,6 +47,8 @@ struct Commands {
   Command<hc::SceneEditOptions> move, add, remove;  // one SceneEditOptions each
   std::vector<double> edit_values;                  // PX PY PZ [QX QY QZ QW] of move and add
   Command<std::monostate> arm, disarm;              // no options
+  CLI::App* import = nullptr;                       // hapticctl import (client/import.h)
+  hc::ImportOptions import_options;
 };
 
 void defineOffline(CLI::App& app, Commands& c) {
@@ -240,6 +243,8 @@ int runDaemonCommand(Commands& c) {
 }
 
 int runOffline(Commands& c) {
+  if (c.import->parsed())
+    return hc::runImport(c.import_options, std::cout, std::cerr);
   if (c.check.parsed()) {
     CheckArgs& k = c.check.options;
     if (!k.allowed_dir.empty())
@@ -294,6 +299,7 @@ int main(int argc, char** argv) {
   defineControl(app, c);
   defineStreaming(app, c);
   defineEdits(app, c);
+  c.import = hc::defineImport(app, c.import_options);
   if (const auto rc = parse(app, argc, argv))
     return *rc;
   if (const int rc = runDaemonCommand(c); rc >= 0)

@@ -17,6 +17,8 @@ PACKAGES=(
   libbenchmark-dev                    # hapticbench
   libccd-dev libfcl-dev libbullet-dev # peers compared in hapticbench
   libtinygltf-dev                     # scenes: glTF loading (core/scene)
+  libassimp-dev                       # hapticctl import: .obj .stl .ply .off
+  libbullet-extras-dev                # hapticbench: the HACD decomposition peer
   libtomlplusplus-dev                 # config/hapticd.toml
   libsystemd-dev systemd              # sd_notify (READY, WATCHDOG); systemd-analyze verify in CI
   libhidapi-dev                       # hid device backend
