@@ -113,6 +113,7 @@ class Daemon {
   std::optional<Built> reload_result_;
   std::string reload_error_;
   Config reload_config_;
+  std::vector<std::string> reload_warnings_;
   std::atomic<int> exit_reason_{-1};
   // network
   std::unique_ptr<proto::Server> server_;
@@ -189,7 +190,8 @@ void Daemon::startReload() {
     if (!config) {
       reload_error_ = config.error().message;
     } else {
-      Config next = config.value();
+      reload_warnings_ = config.value().warnings;
+      Config next = config.value().config;
       reload_config_ = next;
       next.servo = config_.servo;  // restart-only sections keep running as they are
       next.device = config_.device;
@@ -237,10 +239,17 @@ void Daemon::finishReload() {
     notifyReady("running; last reload refused");
     return;
   }
+  for (const auto& w : reload_warnings_)
+    logWarning(w);
   Config next = reload_config_;
-  if (!(next.servo == config_.servo) || !(next.device == config_.device) ||
-      !(next.network == config_.network))
-    logWarning("reload: changes to [servo], [device] and [network] take effect at restart");
+  static constexpr std::string_view kRestartOnly[] = {"servo", "device", "network"};
+  if (const auto changed = changedKeys(config_, next, kRestartOnly); !changed.empty()) {
+    std::string list;
+    for (const auto& k : changed)
+      list += (list.empty() ? "" : ", ") + k;
+    logWarning("reload: changes to [servo], [device] and [network] take effect at restart (" +
+               list + ")");
+  }
   next.servo = config_.servo;
   next.device = config_.device;
   next.network = config_.network;
@@ -787,8 +796,10 @@ int Daemon::run() {
     logError(config.error().message);
     return kExitBadConfig;
   }
-  config_ = config.value();
+  config_ = config.value().config;
   setLogLevel(config_.log.level);
+  for (const auto& w : config.value().warnings)
+    logWarning(w);
   if (cli_.print_config) {
     std::fputs(toToml(config_).c_str(), stdout);
     return kExitOk;
@@ -833,21 +844,12 @@ int Daemon::run() {
   }
 
   // 4b. device
-  device::DeviceOptions device_options = toDeviceOptions(config_);
+  device::DeviceOptions device_options = config_.device.options;
   if (config_.device.sim_home_from_scene && scene.value().scene && scene.value().scene->sim) {
     const scene::SceneModel& model = scene.value().scene->sim->scene();
-    if (model.probe_body >= 0) {
-      WorkspaceMapping w;
-      w.X_SD = geom::Pose::fromXyzw(
-          geom::Vec3(config_.device.workspace_translation_m[0],
-                     config_.device.workspace_translation_m[1],
-                     config_.device.workspace_translation_m[2]),
-          config_.device.workspace_rotation[0], config_.device.workspace_rotation[1],
-          config_.device.workspace_rotation[2], config_.device.workspace_rotation[3]);
-      w.scale = config_.device.workspace_scale;
-      device_options.sim_home =
-          w.toDevice(model.bodies[static_cast<std::size_t>(model.probe_body)].X_WB);
-    }
+    if (model.probe_body >= 0)
+      device_options.sim_home = config_.device.workspace.toDevice(
+          model.bodies[static_cast<std::size_t>(model.probe_body)].X_WB);
   }
   auto device = backends_.make_device(config_.device.spec, device_options);
   if (!device) {
