@@ -8,7 +8,10 @@ namespace hapticd::daemon {
 std::optional<int> parseCommandLine(int argc, char** argv, CommandLine& o) {
   CLI::App app{
       "hapticd: real-time 6-DOF haptic server. With no arguments it serves the sim device and the "
-      "built-in demo scene (realtime \"prefer\"). Options override the config file.",
+      "built-in demo scene (realtime \"prefer\"). Options override the config file. SIGTERM "
+      "ramps the force to zero over [servo] stop_ramp_s and exits 0; a client's disarm ramps it "
+      "to zero the same way (never at once: a sudden release makes the hand lurch); SIGHUP "
+      "reloads the config and the scene.",
       "hapticd"};
   app.add_option("--config", o.config_path,
                  "config file (TOML; config/hapticd.toml lists every key with its default); "
@@ -43,13 +46,19 @@ std::optional<int> parseCommandLine(int argc, char** argv, CommandLine& o) {
   app.add_option("--ticks", o.ticks,
                  "end after exactly this many ticks (the force is then set to zero); 0: no limit");
   app.add_flag("--check-config", o.check_config,
-               "check the configuration and exit (0 good, 2 bad)");
+               "run the start-up checks and exit: the configuration, the scene and its "
+               "simulation, the device (sim and replay opened, hid and usb by their spec), the "
+               "network address and key file, real-time; 0 good, 2 bad configuration, 1 a "
+               "start-up step refused");
   app.add_flag("--print-config", o.print_config,
-               "print the effective configuration as TOML and exit");
+               "print the effective configuration as documented TOML and exit (with no other "
+               "option: config/hapticd.toml)");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    // --help: 0; any bad option or value: 2, as every other bad command line (CLI11's own codes
+    // would be 105 and the like)
+    return app.exit(e) == 0 ? 0 : 2;
   }
   return std::nullopt;
 }

@@ -33,8 +33,8 @@ struct CommandLine {
   bool print_config = false;               ///< --print-config: the effective config as TOML
 };
 
-/// Parses argv. Returns an exit code when the process should end now (--help: 0, a bad option:
-/// 2, the message already printed), or nullopt to run.
+/// Parses argv. Returns an exit code when the process should end now (--help: 0, a bad option or
+/// value: 2, the message already printed), or nullopt to run.
 std::optional<int> parseCommandLine(int argc, char** argv, CommandLine& out);
 
 /// The effective configuration: the file (when --config is given) over the defaults, then the

@@ -58,6 +58,11 @@ class Daemon {
   int run();
 
  private:
+  // --check-config: the start-up steps run() takes that change nothing outside this process
+  // (process and servo-thread real-time setup, the scene and its simulation, the device spec
+  // and, for sim and replay, the device itself, the network settings), each refused as run()
+  // refuses it. Exit code as run()'s.
+  int checkConfig();
   // A scene pipeline built off the servo thread (on the main thread at start-up, on the builder
   // thread on SIGHUP), with what the main thread records about it.
   struct Built {
@@ -82,6 +87,10 @@ class Daemon {
   // Main thread: an uploaded scene waiting, and no build running: start building it.
   void startUpload();
   Result<Built> buildScene(const Config& config, std::uint64_t generation) const;
+  // [servo] realtime, off with the virtual clock
+  RealtimeOptions realtimeOptions() const;
+  // the device's options: [device] with the sim hand's home at the held body's start pose
+  device::DeviceOptions deviceOptions(const Built& built) const;
   // Main thread: hands a built scene to the servo loop.
   void install(Built built);
   // SIGHUP: starts the builder thread (one at a time); finishReload() applies its outcome.
@@ -155,6 +164,21 @@ Result<Daemon::Built> Daemon::buildScene(const Config& config, std::uint64_t gen
   for (const auto& b : model->bodies)
     built.body_names.push_back(b.name);
   return built;
+}
+
+RealtimeOptions Daemon::realtimeOptions() const {
+  RealtimeOptions rt = toRealtimeOptions(config_);
+  if (config_.servo.clock == ClockKind::kVirtual)
+    rt.policy = RealtimePolicy::kOff;  // a FIFO thread that never sleeps starves the others
+  return rt;
+}
+
+device::DeviceOptions Daemon::deviceOptions(const Built& built) const {
+  device::DeviceOptions o = config_.device.options;
+  if (config_.device.sim_home_from_scene && built.model && built.model->probe_body >= 0)
+    o.sim_home = config_.device.workspace.toDevice(
+        built.model->bodies[static_cast<std::size_t>(built.model->probe_body)].X_WB);
+  return o;
 }
 
 void Daemon::install(Built built) {
@@ -403,6 +427,36 @@ std::string poseProblem(const proto::WirePose& w) {
   }
   return "";
 }
+// The protocol server's settings of [network] and [servo] rate_hz: the key file read and parsed,
+// a non-loopback address refused without a key. Errors name the key.
+Result<proto::ServerConfig> serverConfigOf(const Config& c) {
+  proto::ServerConfig cfg;
+  cfg.bind_address = c.network.udp;
+  cfg.tick_rate_hz = static_cast<std::uint32_t>(std::lround(c.servo.rate_hz));
+  cfg.rate_limit.packets_per_s = c.network.rate_limit_packets_per_s;
+  cfg.rate_limit.burst = c.network.rate_limit_burst;
+  cfg.max_datagram_bytes = static_cast<std::size_t>(c.network.max_datagram_bytes);
+  cfg.max_state_rate_hz = static_cast<std::uint32_t>(std::lround(c.network.max_state_rate_hz));
+  if (!c.network.key_file.empty()) {
+    std::ifstream in(c.network.key_file);
+    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    if (!in && !in.eof())
+      return Error{"[network] key_file: cannot read '" + c.network.key_file + "'"};
+    std::string why;
+    auto key = proto::parseKeyHex(text, &why);
+    if (!key)
+      return Error{"[network] key_file '" + c.network.key_file + "': " + why};
+    cfg.key = *key;
+  }
+  auto address = proto::parseAddress(c.network.udp);
+  if (!address)
+    return Error{"[network] udp: " + address.error().message};
+  if (!address.value().isLoopback() && !cfg.key)
+    return Error{"[network] udp: " + address.value().toString() +
+                 " is not a loopback address and [network] key_file is not set: set key_file "
+                 "(64 hex digits) to serve other hosts"};
+  return cfg;
+}
 std::uint32_t clampU32(std::int64_t ns) {
   return static_cast<std::uint32_t>(std::clamp<std::int64_t>(ns, 0, 0xffffffffLL));
 }
@@ -599,26 +653,11 @@ void Daemon::startShm() {
 }
 
 Result<bool> Daemon::startNetwork() {
-  proto::ServerConfig cfg;
-  cfg.bind_address = config_.network.udp;
+  auto settings = serverConfigOf(config_);
+  if (!settings)
+    return settings.error();
+  proto::ServerConfig cfg = std::move(settings.value());
   servo_rate_hz_ = config_.servo.rate_hz;
-  cfg.tick_rate_hz = static_cast<std::uint32_t>(std::lround(config_.servo.rate_hz));
-  cfg.rate_limit.packets_per_s = config_.network.rate_limit_packets_per_s;
-  cfg.rate_limit.burst = config_.network.rate_limit_burst;
-  cfg.max_datagram_bytes = static_cast<std::size_t>(config_.network.max_datagram_bytes);
-  cfg.max_state_rate_hz =
-      static_cast<std::uint32_t>(std::lround(config_.network.max_state_rate_hz));
-  if (!config_.network.key_file.empty()) {
-    std::ifstream in(config_.network.key_file);
-    std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    if (!in && !in.eof())
-      return Error{"[network] key_file: cannot read '" + config_.network.key_file + "'"};
-    std::string why;
-    auto key = proto::parseKeyHex(text, &why);
-    if (!key)
-      return Error{"[network] key_file '" + config_.network.key_file + "': " + why};
-    cfg.key = *key;
-  }
   proto::ServerHandlers h;
   h.on_command = [this](const proto::CommandEvent& e) { return onCommand(e); };
   h.on_scene = [this](proto::SceneUploadDone&& up) {
@@ -789,6 +828,59 @@ std::string Daemon::summary(ServoExit exit) const {
   return buf;
 }
 
+int Daemon::checkConfig() {
+  const RealtimeOptions rt = realtimeOptions();
+  auto prt = setupProcessRealtime(rt, backends_.realtime);
+  if (!prt) {
+    logError(prt.error().message);
+    return kExitFailure;
+  }
+  for (const auto& w : prt.value().warnings)
+    logWarning(w);
+  auto scene = buildScene(config_, 1);
+  if (!scene) {
+    logError("cannot load the scene: " + scene.error().message);
+    return kExitFailure;
+  }
+  auto spec = device::parseDeviceSpec(config_.device.spec);
+  if (!spec) {
+    logError("device: " + spec.error().message);
+    return kExitFailure;
+  }
+  if (spec.value().openIsHarmless()) {
+    auto device = backends_.make_device(config_.device.spec, deviceOptions(scene.value()));
+    if (!device) {
+      logError("device: " + device.error().message);
+      return kExitFailure;
+    }
+  }
+  if (auto net = serverConfigOf(config_); !net) {
+    logError(net.error().message);
+    return kExitFailure;
+  }
+  // the servo thread's setup, on a thread that ends at once
+  Result<RealtimeReport> servo_rt = Error{"the servo thread did not start"};
+  Thread servo;
+  if (auto started =
+          servo.start("hapticd-servo", 1 << 20,
+                      [&] { servo_rt = setupServoThreadRealtime(rt, backends_.realtime); });
+      !started) {
+    logError(started.error().message);
+    return kExitFailure;
+  }
+  servo.join();
+  if (!servo_rt) {
+    logError(servo_rt.error().message);
+    return kExitFailure;
+  }
+  for (const auto& w : servo_rt.value().warnings)
+    logWarning(w);
+  std::printf("configuration ok%s: scene '%s', device '%s'\n",
+              cli_.config_path ? (": " + *cli_.config_path).c_str() : " (built-in defaults)",
+              scene.value().name.c_str(), config_.device.spec.c_str());
+  return kExitOk;
+}
+
 int Daemon::run() {
   // 1. configuration
   auto config = buildConfig(cli_);
@@ -804,11 +896,8 @@ int Daemon::run() {
     std::fputs(toToml(config_).c_str(), stdout);
     return kExitOk;
   }
-  if (cli_.check_config) {
-    std::printf("configuration ok%s\n",
-                cli_.config_path ? (": " + *cli_.config_path).c_str() : " (built-in defaults)");
-    return kExitOk;
-  }
+  if (cli_.check_config)
+    return checkConfig();
   const bool virtual_clock = config_.servo.clock == ClockKind::kVirtual;
 
   // 2. signals: blocked here so that every thread started below inherits the mask; the main
@@ -821,11 +910,9 @@ int Daemon::run() {
   pthread_sigmask(SIG_BLOCK, &signals, nullptr);
 
   // 3. process real-time setup (memory locking), before any thread starts
-  RealtimeOptions rt = toRealtimeOptions(config_);
-  if (virtual_clock && rt.policy != RealtimePolicy::kOff) {
+  const RealtimeOptions rt = realtimeOptions();
+  if (virtual_clock && config_.servo.realtime != RealtimePolicy::kOff)
     logInfo("virtual clock: real-time scheduling and memory locking skipped");
-    rt.policy = RealtimePolicy::kOff;
-  }
   auto prt = setupProcessRealtime(rt, backends_.realtime);
   if (!prt) {
     logError(prt.error().message);
@@ -844,13 +931,7 @@ int Daemon::run() {
   }
 
   // 4b. device
-  device::DeviceOptions device_options = config_.device.options;
-  if (config_.device.sim_home_from_scene && scene.value().scene && scene.value().scene->sim) {
-    const scene::SceneModel& model = scene.value().scene->sim->scene();
-    if (model.probe_body >= 0)
-      device_options.sim_home = config_.device.workspace.toDevice(
-          model.bodies[static_cast<std::size_t>(model.probe_body)].X_WB);
-  }
+  const device::DeviceOptions device_options = deviceOptions(scene.value());
   auto device = backends_.make_device(config_.device.spec, device_options);
   if (!device) {
     logError("device: " + device.error().message);

@@ -33,9 +33,12 @@ Result<std::shared_ptr<const scene::SceneModel>> loadConfiguredScene(const daemo
     report = scene::loadSceneFile(c.scene.path, options);
   }
   if (!report.ok()) {
-    const std::string what = c.scene.path.empty() ? "demo scene '" + c.scene.demo + "'"
-                                                  : "scene file '" + c.scene.path + "'";
-    return Error{what + ": " + report.message()};
+    const std::string what = c.scene.path.empty() ? "[scene] demo '" + c.scene.demo + "'"
+                                                  : "[scene] path '" + c.scene.path + "'";
+    std::string text = report.message();
+    while (!text.empty() && text.back() == '\n')
+      text.pop_back();
+    return Error{what + ": " + text};
   }
   return std::shared_ptr<const scene::SceneModel>(
       std::make_shared<scene::SceneModel>(std::move(*report.scene)));

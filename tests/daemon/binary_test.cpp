@@ -72,8 +72,10 @@ class BinaryTest : public ::testing::Test {
     std::vector<std::string> all{HAPTICD_BINARY};
     all.insert(all.end(), args.begin(), args.end());
     if (std::find(args.begin(), args.end(), "--help") == args.end()) {
-      all.push_back("--udp");  // any free port: test runs in parallel do not collide
-      all.push_back("127.0.0.1:0");
+      if (std::find(args.begin(), args.end(), "--udp") == args.end()) {
+        all.push_back("--udp");  // any free port: test runs in parallel do not collide
+        all.push_back("127.0.0.1:0");
+      }
       if (std::find(args.begin(), args.end(), "--shm") == args.end()) {
         static int runs = 0;  // a segment of its own per run, for the same reason
         all.push_back("--shm");
@@ -166,6 +168,98 @@ TEST_F(BinaryTest, BadConfigIsRefusedWithFileLineAndKey) {
   EXPECT_EQ(
       run({"--config", (fs::path(kSource) / "config/hapticd.toml").string(), "--check-config"}), 0);
 }
+
+// the lines of a log that say "error:", and the command line parser's (not the log's) lines
+std::string errorLines(const std::string& log) {
+  std::istringstream in(log);
+  std::string out;
+  for (std::string line; std::getline(in, line);)
+    if (line.find("error:") != std::string::npos || line.rfind("hapticd: ", 0) != 0)
+      out += line + "\n";
+  return out;
+}
+
+struct StartCase {
+  const char* name;
+  const char* config;             // config file text (realtime off is added)
+  std::vector<std::string> args;  // more options
+  int code;                       // what start-up and --check-config exit with
+  const char* message;            // in the error line
+};
+
+void PrintTo(const StartCase& c, std::ostream* os) {
+  *os << c.name;
+}
+
+class CheckConfigTest : public BinaryTest, public ::testing::WithParamInterface<StartCase> {};
+
+// --check-config refuses exactly what start-up refuses, with the same exit code and message
+TEST_P(CheckConfigTest, RefusesExactlyWhatStartUpRefuses) {
+  const StartCase& c = GetParam();
+  std::ofstream(path("c.toml")) << "[servo]\nrealtime = \"off\"\n" << c.config;
+  std::vector<std::string> args{"--config", path("c.toml")};
+  args.insert(args.end(), c.args.begin(), c.args.end());
+  auto check = args;
+  check.push_back("--check-config");
+  EXPECT_EQ(run(check), c.code) << err();
+  const std::string checked = errorLines(err());
+  const std::string checked_out = out();
+  auto start = args;
+  start.insert(start.end(), {"--ticks", "1"});
+  EXPECT_EQ(run(start), c.code) << err();
+  EXPECT_EQ(errorLines(err()), checked);
+  if (c.code == 0) {
+    EXPECT_EQ(checked_out.rfind("configuration ok: ", 0), 0u) << checked_out;
+  } else {
+    EXPECT_NE(checked.find(c.message), std::string::npos) << checked;
+    EXPECT_EQ(checked_out, "");
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    BinaryTest,
+    CheckConfigTest,
+    ::testing::Values(
+        StartCase{"Good", "", {}, 0, ""},
+        StartCase{"SceneMissing",
+                  "[scene]\npath = \"/nonexistent/scene.glb\"\n",
+                  {},
+                  1,
+                  "cannot load the scene: [scene] path '/nonexistent/scene.glb'"},
+        StartCase{"DemoUnknown",
+                  "[scene]\ndemo = \"nope\"\n",
+                  {},
+                  1,
+                  "[scene] demo: \"nope\" is not a demo scene"},
+        StartCase{"BackstopOverOne",
+                  "[response]\ndynamic_backstop_fraction = 2.0\n",
+                  {},
+                  2,
+                  "c.toml:4: [response] dynamic_backstop_fraction: must be in [0, 1] (got 2)"},
+        StartCase{"CreaseAngle90",
+                  "[response]\ncrease_angle_deg = 90\n",
+                  {},
+                  2,
+                  "[response] crease_angle_deg: must be in [0, 90) degrees (got 90)"},
+        StartCase{"RemoteWithoutKey",
+                  "",
+                  {"--udp", "0.0.0.0:0"},
+                  1,
+                  "[network] udp: 0.0.0.0:0 is not a loopback address and [network] key_file is "
+                  "not set"},
+        StartCase{"KeyFileMissing",
+                  "[network]\nkey_file = \"/nonexistent/key\"\n",
+                  {},
+                  1,
+                  "[network] key_file: cannot read '/nonexistent/key'"},
+        StartCase{"ReplayFileMissing",
+                  "",
+                  {"--device", "replay:/nonexistent/poses.csv"},
+                  1,
+                  "device 'replay:/nonexistent/poses.csv'"},
+        StartCase{"DeviceSpecBad", "[device]\nspec = \"hid:\"\n", {}, 1, "'hid:' needs a path"},
+        StartCase{"RateOnTheCommandLine", "", {"--rate", "0.5"}, 2, "--rate"}),
+    [](const ::testing::TestParamInfo<StartCase>& i) { return std::string(i.param.name); });
 
 // every column but tick_ns (the last) of a record
 std::vector<std::string> withoutTickNs(const std::string& csv) {

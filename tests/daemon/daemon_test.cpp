@@ -212,6 +212,41 @@ TEST_F(DaemonTest, RealtimeRefusedUnderRequireRefusesToStart) {
       << err;
 }
 
+TEST_F(DaemonTest, CheckConfigRunsTheRealtimeAndSceneStepsAndStartsNothing) {
+  Backends b = fakeBackends();
+  b.realtime.lock_memory = [](int) { return 0; };
+  b.realtime.set_fifo = [](int) { return EPERM; };
+  CommandLine cli = baseCli();
+  cli.realtime = "require";
+  cli.check_config = true;
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(runDaemon(cli, b), kExitFailure);  // as RealtimeRefusedUnderRequireRefusesToStart
+  std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("realtime = \"require\": SCHED_FIFO priority 80 refused"), std::string::npos)
+      << err;
+  ASSERT_NE(device_, nullptr);  // the steps before it ran, in start-up's order
+  EXPECT_EQ(device_->reads, 0u);
+  device_ = nullptr;
+
+  cli = baseCli();
+  cli.check_config = true;
+  cli.scene = "nothing.glb";  // the fake loader refuses it, as at start-up
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitFailure);
+  err = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("cannot load the scene: file 'nothing.glb'"), std::string::npos) << err;
+
+  cli = baseCli();
+  cli.check_config = true;
+  ::testing::internal::CaptureStdout();
+  EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitOk);
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  EXPECT_EQ(out, "configuration ok (built-in defaults): scene 'peg_in_hole', device 'sim'\n");
+  ASSERT_NE(device_, nullptr);  // the sim device is opened (it has no effect outside)
+  EXPECT_EQ(device_->reads, 0u);
+  EXPECT_FALSE(fs::exists(dir_ / "status.json"));  // nothing ran
+}
+
 TEST_F(DaemonTest, DeviceLostAndBack) {
   CommandLine cli = baseCli();
   std::thread helper([&] {
