@@ -263,15 +263,7 @@ void ServoLoop::applyCommand(const ServoCommand& cmd, std::uint64_t now_ns) noex
   if (cmd.gated) {
     gate_used_ = true;
     if (cmd.kind == CommandKind::kPose) {
-      proto::PoseCommand p;
-      const geom::Pose& X = cmd.pose.X_W_target;
-      p.X_WT.p = {X.translation.x, X.translation.y, X.translation.z};
-      p.X_WT.q = {X.rotation.x, X.rotation.y, X.rotation.z, X.rotation.w};
-      p.v_W = {cmd.pose.linear_velocity.x, cmd.pose.linear_velocity.y, cmd.pose.linear_velocity.z};
-      p.w_W = {cmd.pose.angular_velocity.x, cmd.pose.angular_velocity.y,
-               cmd.pose.angular_velocity.z};
-      p.buttons = cmd.pose.buttons;
-      (void)gate_.submit(cmd.session_id, cmd.sequence, p, now_ns);
+      (void)gate_.submit(cmd.session_id, cmd.sequence, cmd.pose, now_ns);
       return;  // the gate hands the newest to the device in applyGate()
     }
     if (cmd.kind == CommandKind::kArm)
@@ -282,14 +274,9 @@ void ServoLoop::applyCommand(const ServoCommand& cmd, std::uint64_t now_ns) noex
     s_.last_command_sequence = cmd.sequence;
   }
   switch (cmd.kind) {
-    case CommandKind::kPose: {
-      device::PoseCommand c = cmd.pose;
-      c.X_W_target = options_.workspace.toDevice(cmd.pose.X_W_target);
-      c.linear_velocity = options_.workspace.velocityToDevice(cmd.pose.linear_velocity);
-      c.angular_velocity = options_.workspace.angularToDevice(cmd.pose.angular_velocity);
-      device_.command(c);
+    case CommandKind::kPose:
+      commandDevice(cmd.pose);
       break;
-    }
     case CommandKind::kArm:
       s_.faults = 0;
       s_.consecutive_misses = 0;
@@ -312,31 +299,28 @@ void ServoLoop::applyGate(std::uint64_t now_ns) noexcept {
     s_.gate_scale = 1.0;
     return;
   }
-  const proto::GateOutput g = gate_.update(now_ns);
+  const auto g = gate_.update(now_ns);
   s_.gate_mode = static_cast<std::uint8_t>(g.mode);
   s_.commands_accepted = gate_.accepted();
   s_.commands_dropped = gate_.droppedTotal();
   if (g.last_sequence != 0)
     s_.last_command_sequence = g.last_sequence;
   if (g.has_target &&
-      (g.mode == proto::GateMode::kStreaming || g.mode == proto::GateMode::kRamping)) {
-    device::PoseCommand c;
-    const geom::Pose X_W = geom::Pose::fromXyzw(
-        geom::Vec3(g.target.X_WT.p[0], g.target.X_WT.p[1], g.target.X_WT.p[2]), g.target.X_WT.q[0],
-        g.target.X_WT.q[1], g.target.X_WT.q[2], g.target.X_WT.q[3]);
-    c.X_W_target = options_.workspace.toDevice(X_W);
-    c.linear_velocity = options_.workspace.velocityToDevice(
-        geom::Vec3(g.target.v_W[0], g.target.v_W[1], g.target.v_W[2]));
-    c.angular_velocity = options_.workspace.angularToDevice(
-        geom::Vec3(g.target.w_W[0], g.target.w_W[1], g.target.w_W[2]));
-    c.buttons = g.target.buttons;
-    device_.command(c);
-  }
+      (g.mode == proto::GateMode::kStreaming || g.mode == proto::GateMode::kRamping))
+    commandDevice(g.target);
   // a disarmed gate (never armed by a client, or disarmed) leaves the servo's own arm state in
   // charge; an armed gate scales the force by its ramp
   s_.gate_scale = g.mode == proto::GateMode::kDisarmed ? 1.0 : g.force_scale;
   if ((g.fault_bits & proto::kFaultStreamLost) != 0)
     s_.faults |= kFaultStreamLost;
+}
+
+void ServoLoop::commandDevice(const device::PoseCommand& c_W) noexcept {
+  device::PoseCommand c = c_W;
+  c.X_W_target = options_.workspace.toDevice(c_W.X_W_target);
+  c.linear_velocity = options_.workspace.velocityToDevice(c_W.linear_velocity);
+  c.angular_velocity = options_.workspace.angularToDevice(c_W.angular_velocity);
+  device_.command(c);
 }
 
 void ServoLoop::guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept {

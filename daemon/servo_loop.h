@@ -192,7 +192,8 @@ inline constexpr std::uint64_t kShmAliveTimeoutNs = 500'000'000;
 inline constexpr std::uint64_t kShmPercentileEveryTicks = 100;
 
 /// A client's command (UDP or shared memory) for the servo's command gate: gated, from session
-/// `session_id`, ordered by `sequence`; the pose (scene frame) only for kPose. Any thread.
+/// `session_id`, ordered by `sequence`; the pose (scene frame) only for kPose. The one place a
+/// wire pose becomes the daemon's: the gate and the device work on the result. Any thread.
 ServoCommand gatedCommand(CommandKind kind,
                           std::uint64_t session_id,
                           std::uint64_t sequence,
@@ -325,6 +326,8 @@ class ServoLoop {
   HAPTICD_SERVO_THREAD void publishLists() noexcept;
   HAPTICD_SERVO_THREAD void publishShm(std::int64_t now_real_ns) noexcept;
   HAPTICD_SERVO_THREAD void applyGate(std::uint64_t now_ns) noexcept;
+  // a pose command (scene frame) through the workspace mapping to the device
+  HAPTICD_SERVO_THREAD void commandDevice(const device::PoseCommand& c_W) noexcept;
   HAPTICD_SERVO_THREAD void emit(ServoEventKind kind,
                                  std::int64_t a = 0,
                                  std::int64_t b = 0,
@@ -350,7 +353,9 @@ class ServoLoop {
   std::atomic<bool> stop_requested_{false};
 
   // servo-thread state
-  proto::CommandGate gate_;
+  // the gate on the daemon's own command (scene frame; the wire pose converted once, where it
+  // enters: gatedCommand())
+  proto::BasicCommandGate<device::PoseCommand> gate_;
   bool gate_used_ = false;  // a gated command arrived (the gate's scale then applies)
   ServoScene* current_ = nullptr;
   ServoState s_;

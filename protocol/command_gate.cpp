@@ -18,7 +18,7 @@ const char* gateModeName(GateMode m) {
   return "unknown";
 }
 
-CommandGate::SessionSeq& CommandGate::sessionEntry(std::uint64_t session_id) noexcept {
+CommandGateCore::SessionSeq& CommandGateCore::sessionEntry(std::uint64_t session_id) noexcept {
   SessionSeq* lru = &sessions_[0];
   for (auto& s : sessions_) {
     if (s.session == session_id && s.last_use != 0) {
@@ -32,9 +32,8 @@ CommandGate::SessionSeq& CommandGate::sessionEntry(std::uint64_t session_id) noe
   return *lru;
 }
 
-void CommandGate::arm(std::uint64_t session_id, std::uint64_t now_ns) noexcept {
-  if (now_ns > now_ns_)
-    now_ns_ = now_ns;
+void CommandGateCore::arm(std::uint64_t session_id, std::uint64_t now_ns) noexcept {
+  timeTo(now_ns);
   sessionEntry(session_id);
   controller_ = session_id;
   fault_bits_ = 0;
@@ -43,19 +42,16 @@ void CommandGate::arm(std::uint64_t session_id, std::uint64_t now_ns) noexcept {
   mode_ = GateMode::kArmedIdle;
 }
 
-void CommandGate::disarm(std::uint64_t now_ns) noexcept {
-  if (now_ns > now_ns_)
-    now_ns_ = now_ns;
+void CommandGateCore::disarm(std::uint64_t now_ns) noexcept {
+  timeTo(now_ns);
   mode_ = GateMode::kDisarmed;
   has_target_ = false;
 }
 
-bool CommandGate::submit(std::uint64_t session_id,
-                         std::uint64_t sequence,
-                         const PoseCommand& cmd,
-                         std::uint64_t now_ns) noexcept {
-  if (now_ns > now_ns_)
-    now_ns_ = now_ns;
+bool CommandGateCore::submit(std::uint64_t session_id,
+                             std::uint64_t sequence,
+                             std::uint64_t now_ns) noexcept {
+  timeTo(now_ns);
   SessionSeq& s = sessionEntry(session_id);
   if (sequence < s.max_seen) {
     drop(DropReason::kOlder);
@@ -78,7 +74,6 @@ bool CommandGate::submit(std::uint64_t session_id,
     drop(DropReason::kFaulted);
     return false;
   }
-  target_ = cmd;
   has_target_ = true;
   last_sequence_ = sequence;
   last_command_ns_ = now_ns_;
@@ -87,11 +82,8 @@ bool CommandGate::submit(std::uint64_t session_id,
   return true;
 }
 
-GateOutput CommandGate::update(std::uint64_t now_ns) noexcept {
-  if (now_ns > now_ns_)
-    now_ns_ = now_ns;
-  GateOutput out;
-  out.last_sequence = last_sequence_;
+CommandGateCore::State CommandGateCore::advance(std::uint64_t now_ns) noexcept {
+  timeTo(now_ns);
   if (mode_ == GateMode::kStreaming || mode_ == GateMode::kRamping) {
     const std::uint64_t age = now_ns_ - last_command_ns_;
     if (age >= config_.zero_ns) {
@@ -101,10 +93,7 @@ GateOutput CommandGate::update(std::uint64_t now_ns) noexcept {
       mode_ = GateMode::kRamping;
     }
   }
-  out.mode = mode_;
-  out.fault_bits = fault_bits_;
-  out.has_target = has_target_;
-  out.target = target_;
+  State out{mode_, has_target_, 0.0, fault_bits_, last_sequence_, 0};
   if (has_target_)
     out.command_age_ns = now_ns_ - last_command_ns_;
   switch (mode_) {
@@ -123,14 +112,10 @@ GateOutput CommandGate::update(std::uint64_t now_ns) noexcept {
       break;
     }
   }
-  if (mode_ == GateMode::kRamping || mode_ == GateMode::kFaulted) {
-    out.target.v_W = {0.0, 0.0, 0.0};
-    out.target.w_W = {0.0, 0.0, 0.0};
-  }
   return out;
 }
 
-std::uint64_t CommandGate::droppedTotal() const noexcept {
+std::uint64_t CommandGateCore::droppedTotal() const noexcept {
   std::uint64_t n = 0;
   for (auto d : dropped_)
     n += d;

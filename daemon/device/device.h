@@ -68,6 +68,12 @@ struct PoseCommand {
   std::uint32_t buttons = 0;
 };
 
+/// The command held still (velocities zero): what the command gate hands on while it ramps.
+inline void zeroVelocities(PoseCommand& c) noexcept {
+  c.linear_velocity = Vec3(0.0);
+  c.angular_velocity = Vec3(0.0);
+}
+
 class Device {
  public:
   virtual ~Device() = default;
