@@ -68,17 +68,6 @@ ServoCommand gatedCommand(CommandKind kind,
   return c;
 }
 
-std::uint32_t wireFaultBits(std::uint32_t f) noexcept {
-  std::uint32_t w = 0;
-  if ((f & kFaultStreamLost) != 0)
-    w |= proto::kFaultStreamLost;
-  if ((f & kFaultMisses) != 0)
-    w |= proto::kFaultTickOverrun;
-  if ((f & kFaultNonFinite) != 0)
-    w |= proto::kFaultNotFinite;
-  return w;
-}
-
 std::uint32_t wireStateFlags(const ServoState& st) noexcept {
   std::uint32_t w = st.armed ? proto::kStateArmed : 0u;
   const auto mode = static_cast<proto::GateMode>(st.gate_mode);
@@ -241,7 +230,7 @@ void ServoLoop::publishShm(std::int64_t now_real_ns) noexcept {
   m.tick_p50_ns = shm_p50_ns_;
   m.tick_p99_ns = shm_p99_ns_;
   m.tick_max_ns = static_cast<std::uint64_t>(std::max<std::int64_t>(0, compute_.maxNs()));
-  m.fault_bits = wireFaultBits(s_.faults);
+  m.fault_bits = s_.faults;
   m.state_flags = wireStateFlags(s_);
   m.contact_count = s_.contacts;
   m.pairs_tested = s_.pairs_tested;  // layout minor 1
@@ -311,8 +300,8 @@ void ServoLoop::applyGate(std::uint64_t now_ns) noexcept {
   // a disarmed gate (never armed by a client, or disarmed) leaves the servo's own arm state in
   // charge; an armed gate scales the force by its ramp
   s_.gate_scale = g.mode == proto::GateMode::kDisarmed ? 1.0 : g.force_scale;
-  if ((g.fault_bits & proto::kFaultStreamLost) != 0)
-    s_.faults |= kFaultStreamLost;
+  if ((g.fault_bits & proto::kFaultStreamLost) != 0 && latch(kFaultStreamLost))
+    emit(ServoEventKind::kStreamLost);
 }
 
 void ServoLoop::commandDevice(const device::PoseCommand& c_W) noexcept {
@@ -323,12 +312,20 @@ void ServoLoop::commandDevice(const device::PoseCommand& c_W) noexcept {
   device_.command(c);
 }
 
+bool ServoLoop::latch(std::uint32_t fault) noexcept {
+  if ((s_.faults & fault) != 0)
+    return false;
+  s_.faults |= fault;
+  s_.faults_seen |= fault;
+  ++s_.fault_latches;
+  return true;
+}
+
 void ServoLoop::guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept {
   // the one place every force bound for the device is checked finite, clamped and rate-limited
   if (!finite(force_D) || !finite(torque_D)) {
-    if ((s_.faults & kFaultNonFinite) == 0)
+    if (latch(kFaultNonFinite))
       emit(ServoEventKind::kNonFiniteForce);
-    s_.faults |= kFaultNonFinite;
     force_D = geom::Vec3(0.0);
     torque_D = geom::Vec3(0.0);
   }
@@ -525,10 +522,8 @@ ServoExit ServoLoop::run() noexcept {
       s_.skipped_periods += static_cast<std::uint64_t>(late_periods);
       ++s_.overruns;
       ++s_.consecutive_misses;
-      if (s_.consecutive_misses >= options_.miss_fault_count && (s_.faults & kFaultMisses) == 0) {
-        s_.faults |= kFaultMisses;
+      if (s_.consecutive_misses >= options_.miss_fault_count && latch(kFaultMisses))
         emit(ServoEventKind::kMissFault, s_.consecutive_misses);
-      }
       state_.write(s_);
     } else {
       s_.consecutive_misses = 0;
@@ -562,12 +557,16 @@ std::string describe(const ServoEvent& e) {
     case ServoEventKind::kDeviceBack:
       return "device back" + at + ": force ramps in again";
     case ServoEventKind::kMissFault:
-      return "fault latched" + at + ": " + std::to_string(e.a) +
+      return "fault latched" + at + ": tick_overrun: " + std::to_string(e.a) +
              " consecutive ticks overran their period; force fades to zero until re-armed";
     case ServoEventKind::kNonFiniteForce:
       return "fault latched" + at +
-             ": the simulation produced a non-finite force; force zero "
-             "until re-armed";
+             ": not_finite: the simulation produced a non-finite force; force zero until "
+             "re-armed";
+    case ServoEventKind::kStreamLost:
+      return "fault latched" + at +
+             ": stream_lost: a client's pose stream stopped (no command for 200 ms); force "
+             "fades to zero until re-armed";
     case ServoEventKind::kArmed:
       return "armed" + at;
     case ServoEventKind::kDisarmed:
@@ -592,6 +591,22 @@ std::string describe(const ServoEvent& e) {
              ", the running scene is generation " + std::to_string(e.b);
   }
   return "event" + at;
+}
+
+std::string faultNames(std::uint32_t faults) {
+  if (faults == 0)
+    return "none";
+  static constexpr std::pair<std::uint32_t, const char*> kNames[] = {
+      {proto::kFaultStreamLost, "stream_lost"},
+      {proto::kFaultDevice, "device"},
+      {proto::kFaultForceClamped, "force_clamped"},
+      {proto::kFaultNotFinite, "not_finite"},
+      {proto::kFaultTickOverrun, "tick_overrun"}};
+  std::string s;
+  for (const auto& [bit, name] : kNames)
+    if ((faults & bit) != 0)
+      s += (s.empty() ? "" : ",") + std::string(name);
+  return s;
 }
 
 }  // namespace hapticd::daemon

@@ -91,11 +91,14 @@ struct ServoCommand {
   std::uint64_t session_id = 0;  ///< gated: the client session (the gate's controller)
 };
 
-/// Latched faults (ServoState::faults); cleared by kArm.
+/// Latched faults (ServoState::faults); cleared by kArm. The protocol's numbering (State and
+/// StatusReply fault_bits), so that a fault has one number wherever a number is shown (the wire,
+/// the status file's faults.bits); the log, the status line and the summary name them
+/// (faultNames()).
 enum FaultBits : std::uint32_t {
-  kFaultMisses = 1u << 0,      ///< miss_fault_count consecutive ticks overran their period
-  kFaultNonFinite = 1u << 1,   ///< the simulation produced a non-finite force or torque
-  kFaultStreamLost = 1u << 2,  ///< a client's pose stream stopped (CommandGate, 200 ms)
+  kFaultStreamLost = proto::kFaultStreamLost,  ///< "stream_lost": a client's pose stream stopped
+  kFaultNonFinite = proto::kFaultNotFinite,    ///< "not_finite": a non-finite force or torque
+  kFaultMisses = proto::kFaultTickOverrun,     ///< "tick_overrun": miss_fault_count overruns
 };
 
 /// The state block, published once per tick through the seqlock. Scene frame, SI units.
@@ -112,7 +115,9 @@ struct ServoState {
   std::uint32_t pairs_skipped = 0;
   std::uint32_t tick_flags = 0;  ///< sim::TickFlags of the last tick
   double max_penetration_m = 0.0;
-  std::uint32_t faults = 0;  ///< FaultBits
+  std::uint32_t faults = 0;         ///< FaultBits latched now
+  std::uint32_t faults_seen = 0;    ///< FaultBits latched at some time since start
+  std::uint64_t fault_latches = 0;  ///< faults latched since start (each a "fault latched" line)
   std::uint32_t consecutive_misses = 0;
   std::uint64_t overruns = 0;         ///< ticks whose end passed the next deadline
   std::uint64_t skipped_periods = 0;  ///< periods skipped after overruns
@@ -199,8 +204,6 @@ ServoCommand gatedCommand(CommandKind kind,
                           std::uint64_t sequence,
                           const proto::PoseCommand& pose) noexcept;
 
-/// ServoState::faults as the protocol's State::fault_bits. Any thread.
-std::uint32_t wireFaultBits(std::uint32_t faults) noexcept;
 /// ServoState as the protocol's State::state_flags (armed, streaming, ramping). Any thread.
 std::uint32_t wireStateFlags(const ServoState& st) noexcept;
 
@@ -234,6 +237,7 @@ enum class ServoEventKind : std::uint8_t {
   kDeviceBack,
   kMissFault,  ///< a = consecutive misses
   kNonFiniteForce,
+  kStreamLost,  ///< the command gate latched stream_lost
   kArmed,
   kDisarmed,
   kSceneSwapped,  ///< a = generation
@@ -333,6 +337,8 @@ class ServoLoop {
                                  std::int64_t b = 0,
                                  std::int64_t c = 0) noexcept;
   HAPTICD_SERVO_THREAD void guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept;
+  // latches `fault` (FaultBits); true when it was not latched before (the caller logs it)
+  HAPTICD_SERVO_THREAD bool latch(std::uint32_t fault) noexcept;
 
   ServoOptions options_;
   Clock& clock_;
@@ -373,5 +379,9 @@ class ServoLoop {
 
 /// A one-line description of an event ("device lost at tick 1200"). Any thread; allocates.
 std::string describe(const ServoEvent& event);
+
+/// FaultBits by name, in bit order: "none", or e.g. "stream_lost,tick_overrun" (the names
+/// hapticctl shows). Any thread; allocates.
+std::string faultNames(std::uint32_t faults);
 
 }  // namespace hapticd::daemon

@@ -76,6 +76,14 @@ class DaemonEditTest : public ::testing::Test {
     b.load_scene = [](const Config&) -> Result<std::shared_ptr<const scene::SceneModel>> {
       return std::shared_ptr<const scene::SceneModel>(testing::editableSceneModel());
     };
+    // an upload: the bytes as they arrived, kept for the test; "bad..." refused
+    b.load_scene_bytes = [this](std::span<const std::uint8_t> bytes, const std::string& name,
+                                const Config&) -> Result<std::shared_ptr<const scene::SceneModel>> {
+      uploaded_.assign(bytes.begin(), bytes.end());
+      if (name.rfind("bad", 0) == 0)
+        return Error{"scene '" + name + "': not a scene"};
+      return std::shared_ptr<const scene::SceneModel>(testing::editableSceneModel(name));
+    };
     b.make_simulation = [](std::shared_ptr<const scene::SceneModel> model,
                            const sim::SimOptions&) -> Result<std::unique_ptr<sim::Simulation>> {
       return std::unique_ptr<sim::Simulation>(std::make_unique<EditableSimulation>(model));
@@ -125,6 +133,8 @@ class DaemonEditTest : public ::testing::Test {
     return code;
   }
 
+  std::vector<std::uint8_t> uploaded_;  // what load_scene_bytes was given (builder thread)
+
   std::unique_ptr<proto::Client> client(std::optional<proto::Key> key = std::nullopt) {
     const std::string a = status()["network"]["udp"];
     proto::ClientConfig c;
@@ -171,6 +181,43 @@ const proto::SceneUpdate::BodyPose* bodyIn(const proto::State& s, std::uint32_t 
     if (b.body_index == body)
       return &b;
   return nullptr;
+}
+
+// an upload is built from its bytes as they arrived (no file in between), named by the upload;
+// a refused one keeps the running scene and answers with the loader's text
+TEST_F(DaemonEditTest, AnUploadIsBuiltFromItsBytes) {
+  std::vector<std::uint8_t> bytes(70000);  // several chunks
+  for (std::size_t i = 0; i < bytes.size(); ++i)
+    bytes[i] = static_cast<std::uint8_t>(i * 7 + 3);
+  const std::string tmp_before = [] {
+    std::string names;
+    for (const auto& e : fs::directory_iterator(fs::temp_directory_path()))
+      if (e.path().filename().string().rfind("hapticd-upload-", 0) == 0)
+        names += e.path().string() + " ";
+    return names;
+  }();
+  EXPECT_EQ(runWith(cli(""),
+                    [&] {
+                      auto c = client();
+                      ASSERT_TRUE(c);
+                      auto ok = c->load(bytes, "uploaded.glb");
+                      ASSERT_TRUE(ok) << ok.error().message;
+                      EXPECT_EQ(uploaded_, bytes);
+                      ASSERT_TRUE(waitStatus([](const nlohmann::json& j) {
+                        return j["scene"]["name"] == "uploaded.glb";
+                      }));
+                      EXPECT_EQ(status()["scene"]["generation"], 2);
+                      auto bad = c->load(bytes, "bad.glb");
+                      ASSERT_FALSE(bad);
+                      EXPECT_EQ(bad.error().message, "scene refused: scene 'bad.glb': not a scene");
+                      EXPECT_EQ(status()["scene"]["name"], "uploaded.glb");
+                    }),
+            kExitOk);
+  std::string tmp_after;
+  for (const auto& e : fs::directory_iterator(fs::temp_directory_path()))
+    if (e.path().filename().string().rfind("hapticd-upload-", 0) == 0)
+      tmp_after += e.path().string() + " ";
+  EXPECT_EQ(tmp_after, tmp_before);  // no upload file was left (none is written)
 }
 
 TEST_F(DaemonEditTest, ASceneUpdateMovingAKinematicBodyIsAckedAndLaterStatesListItThere) {

@@ -16,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include "protocol/messages.h"
 #include "tests/daemon/fakes.h"
 
 namespace hapticd::daemon {
@@ -298,6 +299,37 @@ TEST_F(DaemonTest, VirtualClockReplayEndsAtTheEndOfTheStreamWithARecord) {
   EXPECT_EQ(line.rfind("0,0,Probe,", 0), 0u) << line;
   std::getline(bodies, line);
   EXPECT_EQ(line.rfind("0,0,Box,", 0), 0u) << line;
+}
+
+// a fault has a name in the log, the status line and the summary, and one number (the
+// protocol's) wherever a number is shown; the summary counts the faults latched over the run
+TEST_F(DaemonTest, FaultsAreNamedAndNumberedAsOnTheWire) {
+  Backends b = fakeBackends();
+  b.make_simulation = [](std::shared_ptr<const scene::SceneModel>,
+                         const sim::SimOptions&) -> Result<std::unique_ptr<sim::Simulation>> {
+    auto s = std::make_unique<FakeSimulation>();
+    s->nan_at_step = 100;
+    return std::unique_ptr<sim::Simulation>(std::move(s));
+  };
+  CommandLine cli = baseCli();
+  cli.device = "end:500";
+  cli.clock = "virtual";
+  ::testing::internal::CaptureStdout();
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(runDaemon(cli, b), kExitOk);
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("warning: fault latched at tick 99: not_finite: "), std::string::npos) << err;
+  EXPECT_NE(out.find(", faults not_finite (latched 1 times since start: not_finite), "),
+            std::string::npos)
+      << out;
+  const auto j = status();
+  EXPECT_EQ(j["faults"]["bits"], proto::kFaultNotFinite);
+  EXPECT_EQ(j["faults"]["names"], "not_finite");
+  EXPECT_TRUE(j["faults"]["non_finite"].get<bool>());
+  EXPECT_EQ(j["faults"]["latched_since_start"], 1);
+  EXPECT_EQ(faultNames(kFaultStreamLost | kFaultMisses), "stream_lost,tick_overrun");
+  EXPECT_EQ(faultNames(0), "none");
 }
 
 TEST_F(DaemonTest, StartupFailuresAreClearAndExitNonZero) {
