@@ -335,12 +335,7 @@ void ServoLoop::guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept 
   torque_D = limitStep(last_torque_D_, torque_D, options_.max_torque_step_nm);
 }
 
-void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept {
-  const std::int64_t t0 = realNowNs();
-  const double t_s = static_cast<double>(period_index) * period_s_;
-
-  const std::uint64_t now_ns =
-      static_cast<std::uint64_t>(period_index) * static_cast<std::uint64_t>(period_ns_);
+void ServoLoop::takeInputs(std::uint64_t now_ns) noexcept {
   drainCommands(now_ns);
   drainShm(now_ns);
   applyGate(now_ns);
@@ -352,21 +347,12 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
     emit(ServoEventKind::kSceneSwapped, static_cast<std::int64_t>(current_->generation));
   }
   applyEdits();  // after the swap: a batch validated against the new scene meets it
+}
 
-  device::DeviceSample sample;
+device::DeviceStatus ServoLoop::readDevice(double t_s, device::DeviceSample& sample) noexcept {
   const device::DeviceStatus status = device_.read(t_s, sample);
-  if (status == device::DeviceStatus::kEndOfStream) {
-    // the stream is over: zero force, no simulation step, no record row; run() returns
-    end_of_stream_ = true;
-    emit(ServoEventKind::kEndOfStream);
-    device_.write(geom::Vec3(0.0), geom::Vec3(0.0));
-    last_force_D_ = last_torque_D_ = geom::Vec3(0.0);
-    s_.force_W_n = s_.torque_W_nm = geom::Vec3(0.0);
-    tick_ns = realNowNs() - t0;
-    state_.write(s_);
-    publishShm(realNowNs());
-    return;
-  }
+  if (status == device::DeviceStatus::kEndOfStream)
+    return status;
   const bool connected = status == device::DeviceStatus::kOk;
   if (!connected && status == device::DeviceStatus::kLost && s_.device_connected) {
     ++s_.device_lost_count;
@@ -379,17 +365,22 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   s_.device_connected = connected;
   if (connected)
     s_.X_W_device = options_.workspace.toScene(sample.X_WD);
+  return status;
+}
 
-  sim::TickOutput out;
-  if (current_ != nullptr) {
-    sim::TickInput in;
-    in.t_s = t_s;
-    in.X_W_device = s_.X_W_device;
-    in.buttons = sample.buttons;
-    in.device_ok = connected;
-    out = current_->sim->step(in);
-  }
+void ServoLoop::endStream(std::int64_t t0, std::int64_t& tick_ns) noexcept {
+  // the stream is over: zero force, no simulation step, no record row; run() returns
+  end_of_stream_ = true;
+  emit(ServoEventKind::kEndOfStream);
+  device_.write(geom::Vec3(0.0), geom::Vec3(0.0));
+  last_force_D_ = last_torque_D_ = geom::Vec3(0.0);
+  s_.force_W_n = s_.torque_W_nm = geom::Vec3(0.0);
+  tick_ns = realNowNs() - t0;
+  state_.write(s_);
+  publishShm(realNowNs());
+}
 
+void ServoLoop::fadeOutputGain() noexcept {
   // the output gain fades to zero on a fault, a disarm and a stop; kArm sets it back to 1
   const bool hold_zero = s_.faults != 0 || !s_.armed || s_.stopping;
   if (hold_zero && s_.output_gain > 0.0) {
@@ -397,7 +388,9 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
     const double step = fade_s > 0.0 ? period_s_ / fade_s : 1.0;
     s_.output_gain = std::max(0.0, s_.output_gain - step);
   }
+}
 
+void ServoLoop::writeOutput(const sim::TickOutput& out, bool connected) noexcept {
   geom::Vec3 force_D(0.0), torque_D(0.0);
   if (connected) {
     const double gain = s_.output_gain * s_.gate_scale;
@@ -414,9 +407,13 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   // a lost device: zero at once (nothing to ramp on a device that is gone)
   last_force_D_ = force_D;
   last_torque_D_ = torque_D;
-
   s_.force_W_n = options_.workspace.forceToScene(force_D);
   s_.torque_W_nm = options_.workspace.torqueToScene(torque_D);
+}
+
+void ServoLoop::updateState(const sim::TickOutput& out,
+                            double t_s,
+                            std::uint64_t period_index) noexcept {
   s_.X_W_proxy = out.X_W_proxy;
   s_.contacts = out.contacts;
   s_.pairs_tested = out.pairs_tested;
@@ -429,25 +426,29 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   s_.peak_penetration_m = std::max(s_.peak_penetration_m, out.max_penetration_m);
   if (out.contacts > 0)
     ++s_.contact_ticks;
-
   if (s_.stopping && !stop_done_ && s_.output_gain == 0.0 && last_force_D_ == geom::Vec3(0.0) &&
       last_torque_D_ == geom::Vec3(0.0)) {
     stop_done_ = true;
     emit(ServoEventKind::kStopRampDone);
   }
-
   if (shm_ != nullptr)
     s_.shm_client_alive =
         shm_->clientAlive(static_cast<std::uint64_t>(realNowNs()), kShmAliveTimeoutNs);
+}
 
-  ++s_.tick;
-  publishLists();
-  const std::int64_t t_end = realNowNs();
-  tick_ns = t_end - t0;
-  s_.last_tick_ns = tick_ns;
-  state_.write(s_);
-  publishShm(t_end);
+template <class Row>
+bool ServoLoop::pushRow(SpscRing<Row>& ring, const Row& row) noexcept {
+  while (!ring.push(row)) {
+    if (!options_.wait_for_record_space) {
+      ++s_.records_dropped;
+      return false;
+    }
+    std::this_thread::yield();
+  }
+  return true;
+}
 
+void ServoLoop::pushRecords(const sim::TickOutput& out, double t_s, std::int64_t tick_ns) noexcept {
   if (options_.record) {
     RecordRow row;
     row.tick = s_.tick - 1;
@@ -461,29 +462,49 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
     row.pairs_skipped = out.pairs_skipped;
     row.max_penetration_m = out.max_penetration_m;
     row.tick_ns = tick_ns;
-    while (!records_.push(row)) {
-      if (!options_.wait_for_record_space) {
-        ++s_.records_dropped;
-        if (!record_drop_reported_)
-          emit(ServoEventKind::kRecordDropped);
-        record_drop_reported_ = true;
-        break;
-      }
-      std::this_thread::yield();
+    if (!pushRow(records_, row) && !record_drop_reported_) {
+      emit(ServoEventKind::kRecordDropped);
+      record_drop_reported_ = true;
     }
   }
   if (options_.record_bodies && current_ != nullptr) {
-    for (const sim::BodyPose& b : current_->sim->bodyPoses()) {
-      const BodyRow row{s_.tick - 1, t_s, current_->generation, b.body, b.X_WB};
-      while (!bodies_.push(row)) {
-        if (!options_.wait_for_record_space) {
-          ++s_.records_dropped;
-          break;
-        }
-        std::this_thread::yield();
-      }
-    }
+    for (const sim::BodyPose& b : current_->sim->bodyPoses())
+      (void)pushRow(bodies_, BodyRow{s_.tick - 1, t_s, current_->generation, b.body, b.X_WB});
   }
+}
+
+void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept {
+  const std::int64_t t0 = realNowNs();
+  const double t_s = static_cast<double>(period_index) * period_s_;
+  takeInputs(static_cast<std::uint64_t>(period_index) * static_cast<std::uint64_t>(period_ns_));
+
+  device::DeviceSample sample;
+  const device::DeviceStatus status = readDevice(t_s, sample);
+  if (status == device::DeviceStatus::kEndOfStream)
+    return endStream(t0, tick_ns);
+  const bool connected = status == device::DeviceStatus::kOk;
+
+  sim::TickOutput out;
+  if (current_ != nullptr) {
+    sim::TickInput in;
+    in.t_s = t_s;
+    in.X_W_device = s_.X_W_device;
+    in.buttons = sample.buttons;
+    in.device_ok = connected;
+    out = current_->sim->step(in);
+  }
+  fadeOutputGain();
+  writeOutput(out, connected);
+  updateState(out, t_s, period_index);
+
+  ++s_.tick;
+  publishLists();
+  const std::int64_t t_end = realNowNs();
+  tick_ns = t_end - t0;
+  s_.last_tick_ns = tick_ns;
+  state_.write(s_);
+  publishShm(t_end);
+  pushRecords(out, t_s, tick_ns);
 }
 
 void ServoLoop::prepareServoThread() {

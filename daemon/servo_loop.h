@@ -322,7 +322,28 @@ class ServoLoop {
   const ServoScene* currentScene() const { return current_; }
 
  private:
+  // one tick, in order: takeInputs, readDevice, step, fadeOutputGain, writeOutput, updateState,
+  // publish, pushRecords
   HAPTICD_SERVO_THREAD void tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept;
+  // commands, shm commands, the gate, the stop flag, a scene swap, edits: at the tick boundary
+  HAPTICD_SERVO_THREAD void takeInputs(std::uint64_t now_ns) noexcept;
+  // the device's pose (scene frame, into s_), lost / back
+  HAPTICD_SERVO_THREAD device::DeviceStatus readDevice(double t_s,
+                                                       device::DeviceSample& sample) noexcept;
+  // the stream ended: zero force, no step, no record row
+  HAPTICD_SERVO_THREAD void endStream(std::int64_t t0, std::int64_t& tick_ns) noexcept;
+  HAPTICD_SERVO_THREAD void fadeOutputGain() noexcept;
+  // the simulation's wrench through the gain, the workspace and the guard to the device
+  HAPTICD_SERVO_THREAD void writeOutput(const sim::TickOutput& out, bool connected) noexcept;
+  HAPTICD_SERVO_THREAD void updateState(const sim::TickOutput& out,
+                                        double t_s,
+                                        std::uint64_t period_index) noexcept;
+  HAPTICD_SERVO_THREAD void pushRecords(const sim::TickOutput& out,
+                                        double t_s,
+                                        std::int64_t tick_ns) noexcept;
+  // pushes a record row, waiting (virtual clock) or dropping and counting (real clock) when full
+  template <class Row>
+  HAPTICD_SERVO_THREAD bool pushRow(SpscRing<Row>& ring, const Row& row) noexcept;
   HAPTICD_SERVO_THREAD void drainCommands(std::uint64_t now_ns) noexcept;
   HAPTICD_SERVO_THREAD void applyCommand(const ServoCommand& cmd, std::uint64_t now_ns) noexcept;
   HAPTICD_SERVO_THREAD void drainShm(std::uint64_t now_ns) noexcept;
