@@ -1,13 +1,14 @@
 #pragma once
 /// \file
-/// The servo loop (../shared/DESIGN.md "One servo tick"): each period it reads the device, maps
+/// The servo loop (docs/architecture.md "One servo tick"): each period it reads the device, maps
 /// the pose into the scene, steps the simulation, checks and limits the force, writes it to the
 /// device, publishes state and hands a record row on. It is paced by a Clock (real monotonic,
 /// virtual, scripted), measures each tick's wake-up lateness and compute time into fixed
 /// histograms, skips missed periods instead of queueing them, and after `miss_fault_count`
 /// consecutive overruns fades the force to zero and latches a fault until re-armed.
 ///
-/// Threads (STYLE.md rule 6): run() is the servo thread. It meets the other threads only at
+/// Threads (docs/architecture.md rule 6): run() is the servo thread. It meets the other threads
+/// only at
 ///  - a command ring (single producer: the owner thread; sendCommand()),
 ///  - a ring of scene edit batches (single producer; sendEdits()), applied whole at one tick
 ///    boundary before step(),
@@ -207,7 +208,7 @@ ServoCommand gatedCommand(CommandKind kind,
 /// ServoState as the protocol's State::state_flags (armed, streaming, ramping). Any thread.
 std::uint32_t wireStateFlags(const ServoState& st) noexcept;
 
-/// One --record row (../shared/DESIGN.md "Records"): scene frame, N, N m, m.
+/// One --record row (docs/architecture.md, records): scene frame, N, N m, m.
 struct RecordRow {
   std::uint64_t tick = 0;
   double t_s = 0.0;
