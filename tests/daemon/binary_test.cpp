@@ -28,47 +28,30 @@
 #include <thread>
 #include <vector>
 
+#include "tests/daemon/daemon_fixture.h"
+
 namespace {
 
 namespace fs = std::filesystem;
+using hapticd::testing::ScratchDir;
+using hapticd::testing::slurp;
 const std::string kSource = HAPTICD_SOURCE_DIR;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 class BinaryTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("hapticd_binary_test_" + std::to_string(getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
   void TearDown() override {
     if (pid_ > 0) {
       kill(pid_, SIGKILL);
       waitpid(pid_, nullptr, 0);
     }
-    fs::remove_all(dir_);
   }
 
-  // Starts hapticd with `args`; stdout and stderr go to files. `prepare` runs in the child
-  // before exec (async-signal-safe calls only).
+  // Starts hapticd with `args` (and a free UDP port and a shm segment of its own unless given);
+  // stdout and stderr go to files. `prepare` runs in the child before exec (async-signal-safe
+  // calls only).
   void start(const std::vector<std::string>& args,
              void (*prepare)() = nullptr,
              const std::vector<std::string>& extra_env = {}) {
-    std::vector<std::string> env_strings(extra_env);
-    for (char** e = environ; *e != nullptr; ++e)
-      env_strings.emplace_back(*e);
-    std::vector<char*> envp;
-    for (auto& e : env_strings)
-      envp.push_back(e.data());
-    envp.push_back(nullptr);
     std::vector<std::string> all{HAPTICD_BINARY};
     all.insert(all.end(), args.begin(), args.end());
     if (std::find(args.begin(), args.end(), "--help") == args.end()) {
@@ -83,44 +66,15 @@ class BinaryTest : public ::testing::Test {
                       std::to_string(++runs));
       }
     }
-    std::vector<char*> argv;
-    for (auto& a : all)
-      argv.push_back(a.data());
-    argv.push_back(nullptr);
-    const std::string out = (dir_ / "stdout").string(), err = (dir_ / "stderr").string();
-    pid_ = fork();
+    pid_ = hapticd::testing::spawn(all, dir_ / "stdout", dir_ / "stderr", {extra_env, prepare});
     ASSERT_GE(pid_, 0);
-    if (pid_ == 0) {
-      const int o = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-      const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-      dup2(o, 1);
-      dup2(e, 2);
-      sigset_t none;
-      sigemptyset(&none);
-      sigprocmask(SIG_SETMASK, &none, nullptr);
-      if (prepare)
-        prepare();
-      execve(argv[0], argv.data(), envp.data());
-      _exit(127);
-    }
   }
 
   // Exit code, or -1 after killing a child that did not end within `limit_s` (a hang).
   int wait(double limit_s = 240.0) {
-    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
-    int status = 0;
-    while (std::chrono::steady_clock::now() < until) {
-      const pid_t r = waitpid(pid_, &status, WNOHANG);
-      if (r == pid_) {
-        pid_ = -1;
-        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    kill(pid_, SIGKILL);
-    waitpid(pid_, nullptr, 0);
+    const int code = hapticd::testing::waitExit(pid_, limit_s);
     pid_ = -1;
-    return -1;
+    return code;
   }
 
   int run(const std::vector<std::string>& args, void (*prepare)() = nullptr) {
@@ -129,28 +83,28 @@ class BinaryTest : public ::testing::Test {
   }
 
   nlohmann::json status() {
-    auto j = nlohmann::json::parse(slurp(dir_ / "status.json"), nullptr, false);
-    return j.is_discarded() ? nlohmann::json::object() : j;
+    return hapticd::testing::parseJsonOrEmpty(slurp(dir_ / "status.json"));
   }
   bool waitForStatus(const std::function<bool(const nlohmann::json&)>& pred) {
-    for (int i = 0; i < 12000; ++i) {
-      const auto j = status();
-      if (!j.empty() && pred(j))
-        return true;
-      int st = 0;
-      if (waitpid(pid_, &st, WNOHANG) == pid_) {
-        pid_ = -1;
-        return false;  // ended early
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
+    bool ended = false;
+    const bool held = hapticd::testing::pollUntil(
+        [&] {
+          const auto j = status();
+          if (!j.empty() && pred(j))
+            return true;
+          ended = !hapticd::testing::running(pid_);
+          return ended;
+        },
+        12000);
+    if (ended)
+      pid_ = -1;
+    return held && !ended;
   }
   std::string out() { return slurp(dir_ / "stdout"); }
   std::string err() { return slurp(dir_ / "stderr"); }
   std::string path(const char* name) { return (dir_ / name).string(); }
 
-  fs::path dir_;
+  ScratchDir dir_{"hapticd_binary_test"};
   pid_t pid_ = -1;
 };
 

@@ -32,6 +32,7 @@
 #include "protocol/client.h"
 #include "protocol/server.h"
 #include "protocol/shm.h"
+#include "tests/daemon/daemon_fixture.h"
 #include "tests/daemon/fakes.h"
 
 namespace hapticd::daemon {
@@ -44,22 +45,11 @@ using SteadyClock = std::chrono::steady_clock;
 
 class DaemonEditTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    name_ = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    dir_ = fs::temp_directory_path() /
-           ("hapticd_daemon_edit_test_" + std::to_string(getpid()) + "_" + name_);
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    sigset_t set;
-    sigemptyset(&set);
-    sigaddset(&set, SIGTERM);
-    sigaddset(&set, SIGHUP);
-    sigaddset(&set, SIGINT);
-    pthread_sigmask(SIG_BLOCK, &set, nullptr);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  void SetUp() override { testing::blockDaemonSignals(); }
 
-  std::string shmName() const { return "/hapticd-test-" + std::to_string(getpid()) + "-" + name_; }
+  std::string shmName() const {
+    return "/hapticd-test-" + std::to_string(getpid()) + "-" + testing::testName();
+  }
 
   Backends backends() {
     Backends b;
@@ -101,20 +91,13 @@ class DaemonEditTest : public ::testing::Test {
   }
 
   nlohmann::json status() {
-    std::ifstream in(dir_ / "status.json");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    auto j = nlohmann::json::parse(ss.str(), nullptr, false);
-    return j.is_discarded() ? nlohmann::json::object() : j;
+    return testing::parseJsonOrEmpty(testing::slurp(dir_ / "status.json"));
   }
   bool waitStatus(const std::function<bool(const nlohmann::json&)>& pred) {
-    for (int i = 0; i < 6000; ++i) {
+    return testing::pollUntil([&] {
       const auto j = status();
-      if (!j.empty() && pred(j))
-        return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
+      return !j.empty() && pred(j);
+    });
   }
 
   // Runs the daemon on this thread while `body` runs on another; body ends it with SIGTERM.
@@ -163,8 +146,7 @@ class DaemonEditTest : public ::testing::Test {
     return false;
   }
 
-  std::string name_;
-  fs::path dir_;
+  testing::ScratchDir dir_{"hapticd_daemon_edit_test"};
   FakeDevice* device_ = nullptr;
   device::DeviceOptions device_options_;  // what the daemon opened the device with
   bool follow_commands_ = false;
@@ -406,19 +388,9 @@ TEST_F(DaemonEditTest, AShmClientDrivesTheDeviceAndAStoppedStreamRampsThenFaults
     EXPECT_EQ(st.fault_bits, 0u);
 
     // the stream stops (the heartbeat goes on): the ramp, then the latched fault
-    bool saw_ramp = false, faulted = false;
-    for (int i = 0; i < 30000 && !faulted; ++i) {
-      shm.beat(proto::monotonicNs());
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-      if (!shm.readState(st))
-        continue;
-      if ((st.state_flags & proto::kStateRamping) != 0 && st.force_scale > 0.0 &&
-          st.force_scale < 1.0)
-        saw_ramp = true;
-      faulted = (st.fault_bits & proto::kFaultStreamLost) != 0;
-    }
-    ASSERT_TRUE(faulted);
-    EXPECT_TRUE(saw_ramp);
+    const auto stop = testing::awaitStreamStop(shm, st);
+    ASSERT_TRUE(stop.faulted);
+    EXPECT_TRUE(stop.saw_ramp);
     EXPECT_EQ(st.force_scale, 0.0);
     EXPECT_EQ(st.force_n[0] * st.force_n[0] + st.force_n[1] * st.force_n[1] +
                   st.force_n[2] * st.force_n[2],

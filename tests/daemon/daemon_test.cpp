@@ -17,6 +17,7 @@
 #include <thread>
 
 #include "protocol/messages.h"
+#include "tests/daemon/daemon_fixture.h"
 #include "tests/daemon/fakes.h"
 
 namespace hapticd::daemon {
@@ -29,21 +30,8 @@ using testing::FakeSimulation;
 // A scratch folder per test.
 class DaemonTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("hapticd_daemon_test_" + std::to_string(getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    // every thread of this process blocks the daemon's signals; runDaemon takes them
-    sigset_t set;
-    sigemptyset(&set);
-    sigaddset(&set, SIGTERM);
-    sigaddset(&set, SIGHUP);
-    sigaddset(&set, SIGINT);
-    pthread_sigmask(SIG_BLOCK, &set, nullptr);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  // every thread of this process blocks the daemon's signals; runDaemon takes them
+  void SetUp() override { testing::blockDaemonSignals(); }
 
   Backends fakeBackends() {
     Backends b;
@@ -79,22 +67,15 @@ class DaemonTest : public ::testing::Test {
   }
 
   nlohmann::json status() {
-    std::ifstream in(dir_ / "status.json");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    auto j = nlohmann::json::parse(ss.str(), nullptr, false);
-    return j.is_discarded() ? nlohmann::json::object() : j;
+    return testing::parseJsonOrEmpty(testing::slurp(dir_ / "status.json"));
   }
 
   // waits (bounded by a generous count of polls, never asserting a duration) for a status
   bool waitFor(const std::function<bool(const nlohmann::json&)>& pred) {
-    for (int i = 0; i < 6000; ++i) {
+    return testing::pollUntil([&] {
       const auto j = status();
-      if (!j.empty() && pred(j))
-        return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
+      return !j.empty() && pred(j);
+    });
   }
 
   void writeConfig(const std::string& text) { std::ofstream(dir_ / "hapticd.toml") << text; }
@@ -108,7 +89,7 @@ class DaemonTest : public ::testing::Test {
     return cli;
   }
 
-  fs::path dir_;
+  testing::ScratchDir dir_{"hapticd_daemon_test"};
   FakeDevice* device_ = nullptr;
 };
 
