@@ -63,6 +63,30 @@ std::optional<int> parseCommandLine(int argc, char** argv, CommandLine& o) {
   return std::nullopt;
 }
 
+namespace {
+
+// a command-line override of a config value
+template <class T>
+void setIf(const std::optional<T>& value, T& out) {
+  if (value)
+    out = *value;
+}
+template <class E>
+Result<bool> setChoice(const char* option,
+                       const std::optional<std::string>& text,
+                       Result<E> (*parse)(std::string_view),
+                       E& out) {
+  if (!text)
+    return true;
+  auto v = parse(*text);
+  if (!v)
+    return Error{std::string(option) + ": " + v.error().message};
+  out = v.value();
+  return true;
+}
+
+}  // namespace
+
 Result<ParsedConfig> buildConfig(const CommandLine& cli) {
   ParsedConfig parsed;
   if (cli.config_path) {
@@ -72,40 +96,19 @@ Result<ParsedConfig> buildConfig(const CommandLine& cli) {
     parsed = std::move(file.value());
   }
   Config& c = parsed.config;
-  if (cli.scene)
-    c.scene.path = *cli.scene;
-  if (cli.demo)
-    c.scene.demo = *cli.demo;
-  if (cli.device)
-    c.device.spec = *cli.device;
-  if (cli.clock) {
-    auto k = parseClockKind(*cli.clock);
-    if (!k)
-      return Error{"--clock: " + k.error().message};
-    c.servo.clock = k.value();
-  }
-  if (cli.realtime) {
-    auto p = parseRealtimePolicy(*cli.realtime);
-    if (!p)
-      return Error{"--realtime: " + p.error().message};
-    c.servo.realtime = p.value();
-  }
-  if (cli.rate_hz)
-    c.servo.rate_hz = *cli.rate_hz;
-  if (cli.priority)
-    c.servo.priority = *cli.priority;
-  if (cli.cpu)
-    c.servo.cpu = *cli.cpu;
-  if (cli.udp)
-    c.network.udp = *cli.udp;
-  if (cli.shm)
-    c.network.shm = *cli.shm;
-  if (cli.log_level) {
-    auto l = parseLogLevel(*cli.log_level);
-    if (!l)
-      return Error{"--log-level: " + l.error().message};
-    c.log.level = l.value();
-  }
+  setIf(cli.scene, c.scene.path);
+  setIf(cli.demo, c.scene.demo);
+  setIf(cli.device, c.device.spec);
+  setIf(cli.rate_hz, c.servo.rate_hz);
+  setIf(cli.priority, c.servo.priority);
+  setIf(cli.cpu, c.servo.cpu);
+  setIf(cli.udp, c.network.udp);
+  setIf(cli.shm, c.network.shm);
+  for (auto r : {setChoice("--clock", cli.clock, &parseClockKind, c.servo.clock),
+                 setChoice("--realtime", cli.realtime, &parseRealtimePolicy, c.servo.realtime),
+                 setChoice("--log-level", cli.log_level, &parseLogLevel, c.log.level)})
+    if (!r)
+      return r.error();
   if (auto v = validateConfig(c); !v)
     return v.error();
   return parsed;

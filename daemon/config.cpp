@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "daemon/config_keys.h"
+#include "daemon/enum_names.h"
 
 namespace hapticd::daemon {
 namespace {
@@ -398,65 +399,36 @@ ServoOptions toServoOptions(const Config& c, const device::DeviceInfo& device) {
   return o;
 }
 
+namespace {
+constexpr EnumName<ClockKind> kClockNames[] = {{ClockKind::kMonotonic, "monotonic"},
+                                               {ClockKind::kVirtual, "virtual"}};
+constexpr EnumName<LogLevel> kLogLevelNames[] = {{LogLevel::kError, "error"},
+                                                 {LogLevel::kWarning, "warning"},
+                                                 {LogLevel::kInfo, "info"},
+                                                 {LogLevel::kDebug, "debug"}};
+constexpr EnumName<sim::ResponseOptions::HingeAttach> kHingeAttachNames[] = {
+    {sim::ResponseOptions::HingeAttach::kAuto, "auto"},
+    {sim::ResponseOptions::HingeAttach::kRim, "rim"},
+    {sim::ResponseOptions::HingeAttach::kCentre, "centre"}};
+}  // namespace
+
 const char* toString(ClockKind kind) {
-  return kind == ClockKind::kVirtual ? "virtual" : "monotonic";
+  return nameIn(kClockNames, kind);
 }
-
-const char* toString(LogLevel level) {
-  switch (level) {
-    case LogLevel::kError:
-      return "error";
-    case LogLevel::kWarning:
-      return "warning";
-    case LogLevel::kInfo:
-      return "info";
-    case LogLevel::kDebug:
-      return "debug";
-  }
-  return "?";
-}
-
-Result<LogLevel> parseLogLevel(std::string_view t) {
-  if (t == "error")
-    return LogLevel::kError;
-  if (t == "warning")
-    return LogLevel::kWarning;
-  if (t == "info")
-    return LogLevel::kInfo;
-  if (t == "debug")
-    return LogLevel::kDebug;
-  return Error{"\"" + std::string(t) +
-               "\" is not one of \"error\", \"warning\", \"info\", \"debug\""};
-}
-
-const char* toString(sim::ResponseOptions::HingeAttach a) {
-  switch (a) {
-    case sim::ResponseOptions::HingeAttach::kAuto:
-      return "auto";
-    case sim::ResponseOptions::HingeAttach::kRim:
-      return "rim";
-    case sim::ResponseOptions::HingeAttach::kCentre:
-      return "centre";
-  }
-  return "?";
-}
-
-Result<sim::ResponseOptions::HingeAttach> parseHingeAttach(std::string_view t) {
-  if (t == "auto")
-    return sim::ResponseOptions::HingeAttach::kAuto;
-  if (t == "rim")
-    return sim::ResponseOptions::HingeAttach::kRim;
-  if (t == "centre")
-    return sim::ResponseOptions::HingeAttach::kCentre;
-  return Error{"\"" + std::string(t) + "\" is not one of \"auto\", \"rim\", \"centre\""};
-}
-
 Result<ClockKind> parseClockKind(std::string_view t) {
-  if (t == "monotonic")
-    return ClockKind::kMonotonic;
-  if (t == "virtual")
-    return ClockKind::kVirtual;
-  return Error{"\"" + std::string(t) + "\" is not one of \"monotonic\", \"virtual\""};
+  return parseIn(kClockNames, t);
+}
+const char* toString(LogLevel level) {
+  return nameIn(kLogLevelNames, level);
+}
+Result<LogLevel> parseLogLevel(std::string_view t) {
+  return parseIn(kLogLevelNames, t);
+}
+const char* toString(sim::ResponseOptions::HingeAttach a) {
+  return nameIn(kHingeAttachNames, a);
+}
+Result<sim::ResponseOptions::HingeAttach> parseHingeAttach(std::string_view t) {
+  return parseIn(kHingeAttachNames, t);
 }
 
 }  // namespace hapticd::daemon

@@ -98,6 +98,17 @@ std::uint32_t clampU32(std::int64_t ns) {
   return static_cast<std::uint32_t>(std::clamp<std::int64_t>(ns, 0, 0xffffffffLL));
 }
 
+// what State and StatusReply both carry: misses, compute percentiles, faults, flags
+template <class Message>
+void putTickFigures(const ServoState& st, const DurationHistogram& compute, Message& m) {
+  m.tick_misses = st.overruns;
+  m.tick_p50_ns = clampU32(compute.quantileNs(0.5));
+  m.tick_p99_ns = clampU32(compute.quantileNs(0.99));
+  m.tick_max_ns = clampU32(compute.maxNs());
+  m.fault_bits = st.faults;
+  m.state_flags = wireStateFlags(st);
+}
+
 }  // namespace
 
 Result<proto::ServerConfig> serverConfigOf(const Config& c) {
@@ -204,13 +215,7 @@ bool ProtocolAdapter::fillState(proto::State& out) const {
   out.torque_nm = {st.torque_W_nm.x, st.torque_W_nm.y, st.torque_W_nm.z};
   out.force_scale = std::clamp(st.output_gain * st.gate_scale, 0.0, 1.0);
   out.last_command_sequence = st.last_command_sequence;
-  out.tick_misses = st.overruns;
-  const auto& cmp = loop_.compute();
-  out.tick_p50_ns = clampU32(cmp.quantileNs(0.5));
-  out.tick_p99_ns = clampU32(cmp.quantileNs(0.99));
-  out.tick_max_ns = clampU32(cmp.maxNs());
-  out.fault_bits = st.faults;
-  out.state_flags = wireStateFlags(st);
+  putTickFigures(st, loop_.compute(), out);
   out.contact_count = st.contacts;
   out.pairs_tested = st.pairs_tested;
   out.pairs_skipped = st.pairs_skipped;
@@ -327,16 +332,10 @@ void ProtocolAdapter::fillStatus(proto::StatusReply& r) const {
                                                std::chrono::steady_clock::now() - started_at_)
                                                .count());
   r.ticks = st.tick;
-  r.tick_misses = st.overruns;
   r.tick_rate_hz = servo_rate_hz_;
   const double loop_s = st.t_s + 1.0 / servo_rate_hz_;
   r.measured_tick_hz = st.tick > 0 && loop_s > 0.0 ? static_cast<double>(st.tick) / loop_s : 0.0;
-  const auto& cmp = loop_.compute();
-  r.tick_p50_ns = clampU32(cmp.quantileNs(0.5));
-  r.tick_p99_ns = clampU32(cmp.quantileNs(0.99));
-  r.tick_max_ns = clampU32(cmp.maxNs());
-  r.fault_bits = st.faults;
-  r.state_flags = wireStateFlags(st);
+  putTickFigures(st, loop_.compute(), r);
   r.commands_accepted = st.commands_accepted;
   r.commands_dropped = st.commands_dropped;
   r.edit_batches_applied = st.edit_batches_applied;  // protocol minor 1

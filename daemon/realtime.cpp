@@ -10,6 +10,8 @@
 #include <cstring>
 #include <utility>
 
+#include "daemon/enum_names.h"
+
 namespace hapticd::daemon {
 namespace {
 
@@ -58,27 +60,18 @@ bool memoryLockingSupported() {
   return !kAddressSanitizer;
 }
 
+namespace {
+constexpr EnumName<RealtimePolicy> kPolicyNames[] = {{RealtimePolicy::kRequire, "require"},
+                                                     {RealtimePolicy::kPrefer, "prefer"},
+                                                     {RealtimePolicy::kOff, "off"}};
+}  // namespace
+
 Result<RealtimePolicy> parseRealtimePolicy(std::string_view text) {
-  if (text == "require")
-    return RealtimePolicy::kRequire;
-  if (text == "prefer")
-    return RealtimePolicy::kPrefer;
-  if (text == "off")
-    return RealtimePolicy::kOff;
-  return Error{"realtime: \"" + std::string(text) +
-               "\" is not one of \"require\", \"prefer\", \"off\""};
+  return parseIn(kPolicyNames, text, "realtime: ");
 }
 
 const char* toString(RealtimePolicy policy) {
-  switch (policy) {
-    case RealtimePolicy::kRequire:
-      return "require";
-    case RealtimePolicy::kPrefer:
-      return "prefer";
-    case RealtimePolicy::kOff:
-      return "off";
-  }
-  return "?";
+  return nameIn(kPolicyNames, policy);
 }
 
 RealtimeOps RealtimeOps::system() {

@@ -1,21 +1,12 @@
 #include "protocol/command_gate.h"
 
+#include "protocol/wire.h"
+
 namespace hapticd::proto {
 
 const char* gateModeName(GateMode m) {
-  switch (m) {
-    case GateMode::kDisarmed:
-      return "disarmed";
-    case GateMode::kArmedIdle:
-      return "armed";
-    case GateMode::kStreaming:
-      return "streaming";
-    case GateMode::kRamping:
-      return "ramping";
-    case GateMode::kFaulted:
-      return "faulted";
-  }
-  return "unknown";
+  static constexpr const char* kNames[] = {"disarmed", "armed", "streaming", "ramping", "faulted"};
+  return nameOf(m, kNames);
 }
 
 CommandGateCore::SessionSeq& CommandGateCore::sessionEntry(std::uint64_t session_id) noexcept {

@@ -133,17 +133,7 @@ class DaemonEditTest : public ::testing::Test {
   static bool until(proto::Client& c,
                     const std::function<bool(const proto::State&)>& pred,
                     proto::State* last = nullptr) {
-    const auto end = SteadyClock::now() + std::chrono::seconds(30);
-    while (SteadyClock::now() < end) {
-      auto s = c.receiveState(100);
-      if (!s)
-        continue;
-      if (last)
-        *last = *s;
-      if (pred(*s))
-        return true;
-    }
-    return false;
+    return testing::receiveUntil(c, pred, 30.0, last);
   }
 
   testing::ScratchDir dir_{"hapticd_daemon_edit_test"};

@@ -116,6 +116,23 @@ bool running(pid_t pid) {
   return waitpid(pid, &status, WNOHANG) != pid;
 }
 
+bool receiveUntil(proto::Client& c,
+                  const std::function<bool(const proto::State&)>& pred,
+                  double limit_s,
+                  proto::State* last) {
+  const auto end = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
+  while (std::chrono::steady_clock::now() < end) {
+    auto s = c.receiveState(100);
+    if (!s)
+      continue;
+    if (last)
+      *last = *s;
+    if (pred(*s))
+      return true;
+  }
+  return false;
+}
+
 StreamStop awaitStreamStop(proto::ShmClient& c, proto::ShmState& st, int polls) {
   StreamStop r;
   for (int i = 0; i < polls && !r.faulted; ++i) {

@@ -12,6 +12,7 @@
 #include <string>
 #include <vector>
 
+#include "protocol/client.h"
 #include "protocol/server.h"
 #include "protocol/shm.h"
 
@@ -65,6 +66,13 @@ pid_t spawn(const std::vector<std::string>& argv,
 int waitExit(pid_t pid, double limit_s);
 /// True while the child runs (it has not exited; reaped here when it has).
 bool running(pid_t pid);
+
+/// Receives states until `pred` holds (true) or limit_s passes (false, a bound, not a timing);
+/// `last`, when given, gets every state received.
+bool receiveUntil(proto::Client& c,
+                  const std::function<bool(const proto::State&)>& pred,
+                  double limit_s = 30.0,
+                  proto::State* last = nullptr);
 
 /// A shm client whose stream stopped (its heartbeat goes on): reads the segment's state until the
 /// gate latches stream_lost or `polls` ms pass; `st` is the last state read.

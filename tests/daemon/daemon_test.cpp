@@ -66,6 +66,14 @@ class DaemonTest : public ::testing::Test {
     return b;
   }
 
+  // memory locking granted, SCHED_FIFO refused
+  Backends fifoRefusedBackends() {
+    Backends b = fakeBackends();
+    b.realtime.lock_memory = [](int) { return 0; };
+    b.realtime.set_fifo = [](int) { return EPERM; };
+    return b;
+  }
+
   nlohmann::json status() {
     return testing::parseJsonOrEmpty(testing::slurp(dir_ / "status.json"));
   }
@@ -182,9 +190,7 @@ TEST_F(DaemonTest, RealtimeRefusedUnderPreferRunsWithAWarning) {
 }
 
 TEST_F(DaemonTest, RealtimeRefusedUnderRequireRefusesToStart) {
-  Backends b = fakeBackends();
-  b.realtime.lock_memory = [](int) { return 0; };
-  b.realtime.set_fifo = [](int) { return EPERM; };
+  Backends b = fifoRefusedBackends();
   CommandLine cli = baseCli();
   cli.realtime = "require";
   ::testing::internal::CaptureStderr();
@@ -195,9 +201,7 @@ TEST_F(DaemonTest, RealtimeRefusedUnderRequireRefusesToStart) {
 }
 
 TEST_F(DaemonTest, CheckConfigRunsTheRealtimeAndSceneStepsAndStartsNothing) {
-  Backends b = fakeBackends();
-  b.realtime.lock_memory = [](int) { return 0; };
-  b.realtime.set_fifo = [](int) { return EPERM; };
+  Backends b = fifoRefusedBackends();
   CommandLine cli = baseCli();
   cli.realtime = "require";
   cli.check_config = true;

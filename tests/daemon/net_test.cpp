@@ -44,6 +44,7 @@ namespace proto = hapticd::proto;
 const std::string kSource = HAPTICD_SOURCE_DIR;
 using SteadyClock = std::chrono::steady_clock;
 
+using hapticd::testing::receiveUntil;
 using hapticd::testing::slurp;
 using hapticd::testing::spawn;
 using hapticd::testing::waitExit;
@@ -117,24 +118,6 @@ class NetTest : public ::testing::Test {
     CtlRun r = ctl({"status", "--json"});
     EXPECT_EQ(r.code, 0) << r.err;
     return hapticd::testing::parseJsonOrEmpty(r.out);
-  }
-
-  // Receives states until `pred` holds (true) or limit_s passes (false).
-  static bool until(proto::Client& c,
-                    const std::function<bool(const proto::State&)>& pred,
-                    double limit_s = 30.0,
-                    proto::State* last = nullptr) {
-    const auto end = SteadyClock::now() + std::chrono::duration<double>(limit_s);
-    while (SteadyClock::now() < end) {
-      auto s = c.receiveState(100);
-      if (!s)
-        continue;
-      if (last)
-        *last = *s;
-      if (pred(*s))
-        return true;
-    }
-    return false;
   }
 
   hapticd::testing::ScratchDir dir_{"hapticd_net_test"};
@@ -221,7 +204,7 @@ TEST_F(NetTest, PoseCommandsMoveTheSimDeviceThenTheStreamStopRampsAndLatchesAFau
 
   // the stream stops: held, ramping (scale strictly between 0 and 1 seen), then the fault
   bool saw_ramp = false;
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c,
       [&](const proto::State& s) {
         if ((s.state_flags & proto::kStateRamping) != 0 && s.force_scale > 0.0 &&
@@ -231,26 +214,26 @@ TEST_F(NetTest, PoseCommandsMoveTheSimDeviceThenTheStreamStopRampsAndLatchesAFau
       },
       30.0, &st));
   EXPECT_TRUE(saw_ramp);
-  EXPECT_TRUE(until(*c, [](const proto::State& s) { return s.force_scale == 0.0; }));
+  EXPECT_TRUE(receiveUntil(*c, [](const proto::State& s) { return s.force_scale == 0.0; }));
   EXPECT_NE(statusJson()["faults"].get<std::string>().find("stream_lost"), std::string::npos);
   // a command while faulted is dropped; re-arm clears the fault
   const auto dropped_before = statusJson()["commands_dropped"].get<std::uint64_t>();
   ASSERT_TRUE(c->sendPose(poseAt(start)));
-  EXPECT_TRUE(until(*c, [](const proto::State&) { return true; }));
+  EXPECT_TRUE(receiveUntil(*c, [](const proto::State&) { return true; }));
   ASSERT_TRUE(c->arm());
-  EXPECT_TRUE(until(*c, [](const proto::State& s) { return s.fault_bits == 0; }));
+  EXPECT_TRUE(receiveUntil(*c, [](const proto::State& s) { return s.fault_bits == 0; }));
   EXPECT_GT(statusJson()["commands_dropped"].get<std::uint64_t>(), dropped_before);
 
   // disarm and arm through hapticctl
   CtlRun d = ctl({"disarm"});
   EXPECT_EQ(d.code, 0) << d.err;
-  EXPECT_TRUE(until(*c, [](const proto::State& s) {
+  EXPECT_TRUE(receiveUntil(*c, [](const proto::State& s) {
     return (s.state_flags & proto::kStateArmed) == 0 && s.force_scale == 0.0;
   }));
   CtlRun a = ctl({"arm"});
   EXPECT_EQ(a.code, 0) << a.err;
-  EXPECT_TRUE(
-      until(*c, [](const proto::State& s) { return (s.state_flags & proto::kStateArmed) != 0; }));
+  EXPECT_TRUE(receiveUntil(
+      *c, [](const proto::State& s) { return (s.state_flags & proto::kStateArmed) != 0; }));
 }
 
 TEST_F(NetTest, AShmClientMovesTheSimDeviceThenTheStreamStopRampsAndLatchesAFault) {
@@ -366,7 +349,7 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   ASSERT_TRUE(c);
   ASSERT_TRUE(c->subscribe(200, proto::kSubscribeBodies | proto::kSubscribeContacts));
   proto::State st;
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c, [&](const proto::State& s) { return listed(s, slider) != nullptr; }, 30.0, &st));
   EXPECT_NEAR(listed(st, slider)->X_WB.p[0], 0.3, 1e-6);
   EXPECT_EQ(listed(st, floor), nullptr);  // static bodies are not listed
@@ -395,7 +378,7 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   r = c->sceneUpdate(bad);
   ASSERT_FALSE(r);
   EXPECT_NE(r.error().message.find("does not exist"), std::string::npos) << r.error().message;
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c, [](const proto::State&) { return true; }, 30.0, &st));
   EXPECT_NEAR(listed(st, slider)->X_WB.p[0], 0.3, 1e-6);  // the slider did not move
 
@@ -406,7 +389,7 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   move.poses.push_back({slider, to});
   auto ok = c->sceneUpdate(move);
   ASSERT_TRUE(ok) << ok.error().message;
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c,
       [&](const proto::State& s) {
         const auto* b = listed(s, slider);
@@ -418,7 +401,7 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   const proto::WireVec3 probe_at = st.X_WP.p;
   move.poses[0].X_WB.p = {probe_at[0] + 0.03, probe_at[1], probe_at[2]};
   ASSERT_TRUE(c->sceneUpdate(move));
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c, [](const proto::State& s) { return !s.contacts.empty(); }, 30.0, &st))
       << "contact_count " << st.contact_count;
   EXPECT_GT(st.contact_count, 0u);
@@ -433,7 +416,7 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   const std::string S = std::to_string(slider), L = std::to_string(lid);
   CtlRun mv = ctl({"move", S, "0.3", "0.25", "-0.1"});
   EXPECT_EQ(mv.code, 0) << mv.err;
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c,
       [&](const proto::State& s) {
         const auto* b = listed(s, slider);
@@ -445,11 +428,11 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   EXPECT_NE(no.err.find("'Lid' is dynamic, not kinematic"), std::string::npos) << no.err;
   CtlRun rm = ctl({"remove", L});
   EXPECT_EQ(rm.code, 0) << rm.err;
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c, [&](const proto::State& s) { return listed(s, lid) == nullptr; }, 30.0, &st));
   CtlRun ad = ctl({"add", L, "-0.3", "0.5", "0.2"});
   EXPECT_EQ(ad.code, 0) << ad.err;
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c, [&](const proto::State& s) { return listed(s, lid) != nullptr; }, 30.0, &st));
 
   const auto j = statusJson();
@@ -555,7 +538,7 @@ TEST_F(NetTest, TenClientsSubscribedAtOnceAllGetStatesAndTheFigures) {
   EXPECT_EQ(j["subscribers"].get<std::uint32_t>(), 10u);
   for (auto& c : clients) {
     int got = 0;
-    EXPECT_TRUE(until(*c, [&](const proto::State&) { return ++got >= 20; }));
+    EXPECT_TRUE(receiveUntil(*c, [&](const proto::State&) { return ++got >= 20; }));
   }
   // let the daemon run a while with ten 1 kHz subscribers, draining every client
   const auto end = SteadyClock::now() + std::chrono::seconds(2);
@@ -576,7 +559,7 @@ TEST_F(NetTest, TenClientsSubscribedAtOnceAllGetStatesAndTheFigures) {
     const auto t0 = SteadyClock::now();
     auto seq = c0.sendPose(poseAt({0.0, 0.0, 0.0}));
     ASSERT_TRUE(seq);
-    if (until(
+    if (receiveUntil(
             c0, [&](const proto::State& s) { return s.last_command_sequence >= seq.value(); }, 5.0))
       rtt_us.push_back(std::chrono::duration<double, std::micro>(SteadyClock::now() - t0).count());
   }

@@ -19,22 +19,10 @@ namespace {
 using testing::FakeDevice;
 using testing::FakeSimulation;
 
-std::unique_ptr<ServoScene> fakeScene(FakeSimulation** out = nullptr, std::uint64_t gen = 1) {
-  auto sim = std::make_unique<FakeSimulation>();
-  if (out != nullptr)
-    *out = sim.get();
-  auto s = std::make_unique<ServoScene>();
-  s->sim = std::move(sim);
-  s->generation = gen;
-  return s;
-}
+using testing::drainEvents;
 
-std::vector<ServoEvent> drainEvents(ServoLoop& loop) {
-  std::vector<ServoEvent> events;
-  ServoEvent e;
-  while (loop.popEvent(e))
-    events.push_back(e);
-  return events;
+std::unique_ptr<ServoScene> fakeScene(FakeSimulation** out = nullptr, std::uint64_t gen = 1) {
+  return testing::servoSceneOf<FakeSimulation>(gen, out);
 }
 
 bool hasEvent(const std::vector<ServoEvent>& events, ServoEventKind kind) {
@@ -292,14 +280,19 @@ TEST(ServoLoop, StateReadFromAnotherThreadIsAlwaysOneWholeTick) {
   EXPECT_GT(reads, 0u);
 }
 
-TEST(ServoLoop, PoseCommandsGoToTheDeviceInItsOwnFrame) {
-  VirtualClock clock;
-  FakeDevice device;
+// 10 ticks; the device frame at x = 1 in the scene, scene metres per device metre 2
+ServoOptions mappedOptions() {
   ServoOptions options;
   options.max_ticks = 10;
   options.workspace.scale = 2.0;
   options.workspace.X_SD.translation = geom::Vec3(1.0, 0.0, 0.0);
-  ServoLoop loop(options, clock, device, fakeScene());
+  return options;
+}
+
+TEST(ServoLoop, PoseCommandsGoToTheDeviceInItsOwnFrame) {
+  VirtualClock clock;
+  FakeDevice device;
+  ServoLoop loop(mappedOptions(), clock, device, fakeScene());
   ServoCommand cmd;
   cmd.sequence = 42;
   cmd.pose.X_W_target.translation = geom::Vec3(3.0, 2.0, 0.0);
@@ -319,11 +312,7 @@ TEST(ServoLoop, PoseCommandsGoToTheDeviceInItsOwnFrame) {
 TEST(ServoLoop, GatedCommandsReachTheDeviceAsSentAndAStoppedStreamLatchesStreamLost) {
   VirtualClock clock;
   FakeDevice device;
-  ServoOptions options;
-  options.max_ticks = 10;
-  options.workspace.scale = 2.0;
-  options.workspace.X_SD.translation = geom::Vec3(1.0, 0.0, 0.0);
-  ServoLoop loop(options, clock, device, fakeScene());
+  ServoLoop loop(mappedOptions(), clock, device, fakeScene());
   proto::PoseCommand wire;
   wire.X_WT.p = {3.0, 2.0, 0.0};
   wire.X_WT.q = {0.0, 0.0, std::sqrt(0.5), std::sqrt(0.5)};
