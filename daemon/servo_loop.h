@@ -34,15 +34,19 @@
 #include "daemon/clock.h"
 #include "daemon/device/device.h"
 #include "daemon/handoff/scene_exchange.h"
-#include "daemon/handoff/seqlock.h"
-#include "daemon/handoff/spsc_ring.h"
 #include "daemon/histogram.h"
 #include "daemon/workspace.h"
 #include "protocol/command_gate.h"
 #include "protocol/messages.h"
+#include "protocol/seqlock.h"
 #include "protocol/shm.h"
+#include "protocol/spsc_ring.h"
 
 namespace hapticd::daemon {
+
+// the project's one ring and one seqlock (protocol/spsc_ring.h, protocol/seqlock.h)
+using proto::Seqlock;
+using proto::SpscRing;
 
 /// The marker of functions that run on the servo thread (a hook for a real-time sanitizer).
 #define HAPTICD_SERVO_THREAD
