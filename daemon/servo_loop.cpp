@@ -7,6 +7,8 @@
 #include <string>
 #include <thread>
 
+#include "core/geometry/rotation.h"
+
 namespace hapticd::daemon {
 namespace {
 
@@ -14,10 +16,6 @@ std::int64_t realNowNs() noexcept {
   timespec ts{};
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
-bool finite(const geom::Vec3& v) noexcept {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
 // scales v down to magnitude `limit` when longer
@@ -323,7 +321,7 @@ bool ServoLoop::latch(std::uint32_t fault) noexcept {
 
 void ServoLoop::guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept {
   // the one place every force bound for the device is checked finite, clamped and rate-limited
-  if (!finite(force_D) || !finite(torque_D)) {
+  if (!geom::finite(force_D) || !geom::finite(torque_D)) {
     if (latch(kFaultNonFinite))
       emit(ServoEventKind::kNonFiniteForce);
     force_D = geom::Vec3(0.0);
@@ -448,20 +446,13 @@ bool ServoLoop::pushRow(SpscRing<Row>& ring, const Row& row) noexcept {
   return true;
 }
 
-void ServoLoop::pushRecords(const sim::TickOutput& out, double t_s, std::int64_t tick_ns) noexcept {
+void ServoLoop::pushRecords(double t_s, std::int64_t tick_ns) noexcept {
   if (options_.record) {
-    RecordRow row;
-    row.tick = s_.tick - 1;
-    row.t_s = t_s;
-    row.X_W_device = s_.X_W_device;
-    row.X_W_proxy = s_.X_W_proxy;
-    row.force_n = s_.force_W_n;
-    row.torque_nm = s_.torque_W_nm;
-    row.contacts = out.contacts;
-    row.pairs_tested = out.pairs_tested;
-    row.pairs_skipped = out.pairs_skipped;
-    row.max_penetration_m = out.max_penetration_m;
-    row.tick_ns = tick_ns;
+    // the tick's state as updateState() left it (its counts are the simulation's output's)
+    const RecordRow row{
+        s_.tick - 1,    t_s,         s_.X_W_device,   s_.X_W_proxy,     s_.force_W_n,
+        s_.torque_W_nm, s_.contacts, s_.pairs_tested, s_.pairs_skipped, s_.max_penetration_m,
+        tick_ns};
     if (!pushRow(records_, row) && !record_drop_reported_) {
       emit(ServoEventKind::kRecordDropped);
       record_drop_reported_ = true;
@@ -504,7 +495,7 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   s_.last_tick_ns = tick_ns;
   state_.write(s_);
   publishShm(t_end);
-  pushRecords(out, t_s, tick_ns);
+  pushRecords(t_s, tick_ns);
 }
 
 void ServoLoop::prepareServoThread() {

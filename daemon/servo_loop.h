@@ -343,9 +343,7 @@ class ServoLoop {
   HAPTICD_SERVO_THREAD void updateState(const sim::TickOutput& out,
                                         double t_s,
                                         std::uint64_t period_index) noexcept;
-  HAPTICD_SERVO_THREAD void pushRecords(const sim::TickOutput& out,
-                                        double t_s,
-                                        std::int64_t tick_ns) noexcept;
+  HAPTICD_SERVO_THREAD void pushRecords(double t_s, std::int64_t tick_ns) noexcept;
   // pushes a record row, waiting (virtual clock) or dropping and counting (real clock) when full
   template <class Row>
   HAPTICD_SERVO_THREAD bool pushRow(SpscRing<Row>& ring, const Row& row) noexcept;

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "daemon/device/connection.h"
 #include "daemon/device/device.h"
 #include "daemon/device/hid_reports.h"
 
@@ -73,7 +74,7 @@ class HidDevice final : public Device {
   /// Reopens a lost device when it is back. Normal thread.
   bool service() override;
   bool connected() const noexcept override;
-  std::uint64_t disconnects() const noexcept override { return disconnects_.load(); }
+  std::uint64_t disconnects() const noexcept override { return link_.disconnects(); }
 
   /// Input reports refused (wrong size, bad quaternion, unknown id) since open. Any thread.
   std::uint64_t badReports() const noexcept { return bad_reports_.load(); }
@@ -88,16 +89,14 @@ class HidDevice final : public Device {
             const DeviceOptions& options);
   void markLost() noexcept;
 
-  enum State : int { kConnected, kLost };
   std::unique_ptr<HidBackend> backend_;
-  std::unique_ptr<HidTransport> transport_;  // used by the servo thread only while kConnected
+  std::unique_ptr<HidTransport> transport_;  // used by the servo thread only while connected
   HidDeviceEntry entry_;
   HidModel model_;
   bool explicit_path_;
   DeviceOptions options_;
   DeviceInfo info_;
-  std::atomic<int> state_{kConnected};
-  std::atomic<std::uint64_t> disconnects_{0};
+  Connection link_;  // connected or lost, and the count of losses
   std::atomic<std::uint64_t> bad_reports_{0};
   // servo-thread state
   SpaceMouseState spacemouse_;

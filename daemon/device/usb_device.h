@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "daemon/device/connection.h"
 #include "daemon/device/device.h"
 #include "daemon/device/falcon.h"
 
@@ -75,7 +76,7 @@ class FalconDevice final : public Device {
   /// Hotplug events; reopens the Falcon when it is back. Normal thread.
   bool service() override;
   bool connected() const noexcept override;
-  std::uint64_t disconnects() const noexcept override { return disconnects_.load(); }
+  std::uint64_t disconnects() const noexcept override { return link_.disconnects(); }
 
   /// Whether the firmware reports every axis homed (servo thread's view). Any thread.
   bool homed() const noexcept { return homed_.load(std::memory_order_relaxed); }
@@ -93,20 +94,18 @@ class FalconDevice final : public Device {
   Probe openAndProbe();
   bool probe();
 
-  enum State : int { kConnected, kLost };
   std::unique_ptr<UsbBackend> backend_;
-  std::unique_ptr<UsbTransport> transport_;  // servo thread only while kConnected
+  std::unique_ptr<UsbTransport> transport_;  // servo thread only while connected
   DeviceOptions options_;
   DeviceInfo info_;
   falcon::Geometry geometry_;
   Vec3 home_F_;  // the workspace middle, Falcon frame
   bool hotplug_ = false;
-  std::vector<std::uint8_t> firmware_;  // empty: never load
-  std::string last_error_;              // why the last reopen failed (normal thread)
-  std::atomic<int> state_{kConnected};
+  std::vector<std::uint8_t> firmware_;          // empty: never load
+  std::string last_error_;                      // why the last reopen failed (normal thread)
+  Connection link_;                             // connected or lost, and the count of losses
   std::atomic<bool> removal_requested_{false};  // set by the hotplug callback
   std::atomic<bool> arrival_seen_{false};
-  std::atomic<std::uint64_t> disconnects_{0};
   std::atomic<std::uint64_t> malformed_{0};
   std::atomic<std::uint64_t> fk_failures_{0};
   std::atomic<bool> homed_{false};
