@@ -73,7 +73,7 @@ bool CommandGateCore::submit(std::uint64_t session_id,
   return true;
 }
 
-CommandGateCore::State CommandGateCore::advance(std::uint64_t now_ns) noexcept {
+GateStatus CommandGateCore::update(std::uint64_t now_ns) noexcept {
   timeTo(now_ns);
   if (mode_ == GateMode::kStreaming || mode_ == GateMode::kRamping) {
     const std::uint64_t age = now_ns_ - last_command_ns_;
@@ -84,7 +84,7 @@ CommandGateCore::State CommandGateCore::advance(std::uint64_t now_ns) noexcept {
       mode_ = GateMode::kRamping;
     }
   }
-  State out{mode_, has_target_, 0.0, fault_bits_, last_sequence_, 0};
+  GateStatus out{mode_, has_target_, 0.0, fault_bits_, last_sequence_, 0};
   if (has_target_)
     out.command_age_ns = now_ns_ - last_command_ns_;
   switch (mode_) {

@@ -57,16 +57,20 @@ enum class DropReason : std::uint8_t {
   kCount
 };
 
-/// The gate's answer for one tick.
-template <class Target>
-struct BasicGateOutput {
+/// The gate's answer for one tick, but the target.
+struct GateStatus {
   GateMode mode = GateMode::kDisarmed;
   bool has_target = false;           ///< false: no command since arm (the device keeps its pose)
-  Target target{};                   ///< the newest accepted command (velocities zero when ramping)
   double force_scale = 0.0;          ///< multiply the device force and torque by this, 0..1
   std::uint32_t fault_bits = 0;      ///< kFaultStreamLost while latched
   std::uint64_t last_sequence = 0;   ///< sequence of the newest accepted command (State echo)
   std::uint64_t command_age_ns = 0;  ///< now minus the newest command's arrival, 0 without one
+};
+
+/// The gate's answer for one tick.
+template <class Target>
+struct BasicGateOutput : GateStatus {
+  Target target{};  ///< the newest accepted command (velocities zero when ramping)
 };
 
 /// The gate's state machine without the target: sessions, sequence numbers, mode, scale and
@@ -82,19 +86,8 @@ class CommandGateCore {
   void disarm(std::uint64_t now_ns) noexcept;
   /// True when the command is accepted (the newest): the caller keeps it as the target.
   bool submit(std::uint64_t session_id, std::uint64_t sequence, std::uint64_t now_ns) noexcept;
-  /// Advances to now_ns and fills everything of `out` but the target; true when the target's
-  /// velocities are to be zeroed (ramping, faulted).
-  template <class Target>
-  bool update(std::uint64_t now_ns, BasicGateOutput<Target>& out) noexcept {
-    const State s = advance(now_ns);
-    out.mode = s.mode;
-    out.has_target = s.has_target;
-    out.force_scale = s.force_scale;
-    out.fault_bits = s.fault_bits;
-    out.last_sequence = s.last_sequence;
-    out.command_age_ns = s.command_age_ns;
-    return s.mode == GateMode::kRamping || s.mode == GateMode::kFaulted;
-  }
+  /// Advances to now_ns (never backwards): everything of the answer but the target.
+  GateStatus update(std::uint64_t now_ns) noexcept;
 
   GateMode mode() const noexcept { return mode_; }
   std::uint64_t accepted() const noexcept { return accepted_; }
@@ -111,15 +104,6 @@ class CommandGateCore {
     std::uint64_t max_seen = 0;
     std::uint64_t last_use = 0;
   };
-  struct State {
-    GateMode mode;
-    bool has_target;
-    double force_scale;
-    std::uint32_t fault_bits;
-    std::uint64_t last_sequence;
-    std::uint64_t command_age_ns;
-  };
-  State advance(std::uint64_t now_ns) noexcept;
   void timeTo(std::uint64_t now_ns) noexcept {  // never backwards
     if (now_ns > now_ns_)
       now_ns_ = now_ns;
@@ -171,10 +155,10 @@ class BasicCommandGate {
   /// returns what the device should do this tick.
   BasicGateOutput<Target> update(std::uint64_t now_ns) noexcept {
     BasicGateOutput<Target> out;
-    const bool still = core_.update(now_ns, out);
+    static_cast<GateStatus&>(out) = core_.update(now_ns);
     out.target = target_;
-    if (still)
-      zeroVelocities(out.target);
+    if (out.mode == GateMode::kRamping || out.mode == GateMode::kFaulted)
+      zeroVelocities(out.target);  // held still
     return out;
   }
 

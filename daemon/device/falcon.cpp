@@ -42,6 +42,16 @@ Vec3 legFrame(const Geometry& g, int i, const Vec3& p) noexcept {
   return Vec3(cp * p.x + sp * p.y - g.r, -sp * p.x + cp * p.y - g.s, p.z);
 }
 
+// leg i's closure terms at p: U, V, W in the leg's frame, and S2 = b^2 - V^2
+struct LegTerms {
+  double U, V, W, S2;
+};
+LegTerms legTerms(const Geometry& g, int i, const Vec3& p) noexcept {
+  const Vec3 q = legFrame(g, i, p);
+  const double V = q.y + g.f;
+  return {q.x + g.c, V, q.z, g.b * g.b - V * V};
+}
+
 // dg/dp (rows per leg, world frame) and dg/dtheta (per leg); false when a shin is stretched
 bool partials(const Geometry& g,
               const Vec3& p,
@@ -49,11 +59,7 @@ bool partials(const Geometry& g,
               Mat3& G_p,
               Vec3& G_theta) noexcept {
   for (int i = 0; i < 3; ++i) {
-    const Vec3 q = legFrame(g, i, p);
-    const double U = q.x + g.c;
-    const double V = q.y + g.f;
-    const double W = q.z;
-    const double S2 = g.b * g.b - V * V;
+    const auto [U, V, W, S2] = legTerms(g, i, p);
     if (!(S2 > 1e-12 * g.b * g.b))
       return false;
     const double S = std::sqrt(S2);
@@ -180,11 +186,8 @@ int PacketReader::feed(std::span<const std::uint8_t> bytes) noexcept {
 Vec3 constraint(const Geometry& g, const Vec3& p, const Vec3& theta) noexcept {
   Vec3 out;
   for (int i = 0; i < 3; ++i) {
-    const Vec3 q = legFrame(g, i, p);
-    const double U = q.x + g.c;
-    const double V = q.y + g.f;
-    const double W = q.z;
-    const double S = std::sqrt(std::max(0.0, g.b * g.b - V * V));
+    const auto [U, V, W, S2] = legTerms(g, i, p);
+    const double S = std::sqrt(std::max(0.0, S2));
     const double du = U - g.a * std::cos(theta[i]);
     const double dw = W - g.a * std::sin(theta[i]);
     const double L = g.d + g.e + S;
@@ -227,11 +230,7 @@ FkStatus forwardKinematics(const Geometry& g,
 bool inverseKinematics(const Geometry& g, const Vec3& p, Vec3& theta) noexcept {
   Vec3 out;
   for (int i = 0; i < 3; ++i) {
-    const Vec3 q = legFrame(g, i, p);
-    const double U = q.x + g.c;
-    const double V = q.y + g.f;
-    const double W = q.z;
-    const double S2 = g.b * g.b - V * V;
+    const auto [U, V, W, S2] = legTerms(g, i, p);
     if (!(S2 >= 0.0))
       return false;
     const double L = g.d + g.e + std::sqrt(S2);
