@@ -241,17 +241,16 @@ void Daemon::writeStatus(const char* phase) {
   if (cli_.status_file.empty())
     return;
   const ServoState st = loop_->state();
-  StatusFacts facts;
-  facts.phase = phase;
-  facts.config = &config_;
-  facts.device = device_->info().name;
-  facts.scene = scene_name_;
-  facts.offered_generation = generation_;
-  facts.memory_locked = process_rt_.memory_locked;
-  facts.servo_realtime = setup_.report;
-  facts.servo_scheduling = setup_.scheduling;
-  facts.last_reload = last_reload_;
-  facts.edits_pending = loop_->editsPending();
+  const StatusFacts facts{.phase = phase,
+                          .config = &config_,
+                          .device = device_->info().name,
+                          .scene = scene_name_,
+                          .offered_generation = generation_,
+                          .memory_locked = process_rt_.memory_locked,
+                          .servo_realtime = setup_.report,
+                          .servo_scheduling = setup_.scheduling,
+                          .last_reload = last_reload_,
+                          .edits_pending = loop_->editsPending()};
   nlohmann::json j = statusJson(st, loop_->lateness(), loop_->compute(), facts);
   adapter_->addStatus(j, st);
   j["pid"] = static_cast<long>(getpid());

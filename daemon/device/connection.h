@@ -1,12 +1,14 @@
 #pragma once
 /// \file
-/// The connection state of a hot-pluggable backend (hid, usb): connected or lost, and how often
-/// it was lost. The servo thread marks it lost (and stops touching the transport from then on);
-/// the service thread, having reopened the device, marks it connected again. Atomics only: any
-/// thread reads it, none allocates, locks or blocks.
+/// The connection state of a hot-pluggable backend (hid, usb), and their base HotplugDevice:
+/// connected or lost, and how often it was lost. The servo thread marks it lost (and stops touching
+/// the transport from then on); the service thread, having reopened the device, marks it connected
+/// again. Atomics only: any thread reads it, none allocates, locks or blocks.
 
 #include <atomic>
 #include <cstdint>
+
+#include "daemon/device/device.h"
 
 namespace hapticd::device {
 
@@ -31,6 +33,17 @@ class Connection {
  private:
   std::atomic<bool> connected_{true};
   std::atomic<std::uint64_t> disconnects_{0};
+};
+
+/// A backend that can be unplugged and come back (hid, usb): the Device answers connected() and
+/// disconnects() from its Connection.
+class HotplugDevice : public Device {
+ public:
+  bool connected() const noexcept override { return link_.connected(); }
+  std::uint64_t disconnects() const noexcept override { return link_.disconnects(); }
+
+ protected:
+  Connection link_;  ///< connected or lost, and the count of losses
 };
 
 }  // namespace hapticd::device

@@ -116,10 +116,6 @@ Result<std::unique_ptr<HidDevice>> HidDevice::open(std::unique_ptr<HidBackend> b
   return dev;
 }
 
-bool HidDevice::connected() const noexcept {
-  return link_.connected();
-}
-
 void HidDevice::markLost() noexcept {
   link_.markLost();
   has_input_ = false;

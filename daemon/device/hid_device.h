@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "daemon/device/connection.h"
-#include "daemon/device/device.h"
 #include "daemon/device/hid_reports.h"
 
 namespace hapticd::device {
@@ -55,7 +54,7 @@ std::unique_ptr<HidBackend> makeHidapiBackend();
 std::optional<HidModel> hidModelOf(const HidDeviceEntry& entry);
 
 /// The HID device. read()/write() on the servo thread; service() reopens a lost device.
-class HidDevice final : public Device {
+class HidDevice final : public HotplugDevice {
  public:
   /// path: the device to use ("" = the first SpaceMouse or generic device found). Off the servo
   /// thread; fails when nothing suitable is found or it cannot be opened.
@@ -73,8 +72,6 @@ class HidDevice final : public Device {
   DeviceStatus write(const Vec3& force_n, const Vec3& torque_nm) noexcept override;
   /// Reopens a lost device when it is back. Normal thread.
   bool service() override;
-  bool connected() const noexcept override;
-  std::uint64_t disconnects() const noexcept override { return link_.disconnects(); }
 
   /// Input reports refused (wrong size, bad quaternion, unknown id) since open. Any thread.
   std::uint64_t badReports() const noexcept { return bad_reports_.load(); }
@@ -96,7 +93,6 @@ class HidDevice final : public Device {
   bool explicit_path_;
   DeviceOptions options_;
   DeviceInfo info_;
-  Connection link_;  // connected or lost, and the count of losses
   std::atomic<std::uint64_t> bad_reports_{0};
   // servo-thread state
   SpaceMouseState spacemouse_;

@@ -68,10 +68,6 @@ Result<std::unique_ptr<FalconDevice>> FalconDevice::open(std::unique_ptr<UsbBack
   return dev;
 }
 
-bool FalconDevice::connected() const noexcept {
-  return link_.connected();
-}
-
 void FalconDevice::markLost() noexcept {
   link_.markLost();
   homed_.store(false, std::memory_order_relaxed);

@@ -12,7 +12,6 @@
 #include <vector>
 
 #include "daemon/device/connection.h"
-#include "daemon/device/device.h"
 #include "daemon/device/falcon.h"
 
 namespace hapticd::device {
@@ -58,7 +57,7 @@ Result<std::unique_ptr<UsbBackend>> makeLibusbBackend();
 /// the user), identity orientation; force only (torque ignored). Until the firmware reports all
 /// three axes homed, forces are zero and the homing mode is on (the user moves the grip through
 /// its range to home; the LED is red, then green).
-class FalconDevice final : public Device {
+class FalconDevice final : public HotplugDevice {
  public:
   /// Opens the Falcon through backend. Off the servo thread; fails when none is plugged in or
   /// it cannot be opened.
@@ -75,8 +74,6 @@ class FalconDevice final : public Device {
   DeviceStatus write(const Vec3& force_n, const Vec3& torque_nm) noexcept override;
   /// Hotplug events; reopens the Falcon when it is back. Normal thread.
   bool service() override;
-  bool connected() const noexcept override;
-  std::uint64_t disconnects() const noexcept override { return link_.disconnects(); }
 
   /// Whether the firmware reports every axis homed (servo thread's view). Any thread.
   bool homed() const noexcept { return homed_.load(std::memory_order_relaxed); }
@@ -103,7 +100,6 @@ class FalconDevice final : public Device {
   bool hotplug_ = false;
   std::vector<std::uint8_t> firmware_;          // empty: never load
   std::string last_error_;                      // why the last reopen failed (normal thread)
-  Connection link_;                             // connected or lost, and the count of losses
   std::atomic<bool> removal_requested_{false};  // set by the hotplug callback
   std::atomic<bool> arrival_seen_{false};
   std::atomic<std::uint64_t> malformed_{0};
