@@ -400,8 +400,14 @@ Result<bool> ProtocolAdapter::startNetwork(const Config& config) {
   h.fill_state = [this](proto::State& st) { return fillState(st); };
   h.fill_status = [this](proto::StatusReply& r) { fillStatus(r); };
   auto created = proto::Server::create(cfg, std::move(h));
-  if (!created)
-    return Error{"[network] udp " + config.network.udp + ": " + created.error().message};
+  if (!created) {
+    // the server names its own setting (protocol.bind); the user's key is [network] udp
+    std::string text = created.error().message;
+    constexpr std::string_view kBind = "protocol.bind: ";
+    if (text.rfind(kBind, 0) == 0)
+      text.erase(0, kBind.size());
+    return Error{"[network] udp " + config.network.udp + ": " + text};
+  }
   server_ = std::move(created.value());
   logInfo("network: protocol on udp " + server_->localAddress().toString() +
           (cfg.key ? ", pre-shared key" : ", no key"));

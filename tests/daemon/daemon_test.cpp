@@ -4,8 +4,11 @@
 // on the virtual clock with a record.
 #include "daemon/daemon.h"
 
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -315,6 +318,25 @@ TEST_F(DaemonTest, FaultsAreNamedAndNumberedAsOnTheWire) {
   EXPECT_EQ(j["faults"]["latched_since_start"], 1);
   EXPECT_EQ(faultNames(kFaultStreamLost | kFaultMisses), "stream_lost,tick_overrun");
   EXPECT_EQ(faultNames(0), "none");
+}
+
+TEST_F(DaemonTest, AnAddressInUseIsRefusedNamingTheKey) {
+  const int sock = socket(AF_INET, SOCK_DGRAM, 0);
+  ASSERT_GE(sock, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(bind(sock, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+  socklen_t len = sizeof a;
+  ASSERT_EQ(getsockname(sock, reinterpret_cast<sockaddr*>(&a), &len), 0);
+  CommandLine cli = baseCli();
+  cli.udp = "127.0.0.1:" + std::to_string(ntohs(a.sin_port));
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitFailure);
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  close(sock);
+  EXPECT_NE(err.find("error: [network] udp " + *cli.udp + ": "), std::string::npos) << err;
+  EXPECT_EQ(err.find("protocol."), std::string::npos) << err;  // no key that does not exist
 }
 
 TEST_F(DaemonTest, StartupFailuresAreClearAndExitNonZero) {
