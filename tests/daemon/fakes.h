@@ -13,6 +13,7 @@
 
 #include "core/sim/simulation.h"
 #include "daemon/device/device.h"
+#include "daemon/servo_loop.h"
 
 namespace hapticd::testing {
 
@@ -260,5 +261,27 @@ class FakeDevice final : public device::Device {
   double max_written_n = 0.0, max_step_n = 0.0;
   device::PoseCommand last_command;
 };
+
+/// A scene for the servo loop holding a new `Sim` (FakeSimulation, EditableSimulation) as
+/// generation `gen`; `*out`, when given, points at the simulation.
+template <class Sim>
+std::unique_ptr<daemon::ServoScene> servoSceneOf(std::uint64_t gen = 1, Sim** out = nullptr) {
+  auto sim = std::make_unique<Sim>();
+  if (out != nullptr)
+    *out = sim.get();
+  auto s = std::make_unique<daemon::ServoScene>();
+  s->sim = std::move(sim);
+  s->generation = gen;
+  return s;
+}
+
+/// Every event the loop has queued, in order (the test is the events' one consumer).
+inline std::vector<daemon::ServoEvent> drainEvents(daemon::ServoLoop& loop) {
+  std::vector<daemon::ServoEvent> events;
+  daemon::ServoEvent e;
+  while (loop.popEvent(e))
+    events.push_back(e);
+  return events;
+}
 
 }  // namespace hapticd::testing
