@@ -47,6 +47,12 @@ class DaemonTest : public ::testing::Test {
       if (spec.rfind("end:", 0) == 0)
         d->end_after = std::stoull(std::string(spec.substr(4)));
       d->depth_offset = 0.002;
+      d->on_close = [this](const FakeDevice& closed) {
+        reads_at_close_ = closed.reads;
+        if (device_ == &closed)
+          device_ = nullptr;  // never read through a pointer to a destroyed device
+      };
+      ++devices_opened_;
       device_ = d.get();
       return std::unique_ptr<device::Device>(std::move(d));
     };
@@ -102,6 +108,8 @@ class DaemonTest : public ::testing::Test {
 
   testing::ScratchDir dir_{"hapticd_daemon_test"};
   FakeDevice* device_ = nullptr;
+  std::size_t devices_opened_ = 0;    ///< how many devices the daemon made
+  std::uint64_t reads_at_close_ = 0;  ///< the last destroyed device's read count
 };
 
 TEST_F(DaemonTest, StartsServesAndStopsOnSigtermWithTheRampThenExitsZero) {
@@ -124,7 +132,8 @@ TEST_F(DaemonTest, StartsServesAndStopsOnSigtermWithTheRampThenExitsZero) {
   EXPECT_FALSE(j["running"].get<bool>());
   EXPECT_EQ(j["output_gain"].get<double>(), 0.0);
   EXPECT_EQ(j["force_n"], nlohmann::json({0.0, 0.0, 0.0}));
-  ASSERT_NE(device_, nullptr);
+  EXPECT_EQ(devices_opened_, 1u);
+  EXPECT_EQ(device_, nullptr);  // closed on the way out
 }
 
 TEST_F(DaemonTest, SighupReloadsGoodScenesAndKeepsTheOldOnBadScenesAndConfigs) {
@@ -213,9 +222,10 @@ TEST_F(DaemonTest, CheckConfigRunsTheRealtimeAndSceneStepsAndStartsNothing) {
   std::string err = ::testing::internal::GetCapturedStderr();
   EXPECT_NE(err.find("realtime = \"require\": SCHED_FIFO priority 80 refused"), std::string::npos)
       << err;
-  ASSERT_NE(device_, nullptr);  // the steps before it ran, in start-up's order
-  EXPECT_EQ(device_->reads, 0u);
-  device_ = nullptr;
+  ASSERT_EQ(devices_opened_, 1u);  // the steps before it ran, in start-up's order
+  EXPECT_EQ(device_, nullptr);     // and it was closed again
+  EXPECT_EQ(reads_at_close_, 0u);
+  devices_opened_ = 0;
 
   cli = baseCli();
   cli.check_config = true;
@@ -227,12 +237,13 @@ TEST_F(DaemonTest, CheckConfigRunsTheRealtimeAndSceneStepsAndStartsNothing) {
 
   cli = baseCli();
   cli.check_config = true;
+  devices_opened_ = 0;
   ::testing::internal::CaptureStdout();
   EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitOk);
   const std::string out = ::testing::internal::GetCapturedStdout();
   EXPECT_EQ(out, "configuration ok (built-in defaults): scene 'peg_in_hole', device 'sim'\n");
-  ASSERT_NE(device_, nullptr);  // the sim device is opened (it has no effect outside)
-  EXPECT_EQ(device_->reads, 0u);
+  ASSERT_EQ(devices_opened_, 1u);  // the sim device is opened (it has no effect outside)
+  EXPECT_EQ(reads_at_close_, 0u);
   EXPECT_FALSE(fs::exists(dir_ / "status.json"));  // nothing ran
 }
 

@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -219,6 +220,10 @@ class FakeDevice final : public device::Device {
     info_.name = "fake";
     info_.capabilities = device::kCapPosition | device::kCapForce | device::kCapPoseCommands;
   }
+  ~FakeDevice() override {
+    if (on_close)
+      on_close(*this);
+  }
   const device::DeviceInfo& info() const override { return info_; }
   device::DeviceStatus read(double t_s, device::DeviceSample& out) noexcept override {
     const std::uint64_t n = reads++;
@@ -260,6 +265,7 @@ class FakeDevice final : public device::Device {
   geom::Vec3 last_force{0.0}, last_torque{0.0}, prev_force{0.0};
   double max_written_n = 0.0, max_step_n = 0.0;
   device::PoseCommand last_command;
+  std::function<void(const FakeDevice&)> on_close;  ///< called as the daemon destroys it
 };
 
 /// A scene for the servo loop holding a new `Sim` (FakeSimulation, EditableSimulation) as
