@@ -97,10 +97,10 @@ install(FILES ${PROJECT_SOURCE_DIR}/client/python/examples/record_states.py
 # npm's own files and the page's tests; of web/node_modules (npm install, the project's set-up), only
 # the files the page imports, listed in HAPTICD_WEB_NPM_FILES, keep their path under
 # share/hapticd/web/node_modules. With no web/ folder nothing is installed (packaging/debian/
-# contents.txt says so). Each npm package shipped needs its licence in packaging/debian/copyright.
+# contents.txt says so). Each npm package shipped needs a paragraph with its copyright and licence
+# in packaging/debian/copyright (three.js: MIT), not its LICENSE file (lintian: extra-license-file).
 set(HAPTICD_WEB_DIR ${PROJECT_SOURCE_DIR}/web)
 set(HAPTICD_WEB_NPM_FILES
-    three/LICENSE
     three/build/three.module.js
     three/examples/jsm/loaders/GLTFLoader.js
     three/examples/jsm/utils/BufferGeometryUtils.js)
