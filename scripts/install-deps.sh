@@ -25,6 +25,8 @@ PACKAGES=(
   libusb-1.0-0-dev                    # usb device backend (hotplug, bulk)
   libsodium-dev                       # protocol: per-packet MAC, SHA-256 of scene uploads
   gnuplot-nox                         # plots of the accuracy study
+  help2man                            # hapticd(8), hapticctl(1) from their --help
+  lintian                             # scripts/package.sh --check: the Debian package's lint
 )
 
 if [[ "${1:-}" == "--print" ]]; then
