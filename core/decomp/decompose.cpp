@@ -37,7 +37,9 @@ constexpr double kLeafTolerance = 0.05;    // of c: slack of a piece's own measu
 constexpr double kLeafResolution = 0.1;    // of c: and its resolution (docs/decomposition.md)
 constexpr double kFloor = 0.25;            // of c: excess below this is not resolved further
 constexpr double kStuck = 0.85;  // a best cut above this share of the part's concavity: look ahead
-constexpr std::size_t kLookahead = 3;  // candidates looked two steps ahead
+constexpr double kTie = 0.05;    // of c: search scores this close are equal
+constexpr std::size_t kMergeRounds = 8;  // merge passes at the piece cap before giving up
+constexpr double kFocusRadius = 1.5;     // of the part's concavity (+ c): the worst pocket's reach
 
 struct Context {
   RepairedMesh mesh;
@@ -176,18 +178,29 @@ HullMesh hullOf(const Context& ctx, const std::vector<Vec3>& pts, double tol, st
   return quickHull(thicken(pts, 1e-6 * ctx.mesh.diagonal), 0.0, max_v);
 }
 
+// the measure's options: tolerance and resolution as fractions of the bound
+ExcessOptions excessOptions(const Context& ctx,
+                            double tolerance,
+                            double resolution,
+                            std::size_t evaluations,
+                            double bound) {
+  ExcessOptions o;
+  o.tolerance = tolerance * ctx.c_abs;
+  o.resolution = resolution * ctx.c_abs;
+  o.floor = kFloor * ctx.c_abs;
+  o.max_evaluations = evaluations;
+  o.stop_above = bound;
+  return o;
+}
+
 // the hull of the part's points, its measure and its concavity (the boundary excess and the
 // hull's own coverage); infinite when the excess passes `bound`
 void measurePart(const Context& ctx, Part& part, double bound) {
   sortUnique(part.points);
   const double tol = kHullTolerance * ctx.c_abs;
   part.hull = hullOf(ctx, part.points, tol, ctx.max_piece_vertices);
-  ExcessOptions o;
-  o.tolerance = kLeafTolerance * ctx.c_abs;
-  o.resolution = kLeafResolution * ctx.c_abs;
-  o.floor = kFloor * ctx.c_abs;
-  o.max_evaluations = kLeafEvaluations;
-  o.stop_above = bound;
+  const ExcessOptions o =
+      excessOptions(ctx, kLeafTolerance, kLeafResolution, kLeafEvaluations, bound);
   part.excess = hullExcess(ctx.view, part.hull, o);
   part.concavity =
       part.excess.aborted ? kInf : std::max({part.excess.lower, part.hull.max_outside, tol});
@@ -199,12 +212,6 @@ void finishPart(const Context& ctx, Part& part) {
   part.sample = subsample(part.points, kSamplePoints);
 }
 
-struct Score {
-  double cost = kInf;  // max of the two halves' excess
-  double sum = kInf;
-  bool valid = false;
-};
-
 // the inside vertices of the new face of `cell` on `plane`
 std::vector<Vec3> insideSection(const Context& ctx, const Cell& cell, const Plane& plane) {
   std::vector<Vec3> out;
@@ -214,14 +221,14 @@ std::vector<Vec3> insideSection(const Context& ctx, const Cell& cell, const Plan
   return out;
 }
 
-Score scoreCut(const Context& ctx,
-               const Part& part,
-               const Plane& plane,
-               std::atomic<double>& bound) {
-  // strictly off the plane from the sample; on it from the polygons (which side a vertex on the
-  // plane belongs to depends on its polygon)
+// the hull input of each side of `plane`: the part's sample strictly off the plane, the section of
+// its surface and of its cell inside the model, and the polygons lying in the plane (by facing);
+// false when a side would be empty
+bool sidePoints(const Context& ctx,
+                const Part& part,
+                const Plane& plane,
+                std::array<std::vector<Vec3>, 2>& side) {
   const double eps = ctx.eps;
-  std::vector<Vec3> side[2];
   for (const Vec3& p : part.sample) {
     const double s = plane.signedDistance(p);
     if (s < -eps)
@@ -230,21 +237,21 @@ Score scoreCut(const Context& ctx,
       side[1].push_back(p);
   }
   std::vector<Vec3> section;
-  std::vector<Vec3> on[2];
+  std::array<std::vector<Vec3>, 2> on;
   sectionPoints(part.polys, plane, eps, section, on[0], on[1]);
   sortUnique(section);
   if (section.size() > kSamplePoints / 2)
     section = subsample(section, kSamplePoints / 2);
-  for (int k = 0; k < 2; ++k) {
+  for (std::size_t k = 0; k < 2; ++k) {
     sortUnique(on[k]);
     if (on[k].size() > kSamplePoints / 2)
       on[k] = subsample(on[k], kSamplePoints / 2);
     side[k].insert(side[k].end(), on[k].begin(), on[k].end());
   }
-  if (side[0].size() + section.size() < 4 || side[1].size() + section.size() < 4)
-    return {};
   if (side[0].empty() || side[1].empty())
-    return {};
+    return false;
+  if (side[0].size() + section.size() < 4 || side[1].size() + section.size() < 4)
+    return false;
   for (const Vec3& v : insideSection(ctx, part.cell, plane))
     section.push_back(v);
   for (const Vec3& v : part.inside) {
@@ -254,46 +261,181 @@ Score scoreCut(const Context& ctx,
     if (s >= -eps)
       side[1].push_back(v);
   }
-  Score score;
-  score.cost = 0.0;
-  score.sum = 0.0;
-  for (auto& pts : side) {
+  for (auto& pts : side)
     pts.insert(pts.end(), section.begin(), section.end());
-    const HullMesh hull = quickHull(pts, kHullTolerance * ctx.c_abs, kSearchHullVertices);
-    if (!hull.valid())
-      continue;  // flat (an open sheet): no excess
-    ExcessOptions o;
-    o.tolerance = kSearchTolerance * ctx.c_abs;
-    o.resolution = kSearchResolution * ctx.c_abs;
-    o.floor = kFloor * ctx.c_abs;
-    o.max_evaluations = kSearchEvaluations;
-    o.stop_above = bound.load(std::memory_order_relaxed);
-    const ExcessBound e = hullExcess(ctx.view, hull, o);
-    if (e.aborted)
-      return {};
-    score.cost = std::max(score.cost, e.upper);
-    score.sum += e.upper;
-  }
-  score.valid = true;
-  double seen = bound.load(std::memory_order_relaxed);
-  while (score.cost < seen && !bound.compare_exchange_weak(seen, score.cost)) {
-  }
-  return score;
+  return true;
 }
 
-// candidate planes: through the deepest point of the worst pocket, and across the part's box
+// How good a cut (or a cross of two) is for the part being cut, smaller is better: the largest
+// excess of the new hulls, then the sum of their excesses; for a cross, the largest excess near the
+// part's worst point (does it open the worst pocket?).
+struct Score {
+  double cost = kInf;
+  double sum = kInf;
+  double local = kInf;
+  bool valid = false;
+};
+
+// the search's measure of one new hull: near the focus (kind 0) or anywhere (kind 1); infinite when
+// above `bound`
+double searchExcess(const Context& ctx,
+                    const HullMesh& hull,
+                    const Part& part,
+                    int kind,
+                    double bound) {
+  if (!hull.valid())
+    return 0.0;  // flat (an open sheet): no excess
+  ExcessOptions o =
+      excessOptions(ctx, kSearchTolerance, kSearchResolution, kSearchEvaluations, bound);
+  if (kind == 0) {
+    o.focus = part.excess.worst_q;
+    o.focus_radius = kFocusRadius * part.concavity + ctx.c_abs;
+  }
+  const ExcessBound e = hullExcess(ctx.view, hull, o);
+  return e.aborted ? kInf : e.upper;
+}
+
+// The new hulls of a cut (two) or of a cross (up to four), from the search's sample.
+struct Trial {
+  std::vector<HullMesh> hulls;
+  bool valid = false;
+};
+
+Trial cutTrial(const Context& ctx, const Part& part, const Plane& plane) {
+  Trial t;
+  std::array<std::vector<Vec3>, 2> side;
+  if (!sidePoints(ctx, part, plane, side))
+    return t;
+  for (const auto& pts : side)
+    t.hulls.push_back(quickHull(pts, kHullTolerance * ctx.c_abs, kSearchHullVertices));
+  t.valid = true;
+  return t;
+}
+
+bool splitGeometry(const Context& ctx,
+                   const Part& part,
+                   const Plane& plane,
+                   Part& below,
+                   Part& above);
+
+// a cross: the part cut by `a`, then each half that `b` crosses cut by `b`
+Trial crossTrial(const Context& ctx, const Part& part, const Plane& a, const Plane& b) {
+  Trial t;
+  Part half[2];
+  if (!splitGeometry(ctx, part, a, half[0], half[1]))
+    return t;
+  int split = 0;
+  for (const Part& h : half) {
+    std::array<std::vector<Vec3>, 2> side;
+    if (sidePoints(ctx, h, b, side)) {
+      ++split;
+      for (const auto& pts : side)
+        t.hulls.push_back(quickHull(pts, kHullTolerance * ctx.c_abs, kSearchHullVertices));
+    } else {
+      t.hulls.push_back(quickHull(h.sample, kHullTolerance * ctx.c_abs, kSearchHullVertices));
+    }
+  }
+  t.valid = split > 0;
+  return t;
+}
+
+// scores trials on all threads by their excess near the part's worst point (local) or anywhere
+// (cost, sum); a trial worse than the best so far is dropped early, which is deterministic (a
+// dropped trial cannot be chosen)
+void scorePass(const Context& ctx,
+               const Part& part,
+               const std::vector<Trial>& trials,
+               const std::vector<std::size_t>& which,
+               int kind,
+               double slack,
+               std::vector<Score>& scores) {
+  std::atomic<double> bound{kInf};
+  parallelFor(which.size(), ctx.threads, [&](std::size_t k) {
+    const std::size_t i = which[k];
+    double cost = 0.0, sum = 0.0;
+    for (const HullMesh& h : trials[i].hulls) {
+      const double e =
+          searchExcess(ctx, h, part, kind, bound.load(std::memory_order_relaxed) + slack);
+      if (e == kInf)
+        return;
+      cost = std::max(cost, e);
+      sum += e;
+    }
+    Score& s = scores[i];
+    if (kind == 0) {
+      s.local = cost;
+    } else {
+      s.cost = cost;
+      s.sum = sum;
+    }
+    double seen = bound.load(std::memory_order_relaxed);
+    while (cost < seen && !bound.compare_exchange_weak(seen, cost)) {
+    }
+  });
+}
+
+// the trials' scores: the excess near the part's worst point of every trial, then, with `global`,
+// the excess anywhere of those within kTie x c of the best there (the others are not valid: a cut
+// must open the worst pocket as well as any)
+std::vector<Score> scoreTrials(const Context& ctx,
+                               const Part& part,
+                               const std::vector<Trial>& trials,
+                               bool global) {
+  std::vector<Score> scores(trials.size());
+  const double tie = kTie * ctx.c_abs;
+  std::vector<std::size_t> which;
+  for (std::size_t i = 0; i < trials.size(); ++i)
+    if (trials[i].valid)
+      which.push_back(i);
+  scorePass(ctx, part, trials, which, 0, tie, scores);
+  double best = kInf;
+  for (const Score& s : scores)
+    best = std::min(best, s.local);
+  std::vector<std::size_t> tied;
+  for (std::size_t i : which)
+    if (scores[i].local <= best + tie)
+      tied.push_back(i);
+  if (global)
+    scorePass(ctx, part, trials, tied, 1, 0.0, scores);
+  for (std::size_t i : tied)
+    scores[i].valid = !global || scores[i].cost < kInf;
+  return scores;
+}
+
+bool better(const Score& a, const Score& b) {
+  if (!a.valid || !b.valid)
+    return a.valid && !b.valid;
+  if (a.cost != b.cost || a.sum != b.sum)
+    return a.cost < b.cost || (a.cost == b.cost && a.sum < b.sum);
+  return a.local < b.local;
+}
+
+// the best of the scored trials (lowest index among equals); scores.size() when none is valid
+std::size_t bestOf(const std::vector<Score>& scores) {
+  std::size_t best = scores.size();
+  for (std::size_t i = 0; i < scores.size(); ++i)
+    if (scores[i].valid && (best == scores.size() || better(scores[i], scores[best])))
+      best = i;
+  return best;
+}
+
+// candidate planes: the axis planes through the deepest point of the worst pocket and through the
+// surface point nearest it, the part's mid-planes, six planes containing the direction of the
+// pocket's depth, and two planes across it
 std::vector<Plane> candidates(const Part& part) {
   std::vector<Plane> out;
   Vec3 lo = part.points.front(), hi = lo;
   for (const Vec3& p : part.points)
     lo = glm::min(lo, p), hi = glm::max(hi, p);
   const Vec3 p0 = part.excess.worst_p;
-  Vec3 v = part.excess.worst_q - part.excess.worst_p;
+  const Vec3 q0 = part.excess.worst_q;
+  Vec3 v = q0 - p0;
   const double depth = glm::length(v);
   v = depth > 0.0 ? v / depth : Vec3{0.0, 0.0, 1.0};
   for (int a = 0; a < 3; ++a) {
     Vec3 n{0.0};
     n[a] = 1.0;
+    out.push_back({n, glm::dot(n, q0)});
     out.push_back({n, glm::dot(n, p0)});
     out.push_back({n, 0.5 * (lo[a] + hi[a])});
   }
@@ -310,72 +452,50 @@ std::vector<Plane> candidates(const Part& part) {
   return out;
 }
 
-// scores `planes` on all threads (a candidate worse than `incumbent` is dropped early)
-std::vector<Score> scoreAll(const Context& ctx,
+/// What to do with the worst part: one plane, or a cross (the second plane then cuts both halves).
+struct CutPlan {
+  Plane first;
+  std::optional<Plane> second;
+};
+
+std::vector<Trial> trialsOf(const Context& ctx,
                             const Part& part,
-                            const std::vector<Plane>& planes,
-                            double incumbent) {
-  std::vector<Score> scores(planes.size());
-  std::atomic<double> bound{incumbent};
+                            const std::vector<Plane>& planes) {
+  std::vector<Trial> trials(planes.size());
   parallelFor(planes.size(), ctx.threads,
-              [&](std::size_t i) { scores[i] = scoreCut(ctx, part, planes[i], bound); });
-  return scores;
+              [&](std::size_t i) { trials[i] = cutTrial(ctx, part, planes[i]); });
+  return trials;
 }
 
-bool better(const Score& a, const Score& b) {
-  return a.cost < b.cost || (a.cost == b.cost && a.sum < b.sum);
-}
-
-// the valid candidates, best first by (cost, sum, index)
-std::vector<std::size_t> ranked(const std::vector<Score>& scores) {
-  std::vector<std::size_t> order;
-  for (std::size_t i = 0; i < scores.size(); ++i)
-    if (scores[i].valid)
-      order.push_back(i);
-  std::stable_sort(order.begin(), order.end(),
-                   [&](std::size_t a, std::size_t b) { return better(scores[a], scores[b]); });
-  return order;
-}
-
-bool splitPart(const Context& ctx, const Part& part, const Plane& plane, Part& below, Part& above);
-
-// two steps ahead (a depth-2 tree search, CoACD §5): the worst of the cut's better half and the
-// best single cut of its worse half
-double lookahead(const Context& ctx, const Part& part, const Plane& plane) {
-  Part below, above;
-  if (!splitPart(ctx, part, plane, below, above))
-    return kInf;
-  const Part& worse = below.concavity >= above.concavity ? below : above;
-  const Part& other = below.concavity >= above.concavity ? above : below;
-  if (worse.concavity <= ctx.c_abs)
-    return other.concavity;
-  const std::vector<Score> next = scoreAll(ctx, worse, candidates(worse), kInf);
-  const std::vector<std::size_t> order = ranked(next);
-  const double step =
-      order.empty() ? worse.concavity : std::min(worse.concavity, next[order[0]].cost);
-  return std::max(other.concavity, step);
-}
-
-// the best cut: the candidates (with a look two steps ahead when no single cut makes progress),
-// then two rounds of shifting and tilting the winner
-std::optional<Plane> chooseCut(const Context& ctx, const Part& part) {
+// the best cut: the candidates; when none opens the worst pocket, the crosses of two planes through
+// its deepest point (a bore or a ring opens only to two cuts through its axis: a two-step look
+// ahead in the sense of CoACD's tree search, §5); then two rounds of shifting and tilting the
+// winner
+std::optional<CutPlan> chooseCut(const Context& ctx, const Part& part) {
   const std::vector<Plane> first = candidates(part);
-  const std::vector<Score> scores = scoreAll(ctx, part, first, kInf);
-  const std::vector<std::size_t> order = ranked(scores);
-  if (order.empty())
+  const std::vector<Score> scores = scoreTrials(ctx, part, trialsOf(ctx, part, first), true);
+  const std::size_t index = bestOf(scores);
+  if (index == scores.size())
     return std::nullopt;
-  std::size_t index = order[0];
-  if (scores[index].cost > kStuck * part.concavity) {
-    double best_value = kInf;
-    for (std::size_t k = 0; k < std::min<std::size_t>(kLookahead, order.size()); ++k) {
-      const double value = lookahead(ctx, part, first[order[k]]);
-      if (value < best_value)
-        best_value = value, index = order[k];
-    }
-    return first[index];
-  }
   Plane best = first[index];
   Score score = scores[index];
+  if (score.local > kStuck * part.concavity) {
+    // the three axis planes through the deepest point, pairwise
+    std::vector<std::pair<Plane, Plane>> pairs;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        if (i != j)
+          pairs.push_back(
+              {first[static_cast<std::size_t>(3 * i)], first[static_cast<std::size_t>(3 * j)]});
+    std::vector<Trial> trials(pairs.size());
+    parallelFor(pairs.size(), ctx.threads, [&](std::size_t i) {
+      trials[i] = crossTrial(ctx, part, pairs[i].first, pairs[i].second);
+    });
+    const std::vector<Score> cross = scoreTrials(ctx, part, trials, false);
+    const std::size_t c = bestOf(cross);
+    if (c < cross.size() && cross[c].local <= kStuck * part.concavity)
+      return CutPlan{pairs[c].first, pairs[c].second};
+  }
   Vec3 lo = part.points.front(), hi = lo;
   for (const Vec3& p : part.points)
     lo = glm::min(lo, p), hi = glm::max(hi, p);
@@ -385,23 +505,28 @@ std::optional<Plane> chooseCut(const Context& ctx, const Part& part) {
     const Vec3 a = glm::normalize(glm::cross(best.n, helper));
     const Vec3 b = glm::cross(best.n, a);
     const Vec3 centre = best.n * best.d;  // a point of the plane
-    std::vector<Plane> near{{best.n, best.d + shift}, {best.n, best.d - shift}};
+    std::vector<Plane> near{best, {best.n, best.d + shift}, {best.n, best.d - shift}};
     for (const Vec3& axis : {a, b, -a, -b}) {
       const Vec3 n = glm::normalize(best.n + axis * std::tan(tilt));
       near.push_back({n, glm::dot(n, centre)});
     }
-    const std::vector<Score> s = scoreAll(ctx, part, near, score.cost);
-    const std::vector<std::size_t> o = ranked(s);
-    if (!o.empty() && better(s[o[0]], score)) {
-      best = near[o[0]];
-      score = s[o[0]];
+    const std::vector<Score> s = scoreTrials(ctx, part, trialsOf(ctx, part, near), true);
+    const std::size_t k = bestOf(s);
+    if (k < s.size() && better(s[k], score)) {
+      best = near[k];
+      score = s[k];
     }
   }
-  return best;
+  return CutPlan{best, std::nullopt};
 }
 
-// the two halves of `part` by `plane`, exactly; false when one half is empty
-bool splitPart(const Context& ctx, const Part& part, const Plane& plane, Part& below, Part& above) {
+// `part` cut by `plane` into its two halves (surface, cell, inside points, hull input and sample),
+// not yet measured; false when a half is empty
+bool splitGeometry(const Context& ctx,
+                   const Part& part,
+                   const Plane& plane,
+                   Part& below,
+                   Part& above) {
   splitPolygons(part.polys, plane, ctx.eps, below.polys, above.polys);
   std::vector<Vec3> section;
   splitCell(part.cell, plane, below.cell, above.cell, section);
@@ -420,8 +545,18 @@ bool splitPart(const Context& ctx, const Part& part, const Plane& plane, Part& b
       return false;
     child->points = child->polys.pts;
     child->points.insert(child->points.end(), child->inside.begin(), child->inside.end());
-    finishPart(ctx, *child);
+    sortUnique(child->points);
+    child->sample = subsample(child->points, kSamplePoints);
   }
+  return true;
+}
+
+// the two halves of `part` by `plane`, measured; false when one half is empty
+bool splitPart(const Context& ctx, const Part& part, const Plane& plane, Part& below, Part& above) {
+  if (!splitGeometry(ctx, part, plane, below, above))
+    return false;
+  measurePart(ctx, below, kInf);
+  measurePart(ctx, above, kInf);
   return true;
 }
 
@@ -467,11 +602,18 @@ struct Run {
     ids.push_back(next_id++);
   }
   void cutAll();
-  void mergeAll();
+  /// merges while the merged hull stays within the bound; returns the merges made
+  std::size_t mergeAll();
+  struct MergeCost {
+    std::uint64_t a, b;
+    double concavity;
+  };
+  std::vector<MergeCost> merge_cache;
 };
 
 // cuts the worst part until every part is within the bound, or a limit
 void Run::cutAll() {
+  std::size_t merge_rounds = 0;
   while (true) {
     std::size_t w = leaves.size();
     for (std::size_t i = 0; i < leaves.size(); ++i)
@@ -481,6 +623,11 @@ void Run::cutAll() {
     if (w == leaves.size())
       return;
     if (leaves.size() >= options.max_pieces) {
+      // at the cap: merge what the bound allows and go on cutting
+      if (options.merge && merge_rounds < kMergeRounds && mergeAll() > 0) {
+        ++merge_rounds;
+        continue;
+      }
       report.max_pieces_hit = true;
       return;
     }
@@ -488,32 +635,39 @@ void Run::cutAll() {
       report.time_limit_hit = true;
       return;
     }
-    const std::optional<Plane> plane = chooseCut(ctx, leaves[w]);
+    const std::optional<CutPlan> plan = chooseCut(ctx, leaves[w]);
     Part below, above;
-    if (!plane || !splitPart(ctx, leaves[w], *plane, below, above)) {
+    if (!plan || !splitPart(ctx, leaves[w], plan->first, below, above)) {
       leaves[w].final = true;
       continue;
     }
     leaves.erase(leaves.begin() + static_cast<std::ptrdiff_t>(w));
     ids.erase(ids.begin() + static_cast<std::ptrdiff_t>(w));
-    add(std::move(below));
-    add(std::move(above));
+    for (Part* half : {&below, &above}) {
+      Part a, b;
+      if (plan->second && leaves.size() + 2 + (half == &below ? 1u : 0u) <= options.max_pieces &&
+          splitPart(ctx, *half, *plan->second, a, b)) {
+        add(std::move(a));
+        add(std::move(b));
+        ++report.cuts;
+      } else {
+        add(std::move(*half));
+      }
+    }
     ++report.cuts;
     tell("cut");
   }
 }
 
 // merges the cheapest touching pair while the merged hull stays within the bound
-void Run::mergeAll() {
-  struct Cost {
-    std::uint64_t a, b;
-    double concavity;
-  };
-  std::vector<Cost> cache;
+std::size_t Run::mergeAll() {
+  using Cost = MergeCost;
+  std::vector<Cost>& cache = merge_cache;
+  std::size_t merged_count = 0;
   while (leaves.size() > 1) {
     if (outOfTime()) {
       report.time_limit_hit = true;
-      return;
+      return merged_count;
     }
     std::vector<HullPlanes> boxes;
     for (const Part& p : leaves)
@@ -521,7 +675,8 @@ void Run::mergeAll() {
     std::vector<std::pair<std::size_t, std::size_t>> todo;
     for (std::size_t i = 0; i < leaves.size(); ++i)
       for (std::size_t j = i + 1; j < leaves.size(); ++j) {
-        if (!boxesTouch(boxes[i], boxes[j], kHullTolerance * ctx.c_abs))
+        if (leaves[i].concavity > ctx.c_abs || leaves[j].concavity > ctx.c_abs ||
+            !boxesTouch(boxes[i], boxes[j], kHullTolerance * ctx.c_abs))
           continue;
         const bool known = std::any_of(cache.begin(), cache.end(), [&](const Cost& c) {
           return c.a == ids[i] && c.b == ids[j];
@@ -545,7 +700,7 @@ void Run::mergeAll() {
           if (c.a == ids[i] && c.b == ids[j] && c.concavity <= ctx.c_abs && c.concavity < best)
             best = c.concavity, bi = i, bj = j;
     if (best == kInf)
-      return;
+      return merged_count;
     Part merged = mergedPart(ctx, leaves[bi], leaves[bj], kInf);
     leaves.erase(leaves.begin() + static_cast<std::ptrdiff_t>(bj));
     ids.erase(ids.begin() + static_cast<std::ptrdiff_t>(bj));
@@ -553,8 +708,10 @@ void Run::mergeAll() {
     ids.erase(ids.begin() + static_cast<std::ptrdiff_t>(bi));
     add(std::move(merged));
     ++report.merges;
+    ++merged_count;
     tell("merge");
   }
+  return merged_count;
 }
 
 // the global measure of decompose.h over the final hulls (boundary points inside another piece
@@ -681,7 +838,7 @@ Result<DecompResult> decompose(const TriangleMesh& mesh,
   if (!prepared)
     return prepared.error();
   const Context& ctx = prepared.value();
-  Run run{ctx, options, progress, start, {}, {}, 0, std::move(report)};
+  Run run{ctx, options, progress, start, {}, {}, 0, std::move(report), {}};
   run.report.concavity_target = options.concavity;
   run.report.diagonal = ctx.mesh.diagonal;
   run.report.closed = ctx.mesh.closed;
@@ -750,7 +907,7 @@ std::string contentHash(const TriangleMesh& mesh, const DecompOptions& options) 
     std::memcpy(&bits, &x, sizeof bits);
     putU64(bits);
   };
-  static constexpr char kTag[] = "hapticd-decomp algorithm 1";
+  static constexpr char kTag[] = "hapticd-decomp algorithm 2";
   h.update(kTag, sizeof kTag - 1);
   putU64(mesh.positions.size());
   for (const Vec3& p : mesh.positions)

@@ -28,6 +28,9 @@ class ExcessSearch {
 
   // evaluates the excess at the triangle's centroid; keeps the triangle if it may hold more
   void visit(const Vec3& a, const Vec3& b, const Vec3& c, std::uint32_t parent_tri) {
+    if (o_.focus_radius < std::numeric_limits<double>::infinity() &&
+        glm::length(closestPointOnTriangle(o_.focus, a, b, c) - o_.focus) > o_.focus_radius)
+      return;
     const Vec3 m = (a + b + c) / 3.0;
     const double r = circumradiusAbout(m, a, b, c);
     bool covered = false;

@@ -57,6 +57,9 @@ struct ExcessOptions {
   std::size_t max_evaluations = 20000;
   /// Other pieces: boundary points strictly inside one of them are not on the union's boundary.
   std::span<const HullPlanes> others = {};
+  /// Only the boundary within `focus_radius` of `focus` (a pocket's deepest point) is searched.
+  Vec3 focus{0.0};
+  double focus_radius = std::numeric_limits<double>::infinity();
 };
 
 /// Largest excess of the hull's boundary over the model (see the file comment).
