@@ -103,7 +103,8 @@ set(HAPTICD_WEB_DIR ${PROJECT_SOURCE_DIR}/web)
 set(HAPTICD_WEB_NPM_FILES
     three/build/three.module.js
     three/examples/jsm/loaders/GLTFLoader.js
-    three/examples/jsm/utils/BufferGeometryUtils.js)
+    three/examples/jsm/utils/BufferGeometryUtils.js
+    three/examples/jsm/controls/OrbitControls.js)
 if(EXISTS ${HAPTICD_WEB_DIR})
   install(DIRECTORY ${HAPTICD_WEB_DIR}/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hapticd/web
           PATTERN node_modules EXCLUDE PATTERN package.json EXCLUDE PATTERN package-lock.json EXCLUDE
