@@ -125,6 +125,8 @@ function showContacts(contacts, scale) {
     const a = new THREE.ArrowHelper(new THREE.Vector3(0, 1, 0), new THREE.Vector3(), 1, 0xff4444);
     const dot = new THREE.Mesh(new THREE.SphereGeometry(1), new THREE.MeshBasicMaterial({ color: 0xff4444 }));
     a.add(dot);
+    // drawn over everything: contacts are where the bodies hide each other
+    for (const part of [a.line, a.cone, dot]) { part.material.depthTest = false; part.renderOrder = 10; }
     world.add(a);
     v.contactArrows.push(a);
   }
