@@ -244,6 +244,9 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
   void onSubscribe(const json& m);
   void onPose(const json& m);
   void onArm(const std::string& type);
+  // fills the session's fields of `e` and hands it to the servo; false (refused) when its queue
+  // is full
+  bool forward(const std::string& type, proto::CommandEvent& e);
   void onLoad(const json& m);
   void onScene();
   void onEdit(const std::string& type, const json& m);
@@ -429,30 +432,28 @@ void WsSession::onPose(const json& m) {
   e.pose.v_W = *v;
   e.pose.w_W = *w;
   e.pose.buttons = buttons.get<std::uint32_t>();
+  forward("pose", e);
+}
+
+bool WsSession::forward(const std::string& type, proto::CommandEvent& e) {
   e.authenticated = authenticated_;
   e.session_id = id_;
   e.sequence = ++sequence_;
   e.received_ns = server_.nowNs();
   if (!server_.handlers_.on_command || !server_.handlers_.on_command(e)) {
     ++server_.counters_.commands_queue_full;
-    return refuse("pose", "server_full: the servo's command queue is full");
+    refuse(type, "server_full: the servo's command queue is full: send it again");
+    return false;
   }
   ++server_.counters_.commands_forwarded;
+  return true;
 }
 
 void WsSession::onArm(const std::string& type) {
   proto::CommandEvent e;
   e.kind = type == "arm" ? proto::CommandEvent::Kind::kArm : proto::CommandEvent::Kind::kDisarm;
-  e.authenticated = authenticated_;
-  e.session_id = id_;
-  e.sequence = ++sequence_;
-  e.received_ns = server_.nowNs();
-  if (!server_.handlers_.on_command || !server_.handlers_.on_command(e)) {
-    ++server_.counters_.commands_queue_full;
-    return refuse(type, "server_full: the servo's command queue is full: send it again");
-  }
-  ++server_.counters_.commands_forwarded;
-  send(textOf({{"type", "ack"}, {"ref", type}}));
+  if (forward(type, e))
+    send(textOf({{"type", "ack"}, {"ref", type}}));
 }
 
 void WsSession::onLoad(const json& m) {
