@@ -7,6 +7,7 @@
 #   share/doc/hapticd/                         README.md, docs/*.md, copyright, changelog.gz, the
 #                                              Python example
 #   lib/python3/dist-packages/hapticd_client.py the Python client (importable as installed in /usr)
+#   lib/python3/dist-packages/hapticd_ws.py     the Python WebSocket client
 #   share/hapticd/web/                         the browser viewer (web/), when the tree has one
 # Placed by the prefix at install time (cmake/InstallSystemFiles.cmake): the config, the systemd
 # unit (written from systemd/hapticd.service.in), the udev rules, the sysusers entry.
@@ -86,6 +87,7 @@ install(FILES ${PROJECT_SOURCE_DIR}/README.md ${HAPTICD_DOC_FILES}
 # the prefix is /usr (any other prefix: PYTHONPATH=P/lib/python3/dist-packages); its example with
 # the docs.
 install(FILES ${PROJECT_SOURCE_DIR}/client/python/hapticd_client.py
+              ${PROJECT_SOURCE_DIR}/client/python/hapticd_ws.py
         DESTINATION lib/python3/dist-packages)
 install(FILES ${PROJECT_SOURCE_DIR}/client/python/README.md
         DESTINATION ${CMAKE_INSTALL_DOCDIR}/python RENAME README.md)
@@ -103,7 +105,8 @@ set(HAPTICD_WEB_DIR ${PROJECT_SOURCE_DIR}/web)
 set(HAPTICD_WEB_NPM_FILES
     three/build/three.module.js
     three/examples/jsm/loaders/GLTFLoader.js
-    three/examples/jsm/utils/BufferGeometryUtils.js)
+    three/examples/jsm/utils/BufferGeometryUtils.js
+    three/examples/jsm/controls/OrbitControls.js)
 if(EXISTS ${HAPTICD_WEB_DIR})
   install(DIRECTORY ${HAPTICD_WEB_DIR}/ DESTINATION ${CMAKE_INSTALL_DATADIR}/hapticd/web
           PATTERN node_modules EXCLUDE PATTERN package.json EXCLUDE PATTERN package-lock.json EXCLUDE
@@ -131,7 +134,8 @@ implements the 6-DOF haptic display of polygonal models of Gregory et al.
 (IEEE Visualization 2000).
 
 This package holds the daemon (hapticd), its command-line client (hapticctl),
-the Python 3 client module hapticd_client, the systemd unit, udev rules for
+the Python 3 client modules hapticd_client and hapticd_ws, the browser viewer,
+the systemd unit, udev rules for
 the supported devices and the documentation. The service is installed but
 neither enabled nor started: choose the device in /etc/hapticd/hapticd.toml,
 then run systemctl enable --now hapticd.")

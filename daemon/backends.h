@@ -12,6 +12,7 @@
 #include <span>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "core/common/result.h"
 #include "core/scene/scene.h"
@@ -35,6 +36,9 @@ struct Backends {
   std::function<
       SceneResult(std::span<const std::uint8_t> bytes, const std::string& name, const Config&)>
       load_scene_bytes;
+  /// The .glb bytes of a config's scene ([scene] path read again, or the demo's), for viewers
+  /// (the web API's "scene"). Empty: viewers get an error.
+  std::function<Result<std::vector<std::uint8_t>>(const Config&)> scene_bytes;
   std::function<Result<std::unique_ptr<sim::Simulation>>(std::shared_ptr<const scene::SceneModel>,
                                                          const sim::SimOptions&)>
       make_simulation;

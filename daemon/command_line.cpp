@@ -34,6 +34,8 @@ std::optional<int> parseCommandLine(int argc, char** argv, CommandLine& o) {
       ->check(CLI::Range(-1, 1023));
   app.add_option("--udp", o.udp, "UDP address ADDRESS:PORT ([network] udp)");
   app.add_option("--shm", o.shm, "shared-memory segment /NAME, \"\" for none ([network] shm)");
+  app.add_option("--web", o.web,
+                 "viewer and WebSocket API address ADDRESS:PORT, \"\" for none ([web] listen)");
   app.add_option("--log-level", o.log_level, "error, warning, info or debug ([log] level)")
       ->check(CLI::IsMember({"error", "warning", "info", "debug"}));
   app.add_option("--record", o.record,
@@ -104,6 +106,7 @@ Result<ParsedConfig> buildConfig(const CommandLine& cli) {
   setIf(cli.cpu, c.servo.cpu);
   setIf(cli.udp, c.network.udp);
   setIf(cli.shm, c.network.shm);
+  setIf(cli.web, c.web.listen);
   for (auto r : {setChoice("--clock", cli.clock, &parseClockKind, c.servo.clock),
                  setChoice("--realtime", cli.realtime, &parseRealtimePolicy, c.servo.realtime),
                  setChoice("--log-level", cli.log_level, &parseLogLevel, c.log.level)})

@@ -24,6 +24,7 @@ struct CommandLine {
   std::optional<int> cpu;                  ///< --cpu
   std::optional<std::string> udp;          ///< --udp
   std::optional<std::string> shm;          ///< --shm ("" turns shared memory off)
+  std::optional<std::string> web;          ///< --web ("" turns the web endpoint off)
   std::optional<std::string> log_level;    ///< --log-level
   std::string record;                      ///< --record FILE.csv
   std::string record_bodies;               ///< --record-bodies FILE.csv

@@ -246,7 +246,7 @@ Result<ParsedConfig> parseConfig(std::string_view text,
     if (std::find(sections.begin(), sections.end(), section) == sections.end()) {
       problems.add(v, section +
                           ": unknown section or key (sections: servo, device, response, scene, "
-                          "network, log)");
+                          "network, web, log)");
     } else if (!v.is_table()) {
       problems.add(v, section + ": must be a table ([" + section + "])");
     } else {

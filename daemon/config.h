@@ -92,6 +92,15 @@ struct NetworkConfig {
   std::string shm = "/hapticd";
 };
 
+/// [web]: the WebSocket JSON API and the viewer (daemon/web/, protocol/websocket.md)
+struct WebConfig {
+  std::string listen = "127.0.0.1:47180";  ///< HTTP and WebSocket address; empty: off
+  /// Folder served on "/" (the viewer); empty: the install's share/hapticd/web next to the
+  /// binary (BIN/../share/hapticd/web), else the source tree's web/ (a build tree's binary)
+  std::string root;
+  std::int64_t max_message_bytes = 16ll << 20;  ///< larger client messages are refused
+};
+
 /// [log]
 struct LogConfig {
   LogLevel level = LogLevel::kInfo;
@@ -104,6 +113,7 @@ struct Config {
   ResponseConfig response;
   SceneConfig scene;
   NetworkConfig network;
+  WebConfig web;
   LogConfig log;
 };
 

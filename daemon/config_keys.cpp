@@ -47,6 +47,15 @@ std::optional<std::string> checkShmName(const std::string& s) {
   return std::nullopt;
 }
 
+// "" (off) or what [network] udp accepts
+std::optional<std::string> checkWebListen(const std::string& s) {
+  if (s.empty())
+    return std::nullopt;
+  if (auto bad = checkUdp(s))
+    return *bad + "; \"\" turns the web endpoint off";
+  return std::nullopt;
+}
+
 std::optional<std::string> checkSpec(const std::string& s) {
   if (s.empty())
     return "must not be empty (\"sim\", \"replay:FILE\", \"hid\", \"usb\")";
@@ -332,6 +341,20 @@ const ConfigKey kKeys[] = {
      "another live hapticd is left alone.",
      &checkShmName},
 
+    // [web]
+    {"web", "listen", HAPTICD_FIELD(web.listen), kNoRange, "",
+     "HTTP and WebSocket address, \"ADDRESS:PORT\": the viewer on \"/\", the JSON API on \"/ws\" "
+     "(protocol/websocket.md); \"\" turns it off. Loopback by default; another address needs "
+     "[network] key_file (the same key as UDP: commands need the key's tag, watching does not).",
+     &checkWebListen},
+    {"web", "root", HAPTICD_FIELD(web.root), kNoRange, "",
+     "Folder served on \"/\" (the viewer's files). \"\": the install's share/hapticd/web next "
+     "to the binary (BIN/../share/hapticd/web), else the source tree's web/."},
+    {"web", "max_message_bytes", HAPTICD_FIELD(web.max_message_bytes), closed(4096, 1073741824),
+     "bytes",
+     "Larger WebSocket messages from a client are refused (the connection is closed with "
+     "1009); a load's glb_base64 is 4/3 of the scene's size."},
+
     // [log]
     {"log", "level", HAPTICD_FIELD(log.level), kNoRange, "",
      "Least severe level logged: \"error\", \"warning\", \"info\", \"debug\"."},
@@ -341,7 +364,8 @@ const ConfigKey kKeys[] = {
 
 #undef HAPTICD_FIELD
 
-constexpr std::string_view kSections[] = {"servo", "device", "response", "scene", "network", "log"};
+constexpr std::string_view kSections[] = {"servo",   "device", "response", "scene",
+                                          "network", "web",    "log"};
 
 template <class T>
 constexpr bool kIsEnum = std::is_enum_v<T>;

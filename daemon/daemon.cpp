@@ -87,6 +87,14 @@ class Daemon {
   device::DeviceOptions deviceOptions(const BuiltScene& built) const;
   // hands a built scene to the servo loop and tells the network side
   void install(BuiltScene built);
+  // the running config's scene bytes for viewers, read when one asks (web thread)
+  SceneBytes configSceneBytes() const {
+    return [backends = &backends_, config = config_]() -> Result<std::vector<std::uint8_t>> {
+      if (!backends->scene_bytes)
+        return Error{"this daemon cannot send its scene"};
+      return backends->scene_bytes(config);
+    };
+  }
   // SIGHUP: starts a reload on the builder (one build at a time)
   void startReload();
   // an upload waiting and the builder free: builds it
@@ -189,6 +197,8 @@ void Daemon::finishUpload(SceneBuilder::Finished f) {
     return;
   }
   install(std::move(*f.built));
+  auto glb = std::make_shared<const std::vector<std::uint8_t>>(std::move(f.upload->bytes));
+  adapter_->setSceneBytes([glb]() -> Result<std::vector<std::uint8_t>> { return *glb; });
   last_reload_ =
       "ok: uploaded scene '" + scene_name_ + "' generation " + std::to_string(generation_);
   logInfo("upload: scene '" + scene_name_ + "' (generation " + std::to_string(generation_) +
@@ -209,16 +219,19 @@ void Daemon::finishReload(SceneBuilder::Finished f) {
     std::string list;
     for (const auto& k : changed)
       list += (list.empty() ? "" : ", ") + k;
-    logWarning("reload: changes to [servo], [device] and [network] take effect at restart (" +
-               list + ")");
+    logWarning(
+        "reload: changes to [servo], [device], [network] and [web] take effect at restart (" +
+        list + ")");
   }
   const Config running = config_;
   config_ = f.config;
   config_.servo = running.servo;
   config_.device = running.device;
   config_.network = running.network;
+  config_.web = running.web;
   setLogLevel(config_.log.level);
   install(std::move(*f.built));
+  adapter_->setSceneBytes(configSceneBytes());
   last_reload_ = "ok: scene '" + scene_name_ + "' generation " + std::to_string(generation_);
   logInfo("reload: scene '" + scene_name_ + "' (generation " + std::to_string(generation_) +
           ") handed to the servo loop");
@@ -299,6 +312,12 @@ int Daemon::checkConfig() {
   if (auto net = serverConfigOf(config_); !net) {
     logError(net.error().message);
     return kExitFailure;
+  }
+  if (!config_.web.listen.empty()) {
+    if (auto web = webConfigOf(config_); !web) {
+      logError(web.error().message);
+      return kExitFailure;
+    }
   }
   // the servo thread's setup, on a thread that ends at once
   Result<RealtimeReport> servo_rt = Error{"the servo thread did not start"};
@@ -389,10 +408,15 @@ std::optional<int> Daemon::start(sigset_t& signals) {
   // before the servo thread runs (its publish and command ring are the servo thread's from then
   // on); the network thread, whose commands go to the servo through the loop's command ring
   install(std::move(scene.value()));
+  adapter_->setSceneBytes(configSceneBytes());
   logInfo("scene: '" + scene_name_ + "'");
   adapter_->startShm(config_.network.shm);
   if (auto net = adapter_->startNetwork(config_); !net) {
     logError(net.error().message);
+    return kExitFailure;
+  }
+  if (auto web = adapter_->startWeb(config_); !web) {
+    logError(web.error().message);
     return kExitFailure;
   }
   if (writer_) {

@@ -2,8 +2,11 @@
 // demo scenes and simulation, and runs the daemon (daemon/daemon.h: ordered init, reverse
 // teardown).
 #include <exception>
+#include <fstream>
+#include <iterator>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "core/scene/loader.h"
 #include "core/sim/simulation.h"
@@ -52,6 +55,22 @@ daemon::SceneResult loadUploadedScene(std::span<const std::uint8_t> bytes,
   return modelOf(scene::loadScene(bytes, name, daemon::toLoadOptions(c)), "scene '" + name + "'");
 }
 
+// the bytes of a config's scene, for viewers: the file (a .glb) or the demo
+Result<std::vector<std::uint8_t>> configuredSceneBytes(const daemon::Config& c) {
+  if (c.scene.path.empty())
+    return scenes::makeDemoScene(c.scene.demo);
+  std::ifstream in(c.scene.path, std::ios::binary);
+  std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
+                                  std::istreambuf_iterator<char>());
+  if (!in && !in.eof())
+    return Error{"[scene] path '" + c.scene.path + "': cannot read it"};
+  if (bytes.size() < 4 || bytes[0] != 'g' || bytes[1] != 'l' || bytes[2] != 'T' || bytes[3] != 'F')
+    return Error{
+        "[scene] path '" + c.scene.path +
+        "' is not a .glb: viewers take the binary glTF (a .gltf's data is in other files)"};
+  return bytes;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -63,6 +82,7 @@ int main(int argc, char** argv) {
     backends.make_device = &device::makeDevice;
     backends.load_scene = &loadConfiguredScene;
     backends.load_scene_bytes = &loadUploadedScene;
+    backends.scene_bytes = &configuredSceneBytes;
     backends.make_simulation = &sim::Simulation::create;
     return daemon::runDaemon(cli, backends);
   } catch (const std::exception& e) {

@@ -10,6 +10,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
@@ -140,6 +141,40 @@ Result<proto::ServerConfig> serverConfigOf(const Config& c) {
   return cfg;
 }
 
+Result<web::WebServerConfig> webConfigOf(const Config& c) {
+  auto udp = serverConfigOf(c);  // the key file, read and parsed
+  if (!udp)
+    return udp.error();
+  web::WebServerConfig w;
+  w.listen = c.web.listen;
+  w.key = udp.value().key;
+  w.max_message_bytes = static_cast<std::size_t>(c.web.max_message_bytes);
+  w.rate_limit = udp.value().rate_limit;
+  w.max_state_rate_hz = udp.value().max_state_rate_hz;
+  w.tick_rate_hz = udp.value().tick_rate_hz;
+  w.max_scene_bytes = proto::UploadLimits{}.max_scene_bytes;
+  auto address = proto::parseAddress(c.web.listen);
+  if (!address)
+    return Error{"[web] listen: " + address.error().message};
+  if (!address.value().isLoopback() && !w.key)
+    return Error{"[web] listen: " + address.value().toString() +
+                 " is not a loopback address and [network] key_file is not set: set key_file "
+                 "(64 hex digits) to serve other hosts"};
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  if (!c.web.root.empty()) {
+    w.root = c.web.root;
+  } else {
+    const fs::path installed =
+        fs::read_symlink("/proc/self/exe", ec).parent_path().parent_path() / "share/hapticd/web";
+    w.root = !ec && fs::is_directory(installed, ec) ? installed.string()
+                                                    : std::string(HAPTICD_WEB_SOURCE_ROOT);
+  }
+  if (!fs::is_directory(w.root, ec))
+    return Error{"[web] root: '" + w.root + "' is not a folder"};
+  return w;
+}
+
 ProtocolAdapter::ProtocolAdapter(ServoLoop& loop) : loop_(loop) {}
 
 ProtocolAdapter::~ProtocolAdapter() {
@@ -176,8 +211,51 @@ std::optional<proto::SceneUploadDone> ProtocolAdapter::takeUpload() {
 }
 
 void ProtocolAdapter::finishUpload(std::uint64_t ticket, bool accepted, const std::string& text) {
-  if (server_)
+  if ((ticket & web::WebServer::kTicketBit) != 0) {
+    if (web_)
+      web_->finishScene(ticket, accepted, text);
+  } else if (server_) {
     server_->finishScene(ticket, accepted, text);
+  }
+}
+
+void ProtocolAdapter::setSceneBytes(SceneBytes bytes) {
+  std::lock_guard<std::mutex> lock(info_mutex_);
+  scene_bytes_ = std::move(bytes);
+}
+
+Result<web::SceneSnapshot> ProtocolAdapter::sceneSnapshot() {
+  std::shared_ptr<const scene::SceneModel> model;
+  std::uint64_t generation = 0;
+  SceneBytes bytes;
+  {
+    std::lock_guard<std::mutex> lock(info_mutex_);
+    model = edit_model_;
+    generation = edit_generation_;
+    bytes = scene_bytes_;
+  }
+  if (!model)
+    return Error{"no scene is running"};
+  if (!glb_ || glb_generation_ != generation) {
+    if (!bytes)
+      return Error{"the running scene's bytes are not available"};
+    auto read = bytes();
+    if (!read)
+      return read.error();
+    glb_ = std::make_shared<const std::vector<std::uint8_t>>(std::move(read.value()));
+    glb_generation_ = generation;
+  }
+  web::SceneSnapshot s;
+  s.name = model->name;
+  s.glb = glb_;
+  s.probe_body = model->probe_body;
+  s.length_scale = model->length_scale;
+  for (std::size_t i = 0; i < model->bodies.size(); ++i) {
+    const scene::Body& b = model->bodies[i];
+    s.bodies.push_back({static_cast<std::uint32_t>(i), b.name, motionName(b.motion),
+                        static_cast<std::int32_t>(i) == model->probe_body || b.probe});
+  }
+  return s;
 }
 
 void ProtocolAdapter::addStatus(nlohmann::json& j, const ServoState& st) const {
@@ -192,6 +270,14 @@ void ProtocolAdapter::addStatus(nlohmann::json& j, const ServoState& st) const {
     shm["why_not"] = shm_error_;
   }
   j["shm"] = shm;
+  if (web_) {
+    const auto& c = web_->counters();
+    j["web"] = {
+        {"listen", web_->localAddress()},      {"root", web_->root()},
+        {"clients", c.clients.load()},         {"messages", c.messages.load()},
+        {"states_sent", c.states_sent.load()}, {"states_replaced", c.states_replaced.load()},
+        {"closed_slow", c.closed_slow.load()}, {"commands_forwarded", c.commands_forwarded.load()}};
+  }
   if (server_) {
     const auto& c = server_->counters();
     j["network"] = {{"udp", server_->localAddress().toString()},
@@ -306,6 +392,7 @@ bool ProtocolAdapter::onSceneUpdate(const proto::SceneUpdate& u, std::string* er
     if (!check("removed", i, u.removed[i], false, nullptr))
       return false;
 
+  std::lock_guard<std::mutex> producer(producer_mutex_);
   EditBatch& b = *edit_;
   b.generation = generation;
   b.id = ++edit_batches_;
@@ -419,15 +506,60 @@ Result<bool> ProtocolAdapter::startNetwork(const Config& config) {
   return true;
 }
 
+Result<bool> ProtocolAdapter::startWeb(const Config& config) {
+  if (config.web.listen.empty()) {
+    logInfo("web: off ([web] listen = \"\")");
+    return true;
+  }
+  auto settings = webConfigOf(config);
+  if (!settings)
+    return settings.error();
+  const bool keyed = settings.value().key.has_value();
+  web::WebHandlers h;
+  h.on_command = [this](const proto::CommandEvent& e) { return onCommand(e); };
+  h.on_scene = [this](proto::SceneUploadDone&& up) {
+    std::lock_guard<std::mutex> lock(upload_mutex_);
+    uploads_.push_back(std::move(up));
+  };
+  if (!edit_)
+    edit_ = std::make_unique<EditBatch>();
+  h.on_scene_update = [this](std::uint64_t, const proto::SceneUpdate& u, std::string* error) {
+    return onSceneUpdate(u, error);
+  };
+  h.fill_state = [this](proto::State& st) { return fillState(st); };
+  h.fill_status = [this](proto::StatusReply& r) { fillStatus(r); };
+  h.scene = [this] { return sceneSnapshot(); };
+  h.fault_names = [](std::uint32_t bits) { return faultNames(bits); };
+  auto created = web::WebServer::create(std::move(settings.value()), std::move(h));
+  if (!created) {
+    // like shared memory: the viewer is an extra, a daemon whose port is taken runs without it
+    logWarning("[web] listen " + config.web.listen + ": " + created.error().message +
+               "; running without the web endpoint");
+    return true;
+  }
+  web_ = std::move(created.value());
+  logInfo("web: viewer on http://" + web_->localAddress() + "/ (files from " + web_->root() +
+          "), WebSocket API on ws://" + web_->localAddress() + "/ws" +
+          (keyed ? ", pre-shared key" : ", no key"));
+  auto started = web_thread_.start("hapticd-web", 1 << 20, [this] { web_->run(net_stop_); });
+  if (!started) {
+    web_.reset();
+    return started.error();
+  }
+  return true;
+}
+
 void ProtocolAdapter::stopNetwork() {
   net_stop_ = true;
   net_thread_.join();
+  web_thread_.join();
 }
 
 bool ProtocolAdapter::onCommand(const proto::CommandEvent& e) {
   const CommandKind kind = e.kind == proto::CommandEvent::Kind::kArm      ? CommandKind::kArm
                            : e.kind == proto::CommandEvent::Kind::kDisarm ? CommandKind::kDisarm
                                                                           : CommandKind::kPose;
+  std::lock_guard<std::mutex> producer(producer_mutex_);
   return loop_.sendCommand(gatedCommand(kind, e.session_id, e.sequence, e.pose));
 }
 

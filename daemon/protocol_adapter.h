@@ -12,17 +12,20 @@
 
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <nlohmann/json_fwd.hpp>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "core/common/result.h"
 #include "core/scene/scene.h"
 #include "daemon/config.h"
 #include "daemon/realtime.h"
 #include "daemon/servo_loop.h"
+#include "daemon/web/web_server.h"
 #include "protocol/server.h"
 #include "protocol/shm.h"
 
@@ -33,6 +36,13 @@ namespace hapticd::daemon {
 /// (also --check-config's).
 Result<proto::ServerConfig> serverConfigOf(const Config& config);
 
+/// The web server's settings: [web], and the key, rate limit and state rate of [network] (the
+/// same as UDP's). The root: [web] root, else BIN/../share/hapticd/web when it is a folder, else
+/// the source tree's web/. Errors as serverConfigOf (a non-loopback listen needs a key).
+Result<web::WebServerConfig> webConfigOf(const Config& config);
+
+/// The .glb bytes of the running scene, read when a viewer asks (web thread).
+using SceneBytes = std::function<Result<std::vector<std::uint8_t>>()>;
 class ProtocolAdapter {
  public:
   /// `loop` outlives the adapter.
@@ -49,7 +59,12 @@ class ProtocolAdapter {
   void closeShm();
   /// The server on [network] udp and its thread. Error: what and which key (exit 1).
   Result<bool> startNetwork(const Config& config);
-  /// Stops and joins the network thread (again: nothing).
+  /// The web server on [web] listen and its thread `hapticd-web` ("" : nothing). Its commands,
+  /// edits, uploads, state and status take the same paths as the UDP server's (the rings' producer
+  /// side is shared under a mutex). Error: a bad [web] setting or key (exit 1); an address that
+  /// cannot be bound is a warning (logged) and the daemon runs without it, like shared memory.
+  Result<bool> startWeb(const Config& config);
+  /// Stops and joins the network and web threads (again: nothing).
   void stopNetwork();
 
   /// What status replies name: the device.
@@ -60,6 +75,10 @@ class ProtocolAdapter {
                 const std::string& plan,
                 std::shared_ptr<const scene::SceneModel> model,
                 std::uint64_t generation);
+
+  /// Where the running scene's bytes come from (set with each scene: the configured file or demo,
+  /// or the upload's bytes).
+  void setSceneBytes(SceneBytes bytes);
 
   /// The next complete upload waiting to be built, if any.
   std::optional<proto::SceneUploadDone> takeUpload();
@@ -76,6 +95,7 @@ class ProtocolAdapter {
   bool onSceneUpdate(const proto::SceneUpdate& u, std::string* error);
   bool fillState(proto::State& out) const;         // network thread
   void fillStatus(proto::StatusReply& out) const;  // network thread
+  Result<web::SceneSnapshot> sceneSnapshot();      // web thread
 
   ServoLoop& loop_;
   std::unique_ptr<proto::ShmServer> shm_;  // outlives the servo thread's run (closeShm after it)
@@ -84,6 +104,11 @@ class ProtocolAdapter {
   std::unique_ptr<proto::Server> server_;
   Thread net_thread_;
   std::atomic<bool> net_stop_{false};
+  std::unique_ptr<web::WebServer> web_;
+  Thread web_thread_;
+  // the producer side of the command and edit rings (and edit_, edit_batches_): the network and
+  // web threads take turns under it; the servo thread, the consumer, never takes it
+  std::mutex producer_mutex_;
   std::chrono::steady_clock::time_point started_at_ = std::chrono::steady_clock::now();
   double servo_rate_hz_ = 1000.0;  // [servo] rate_hz (restart-only), set before the network runs
   mutable std::mutex info_mutex_;  // guards the fields below (the network thread reads them)
@@ -94,6 +119,9 @@ class ProtocolAdapter {
   // validated against it meets it at the servo
   std::shared_ptr<const scene::SceneModel> edit_model_;
   std::uint64_t edit_generation_ = 0;
+  SceneBytes scene_bytes_;
+  std::uint64_t glb_generation_ = 0;  // of glb_ (web thread)
+  std::shared_ptr<const std::vector<std::uint8_t>> glb_;
   std::uint64_t edit_batches_ = 0;   // network thread: batches numbered for the log
   std::unique_ptr<EditBatch> edit_;  // network thread: scratch (too big for the stack)
   std::mutex upload_mutex_;

@@ -92,7 +92,8 @@ Result<bool> SceneBuilder::startUpload(proto::SceneUploadDone upload,
       f.built = std::move(built.value());
     else
       f.error = built.error().message;
-    up.bytes = {};  // the model holds what it needs
+    if (!built)
+      up.bytes = {};  // else kept: the daemon hands the running scene's bytes to viewers
     f.upload = std::move(up);
   });
 }

@@ -89,6 +89,6 @@ class SceneBuilder {
 };
 
 /// Sections a reload does not change (they take effect at restart).
-inline constexpr std::string_view kRestartOnlySections[] = {"servo", "device", "network"};
+inline constexpr std::string_view kRestartOnlySections[] = {"servo", "device", "network", "web"};
 
 }  // namespace hapticd::daemon

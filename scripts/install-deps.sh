@@ -27,7 +27,24 @@ PACKAGES=(
   gnuplot-nox                         # plots of the accuracy study
   help2man                            # hapticd(8), hapticctl(1) from their --help
   lintian                             # scripts/package.sh --check: the Debian package's lint
+  libboost-dev                        # the web API: Boost.Beast (HTTP, WebSocket), header-only
+  chromium                            # the viewer's browser test (web.viewer, Playwright drives it)
 )
+
+# the viewer's npm packages (web/package.json: three.js; playwright-core for its test), when npm
+# is there; without them the viewer's page has no 3-D view and web.viewer is skipped
+npm_install() {
+  local web_dir
+  web_dir="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)/web"
+  if [[ ! -d "$web_dir/node_modules/three" ]]; then
+    if command -v npm >/dev/null; then
+      echo "install-deps: npm install in $web_dir"
+      (cd "$web_dir" && npm install --no-audit --no-fund)
+    else
+      echo "install-deps: npm not found: the viewer's three.js is not installed (web/package.json)"
+    fi
+  fi
+}
 
 if [[ "${1:-}" == "--print" ]]; then
   printf '%s\n' "${PACKAGES[@]}"
@@ -43,6 +60,7 @@ done
 
 if [[ ${#missing[@]} -eq 0 ]]; then
   echo "install-deps: all ${#PACKAGES[@]} packages present"
+  npm_install
   exit 0
 fi
 
@@ -52,4 +70,5 @@ if [[ $(id -u) -ne 0 ]]; then SUDO="sudo"; fi
 export DEBIAN_FRONTEND=noninteractive
 $SUDO apt-get update -qq
 $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
+npm_install
 echo "install-deps: done"
