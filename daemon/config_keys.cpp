@@ -187,6 +187,10 @@ const ConfigKey kKeys[] = {
      "",
      "usb device (Falcon): the Novint firmware file loaded into a Falcon that does not answer "
      "(after power-up); empty never loads one (the Falcon must have its firmware already)."},
+    {"device", "forcedimension_library", HAPTICD_FIELD(device.options.forcedimension_library),
+     kNoRange, "",
+     "forcedimension device: the Force Dimension DHD library to load (a path or a library "
+     "name); empty uses $HAPTICD_DHD_LIBRARY, else libdhd.so and libdhd.so.3 from the SDK."},
 
     // [response]
     {"response", "stiffness_n_per_m", HAPTICD_FIELD(response.sim.response.stiffness_n_per_m),

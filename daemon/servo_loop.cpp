@@ -351,7 +351,11 @@ device::DeviceStatus ServoLoop::readDevice(double t_s, device::DeviceSample& sam
   const device::DeviceStatus status = device_.read(t_s, sample);
   if (status == device::DeviceStatus::kEndOfStream)
     return status;
-  const bool connected = status == device::DeviceStatus::kOk;
+  // a device fault: connected (the sample is its last good one), the device fault latched
+  const bool connected =
+      status == device::DeviceStatus::kOk || status == device::DeviceStatus::kFault;
+  if (status == device::DeviceStatus::kFault && latch(kFaultDevice))
+    emit(ServoEventKind::kDeviceFault);
   if (!connected && status == device::DeviceStatus::kLost && s_.device_connected) {
     ++s_.device_lost_count;
     emit(ServoEventKind::kDeviceLost);
@@ -385,6 +389,18 @@ void ServoLoop::fadeOutputGain() noexcept {
     const double fade_s = s_.faults != 0 ? options_.fault_fade_s : options_.stop_ramp_s;
     const double step = fade_s > 0.0 ? period_s_ / fade_s : 1.0;
     s_.output_gain = std::max(0.0, s_.output_gain - step);
+  }
+}
+
+void ServoLoop::syncDeviceHold(bool after_write) noexcept {
+  // held: the output is held at zero and a zero force and torque have been written; live again
+  // is told before the write (so that the tick's force is displayed), held after it
+  const bool hold_zero = s_.faults != 0 || !s_.armed || s_.stopping;
+  const bool zero_written = last_force_D_ == geom::Vec3(0.0) && last_torque_D_ == geom::Vec3(0.0);
+  const int held = hold_zero && s_.output_gain == 0.0 && zero_written ? 1 : 0;
+  if (held != device_held_ && (held == 1) == after_write) {
+    device_held_ = held;
+    device_.setOutputHeld(held == 1);
   }
 }
 
@@ -473,7 +489,7 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   const device::DeviceStatus status = readDevice(t_s, sample);
   if (status == device::DeviceStatus::kEndOfStream)
     return endStream(t0, tick_ns);
-  const bool connected = status == device::DeviceStatus::kOk;
+  const bool connected = status != device::DeviceStatus::kLost;
 
   sim::TickOutput out;
   if (current_ != nullptr) {
@@ -485,7 +501,9 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
     out = current_->sim->step(in);
   }
   fadeOutputGain();
+  syncDeviceHold(false);
   writeOutput(out, connected);
+  syncDeviceHold(true);
   updateState(out, t_s, period_index);
 
   ++s_.tick;
@@ -597,6 +615,10 @@ std::string describe(const ServoEvent& e) {
       return "scene edit refused" + at + ": " + editListName(e.c) + " entry for body " +
              std::to_string(e.a) + ": " + sim::toString(static_cast<sim::EditStatus>(e.b)) +
              " (the rest of its update was applied)";
+    case ServoEventKind::kDeviceFault:
+      return "fault latched" + at +
+             ": device: the device reported an error (or came back after a loss); force fades "
+             "to zero until re-armed";
     case ServoEventKind::kEditBatchDropped:
       return "scene update " + std::to_string(e.c) + " dropped" + at +
              ": validated against scene generation " + std::to_string(e.a) +

@@ -1,6 +1,7 @@
 #include <string>
 
 #include "daemon/device/device.h"
+#include "daemon/device/forcedimension_device.h"
 #include "daemon/device/hid_device.h"
 #include "daemon/device/replay_device.h"
 #include "daemon/device/sim_device.h"
@@ -20,6 +21,8 @@ Result<std::unique_ptr<Device>> makeDevice(std::string_view spec, const DeviceOp
       return makeReplayDevice(s.arg, options);
     case DeviceSpec::Backend::kHid:
       return makeHidDevice(s.arg, options);
+    case DeviceSpec::Backend::kForceDimension:
+      return makeForceDimensionDevice(std::stoi(s.arg), options);
     case DeviceSpec::Backend::kUsb:
       break;
   }

@@ -23,6 +23,11 @@
 #include "tests/daemon/alloc_counter.h"
 #include "tests/daemon/fakes.h"
 
+#ifdef HAPTICD_FAKE_DHD
+#include "daemon/device/dhd_api.h"
+#include "daemon/device/forcedimension_device.h"
+#include "tests/daemon/device/fake_dhd.h"
+#endif
 #ifdef HAPTICD_HAVE_REAL_BACKENDS
 #include "core/scene/loader.h"
 #include "scenes/demo_scenes.h"
@@ -270,6 +275,35 @@ TEST(ServoAllocation, NoneOnTheServoThreadWithEditsListsAndSharedMemory) {
   ASSERT_TRUE(client.value().readState(shm));
   EXPECT_EQ(shm.tick, kTicks);
 }
+
+#ifdef HAPTICD_FAKE_DHD
+// The forcedimension backend over the fake DHD library (tests/daemon/device/fake_dhd.cpp): reads,
+// writes, device faults (latched, faded, braked) and re-arms (forces on again) on the servo
+// thread, every 1000th command an arm.
+TEST(ServoAllocation, NoneOnTheServoThreadWithTheForceDimensionDevice) {
+  FakeDhd fake(HAPTICD_FAKE_DHD);
+  fake.reset(1, 104);
+  const double p[3] = {0.0, 0.0, -0.002};  // in contact with the fake wall
+  const double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  fake.set_pose(0, p, R);
+  auto api = device::dhd::loadApi(HAPTICD_FAKE_DHD);
+  ASSERT_TRUE(api.ok()) << api.error().message;
+  auto device = device::ForceDimensionDevice::open(api.value(), 0, device::DeviceOptions{});
+  ASSERT_TRUE(device.ok()) << device.error().message;
+  fake.fail(0, device::dhd::kError, 1);  // a device fault at the first read
+  VirtualClock clock;
+  ServoOptions options;
+  options.max_ticks = kTicks;
+  options.record = true;
+  options.wait_for_record_space = true;
+  ServoLoop loop(options, clock, *device.value(), fakeScene(1));
+  const Counts c = runCounted(loop, true, &fakeScene);
+  EXPECT_EQ(c.exit, ServoExit::kMaxTicks);
+  EXPECT_EQ(c.servo_allocations, 0u);
+  EXPECT_GE(loop.state().fault_latches, 1u);
+  EXPECT_GT(fake.state(0).force_calls, 0u);  // live again after an arm
+}
+#endif
 
 TEST(ServoAllocation, TheHookCountsThisThreadsAllocations) {
   // the hook must see an allocation, or the zeros above prove nothing
