@@ -4,8 +4,6 @@
 #include <cmath>
 #include <string>
 
-#include "core/geometry/rotation.h"
-
 namespace hapticd::device {
 
 namespace {
@@ -117,7 +115,7 @@ bool ForceDimensionDevice::reopen(std::string& error, bool after_loss) {
   }
   forces_on_.store(false, std::memory_order_relaxed);
   fault_pending_ = false;
-  has_previous_ = false;
+  velocity_.reset();
   // back after a loss: braked until the loop is re-armed (the first read reports a fault)
   rearm_pending_.store(after_loss, std::memory_order_relaxed);
   link_.markConnected();
@@ -156,18 +154,8 @@ DeviceStatus ForceDimensionDevice::read(double t_s, DeviceSample& out) noexcept 
     fault_pending_ = false;
     status = DeviceStatus::kFault;
   }
-  Vec3 v(0.0), w(0.0);
-  if (has_previous_ && t_s > previous_t_s_) {
-    const double dt = t_s - previous_t_s_;
-    v = (last_X_.translation - previous_X_.translation) / dt;
-    w = geom::rotationVector(last_X_.rotation * glm::conjugate(previous_X_.rotation)) / dt;
-  }
-  has_previous_ = true;
-  previous_t_s_ = t_s;
-  previous_X_ = last_X_;
+  velocity_.update(t_s, last_X_, out.linear_velocity, out.angular_velocity);
   out.X_WD = last_X_;
-  out.linear_velocity = v;
-  out.angular_velocity = w;
   out.buttons = buttons_;
   out.gripper_rad = gripper_rad_;
   return status;

@@ -18,6 +18,7 @@
 
 #include "daemon/device/connection.h"
 #include "daemon/device/dhd_api.h"
+#include "daemon/device/pose_velocity.h"
 
 namespace hapticd::device {
 
@@ -75,9 +76,7 @@ class ForceDimensionDevice final : public HotplugDevice {
   std::atomic<std::uint64_t> faults_{0};
   // servo-thread state
   bool fault_pending_ = false;  // a write failed with a non-loss error: the next read says so
-  bool has_previous_ = false;
-  double previous_t_s_ = 0.0;
-  Pose previous_X_{};
+  PoseVelocity velocity_;
   Pose last_X_{};
   std::uint32_t buttons_ = 0;
   double gripper_rad_ = 0.0;
