@@ -365,6 +365,8 @@ std::optional<int> Daemon::start(sigset_t& signals) {
   // 5. clock and servo loop (rings allocated here, before the loop starts)
   if (virtual_clock)
     clock_ = std::make_unique<VirtualClock>();
+  else if (device_->ownsClock())
+    clock_ = std::make_unique<DeviceClock>();  // the device's scheduler runs the ticks
   else
     clock_ = std::make_unique<MonotonicClock>();
   ServoOptions servo = toServoOptions(config_, device_->info());

@@ -529,54 +529,65 @@ void ServoLoop::prepareServoThread() {
 ServoExit ServoLoop::run() noexcept {
   s_.running = true;
   state_.write(s_);
-  std::uint64_t period_index = 0;
-  std::int64_t deadline = clock_.nowNs();
-  ServoExit exit = ServoExit::kStopped;
-  for (;;) {
-    clock_.sleepUntilNs(deadline);
-    const std::int64_t wake = clock_.nowNs();
-    lateness_.add(wake - deadline);
-
-    std::int64_t tick_ns = 0;
-    tick(period_index, tick_ns);
-    compute_.add(tick_ns);
-
-    // overrun: the tick ended past the next deadline. The periods it ran into are skipped (the
-    // next tick is the first whose deadline is still ahead), never queued.
-    const std::int64_t end = clock_.nowNs();
-    std::int64_t next = deadline + period_ns_;
-    if (end > next) {
-      const std::int64_t late_periods = (end - next) / period_ns_ + 1;
-      next += late_periods * period_ns_;
-      period_index += static_cast<std::uint64_t>(late_periods);
-      s_.skipped_periods += static_cast<std::uint64_t>(late_periods);
-      ++s_.overruns;
-      ++s_.consecutive_misses;
-      if (s_.consecutive_misses >= options_.miss_fault_count && latch(kFaultMisses))
-        emit(ServoEventKind::kMissFault, s_.consecutive_misses);
-      state_.write(s_);
-    } else {
-      s_.consecutive_misses = 0;
-    }
-    ++period_index;
-    deadline = next;
-
-    if (end_of_stream_) {
-      exit = ServoExit::kEndOfStream;
-      break;
-    }
-    if (stop_done_) {
-      exit = ServoExit::kStopped;
-      break;
-    }
-    if (options_.max_ticks != 0 && s_.tick >= options_.max_ticks) {
-      exit = ServoExit::kMaxTicks;
-      break;
+  run_period_index_ = 0;
+  run_deadline_ = clock_.nowNs();
+  run_exit_ = ServoExit::kStopped;
+  // a device that owns the clock runs the periods from its own scheduler; the others, here
+  if (!device_.runClocked(&ServoLoop::clockedTick, this)) {
+    while (runPeriod()) {
     }
   }
   s_.running = false;
   state_.write(s_);
-  return exit;
+  return run_exit_;
+}
+
+bool ServoLoop::clockedTick(void* self) noexcept {
+  return static_cast<ServoLoop*>(self)->runPeriod();
+}
+
+bool ServoLoop::runPeriod() noexcept {
+  clock_.sleepUntilNs(run_deadline_);
+  const std::int64_t wake = clock_.nowNs();
+  lateness_.add(wake - run_deadline_);
+
+  std::int64_t tick_ns = 0;
+  tick(run_period_index_, tick_ns);
+  compute_.add(tick_ns);
+
+  // overrun: the tick ended past the next deadline. The periods it ran into are skipped (the
+  // next tick is the first whose deadline is still ahead), never queued.
+  const std::int64_t end = clock_.nowNs();
+  std::int64_t next = run_deadline_ + period_ns_;
+  if (end > next) {
+    const std::int64_t late_periods = (end - next) / period_ns_ + 1;
+    next += late_periods * period_ns_;
+    run_period_index_ += static_cast<std::uint64_t>(late_periods);
+    s_.skipped_periods += static_cast<std::uint64_t>(late_periods);
+    ++s_.overruns;
+    ++s_.consecutive_misses;
+    if (s_.consecutive_misses >= options_.miss_fault_count && latch(kFaultMisses))
+      emit(ServoEventKind::kMissFault, s_.consecutive_misses);
+    state_.write(s_);
+  } else {
+    s_.consecutive_misses = 0;
+  }
+  ++run_period_index_;
+  run_deadline_ = next;
+
+  if (end_of_stream_) {
+    run_exit_ = ServoExit::kEndOfStream;
+    return false;
+  }
+  if (stop_done_) {
+    run_exit_ = ServoExit::kStopped;
+    return false;
+  }
+  if (options_.max_ticks != 0 && s_.tick >= options_.max_ticks) {
+    run_exit_ = ServoExit::kMaxTicks;
+    return false;
+  }
+  return true;
 }
 
 std::string describe(const ServoEvent& e) {

@@ -286,6 +286,10 @@ class ServoLoop {
   /// The loop, until stopped (after its ramp), the end of a replay stream, or max_ticks.
   /// Servo thread. A scene swapped in during the run is prepared at its tick boundary, which
   /// allocates only when it holds a larger polytope than any this thread has seen.
+  /// With a device that owns the clock (device::Device::ownsClock(), openhaptics) each tick runs
+  /// inside the device's scheduler callback (the device's thread is then the servo thread), with
+  /// the same tick, guards and figures; the Clock given to the loop should then not sleep
+  /// (DeviceClock).
   HAPTICD_SERVO_THREAD ServoExit run() noexcept;
 
   /// Any thread: ramp the force to zero, then leave run().
@@ -329,6 +333,9 @@ class ServoLoop {
   const ServoScene* currentScene() const { return current_; }
 
  private:
+  // one period of run(): wait for the deadline, tick, count overruns; false when run() ends
+  HAPTICD_SERVO_THREAD bool runPeriod() noexcept;
+  HAPTICD_SERVO_THREAD static bool clockedTick(void* self) noexcept;
   // one tick, in order: takeInputs, readDevice, step, fadeOutputGain, writeOutput, updateState,
   // publish, pushRecords
   HAPTICD_SERVO_THREAD void tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept;
@@ -401,6 +408,9 @@ class ServoLoop {
   geom::Vec3 last_force_D_{0.0};
   geom::Vec3 last_torque_D_{0.0};
   double fade_per_tick_ = 0.0;
+  std::uint64_t run_period_index_ = 0;  // run()'s state (runPeriod())
+  std::int64_t run_deadline_ = 0;
+  ServoExit run_exit_ = ServoExit::kStopped;
   int device_held_ = -1;  // what the device was last told (setOutputHeld); -1: nothing yet
   bool end_of_stream_ = false;
   bool stop_done_ = false;

@@ -1,8 +1,8 @@
 #pragma once
 /// \file
 /// The haptic device behind one interface: pose and buttons in, force and torque out, limits,
-/// capabilities. Backends: `sim` (default), `replay:FILE`, `hid`, `usb`, `forcedimension`
-/// (daemon/device/*.cpp).
+/// capabilities. Backends: `sim` (default), `replay:FILE`, `hid`, `usb`, `forcedimension`,
+/// `openhaptics` (daemon/device/*.cpp).
 ///
 /// This header is the contract between the device backends and the servo loop: members may be
 /// added, none renamed or removed.
@@ -111,6 +111,18 @@ class Device {
   /// and at every change. Devices with brakes engage them while held (forcedimension); the
   /// others ignore it. Servo thread.
   virtual void setOutputHeld(bool /*held*/) noexcept {}
+
+  /// One tick of the loop, run by a device that owns the clock; false ends the run.
+  using ClockedTick = bool (*)(void* context) noexcept;
+  /// True for a device whose own servo scheduler paces the loop (openhaptics): the loop's tick
+  /// then runs inside the device's scheduler callback (runClocked()). Any thread.
+  virtual bool ownsClock() const noexcept { return false; }
+  /// Devices that own the clock: calls `tick(context)` once per device tick, from the device's
+  /// scheduler (where read(), write() and setOutputHeld() are then called), until it returns
+  /// false, and returns true then; false when the scheduler could not run (the loop then runs
+  /// on its own clock). The others return false at once. Called by ServoLoop::run() on the servo
+  /// thread, which waits in it.
+  virtual bool runClocked(ClockedTick /*tick*/, void* /*context*/) noexcept { return false; }
   /// Hotplug and reconnection work; called about every 100 ms from a normal thread. Returns true
   /// while the device is connected. Must not race read()/write(): backends hand state over with
   /// atomics only.
@@ -172,14 +184,18 @@ struct DeviceOptions {
   /// empty: $HAPTICD_DHD_LIBRARY when set, else the names the SDK installs (libdhd.so,
   /// libdhd.so.3).
   std::string forcedimension_library;
+
+  /// openhaptics: the OpenHaptics HD library to load (a path or a name for dlopen); empty:
+  /// $HAPTICD_HD_LIBRARY when set, else libHD.so, libHD.so.3.4.
+  std::string openhaptics_library;
 };
 
 /// A device spec taken apart: the backend and its argument.
 struct DeviceSpec {
-  enum class Backend : std::uint8_t { kSim, kReplay, kHid, kUsb, kForceDimension };
+  enum class Backend : std::uint8_t { kSim, kReplay, kHid, kUsb, kForceDimension, kOpenHaptics };
   Backend backend = Backend::kSim;
   /// replay: the file; hid: the hidraw path or ""; usb: "falcon" or ""; forcedimension: the
-  /// device index ("" is 0)
+  /// device index ("" is 0); openhaptics: the device's configured name ("": the default)
   std::string arg;
   /// Opening it has no effect outside the process (sim, replay): `hapticd --check-config` opens
   /// such a device; hid and usb are checked by their spec only (opening one would take it from
@@ -191,7 +207,7 @@ struct DeviceSpec {
 inline constexpr int kMaxForceDimensionIndex = 15;
 
 /// Checks a spec: "sim", "replay:FILE", "hid", "hid:PATH", "usb", "usb:falcon",
-/// "forcedimension", "forcedimension:INDEX" (0-15). Any thread.
+/// "forcedimension", "forcedimension:INDEX" (0-15), "openhaptics", "openhaptics:NAME". Any thread.
 /// Errors name the spec and what is wrong.
 Result<DeviceSpec> parseDeviceSpec(std::string_view spec);
 

@@ -9,7 +9,7 @@ namespace hapticd::device {
 Result<DeviceSpec> parseDeviceSpec(std::string_view spec) {
   constexpr const char* kKnown =
       "(known: sim, replay:FILE, hid, hid:PATH, usb, usb:falcon, forcedimension, "
-      "forcedimension:INDEX)";
+      "forcedimension:INDEX, openhaptics, openhaptics:NAME)";
   const std::string quoted = "'" + std::string(spec) + "'";
   const auto colon = spec.find(':');
   const std::string_view backend = spec.substr(0, colon);
@@ -46,6 +46,12 @@ Result<DeviceSpec> parseDeviceSpec(std::string_view spec) {
     }
     out.arg = std::to_string(index);
     out.backend = DeviceSpec::Backend::kForceDimension;
+  } else if (backend == "openhaptics") {
+    if (has_arg && out.arg.empty())
+      return Error{"device " + quoted +
+                   ": 'openhaptics:' needs the device's configured name (openhaptics:NAME) or "
+                   "none (openhaptics: the default device)"};
+    out.backend = DeviceSpec::Backend::kOpenHaptics;
   } else if (spec.empty()) {
     return Error{std::string("device '': empty spec ") + kKnown};
   } else {

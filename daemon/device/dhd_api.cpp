@@ -14,11 +14,7 @@ Result<Api> loadApi(const std::string& configured) {
                  kInstall};
   const VendorLibrary& l = lib.value();
   Api a{};
-  std::string missing;
-  auto need = [&](auto*& fn, const char* name) {
-    if (!l.bind(fn, name))
-      missing += (missing.empty() ? "" : ", ") + std::string(name);
-  };
+  SymbolBinder need(l);
   need(a.getDeviceCount, "dhdGetDeviceCount");
   need(a.openID, "dhdOpenID");
   need(a.close, "dhdClose");
@@ -40,7 +36,7 @@ Result<Api> loadApi(const std::string& configured) {
   need(a.setForceAndTorqueAndGripperForce, "dhdSetForceAndTorqueAndGripperForce");
   need(a.errorGetLast, "dhdErrorGetLast");
   need(a.errorGetLastStr, "dhdErrorGetLastStr");
-  if (!missing.empty())
+  if (const std::string& missing = need.missing(); !missing.empty())
     return Error{"the Force Dimension DHD library '" + l.path() + "' lacks " + missing +
                  " (an SDK older than 3.3?); " + kInstall};
   return a;

@@ -3,6 +3,7 @@
 #include "daemon/device/device.h"
 #include "daemon/device/forcedimension_device.h"
 #include "daemon/device/hid_device.h"
+#include "daemon/device/openhaptics_device.h"
 #include "daemon/device/replay_device.h"
 #include "daemon/device/sim_device.h"
 #include "daemon/device/usb_device.h"
@@ -23,6 +24,8 @@ Result<std::unique_ptr<Device>> makeDevice(std::string_view spec, const DeviceOp
       return makeHidDevice(s.arg, options);
     case DeviceSpec::Backend::kForceDimension:
       return makeForceDimensionDevice(std::stoi(s.arg), options);
+    case DeviceSpec::Backend::kOpenHaptics:
+      return makeOpenHapticsDevice(s.arg, options);
     case DeviceSpec::Backend::kUsb:
       break;
   }

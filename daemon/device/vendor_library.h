@@ -46,4 +46,21 @@ class VendorLibrary {
   std::string path_;
 };
 
+/// Binds a vendor library's functions by name, collecting the names that are missing.
+class SymbolBinder {
+ public:
+  explicit SymbolBinder(const VendorLibrary& library) : library_(library) {}
+  template <class Fn>
+  void operator()(Fn*& fn, const char* name) {
+    if (!library_.bind(fn, name))
+      missing_ += (missing_.empty() ? "" : ", ") + std::string(name);
+  }
+  /// The missing names, comma-separated ("" when all were found).
+  const std::string& missing() const { return missing_; }
+
+ private:
+  const VendorLibrary& library_;
+  std::string missing_;
+};
+
 }  // namespace hapticd::device
