@@ -31,6 +31,18 @@ class MonotonicClock final : public Clock {
   void sleepUntilNs(std::int64_t deadline_ns) noexcept override;
 };
 
+/// The clock of a device that owns it (device::Device::ownsClock(), openhaptics): the device's
+/// scheduler paces the ticks, so sleeping returns at once; now is CLOCK_MONOTONIC, so lateness
+/// and overruns are measured against the nominal period as on the daemon's own clock.
+class DeviceClock final : public Clock {
+ public:
+  std::int64_t nowNs() noexcept override { return monotonic_.nowNs(); }
+  void sleepUntilNs(std::int64_t /*deadline_ns*/) noexcept override {}
+
+ private:
+  MonotonicClock monotonic_;
+};
+
 /// Simulated time: starts at 0, jumps to each deadline at once.
 class VirtualClock final : public Clock {
  public:

@@ -196,6 +196,14 @@ const ConfigKey kKeys[] = {
      "",
      "usb device (Falcon): the Novint firmware file loaded into a Falcon that does not answer "
      "(after power-up); empty never loads one (the Falcon must have its firmware already)."},
+    {"device", "forcedimension_library", HAPTICD_FIELD(device.options.forcedimension_library),
+     kNoRange, "",
+     "forcedimension device: the Force Dimension DHD library to load (a path or a library "
+     "name); empty uses $HAPTICD_DHD_LIBRARY, else libdhd.so and libdhd.so.3 from the SDK."},
+    {"device", "openhaptics_library", HAPTICD_FIELD(device.options.openhaptics_library),
+     kNoRange, "",
+     "openhaptics device: the OpenHaptics HD library to load (a path or a library name); empty "
+     "uses $HAPTICD_HD_LIBRARY, else libHD.so and libHD.so.3.4."},
 
     // [response]
     {"response", "stiffness_n_per_m", HAPTICD_FIELD(response.sim.response.stiffness_n_per_m),

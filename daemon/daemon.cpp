@@ -245,7 +245,8 @@ void Daemon::drainEvents() {
         e.kind == ServoEventKind::kMissFault || e.kind == ServoEventKind::kNonFiniteForce ||
         e.kind == ServoEventKind::kStreamLost || e.kind == ServoEventKind::kDeviceLost ||
         e.kind == ServoEventKind::kRecordDropped || e.kind == ServoEventKind::kDeviceWriteFailed ||
-        e.kind == ServoEventKind::kEditRefused || e.kind == ServoEventKind::kEditBatchDropped;
+        e.kind == ServoEventKind::kEditRefused || e.kind == ServoEventKind::kEditBatchDropped ||
+        e.kind == ServoEventKind::kDeviceFault;
     logLine(bad ? LogLevel::kWarning : LogLevel::kInfo, describe(e));
   }
 }
@@ -256,7 +257,7 @@ void Daemon::writeStatus(const char* phase) {
   const ServoState st = loop_->state();
   const StatusFacts facts{.phase = phase,
                           .config = &config_,
-                          .device = device_->info().name,
+                          .device = device::describeDevice(device_->info()),
                           .scene = scene_name_,
                           .offered_generation = generation_,
                           .memory_locked = process_rt_.memory_locked,
@@ -378,11 +379,13 @@ std::optional<int> Daemon::start(sigset_t& signals) {
     return kExitFailure;
   }
   device_ = std::move(device.value());
-  logInfo("device: " + device_->info().name);
+  logInfo("device: " + device::describeDevice(device_->info()));
 
   // 5. clock and servo loop (rings allocated here, before the loop starts)
   if (virtual_clock)
     clock_ = std::make_unique<VirtualClock>();
+  else if (device_->ownsClock())
+    clock_ = std::make_unique<DeviceClock>();  // the device's scheduler runs the ticks
   else
     clock_ = std::make_unique<MonotonicClock>();
   ServoOptions servo = toServoOptions(config_, device_->info());
@@ -392,7 +395,7 @@ std::optional<int> Daemon::start(sigset_t& signals) {
   servo.max_ticks = cli_.ticks;
   loop_ = std::make_unique<ServoLoop>(servo, *clock_, *device_, nullptr);
   adapter_ = std::make_unique<ProtocolAdapter>(*loop_);
-  adapter_->setDevice(device_->info().name);
+  adapter_->setDevice(device::describeDevice(device_->info()));
 
   // 6. record writer (files opened now: a bad path fails start-up)
   if (servo.record || servo.record_bodies) {

@@ -351,7 +351,11 @@ device::DeviceStatus ServoLoop::readDevice(double t_s, device::DeviceSample& sam
   const device::DeviceStatus status = device_.read(t_s, sample);
   if (status == device::DeviceStatus::kEndOfStream)
     return status;
-  const bool connected = status == device::DeviceStatus::kOk;
+  // a device fault: connected (the sample is its last good one), the device fault latched
+  const bool connected =
+      status == device::DeviceStatus::kOk || status == device::DeviceStatus::kFault;
+  if (status == device::DeviceStatus::kFault && latch(kFaultDevice))
+    emit(ServoEventKind::kDeviceFault);
   if (!connected && status == device::DeviceStatus::kLost && s_.device_connected) {
     ++s_.device_lost_count;
     emit(ServoEventKind::kDeviceLost);
@@ -385,6 +389,18 @@ void ServoLoop::fadeOutputGain() noexcept {
     const double fade_s = s_.faults != 0 ? options_.fault_fade_s : options_.stop_ramp_s;
     const double step = fade_s > 0.0 ? period_s_ / fade_s : 1.0;
     s_.output_gain = std::max(0.0, s_.output_gain - step);
+  }
+}
+
+void ServoLoop::syncDeviceHold(bool after_write) noexcept {
+  // held: the output is held at zero and a zero force and torque have been written; live again
+  // is told before the write (so that the tick's force is displayed), held after it
+  const bool hold_zero = s_.faults != 0 || !s_.armed || s_.stopping;
+  const bool zero_written = last_force_D_ == geom::Vec3(0.0) && last_torque_D_ == geom::Vec3(0.0);
+  const int held = hold_zero && s_.output_gain == 0.0 && zero_written ? 1 : 0;
+  if (held != device_held_ && (held == 1) == after_write) {
+    device_held_ = held;
+    device_.setOutputHeld(held == 1);
   }
 }
 
@@ -473,7 +489,7 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   const device::DeviceStatus status = readDevice(t_s, sample);
   if (status == device::DeviceStatus::kEndOfStream)
     return endStream(t0, tick_ns);
-  const bool connected = status == device::DeviceStatus::kOk;
+  const bool connected = status != device::DeviceStatus::kLost;
 
   sim::TickOutput out;
   if (current_ != nullptr) {
@@ -485,7 +501,9 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
     out = current_->sim->step(in);
   }
   fadeOutputGain();
+  syncDeviceHold(false);
   writeOutput(out, connected);
+  syncDeviceHold(true);
   updateState(out, t_s, period_index);
 
   ++s_.tick;
@@ -511,54 +529,65 @@ void ServoLoop::prepareServoThread() {
 ServoExit ServoLoop::run() noexcept {
   s_.running = true;
   state_.write(s_);
-  std::uint64_t period_index = 0;
-  std::int64_t deadline = clock_.nowNs();
-  ServoExit exit = ServoExit::kStopped;
-  for (;;) {
-    clock_.sleepUntilNs(deadline);
-    const std::int64_t wake = clock_.nowNs();
-    lateness_.add(wake - deadline);
-
-    std::int64_t tick_ns = 0;
-    tick(period_index, tick_ns);
-    compute_.add(tick_ns);
-
-    // overrun: the tick ended past the next deadline. The periods it ran into are skipped (the
-    // next tick is the first whose deadline is still ahead), never queued.
-    const std::int64_t end = clock_.nowNs();
-    std::int64_t next = deadline + period_ns_;
-    if (end > next) {
-      const std::int64_t late_periods = (end - next) / period_ns_ + 1;
-      next += late_periods * period_ns_;
-      period_index += static_cast<std::uint64_t>(late_periods);
-      s_.skipped_periods += static_cast<std::uint64_t>(late_periods);
-      ++s_.overruns;
-      ++s_.consecutive_misses;
-      if (s_.consecutive_misses >= options_.miss_fault_count && latch(kFaultMisses))
-        emit(ServoEventKind::kMissFault, s_.consecutive_misses);
-      state_.write(s_);
-    } else {
-      s_.consecutive_misses = 0;
-    }
-    ++period_index;
-    deadline = next;
-
-    if (end_of_stream_) {
-      exit = ServoExit::kEndOfStream;
-      break;
-    }
-    if (stop_done_) {
-      exit = ServoExit::kStopped;
-      break;
-    }
-    if (options_.max_ticks != 0 && s_.tick >= options_.max_ticks) {
-      exit = ServoExit::kMaxTicks;
-      break;
+  run_period_index_ = 0;
+  run_deadline_ = clock_.nowNs();
+  run_exit_ = ServoExit::kStopped;
+  // a device that owns the clock runs the periods from its own scheduler; the others, here
+  if (!device_.runClocked(&ServoLoop::clockedTick, this)) {
+    while (runPeriod()) {
     }
   }
   s_.running = false;
   state_.write(s_);
-  return exit;
+  return run_exit_;
+}
+
+bool ServoLoop::clockedTick(void* self) noexcept {
+  return static_cast<ServoLoop*>(self)->runPeriod();
+}
+
+bool ServoLoop::runPeriod() noexcept {
+  clock_.sleepUntilNs(run_deadline_);
+  const std::int64_t wake = clock_.nowNs();
+  lateness_.add(wake - run_deadline_);
+
+  std::int64_t tick_ns = 0;
+  tick(run_period_index_, tick_ns);
+  compute_.add(tick_ns);
+
+  // overrun: the tick ended past the next deadline. The periods it ran into are skipped (the
+  // next tick is the first whose deadline is still ahead), never queued.
+  const std::int64_t end = clock_.nowNs();
+  std::int64_t next = run_deadline_ + period_ns_;
+  if (end > next) {
+    const std::int64_t late_periods = (end - next) / period_ns_ + 1;
+    next += late_periods * period_ns_;
+    run_period_index_ += static_cast<std::uint64_t>(late_periods);
+    s_.skipped_periods += static_cast<std::uint64_t>(late_periods);
+    ++s_.overruns;
+    ++s_.consecutive_misses;
+    if (s_.consecutive_misses >= options_.miss_fault_count && latch(kFaultMisses))
+      emit(ServoEventKind::kMissFault, s_.consecutive_misses);
+    state_.write(s_);
+  } else {
+    s_.consecutive_misses = 0;
+  }
+  ++run_period_index_;
+  run_deadline_ = next;
+
+  if (end_of_stream_) {
+    run_exit_ = ServoExit::kEndOfStream;
+    return false;
+  }
+  if (stop_done_) {
+    run_exit_ = ServoExit::kStopped;
+    return false;
+  }
+  if (options_.max_ticks != 0 && s_.tick >= options_.max_ticks) {
+    run_exit_ = ServoExit::kMaxTicks;
+    return false;
+  }
+  return true;
 }
 
 std::string describe(const ServoEvent& e) {
@@ -597,6 +626,10 @@ std::string describe(const ServoEvent& e) {
       return "scene edit refused" + at + ": " + editListName(e.c) + " entry for body " +
              std::to_string(e.a) + ": " + sim::toString(static_cast<sim::EditStatus>(e.b)) +
              " (the rest of its update was applied)";
+    case ServoEventKind::kDeviceFault:
+      return "fault latched" + at +
+             ": device: the device reported an error (or came back after a loss); force fades "
+             "to zero until re-armed";
     case ServoEventKind::kEditBatchDropped:
       return "scene update " + std::to_string(e.c) + " dropped" + at +
              ": validated against scene generation " + std::to_string(e.a) +

@@ -104,6 +104,7 @@ enum FaultBits : std::uint32_t {
   kFaultStreamLost = proto::kFaultStreamLost,  ///< "stream_lost": a client's pose stream stopped
   kFaultNonFinite = proto::kFaultNotFinite,    ///< "not_finite": a non-finite force or torque
   kFaultMisses = proto::kFaultTickOverrun,     ///< "tick_overrun": miss_fault_count overruns
+  kFaultDevice = proto::kFaultDevice,          ///< "device": the device reported an error (kFault)
 };
 
 /// The state block, published once per tick through the seqlock. Scene frame, SI units.
@@ -252,6 +253,7 @@ enum class ServoEventKind : std::uint8_t {
   kDeviceWriteFailed,
   kEditRefused,       ///< a = body, b = sim::EditStatus, c = list (0 poses, 1 added, 2 removed)
   kEditBatchDropped,  ///< a = the batch's generation, b = the running generation, c = batch id
+  kDeviceFault,       ///< the device reported an error or came back (DeviceStatus::kFault)
 };
 
 struct ServoEvent {
@@ -284,6 +286,10 @@ class ServoLoop {
   /// The loop, until stopped (after its ramp), the end of a replay stream, or max_ticks.
   /// Servo thread. A scene swapped in during the run is prepared at its tick boundary, which
   /// allocates only when it holds a larger polytope than any this thread has seen.
+  /// With a device that owns the clock (device::Device::ownsClock(), openhaptics) each tick runs
+  /// inside the device's scheduler callback (the device's thread is then the servo thread), with
+  /// the same tick, guards and figures; the Clock given to the loop should then not sleep
+  /// (DeviceClock).
   HAPTICD_SERVO_THREAD ServoExit run() noexcept;
 
   /// Any thread: ramp the force to zero, then leave run().
@@ -327,6 +333,9 @@ class ServoLoop {
   const ServoScene* currentScene() const { return current_; }
 
  private:
+  // one period of run(): wait for the deadline, tick, count overruns; false when run() ends
+  HAPTICD_SERVO_THREAD bool runPeriod() noexcept;
+  HAPTICD_SERVO_THREAD static bool clockedTick(void* self) noexcept;
   // one tick, in order: takeInputs, readDevice, step, fadeOutputGain, writeOutput, updateState,
   // publish, pushRecords
   HAPTICD_SERVO_THREAD void tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept;
@@ -338,6 +347,9 @@ class ServoLoop {
   // the stream ended: zero force, no step, no record row
   HAPTICD_SERVO_THREAD void endStream(std::int64_t t0, std::int64_t& tick_ns) noexcept;
   HAPTICD_SERVO_THREAD void fadeOutputGain() noexcept;
+  // tells the device when the output is live (before the write) and when it is held at zero
+  // (after the write of a zero force)
+  HAPTICD_SERVO_THREAD void syncDeviceHold(bool after_write) noexcept;
   // the simulation's wrench through the gain, the workspace and the guard to the device
   HAPTICD_SERVO_THREAD void writeOutput(const sim::TickOutput& out, bool connected) noexcept;
   HAPTICD_SERVO_THREAD void updateState(const sim::TickOutput& out,
@@ -396,6 +408,10 @@ class ServoLoop {
   geom::Vec3 last_force_D_{0.0};
   geom::Vec3 last_torque_D_{0.0};
   double fade_per_tick_ = 0.0;
+  std::uint64_t run_period_index_ = 0;  // run()'s state (runPeriod())
+  std::int64_t run_deadline_ = 0;
+  ServoExit run_exit_ = ServoExit::kStopped;
+  int device_held_ = -1;  // what the device was last told (setOutputHeld); -1: nothing yet
   bool end_of_stream_ = false;
   bool stop_done_ = false;
   bool record_drop_reported_ = false;

@@ -1,7 +1,8 @@
 #pragma once
 /// \file
 /// The haptic device behind one interface: pose and buttons in, force and torque out, limits,
-/// capabilities. Backends: `sim` (default), `replay:FILE`, `hid`, `usb` (daemon/device/*.cpp).
+/// capabilities. Backends: `sim` (default), `replay:FILE`, `hid`, `usb`, `forcedimension`,
+/// `openhaptics` (daemon/device/*.cpp).
 ///
 /// This header is the contract between the device backends and the servo loop: members may be
 /// added, none renamed or removed.
@@ -43,7 +44,19 @@ struct DeviceInfo {
   std::string name;  ///< e.g. "sim", "replay:poses.csv", "hid 046d:c626 SpaceMouse Pro"
   std::uint32_t capabilities = 0;
   DeviceLimits limits;
+  /// Vendor devices: the model as the vendor's library names it (e.g. "sigma.7"), its serial
+  /// number ("" when unknown), and the degrees of freedom it senses and renders (e.g. 7 and 7 for
+  /// a sigma.7: position, orientation and gripper). Empty and 0 for the other backends.
+  std::string model;
+  std::string serial;
+  int sensing_dof = 0;
+  int force_dof = 0;
 };
+
+/// The device as status shows it: the name, and for vendor devices the model, serial, DOF of
+/// sensing and of force, and the limits, e.g. "forcedimension:0 sigma.7: serial 12345, sensing 7
+/// DOF, force 7 DOF, limits 20 N 0.4 N m". Any thread; allocates.
+std::string describeDevice(const DeviceInfo& info);
 
 /// One reading, in the device's workspace frame (metres, radians), before the workspace mapping.
 struct DeviceSample {
@@ -51,13 +64,20 @@ struct DeviceSample {
   Vec3 linear_velocity{0.0};
   Vec3 angular_velocity{0.0};
   std::uint32_t buttons = 0;
+  /// Devices with a gripper: its opening angle (radians; 0 for the others). The loop's
+  /// simulation has no gripper degree of freedom: it is reported, not rendered.
+  double gripper_rad = 0.0;
 };
 
 /// How a servo-thread call ended.
 enum class DeviceStatus : std::uint8_t {
   kOk,
-  kLost,        ///< not connected (removed, I/O error): the loop sets force to zero at once
-  kEndOfStream  ///< replay finished: the loop ends
+  kLost,         ///< not connected (removed, I/O error): the loop sets force to zero at once
+  kEndOfStream,  ///< replay finished: the loop ends
+  /// connected, but the device reported an error (or came back after a loss and must be
+  /// re-armed): the sample is the last good one; the loop latches its `device` fault, which
+  /// fades the force to zero until re-armed
+  kFault
 };
 
 /// A pose command from a client (protocol), handed to the device on the servo thread.
@@ -86,6 +106,23 @@ class Device {
   virtual DeviceStatus write(const Vec3& force_n, const Vec3& torque_nm) noexcept = 0;
   /// A client's pose command; devices without kCapPoseCommands ignore it. Servo thread.
   virtual void command(const PoseCommand& /*cmd*/) noexcept {}
+  /// The loop tells the device whether its output is held at zero (true: a latched fault or a
+  /// disarm after its fade, or a stop; false: forces are live). Called at the loop's first tick
+  /// and at every change. Devices with brakes engage them while held (forcedimension); the
+  /// others ignore it. Servo thread.
+  virtual void setOutputHeld(bool /*held*/) noexcept {}
+
+  /// One tick of the loop, run by a device that owns the clock; false ends the run.
+  using ClockedTick = bool (*)(void* context) noexcept;
+  /// True for a device whose own servo scheduler paces the loop (openhaptics): the loop's tick
+  /// then runs inside the device's scheduler callback (runClocked()). Any thread.
+  virtual bool ownsClock() const noexcept { return false; }
+  /// Devices that own the clock: calls `tick(context)` once per device tick, from the device's
+  /// scheduler (where read(), write() and setOutputHeld() are then called), until it returns
+  /// false, and returns true then; false when the scheduler could not run (the loop then runs
+  /// on its own clock). The others return false at once. Called by ServoLoop::run() on the servo
+  /// thread, which waits in it.
+  virtual bool runClocked(ClockedTick /*tick*/, void* /*context*/) noexcept { return false; }
   /// Hotplug and reconnection work; called about every 100 ms from a normal thread. Returns true
   /// while the device is connected. Must not race read()/write(): backends hand state over with
   /// atomics only.
@@ -142,20 +179,35 @@ struct DeviceOptions {
   /// usb (Falcon): the Novint firmware file to load into a Falcon that does not answer (after
   /// power-up); empty: never load (the Falcon must have its firmware already).
   std::string usb_falcon_firmware;
+
+  /// forcedimension: the Force Dimension DHD library to load (a path or a name for dlopen);
+  /// empty: $HAPTICD_DHD_LIBRARY when set, else the names the SDK installs (libdhd.so,
+  /// libdhd.so.3).
+  std::string forcedimension_library;
+
+  /// openhaptics: the OpenHaptics HD library to load (a path or a name for dlopen); empty:
+  /// $HAPTICD_HD_LIBRARY when set, else libHD.so, libHD.so.3.4.
+  std::string openhaptics_library;
 };
 
 /// A device spec taken apart: the backend and its argument.
 struct DeviceSpec {
-  enum class Backend : std::uint8_t { kSim, kReplay, kHid, kUsb };
+  enum class Backend : std::uint8_t { kSim, kReplay, kHid, kUsb, kForceDimension, kOpenHaptics };
   Backend backend = Backend::kSim;
-  std::string arg;  ///< replay: the file; hid: the hidraw path or ""; usb: "falcon" or ""
+  /// replay: the file; hid: the hidraw path or ""; usb: "falcon" or ""; forcedimension: the
+  /// device index ("" is 0); openhaptics: the device's configured name ("": the default)
+  std::string arg;
   /// Opening it has no effect outside the process (sim, replay): `hapticd --check-config` opens
   /// such a device; hid and usb are checked by their spec only (opening one would take it from
   /// a running daemon).
   bool openIsHarmless() const { return backend == Backend::kSim || backend == Backend::kReplay; }
 };
 
-/// Checks a spec: "sim", "replay:FILE", "hid", "hid:PATH", "usb", "usb:falcon". Any thread.
+/// The largest device index of forcedimension:INDEX.
+inline constexpr int kMaxForceDimensionIndex = 15;
+
+/// Checks a spec: "sim", "replay:FILE", "hid", "hid:PATH", "usb", "usb:falcon",
+/// "forcedimension", "forcedimension:INDEX" (0-15), "openhaptics", "openhaptics:NAME". Any thread.
 /// Errors name the spec and what is wrong.
 Result<DeviceSpec> parseDeviceSpec(std::string_view spec);
 

@@ -1,3 +1,5 @@
+#include <charconv>
+#include <cstdio>
 #include <string>
 
 #include "daemon/device/device.h"
@@ -5,7 +7,9 @@
 namespace hapticd::device {
 
 Result<DeviceSpec> parseDeviceSpec(std::string_view spec) {
-  constexpr const char* kKnown = "(known: sim, replay:FILE, hid, hid:PATH, usb, usb:falcon)";
+  constexpr const char* kKnown =
+      "(known: sim, replay:FILE, hid, hid:PATH, usb, usb:falcon, forcedimension, "
+      "forcedimension:INDEX, openhaptics, openhaptics:NAME)";
   const std::string quoted = "'" + std::string(spec) + "'";
   const auto colon = spec.find(':');
   const std::string_view backend = spec.substr(0, colon);
@@ -29,12 +33,42 @@ Result<DeviceSpec> parseDeviceSpec(std::string_view spec) {
       return Error{"device " + quoted + ": unknown usb device '" + out.arg +
                    "' (known: usb:falcon)"};
     out.backend = DeviceSpec::Backend::kUsb;
+  } else if (backend == "forcedimension") {
+    int index = 0;
+    const char* first = out.arg.data();
+    const char* last = first + out.arg.size();
+    if (has_arg) {
+      const auto r = std::from_chars(first, last, index);
+      if (out.arg.empty() || r.ec != std::errc() || r.ptr != last || index < 0 ||
+          index > kMaxForceDimensionIndex)
+        return Error{"device " + quoted + ": the index must be a whole number from 0 to " +
+                     std::to_string(kMaxForceDimensionIndex) + " (forcedimension:INDEX)"};
+    }
+    out.arg = std::to_string(index);
+    out.backend = DeviceSpec::Backend::kForceDimension;
+  } else if (backend == "openhaptics") {
+    if (has_arg && out.arg.empty())
+      return Error{"device " + quoted +
+                   ": 'openhaptics:' needs the device's configured name (openhaptics:NAME) or "
+                   "none (openhaptics: the default device)"};
+    out.backend = DeviceSpec::Backend::kOpenHaptics;
   } else if (spec.empty()) {
     return Error{std::string("device '': empty spec ") + kKnown};
   } else {
     return Error{"device " + quoted + ": unknown backend '" + std::string(backend) + "' " + kKnown};
   }
   return out;
+}
+
+std::string describeDevice(const DeviceInfo& info) {
+  if (info.model.empty())
+    return info.name;
+  char limits[96];
+  std::snprintf(limits, sizeof limits, "limits %g N %g N m", info.limits.max_force_n,
+                info.limits.max_torque_nm);
+  return info.name + ": serial " + (info.serial.empty() ? "unknown" : info.serial) + ", sensing " +
+         std::to_string(info.sensing_dof) + " DOF, force " + std::to_string(info.force_dof) +
+         " DOF, " + limits;
 }
 
 }  // namespace hapticd::device

@@ -1,7 +1,9 @@
 #include <string>
 
 #include "daemon/device/device.h"
+#include "daemon/device/forcedimension_device.h"
 #include "daemon/device/hid_device.h"
+#include "daemon/device/openhaptics_device.h"
 #include "daemon/device/replay_device.h"
 #include "daemon/device/sim_device.h"
 #include "daemon/device/usb_device.h"
@@ -20,6 +22,10 @@ Result<std::unique_ptr<Device>> makeDevice(std::string_view spec, const DeviceOp
       return makeReplayDevice(s.arg, options);
     case DeviceSpec::Backend::kHid:
       return makeHidDevice(s.arg, options);
+    case DeviceSpec::Backend::kForceDimension:
+      return makeForceDimensionDevice(std::stoi(s.arg), options);
+    case DeviceSpec::Backend::kOpenHaptics:
+      return makeOpenHapticsDevice(s.arg, options);
     case DeviceSpec::Backend::kUsb:
       break;
   }

@@ -123,6 +123,39 @@ TEST_F(BinaryTest, BadConfigIsRefusedWithFileLineAndKey) {
       run({"--config", (fs::path(kSource) / "config/hapticd.toml").string(), "--check-config"}), 0);
 }
 
+// a vendor device whose library is absent: one error line naming the library and what to
+// install, exit 1, before the servo loop, the network or any other thread started
+TEST_F(BinaryTest, AVendorDeviceWithoutItsLibraryIsAOneLineErrorAndExit1) {
+  struct Case {
+    const char* device;
+    const char* key;
+    const char* library;
+    const char* message;
+  };
+  for (const Case& c :
+       {Case{"forcedimension", "forcedimension_library", "/nonexistent/libdhd.so",
+             "device 'forcedimension:0': cannot load the Force Dimension DHD library (tried "
+             "/nonexistent/libdhd.so"},
+        Case{"openhaptics", "openhaptics_library", "/nonexistent/libHD.so",
+             "device 'openhaptics': cannot load the OpenHaptics HD library (tried "
+             "/nonexistent/libHD.so"}}) {
+    std::ofstream(path("c.toml")) << "[servo]\nrealtime = \"off\"\n[device]\n"
+                                  << c.key << " = \"" << c.library << "\"\n";
+    EXPECT_EQ(run({"--config", path("c.toml"), "--device", c.device, "--ticks", "1"}), 1) << err();
+    std::string errors;
+    std::istringstream in(err());
+    for (std::string line; std::getline(in, line);)
+      if (line.find("error:") != std::string::npos)
+        errors += line + "\n";
+    EXPECT_EQ(std::count(errors.begin(), errors.end(), '\n'), 1) << err();
+    EXPECT_NE(errors.find(c.message), std::string::npos) << errors;
+    EXPECT_NE(errors.find("install "), std::string::npos) << errors;
+    for (const char* started : {"network:", "shared memory:", "servo thread:"})
+      EXPECT_EQ(err().find(started), std::string::npos) << started << " in " << err();
+    EXPECT_EQ(out(), "");
+  }
+}
+
 // the lines of a log that say "error:", and the command line parser's (not the log's) lines
 std::string errorLines(const std::string& log) {
   std::istringstream in(log);

@@ -124,6 +124,8 @@ TEST(Config, DefaultsAreThoseOfTheSimulationAndDeviceOptions) {
   EXPECT_EQ(d.usb_silence_lost_s, f.usb_silence_lost_s);
   EXPECT_EQ(d.usb_falcon_max_motor_command, f.usb_falcon_max_motor_command);
   EXPECT_EQ(d.usb_falcon_firmware, f.usb_falcon_firmware);
+  EXPECT_EQ(d.forcedimension_library, f.forcedimension_library);
+  EXPECT_EQ(d.openhaptics_library, f.openhaptics_library);
 
   const scene::LoadOptions l = toLoadOptions(c);
   const scene::SceneLimits g;

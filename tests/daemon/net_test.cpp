@@ -67,13 +67,14 @@ class NetTest : public ::testing::Test {
   // Starts hapticd (real clock, realtime off, sim device) on a free loopback port and waits for
   // its status file to name the port.
   void startDaemon(const std::string& scene = kSource + "/scenes/peg_in_hole.glb",
-                   const std::string& network = "") {
+                   const std::string& network = "",
+                   const std::string& device = "") {
     // a shm segment of its own per test (runs in parallel do not collide)
     shm_ = "/hapticd-net-test-" + std::to_string(getpid()) + "-" + hapticd::testing::testName();
     std::ofstream(dir_ / "hapticd.toml")
         << "[servo]\nrealtime = \"off\"\n[scene]\npath = \"" << scene << "\"\n[network]\n"
-        << network
-        << (network.find("shm =") == std::string::npos ? "shm = \"" + shm_ + "\"\n" : "");
+        << network << (network.find("shm =") == std::string::npos ? "shm = \"" + shm_ + "\"\n" : "")
+        << device;
     pid_ = spawn({HAPTICD_BINARY, "--config", (dir_ / "hapticd.toml").string(), "--udp",
                   "127.0.0.1:0", "--status-file", (dir_ / "status.json").string()},
                  dir_ / "d.out", dir_ / "d.err");
@@ -165,6 +166,22 @@ TEST_F(NetTest, StatusShowsTheSceneAndPlanAndLoadAcceptsGoodAndRefusesBadScenes)
   EXPECT_EQ(bad.err.find("hapticd-upload-"), std::string::npos) << bad.err;  // not the temp file
   EXPECT_EQ(statusJson()["scene"], "gears.glb");                             // the old scene stays
 }
+
+#ifdef HAPTICD_FAKE_DHD
+// a vendor device (forcedimension over the fake DHD library): status names its model and serial,
+// the DOF it senses and renders, and its limits
+TEST_F(NetTest, StatusShowsAVendorDevicesModelSerialDofAndLimits) {
+  startDaemon(kSource + "/scenes/peg_in_hole.glb", "",
+              "[device]\nspec = \"forcedimension\"\nforcedimension_library = \"" HAPTICD_FAKE_DHD
+              "\"\n");
+  const std::string want =
+      "forcedimension:0 sigma.7: serial 1200, sensing 7 DOF, force 7 DOF, limits 10 N 0.4 N m";
+  CtlRun text = ctl({"status"});
+  EXPECT_EQ(text.code, 0) << text.err;
+  EXPECT_NE(text.out.find("device " + want), std::string::npos) << text.out;
+  EXPECT_EQ(statusJson()["device"], want);
+}
+#endif
 
 TEST_F(NetTest, PoseCommandsMoveTheSimDeviceThenTheStreamStopRampsAndLatchesAFault) {
   startDaemon();

@@ -23,6 +23,16 @@
 #include "tests/daemon/alloc_counter.h"
 #include "tests/daemon/fakes.h"
 
+#ifdef HAPTICD_FAKE_DHD
+#include "daemon/device/dhd_api.h"
+#include "daemon/device/forcedimension_device.h"
+#include "tests/daemon/device/fake_dhd.h"
+#endif
+#ifdef HAPTICD_FAKE_HD
+#include "daemon/device/hd_api.h"
+#include "daemon/device/openhaptics_device.h"
+#include "tests/daemon/device/fake_hd.h"
+#endif
 #ifdef HAPTICD_HAVE_REAL_BACKENDS
 #include "core/scene/loader.h"
 #include "scenes/demo_scenes.h"
@@ -270,6 +280,79 @@ TEST(ServoAllocation, NoneOnTheServoThreadWithEditsListsAndSharedMemory) {
   ASSERT_TRUE(client.value().readState(shm));
   EXPECT_EQ(shm.tick, kTicks);
 }
+
+#ifdef HAPTICD_FAKE_DHD
+// The forcedimension backend over the fake DHD library (tests/daemon/device/fake_dhd.cpp): reads,
+// writes, device faults (latched, faded, braked) and re-arms (forces on again) on the servo
+// thread, every 1000th command an arm.
+TEST(ServoAllocation, NoneOnTheServoThreadWithTheForceDimensionDevice) {
+  FakeDhd fake(HAPTICD_FAKE_DHD);
+  fake.reset(1, 104);
+  const double p[3] = {0.0, 0.0, -0.002};  // in contact with the fake wall
+  const double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  fake.set_pose(0, p, R);
+  auto api = device::dhd::loadApi(HAPTICD_FAKE_DHD);
+  ASSERT_TRUE(api.ok()) << api.error().message;
+  auto device = device::ForceDimensionDevice::open(api.value(), 0, device::DeviceOptions{});
+  ASSERT_TRUE(device.ok()) << device.error().message;
+  fake.fail(0, device::dhd::kError, 1);  // a device fault at the first read
+  VirtualClock clock;
+  ServoOptions options;
+  options.max_ticks = kTicks;
+  options.record = true;
+  options.wait_for_record_space = true;
+  ServoLoop loop(options, clock, *device.value(), fakeScene(1));
+  const Counts c = runCounted(loop, true, &fakeScene);
+  EXPECT_EQ(c.exit, ServoExit::kMaxTicks);
+  EXPECT_EQ(c.servo_allocations, 0u);
+  EXPECT_GE(loop.state().fault_latches, 1u);
+  EXPECT_GT(fake.state(0).force_calls, 0u);  // live again after an arm
+}
+#endif
+
+#ifdef HAPTICD_FAKE_HD
+// The openhaptics backend in device-clocked mode: the ticks run on the fake HD scheduler's thread
+// (the servo thread of this mode); its allocations are read by the fake's end-of-frame hook, on
+// that thread, from the second frame to the last, with HD errors (faults), arms and the gate.
+TEST(ServoAllocation, NoneOnTheHdSchedulerThreadWithTheOpenHapticsDevice) {
+  FakeHd fake(HAPTICD_FAKE_HD);
+  fake.reset("PHANTOM Premium 1.5 6DOF", 6, 8.5, 515.0);
+  const double p[3] = {0.0, -2.0, 0.0};  // in contact with the fake wall (mm)
+  const double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  fake.set_pose(p, R);
+  for (std::uint64_t f = 1000; f < kTicks; f += 10'000)
+    fake.at(f, 3, 0x0201);  // kFakeHdError, HD_EXCEEDED_MAX_FORCE
+  struct Seen {
+    std::uint64_t frames = 0, first = 0, last = 0;
+  } seen;
+  fake.set_frame_hook(
+      [](void* data) {
+        auto* s = static_cast<Seen*>(data);
+        const std::uint64_t n = testing::threadAllocations();
+        if (++s->frames == 2)
+          s->first = n;
+        s->last = n;
+      },
+      &seen);
+  auto api = device::hd::loadApi(HAPTICD_FAKE_HD);
+  ASSERT_TRUE(api.ok()) << api.error().message;
+  auto device = device::OpenHapticsDevice::open(api.value(), "", device::DeviceOptions{});
+  ASSERT_TRUE(device.ok()) << device.error().message;
+  VirtualClock clock;
+  ServoOptions options;
+  options.max_ticks = kTicks;
+  options.record = true;
+  options.wait_for_record_space = true;
+  ServoLoop loop(options, clock, *device.value(), fakeScene(1));
+  const Counts c = runCounted(loop, true, &fakeScene);
+  fake.set_frame_hook(nullptr, nullptr);
+  EXPECT_EQ(c.exit, ServoExit::kMaxTicks);
+  EXPECT_EQ(seen.frames, kTicks);
+  EXPECT_EQ(seen.last - seen.first, 0u);
+  EXPECT_GE(loop.state().fault_latches, 1u);
+  EXPECT_GT(fake.frame_count(), 0u);
+}
+#endif
 
 TEST(ServoAllocation, TheHookCountsThisThreadsAllocations) {
   // the hook must see an allocation, or the zeros above prove nothing
