@@ -76,7 +76,7 @@ void BM_Stack100(benchmark::State& state) {
     }
   }
   s.length_scale = std::sqrt(2.0 * 2.0 * 2 + 0.6 * 0.6);
-  auto world = dynamics::buildCollisionWorld(s, {});
+  auto world = dynamics::buildCollisionWorld(s, {}).value();
   dynamics::DynamicsOptions o;
   o.sleep_time_s = 0.0;  // the resting pile is solved on every tick (asleep it costs nothing)
   auto dyn = Dynamics::create(s, *world, o).value();
@@ -128,7 +128,7 @@ void BM_Empty(benchmark::State& state) {
   s.gravity_W = Vec3{0, -9.81, 0};
   s.bodies.push_back(body(box(Vec3{1, 0.1, 1}), Vec3{0, -0.1, 0}, scene::Motion::kStatic));
   s.bodies.push_back(body(box(Vec3{0.05}), Vec3{0, 0.5, 0}, scene::Motion::kKinematic));
-  auto world = dynamics::buildCollisionWorld(s, {});
+  auto world = dynamics::buildCollisionWorld(s, {}).value();
   auto dyn = Dynamics::create(s, *world).value();
   for (auto _ : state) {
     auto r = dyn->step(0.001);

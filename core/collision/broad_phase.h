@@ -27,10 +27,10 @@ struct Aabb {
 /// Who may collide with whom. Pairs of one body, pairs of two static boxes, and pairs whose
 /// filters refuse each other never become pairs.
 struct BoxFilter {
-  std::uint32_t body = 0;       ///< boxes of the same body never pair
-  bool is_static = false;       ///< two static boxes never pair
-  std::uint32_t group = 1;      ///< collision groups this box belongs to (bits)
-  std::uint32_t mask = ~0u;     ///< groups this box collides with (bits)
+  std::uint32_t body = 0;    ///< boxes of the same body never pair
+  bool is_static = false;    ///< two static boxes never pair
+  std::uint32_t group = 1;   ///< collision groups this box belongs to (bits)
+  std::uint32_t mask = ~0u;  ///< groups this box collides with (bits)
 };
 
 /// A pair of box handles, lo < hi.
@@ -70,7 +70,6 @@ class SweepAndPrune {
   /// The current overlapping pairs (unordered).
   std::span<const BoxPair> pairs() const { return pairs_; }
   bool overlapping(std::uint32_t a, std::uint32_t b) const;
-  std::size_t boxCount() const { return live_; }
   const Aabb& box(std::uint32_t handle) const { return boxes_[handle].box; }
   /// Boxes moved since the last commit().
   std::size_t pending() const { return dirty_.size(); }

@@ -9,6 +9,8 @@
 #include <numbers>
 #include <tuple>
 
+#include "core/geometry/rotation.h"
+
 namespace hapticd::dynamics {
 namespace {
 
@@ -72,30 +74,6 @@ void principalAxes(const Mat3& A_in, Mat3* P_out, Vec3* d_out) {
     P[2] = -P[2];
   *P_out = P;
   *d_out = Vec3{a[0][0], a[1][1], a[2][2]};
-}
-
-bool finite(const Vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
-Quat expMap(const Vec3& w, double h) {
-  const Vec3 phi = w * h;
-  const double angle = glm::length(phi);
-  if (angle < 1e-12)
-    return glm::normalize(Quat(1.0, 0.5 * phi.x, 0.5 * phi.y, 0.5 * phi.z));
-  const double s = std::sin(0.5 * angle) / angle;
-  return Quat(std::cos(0.5 * angle), s * phi.x, s * phi.y, s * phi.z);
-}
-
-// rotation vector of a unit quaternion (shortest way)
-Vec3 logMap(Quat q) {
-  if (q.w < 0.0)
-    q = -q;
-  const Vec3 v{q.x, q.y, q.z};
-  const double s = glm::length(v);
-  if (s < 1e-12)
-    return 2.0 * v;
-  return v * (2.0 * std::atan2(s, q.w) / s);
 }
 
 void tangents(const Vec3& n, Vec3* t1, Vec3* t2) {
@@ -238,46 +216,6 @@ std::uint32_t Dynamics::bodyCount() const {
   return static_cast<std::uint32_t>(bodies_.size());
 }
 
-double recommendedBoxMargin(const scene::SceneModel& scene) {
-  return 0.005 * (scene.length_scale > 0.0 ? scene.length_scale : 1.0);
-}
-
-std::unique_ptr<collision::CollisionWorld> buildCollisionWorld(const scene::SceneModel& scene,
-                                                               collision::WorldOptions options) {
-  bool any_dynamic = false;
-  std::size_t prims = 0;
-  for (const scene::Body& b : scene.bodies) {
-    any_dynamic = any_dynamic || b.motion == scene::Motion::kDynamic;
-    prims += b.primitives.size();
-  }
-  if (any_dynamic)
-    options.box_margin = std::max(options.box_margin, recommendedBoxMargin(scene));
-  auto world = std::make_unique<collision::CollisionWorld>(options);
-  world->reserve(prims + 16, 16 * prims + 64);
-  for (std::uint32_t i = 0; i < scene.bodies.size(); ++i) {
-    const scene::Body& b = scene.bodies[i];
-    collision::BodyDesc d;
-    d.kind = b.probe                                 ? collision::BodyKind::kProbe
-             : b.motion == scene::Motion::kDynamic   ? collision::BodyKind::kDynamic
-             : b.motion == scene::Motion::kKinematic ? collision::BodyKind::kKinematic
-                                                     : collision::BodyKind::kStatic;
-    // a body's primitives share one filter in the world: the union of theirs
-    d.group = 0;
-    d.mask = 0;
-    for (const scene::Primitive& p : b.primitives) {
-      d.primitives.push_back({p.shape, p.X_BP.toTransform()});
-      d.group |= p.group;
-      d.mask |= p.mask;
-    }
-    if (b.primitives.empty())
-      d.group = 1, d.mask = ~0u;
-    const std::uint32_t id = world->addBody(d, b.X_WB);
-    if (!b.active && !b.probe && b.motion != scene::Motion::kStatic)
-      world->setEnabled(id, false);
-  }
-  return world;
-}
-
 Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scene,
                                                    collision::CollisionWorld& world,
                                                    const DynamicsOptions& options) {
@@ -312,7 +250,7 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
     return d;
 
   const Vec3 g = scene.gravity_W.value_or(Vec3{0.0});
-  if (!finite(g))
+  if (!geom::finite(g))
     return Error{"dynamics: gravity is not finite"};
   d->bodies_.resize(scene.bodies.size());
   std::size_t moving_prims = 0;
@@ -353,7 +291,7 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
           com = mp.com_B;
       }
       for (int c = 0; c < 3; ++c) {
-        if (!finite(inertia[c]) || !finite(com)) {
+        if (!geom::finite(inertia[c]) || !geom::finite(com)) {
           return Error{"dynamics: body '" + sb.name +
                        "' has a non-finite inertia or centre of mass"};
         }
@@ -469,7 +407,7 @@ void Dynamics::setKinematicPose(std::uint32_t body, const Pose& X_WB) {
     return;
   const Quat& q = X_WB.rotation;
   const double qn = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-  if (!finite(X_WB.translation) || !std::isfinite(qn) || !(qn > 0.5))
+  if (!geom::finite(X_WB.translation) || !std::isfinite(qn) || !(qn > 0.5))
     return;  // not a pose: ignored, nothing changes
   b.has_target = true;
   b.target_q = glm::normalize(X_WB.rotation);
@@ -485,7 +423,7 @@ void Dynamics::setEnabled(std::uint32_t body, bool enabled, const Pose& X_WB) {
   if (enabled) {
     const Quat& q = X_WB.rotation;
     const double qn = std::sqrt(q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z);
-    if (!finite(X_WB.translation) || !std::isfinite(qn) || !(qn > 0.5))
+    if (!geom::finite(X_WB.translation) || !std::isfinite(qn) || !(qn > 0.5))
       return;  // not a pose: ignored, nothing changes
     b.q = glm::normalize(q);
     b.R = glm::mat3_cast(b.q);
@@ -526,7 +464,7 @@ void Dynamics::setExternalWrench(std::uint32_t body,
                                  const Vec3& torque_W_nm) {
   if (!active_ || body >= bodies_.size() || bodies_[body].motion != scene::Motion::kDynamic)
     return;
-  if (!finite(force_W_n) || !finite(torque_W_nm))
+  if (!geom::finite(force_W_n) || !geom::finite(torque_W_nm))
     return;  // not a wrench: ignored, nothing changes
   bodies_[body].force_W = force_W_n;
   bodies_[body].torque_W = torque_W_nm;
@@ -598,16 +536,12 @@ void Dynamics::integrateForces(double dt, const HeldInput* held) {
   held_kinematic_ = false;
   bool held_wrench = false;
   if (held != nullptr && held_ >= 0 && static_cast<std::size_t>(held_) < bodies_.size()) {
-    if (held->mode == HeldMode::kKinematic && finite(held->X_WB_target.translation) &&
-        std::isfinite(held->X_WB_target.rotation.w) &&
-        std::isfinite(held->X_WB_target.rotation.x) &&
-        std::isfinite(held->X_WB_target.rotation.y) &&
-        std::isfinite(held->X_WB_target.rotation.z) &&
-        glm::length(held->X_WB_target.rotation) > 0.5) {
+    if (held->mode == HeldMode::kKinematic && geom::finite(held->X_WB_target.translation) &&
+        geom::finite(held->X_WB_target.rotation) && glm::length(held->X_WB_target.rotation) > 0.5) {
       setKinematicPose(static_cast<std::uint32_t>(held_), held->X_WB_target);
       held_kinematic_ = true;
-    } else if (held->mode == HeldMode::kWrench && finite(held->force_W_n) &&
-               finite(held->torque_W_nm)) {
+    } else if (held->mode == HeldMode::kWrench && geom::finite(held->force_W_n) &&
+               geom::finite(held->torque_W_nm)) {
       held_wrench = true;
     }
   }
@@ -631,7 +565,7 @@ void Dynamics::integrateForces(double dt, const HeldInput* held) {
         continue;
       if (b.has_target) {
         b.v_W = (b.target_x - b.x_W) / dt;
-        b.w_W = logMap(b.target_q * glm::conjugate(b.q)) / dt;
+        b.w_W = geom::rotationVector(b.target_q * glm::conjugate(b.q)) / dt;
       } else if (b.coast) {
         continue;
       } else {
@@ -649,7 +583,7 @@ void Dynamics::integrateForces(double dt, const HeldInput* held) {
     b.v_W += dt * (b.gravity_W + b.inv_mass * force);
     b.updateInertia();
     b.w_W += dt * (b.inv_inertia_W * torque);
-    if (!finite(b.v_W) || !finite(b.w_W)) {
+    if (!geom::finite(b.v_W) || !geom::finite(b.w_W)) {
       b.v_W = Vec3{0.0};
       b.w_W = Vec3{0.0};
     }
@@ -729,7 +663,7 @@ void Dynamics::gatherContacts(StepReport& report) {
         gap = c.distance;
       }
       const double nl = glm::length(n);
-      if (!(nl > 0.5) || !finite(p) || !std::isfinite(gap))
+      if (!(nl > 0.5) || !geom::finite(p) || !std::isfinite(gap))
         continue;
       if (points_.size() == cap) {
         ++counters_.points_dropped;
@@ -1131,7 +1065,7 @@ void Dynamics::advance(double h) {
       continue;
     b.x_W += b.v_W * h;
     if (b.infinite) {
-      b.q = glm::normalize(expMap(b.w_W, h) * b.q);
+      b.q = glm::normalize(geom::quatFromRotationVector(b.w_W * h) * b.q);
       b.updateInertia();
       continue;
     }
@@ -1142,7 +1076,7 @@ void Dynamics::advance(double h) {
     const Vec3 L = b.R * (b.inertia_B * (glm::transpose(b.R) * b.w_W));
     if (b.isotropic) {
       // a sphere-like body turns about its constant w: exact
-      b.q = glm::normalize(expMap(b.w_W, h) * b.q);
+      b.q = glm::normalize(geom::quatFromRotationVector(b.w_W * h) * b.q);
       b.updateInertia();
       continue;
     }
@@ -1202,7 +1136,7 @@ void Dynamics::correctPositions(double dt) {
       js.rb = Vec3{0.0};
       js.err_point = j.X_BJ.translation - (A.x_W + js.ra);
     }
-    js.err_ang = logMap(qb * glm::conjugate(qa));
+    js.err_ang = geom::rotationVector(qb * glm::conjugate(qa));
     if (j.kind == scene::JointKind::kHinge) {
       Vec3 e{0.0};
       e[j.hinge_axis] = 1.0;
@@ -1305,7 +1239,7 @@ void Dynamics::correctPositions(double dt) {
     if (b.infinite)
       continue;
     b.x_W += b.pv * dt;
-    b.q = glm::normalize(expMap(b.pw, dt) * b.q);
+    b.q = glm::normalize(geom::quatFromRotationVector(b.pw * dt) * b.q);
     b.updateInertia();
   }
 }
@@ -1327,7 +1261,7 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
         BodyState& h = bodies_[static_cast<std::size_t>(held_)];
         const Quat& tq = held != nullptr ? held->X_WB_target.rotation : Quat{1.0, 0.0, 0.0, 0.0};
         if (held != nullptr && held->mode == HeldMode::kKinematic &&
-            finite(held->X_WB_target.translation) && std::isfinite(glm::length(tq)) &&
+            geom::finite(held->X_WB_target.translation) && std::isfinite(glm::length(tq)) &&
             glm::length(tq) > 0.5) {
           h.q = glm::normalize(held->X_WB_target.rotation);
           h.x_W = held->X_WB_target.translation + glm::mat3_cast(h.q) * h.com_B;

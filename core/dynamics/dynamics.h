@@ -39,6 +39,8 @@
 #include "core/collision/collision_world.h"
 #include "core/common/result.h"
 #include "core/dynamics/impulse_spreader.h"
+#include "core/dynamics/scene_world.h"
+#include "core/geometry/mass_properties.h"
 #include "core/geometry/pose.h"
 #include "core/scene/scene.h"
 
@@ -165,29 +167,13 @@ struct DynamicsCounters {
   std::uint64_t ticks_asleep = 0;    ///< steps skipped because the scene was at rest
 };
 
-/// Mass properties of a set of convex primitives at a density (kg/m^3 in SI).
-struct MassProperties {
-  double mass = 0.0;
-  Vec3 com_B{0.0};
-  Mat3 inertia_B{0.0};  ///< about com_B, body frame
-};
+/// Mass properties (mass, centre of mass, inertia about it in the body frame).
+using geom::MassProperties;
 
-/// Volume, centre of mass and inertia of a body's primitives (divergence theorem over the
-/// faces' tetrahedra; the primitives are assumed not to overlap). Any thread.
+/// Volume, centre of mass and inertia of a body's primitives at a density (kg/m^3 in SI):
+/// geom::polytopeIntegrals summed over them (the primitives are assumed not to overlap), then
+/// geom::massFromIntegrals. Any thread.
 MassProperties computeMassProperties(std::span<const scene::Primitive> primitives, double density);
-
-/// The CollisionWorld box margin (scene units) the dynamics wants: contacts within it are seen
-/// before they touch, so impacts up to margin / dt fast get their exact time of impact (faster
-/// ones are found overlapping, see max_travel_fraction). 0.5% of the scene's length scale.
-/// Any thread.
-double recommendedBoxMargin(const scene::SceneModel& scene);
-
-/// A CollisionWorld with one body per scene body, in order (world id == scene body index), of
-/// the scene's kinds and primitives, with `options` (box_margin raised to at least
-/// recommendedBoxMargin when the scene has dynamic bodies) and reserved capacities. Off the
-/// servo thread.
-std::unique_ptr<collision::CollisionWorld> buildCollisionWorld(const scene::SceneModel& scene,
-                                                               collision::WorldOptions options);
 
 /// The dynamics stage of one scene. See the file comment for the tick.
 class Dynamics {

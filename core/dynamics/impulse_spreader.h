@@ -31,10 +31,6 @@ class ImpulseSpreader {
   /// Forgets everything pending. Servo thread.
   void clear();
 
-  std::uint32_t windowTicks() const { return static_cast<std::uint32_t>(weights_.size()); }
-  /// w_k of tick k of the window (sum 1).
-  double weight(std::uint32_t k) const { return weights_[k]; }
-
  private:
   double tick_s_ = 0.001;
   std::vector<double> weights_{1.0};

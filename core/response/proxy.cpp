@@ -109,7 +109,7 @@ ProxyStep solveProxyStep(const ProxyProblem& pb,
   // rotational spring; its force is clamped to the device limits
   const double kc = params.coupling_stiffness, kr = params.rot_coupling_stiffness;
   const Vec3 e_lin = clampLength(pb.h_target_W - pb.h_W, params.max_force_n / kc);
-  const Vec3 e_rot = clampLength(rotationVector(pb.q_target * glm::conjugate(pb.q_handle)),
+  const Vec3 e_rot = clampLength(geom::rotationVector(pb.q_target * glm::conjugate(pb.q_handle)),
                                  params.max_torque_nm / kr);
   Mat6 A0{};
   Vec6 b0{};

@@ -9,6 +9,7 @@
 #include "core/collision/collision_world.h"
 #include "core/collision/penetration.h"
 #include "core/dynamics/dynamics.h"
+#include "core/geometry/rotation.h"
 #include "core/response/coupling.h"
 #include "core/response/face_contact.h"
 #include "core/response/output_stage.h"
@@ -36,8 +37,7 @@ bool finitePositive(double v) {
 }
 
 bool finitePose(const Vec3& p, const Quat& q) {
-  return std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && std::isfinite(q.w) &&
-         std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z);
+  return geom::finite(p) && geom::finite(q);
 }
 
 // A finite pose with a unit quaternion (|‖q‖ − 1| <= kUnitTolerance), normalised into *out.
@@ -89,18 +89,16 @@ class SimulationImpl final : public Simulation {
   SimulationImpl(std::shared_ptr<const scene::SceneModel> scene, const SimOptions& options)
       : scene_(std::move(scene)),
         options_(options),
-        world_(worldOptions(options, *scene_)),
         coupling_(response::CouplingParams{}),
         output_(outputLimits(options.response)) {}
 
-  static collision::WorldOptions worldOptions(const SimOptions& o, const scene::SceneModel& sc) {
+  static collision::WorldOptions worldOptions(const SimOptions& o) {
     collision::WorldOptions w;
     const double delta = o.response.max_speed_m_per_s * o.response.tick_s;
     // pairs within the predictive distance plus one tick's travel are found; with dynamics, at
     // least the margin within which the dynamics see contacts before they touch (time of impact)
+    // (buildCollisionWorld raises it to the dynamics' margin when the scene has dynamic bodies)
     w.box_margin = 2.0 * delta;
-    if (sc.plan.dynamics)
-      w.box_margin = std::max(w.box_margin, dynamics::recommendedBoxMargin(sc));
     w.budget.max_pairs = o.max_pairs_per_tick;
     // a pair of bodies that did not move keeps its exact answer
     w.skip_unmoved_pairs = true;
@@ -352,75 +350,53 @@ Result<bool> SimulationImpl::build() {
   k_c_ = k_s_ * ratio_ / (ratio_ - 1.0);
   const double crease = r.crease_angle_deg * std::numbers::pi / 180.0;
 
-  std::size_t total_prims = 0, moving_prims = 0;
+  // the probe sphere, when the scene marks no probe body: a world body after the scene's
+  collision::BodyDesc sphere;
+  if (sc.probe_body < 0) {
+    auto hull = geom::Polytope::fromPoints(spherePoints(options_.probe_sphere_radius_m, 64));
+    if (!hull.ok())
+      return Error{"probe sphere: " + hull.error().message};
+    probe_sphere_ = std::make_shared<const geom::Polytope>(std::move(hull).value());
+    sphere.kind = BodyKind::kProbe;
+    sphere.group = sphere.mask = ~0u;  // unfiltered, as a scene's unfiltered collider
+    sphere.primitives.push_back({probe_sphere_, Transform{}});
+  }
+  auto built = dynamics::buildCollisionWorld(sc, worldOptions(options_),
+                                             sc.probe_body < 0 ? &sphere : nullptr);
+  if (!built.ok())
+    return built.error();
+  world_ = std::move(*built.value());
+
   for (std::size_t i = 0; i < sc.bodies.size(); ++i) {
     const scene::Body& b = sc.bodies[i];
-    collision::BodyDesc desc;
-    const bool is_probe = static_cast<std::int32_t>(i) == sc.probe_body;
-    desc.kind = is_probe                                ? BodyKind::kProbe
-                : b.motion == scene::Motion::kStatic    ? BodyKind::kStatic
-                : b.motion == scene::Motion::kKinematic ? BodyKind::kKinematic
-                                                        : BodyKind::kDynamic;
     BodyInfo info;
     info.scene_index = static_cast<std::int32_t>(i);
-    info.kind = desc.kind;
+    info.kind = world_.kind(static_cast<std::uint32_t>(i));
     info.com_B = b.com_B;
     info.stiffness = b.stiffness_n_per_m.has_value() ? std::min(*b.stiffness_n_per_m, k_s_) : k_s_;
     for (const scene::Primitive& p : b.primitives) {
-      if (!p.shape)
-        continue;
       const Transform X = p.X_BP.toTransform();
       for (const auto& v : p.shape->vertices())
         info.origin_radius = std::max(info.origin_radius, glm::length(X.apply(v.p)));
     }
     if (!(info.stiffness > 0.0))
       return Error{"body '" + b.name + "': stiffness must be > 0"};
-    for (const scene::Primitive& p : b.primitives) {
-      if (!p.shape)
-        return Error{"body '" + b.name + "': a primitive has no shape"};
-      collision::PrimitiveDesc pd;
-      pd.shape = p.shape;
-      pd.X_BP = p.X_BP.toTransform();
-      pd.group = p.group;
-      pd.mask = p.mask;
-      desc.primitives.push_back(pd);
-      if (crease > 0.0)
+    if (crease > 0.0) {
+      for (const scene::Primitive& p : b.primitives)
         info.shading.emplace_back(*p.shape, crease);
     }
-    total_prims += b.primitives.size();
-    if (desc.kind != BodyKind::kStatic)
-      moving_prims += b.primitives.size();
-    const std::uint32_t id = world_.addBody(desc, b.X_WB);
-    if (id != i)
-      return Error{"collision world: unexpected body id"};
     info_.push_back(std::move(info));
-    // extras.haptic.active false: out of the scene until a scene edit adds it (static bodies
-    // are always active; the probe cannot be inactive)
-    const bool starts_active = b.active || desc.kind == BodyKind::kStatic;
-    if (!starts_active && is_probe)
-      return Error{"body '" + b.name + "': the probe body cannot be inactive"};
-    active_.push_back(starts_active ? 1 : 0);
-    if (!starts_active)
-      world_.setEnabled(id, false);
+    active_.push_back(world_.enabled(static_cast<std::uint32_t>(i)) ? 1 : 0);
   }
   if (sc.probe_body < 0) {
-    auto hull = geom::Polytope::fromPoints(spherePoints(options_.probe_sphere_radius_m, 64));
-    if (!hull.ok())
-      return Error{"probe sphere: " + hull.error().message};
-    probe_sphere_ = std::make_shared<const geom::Polytope>(std::move(hull).value());
-    collision::BodyDesc desc;
-    desc.kind = BodyKind::kProbe;
-    desc.primitives.push_back({probe_sphere_, Transform{}});
     BodyInfo info;
     info.kind = BodyKind::kProbe;
     info.stiffness = k_s_;
     if (crease > 0.0)
       info.shading.emplace_back(*probe_sphere_, crease);
-    probe_ = world_.addBody(desc, geom::Pose{});
+    probe_ = static_cast<std::uint32_t>(sc.bodies.size());
     info_.push_back(std::move(info));
     active_.push_back(1);
-    ++total_prims;
-    ++moving_prims;
   } else {
     probe_ = static_cast<std::uint32_t>(sc.probe_body);
   }
@@ -461,9 +437,8 @@ Result<bool> SimulationImpl::build() {
     }
   }
 
-  // capacities: every pair a moving primitive can make, bounded
-  const std::size_t pairs = std::min<std::size_t>(moving_prims * total_prims + 64, 1u << 16);
-  world_.reserve(total_prims + 1, pairs);
+  // capacities: as the world's, every pair a moving primitive can make
+  const std::size_t pairs = world_.reservedPairs();
   rows_.reserve(pairs * collision::Manifold::kMaxPoints);
   row_env_.reserve(pairs * collision::Manifold::kMaxPoints);
   contact_points_.reserve(response::kMaxRows);
@@ -707,21 +682,21 @@ void SimulationImpl::applyStep(const response::ProxyStep& s) {
     geom::Pose X = world_.pose(id);
     const Vec3 o = X.translation + rotate(X.rotation, bi.hinge_o_B);
     const Vec3 a = glm::normalize(rotate(X.rotation, bi.hinge_a_B));
-    const Quat dq = response::quatFromRotationVector(a * s.driven_angle[d]);
+    const Quat dq = geom::quatFromRotationVector(a * s.driven_angle[d]);
     X.rotation = glm::normalize(dq * X.rotation);
     X.translation = o + rotate(dq, X.translation - o);
     world_.setPose(id, X);
   }
   if (mode_ == Mode::kFree || mode_ == Mode::kGrab) {
     const Vec3 c = comW(probe_);
-    const Quat dq = response::quatFromRotationVector(s.dtheta_W);
+    const Quat dq = geom::quatFromRotationVector(s.dtheta_W);
     X_W_probe_.rotation = glm::normalize(dq * X_W_probe_.rotation);
     X_W_probe_.translation = c + s.dc_W + rotate(dq, X_W_probe_.translation - c);
     setHeldPoses();
     return;
   }
   // a hinge: turn the attached body about its axis by the step's one coordinate
-  const Quat dq = response::quatFromRotationVector(hinge_a_W_ * s.x[0]);
+  const Quat dq = geom::quatFromRotationVector(hinge_a_W_ * s.x[0]);
   geom::Pose Xb = world_.pose(attached_);
   Xb.rotation = glm::normalize(dq * Xb.rotation);
   Xb.translation = hinge_o_W_ + rotate(dq, Xb.translation - hinge_o_W_);
@@ -885,10 +860,7 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   TickOutput out;
   if (t_prepared_faces < max_faces_)
     prepareThread();
-  if (first_step_ && info_[probe_].scene_index < 0 &&
-      std::isfinite(input.X_W_device.translation.x) &&
-      std::isfinite(input.X_W_device.translation.y) &&
-      std::isfinite(input.X_W_device.translation.z)) {
+  if (first_step_ && info_[probe_].scene_index < 0 && geom::finite(input.X_W_device.translation)) {
     // the probe sphere has no pose in the scene: it starts where the device is
     X_W_probe_.translation = input.X_W_device.translation;
     world_.setPose(probe_, X_W_probe_);
@@ -927,7 +899,7 @@ TickOutput SimulationImpl::step(const TickInput& input) {
   // the predictive distance (§5.2): delta = v_c dt, v_c bounding the speed of the held points
   if (have_prev_device_ && finitePose(h_dev, q_dev)) {
     const double v = glm::length(h_dev - prev_h_dev_) / options_.response.tick_s +
-                     glm::length(response::rotationVector(q_dev * glm::conjugate(prev_q_dev_))) /
+                     glm::length(geom::rotationVector(q_dev * glm::conjugate(prev_q_dev_))) /
                          options_.response.tick_s * held_radius_;
     v_c_ = std::max(std::isfinite(v) ? v : 0.0, v_c_ * speed_decay_);
   }
@@ -976,7 +948,7 @@ TickOutput SimulationImpl::step(const TickInput& input) {
     if (kc > 0.0)
       pb.h_target_W = h_dev + grab_weight / kc;
     if (kr > 0.0)
-      pb.q_target = glm::normalize(response::quatFromRotationVector(torque / kr) * q_dev);
+      pb.q_target = glm::normalize(geom::quatFromRotationVector(torque / kr) * q_dev);
   }
 
   const geom::Pose probe_before = X_W_probe_;
@@ -1074,11 +1046,11 @@ TickOutput SimulationImpl::step(const TickInput& input) {
       const Vec3 c_dev = h_dev + rotate(q_dev, grab_r_P_);
       Vec3 w_dev{0.0};
       if (grab_history_ >= 1)
-        w_dev = response::rotationVector(q_dev * glm::conjugate(grab_q1_)) / dt;
+        w_dev = geom::rotationVector(q_dev * glm::conjugate(grab_q1_)) / dt;
       if (grab_history_ >= 2) {
         const Vec3 a = (c_dev - 2.0 * grab_c1_ + grab_c2_) / (dt * dt);
         const Vec3 alpha = (w_dev - grab_w1_) / dt;
-        if (response::isFinite(a) && response::isFinite(alpha)) {
+        if (geom::finite(a) && geom::finite(alpha)) {
           grab_a_f_ += grab_beta_ * (a - grab_a_f_);
           grab_alpha_f_ += grab_beta_ * (alpha - grab_alpha_f_);
         }
@@ -1093,7 +1065,7 @@ TickOutput SimulationImpl::step(const TickInput& input) {
       grab_inertia_force = -grab_mass_ * grab_a_f_;
       grab_inertia_torque = -(I_W * grab_alpha_f_ + glm::cross(w_dev, I_W * w_dev)) +
                             glm::cross(c_dev - h_dev, grab_inertia_force);
-      if (response::isFinite(grab_inertia_force) && response::isFinite(grab_inertia_torque)) {
+      if (geom::finite(grab_inertia_force) && geom::finite(grab_inertia_torque)) {
         raw.force_n += grab_inertia_force;
         raw.torque_nm += grab_inertia_torque;
       } else {
@@ -1198,7 +1170,7 @@ EditStatus SimulationImpl::setKinematicPose(std::uint32_t body, const Pose& X_WB
   {
     const geom::Pose& from = world_.pose(body);
     const double angle =
-        glm::length(response::rotationVector(X.rotation * glm::conjugate(from.rotation)));
+        glm::length(geom::rotationVector(X.rotation * glm::conjugate(from.rotation)));
     const double travel =
         glm::length(X.translation - from.translation) + angle * info_[body].origin_radius;
     if (std::isfinite(travel))

@@ -431,7 +431,7 @@ TEST(HeldBody, ExtraProbeSpherePushesABox) {
   s.bodies.push_back(staticBody("floor", boxShape(Vec3{1, 0.1, 1}), at(Vec3{0, -0.1, 0}), 0));
   s.bodies.push_back(dynamicBody("box", boxShape(Vec3{0.05}), at(Vec3{0, 0.05, 0}), 500.0, 0));
   s.length_scale = lengthScale(s);
-  auto world = buildCollisionWorld(s, {});
+  auto world = buildCollisionWorld(s, {}).value();
   collision::BodyDesc probe;
   probe.kind = collision::BodyKind::kProbe;
   probe.primitives.push_back({ellipsoidShape(Vec3{0.01}), geom::Transform{}});

@@ -208,7 +208,7 @@ TEST(Create, RefusesBadBodiesAndOptions) {
   Body b = dynamicBody("a", boxShape(Vec3{0.1}), at(Vec3{0}), 1000.0);
   b.mass = -1.0;
   s.bodies.push_back(b);
-  auto world = buildCollisionWorld(s, {});
+  auto world = buildCollisionWorld(s, {}).value();
   auto r = Dynamics::create(s, *world);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("'a'"), std::string::npos);
