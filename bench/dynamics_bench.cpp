@@ -82,7 +82,7 @@ void BM_Stack100(benchmark::State& state) {
   auto dyn = Dynamics::create(s, *world, o).value();
   for (int k = 0; k < 1000; ++k) {  // settle
     world->step();
-    dyn->step(0.001);
+    dyn->step(*world, 0.001);
   }
   std::vector<double> dyn_ns, dyn_cpu_ns, world_ns;
   dyn_ns.reserve(1 << 20);
@@ -94,7 +94,7 @@ void BM_Stack100(benchmark::State& state) {
     world->step();
     const auto t1 = std::chrono::steady_clock::now();
     const double c1 = cpuNs();
-    const auto r = dyn->step(0.001);
+    const auto r = dyn->step(*world, 0.001);
     const double c2 = cpuNs();
     const auto t2 = std::chrono::steady_clock::now();
     benchmark::DoNotOptimize(r);
@@ -131,7 +131,7 @@ void BM_Empty(benchmark::State& state) {
   auto world = dynamics::buildCollisionWorld(s, {}).value();
   auto dyn = Dynamics::create(s, *world).value();
   for (auto _ : state) {
-    auto r = dyn->step(0.001);
+    auto r = dyn->step(*world, 0.001);
     benchmark::DoNotOptimize(r);
   }
   state.counters["ticks_with_work"] = static_cast<double>(dyn->counters().ticks);

@@ -14,6 +14,8 @@
 #include <vector>
 
 #include "core/common/flat_map.h"
+#include "core/common/reserved_vector.h"
+#include "core/common/state_writer.h"
 #include "core/geometry/pose.h"
 
 namespace hapticd::collision {
@@ -80,6 +82,11 @@ class SweepAndPrune {
   /// Endpoint swaps done by update() since construction (a measure of coherence).
   std::uint64_t swaps() const { return swaps_; }
 
+  /// Writes the boxes, the sorted endpoint lists and the pair list in its order (not the hash
+  /// index of the pairs or the event lists, which commit() and takeEvents() rewrite). For the
+  /// simulation state's hash (core/sim/scene_state.h).
+  void writeState(StateWriter& w) const;
+
  private:
   struct Endpoint {
     std::uint64_t key;   // sort key of the value (see broad_phase.cpp)
@@ -105,19 +112,19 @@ class SweepAndPrune {
   void rebuildPositions();
   static std::uint64_t key(std::uint32_t a, std::uint32_t b);
 
-  std::vector<Box> boxes_;
-  std::vector<std::uint32_t> free_;
-  std::vector<Endpoint> axes_[3];
-  std::vector<std::uint64_t> key_[3];  // by endpoint id (handle << 1 | is_max): the new sort key
-  std::vector<std::uint32_t> pos_[3];  // by endpoint id: index in axes_ (when positions_valid_)
+  ReservedVector<Box> boxes_;
+  ReservedVector<std::uint32_t> free_;
+  ReservedVector<Endpoint> axes_[3];
+  ReservedVector<std::uint64_t> key_[3];  // by endpoint id (handle << 1 | is_max): the new sort key
+  ReservedVector<std::uint32_t> pos_[3];  // by endpoint id: index in axes_ (when positions_valid_)
   bool positions_valid_ = true;
-  std::vector<std::uint32_t> pair_count_;  // by handle: pairs the box is in
-  std::vector<std::uint32_t> dirty_;
-  std::vector<std::uint32_t> added_;
-  std::vector<BoxPair> pairs_;
+  ReservedVector<std::uint32_t> pair_count_;  // by handle: pairs the box is in
+  ReservedVector<std::uint32_t> dirty_;
+  ReservedVector<std::uint32_t> added_;
+  ReservedVector<BoxPair> pairs_;
   FlatMap index_;  // pair key -> index into pairs_
-  std::vector<PairEvent> events_;
-  std::vector<PairEvent> taken_;
+  ReservedVector<PairEvent> events_;
+  ReservedVector<PairEvent> taken_;
   std::size_t live_ = 0;
   std::uint64_t swaps_ = 0;
 };

@@ -275,4 +275,101 @@ StepStats CollisionWorld::step() {
   return stats;
 }
 
+namespace {
+
+void writeFeature(StateWriter& w, const Feature& f) {
+  w.integer(f.type);
+  w.integer(f.index);
+}
+
+void writeContact(StateWriter& w, const Contact& c) {
+  for (const std::uint32_t v : {c.body_a, c.body_b, c.prim_a, c.prim_b, c.age})
+    w.integer(v);
+  w.integer(c.status);
+  w.f64(c.distance);
+  for (const Vec3& v : {c.normal, c.point_a, c.point_b})
+    w.glm(v);
+  w.integer(c.manifold.count);
+  w.flag(c.manifold.truncated);
+  for (std::size_t i = 0; i < c.manifold.count; ++i) {
+    w.glm(c.manifold.points[i].point);
+    w.glm(c.manifold.points[i].normal);
+    w.f64(c.manifold.points[i].depth);
+  }
+  writeFeature(w, c.feature_a);
+  writeFeature(w, c.feature_b);
+  w.flag(c.answered);
+}
+
+void writePairCache(StateWriter& w, const PairCache& c) {
+  writeFeature(w, c.features.a);
+  writeFeature(w, c.features.b);
+  const DepthCache& d = c.depth;
+  w.integer(d.kind);
+  for (const std::uint32_t v : {d.ia, d.ib, d.support_a, d.support_b})
+    w.integer(v);
+  w.glm(d.normal);
+  w.integer(d.warm_count);
+  for (std::size_t i = 0; i < d.warm_count; ++i) {
+    w.integer(d.warm_a[i]);
+    w.integer(d.warm_b[i]);
+  }
+  w.flag(c.penetrating);
+}
+
+}  // namespace
+
+void CollisionWorld::writeState(StateWriter& w) const {
+  w.f64(options_.box_margin);
+  w.integer(options_.budget.max_pairs);
+  w.f64(options_.budget.max_microseconds);
+  w.flag(options_.skip_unmoved_pairs);
+  sap_.writeState(w);
+  w.integer(bodies_.size());
+  for (const Body& b : bodies_) {
+    w.integer(b.desc.kind);
+    w.integer(b.desc.group);
+    w.integer(b.desc.mask);
+    w.integer(b.desc.primitives.size());
+    for (const PrimitiveDesc& p : b.desc.primitives) {
+      w.integer(p.group);
+      w.integer(p.mask);
+    }
+    w.glm(b.X_WB.translation);
+    w.glm(b.X_WB.rotation);
+    w.glm(b.T_WB.R);
+    w.glm(b.T_WB.t);
+    w.array(b.prims);
+    for (const bool f : {b.live, b.moved, b.asleep, b.enabled})
+      w.flag(f);
+    w.u64(b.moved_tick);
+  }
+  w.integer(prims_.size());
+  for (const Prim& p : prims_) {
+    for (const std::uint32_t v : {p.body, p.index, p.box})
+      w.integer(v);
+    w.array(p.hint);
+    w.flag(p.live);
+  }
+  w.integer(pair_states_.size());
+  for (const PairState& s : pair_states_) {
+    // a free slot is reset before it is used again: only its being free is state
+    w.flag(s.live);
+    if (!s.live)
+      continue;
+    w.integer(s.prim_a);
+    w.integer(s.prim_b);
+    writePairCache(w, s.cache);
+    writeContact(w, s.last);
+    w.u64(s.last_tested);
+    w.flag(s.in_contact);
+  }
+  for (const auto* list : {&prim_of_box_, &free_pair_states_, &free_prims_, &free_bodies_, &moved_})
+    w.array(*list);
+  w.integer(contacts_.size());
+  for (const Contact& c : contacts_)
+    writeContact(w, c);
+  w.u64(tick_);
+}
+
 }  // namespace hapticd::collision

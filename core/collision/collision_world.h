@@ -19,6 +19,8 @@
 #include "core/collision/broad_phase.h"
 #include "core/collision/pair_query.h"
 #include "core/common/flat_map.h"
+#include "core/common/reserved_vector.h"
+#include "core/common/state_writer.h"
 
 namespace hapticd::collision {
 
@@ -126,6 +128,12 @@ class CollisionWorld {
   const WorldOptions& options() const { return options_; }
   std::uint64_t tick() const { return tick_; }
 
+  /// Writes the world's state: bodies' poses and flags, primitives' extreme-vertex hints, the
+  /// sweep and prune, every pair's caches and last answer, contacts(), the tick (not the shapes,
+  /// the scheduler's scratch or the hash index of the pairs). For the simulation state's hash
+  /// and comparison (core/sim/scene_state.h). Any thread that may read the world.
+  void writeState(StateWriter& w) const;
+
  private:
   struct Body {
     BodyDesc desc;
@@ -173,17 +181,17 @@ class CollisionWorld {
 
   WorldOptions options_;
   SweepAndPrune sap_;
-  std::vector<Body> bodies_;
-  std::vector<Prim> prims_;
-  std::vector<std::uint32_t> prim_of_box_;  // broad-phase handle -> prims_ index
-  std::vector<PairState> pair_states_;
-  std::vector<std::uint32_t> free_pair_states_;
+  ReservedVector<Body> bodies_;
+  ReservedVector<Prim> prims_;
+  ReservedVector<std::uint32_t> prim_of_box_;  // broad-phase handle -> prims_ index
+  ReservedVector<PairState> pair_states_;
+  ReservedVector<std::uint32_t> free_pair_states_;
   FlatMap state_of_pair_;  // box-pair key -> pair_states_ index
-  std::vector<std::uint32_t> free_prims_;
-  std::vector<std::uint32_t> free_bodies_;
-  std::vector<std::uint32_t> moved_;  // bodies given a pose since the last step
-  std::vector<std::uint64_t> order_;  // scheduler scratch: priority << 32 | state index
-  std::vector<Contact> contacts_;
+  ReservedVector<std::uint32_t> free_prims_;
+  ReservedVector<std::uint32_t> free_bodies_;
+  ReservedVector<std::uint32_t> moved_;  // bodies given a pose since the last step
+  ReservedVector<std::uint64_t> order_;  // scheduler scratch: priority << 32 | state index
+  ReservedVector<Contact> contacts_;
   std::uint64_t tick_ = 0;
   std::size_t reserved_pairs_ = 0;
 };

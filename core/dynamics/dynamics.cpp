@@ -210,14 +210,75 @@ struct Dynamics::WarmPoint {
   Vec3 lt{0.0};
 };
 
+void Dynamics::writeState(StateWriter& w) const {
+  w.flag(active_);
+  w.integer(held_);
+  w.flag(held_kinematic_);
+  w.flag(asleep_);
+  w.flag(warm_pending_);
+  for (const double v : {min_size_, velocity_tolerance_, ke_episode_start_, rest_s_, accel_scale_,
+                         tick_dt_})
+    w.f64(v);
+  w.integer(bodies_.size());
+  for (const BodyState& b : bodies_) {
+    w.integer(b.motion);
+    for (const bool f : {b.infinite, b.coast, b.driven, b.enabled, b.isotropic, b.has_target})
+      w.flag(f);
+    w.f64(b.inv_mass);
+    w.f64(b.size);
+    for (const Mat3& m : {b.inertia_B, b.inv_inertia_B, b.inv_inertia_W, b.R})
+      w.glm(m);
+    for (const Quat& q : {b.q_BP, b.q, b.target_q})
+      w.glm(q);
+    for (const Vec3& v : {b.inertia_P, b.inv_inertia_P, b.com_B, b.x_W, b.v_W, b.w_W, b.gravity_W,
+                          b.force_W, b.torque_W, b.pv, b.pw, b.target_x})
+      w.glm(v);
+  }
+  w.integer(joints_.size());
+  for (const JointState& j : joints_) {
+    for (const bool f : {j.off, j.has_min, j.has_max})
+      w.flag(f);
+    w.integer(j.a);
+    w.integer(j.b);
+    for (const Mat3& m : {j.point_mass, j.ang_mass})
+      w.glm(m);
+    for (const Vec3& v : {j.ra, j.rb, j.axis, j.p1, j.p2, j.l_point, j.l_ang, j.err_point,
+                          j.err_ang, j.warm_J, j.warm_L, j.total_J, j.total_L})
+      w.glm(v);
+    for (const double v : {j.m1, j.m2, j.m_axis, j.c_min, j.c_max, j.l1, j.l2, j.l_lo, j.l_hi,
+                           j.size, j.tot_lo, j.tot_hi, j.warm_lo, j.warm_hi})
+      w.f64(v);
+  }
+  w.integer(warm_.size());
+  for (const WarmPoint& p : warm_) {
+    for (const std::uint32_t i : {p.a, p.b, p.prim_a, p.prim_b})
+      w.integer(i);
+    w.glm(p.ra_B);
+    w.f64(p.ln);
+    w.glm(p.lt);
+  }
+  w.array(no_collide_);
+  spreader_.writeState(w);
+  for (const Vec3& v : {held_feedback_.impulse_W_ns, held_feedback_.angular_impulse_W_nms,
+                        held_feedback_.force_W_n, held_feedback_.torque_W_nm, held_feedback_.com_W})
+    w.glm(v);
+  for (const std::uint64_t c : {counters_.ticks, counters_.toi_capped, counters_.points_dropped,
+                                counters_.speed_clamped, counters_.ticks_asleep})
+    w.u64(c);
+}
+
 Dynamics::Dynamics() = default;
 Dynamics::~Dynamics() = default;
+Dynamics::Dynamics(const Dynamics&) = default;
+Dynamics::Dynamics(Dynamics&&) noexcept = default;
+Dynamics& Dynamics::operator=(const Dynamics&) = default;
+Dynamics& Dynamics::operator=(Dynamics&&) noexcept = default;
 std::uint32_t Dynamics::bodyCount() const {
   return static_cast<std::uint32_t>(bodies_.size());
 }
 
 Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scene,
-                                                   collision::CollisionWorld& world,
+                                                   const collision::CollisionWorld& world,
                                                    const DynamicsOptions& options) {
   if (options.velocity_iterations == 0 || options.velocity_iterations > 1000 ||
       options.position_iterations > 1000 || options.max_toi_substeps > 1000) {
@@ -241,7 +302,6 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
   }
   std::unique_ptr<Dynamics> d(new Dynamics());
   d->scene_ = &scene;
-  d->world_ = &world;
   d->options_ = options;
   d->held_ = scene.probe_body;
   for (const scene::Body& b : scene.bodies)
@@ -389,6 +449,7 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
   }
   const std::size_t cap =
       options.max_contact_points != 0 ? options.max_contact_points : 16 * moving_prims + 64;
+  d->max_points_ = cap;
   d->points_.reserve(cap);
   d->dv_.assign(d->bodies_.size(), Vec3{0.0});
   d->dw_.assign(d->bodies_.size(), Vec3{0.0});
@@ -532,7 +593,7 @@ double Dynamics::potentialEnergy() const {
 
 // velocities first (semi-implicit Euler); the kinematic bodies' velocities that reach their
 // targets; the speed clamp that keeps every body within the world's box margin per tick
-void Dynamics::integrateForces(double dt, const HeldInput* held) {
+void Dynamics::integrateForces(double dt, double margin, const HeldInput* held) {
   held_kinematic_ = false;
   bool held_wrench = false;
   if (held != nullptr && held_ >= 0 && static_cast<std::size_t>(held_) < bodies_.size()) {
@@ -545,7 +606,6 @@ void Dynamics::integrateForces(double dt, const HeldInput* held) {
       held_wrench = true;
     }
   }
-  const double margin = world_->options().box_margin;
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     BodyState& b = bodies_[i];
     const bool held_here = held_kinematic_ && static_cast<std::int32_t>(i) == held_;
@@ -604,10 +664,9 @@ void Dynamics::integrateForces(double dt, const HeldInput* held) {
   }
 }
 
-void Dynamics::gatherContacts(StepReport& report) {
+void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, StepReport& report) {
   points_.clear();
-  const auto contacts = world_->contacts();
-  const std::size_t cap = points_.capacity();
+  const std::size_t cap = max_points_;
   std::size_t warm = 0;  // warm_ is sorted like the contacts: walk both
   for (const collision::Contact& c : contacts) {
     if (!c.answered || c.body_a >= bodies_.size() || c.body_b >= bodies_.size())
@@ -1244,14 +1303,14 @@ void Dynamics::correctPositions(double dt) {
   }
 }
 
-StepReport Dynamics::step(double dt, const HeldInput* held) {
+StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const HeldInput* held) {
   StepReport report;
   if (!active_)
     return report;
   if (!(dt > 0.0) || !std::isfinite(dt))
     return report;
   if (asleep_) {
-    if (!wakeRequested(held)) {
+    if (!wakeRequested(world, held)) {
       // the whole scene rests: nothing moves until something pushes; impulses still in the
       // spreader's window are delivered
       ++counters_.ticks_asleep;
@@ -1282,8 +1341,8 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
   ++counters_.ticks;
   step_flags_ = 0;
   tick_dt_ = dt;
-  integrateForces(dt, held);
-  gatherContacts(report);
+  integrateForces(dt, world.options().box_margin, held);
+  gatherContacts(world.contacts(), report);
   prepareJoints();
 
   // restitution and friction thresholds, relative to the tick's gravity and the bodies' size
@@ -1428,7 +1487,7 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
     const BodyState& b = bodies_[i];
     if (b.motion == scene::Motion::kStatic || !b.enabled)
       continue;
-    world_->setPose(i, Pose{b.x_W - b.R * b.com_B, b.q});
+    world.setPose(i, Pose{b.x_W - b.R * b.com_B, b.q});
   }
   // sleep: once every moving body has been still for sleep_time_s
   if (options_.sleep_time_s > 0.0) {
@@ -1442,7 +1501,7 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
     }
     // a held body moving in free space does not keep the scene awake; one touching a dynamic
     // body does
-    still = still && !(held_kinematic_ && heldTouchesDynamic());
+    still = still && !(held_kinematic_ && heldTouchesDynamic(world));
     rest_s_ = still ? rest_s_ + dt : 0.0;
     if (rest_s_ >= options_.sleep_time_s) {
       asleep_ = true;
@@ -1460,12 +1519,12 @@ StepReport Dynamics::step(double dt, const HeldInput* held) {
 // external wrench
 // the held body (or a body driven with it) has a contact this tick, within the world's box
 // margin, with a dynamic body the dynamics move
-bool Dynamics::heldTouchesDynamic() const {
-  const double margin = world_->options().box_margin;
+bool Dynamics::heldTouchesDynamic(const collision::CollisionWorld& world) const {
+  const double margin = world.options().box_margin;
   const auto heldSet = [&](std::uint32_t i) {
     return static_cast<std::int32_t>(i) == held_ || bodies_[i].driven;
   };
-  for (const collision::Contact& c : world_->contacts()) {
+  for (const collision::Contact& c : world.contacts()) {
     if (!c.answered || c.body_a >= bodies_.size() || c.body_b >= bodies_.size())
       continue;
     const bool ha = heldSet(c.body_a), hb = heldSet(c.body_b);
@@ -1479,7 +1538,7 @@ bool Dynamics::heldTouchesDynamic() const {
   return false;
 }
 
-bool Dynamics::wakeRequested(const HeldInput* held) const {
+bool Dynamics::wakeRequested(const collision::CollisionWorld& world, const HeldInput* held) const {
   if (held != nullptr && held_ >= 0) {
     if (held->mode == HeldMode::kWrench &&
         (glm::length(held->force_W_n) > 0.0 || glm::length(held->torque_W_nm) > 0.0))
@@ -1489,7 +1548,7 @@ bool Dynamics::wakeRequested(const HeldInput* held) const {
       const Vec3 x =
           held->X_WB_target.translation + glm::mat3_cast(held->X_WB_target.rotation) * h.com_B;
       if ((x != h.x_W || std::abs(glm::dot(held->X_WB_target.rotation, h.q)) < 1.0) &&
-          heldTouchesDynamic())
+          heldTouchesDynamic(world))
         return true;
     }
   }

@@ -37,7 +37,9 @@
 #include <vector>
 
 #include "core/collision/collision_world.h"
+#include "core/common/reserved_vector.h"
 #include "core/common/result.h"
+#include "core/common/state_writer.h"
 #include "core/dynamics/impulse_spreader.h"
 #include "core/dynamics/scene_world.h"
 #include "core/geometry/mass_properties.h"
@@ -179,24 +181,31 @@ MassProperties computeMassProperties(std::span<const scene::Primitive> primitive
 class Dynamics {
  public:
   /// Builds the stage for `scene` on `world` (whose body ids are the scene's body indices, as
-  /// buildCollisionWorld makes them). Both must outlive the Dynamics. A scene without dynamic
+  /// buildCollisionWorld makes them; read here only for the poses of bodies after the scene's).
+  /// The scene must outlive the Dynamics; step() is given the world each tick. A scene without dynamic
   /// bodies yields an inactive stage whose step() returns at once. Errors: a dynamic body with
   /// non-positive or non-finite mass, a joint naming a body out of range, options out of range.
   /// Off the servo thread.
   static Result<std::unique_ptr<Dynamics>> create(const scene::SceneModel& scene,
-                                                  collision::CollisionWorld& world,
+                                                  const collision::CollisionWorld& world,
                                                   const DynamicsOptions& options = {});
   ~Dynamics();
-  Dynamics(const Dynamics&) = delete;
-  Dynamics& operator=(const Dynamics&) = delete;
+  /// A copy is a stage in the same state (for a copy of the simulation state; it shares the
+  /// scene and needs a copy of the world to step). Off the servo thread: allocates, keeping
+  /// every capacity.
+  Dynamics(const Dynamics&);
+  Dynamics(Dynamics&&) noexcept;
+  Dynamics& operator=(const Dynamics&);
+  Dynamics& operator=(Dynamics&&) noexcept;
 
   /// True when the scene has at least one dynamic body (the plan's `dynamics`).
   bool active() const { return active_; }
 
-  /// One tick of dt seconds (> 0). Call it after CollisionWorld::step() of this tick (it reads
-  /// contacts()); it writes the new poses with CollisionWorld::setPose. `held` may be null.
+  /// One tick of dt seconds (> 0) on `world` (the one create() was given, or a copy of it with
+  /// a copy of this stage). Call it after world.step() of this tick (it reads contacts()); it
+  /// writes the new poses with world.setPose. `held` may be null.
   /// Servo thread; no allocation. An inactive stage returns an empty report at once.
-  StepReport step(double dt, const HeldInput* held = nullptr);
+  StepReport step(collision::CollisionWorld& world, double dt, const HeldInput* held = nullptr);
 
   /// Moves a kinematic body to X_WB by the end of the next step, with the velocity that takes
   /// it there (contacts see that velocity); without a new call it stays. Ignored for other
@@ -255,6 +264,11 @@ class Dynamics {
   const DynamicsCounters& counters() const { return counters_; }
   std::uint32_t bodyCount() const;
 
+  /// Writes the stage's state (bodies, joints' warm starts, warm contact points, spreader,
+  /// feedback, sleep, counters; not the per-tick contact points or scratch) for the simulation
+  /// state's hash and comparison (core/sim/scene_state.h). Any thread that may read it.
+  void writeState(StateWriter& w) const;
+
  private:
   struct BodyState;
   struct ContactPoint;
@@ -262,14 +276,14 @@ class Dynamics {
   struct WarmPoint;
 
   Dynamics();
-  void integrateForces(double dt, const HeldInput* held);
-  void gatherContacts(StepReport& report);
+  void integrateForces(double dt, double margin, const HeldInput* held);
+  void gatherContacts(std::span<const collision::Contact> contacts, StepReport& report);
   void prepareJoints();
   void solveVelocities(double remaining);
   void advance(double h);
   void correctPositions(double dt);
-  bool wakeRequested(const HeldInput* held) const;
-  bool heldTouchesDynamic() const;
+  bool wakeRequested(const collision::CollisionWorld& world, const HeldInput* held) const;
+  bool heldTouchesDynamic(const collision::CollisionWorld& world) const;
   void storeWarmStart();
 
   std::uint32_t step_flags_ = 0;
@@ -283,15 +297,15 @@ class Dynamics {
   double rest_s_ = 0.0;  // how long every dynamic body has been still
 
   const scene::SceneModel* scene_ = nullptr;
-  collision::CollisionWorld* world_ = nullptr;
   DynamicsOptions options_;
   bool active_ = false;
   std::int32_t held_ = -1;
   bool held_kinematic_ = false;
   double accel_scale_ = 0.0;  // largest |gravity| * gravity_factor
   std::vector<BodyState> bodies_;
-  std::vector<ContactPoint> points_;
-  std::vector<WarmPoint> warm_, warm_next_;
+  ReservedVector<ContactPoint> points_;
+  std::size_t max_points_ = 0;  // the capacity of points_ (options' max_contact_points)
+  ReservedVector<WarmPoint> warm_, warm_next_;
   std::vector<JointState> joints_;
   std::vector<std::uint64_t> no_collide_;  // body-pair keys kept apart by joints, sorted
   ImpulseSpreader spreader_;

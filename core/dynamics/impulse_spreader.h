@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/common/state_writer.h"
 #include "core/geometry/pose.h"
 
 namespace hapticd::dynamics {
@@ -30,6 +31,9 @@ class ImpulseSpreader {
   void pop(geom::Vec3* force_n, geom::Vec3* torque_nm);
   /// Forgets everything pending. Servo thread.
   void clear();
+
+  /// Writes what is pending (for the simulation state's hash, core/sim/scene_state.h).
+  void writeState(StateWriter& w) const;
 
  private:
   double tick_s_ = 0.001;

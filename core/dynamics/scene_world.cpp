@@ -8,6 +8,15 @@ double recommendedBoxMargin(const scene::SceneModel& scene) {
   return 0.005 * (scene.length_scale > 0.0 ? scene.length_scale : 1.0);
 }
 
+collision::BodyKind worldKind(const scene::SceneModel& scene, std::size_t body) {
+  using collision::BodyKind;
+  const scene::Motion motion = scene.bodies[body].motion;
+  return static_cast<std::int32_t>(body) == scene.probe_body ? BodyKind::kProbe
+         : motion == scene::Motion::kStatic                  ? BodyKind::kStatic
+         : motion == scene::Motion::kKinematic               ? BodyKind::kKinematic
+                                                             : BodyKind::kDynamic;
+}
+
 Result<std::unique_ptr<collision::CollisionWorld>> buildCollisionWorld(
     const scene::SceneModel& scene,
     collision::WorldOptions options,
@@ -24,10 +33,7 @@ Result<std::unique_ptr<collision::CollisionWorld>> buildCollisionWorld(
     const scene::Body& b = scene.bodies[i];
     const bool is_probe = static_cast<std::int32_t>(i) == scene.probe_body;
     collision::BodyDesc desc;
-    desc.kind = is_probe                                ? BodyKind::kProbe
-                : b.motion == scene::Motion::kStatic    ? BodyKind::kStatic
-                : b.motion == scene::Motion::kKinematic ? BodyKind::kKinematic
-                                                        : BodyKind::kDynamic;
+    desc.kind = worldKind(scene, i);
     desc.group = ~0u;  // the primitives' filters alone decide
     desc.mask = ~0u;
     for (const scene::Primitive& p : b.primitives) {

@@ -19,6 +19,10 @@ namespace hapticd::dynamics {
 /// length scale. Any thread.
 double recommendedBoxMargin(const scene::SceneModel& scene);
 
+/// The kind of scene body `body` in the collision world: kProbe for SceneModel::probe_body, else
+/// its motion's. Any thread.
+collision::BodyKind worldKind(const scene::SceneModel& scene, std::size_t body);
+
 /// The collision world of `scene`: one body per scene body, in order (world id == scene body
 /// index), of the kind its motion says (SceneModel::probe_body: kProbe); every primitive with its
 /// own collision filter, the body's passing everything, so that two primitives collide exactly

@@ -27,4 +27,15 @@ Wrench VirtualCoupling::step(const Vec3& h_dev_W,
   return w;
 }
 
+void VirtualCoupling::writeState(StateWriter& w) const {
+  for (const double v : {p_.stiffness_n_per_m, p_.damping_n_s_per_m, p_.rot_stiffness_nm_per_rad,
+                         p_.rot_damping_nm_s_per_rad, p_.tick_s})
+    w.f64(v);
+  w.flag(have_prev_);
+  w.glm(prev_h_dev_);
+  w.glm(prev_h_prx_);
+  w.glm(prev_q_dev_);
+  w.glm(prev_q_prx_);
+}
+
 }  // namespace hapticd::response

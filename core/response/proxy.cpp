@@ -84,6 +84,20 @@ ProxyBasis ProxyBasis::hinge(const Vec3& o_W, const Vec3& a_W, const Vec3& c_W) 
   return b;
 }
 
+void ContactRows::writeState(StateWriter& w) const {
+  w.integer(rows_.size());
+  for (const ContactRow& r : rows_) {
+    w.glm(r.p_W);
+    w.glm(r.n_W);
+    w.f64(r.gap);
+    w.f64(r.stiffness);
+    w.integer(r.first);
+    w.integer(r.second);
+  }
+  w.integer(capacity_);
+  w.flag(full_);
+}
+
 Wrench penaltyWrench(std::span<const ContactRow> rows, const Vec3& c_W, double delta) {
   Wrench w;
   for (const ContactRow& r : rows) {

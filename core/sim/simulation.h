@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// One servo tick of the whole haptic simulation (../shared/DESIGN.md "One servo tick"; §3.1, §6.1
+/// One servo tick of the whole haptic simulation (docs/architecture.md "One servo tick"; §3.1, §6.1
 /// of Gregory et al. 2000): probe pose in, proxy, collision, response (and dynamics when the
 /// scene's plan asks), virtual coupling, force and torque out. The same code runs in the daemon,
 /// in headless replay, in tests and in benchmarks.
@@ -25,7 +25,7 @@ namespace hapticd::sim {
 using geom::Pose;
 using geom::Vec3;
 
-/// Knobs of the response (config [response]); defaults: §5 of the paper and ../shared/DESIGN.md.
+/// Knobs of the response (config [response]); defaults: §5 of the paper and docs/response.md.
 struct ResponseOptions {
   double stiffness_n_per_m = 600.0;  ///< k_s: 0.6 N/mm (§5.1)
   double tick_s = 0.001;             ///< Δt: 1 ms (§5.2)
@@ -223,6 +223,12 @@ inline const char* toString(EditStatus s) {
   return "unknown";
 }
 
+struct SimModel;
+struct SceneState;
+
+/// The façade the daemon drives: a compiled model (core/sim/model.h) and its per-tick state
+/// (core/sim/scene_state.h), stepped by sim::step (the functions underneath, for tests and tools
+/// that copy or compare states).
 class Simulation {
  public:
   /// Builds the per-scene pipeline (only the stages the scene's plan asks for) and every capacity
@@ -285,6 +291,16 @@ class Simulation {
   /// The held set's contact points after the last step (at most a fixed capacity, in the order
   /// the response used them). Servo thread or the owner between steps.
   virtual std::span<const ContactPoint> contactPoints() const { return {}; }
+
+  // --- the model apart from the state (docs/architecture.md "Model apart from state") ---
+  /// The compiled model and the state after the last step (for a copy, a comparison or the
+  /// hash). nullptr for implementations without them (test fakes). The owner thread, between
+  /// steps.
+  virtual const SimModel* model() const { return nullptr; }
+  virtual const SceneState* state() const { return nullptr; }
+  /// sim::stateHash(*state()): the determinism hash of the state after the last step (0 without
+  /// a state). The owner thread between steps; no allocation.
+  std::uint64_t stateHash() const;
 };
 
 }  // namespace hapticd::sim

@@ -195,7 +195,7 @@ TEST(NoOp, SceneWithoutDynamicBodiesDoesNoWork) {
   EXPECT_FALSE(rig.dyn->active());
   const std::uint64_t before = testing_alloc::count();
   for (int i = 0; i < 1000; ++i) {
-    const StepReport r = rig.dyn->step(kDt);
+    const StepReport r = rig.dyn->step(*rig.world, kDt);
     EXPECT_EQ(r.contact_points, 0u);
   }
   EXPECT_EQ(testing_alloc::count(), before);

@@ -138,7 +138,7 @@ struct Rig {
   }
   StepReport tick(double dt = 0.001, const HeldInput* held = nullptr) {
     world->step();
-    return dyn->step(dt, held);
+    return dyn->step(*world, dt, held);
   }
   double energy() const { return dyn->kineticEnergy() + dyn->potentialEnergy(); }
 };
