@@ -182,10 +182,10 @@ class Dynamics {
  public:
   /// Builds the stage for `scene` on `world` (whose body ids are the scene's body indices, as
   /// buildCollisionWorld makes them; read here only for the poses of bodies after the scene's).
-  /// The scene must outlive the Dynamics; step() is given the world each tick. A scene without dynamic
-  /// bodies yields an inactive stage whose step() returns at once. Errors: a dynamic body with
-  /// non-positive or non-finite mass, a joint naming a body out of range, options out of range.
-  /// Off the servo thread.
+  /// The scene must outlive the Dynamics; step() is given the world each tick. A scene without
+  /// dynamic bodies yields an inactive stage whose step() returns at once. Errors: a dynamic body
+  /// with non-positive or non-finite mass, a joint naming a body out of range, options out of
+  /// range. Off the servo thread.
   static Result<std::unique_ptr<Dynamics>> create(const scene::SceneModel& scene,
                                                   const collision::CollisionWorld& world,
                                                   const DynamicsOptions& options = {});
@@ -271,20 +271,42 @@ class Dynamics {
 
  private:
   struct BodyState;
+  struct Row;
   struct ContactPoint;
   struct JointState;
   struct WarmPoint;
 
   Dynamics();
+  // create (dynamics.cpp)
+  Result<bool> initBody(std::uint32_t i, const Vec3& g, std::size_t* moving_prims);
+  Result<bool> initMass(const scene::Body& sb, const Vec3& g, BodyState& b);
+  Result<bool> initJoints();
+  // the tick (dynamics_step.cpp)
+  void stepAsleep(const HeldInput* held);
   void integrateForces(double dt, double margin, const HeldInput* held);
   void gatherContacts(std::span<const collision::Contact> contacts, StepReport& report);
-  void prepareJoints();
-  void solveVelocities(double remaining);
+  void solveThroughImpacts(double dt, StepReport& report);
+  double restitutionThreshold(const ContactPoint& cp) const;
+  double touchTolerance(const ContactPoint& cp) const;
+  void activate(ContactPoint& cp) const;
   void advance(double h);
-  void correctPositions(double dt);
+  HeldFeedback heldFeedbackOfTick();
+  void updateSleep(const collision::CollisionWorld& world, double dt);
   bool wakeRequested(const collision::CollisionWorld& world, const HeldInput* held) const;
   bool heldTouchesDynamic(const collision::CollisionWorld& world) const;
   void storeWarmStart();
+  // the solvers (dynamics_solver.cpp)
+  void prepareJoints();
+  void solveVelocities(double remaining);
+  void prepareRows(double remaining);
+  void applyWarmStart();
+  void solveJoint(JointState& js, double inv_dt, double& residual);
+  void solveContact(ContactPoint& cp, double& residual);
+  void applyRestitution();
+  void correctPositions(double dt);
+  bool measureJointErrors();
+  void correctJoint(JointState& js, double beta, double inv_dt);
+  void correctContact(ContactPoint& cp, double beta, double inv_dt);
 
   std::uint32_t step_flags_ = 0;
   double tick_dt_ = 0.001;
