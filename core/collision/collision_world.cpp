@@ -83,6 +83,7 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
     p.index = i;
     p.live = true;
     const Polytope& shape = *desc.primitives[i].shape;
+    depth_scratch_.reserve(shape.faces().size());
     for (std::size_t h = 0; h < 6; ++h)
       p.hint[h] = shape.lookup(Vec3{h / 2 == 0, h / 2 == 1, h / 2 == 2} * (h % 2 ? 1.0 : -1.0));
     BoxFilter filter;
@@ -175,9 +176,9 @@ void CollisionWorld::test(PairState& s) {
   // X_AB = X_WA^-1 X_WB, translations subtracted first (far from the origin stays exact)
   const geom::Mat3 Rt = glm::transpose(X_WA.R);
   const Transform X_AB{Rt * X_WB.R, Rt * (X_WB.t - X_WA.t)};
-  const PairResult r =
-      queryPair(*bodies_[pa.body].desc.primitives[pa.index].shape,
-                *bodies_[pb.body].desc.primitives[pb.index].shape, X_AB, s.cache, options_.query);
+  const PairResult r = queryPair(*bodies_[pa.body].desc.primitives[pa.index].shape,
+                                 *bodies_[pb.body].desc.primitives[pb.index].shape, X_AB, s.cache,
+                                 depth_scratch_, options_.query);
   toWorld(X_WA, r, s.last);
   s.last.answered = true;
   s.last_tested = tick_;

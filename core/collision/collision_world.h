@@ -8,7 +8,8 @@
 ///
 /// Threads: build and change the world (addBody, removeBody, reserve) off the servo thread;
 /// setPose() and step() are servo-thread calls that allocate nothing once the capacities have
-/// grown to the scene's size (reserve() makes that so from the start).
+/// grown to the scene's size (reserve() makes that so from the start; the narrow phase's depth
+/// scratch is sized by addBody for every shape the world holds).
 
 #include <array>
 #include <cstdint>
@@ -192,6 +193,7 @@ class CollisionWorld {
   ReservedVector<std::uint32_t> moved_;  // bodies given a pose since the last step
   ReservedVector<std::uint64_t> order_;  // scheduler scratch: priority << 32 | state index
   ReservedVector<Contact> contacts_;
+  DepthScratch depth_scratch_;  // the narrow phase's, sized for every shape added
   std::uint64_t tick_ = 0;
   std::size_t reserved_pairs_ = 0;
 };

@@ -320,10 +320,30 @@ void witnesses(const Polytope& a,
 
 }  // namespace
 
+void DepthScratch::reserve(std::size_t faces) {
+  if (support_of_face.size() < faces)
+    support_of_face.resize(faces);
+  if (neg_normal_b.size() < faces)
+    neg_normal_b.resize(faces);
+}
+
+DepthScratch& DepthScratch::forThisThread() {
+  thread_local DepthScratch scratch;
+  return scratch;
+}
+
 DepthResult penetrationDepthExact(const Polytope& a,
                                   const Polytope& b,
                                   const Transform& X_AB,
                                   DepthCache& cache) {
+  return penetrationDepthExact(a, b, X_AB, cache, DepthScratch::forThisThread());
+}
+
+DepthResult penetrationDepthExact(const Polytope& a,
+                                  const Polytope& b,
+                                  const Transform& X_AB,
+                                  DepthCache& cache,
+                                  DepthScratch& scratch) {
   const Transform X_BA = X_AB.inverse();
   DepthSearch s;
   std::uint32_t hint_a = cache.support_a < a.vertices().size() ? cache.support_a : 0;
@@ -332,10 +352,10 @@ DepthResult penetrationDepthExact(const Polytope& a,
   // walk's plane tolerance
   const double tie_tol = 1e-12 * std::max(a.radius(), b.radius());
 
-  // per face of A, B's support vertex against its normal; -(normals of B's faces) in A's frame.
-  // Scratch grows to the largest polytope seen, then never allocates.
-  thread_local std::vector<std::uint32_t> support_of_face;
-  thread_local std::vector<Vec3> neg_normal_b;
+  // per face of A, B's support vertex against its normal; -(normals of B's faces) in A's frame
+  // (the caller's scratch holds them: it grows only if it was not sized for these polytopes)
+  std::vector<std::uint32_t>& support_of_face = scratch.support_of_face;
+  std::vector<Vec3>& neg_normal_b = scratch.neg_normal_b;
   if (support_of_face.size() < a.faces().size())
     support_of_face.resize(a.faces().size());
   if (neg_normal_b.size() < b.faces().size())
@@ -357,12 +377,20 @@ DepthResult penetrationDepth(const Polytope& a,
                              const Polytope& b,
                              const Transform& X_AB,
                              DepthCache& cache) {
+  return penetrationDepth(a, b, X_AB, cache, DepthScratch::forThisThread());
+}
+
+DepthResult penetrationDepth(const Polytope& a,
+                             const Polytope& b,
+                             const Transform& X_AB,
+                             DepthCache& cache,
+                             DepthScratch& scratch) {
   DepthResult r;
   // small hulls: the separating axes are cheaper than the expanding polytope
   const bool small = a.edges().size() * b.edges().size() <= 4096;
   if (!small && penetrationDepthEpa(a, b, X_AB, cache, r))
     return r;
-  r = penetrationDepthExact(a, b, X_AB, cache);
+  r = penetrationDepthExact(a, b, X_AB, cache, scratch);
   cache.normal = r.normal;
   return r;
 }

@@ -267,17 +267,9 @@ Result<std::shared_ptr<const SimModel>> SimModel::compile(
     return ok.error();
   if (auto ok = addJoints(*m); !ok.ok())
     return ok.error();
-  // the polytope with the most faces (prepareThread); the bodies whose poses are listed
+  // the bodies whose poses are listed
   for (std::uint32_t id = 0; id < m->info.size(); ++id) {
     const BodyInfo& bi = m->info[id];
-    const std::size_t count =
-        bi.scene_index < 0 ? 1
-                           : sc.bodies[static_cast<std::size_t>(bi.scene_index)].primitives.size();
-    for (std::uint32_t k = 0; k < count; ++k) {
-      const geom::Polytope& shape = m->primShape(id, k);
-      if (shape.faces().size() > m->max_faces)
-        m->max_faces = shape.faces().size(), m->max_shape = &shape;
-    }
     if (bi.kind != BodyKind::kStatic && bi.scene_index >= 0)
       m->pose_bodies.push_back(id);
   }

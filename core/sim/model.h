@@ -69,9 +69,6 @@ struct SimModel {
   response::CouplingParams coupling;
   response::ProxyParams proxy;
   response::OutputLimits output;
-  /// The polytope with the most faces (Simulation::prepareThread).
-  const geom::Polytope* max_shape = nullptr;
-  std::size_t max_faces = 0;
 
   /// Checks the options and the scene and derives the model. Errors name the option or the
   /// body. Off the servo thread.

@@ -19,7 +19,7 @@ class SimulationImpl final : public Simulation {
   void restartRamp() override { state_.output.restartRamp(); }
   const scene::SceneModel& scene() const override { return *model_->scene; }
   DynamicsStatus dynamicsStatus() const override { return sim::dynamicsStatus(*model_, state_); }
-  void prepareThread() override { detail::prepareThread(*model_); }
+  void prepareThread() override {}  // nothing per thread: the world owns its scratch
   EditStatus setKinematicPose(std::uint32_t body, const Pose& X_WB) override {
     return sim::setKinematicPose(*model_, state_, body, X_WB);
   }

@@ -253,11 +253,11 @@ class Simulation {
   /// fakes) need not define it: the default reports no dynamics.
   virtual DynamicsStatus dynamicsStatus() const { return {}; }
 
-  /// Sizes the calling thread's scratch for this scene (the narrow phase keeps per-thread
-  /// buffers sized to the largest polytope it has seen; growing them allocates). Call once on the
-  /// servo thread before the first step(), outside any no-allocation window; may allocate.
-  /// step() calls it itself when it has not been called on its thread, so that only a first
-  /// tick could allocate.
+  /// Prepares the calling thread for step(). The simulation needs nothing per thread any more
+  /// (the narrow phase's scratch belongs to the state's collision world, sized at create():
+  /// core/collision/penetration.h), so step() allocates nothing from its first tick; the servo
+  /// loop still calls it once on its thread before the first step(), which costs nothing and
+  /// keeps other implementations free to need it. May allocate.
   virtual void prepareThread() = 0;
 
   // --- scene edits (protocol SceneUpdate; issue 6 "kinematic bodies moved by clients") ---

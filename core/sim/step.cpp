@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <cmath>
 
-#include "core/collision/penetration.h"
 #include "core/geometry/rotation.h"
 #include "core/sim/tick.h"
 
@@ -19,9 +18,6 @@ using geom::Quat;
 bool finitePose(const Vec3& p, const Quat& q) {
   return geom::finite(p) && geom::finite(q);
 }
-
-// the most faces this thread's narrow-phase scratch has been sized for
-thread_local std::size_t t_prepared_faces = 0;
 
 // scene edits since the last tick: the collision world and the rows see them before the proxy
 // steps (a kinematic body moved into the proxy pushes it out from this tick's rows)
@@ -307,22 +303,8 @@ void fillOutput(const SimModel& m, SceneState& s, const ProxyMove& mv, TickOutpu
 
 }  // namespace
 
-void detail::prepareThread(const SimModel& m) {
-  if (t_prepared_faces >= m.max_faces || m.max_shape == nullptr)
-    return;
-  // the exact depth sizes its scratch by the faces of both polytopes before any work: the
-  // largest with itself, placed well apart so that the first separating face ends the query
-  collision::DepthCache cache;
-  geom::Transform X;
-  X.t = Vec3{4.0 * m.max_shape->radius(), 0.0, 0.0};
-  (void)collision::penetrationDepthExact(*m.max_shape, *m.max_shape, X, cache);
-  t_prepared_faces = m.max_faces;
-}
-
 TickOutput step(const SimModel& m, SceneState& s, const TickInput& input) {
   TickOutput out;
-  if (t_prepared_faces < m.max_faces)
-    detail::prepareThread(m);
   const EditsSeen edits = beginTick(m, s, input);
   detail::updateAttachment(m, s, input);
   const Device dev = trackDevice(m, s, input);

@@ -44,10 +44,6 @@ void detach(const SimModel& m, SceneState& s);
 void updateDriven(const SimModel& m, SceneState& s);
 /// k_r = k_c r^2 for the held set's mode (unless the options fix it).
 void setRotationalStiffness(const SimModel& m, SceneState& s);
-/// Sizes the calling thread's narrow-phase scratch for the model's largest polytope
-/// (Simulation::prepareThread). May allocate.
-void prepareThread(const SimModel& m);
-
 /// The proxy step's motion applied to the probe, an attached body and the driven hinges.
 void applyStep(const SimModel& m, SceneState& s, const response::ProxyStep& step);
 
