@@ -1,9 +1,9 @@
-// Pose streams as hapticctl replay reads them (client/pose_stream.h: the lenient dialect of
+// Pose streams as hapticctl replay reads them (client/replay_stream.h: the lenient dialect of
 // protocol/pose_stream.h): parsing with errors that name file, line and what, and sampling: exact
 // at the rows, lerp and slerp right at midpoints, the shorter arc when the quaternions flip sign,
 // buttons of the row at or before, clamped outside the stream. The expected values come from
 // closed forms (rotations about one axis), not from the code under test.
-#include "client/pose_stream.h"
+#include "client/replay_stream.h"
 
 #include <gtest/gtest.h>
 
@@ -19,7 +19,7 @@ using geom::Quat;
 using geom::Vec3;
 
 Result<std::vector<proto::PoseStreamRow>> parse(const std::string& text) {
-  return parsePoseStream(text, "s.csv");
+  return parseReplayStream(text, "s.csv");
 }
 
 std::string errorOf(const std::string& text) {
@@ -45,7 +45,7 @@ const char* kStream =
     // 180° about z written as -(0,0,1,0): q·q_prev < 0, the shorter arc is 90°→180°
     "1.5,3,2,-4,0,0,-1,0,4\n";
 
-TEST(PoseStream, ParsesRowsAndOptionalButtonsAndComments) {
+TEST(ReplayStream, ParsesRowsAndOptionalButtonsAndComments) {
   auto r = parse(
       "# a comment\nt,px,py,pz,qx,qy,qz,qw,buttons\n\n0,1,2,3,0,0,0,1,7\n"
       "0.25,1,2,3,0,0,0,1\r\n");
@@ -57,7 +57,7 @@ TEST(PoseStream, ParsesRowsAndOptionalButtonsAndComments) {
   EXPECT_EQ(r.value()[0].X_WD.translation.z, 3.0);
 }
 
-TEST(PoseStream, BadRowsNameFileLineAndWhat) {
+TEST(ReplayStream, BadRowsNameFileLineAndWhat) {
   EXPECT_EQ(errorOf("t,px,py,pz,qx,qy,qz,qw,buttons\n0,0,0,zero,0,0,0,1,0\n"),
             "s.csv:2: column 4 (pz): 'zero' is not a number");
   EXPECT_EQ(errorOf("0,0,0,0,0,0,0,1,0\n0,0,0\n"),
@@ -74,14 +74,14 @@ TEST(PoseStream, BadRowsNameFileLineAndWhat) {
   EXPECT_EQ(errorOf("t,px,py,pz,qx,qy,qz,qw,buttons\n"), "s.csv: no rows");
 }
 
-TEST(PoseStream, NonIncreasingTimeRefused) {
+TEST(ReplayStream, NonIncreasingTimeRefused) {
   EXPECT_EQ(errorOf("0,0,0,0,0,0,0,1\n0.5,0,0,0,0,0,0,1\n0.5,0,0,0,0,0,0,1\n"),
             "s.csv:3: t 0.5 is not after the previous row's t 0.5 (t must increase)");
   EXPECT_NE(errorOf("1,0,0,0,0,0,0,1\n0.5,0,0,0,0,0,0,1\n").find("s.csv:2: t 0.5 is not after"),
             std::string::npos);
 }
 
-TEST(PoseStream, NonUnitQuaternionRefusedNearUnitRenormalised) {
+TEST(ReplayStream, NonUnitQuaternionRefusedNearUnitRenormalised) {
   const std::string e = errorOf("0,0,0,0,0,0,0,1.01\n");
   EXPECT_EQ(e.rfind("s.csv:1: quaternion (0, 0, 0, 1.01) has norm 1.01", 0), 0u) << e;
   EXPECT_NE(errorOf("0,0,0,0,0,0,0,0\n").find("has norm 0"), std::string::npos);
@@ -91,30 +91,30 @@ TEST(PoseStream, NonUnitQuaternionRefusedNearUnitRenormalised) {
   EXPECT_NEAR(std::sqrt(q.z * q.z + q.w * q.w), 1.0, 1e-15);
 }
 
-TEST(PoseStream, ExactAtTheRows) {
+TEST(ReplayStream, ExactAtTheRows) {
   auto r = parse(kStream);
   ASSERT_TRUE(r) << r.error().message;
   const auto& rows = r.value();
   for (const auto& row : rows) {
-    const PoseSample s = samplePoseStream(rows, row.t_s);
+    const ReplaySample s = sampleReplayStream(rows, row.t_s);
     EXPECT_EQ(s.X_WD.translation, row.X_WD.translation) << row.t_s;
     EXPECT_EQ(s.X_WD.rotation, row.X_WD.rotation) << row.t_s;
     EXPECT_EQ(s.buttons, row.buttons) << row.t_s;
   }
 }
 
-TEST(PoseStream, MidpointLerpAndSlerp) {
+TEST(ReplayStream, MidpointLerpAndSlerp) {
   auto r = parse(kStream);
   ASSERT_TRUE(r);
   const auto& rows = r.value();
   // first segment: p from (0,0,0) to (1,2,-4), q from 0° to 90° about z
-  PoseSample s = samplePoseStream(rows, 0.25);
+  ReplaySample s = sampleReplayStream(rows, 0.25);
   EXPECT_NEAR(s.X_WD.translation.x, 0.5, 1e-15);
   EXPECT_NEAR(s.X_WD.translation.y, 1.0, 1e-15);
   EXPECT_NEAR(s.X_WD.translation.z, -2.0, 1e-15);
   EXPECT_LT(rotationGap(s.X_WD.rotation, aboutZ(45.0)), 1e-15);
   // at a quarter: 22.5° (slerp is uniform in angle, unlike normalised lerp)
-  s = samplePoseStream(rows, 0.125);
+  s = sampleReplayStream(rows, 0.125);
   EXPECT_LT(rotationGap(s.X_WD.rotation, aboutZ(22.5)), 1e-15);
   EXPECT_NEAR(s.X_WD.translation.z, -1.0, 1e-15);
   // segment velocities
@@ -124,12 +124,12 @@ TEST(PoseStream, MidpointLerpAndSlerp) {
   EXPECT_NEAR(s.w_W.x, 0.0, 1e-12);
 }
 
-TEST(PoseStream, ShortestArcWhenTheQuaternionsFlipSign) {
+TEST(ReplayStream, ShortestArcWhenTheQuaternionsFlipSign) {
   auto r = parse(kStream);
   ASSERT_TRUE(r);
   const auto& rows = r.value();
   // second segment: 90° → -(180°) = 180°: the short way passes 135°, the long way 315°
-  const PoseSample s = samplePoseStream(rows, 1.0);
+  const ReplaySample s = sampleReplayStream(rows, 1.0);
   const Quat& q = s.X_WD.rotation;
   EXPECT_LT(rotationGap(q, aboutZ(135.0)), 1e-15);
   EXPECT_GT(rotationGap(q, aboutZ(315.0)), 0.5);
@@ -144,32 +144,32 @@ TEST(PoseStream, ShortestArcWhenTheQuaternionsFlipSign) {
   }
 }
 
-TEST(PoseStream, NearlyEqualQuaternionsDoNotDivideByZero) {
+TEST(ReplayStream, NearlyEqualQuaternionsDoNotDivideByZero) {
   const Quat q = geom::slerp(aboutZ(10.0), aboutZ(10.0 + 1e-9), 0.5);
   EXPECT_LT(rotationGap(q, aboutZ(10.0)), 1e-15);
   EXPECT_TRUE(geom::finite(q));
 }
 
-TEST(PoseStream, ButtonsOfTheRowAtOrBeforeAndClampedOutside) {
+TEST(ReplayStream, ButtonsOfTheRowAtOrBeforeAndClampedOutside) {
   auto r = parse(kStream);
   ASSERT_TRUE(r);
   const auto& rows = r.value();
-  EXPECT_EQ(samplePoseStream(rows, 0.0).buttons, 1u);
-  EXPECT_EQ(samplePoseStream(rows, 0.4999).buttons, 1u);
-  EXPECT_EQ(samplePoseStream(rows, 0.5).buttons, 2u);
-  EXPECT_EQ(samplePoseStream(rows, 1.4999).buttons, 2u);
-  EXPECT_EQ(samplePoseStream(rows, 1.5).buttons, 4u);
-  const PoseSample before = samplePoseStream(rows, -1.0);
+  EXPECT_EQ(sampleReplayStream(rows, 0.0).buttons, 1u);
+  EXPECT_EQ(sampleReplayStream(rows, 0.4999).buttons, 1u);
+  EXPECT_EQ(sampleReplayStream(rows, 0.5).buttons, 2u);
+  EXPECT_EQ(sampleReplayStream(rows, 1.4999).buttons, 2u);
+  EXPECT_EQ(sampleReplayStream(rows, 1.5).buttons, 4u);
+  const ReplaySample before = sampleReplayStream(rows, -1.0);
   EXPECT_EQ(before.X_WD.translation, rows.front().X_WD.translation);
   EXPECT_EQ(before.v_W, Vec3(0.0));
-  const PoseSample after = samplePoseStream(rows, 9.0);
+  const ReplaySample after = sampleReplayStream(rows, 9.0);
   EXPECT_EQ(after.X_WD.translation, rows.back().X_WD.translation);
   EXPECT_EQ(after.X_WD.rotation, rows.back().X_WD.rotation);
   EXPECT_EQ(after.buttons, 4u);
   EXPECT_EQ(after.v_W, Vec3(0.0));
 }
 
-TEST(PoseStream, HintGivesTheSameSamplesAsASearch) {
+TEST(ReplayStream, HintGivesTheSameSamplesAsASearch) {
   std::string text;
   for (int i = 0; i < 50; ++i)
     text += std::to_string(0.1 * i) + "," + std::to_string(i % 7) + ",0,0,0,0,0,1," +
@@ -178,8 +178,8 @@ TEST(PoseStream, HintGivesTheSameSamplesAsASearch) {
   ASSERT_TRUE(r) << r.error().message;
   std::size_t hint = 0;
   for (double t = -0.05; t < 5.1; t += 0.013) {
-    const PoseSample a = samplePoseStream(r.value(), t, &hint);
-    const PoseSample b = samplePoseStream(r.value(), t);
+    const ReplaySample a = sampleReplayStream(r.value(), t, &hint);
+    const ReplaySample b = sampleReplayStream(r.value(), t);
     EXPECT_EQ(a.X_WD.translation, b.X_WD.translation) << t;
     EXPECT_EQ(a.buttons, b.buttons) << t;
   }

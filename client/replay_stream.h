@@ -17,7 +17,7 @@
 namespace hapticd::client {
 
 /// The stream at one time, with the velocities of its segment.
-struct PoseSample {
+struct ReplaySample {
   double t_s = 0.0;           ///< seconds (stream time)
   geom::Pose X_WD;            ///< metres, scene frame, unit rotation
   std::uint32_t buttons = 0;  ///< bit mask
@@ -30,14 +30,14 @@ inline constexpr double kPoseStreamQuatTolerance = 1e-3;
 
 /// Parses `text` in the lenient dialect within kPoseStreamQuatTolerance; `name` is used in errors
 /// ("NAME:LINE: what", "NAME: no rows").
-Result<std::vector<proto::PoseStreamRow>> parsePoseStream(const std::string& text,
-                                                          const std::string& name);
+Result<std::vector<proto::PoseStreamRow>> parseReplayStream(const std::string& text,
+                                                            const std::string& name);
 
 /// The stream at time t_s (proto::samplePoseStream: clamped to the first and last rows, lerp and
 /// slerp between), and the velocities of the segment [i, i+1] that holds t_s (zero before the
 /// first row and at and after the last). `hint` (optional) keeps the segment between calls.
-PoseSample samplePoseStream(std::span<const proto::PoseStreamRow> rows,
-                            double t_s,
-                            std::size_t* hint = nullptr);
+ReplaySample sampleReplayStream(std::span<const proto::PoseStreamRow> rows,
+                                double t_s,
+                                std::size_t* hint = nullptr);
 
 }  // namespace hapticd::client

@@ -1,22 +1,22 @@
-#include "client/pose_stream.h"
+#include "client/replay_stream.h"
 
 #include "core/geometry/rotation.h"
 
 namespace hapticd::client {
 
-Result<std::vector<proto::PoseStreamRow>> parsePoseStream(const std::string& text,
-                                                          const std::string& name) {
+Result<std::vector<proto::PoseStreamRow>> parseReplayStream(const std::string& text,
+                                                            const std::string& name) {
   return proto::parsePoseStream(text, name, kPoseStreamQuatTolerance,
                                 proto::PoseStreamDialect::kLenient);
 }
 
-PoseSample samplePoseStream(std::span<const proto::PoseStreamRow> rows,
-                            double t_s,
-                            std::size_t* hint) {
+ReplaySample sampleReplayStream(std::span<const proto::PoseStreamRow> rows,
+                                double t_s,
+                                std::size_t* hint) {
   std::size_t search = 0;
   std::size_t& i = hint != nullptr ? *hint : search;
   const proto::PoseStreamRow r = proto::samplePoseStream(rows, t_s, i);
-  PoseSample s;
+  ReplaySample s;
   s.t_s = t_s;
   s.X_WD = r.X_WD;
   s.buttons = r.buttons;
