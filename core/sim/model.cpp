@@ -19,51 +19,52 @@ bool finitePositive(double v) {
   return std::isfinite(v) && v > 0.0;
 }
 
-// the checks of ResponseOptions and SimOptions; the message names the config key
+// the checks of ResponseOptions and SimOptions; the message names the config key (the table's
+// name: daemon/config_keys.cpp)
 Result<bool> checkOptions(const SimOptions& o) {
   const ResponseOptions& r = o.response;
   if (!finitePositive(r.stiffness_n_per_m))
-    return Error{"response.stiffness must be > 0"};
+    return Error{"[response] stiffness_n_per_m must be > 0"};
   if (!finitePositive(r.tick_s))
-    return Error{"response.tick must be > 0"};
+    return Error{"[response] tick_s (0: 1 / [servo] rate_hz) must give a tick > 0"};
   if (!finitePositive(r.max_force_n))
-    return Error{"response.max_force must be > 0"};
+    return Error{"[device] max_force_n must be > 0"};
   if (!finitePositive(r.max_torque_nm))
-    return Error{"response.max_torque must be > 0"};
+    return Error{"[device] max_torque_nm must be > 0"};
   if (!finitePositive(r.max_force_step_n))
-    return Error{"response.max_force_step must be > 0"};
+    return Error{"[device] max_force_step_n must be > 0"};
   if (!finitePositive(r.max_torque_step_nm))
-    return Error{"response.max_torque_step must be > 0"};
+    return Error{"[device] max_torque_step_nm must be > 0"};
   if (!std::isfinite(r.ramp_s) || r.ramp_s < 0.0)
-    return Error{"response.ramp must be >= 0"};
+    return Error{"[servo] ramp_in_s must be >= 0"};
   if (!finitePositive(r.max_speed_m_per_s))
-    return Error{"response.max_speed must be > 0"};
+    return Error{"[response] max_speed_m_per_s must be > 0"};
   if (!std::isfinite(r.speed_decay_s) || r.speed_decay_s < 0.0)
-    return Error{"response.speed_decay must be >= 0"};
+    return Error{"[response] speed_decay_s must be >= 0"};
   if (!std::isfinite(r.min_predictive_fraction) || r.min_predictive_fraction <= 0.0 ||
       r.min_predictive_fraction > 1.0)
-    return Error{"response.min_predictive_fraction must be in (0, 1]"};
+    return Error{"[response] min_predictive_fraction must be in (0, 1]"};
   if (!std::isfinite(r.proxy_stiffness_ratio) || r.proxy_stiffness_ratio <= 1.0)
-    return Error{"response.proxy_stiffness_ratio must be > 1"};
+    return Error{"[response] proxy_stiffness_ratio must be > 1"};
   if (!std::isfinite(r.coupling_damping_factor) || r.coupling_damping_factor < 0.0)
-    return Error{"response.coupling_damping_factor must be >= 0"};
+    return Error{"[response] coupling_damping_factor must be >= 0"};
   if (!std::isfinite(r.rot_stiffness_nm_per_rad) || r.rot_stiffness_nm_per_rad < 0.0)
-    return Error{"response.rot_stiffness must be >= 0"};
+    return Error{"[response] rot_stiffness_nm_per_rad must be >= 0"};
   if (!finitePositive(r.penetration_allowance_m))
-    return Error{"response.penetration_allowance must be > 0"};
+    return Error{"[response] penetration_allowance_m must be > 0"};
   if (!std::isfinite(r.crease_angle_deg) || r.crease_angle_deg < 0.0 || r.crease_angle_deg >= 90.0)
-    return Error{"response.crease_angle must be in [0, 90) degrees"};
+    return Error{"[response] crease_angle_deg must be in [0, 90)"};
   if (!std::isfinite(r.dynamic_backstop_fraction) || r.dynamic_backstop_fraction < 0.0 ||
       r.dynamic_backstop_fraction > 1.0)
-    return Error{"response.dynamic_backstop_fraction must be in [0, 1]"};
+    return Error{"[response] dynamic_backstop_fraction must be in [0, 1]"};
   if (!std::isfinite(o.dynamics_impulse_window_s) || o.dynamics_impulse_window_s < 0.0)
-    return Error{"dynamics impulse window must be >= 0 s"};
+    return Error{"[response] impulse_window_s must be >= 0"};
   if (!std::isfinite(o.dynamics_sleep_time_s) || o.dynamics_sleep_time_s < 0.0)
-    return Error{"dynamics sleep time must be >= 0 s"};
+    return Error{"[response] dynamics_sleep_time_s must be >= 0"};
   if (!std::isfinite(r.attach_distance_m) || r.attach_distance_m < 0.0)
-    return Error{"response.attach_distance must be >= 0"};
+    return Error{"[response] attach_distance_m must be >= 0"};
   if (!std::isfinite(r.grab_inertia_filter_s) || r.grab_inertia_filter_s < 0.0)
-    return Error{"response.grab_inertia_filter must be >= 0 s"};
+    return Error{"[response] grab_inertia_filter_s must be >= 0"};
   return true;
 }
 

@@ -29,11 +29,13 @@ using geom::Vec3;
 struct ResponseOptions {
   double stiffness_n_per_m = 600.0;  ///< k_s: 0.6 N/mm (§5.1)
   double tick_s = 0.001;             ///< Δt: 1 ms (§5.2)
+  // the output stage's limits: config [device] max_force_n, max_torque_nm, max_force_step_n,
+  // max_torque_step_nm and [servo] ramp_in_s (one set for the whole daemon)
   double max_force_n = 10.0;         ///< device limit
   double max_torque_nm = 1.0;        ///< device limit
   double max_force_step_n = 0.5;     ///< F_max (§5.3): largest force change between ticks
   double max_torque_step_nm = 0.05;  ///< the same for torque
-  /// Longest the force takes to ramp from zero to full at start and after a fault (s).
+  /// Longest the force takes to ramp from zero to full at start, on arm and device back (s).
   double ramp_s = 0.5;
 
   // --- added by the response (docs/response.md lists every knob) ---
