@@ -76,13 +76,13 @@ void BM_Stack100(benchmark::State& state) {
     }
   }
   s.length_scale = std::sqrt(2.0 * 2.0 * 2 + 0.6 * 0.6);
-  auto world = dynamics::buildCollisionWorld(s, {});
+  auto world = dynamics::buildCollisionWorld(s, {}).value();
   dynamics::DynamicsOptions o;
   o.sleep_time_s = 0.0;  // the resting pile is solved on every tick (asleep it costs nothing)
   auto dyn = Dynamics::create(s, *world, o).value();
   for (int k = 0; k < 1000; ++k) {  // settle
     world->step();
-    dyn->step(0.001);
+    dyn->step(*world, 0.001);
   }
   std::vector<double> dyn_ns, dyn_cpu_ns, world_ns;
   dyn_ns.reserve(1 << 20);
@@ -94,7 +94,7 @@ void BM_Stack100(benchmark::State& state) {
     world->step();
     const auto t1 = std::chrono::steady_clock::now();
     const double c1 = cpuNs();
-    const auto r = dyn->step(0.001);
+    const auto r = dyn->step(*world, 0.001);
     const double c2 = cpuNs();
     const auto t2 = std::chrono::steady_clock::now();
     benchmark::DoNotOptimize(r);
@@ -128,10 +128,10 @@ void BM_Empty(benchmark::State& state) {
   s.gravity_W = Vec3{0, -9.81, 0};
   s.bodies.push_back(body(box(Vec3{1, 0.1, 1}), Vec3{0, -0.1, 0}, scene::Motion::kStatic));
   s.bodies.push_back(body(box(Vec3{0.05}), Vec3{0, 0.5, 0}, scene::Motion::kKinematic));
-  auto world = dynamics::buildCollisionWorld(s, {});
+  auto world = dynamics::buildCollisionWorld(s, {}).value();
   auto dyn = Dynamics::create(s, *world).value();
   for (auto _ : state) {
-    auto r = dyn->step(0.001);
+    auto r = dyn->step(*world, 0.001);
     benchmark::DoNotOptimize(r);
   }
   state.counters["ticks_with_work"] = static_cast<double>(dyn->counters().ticks);

@@ -166,6 +166,33 @@ Resolved resolve(std::string_view section,
   return {};
 }
 
+// "[old] name" of the deprecated key that `key` replaced (the first, if several)
+std::string oldLabel(const ConfigKey& key, std::span<const DeprecatedKey> deprecated) {
+  for (const DeprecatedKey& d : deprecated)
+    if (key.section == d.section && key.name == d.name)
+      return "[" + std::string(d.old_section) + "] " + d.old_name;
+  return key.label();
+}
+
+// the warning for a deprecated key set beside its new one to the same value: it replaces the
+// old key's own warning if that came first (a table's keys are read in name order)
+void sameValueWarning(std::vector<std::string>& warnings,
+                      const std::string& line,
+                      const std::string& old_label,
+                      const ConfigKey& key) {
+  const std::string text = old_label + " is deprecated: use " + key.label() +
+                           " (both are set, to the same value: remove " + old_label + ")";
+  const std::string earlier = ": " + old_label + " is deprecated: use ";
+  for (std::string& w : warnings) {
+    const std::size_t at = w.find(earlier);
+    if (at != std::string::npos) {
+      w = w.substr(0, at + 2) + text;
+      return;
+    }
+  }
+  warnings.push_back(line + text);
+}
+
 void readSection(const toml::table& table,
                  std::string_view section,
                  std::span<const DeprecatedKey> deprecated,
@@ -182,15 +209,25 @@ void readSection(const toml::table& table,
       problems.add(v, label + key_name + ": unknown key (see config/hapticd.toml for every key)");
       continue;
     }
+    const std::string line = name + ":" + std::to_string(v.source().begin.line) + ": ";
     if (std::find(set.begin(), set.end(), r.key) != set.end()) {
-      problems.add(v, label + key_name + ": " + r.key->label() +
-                          " is set twice (under its deprecated name and its own): keep only " +
-                          r.key->label());
+      // set under its deprecated name and its own: the same value is taken with a warning,
+      // different values are refused, naming both
+      const std::string old_label =
+          r.deprecated != nullptr ? label + key_name : oldLabel(*r.key, deprecated);
+      Config other = c;
+      if (auto problem = readValue(v, *r.key, other))
+        problems.add(v, label + key_name + ": " + *problem);
+      else if (sameValue(*r.key, c, other))
+        sameValueWarning(warnings, line, old_label, *r.key);
+      else
+        problems.add(v, old_label + " and " + r.key->label() +
+                            " are both set, to different values: " + old_label +
+                            " is deprecated, keep only " + r.key->label());
       continue;
     }
     if (r.deprecated != nullptr)
-      warnings.push_back(name + ":" + std::to_string(v.source().begin.line) + ": " + label +
-                         key_name + " is deprecated: use " + r.key->label() +
+      warnings.push_back(line + label + key_name + " is deprecated: use " + r.key->label() +
                          " (the value is taken for it)");
     set.push_back(r.key);
     if (auto problem = readValue(v, *r.key, c))
@@ -222,9 +259,17 @@ std::vector<std::string> changedKeys(const Config& a,
 }
 
 std::span<const DeprecatedKey> deprecatedConfigKeys() {
-  // none yet; a key renamed or moved is listed here (old section, old name, new section, new
-  // name), so that old files keep working with a warning
-  return {};
+  // a key renamed or moved is listed here (old section, old name, new section, new name), so
+  // that old files keep working with a warning. The output limits were set twice, in [device]
+  // and in [response]; they are one set now.
+  static constexpr DeprecatedKey kDeprecated[] = {
+      {"response", "max_force_n", "device", "max_force_n"},
+      {"response", "max_torque_nm", "device", "max_torque_nm"},
+      {"response", "max_force_step_n", "device", "max_force_step_n"},
+      {"response", "max_torque_step_nm", "device", "max_torque_step_nm"},
+      {"response", "ramp_s", "servo", "ramp_in_s"},
+  };
+  return kDeprecated;
 }
 
 Result<ParsedConfig> parseConfig(std::string_view text,
@@ -360,6 +405,12 @@ std::string toToml(const Config& c) {
 sim::SimOptions toSimOptions(const Config& c) {
   sim::SimOptions o = c.response.sim;
   o.response.tick_s = c.response.tick_s > 0.0 ? c.response.tick_s : 1.0 / c.servo.rate_hz;
+  // one set of output limits: the [device] keys, and the ramp-in of [servo]
+  o.response.max_force_n = c.device.options.limits.max_force_n;
+  o.response.max_torque_nm = c.device.options.limits.max_torque_nm;
+  o.response.max_force_step_n = c.device.max_force_step_n;
+  o.response.max_torque_step_nm = c.device.max_torque_step_nm;
+  o.response.ramp_s = c.servo.ramp_in_s;
   return o;
 }
 

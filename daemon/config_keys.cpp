@@ -90,6 +90,9 @@ const ConfigKey kKeys[] = {
     {"servo", "stop_ramp_s", HAPTICD_FIELD(servo.stop_ramp_s), closed(0.0, 10.0), "s",
      "Time over which the force ramps to zero on SIGTERM and on a client's disarm, for the "
      "user's safety (a sudden release of a 10 N force makes the hand lurch)."},
+    {"servo", "ramp_in_s", HAPTICD_FIELD(servo.ramp_in_s), closed(0.0, 60.0), "s",
+     "Time the force takes to ramp in from zero at start, after an arm and after the device "
+     "comes back (0: at once)."},
     {"servo", "armed_at_start", HAPTICD_FIELD(servo.armed_at_start), kNoRange, "",
      "Forces are on from the start (true), or zero until an arm command (false)."},
     {"servo", "clock", HAPTICD_FIELD(servo.clock), kNoRange, "",
@@ -109,12 +112,13 @@ const ConfigKey kKeys[] = {
      "\"hid\", \"hid:PATH\", \"usb\", \"usb:falcon\".",
      &checkSpec},
     {"device", "max_force_n", HAPTICD_FIELD(device.options.limits.max_force_n), positive(1000.0),
-     "N", "Largest force written to the device (the backend's own limit applies when lower)."},
+     "N",
+     "Largest force written to the device (the backend's own limit applies when lower); the "
+     "simulation's pull on the proxy is clamped to it too."},
     {"device", "max_torque_nm", HAPTICD_FIELD(device.options.limits.max_torque_nm), positive(100.0),
      "N m", "Largest torque written to the device."},
     {"device", "max_force_step_n", HAPTICD_FIELD(device.max_force_step_n), positive(1000.0), "N",
-     "Largest change of the written force between two ticks (the last guard before the "
-     "device)."},
+     "F_max of paper section 5.3: largest change of the written force between two ticks."},
     {"device", "max_torque_step_nm", HAPTICD_FIELD(device.max_torque_step_nm), positive(100.0),
      "N m", "Largest change of the written torque between two ticks."},
     {"device", "sim_hand_mass_kg", HAPTICD_FIELD(device.options.sim_hand_mass_kg), positive(1000.0),
@@ -212,16 +216,6 @@ const ConfigKey kKeys[] = {
      "wins."},
     {"response", "tick_s", HAPTICD_FIELD(response.tick_s), closed(0.0, 1.0), "s",
      "Time step of the response; 0 follows [servo] rate_hz (1 / rate_hz)."},
-    {"response", "max_force_n", HAPTICD_FIELD(response.sim.response.max_force_n), positive(1000.0),
-     "N", "Largest force the response computes."},
-    {"response", "max_torque_nm", HAPTICD_FIELD(response.sim.response.max_torque_nm),
-     positive(100.0), "N m", "Largest torque the response computes."},
-    {"response", "max_force_step_n", HAPTICD_FIELD(response.sim.response.max_force_step_n),
-     positive(1000.0), "N", "F_max of paper section 5.3: largest force change between ticks."},
-    {"response", "max_torque_step_nm", HAPTICD_FIELD(response.sim.response.max_torque_step_nm),
-     positive(100.0), "N m", "The same for torque."},
-    {"response", "ramp_s", HAPTICD_FIELD(response.sim.response.ramp_s), closed(0.0, 60.0), "s",
-     "Time the force takes to ramp in from zero at start and after a fault is re-armed."},
     {"response", "max_pairs_per_tick", HAPTICD_FIELD(response.sim.max_pairs_per_tick),
      closed(0, 100000000), "",
      "Narrow-phase pair tests per tick, 0 for no limit (pairs only, never a time budget, so that "

@@ -278,9 +278,10 @@ class ServoLoop {
   ServoLoop(const ServoLoop&) = delete;
   ServoLoop& operator=(const ServoLoop&) = delete;
 
-  /// Servo thread, once, before run(): takes a scene already offered and sizes this thread's
-  /// scratch for it (sim::Simulation::prepareThread()). May allocate: it is the last step of
-  /// the start, like the stack pre-faulting.
+  /// Servo thread, once, before run(): takes a scene already offered and calls its
+  /// sim::Simulation::prepareThread() (the real simulation needs nothing per thread: its narrow
+  /// phase's scratch belongs to its collision world). May allocate: it is the last step of the
+  /// start, like the stack pre-faulting.
   void prepareServoThread();
 
   /// The loop, until stopped (after its ramp), the end of a replay stream, or max_ticks.

@@ -1,10 +1,10 @@
 #include "core/collision/broad_phase.h"
 
-#include "core/common/slots.h"
-
 #include <algorithm>
 #include <cassert>
 #include <cstring>
+
+#include "core/common/slots.h"
 
 namespace hapticd::collision {
 namespace {
@@ -31,7 +31,8 @@ struct EndpointLess {
 }  // namespace
 
 std::uint64_t SweepAndPrune::key(std::uint32_t a, std::uint32_t b) {
-  if (a > b) std::swap(a, b);
+  if (a > b)
+    std::swap(a, b);
   return static_cast<std::uint64_t>(a) << 32 | b;
 }
 
@@ -52,21 +53,25 @@ bool SweepAndPrune::overlapOn(std::uint32_t a, std::uint32_t b, int axis) const 
 // two axes overlap at their new values); a max passing below a min ends one.
 inline void SweepAndPrune::transition(int axis, std::uint32_t moving, std::uint32_t passed) {
   const bool m_max = (moving & 1u) != 0, p_max = (passed & 1u) != 0;
-  if (m_max == p_max) return;
+  if (m_max == p_max)
+    return;
   const std::uint32_t a = moving >> 1, b = passed >> 1;
   if (!m_max) {
     const int k1 = axis == 2 ? 0 : axis + 1;
     const int k2 = axis == 0 ? 2 : axis - 1;
-    if (overlapOn(a, b, k1) && overlapOn(a, b, k2)) addPair(a, b);
+    if (overlapOn(a, b, k1) && overlapOn(a, b, k2))
+      addPair(a, b);
   } else if (pair_count_[a] != 0 && pair_count_[b] != 0) {
     removePair(a, b);
   }
 }
 
 void SweepAndPrune::addPair(std::uint32_t a, std::uint32_t b) {
-  if (!admissible(a, b)) return;
+  if (!admissible(a, b))
+    return;
   const std::uint64_t k = key(a, b);
-  if (index_.find(k) != FlatMap::kNone) return;
+  if (index_.find(k) != FlatMap::kNone)
+    return;
   index_.insert(k, static_cast<std::uint32_t>(pairs_.size()));
   const BoxPair p{std::min(a, b), std::max(a, b)};
   pairs_.push_back(p);
@@ -78,7 +83,8 @@ void SweepAndPrune::addPair(std::uint32_t a, std::uint32_t b) {
 void SweepAndPrune::removePair(std::uint32_t a, std::uint32_t b) {
   const std::uint64_t k = key(a, b);
   const std::uint32_t index = index_.find(k);
-  if (index == FlatMap::kNone) return;
+  if (index == FlatMap::kNone)
+    return;
   index_.erase(k);
   events_.push_back({PairEvent::Kind::kRemoved, pairs_[index]});
   --pair_count_[a];
@@ -113,7 +119,8 @@ void SweepAndPrune::reserve(std::size_t boxes, std::size_t pairs) {
 void SweepAndPrune::rebuildPositions() {
   for (int k = 0; k < 3; ++k) {
     const auto& axis = axes_[k];
-    for (std::size_t i = 0; i < axis.size(); ++i) pos_[k][axis[i].data] = static_cast<std::uint32_t>(i);
+    for (std::size_t i = 0; i < axis.size(); ++i)
+      pos_[k][axis[i].data] = static_cast<std::uint32_t>(i);
   }
   positions_valid_ = true;
 }
@@ -157,8 +164,10 @@ void SweepAndPrune::insertAdded() {
     }
     for (const std::uint32_t h : added_) {
       for (std::uint32_t o = 0; o < boxes_.size(); ++o) {
-        if (o == h || !boxes_[o].live || (boxes_[o].added && o < h)) continue;
-        if (overlapOn(h, o, 0) && overlapOn(h, o, 1) && overlapOn(h, o, 2)) addPair(h, o);
+        if (o == h || !boxes_[o].live || (boxes_[o].added && o < h))
+          continue;
+        if (overlapOn(h, o, 0) && overlapOn(h, o, 1) && overlapOn(h, o, 2))
+          addPair(h, o);
       }
     }
   } else {
@@ -192,15 +201,18 @@ void SweepAndPrune::insertAdded() {
       }
     }
   }
-  for (const std::uint32_t h : added_) boxes_[h].added = false;
+  for (const std::uint32_t h : added_)
+    boxes_[h].added = false;
   added_.clear();
   positions_valid_ = false;
 }
 
 void SweepAndPrune::remove(std::uint32_t h) {
-  if (h >= boxes_.size() || !boxes_[h].live) return;
+  if (h >= boxes_.size() || !boxes_[h].live)
+    return;
   commit();
-  if (!positions_valid_) rebuildPositions();
+  if (!positions_valid_)
+    rebuildPositions();
   for (std::size_t i = pairs_.size(); i-- > 0;) {
     if (i < pairs_.size() && (pairs_[i].lo == h || pairs_[i].hi == h)) {
       removePair(pairs_[i].lo, pairs_[i].hi);
@@ -246,7 +258,8 @@ void SweepAndPrune::moveEndpoint(int k, std::uint32_t i) {
 void SweepAndPrune::sortAxis(int k) {
   auto& axis = axes_[k];
   const auto& key = key_[k];
-  for (Endpoint& e : axis) e.key = key[e.data];
+  for (Endpoint& e : axis)
+    e.key = key[e.data];
   const std::size_t n = axis.size();
   Endpoint* a = axis.data();
   // Insertion sort. Coherent motion moves most endpoints by a few places: the count of larger
@@ -258,13 +271,16 @@ void SweepAndPrune::sortAxis(int k) {
     const Endpoint e = a[i];
     if (i > kW) {
       std::size_t d = 0;
-      for (std::size_t w = 1; w <= kW; ++w) d += static_cast<std::size_t>(a[i - w].key > e.key);
-      if (d == 0) continue;
+      for (std::size_t w = 1; w <= kW; ++w)
+        d += static_cast<std::size_t>(a[i - w].key > e.key);
+      if (d == 0)
+        continue;
       if (d < kW || a[i - kW - 1].key <= e.key) {
         const std::uint32_t kind = e.data & 1u;
         for (std::size_t w = 1; w <= d; ++w) {
           const Endpoint o = a[i - w];
-          if ((o.data & 1u) != kind) transition(k, e.data, o.data);
+          if ((o.data & 1u) != kind)
+            transition(k, e.data, o.data);
           a[i - w + 1] = o;
         }
         a[i - d] = e;
@@ -275,7 +291,8 @@ void SweepAndPrune::sortAxis(int k) {
     std::size_t j = i;
     while (j > 0 && e.key < a[j - 1].key) {
       const Endpoint o = a[j - 1];
-      if ((o.data & 1u) != (e.data & 1u)) transition(k, e.data, o.data);
+      if ((o.data & 1u) != (e.data & 1u))
+        transition(k, e.data, o.data);
       a[j] = o;
       --j;
       ++swaps_;
@@ -299,16 +316,20 @@ void SweepAndPrune::update(std::uint32_t h, const Aabb& box) {
 }
 
 void SweepAndPrune::commit() {
-  if (!dirty_.empty()) applyMoves();
-  if (!added_.empty()) insertAdded();
+  if (!dirty_.empty())
+    applyMoves();
+  if (!added_.empty())
+    insertAdded();
 }
 
 void SweepAndPrune::applyMoves() {
   if (dirty_.size() * 8 >= live_) {
-    for (int k = 0; k < 3; ++k) sortAxis(k);
+    for (int k = 0; k < 3; ++k)
+      sortAxis(k);
     positions_valid_ = false;
   } else {
-    if (!positions_valid_) rebuildPositions();
+    if (!positions_valid_)
+      rebuildPositions();
     for (const std::uint32_t h : dirty_) {
       for (int k = 0; k < 3; ++k) {
         // a min never passes its own max: move the one on the side the box moves to first
@@ -323,7 +344,8 @@ void SweepAndPrune::applyMoves() {
       }
     }
   }
-  for (const std::uint32_t h : dirty_) boxes_[h].dirty = false;
+  for (const std::uint32_t h : dirty_)
+    boxes_[h].dirty = false;
   dirty_.clear();
 }
 
@@ -332,6 +354,37 @@ std::span<const PairEvent> SweepAndPrune::takeEvents() {
   taken_.swap(events_);
   events_.clear();
   return taken_;
+}
+
+void SweepAndPrune::writeState(StateWriter& w) const {
+  w.integer(boxes_.size());
+  for (const Box& b : boxes_) {
+    w.glm(b.box.lo);
+    w.glm(b.box.hi);
+    for (const std::uint32_t v : {b.filter.body, b.filter.group, b.filter.mask})
+      w.integer(v);
+    for (const bool f : {b.filter.is_static, b.live, b.dirty, b.added})
+      w.flag(f);
+  }
+  for (int k = 0; k < 3; ++k) {
+    w.integer(axes_[k].size());
+    for (const Endpoint& e : axes_[k]) {
+      w.u64(e.key);
+      w.integer(e.data);
+    }
+    w.array(key_[k]);
+    w.array(pos_[k]);
+  }
+  w.flag(positions_valid_);
+  for (const auto* list : {&free_, &pair_count_, &dirty_, &added_})
+    w.array(*list);
+  w.integer(pairs_.size());
+  for (const BoxPair& p : pairs_) {
+    w.integer(p.lo);
+    w.integer(p.hi);
+  }
+  w.integer(live_);
+  w.u64(swaps_);
 }
 
 }  // namespace hapticd::collision

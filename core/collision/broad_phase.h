@@ -14,6 +14,8 @@
 #include <vector>
 
 #include "core/common/flat_map.h"
+#include "core/common/reserved_vector.h"
+#include "core/common/state_writer.h"
 #include "core/geometry/pose.h"
 
 namespace hapticd::collision {
@@ -27,10 +29,10 @@ struct Aabb {
 /// Who may collide with whom. Pairs of one body, pairs of two static boxes, and pairs whose
 /// filters refuse each other never become pairs.
 struct BoxFilter {
-  std::uint32_t body = 0;       ///< boxes of the same body never pair
-  bool is_static = false;       ///< two static boxes never pair
-  std::uint32_t group = 1;      ///< collision groups this box belongs to (bits)
-  std::uint32_t mask = ~0u;     ///< groups this box collides with (bits)
+  std::uint32_t body = 0;    ///< boxes of the same body never pair
+  bool is_static = false;    ///< two static boxes never pair
+  std::uint32_t group = 1;   ///< collision groups this box belongs to (bits)
+  std::uint32_t mask = ~0u;  ///< groups this box collides with (bits)
 };
 
 /// A pair of box handles, lo < hi.
@@ -70,7 +72,6 @@ class SweepAndPrune {
   /// The current overlapping pairs (unordered).
   std::span<const BoxPair> pairs() const { return pairs_; }
   bool overlapping(std::uint32_t a, std::uint32_t b) const;
-  std::size_t boxCount() const { return live_; }
   const Aabb& box(std::uint32_t handle) const { return boxes_[handle].box; }
   /// Boxes moved since the last commit().
   std::size_t pending() const { return dirty_.size(); }
@@ -80,6 +81,11 @@ class SweepAndPrune {
 
   /// Endpoint swaps done by update() since construction (a measure of coherence).
   std::uint64_t swaps() const { return swaps_; }
+
+  /// Writes the boxes, the sorted endpoint lists and the pair list in its order (not the hash
+  /// index of the pairs or the event lists, which commit() and takeEvents() rewrite). For the
+  /// simulation state's hash (core/sim/scene_state.h).
+  void writeState(StateWriter& w) const;
 
  private:
   struct Endpoint {
@@ -106,19 +112,19 @@ class SweepAndPrune {
   void rebuildPositions();
   static std::uint64_t key(std::uint32_t a, std::uint32_t b);
 
-  std::vector<Box> boxes_;
-  std::vector<std::uint32_t> free_;
-  std::vector<Endpoint> axes_[3];
-  std::vector<std::uint64_t> key_[3];  // by endpoint id (handle << 1 | is_max): the new sort key
-  std::vector<std::uint32_t> pos_[3];  // by endpoint id: index in axes_ (when positions_valid_)
+  ReservedVector<Box> boxes_;
+  ReservedVector<std::uint32_t> free_;
+  ReservedVector<Endpoint> axes_[3];
+  ReservedVector<std::uint64_t> key_[3];  // by endpoint id (handle << 1 | is_max): the new sort key
+  ReservedVector<std::uint32_t> pos_[3];  // by endpoint id: index in axes_ (when positions_valid_)
   bool positions_valid_ = true;
-  std::vector<std::uint32_t> pair_count_;  // by handle: pairs the box is in
-  std::vector<std::uint32_t> dirty_;
-  std::vector<std::uint32_t> added_;
-  std::vector<BoxPair> pairs_;
+  ReservedVector<std::uint32_t> pair_count_;  // by handle: pairs the box is in
+  ReservedVector<std::uint32_t> dirty_;
+  ReservedVector<std::uint32_t> added_;
+  ReservedVector<BoxPair> pairs_;
   FlatMap index_;  // pair key -> index into pairs_
-  std::vector<PairEvent> events_;
-  std::vector<PairEvent> taken_;
+  ReservedVector<PairEvent> events_;
+  ReservedVector<PairEvent> taken_;
   std::size_t live_ = 0;
   std::uint64_t swaps_ = 0;
 };

@@ -1,16 +1,17 @@
 #include "core/collision/collision_world.h"
 
-#include "core/common/slots.h"
-
 #include <algorithm>
 #include <chrono>
 #include <limits>
+
+#include "core/common/slots.h"
 
 namespace hapticd::collision {
 namespace {
 
 std::uint64_t pairKey(std::uint32_t a, std::uint32_t b) {
-  if (a > b) std::swap(a, b);
+  if (a > b)
+    std::swap(a, b);
   return static_cast<std::uint64_t>(a) << 32 | b;
 }
 
@@ -34,6 +35,7 @@ void toWorld(const Transform& X_WA, const PairResult& r, Contact& c) {
 CollisionWorld::CollisionWorld(const WorldOptions& options) : options_(options) {}
 
 void CollisionWorld::reserve(std::size_t primitives, std::size_t pairs) {
+  reserved_pairs_ = std::max(reserved_pairs_, pairs);
   sap_.reserve(primitives, pairs);
   prims_.reserve(primitives);
   prim_of_box_.reserve(primitives);
@@ -81,14 +83,17 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
     p.index = i;
     p.live = true;
     const Polytope& shape = *desc.primitives[i].shape;
-    for (std::size_t h = 0; h < 6; ++h) p.hint[h] = shape.lookup(Vec3{h / 2 == 0, h / 2 == 1, h / 2 == 2} * (h % 2 ? 1.0 : -1.0));
+    depth_scratch_.reserve(shape.faces().size());
+    for (std::size_t h = 0; h < 6; ++h)
+      p.hint[h] = shape.lookup(Vec3{h / 2 == 0, h / 2 == 1, h / 2 == 2} * (h % 2 ? 1.0 : -1.0));
     BoxFilter filter;
     filter.body = id;
     filter.is_static = desc.kind == BodyKind::kStatic;
     filter.group = desc.group & desc.primitives[i].group;
     filter.mask = desc.mask & desc.primitives[i].mask;
     p.box = sap_.add(primitiveBox(p), filter);
-    if (prim_of_box_.size() <= p.box) prim_of_box_.resize(p.box + 1);
+    if (prim_of_box_.size() <= p.box)
+      prim_of_box_.resize(p.box + 1);
     prim_of_box_[p.box] = pi;
     b.prims.push_back(pi);
   }
@@ -97,7 +102,8 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
 }
 
 void CollisionWorld::removeBody(std::uint32_t id) {
-  if (id >= bodies_.size() || !bodies_[id].live) return;
+  if (id >= bodies_.size() || !bodies_[id].live)
+    return;
   for (const std::uint32_t pi : bodies_[id].prims) {
     sap_.remove(prims_[pi].box);
     applyEvents(nullptr);
@@ -111,10 +117,12 @@ void CollisionWorld::removeBody(std::uint32_t id) {
 
 void CollisionWorld::setPose(std::uint32_t body, const geom::Pose& X_WB) {
   Body& b = bodies_[body];
-  if (b.desc.kind == BodyKind::kStatic) return;
+  if (b.desc.kind == BodyKind::kStatic)
+    return;
   b.X_WB = X_WB;
   b.T_WB = X_WB.toTransform();
-  if (!b.moved) moved_.push_back(body);
+  if (!b.moved)
+    moved_.push_back(body);
   b.moved = true;
 }
 
@@ -134,7 +142,8 @@ void CollisionWorld::applyEvents(StepStats* stats) {
       const std::uint32_t si = takeSlot(pair_states_, free_pair_states_);
       PairState& s = pair_states_[si];
       std::uint32_t pa = prim_of_box_[e.pair.lo], pb = prim_of_box_[e.pair.hi];
-      if (prims_[pa].body > prims_[pb].body) std::swap(pa, pb);
+      if (prims_[pa].body > prims_[pb].body)
+        std::swap(pa, pb);
       s.prim_a = pa;
       s.prim_b = pb;
       s.live = true;
@@ -144,14 +153,17 @@ void CollisionWorld::applyEvents(StepStats* stats) {
       s.last.prim_b = prims_[pb].index;
       s.last_tested = tick_ - 1;  // never tested: as stale as one tick
       state_of_pair_.insert(k, si);
-      if (stats != nullptr) ++stats->pairs_added;
+      if (stats != nullptr)
+        ++stats->pairs_added;
     } else {
       const std::uint32_t si = state_of_pair_.find(k);
-      if (si == FlatMap::kNone) continue;
+      if (si == FlatMap::kNone)
+        continue;
       state_of_pair_.erase(k);
       pair_states_[si].live = false;
       free_pair_states_.push_back(si);
-      if (stats != nullptr) ++stats->pairs_removed;
+      if (stats != nullptr)
+        ++stats->pairs_removed;
     }
   }
 }
@@ -164,9 +176,9 @@ void CollisionWorld::test(PairState& s) {
   // X_AB = X_WA^-1 X_WB, translations subtracted first (far from the origin stays exact)
   const geom::Mat3 Rt = glm::transpose(X_WA.R);
   const Transform X_AB{Rt * X_WB.R, Rt * (X_WB.t - X_WA.t)};
-  const PairResult r =
-      queryPair(*bodies_[pa.body].desc.primitives[pa.index].shape,
-                *bodies_[pb.body].desc.primitives[pb.index].shape, X_AB, s.cache, options_.query);
+  const PairResult r = queryPair(*bodies_[pa.body].desc.primitives[pa.index].shape,
+                                 *bodies_[pb.body].desc.primitives[pb.index].shape, X_AB, s.cache,
+                                 depth_scratch_, options_.query);
   toWorld(X_WA, r, s.last);
   s.last.answered = true;
   s.last_tested = tick_;
@@ -179,8 +191,10 @@ StepStats CollisionWorld::step() {
   // boxes of the bodies that moved
   for (const std::uint32_t bi : moved_) {
     Body& b = bodies_[bi];
-    if (!b.live || !b.moved) continue;
-    for (const std::uint32_t pi : b.prims) sap_.update(prims_[pi].box, primitiveBox(prims_[pi]));
+    if (!b.live || !b.moved)
+      continue;
+    for (const std::uint32_t pi : b.prims)
+      sap_.update(prims_[pi].box, primitiveBox(prims_[pi]));
     b.moved = false;
     b.moved_tick = tick_;
   }
@@ -193,13 +207,16 @@ StepStats CollisionWorld::step() {
   order_.clear();
   for (std::uint32_t si = 0; si < pair_states_.size(); ++si) {
     const PairState& s = pair_states_[si];
-    if (!s.live || resting(s)) continue;
-    if (options_.skip_unmoved_pairs && unchanged(s)) continue;
+    if (!s.live || resting(s))
+      continue;
+    if (options_.skip_unmoved_pairs && unchanged(s))
+      continue;
     order_.push_back(si);
   }
   const auto count = static_cast<std::uint32_t>(order_.size());
   stats.pairs_overlapping = count;
-  const std::uint32_t budget = options_.budget.max_pairs == 0 ? count : std::min(count, options_.budget.max_pairs);
+  const std::uint32_t budget =
+      options_.budget.max_pairs == 0 ? count : std::min(count, options_.budget.max_pairs);
   const std::uint64_t due = budget == 0 ? 1 : (count + budget - 1) / budget;
   constexpr std::uint64_t kAgeMask = (1ull << 28) - 1;
   for (std::uint64_t& o : order_) {
@@ -222,8 +239,8 @@ StepStats CollisionWorld::step() {
   std::uint32_t tested = 0;
   for (; tested < budget; ++tested) {
     if (timed && tested > 0 &&
-        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start).count() >=
-            options_.budget.max_microseconds) {
+        std::chrono::duration<double, std::micro>(std::chrono::steady_clock::now() - start)
+                .count() >= options_.budget.max_microseconds) {
       break;
     }
     test(pair_states_[0xffffffffull - (order_[tested] & 0xffffffffull)]);
@@ -233,23 +250,127 @@ StepStats CollisionWorld::step() {
   for (std::uint32_t i = tested; i < count; ++i) {
     const PairState& s = pair_states_[0xffffffffull - (order_[i] & 0xffffffffull)];
     const std::uint64_t age = tick_ - s.last_tested;
-    stats.worst_staleness = std::max(stats.worst_staleness, static_cast<std::uint32_t>(std::min<std::uint64_t>(age, 0xffffffffu)));
+    stats.worst_staleness =
+        std::max(stats.worst_staleness,
+                 static_cast<std::uint32_t>(std::min<std::uint64_t>(age, 0xffffffffu)));
   }
 
   // every close pair's latest answer, grouped by body pair
   contacts_.clear();
   for (const PairState& s : pair_states_) {
-    if (!s.live || resting(s)) continue;
+    if (!s.live || resting(s))
+      continue;
     contacts_.push_back(s.last);
-    contacts_.back().age = static_cast<std::uint32_t>(std::min<std::uint64_t>(tick_ - s.last_tested, 0xffffffffu));
+    contacts_.back().age =
+        static_cast<std::uint32_t>(std::min<std::uint64_t>(tick_ - s.last_tested, 0xffffffffu));
   }
   std::sort(contacts_.begin(), contacts_.end(), [](const Contact& x, const Contact& y) {
-    if (x.body_a != y.body_a) return x.body_a < y.body_a;
-    if (x.body_b != y.body_b) return x.body_b < y.body_b;
-    if (x.prim_a != y.prim_a) return x.prim_a < y.prim_a;
+    if (x.body_a != y.body_a)
+      return x.body_a < y.body_a;
+    if (x.body_b != y.body_b)
+      return x.body_b < y.body_b;
+    if (x.prim_a != y.prim_a)
+      return x.prim_a < y.prim_a;
     return x.prim_b < y.prim_b;
   });
   return stats;
+}
+
+namespace {
+
+void writeFeature(StateWriter& w, const Feature& f) {
+  w.integer(f.type);
+  w.integer(f.index);
+}
+
+void writeContact(StateWriter& w, const Contact& c) {
+  for (const std::uint32_t v : {c.body_a, c.body_b, c.prim_a, c.prim_b, c.age})
+    w.integer(v);
+  w.integer(c.status);
+  w.f64(c.distance);
+  for (const Vec3& v : {c.normal, c.point_a, c.point_b})
+    w.glm(v);
+  w.integer(c.manifold.count);
+  w.flag(c.manifold.truncated);
+  for (std::size_t i = 0; i < c.manifold.count; ++i) {
+    w.glm(c.manifold.points[i].point);
+    w.glm(c.manifold.points[i].normal);
+    w.f64(c.manifold.points[i].depth);
+  }
+  writeFeature(w, c.feature_a);
+  writeFeature(w, c.feature_b);
+  w.flag(c.answered);
+}
+
+void writePairCache(StateWriter& w, const PairCache& c) {
+  writeFeature(w, c.features.a);
+  writeFeature(w, c.features.b);
+  const DepthCache& d = c.depth;
+  w.integer(d.kind);
+  for (const std::uint32_t v : {d.ia, d.ib, d.support_a, d.support_b})
+    w.integer(v);
+  w.glm(d.normal);
+  w.integer(d.warm_count);
+  for (std::size_t i = 0; i < d.warm_count; ++i) {
+    w.integer(d.warm_a[i]);
+    w.integer(d.warm_b[i]);
+  }
+  w.flag(c.penetrating);
+}
+
+}  // namespace
+
+void CollisionWorld::writeState(StateWriter& w) const {
+  w.f64(options_.box_margin);
+  w.integer(options_.budget.max_pairs);
+  w.f64(options_.budget.max_microseconds);
+  w.flag(options_.skip_unmoved_pairs);
+  sap_.writeState(w);
+  w.integer(bodies_.size());
+  for (const Body& b : bodies_) {
+    w.integer(b.desc.kind);
+    w.integer(b.desc.group);
+    w.integer(b.desc.mask);
+    w.integer(b.desc.primitives.size());
+    for (const PrimitiveDesc& p : b.desc.primitives) {
+      w.integer(p.group);
+      w.integer(p.mask);
+    }
+    w.glm(b.X_WB.translation);
+    w.glm(b.X_WB.rotation);
+    w.glm(b.T_WB.R);
+    w.glm(b.T_WB.t);
+    w.array(b.prims);
+    for (const bool f : {b.live, b.moved, b.asleep, b.enabled})
+      w.flag(f);
+    w.u64(b.moved_tick);
+  }
+  w.integer(prims_.size());
+  for (const Prim& p : prims_) {
+    for (const std::uint32_t v : {p.body, p.index, p.box})
+      w.integer(v);
+    w.array(p.hint);
+    w.flag(p.live);
+  }
+  w.integer(pair_states_.size());
+  for (const PairState& s : pair_states_) {
+    // a free slot is reset before it is used again: only its being free is state
+    w.flag(s.live);
+    if (!s.live)
+      continue;
+    w.integer(s.prim_a);
+    w.integer(s.prim_b);
+    writePairCache(w, s.cache);
+    writeContact(w, s.last);
+    w.u64(s.last_tested);
+    w.flag(s.in_contact);
+  }
+  for (const auto* list : {&prim_of_box_, &free_pair_states_, &free_prims_, &free_bodies_, &moved_})
+    w.array(*list);
+  w.integer(contacts_.size());
+  for (const Contact& c : contacts_)
+    writeContact(w, c);
+  w.u64(tick_);
 }
 
 }  // namespace hapticd::collision

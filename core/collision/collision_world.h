@@ -8,7 +8,8 @@
 ///
 /// Threads: build and change the world (addBody, removeBody, reserve) off the servo thread;
 /// setPose() and step() are servo-thread calls that allocate nothing once the capacities have
-/// grown to the scene's size (reserve() makes that so from the start).
+/// grown to the scene's size (reserve() makes that so from the start; the narrow phase's depth
+/// scratch is sized by addBody for every shape the world holds).
 
 #include <array>
 #include <cstdint>
@@ -19,6 +20,8 @@
 #include "core/collision/broad_phase.h"
 #include "core/collision/pair_query.h"
 #include "core/common/flat_map.h"
+#include "core/common/reserved_vector.h"
+#include "core/common/state_writer.h"
 
 namespace hapticd::collision {
 
@@ -66,14 +69,14 @@ struct Contact {
   std::uint32_t body_a = 0, body_b = 0;  ///< body_a < body_b
   std::uint32_t prim_a = 0, prim_b = 0;  ///< primitive indices within their bodies
   ContactStatus status = ContactStatus::kSeparated;
-  double distance = 0.0;   ///< > 0 gap, <= 0 minus the penetration depth
-  Vec3 normal{0.0};        ///< world, unit, from a toward b
+  double distance = 0.0;            ///< > 0 gap, <= 0 minus the penetration depth
+  Vec3 normal{0.0};                 ///< world, unit, from a toward b
   Vec3 point_a{0.0}, point_b{0.0};  ///< world
-  Manifold manifold;       ///< world
+  Manifold manifold;                ///< world
   /// The closest features (separated or touching) or the MTD's features (penetrating; Feature{}
   /// on the side whose face the MTD does not name), on primitive a and b.
   Feature feature_a, feature_b;
-  std::uint32_t age = 0;   ///< ticks since this answer was computed (0: this tick)
+  std::uint32_t age = 0;  ///< ticks since this answer was computed (0: this tick)
   /// false for a close pair the scheduler has not tested yet (the fields above are then empty):
   /// such a pair is listed all the same, so that none is ever silently left out.
   bool answered = false;
@@ -97,10 +100,13 @@ class CollisionWorld {
   void removeBody(std::uint32_t body);
   /// Room for this many primitives and close pairs, so that steps never allocate.
   void reserve(std::size_t primitives, std::size_t pairs);
+  /// The close pairs reserve() made room for (the largest count given).
+  std::size_t reservedPairs() const { return reserved_pairs_; }
 
   /// Moves a non-static body. Servo thread.
   void setPose(std::uint32_t body, const geom::Pose& X_WB);
   const geom::Pose& pose(std::uint32_t body) const { return bodies_[body].X_WB; }
+  BodyKind kind(std::uint32_t body) const { return bodies_[body].desc.kind; }
   /// A sleeping body is not moving and nothing about it is asked: its pairs with sleeping and
   /// static bodies are neither tested nor listed in contacts() (pairs with an awake body are).
   /// For bodies no stage moves (a scene without dynamics). Servo thread; no allocation.
@@ -121,8 +127,13 @@ class CollisionWorld {
   std::span<const Contact> contacts() const { return contacts_; }
 
   const WorldOptions& options() const { return options_; }
-  void setBudget(const SchedulerBudget& budget) { options_.budget = budget; }
   std::uint64_t tick() const { return tick_; }
+
+  /// Writes the world's state: bodies' poses and flags, primitives' extreme-vertex hints, the
+  /// sweep and prune, every pair's caches and last answer, contacts(), the tick (not the shapes,
+  /// the scheduler's scratch or the hash index of the pairs). For the simulation state's hash
+  /// and comparison (core/sim/scene_state.h). Any thread that may read the world.
+  void writeState(StateWriter& w) const;
 
  private:
   struct Body {
@@ -137,8 +148,8 @@ class CollisionWorld {
     std::uint64_t moved_tick = 0;  // the step in which its last pose took effect
   };
   struct Prim {
-    std::uint32_t body = 0, index = 0;  // body and index within it
-    std::uint32_t box = 0;              // broad-phase handle
+    std::uint32_t body = 0, index = 0;    // body and index within it
+    std::uint32_t box = 0;                // broad-phase handle
     std::array<std::uint32_t, 6> hint{};  // extreme-vertex hints: -x +x -y +y -z +z
     bool live = false;
   };
@@ -163,25 +174,28 @@ class CollisionWorld {
   bool resting(const PairState& s) const {
     const Body& a = bodies_[prims_[s.prim_a].body];
     const Body& b = bodies_[prims_[s.prim_b].body];
-    if (!a.enabled || !b.enabled) return true;
+    if (!a.enabled || !b.enabled)
+      return true;
     return (a.asleep || a.desc.kind == BodyKind::kStatic) &&
            (b.asleep || b.desc.kind == BodyKind::kStatic);
   }
 
   WorldOptions options_;
   SweepAndPrune sap_;
-  std::vector<Body> bodies_;
-  std::vector<Prim> prims_;
-  std::vector<std::uint32_t> prim_of_box_;  // broad-phase handle -> prims_ index
-  std::vector<PairState> pair_states_;
-  std::vector<std::uint32_t> free_pair_states_;
-  FlatMap state_of_pair_;                    // box-pair key -> pair_states_ index
-  std::vector<std::uint32_t> free_prims_;
-  std::vector<std::uint32_t> free_bodies_;
-  std::vector<std::uint32_t> moved_;  // bodies given a pose since the last step
-  std::vector<std::uint64_t> order_;         // scheduler scratch: priority << 32 | state index
-  std::vector<Contact> contacts_;
+  ReservedVector<Body> bodies_;
+  ReservedVector<Prim> prims_;
+  ReservedVector<std::uint32_t> prim_of_box_;  // broad-phase handle -> prims_ index
+  ReservedVector<PairState> pair_states_;
+  ReservedVector<std::uint32_t> free_pair_states_;
+  FlatMap state_of_pair_;  // box-pair key -> pair_states_ index
+  ReservedVector<std::uint32_t> free_prims_;
+  ReservedVector<std::uint32_t> free_bodies_;
+  ReservedVector<std::uint32_t> moved_;  // bodies given a pose since the last step
+  ReservedVector<std::uint64_t> order_;  // scheduler scratch: priority << 32 | state index
+  ReservedVector<Contact> contacts_;
+  DepthScratch depth_scratch_;  // the narrow phase's, sized for every shape added
   std::uint64_t tick_ = 0;
+  std::size_t reserved_pairs_ = 0;
 };
 
 }  // namespace hapticd::collision

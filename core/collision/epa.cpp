@@ -18,7 +18,7 @@ constexpr int kMaxFaces = 256;
 constexpr int kMaxIterations = 96;
 
 struct SupportPoint {
-  Vec3 w;               // a - b, in A's frame
+  Vec3 w;                // a - b, in A's frame
   std::uint32_t ia, ib;  // vertex indices
 };
 
@@ -38,7 +38,8 @@ struct Minkowski {
 // GJK's boolean test: a tetrahedron of support points that holds the origin in its interior.
 // The simplex is kept with its newest point last (the classic "do simplex" of the GJK literature).
 bool gjkSimplex(Minkowski& m, Vec3 d, std::array<SupportPoint, 4>& s, double eps) {
-  if (!(glm::dot(d, d) > 0.0)) d = Vec3{1.0, 0.0, 0.0};
+  if (!(glm::dot(d, d) > 0.0))
+    d = Vec3{1.0, 0.0, 0.0};
   s[0] = m.support(d);
   int n = 1;
   d = -s[0].w;
@@ -62,9 +63,11 @@ bool gjkSimplex(Minkowski& m, Vec3 d, std::array<SupportPoint, 4>& s, double eps
     }
   };
   for (int it = 0; it < 64; ++it) {
-    if (!(glm::length(d) > eps)) return false;  // the origin is on the simplex: touching
+    if (!(glm::length(d) > eps))
+      return false;  // the origin is on the simplex: touching
     const SupportPoint p = m.support(d);
-    if (glm::dot(p.w, d) <= eps * glm::length(d)) return false;  // the origin is not inside M
+    if (glm::dot(p.w, d) <= eps * glm::length(d))
+      return false;  // the origin is not inside M
     s[static_cast<std::size_t>(n++)] = p;
     if (n == 2) {
       const Vec3 ab = s[0].w - s[1].w, ao = -s[1].w;
@@ -102,32 +105,27 @@ struct Face {
   double dist;           // plane distance from the origin
 };
 
-}  // namespace
-
-bool penetrationDepthEpa(const Polytope& a, const Polytope& b, const Transform& X_AB,
-                         DepthCache& cache, DepthResult& out) {
-  const double size = std::max(a.radius(), b.radius());
-  const double eps = 1e-13 * size;
-  Minkowski m{a, b, X_AB, X_AB.inverse(),
-              cache.support_a < a.vertices().size() ? cache.support_a : 0,
-              cache.support_b < b.vertices().size() ? cache.support_b : 0};
-  std::array<SupportPoint, 4> tet{};
-  const Vec3 guess = cache.kind != DepthFeature::kNone && glm::dot(cache.normal, cache.normal) > 0.0
-                         ? cache.normal
-                         : a.centroid() - X_AB.apply(b.centroid());
-  if (!gjkSimplex(m, guess, tet, eps)) return false;
-
+// EPA's polytope P inside A - B: fixed capacities, no allocation (the arrays are left
+// uninitialised: only [0, nv) and [0, nf) are ever read)
+struct ExpandingPolytope {
   std::array<SupportPoint, kMaxVerts> verts;
   std::array<Face, kMaxFaces> faces;
   int nv = 0, nf = 0;
-  for (const auto& p : tet) verts[static_cast<std::size_t>(nv++)] = p;
-  const Vec3 inner = (verts[0].w + verts[1].w + verts[2].w + verts[3].w) * 0.25;
-  auto makeFace = [&](int i, int j, int k) -> bool {
-    if (nf >= kMaxFaces) return false;
-    const Vec3& p = verts[static_cast<std::size_t>(i)].w;
-    Vec3 n = glm::cross(verts[static_cast<std::size_t>(j)].w - p, verts[static_cast<std::size_t>(k)].w - p);
+  Vec3 inner{0.0};  // a point inside P (the first tetrahedron's centroid)
+  double eps = 0.0, size = 0.0;
+
+  const SupportPoint& vert(int i) const { return verts[static_cast<std::size_t>(i)]; }
+  const Face& face(int f) const { return faces[static_cast<std::size_t>(f)]; }
+
+  // the face (i, j, k) oriented outward; false for a sliver or when full
+  bool makeFace(int i, int j, int k) {
+    if (nf >= kMaxFaces)
+      return false;
+    const Vec3& p = vert(i).w;
+    Vec3 n = glm::cross(vert(j).w - p, vert(k).w - p);
     const double len = glm::length(n);
-    if (!(len > eps * size)) return false;  // a sliver face: refuse
+    if (!(len > eps * size))
+      return false;  // a sliver face: refuse
     n /= len;
     Face f{{i, j, k}, n, glm::dot(n, p)};
     if (glm::dot(n, p - inner) < 0.0) {  // orient outward (the inner point is inside P)
@@ -137,93 +135,148 @@ bool penetrationDepthEpa(const Polytope& a, const Polytope& b, const Transform& 
     }
     faces[static_cast<std::size_t>(nf++)] = f;
     return true;
-  };
-  if (!makeFace(0, 1, 2) || !makeFace(0, 1, 3) || !makeFace(0, 2, 3) || !makeFace(1, 2, 3)) return false;
+  }
+
+  // the tetrahedron GJK found
+  bool start(const std::array<SupportPoint, 4>& tet) {
+    for (const auto& p : tet)
+      verts[static_cast<std::size_t>(nv++)] = p;
+    inner = (verts[0].w + verts[1].w + verts[2].w + verts[3].w) * 0.25;
+    return makeFace(0, 1, 2) && makeFace(0, 1, 3) && makeFace(0, 2, 3) && makeFace(1, 2, 3);
+  }
 
   // adds point w to P: removes the faces it sees and closes the hole from the horizon to w.
   // Returns false when P cannot stay a valid polytope (then the caller refuses).
-  auto insert = [&](const SupportPoint& w) -> bool {
-    if (nv >= kMaxVerts) return false;
+  bool insert(const SupportPoint& w) {
+    if (nv >= kMaxVerts)
+      return false;
     std::array<std::array<int, 2>, 3 * kMaxFaces> edges;
     int ne = 0;
     for (int f = 0; f < nf;) {
       const Face fc = faces[static_cast<std::size_t>(f)];
-      if (glm::dot(fc.n, w.w - verts[static_cast<std::size_t>(fc.v[0])].w) <= eps) {
+      if (glm::dot(fc.n, w.w - vert(fc.v[0]).w) <= eps) {
         ++f;
         continue;
       }
       faces[static_cast<std::size_t>(f)] = faces[static_cast<std::size_t>(--nf)];  // remove it
       for (int e = 0; e < 3; ++e) {
-        const int i = fc.v[static_cast<std::size_t>(e)], j = fc.v[static_cast<std::size_t>((e + 1) % 3)];
+        const int i = fc.v[static_cast<std::size_t>(e)],
+                  j = fc.v[static_cast<std::size_t>((e + 1) % 3)];
         bool shared = false;
         for (int k = 0; k < ne; ++k) {
-          if (edges[static_cast<std::size_t>(k)][0] == j && edges[static_cast<std::size_t>(k)][1] == i) {
+          if (edges[static_cast<std::size_t>(k)][0] == j &&
+              edges[static_cast<std::size_t>(k)][1] == i) {
             edges[static_cast<std::size_t>(k)] = edges[static_cast<std::size_t>(--ne)];
             shared = true;
             break;
           }
         }
-        if (!shared) edges[static_cast<std::size_t>(ne++)] = {i, j};
+        if (!shared)
+          edges[static_cast<std::size_t>(ne++)] = {i, j};
       }
     }
-    if (ne == 0) return true;  // w is inside P: nothing to do
-    if (ne < 3) return false;
+    if (ne == 0)
+      return true;  // w is inside P: nothing to do
+    if (ne < 3)
+      return false;
     verts[static_cast<std::size_t>(nv)] = w;
     for (int k = 0; k < ne; ++k) {
-      if (!makeFace(edges[static_cast<std::size_t>(k)][0], edges[static_cast<std::size_t>(k)][1], nv)) return false;
+      if (!makeFace(edges[static_cast<std::size_t>(k)][0], edges[static_cast<std::size_t>(k)][1],
+                    nv))
+        return false;
     }
     ++nv;
     return true;
-  };
-  // last tick's polytope near the answer, at this tick's pose: EPA then starts close to the end
-  for (std::uint8_t k = 0; k < cache.warm_count; ++k) {
-    const std::uint32_t ia = cache.warm_a[k], ib = cache.warm_b[k];
-    if (ia >= a.vertices().size() || ib >= b.vertices().size()) break;
-    if (!insert({a.vertices()[ia].p - X_AB.apply(b.vertices()[ib].p), ia, ib})) return false;
   }
 
-  int best = -1;
-  double upper = std::numeric_limits<double>::infinity();
-  Vec3 upper_n{0.0};
-  for (int it = 0; it < kMaxIterations; ++it) {
-    best = -1;
+  // the face nearest the origin, -1 when there is none
+  int nearest() const {
+    int best = -1;
     for (int f = 0; f < nf; ++f) {
-      if (best < 0 || faces[static_cast<std::size_t>(f)].dist < faces[static_cast<std::size_t>(best)].dist) {
+      if (best < 0 || face(f).dist < face(best).dist)
         best = f;
+    }
+    return best;
+  }
+
+  // the certificate: P is convex and holds the origin, so the nearest face plane is a lower bound
+  bool convexAroundOrigin() const {
+    for (int f = 0; f < nf; ++f) {
+      const Face& fc = face(f);
+      if (fc.dist < -eps)
+        return false;
+      const Vec3& p0 = vert(fc.v[0]).w;
+      for (int v = 0; v < nv; ++v) {
+        if (glm::dot(fc.n, vert(v).w - p0) > 1e-11 * size)
+          return false;
       }
     }
-    if (best < 0) return false;
-    const Face& bf = faces[static_cast<std::size_t>(best)];
-    if (bf.dist < -eps) return false;  // the origin is outside P
-    // climb from the face's own vertex: it is a support point for a nearby direction
-    m.ha = verts[static_cast<std::size_t>(bf.v[0])].ia;
-    m.hb = verts[static_cast<std::size_t>(bf.v[0])].ib;
-    const SupportPoint w = m.support(bf.n);
-    const double h = glm::dot(bf.n, w.w);
-    if (h < upper) upper = h, upper_n = bf.n;
-    if (h - bf.dist <= eps) break;  // converged
-    if (it + 1 == kMaxIterations) return false;
-    if (!insert(w)) return false;
+    return true;
   }
-  if (best < 0) return false;
-  const Face& bf = faces[static_cast<std::size_t>(best)];
-  // the certificate: P is convex and holds the origin, so the nearest face plane is a lower bound
-  for (int f = 0; f < nf; ++f) {
-    const Face& fc = faces[static_cast<std::size_t>(f)];
-    if (fc.dist < -eps) return false;
-    const Vec3& p0 = verts[static_cast<std::size_t>(fc.v[0])].w;
-    for (int v = 0; v < nv; ++v) {
-      if (glm::dot(fc.n, verts[static_cast<std::size_t>(v)].w - p0) > 1e-11 * size) return false;
+};
+
+// The Minkowski feature of the answer along n: a face of A or of B parallel to the normal, else
+// two edges (at each support vertex, the edge most perpendicular to the normal).
+void mtdFeature(const Polytope& a,
+                const Polytope& b,
+                const Transform& X_BA,
+                const Vec3& n,
+                const SupportPoint& p0,
+                DepthResult& out) {
+  out.kind = DepthFeature::kEdgeEdge;
+  out.ia = out.ib = 0;
+  double best_a = -2.0, best_b = -2.0;
+  std::uint32_t fa = 0, fb = 0;
+  const std::uint32_t sa = a.support(n, p0.ia);
+  for (const auto& ve : a.vertexEdges(sa)) {
+    for (const std::uint32_t f : a.edges()[ve.edge].face) {
+      const double c = glm::dot(a.faces()[f].normal, n);
+      if (c > best_a)
+        best_a = c, fa = f;
     }
   }
-  if (!(upper - bf.dist <= 1e-11 * size)) return false;
+  const Vec3 n_b = X_BA.rotate(-n);
+  const std::uint32_t sb = b.support(n_b, p0.ib);
+  for (const auto& ve : b.vertexEdges(sb)) {
+    for (const std::uint32_t f : b.edges()[ve.edge].face) {
+      const double c = glm::dot(b.faces()[f].normal, n_b);
+      if (c > best_b)
+        best_b = c, fb = f;
+    }
+  }
+  if (best_a >= 1.0 - 1e-12 && best_a >= best_b) {
+    out.kind = DepthFeature::kFaceA, out.ia = fa;
+  } else if (best_b >= 1.0 - 1e-12) {
+    out.kind = DepthFeature::kFaceB, out.ib = fb;
+  } else {
+    double ca = 2.0, cb = 2.0;
+    for (const auto& ve : a.vertexEdges(sa)) {
+      const double c = std::abs(glm::dot(ve.out, n));
+      if (c < ca)
+        ca = c, out.ia = ve.edge;
+    }
+    for (const auto& ve : b.vertexEdges(sb)) {
+      const double c = std::abs(glm::dot(ve.out, n_b));
+      if (c < cb)
+        cb = c, out.ib = ve.edge;
+    }
+  }
+}
 
-  // the answer: depth, normal, witness points from the nearest face's barycentric coordinates
+// The answer from the nearest face bf: depth, normal, witness points from its barycentric
+// coordinates. B translated by t leaves A - B - t; the origin leaves it first across the nearest
+// face, so B moves by depth along that face's outward normal n.
+void answer(const Polytope& a,
+            const Polytope& b,
+            const Transform& X_AB,
+            const ExpandingPolytope& P,
+            const Face& bf,
+            DepthResult& out) {
   const double depth = bf.dist;
   const Vec3 n = bf.n;
-  const SupportPoint& p0 = verts[static_cast<std::size_t>(bf.v[0])];
-  const SupportPoint& p1 = verts[static_cast<std::size_t>(bf.v[1])];
-  const SupportPoint& p2 = verts[static_cast<std::size_t>(bf.v[2])];
+  const SupportPoint& p0 = P.vert(bf.v[0]);
+  const SupportPoint& p1 = P.vert(bf.v[1]);
+  const SupportPoint& p2 = P.vert(bf.v[2]);
   const Vec3 q = n * depth;
   const Vec3 e0 = p1.w - p0.w, e1 = p2.w - p0.w, e2 = q - p0.w;
   const double d00 = glm::dot(e0, e0), d01 = glm::dot(e0, e1), d11 = glm::dot(e1, e1);
@@ -232,77 +285,117 @@ bool penetrationDepthEpa(const Polytope& a, const Polytope& b, const Transform& 
   double l1 = den > 0.0 ? (d11 * d20 - d01 * d21) / den : 0.0;
   double l2 = den > 0.0 ? (d00 * d21 - d01 * d20) / den : 0.0;
   double l0 = 1.0 - l1 - l2;
-  const Vec3 pa = a.vertices()[p0.ia].p * l0 + a.vertices()[p1.ia].p * l1 + a.vertices()[p2.ia].p * l2;
-  const Vec3 pb = X_AB.apply(b.vertices()[p0.ib].p * l0 + b.vertices()[p1.ib].p * l1 + b.vertices()[p2.ib].p * l2);
-  // B translated by t leaves A - B - t; the origin leaves it first across the nearest face, so B
-  // moves by depth along that face's outward normal n
+  const Vec3 pa =
+      a.vertices()[p0.ia].p * l0 + a.vertices()[p1.ia].p * l1 + a.vertices()[p2.ia].p * l2;
+  const Vec3 pb = X_AB.apply(b.vertices()[p0.ib].p * l0 + b.vertices()[p1.ib].p * l1 +
+                             b.vertices()[p2.ib].p * l2);
   out.depth = depth;
   out.normal = n;
   out.support_a = p0.ia;  // the final face's points are supports along n
   out.support_b = p0.ib;
   out.point_a = pa;
   out.point_b = pb;
-  // the Minkowski feature: a face of A or of B parallel to the normal, else two edges
-  out.kind = DepthFeature::kEdgeEdge;
-  out.ia = out.ib = 0;
-  {
-    double best_a = -2.0, best_b = -2.0;
-    std::uint32_t fa = 0, fb = 0;
-    const std::uint32_t sa = a.support(n, p0.ia);
-    for (const auto& ve : a.vertexEdges(sa)) {
-      for (const std::uint32_t f : a.edges()[ve.edge].face) {
-        const double c = glm::dot(a.faces()[f].normal, n);
-        if (c > best_a) best_a = c, fa = f;
-      }
+}
+
+// keep the points of P nearest the answer's plane (normal n) for the next tick
+void keepWarm(const ExpandingPolytope& P, const Vec3& n, DepthCache& cache) {
+  std::array<int, DepthCache::kWarm> keep{};
+  int kept = 0;
+  for (int v = 0; v < P.nv; ++v) {
+    const double hv = glm::dot(P.vert(v).w, n);
+    int at = kept < DepthCache::kWarm ? kept++ : DepthCache::kWarm;
+    while (at > 0 && glm::dot(P.vert(keep[static_cast<std::size_t>(at - 1)]).w, n) < hv) {
+      if (at < DepthCache::kWarm)
+        keep[static_cast<std::size_t>(at)] = keep[static_cast<std::size_t>(at - 1)];
+      --at;
     }
-    const Vec3 n_b = m.X_BA.rotate(-n);
-    const std::uint32_t sb = b.support(n_b, p0.ib);
-    for (const auto& ve : b.vertexEdges(sb)) {
-      for (const std::uint32_t f : b.edges()[ve.edge].face) {
-        const double c = glm::dot(b.faces()[f].normal, n_b);
-        if (c > best_b) best_b = c, fb = f;
-      }
-    }
-    if (best_a >= 1.0 - 1e-12 && best_a >= best_b) {
-      out.kind = DepthFeature::kFaceA, out.ia = fa;
-    } else if (best_b >= 1.0 - 1e-12) {
-      out.kind = DepthFeature::kFaceB, out.ib = fb;
-    } else {
-      // two edges: at each support vertex, the edge most perpendicular to the normal
-      double ca = 2.0, cb = 2.0;
-      for (const auto& ve : a.vertexEdges(sa)) {
-        const double c = std::abs(glm::dot(ve.out, n));
-        if (c < ca) ca = c, out.ia = ve.edge;
-      }
-      for (const auto& ve : b.vertexEdges(sb)) {
-        const double c = std::abs(glm::dot(ve.out, n_b));
-        if (c < cb) cb = c, out.ib = ve.edge;
-      }
-    }
+    if (at < DepthCache::kWarm)
+      keep[static_cast<std::size_t>(at)] = v;
   }
+  cache.warm_count = static_cast<std::uint8_t>(kept);
+  for (int k = 0; k < kept; ++k) {
+    cache.warm_a[static_cast<std::size_t>(k)] = P.vert(keep[static_cast<std::size_t>(k)]).ia;
+    cache.warm_b[static_cast<std::size_t>(k)] = P.vert(keep[static_cast<std::size_t>(k)]).ib;
+  }
+}
+
+}  // namespace
+
+bool penetrationDepthEpa(const Polytope& a,
+                         const Polytope& b,
+                         const Transform& X_AB,
+                         DepthCache& cache,
+                         DepthResult& out) {
+  const double size = std::max(a.radius(), b.radius());
+  const double eps = 1e-13 * size;
+  Minkowski m{a,
+              b,
+              X_AB,
+              X_AB.inverse(),
+              cache.support_a < a.vertices().size() ? cache.support_a : 0,
+              cache.support_b < b.vertices().size() ? cache.support_b : 0};
+  std::array<SupportPoint, 4> tet{};
+  const Vec3 guess = cache.kind != DepthFeature::kNone && glm::dot(cache.normal, cache.normal) > 0.0
+                         ? cache.normal
+                         : a.centroid() - X_AB.apply(b.centroid());
+  if (!gjkSimplex(m, guess, tet, eps))
+    return false;
+
+  ExpandingPolytope P;
+  P.eps = eps;
+  P.size = size;
+  if (!P.start(tet))
+    return false;
+  // last tick's polytope near the answer, at this tick's pose: EPA then starts close to the end
+  for (std::uint8_t k = 0; k < cache.warm_count; ++k) {
+    const std::uint32_t ia = cache.warm_a[k], ib = cache.warm_b[k];
+    if (ia >= a.vertices().size() || ib >= b.vertices().size())
+      break;
+    if (!P.insert({a.vertices()[ia].p - X_AB.apply(b.vertices()[ib].p), ia, ib}))
+      return false;
+  }
+
+  int best = -1;
+  double upper = std::numeric_limits<double>::infinity();
+  Vec3 upper_n{0.0};
+  for (int it = 0; it < kMaxIterations; ++it) {
+    best = P.nearest();
+    if (best < 0)
+      return false;
+    const Face& bf = P.face(best);
+    if (bf.dist < -eps)
+      return false;  // the origin is outside P
+    // climb from the face's own vertex: it is a support point for a nearby direction
+    m.ha = P.vert(bf.v[0]).ia;
+    m.hb = P.vert(bf.v[0]).ib;
+    const SupportPoint w = m.support(bf.n);
+    const double h = glm::dot(bf.n, w.w);
+    if (h < upper)
+      upper = h, upper_n = bf.n;
+    if (h - bf.dist <= eps)
+      break;  // converged
+    if (it + 1 == kMaxIterations)
+      return false;
+    if (!P.insert(w))
+      return false;
+  }
+  if (best < 0)
+    return false;
+  const Face& bf = P.face(best);
+  if (!P.convexAroundOrigin())
+    return false;
+  if (!(upper - bf.dist <= 1e-11 * size))
+    return false;
+
+  answer(a, b, X_AB, P, bf, out);
+  mtdFeature(a, b, m.X_BA, bf.n, P.vert(bf.v[0]), out);
   cache.kind = out.kind;
   cache.ia = out.ia;
   cache.ib = out.ib;
   cache.support_a = m.ha;
   cache.support_b = m.hb;
-  cache.normal = n;
-  // keep the points of P nearest the answer's plane for the next tick
-  std::array<int, DepthCache::kWarm> keep{};
-  int kept = 0;
-  for (int v = 0; v < nv; ++v) {
-    const double hv = glm::dot(verts[static_cast<std::size_t>(v)].w, n);
-    int at = kept < DepthCache::kWarm ? kept++ : DepthCache::kWarm;
-    while (at > 0 && glm::dot(verts[static_cast<std::size_t>(keep[static_cast<std::size_t>(at - 1)])].w, n) < hv) {
-      if (at < DepthCache::kWarm) keep[static_cast<std::size_t>(at)] = keep[static_cast<std::size_t>(at - 1)];
-      --at;
-    }
-    if (at < DepthCache::kWarm) keep[static_cast<std::size_t>(at)] = v;
-  }
-  cache.warm_count = static_cast<std::uint8_t>(kept);
-  for (int k = 0; k < kept; ++k) {
-    cache.warm_a[static_cast<std::size_t>(k)] = verts[static_cast<std::size_t>(keep[static_cast<std::size_t>(k)])].ia;
-    cache.warm_b[static_cast<std::size_t>(k)] = verts[static_cast<std::size_t>(keep[static_cast<std::size_t>(k)])].ib;
-  }
+  cache.normal = bf.n;
+  keepWarm(P, bf.n, cache);
   return true;
 }
 

@@ -17,7 +17,8 @@ void bruteDistance(const Polytope& a, const Polytope& b, const Transform& X_AB, 
   auto consider = [&](const Vec3& pa, const Vec3& pb, Feature fa, Feature fb) {
     const Vec3 d = pb - pa;
     const double d2 = glm::dot(d, d);
-    if (d2 < best) best = d2, r.point_a = pa, r.point_b = pb, r.fa = fa, r.fb = fb;
+    if (d2 < best)
+      best = d2, r.point_a = pa, r.point_b = pb, r.fa = fa, r.fb = fb;
   };
   for (std::uint32_t i = 0; i < a.edges().size(); ++i) {
     const auto& ea = a.edges()[i];
@@ -31,7 +32,8 @@ void bruteDistance(const Polytope& a, const Polytope& b, const Transform& X_AB, 
   }
   auto pointFace = [](const Polytope& p, std::uint32_t f, const Vec3& x, Vec3& out) {
     for (const auto& fe : p.faceEdges(f)) {
-      if (glm::dot(x - p.vertices()[fe.vertex].p, fe.side) < 0.0) return false;
+      if (glm::dot(x - p.vertices()[fe.vertex].p, fe.side) < 0.0)
+        return false;
     }
     out = x - p.faces()[f].normal * (glm::dot(p.faces()[f].normal, x) - p.faces()[f].offset);
     return true;
@@ -41,14 +43,16 @@ void bruteDistance(const Polytope& a, const Polytope& b, const Transform& X_AB, 
     const Vec3 x = X_BA.apply(a.vertices()[v].p);
     for (std::uint32_t f = 0; f < b.faces().size(); ++f) {
       Vec3 q;
-      if (pointFace(b, f, x, q)) consider(a.vertices()[v].p, X_AB.apply(q), Feature::vertex(v), Feature::face(f));
+      if (pointFace(b, f, x, q))
+        consider(a.vertices()[v].p, X_AB.apply(q), Feature::vertex(v), Feature::face(f));
     }
   }
   for (std::uint32_t v = 0; v < b.vertices().size(); ++v) {
     const Vec3 x = X_AB.apply(b.vertices()[v].p);
     for (std::uint32_t f = 0; f < a.faces().size(); ++f) {
       Vec3 q;
-      if (pointFace(a, f, x, q)) consider(q, x, Feature::face(f), Feature::vertex(v));
+      if (pointFace(a, f, x, q))
+        consider(q, x, Feature::face(f), Feature::vertex(v));
     }
   }
   r.distance = std::sqrt(best);
@@ -59,12 +63,17 @@ void bruteDistance(const Polytope& a, const Polytope& b, const Transform& X_AB, 
 // The feature of p (placed in A's frame by X) holding x (A's frame) within tol, among vertex v
 // and the edges and faces around it, lowest dimension first; none when x is not on them. A depth
 // result's witness lies in the support set along its normal, which holds its support vertex v.
-Feature featureAt(const Polytope& p, const Transform& X, std::uint32_t v, const Vec3& x_A,
+Feature featureAt(const Polytope& p,
+                  const Transform& X,
+                  std::uint32_t v,
+                  const Vec3& x_A,
                   double tol) {
-  if (v >= p.vertices().size()) return {};
+  if (v >= p.vertices().size())
+    return {};
   const Vec3 x = X.inverse().apply(x_A);
   const Vec3& pv = p.vertices()[v].p;
-  if (glm::length(x - pv) <= tol) return Feature::vertex(v);
+  if (glm::length(x - pv) <= tol)
+    return Feature::vertex(v);
   for (const auto& ve : p.vertexEdges(v)) {
     const Vec3& q = p.vertices()[ve.other].p;
     if (glm::length(x - (pv + (q - pv) * detail::closestOnSegment(x, pv, q))) <= tol) {
@@ -78,36 +87,54 @@ Feature featureAt(const Polytope& p, const Transform& X, std::uint32_t v, const 
       for (const auto& fe : p.faceEdges(f)) {
         inside = inside && glm::dot(x - p.vertices()[fe.vertex].p, fe.side) >= -tol;
       }
-      if (inside) return Feature::face(f);
+      if (inside)
+        return Feature::face(f);
     }
   }
   return {};
 }
 
 // The answer of an overlapping pair from its minimal translation.
-void penetrating(const Polytope& a, const Polytope& b, const Transform& X_AB, const DepthResult& d,
+void penetrating(const Polytope& a,
+                 const Polytope& b,
+                 const Transform& X_AB,
+                 const DepthResult& d,
                  PairResult& r) {
   r.status = ContactStatus::kPenetrating;
   r.distance = -d.depth;
   r.normal = d.normal;
   r.point_a = d.point_a;
   r.point_b = d.point_b;
-  r.fa = d.kind == DepthFeature::kFaceB ? Feature{}
-         : d.kind == DepthFeature::kFaceA ? Feature::face(d.ia) : Feature::edge(d.ia);
-  r.fb = d.kind == DepthFeature::kFaceA ? Feature{}
-         : d.kind == DepthFeature::kFaceB ? Feature::face(d.ib) : Feature::edge(d.ib);
+  r.fa = d.kind == DepthFeature::kFaceB   ? Feature{}
+         : d.kind == DepthFeature::kFaceA ? Feature::face(d.ia)
+                                          : Feature::edge(d.ia);
+  r.fb = d.kind == DepthFeature::kFaceA   ? Feature{}
+         : d.kind == DepthFeature::kFaceB ? Feature::face(d.ib)
+                                          : Feature::edge(d.ib);
   r.manifold = manifoldFromDepth(a, b, X_AB, d);
 }
 
 }  // namespace
 
-PairResult queryPair(const Polytope& a, const Polytope& b, const Transform& X_AB, PairCache& cache,
+PairResult queryPair(const Polytope& a,
+                     const Polytope& b,
+                     const Transform& X_AB,
+                     PairCache& cache,
+                     const QueryOptions& options) {
+  return queryPair(a, b, X_AB, cache, DepthScratch::forThisThread(), options);
+}
+
+PairResult queryPair(const Polytope& a,
+                     const Polytope& b,
+                     const Transform& X_AB,
+                     PairCache& cache,
+                     DepthScratch& scratch,
                      const QueryOptions& options) {
   const double tol = options.touch_tolerance * std::max(a.radius(), b.radius());
   PairResult r;
   if (cache.penetrating) {
     // overlapping last tick: the depth first; the walk only once they come apart
-    const DepthResult d = penetrationDepth(a, b, X_AB, cache.depth);
+    const DepthResult d = penetrationDepth(a, b, X_AB, cache.depth, scratch);
     if (d.depth > tol) {
       penetrating(a, b, X_AB, d, r);
       return r;
@@ -128,7 +155,7 @@ PairResult queryPair(const Polytope& a, const Polytope& b, const Transform& X_AB
     return r;
   }
   // touching, overlapping, or a walk that gave up: the separating-axis answer decides
-  const DepthResult d = penetrationDepth(a, b, X_AB, cache.depth);
+  const DepthResult d = penetrationDepth(a, b, X_AB, cache.depth, scratch);
   if (d.depth > tol) {
     penetrating(a, b, X_AB, d, r);
     cache.penetrating = true;
@@ -165,7 +192,8 @@ PairResult queryPair(const Polytope& a, const Polytope& b, const Transform& X_AB
   // the walk claimed penetration (or gave up) but a separating axis exists
   bruteDistance(a, b, X_AB, r);
   r.status = r.distance > tol ? ContactStatus::kSeparated : ContactStatus::kTouching;
-  if (r.status == ContactStatus::kTouching) r.normal = d.normal;
+  if (r.status == ContactStatus::kTouching)
+    r.normal = d.normal;
   ClosestResult cn;
   cn.fa = r.fa, cn.fb = r.fb, cn.point_a = r.point_a, cn.point_b = r.point_b;
   cn.normal = r.normal, cn.distance = r.distance;

@@ -32,8 +32,21 @@ struct PairResult {
   std::uint32_t iterations = 0;  ///< walk iterations
 };
 
-/// The full pair query. No allocation; any thread, including the servo thread.
-PairResult queryPair(const Polytope& a, const Polytope& b, const Transform& X_AB, PairCache& cache,
+/// The full pair query. No allocation when `scratch` holds the faces of both polytopes
+/// (DepthScratch::reserve; a CollisionWorld sizes its own for every body it holds); any thread
+/// that owns `scratch`, the servo thread included.
+PairResult queryPair(const Polytope& a,
+                     const Polytope& b,
+                     const Transform& X_AB,
+                     PairCache& cache,
+                     DepthScratch& scratch,
+                     const QueryOptions& options = {});
+/// The same with the calling thread's scratch, which grows (allocates) the first time a larger
+/// polytope comes (penetration.h): for tools and tests, not for the servo thread.
+PairResult queryPair(const Polytope& a,
+                     const Polytope& b,
+                     const Transform& X_AB,
+                     PairCache& cache,
                      const QueryOptions& options = {});
 
 }  // namespace hapticd::collision

@@ -14,8 +14,12 @@ namespace {
 
 // The Minkowski-face test of Gauss-map arcs (Gregorius, "The Separating Axis Test between Convex
 // Polyhedra", GDC 2013): arc (a, b) of an edge of A and arc (c, d) of an edge of -B intersect.
-inline bool isMinkowskiFace(const Vec3& a, const Vec3& b, const Vec3& b_x_a, const Vec3& c,
-                            const Vec3& d, const Vec3& d_x_c) {
+inline bool isMinkowskiFace(const Vec3& a,
+                            const Vec3& b,
+                            const Vec3& b_x_a,
+                            const Vec3& c,
+                            const Vec3& d,
+                            const Vec3& d_x_c) {
   const double cba = glm::dot(c, b_x_a);
   const double dba = glm::dot(d, b_x_a);
   const double adc = glm::dot(a, d_x_c);
@@ -30,13 +34,17 @@ struct WitnessPolygon {
   std::array<Vec3, kCap> p;
   std::size_t n = 0;
   void push(const Vec3& v) {
-    if (n < kCap) p[n++] = v;
+    if (n < kCap)
+      p[n++] = v;
   }
 };
 
 // Sutherland-Hodgman: the part of `in` (a closed polygon, or a segment when it has 2 points) with
 // (x - o)·m >= -tol.
-void clipWitness(const WitnessPolygon& in, const Vec3& o, const Vec3& m, double tol,
+void clipWitness(const WitnessPolygon& in,
+                 const Vec3& o,
+                 const Vec3& m,
+                 double tol,
                  WitnessPolygon& out) {
   out.n = 0;
   const std::size_t edges = in.n == 2 ? 1 : in.n;
@@ -44,11 +52,15 @@ void clipWitness(const WitnessPolygon& in, const Vec3& o, const Vec3& m, double 
     const Vec3& x = in.p[k];
     const Vec3& y = in.p[(k + 1) % in.n];
     const double sx = glm::dot(x - o, m) + tol, sy = glm::dot(y - o, m) + tol;
-    if (sx >= 0.0) out.push(x);
-    if ((sx >= 0.0) != (sy >= 0.0)) out.push(x + (y - x) * (sx / (sx - sy)));
+    if (sx >= 0.0)
+      out.push(x);
+    if ((sx >= 0.0) != (sy >= 0.0))
+      out.push(x + (y - x) * (sx / (sx - sy)));
   }
-  if (in.n == 2 && glm::dot(in.p[1] - o, m) + tol >= 0.0) out.push(in.p[1]);
-  if (in.n == 1 && glm::dot(in.p[0] - o, m) + tol >= 0.0) out.push(in.p[0]);
+  if (in.n == 2 && glm::dot(in.p[1] - o, m) + tol >= 0.0)
+    out.push(in.p[1]);
+  if (in.n == 1 && glm::dot(in.p[0] - o, m) + tol >= 0.0)
+    out.push(in.p[0]);
 }
 
 // Witness on Q of a face MTD (face f of P against Q's support set), in P's frame (T_PQ: Q's frame
@@ -58,8 +70,12 @@ void clipWitness(const WitnessPolygon& in, const Vec3& o, const Vec3& m, double 
 // parallel to the face within tol, where the climb returns any of its vertices) need a search:
 // the tied feature is clipped against the face's side planes and the mean of what is left taken.
 // Falls back to s if the search finds nothing.
-Vec3 faceWitness(const Polytope& p, std::uint32_t f, const Polytope& q, const Transform& T_PQ,
-                 std::uint32_t s, double tol) {
+Vec3 faceWitness(const Polytope& p,
+                 std::uint32_t f,
+                 const Polytope& q,
+                 const Transform& T_PQ,
+                 std::uint32_t s,
+                 double tol) {
   const auto sides = p.faceEdges(f);
   const Vec3 q0 = T_PQ.apply(q.vertices()[s].p);
   bool inside = true;
@@ -69,7 +85,8 @@ Vec3 faceWitness(const Polytope& p, std::uint32_t f, const Polytope& q, const Tr
       break;
     }
   }
-  if (inside) return q0;
+  if (inside)
+    return q0;
   // Q's support set along d_q (its own frame): the vertices within tol of s's height
   const Vec3 d_q = glm::transpose(T_PQ.R) * (-p.faces()[f].normal);
   const double h0 = glm::dot(d_q, q.vertices()[s].p);
@@ -79,13 +96,15 @@ Vec3 faceWitness(const Polytope& p, std::uint32_t f, const Polytope& q, const Tr
   for (const auto& ve : q.vertexEdges(s)) {
     for (const std::uint32_t k : q.edges()[ve.edge].face) {
       const double c = glm::dot(q.faces()[k].normal, d_q);
-      if (c > best) best = c, face = k;
+      if (c > best)
+        best = c, face = k;
     }
   }
   WitnessPolygon poly, scratch;
   const auto loop = q.faceEdges(face);
   bool face_tied = true;
-  for (const auto& fe : loop) face_tied = face_tied && tied(fe.vertex);
+  for (const auto& fe : loop)
+    face_tied = face_tied && tied(fe.vertex);
   if (face_tied) {
     // a face larger than the capacity: evenly spaced vertices (a convex polygon inside it)
     const std::size_t stride = (loop.size() + WitnessPolygon::kCap - 1) / WitnessPolygon::kCap;
@@ -94,169 +113,202 @@ Vec3 faceWitness(const Polytope& p, std::uint32_t f, const Polytope& q, const Tr
     }
   } else {
     for (const auto& ve : q.vertexEdges(s)) {
-      if (!tied(ve.other)) continue;
+      if (!tied(ve.other))
+        continue;
       poly.push(q0);
       poly.push(T_PQ.apply(q.vertices()[ve.other].p));
       break;
     }
   }
-  if (poly.n < 2) return q0;
+  if (poly.n < 2)
+    return q0;
   for (const auto& fe : sides) {
     clipWitness(poly, p.vertices()[fe.vertex].p, fe.side, tol, scratch);
     poly.n = scratch.n;
     std::copy(scratch.p.begin(), scratch.p.begin() + static_cast<std::ptrdiff_t>(scratch.n),
               poly.p.begin());
-    if (poly.n == 0) return q0;
+    if (poly.n == 0)
+      return q0;
   }
   Vec3 mean{0.0};
-  for (std::size_t k = 0; k < poly.n; ++k) mean += poly.p[k];
+  for (std::size_t k = 0; k < poly.n; ++k)
+    mean += poly.p[k];
   return mean / static_cast<double>(poly.n);
 }
 
 }  // namespace
 
-DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Transform& X_AB,
-                                  DepthCache& cache) {
-  const Transform X_BA = X_AB.inverse();
+namespace {
+
+// The nearest Minkowski face plane found so far, and its support vertex hint.
+struct DepthSearch {
   DepthResult best;
-  best.depth = std::numeric_limits<double>::infinity();
-  std::uint32_t hint_a = cache.support_a < a.vertices().size() ? cache.support_a : 0;
-  std::uint32_t hint_b = cache.support_b < b.vertices().size() ? cache.support_b : 0;
   std::uint32_t best_support = 0;
-  const auto fa = a.faces();
-  const auto fb = b.faces();
-  const auto ea = a.edges();
-  const auto eb = b.edges();
-  // support heights within this count as tied (parallel features), as the closest-feature
-  // walk's plane tolerance
-  const double tie_tol = 1e-12 * std::max(a.radius(), b.radius());
-
-  // per face of A, B's support vertex against its normal: the region of B's Gauss map that
-  // holds the face normal. Scratch grows to the largest polytope seen, then never allocates.
-  thread_local std::vector<std::uint32_t> support_of_face;
-  thread_local std::vector<Vec3> neg_normal_b;  // -(normals of B's faces), in A's frame
-  if (support_of_face.size() < fa.size()) support_of_face.resize(fa.size());
-  if (neg_normal_b.size() < fb.size()) neg_normal_b.resize(fb.size());
-
-  auto consider = [&](double d, const Vec3& n, DepthFeature kind, std::uint32_t ia,
-                      std::uint32_t ib, std::uint32_t support) {
+  DepthSearch() { best.depth = std::numeric_limits<double>::infinity(); }
+  void consider(double d,
+                const Vec3& n,
+                DepthFeature kind,
+                std::uint32_t ia,
+                std::uint32_t ib,
+                std::uint32_t support) {
     if (d < best.depth) {
       best.depth = d, best.normal = n, best.kind = kind, best.ia = ia, best.ib = ib;
       best_support = support;
     }
-  };
+  }
+};
 
-  // faces of A (breadth-first, so each support climb starts next to its answer)
+// Faces of A (breadth-first, so each support climb starts next to its answer): per face, B's
+// support vertex against its normal, the region of B's Gauss map that holds the face normal.
+void facesOfA(const Polytope& a,
+              const Polytope& b,
+              const Transform& X_AB,
+              const Transform& X_BA,
+              std::uint32_t& hint_b,
+              std::vector<std::uint32_t>& support_of_face,
+              DepthSearch& s) {
+  const auto fa = a.faces();
   for (const std::uint32_t i : a.faceOrder()) {
     const Vec3& n = fa[i].normal;
     hint_b = b.support(X_BA.rotate(-n), hint_b);
     support_of_face[i] = hint_b;
-    consider(fa[i].offset - glm::dot(n, X_AB.apply(b.vertices()[hint_b].p)), n,
-             DepthFeature::kFaceA, i, 0, hint_b);
+    s.consider(fa[i].offset - glm::dot(n, X_AB.apply(b.vertices()[hint_b].p)), n,
+               DepthFeature::kFaceA, i, 0, hint_b);
   }
-  // faces of B: B moves against its face normal
-  if (best.depth >= 0.0) {
-    for (const std::uint32_t j : b.faceOrder()) {
-      const Vec3 m = X_AB.rotate(fb[j].normal);
-      neg_normal_b[j] = -m;
-      hint_a = a.support(-m, hint_a);
-      consider(fb[j].offset + glm::dot(m, X_AB.t) - glm::dot(m, a.vertices()[hint_a].p), -m,
-               DepthFeature::kFaceB, 0, j, hint_a);
-    }
-  }
-  // edge pairs whose Gauss-map arcs cross. For each edge of A, its arc runs from the normal of
-  // face[0] to that of face[1]; walking over B's vertex graph from the region holding the first
-  // to the region holding the second crosses exactly the arcs of the edges of B it meets.
-  if (best.depth >= 0.0) {
-    const DepthResult face_best = best;
-    const std::uint32_t face_support = best_support;
-    auto edgePair = [&](std::uint32_t i, std::uint32_t j, const Vec3& na, const Vec3& nb,
-                        const Vec3& b_x_a) {
-      const Vec3& c = neg_normal_b[eb[j].face[0]];
-      const Vec3& d = neg_normal_b[eb[j].face[1]];
-      if (!isMinkowskiFace(na, nb, b_x_a, c, d, glm::cross(d, c))) return false;
-      Vec3 axis = glm::cross(ea[i].dir, X_AB.rotate(eb[j].dir));
-      const double len = glm::length(axis);
-      if (len < 1e-9) return true;  // parallel edges: covered by the face normals
-      axis /= len;
-      if (glm::dot(axis, na + nb) < 0.0) axis = -axis;
-      const Vec3 pb = X_AB.apply(b.vertices()[eb[j].tail].p);
-      consider(glm::dot(axis, a.vertices()[ea[i].tail].p - pb), axis, DepthFeature::kEdgeEdge, i,
-               j, 0);
-      return true;
-    };
-    for (std::uint32_t i = 0; i < ea.size(); ++i) {
-      const std::uint32_t s0 = support_of_face[ea[i].face[0]];
-      const std::uint32_t s1 = support_of_face[ea[i].face[1]];
-      if (s0 == s1) continue;  // the whole arc lies in one region: no crossing
-      const Vec3& na = fa[ea[i].face[0]].normal;
-      const Vec3& nb = fa[ea[i].face[1]].normal;
-      const Vec3 b_x_a = glm::cross(nb, na);
-      std::uint32_t v = s0;
-      std::uint32_t came_by = std::numeric_limits<std::uint32_t>::max();
-      bool lost = false;
-      for (std::size_t step = 0; v != s1; ++step) {
-        bool moved = false;
-        if (step <= eb.size()) {
-          for (const auto& ve : b.vertexEdges(v)) {
-            if (ve.edge == came_by || !edgePair(i, ve.edge, na, nb, b_x_a)) continue;
-            came_by = ve.edge;
-            v = ve.other;
-            moved = true;
-            break;
-          }
-        }
-        if (!moved) {
-          lost = true;  // a degenerate crossing (arc through a vertex of the map)
-          break;
-        }
-      }
-      if (lost) {
-        for (std::uint32_t j = 0; j < eb.size(); ++j) edgePair(i, j, na, nb, b_x_a);
-      }
-    }
-    // Arcs that only meet at an end (a face normal of A equal to one of -B: parallel faces, e.g.
-    // the edges of two opposed caps) pass the crossing test by rounding; such a "face" has no
-    // area and lies in that face's plane, the face passes' answer less a rounding error, and its
-    // edges' closest points are no witnesses of it. An edge-pair answer whose axis lies within
-    // 1e-12 rad of one of its arcs' ends gives way to the faces' answer (checked once here, not
-    // in the loop above).
-    if (best.kind == DepthFeature::kEdgeEdge) {
-      const Vec3 ends[4] = {fa[ea[best.ia].face[0]].normal, fa[ea[best.ia].face[1]].normal,
-                            neg_normal_b[eb[best.ib].face[0]], neg_normal_b[eb[best.ib].face[1]]};
-      for (const Vec3& end : ends) {
-        const Vec3 off = glm::cross(best.normal, end);
-        if (glm::dot(off, off) < 1e-24) {
-          best = face_best;
-          best_support = face_support;
-          break;
-        }
-      }
-    }
-  }
+}
 
-  // witness points
+// Faces of B: B moves against its face normal; -(normals of B's faces) in A's frame are kept.
+void facesOfB(const Polytope& a,
+              const Polytope& b,
+              const Transform& X_AB,
+              std::uint32_t& hint_a,
+              std::vector<Vec3>& neg_normal_b,
+              DepthSearch& s) {
+  const auto fb = b.faces();
+  for (const std::uint32_t j : b.faceOrder()) {
+    const Vec3 m = X_AB.rotate(fb[j].normal);
+    neg_normal_b[j] = -m;
+    hint_a = a.support(-m, hint_a);
+    s.consider(fb[j].offset + glm::dot(m, X_AB.t) - glm::dot(m, a.vertices()[hint_a].p), -m,
+               DepthFeature::kFaceB, 0, j, hint_a);
+  }
+}
+
+// Edge pairs whose Gauss-map arcs cross. For each edge of A, its arc runs from the normal of
+// face[0] to that of face[1]; walking over B's vertex graph from the region holding the first to
+// the region holding the second crosses exactly the arcs of the edges of B it meets.
+void edgePairs(const Polytope& a,
+               const Polytope& b,
+               const Transform& X_AB,
+               const std::vector<std::uint32_t>& support_of_face,
+               const std::vector<Vec3>& neg_normal_b,
+               DepthSearch& s) {
+  const auto fa = a.faces();
+  const auto ea = a.edges();
+  const auto eb = b.edges();
+  const DepthResult face_best = s.best;
+  const std::uint32_t face_support = s.best_support;
+  auto edgePair = [&](std::uint32_t i, std::uint32_t j, const Vec3& na, const Vec3& nb,
+                      const Vec3& b_x_a) {
+    const Vec3& c = neg_normal_b[eb[j].face[0]];
+    const Vec3& d = neg_normal_b[eb[j].face[1]];
+    if (!isMinkowskiFace(na, nb, b_x_a, c, d, glm::cross(d, c)))
+      return false;
+    Vec3 axis = glm::cross(ea[i].dir, X_AB.rotate(eb[j].dir));
+    const double len = glm::length(axis);
+    if (len < 1e-9)
+      return true;  // parallel edges: covered by the face normals
+    axis /= len;
+    if (glm::dot(axis, na + nb) < 0.0)
+      axis = -axis;
+    const Vec3 pb = X_AB.apply(b.vertices()[eb[j].tail].p);
+    s.consider(glm::dot(axis, a.vertices()[ea[i].tail].p - pb), axis, DepthFeature::kEdgeEdge, i, j,
+               0);
+    return true;
+  };
+  for (std::uint32_t i = 0; i < ea.size(); ++i) {
+    const std::uint32_t s0 = support_of_face[ea[i].face[0]];
+    const std::uint32_t s1 = support_of_face[ea[i].face[1]];
+    if (s0 == s1)
+      continue;  // the whole arc lies in one region: no crossing
+    const Vec3& na = fa[ea[i].face[0]].normal;
+    const Vec3& nb = fa[ea[i].face[1]].normal;
+    const Vec3 b_x_a = glm::cross(nb, na);
+    std::uint32_t v = s0;
+    std::uint32_t came_by = std::numeric_limits<std::uint32_t>::max();
+    bool lost = false;
+    for (std::size_t step = 0; v != s1; ++step) {
+      bool moved = false;
+      if (step <= eb.size()) {
+        for (const auto& ve : b.vertexEdges(v)) {
+          if (ve.edge == came_by || !edgePair(i, ve.edge, na, nb, b_x_a))
+            continue;
+          came_by = ve.edge;
+          v = ve.other;
+          moved = true;
+          break;
+        }
+      }
+      if (!moved) {
+        lost = true;  // a degenerate crossing (arc through a vertex of the map)
+        break;
+      }
+    }
+    if (lost) {
+      for (std::uint32_t j = 0; j < eb.size(); ++j)
+        edgePair(i, j, na, nb, b_x_a);
+    }
+  }
+  // Arcs that only meet at an end (a face normal of A equal to one of -B: parallel faces, e.g.
+  // the edges of two opposed caps) pass the crossing test by rounding; such a "face" has no
+  // area and lies in that face's plane, the face passes' answer less a rounding error, and its
+  // edges' closest points are no witnesses of it. An edge-pair answer whose axis lies within
+  // 1e-12 rad of one of its arcs' ends gives way to the faces' answer (checked once here, not
+  // in the loop above).
+  if (s.best.kind == DepthFeature::kEdgeEdge) {
+    const Vec3 ends[4] = {fa[ea[s.best.ia].face[0]].normal, fa[ea[s.best.ia].face[1]].normal,
+                          neg_normal_b[eb[s.best.ib].face[0]], neg_normal_b[eb[s.best.ib].face[1]]};
+    for (const Vec3& end : ends) {
+      const Vec3 off = glm::cross(s.best.normal, end);
+      if (glm::dot(off, off) < 1e-24) {
+        s.best = face_best;
+        s.best_support = face_support;
+        break;
+      }
+    }
+  }
+}
+
+// The witness points of the answer and the support hints it leaves in the cache.
+void witnesses(const Polytope& a,
+               const Polytope& b,
+               const Transform& X_AB,
+               const Transform& X_BA,
+               double tie_tol,
+               DepthSearch& s,
+               DepthCache& cache) {
+  DepthResult& best = s.best;
   switch (best.kind) {
     case DepthFeature::kFaceA:
-      best.point_b = faceWitness(a, best.ia, b, X_AB, best_support, tie_tol);
+      best.point_b = faceWitness(a, best.ia, b, X_AB, s.best_support, tie_tol);
       best.point_a = best.point_b + best.normal * best.depth;
-      cache.support_b = best.support_b = best_support;
+      cache.support_b = best.support_b = s.best_support;
       best.support_a = a.faceEdges(best.ia)[0].vertex;
       break;
     case DepthFeature::kFaceB:
-      best.point_a = X_AB.apply(faceWitness(b, best.ib, a, X_BA, best_support, tie_tol));
+      best.point_a = X_AB.apply(faceWitness(b, best.ib, a, X_BA, s.best_support, tie_tol));
       best.point_b = best.point_a - best.normal * best.depth;
-      cache.support_a = best.support_a = best_support;
+      cache.support_a = best.support_a = s.best_support;
       best.support_b = b.faceEdges(best.ib)[0].vertex;
       break;
     case DepthFeature::kEdgeEdge: {
       const auto& e1 = a.edges()[best.ia];
       const auto& e2 = b.edges()[best.ib];
-      const auto s = detail::closestSegments(
-          a.vertices()[e1.tail].p, a.vertices()[e1.head].p,
-          X_AB.apply(b.vertices()[e2.tail].p), X_AB.apply(b.vertices()[e2.head].p));
-      best.point_a = s.c1;
-      best.point_b = s.c2;
+      const auto seg = detail::closestSegments(a.vertices()[e1.tail].p, a.vertices()[e1.head].p,
+                                               X_AB.apply(b.vertices()[e2.tail].p),
+                                               X_AB.apply(b.vertices()[e2.head].p));
+      best.point_a = seg.c1;
+      best.point_b = seg.c2;
       best.support_a = e1.tail;
       best.support_b = e2.tail;
       break;
@@ -264,25 +316,91 @@ DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Tr
     case DepthFeature::kNone:
       break;
   }
-  cache.kind = best.kind;
-  cache.ia = best.ia;
-  cache.ib = best.ib;
-  return best;
 }
 
-DepthResult penetrationDepth(const Polytope& a, const Polytope& b, const Transform& X_AB,
+}  // namespace
+
+void DepthScratch::reserve(std::size_t faces) {
+  if (support_of_face.size() < faces)
+    support_of_face.resize(faces);
+  if (neg_normal_b.size() < faces)
+    neg_normal_b.resize(faces);
+}
+
+DepthScratch& DepthScratch::forThisThread() {
+  thread_local DepthScratch scratch;
+  return scratch;
+}
+
+DepthResult penetrationDepthExact(const Polytope& a,
+                                  const Polytope& b,
+                                  const Transform& X_AB,
+                                  DepthCache& cache) {
+  return penetrationDepthExact(a, b, X_AB, cache, DepthScratch::forThisThread());
+}
+
+DepthResult penetrationDepthExact(const Polytope& a,
+                                  const Polytope& b,
+                                  const Transform& X_AB,
+                                  DepthCache& cache,
+                                  DepthScratch& scratch) {
+  const Transform X_BA = X_AB.inverse();
+  DepthSearch s;
+  std::uint32_t hint_a = cache.support_a < a.vertices().size() ? cache.support_a : 0;
+  std::uint32_t hint_b = cache.support_b < b.vertices().size() ? cache.support_b : 0;
+  // support heights within this count as tied (parallel features), as the closest-feature
+  // walk's plane tolerance
+  const double tie_tol = 1e-12 * std::max(a.radius(), b.radius());
+
+  // per face of A, B's support vertex against its normal; -(normals of B's faces) in A's frame
+  // (the caller's scratch holds them: it grows only if it was not sized for these polytopes)
+  std::vector<std::uint32_t>& support_of_face = scratch.support_of_face;
+  std::vector<Vec3>& neg_normal_b = scratch.neg_normal_b;
+  if (support_of_face.size() < a.faces().size())
+    support_of_face.resize(a.faces().size());
+  if (neg_normal_b.size() < b.faces().size())
+    neg_normal_b.resize(b.faces().size());
+
+  facesOfA(a, b, X_AB, X_BA, hint_b, support_of_face, s);
+  if (s.best.depth >= 0.0)
+    facesOfB(a, b, X_AB, hint_a, neg_normal_b, s);
+  if (s.best.depth >= 0.0)
+    edgePairs(a, b, X_AB, support_of_face, neg_normal_b, s);
+  witnesses(a, b, X_AB, X_BA, tie_tol, s, cache);
+  cache.kind = s.best.kind;
+  cache.ia = s.best.ia;
+  cache.ib = s.best.ib;
+  return s.best;
+}
+
+DepthResult penetrationDepth(const Polytope& a,
+                             const Polytope& b,
+                             const Transform& X_AB,
                              DepthCache& cache) {
+  return penetrationDepth(a, b, X_AB, cache, DepthScratch::forThisThread());
+}
+
+DepthResult penetrationDepth(const Polytope& a,
+                             const Polytope& b,
+                             const Transform& X_AB,
+                             DepthCache& cache,
+                             DepthScratch& scratch) {
   DepthResult r;
   // small hulls: the separating axes are cheaper than the expanding polytope
   const bool small = a.edges().size() * b.edges().size() <= 4096;
-  if (!small && penetrationDepthEpa(a, b, X_AB, cache, r)) return r;
-  r = penetrationDepthExact(a, b, X_AB, cache);
+  if (!small && penetrationDepthEpa(a, b, X_AB, cache, r))
+    return r;
+  r = penetrationDepthExact(a, b, X_AB, cache, scratch);
   cache.normal = r.normal;
   return r;
 }
 
-double depthAlong(const Polytope& a, const Polytope& b, const Transform& X_AB, const Vec3& dir,
-                  std::uint32_t& hint_a, std::uint32_t& hint_b) {
+double depthAlong(const Polytope& a,
+                  const Polytope& b,
+                  const Transform& X_AB,
+                  const Vec3& dir,
+                  std::uint32_t& hint_a,
+                  std::uint32_t& hint_b) {
   hint_a = a.support(dir, hint_a);
   const Vec3 dir_b = glm::transpose(X_AB.R) * (-dir);
   hint_b = b.support(dir_b, hint_b);

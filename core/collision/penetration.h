@@ -4,11 +4,28 @@
 /// the shortest translation of B that leaves A and B touching. The Minkowski difference A - B has
 /// three kinds of faces (face of A, face of B, edge of A x edge of B with intersecting Gauss-map
 /// arcs); the MTD is the distance from the origin to the nearest of their planes.
-/// Exact method: separating axes over both face sets and the Gauss-map-tested edge pairs.
-/// Tracked method: a walk over the Minkowski faces from last tick's one (see penetration.cpp).
+///
+/// Two methods, one answer:
+/// - exact (penetrationDepthExact, penetration.cpp): separating axes over both face sets and the
+///   edge pairs whose Gauss-map arcs cross (Gregorius, "The Separating Axis Test between Convex
+///   Polyhedra", GDC 2013), B's regions found by walking its vertex graph;
+/// - warm-started EPA (penetrationDepthEpa, epa.cpp): GJK then the expanding polytope on A - B,
+///   started from last tick's direction and from the vertex pairs of last tick's polytope nearest
+///   its answer (DepthCache), its answer certified or refused.
+/// penetrationDepth, the one the pair query calls, takes EPA's certified answer for larger hulls
+/// and the exact method otherwise or when EPA refuses.
+///
+/// Memory: EPA works in fixed arrays on the stack. The exact method needs per-face scratch; the
+/// caller owns it (DepthScratch), sized before the first query for the largest polytope it will
+/// meet (a CollisionWorld keeps one, sized as bodies are added), after which no query allocates.
+/// The overloads without a scratch use the calling thread's (DepthScratch::forThisThread), which
+/// grows, allocating, the first time a larger polytope comes: for tools and tests, not for the
+/// servo thread.
 
+#include <algorithm>
 #include <array>
 #include <cstdint>
+#include <vector>
 
 #include "core/collision/closest_features.h"
 
@@ -20,8 +37,8 @@ enum class DepthFeature : std::uint8_t { kNone, kFaceA, kFaceB, kEdgeEdge };
 /// The caller's per-pair state for depth tracking between ticks.
 struct DepthCache {
   DepthFeature kind = DepthFeature::kNone;
-  std::uint32_t ia = 0;  ///< face or edge of A
-  std::uint32_t ib = 0;  ///< face or edge of B
+  std::uint32_t ia = 0;         ///< face or edge of A
+  std::uint32_t ib = 0;         ///< face or edge of B
   std::uint32_t support_a = 0;  ///< last support vertex hints
   std::uint32_t support_b = 0;
   Vec3 normal{0.0};  ///< last tick's minimal translation direction (a start for the next)
@@ -33,6 +50,19 @@ struct DepthCache {
   std::uint8_t warm_count = 0;
 };
 
+/// Scratch of the exact method for polytopes of up to `faces()` faces. Off the servo thread:
+/// reserve() allocates; then any thread that owns it.
+struct DepthScratch {
+  std::vector<std::uint32_t> support_of_face;  ///< per face of A: B's support vertex against it
+  std::vector<Vec3> neg_normal_b;              ///< per face of B: minus its normal in A's frame
+  /// Room for polytopes of up to `faces` faces (grows only).
+  void reserve(std::size_t faces);
+  std::size_t faces() const { return std::min(support_of_face.size(), neg_normal_b.size()); }
+  /// The calling thread's scratch (the overloads without one use it): it grows to the largest
+  /// polytope this thread has queried, allocating when it grows.
+  static DepthScratch& forThisThread();
+};
+
 /// Result of penetrationDepth(), in A's frame.
 struct DepthResult {
   /// The MTD: >= 0 when the polytopes overlap; < 0 (minus a separating gap along `normal`, not
@@ -40,33 +70,60 @@ struct DepthResult {
   double depth = 0.0;
   Vec3 normal{0.0};   ///< unit: translating B by depth * normal separates (points from A toward B)
   Vec3 point_a{0.0};  ///< deepest point of A along normal (on A's surface)
-  Vec3 point_b{0.0};  ///< deepest point of B against normal (point_b = point_a - depth * normal, up to the feature's extent)
+  Vec3 point_b{0.0};  ///< deepest point of B against normal (point_b = point_a - depth * normal, up
+                      ///< to the feature's extent)
   DepthFeature kind = DepthFeature::kNone;
   std::uint32_t ia = 0, ib = 0;
   /// Hints: a vertex of A extreme along normal, a vertex of B extreme against it (or near them).
   std::uint32_t support_a = 0, support_b = 0;
 };
 
-/// Exact MTD by separating axes. O(FA + FB + EA * EB) worst case. Updates `cache`.
-/// No allocation; any thread.
-DepthResult penetrationDepthExact(const Polytope& a, const Polytope& b, const Transform& X_AB,
+/// Exact MTD by separating axes. O(FA + FB + EA * EB) worst case. Updates `cache`. No
+/// allocation when `scratch` holds the faces of both polytopes (else it grows: allocates); any
+/// thread that owns `scratch`.
+DepthResult penetrationDepthExact(const Polytope& a,
+                                  const Polytope& b,
+                                  const Transform& X_AB,
+                                  DepthCache& cache,
+                                  DepthScratch& scratch);
+/// The same with the calling thread's scratch (allocates when it grows; not for the servo thread).
+DepthResult penetrationDepthExact(const Polytope& a,
+                                  const Polytope& b,
+                                  const Transform& X_AB,
                                   DepthCache& cache);
 
 /// The MTD by GJK and EPA on A - B with climbed supports, started from last tick's direction.
 /// Returns false, changing nothing the caller relies on, when it cannot certify its answer (the
 /// final polytope must be convex, hold the origin, and its nearest face's support must meet that
 /// face within 1e-11 of the size); then use penetrationDepthExact. No allocation; any thread.
-bool penetrationDepthEpa(const Polytope& a, const Polytope& b, const Transform& X_AB,
-                         DepthCache& cache, DepthResult& out);
+bool penetrationDepthEpa(const Polytope& a,
+                         const Polytope& b,
+                         const Transform& X_AB,
+                         DepthCache& cache,
+                         DepthResult& out);
 
-/// The MTD: penetrationDepthEpa when it certifies its answer, else penetrationDepthExact.
-DepthResult penetrationDepth(const Polytope& a, const Polytope& b, const Transform& X_AB,
+/// The MTD: penetrationDepthEpa when it certifies its answer (hulls with more than 4096 edge
+/// pairs), else penetrationDepthExact with `scratch`. No allocation when `scratch` holds the faces
+/// of both polytopes; any thread that owns it.
+DepthResult penetrationDepth(const Polytope& a,
+                             const Polytope& b,
+                             const Transform& X_AB,
+                             DepthCache& cache,
+                             DepthScratch& scratch);
+/// The same with the calling thread's scratch (allocates when it grows; not for the servo thread).
+DepthResult penetrationDepth(const Polytope& a,
+                             const Polytope& b,
+                             const Transform& X_AB,
                              DepthCache& cache);
 
 /// Translation distance along unit `dir` (A's frame) that B must move so the pair stops
 /// overlapping: max over A of dot(dir, x) - min over B of dot(dir, x) (negative when already
 /// separated along dir). `hint_a`, `hint_b`: support hints, updated.
-double depthAlong(const Polytope& a, const Polytope& b, const Transform& X_AB, const Vec3& dir,
-                  std::uint32_t& hint_a, std::uint32_t& hint_b);
+double depthAlong(const Polytope& a,
+                  const Polytope& b,
+                  const Transform& X_AB,
+                  const Vec3& dir,
+                  std::uint32_t& hint_a,
+                  std::uint32_t& hint_b);
 
 }  // namespace hapticd::collision

@@ -37,8 +37,12 @@
 #include <vector>
 
 #include "core/collision/collision_world.h"
+#include "core/common/reserved_vector.h"
 #include "core/common/result.h"
+#include "core/common/state_writer.h"
 #include "core/dynamics/impulse_spreader.h"
+#include "core/dynamics/scene_world.h"
+#include "core/geometry/mass_properties.h"
 #include "core/geometry/pose.h"
 #include "core/scene/scene.h"
 
@@ -165,52 +169,43 @@ struct DynamicsCounters {
   std::uint64_t ticks_asleep = 0;    ///< steps skipped because the scene was at rest
 };
 
-/// Mass properties of a set of convex primitives at a density (kg/m^3 in SI).
-struct MassProperties {
-  double mass = 0.0;
-  Vec3 com_B{0.0};
-  Mat3 inertia_B{0.0};  ///< about com_B, body frame
-};
+/// Mass properties (mass, centre of mass, inertia about it in the body frame).
+using geom::MassProperties;
 
-/// Volume, centre of mass and inertia of a body's primitives (divergence theorem over the
-/// faces' tetrahedra; the primitives are assumed not to overlap). Any thread.
+/// Volume, centre of mass and inertia of a body's primitives at a density (kg/m^3 in SI):
+/// geom::polytopeIntegrals summed over them (the primitives are assumed not to overlap), then
+/// geom::massFromIntegrals. Any thread.
 MassProperties computeMassProperties(std::span<const scene::Primitive> primitives, double density);
-
-/// The CollisionWorld box margin (scene units) the dynamics wants: contacts within it are seen
-/// before they touch, so impacts up to margin / dt fast get their exact time of impact (faster
-/// ones are found overlapping, see max_travel_fraction). 0.5% of the scene's length scale.
-/// Any thread.
-double recommendedBoxMargin(const scene::SceneModel& scene);
-
-/// A CollisionWorld with one body per scene body, in order (world id == scene body index), of
-/// the scene's kinds and primitives, with `options` (box_margin raised to at least
-/// recommendedBoxMargin when the scene has dynamic bodies) and reserved capacities. Off the
-/// servo thread.
-std::unique_ptr<collision::CollisionWorld> buildCollisionWorld(const scene::SceneModel& scene,
-                                                               collision::WorldOptions options);
 
 /// The dynamics stage of one scene. See the file comment for the tick.
 class Dynamics {
  public:
   /// Builds the stage for `scene` on `world` (whose body ids are the scene's body indices, as
-  /// buildCollisionWorld makes them). Both must outlive the Dynamics. A scene without dynamic
-  /// bodies yields an inactive stage whose step() returns at once. Errors: a dynamic body with
-  /// non-positive or non-finite mass, a joint naming a body out of range, options out of range.
-  /// Off the servo thread.
+  /// buildCollisionWorld makes them; read here only for the poses of bodies after the scene's).
+  /// The scene must outlive the Dynamics; step() is given the world each tick. A scene without
+  /// dynamic bodies yields an inactive stage whose step() returns at once. Errors: a dynamic body
+  /// with non-positive or non-finite mass, a joint naming a body out of range, options out of
+  /// range. Off the servo thread.
   static Result<std::unique_ptr<Dynamics>> create(const scene::SceneModel& scene,
-                                                  collision::CollisionWorld& world,
+                                                  const collision::CollisionWorld& world,
                                                   const DynamicsOptions& options = {});
   ~Dynamics();
-  Dynamics(const Dynamics&) = delete;
-  Dynamics& operator=(const Dynamics&) = delete;
+  /// A copy is a stage in the same state (for a copy of the simulation state; it shares the
+  /// scene and needs a copy of the world to step). Off the servo thread: allocates, keeping
+  /// every capacity.
+  Dynamics(const Dynamics&);
+  Dynamics(Dynamics&&) noexcept;
+  Dynamics& operator=(const Dynamics&);
+  Dynamics& operator=(Dynamics&&) noexcept;
 
   /// True when the scene has at least one dynamic body (the plan's `dynamics`).
   bool active() const { return active_; }
 
-  /// One tick of dt seconds (> 0). Call it after CollisionWorld::step() of this tick (it reads
-  /// contacts()); it writes the new poses with CollisionWorld::setPose. `held` may be null.
+  /// One tick of dt seconds (> 0) on `world` (the one create() was given, or a copy of it with
+  /// a copy of this stage). Call it after world.step() of this tick (it reads contacts()); it
+  /// writes the new poses with world.setPose. `held` may be null.
   /// Servo thread; no allocation. An inactive stage returns an empty report at once.
-  StepReport step(double dt, const HeldInput* held = nullptr);
+  StepReport step(collision::CollisionWorld& world, double dt, const HeldInput* held = nullptr);
 
   /// Moves a kinematic body to X_WB by the end of the next step, with the velocity that takes
   /// it there (contacts see that velocity); without a new call it stays. Ignored for other
@@ -269,22 +264,49 @@ class Dynamics {
   const DynamicsCounters& counters() const { return counters_; }
   std::uint32_t bodyCount() const;
 
+  /// Writes the stage's state (bodies, joints' warm starts, warm contact points, spreader,
+  /// feedback, sleep, counters; not the per-tick contact points or scratch) for the simulation
+  /// state's hash and comparison (core/sim/scene_state.h). Any thread that may read it.
+  void writeState(StateWriter& w) const;
+
  private:
   struct BodyState;
+  struct Row;
   struct ContactPoint;
   struct JointState;
   struct WarmPoint;
 
   Dynamics();
-  void integrateForces(double dt, const HeldInput* held);
-  void gatherContacts(StepReport& report);
+  // create (dynamics.cpp)
+  Result<bool> initBody(std::uint32_t i, const Vec3& g, std::size_t* moving_prims);
+  Result<bool> initMass(const scene::Body& sb, const Vec3& g, BodyState& b);
+  Result<bool> initJoints();
+  // the tick (dynamics_step.cpp)
+  void stepAsleep(const HeldInput* held);
+  void integrateForces(double dt, double margin, const HeldInput* held);
+  void gatherContacts(std::span<const collision::Contact> contacts, StepReport& report);
+  void solveThroughImpacts(double dt, StepReport& report);
+  double restitutionThreshold(const ContactPoint& cp) const;
+  double touchTolerance(const ContactPoint& cp) const;
+  void activate(ContactPoint& cp) const;
+  void advance(double h);
+  HeldFeedback heldFeedbackOfTick();
+  void updateSleep(const collision::CollisionWorld& world, double dt);
+  bool wakeRequested(const collision::CollisionWorld& world, const HeldInput* held) const;
+  bool heldTouchesDynamic(const collision::CollisionWorld& world) const;
+  void storeWarmStart();
+  // the solvers (dynamics_solver.cpp)
   void prepareJoints();
   void solveVelocities(double remaining);
-  void advance(double h);
+  void prepareRows(double remaining);
+  void applyWarmStart();
+  void solveJoint(JointState& js, double inv_dt, double& residual);
+  void solveContact(ContactPoint& cp, double& residual);
+  void applyRestitution();
   void correctPositions(double dt);
-  bool wakeRequested(const HeldInput* held) const;
-  bool heldTouchesDynamic() const;
-  void storeWarmStart();
+  bool measureJointErrors();
+  void correctJoint(JointState& js, double beta, double inv_dt);
+  void correctContact(ContactPoint& cp, double beta, double inv_dt);
 
   std::uint32_t step_flags_ = 0;
   double tick_dt_ = 0.001;
@@ -297,15 +319,15 @@ class Dynamics {
   double rest_s_ = 0.0;  // how long every dynamic body has been still
 
   const scene::SceneModel* scene_ = nullptr;
-  collision::CollisionWorld* world_ = nullptr;
   DynamicsOptions options_;
   bool active_ = false;
   std::int32_t held_ = -1;
   bool held_kinematic_ = false;
   double accel_scale_ = 0.0;  // largest |gravity| * gravity_factor
   std::vector<BodyState> bodies_;
-  std::vector<ContactPoint> points_;
-  std::vector<WarmPoint> warm_, warm_next_;
+  ReservedVector<ContactPoint> points_;
+  std::size_t max_points_ = 0;  // the capacity of points_ (options' max_contact_points)
+  ReservedVector<WarmPoint> warm_, warm_next_;
   std::vector<JointState> joints_;
   std::vector<std::uint64_t> no_collide_;  // body-pair keys kept apart by joints, sorted
   ImpulseSpreader spreader_;

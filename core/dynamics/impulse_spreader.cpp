@@ -47,4 +47,15 @@ void ImpulseSpreader::clear() {
   head_ = 0;
 }
 
+void ImpulseSpreader::writeState(StateWriter& w) const {
+  w.f64(tick_s_);
+  w.integer(head_);
+  w.integer(weights_.size());
+  for (std::size_t k = 0; k < weights_.size(); ++k) {
+    w.f64(weights_[k]);
+    w.glm(force_[k]);
+    w.glm(torque_[k]);
+  }
+}
+
 }  // namespace hapticd::dynamics

@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "core/common/state_writer.h"
 #include "core/geometry/pose.h"
 
 namespace hapticd::dynamics {
@@ -31,9 +32,8 @@ class ImpulseSpreader {
   /// Forgets everything pending. Servo thread.
   void clear();
 
-  std::uint32_t windowTicks() const { return static_cast<std::uint32_t>(weights_.size()); }
-  /// w_k of tick k of the window (sum 1).
-  double weight(std::uint32_t k) const { return weights_[k]; }
+  /// Writes what is pending (for the simulation state's hash, core/sim/scene_state.h).
+  void writeState(StateWriter& w) const;
 
  private:
   double tick_s_ = 0.001;

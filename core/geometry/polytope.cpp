@@ -8,6 +8,8 @@
 #include <numeric>
 #include <utility>
 
+#include "core/geometry/rotation.h"
+
 extern "C" {
 #include <libqhull_r/qhull_ra.h>
 }
@@ -16,10 +18,14 @@ namespace hapticd::geom {
 
 std::string Feature::name() const {
   switch (type) {
-    case FeatureType::kVertex: return "V" + std::to_string(index);
-    case FeatureType::kEdge: return "E" + std::to_string(index);
-    case FeatureType::kFace: return "F" + std::to_string(index);
-    case FeatureType::kNone: break;
+    case FeatureType::kVertex:
+      return "V" + std::to_string(index);
+    case FeatureType::kEdge:
+      return "E" + std::to_string(index);
+    case FeatureType::kFace:
+      return "F" + std::to_string(index);
+    case FeatureType::kNone:
+      break;
   }
   return "-";
 }
@@ -73,7 +79,8 @@ std::vector<Vec3> mergeNearDuplicates(std::span<const Vec3> points, double tol) 
   std::size_t window_start = 0;
   for (std::size_t idx : order) {
     const Vec3& p = points[idx];
-    while (window_start < kept.size() && kept[window_start].x < p.x - tol) ++window_start;
+    while (window_start < kept.size() && kept[window_start].x < p.x - tol)
+      ++window_start;
     bool duplicate = false;
     for (std::size_t k = window_start; k < kept.size(); ++k) {
       const Vec3 d = kept[k] - p;
@@ -82,7 +89,8 @@ std::vector<Vec3> mergeNearDuplicates(std::span<const Vec3> points, double tol) 
         break;
       }
     }
-    if (!duplicate) kept.push_back(p);
+    if (!duplicate)
+      kept.push_back(p);
   }
   return kept;
 }
@@ -98,7 +106,8 @@ class QhullRun {
     qh_freeqhull(&qh_, !qh_ALL);
     int curlong = 0, totlong = 0;
     qh_memfreeshort(&qh_, &curlong, &totlong);
-    if (err_ != nullptr) std::fclose(err_);
+    if (err_ != nullptr)
+      std::fclose(err_);
     std::free(err_text_);
   }
   QhullRun(const QhullRun&) = delete;
@@ -110,7 +119,8 @@ class QhullRun {
                         nullptr, err_);
   }
   std::string errorText() {
-    if (err_ != nullptr) std::fflush(err_);
+    if (err_ != nullptr)
+      std::fflush(err_);
     std::string s = err_text_ != nullptr ? std::string(err_text_, err_size_) : std::string();
     const auto nl = s.find('\n');
     return nl == std::string::npos ? s : s.substr(0, nl);
@@ -124,9 +134,9 @@ class QhullRun {
   std::size_t err_size_ = 0;
 };
 
-}  // namespace
-
-Result<Polytope> Polytope::fromPoints(std::span<const Vec3> points, const HullOptions& options) {
+// The points checked (count, finite, size), near-duplicates merged, and the volume checked
+// relative to the size (qhull's "flat simplex" errors are cryptic).
+Result<std::vector<Vec3>> hullInput(std::span<const Vec3> points, const HullOptions& options) {
   if (points.size() > options.max_input_points) {
     return Error{"too many points: " + std::to_string(points.size()) + " (limit " +
                  std::to_string(options.max_input_points) + ")"};
@@ -139,7 +149,7 @@ Result<Polytope> Polytope::fromPoints(std::span<const Vec3> points, const HullOp
   Vec3 hi{-std::numeric_limits<double>::max()};
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Vec3& p = points[i];
-    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) {
+    if (!finite(p)) {
       return Error{"point " + std::to_string(i) + " is not finite (NaN or Inf)"};
     }
     lo = glm::min(lo, p);
@@ -153,20 +163,21 @@ Result<Polytope> Polytope::fromPoints(std::span<const Vec3> points, const HullOp
     return Error{hi == lo ? "all points coincide (the hull has no volume)"
                           : "coordinates too small (the bounding box's size underflows)"};
   }
-  if (diagonal < 1e-150) return Error{"coordinates too small (the bounding box spans less than 1e-150)"};
-  const std::vector<Vec3> merged = mergeNearDuplicates(points, options.merge_tolerance * diagonal);
+  if (diagonal < 1e-150)
+    return Error{"coordinates too small (the bounding box spans less than 1e-150)"};
+  std::vector<Vec3> merged = mergeNearDuplicates(points, options.merge_tolerance * diagonal);
   if (merged.size() < 4) {
     return Error{"a convex hull needs at least 4 distinct non-coplanar points, got " +
                  std::to_string(merged.size()) + " after merging near-duplicates"};
   }
 
-  // Volume check of our own, relative to size: qhull's "flat simplex" errors are cryptic.
   {
     std::size_t i0 = 0, i1 = 0;
     double best = -1.0;
     for (std::size_t i = 0; i < merged.size(); ++i) {
       const double d = glm::length(merged[i] - merged[0]);
-      if (d > best) best = d, i1 = i;
+      if (d > best)
+        best = d, i1 = i;
     }
     const Vec3 axis = glm::normalize(merged[i1] - merged[i0]);
     std::size_t i2 = 0;
@@ -174,66 +185,32 @@ Result<Polytope> Polytope::fromPoints(std::span<const Vec3> points, const HullOp
     for (std::size_t i = 0; i < merged.size(); ++i) {
       const Vec3 r = merged[i] - merged[i0];
       const double d = glm::length(r - axis * glm::dot(r, axis));
-      if (d > best) best = d, i2 = i;
+      if (d > best)
+        best = d, i2 = i;
     }
-    if (best <= 1e-12 * diagonal) return Error{"all points are collinear (the hull has no volume)"};
+    if (best <= 1e-12 * diagonal)
+      return Error{"all points are collinear (the hull has no volume)"};
     const Vec3 n = glm::normalize(glm::cross(merged[i1] - merged[i0], merged[i2] - merged[i0]));
     best = 0.0;
-    for (const Vec3& p : merged) best = std::max(best, std::abs(glm::dot(p - merged[i0], n)));
-    if (best <= 1e-12 * diagonal) return Error{"all points are coplanar (the hull has no volume)"};
+    for (const Vec3& p : merged)
+      best = std::max(best, std::abs(glm::dot(p - merged[i0], n)));
+    if (best <= 1e-12 * diagonal)
+      return Error{"all points are coplanar (the hull has no volume)"};
   }
+  return merged;
+}
 
-  std::vector<double> coords;
-  coords.reserve(merged.size() * 3);
-  for (const Vec3& p : merged) coords.insert(coords.end(), {p.x, p.y, p.z});
+}  // namespace
 
-  QhullRun q;
-  if (const int code = q.run(coords); code != 0) {
-    return Error{"qhull failed (code " + std::to_string(code) + "): " + q.errorText()};
-  }
-  qhT* qh = q.qh();
-
+Result<Polytope> Polytope::fromPoints(std::span<const Vec3> points, const HullOptions& options) {
+  auto merged = hullInput(points, options);
+  if (!merged.ok())
+    return merged.error();
   Polytope poly;
-  std::vector<std::int64_t> vertex_of_point(merged.size(), -1);
   std::vector<std::vector<std::uint32_t>> loops;
   std::vector<Vec3> normals;
-
-  facetT* facet = nullptr;
-  FORALLfacets {
-    if (facet->upperdelaunay || !facet->normal) continue;
-    setT* fverts = qh_facet3vertex(qh, facet);
-    std::vector<std::uint32_t> loop;
-    vertexT* vertex = nullptr;
-    vertexT** vertexp = nullptr;
-    FOREACHvertex_(fverts) {
-      const int pid = qh_pointid(qh, vertex->point);
-      if (pid < 0 || static_cast<std::size_t>(pid) >= merged.size()) continue;
-      auto& slot = vertex_of_point[static_cast<std::size_t>(pid)];
-      if (slot < 0) {
-        slot = static_cast<std::int64_t>(poly.vertices_.size());
-        poly.vertices_.push_back(Vertex{merged[static_cast<std::size_t>(pid)], 0, 0});
-      }
-      loop.push_back(static_cast<std::uint32_t>(slot));
-    }
-    qh_settempfree(qh, &fverts);
-    if (loop.size() < 3) return Error{"qhull returned a degenerate facet"};
-    // orient counter-clockwise seen from outside (Newell normal along qhull's outward normal)
-    Vec3 newell{0.0};
-    for (std::size_t k = 0; k < loop.size(); ++k) {
-      const Vec3& p = poly.vertices_[loop[k]].p;
-      const Vec3& r = poly.vertices_[loop[(k + 1) % loop.size()]].p;
-      newell += Vec3{(p.y - r.y) * (p.z + r.z), (p.z - r.z) * (p.x + r.x), (p.x - r.x) * (p.y + r.y)};
-    }
-    const Vec3 qn{facet->normal[0], facet->normal[1], facet->normal[2]};
-    if (glm::dot(newell, qn) < 0.0) {
-      std::reverse(loop.begin(), loop.end());
-      newell = -newell;
-    }
-    const double len = glm::length(newell);
-    normals.push_back(len > 0.0 ? newell / len : qn);
-    loops.push_back(std::move(loop));
-  }
-
+  if (auto ok = poly.takeHull(merged.value(), &loops, &normals); !ok.ok())
+    return ok.error();
   if (poly.vertices_.size() > options.max_vertices) {
     return Error{"hull has " + std::to_string(poly.vertices_.size()) + " vertices (limit " +
                  std::to_string(options.max_vertices) + ")"};
@@ -241,18 +218,90 @@ Result<Polytope> Polytope::fromPoints(std::span<const Vec3> points, const HullOp
   if (poly.vertices_.size() > std::numeric_limits<std::uint16_t>::max()) {
     return Error{"hull has more than 65535 vertices"};
   }
+  if (auto ok = poly.buildFacesAndEdges(loops, normals); !ok.ok())
+    return ok.error();
+  poly.buildVertexEdges();
+  if (auto ok = poly.buildFaceOrder(); !ok.ok())
+    return ok.error();
+  poly.buildLookup();
+  return poly;
+}
 
-  // edges from the face loops; each must appear once in each direction
+// The hull's vertices (in the order qhull's facets meet them) and each facet's vertex loop,
+// counter-clockwise seen from outside, with its unit normal.
+Result<bool> Polytope::takeHull(const std::vector<Vec3>& merged,
+                                std::vector<std::vector<std::uint32_t>>* loops,
+                                std::vector<Vec3>* normals) {
+  std::vector<double> coords;
+  coords.reserve(merged.size() * 3);
+  for (const Vec3& p : merged)
+    coords.insert(coords.end(), {p.x, p.y, p.z});
+
+  QhullRun q;
+  if (const int code = q.run(coords); code != 0) {
+    return Error{"qhull failed (code " + std::to_string(code) + "): " + q.errorText()};
+  }
+  qhT* qh = q.qh();
+
+  std::vector<std::int64_t> vertex_of_point(merged.size(), -1);
+
+  facetT* facet = nullptr;
+  FORALLfacets {
+    if (facet->upperdelaunay || !facet->normal)
+      continue;
+    setT* fverts = qh_facet3vertex(qh, facet);
+    std::vector<std::uint32_t> loop;
+    vertexT* vertex = nullptr;
+    vertexT** vertexp = nullptr;
+    FOREACHvertex_(fverts) {
+      const int pid = qh_pointid(qh, vertex->point);
+      if (pid < 0 || static_cast<std::size_t>(pid) >= merged.size())
+        continue;
+      auto& slot = vertex_of_point[static_cast<std::size_t>(pid)];
+      if (slot < 0) {
+        slot = static_cast<std::int64_t>(vertices_.size());
+        vertices_.push_back(Vertex{merged[static_cast<std::size_t>(pid)], 0, 0});
+      }
+      loop.push_back(static_cast<std::uint32_t>(slot));
+    }
+    qh_settempfree(qh, &fverts);
+    if (loop.size() < 3)
+      return Error{"qhull returned a degenerate facet"};
+    // orient counter-clockwise seen from outside (Newell normal along qhull's outward normal)
+    Vec3 newell{0.0};
+    for (std::size_t k = 0; k < loop.size(); ++k) {
+      const Vec3& p = vertices_[loop[k]].p;
+      const Vec3& r = vertices_[loop[(k + 1) % loop.size()]].p;
+      newell +=
+          Vec3{(p.y - r.y) * (p.z + r.z), (p.z - r.z) * (p.x + r.x), (p.x - r.x) * (p.y + r.y)};
+    }
+    const Vec3 qn{facet->normal[0], facet->normal[1], facet->normal[2]};
+    if (glm::dot(newell, qn) < 0.0) {
+      std::reverse(loop.begin(), loop.end());
+      newell = -newell;
+    }
+    const double len = glm::length(newell);
+    normals->push_back(len > 0.0 ? newell / len : qn);
+    loops->push_back(std::move(loop));
+  }
+  return true;
+}
+
+// Faces, edges (each once in each direction) and the Voronoi planes from the face loops; the
+// hull must be a closed 2-manifold of Euler characteristic 2.
+Result<bool> Polytope::buildFacesAndEdges(const std::vector<std::vector<std::uint32_t>>& loops,
+                                          const std::vector<Vec3>& normals) {
   std::map<std::pair<std::uint32_t, std::uint32_t>, std::uint32_t> edge_of;
-  poly.faces_.reserve(loops.size());
+  faces_.reserve(loops.size());
   for (std::size_t f = 0; f < loops.size(); ++f) {
     const auto& loop = loops[f];
     Face face;
     face.normal = normals[f];
     double offset = 0.0;
-    for (std::uint32_t v : loop) offset += glm::dot(face.normal, poly.vertices_[v].p);
+    for (std::uint32_t v : loop)
+      offset += glm::dot(face.normal, vertices_[v].p);
     face.offset = offset / static_cast<double>(loop.size());
-    face.first = static_cast<std::uint32_t>(poly.face_edges_.size());
+    face.first = static_cast<std::uint32_t>(face_edges_.size());
     face.count = static_cast<std::uint32_t>(loop.size());
     for (std::size_t k = 0; k < loop.size(); ++k) {
       const std::uint32_t v0 = loop[k];
@@ -261,88 +310,106 @@ Result<Polytope> Polytope::fromPoints(std::span<const Vec3> points, const HullOp
       auto it = edge_of.find(key);
       std::uint32_t e = 0;
       if (it == edge_of.end()) {
-        e = static_cast<std::uint32_t>(poly.edges_.size());
+        e = static_cast<std::uint32_t>(edges_.size());
         Edge edge;
         edge.tail = v0;
         edge.head = v1;
         edge.face = {static_cast<std::uint32_t>(f), std::numeric_limits<std::uint32_t>::max()};
-        poly.edges_.push_back(edge);
+        edges_.push_back(edge);
         edge_of.emplace(key, e);
       } else {
         e = it->second;
-        Edge& edge = poly.edges_[e];
+        Edge& edge = edges_[e];
         if (edge.tail != v1 || edge.head != v0 ||
             edge.face[1] != std::numeric_limits<std::uint32_t>::max()) {
           return Error{"hull is not a closed 2-manifold (edge used twice in one direction)"};
         }
         edge.face[1] = static_cast<std::uint32_t>(f);
       }
-      const Vec3 d = poly.vertices_[v1].p - poly.vertices_[v0].p;
-      poly.face_edges_.push_back(FaceEdge{e, v0, glm::normalize(glm::cross(face.normal, d))});
+      const Vec3 d = vertices_[v1].p - vertices_[v0].p;
+      face_edges_.push_back(FaceEdge{e, v0, glm::normalize(glm::cross(face.normal, d))});
     }
-    poly.faces_.push_back(face);
+    faces_.push_back(face);
   }
-  for (Edge& edge : poly.edges_) {
+  for (Edge& edge : edges_) {
     if (edge.face[1] == std::numeric_limits<std::uint32_t>::max()) {
       return Error{"hull is not closed (an edge has one face)"};
     }
-    const Vec3 d = poly.vertices_[edge.head].p - poly.vertices_[edge.tail].p;
+    const Vec3 d = vertices_[edge.head].p - vertices_[edge.tail].p;
     edge.length = glm::length(d);
     edge.dir = d / edge.length;
-    edge.fe_normal[0] = glm::normalize(glm::cross(edge.dir, poly.faces_[edge.face[0]].normal));
-    edge.fe_normal[1] = glm::normalize(glm::cross(poly.faces_[edge.face[1]].normal, edge.dir));
+    edge.fe_normal[0] = glm::normalize(glm::cross(edge.dir, faces_[edge.face[0]].normal));
+    edge.fe_normal[1] = glm::normalize(glm::cross(faces_[edge.face[1]].normal, edge.dir));
   }
-  const std::size_t nv = poly.vertices_.size(), ne = poly.edges_.size(), nf = poly.faces_.size();
-  if (nv + nf != ne + 2) return Error{"hull fails Euler's formula V - E + F = 2"};
+  const std::size_t nv = vertices_.size(), ne = edges_.size(), nf = faces_.size();
+  if (nv + nf != ne + 2)
+    return Error{"hull fails Euler's formula V - E + F = 2"};
+  return true;
+}
 
-  // vertex -> incident edges
+// vertex -> incident edges
+void Polytope::buildVertexEdges() {
+  const std::size_t nv = vertices_.size(), ne = edges_.size();
   std::vector<std::uint32_t> degree(nv, 0);
-  for (const Edge& edge : poly.edges_) ++degree[edge.tail], ++degree[edge.head];
+  for (const Edge& edge : edges_)
+    ++degree[edge.tail], ++degree[edge.head];
   std::uint32_t first = 0;
   for (std::size_t v = 0; v < nv; ++v) {
-    poly.vertices_[v].first = first;
+    vertices_[v].first = first;
     first += degree[v];
   }
-  poly.vertex_edges_.resize(first);
+  vertex_edges_.resize(first);
   for (std::size_t e = 0; e < ne; ++e) {
-    const Edge& edge = poly.edges_[e];
+    const Edge& edge = edges_[e];
     auto add = [&](std::uint32_t v, std::uint32_t other, const Vec3& out) {
-      Vertex& vert = poly.vertices_[v];
-      poly.vertex_edges_[vert.first + vert.count++] =
+      Vertex& vert = vertices_[v];
+      vertex_edges_[vert.first + vert.count++] =
           VertexEdge{static_cast<std::uint32_t>(e), other, out};
     };
     add(edge.tail, edge.head, edge.dir);
     add(edge.head, edge.tail, -edge.dir);
   }
+}
 
-  // depth-first face order: consecutive faces are mostly adjacent
+// depth-first face order: consecutive faces are mostly adjacent
+Result<bool> Polytope::buildFaceOrder() {
+  const std::size_t nf = faces_.size();
   {
     std::vector<bool> seen(nf, false);
     std::vector<std::uint32_t> stack{0};
-    poly.face_order_.reserve(nf);
+    face_order_.reserve(nf);
     while (!stack.empty()) {
       const std::uint32_t f = stack.back();
       stack.pop_back();
-      if (seen[f]) continue;
+      if (seen[f])
+        continue;
       seen[f] = true;
-      poly.face_order_.push_back(f);
-      for (const FaceEdge& fe : poly.faceEdges(f)) {
-        const Edge& edge = poly.edges_[fe.edge];
+      face_order_.push_back(f);
+      for (const FaceEdge& fe : faceEdges(f)) {
+        const Edge& edge = edges_[fe.edge];
         const std::uint32_t g = edge.face[0] == f ? edge.face[1] : edge.face[0];
-        if (!seen[g]) stack.push_back(g);
+        if (!seen[g])
+          stack.push_back(g);
       }
     }
-    if (poly.face_order_.size() != nf) return Error{"hull faces are not connected"};
+    if (face_order_.size() != nf)
+      return Error{"hull faces are not connected"};
   }
+  return true;
+}
 
+// centroid, radius, and the directional lookup table: the extreme vertex for each cell's
+// central direction
+void Polytope::buildLookup() {
+  const std::size_t nv = vertices_.size();
   Vec3 centroid{0.0};
-  for (const Vertex& v : poly.vertices_) centroid += v.p;
-  poly.centroid_ = centroid / static_cast<double>(nv);
-  for (const Vertex& v : poly.vertices_) {
-    poly.radius_ = std::max(poly.radius_, glm::length(v.p - poly.centroid_));
+  for (const Vertex& v : vertices_)
+    centroid += v.p;
+  centroid_ = centroid / static_cast<double>(nv);
+  for (const Vertex& v : vertices_) {
+    radius_ = std::max(radius_, glm::length(v.p - centroid_));
   }
 
-  // directional lookup table: the extreme vertex for each cell's central direction
   for (int i = 0; i < kLookupSide; ++i) {
     for (int j = 0; j < kLookupSide; ++j) {
       const double u = (i + 0.5) / kLookupSide * 2.0 - 1.0;
@@ -351,13 +418,13 @@ Result<Polytope> Polytope::fromPoints(std::span<const Vec3> points, const HullOp
       std::uint32_t best = 0;
       double best_dot = -std::numeric_limits<double>::infinity();
       for (std::size_t k = 0; k < nv; ++k) {
-        const double d = glm::dot(poly.vertices_[k].p - poly.centroid_, dir);
-        if (d > best_dot) best_dot = d, best = static_cast<std::uint32_t>(k);
+        const double d = glm::dot(vertices_[k].p - centroid_, dir);
+        if (d > best_dot)
+          best_dot = d, best = static_cast<std::uint32_t>(k);
       }
-      poly.lookup_[static_cast<std::size_t>(i * kLookupSide + j)] = static_cast<std::uint16_t>(best);
+      lookup_[static_cast<std::size_t>(i * kLookupSide + j)] = static_cast<std::uint16_t>(best);
     }
   }
-  return poly;
 }
 
 std::uint32_t Polytope::support(const Vec3& dir, std::uint32_t hint) const {
@@ -369,14 +436,18 @@ std::uint32_t Polytope::support(const Vec3& dir, std::uint32_t hint) const {
     std::uint32_t next = v;
     for (const VertexEdge& ve : vertexEdges(v)) {
       const double d = glm::dot(vertices_[ve.other].p, dir);
-      if (d > best) best = d, next = ve.other;
+      if (d > best)
+        best = d, next = ve.other;
     }
-    if (next == v) break;
+    if (next == v)
+      break;
     v = next;
   }
   return v;
 }
 
-std::uint32_t Polytope::lookup(const Vec3& dir) const { return lookup_[lookupCell(dir)]; }
+std::uint32_t Polytope::lookup(const Vec3& dir) const {
+  return lookup_[lookupCell(dir)];
+}
 
 }  // namespace hapticd::geom

@@ -55,7 +55,7 @@ class Polytope {
   struct VertexEdge {
     std::uint32_t edge = 0;   ///< edge index
     std::uint32_t other = 0;  ///< the edge's other vertex
-    Vec3 out;                 ///< unit direction from this vertex along the edge; VR(vertex): (x - v)·out <= 0
+    Vec3 out;  ///< unit direction from this vertex along the edge; VR(vertex): (x - v)·out <= 0
   };
   struct Edge {
     std::uint32_t tail = 0, head = 0;  ///< vertex indices
@@ -71,11 +71,11 @@ class Polytope {
   struct FaceEdge {
     std::uint32_t edge = 0;    ///< edge index
     std::uint32_t vertex = 0;  ///< the vertex where this boundary edge starts (CCW)
-    Vec3 side;                 ///< inward unit normal of the side plane: VR(face) has (x - vertex)·side >= 0
+    Vec3 side;  ///< inward unit normal of the side plane: VR(face) has (x - vertex)·side >= 0
   };
   struct Face {
-    Vec3 normal{0.0};    ///< outward unit normal
-    double offset = 0.0; ///< normal·x == offset on the face plane
+    Vec3 normal{0.0};         ///< outward unit normal
+    double offset = 0.0;      ///< normal·x == offset on the face plane
     std::uint32_t first = 0;  ///< boundary: faceEdges()[first, first + count)
     std::uint32_t count = 0;
   };
@@ -114,6 +114,16 @@ class Polytope {
   static constexpr std::size_t kLookupBytes = 2 * 16 * 16;
 
  private:
+  // the steps of fromPoints
+  Result<bool> takeHull(const std::vector<Vec3>& merged,
+                        std::vector<std::vector<std::uint32_t>>* loops,
+                        std::vector<Vec3>* normals);
+  Result<bool> buildFacesAndEdges(const std::vector<std::vector<std::uint32_t>>& loops,
+                                  const std::vector<Vec3>& normals);
+  void buildVertexEdges();
+  Result<bool> buildFaceOrder();
+  void buildLookup();
+
   std::vector<Vertex> vertices_;
   std::vector<VertexEdge> vertex_edges_;
   std::vector<Edge> edges_;

@@ -10,8 +10,8 @@ Wrench VirtualCoupling::step(const Vec3& h_dev_W,
   if (have_prev_) {
     const Vec3 v_dev = (h_dev_W - prev_h_dev_) / p_.tick_s;
     const Vec3 v_prx = (h_prx_W - prev_h_prx_) / p_.tick_s;
-    const Vec3 w_dev = rotationVector(q_dev * glm::conjugate(prev_q_dev_)) / p_.tick_s;
-    const Vec3 w_prx = rotationVector(q_prx * glm::conjugate(prev_q_prx_)) / p_.tick_s;
+    const Vec3 w_dev = geom::rotationVector(q_dev * glm::conjugate(prev_q_dev_)) / p_.tick_s;
+    const Vec3 w_prx = geom::rotationVector(q_prx * glm::conjugate(prev_q_prx_)) / p_.tick_s;
     v_rel = v_prx - v_dev;
     w_rel = w_prx - w_dev;
   }
@@ -22,9 +22,20 @@ Wrench VirtualCoupling::step(const Vec3& h_dev_W,
   prev_q_prx_ = q_prx;
   Wrench w;
   w.force_n = p_.stiffness_n_per_m * (h_prx_W - h_dev_W) + p_.damping_n_s_per_m * v_rel;
-  w.torque_nm = p_.rot_stiffness_nm_per_rad * rotationVector(q_prx * glm::conjugate(q_dev)) +
+  w.torque_nm = p_.rot_stiffness_nm_per_rad * geom::rotationVector(q_prx * glm::conjugate(q_dev)) +
                 p_.rot_damping_nm_s_per_rad * w_rel;
   return w;
+}
+
+void VirtualCoupling::writeState(StateWriter& w) const {
+  for (const double v : {p_.stiffness_n_per_m, p_.damping_n_s_per_m, p_.rot_stiffness_nm_per_rad,
+                         p_.rot_damping_nm_s_per_rad, p_.tick_s})
+    w.f64(v);
+  w.flag(have_prev_);
+  w.glm(prev_h_dev_);
+  w.glm(prev_h_prx_);
+  w.glm(prev_q_dev_);
+  w.glm(prev_q_prx_);
 }
 
 }  // namespace hapticd::response

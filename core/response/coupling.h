@@ -11,6 +11,7 @@
 /// difference takes B/T * sum(dx^2) for smooth motion. B >= K T / 2 makes the coupling passive;
 /// the default B = K T (docs/response.md) keeps a factor 2 of margin. The same for rotation.
 
+#include "core/common/state_writer.h"
 #include "core/response/wrench.h"
 
 namespace hapticd::response {
@@ -34,6 +35,9 @@ class VirtualCoupling {
   /// Forget the previous tick (the next step has zero velocities).
   void reset() { have_prev_ = false; }
   const CouplingParams& params() const { return p_; }
+  /// Writes the parameters and last tick's poses (for the simulation state's hash,
+  /// core/sim/scene_state.h).
+  void writeState(StateWriter& w) const;
   /// Changes the rotational spring and damper (the held set changed). Servo thread.
   void setRotational(double stiffness_nm_per_rad, double damping_nm_s_per_rad) {
     p_.rot_stiffness_nm_per_rad = stiffness_nm_per_rad;

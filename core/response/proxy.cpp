@@ -84,6 +84,20 @@ ProxyBasis ProxyBasis::hinge(const Vec3& o_W, const Vec3& a_W, const Vec3& c_W) 
   return b;
 }
 
+void ContactRows::writeState(StateWriter& w) const {
+  w.integer(rows_.size());
+  for (const ContactRow& r : rows_) {
+    w.glm(r.p_W);
+    w.glm(r.n_W);
+    w.f64(r.gap);
+    w.f64(r.stiffness);
+    w.integer(r.first);
+    w.integer(r.second);
+  }
+  w.integer(capacity_);
+  w.flag(full_);
+}
+
 Wrench penaltyWrench(std::span<const ContactRow> rows, const Vec3& c_W, double delta) {
   Wrench w;
   for (const ContactRow& r : rows) {
@@ -96,23 +110,23 @@ Wrench penaltyWrench(std::span<const ContactRow> rows, const Vec3& c_W, double d
   return w;
 }
 
-ProxyStep solveProxyStep(const ProxyProblem& pb,
-                         std::span<const ContactRow> rows,
-                         const ProxyParams& params) {
-  ProxyStep out;
-  const ProxyBasis& S = pb.basis;
-  const std::size_t nh = S.dofs;
-  const std::size_t nd = std::min<std::size_t>(pb.driven_count, ProxyProblem::kMaxDriven);
-  const std::size_t n = nh + nd;
+namespace {
 
-  // the coupling part of the 6 x 6 system about c: a linear spring at the handle h and a
-  // rotational spring; its force is clamped to the device limits
+// the rows the solver holds, with each row's generalised Jacobian (how its gap changes with
+// every coordinate) and whether it is in the active set
+struct RowSystem {
+  std::size_t nr = 0;
+  std::array<VecN, kMaxRows> g;
+  std::array<std::uint8_t, kMaxRows> active{};
+};
+
+// the coupling part of the 6 x 6 system about c: a linear spring at the handle h and a
+// rotational spring; its force is clamped to the device limits
+void couplingSystem(const ProxyProblem& pb, const ProxyParams& params, Mat6& A0, Vec6& b0) {
   const double kc = params.coupling_stiffness, kr = params.rot_coupling_stiffness;
   const Vec3 e_lin = clampLength(pb.h_target_W - pb.h_W, params.max_force_n / kc);
-  const Vec3 e_rot = clampLength(rotationVector(pb.q_target * glm::conjugate(pb.q_handle)),
+  const Vec3 e_rot = clampLength(geom::rotationVector(pb.q_target * glm::conjugate(pb.q_handle)),
                                  params.max_torque_nm / kr);
-  Mat6 A0{};
-  Vec6 b0{};
   {
     // handle displacement = dc + dtheta x r = dc - [r]x dtheta, r = h - c
     Vec6 jx[3];
@@ -138,9 +152,17 @@ ProxyStep solveProxyStep(const ProxyProblem& pb,
       b0[3 + i] += kr * e_rot[static_cast<int>(i)];
     }
   }
-  // in the free coordinates: (S^T A0 S), S^T b0, then each driven hinge's drag
-  MatN Ac{};
-  VecN bc{};
+}
+
+// the system in the free coordinates: (S^T A0 S), S^T b0, then each driven hinge's drag
+void freeSystem(const ProxyProblem& pb,
+                const Mat6& A0,
+                const Vec6& b0,
+                std::size_t nd,
+                MatN& Ac,
+                VecN& bc) {
+  const ProxyBasis& S = pb.basis;
+  const std::size_t nh = S.dofs;
   for (std::size_t p = 0; p < nh; ++p) {
     for (std::size_t q = 0; q < nh; ++q) {
       double s = 0.0;
@@ -156,12 +178,19 @@ ProxyStep solveProxyStep(const ProxyProblem& pb,
   }
   for (std::size_t d = 0; d < nd; ++d)
     Ac[nh + d][nh + d] += pb.driven[d].drag;
+}
 
-  // each row's generalised Jacobian: how its gap changes with every coordinate
-  const std::size_t nr = std::min(rows.size(), kMaxRows);
-  out.rows_dropped = rows.size() > kMaxRows;
-  std::array<VecN, kMaxRows> g;
-  std::array<std::uint8_t, kMaxRows> active{};
+// each row's generalised Jacobian; active: the rows within delta now
+void rowSystem(const ProxyProblem& pb,
+               std::span<const ContactRow> rows,
+               const ProxyParams& params,
+               std::size_t nd,
+               RowSystem& rs) {
+  const ProxyBasis& S = pb.basis;
+  const std::size_t nh = S.dofs;
+  const std::size_t nr = rs.nr;
+  auto& g = rs.g;
+  auto& active = rs.active;
   for (std::size_t i = 0; i < nr; ++i) {
     const ContactRow& row = rows[i];
     g[i] = VecN{};
@@ -182,9 +211,20 @@ ProxyStep solveProxyStep(const ProxyProblem& pb,
     }
     active[i] = rows[i].gap < params.delta ? 1 : 0;
   }
+}
 
-  // active set: rows within delta now; passes add rows that would come within delta and drop
-  // rows that would pull
+// the active set: rows within delta now; passes add rows that would come within delta and drop
+// rows that would pull. Returns the step in the coordinates.
+VecN solveActiveSet(std::span<const ContactRow> rows,
+                    const ProxyParams& params,
+                    const MatN& Ac,
+                    const VecN& bc,
+                    std::size_t n,
+                    RowSystem& rs,
+                    ProxyStep& out) {
+  const std::size_t nr = rs.nr;
+  const auto& g = rs.g;
+  auto& active = rs.active;
   VecN x{};
   const std::size_t passes =
       std::min<std::size_t>(std::max<std::uint32_t>(params.max_passes, 1), kMaxPasses);
@@ -225,15 +265,24 @@ ProxyStep solveProxyStep(const ProxyProblem& pb,
   }
   for (std::size_t i = 0; i < nr; ++i)
     out.active += active[i];
+  return x;
+}
 
+// the step's motion, scaled so that no point of the held set, nor of a driven body, moves
+// farther than max_travel (the safe distance)
+void finishStep(const ProxyProblem& pb,
+                const ProxyParams& params,
+                const VecN& x,
+                std::size_t nd,
+                ProxyStep& out) {
+  const ProxyBasis& S = pb.basis;
+  const std::size_t nh = S.dofs;
   Vec6 twist{};
   for (std::size_t q = 0; q < nh; ++q) {
     for (std::size_t a = 0; a < 6; ++a)
       twist[a] += S.column[q][a] * x[q];
   }
   Vec3 dc{twist[0], twist[1], twist[2]}, dth{twist[3], twist[4], twist[5]};
-  // the safe distance: no point of the held set, nor of a driven body, moves farther than
-  // max_travel
   double travel = std::sqrt(glm::dot(dc, dc)) + std::sqrt(glm::dot(dth, dth)) * pb.radius;
   for (std::size_t d = 0; d < nd; ++d)
     travel = std::max(travel, std::abs(x[nh + d]) * pb.driven[d].radius);
@@ -248,6 +297,29 @@ ProxyStep solveProxyStep(const ProxyProblem& pb,
     out.x[q] = x[q] * scale;
   for (std::size_t d = 0; d < nd; ++d)
     out.driven_angle[d] = x[nh + d] * scale;
+}
+
+}  // namespace
+
+ProxyStep solveProxyStep(const ProxyProblem& pb,
+                         std::span<const ContactRow> rows,
+                         const ProxyParams& params) {
+  ProxyStep out;
+  const std::size_t nh = pb.basis.dofs;
+  const std::size_t nd = std::min<std::size_t>(pb.driven_count, ProxyProblem::kMaxDriven);
+  const std::size_t n = nh + nd;
+  Mat6 A0{};
+  Vec6 b0{};
+  couplingSystem(pb, params, A0, b0);
+  MatN Ac{};
+  VecN bc{};
+  freeSystem(pb, A0, b0, nd, Ac, bc);
+  RowSystem rs;
+  rs.nr = std::min(rows.size(), kMaxRows);
+  out.rows_dropped = rows.size() > kMaxRows;
+  rowSystem(pb, rows, params, nd, rs);
+  const VecN x = solveActiveSet(rows, params, Ac, bc, n, rs, out);
+  finishStep(pb, params, x, nd, out);
   return out;
 }
 

@@ -27,6 +27,8 @@
 #include <span>
 #include <vector>
 
+#include "core/common/reserved_vector.h"
+#include "core/common/state_writer.h"
 #include "core/response/wrench.h"
 
 namespace hapticd::response {
@@ -44,16 +46,19 @@ struct ContactRow {
 };
 
 /// Fixed-capacity row buffer: reserve() off the servo thread, then push() never allocates; a full
-/// buffer drops the row and says so.
+/// buffer drops the row and says so. Copies keep the capacity.
 class ContactRows {
  public:
-  void reserve(std::size_t n) { rows_.reserve(n); }
+  void reserve(std::size_t n) {
+    rows_.reserve(n);
+    capacity_ = rows_.capacity();
+  }
   void clear() {
     rows_.clear();
     full_ = false;
   }
   void push(const ContactRow& r) {
-    if (rows_.size() < rows_.capacity())
+    if (rows_.size() < capacity_)
       rows_.push_back(r);
     else
       full_ = true;
@@ -62,8 +67,12 @@ class ContactRows {
   std::span<ContactRow> rows() { return rows_; }
   bool full() const { return full_; }
 
+  /// Writes the rows and the full flag (for the simulation state's hash, core/sim/scene_state.h).
+  void writeState(StateWriter& w) const;
+
  private:
-  std::vector<ContactRow> rows_;
+  ReservedVector<ContactRow> rows_;
+  std::size_t capacity_ = 0;
   bool full_ = false;
 };
 

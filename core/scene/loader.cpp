@@ -12,6 +12,7 @@
 #include <numeric>
 #include <tuple>
 
+#include "core/geometry/rotation.h"
 #include "core/scene/gltf_document.h"
 #include "core/scene/shapes.h"
 
@@ -48,9 +49,7 @@ bool finite(const glm::dmat4& m) {
   }
   return true;
 }
-bool finite(const Vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
+using geom::finite;
 bool finite(const Mat3& m) {
   return finite(m[0]) && finite(m[1]) && finite(m[2]);
 }
@@ -673,7 +672,7 @@ void Builder::massProperties(Body& body, const detail::MotionDef& motion, std::u
   const bool infinite_mass = motion.mass && *motion.mass == 0.0;  // 0 means infinite (KHR)
   body.mass = motion.mass ? *motion.mass : computed.mass;
   body.inverse_mass = infinite_mass ? 0.0 : 1.0 / body.mass;
-  body.com_B = motion.center_of_mass ? S * *motion.center_of_mass : computed.com;
+  body.com_B = motion.center_of_mass ? S * *motion.center_of_mass : computed.com_B;
 
   if (motion.inertia_diagonal) {
     const Mat3 Rq = glm::mat3_cast(motion.inertia_orientation);
@@ -691,8 +690,8 @@ void Builder::massProperties(Body& body, const detail::MotionDef& motion, std::u
   } else {
     // computed about the computed centre; moved to the declared centre and scaled to the
     // declared mass (uniform density)
-    Mat3 I = computed.inertia;
-    const Vec3 dc = body.com_B - computed.com;
+    Mat3 I = computed.inertia_B;
+    const Vec3 dc = body.com_B - computed.com_B;
     I += computed.mass * (glm::dot(dc, dc) * Mat3(1.0) - glm::outerProduct(dc, dc));
     I *= body.mass / computed.mass;
     body.inertia_B = I;

@@ -2,10 +2,7 @@
 /// \file
 /// Collider geometry for the scene loader: tessellation of the curved KHR_implicit_shapes into
 /// point sets whose hull stays within a relative tolerance of the true surface, the convexity test
-/// of mesh colliders, and exact mass properties of convex polytopes (the divergence theorem over
-/// the hull's faces, as tetrahedra: Tonon, "Explicit exact formulas for the 3-D tetrahedron
-/// inertia tensor in terms of its vertex coordinates", J. Math. Stat. 1(1) 2004; the same integrals
-/// as Mirtich, "Fast and accurate computation of polyhedral mass properties", JGT 1(2) 1996).
+/// of mesh colliders (mass properties are core/geometry/mass_properties.h's).
 /// Any thread but the servo thread (allocates).
 
 #include <cstdint>
@@ -14,6 +11,7 @@
 #include <vector>
 
 #include "core/common/result.h"
+#include "core/geometry/mass_properties.h"
 #include "core/geometry/polytope.h"
 #include "core/geometry/pose.h"
 
@@ -53,28 +51,12 @@ std::vector<Vec3> cylinderPoints(double height,
                                  double radius_bottom,
                                  std::uint32_t segments);
 
-/// Volume integrals of a solid: volume, first moment and second moment about the frame origin.
-struct VolumeIntegrals {
-  double volume = 0.0;  ///< m^3
-  Vec3 first{0.0};      ///< integral of x dV
-  Mat3 second{0.0};     ///< integral of x x^T dV
-  void add(const VolumeIntegrals& o) {
-    volume += o.volume;
-    first += o.first;
-    second += o.second;
-  }
-};
-
-/// The exact integrals of the convex polytope `shape` placed by X_BP, in frame B.
-VolumeIntegrals polytopeIntegrals(const Polytope& shape, const Transform& X_BP);
-
-/// Mass, centre of mass and inertia about the centre of mass of integrals at `density` (kg/m^3).
-struct MassProperties {
-  double mass = 0.0;
-  Vec3 com{0.0};
-  Mat3 inertia{0.0};
-};
-MassProperties massFromIntegrals(const VolumeIntegrals& v, double density);
+/// Mass properties: the one routine (core/geometry/mass_properties.h), under the names the loader
+/// uses.
+using geom::massFromIntegrals;
+using geom::MassProperties;
+using geom::polytopeIntegrals;
+using geom::VolumeIntegrals;
 
 /// Largest amount by which a triangle's plane has hull vertices in front of it, over all
 /// triangles, each triangle taken with whichever orientation suits it better (so the winding

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// One servo tick of the whole haptic simulation (../shared/DESIGN.md "One servo tick"; §3.1, §6.1
+/// One servo tick of the whole haptic simulation (docs/architecture.md "One servo tick"; §3.1, §6.1
 /// of Gregory et al. 2000): probe pose in, proxy, collision, response (and dynamics when the
 /// scene's plan asks), virtual coupling, force and torque out. The same code runs in the daemon,
 /// in headless replay, in tests and in benchmarks.
@@ -25,15 +25,17 @@ namespace hapticd::sim {
 using geom::Pose;
 using geom::Vec3;
 
-/// Knobs of the response (config [response]); defaults: §5 of the paper and ../shared/DESIGN.md.
+/// Knobs of the response (config [response]); defaults: §5 of the paper and docs/response.md.
 struct ResponseOptions {
   double stiffness_n_per_m = 600.0;  ///< k_s: 0.6 N/mm (§5.1)
   double tick_s = 0.001;             ///< Δt: 1 ms (§5.2)
+  // the output stage's limits: config [device] max_force_n, max_torque_nm, max_force_step_n,
+  // max_torque_step_nm and [servo] ramp_in_s (one set for the whole daemon)
   double max_force_n = 10.0;         ///< device limit
   double max_torque_nm = 1.0;        ///< device limit
   double max_force_step_n = 0.5;     ///< F_max (§5.3): largest force change between ticks
   double max_torque_step_nm = 0.05;  ///< the same for torque
-  /// Longest the force takes to ramp from zero to full at start and after a fault (s).
+  /// Longest the force takes to ramp from zero to full at start, on arm and device back (s).
   double ramp_s = 0.5;
 
   // --- added by the response (docs/response.md lists every knob) ---
@@ -223,6 +225,12 @@ inline const char* toString(EditStatus s) {
   return "unknown";
 }
 
+struct SimModel;
+struct SceneState;
+
+/// The façade the daemon drives: a compiled model (core/sim/model.h) and its per-tick state
+/// (core/sim/scene_state.h), stepped by sim::step (the functions underneath, for tests and tools
+/// that copy or compare states).
 class Simulation {
  public:
   /// Builds the per-scene pipeline (only the stages the scene's plan asks for) and every capacity
@@ -247,11 +255,11 @@ class Simulation {
   /// fakes) need not define it: the default reports no dynamics.
   virtual DynamicsStatus dynamicsStatus() const { return {}; }
 
-  /// Sizes the calling thread's scratch for this scene (the narrow phase keeps per-thread
-  /// buffers sized to the largest polytope it has seen; growing them allocates). Call once on the
-  /// servo thread before the first step(), outside any no-allocation window; may allocate.
-  /// step() calls it itself when it has not been called on its thread, so that only a first
-  /// tick could allocate.
+  /// Prepares the calling thread for step(). The simulation needs nothing per thread any more
+  /// (the narrow phase's scratch belongs to the state's collision world, sized at create():
+  /// core/collision/penetration.h), so step() allocates nothing from its first tick; the servo
+  /// loop still calls it once on its thread before the first step(), which costs nothing and
+  /// keeps other implementations free to need it. May allocate.
   virtual void prepareThread() = 0;
 
   // --- scene edits (protocol SceneUpdate; issue 6 "kinematic bodies moved by clients") ---
@@ -285,6 +293,16 @@ class Simulation {
   /// The held set's contact points after the last step (at most a fixed capacity, in the order
   /// the response used them). Servo thread or the owner between steps.
   virtual std::span<const ContactPoint> contactPoints() const { return {}; }
+
+  // --- the model apart from the state (docs/architecture.md "Model apart from state") ---
+  /// The compiled model and the state after the last step (for a copy, a comparison or the
+  /// hash). nullptr for implementations without them (test fakes). The owner thread, between
+  /// steps.
+  virtual const SimModel* model() const { return nullptr; }
+  virtual const SceneState* state() const { return nullptr; }
+  /// sim::stateHash(*state()): the determinism hash of the state after the last step (0 without
+  /// a state). The owner thread between steps; no allocation.
+  std::uint64_t stateHash() const;
 };
 
 }  // namespace hapticd::sim

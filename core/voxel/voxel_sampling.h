@@ -58,10 +58,10 @@ class VoxelMap {
   /// nearest the centre), with that face's outward normal (the nearest one's); interior when its
   /// centre is inside the union otherwise; free otherwise. Errors: no shape,
   /// a voxel size that is not positive and finite, more than `max_voxels` voxels.
-  static Result<VoxelMap> build(std::span<const PlacedShape> shapes, double voxel_size,
+  static Result<VoxelMap> build(std::span<const PlacedShape> shapes,
+                                double voxel_size,
                                 std::uint64_t max_voxels = 64ull << 20);
 
-  double voxelSize() const { return h_; }
   std::uint64_t voxelCount() const { return cells_.size(); }
   std::uint64_t surfaceVoxelCount() const { return normals_.size(); }
 
@@ -88,7 +88,8 @@ struct PointShell {
 /// PlacedShape::X_WP) on a grid of spacing `spacing` on every face, plus every vertex; points
 /// inside another shape of the body are dropped. Errors: no shape, a non-positive spacing, more
 /// than `max_points` points.
-Result<PointShell> makePointShell(std::span<const PlacedShape> shapes, double spacing,
+Result<PointShell> makePointShell(std::span<const PlacedShape> shapes,
+                                  double spacing,
                                   std::size_t max_points = 1u << 22);
 
 /// The force of one tick on the held body, in the scene frame.
@@ -96,14 +97,18 @@ struct VoxelForce {
   Vec3 force_W{0.0};   ///< N (stiffness units times scene units)
   Vec3 torque_W{0.0};  ///< about com_W
   std::uint32_t points_in_contact = 0;
-  std::uint32_t points_interior = 0;  ///< shell points in interior voxels (no force: original method)
-  double max_depth = 0.0;             ///< deepest point below its tangent plane
+  std::uint32_t points_interior =
+      0;                   ///< shell points in interior voxels (no force: original method)
+  double max_depth = 0.0;  ///< deepest point below its tangent plane
 };
 
 /// McNeely's tangent-plane force: Σ k·dᵢ·nᵢ over shell points in surface voxels below the voxel's
 /// tangent plane, torques about com_W. X_WB places the shell in the scene. Any thread, no
 /// allocation.
-VoxelForce force(const VoxelMap& map, const PointShell& shell, const Transform& X_WB,
-                 const Vec3& com_W, double stiffness_per_point);
+VoxelForce force(const VoxelMap& map,
+                 const PointShell& shell,
+                 const Transform& X_WB,
+                 const Vec3& com_W,
+                 double stiffness_per_point);
 
 }  // namespace hapticd::voxel

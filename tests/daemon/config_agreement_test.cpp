@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <string>
 #include <vector>
@@ -71,6 +72,29 @@ TEST(ConfigAgreement, TheSimDeviceTakesEveryDeviceValueTheTableTakes) {
     ++checked;
   });
   EXPECT_GT(checked, 20);
+}
+
+// Where the simulation refuses a value of any section, its message names the key as the table
+// (and so the file) spells it: "[response] speed_decay_s", "[device] max_force_n", not an
+// internal name.
+TEST(ConfigAgreement, TheSimulationsRefusalsNameTheTablesKey) {
+  const auto model = demo("dynamic");
+  ASSERT_TRUE(model);
+  int named = 0;
+  for (const ConfigKey& k : configKeys()) {
+    if (!std::holds_alternative<double*>(k.in(Config{})))
+      continue;
+    Config c;
+    *std::get<double*>(k.in(c)) = std::nan("");
+    auto sim = sim::Simulation::create(model, toSimOptions(c));
+    if (sim)
+      continue;  // not a value the simulation checks (NaN [response] tick_s follows rate_hz)
+    EXPECT_NE(sim.error().message.find(k.label()), std::string::npos)
+        << k.label() << " = nan: " << sim.error().message;
+    ++named;
+  }
+  std::printf("[figures] %d keys refused by the simulation, each by its name\n", named);
+  EXPECT_GE(named, 20);
 }
 
 TEST(ConfigAgreement, TheLoaderTakesEveryTessellationToleranceTheTableTakes) {

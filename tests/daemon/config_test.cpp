@@ -330,13 +330,100 @@ TEST(Config, ADeprecatedKeyIsReadIntoItsNewKeyWithAWarning) {
   EXPECT_NE(bad.error().message.find("d.toml:2: [device] old_scale: must be > 0"),
             std::string::npos)
       << bad.error().message;
-  // both names at once: refused
+  // both names at once, different values: refused, naming both (in either order)
   auto both = parseConfig("[response]\nk_s = 700\nstiffness_n_per_m = 800\n", "d.toml", renamed);
   ASSERT_FALSE(both);
-  EXPECT_NE(both.error().message.find("is set twice"), std::string::npos) << both.error().message;
+  EXPECT_NE(both.error().message.find("[response] k_s and [response] stiffness_n_per_m are both "
+                                      "set, to different values"),
+            std::string::npos)
+      << both.error().message;
   EXPECT_NE(both.error().message.find("keep only [response] stiffness_n_per_m"), std::string::npos);
+  auto both_new_first =
+      parseConfig("[device]\nworkspace_scale = 2\nold_scale = 3\n", "d.toml", renamed);
+  ASSERT_FALSE(both_new_first);
+  EXPECT_NE(
+      both_new_first.error().message.find(
+          "[device] old_scale and [device] workspace_scale are both set, to different values"),
+      std::string::npos)
+      << both_new_first.error().message;
+  // both names at once, the same value: taken, with a warning naming both
+  auto same = parseConfig("[response]\nstiffness_n_per_m = 700\nk_s = 700.0\n", "d.toml", renamed);
+  ASSERT_TRUE(same) << same.error().message;
+  EXPECT_EQ(same.value().config.response.sim.response.stiffness_n_per_m, 700.0);
+  ASSERT_EQ(same.value().warnings.size(), 1u);
+  EXPECT_EQ(same.value().warnings[0],
+            "d.toml:3: [response] k_s is deprecated: use [response] stiffness_n_per_m (both are "
+            "set, to the same value: remove [response] k_s)");
+  EXPECT_EQ(same.value().keys_set, std::vector<std::string>{"response.stiffness_n_per_m"});
   // without the list it is an unknown key
   EXPECT_FALSE(parseConfig("[response]\nk_s = 700\n", "d.toml", {}));
+}
+
+// The output limits were set twice, in [device] and [response]: the old [response] keys are
+// read into the one set with a warning naming the new key; old and new together must agree.
+TEST(Config, TheOldResponseOutputKeysMapToTheOneSetWithAWarning) {
+  const struct {
+    const char* old_key;
+    const char* section;  // of the new key
+    const char* name;
+    double value;
+    double (*sim)(const sim::ResponseOptions&);  // what the simulation gets
+  } moved[] = {
+      {"max_force_n", "device", "max_force_n", 7.5,
+       [](const sim::ResponseOptions& r) { return r.max_force_n; }},
+      {"max_torque_nm", "device", "max_torque_nm", 0.75,
+       [](const sim::ResponseOptions& r) { return r.max_torque_nm; }},
+      {"max_force_step_n", "device", "max_force_step_n", 0.25,
+       [](const sim::ResponseOptions& r) { return r.max_force_step_n; }},
+      {"max_torque_step_nm", "device", "max_torque_step_nm", 0.025,
+       [](const sim::ResponseOptions& r) { return r.max_torque_step_nm; }},
+      {"ramp_s", "servo", "ramp_in_s", 0.125,
+       [](const sim::ResponseOptions& r) { return r.ramp_s; }},
+  };
+  for (const auto& m : moved) {
+    SCOPED_TRACE(m.old_key);
+    const std::string new_label = "[" + std::string(m.section) + "] " + m.name;
+    const std::string old_text =
+        "[response]\n" + std::string(m.old_key) + " = " + shortestNumber(m.value) + "\n";
+    auto parsed = parseConfig(old_text, "old.toml");
+    ASSERT_TRUE(parsed) << parsed.error().message;
+    EXPECT_EQ(m.sim(toSimOptions(parsed.value().config).response), m.value);
+    ASSERT_EQ(parsed.value().warnings.size(), 1u);
+    EXPECT_EQ(parsed.value().warnings[0], "old.toml:2: [response] " + std::string(m.old_key) +
+                                              " is deprecated: use " + new_label +
+                                              " (the value is taken for it)");
+    EXPECT_EQ(parsed.value().keys_set,
+              std::vector<std::string>{std::string(m.section) + "." + m.name});
+    // the new key beside it with another value: refused, naming both
+    const std::string conflict =
+        old_text + "[" + m.section + "]\n" + m.name + " = " + shortestNumber(2.0 * m.value) + "\n";
+    auto refused = parseConfig(conflict, "old.toml");
+    ASSERT_FALSE(refused) << conflict;
+    EXPECT_NE(refused.error().message.find("[response] " + std::string(m.old_key) + " and " +
+                                           new_label + " are both set, to different values"),
+              std::string::npos)
+        << refused.error().message;
+    // the same value: taken, with one warning
+    const std::string agree =
+        old_text + "[" + m.section + "]\n" + m.name + " = " + shortestNumber(m.value) + "\n";
+    auto taken = parseConfig(agree, "old.toml");
+    ASSERT_TRUE(taken) << taken.error().message;
+    EXPECT_EQ(m.sim(toSimOptions(taken.value().config).response), m.value);
+    EXPECT_EQ(taken.value().warnings.size(), 1u);
+  }
+  // the [device] limits reach both stages: the simulation's and the servo loop's guard
+  auto parsed = parseConfig("[device]\nmax_force_n = 7.5\nmax_force_step_n = 0.25\n", "new.toml");
+  ASSERT_TRUE(parsed) << parsed.error().message;
+  EXPECT_EQ(toSimOptions(parsed.value().config).response.max_force_n, 7.5);
+  EXPECT_EQ(toSimOptions(parsed.value().config).response.max_force_step_n, 0.25);
+  device::DeviceInfo wide;
+  wide.limits.max_force_n = wide.limits.max_torque_nm = 1e9;
+  const ServoOptions o = toServoOptions(parsed.value().config, wide);
+  EXPECT_EQ(o.limits.max_force_n, 7.5);
+  EXPECT_EQ(o.max_force_step_n, 0.25);
+  // an old [response] key is no longer a key of the table
+  for (const auto& m : moved)
+    EXPECT_EQ(findConfigKey("response", m.old_key), nullptr) << m.old_key;
 }
 
 TEST(Config, ChangedKeysNamesWhatDiffers) {

@@ -9,6 +9,7 @@
 #include <cstring>
 #include <map>
 #include <random>
+#include <thread>
 
 #include "tests/core/alloc_counter.h"
 #include "tests/reference/reference.h"
@@ -25,7 +26,8 @@ std::shared_ptr<const Polytope> shape(std::vector<Vec3> pts) {
 
 std::vector<Vec3> box(double h) {
   std::vector<Vec3> p;
-  for (int i = 0; i < 8; ++i) p.push_back(Vec3{i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h});
+  for (int i = 0; i < 8; ++i)
+    p.push_back(Vec3{i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h});
   return p;
 }
 
@@ -58,7 +60,8 @@ struct Scene {
   }
   std::uint32_t add(const BodyDesc& d, const Pose& X) {
     const std::uint32_t id = world.addBody(d, X);
-    if (descs.size() <= id) descs.resize(id + 1), poses.resize(id + 1);
+    if (descs.size() <= id)
+      descs.resize(id + 1), poses.resize(id + 1);
     descs[id] = d;
     poses[id] = X;
     return id;
@@ -75,8 +78,8 @@ Transform primitiveWorld(const Scene& s, std::uint32_t body, std::uint32_t prim)
 
 // Every primitive pair of different bodies (not both static) whose margin-grown boxes overlap,
 // by brute force over vertices.
-std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>, double> expected(
-    const Scene& s, const std::vector<std::uint32_t>& live, double margin) {
+std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>, double>
+expected(const Scene& s, const std::vector<std::uint32_t>& live, double margin) {
   std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>, double> out;
   auto boxOf = [&](std::uint32_t b, std::uint32_t p) {
     const Transform X = primitiveWorld(s, b, p);
@@ -92,21 +95,25 @@ std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>,
   for (std::size_t i = 0; i < live.size(); ++i) {
     for (std::size_t j = i + 1; j < live.size(); ++j) {
       std::uint32_t ba = live[i], bb = live[j];
-      if (ba > bb) std::swap(ba, bb);
-      if (s.descs[ba].kind == BodyKind::kStatic && s.descs[bb].kind == BodyKind::kStatic) continue;
+      if (ba > bb)
+        std::swap(ba, bb);
+      if (s.descs[ba].kind == BodyKind::kStatic && s.descs[bb].kind == BodyKind::kStatic)
+        continue;
       for (std::uint32_t pa = 0; pa < s.descs[ba].primitives.size(); ++pa) {
         for (std::uint32_t pb = 0; pb < s.descs[bb].primitives.size(); ++pb) {
           const Aabb x = boxOf(ba, pa), y = boxOf(bb, pb);
           bool overlap = true;
-          for (int k = 0; k < 3; ++k) overlap = overlap && x.lo[k] <= y.hi[k] && y.lo[k] <= x.hi[k];
-          if (!overlap) continue;
+          for (int k = 0; k < 3; ++k)
+            overlap = overlap && x.lo[k] <= y.hi[k] && y.lo[k] <= x.hi[k];
+          if (!overlap)
+            continue;
           const Transform XA = primitiveWorld(s, ba, pa), XB = primitiveWorld(s, bb, pb);
           const geom::Mat3 Rt = glm::transpose(XA.R);
           PairCache c;
-          out[{ba, bb, pa, pb}] = queryPair(*s.descs[ba].primitives[pa].shape,
-                                            *s.descs[bb].primitives[pb].shape,
-                                            Transform{Rt * XB.R, Rt * (XB.t - XA.t)}, c)
-                                      .distance;
+          out[{ba, bb, pa, pb}] =
+              queryPair(*s.descs[ba].primitives[pa].shape, *s.descs[bb].primitives[pb].shape,
+                        Transform{Rt * XB.R, Rt * (XB.t - XA.t)}, c)
+                  .distance;
         }
       }
     }
@@ -119,13 +126,15 @@ TEST(CollisionWorld, ContactsEqualDirectPairQueries) {
   o.box_margin = 0.002;
   Scene s(o);
   std::vector<std::uint32_t> live;
-  for (std::uint32_t b = 0; b < s.descs.size(); ++b) live.push_back(b);
+  for (std::uint32_t b = 0; b < s.descs.size(); ++b)
+    live.push_back(b);
   std::size_t checked = 0, max_pairs = 0;
   std::uint32_t extra = 0;
   bool extra_live = false;
   for (int k = 0; k < 400; ++k) {
     const double t = k * 0.01;
-    s.move(Pose{Vec3{0.06 + 0.05 * std::sin(t), 0.012 + 0.01 * std::cos(1.3 * t), 0.06 + 0.05 * std::cos(t)},
+    s.move(Pose{Vec3{0.06 + 0.05 * std::sin(t), 0.012 + 0.01 * std::cos(1.3 * t),
+                     0.06 + 0.05 * std::cos(t)},
                 glm::angleAxis(0.5 * t, glm::normalize(Vec3{1, 2, 3}))});
     if (k == 100) {  // a kinematic body added mid-run
       BodyDesc d;
@@ -159,8 +168,8 @@ TEST(CollisionWorld, ContactsEqualDirectPairQueries) {
       ASSERT_TRUE(p.body_a < q.body_a || (p.body_a == q.body_a && p.body_b <= q.body_b));
     }
   }
-  std::printf("[figures] world: %zu contacts checked over 400 steps, up to %zu close pairs\n", checked,
-              max_pairs);
+  std::printf("[figures] world: %zu contacts checked over 400 steps, up to %zu close pairs\n",
+              checked, max_pairs);
   EXPECT_GT(max_pairs, 3u);
 }
 
@@ -173,7 +182,8 @@ TEST(CollisionWorld, SchedulerTestsEveryPairWithinCeilPOverB) {
     // park the probe among the static bodies: a fixed set of close pairs, some in contact
     s.move(Pose{Vec3{0.05, 0.012, 0.05}, Quat{1, 0, 0, 0}});
     s.world.step();
-    std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>, std::uint64_t> last;
+    std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>, std::uint64_t>
+        last;
     std::uint64_t worst = 0, worst_contact = 0;
     std::size_t pairs = 0;
     for (int k = 0; k < 200; ++k) {
@@ -191,7 +201,8 @@ TEST(CollisionWorld, SchedulerTestsEveryPairWithinCeilPOverB) {
           if (last.count(key) != 0 && k > 20) {
             const std::uint64_t gap = static_cast<std::uint64_t>(k) - last[key];
             worst = std::max(worst, gap);
-            if (c.distance <= o.box_margin) worst_contact = std::max(worst_contact, gap);
+            if (c.distance <= o.box_margin)
+              worst_contact = std::max(worst_contact, gap);
             ASSERT_LE(gap, bound) << "budget " << budget << " step " << k;
           }
           last[key] = static_cast<std::uint64_t>(k);
@@ -202,10 +213,11 @@ TEST(CollisionWorld, SchedulerTestsEveryPairWithinCeilPOverB) {
       }
       ASSERT_EQ(st.worst_staleness, stalest_skipped) << "step " << k;
     }
-    std::printf("[figures] budget %u pairs/tick, %zu close pairs: worst gap between tests %llu ticks "
-                "(bound %zu), in contact %llu\n",
-                budget, pairs, static_cast<unsigned long long>(worst), (pairs + budget - 1) / budget,
-                static_cast<unsigned long long>(worst_contact));
+    std::printf(
+        "[figures] budget %u pairs/tick, %zu close pairs: worst gap between tests %llu ticks "
+        "(bound %zu), in contact %llu\n",
+        budget, pairs, static_cast<unsigned long long>(worst), (pairs + budget - 1) / budget,
+        static_cast<unsigned long long>(worst_contact));
     EXPECT_GT(pairs, budget) << "the scene must need scheduling";
   }
 }
@@ -216,7 +228,8 @@ TEST(CollisionWorld, ContactPairsFirstWhenTheBudgetAllows) {
   o.budget.max_pairs = 4;
   Scene s(o);
   s.move(Pose{Vec3{0.05, 0.012, 0.05}, Quat{1, 0, 0, 0}});
-  for (int k = 0; k < 50; ++k) s.world.step();
+  for (int k = 0; k < 50; ++k)
+    s.world.step();
   // pairs in contact (within the margin) are tested more often than the others
   std::map<bool, std::pair<std::uint64_t, std::uint64_t>> tests;  // in contact -> (tests, samples)
   for (int k = 0; k < 200; ++k) {
@@ -231,7 +244,8 @@ TEST(CollisionWorld, ContactPairsFirstWhenTheBudgetAllows) {
   ASSERT_GT(tests[false].second, 0u);
   const double rate_contact = double(tests[true].first) / double(tests[true].second);
   const double rate_other = double(tests[false].first) / double(tests[false].second);
-  std::printf("[figures] tested per tick: in contact %.3f, others %.3f\n", rate_contact, rate_other);
+  std::printf("[figures] tested per tick: in contact %.3f, others %.3f\n", rate_contact,
+              rate_other);
   EXPECT_GT(rate_contact, rate_other);
 }
 
@@ -271,10 +285,38 @@ TEST(CollisionWorld, StepAllocatesNothingAfterReserve) {
                 glm::angleAxis(k * 0.003, glm::normalize(Vec3{1, 2, 3}))});
     s.world.step();
   };
-  for (int k = 0; k < 50; ++k) step(k);  // warm-up: the depth scratch grows to its size here
+  for (int k = 0; k < 50; ++k)
+    step(k);  // warm-up: the depth scratch grows to its size here
   const std::uint64_t before = testing_alloc::count();
-  for (int k = 50; k < 2050; ++k) step(k);
+  for (int k = 50; k < 2050; ++k)
+    step(k);
   EXPECT_EQ(testing_alloc::count() - before, 0u);
+}
+
+// The narrow phase's depth scratch belongs to the world, sized as the bodies are added: a thread
+// that never queried anything steps a world of penetrating pairs from its first step on without
+// allocating (a per-thread scratch would grow on that thread's first penetration).
+TEST(CollisionWorld, StepAllocatesNothingFromTheFirstStepOnANewThread) {
+  WorldOptions o;
+  o.box_margin = 0.002;
+  Scene s(o);
+  s.world.reserve(256, 1024);
+  std::uint64_t allocations = 0;
+  std::uint32_t penetrating = 0;
+  std::thread servo([&] {
+    const std::uint64_t before = testing_alloc::count();
+    for (int k = 0; k < 2000; ++k) {
+      s.move(Pose{Vec3{0.06 + 0.04 * std::sin(k * 0.01), 0.012, 0.06 + 0.04 * std::cos(k * 0.01)},
+                  glm::angleAxis(k * 0.003, glm::normalize(Vec3{1, 2, 3}))});
+      s.world.step();
+      for (const Contact& c : s.world.contacts())
+        penetrating += c.answered && c.status == ContactStatus::kPenetrating ? 1u : 0u;
+    }
+    allocations = testing_alloc::count() - before;
+  });
+  servo.join();
+  EXPECT_GT(penetrating, 1000u);  // the depth was asked for, many times
+  EXPECT_EQ(allocations, 0u);
 }
 
 // A disabled body's pairs are neither tested nor listed; enabled again (even unmoved, with
@@ -299,7 +341,8 @@ TEST(CollisionWorld, ADisabledBodyHasNoPairsAndIsTestedAgainWhenEnabled) {
       world.addBody(probe_desc, Pose{Vec3{0.0, 0.039, 0.0}, Quat{1, 0, 0, 0}});
   const auto pairsWith = [&](std::uint32_t body) {
     std::uint32_t n = 0;
-    for (const Contact& c : world.contacts()) n += c.body_a == body || c.body_b == body;
+    for (const Contact& c : world.contacts())
+      n += c.body_a == body || c.body_b == body;
     return n;
   };
   StepStats st = world.step();

@@ -54,10 +54,6 @@ double angle(const Vec3& u, const Vec3& v) {
   return std::atan2(glm::length(glm::cross(u, v)), glm::dot(u, v));
 }
 
-bool finite(const Vec3& v) {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
 double outside(const Polytope& q, const Transform& X, const Vec3& p) {
   const Vec3 x = X.inverse().apply(p);
   double worst = -std::numeric_limits<double>::infinity();
@@ -456,8 +452,8 @@ std::string checkPairResult(const Polytope& a,
     ++fig.normals_checked;
     fig.max_normal_err = std::max(fig.max_normal_err, e);
     if (e > normal_tol) {
-      fail("normal") << "normal off by " << e << " rad, more than " << normal_tol
-                     << " (reference " << vec(ref_normal) << ")";
+      fail("normal") << "normal off by " << e << " rad, more than " << normal_tol << " (reference "
+                     << vec(ref_normal) << ")";
       return report();
     }
   } else {

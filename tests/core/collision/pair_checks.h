@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "core/collision/pair_query.h"
+#include "core/geometry/rotation.h"
 #include "tests/reference/reference.h"
 
 namespace hapticd::collision::checks {
@@ -52,7 +53,7 @@ double pairSize(const Polytope& a, const Polytope& b);
 // --- small measures -----------------------------------------------------------------------------
 
 double angle(const Vec3& u, const Vec3& v);
-bool finite(const Vec3& v);
+using geom::finite;
 /// Largest signed distance of p (A's frame) above the face planes of q placed by X (q -> A):
 /// 0 on q's surface, < 0 inside, > 0 outside (a lower bound of the distance to q).
 double outside(const Polytope& q, const Transform& X, const Vec3& p);

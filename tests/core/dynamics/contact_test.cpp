@@ -431,7 +431,7 @@ TEST(HeldBody, ExtraProbeSpherePushesABox) {
   s.bodies.push_back(staticBody("floor", boxShape(Vec3{1, 0.1, 1}), at(Vec3{0, -0.1, 0}), 0));
   s.bodies.push_back(dynamicBody("box", boxShape(Vec3{0.05}), at(Vec3{0, 0.05, 0}), 500.0, 0));
   s.length_scale = lengthScale(s);
-  auto world = buildCollisionWorld(s, {});
+  auto world = buildCollisionWorld(s, {}).value();
   collision::BodyDesc probe;
   probe.kind = collision::BodyKind::kProbe;
   probe.primitives.push_back({ellipsoidShape(Vec3{0.01}), geom::Transform{}});
@@ -446,7 +446,7 @@ TEST(HeldBody, ExtraProbeSpherePushesABox) {
   for (int k = 0; k < 1000; ++k) {
     in.X_WB_target = at(start.translation + Vec3{0.1 * (k + 1) * kDt, 0, 0});  // 0.1 m/s
     world->step();
-    dyn->step(kDt, &in);
+    dyn->step(*world, kDt, &in);
     felt += dyn->heldFeedback().impulse_W_ns.x;
   }
   // the sphere moved 0.1 m, the first 0.01 m of it to reach the box: the box followed it

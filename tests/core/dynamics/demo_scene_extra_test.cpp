@@ -58,7 +58,7 @@ TEST(DemoScene, StepAllocatesNothing) {
     in.X_WB_target = at(Vec3{0.3 * std::cos(t), 0.06, 0.3 * std::sin(t)});
     rig.world->step();
     const std::uint64_t before = testing_alloc::count();
-    rig.dyn->step(kDt, &in);
+    rig.dyn->step(*rig.world, kDt, &in);
     during_dynamics += testing_alloc::count() - before;
   }
   EXPECT_EQ(during_dynamics, 0u);

@@ -195,7 +195,7 @@ TEST(NoOp, SceneWithoutDynamicBodiesDoesNoWork) {
   EXPECT_FALSE(rig.dyn->active());
   const std::uint64_t before = testing_alloc::count();
   for (int i = 0; i < 1000; ++i) {
-    const StepReport r = rig.dyn->step(kDt);
+    const StepReport r = rig.dyn->step(*rig.world, kDt);
     EXPECT_EQ(r.contact_points, 0u);
   }
   EXPECT_EQ(testing_alloc::count(), before);
@@ -208,7 +208,7 @@ TEST(Create, RefusesBadBodiesAndOptions) {
   Body b = dynamicBody("a", boxShape(Vec3{0.1}), at(Vec3{0}), 1000.0);
   b.mass = -1.0;
   s.bodies.push_back(b);
-  auto world = buildCollisionWorld(s, {});
+  auto world = buildCollisionWorld(s, {}).value();
   auto r = Dynamics::create(s, *world);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("'a'"), std::string::npos);

@@ -130,7 +130,7 @@ struct Rig {
         s.probe_body = static_cast<std::int32_t>(i);
     }
     scene = std::make_shared<SceneModel>(std::move(s));
-    world = buildCollisionWorld(*scene, collision::WorldOptions{});
+    world = buildCollisionWorld(*scene, collision::WorldOptions{}).value();
     auto r = Dynamics::create(*scene, *world, o);
     if (!r.ok())
       throw std::runtime_error(r.error().message);
@@ -138,7 +138,7 @@ struct Rig {
   }
   StepReport tick(double dt = 0.001, const HeldInput* held = nullptr) {
     world->step();
-    return dyn->step(dt, held);
+    return dyn->step(*world, dt, held);
   }
   double energy() const { return dyn->kineticEnergy() + dyn->potentialEnergy(); }
 };

@@ -194,7 +194,7 @@ TEST(ProxyStep, FreeSpaceReachesTheTargetAndTheSafeDistanceBoundsEveryPoint) {
   const ProxyStep s = solveProxyStep(pb, {}, params());
   EXPECT_FALSE(s.travel_limited);
   EXPECT_NEAR(glm::length(s.dc_W - pb.h_target_W), 0.0, 1e-15);
-  EXPECT_NEAR(glm::length(s.dtheta_W - rotationVector(pb.q_target)), 0.0, 1e-12);
+  EXPECT_NEAR(glm::length(s.dtheta_W - geom::rotationVector(pb.q_target)), 0.0, 1e-12);
   // far: scaled so that |dc| + |dtheta| r <= max travel
   pb.h_target_W = Vec3{0.05, 0, 0};
   const ProxyStep f = solveProxyStep(pb, {}, params());

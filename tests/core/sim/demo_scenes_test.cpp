@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <thread>
 
 #include "core/scene/loader.h"
 #include "tests/core/alloc_counter.h"
@@ -60,6 +61,35 @@ TEST_P(DemoScene, ReplaysItsPoseStreamWithinTheInvariants) {
   } else {
     expectInvariants(f, o, 1e-3);
   }
+}
+
+// Without prepareThread() and on a thread that has queried nothing before, the whole stream
+// allocates nothing from its first tick (the narrow phase's scratch is the state's, sized at
+// create()).
+TEST_P(DemoScene, AFreshThreadStepsTheStreamWithoutAllocating) {
+  const std::string name = GetParam();
+  const std::string dir = HAPTICD_SOURCE_DIR;
+  auto report = scene::loadSceneFile(dir + "/scenes/" + name + ".glb");
+  ASSERT_TRUE(report.ok()) << report.message();
+  auto keys = readPoseStream(dir + "/tests/streams/" + name + ".csv");
+  ASSERT_GE(keys.size(), 2u);
+  auto model = std::make_shared<const scene::SceneModel>(std::move(*report.scene));
+  sim::SimOptions o;
+  auto created = sim::Simulation::create(model, o);
+  ASSERT_TRUE(created.ok()) << created.error().message;
+  Runner run(std::move(created).value(), o);
+  const Path path(keys);
+  std::uint64_t allocations = 0, pairs_tested = 0;
+  std::thread servo([&] {
+    const std::uint64_t before = testing_alloc::count();
+    run.run(path, [&](const sim::TickInput&, const sim::TickOutput& out) {
+      pairs_tested += out.pairs_tested;
+    });
+    allocations = testing_alloc::count() - before;
+  });
+  servo.join();
+  EXPECT_GT(pairs_tested, 0u);  // the narrow phase ran
+  EXPECT_EQ(allocations, 0u);
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes,

@@ -338,7 +338,8 @@ TEST(SimDynamics, BadDynamicsOptionsAreRefusedWithAMessage) {
   o.dynamics_impulse_window_s = -0.01;
   auto a = sim::Simulation::create(model, o);
   ASSERT_FALSE(a.ok());
-  EXPECT_NE(a.error().message.find("impulse window"), std::string::npos) << a.error().message;
+  EXPECT_NE(a.error().message.find("[response] impulse_window_s"), std::string::npos)
+      << a.error().message;
   o = sim::SimOptions{};
   o.response.dynamic_backstop_fraction = std::nan("");
   auto b = sim::Simulation::create(model, o);

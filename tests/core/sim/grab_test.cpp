@@ -6,7 +6,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "core/response/wrench.h"
+#include "core/geometry/rotation.h"
 #include "tests/core/sim/harness.h"
 
 namespace hapticd::simtest {
@@ -174,7 +174,7 @@ LoopRun runLoop(bool inertia) {
     in.buttons = t >= 0.2 ? 1u : 0u;
     const sim::TickOutput out = sim->step(in);
     const Vec3 F = out.force_W_n, T = out.torque_W_nm;
-    r.finite = r.finite && response::isFinite(F) && response::isFinite(T);
+    r.finite = r.finite && geom::finite(F) && geom::finite(T);
     if (!r.finite)
       break;
     r.max_force = std::max(r.max_force, glm::length(F));
@@ -182,8 +182,8 @@ LoopRun runLoop(bool inertia) {
     // the hand: semi-implicit Euler
     v += dt * (k * (target - x) - c * v + F) / mass;
     x += dt * v;
-    w += dt * (-k_r * response::rotationVector(q) - c_r * w + T) / inertia_h;
-    q = glm::normalize(response::quatFromRotationVector(w * dt) * q);
+    w += dt * (-k_r * geom::rotationVector(q) - c_r * w + T) / inertia_h;
+    q = glm::normalize(geom::quatFromRotationVector(w * dt) * q);
     if (t >= 5.5) {
       r.settle_speed = std::max(r.settle_speed, glm::length(v));
       r.settle_spin = std::max(r.settle_spin, glm::length(w));

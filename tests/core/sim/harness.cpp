@@ -5,7 +5,7 @@
 #include <algorithm>
 #include <cstring>
 
-#include "core/response/wrench.h"
+#include "core/geometry/rotation.h"
 #include "protocol/pose_stream.h"
 
 namespace hapticd::simtest {
@@ -124,16 +124,13 @@ void hashVec(std::uint64_t& h, const Vec3& v) {
   const double d[3] = {v.x, v.y, v.z};
   hashBytes(h, d, sizeof d);
 }
-bool finite(const Vec3& v) {
-  return response::isFinite(v);
-}
 }  // namespace
 
 void Runner::account(const sim::TickInput& in, const sim::TickOutput& out) {
   ++fig_.ticks;
-  const bool fin = finite(out.force_W_n) && finite(out.torque_W_nm) &&
-                   finite(out.X_W_proxy.translation) && std::isfinite(out.X_W_proxy.rotation.w) &&
-                   std::isfinite(out.max_penetration_m);
+  const bool fin = geom::finite(out.force_W_n) && geom::finite(out.torque_W_nm) &&
+                   geom::finite(out.X_W_proxy.translation) &&
+                   std::isfinite(out.X_W_proxy.rotation.w) && std::isfinite(out.max_penetration_m);
   fig_.all_finite = fig_.all_finite && fin;
   fig_.max_force_n = std::max(fig_.max_force_n, glm::length(out.force_W_n));
   fig_.max_torque_nm = std::max(fig_.max_torque_nm, glm::length(out.torque_W_nm));
@@ -153,8 +150,8 @@ void Runner::account(const sim::TickInput& in, const sim::TickOutput& out) {
         std::max(fig_.max_torque_step_nm, glm::length(out.torque_W_nm - prev_out_.torque_W_nm));
     // the force of the previous tick was held while the device moved from there to here
     const Vec3 dx = in.X_W_device.translation - prev_in_.X_W_device.translation;
-    const Vec3 dth = response::rotationVector(in.X_W_device.rotation *
-                                              glm::conjugate(prev_in_.X_W_device.rotation));
+    const Vec3 dth =
+        geom::rotationVector(in.X_W_device.rotation * glm::conjugate(prev_in_.X_W_device.rotation));
     const double e = glm::dot(prev_out_.force_W_n, dx) + glm::dot(prev_out_.torque_W_nm, dth);
     fig_.energy_to_hand_j += e;
     fig_.energy_abs_j += std::abs(glm::dot(prev_out_.force_W_n, dx)) +

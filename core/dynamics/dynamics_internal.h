@@ -1,0 +1,162 @@
+#pragma once
+/// \file
+/// The dynamics' per-body, per-contact and per-joint state and the small helpers that the files
+/// of core/dynamics share (dynamics.cpp: create and the accessors; dynamics_step.cpp: the tick;
+/// dynamics_solver.cpp: the impulse and position solvers). Not a public interface.
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "core/dynamics/dynamics.h"
+
+namespace hapticd::dynamics {
+namespace detail {
+
+inline constexpr double kInf = std::numeric_limits<double>::infinity();
+
+// velocity iterations always run at least this many times per solve
+inline constexpr std::uint32_t kMinIterations = 2;
+
+inline Mat3 skew(const Vec3& v) {
+  // column-major: columns are the images of e_x, e_y, e_z under v x .
+  return Mat3{0.0, v.z, -v.y, -v.z, 0.0, v.x, v.y, -v.x, 0.0};
+}
+
+inline void tangents(const Vec3& n, Vec3* t1, Vec3* t2) {
+  const Vec3 a = std::abs(n.x) < 0.57 ? Vec3{1, 0, 0} : Vec3{0, 1, 0};
+  *t1 = glm::normalize(glm::cross(n, a));
+  *t2 = glm::cross(n, *t1);
+}
+
+inline double combine(double a, double b, scene::Combine ca, scene::Combine cb) {
+  using scene::Combine;
+  // KHR_physics_rigid_bodies: average, else minimum, else maximum, else multiply
+  if (ca == Combine::kAverage || cb == Combine::kAverage)
+    return 0.5 * (a + b);
+  if (ca == Combine::kMinimum || cb == Combine::kMinimum)
+    return std::min(a, b);
+  if (ca == Combine::kMaximum || cb == Combine::kMaximum)
+    return std::max(a, b);
+  return a * b;
+}
+
+inline std::uint64_t pairKey(std::uint32_t a, std::uint32_t b) {
+  if (a > b)
+    std::swap(a, b);
+  return static_cast<std::uint64_t>(a) << 32 | b;
+}
+
+}  // namespace detail
+
+struct Dynamics::BodyState {
+  scene::Motion motion = scene::Motion::kStatic;
+  bool infinite = true;  // this tick: infinite mass (static, kinematic, held kinematic)
+  double inv_mass = 0.0;
+  Mat3 inertia_B{0.0}, inv_inertia_B{0.0};
+  Quat q_BP{1.0, 0.0, 0.0, 0.0};  // principal axes in the body frame
+  Vec3 inertia_P{1.0};            // principal moments (0: infinite about that axis)
+  Vec3 inv_inertia_P{1.0};        // their inverses (0 for an infinite one)
+  bool coast = false;             // infinite mass (declared 0): keeps its velocities
+  bool driven = false;            // a dynamic body the caller moves (setDriven): infinite mass
+  bool enabled = true;            // false: out of the scene (setEnabled): frozen, no contacts
+  bool isotropic = false;         // all three equal (cubes, regular polyhedra)
+  Mat3 inv_inertia_W{0.0};
+  Vec3 com_B{0.0};
+  Vec3 x_W{0.0};  // centre of mass
+  Quat q{1.0, 0.0, 0.0, 0.0};
+  Mat3 R{1.0};
+  Vec3 v_W{0.0}, w_W{0.0};
+  Vec3 gravity_W{0.0};
+  Vec3 force_W{0.0}, torque_W{0.0};
+  Vec3 pv{0.0}, pw{0.0};  // split-impulse pseudo-velocities
+  double size = 0.0;      // radius about the centre of mass
+  bool has_target = false;
+  Vec3 target_x{0.0};
+  Quat target_q{1.0, 0.0, 0.0, 0.0};
+
+  void updateInertia() {
+    R = glm::mat3_cast(q);
+    inv_inertia_W = infinite ? Mat3{0.0} : R * inv_inertia_B * glm::transpose(R);
+  }
+  double invMass() const { return infinite ? 0.0 : inv_mass; }
+  Vec3 velocityAt(const Vec3& r) const { return v_W + glm::cross(w_W, r); }
+  Vec3 pseudoAt(const Vec3& r) const { return pv + glm::cross(pw, r); }
+  void applyImpulse(const Vec3& J, const Vec3& r) {
+    if (infinite)
+      return;
+    v_W += inv_mass * J;
+    w_W += inv_inertia_W * glm::cross(r, J);
+  }
+  void applyPseudo(const Vec3& J, const Vec3& r) {
+    if (infinite)
+      return;
+    pv += inv_mass * J;
+    pw += inv_inertia_W * glm::cross(r, J);
+  }
+};
+
+// one constraint row of a contact point along a unit direction u: the angular parts and the
+// effective mass
+// one constraint row of a contact point along a unit direction u: the angular parts and the
+// effective mass
+struct Dynamics::Row {
+  Vec3 ca{0.0}, cb{0.0};  // ra x u, rb x u
+  Vec3 ia{0.0}, ib{0.0};  // inverse world inertia times those
+  double mass = 0.0;
+};
+
+struct Dynamics::ContactPoint {
+  std::uint32_t a = 0, b = 0;
+  std::uint32_t prim_a = 0, prim_b = 0;
+  Vec3 ra_B{0.0}, rb_B{0.0};  // from each centre of mass, body frames
+  Vec3 ra{0.0}, rb{0.0};      // world, current
+  Vec3 n{0.0}, t1{0.0}, t2{0.0};
+  double gap = 0.0;     // > 0 apart, < 0 penetrating (tracked through the tick)
+  double size = 0.0;    // the smaller body's size
+  double mass_n = 0.0;  // normal effective mass (the split impulses use it)
+  double ima = 0.0, imb = 0.0;
+  Row rn, rt1, rt2;
+  double e = 0.0, mu_s = 0.0, mu_d = 0.0, mu = 0.0;
+  double bounce = 0.0;  // restitution of this impact (0 below the threshold, or done)
+  double min_vn = 0.0;  // speculative: closing allowed up to this (<= 0), else 0
+  double ln = 0.0, lt1 = 0.0, lt2 = 0.0;  // this episode
+  double total_n = 0.0;                   // whole tick
+  Vec3 total_t{0.0};                      // whole tick, world
+  double lp = 0.0;                        // split impulse
+  double ln_max = 0.0;  // largest normal impulse per solve (held_max_force_n), 0: none
+  bool active = false;
+  bool speculative = false;
+};
+
+struct Dynamics::JointState {
+  const scene::Joint* joint = nullptr;
+  bool off = false;  // this tick: a body of the joint is disabled (setEnabled): the joint is inert
+  std::uint32_t a = 0;
+  std::int32_t b = -1;  // -1: the scene frame
+  Vec3 ra{0.0}, rb{0.0};
+  Mat3 point_mass{0.0};  // inverse of K
+  Mat3 ang_mass{0.0};    // fixed: inverse of angular K
+  Vec3 axis{0.0}, p1{0.0}, p2{0.0};
+  double m1 = 0.0, m2 = 0.0, m_axis = 0.0;
+  bool has_min = false, has_max = false;
+  double c_min = 0.0, c_max = 0.0;  // distance to the limits (rad), > 0 inside
+  Vec3 l_point{0.0}, l_ang{0.0};    // this episode
+  double l1 = 0.0, l2 = 0.0, l_lo = 0.0, l_hi = 0.0;
+  Vec3 err_point{0.0}, err_ang{0.0};  // end of tick: b's anchor from a's; rotation error
+  double size = 0.0;                  // the larger body's size: turns angular errors into speeds
+  double tot_lo = 0.0, tot_hi = 0.0;  // whole tick: limit impulses (part of total_L)
+  Vec3 warm_J{0.0}, warm_L{0.0};      // last tick's, for the warm start
+  double warm_lo = 0.0, warm_hi = 0.0;
+  Vec3 total_J{0.0},
+      total_L{0.0};  // whole tick: impulse on b at its anchor (-J on a), pure angular impulse on b
+};
+
+struct Dynamics::WarmPoint {
+  std::uint32_t a = 0, b = 0, prim_a = 0, prim_b = 0;
+  Vec3 ra_B{0.0};
+  double ln = 0.0;
+  Vec3 lt{0.0};
+};
+
+}  // namespace hapticd::dynamics

@@ -1,0 +1,532 @@
+// The solvers of the dynamics (Catto, "Iterative dynamics with temporal coherence", GDC 2005):
+// joint rows from the poses at the start of the tick, sequential impulses with accumulated
+// clamping and warm starts, restitution by Poisson's hypothesis scaled so that no solve adds
+// energy, and split-impulse drift correction.
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "core/dynamics/dynamics_internal.h"
+#include "core/geometry/rotation.h"
+
+namespace hapticd::dynamics {
+
+using detail::kMinIterations;
+using detail::skew;
+using detail::tangents;
+
+// joint rows from the poses at the start of the tick (kept through its times of impact)
+void Dynamics::prepareJoints() {
+  for (JointState& js : joints_) {
+    // last tick's impulses become this tick's warm start (axis of last tick)
+    js.warm_J = js.total_J;
+    js.warm_L = js.total_L - js.axis * (js.tot_lo + js.tot_hi);
+    js.warm_lo = js.tot_lo;
+    js.warm_hi = js.tot_hi;
+    js.total_J = Vec3{0.0};
+    js.total_L = Vec3{0.0};
+    js.tot_lo = js.tot_hi = 0.0;
+    js.off =
+        !bodies_[js.a].enabled || (js.b >= 0 && !bodies_[static_cast<std::size_t>(js.b)].enabled);
+    if (js.off) {
+      js.warm_J = js.warm_L = Vec3{0.0};
+      js.warm_lo = js.warm_hi = 0.0;
+      continue;
+    }
+    const scene::Joint& j = *js.joint;
+    const BodyState& A = bodies_[js.a];
+    const Pose X_WA{A.x_W - A.R * A.com_B, A.q};
+    const Vec3 pa = X_WA.translation + X_WA.rotation * j.X_AJ.translation;
+    const Quat qa = X_WA.rotation * j.X_AJ.rotation;
+    Vec3 pb;
+    Quat qb;
+    Mat3 ib_inv{0.0};
+    double mb_inv = 0.0;
+    if (js.b >= 0) {
+      const BodyState& B = bodies_[static_cast<std::size_t>(js.b)];
+      const Pose X_WB{B.x_W - B.R * B.com_B, B.q};
+      pb = X_WB.translation + X_WB.rotation * j.X_BJ.translation;
+      qb = X_WB.rotation * j.X_BJ.rotation;
+      js.rb = pb - B.x_W;
+      ib_inv = B.inv_inertia_W;
+      mb_inv = B.invMass();
+    } else {
+      pb = j.X_BJ.translation;
+      qb = j.X_BJ.rotation;
+      js.rb = Vec3{0.0};
+    }
+    js.ra = pa - A.x_W;
+    const Mat3 Sa = skew(js.ra), Sb = skew(js.rb);
+    const Mat3 K =
+        (A.invMass() + mb_inv) * Mat3{1.0} - Sa * A.inv_inertia_W * Sa - Sb * ib_inv * Sb;
+    js.point_mass = glm::determinant(K) > 0.0 ? glm::inverse(K) : Mat3{0.0};
+    const Mat3 Ka = A.inv_inertia_W + ib_inv;
+    if (j.kind == scene::JointKind::kFixed) {
+      js.ang_mass = glm::determinant(Ka) > 0.0 ? glm::inverse(Ka) : Mat3{0.0};
+    } else {
+      Vec3 e{0.0};
+      e[j.hinge_axis] = 1.0;
+      js.axis = glm::normalize(qa * e);
+      tangents(js.axis, &js.p1, &js.p2);
+      const auto eff = [&](const Vec3& u) {
+        const double k = glm::dot(u, Ka * u);
+        return k > 0.0 ? 1.0 / k : 0.0;
+      };
+      js.m1 = eff(js.p1);
+      js.m2 = eff(js.p2);
+      js.m_axis = eff(js.axis);
+      const Quat rel = glm::conjugate(qa) * qb;
+      const double angle = 2.0 * std::atan2(rel[j.hinge_axis], rel.w);
+      const double theta = std::remainder(angle, 2.0 * std::numbers::pi);
+      js.has_min = j.hinge_min.has_value();
+      js.has_max = j.hinge_max.has_value();
+      js.c_min = js.has_min ? theta - *j.hinge_min : 0.0;
+      js.c_max = js.has_max ? *j.hinge_max - theta : 0.0;
+    }
+  }
+}
+
+// one episode of sequential impulses over the joints and the active contact points
+void Dynamics::solveVelocities(double remaining) {
+  prepareRows(remaining);
+  // warm start (the first episode of a tick): last tick's impulses, applied again
+  if (warm_pending_) {
+    warm_pending_ = false;
+    applyWarmStart();
+  }
+  const double inv_dt = 1.0 / tick_dt_;
+  bool bounces = false;
+  for (const ContactPoint& cp : points_)
+    bounces = bounces || (cp.bounce > 0.0 && cp.active);
+  if (bounces)
+    ke_episode_start_ = kineticEnergy();
+  for (std::uint32_t it = 0; it < options_.velocity_iterations; ++it) {
+    // the largest velocity error any row corrected in this iteration: below the tolerance the
+    // episode has converged and stops early
+    double residual = 0.0;
+    for (JointState& js : joints_) {
+      if (js.off)
+        continue;
+      solveJoint(js, inv_dt, residual);
+    }
+    for (ContactPoint& cp : points_) {
+      if (!cp.active && !cp.speculative)
+        continue;
+      solveContact(cp, residual);
+    }
+    if (it + 1 >= kMinIterations && residual < velocity_tolerance_)
+      break;
+  }
+  applyRestitution();
+  for (ContactPoint& cp : points_) {
+    if (!cp.active && !cp.speculative)
+      continue;
+    cp.total_n += cp.ln;
+    cp.total_t += cp.t1 * cp.lt1 + cp.t2 * cp.lt2;
+    cp.bounce = 0.0;  // restitution acts once: later episodes only keep the points apart
+  }
+  for (JointState& js : joints_) {
+    if (js.off)
+      continue;
+    js.tot_lo += js.l_lo;
+    js.tot_hi += js.l_hi;
+  }
+}
+
+// the rows of every active point at the current orientations, this episode's impulses zero
+void Dynamics::prepareRows(double remaining) {
+  for (ContactPoint& cp : points_) {
+    if (!cp.active && !cp.speculative)
+      continue;
+    BodyState& A = bodies_[cp.a];
+    BodyState& B = bodies_[cp.b];
+    cp.ra = A.R * cp.ra_B;
+    cp.rb = B.R * cp.rb_B;
+    cp.ima = A.invMass();
+    cp.imb = B.invMass();
+    const auto row = [&](const Vec3& u, Row& r) {
+      r.ca = glm::cross(cp.ra, u);
+      r.cb = glm::cross(cp.rb, u);
+      r.ia = A.inv_inertia_W * r.ca;
+      r.ib = B.inv_inertia_W * r.cb;
+      const double k = cp.ima + cp.imb + glm::dot(r.ca, r.ia) + glm::dot(r.cb, r.ib);
+      r.mass = k > 0.0 ? 1.0 / k : 0.0;
+    };
+    row(cp.n, cp.rn);
+    row(cp.t1, cp.rt1);
+    row(cp.t2, cp.rt2);
+    cp.mass_n = cp.rn.mass;
+    cp.ln = cp.lt1 = cp.lt2 = 0.0;
+    cp.min_vn = cp.speculative ? -std::max(cp.gap, 0.0) / remaining : 0.0;
+  }
+  for (JointState& js : joints_) {
+    js.l_point = js.l_ang = Vec3{0.0};
+    js.l1 = js.l2 = js.l_lo = js.l_hi = 0.0;
+  }
+}
+
+// last tick's joint and contact impulses applied again (the first episode of a tick)
+void Dynamics::applyWarmStart() {
+  for (JointState& js : joints_) {
+    if (js.off)
+      continue;
+    BodyState& A = bodies_[js.a];
+    BodyState* B = js.b >= 0 ? &bodies_[static_cast<std::size_t>(js.b)] : nullptr;
+    js.l_lo = js.has_min ? js.warm_lo : 0.0;
+    js.l_hi = js.has_max ? js.warm_hi : 0.0;
+    // a hinge's rows act across its axis only: last tick's impulse loses its component along
+    // this tick's axis (else the warm start would drive the free rotation)
+    const Vec3 across = js.joint->kind == scene::JointKind::kHinge
+                            ? js.warm_L - js.axis * glm::dot(js.warm_L, js.axis)
+                            : js.warm_L;
+    const Vec3 L = across + js.axis * (js.l_lo + js.l_hi);
+    if (!A.infinite)
+      A.w_W -= A.inv_inertia_W * L;
+    if (B != nullptr && !B->infinite)
+      B->w_W += B->inv_inertia_W * L;
+    A.applyImpulse(-js.warm_J, js.ra);
+    if (B != nullptr)
+      B->applyImpulse(js.warm_J, js.rb);
+    js.total_J += js.warm_J;
+    js.total_L += L;
+  }
+  for (ContactPoint& cp : points_) {
+    if (!cp.active || cp.total_n <= 0.0) {
+      cp.total_n = 0.0;
+      cp.total_t = Vec3{0.0};
+      continue;
+    }
+    cp.ln = cp.total_n;
+    cp.lt1 = glm::dot(cp.total_t, cp.t1);
+    cp.lt2 = glm::dot(cp.total_t, cp.t2);
+    const Vec3 J = cp.n * cp.ln + cp.t1 * cp.lt1 + cp.t2 * cp.lt2;
+    bodies_[cp.a].applyImpulse(-J, cp.ra);
+    bodies_[cp.b].applyImpulse(J, cp.rb);
+    cp.total_n = 0.0;
+    cp.total_t = Vec3{0.0};
+  }
+}
+
+// one joint's rows in one iteration: angular (fixed: all three; hinge: across the axis, and its
+// limits), then the point
+void Dynamics::solveJoint(JointState& js, double inv_dt, double& residual) {
+  BodyState& A = bodies_[js.a];
+  BodyState* B = js.b >= 0 ? &bodies_[static_cast<std::size_t>(js.b)] : nullptr;
+  const Vec3 wb = B != nullptr ? B->w_W : Vec3{0.0};
+  const Mat3 ib = B != nullptr ? B->inv_inertia_W : Mat3{0.0};
+  const auto applyAngular = [&](const Vec3& L) {
+    if (!A.infinite)
+      A.w_W -= A.inv_inertia_W * L;
+    if (B != nullptr && !B->infinite)
+      B->w_W += ib * L;
+    js.total_L += L;
+  };
+  // angular rows
+  if (js.joint->kind == scene::JointKind::kFixed) {
+    const Vec3 L = js.ang_mass * (-(wb - A.w_W));
+    js.l_ang += L;
+    applyAngular(L);
+    if (js.ang_mass[0][0] + js.ang_mass[1][1] + js.ang_mass[2][2] > 0.0) {
+      residual = std::max(residual, glm::length(wb - A.w_W) * js.size);
+    }
+  } else {
+    const Vec3 wrel = wb - A.w_W;
+    const double l1 = js.m1 * -glm::dot(wrel, js.p1);
+    const double l2 = js.m2 * -glm::dot(wrel, js.p2);
+    applyAngular(js.p1 * l1 + js.p2 * l2);
+    if (js.m1 > 0.0)
+      residual = std::max(residual, std::abs(glm::dot(wrel, js.p1)) * js.size);
+    if (js.m2 > 0.0)
+      residual = std::max(residual, std::abs(glm::dot(wrel, js.p2)) * js.size);
+    if (js.has_min) {
+      const double vr = glm::dot((B != nullptr ? B->w_W : Vec3{0.0}) - A.w_W, js.axis);
+      const double target = js.c_min > 0.0 ? -js.c_min * inv_dt : 0.0;
+      const double old = js.l_lo;
+      js.l_lo = std::max(0.0, old + js.m_axis * (target - vr));
+      applyAngular(js.axis * (js.l_lo - old));
+      if (js.m_axis > 0.0)
+        residual = std::max(residual, std::abs(js.l_lo - old) / js.m_axis * js.size);
+    }
+    if (js.has_max) {
+      const double vr = glm::dot((B != nullptr ? B->w_W : Vec3{0.0}) - A.w_W, js.axis);
+      const double target = js.c_max > 0.0 ? js.c_max * inv_dt : 0.0;
+      const double old = js.l_hi;
+      js.l_hi = std::min(0.0, old + js.m_axis * (target - vr));
+      applyAngular(js.axis * (js.l_hi - old));
+      if (js.m_axis > 0.0)
+        residual = std::max(residual, std::abs(js.l_hi - old) / js.m_axis * js.size);
+    }
+  }
+  // the point row
+  const Vec3 vb = B != nullptr ? B->velocityAt(js.rb) : Vec3{0.0};
+  const Vec3 verr = vb - A.velocityAt(js.ra);
+  const Vec3 J = js.point_mass * (-verr);
+  if (js.point_mass[0][0] + js.point_mass[1][1] + js.point_mass[2][2] > 0.0) {
+    residual = std::max(residual, glm::length(verr));
+  }
+  A.applyImpulse(-J, js.ra);
+  if (B != nullptr)
+    B->applyImpulse(J, js.rb);
+  js.total_J += J;
+}
+
+// one contact point's rows in one iteration: friction first, limited by this episode's normal
+// impulse (Coulomb, isotropic), then the normal
+void Dynamics::solveContact(ContactPoint& cp, double& residual) {
+  BodyState& A = bodies_[cp.a];
+  BodyState& B = bodies_[cp.b];
+  // relative velocity along a row, and an impulse along it (infinite bodies have zero
+  // coefficients, so their velocities stay)
+  const auto rel = [&](const Vec3& u, const Row& r) {
+    return glm::dot(u, B.v_W - A.v_W) + glm::dot(r.cb, B.w_W) - glm::dot(r.ca, A.w_W);
+  };
+  const auto push = [&](const Vec3& u, const Row& r, double l) {
+    A.v_W -= (cp.ima * l) * u;
+    A.w_W -= r.ia * l;
+    B.v_W += (cp.imb * l) * u;
+    B.w_W += r.ib * l;
+  };
+  // friction first, limited by this episode's normal impulse (Coulomb, isotropic)
+  if (cp.mu > 0.0) {
+    const double o1 = cp.lt1, o2 = cp.lt2;
+    double l1 = o1 - cp.rt1.mass * rel(cp.t1, cp.rt1);
+    double l2 = o2 - cp.rt2.mass * rel(cp.t2, cp.rt2);
+    const double lim = cp.mu * cp.ln;
+    const double mag2 = l1 * l1 + l2 * l2;
+    if (mag2 > lim * lim) {
+      const double s = lim > 0.0 ? lim / std::sqrt(mag2) : 0.0;
+      l1 *= s;
+      l2 *= s;
+    }
+    cp.lt1 = l1;
+    cp.lt2 = l2;
+    push(cp.t1, cp.rt1, l1 - o1);
+    push(cp.t2, cp.rt2, l2 - o2);
+    if (cp.rt1.mass > 0.0)
+      residual = std::max(residual, std::abs(l1 - o1) / cp.rt1.mass);
+    if (cp.rt2.mass > 0.0)
+      residual = std::max(residual, std::abs(l2 - o2) / cp.rt2.mass);
+  }
+  const double vn = rel(cp.n, cp.rn);
+  const double target = cp.speculative ? cp.min_vn : 0.0;
+  const double old = cp.ln;
+  cp.ln = std::max(0.0, old + cp.rn.mass * (target - vn));
+  if (cp.ln_max > 0.0)
+    cp.ln = std::min(cp.ln, cp.ln_max);
+  push(cp.n, cp.rn, cp.ln - old);
+  if (cp.rn.mass > 0.0)
+    residual = std::max(residual, std::abs(cp.ln - old) / cp.rn.mass);
+}
+
+// restitution (Poisson's hypothesis): the points that struck get e times their compression
+// impulse back. With the compression solved, this changes the kinetic energy by
+// -(1 - e^2) / 2 lambda^T A lambda <= 0 however many points struck at once (Newton's rule,
+// a target velocity of -e v_n per point, can add energy when several points of a spinning
+// body strike together)
+// The solve is iterative: when it has not converged, the restitution impulses are scaled
+// down (never up) so that the kinetic energy does not end above where the episode began.
+void Dynamics::applyRestitution() {
+  bool any_bounce = false;
+  for (const ContactPoint& cp : points_)
+    any_bounce = any_bounce || (cp.bounce > 0.0 && cp.active && cp.ln > 0.0);
+  if (any_bounce) {
+    for (std::size_t i = 0; i < bodies_.size(); ++i)
+      dv_[i] = dw_[i] = Vec3{0.0};
+    for (const ContactPoint& cp : points_) {
+      if (cp.bounce <= 0.0 || !cp.active)
+        continue;
+      const double l = cp.bounce * cp.ln;
+      dv_[cp.a] -= (cp.ima * l) * cp.n;
+      dw_[cp.a] -= cp.rn.ia * l;
+      dv_[cp.b] += (cp.imb * l) * cp.n;
+      dw_[cp.b] += cp.rn.ib * l;
+    }
+    // KE(s) = KE_c + s a + s^2 b for the restitution scaled by s
+    double a = 0.0, b = 0.0;
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      const BodyState& body = bodies_[i];
+      if (body.infinite)
+        continue;
+      const Mat3 I_W = body.R * body.inertia_B * glm::transpose(body.R);
+      const double m = 1.0 / body.inv_mass;
+      a += m * glm::dot(body.v_W, dv_[i]) + glm::dot(body.w_W, I_W * dw_[i]);
+      b += 0.5 * (m * glm::dot(dv_[i], dv_[i]) + glm::dot(dw_[i], I_W * dw_[i]));
+    }
+    const double room = ke_episode_start_ - kineticEnergy();  // >= 0: compression dissipates
+    double scale = 1.0;
+    if (a + b > room) {
+      // largest s in [0, 1] with s a + s^2 b <= room
+      const double disc = a * a + 4.0 * b * std::max(room, 0.0);
+      scale = b > 0.0 ? std::clamp((-a + std::sqrt(disc)) / (2.0 * b), 0.0, 1.0) : 0.0;
+    }
+    for (std::size_t i = 0; i < bodies_.size(); ++i) {
+      if (bodies_[i].infinite)
+        continue;
+      bodies_[i].v_W += scale * dv_[i];
+      bodies_[i].w_W += scale * dw_[i];
+    }
+    for (ContactPoint& cp : points_) {
+      if (cp.bounce > 0.0 && cp.active)
+        cp.ln += scale * cp.bounce * cp.ln;
+    }
+  }
+}
+
+// split impulses: pseudo-velocities that remove penetration beyond the slop and joint error,
+// applied to the poses only (no energy enters the velocities)
+void Dynamics::correctPositions(double dt) {
+  const double beta = options_.position_correction;
+  if (beta <= 0.0 || options_.position_iterations == 0)
+    return;
+  const double inv_dt = 1.0 / dt;
+  bool any = false;
+  for (ContactPoint& cp : points_) {
+    cp.lp = 0.0;
+    any = any || cp.gap < -options_.slop_fraction * cp.size;
+  }
+  const bool joints = measureJointErrors();
+  any = any || joints;
+  if (!any)
+    return;
+  for (std::uint32_t it = 0; it < options_.position_iterations; ++it) {
+    for (JointState& js : joints_) {
+      if (js.off)
+        continue;
+      correctJoint(js, beta, inv_dt);
+    }
+    for (ContactPoint& cp : points_)
+      correctContact(cp, beta, inv_dt);
+  }
+  for (BodyState& b : bodies_) {
+    if (b.infinite)
+      continue;
+    b.x_W += b.pv * dt;
+    b.q = glm::normalize(geom::quatFromRotationVector(b.pw * dt) * b.q);
+    b.updateInertia();
+  }
+}
+
+// joint errors at the end of the tick (b's anchor from a's; the rotation error; a hinge's
+// distance to its limits); true when a joint is in the scene
+bool Dynamics::measureJointErrors() {
+  bool any = false;
+  for (JointState& js : joints_) {
+    if (js.off)
+      continue;
+    const scene::Joint& j = *js.joint;
+    const BodyState& A = bodies_[js.a];
+    js.ra = A.R * (j.X_AJ.translation - A.com_B);
+    const Quat qa = A.q * j.X_AJ.rotation;
+    // b's attachment frame in the world: on body b, or fixed in the scene frame
+    Quat qb = j.X_BJ.rotation;
+    if (js.b >= 0) {
+      const BodyState& B = bodies_[static_cast<std::size_t>(js.b)];
+      js.rb = B.R * (j.X_BJ.translation - B.com_B);
+      js.err_point = (B.x_W + js.rb) - (A.x_W + js.ra);  // error, b's anchor from a's
+      qb = B.q * j.X_BJ.rotation;
+    } else {
+      js.rb = Vec3{0.0};
+      js.err_point = j.X_BJ.translation - (A.x_W + js.ra);
+    }
+    js.err_ang = geom::rotationVector(qb * glm::conjugate(qa));
+    if (j.kind == scene::JointKind::kHinge) {
+      Vec3 e{0.0};
+      e[j.hinge_axis] = 1.0;
+      js.err_ang = glm::cross(qa * e, qb * e);
+      const Quat rel = glm::conjugate(qa) * qb;
+      const double theta =
+          std::remainder(2.0 * std::atan2(rel[j.hinge_axis], rel.w), 2.0 * std::numbers::pi);
+      js.c_min = js.has_min ? theta - *j.hinge_min : 0.0;
+      js.c_max = js.has_max ? *j.hinge_max - theta : 0.0;
+      js.axis = glm::normalize(qa * e);
+    }
+    any = true;
+  }
+  return any;
+}
+
+// one joint's pseudo-velocity rows: angular error driven to -beta * error / dt (a hinge: across
+// its axis, and its limits), then the point error
+void Dynamics::correctJoint(JointState& js, double beta, double inv_dt) {
+  BodyState& A = bodies_[js.a];
+  BodyState* B = js.b >= 0 ? &bodies_[static_cast<std::size_t>(js.b)] : nullptr;
+  const Vec3 pwb = B != nullptr ? B->pw : Vec3{0.0};
+  const Mat3 ib = B != nullptr && !B->infinite ? B->inv_inertia_W : Mat3{0.0};
+  const Mat3 Ka = A.inv_inertia_W + ib;
+  const auto applyAngular = [&](const Vec3& L) {
+    if (!A.infinite)
+      A.pw -= A.inv_inertia_W * L;
+    if (B != nullptr && !B->infinite)
+      B->pw += ib * L;
+  };
+  // angular error: drive the relative pseudo angular velocity to -beta * error / dt
+  Vec3 wrel = pwb - A.pw;
+  const Vec3 goal = -beta * inv_dt * js.err_ang;
+  if (js.joint->kind == scene::JointKind::kFixed) {
+    if (glm::determinant(Ka) > 0.0)
+      applyAngular(glm::inverse(Ka) * (goal - wrel));
+  } else {
+    // only the two directions across the axis
+    Vec3 u1, u2;
+    tangents(js.axis, &u1, &u2);
+    for (const Vec3& u : {u1, u2}) {
+      const double k = glm::dot(u, Ka * u);
+      wrel = (B != nullptr ? B->pw : Vec3{0.0}) - A.pw;
+      if (k > 0.0)
+        applyAngular(u * (glm::dot(goal - wrel, u) / k));
+    }
+    const double k = glm::dot(js.axis, Ka * js.axis);
+    if (k > 0.0) {
+      const double vr = glm::dot((B != nullptr ? B->pw : Vec3{0.0}) - A.pw, js.axis);
+      if (js.has_min && js.c_min < 0.0) {
+        const double want = -beta * inv_dt * js.c_min;  // > 0
+        if (vr < want)
+          applyAngular(js.axis * ((want - vr) / k));
+      }
+      if (js.has_max && js.c_max < 0.0) {
+        const double want = beta * inv_dt * js.c_max;  // < 0
+        if (vr > want)
+          applyAngular(js.axis * ((want - vr) / k));
+      }
+    }
+  }
+  // point error
+  const Mat3 Sa = skew(js.ra), Sb = skew(js.rb);
+  const double mb = B != nullptr ? B->invMass() : 0.0;
+  const Mat3 K = (A.invMass() + mb) * Mat3{1.0} - Sa * A.inv_inertia_W * Sa - Sb * ib * Sb;
+  if (glm::determinant(K) > 0.0) {
+    const Vec3 vb = B != nullptr ? B->pseudoAt(js.rb) : Vec3{0.0};
+    const Vec3 vrel = vb - A.pseudoAt(js.ra);
+    const Vec3 J = glm::inverse(K) * (-beta * inv_dt * js.err_point - vrel);
+    A.applyPseudo(-J, js.ra);
+    if (B != nullptr)
+      B->applyPseudo(J, js.rb);
+  }
+}
+
+// one contact point's split impulse: its penetration beyond the slop removed at beta per tick
+void Dynamics::correctContact(ContactPoint& cp, double beta, double inv_dt) {
+  const double excess = -cp.gap - options_.slop_fraction * cp.size;
+  if (excess <= 0.0 && cp.lp == 0.0)
+    return;
+  BodyState& A = bodies_[cp.a];
+  BodyState& B = bodies_[cp.b];
+  const double vn = glm::dot(B.pseudoAt(cp.rb) - A.pseudoAt(cp.ra), cp.n);
+  const double target = beta * inv_dt * std::max(excess, 0.0);
+  double m = cp.mass_n;
+  if (!cp.active && !cp.speculative) {
+    const Vec3 ca = glm::cross(cp.ra, cp.n), cb = glm::cross(cp.rb, cp.n);
+    const double k = A.invMass() + B.invMass() + glm::dot(ca, A.inv_inertia_W * ca) +
+                     glm::dot(cb, B.inv_inertia_W * cb);
+    m = cp.mass_n = k > 0.0 ? 1.0 / k : 0.0;
+    cp.speculative = false;
+    cp.active = true;  // its mass is now known; it stays a position-only point
+  }
+  const double old = cp.lp;
+  cp.lp = std::max(0.0, old + m * (target - vn));
+  const Vec3 J = cp.n * (cp.lp - old);
+  A.applyPseudo(-J, cp.ra);
+  B.applyPseudo(J, cp.rb);
+}
+
+}  // namespace hapticd::dynamics

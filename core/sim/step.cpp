@@ -1,0 +1,359 @@
+// One servo tick of the whole simulation (docs/architecture.md "One servo tick"; §3.1, §6.1 of
+// Gregory et al. 2000): edits seen, attachment, the predictive distance, the proxy's step (backed
+// off when it went too deep), the dynamics, the coupling and the wrench on the hand, the output
+// stage, the outputs.
+#include <algorithm>
+#include <cmath>
+
+#include "core/geometry/rotation.h"
+#include "core/sim/tick.h"
+
+namespace hapticd::sim {
+namespace {
+
+using collision::BodyKind;
+using detail::comW;
+using geom::Quat;
+
+bool finitePose(const Vec3& p, const Quat& q) {
+  return geom::finite(p) && geom::finite(q);
+}
+
+// scene edits since the last tick: the collision world and the rows see them before the proxy
+// steps (a kinematic body moved into the proxy pushes it out from this tick's rows)
+struct EditsSeen {
+  std::uint32_t pairs_tested = 0;
+  double pusher_travel = 0.0;  // the farthest a kinematic body touching the held set was moved
+};
+
+EditsSeen beginTick(const SimModel& m, SceneState& s, const TickInput& input) {
+  if (s.first_step && m.info[m.probe].scene_index < 0 &&
+      geom::finite(input.X_W_device.translation)) {
+    // the probe sphere has no pose in the scene: it starts where the device is
+    s.X_W_probe.translation = input.X_W_device.translation;
+    s.world.setPose(m.probe, s.X_W_probe);
+    s.world.step();
+    detail::gatherRows(m, s);
+  }
+  s.first_step = false;
+  EditsSeen e;
+  if (!s.world_dirty)
+    return e;
+  s.world_dirty = false;
+  e.pairs_tested = s.world.step().pairs_tested;
+  detail::gatherRows(m, s);
+  const auto rows = s.rows.rows();
+  for (std::size_t i = 0; i < rows.size() && i < s.row_env.size(); ++i) {
+    if (rows[i].first < 0)
+      e.pusher_travel = std::max(e.pusher_travel, s.edit_travel[s.row_env[i]]);
+  }
+  std::fill(s.edit_travel.begin(), s.edit_travel.end(), 0.0);
+  // at most one more safe distance: the rows see every surface within two of them (pairs
+  // within max_travel * (1 + sides) get rows), so the proxy never steps past one it has no
+  // row for, even when a client teleports a body touching it
+  e.pusher_travel = std::min(e.pusher_travel, m.max_travel_m);
+  return e;
+}
+
+// the device's handle: the probe body's centre of mass placed at the device pose
+struct Device {
+  Vec3 h_W{0.0};
+  Quat q{1.0, 0.0, 0.0, 0.0};
+  bool finite = false;
+};
+
+// the predictive distance (§5.2): delta = v_c dt, v_c bounding the speed of the held points
+Device trackDevice(const SimModel& m, SceneState& s, const TickInput& input) {
+  const ResponseOptions& r = m.options.response;
+  Device dev;
+  dev.h_W = input.X_W_device.translation + input.X_W_device.rotation * m.info[m.probe].com_B;
+  dev.q = input.X_W_device.rotation;
+  dev.finite = finitePose(dev.h_W, dev.q);
+  DeviceTrack& t = s.device;
+  if (t.have_prev && dev.finite) {
+    const double v = glm::length(dev.h_W - t.prev_h_W) / r.tick_s +
+                     glm::length(geom::rotationVector(dev.q * glm::conjugate(t.prev_q))) /
+                         r.tick_s * s.held.radius_m;
+    t.v_c = std::max(std::isfinite(v) ? v : 0.0, t.v_c * m.speed_decay);
+  }
+  if (dev.finite) {
+    t.have_prev = true;
+    t.prev_h_W = dev.h_W;
+    t.prev_q = dev.q;
+  }
+  s.delta_m =
+      r.predictive
+          ? std::clamp(t.v_c * r.tick_s,
+                       std::min(m.max_travel_m, r.min_predictive_fraction * s.held.radius_m),
+                       m.max_travel_m)
+          : 0.0;
+  s.proxy.delta = s.delta_m;
+  return dev;
+}
+
+// the proxy's problem (§5.2): its handle, the device's, the hinge it turns about, the driven
+// hinges; a grabbed dynamic body's weight shifts the target (returned: m g, or zero)
+Vec3 proxyProblem(const SimModel& m, SceneState& s, const Device& dev, response::ProxyProblem* pb) {
+  const HeldSet& h = s.held;
+  pb->h_W = comW(m, s, m.probe);
+  pb->q_handle = s.X_W_probe.rotation;
+  pb->h_target_W = dev.h_W;
+  pb->q_target = dev.q;
+  pb->radius = h.radius_m;
+  if (h.mode == AttachMode::kRim || h.mode == AttachMode::kCentre) {
+    pb->c_W = comW(m, s, h.attached);
+    pb->basis = response::ProxyBasis::hinge(h.hinge_o_W, h.hinge_a_W, pb->c_W);
+    pb->handle_fixed = h.mode == AttachMode::kCentre;
+  } else {
+    pb->c_W = pb->h_W;
+  }
+  if (!dev.finite) {
+    // a bad pose moves nothing: hold the proxy where it is
+    pb->h_target_W = pb->h_W;
+    pb->q_target = pb->q_handle;
+  }
+  // a grabbed dynamic body's weight at its centre of mass: the proxy's target shifted by what
+  // the coupling needs to carry it, so that the hand feels m g in free space and a surface the
+  // held set rests on takes it (docs/dynamics.md)
+  Vec3 grab_weight{0.0};
+  const GrabState& g = s.grab;
+  if (g.mass > 0.0 && h.mode == AttachMode::kGrab && m.options.response.grab_weight && dev.finite) {
+    const geom::Pose& Xb = s.world.pose(h.attached);
+    const Vec3 c = Xb.translation + Xb.rotation * g.com_B;
+    grab_weight = g.mass * g.gravity_W;
+    const Vec3 torque = glm::cross(c - pb->h_W, grab_weight);
+    const double kc = s.proxy.coupling_stiffness, kr = s.proxy.rot_coupling_stiffness;
+    if (kc > 0.0)
+      pb->h_target_W = dev.h_W + grab_weight / kc;
+    if (kr > 0.0)
+      pb->q_target = glm::normalize(geom::quatFromRotationVector(torque / kr) * dev.q);
+  }
+  pb->driven_count = s.driven.count;
+  for (std::uint32_t d = 0; d < s.driven.count; ++d) {
+    const std::uint32_t id = s.driven.ids[d];
+    const BodyInfo& bi = m.info[id];
+    const geom::Pose& X = s.world.pose(id);
+    s.driven.before[d] = X;
+    pb->driven[d].o_W = X.translation + X.rotation * bi.hinge_o_B;
+    pb->driven[d].a_W = glm::normalize(X.rotation * bi.hinge_a_B);
+    pb->driven[d].radius = bi.hinge_radius;
+    // a faint hold, so that an untouched hinge stays put: 1e-6 of the coupling at its radius
+    pb->driven[d].drag = 1e-6 * m.k_c * std::max(bi.hinge_radius * bi.hinge_radius, 1e-12);
+  }
+  return grab_weight;
+}
+
+// the proxy's step, the collision step at the new pose and its rows; a step that went too deep
+// (a contact the linearisation missed) is bisected back, only when this step made it deeper by
+// a jump, a twentieth of the allowance or more (a proxy pressed into several surfaces at once
+// may rest deeper, and creeps there slowly)
+struct ProxyMove {
+  response::ProxyStep step;
+  collision::StepStats stats;
+  double penetration_m = 0.0;
+  bool backed_off = false;
+};
+
+ProxyMove moveProxy(const SimModel& m,
+                    SceneState& s,
+                    const response::ProxyProblem& pb,
+                    double pusher_travel) {
+  ProxyMove mv;
+  const geom::Pose probe_before = s.X_W_probe;
+  const geom::Pose attached_before =
+      s.held.attached == kNoBody ? geom::Pose{} : s.world.pose(s.held.attached);
+  const double pen_before = s.last_penetration_m;
+  // a kinematic body pushing the held set moves it as far as it moved itself, so that a pusher
+  // faster than the safe distance does not run over the proxy (docs/dynamics.md)
+  s.proxy.max_travel = m.max_travel_m + pusher_travel;
+  mv.step = response::solveProxyStep(pb, s.rows.rows(), s.proxy);
+  s.proxy.max_travel = m.max_travel_m;
+  detail::applyStep(m, s, mv.step);
+  mv.stats = s.world.step();
+  mv.penetration_m = detail::gatherRows(m, s);
+  const double allowance = m.options.response.penetration_allowance_m;
+  for (int k = 0;
+       k < 3 && mv.penetration_m > allowance && mv.penetration_m - pen_before > 0.05 * allowance;
+       ++k) {
+    mv.backed_off = true;
+    s.X_W_probe = probe_before;
+    if (s.held.attached != kNoBody)
+      s.world.setPose(s.held.attached, attached_before);
+    for (std::uint32_t d = 0; d < s.driven.count; ++d)
+      s.world.setPose(s.driven.ids[d], s.driven.before[d]);
+    for (double& angle : mv.step.driven_angle)
+      angle *= 0.5;
+    s.world.setPose(m.probe, s.X_W_probe);
+    for (double& x : mv.step.x)
+      x *= 0.5;
+    mv.step.dc_W *= 0.5;
+    mv.step.dtheta_W *= 0.5;
+    detail::applyStep(m, s, mv.step);
+    const collision::StepStats again = s.world.step();
+    mv.stats.pairs_tested += again.pairs_tested;
+    mv.stats.pairs_skipped = again.pairs_skipped;
+    mv.penetration_m = detail::gatherRows(m, s);
+  }
+  return mv;
+}
+
+// the dynamics (only when the plan asks): after this tick's collision step, with the held body
+// (and an attached dynamic body) following the proxy with infinite mass; the spread impulses
+// on the held set are the impact wrench (about its centre of mass)
+response::Wrench stepDynamics(const SimModel& m, SceneState& s, TickOutput* out) {
+  response::Wrench impact;
+  if (!m.dynamics_active)
+    return impact;
+  dynamics::Dynamics& dyn = *s.dynamics;
+  if (s.held.attached != kNoBody && m.info[s.held.attached].kind == BodyKind::kDynamic)
+    dyn.setKinematicPose(s.held.attached, s.world.pose(s.held.attached));
+  dynamics::HeldInput held;
+  held.mode = dynamics::HeldMode::kKinematic;
+  held.X_WB_target = s.X_W_probe;
+  const dynamics::StepReport dr = dyn.step(s.world, m.options.response.tick_s, &held);
+  if ((dr.flags & dynamics::kStepAsleep) == 0)
+    out->flags |= kTickDynamics;
+  if ((dr.flags & dynamics::kStepCapacityFull) != 0)
+    out->flags |= kTickCapacityFull;
+  out->dynamics_contact_points = dr.contact_points;
+  impact.force_n = dyn.heldFeedback().force_W_n;
+  impact.torque_nm = dyn.heldFeedback().torque_W_nm;
+  if (s.kinematic_target_pending) {
+    // the dynamics moved a kinematic body to its new target in this step
+    s.kinematic_target_pending = false;
+    s.world_dirty = true;
+  }
+  return impact;
+}
+
+// a body grabbed rigidly, felt with its inertia: -m a and -(I α + ω × I ω) of the body rigidly
+// at the device's pose, a and α the device's low-passed accelerations (docs/dynamics.md);
+// false (and *w zero) when there is none to add this tick
+bool grabInertia(const SimModel& m, SceneState& s, const Device& dev, response::Wrench* w) {
+  GrabState& g = s.grab;
+  if (!(g.mass > 0.0 && s.held.mode == AttachMode::kGrab && m.options.response.grab_inertia))
+    return false;
+  if (!dev.finite) {
+    g.history = 0;
+    g.a_f = g.alpha_f = Vec3{0.0};
+    return false;
+  }
+  // the body rigidly at the device's pose: its centre of mass, the device's rotation
+  const double dt = m.options.response.tick_s;
+  const Vec3 c_dev = dev.h_W + dev.q * g.r_P;
+  Vec3 w_dev{0.0};
+  if (g.history >= 1)
+    w_dev = geom::rotationVector(dev.q * glm::conjugate(g.q1)) / dt;
+  if (g.history >= 2) {
+    const Vec3 a = (c_dev - 2.0 * g.c1 + g.c2) / (dt * dt);
+    const Vec3 alpha = (w_dev - g.w1) / dt;
+    if (geom::finite(a) && geom::finite(alpha)) {
+      g.a_f += m.grab_beta * (a - g.a_f);
+      g.alpha_f += m.grab_beta * (alpha - g.alpha_f);
+    }
+  }
+  g.c2 = g.c1;
+  g.c1 = c_dev;
+  g.q1 = dev.q;
+  g.w1 = w_dev;
+  g.history = std::min<std::uint32_t>(g.history + 1, 2);
+  const geom::Mat3 R = glm::mat3_cast(s.world.pose(s.held.attached).rotation);
+  const geom::Mat3 I_W = R * g.inertia_B * glm::transpose(R);
+  w->force_n = -g.mass * g.a_f;
+  w->torque_nm =
+      -(I_W * g.alpha_f + glm::cross(w_dev, I_W * w_dev)) + glm::cross(c_dev - dev.h_W, w->force_n);
+  if (geom::finite(w->force_n) && geom::finite(w->torque_nm))
+    return true;
+  *w = response::Wrench{};
+  return false;
+}
+
+// what the tick says besides the force: the penalty wrench, counts, flags, the lists
+void fillOutput(const SimModel& m, SceneState& s, const ProxyMove& mv, TickOutput* out) {
+  const HeldSet& h = s.held;
+  const Vec3 c_ref = h.mode == AttachMode::kRim || h.mode == AttachMode::kCentre
+                         ? comW(m, s, h.attached)
+                         : comW(m, s, m.probe);
+  const response::Wrench pw = response::penaltyWrench(s.rows.rows(), c_ref, s.delta_m);
+  out->contact_force_W_n = pw.force_n;
+  out->contact_torque_W_nm = pw.torque_nm;
+  out->X_W_proxy = s.X_W_probe;
+  std::uint32_t active = 0;
+  for (const response::ContactRow& r : s.rows.rows())
+    active += r.gap < s.delta_m && r.first < 0 ? 1u : 0u;
+  out->contacts = active;
+  out->max_penetration_m = std::max(0.0, mv.penetration_m);
+  out->pairs_skipped = mv.stats.pairs_skipped;
+  if (mv.stats.pairs_skipped > 0)
+    out->flags |= kTickPairsSkipped;
+  if (s.rows.full() || mv.step.rows_dropped)
+    out->flags |= kTickCapacityFull;
+  out->attach_mode = static_cast<std::uint8_t>(h.mode);
+  out->attached_body = h.attached == kNoBody ? -1 : m.info[h.attached].scene_index;
+  out->travel_limited = mv.step.travel_limited;
+  out->delta_m = s.delta_m;
+  for (std::size_t i = 0; i < m.pose_bodies.size(); ++i) {
+    const std::uint32_t id = m.pose_bodies[i];
+    s.body_poses[i].X_WB = m.dynamics_active && m.info[id].kind == BodyKind::kDynamic
+                               ? s.dynamics->pose(id)
+                               : s.world.pose(id);
+  }
+  detail::fillContactPoints(m, s, out);
+}
+
+}  // namespace
+
+TickOutput step(const SimModel& m, SceneState& s, const TickInput& input) {
+  TickOutput out;
+  const EditsSeen edits = beginTick(m, s, input);
+  detail::updateAttachment(m, s, input);
+  const Device dev = trackDevice(m, s, input);
+  response::ProxyProblem pb;
+  const Vec3 grab_weight = proxyProblem(m, s, dev, &pb);
+  const ProxyMove mv = moveProxy(m, s, pb, edits.pusher_travel);
+  if (mv.backed_off)
+    out.flags |= kTickBackedOff;
+  response::Wrench impact = stepDynamics(m, s, &out);
+
+  // the coupling between the device and the proxy, the dynamics' impacts moved from the held
+  // set's centre of mass to the handle point, a grabbed body's inertia; then the one output
+  // stage
+  const Vec3 h_prx = s.held.mode == AttachMode::kCentre ? s.held.centre_h_W : comW(m, s, m.probe);
+  response::Wrench raw = s.coupling.step(dev.h_W, dev.q, h_prx, s.X_W_probe.rotation);
+  if (m.dynamics_active) {
+    const Vec3 c_fb = s.dynamics->heldFeedback().com_W;
+    impact.torque_nm += glm::cross(c_fb - h_prx, impact.force_n);
+    raw.force_n += impact.force_n;
+    raw.torque_nm += impact.torque_nm;
+  }
+  response::Wrench inertia;
+  if (grabInertia(m, s, dev, &inertia)) {
+    raw.force_n += inertia.force_n;
+    raw.torque_nm += inertia.torque_nm;
+  }
+  response::OutputReport rep;
+  const response::Wrench w = s.output.apply(raw, input.device_ok && dev.finite, &rep);
+  if (!input.device_ok || !dev.finite)
+    s.coupling.reset();
+
+  out.force_W_n = w.force_n;
+  out.torque_W_nm = w.torque_nm;
+  out.impact_force_W_n = impact.force_n;
+  out.impact_torque_W_nm = impact.torque_nm;
+  out.grab_weight_W_n = grab_weight;
+  out.grab_inertia_force_W_n = inertia.force_n;
+  out.grab_inertia_torque_W_nm = inertia.torque_nm;
+  out.pairs_tested = mv.stats.pairs_tested + edits.pairs_tested;
+  if (rep.ramping)
+    out.flags |= kTickRamping;
+  if (rep.clamped)
+    out.flags |= kTickForceClamped;
+  if (rep.step_limited)
+    out.flags |= kTickStepLimited;
+  if (rep.non_finite)
+    out.flags |= kTickNonFinite;
+  fillOutput(m, s, mv, &out);
+  return out;
+}
+
+}  // namespace hapticd::sim
