@@ -113,6 +113,8 @@ void putTickFigures(const ServoState& st, const DurationHistogram& compute, Mess
 
 Result<proto::ServerConfig> serverConfigOf(const Config& c) {
   proto::ServerConfig cfg;
+  if (c.network.udp.empty())
+    return cfg;  // UDP off: nothing to check
   cfg.bind_address = c.network.udp;
   cfg.tick_rate_hz = static_cast<std::uint32_t>(std::lround(c.servo.rate_hz));
   cfg.rate_limit.packets_per_s = c.network.rate_limit_packets_per_s;
@@ -192,6 +194,8 @@ void ProtocolAdapter::addStatus(nlohmann::json& j, const ServoState& st) const {
     shm["why_not"] = shm_error_;
   }
   j["shm"] = shm;
+  if (!server_)
+    j["network"] = {{"udp", ""}, {"why_not", "off ([network] udp = \"\")"}};
   if (server_) {
     const auto& c = server_->counters();
     j["network"] = {{"udp", server_->localAddress().toString()},
@@ -362,6 +366,7 @@ void ProtocolAdapter::startShm(const std::string& name) {
   shm_name_ = name;
   if (name.empty()) {
     shm_error_ = "off ([network] shm = \"\")";
+    logInfo("shared memory: off ([network] shm = \"\")");
     return;
   }
   if (const std::uint64_t pid = liveShmOwner(name); pid != 0) {
@@ -382,6 +387,13 @@ void ProtocolAdapter::startShm(const std::string& name) {
 }
 
 Result<bool> ProtocolAdapter::startNetwork(const Config& config) {
+  if (config.network.udp.empty()) {
+    logInfo(std::string("network: UDP off ([network] udp = \"\"") +
+            (config.servo.clock == ClockKind::kVirtual ? ", the virtual clock's default: --udp "
+                                                         "serves it)"
+                                                       : ")"));
+    return true;
+  }
   auto settings = serverConfigOf(config);
   if (!settings)
     return settings.error();

@@ -1,0 +1,177 @@
+// The edges a user hits, each tried on the real hapticd binary as a new user would: a headless
+// replay (virtual clock) while another hapticd holds the default port and segment, `--udp ""` and
+// `[network] udp = ""`. Waits are bounded by polls and kills (a hang fails the test); no
+// wall-clock duration is asserted.
+#include <arpa/inet.h>
+#include <gtest/gtest.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
+
+#include "tests/daemon/daemon_fixture.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using hapticd::testing::ScratchDir;
+using hapticd::testing::slurp;
+const std::string kSource = HAPTICD_SOURCE_DIR;
+
+// One hapticd child with its own output files and status file in the test's scratch folder.
+class Hapticd {
+ public:
+  Hapticd(const ScratchDir& dir, std::string name) : dir_(dir), name_(std::move(name)) {}
+  ~Hapticd() {
+    if (pid_ > 0) {
+      kill(pid_, SIGKILL);
+      hapticd::testing::waitExit(pid_, 30.0);
+    }
+  }
+  Hapticd(const Hapticd&) = delete;
+  Hapticd& operator=(const Hapticd&) = delete;
+
+  // exactly these arguments (no port or segment added) and --status-file
+  void start(std::vector<std::string> args) {
+    std::vector<std::string> all{HAPTICD_BINARY};
+    all.insert(all.end(), args.begin(), args.end());
+    all.insert(all.end(), {"--status-file", file("status.json")});
+    pid_ = hapticd::testing::spawn(all, dir_ / (name_ + ".out"), dir_ / (name_ + ".err"));
+    ASSERT_GT(pid_, 0);
+  }
+  int wait(double limit_s = 240.0) {
+    const int code = hapticd::testing::waitExit(pid_, limit_s);
+    pid_ = -1;
+    return code;
+  }
+  int run(std::vector<std::string> args) {
+    start(std::move(args));
+    return wait();
+  }
+  bool running() const { return pid_ > 0 && hapticd::testing::running(pid_); }
+  void signal(int sig) const { kill(pid_, sig); }
+  nlohmann::json status() const {
+    return hapticd::testing::parseJsonOrEmpty(slurp(file("status.json")));
+  }
+  std::string err() const { return slurp(dir_ / (name_ + ".err")); }
+  std::string file(const std::string& what) const { return (dir_ / (name_ + "." + what)).string(); }
+
+ private:
+  const ScratchDir& dir_;
+  std::string name_;
+  pid_t pid_ = -1;
+};
+
+// errno of a bind to 127.0.0.1:port (0: it bound, so nothing holds the port)
+int bindErrno(std::uint16_t port) {
+  const int s = socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  a.sin_port = htons(port);
+  const int rc = bind(s, reinterpret_cast<sockaddr*>(&a), sizeof a);
+  const int e = rc == 0 ? 0 : errno;
+  close(s);
+  return e;
+}
+
+std::vector<std::string> replayArgs(const std::string& scene) {
+  return {"--scene",  kSource + "/scenes/" + scene + ".glb",
+          "--device", "replay:" + kSource + "/tests/streams/" + scene + ".csv",
+          "--clock",  "virtual"};
+}
+
+// The README's headless replay, word for word but for the record path, while a real-clock
+// hapticd on the defaults (UDP 127.0.0.1:47100, segment /hapticd) runs: the replay serves
+// neither, so it neither fails on the port nor touches the other daemon's segment.
+TEST(EdgesTest, VirtualClockReplayRunsBesideADaemonOnTheDefaultPortAndSegment) {
+  ScratchDir dir("hapticd_edges_test");
+  Hapticd real(dir, "real");
+  real.start({"--realtime", "off"});
+  // running on the defaults, or refused because something else holds the port already: either
+  // way the default port is taken while the replay runs
+  ASSERT_TRUE(hapticd::testing::pollUntil([&] {
+    return !real.running() || real.status().value("tick", 0) > 50;
+  })) << real.err();
+  ASSERT_EQ(bindErrno(47100), EADDRINUSE) << real.err();
+  const bool real_serves_shm = real.running() && real.status()["shm"].value("serving", false);
+
+  Hapticd replay(dir, "replay");
+  auto args = replayArgs("peg_in_hole");
+  args.insert(args.end(), {"--record", replay.file("csv")});
+  ASSERT_EQ(replay.run(args), 0) << replay.err();
+  EXPECT_EQ(replay.err().find("Address already in use"), std::string::npos) << replay.err();
+  EXPECT_EQ(replay.err().find("warning"), std::string::npos) << replay.err();
+  const auto j = replay.status();
+  EXPECT_EQ(j["network"]["udp"], "") << j.dump();
+  EXPECT_FALSE(j["shm"]["serving"].get<bool>()) << j.dump();
+  EXPECT_GT(slurp(replay.file("csv")).size(), 100000u);
+
+  if (real.running()) {
+    // the real daemon kept its segment and still serves
+    if (real_serves_shm) {
+      EXPECT_TRUE(fs::exists("/dev/shm/hapticd"));
+    }
+    EXPECT_TRUE(real.status()["shm"].value("serving", false) == real_serves_shm);
+    real.signal(SIGTERM);
+    EXPECT_EQ(real.wait(), 0) << real.err();
+  }
+}
+
+// A virtual-clock run still serves what it is asked to: --udp (here any free port).
+TEST(EdgesTest, VirtualClockServesUdpWhenAskedOnTheCommandLine) {
+  ScratchDir dir("hapticd_edges_test");
+  Hapticd replay(dir, "replay");
+  auto args = replayArgs("gears");
+  args.insert(args.end(), {"--udp", "127.0.0.1:0"});
+  ASSERT_EQ(replay.run(args), 0) << replay.err();
+  const auto j = replay.status();
+  const std::string udp = j["network"].value("udp", "");
+  EXPECT_EQ(udp.rfind("127.0.0.1:", 0), 0u) << j.dump();
+  EXPECT_NE(udp, "127.0.0.1:0") << j.dump();  // the port bound is named
+  EXPECT_FALSE(j["shm"]["serving"].get<bool>()) << j.dump();
+}
+
+// `--udp ""` turns UDP off on the real clock as `--shm ""` turns shared memory off; so does
+// `[network] udp = ""` in the config file. The daemon then runs and stops as usual.
+TEST(EdgesTest, EmptyUdpTurnsUdpOffOnTheCommandLineAndInTheConfigFile) {
+  ScratchDir dir("hapticd_edges_test");
+  {
+    Hapticd d(dir, "cli");
+    ASSERT_EQ(d.run({"--realtime", "off", "--ticks", "300", "--udp", "", "--shm", ""}), 0)
+        << d.err();
+    const auto j = d.status();
+    EXPECT_EQ(j["tick"], 300);
+    EXPECT_EQ(j["network"]["udp"], "") << j.dump();
+    EXPECT_NE(j["network"].value("why_not", "").find("off"), std::string::npos) << j.dump();
+    EXPECT_FALSE(j["shm"]["serving"].get<bool>());
+    EXPECT_NE(d.err().find("network: UDP off"), std::string::npos) << d.err();
+  }
+  {
+    std::ofstream(dir / "off.toml") << "[network]\nudp = \"\"\nshm = \"\"\n";
+    Hapticd d(dir, "file");
+    ASSERT_EQ(
+        d.run({"--config", (dir / "off.toml").string(), "--realtime", "off", "--ticks", "300"}), 0)
+        << d.err();
+    EXPECT_EQ(d.status()["network"]["udp"], "") << d.status().dump();
+    EXPECT_FALSE(d.status()["shm"]["serving"].get<bool>());
+  }
+  {
+    // --check-config accepts it too; a malformed address is still refused, naming the key
+    std::ofstream(dir / "bad.toml") << "[network]\nudp = \"nonsense\"\n";
+    Hapticd d(dir, "bad");
+    EXPECT_EQ(d.run({"--config", (dir / "bad.toml").string(), "--check-config"}), 2);
+    EXPECT_NE(d.err().find("[network] udp"), std::string::npos) << d.err();
+    Hapticd ok(dir, "ok");
+    EXPECT_EQ(ok.run({"--config", (dir / "off.toml").string(), "--check-config"}), 0) << ok.err();
+  }
+}
+
+}  // namespace
