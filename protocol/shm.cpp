@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <new>
 
@@ -32,6 +33,12 @@ ShmStateBlock* stateBlock(void* base) {
 }
 ShmRing* ring(void* base) {
   return reinterpret_cast<ShmRing*>(static_cast<char*>(base) + kRingOffset);
+}
+
+std::string hex32(std::uint32_t v) {
+  char text[16];
+  std::snprintf(text, sizeof text, "0x%08x", v);
+  return text;
 }
 
 bool finiteAll(const double* v, std::size_t n) {
@@ -87,10 +94,63 @@ void toState(const ShmState& in, State& out) {
 
 // ---- server --------------------------------------------------------------------------------
 
+ShmExisting inspectShm(const std::string& name) {
+  ShmExisting e;
+  e.path = "/dev/shm" + name;
+  const int fd = ::shm_open(name.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW, 0);
+  if (fd < 0) {
+    if (errno != ENOENT) {
+      e.kind = ShmExisting::Kind::kForeign;
+      e.what = "shm_open(" + name + "): " + std::strerror(errno);
+    }
+    return e;
+  }
+  e.kind = ShmExisting::Kind::kForeign;
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    e.what = std::string("fstat: ") + std::strerror(errno);
+    ::close(fd);
+    return e;
+  }
+  const auto bytes = static_cast<std::uint64_t>(st.st_size);
+  if (!S_ISREG(st.st_mode)) {
+    e.what = S_ISDIR(st.st_mode) ? "a directory" : "not a regular file";
+  } else if (st.st_uid != ::geteuid()) {
+    e.what = "owned by uid " + std::to_string(st.st_uid) + ", not this user (uid " +
+             std::to_string(::geteuid()) + ")";
+  } else if (bytes < sizeof(ShmHeader)) {
+    e.what = std::to_string(bytes) + " bytes, smaller than a segment header (" +
+             std::to_string(sizeof(ShmHeader)) + ")";
+  } else {
+    void* p = ::mmap(nullptr, sizeof(ShmHeader), PROT_READ, MAP_SHARED, fd, 0);
+    if (p == MAP_FAILED) {
+      e.what = std::string("mmap: ") + std::strerror(errno);
+    } else {
+      const auto* h = static_cast<const ShmHeader*>(p);
+      if (h->magic != kShmMagic) {
+        e.what = std::to_string(bytes) + " bytes, magic " + hex32(h->magic) +
+                 " where a hapticd segment has " + hex32(kShmMagic);
+      } else {
+        e.kind = ShmExisting::Kind::kHapticd;
+        e.server_pid = h->server_pid.load(std::memory_order_acquire);
+        e.server_heartbeat_ns = h->server_heartbeat_ns.load(std::memory_order_acquire);
+      }
+      ::munmap(p, sizeof(ShmHeader));
+    }
+  }
+  ::close(fd);
+  return e;
+}
+
 Result<ShmServer> ShmServer::create(const std::string& name) {
   if (name.size() < 2 || name[0] != '/' || name.find('/', 1) != std::string::npos)
     return Error{"shm name '" + name + "' must be '/' followed by a name without '/'"};
-  ::shm_unlink(name.c_str());  // a segment left by a crashed daemon
+  const ShmExisting existing = inspectShm(name);
+  if (existing.kind == ShmExisting::Kind::kForeign)
+    return Error{existing.path + " is not a hapticd segment (" + existing.what +
+                 "): left as it is"};
+  if (existing.kind == ShmExisting::Kind::kHapticd)
+    ::shm_unlink(name.c_str());  // a segment the caller found stale
   const int fd = ::shm_open(name.c_str(), O_CREAT | O_EXCL | O_RDWR | O_CLOEXEC, 0600);
   if (fd < 0)
     return Error{"shm_open(" + name + "): " + std::strerror(errno)};

@@ -141,10 +141,29 @@ struct ShmCommandEvent {
 /// 2^32 − 1, a negative or non-finite depth as 0). Any thread.
 void toState(const ShmState& in, State& out);
 
-/// The daemon's side: creates (replacing a stale one) and owns the segment; unlinks it on
-/// destruction. publish(), popCommand(), beat() and clientAlive() are servo-thread safe.
+/// What is at a segment's name before a server creates it. Any thread; no state changed.
+struct ShmExisting {
+  enum class Kind : std::uint8_t {
+    kNone,     ///< nothing at the name
+    kHapticd,  ///< a hapticd segment of this user (its magic, at least a header): server_* set
+    kForeign,  ///< anything else (not this user's, too small, another magic, not openable)
+  };
+  Kind kind = Kind::kNone;
+  std::string path;  ///< the file that holds it, "/dev/shm/NAME" (Linux's shm_open)
+  std::string what;  ///< kForeign: what was found, e.g. "12 bytes, smaller than a segment header"
+  std::uint64_t server_pid = 0;           ///< kHapticd: the header's server pid
+  std::uint64_t server_heartbeat_ns = 0;  ///< kHapticd: its last beat, CLOCK_MONOTONIC ns (0 none)
+};
+/// Looks at `name` (a valid shm name) without changing it.
+ShmExisting inspectShm(const std::string& name);
+
+/// The daemon's side: creates and owns the segment; unlinks it on destruction. publish(),
+/// popCommand(), beat() and clientAlive() are servo-thread safe.
 class ShmServer {
  public:
+  /// A hapticd segment already at `name` (inspectShm: kHapticd) is replaced: the caller has
+  /// decided it is stale. Anything else there is never removed: error "PATH is not a hapticd
+  /// segment (WHAT)"; so are a bad name and shm_open / ftruncate / mmap failures.
   static Result<ShmServer> create(const std::string& name = kDefaultShmName);
   ~ShmServer();
   ShmServer(ShmServer&& o) noexcept;

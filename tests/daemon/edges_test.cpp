@@ -1,7 +1,7 @@
 // The edges a user hits, each tried on the real hapticd binary as a new user would: a headless
-// replay (virtual clock) while another hapticd holds the default port and segment, `--udp ""` and
-// `[network] udp = ""`. Waits are bounded by polls and kills (a hang fails the test); no
-// wall-clock duration is asserted.
+// replay (virtual clock) while another hapticd holds the default port and segment, `--udp ""`
+// and `[network] udp = ""`, a foreign file at the segment's name. Waits are bounded by polls and
+// kills (a hang fails the test); no wall-clock duration is asserted.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
@@ -172,6 +172,42 @@ TEST(EdgesTest, EmptyUdpTurnsUdpOffOnTheCommandLineAndInTheConfigFile) {
     Hapticd ok(dir, "ok");
     EXPECT_EQ(ok.run({"--config", (dir / "off.toml").string(), "--check-config"}), 0) << ok.err();
   }
+}
+
+// A file at /dev/shm/NAME that hapticd did not make (here: too small, another magic) is named in
+// a warning with what was found, left exactly as it was, and the daemon runs without shared
+// memory (docs/daemon.md "Shared memory").
+TEST(EdgesTest, AForeignFileAtTheSegmentNameIsNamedInAWarningAndLeftAsItIs) {
+  ScratchDir dir("hapticd_edges_test");
+  const std::string name = "/hapticd-edges-test-" + std::to_string(getpid());
+  const fs::path file = "/dev/shm" + name;
+  struct Case {
+    std::string content;
+    std::string found;
+  };
+  const Case cases[] = {
+      {"not a segment\n", "14 bytes, smaller than a segment header"},
+      {std::string(65536, 'z'), "65536 bytes, magic 0x7a7a7a7a where a hapticd segment has"},
+  };
+  for (const Case& c : cases) {
+    std::ofstream(file, std::ios::binary) << c.content;
+    Hapticd d(dir, "foreign");
+    ASSERT_EQ(d.run({"--realtime", "off", "--ticks", "300", "--udp", "", "--shm", name}), 0)
+        << d.err();
+    const std::string warning = "warning: [network] shm \"" + name + "\": " + file.string() +
+                                " is not a hapticd segment (" + c.found;
+    EXPECT_NE(d.err().find(warning), std::string::npos) << d.err();
+    EXPECT_NE(d.err().find("left as it is; running without shared memory"), std::string::npos)
+        << d.err();
+    EXPECT_EQ(slurp(file), c.content);
+    const auto j = d.status();
+    EXPECT_FALSE(j["shm"]["serving"].get<bool>()) << j.dump();
+    EXPECT_NE(j["shm"]["why_not"].get<std::string>().find("is not a hapticd segment"),
+              std::string::npos)
+        << j.dump();
+    EXPECT_EQ(j["tick"], 300);
+  }
+  fs::remove(file);
 }
 
 }  // namespace

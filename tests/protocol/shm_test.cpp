@@ -8,6 +8,8 @@
 
 #include <atomic>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "protocol/seqlock.h"
@@ -261,6 +263,68 @@ TEST(Shm, SegmentRemovedWithTheServer) {
     ASSERT_TRUE(server);
   }
   EXPECT_FALSE(ShmClient::attach(name));
+}
+
+// A file at the segment's name that hapticd did not make is told apart from a hapticd segment
+// and never removed by create(); a hapticd segment (left by a dead server) is replaced.
+TEST(Shm, AForeignFileIsNeverReplacedAHapticdSegmentIs) {
+  const std::string name = uniqueName("foreign");
+  const std::string path = "/dev/shm" + name;
+  EXPECT_EQ(inspectShm(name).kind, ShmExisting::Kind::kNone);
+  {
+    std::ofstream(path) << "hello";
+    const ShmExisting e = inspectShm(name);
+    EXPECT_EQ(e.kind, ShmExisting::Kind::kForeign);
+    EXPECT_EQ(e.path, path);
+    EXPECT_NE(e.what.find("5 bytes, smaller than a segment header"), std::string::npos) << e.what;
+    auto refused = ShmServer::create(name);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find(path + " is not a hapticd segment (5 bytes"),
+              std::string::npos)
+        << refused.error().message;
+    std::ifstream in(path);
+    std::string text;
+    std::getline(in, text);
+    EXPECT_EQ(text, "hello");  // left as it was
+  }
+  {
+    std::ofstream(path) << std::string(8192, 'x');
+    const ShmExisting e = inspectShm(name);
+    EXPECT_EQ(e.kind, ShmExisting::Kind::kForeign);
+    EXPECT_NE(e.what.find("8192 bytes, magic 0x78787878 where a hapticd segment has 0x4d535048"),
+              std::string::npos)
+        << e.what;
+    EXPECT_FALSE(ShmServer::create(name));
+    EXPECT_EQ(std::filesystem::file_size(path), 8192u);
+  }
+  if (::geteuid() == 0) {
+    // a hapticd segment of another user is not this daemon's to replace
+    {
+      auto other = ShmServer::create(uniqueName("other-user"));
+      ASSERT_TRUE(other);
+      std::filesystem::copy_file("/dev/shm" + other.value().name(), path,
+                                 std::filesystem::copy_options::overwrite_existing);
+    }
+    ASSERT_EQ(::chown(path.c_str(), 65534, 65534), 0);
+    const ShmExisting e = inspectShm(name);
+    EXPECT_EQ(e.kind, ShmExisting::Kind::kForeign);
+    EXPECT_NE(e.what.find("owned by uid 65534, not this user (uid 0)"), std::string::npos)
+        << e.what;
+    EXPECT_FALSE(ShmServer::create(name));
+    EXPECT_TRUE(std::filesystem::exists(path));
+  }
+  std::filesystem::remove(path);
+  {
+    // a hapticd segment whose server is gone (its object destroyed without unlinking: copied)
+    auto first = ShmServer::create(uniqueName("first"));
+    ASSERT_TRUE(first);
+    std::filesystem::copy_file("/dev/shm" + first.value().name(), path);
+  }
+  const ShmExisting e = inspectShm(name);
+  EXPECT_EQ(e.kind, ShmExisting::Kind::kHapticd);
+  EXPECT_EQ(e.server_pid, static_cast<std::uint64_t>(::getpid()));
+  auto replaced = ShmServer::create(name);
+  EXPECT_TRUE(replaced) << replaced.error().message;
 }
 
 }  // namespace
