@@ -267,8 +267,8 @@ std::uint64_t ShmServer::commandsRefused() const noexcept {
 
 // ---- client --------------------------------------------------------------------------------
 
-Result<ShmClient> ShmClient::attach(const std::string& name, std::uint64_t takeover_after_ns) {
-  const int fd = ::shm_open(name.c_str(), O_RDWR | O_CLOEXEC, 0);
+Result<ShmClient> ShmClient::map(const std::string& name, bool read_only) {
+  const int fd = ::shm_open(name.c_str(), (read_only ? O_RDONLY : O_RDWR) | O_CLOEXEC, 0);
   if (fd < 0)
     return Error{"shm " + name + ": " + std::strerror(errno) +
                  " (is hapticd running with shared memory on?)"};
@@ -277,14 +277,16 @@ Result<ShmClient> ShmClient::attach(const std::string& name, std::uint64_t takeo
     ::close(fd);
     return Error{"shm " + name + ": segment too small for this version"};
   }
-  void* base = ::mmap(nullptr, kSegmentBytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+  void* base = ::mmap(nullptr, kSegmentBytes, read_only ? PROT_READ : PROT_READ | PROT_WRITE,
+                      MAP_SHARED, fd, 0);
   ::close(fd);
   if (base == MAP_FAILED)
     return Error{"shm " + name + ": mmap: " + std::strerror(errno)};
   ShmClient c;
   c.base_ = base;
   c.size_ = kSegmentBytes;
-  ShmHeader* h = header(base);
+  c.read_only_ = true;  // until the header is checked: a refused mapping writes nothing
+  const ShmHeader* h = header(base);
   const std::uint32_t magic = h->magic;
   std::atomic_thread_fence(std::memory_order_acquire);
   if (magic != kShmMagic)
@@ -296,6 +298,16 @@ Result<ShmClient> ShmClient::attach(const std::string& name, std::uint64_t takeo
       h->ring_offset != kRingOffset || h->ring_slots != kShmRingSlots ||
       h->state_bytes < sizeof(ShmState) || h->slot_bytes != sizeof(ShmCommand))
     return Error{"shm " + name + ": layout sizes differ from this build's"};
+  c.read_only_ = read_only;
+  return c;
+}
+
+Result<ShmClient> ShmClient::attach(const std::string& name, std::uint64_t takeover_after_ns) {
+  auto mapped = map(name, false);
+  if (!mapped)
+    return mapped.error();
+  ShmClient c = std::move(mapped.value());
+  ShmHeader* h = header(c.base_);
   const std::uint64_t pid = h->client_pid.load(std::memory_order_acquire);
   if (pid != 0) {
     timespec ts{};
@@ -303,26 +315,39 @@ Result<ShmClient> ShmClient::attach(const std::string& name, std::uint64_t takeo
     const std::uint64_t now = static_cast<std::uint64_t>(ts.tv_sec) * 1'000'000'000ull +
                               static_cast<std::uint64_t>(ts.tv_nsec);
     const std::uint64_t beat = h->client_heartbeat_ns.load(std::memory_order_acquire);
-    if (beat != 0 && now - beat < takeover_after_ns)
-      return Error{"shm " + name + ": another client (pid " + std::to_string(pid) +
-                   ") is attached and alive"};
+    if (beat != 0 && now - beat < takeover_after_ns) {
+      c.read_only_ = true;  // not attached: its destructor must not clear the other's pid
+      return Error{"shm " + name + ": another commanding client (pid " + std::to_string(pid) +
+                   ") is attached and alive (read-only readers such as watch and record may "
+                   "attach beside it)"};
+    }
   }
   h->client_pid.store(static_cast<std::uint64_t>(::getpid()), std::memory_order_release);
   c.generation_ = h->client_generation.fetch_add(1, std::memory_order_acq_rel) + 1;
   return c;
 }
 
+Result<ShmClient> ShmClient::attachReader(const std::string& name) {
+  return map(name, true);
+}
+
 ShmClient::ShmClient(ShmClient&& o) noexcept
-    : base_(o.base_), size_(o.size_), generation_(o.generation_), sequence_(o.sequence_) {
+    : base_(o.base_),
+      size_(o.size_),
+      generation_(o.generation_),
+      sequence_(o.sequence_),
+      read_only_(o.read_only_) {
   o.base_ = nullptr;
 }
 
 ShmClient::~ShmClient() {
   if (!base_)
     return;
-  ShmHeader* h = header(base_);
-  std::uint64_t pid = static_cast<std::uint64_t>(::getpid());
-  h->client_pid.compare_exchange_strong(pid, 0);
+  if (!read_only_) {
+    ShmHeader* h = header(base_);
+    std::uint64_t pid = static_cast<std::uint64_t>(::getpid());
+    h->client_pid.compare_exchange_strong(pid, 0);
+  }
   ::munmap(base_, size_);
 }
 
@@ -331,6 +356,8 @@ bool ShmClient::readState(ShmState& out, int max_tries) const noexcept {
 }
 
 bool ShmClient::push(ShmCommand c) noexcept {
+  if (read_only_)
+    return false;
   ShmRing* r = ring(base_);
   c.generation = generation_;
   return SpscRingRef<ShmCommand>(r->indices, r->slots, kShmRingSlots).push(c);
@@ -375,6 +402,8 @@ bool ShmClient::pushDisarm(std::uint64_t now_ns) noexcept {
 }
 
 void ShmClient::beat(std::uint64_t now_ns) noexcept {
+  if (read_only_)
+    return;
   header(base_)->client_heartbeat_ns.store(now_ns, std::memory_order_release);
 }
 

@@ -2,8 +2,9 @@
 /// \file
 /// The shared-memory transport for clients on the same host: one POSIX shm segment
 /// (shm_open("/hapticd"), mode 0600) holding a versioned header, a seqlock state block written by
-/// the daemon every tick, a single-producer single-consumer command ring written by one client,
-/// and a heartbeat in each direction. After PipeWire spa/node/io.h, every field names its unit
+/// the daemon every tick, a single-producer single-consumer command ring written by one client
+/// (the commander), and a heartbeat in each direction; any number of read-only readers of the
+/// state block beside the commander. After PipeWire spa/node/io.h, every field names its unit
 /// and clock. No allocation, no locks and no system calls after create/attach: publish() and
 /// popCommand() are servo-thread safe.
 ///
@@ -191,13 +192,20 @@ class ShmServer {
   std::size_t size_ = 0;
 };
 
-/// A client's side: attaches to an existing segment (checks magic, version and sizes).
+/// A client's side: attaches to an existing segment (checks magic, version and sizes). Two
+/// kinds: one commander at a time (attach(): the command ring, the client heartbeat and pid,
+/// a gate session of its own), and any number of read-only state readers beside it
+/// (attachReader(): the segment mapped read-only, nothing in it written, invisible to the
+/// daemon; readState() and serverAlive() only).
 class ShmClient {
  public:
-  /// Errors: no segment (daemon not running or shm off), wrong version, a live client already
-  /// attached (its heartbeat is younger than `takeover_after_ns`).
+  /// The commander. Errors: no segment (daemon not running or shm off), wrong version, a live
+  /// commander already attached (its heartbeat is younger than `takeover_after_ns`).
   static Result<ShmClient> attach(const std::string& name = kDefaultShmName,
                                   std::uint64_t takeover_after_ns = 500'000'000);
+  /// A read-only state reader, beside the commander and any other reader. Errors: no segment,
+  /// wrong version or sizes.
+  static Result<ShmClient> attachReader(const std::string& name = kDefaultShmName);
   ~ShmClient();
   ShmClient(ShmClient&& o) noexcept;
   ShmClient& operator=(ShmClient&&) = delete;
@@ -206,7 +214,10 @@ class ShmClient {
   /// Reads the newest state without tearing; false when none was published yet or the writer
   /// kept it busy for max_tries attempts (never blocks).
   bool readState(ShmState& out, int max_tries = 10000) const noexcept;
-  /// Queues a pose command (sequence assigned here, returned in *sequence); false when full.
+  /// True for a reader (attachReader()): the push calls return false, beat() does nothing.
+  bool readOnly() const noexcept { return read_only_; }
+  /// Queues a pose command (sequence assigned here, returned in *sequence); false when full or
+  /// read-only.
   bool pushPose(const PoseCommand& cmd,
                 std::uint64_t now_ns,
                 std::uint64_t* sequence = nullptr) noexcept;
@@ -219,12 +230,15 @@ class ShmClient {
 
  private:
   ShmClient() = default;
+  // maps the segment and checks its header (both kinds)
+  static Result<ShmClient> map(const std::string& name, bool read_only);
   bool push(ShmCommand c) noexcept;
   bool pushControl(std::uint64_t kind, std::uint64_t now_ns) noexcept;  // arm or disarm
   void* base_ = nullptr;
   std::size_t size_ = 0;
   std::uint64_t generation_ = 0;
   std::uint64_t sequence_ = 0;
+  bool read_only_ = false;
 };
 
 }  // namespace hapticd::proto

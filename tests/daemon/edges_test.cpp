@@ -1,7 +1,7 @@
 // The edges a user hits, each tried on the real hapticd binary as a new user would: a headless
 // replay (virtual clock) while another hapticd holds the default port and segment, `--udp ""`
-// and `[network] udp = ""`, a foreign file at the segment's name. Waits are bounded by polls and
-// kills (a hang fails the test); no wall-clock duration is asserted.
+// and `[network] udp = ""`, a foreign file at the segment's name, shm readers beside a commander.
+// Waits are bounded by polls and kills (a hang fails the test); no wall-clock duration is asserted.
 #include <arpa/inet.h>
 #include <gtest/gtest.h>
 #include <netinet/in.h>
@@ -9,6 +9,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cerrno>
 #include <filesystem>
 #include <fstream>
@@ -208,6 +209,59 @@ TEST(EdgesTest, AForeignFileAtTheSegmentNameIsNamedInAWarningAndLeftAsItIs) {
     EXPECT_EQ(j["tick"], 300);
   }
   fs::remove(file);
+}
+
+// A `hapticctl watch --shm` (twice) during a `hapticctl replay --shm`: the replay commands
+// through the segment, both watches read states beside it (read-only), all three exit 0.
+TEST(EdgesTest, TwoShmWatchesDuringAShmReplay) {
+  ScratchDir dir("hapticd_edges_test");
+  const std::string name = "/hapticd-edges-readers-" + std::to_string(getpid());
+  {
+    // the first 6 s of the demo's stream
+    std::ifstream in(kSource + "/tests/streams/peg_in_hole.csv");
+    std::ofstream out(dir / "short.csv");
+    std::string line;
+    while (std::getline(in, line) && (line[0] == 't' || std::stod(line) <= 6.0))
+      out << line << "\n";
+  }
+  Hapticd d(dir, "daemon");
+  d.start({"--realtime", "off", "--udp", "127.0.0.1:0", "--shm", name, "--scene",
+           kSource + "/scenes/peg_in_hole.glb"});
+  ASSERT_TRUE(hapticd::testing::pollUntil([&] { return d.status().value("tick", 0) > 50; }))
+      << d.err();
+  const std::string udp = d.status()["network"]["udp"];
+  const std::string port = udp.substr(udp.rfind(':') + 1);
+  auto ctl = [&](const std::string& out_name, std::vector<std::string> args) {
+    std::vector<std::string> all{HAPTICCTL_BINARY};
+    all.insert(all.end(), args.begin(), args.end());
+    all.insert(all.end(), {"--shm=" + name, "--port", port});
+    return hapticd::testing::spawn(all, dir / (out_name + ".out"), dir / (out_name + ".err"));
+  };
+  const pid_t replay = ctl("replay", {"replay", (dir / "short.csv").string(), "--quiet"});
+  ASSERT_GT(replay, 0);
+  // the replay is the segment's commander
+  ASSERT_TRUE(hapticd::testing::pollUntil([&] {
+    return d.status()["shm"].value("commands", 0) > 10;
+  })) << d.status().dump()
+      << slurp(dir / "replay.err");
+  const pid_t w1 = ctl("watch1", {"watch", "--count", "20", "--rate", "1000", "--json"});
+  const pid_t w2 = ctl("watch2", {"watch", "--count", "20", "--rate", "1000", "--json"});
+  EXPECT_EQ(hapticd::testing::waitExit(w1, 60.0), 0) << slurp(dir / "watch1.err");
+  EXPECT_EQ(hapticd::testing::waitExit(w2, 60.0), 0) << slurp(dir / "watch2.err");
+  const bool replay_still_ran = hapticd::testing::running(replay);
+  EXPECT_EQ(hapticd::testing::waitExit(replay, 120.0), 0) << slurp(dir / "replay.err");
+  for (const char* w : {"watch1", "watch2"}) {
+    const std::string text = slurp(dir / (std::string(w) + ".out"));
+    EXPECT_EQ(std::count(text.begin(), text.end(), '\n'), 20) << w << ": " << text;
+    EXPECT_NE(text.find("\"tick\""), std::string::npos) << text;
+  }
+  // the watches ran while the replay held the segment (a 6 s stream, 20 lines at 1 kHz)
+  EXPECT_TRUE(replay_still_ran);
+  const auto j = d.status();
+  EXPECT_GT(j["shm"].value("commands", 0), 100) << j.dump();
+  EXPECT_EQ(j["shm"].value("commands_refused", 1), 0) << j.dump();
+  d.signal(SIGTERM);
+  EXPECT_EQ(d.wait(), 0) << d.err();
 }
 
 }  // namespace
