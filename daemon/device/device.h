@@ -86,6 +86,11 @@ class Device {
   virtual DeviceStatus write(const Vec3& force_n, const Vec3& torque_nm) noexcept = 0;
   /// A client's pose command; devices without kCapPoseCommands ignore it. Servo thread.
   virtual void command(const PoseCommand& /*cmd*/) noexcept {}
+  /// The start pose of the held body in a newly swapped-in scene, device frame (after the
+  /// workspace mapping; only with [device] sim_home_from_scene). Backends with a home of their
+  /// own (the sim hand and its idle motion) move it there; others ignore it. Servo thread, at
+  /// the tick boundary where the scene is taken.
+  virtual void setHome(const Pose& /*X_D_home*/) noexcept {}
   /// Hotplug and reconnection work; called about every 100 ms from a normal thread. Returns true
   /// while the device is connected. Must not race read()/write(): backends hand state over with
   /// atomics only.
