@@ -240,7 +240,7 @@ int runPose(const DaemonTarget& t, const PoseOptions& o, std::ostream& out, std:
     err << "hapticctl pose: --rate must be a finite number > 0, Hz (got " << o.rate_hz << ")\n";
     return 2;
   }
-  auto c = openLink(t, "pose", o.arm, err);
+  auto c = openLink(t, "pose", LinkUse::kSendCommands, o.arm, err);
   if (!c)
     return 1;
   std::string why;
@@ -285,7 +285,7 @@ int runReplay(const DaemonTarget& t, const ReplayOptions& o, std::ostream& out, 
     return 2;
   }
   const std::vector<proto::PoseStreamRow>& rows = parsed.value();
-  auto c = openLink(t, "replay", o.arm, err);
+  auto c = openLink(t, "replay", LinkUse::kSendCommands, o.arm, err);
   if (!c)
     return 1;
   std::string why;
@@ -353,7 +353,7 @@ int runRecord(const DaemonTarget& t, const RecordOptions& o, std::ostream& out, 
       err << "hapticctl record: cannot create " << *path << ": " << std::strerror(errno) << "\n";
       return 2;
     }
-  auto c = openLink(t, "record", false, err);
+  auto c = openLink(t, "record", LinkUse::kReadStates, false, err);
   if (!c)
     return 1;
   // one state per tick: the tick rate, at most the daemon's largest state rate
@@ -406,7 +406,7 @@ int runRecord(const DaemonTarget& t, const RecordOptions& o, std::ostream& out, 
 }
 
 int runWatch(const DaemonTarget& t, const WatchOptions& o, std::ostream& out, std::ostream& err) {
-  auto c = openLink(t, "watch", false, err);
+  auto c = openLink(t, "watch", LinkUse::kReadStates, false, err);
   if (!c)
     return 1;
   const std::uint32_t rate = std::clamp<std::uint32_t>(o.rate_hz, 1, 1000);

@@ -139,14 +139,18 @@ class ShmLink final : public Link {
 };
 
 // Shared memory when t.shm_name is set, else UDP. nullptr after saying why on `err`.
-std::unique_ptr<Link> openTransport(const DaemonTarget& t, const char* command, std::ostream& err) {
+std::unique_ptr<Link> openTransport(const DaemonTarget& t,
+                                    const char* command,
+                                    LinkUse use,
+                                    std::ostream& err) {
   if (t.shm_name.empty()) {
     auto c = connectUdp(t, err);
     if (!c)
       return nullptr;
     return std::make_unique<UdpLink>(std::move(c));
   }
-  auto c = proto::ShmClient::attach(t.shm_name);
+  auto c = use == LinkUse::kReadStates ? proto::ShmClient::attachReader(t.shm_name)
+                                       : proto::ShmClient::attach(t.shm_name);
   if (!c) {
     err << "hapticctl " << command << ": --shm " << t.shm_name << ": " << c.error().message << "\n";
     return nullptr;
@@ -203,11 +207,12 @@ std::unique_ptr<proto::Client> connectUdp(const DaemonTarget& t, std::ostream& e
 
 std::unique_ptr<Link> openLink(const DaemonTarget& t,
                                const char* command,
+                               LinkUse use,
                                bool arm,
                                std::ostream& err) {
-  std::unique_ptr<Link> link = openTransport(t, command, err);
+  std::unique_ptr<Link> link = openTransport(t, command, use, err);
   std::string why;
-  if (link && arm && !link->arm(&why)) {
+  if (link && use == LinkUse::kSendCommands && arm && !link->arm(&why)) {
     err << "hapticctl " << command << ": arm: " << why << "\n";
     return nullptr;
   }

@@ -48,11 +48,17 @@ class Link {
   virtual void close() = 0;
 };
 
-/// The link a command uses: shared memory when t.shm_name is set, else UDP; with `arm`, armed
-/// (the gate takes the commands of the session that armed last). nullptr after saying why on
-/// `err` (exit code 1).
+/// What a command does over its link: read states only (watch, record) or send commands too
+/// (pose, replay). Over shared memory a reader attaches read-only, beside the one commander and
+/// any number of other readers.
+enum class LinkUse : std::uint8_t { kReadStates, kSendCommands };
+
+/// The link a command uses: shared memory when t.shm_name is set, else UDP; with `arm`
+/// (kSendCommands only), armed (the gate takes the commands of the session that armed last).
+/// nullptr after saying why on `err` (exit code 1).
 std::unique_ptr<Link> openLink(const DaemonTarget& t,
                                const char* command,
+                               LinkUse use,
                                bool arm,
                                std::ostream& err);
 

@@ -1,6 +1,7 @@
 #include "daemon/command_line.h"
 
 #include <CLI/CLI.hpp>
+#include <algorithm>
 #include <utility>
 
 namespace hapticd::daemon {
@@ -32,10 +33,15 @@ std::optional<int> parseCommandLine(int argc, char** argv, CommandLine& o) {
       ->check(CLI::Range(1, 99));
   app.add_option("--cpu", o.cpu, "CPU to pin the servo thread to, -1 none ([servo] cpu)")
       ->check(CLI::Range(-1, 1023));
-  app.add_option("--udp", o.udp, "UDP address ADDRESS:PORT ([network] udp)");
-  app.add_option("--shm", o.shm, "shared-memory segment /NAME, \"\" for none ([network] shm)");
+  app.add_option("--udp", o.udp,
+                 "UDP address ADDRESS:PORT, \"\" for none ([network] udp; with --clock virtual: "
+                 "none unless given)");
+  app.add_option("--shm", o.shm,
+                 "shared-memory segment /NAME, \"\" for none ([network] shm; with --clock "
+                 "virtual: none unless given)");
   app.add_option("--web", o.web,
-                 "viewer and WebSocket API address ADDRESS:PORT, \"\" for none ([web] listen)");
+                 "viewer and WebSocket API address ADDRESS:PORT, \"\" for none ([web] listen; with "
+                 "--clock virtual: none unless given)");
   app.add_option("--log-level", o.log_level, "error, warning, info or debug ([log] level)")
       ->check(CLI::IsMember({"error", "warning", "info", "debug"}));
   app.add_option("--record", o.record,
@@ -87,6 +93,27 @@ Result<bool> setChoice(const char* option,
   return true;
 }
 
+// A virtual-clock run (headless replay: ticks back to back on simulated time) serves no clients
+// unless asked: [network] udp and shm and [web] listen are off unless the command line gives
+// --udp / --shm / --web, or
+// the config file that chose the virtual clock also sets the key. So a replay never competes
+// with a running hapticd for its port or segment.
+void virtualClockNetworkOff(const CommandLine& cli, ParsedConfig& parsed) {
+  Config& c = parsed.config;
+  if (c.servo.clock != ClockKind::kVirtual)
+    return;
+  const bool clock_from_file = !cli.clock;
+  auto inFile = [&](const char* key) {
+    return std::find(parsed.keys_set.begin(), parsed.keys_set.end(), key) != parsed.keys_set.end();
+  };
+  if (!cli.udp && !(clock_from_file && inFile("network.udp")))
+    c.network.udp.clear();
+  if (!cli.shm && !(clock_from_file && inFile("network.shm")))
+    c.network.shm.clear();
+  if (!cli.web && !(clock_from_file && inFile("web.listen")))
+    c.web.listen.clear();
+}
+
 }  // namespace
 
 Result<ParsedConfig> buildConfig(const CommandLine& cli) {
@@ -112,6 +139,7 @@ Result<ParsedConfig> buildConfig(const CommandLine& cli) {
                  setChoice("--log-level", cli.log_level, &parseLogLevel, c.log.level)})
     if (!r)
       return r.error();
+  virtualClockNetworkOff(cli, parsed);
   if (auto v = validateConfig(c); !v)
     return v.error();
   return parsed;

@@ -27,10 +27,13 @@ constexpr Range below(double lo, double hi) {  // [lo, hi)
 constexpr Range kNoRange{};
 constexpr double kCoordinateBound = 1e9;  // |element| of a configured translation, m
 
+// "" (off) or "ADDRESS:PORT"
 std::optional<std::string> checkUdp(const std::string& s) {
+  if (s.empty())
+    return std::nullopt;
   const auto colon = s.rfind(':');
   if (colon == std::string::npos || colon == 0)
-    return "must be \"ADDRESS:PORT\" (got \"" + s + "\")";
+    return "must be \"ADDRESS:PORT\", or \"\" for no UDP (got \"" + s + "\")";
   const std::string port = s.substr(colon + 1);
   if (port.empty() || port.size() > 5 ||
       port.find_first_not_of("0123456789") != std::string::npos || std::stoi(port) > 65535)
@@ -321,7 +324,8 @@ const ConfigKey kKeys[] = {
     // [network]
     {"network", "udp", HAPTICD_FIELD(network.udp), kNoRange, "",
      "UDP address the protocol listens on, \"ADDRESS:PORT\" (loopback by default; another "
-     "address needs key_file).",
+     "address needs key_file). \"\" turns it off. With [servo] clock = \"virtual\" it is off "
+     "unless set (here, or by --udp).",
      &checkUdp},
     {"network", "key_file", HAPTICD_FIELD(network.key_file), kNoRange, "",
      "File holding the pre-shared key (64 hex digits); when set, scene uploads, scene updates, "
@@ -340,14 +344,17 @@ const ConfigKey kKeys[] = {
      "\"/\"), mode 0600, removed at exit: a seqlock state block written every tick and a command "
      "ring that feeds the same command gate as UDP (docs/daemon.md). \"\" turns it off. A "
      "segment that cannot be created is a warning and the daemon runs without it; one held by "
-     "another live hapticd is left alone.",
+     "another live hapticd is left alone. With [servo] clock = \"virtual\" it is off unless set "
+     "(here, or by --shm).",
      &checkShmName},
 
     // [web]
     {"web", "listen", HAPTICD_FIELD(web.listen), kNoRange, "",
      "HTTP and WebSocket address, \"ADDRESS:PORT\": the viewer on \"/\", the JSON API on \"/ws\" "
      "(protocol/websocket.md); \"\" turns it off. Loopback by default; another address needs "
-     "[network] key_file (the same key as UDP: commands need the key's tag, watching does not).",
+     "[network] key_file (the same key as UDP: commands need the key's tag, watching does not). "
+     "With [servo] clock = \"virtual\" it is off unless set on the command line (--web) or in "
+     "the file that sets the clock.",
      &checkWebListen},
     {"web", "root", HAPTICD_FIELD(web.root), kNoRange, "",
      "Folder served on \"/\" (the viewer's files). \"\": the install's share/hapticd/web next "

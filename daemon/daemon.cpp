@@ -136,9 +136,9 @@ RealtimeOptions Daemon::realtimeOptions() const {
 
 device::DeviceOptions Daemon::deviceOptions(const BuiltScene& built) const {
   device::DeviceOptions o = config_.device.options;
-  if (config_.device.sim_home_from_scene && built.model && built.model->probe_body >= 0)
-    o.sim_home = config_.device.workspace.toDevice(
-        built.model->bodies[static_cast<std::size_t>(built.model->probe_body)].X_WB);
+  if (built.model)
+    if (auto home = sceneHome(config_, *built.model))
+      o.sim_home = *home;
   return o;
 }
 

@@ -1,8 +1,6 @@
 #include "daemon/protocol_adapter.h"
 
-#include <fcntl.h>
 #include <signal.h>
-#include <sys/mman.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -34,25 +32,14 @@ geom::Pose fromWire(const proto::WirePose& w) {
   return geom::Pose::fromXyzw(geom::Vec3(w.p[0], w.p[1], w.p[2]), w.q[0], w.q[1], w.q[2], w.q[3]);
 }
 
-// The pid of a live hapticd other than this process serving segment `name`, or 0 (no segment,
-// a stale one, or this process's own). Stale: its server process is gone, or its heartbeat (each
-// tick) stopped more than 5 s ago, so that a dead daemon's pid reused by another process does not
-// keep the segment forever (a heartbeat of 0: the server has not ticked yet, it counts as live).
-std::uint64_t liveShmOwner(const std::string& name) {
-  const int fd = ::shm_open(name.c_str(), O_RDONLY | O_CLOEXEC, 0);
-  if (fd < 0)
-    return 0;
-  void* p = ::mmap(nullptr, sizeof(proto::ShmHeader), PROT_READ, MAP_SHARED, fd, 0);
-  ::close(fd);
-  if (p == MAP_FAILED)
-    return 0;
-  const auto* h = static_cast<const proto::ShmHeader*>(p);
-  std::uint64_t pid = 0, beat = 0;
-  if (h->magic == proto::kShmMagic) {
-    pid = h->server_pid.load(std::memory_order_acquire);
-    beat = h->server_heartbeat_ns.load(std::memory_order_acquire);
-  }
-  ::munmap(p, sizeof(proto::ShmHeader));
+// The pid of a live hapticd other than this process serving segment `existing` (a hapticd
+// segment), or 0 (a stale one, or this process's own). Stale: its server process is gone, or its
+// heartbeat (each tick) stopped more than 5 s ago, so that a dead daemon's pid reused by another
+// process does not keep the segment forever (a heartbeat of 0: the server has not ticked yet, it
+// counts as live).
+std::uint64_t liveShmOwner(const proto::ShmExisting& existing) {
+  const std::uint64_t pid = existing.server_pid;
+  const std::uint64_t beat = existing.server_heartbeat_ns;
   const std::uint64_t now = proto::monotonicNs();
   if (beat != 0 && now > beat && now - beat > 5'000'000'000ull)
     return 0;
@@ -114,6 +101,8 @@ void putTickFigures(const ServoState& st, const DurationHistogram& compute, Mess
 
 Result<proto::ServerConfig> serverConfigOf(const Config& c) {
   proto::ServerConfig cfg;
+  if (c.network.udp.empty())
+    return cfg;  // UDP off: nothing to check
   cfg.bind_address = c.network.udp;
   cfg.tick_rate_hz = static_cast<std::uint32_t>(std::lround(c.servo.rate_hz));
   cfg.rate_limit.packets_per_s = c.network.rate_limit_packets_per_s;
@@ -278,6 +267,8 @@ void ProtocolAdapter::addStatus(nlohmann::json& j, const ServoState& st) const {
         {"states_sent", c.states_sent.load()}, {"states_replaced", c.states_replaced.load()},
         {"closed_slow", c.closed_slow.load()}, {"commands_forwarded", c.commands_forwarded.load()}};
   }
+  if (!server_)
+    j["network"] = {{"udp", ""}, {"why_not", "off ([network] udp = \"\")"}};
   if (server_) {
     const auto& c = server_->counters();
     j["network"] = {{"udp", server_->localAddress().toString()},
@@ -449,13 +440,22 @@ void ProtocolAdapter::startShm(const std::string& name) {
   shm_name_ = name;
   if (name.empty()) {
     shm_error_ = "off ([network] shm = \"\")";
+    logInfo("shared memory: off ([network] shm = \"\")");
     return;
   }
-  if (const std::uint64_t pid = liveShmOwner(name); pid != 0) {
-    shm_error_ =
-        "segment " + name + " is served by another hapticd (pid " + std::to_string(pid) + ")";
-    logWarning("[network] shm \"" + name + "\": " + shm_error_ + "; running without shared memory");
-    return;
+  // a file at the name that hapticd did not make is never removed (ShmServer::create refuses
+  // it, naming it and what was found); a stale hapticd segment is replaced, a live one left alone
+  const proto::ShmExisting existing = proto::inspectShm(name);
+  if (existing.kind == proto::ShmExisting::Kind::kHapticd) {
+    if (const std::uint64_t pid = liveShmOwner(existing); pid != 0) {
+      shm_error_ =
+          "segment " + name + " is served by another hapticd (pid " + std::to_string(pid) + ")";
+      logWarning("[network] shm \"" + name + "\": " + shm_error_ +
+                 "; running without shared memory");
+      return;
+    }
+    logInfo("shared memory: replacing the stale segment " + existing.path + " (server pid " +
+            std::to_string(existing.server_pid) + ", gone or silent)");
   }
   auto created = proto::ShmServer::create(name);
   if (!created) {
@@ -469,6 +469,13 @@ void ProtocolAdapter::startShm(const std::string& name) {
 }
 
 Result<bool> ProtocolAdapter::startNetwork(const Config& config) {
+  if (config.network.udp.empty()) {
+    logInfo(std::string("network: UDP off ([network] udp = \"\"") +
+            (config.servo.clock == ClockKind::kVirtual ? ", the virtual clock's default: --udp "
+                                                         "serves it)"
+                                                       : ")"));
+    return true;
+  }
   auto settings = serverConfigOf(config);
   if (!settings)
     return settings.error();

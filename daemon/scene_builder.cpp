@@ -19,6 +19,7 @@ Result<BuiltScene> withSimulation(const Backends& backends,
   built.scene = std::make_unique<ServoScene>();
   built.scene->sim = std::move(sim.value());
   built.scene->generation = generation;
+  built.scene->X_D_home = sceneHome(config, *model);
   built.name = model->name;
   built.model = model;
   built.plan = scene::describePlan(model->plan);
@@ -37,6 +38,13 @@ Config withRunningRestartOnly(Config next, const Config& running) {
 }
 
 }  // namespace
+
+std::optional<geom::Pose> sceneHome(const Config& config, const scene::SceneModel& model) {
+  if (!config.device.sim_home_from_scene || model.probe_body < 0)
+    return std::nullopt;
+  return config.device.workspace.toDevice(
+      model.bodies[static_cast<std::size_t>(model.probe_body)].X_WB);
+}
 
 Result<BuiltScene> buildScene(const Backends& backends,
                               const Config& config,

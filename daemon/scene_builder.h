@@ -34,6 +34,10 @@ struct BuiltScene {
   std::shared_ptr<const scene::SceneModel> model;  ///< what scene updates are validated against
 };
 
+/// The held body's start pose in `model`, device frame (through [device] workspace), when
+/// [device] sim_home_from_scene is on and the scene has a probe body; else none. Any thread.
+std::optional<geom::Pose> sceneHome(const Config& config, const scene::SceneModel& model);
+
 /// The scene of `config` ([scene] path or demo) and its simulation (toSimOptions), as
 /// generation `generation`. Error: the loader's or the simulation's text, naming the scene.
 Result<BuiltScene> buildScene(const Backends& backends,

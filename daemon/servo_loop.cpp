@@ -341,6 +341,8 @@ void ServoLoop::takeInputs(std::uint64_t now_ns) noexcept {
     s_.stopping = true;
   if (scenes_.take(current_)) {
     current_->sim->prepareThread();
+    if (current_->X_D_home)
+      device_.setHome(*current_->X_D_home);  // the sim hand moves around the new scene's start
     s_.scene_generation = current_->generation;
     emit(ServoEventKind::kSceneSwapped, static_cast<std::int64_t>(current_->generation));
   }

@@ -29,6 +29,7 @@
 #include <atomic>
 #include <cstdint>
 #include <memory>
+#include <optional>
 
 #include "core/sim/simulation.h"
 #include "daemon/clock.h"
@@ -55,6 +56,9 @@ using proto::SpscRing;
 struct ServoScene {
   std::unique_ptr<sim::Simulation> sim;
   std::uint64_t generation = 0;  ///< set by the owner: 1 for the first scene, +1 per reload
+  /// The held body's start pose, device frame, handed to Device::setHome() when the scene is
+  /// taken; none when [device] sim_home_from_scene is off or the scene has no probe.
+  std::optional<geom::Pose> X_D_home;
 };
 
 /// Loop settings (config [servo] and [device]).

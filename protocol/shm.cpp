@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <new>
 
@@ -32,6 +33,12 @@ ShmStateBlock* stateBlock(void* base) {
 }
 ShmRing* ring(void* base) {
   return reinterpret_cast<ShmRing*>(static_cast<char*>(base) + kRingOffset);
+}
+
+std::string hex32(std::uint32_t v) {
+  char text[16];
+  std::snprintf(text, sizeof text, "0x%08x", v);
+  return text;
 }
 
 bool finiteAll(const double* v, std::size_t n) {
@@ -87,10 +94,63 @@ void toState(const ShmState& in, State& out) {
 
 // ---- server --------------------------------------------------------------------------------
 
+ShmExisting inspectShm(const std::string& name) {
+  ShmExisting e;
+  e.path = "/dev/shm" + name;
+  const int fd = ::shm_open(name.c_str(), O_RDONLY | O_CLOEXEC | O_NOFOLLOW, 0);
+  if (fd < 0) {
+    if (errno != ENOENT) {
+      e.kind = ShmExisting::Kind::kForeign;
+      e.what = "shm_open(" + name + "): " + std::strerror(errno);
+    }
+    return e;
+  }
+  e.kind = ShmExisting::Kind::kForeign;
+  struct stat st {};
+  if (::fstat(fd, &st) != 0) {
+    e.what = std::string("fstat: ") + std::strerror(errno);
+    ::close(fd);
+    return e;
+  }
+  const auto bytes = static_cast<std::uint64_t>(st.st_size);
+  if (!S_ISREG(st.st_mode)) {
+    e.what = S_ISDIR(st.st_mode) ? "a directory" : "not a regular file";
+  } else if (st.st_uid != ::geteuid()) {
+    e.what = "owned by uid " + std::to_string(st.st_uid) + ", not this user (uid " +
+             std::to_string(::geteuid()) + ")";
+  } else if (bytes < sizeof(ShmHeader)) {
+    e.what = std::to_string(bytes) + " bytes, smaller than a segment header (" +
+             std::to_string(sizeof(ShmHeader)) + ")";
+  } else {
+    void* p = ::mmap(nullptr, sizeof(ShmHeader), PROT_READ, MAP_SHARED, fd, 0);
+    if (p == MAP_FAILED) {
+      e.what = std::string("mmap: ") + std::strerror(errno);
+    } else {
+      const auto* h = static_cast<const ShmHeader*>(p);
+      if (h->magic != kShmMagic) {
+        e.what = std::to_string(bytes) + " bytes, magic " + hex32(h->magic) +
+                 " where a hapticd segment has " + hex32(kShmMagic);
+      } else {
+        e.kind = ShmExisting::Kind::kHapticd;
+        e.server_pid = h->server_pid.load(std::memory_order_acquire);
+        e.server_heartbeat_ns = h->server_heartbeat_ns.load(std::memory_order_acquire);
+      }
+      ::munmap(p, sizeof(ShmHeader));
+    }
+  }
+  ::close(fd);
+  return e;
+}
+
 Result<ShmServer> ShmServer::create(const std::string& name) {
   if (name.size() < 2 || name[0] != '/' || name.find('/', 1) != std::string::npos)
     return Error{"shm name '" + name + "' must be '/' followed by a name without '/'"};
-  ::shm_unlink(name.c_str());  // a segment left by a crashed daemon
+  const ShmExisting existing = inspectShm(name);
+  if (existing.kind == ShmExisting::Kind::kForeign)
+    return Error{existing.path + " is not a hapticd segment (" + existing.what +
+                 "): left as it is"};
+  if (existing.kind == ShmExisting::Kind::kHapticd)
+    ::shm_unlink(name.c_str());  // a segment the caller found stale
   const int fd = ::shm_open(name.c_str(), O_CREAT | O_EXCL | O_RDWR | O_CLOEXEC, 0600);
   if (fd < 0)
     return Error{"shm_open(" + name + "): " + std::strerror(errno)};
@@ -207,8 +267,8 @@ std::uint64_t ShmServer::commandsRefused() const noexcept {
 
 // ---- client --------------------------------------------------------------------------------
 
-Result<ShmClient> ShmClient::attach(const std::string& name, std::uint64_t takeover_after_ns) {
-  const int fd = ::shm_open(name.c_str(), O_RDWR | O_CLOEXEC, 0);
+Result<ShmClient> ShmClient::map(const std::string& name, bool read_only) {
+  const int fd = ::shm_open(name.c_str(), (read_only ? O_RDONLY : O_RDWR) | O_CLOEXEC, 0);
   if (fd < 0)
     return Error{"shm " + name + ": " + std::strerror(errno) +
                  " (is hapticd running with shared memory on?)"};
@@ -217,14 +277,16 @@ Result<ShmClient> ShmClient::attach(const std::string& name, std::uint64_t takeo
     ::close(fd);
     return Error{"shm " + name + ": segment too small for this version"};
   }
-  void* base = ::mmap(nullptr, kSegmentBytes, PROT_READ | PROT_WRITE, MAP_SHARED, fd, 0);
+  void* base = ::mmap(nullptr, kSegmentBytes, read_only ? PROT_READ : PROT_READ | PROT_WRITE,
+                      MAP_SHARED, fd, 0);
   ::close(fd);
   if (base == MAP_FAILED)
     return Error{"shm " + name + ": mmap: " + std::strerror(errno)};
   ShmClient c;
   c.base_ = base;
   c.size_ = kSegmentBytes;
-  ShmHeader* h = header(base);
+  c.read_only_ = true;  // until the header is checked: a refused mapping writes nothing
+  const ShmHeader* h = header(base);
   const std::uint32_t magic = h->magic;
   std::atomic_thread_fence(std::memory_order_acquire);
   if (magic != kShmMagic)
@@ -236,6 +298,16 @@ Result<ShmClient> ShmClient::attach(const std::string& name, std::uint64_t takeo
       h->ring_offset != kRingOffset || h->ring_slots != kShmRingSlots ||
       h->state_bytes < sizeof(ShmState) || h->slot_bytes != sizeof(ShmCommand))
     return Error{"shm " + name + ": layout sizes differ from this build's"};
+  c.read_only_ = read_only;
+  return c;
+}
+
+Result<ShmClient> ShmClient::attach(const std::string& name, std::uint64_t takeover_after_ns) {
+  auto mapped = map(name, false);
+  if (!mapped)
+    return mapped.error();
+  ShmClient c = std::move(mapped.value());
+  ShmHeader* h = header(c.base_);
   const std::uint64_t pid = h->client_pid.load(std::memory_order_acquire);
   if (pid != 0) {
     timespec ts{};
@@ -243,26 +315,39 @@ Result<ShmClient> ShmClient::attach(const std::string& name, std::uint64_t takeo
     const std::uint64_t now = static_cast<std::uint64_t>(ts.tv_sec) * 1'000'000'000ull +
                               static_cast<std::uint64_t>(ts.tv_nsec);
     const std::uint64_t beat = h->client_heartbeat_ns.load(std::memory_order_acquire);
-    if (beat != 0 && now - beat < takeover_after_ns)
-      return Error{"shm " + name + ": another client (pid " + std::to_string(pid) +
-                   ") is attached and alive"};
+    if (beat != 0 && now - beat < takeover_after_ns) {
+      c.read_only_ = true;  // not attached: its destructor must not clear the other's pid
+      return Error{"shm " + name + ": another commanding client (pid " + std::to_string(pid) +
+                   ") is attached and alive (read-only readers such as watch and record may "
+                   "attach beside it)"};
+    }
   }
   h->client_pid.store(static_cast<std::uint64_t>(::getpid()), std::memory_order_release);
   c.generation_ = h->client_generation.fetch_add(1, std::memory_order_acq_rel) + 1;
   return c;
 }
 
+Result<ShmClient> ShmClient::attachReader(const std::string& name) {
+  return map(name, true);
+}
+
 ShmClient::ShmClient(ShmClient&& o) noexcept
-    : base_(o.base_), size_(o.size_), generation_(o.generation_), sequence_(o.sequence_) {
+    : base_(o.base_),
+      size_(o.size_),
+      generation_(o.generation_),
+      sequence_(o.sequence_),
+      read_only_(o.read_only_) {
   o.base_ = nullptr;
 }
 
 ShmClient::~ShmClient() {
   if (!base_)
     return;
-  ShmHeader* h = header(base_);
-  std::uint64_t pid = static_cast<std::uint64_t>(::getpid());
-  h->client_pid.compare_exchange_strong(pid, 0);
+  if (!read_only_) {
+    ShmHeader* h = header(base_);
+    std::uint64_t pid = static_cast<std::uint64_t>(::getpid());
+    h->client_pid.compare_exchange_strong(pid, 0);
+  }
   ::munmap(base_, size_);
 }
 
@@ -271,6 +356,8 @@ bool ShmClient::readState(ShmState& out, int max_tries) const noexcept {
 }
 
 bool ShmClient::push(ShmCommand c) noexcept {
+  if (read_only_)
+    return false;
   ShmRing* r = ring(base_);
   c.generation = generation_;
   return SpscRingRef<ShmCommand>(r->indices, r->slots, kShmRingSlots).push(c);
@@ -315,6 +402,8 @@ bool ShmClient::pushDisarm(std::uint64_t now_ns) noexcept {
 }
 
 void ShmClient::beat(std::uint64_t now_ns) noexcept {
+  if (read_only_)
+    return;
   header(base_)->client_heartbeat_ns.store(now_ns, std::memory_order_release);
 }
 

@@ -2,8 +2,9 @@
 /// \file
 /// The shared-memory transport for clients on the same host: one POSIX shm segment
 /// (shm_open("/hapticd"), mode 0600) holding a versioned header, a seqlock state block written by
-/// the daemon every tick, a single-producer single-consumer command ring written by one client,
-/// and a heartbeat in each direction. After PipeWire spa/node/io.h, every field names its unit
+/// the daemon every tick, a single-producer single-consumer command ring written by one client
+/// (the commander), and a heartbeat in each direction; any number of read-only readers of the
+/// state block beside the commander. After PipeWire spa/node/io.h, every field names its unit
 /// and clock. No allocation, no locks and no system calls after create/attach: publish() and
 /// popCommand() are servo-thread safe.
 ///
@@ -141,10 +142,29 @@ struct ShmCommandEvent {
 /// 2^32 − 1, a negative or non-finite depth as 0). Any thread.
 void toState(const ShmState& in, State& out);
 
-/// The daemon's side: creates (replacing a stale one) and owns the segment; unlinks it on
-/// destruction. publish(), popCommand(), beat() and clientAlive() are servo-thread safe.
+/// What is at a segment's name before a server creates it. Any thread; no state changed.
+struct ShmExisting {
+  enum class Kind : std::uint8_t {
+    kNone,     ///< nothing at the name
+    kHapticd,  ///< a hapticd segment of this user (its magic, at least a header): server_* set
+    kForeign,  ///< anything else (not this user's, too small, another magic, not openable)
+  };
+  Kind kind = Kind::kNone;
+  std::string path;  ///< the file that holds it, "/dev/shm/NAME" (Linux's shm_open)
+  std::string what;  ///< kForeign: what was found, e.g. "12 bytes, smaller than a segment header"
+  std::uint64_t server_pid = 0;           ///< kHapticd: the header's server pid
+  std::uint64_t server_heartbeat_ns = 0;  ///< kHapticd: its last beat, CLOCK_MONOTONIC ns (0 none)
+};
+/// Looks at `name` (a valid shm name) without changing it.
+ShmExisting inspectShm(const std::string& name);
+
+/// The daemon's side: creates and owns the segment; unlinks it on destruction. publish(),
+/// popCommand(), beat() and clientAlive() are servo-thread safe.
 class ShmServer {
  public:
+  /// A hapticd segment already at `name` (inspectShm: kHapticd) is replaced: the caller has
+  /// decided it is stale. Anything else there is never removed: error "PATH is not a hapticd
+  /// segment (WHAT)"; so are a bad name and shm_open / ftruncate / mmap failures.
   static Result<ShmServer> create(const std::string& name = kDefaultShmName);
   ~ShmServer();
   ShmServer(ShmServer&& o) noexcept;
@@ -172,13 +192,20 @@ class ShmServer {
   std::size_t size_ = 0;
 };
 
-/// A client's side: attaches to an existing segment (checks magic, version and sizes).
+/// A client's side: attaches to an existing segment (checks magic, version and sizes). Two
+/// kinds: one commander at a time (attach(): the command ring, the client heartbeat and pid,
+/// a gate session of its own), and any number of read-only state readers beside it
+/// (attachReader(): the segment mapped read-only, nothing in it written, invisible to the
+/// daemon; readState() and serverAlive() only).
 class ShmClient {
  public:
-  /// Errors: no segment (daemon not running or shm off), wrong version, a live client already
-  /// attached (its heartbeat is younger than `takeover_after_ns`).
+  /// The commander. Errors: no segment (daemon not running or shm off), wrong version, a live
+  /// commander already attached (its heartbeat is younger than `takeover_after_ns`).
   static Result<ShmClient> attach(const std::string& name = kDefaultShmName,
                                   std::uint64_t takeover_after_ns = 500'000'000);
+  /// A read-only state reader, beside the commander and any other reader. Errors: no segment,
+  /// wrong version or sizes.
+  static Result<ShmClient> attachReader(const std::string& name = kDefaultShmName);
   ~ShmClient();
   ShmClient(ShmClient&& o) noexcept;
   ShmClient& operator=(ShmClient&&) = delete;
@@ -187,7 +214,10 @@ class ShmClient {
   /// Reads the newest state without tearing; false when none was published yet or the writer
   /// kept it busy for max_tries attempts (never blocks).
   bool readState(ShmState& out, int max_tries = 10000) const noexcept;
-  /// Queues a pose command (sequence assigned here, returned in *sequence); false when full.
+  /// True for a reader (attachReader()): the push calls return false, beat() does nothing.
+  bool readOnly() const noexcept { return read_only_; }
+  /// Queues a pose command (sequence assigned here, returned in *sequence); false when full or
+  /// read-only.
   bool pushPose(const PoseCommand& cmd,
                 std::uint64_t now_ns,
                 std::uint64_t* sequence = nullptr) noexcept;
@@ -200,12 +230,15 @@ class ShmClient {
 
  private:
   ShmClient() = default;
+  // maps the segment and checks its header (both kinds)
+  static Result<ShmClient> map(const std::string& name, bool read_only);
   bool push(ShmCommand c) noexcept;
   bool pushControl(std::uint64_t kind, std::uint64_t now_ns) noexcept;  // arm or disarm
   void* base_ = nullptr;
   std::size_t size_ = 0;
   std::uint64_t generation_ = 0;
   std::uint64_t sequence_ = 0;
+  bool read_only_ = false;
 };
 
 }  // namespace hapticd::proto

@@ -123,6 +123,12 @@ class Device {
   /// on its own clock). The others return false at once. Called by ServoLoop::run() on the servo
   /// thread, which waits in it.
   virtual bool runClocked(ClockedTick /*tick*/, void* /*context*/) noexcept { return false; }
+
+  /// The start pose of the held body in a newly swapped-in scene, device frame (after the
+  /// workspace mapping; only with [device] sim_home_from_scene). Backends with a home of their
+  /// own (the sim hand and its idle motion) move it there; others ignore it. Servo thread, at
+  /// the tick boundary where the scene is taken.
+  virtual void setHome(const Pose& /*X_D_home*/) noexcept {}
   /// Hotplug and reconnection work; called about every 100 ms from a normal thread. Returns true
   /// while the device is connected. Must not race read()/write(): backends hand state over with
   /// atomics only.

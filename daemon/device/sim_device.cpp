@@ -174,6 +174,34 @@ void SimDevice::command(const PoseCommand& cmd) noexcept {
   buttons_ = cmd.buttons;
 }
 
+void SimDevice::setHome(const Pose& X_W_home) noexcept {
+  const geom::Quat& q = X_W_home.rotation;
+  const double n2 = q.w * q.w + q.x * q.x + q.y * q.y + q.z * q.z;
+  if (!geom::finite(X_W_home.translation) || !(n2 > 0.25 && n2 < 4.0))
+    return;  // also refuses NaN
+  const Pose home{X_W_home.translation, glm::normalize(q)};
+  if (home.translation == options_.sim_home.translation &&
+      home.rotation == glm::normalize(options_.sim_home.rotation))
+    return;  // the same start (a reload of the same scene): the motion goes on undisturbed
+  const bool commanded = has_command_ && !(t_s_ > command_t_s_ + options_.sim_idle_motion_after_s);
+  options_.sim_home = home;
+  if (!started_) {  // not read yet: the hand simply starts there
+    p_W_ = home.translation;
+    q_WH_ = home.rotation;
+    command_.X_W_target = home;
+    return;
+  }
+  if (commanded)
+    return;
+  // the idle motion restarts at the new home, blending in from where the hand is now
+  command_.X_W_target = Pose{p_W_, q_WH_};
+  zeroVelocities(command_);
+  if (std::isfinite(options_.sim_idle_motion_after_s))
+    command_t_s_ = t_s_ - options_.sim_idle_motion_after_s;
+  else
+    command_.X_W_target = home;  // no idle motion: the springs pull the hand to the new home
+}
+
 double SimDevice::energy() const noexcept {
   Pose X_t;
   Vec3 v_t;

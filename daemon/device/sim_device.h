@@ -37,6 +37,11 @@ class SimDevice final : public Device {
   DeviceStatus write(const Vec3& force_n, const Vec3& torque_nm) noexcept override;
   /// The new target of the hand's springs. Servo thread.
   void command(const PoseCommand& cmd) noexcept override;
+  /// A new scene's start pose: the idle motion moves around it from now on. Unless a client's
+  /// commands drive the hand, the target blends from where the hand is into the idle path around
+  /// the new home (over the idle blend, 2 s; with idle motion off the hand is pulled straight to
+  /// it); under commands only the home changes, for when their stream stops. Servo thread.
+  void setHome(const Pose& X_W_home) noexcept override;
 
   /// The hand's mechanical energy relative to the current target (kinetic plus the springs'),
   /// joules. For tests and status.

@@ -17,6 +17,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -60,6 +61,10 @@ class DaemonEditTest : public ::testing::Test {
       auto d = std::make_unique<FakeDevice>();
       d->depth_offset = 0.002;  // the wall is touched most of the time
       d->follow_commands = follow_commands_;
+      d->on_home = [this](const geom::Pose& X) {  // servo thread; read after the run
+        last_home_ = X;
+        homes_set_.fetch_add(1, std::memory_order_release);
+      };
       device_ = d.get();
       return std::unique_ptr<device::Device>(std::move(d));
     };
@@ -72,7 +77,11 @@ class DaemonEditTest : public ::testing::Test {
       uploaded_.assign(bytes.begin(), bytes.end());
       if (name.rfind("bad", 0) == 0)
         return Error{"scene '" + name + "': not a scene"};
-      return std::shared_ptr<const scene::SceneModel>(testing::editableSceneModel(name));
+      auto m = testing::editableSceneModel(name);
+      if (name.rfind("moved", 0) == 0)  // the held body starts elsewhere
+        m->bodies[static_cast<std::size_t>(m->probe_body)].X_WB.translation =
+            geom::Vec3(0.5, 2.0, -3.0);
+      return std::shared_ptr<const scene::SceneModel>(std::move(m));
     };
     b.make_simulation = [](std::shared_ptr<const scene::SceneModel> model,
                            const sim::SimOptions&) -> Result<std::unique_ptr<sim::Simulation>> {
@@ -140,6 +149,8 @@ class DaemonEditTest : public ::testing::Test {
   FakeDevice* device_ = nullptr;
   device::DeviceOptions device_options_;  // what the daemon opened the device with
   bool follow_commands_ = false;
+  std::atomic<int> homes_set_{0};  // Device::setHome calls (servo thread)
+  geom::Pose last_home_;           // the last one's pose
 };
 
 proto::WirePose wireAt(double x, double y, double z) {
@@ -469,7 +480,9 @@ TEST_F(DaemonEditTest, ASegmentThatCannotBeCreatedIsAWarningAndTheDaemonRuns) {
   const int code = runWith(cli(shmName()), [&] {
     const auto j = status();
     EXPECT_FALSE(j["shm"]["serving"].get<bool>()) << j.dump();
-    EXPECT_NE(j["shm"]["why_not"].get<std::string>().find("shm_open"), std::string::npos)
+    EXPECT_NE(j["shm"]["why_not"].get<std::string>().find(
+                  blocker.string() + " is not a hapticd segment (a directory)"),
+              std::string::npos)
         << j.dump();
     EXPECT_TRUE(waitStatus([](const nlohmann::json& s) { return s.value("tick", 0) > 200; }));
   });
@@ -564,6 +577,30 @@ TEST_F(DaemonEditTest, TheSimHandStartsAtTheHeldBodysScenePoseUnlessConfiguredNo
   device_options_.sim_home.translation = geom::Vec3(-7.0);  // overwritten by the daemon
   EXPECT_EQ(runWith(c, [] {}), kExitOk);
   EXPECT_EQ(device_options_.sim_home.translation, device::DeviceOptions{}.sim_home.translation);
+}
+
+// A scene loaded later hands the device its held body's start (through the workspace mapping)
+// when the servo takes it, so that the sim hand's idle motion moves around the new start
+// (SimDevice.IdleMotionCentresOnTheNewHomeAfterSetHome holds the motion itself).
+TEST_F(DaemonEditTest, ALoadedSceneGivesTheDeviceItsStartPose) {
+  std::ofstream(dir_ / "ws.toml") << "[device]\nworkspace_translation_m = [0.0, 1.0, 0.0]\n";
+  CommandLine c = cli("");
+  c.config_path = (dir_ / "ws.toml").string();
+  EXPECT_EQ(runWith(c,
+                    [&] {
+                      EXPECT_EQ(homes_set_.load(), 0);  // the first scene's start: at open
+                      EXPECT_EQ(device_options_.sim_home.translation, geom::Vec3(1.0, -1.0, 0.0));
+                      auto client_ = client();
+                      ASSERT_TRUE(client_);
+                      auto ok = client_->load(std::vector<std::uint8_t>(10, 1), "moved.glb");
+                      ASSERT_TRUE(ok) << ok.error().message;
+                      EXPECT_TRUE(testing::pollUntil(
+                          [&] { return homes_set_.load(std::memory_order_acquire) == 1; }));
+                    }),
+            kExitOk);
+  ASSERT_EQ(homes_set_.load(), 1);
+  // the scene's (0.5, 2, -3) in device frame: minus the workspace translation
+  EXPECT_EQ(last_home_.translation, geom::Vec3(0.5, 1.0, -3.0));
 }
 
 }  // namespace

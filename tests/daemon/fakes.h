@@ -255,6 +255,10 @@ class FakeDevice final : public device::Device {
     ++commands;
     last_command = cmd;
   }
+  void setHome(const geom::Pose& X_D_home) noexcept override {
+    if (on_home)
+      on_home(X_D_home);  // servo thread
+  }
 
   device::DeviceInfo info_;
   std::uint64_t reads = 0, writes = 0, commands = 0;
@@ -266,6 +270,7 @@ class FakeDevice final : public device::Device {
   double max_written_n = 0.0, max_step_n = 0.0;
   device::PoseCommand last_command;
   std::function<void(const FakeDevice&)> on_close;  ///< called as the daemon destroys it
+  std::function<void(const geom::Pose&)> on_home;   ///< setHome(), on the servo thread
 };
 
 /// A scene for the servo loop holding a new `Sim` (FakeSimulation, EditableSimulation) as

@@ -8,6 +8,8 @@
 
 #include <atomic>
 #include <cmath>
+#include <filesystem>
+#include <fstream>
 #include <thread>
 
 #include "protocol/seqlock.h"
@@ -246,7 +248,7 @@ TEST(Shm, AttachRefusesMissingSegmentAndALiveSecondClient) {
   first.value().beat(now);
   auto second = ShmClient::attach(server.value().name(), 60'000'000'000ull);
   ASSERT_FALSE(second);
-  EXPECT_NE(second.error().message.find("another client"), std::string::npos);
+  EXPECT_NE(second.error().message.find("another commanding client"), std::string::npos);
   // a client whose heartbeat is stale may be replaced; its generation differs
   auto third = ShmClient::attach(server.value().name(), 0);
   ASSERT_TRUE(third) << third.error().message;
@@ -261,6 +263,123 @@ TEST(Shm, SegmentRemovedWithTheServer) {
     ASSERT_TRUE(server);
   }
   EXPECT_FALSE(ShmClient::attach(name));
+}
+
+// Any number of read-only readers beside the one commander: each sees every published state,
+// writes nothing in the segment (the commander's pid, heartbeat and ring are as the commander
+// left them), cannot queue a command, and attaches while the commander is alive.
+TEST(Shm, TwoReadOnlyReadersAndACommanderAtOnce) {
+  auto server = ShmServer::create(uniqueName("readers"));
+  ASSERT_TRUE(server);
+  const std::string& name = server.value().name();
+  auto writer = ShmClient::attach(name);
+  ASSERT_TRUE(writer) << writer.error().message;
+  writer.value().beat(1'000'000'000);
+  auto first = ShmClient::attachReader(name);
+  auto second = ShmClient::attachReader(name);
+  ASSERT_TRUE(first) << first.error().message;
+  ASSERT_TRUE(second) << second.error().message;
+  EXPECT_TRUE(first.value().readOnly());
+  EXPECT_FALSE(writer.value().readOnly());
+  // a second commander is still refused while the first is alive
+  EXPECT_FALSE(ShmClient::attach(name, ~0ull));
+
+  ShmState st{};
+  EXPECT_FALSE(first.value().readState(st));  // nothing published yet
+  server.value().beat(5'000'000'000);
+  for (std::uint64_t k = 1; k <= 3; ++k) {
+    server.value().publish(stateFor(k));
+    for (auto* reader : {&first.value(), &second.value()}) {
+      ASSERT_TRUE(reader->readState(st));
+      EXPECT_TRUE(consistent(st));
+      EXPECT_EQ(st.tick, k);
+      EXPECT_TRUE(reader->serverAlive(5'100'000'000, 500'000'000));
+    }
+  }
+  // readers send nothing and beat nothing
+  PoseCommand pose;
+  pose.X_WT.q = {0.0, 0.0, 0.0, 1.0};
+  EXPECT_FALSE(first.value().pushPose(pose, 1));
+  EXPECT_FALSE(second.value().pushArm(1));
+  first.value().beat(9'000'000'000);
+  EXPECT_TRUE(server.value().clientAlive(1'100'000'000, 500'000'000));
+  EXPECT_FALSE(server.value().clientAlive(9'000'000'000, 500'000'000));
+  // the commander's commands arrive, alone
+  ASSERT_TRUE(writer.value().pushArm(2));
+  ASSERT_TRUE(writer.value().pushPose(pose, 3));
+  ShmCommandEvent e;
+  ASSERT_TRUE(server.value().popCommand(e));
+  EXPECT_EQ(e.kind, ShmCommandEvent::Kind::kArm);
+  EXPECT_EQ(e.session_id, writer.value().sessionId());
+  ASSERT_TRUE(server.value().popCommand(e));
+  EXPECT_EQ(e.kind, ShmCommandEvent::Kind::kPose);
+  EXPECT_FALSE(server.value().popCommand(e));
+  // a reader that goes leaves the commander attached
+  { auto gone = std::move(first.value()); }
+  EXPECT_TRUE(server.value().clientAttached());
+  EXPECT_TRUE(second.value().readState(st));
+}
+
+// A file at the segment's name that hapticd did not make is told apart from a hapticd segment
+// and never removed by create(); a hapticd segment (left by a dead server) is replaced.
+TEST(Shm, AForeignFileIsNeverReplacedAHapticdSegmentIs) {
+  const std::string name = uniqueName("foreign");
+  const std::string path = "/dev/shm" + name;
+  EXPECT_EQ(inspectShm(name).kind, ShmExisting::Kind::kNone);
+  {
+    std::ofstream(path) << "hello";
+    const ShmExisting e = inspectShm(name);
+    EXPECT_EQ(e.kind, ShmExisting::Kind::kForeign);
+    EXPECT_EQ(e.path, path);
+    EXPECT_NE(e.what.find("5 bytes, smaller than a segment header"), std::string::npos) << e.what;
+    auto refused = ShmServer::create(name);
+    ASSERT_FALSE(refused);
+    EXPECT_NE(refused.error().message.find(path + " is not a hapticd segment (5 bytes"),
+              std::string::npos)
+        << refused.error().message;
+    std::ifstream in(path);
+    std::string text;
+    std::getline(in, text);
+    EXPECT_EQ(text, "hello");  // left as it was
+  }
+  {
+    std::ofstream(path) << std::string(8192, 'x');
+    const ShmExisting e = inspectShm(name);
+    EXPECT_EQ(e.kind, ShmExisting::Kind::kForeign);
+    EXPECT_NE(e.what.find("8192 bytes, magic 0x78787878 where a hapticd segment has 0x4d535048"),
+              std::string::npos)
+        << e.what;
+    EXPECT_FALSE(ShmServer::create(name));
+    EXPECT_EQ(std::filesystem::file_size(path), 8192u);
+  }
+  if (::geteuid() == 0) {
+    // a hapticd segment of another user is not this daemon's to replace
+    {
+      auto other = ShmServer::create(uniqueName("other-user"));
+      ASSERT_TRUE(other);
+      std::filesystem::copy_file("/dev/shm" + other.value().name(), path,
+                                 std::filesystem::copy_options::overwrite_existing);
+    }
+    ASSERT_EQ(::chown(path.c_str(), 65534, 65534), 0);
+    const ShmExisting e = inspectShm(name);
+    EXPECT_EQ(e.kind, ShmExisting::Kind::kForeign);
+    EXPECT_NE(e.what.find("owned by uid 65534, not this user (uid 0)"), std::string::npos)
+        << e.what;
+    EXPECT_FALSE(ShmServer::create(name));
+    EXPECT_TRUE(std::filesystem::exists(path));
+  }
+  std::filesystem::remove(path);
+  {
+    // a hapticd segment whose server is gone (its object destroyed without unlinking: copied)
+    auto first = ShmServer::create(uniqueName("first"));
+    ASSERT_TRUE(first);
+    std::filesystem::copy_file("/dev/shm" + first.value().name(), path);
+  }
+  const ShmExisting e = inspectShm(name);
+  EXPECT_EQ(e.kind, ShmExisting::Kind::kHapticd);
+  EXPECT_EQ(e.server_pid, static_cast<std::uint64_t>(::getpid()));
+  auto replaced = ShmServer::create(name);
+  EXPECT_TRUE(replaced) << replaced.error().message;
 }
 
 }  // namespace

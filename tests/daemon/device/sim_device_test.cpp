@@ -1,5 +1,6 @@
 // The sim device: the closed loop is stable at 1 and 4 kHz, the hand follows commands, the idle
-// motion is smooth, runs are bitwise deterministic, servo calls allocate nothing.
+// motion is smooth and moves to a new scene's start, runs are bitwise deterministic, servo calls
+// allocate nothing.
 #include "daemon/device/sim_device.h"
 
 #include <gtest/gtest.h>
@@ -180,6 +181,59 @@ TEST(SimDevice, IdleMotionStartsSmoothlyAfterTheLastCommand) {
   EXPECT_LT(farthest, 0.05);  // gently, around home
   EXPECT_LT(max_step, 1e-4);
   EXPECT_LT(max_accel, 0.5);
+}
+
+// After a new scene's start (setHome), the idle motion moves around it, not around the first
+// start: the hand blends over (no jump: its speed stays that of a 2 s blend) and then centres on
+// the new home within the idle path's amplitude. A commanded hand is not taken from its command.
+TEST(SimDevice, IdleMotionCentresOnTheNewHomeAfterSetHome) {
+  DeviceOptions o;  // idle motion after 1 s, amplitude 2 cm
+  o.sim_home.translation = Vec3(0.0, 0.1, 0.0);
+  auto dev = open(o);
+  const double dt = 1e-3;
+  DeviceSample s;
+  int i = 0;
+  for (; i <= 20000; ++i)  // 20 s of idle motion around the first home
+    ASSERT_EQ(dev->read(i * dt, s), DeviceStatus::kOk);
+  const Vec3 home_b(0.4, -0.2, 0.3);
+  dev->setHome(Pose{home_b, geom::quatFromRotationVector(Vec3(0.0, 0.0, 0.5))});
+  double max_speed = 0.0;
+  for (const int end = i + 3000; i <= end; ++i) {  // the blend
+    ASSERT_EQ(dev->read(i * dt, s), DeviceStatus::kOk);
+    max_speed = std::max(max_speed, glm::length(s.linear_velocity));
+  }
+  // 0.55 m over a 2 s smoothstep peaks at 1.5 x 0.55 / 2 = 0.41 m/s (plus the path's own
+  // speed); a jump of the target would drive the critically damped hand at ~4 m/s
+  EXPECT_LT(max_speed, 0.6);
+  Vec3 sum(0.0);
+  double max_off = 0.0;
+  const int n = 30000;
+  for (const int end = i + n; i < end; ++i) {  // 30 s around the new home
+    ASSERT_EQ(dev->read(i * dt, s), DeviceStatus::kOk);
+    sum += s.X_WD.translation;
+    max_off = std::max(max_off, glm::length(s.X_WD.translation - home_b));
+  }
+  const double a = o.sim_idle_amplitude_m;
+  EXPECT_LT(max_off, 2.0 * a) << "the path's offsets reach 1.5 amplitudes";
+  EXPECT_LT(glm::length(sum / static_cast<double>(n) - home_b), 0.25 * a);
+
+  // under a client's commands the hand stays on the command; when they stop, the idle motion
+  // starts around the newest home
+  PoseCommand cmd;
+  cmd.X_W_target.translation = Vec3(-0.3, 0.0, 0.0);
+  for (const int end = i + 2000; i < end; ++i) {
+    dev->command(cmd);
+    ASSERT_EQ(dev->read(i * dt, s), DeviceStatus::kOk);
+  }
+  const Vec3 home_c(0.0, 0.0, -0.5);
+  dev->command(cmd);
+  dev->setHome(Pose{home_c, geom::Quat(1.0, 0.0, 0.0, 0.0)});
+  for (const int end = i + 500; i < end; ++i)
+    ASSERT_EQ(dev->read(i * dt, s), DeviceStatus::kOk);
+  EXPECT_LT(glm::length(s.X_WD.translation - cmd.X_W_target.translation), 1e-3);
+  for (const int end = i + 20000; i < end; ++i)
+    ASSERT_EQ(dev->read(i * dt, s), DeviceStatus::kOk);
+  EXPECT_LT(glm::length(s.X_WD.translation - home_c), 2.0 * a);
 }
 
 TEST(SimDevice, BitwiseDeterministic) {
