@@ -1,4 +1,5 @@
-// The simulation plan of a scene: "simulate only the effects a scene calls for" (DESIGN.md).
+// The simulation plan of a scene: "simulate only the effects a scene calls for"
+// (docs/architecture.md).
 #include <algorithm>
 #include <set>
 

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// The compiled scene model: what exists in a scene and so what must be simulated
-/// (../shared/DESIGN.md, Scenes; KHR_physics_rigid_bodies, KHR_implicit_shapes). Built off the
+/// (docs/scenes.md; KHR_physics_rigid_bodies, KHR_implicit_shapes). Built off the
 /// servo thread by the loader (core/scene/loader.h) or by code; immutable once built; read by
 /// collision, response, dynamics and the daemon (MuJoCo's model: `step(const SceneModel&,
 /// state...)`).
