@@ -36,6 +36,19 @@ inline GltfBuilder baseScene() {
   return b;
 }
 
+/// The base scene with the cube's mesh replaced by `mesh`; `hull`: its collider a convex hull.
+inline GltfBuilder baseSceneWithMesh(const Mesh& mesh, const std::string& name, bool hull) {
+  GltfBuilder b = baseScene();
+  b.doc["meshes"] = json::array();
+  b.doc["bufferViews"] = json::array();
+  b.doc["accessors"] = json::array();
+  b.bin.clear();
+  b.addMesh(mesh, name);
+  if (hull)
+    GltfBuilder::physics(b.doc["nodes"][1])["collider"]["geometry"]["convexHull"] = true;
+  return b;
+}
+
 inline void putU32(std::vector<std::uint8_t>& v, std::size_t at, std::uint32_t x) {
   for (int k = 0; k < 4; ++k)
     v[at + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(x >> (8 * k));
@@ -335,30 +348,18 @@ inline std::vector<CorpusFile> badCorpus() {
 
   // ---- geometry
   {
-    GltfBuilder b = baseScene();
     Mesh quad;
     quad.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}};
     quad.triangles = {0, 1, 2, 0, 2, 3};
-    b.doc["meshes"] = json::array();
-    b.doc["bufferViews"] = json::array();
-    b.doc["accessors"] = json::array();
-    b.bin.clear();
-    b.addMesh(quad, "Quad");
-    GltfBuilder::physics(b.doc["nodes"][1])["collider"]["geometry"]["convexHull"] = true;
+    const GltfBuilder b = baseSceneWithMesh(quad, "Quad", true);
     add("flat_hull.gltf", bytesOf(b.gltf()),
         "node 1 'Cube': mesh 0 'Quad': cannot build a convex hull: all points are coplanar");
   }
   {
-    GltfBuilder b = baseScene();
     Mesh line;
     line.vertices = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}, {1, 1, 1}, {2, 2, 2}};
     line.triangles = {0, 1, 2, 3, 4, 5};
-    b.doc["meshes"] = json::array();
-    b.doc["bufferViews"] = json::array();
-    b.doc["accessors"] = json::array();
-    b.bin.clear();
-    b.addMesh(line, "Line");
-    GltfBuilder::physics(b.doc["nodes"][1])["collider"]["geometry"]["convexHull"] = true;
+    const GltfBuilder b = baseSceneWithMesh(line, "Line", true);
     add("degenerate_hull.gltf", bytesOf(b.gltf()),
         "mesh 0 'Line': cannot build a convex hull: all points are collinear");
   }
@@ -374,12 +375,7 @@ inline std::vector<CorpusFile> badCorpus() {
         "node 0 'Floor': collider: cannot build a convex hull: all points are coplanar");
   }
   {
-    GltfBuilder b = baseScene();
-    b.doc["meshes"] = json::array();
-    b.doc["bufferViews"] = json::array();
-    b.doc["accessors"] = json::array();
-    b.bin.clear();
-    b.addMesh(dentedCubeMesh(), "DentedMesh");
+    const GltfBuilder b = baseSceneWithMesh(dentedCubeMesh(), "DentedMesh", false);
     add("non_convex_mesh.glb", b.glb(),
         "node 1 'Cube': mesh 0 'DentedMesh': non-convex mesh collider without convexHull (convex "
         "decomposition is not supported)");

@@ -11,6 +11,7 @@
 #include <random>
 
 #include "core/scene/loader.h"
+#include "tests/core/scene/plan_expect.h"
 
 namespace hapticd::scene {
 namespace {
@@ -120,11 +121,7 @@ TEST(SceneCorpus, DemoScenesLoadWithThePlanTheyCallFor) {
     GTEST_SKIP() << "scenes/*.glb not here yet";
   {
     const SceneModel& s = *gears;
-    EXPECT_TRUE(s.plan.dynamics);
-    EXPECT_TRUE(s.plan.joints);
-    EXPECT_FALSE(s.plan.gravity);
-    EXPECT_FALSE(s.plan.friction);
-    EXPECT_FALSE(s.plan.restitution);
+    testing::expectPlan(s.plan, "dynamics joints", 0, 41);
     ASSERT_EQ(s.joints.size(), 2u);
     for (const Joint& j : s.joints) {
       EXPECT_EQ(j.kind, JointKind::kHinge);
@@ -145,14 +142,7 @@ TEST(SceneCorpus, DemoScenesLoadWithThePlanTheyCallFor) {
   ASSERT_TRUE(peg);
   {
     const SceneModel& s = *peg;
-    EXPECT_TRUE(s.plan.contact_forces);
-    EXPECT_FALSE(s.plan.dynamics);
-    EXPECT_FALSE(s.plan.gravity);
-    EXPECT_FALSE(s.plan.friction);
-    EXPECT_FALSE(s.plan.restitution);
-    EXPECT_FALSE(s.plan.joints);
-    EXPECT_EQ(s.plan.static_primitives, 5u);
-    EXPECT_EQ(s.plan.moving_primitives, 1u);
+    testing::expectPlan(s.plan, "", 5, 1);
     const Body* hole = named(s, "Hole");
     ASSERT_TRUE(hole);
     ASSERT_TRUE(hole->stiffness_n_per_m);
@@ -164,11 +154,7 @@ TEST(SceneCorpus, DemoScenesLoadWithThePlanTheyCallFor) {
   ASSERT_TRUE(dyn);
   {
     const SceneModel& s = *dyn;
-    EXPECT_TRUE(s.plan.dynamics);
-    EXPECT_TRUE(s.plan.gravity);
-    EXPECT_TRUE(s.plan.friction);
-    EXPECT_TRUE(s.plan.restitution);
-    EXPECT_FALSE(s.plan.joints);
+    testing::expectPlan(s.plan, "dynamics gravity friction restitution", 1, 13);
     std::size_t dynamic = 0;
     for (const Body& b : s.bodies)
       dynamic += b.motion == Motion::kDynamic ? 1u : 0u;
@@ -183,13 +169,7 @@ TEST(SceneCorpus, DemoScenesLoadWithThePlanTheyCallFor) {
   {
     const SceneModel& s = *stress;
     EXPECT_GE(s.plan.static_primitives + s.plan.moving_primitives, 1000u);
-    EXPECT_EQ(s.plan.static_primitives, 1025u);
-    EXPECT_EQ(s.plan.moving_primitives, 17u);
-    EXPECT_TRUE(s.plan.dynamics);
-    EXPECT_TRUE(s.plan.gravity);
-    EXPECT_FALSE(s.plan.friction);
-    EXPECT_FALSE(s.plan.restitution);
-    EXPECT_FALSE(s.plan.joints);
+    testing::expectPlan(s.plan, "dynamics gravity", 1025, 17);
   }
 }
 

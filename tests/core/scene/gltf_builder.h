@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "core/geometry/pose.h"
+#include "core/scene/glb.h"
 
 namespace hapticd::scene::testing {
 
@@ -196,34 +197,9 @@ class GltfBuilder {
   /// The GLB container, the buffer in the BIN chunk.
   std::vector<std::uint8_t> glb() const {
     json d = doc;
-    std::vector<std::uint8_t> b = bin;
-    while (b.size() % 4 != 0)
-      b.push_back(0);
-    if (!b.empty())
+    if (!bin.empty())
       d["buffers"] = json::array({json{{"byteLength", bin.size()}}});
-    std::string text = d.dump();
-    while (text.size() % 4 != 0)
-      text.push_back(' ');
-    std::vector<std::uint8_t> out;
-    out.reserve(28 + text.size() + b.size());
-    const auto u32 = [&](std::uint32_t v) {
-      for (int k = 0; k < 4; ++k)
-        out.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
-    };
-    const std::size_t total = 12 + 8 + text.size() + (b.empty() ? 0 : 8 + b.size());
-    for (const char c : {'g', 'l', 'T', 'F'})
-      out.push_back(static_cast<std::uint8_t>(c));
-    u32(2);
-    u32(static_cast<std::uint32_t>(total));
-    u32(static_cast<std::uint32_t>(text.size()));
-    u32(0x4E4F534Au);
-    out.insert(out.end(), text.begin(), text.end());
-    if (!b.empty()) {
-      u32(static_cast<std::uint32_t>(b.size()));
-      u32(0x004E4942u);
-      out.insert(out.end(), b.begin(), b.end());
-    }
-    return out;
+    return packGlb(d.dump(), bin);
   }
 };
 

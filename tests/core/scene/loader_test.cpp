@@ -10,6 +10,7 @@
 #include <numbers>
 
 #include "tests/core/scene/gltf_builder.h"
+#include "tests/core/scene/plan_expect.h"
 
 namespace hapticd::scene {
 namespace {
@@ -66,14 +67,7 @@ TEST(SceneLoader, StaticOnlySceneRunsContactForcesAndNothingMore) {
   EXPECT_EQ(s.bodies[0].primitives[0].source, ShapeSource::kBox);
   EXPECT_EQ(s.bodies[0].primitives[0].shape->vertices().size(), 8u);
   EXPECT_EQ(s.bodies[0].primitives[0].shape->faces().size(), 6u);
-  EXPECT_TRUE(s.plan.contact_forces);
-  EXPECT_FALSE(s.plan.dynamics);
-  EXPECT_FALSE(s.plan.gravity);
-  EXPECT_FALSE(s.plan.friction);
-  EXPECT_FALSE(s.plan.restitution);
-  EXPECT_FALSE(s.plan.joints);
-  EXPECT_EQ(s.plan.static_primitives, 1u);
-  EXPECT_EQ(s.plan.moving_primitives, 0u);
+  testing::expectPlan(s.plan, "", 1, 0);
   EXPECT_NEAR(s.length_scale, std::sqrt(4.0 + 0.01 + 4.0), 1e-9);
   EXPECT_EQ(s.probe_body, -1);
 }
@@ -186,26 +180,28 @@ TEST(SceneLoader, AnInfinitePlaneBecomesALargeBoxUnderTheScene) {
   EXPECT_NEAR(r.scene->length_scale, extent, 1e-9);
 }
 
+/// One node whose collider is its own mesh (a convex hull of it when `hull`).
+LoadReport meshColliderScene(const testing::Mesh& mesh, const std::string& name, bool hull) {
+  GltfBuilder b;
+  json n = GltfBuilder::node(name);
+  n["mesh"] = b.addMesh(mesh, name + "Mesh");
+  GltfBuilder::physics(n)["collider"] = {{"geometry", {{"node", 0}}}};
+  if (hull)
+    GltfBuilder::physics(n)["collider"]["geometry"]["convexHull"] = true;
+  b.addNode(n);
+  return load(b);
+}
+
 TEST(SceneLoader, MeshHullAndConvexMeshAndNonConvexRefused) {
   {
-    GltfBuilder b;
-    json n = GltfBuilder::node("Dented");
-    n["mesh"] = b.addMesh(testing::dentedCubeMesh(), "DentedMesh");
-    GltfBuilder::physics(n)["collider"] = {{"geometry", {{"node", 0}, {"convexHull", true}}}};
-    b.addNode(n);
-    const LoadReport r = load(b);
+    const LoadReport r = meshColliderScene(testing::dentedCubeMesh(), "Dented", true);
     ASSERT_TRUE(r.ok()) << r.message();
     const Primitive& p = r.scene->bodies[0].primitives[0];
     EXPECT_EQ(p.source, ShapeSource::kMeshHull);
     EXPECT_EQ(p.shape->vertices().size(), 8u);  // the dent is inside the hull
   }
   {
-    GltfBuilder b;
-    json n = GltfBuilder::node("Cube");
-    n["mesh"] = b.addMesh(testing::cubeMesh(), "CubeMesh");
-    GltfBuilder::physics(n)["collider"] = {{"geometry", {{"node", 0}}}};
-    b.addNode(n);
-    const LoadReport r = load(b);
+    const LoadReport r = meshColliderScene(testing::cubeMesh(), "Cube", false);
     ASSERT_TRUE(r.ok()) << r.message();
     const Primitive& p = r.scene->bodies[0].primitives[0];
     EXPECT_EQ(p.source, ShapeSource::kConvexMesh);
@@ -213,12 +209,7 @@ TEST(SceneLoader, MeshHullAndConvexMeshAndNonConvexRefused) {
     EXPECT_EQ(p.shape->faces().size(), 6u);
   }
   {
-    GltfBuilder b;
-    json n = GltfBuilder::node("Dented");
-    n["mesh"] = b.addMesh(testing::dentedCubeMesh(), "DentedMesh");
-    GltfBuilder::physics(n)["collider"] = {{"geometry", {{"node", 0}}}};
-    b.addNode(n);
-    const LoadReport r = load(b);
+    const LoadReport r = meshColliderScene(testing::dentedCubeMesh(), "Dented", false);
     ASSERT_FALSE(r.ok());
     EXPECT_TRUE(hasProblem(r,
                            "non-convex mesh collider without convexHull (convex decomposition "
