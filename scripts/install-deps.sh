@@ -16,7 +16,8 @@ PACKAGES=(
   libgtest-dev libgmock-dev           # tests
   libbenchmark-dev                    # hapticbench
   libccd-dev libfcl-dev libbullet-dev # peers compared in hapticbench
-  libtinygltf-dev                     # scenes: glTF loading (core/scene)
+  libtinygltf-dev                     # tests: an independent glTF reader of the demo scenes
+  libdraco-dev libmeshoptimizer-dev   # scenes: Draco and meshopt compressed geometry (core/scene)
   libtomlplusplus-dev                 # config/hapticd.toml
   libsystemd-dev systemd              # sd_notify (READY, WATCHDOG); systemd-analyze verify in CI
   libhidapi-dev                       # hid device backend

@@ -1,4 +1,5 @@
 // The model builder's physics: mass properties, collision filters and joints (builder.h).
+#include <algorithm>
 #include <bit>
 #include <cmath>
 
@@ -17,8 +18,10 @@ bool finite(const Mat3& m) {
 void Builder::massProperties(Body& body, const MotionDef& motion, std::uint32_t node) {
   const std::string w = where(node);
   VolumeIntegrals integrals;
-  for (const Primitive& prim : body.primitives)
-    integrals.add(polytopeIntegrals(*prim.shape, prim.X_BP.toTransform()));
+  for (const Primitive& prim : body.primitives) {
+    if (!prim.trigger)  // a trigger volume has no mass
+      integrals.add(polytopeIntegrals(*prim.shape, prim.X_BP.toTransform()));
+  }
   const MassProperties computed = massFromIntegrals(integrals, kDensity);
   const bool have_volume = computed.mass > 0.0;
   // node space -> body frame: the body node's scale and shear (its rigid part is X_WB)
@@ -67,92 +70,113 @@ void Builder::massProperties(Body& body, const MotionDef& motion, std::uint32_t 
   }
 }
 
-void Builder::filterBits(SceneModel& scene) {
-  std::map<std::string, std::uint32_t> bits;
-  for (const auto& f : doc_.filters) {
-    for (const auto* list : {&f.systems, &f.collide_with, &f.not_collide_with}) {
-      for (const std::string& s : *list) {
-        if (bits.count(s))
-          continue;
-        if (bits.size() == 32) {
-          p_->add("collisionFilters", "more than 32 collision systems (at '" + s + "')");
-          return;
-        }
-        const auto bit = static_cast<std::uint32_t>(bits.size());
-        bits.emplace(s, 1u << bit);
-      }
-    }
-  }
-  const auto mask = [&](const std::vector<std::string>& names) {
-    std::uint32_t m = 0;
-    for (const std::string& s : names)
-      m |= bits[s];
-    return m;
-  };
-  for (Body& body : scene.bodies) {
-    for (Primitive& prim : body.primitives) {
-      const std::int32_t f = doc_.nodes[static_cast<std::size_t>(prim.node)].collider->filter;
-      if (f < 0) {
-        // unfiltered: in every system, colliding with every system
-        prim.group = ~0u;
-        prim.mask = ~0u;
-        continue;
-      }
-      const FilterDef& def = doc_.filters[static_cast<std::size_t>(f)];
-      prim.group = def.systems.empty() ? ~0u : mask(def.systems);
-      if (!def.collide_with.empty())
-        prim.mask = mask(def.collide_with);
-      else if (!def.not_collide_with.empty())
-        prim.mask = ~mask(def.not_collide_with);
-      else
-        prim.mask = ~0u;
-    }
-  }
+namespace {
+
+bool contains(const std::vector<std::string>& list, const std::string& s) {
+  return std::find(list.begin(), list.end(), s) != list.end();
 }
 
-bool Builder::classifyJoint(Joint* joint, const std::string& w) {
-  // which axes are locked: a linear limit with max 0 (and min 0 for one axis), an angular
-  // limit the same way; soft limits (with stiffness) lock nothing
+/// Does `b` accept `a`, as KHR_physics_rigid_bodies says: "A collides with B if A.collisionSystems
+/// is a subset of B.collideWithSystems and not a subset of B.notCollideWithSystems", the field B
+/// leaves out being the inverse of the one it gives (neither given: B collides with everything).
+/// A collider in no system is accepted where B lists exclusions only. Null: unfiltered.
+bool accepts(const FilterDef* b, const FilterDef* a) {
+  if (!b || (b->collide_with.empty() && b->not_collide_with.empty()))
+    return true;
+  static const FilterDef kNone;
+  const std::vector<std::string>& systems = (a ? a : &kNone)->systems;
+  if (!b->collide_with.empty()) {
+    if (systems.empty())
+      return false;
+    for (const std::string& s : systems) {
+      if (!contains(b->collide_with, s))
+        return false;
+    }
+    return true;
+  }
+  for (const std::string& s : systems) {
+    if (contains(b->not_collide_with, s))
+      return false;
+  }
+  return true;
+}
+
+}  // namespace
+
+bool Builder::filterClasses() {
+  // entry 0 unfiltered, entry f + 1 filter f; two entries collide when each accepts the other.
+  // Entries whose rows of that table are equal share one bit (at most 32 bits)
+  const std::size_t n = doc_.filters.size() + 1;
+  const auto def = [&](std::size_t e) { return e == 0 ? nullptr : &doc_.filters[e - 1]; };
+  std::vector<std::vector<bool>> collide(n, std::vector<bool>(n));
+  for (std::size_t i = 0; i < n; ++i) {
+    for (std::size_t j = 0; j < n; ++j)
+      collide[i][j] = accepts(def(i), def(j)) && accepts(def(j), def(i));
+  }
+  std::vector<std::size_t> class_of(n);
+  std::vector<std::size_t> representative;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::size_t c = 0;
+    while (c < representative.size() && collide[representative[c]] != collide[i])
+      ++c;
+    if (c == representative.size())
+      representative.push_back(i);
+    class_of[i] = c;
+  }
+  if (representative.size() > 32) {
+    p_->add("collisionFilters", std::to_string(representative.size()) +
+                                    " different collision behaviours, more than 32 (filters "
+                                    "that collide with the same filters count once)");
+    return false;
+  }
+  filter_group_.assign(n, 0);
+  filter_mask_.assign(n, 0);
+  for (std::size_t i = 0; i < n; ++i) {
+    filter_group_[i] = 1u << class_of[i];
+    for (std::size_t j = 0; j < n; ++j) {
+      if (collide[i][j])
+        filter_mask_[i] |= 1u << class_of[j];
+    }
+  }
+  return true;
+}
+
+void Builder::classifyJoint(Joint* joint) {
+  // which axes are locked: a hard limit (no stiffness) with max 0 and, for one axis, min 0 (more
+  // axes: min absent or <= 0); soft and ranged limits lock nothing
   std::uint8_t linear = 0, angular = 0;
   std::array<const JointLimit*, 3> angular_limit{nullptr, nullptr, nullptr};
   for (const JointLimit& lim : joint->limits) {
     const int axes = std::popcount(static_cast<unsigned>(lim.linear_axes | lim.angular_axes));
     const bool locks = !lim.stiffness && lim.max && *lim.max == 0.0 &&
                        (axes > 1 ? (!lim.min || *lim.min <= 0.0) : (lim.min && *lim.min == 0.0));
-    if (lim.linear_axes) {
-      if (locks)
-        linear = static_cast<std::uint8_t>(linear | lim.linear_axes);
-    } else if (locks) {
-      angular = static_cast<std::uint8_t>(angular | lim.angular_axes);
-    } else if (axes == 1) {
-      angular_limit[static_cast<std::size_t>(
-          std::countr_zero(static_cast<unsigned>(lim.angular_axes)))] = &lim;
+    const std::uint8_t bits = lim.linear_axes ? lim.linear_axes : lim.angular_axes;
+    if (locks) {
+      (lim.linear_axes ? linear : angular) |= bits;
+    } else if (axes == 1 && lim.angular_axes) {
+      angular_limit[static_cast<std::size_t>(std::countr_zero(static_cast<unsigned>(bits)))] = &lim;
     }
   }
-  if (linear != 7) {
-    p_->add(w,
-            "is neither fixed nor a hinge: not every linear axis is locked at 0 (only fixed "
-            "and hinge joints are supported)");
-    return false;
-  }
-  if (angular == 7) {
+  const int free_linear = 3 - std::popcount(static_cast<unsigned>(linear));
+  const int free_angular = 3 - std::popcount(static_cast<unsigned>(angular));
+  joint->kind = JointKind::kGeneric;
+  if (free_linear == 0 && free_angular == 0) {
     joint->kind = JointKind::kFixed;
-    return true;
+  } else if (free_linear == 0 && free_angular == 1) {
+    joint->kind = JointKind::kHinge;
+    joint->hinge_axis =
+        static_cast<std::uint8_t>(std::countr_zero(static_cast<unsigned>(~angular & 7u)));
+    if (const JointLimit* lim = angular_limit[joint->hinge_axis]) {
+      joint->hinge_min = lim->min;
+      joint->hinge_max = lim->max;
+    }
+  } else if (free_linear == 1 && free_angular == 0) {
+    joint->kind = JointKind::kSlider;
+    joint->hinge_axis =
+        static_cast<std::uint8_t>(std::countr_zero(static_cast<unsigned>(~linear & 7u)));
+  } else if (free_linear == 0) {
+    joint->kind = JointKind::kBall;
   }
-  if (std::popcount(static_cast<unsigned>(angular)) != 2) {
-    p_->add(w, "is neither fixed nor a hinge: " +
-                   std::to_string(3 - std::popcount(static_cast<unsigned>(angular))) +
-                   " free angular axes (only fixed and hinge joints are supported)");
-    return false;
-  }
-  joint->kind = JointKind::kHinge;
-  joint->hinge_axis =
-      static_cast<std::uint8_t>(std::countr_zero(static_cast<unsigned>(~angular & 7u)));
-  if (const JointLimit* lim = angular_limit[joint->hinge_axis]) {
-    joint->hinge_min = lim->min;
-    joint->hinge_max = lim->max;
-  }
-  return true;
 }
 
 void Builder::buildJoints(SceneModel& scene) {
@@ -201,9 +225,13 @@ void Builder::buildJoints(SceneModel& scene) {
       continue;
     }
     joint.enable_collision = ref.enable_collision;
+    joint.node = static_cast<std::int32_t>(node);
     joint.limits = doc_.joints[static_cast<std::size_t>(ref.joint)].limits;
-    if (classifyJoint(&joint, w))
-      scene.joints.push_back(std::move(joint));
+    joint.drives = doc_.joints[static_cast<std::size_t>(ref.joint)].drives;
+    classifyJoint(&joint);
+    // the dynamics simulate fixed joints and hinges; the others wait for them, parsed
+    const bool simulated = joint.kind == JointKind::kFixed || joint.kind == JointKind::kHinge;
+    (simulated ? scene.joints : scene.unsimulated_joints).push_back(std::move(joint));
   }
 }
 

@@ -1,5 +1,5 @@
-// The model builder's frame: world transforms, the scene's nodes, bodies, extras and the plan
-// (builder.h).
+// The model builder's frame: world transforms, the scene's nodes, bodies (a plain model's mesh
+// nodes as static geometry), extras, notes and the plan (builder.h).
 #include <cmath>
 #include <limits>
 
@@ -51,6 +51,7 @@ void Builder::collectSceneNodes() {
   // scene nodes, parents first; body roots: nodes with motion, and a probe without motion
   const std::size_t n = doc_.nodes.size();
   in_scene_.assign(n, 0);
+  in_trigger_.assign(n, 0);
   owner_.assign(n, -1);
   root_.assign(n, -1);
   body_of_node_.assign(n, -1);
@@ -66,10 +67,14 @@ void Builder::collectSceneNodes() {
       const bool body_root = def.motion.has_value() || (def.probe && owner_[k] < 0);
       if (body_root)
         owner_[k] = static_cast<std::int32_t>(k);
+      // an OMI trigger body makes the colliders at and below it triggers, down to the next body
+      if (def.trigger_body || (in_trigger_[k] && def.motion))
+        in_trigger_[k] = def.trigger_body ? 1 : 0;
       // reversed onto the stack: children come out in document order
       for (auto it = def.children.rbegin(); it != def.children.rend(); ++it) {
         owner_[*it] = owner_[k];
         root_[*it] = root_[k];
+        in_trigger_[*it] = in_trigger_[k];
         stack.push_back(*it);
       }
     }
@@ -80,8 +85,9 @@ bool Builder::checkProbeAndCounts(std::int32_t* probe_node) {
   std::size_t colliders = 0;
   for (std::uint32_t k : order_) {
     const NodeDef& def = doc_.nodes[k];
-    if (def.collider)
-      ++colliders;
+    colliders += (def.collider ? 1u : 0u) + (def.trigger ? 1u : 0u);
+    if (!doc_.physics && def.mesh >= 0)
+      colliders += doc_.meshes[static_cast<std::size_t>(def.mesh)].primitives.size();
     if (!def.probe)
       continue;
     if (*probe_node >= 0) {
@@ -126,9 +132,9 @@ bool Builder::makeBodies(SceneModel& scene) {
     body_of_node_[k] = static_cast<std::int32_t>(scene.bodies.size());
     scene.bodies.push_back(std::move(body));
   }
-  // static bodies: the static colliders under each scene root form one body
+  // static bodies: the static colliders (and triggers) under each scene root form one body
   for (std::uint32_t k : order_) {
-    if (!doc_.nodes[k].collider || owner_[k] >= 0)
+    if (!(doc_.nodes[k].collider || doc_.nodes[k].trigger) || owner_[k] >= 0)
       continue;
     const auto r = static_cast<std::size_t>(root_[k]);
     if (body_of_node_[r] >= 0)
@@ -153,6 +159,8 @@ std::int32_t Builder::bodyIndexOf(std::size_t node) const {
   const std::int32_t o = owner_[node];
   if (o >= 0)
     return body_of_node_[static_cast<std::size_t>(o)];
+  if (body_of_node_[node] >= 0)
+    return body_of_node_[node];  // a static root, or a plain model's mesh node
   return body_of_node_[static_cast<std::size_t>(root_[node])];
 }
 
@@ -163,6 +171,8 @@ void Builder::addPlanes(SceneModel& scene) {
   for (const Body& body : scene.bodies) {
     const Transform X_WB = body.X_WB.toTransform();
     for (const Primitive& prim : body.primitives) {
+      if (prim.trigger)
+        continue;  // triggers do not size the scene
       const Transform X_WP = X_WB * prim.X_BP.toTransform();
       for (const auto& v : prim.shape->vertices()) {
         const Vec3 p = X_WP.apply(v.p);
@@ -228,8 +238,85 @@ void Builder::applyExtras(SceneModel& scene, std::int32_t probe_node) {
   }
 }
 
+void Builder::addAllColliders(SceneModel& scene) {
+  for (std::uint32_t k : order_) {
+    const NodeDef& def = doc_.nodes[k];
+    if (!def.collider && !def.trigger)
+      continue;
+    if (p_->full())
+      break;  // a hostile file: stop building once the report is full
+    const auto body = static_cast<std::uint32_t>(bodyIndexOf(k));
+    if (def.collider)
+      addCollider(scene, {body, k, &*def.collider, in_trigger_[k] != 0}, *def.collider);
+    if (def.trigger)
+      addCollider(scene, {body, k, &*def.trigger, true}, *def.trigger);
+  }
+}
+
+void Builder::addPlainBodies(SceneModel& scene) {
+  // no physics extension: every mesh node of the scene is static geometry, one body each (or
+  // part of the probe's body), each mesh primitive a primitive: convex where it is convex
+  for (std::uint32_t k : order_) {
+    const NodeDef& def = doc_.nodes[k];
+    if (def.mesh < 0 || p_->full())
+      continue;
+    if (bodyIndexOf(k) < 0) {
+      Body body;
+      body.name = def.name.empty() ? "node" + std::to_string(k) : def.name;
+      body.node = static_cast<std::int32_t>(k);
+      body.motion = Motion::kStatic;
+      Mat3 R, S;
+      splitRigid(Mat3(world_[k]), &R, &S);
+      body.X_WB = Pose{Vec3(world_[k][3]), glm::normalize(glm::quat_cast(R))};
+      body_of_node_[k] = static_cast<std::int32_t>(scene.bodies.size());
+      scene.bodies.push_back(std::move(body));
+    }
+    ++plain_meshes_;
+    const Target target{static_cast<std::uint32_t>(bodyIndexOf(k)), k, nullptr, false};
+    const Placement at = placement(scene.bodies[target.body], k);
+    const auto mi = static_cast<std::size_t>(def.mesh);
+    for (std::size_t j = 0; j < doc_.meshes[mi].primitives.size(); ++j) {
+      const HullKey key = hullKey(kPlainMesh, def.mesh, static_cast<std::int32_t>(j), at.S);
+      if (reuse(scene, target, at, key))
+        continue;
+      HullInput in;
+      const std::int32_t mode = doc_.meshes[mi].primitives[j].mode;
+      in.surface = mode >= 4 && mode <= 6;
+      in.source = in.surface ? ShapeSource::kConvexMesh : ShapeSource::kMeshHull;
+      in.key = &key;
+      in.mesh_name = meshWhere(doc_, mi) + " primitive " + std::to_string(j);
+      if (primitiveGeometry(k, glm::dmat4(1.0), mi, j, in.surface, &in))
+        finishPrimitive(scene, target, at, std::move(in));
+    }
+  }
+  if (scene.bodies.size() > options_.limits.max_bodies) {
+    p_->add("file", std::to_string(scene.bodies.size()) + " bodies exceeds max_bodies (" +
+                        std::to_string(options_.limits.max_bodies) + ")");
+  }
+}
+
+void Builder::finishNotes(SceneModel& scene) {
+  std::vector<std::string> notes = p_->takeNotes();
+  if (!doc_.physics) {
+    notes.push_back("no physics extension: " + std::to_string(plain_meshes_) +
+                    " meshes as static geometry");
+  }
+  const auto listed = [&](const std::vector<std::string>& lines, const char* what) {
+    constexpr std::size_t kMaxLines = 20;
+    for (std::size_t i = 0; i < lines.size() && i < kMaxLines; ++i)
+      notes.push_back(lines[i]);
+    if (lines.size() > kMaxLines) {
+      notes.push_back("... and " + std::to_string(lines.size() - kMaxLines) + " more " + what);
+    }
+  };
+  listed(stand_ins_, "meshes that are not convex, touched through their convex hulls");
+  listed(thickened_, "flat meshes given a thickness");
+  notes.insert(notes.end(), scene.plan.notes.begin(), scene.plan.notes.end());
+  scene.plan.notes = std::move(notes);
+}
+
 std::optional<SceneModel> Builder::build(const std::string& name) {
-  if (!computeWorld())
+  if (!computeWorld() || !filterClasses())
     return std::nullopt;
   collectSceneNodes();
   std::int32_t probe_node = -1;
@@ -239,13 +326,9 @@ std::optional<SceneModel> Builder::build(const std::string& name) {
   scene.name = name;
   if (!makeBodies(scene))
     return std::nullopt;
-  for (std::uint32_t k : order_) {
-    if (!doc_.nodes[k].collider)
-      continue;
-    if (p_->full())
-      break;  // a hostile file: stop building once the report is full
-    addCollider(scene, static_cast<std::uint32_t>(bodyIndexOf(k)), k);
-  }
+  addAllColliders(scene);
+  if (!doc_.physics)
+    addPlainBodies(scene);
   if (p_->any())
     return std::nullopt;
   addPlanes(scene);
@@ -259,13 +342,13 @@ std::optional<SceneModel> Builder::build(const std::string& name) {
   }
   applyExtras(scene, probe_node);
   scene.materials = doc_.materials;
-  filterBits(scene);
   buildJoints(scene);
   if (doc_.gravity)
     scene.gravity_W = doc_.gravity;
   if (p_->any())
     return std::nullopt;
   scene.plan = makePlan(scene);
+  finishNotes(scene);
   return scene;
 }
 

@@ -141,7 +141,7 @@ bool parseDocument(std::span<const std::uint8_t> bytes,
     return false;
   Checker c(problems);
   TopLevel top;
-  if (!validateTopLevel(c, root, &top))
+  if (!validateTopLevel(c, root, &top, doc))
     return false;
   validateData(c, top, options, doc);
   validateMeshes(c, top, doc);

@@ -22,6 +22,11 @@ std::vector<Problem> Problems::take() {
   return out;
 }
 
+void Problems::note(std::string line) {
+  if (notes_.size() < kMax)
+    notes_.push_back(std::move(line));
+}
+
 std::string inQuotes(const std::string& s) {
   return "'" + s + "'";
 }

@@ -26,10 +26,14 @@ class Problems {
   /// The list is full: further work would only be counted, not reported.
   bool full() const { return list_.size() >= kMax; }
   std::vector<Problem> take();
+  /// A note, not a problem: something ignored or stood in for, for the plan's notes.
+  void note(std::string line);
+  std::vector<std::string> takeNotes() { return std::move(notes_); }
 
  private:
   std::vector<Problem> list_;
   std::size_t dropped_ = 0;
+  std::vector<std::string> notes_;
 };
 
 /// 's' in single quotes, for names in messages.

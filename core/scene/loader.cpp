@@ -69,7 +69,11 @@ LoadReport loadSceneFile(const std::filesystem::path& path, const LoadOptions& o
     report.problems.push_back({"file", bytes.error().message});
     return report;
   }
-  return loadScene(bytes.value(), path.filename().string(), options);
+  // external URIs resolve beside the file unless a folder is given
+  LoadOptions beside = options;
+  if (!beside.allowed_uri_dir)
+    beside.allowed_uri_dir = std::filesystem::absolute(path).parent_path();
+  return loadScene(bytes.value(), path.filename().string(), beside);
 }
 
 }  // namespace hapticd::scene

@@ -1,6 +1,8 @@
 #pragma once
 /// \file
-/// glTF 2.0 scenes (.glb, or .gltf with its data) to a SceneModel, in three passes, each run only
+/// glTF 2.0 scenes (.glb, or .gltf with its data; KHR_physics_rigid_bodies and KHR_implicit_shapes,
+/// Godot's OMI_physics_body / OMI_physics_shape / OMI_collider, or a plain model whose meshes become
+/// static geometry; quantized, sparse, Draco and meshopt geometry) to a SceneModel, in three passes, each run only
 /// when the earlier ones found nothing: the document (the container split, the JSON parsed once and
 /// validated in one walk: core/scene/document.h), the buffers and accessors (accessors.h), then
 /// bodies, primitives (hulls), materials, filters, joints and the plan (builder.h).
@@ -51,7 +53,8 @@ LoadReport loadScene(std::span<const std::uint8_t> bytes,
                      const std::string& name,
                      const LoadOptions& options = {});
 
-/// Reads and loads a file (size checked before reading).
+/// Reads and loads a file (size checked before reading). External URIs resolve inside the file's
+/// own folder unless options.allowed_uri_dir names another, with the same guards.
 LoadReport loadSceneFile(const std::filesystem::path& path, const LoadOptions& options = {});
 
 }  // namespace hapticd::scene

@@ -1,143 +1,41 @@
-// The validation walk over core glTF: the top level, buffers, views, accessors, meshes, nodes and
-// their hierarchy, scenes (document.h).
+// The validation walk over core glTF: the top level and its extensions, meshes (with Draco),
+// nodes and their hierarchy, scenes (document.h). The data (buffers, views, accessors) is
+// validate_data.cpp's.
 #include <algorithm>
 
 #include "core/scene/document.h"
-#include "core/scene/glb.h"
-#include "core/scene/uri.h"
+#include "core/scene/extensions.h"
 
 namespace hapticd::scene::detail {
 namespace {
 
-const char* const kSupportedExtensions[] = {"KHR_physics_rigid_bodies", "KHR_implicit_shapes"};
-
-/// a + b and a * b, false on 64-bit overflow
-bool addU64(std::uint64_t a, std::uint64_t b, std::uint64_t* out) {
-  return !__builtin_add_overflow(a, b, out);
-}
-bool mulU64(std::uint64_t a, std::uint64_t b, std::uint64_t* out) {
-  return !__builtin_mul_overflow(a, b, out);
-}
-
-/// An external URI checked against the folder policy: the resolved file, or a problem.
-std::string checkUri(Checker& c,
-                     const std::string& uri,
-                     const LoadOptions& options,
-                     const std::string& where) {
-  std::string why;
-  const auto path = resolveUri(uri, options, &why);
-  if (!path)
-    c.add(where, why);
-  return path.value_or("");
-}
-
-void validateBuffers(Checker& c, const json& buffers, const LoadOptions& options, Document* doc) {
-  for (std::size_t i = 0; i < buffers.size(); ++i) {
-    const json& b = buffers[i];
-    const std::string w = "buffer " + std::to_string(i);
-    BufferDef def;
-    if (c.uinteger(b, "byteLength", w, &def.byte_length, true) == Got::kOk &&
-        def.byte_length == 0) {
-      c.add(w, "byteLength must be at least 1");
-    }
-    if (c.string(b, "uri", w, &def.uri) == Got::kOk) {
-      if (!isDataUri(def.uri))
-        def.path = checkUri(c, def.uri, options, w);
-    } else if (!(doc->glb && i == 0)) {
-      c.add(w, "has no uri and is not the GLB binary chunk");
-    } else if (def.byte_length > doc->bin.size()) {
-      c.add(w, "byteLength " + std::to_string(def.byte_length) + " exceeds the GLB BIN chunk (" +
-                   std::to_string(doc->bin.size()) + " bytes)");
-    }
-    doc->buffers.push_back(def);
+/// KHR_draco_mesh_compression on a primitive: the stream's bufferView and POSITION's Draco id.
+std::optional<DracoDef> validateDraco(Checker& c,
+                                      const json& p,
+                                      const std::string& where,
+                                      const Document& doc) {
+  const json* ext = nullptr;
+  const json* draco = nullptr;
+  if (c.object(p, "extensions", where, &ext) != Got::kOk ||
+      c.object(*ext, "KHR_draco_mesh_compression", where + " extensions", &draco) != Got::kOk) {
+    return std::nullopt;
   }
-}
-
-void validateViews(Checker& c, const json& views, Document* doc) {
-  for (std::size_t i = 0; i < views.size(); ++i) {
-    const json& v = views[i];
-    const std::string w = "bufferView " + std::to_string(i);
-    ViewDef def;
-    std::int32_t buffer = -1;
-    const Got gb = c.index(v, "buffer", doc->buffers.size(), "buffers", w, &buffer, true);
-    c.uinteger(v, "byteOffset", w, &def.byte_offset);
-    const Got gl = c.uinteger(v, "byteLength", w, &def.byte_length, true);
-    if (c.uinteger(v, "byteStride", w, &def.byte_stride) == Got::kOk &&
-        (def.byte_stride < 4 || def.byte_stride > 252 || def.byte_stride % 4 != 0)) {
-      c.add(w, "byteStride " + std::to_string(def.byte_stride) +
-                   " must be a multiple of 4 in [4, 252]");
-    }
-    if (gb == Got::kOk && gl == Got::kOk) {
-      def.buffer = static_cast<std::uint32_t>(buffer);
-      std::uint64_t end = 0;
-      const std::uint64_t blen = doc->buffers[def.buffer].byte_length;
-      if (!addU64(def.byte_offset, def.byte_length, &end) || end > blen) {
-        c.add(w, "byteOffset " + std::to_string(def.byte_offset) + " + byteLength " +
-                     std::to_string(def.byte_length) + " runs past the end of buffer " +
-                     std::to_string(def.buffer) + " (" + std::to_string(blen) + " bytes)");
-      }
-    }
-    doc->views.push_back(def);
+  const std::string w = where + " KHR_draco_mesh_compression";
+  DracoDef def;
+  const json* attributes = nullptr;
+  std::uint64_t id = 0;
+  if (c.index(*draco, "bufferView", doc.views.size(), "bufferViews", w, &def.view, true) !=
+          Got::kOk ||
+      c.object(*draco, "attributes", w, &attributes, true) != Got::kOk ||
+      c.uinteger(*attributes, "POSITION", w + " attributes", &id, true) != Got::kOk) {
+    return std::nullopt;
   }
-}
-
-/// The accessor's data lies inside its view: offset + (count - 1) * stride + element <= length,
-/// in 64 bits with overflow checks (a count near 2^32 must not wrap).
-void checkAccessorRange(Checker& c,
-                        const AccessorDef& def,
-                        const Document& doc,
-                        const std::string& where) {
-  if (def.view < 0 || def.component_type == 0 || def.components == 0 || def.count == 0)
-    return;
-  const ViewDef& view = doc.views[static_cast<std::size_t>(def.view)];
-  const std::uint64_t element = def.elementBytes();
-  const std::uint64_t stride = def.strideBytes(doc.views);
-  std::uint64_t span = 0, end = 0;
-  const bool fits = mulU64(def.count - 1, stride, &span) && addU64(span, element, &span) &&
-                    addU64(span, def.byte_offset, &end);
-  if (!fits || end > view.byte_length) {
-    c.add(where, "byteOffset " + std::to_string(def.byte_offset) + " + count " +
-                     std::to_string(def.count) + " x stride " + std::to_string(stride) +
-                     (fits ? " = " + std::to_string(end) : std::string(" overflows and")) +
-                     " runs past the end of bufferView " + std::to_string(def.view) + " (" +
-                     std::to_string(view.byte_length) + " bytes)");
+  if (id > 0xFFFFFFFFull) {
+    c.add(w, "attributes POSITION id " + std::to_string(id) + " is out of range");
+    return std::nullopt;
   }
-  if (def.byte_offset % componentBytes(def.component_type) != 0) {
-    c.add(where, "byteOffset " + std::to_string(def.byte_offset) +
-                     " is not a multiple of the component size");
-  }
-}
-
-void validateAccessors(Checker& c, const json& accessors, Document* doc) {
-  for (std::size_t i = 0; i < accessors.size(); ++i) {
-    const json& a = accessors[i];
-    const std::string w = "accessor " + std::to_string(i);
-    AccessorDef def;
-    std::string name;
-    c.string(a, "name", w, &name);
-    const std::string wn = name.empty() ? w : w + " " + inQuotes(name);
-    c.index(a, "bufferView", doc->views.size(), "bufferViews", wn, &def.view);
-    c.uinteger(a, "byteOffset", wn, &def.byte_offset);
-    std::uint64_t ct = 0;
-    if (c.uinteger(a, "componentType", wn, &ct, true) == Got::kOk) {
-      if (componentBytes(ct) == 0)
-        c.add(wn, "componentType " + std::to_string(ct) + " is not a glTF component type");
-      else
-        def.component_type = static_cast<std::uint32_t>(ct);
-    }
-    if (c.uinteger(a, "count", wn, &def.count, true) == Got::kOk && def.count == 0)
-      c.add(wn, "count must be at least 1");
-    if (c.string(a, "type", wn, &def.type, true) == Got::kOk) {
-      def.components = typeComponents(def.type);
-      if (def.components == 0)
-        c.add(wn, "type " + inQuotes(def.type) + " is not a glTF type");
-    }
-    c.boolean(a, "normalized", wn, &def.normalized);
-    if (Checker::find(a, "sparse"))
-      c.add(wn, "sparse accessors are not supported");
-    checkAccessorRange(c, def, *doc, wn);
-    doc->accessors.push_back(def);
-  }
+  def.position_id = static_cast<std::uint32_t>(id);
+  return def;
 }
 
 MeshPrimitiveDef validatePrimitive(Checker& c,
@@ -158,6 +56,7 @@ MeshPrimitiveDef validatePrimitive(Checker& c,
     }
   }
   c.index(p, "indices", doc.accessors.size(), "accessors", where, &pd.indices);
+  pd.draco = validateDraco(c, p, where, doc);
   std::int32_t material = -1;
   c.index(p, "material", material_count, "materials", where, &material);
   std::uint64_t mode = 4;
@@ -277,9 +176,46 @@ std::vector<std::uint32_t> sceneRoots(Checker& c,
   return roots;
 }
 
+/// extensionsRequired and extensionsUsed by what each changes: physics and geometry ones are
+/// read; appearance-only ones ignored with a note; an unknown required one is refused by name,
+/// an unknown used one noted.
+void validateExtensionLists(Checker& c, const json& root, TopLevel* top, Document* doc) {
+  std::vector<std::string> required, used;
+  c.strings(root, "extensionsRequired", "extensionsRequired", &required);
+  c.strings(root, "extensionsUsed", "extensionsUsed", &used);
+  std::string ignored, unknown;
+  for (const std::string& e : required) {
+    if (extensionKind(e) != ExtensionKind::kUnknown)
+      continue;
+    std::string readable;
+    for (const ExtensionKind k : {ExtensionKind::kPhysics, ExtensionKind::kGeometry}) {
+      for (const std::string_view n : extensionsOf(k))
+        readable += (readable.empty() ? "" : ", ") + std::string(n);
+    }
+    c.add("extensionsRequired", "unsupported required extension " + inQuotes(e) +
+                                    " (it may change what is touched; hapticd reads " + readable +
+                                    " and ignores the appearance-only ones listed in "
+                                    "docs/scenes.md)");
+  }
+  for (const std::string& e : used) {
+    const ExtensionKind kind = extensionKind(e);
+    if (kind == ExtensionKind::kAppearance)
+      ignored += (ignored.empty() ? "" : ", ") + e;
+    else if (kind == ExtensionKind::kUnknown)
+      unknown += (unknown.empty() ? "" : ", ") + e;
+    if (declaresPhysics(e))
+      doc->physics = true;
+    top->meshopt_used |= e == kMeshoptNames[0] || e == kMeshoptNames[1];
+  }
+  if (!ignored.empty())
+    c.problems().note("ignored (appearance only): " + ignored);
+  if (!unknown.empty())
+    c.problems().note("not read (unknown, not required): " + unknown);
+}
+
 }  // namespace
 
-bool validateTopLevel(Checker& c, const json& root, TopLevel* top) {
+bool validateTopLevel(Checker& c, const json& root, TopLevel* top, Document* doc) {
   if (c.object(root, "asset", "asset", &top->asset, true) == Got::kOk) {
     std::string version;
     if (c.string(*top->asset, "version", "asset", &version, true) == Got::kOk &&
@@ -287,20 +223,7 @@ bool validateTopLevel(Checker& c, const json& root, TopLevel* top) {
       c.add("asset", "glTF version " + inQuotes(version) + " is not 2.x");
     }
   }
-  std::vector<std::string> required;
-  if (c.strings(root, "extensionsRequired", "extensionsRequired", &required) == Got::kOk) {
-    for (const std::string& e : required) {
-      if (std::find(std::begin(kSupportedExtensions), std::end(kSupportedExtensions), e) ==
-          std::end(kSupportedExtensions)) {
-        c.add("extensionsRequired", "unsupported required extension " + inQuotes(e) +
-                                        " (supported: KHR_physics_rigid_bodies, "
-                                        "KHR_implicit_shapes)");
-      }
-    }
-  }
-  std::vector<std::string> used;
-  c.strings(root, "extensionsUsed", "extensionsUsed", &used);
-
+  validateExtensionLists(c, root, top, doc);
   bool structure_ok = true;
   const auto arrayOfObjects = [&](const char* key) -> const json* {
     const json* a = nullptr;
@@ -328,23 +251,6 @@ bool validateTopLevel(Checker& c, const json& root, TopLevel* top) {
   top->materials = arrayOfObjects("materials");
   top->images = arrayOfObjects("images");
   return structure_ok;
-}
-
-void validateData(Checker& c, const TopLevel& top, const LoadOptions& options, Document* doc) {
-  if (top.buffers)
-    validateBuffers(c, *top.buffers, options, doc);
-  if (top.images) {
-    for (std::size_t i = 0; i < top.images->size(); ++i) {
-      std::string uri;
-      const std::string w = "image " + std::to_string(i);
-      if (c.string((*top.images)[i], "uri", w, &uri) == Got::kOk && !isDataUri(uri))
-        checkUri(c, uri, options, w);
-    }
-  }
-  if (top.views)
-    validateViews(c, *top.views, doc);
-  if (top.accessors)
-    validateAccessors(c, *top.accessors, doc);
 }
 
 void validateMeshes(Checker& c, const TopLevel& top, Document* doc) {
@@ -393,8 +299,14 @@ bool validateNodes(Checker& c, const TopLevel& top, const SceneLimits& limits, D
     const json* ext = nullptr;
     if (c.object(n, "extensions", w, &ext) == Got::kOk) {
       const json* physics = nullptr;
-      if (c.object(*ext, "KHR_physics_rigid_bodies", w + " extensions", &physics) == Got::kOk)
+      if (c.object(*ext, "KHR_physics_rigid_bodies", w + " extensions", &physics) == Got::kOk) {
         validateNodePhysics(c, *physics, w, *doc, &def);
+        doc->physics = true;
+      } else {
+        validateOmiNode(c, *ext, w, *doc, &def);
+        doc->physics |= Checker::find(*ext, "OMI_physics_body") != nullptr ||
+                        Checker::find(*ext, "OMI_collider") != nullptr;
+      }
     }
     HapticExtras extras;
     validateHapticExtras(c, n, w, &extras);

@@ -1,6 +1,6 @@
 // The validation walk over the physics extensions: KHR_implicit_shapes, KHR_physics_rigid_bodies
-// (materials, filters, joints; a node's motion, collider and joint) and extras.haptic
-// (document.h).
+// (materials, filters, joints with their limits and drives; a node's motion, collider, trigger
+// and joint) and extras.haptic (document.h). The OMI extensions are validate_omi.cpp's.
 #include "core/scene/document.h"
 
 namespace hapticd::scene::detail {
@@ -83,6 +83,9 @@ Material validateMaterial(Checker& c, const json& m, std::size_t i) {
   const std::string w = "physicsMaterial " + std::to_string(i);
   Material mat;
   mat.name = "material" + std::to_string(i);
+  // the extension's defaults for a declared material
+  mat.static_friction = 0.6;
+  mat.dynamic_friction = 0.6;
   if (!isObject(c, m, w))
     return mat;
   c.string(m, "name", w, &mat.name);
@@ -91,6 +94,8 @@ Material validateMaterial(Checker& c, const json& m, std::size_t i) {
   c.bounded(m, "restitution", w, &mat.restitution, 0.0, false);
   mat.friction_combine = combineOf(c, m, "frictionCombine", w);
   mat.restitution_combine = combineOf(c, m, "restitutionCombine", w);
+  mat.friction_combine_declared = Checker::find(m, "frictionCombine") != nullptr;
+  mat.restitution_combine_declared = Checker::find(m, "restitutionCombine") != nullptr;
   return mat;
 }
 
@@ -151,14 +156,50 @@ std::optional<JointLimit> validateLimit(Checker& c, const json& l, const std::st
   return lim;
 }
 
+std::optional<JointDrive> validateDrive(Checker& c, const json& d, const std::string& dw) {
+  static const std::vector<std::string> kTypes = {"linear", "angular"};
+  static const std::vector<std::string> kModes = {"force", "acceleration"};
+  if (!isObject(c, d, dw))
+    return std::nullopt;
+  JointDrive drive;
+  std::size_t type = 0, mode = 0;
+  std::int32_t axis = 0;
+  const Got gt = c.choice(d, "type", dw, kTypes, &type);
+  const Got gm = c.choice(d, "mode", dw, kModes, &mode);
+  const Got ga = c.index(d, "axis", 3, "axes", dw, &axis, true);
+  for (const auto& [got, key] : {std::pair{gt, "type"}, std::pair{gm, "mode"}}) {
+    if (got == Got::kAbsent)
+      c.add(dw, std::string("required property ") + key + " is missing");
+  }
+  if (gt != Got::kOk || gm != Got::kOk || ga != Got::kOk)
+    return std::nullopt;
+  drive.angular = type == 1;
+  drive.acceleration = mode == 1;
+  drive.axis = static_cast<std::uint8_t>(axis);
+  double v = 0.0;
+  if (c.bounded(d, "maxForce", dw, &v, 0.0, false) == Got::kOk)
+    drive.max_force = v;
+  if (c.number(d, "positionTarget", dw, &v) == Got::kOk)
+    drive.position_target = v;
+  if (c.number(d, "velocityTarget", dw, &v) == Got::kOk)
+    drive.velocity_target = v;
+  c.bounded(d, "stiffness", dw, &drive.stiffness, 0.0, false);
+  c.bounded(d, "damping", dw, &drive.damping, 0.0, false);
+  return drive;
+}
+
 JointDef validateJoint(Checker& c, const json& j, std::size_t i) {
   const std::string w = "physicsJoint " + std::to_string(i);
   JointDef def;
   if (!isObject(c, j, w))
     return def;
   const json* drives = nullptr;
-  if (c.array(j, "drives", w, &drives) == Got::kOk && !drives->empty())
-    c.add(w, "joint drives are not supported");
+  if (c.array(j, "drives", w, &drives) == Got::kOk) {
+    for (std::size_t k = 0; k < drives->size(); ++k) {
+      if (auto drive = validateDrive(c, (*drives)[k], w + " drive " + std::to_string(k)))
+        def.drives.push_back(*drive);
+    }
+  }
   const json* limits = nullptr;
   if (c.array(j, "limits", w, &limits) == Got::kOk) {
     for (std::size_t k = 0; k < limits->size(); ++k) {
@@ -170,17 +211,9 @@ JointDef validateJoint(Checker& c, const json& j, std::size_t i) {
 }
 
 void validateRigidBodiesRoot(Checker& c, const json& ext, Document* doc) {
-  const std::string root = "KHR_physics_rigid_bodies";
+  validateMaterialsAndFilters(c, ext, "KHR_physics_rigid_bodies", doc);
   const json* arr = nullptr;
-  if (c.array(ext, "physicsMaterials", root, &arr) == Got::kOk) {
-    for (std::size_t i = 0; i < arr->size(); ++i)
-      doc->materials.push_back(validateMaterial(c, (*arr)[i], i));
-  }
-  if (c.array(ext, "collisionFilters", root, &arr) == Got::kOk) {
-    for (std::size_t i = 0; i < arr->size(); ++i)
-      doc->filters.push_back(validateFilter(c, (*arr)[i], i));
-  }
-  if (c.array(ext, "physicsJoints", root, &arr) == Got::kOk) {
+  if (c.array(ext, "physicsJoints", "KHR_physics_rigid_bodies", &arr) == Got::kOk) {
     for (std::size_t i = 0; i < arr->size(); ++i)
       doc->joints.push_back(validateJoint(c, (*arr)[i], i));
   }
@@ -208,31 +241,78 @@ MotionDef validateMotion(Checker& c, const json& motion, const std::string& mw) 
   return m;
 }
 
+/// A collider's or trigger's `geometry` (a shape or a mesh node; `convexHull`).
+void validateGeometry(Checker& c,
+                      const json& geometry,
+                      const std::string& gw,
+                      const Document& doc,
+                      ColliderDef* def) {
+  const Got shape =
+      c.index(geometry, "shape", doc.omi_shape_base, "KHR_implicit_shapes shapes", gw, &def->shape);
+  const Got mesh_node =
+      c.index(geometry, "node", doc.nodes.size(), "nodes", gw, &def->geometry_node);
+  if ((shape == Got::kAbsent) == (mesh_node == Got::kAbsent))
+    c.add(gw, "give exactly one of shape and node");
+  c.boolean(geometry, "convexHull", gw, &def->convex_hull);
+}
+
 ColliderDef validateCollider(Checker& c,
                              const json& collider,
                              const std::string& cw,
                              const Document& doc) {
   ColliderDef def;
   const json* geometry = nullptr;
-  if (c.object(collider, "geometry", cw, &geometry, true) == Got::kOk) {
-    const std::string gw = cw + " geometry";
-    const Got shape = c.index(*geometry, "shape", doc.shapes.size(), "KHR_implicit_shapes shapes",
-                              gw, &def.shape);
-    const Got mesh_node =
-        c.index(*geometry, "node", doc.nodes.size(), "nodes", gw, &def.geometry_node);
-    if ((shape == Got::kAbsent) == (mesh_node == Got::kAbsent))
-      c.add(gw, "give exactly one of shape and node");
-    c.boolean(*geometry, "convexHull", gw, &def.convex_hull);
-  }
-  c.index(collider, "physicsMaterial", doc.materials.size(), "physicsMaterials", cw, &def.material);
-  c.index(collider, "collisionFilter", doc.filters.size(), "collisionFilters", cw, &def.filter);
+  if (c.object(collider, "geometry", cw, &geometry, true) == Got::kOk)
+    validateGeometry(c, *geometry, cw + " geometry", doc, &def);
+  c.index(collider, "physicsMaterial", doc.omi_material_base, "physicsMaterials", cw,
+          &def.material);
+  c.index(collider, "collisionFilter", doc.omi_filter_base, "collisionFilters", cw, &def.filter);
   return def;
+}
+
+/// A trigger: `geometry` (the README) or `shape` (the schema), or a compound trigger's `nodes`.
+std::optional<ColliderDef> validateTrigger(Checker& c,
+                                           const json& trigger,
+                                           const std::string& tw,
+                                           const Document& doc) {
+  ColliderDef def;
+  const json* geometry = nullptr;
+  std::vector<std::int32_t> nodes;
+  validateNodeList(c, trigger, "nodes", tw, doc, &nodes);
+  c.index(trigger, "collisionFilter", doc.omi_filter_base, "collisionFilters", tw, &def.filter);
+  if (c.object(trigger, "geometry", tw, &geometry) == Got::kOk) {
+    validateGeometry(c, *geometry, tw + " geometry", doc, &def);
+    return def;
+  }
+  if (Checker::find(trigger, "shape")) {
+    c.index(trigger, "shape", doc.omi_shape_base, "KHR_implicit_shapes shapes", tw, &def.shape);
+    return def.shape >= 0 ? std::optional(def) : std::nullopt;
+  }
+  if (nodes.empty())
+    c.add(tw, "give geometry (or shape), or the nodes of a compound trigger");
+  return std::nullopt;
 }
 
 }  // namespace
 
+void validateMaterialsAndFilters(Checker& c,
+                                 const json& ext,
+                                 const std::string& name,
+                                 Document* doc) {
+  const std::size_t material_base = doc->materials.size(), filter_base = doc->filters.size();
+  const json* arr = nullptr;
+  if (c.array(ext, "physicsMaterials", name, &arr) == Got::kOk) {
+    for (std::size_t i = 0; i < arr->size(); ++i)
+      doc->materials.push_back(validateMaterial(c, (*arr)[i], material_base + i));
+  }
+  if (c.array(ext, "collisionFilters", name, &arr) == Got::kOk) {
+    for (std::size_t i = 0; i < arr->size(); ++i)
+      doc->filters.push_back(validateFilter(c, (*arr)[i], filter_base + i));
+  }
+}
+
 void validatePhysicsRoot(Checker& c, const json& root, Document* doc) {
-  // shapes first, then materials, filters, joints (nodes index them)
+  // shapes first, then materials, filters, joints (nodes index them); the OMI ones after KHR's
   const json* extensions = nullptr;
   if (c.object(root, "extensions", "extensions", &extensions) != Got::kOk)
     return;
@@ -242,6 +322,23 @@ void validatePhysicsRoot(Checker& c, const json& root, Document* doc) {
   const json* physics = nullptr;
   if (c.object(*extensions, "KHR_physics_rigid_bodies", "extensions", &physics) == Got::kOk)
     validateRigidBodiesRoot(c, *physics, doc);
+  validateOmiRoot(c, *extensions, doc);
+}
+
+void validateNodeList(Checker& c,
+                      const json& o,
+                      const char* key,
+                      const std::string& where,
+                      const Document& doc,
+                      std::vector<std::int32_t>* out) {
+  const json* list = nullptr;
+  if (c.array(o, key, where, &list) != Got::kOk)
+    return;
+  for (const json& e : *list) {
+    std::int32_t index = -1;
+    if (c.indexValue(e, key, doc.nodes.size(), "nodes", where, &index) == Got::kOk)
+      out->push_back(index);
+  }
 }
 
 void validateNodePhysics(Checker& c,
@@ -255,6 +352,9 @@ void validateNodePhysics(Checker& c,
   const json* collider = nullptr;
   if (c.object(ext, "collider", w, &collider) == Got::kOk)
     node->collider = validateCollider(c, *collider, w + " collider", doc);
+  const json* trigger = nullptr;
+  if (c.object(ext, "trigger", w, &trigger) == Got::kOk)
+    node->trigger = validateTrigger(c, *trigger, w + " trigger", doc);
   const json* joint = nullptr;
   if (c.object(ext, "joint", w, &joint) == Got::kOk) {
     const std::string jw = w + " joint";

@@ -4,6 +4,7 @@
 /// the fuzz seeds and the load benchmark: JSON with nlohmann, mesh data in one buffer, written as
 /// .gltf (base64 data URI) or .glb. Header-only, test code.
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <nlohmann/json.hpp>
@@ -65,12 +66,26 @@ class GltfBuilder {
  public:
   json doc;
   std::vector<std::uint8_t> bin;
+  /// Buffers after buffer 0 (the bin), e.g. a meshopt fallback buffer.
+  std::vector<json> more_buffers;
 
   GltfBuilder() {
     doc = {{"asset", {{"version", "2.0"}, {"generator", "hapticd tests"}}}};
     doc["scenes"] = json::array({json{{"nodes", json::array()}}});
     doc["scene"] = 0;
     doc["nodes"] = json::array();
+  }
+
+  /// Names an extension in extensionsUsed (and extensionsRequired when `required`), once.
+  void useExtension(const std::string& name, bool required) {
+    const auto add = [&](const char* list) {
+      json& l = doc[list];
+      if (std::find(l.begin(), l.end(), name) == l.end())
+        l.push_back(name);
+    };
+    add("extensionsUsed");
+    if (required)
+      add("extensionsRequired");
   }
 
   /// Appends raw bytes to the buffer (4-byte aligned) and returns a bufferView index.
@@ -190,6 +205,8 @@ class GltfBuilder {
       d["buffers"] =
           json::array({json{{"byteLength", bin.size()},
                             {"uri", "data:application/octet-stream;base64," + base64(bin)}}});
+      for (const json& extra : more_buffers)
+        d["buffers"].push_back(extra);
     }
     return d.dump();
   }
@@ -197,8 +214,11 @@ class GltfBuilder {
   /// The GLB container, the buffer in the BIN chunk.
   std::vector<std::uint8_t> glb() const {
     json d = doc;
-    if (!bin.empty())
+    if (!bin.empty()) {
       d["buffers"] = json::array({json{{"byteLength", bin.size()}}});
+      for (const json& extra : more_buffers)
+        d["buffers"].push_back(extra);
+    }
     return packGlb(d.dump(), bin);
   }
 };
