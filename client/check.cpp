@@ -90,6 +90,35 @@ nlohmann::json sceneJson(const scene::SceneModel& s) {
   return out;
 }
 
+/// The pairs of bodies (not both static) whose collision filters keep every primitive apart.
+std::string keptApart(const scene::SceneModel& s) {
+  const auto apart = [&](const scene::Body& a, const scene::Body& b) {
+    bool solid = false;
+    for (const scene::Primitive& p : a.primitives) {
+      for (const scene::Primitive& q : b.primitives) {
+        if (p.trigger || q.trigger)
+          continue;
+        solid = true;
+        if ((p.group & q.mask) && (q.group & p.mask))
+          return false;
+      }
+    }
+    return solid;
+  };
+  std::string out;
+  std::size_t lines = 0;
+  for (std::size_t i = 0; i < s.bodies.size() && lines < 50; ++i) {
+    for (std::size_t j = i + 1; j < s.bodies.size() && lines < 50; ++j) {
+      const scene::Body &a = s.bodies[i], &b = s.bodies[j];
+      if ((a.motion != Motion::kStatic || b.motion != Motion::kStatic) && apart(a, b)) {
+        out += "  '" + a.name + "' and '" + b.name + "'\n";
+        ++lines;
+      }
+    }
+  }
+  return out.empty() ? out : "collision filters keep apart:\n" + out;
+}
+
 }  // namespace
 
 std::string describeScene(const scene::SceneModel& s) {
@@ -131,6 +160,7 @@ std::string describeScene(const scene::SceneModel& s) {
              (p.trigger ? ", trigger (not colliding)" : "") + "\n";
     }
   }
+  out += keptApart(s);
   if (!s.joints.empty() || !s.unsimulated_joints.empty()) {
     out += "joints:\n";
     for (const auto* list : {&s.joints, &s.unsimulated_joints}) {

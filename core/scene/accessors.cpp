@@ -295,7 +295,11 @@ bool AccessorReader::readDraco(const MeshPrimitiveDef& prim,
   const std::span<const std::uint8_t> stream = viewBytes(static_cast<std::size_t>(draco.view), &ok);
   if (!ok)
     return false;
-  auto decoded = decodeDraco(stream, draco.position_id, prim.mode >= 4);
+  // the counts the accessors declare bound what the stream may claim
+  const std::uint64_t max_faces =
+      prim.indices >= 0 ? doc_.accessors[static_cast<std::size_t>(prim.indices)].count / 3
+                        : 16 * a.count;
+  auto decoded = decodeDraco(stream, draco.position_id, prim.mode >= 4, a.count, max_faces);
   if (!decoded) {
     p_->add(w, decoded.error().message);
     return false;

@@ -382,43 +382,51 @@ void Builder::addShapeCollider(SceneModel& scene, const Target& target) {
   finishPrimitive(scene, target, at, std::move(in));
 }
 
-void Builder::addNodeMeshCollider(SceneModel& scene, const Target& target) {
-  const ColliderDef& collider = *target.collider;
-  const auto g = static_cast<std::uint32_t>(collider.geometry_node);
+template <class Gather>
+void Builder::addMeshCollider(SceneModel& scene,
+                              const Target& target,
+                              bool hull,
+                              std::int32_t index,
+                              Gather gather) {
   const Placement at = placement(scene.bodies[target.body], target.node);
-  const HullKey key =
-      hullKey(collider.convex_hull ? kNodeHull : kNodeSurface, collider.geometry_node, 0, at.S);
+  const bool node = target.collider->shape < 0;
+  const HullKind kind =
+      node ? (hull ? kNodeHull : kNodeSurface) : (hull ? kMeshHull : kMeshSurface);
+  const HullKey key = hullKey(kind, index, 0, at.S);
   if (reuse(scene, target, at, key))
     return;
   HullInput in;
-  in.source = collider.convex_hull ? ShapeSource::kMeshHull : ShapeSource::kConvexMesh;
-  in.surface = !collider.convex_hull;
+  in.source = hull ? ShapeSource::kMeshHull : ShapeSource::kConvexMesh;
+  in.surface = !hull;
   in.key = &key;
-  if (!meshGeometry(g, in.surface, &in))
-    return;
-  in.mesh_name = doc_.nodes[g].mesh >= 0
-                     ? meshWhere(doc_, static_cast<std::size_t>(doc_.nodes[g].mesh))
-                     : "the meshes under " + where(g);
-  finishPrimitive(scene, target, at, std::move(in));
+  if (gather(&in))
+    finishPrimitive(scene, target, at, std::move(in));
+}
+
+void Builder::addNodeMeshCollider(SceneModel& scene, const Target& target) {
+  // KHR geometry.node: the meshes of the node and its descendants
+  const auto g = static_cast<std::uint32_t>(target.collider->geometry_node);
+  addMeshCollider(scene, target, target.collider->convex_hull, target.collider->geometry_node,
+                  [&](HullInput* in) {
+                    in->mesh_name =
+                        doc_.nodes[g].mesh >= 0
+                            ? meshWhere(doc_, static_cast<std::size_t>(doc_.nodes[g].mesh))
+                            : "the meshes under " + where(g);
+                    return meshGeometry(g, in->surface, in);
+                  });
 }
 
 void Builder::addOmiMeshCollider(SceneModel& scene, const Target& target, const ShapeDef& shape) {
   // OMI convex and trimesh shapes: one glTF mesh, in the collider node's frame
-  const Placement at = placement(scene.bodies[target.body], target.node);
-  const HullKey key = hullKey(shape.convex_hull ? kMeshHull : kMeshSurface, shape.mesh, 0, at.S);
-  if (reuse(scene, target, at, key))
-    return;
-  HullInput in;
-  in.source = shape.convex_hull ? ShapeSource::kMeshHull : ShapeSource::kConvexMesh;
-  in.surface = !shape.convex_hull;
-  in.key = &key;
-  in.mesh_name = meshWhere(doc_, static_cast<std::size_t>(shape.mesh));
   const auto mi = static_cast<std::size_t>(shape.mesh);
-  for (std::size_t k = 0; k < doc_.meshes[mi].primitives.size(); ++k) {
-    if (!primitiveGeometry(target.node, glm::dmat4(1.0), mi, k, in.surface, &in))
-      return;
-  }
-  finishPrimitive(scene, target, at, std::move(in));
+  addMeshCollider(scene, target, shape.convex_hull, shape.mesh, [&](HullInput* in) {
+    in->mesh_name = meshWhere(doc_, mi);
+    for (std::size_t k = 0; k < doc_.meshes[mi].primitives.size(); ++k) {
+      if (!primitiveGeometry(target.node, glm::dmat4(1.0), mi, k, in->surface, in))
+        return false;
+    }
+    return true;
+  });
 }
 
 void Builder::addPlane(SceneModel& scene,

@@ -105,6 +105,13 @@ class Builder {
   void addCollider(SceneModel& scene, const Target& target, const ColliderDef& collider);
   void addShapeCollider(SceneModel& scene, const Target& target);
   bool shapePoints(const ShapeDef& shape, std::uint32_t node, std::vector<Vec3>* points);
+  /// A mesh collider as a hull or a surface; `gather` fills the points (and triangles) and name.
+  template <class Gather>
+  void addMeshCollider(SceneModel& scene,
+                       const Target& target,
+                       bool hull,
+                       std::int32_t index,
+                       Gather gather);
   void addNodeMeshCollider(SceneModel& scene, const Target& target);
   void addOmiMeshCollider(SceneModel& scene, const Target& target, const ShapeDef& shape);
   void addPlane(SceneModel& scene,

@@ -25,10 +25,15 @@ struct DracoGeometry {
 };
 
 /// Decodes `stream` (a mesh when `mesh`, else a point cloud) and the attribute with Draco unique
-/// id `attribute_id`; an error naming what is wrong ("Draco: ...").
+/// id `attribute_id`; an error naming what is wrong ("Draco: ..."). The counts the stream's header
+/// claims are read first and refused above `max_points` vertices or `max_faces` triangles, so that
+/// a hostile header cannot make the library allocate without bound; streams with Draco metadata
+/// are refused (their header cannot be checked).
 Result<DracoGeometry> decodeDraco(std::span<const std::uint8_t> stream,
                                   std::uint32_t attribute_id,
-                                  bool mesh);
+                                  bool mesh,
+                                  std::uint64_t max_points,
+                                  std::uint64_t max_faces);
 
 /// The meshopt compression of one bufferView (already validated: mode, filter, stride, count).
 struct MeshoptView {

@@ -1,12 +1,12 @@
 #pragma once
 /// \file
 /// glTF 2.0 scenes (.glb, or .gltf with its data; KHR_physics_rigid_bodies and KHR_implicit_shapes,
-/// Godot's OMI_physics_body / OMI_physics_shape / OMI_collider, or a plain model whose meshes become
-/// static geometry; quantized, sparse, Draco and meshopt geometry) to a SceneModel, in three passes, each run only
-/// when the earlier ones found nothing: the document (the container split, the JSON parsed once and
-/// validated in one walk: core/scene/document.h), the buffers and accessors (accessors.h), then
-/// bodies, primitives (hulls), materials, filters, joints and the plan (builder.h).
-/// Any thread but the servo thread (allocates, builds hulls).
+/// Godot's OMI_physics_body / OMI_physics_shape / OMI_collider, or a plain model whose meshes
+/// become static geometry; quantized, sparse, Draco and meshopt geometry) to a SceneModel, in three
+/// passes, each run only when the earlier ones found nothing: the document (the container split,
+/// the JSON parsed once and validated in one walk: core/scene/document.h), the buffers and
+/// accessors (accessors.h), then bodies, primitives (hulls), materials, filters, joints and the
+/// plan (builder.h). Any thread but the servo thread (allocates, builds hulls).
 ///
 /// This header is the contract between the loader, the daemon, the protocol's scene upload and
 /// hapticctl: functions may be added, none renamed or removed.
