@@ -51,11 +51,18 @@ TEST(SceneCorpus, TheManifestListsEveryBadFile) {
   EXPECT_EQ(lines, testing::badCorpus().size());
 }
 
-TEST(SceneCorpus, TheGoodScenesLoad) {
-  for (const auto& f : testing::goodCorpus()) {
+TEST(SceneCorpus, TheGoodScenesLoadAndTheManifestListsEachAnswer) {
+  std::ifstream in(kScenes / "good" / "expected.txt");
+  std::string manifest((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  const auto corpus = testing::goodCorpus();
+  ASSERT_GE(corpus.size(), 30u);
+  for (const auto& f : corpus) {
     SCOPED_TRACE(f.name);
     const auto path = kScenes / "good" / f.name;
-    EXPECT_EQ(readFile(path), f.bytes);
+    EXPECT_EQ(readFile(path), f.bytes) << "regenerate with scene_corpus_gen tests/scenes";
+    if (!f.scene)
+      continue;  // a buffer beside a scene
+    EXPECT_NE(manifest.find(f.name + "\t"), std::string::npos);
     const LoadReport r = loadSceneFile(path);
     EXPECT_TRUE(r.ok()) << r.message();
   }

@@ -163,8 +163,8 @@ inline int addMeshoptView(GltfBuilder& b,
   std::vector<std::uint8_t> encoded;
   if (mode == "ATTRIBUTES") {
     encoded.resize(meshopt_encodeVertexBufferBound(count, stride));
-    encoded.resize(meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), raw.data(), count,
-                                              stride));
+    encoded.resize(
+        meshopt_encodeVertexBuffer(encoded.data(), encoded.size(), raw.data(), count, stride));
   } else {
     std::vector<unsigned int> indices(count);
     for (std::size_t i = 0; i < count; ++i) {
@@ -173,23 +173,25 @@ inline int addMeshoptView(GltfBuilder& b,
       indices[i] = v;
     }
     encoded.resize(meshopt_encodeIndexBufferBound(count, count));
-    encoded.resize(mode == "TRIANGLES"
-                       ? meshopt_encodeIndexBuffer(encoded.data(), encoded.size(), indices.data(),
-                                                   count)
-                       : meshopt_encodeIndexSequence(encoded.data(), encoded.size(),
-                                                     indices.data(), count));
+    encoded.resize(
+        mode == "TRIANGLES"
+            ? meshopt_encodeIndexBuffer(encoded.data(), encoded.size(), indices.data(), count)
+            : meshopt_encodeIndexSequence(encoded.data(), encoded.size(), indices.data(), count));
   }
   if (b.more_buffers.empty())
-    b.more_buffers.push_back({{"byteLength", 0},
-                              {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}});
+    b.more_buffers.push_back(
+        {{"byteLength", 0}, {"extensions", {{"EXT_meshopt_compression", {{"fallback", true}}}}}});
   json& fallback = b.more_buffers[0];
   const std::size_t at = (fallback["byteLength"].get<std::size_t>() + 3) / 4 * 4;
   fallback["byteLength"] = at + raw.size();
   const int compressed = b.addView(encoded.data(), encoded.size());
   json& view = b.doc["bufferViews"][static_cast<std::size_t>(compressed)];
-  const json ext = {{"buffer", 0},           {"byteOffset", view["byteOffset"]},
-                    {"byteLength", encoded.size()}, {"byteStride", stride},
-                    {"count", count},         {"mode", mode},
+  const json ext = {{"buffer", 0},
+                    {"byteOffset", view["byteOffset"]},
+                    {"byteLength", encoded.size()},
+                    {"byteStride", stride},
+                    {"count", count},
+                    {"mode", mode},
                     {"filter", filter}};
   view = {{"buffer", 1},
           {"byteOffset", at},
@@ -216,8 +218,7 @@ inline int addMeshoptMesh(GltfBuilder& b,
                                 {"componentType", 5126},
                                 {"count", mesh.vertices.size()},
                                 {"type", "VEC3"}});
-  const int iv =
-      addMeshoptView(b, mesh.triangles.data(), mesh.triangles.size(), 4, index_mode);
+  const int iv = addMeshoptView(b, mesh.triangles.data(), mesh.triangles.size(), 4, index_mode);
   const int ia = b.addAccessor({{"bufferView", iv},
                                 {"componentType", 5125},
                                 {"count", mesh.triangles.size()},

@@ -214,8 +214,8 @@ class SceneFiles : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = std::filesystem::temp_directory_path() /
-           ("hapticd_formats_" + std::string(
-                                     ::testing::UnitTest::GetInstance()->current_test_info()->name()));
+           ("hapticd_formats_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     std::filesystem::remove_all(dir_);
     std::filesystem::create_directories(dir_ / "scene");
     std::filesystem::create_directories(dir_ / "daemon");
@@ -223,7 +223,8 @@ class SceneFiles : public ::testing::Test {
   void TearDown() override { std::filesystem::remove_all(dir_); }
   void write(const std::filesystem::path& p, const std::vector<std::uint8_t>& bytes) {
     std::ofstream(p, std::ios::binary)
-        .write(reinterpret_cast<const char*>(bytes.data()), static_cast<std::streamsize>(bytes.size()));
+        .write(reinterpret_cast<const char*>(bytes.data()),
+               static_cast<std::streamsize>(bytes.size()));
   }
   /// A .gltf whose buffer is `bin` beside it, the cube of half size `h`.
   void writeBeside(double h) {
@@ -330,8 +331,7 @@ TEST(SceneFormats, APlainModelIsStaticGeometryOneBodyPerMeshNode) {
   const std::string notes = notesOf(s);
   EXPECT_NE(notes.find("no physics extension: 4 meshes as static geometry"), std::string::npos)
       << notes;
-  EXPECT_NE(notes.find("mesh 1 'Dented' primitive 0 (node 3 'C'): not convex"),
-            std::string::npos);
+  EXPECT_NE(notes.find("mesh 1 'Dented' primitive 0 (node 3 'C'): not convex"), std::string::npos);
   EXPECT_NE(notes.find("mesh 2 'Floor' primitive 0 (node 4 'F'): flat, given a thickness"),
             std::string::npos);
   EXPECT_TRUE(s.plan.probe_sphere);

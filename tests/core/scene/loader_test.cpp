@@ -383,12 +383,15 @@ TEST(SceneLoader, CollisionFiltersFollowTheExtensionInBothDirections) {
   // of the other), tested both ways
   GltfBuilder b;
   const auto filter = [&](json f) { return b.addPhysics("collisionFilters", f); };
-  const int fa = filter({{"collisionSystems", {"character"}}, {"collideWithSystems", {"landscape"}}});
-  const int fb = filter({{"collisionSystems", {"landscape"}}, {"notCollideWithSystems", {"debris"}}});
+  const int fa =
+      filter({{"collisionSystems", {"character"}}, {"collideWithSystems", {"landscape"}}});
+  const int fb =
+      filter({{"collisionSystems", {"landscape"}}, {"notCollideWithSystems", {"debris"}}});
   const int fd = filter({{"collisionSystems", {"debris"}}});
   const int fe = filter({{"collisionSystems", {"character", "debris"}}});
   const int ff = filter({{"collisionSystems", {"landscape", "water"}}});
-  const int fg = filter({{"collisionSystems", {"landscape"}}, {"collideWithSystems", {"character"}}});
+  const int fg =
+      filter({{"collisionSystems", {"landscape"}}, {"collideWithSystems", {"character"}}});
   const int fh = filter({{"collisionSystems", {"rock"}}, {"collideWithSystems", {"character"}}});
   const std::pair<const char*, int> bodies[] = {{"A", fa}, {"B", fb}, {"C", -1}, {"D", fd},
                                                 {"E", fe}, {"F", ff}, {"G", fg}, {"H", fh}};

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "core/scene/loader.h"
+#include "tests/core/scene/corpus_formats.h"
 #include "tests/core/scene/scene_test_util.h"
 
 namespace hapticd::scene {
@@ -19,19 +20,6 @@ using testing::json;
 using testing::load;
 using testing::notesOf;
 using testing::staticShape;
-
-json omiShapes(GltfBuilder& b) {
-  // what Godot 4 writes: box, sphere, capsule and cylinder with radius and whole height, and
-  // convex / trimesh shapes of a mesh
-  const int cube = b.addMesh(testing::cubeMesh(0.1), "CubeMesh");
-  const int dented = b.addMesh(testing::dentedCubeMesh(0.5), "DentedMesh");
-  return json::array({{{"type", "box"}, {"box", {{"size", {1.0, 0.2, 1.0}}}}},
-                      {{"type", "sphere"}, {"sphere", {{"radius", 0.1}}}},
-                      {{"type", "capsule"}, {"capsule", {{"radius", 0.1}, {"height", 0.6}}}},
-                      {{"type", "cylinder"}, {"cylinder", {{"radius", 0.1}, {"height", 0.3}}}},
-                      {{"type", "convex"}, {"convex", {{"mesh", cube}}}},
-                      {{"type", "trimesh"}, {"trimesh", {{"mesh", dented}}}}});
-}
 
 /// A Godot body node with a collider child of OMI shape `shape`.
 int omiBody(GltfBuilder& b, const std::string& name, const json& body, int shape, Vec3 t) {
@@ -46,14 +34,14 @@ int omiBody(GltfBuilder& b, const std::string& name, const json& body, int shape
 
 TEST(ScenePhysics, GodotOmiBodiesAndShapesMapOntoTheModel) {
   GltfBuilder b;
-  b.doc["extensions"]["OMI_physics_shape"]["shapes"] = omiShapes(b);
+  b.doc["extensions"]["OMI_physics_shape"]["shapes"] = testing::godotShapes(b);
   b.useExtension("OMI_physics_body", false);
   b.useExtension("OMI_physics_shape", false);
   omiBody(b, "Floor", {{"motion", {{"type", "static"}}}}, 0, {0.0, -0.1, 0.0});
   omiBody(b, "Ball", {{"motion", {{"type", "dynamic"}, {"mass", 2.0}}}}, 1, {0.0, 1.0, 0.0});
   omiBody(b, "Pill", {{"motion", {{"type", "dynamic"}}}}, 2, {1.0, 1.0, 0.0});
-  omiBody(b, "Can", {{"motion", {{"type", "kinematic"}, {"linearVelocity", {0.0, 0.0, 1.0}}}}},
-          3, {2.0, 1.0, 0.0});
+  omiBody(b, "Can", {{"motion", {{"type", "kinematic"}, {"linearVelocity", {0.0, 0.0, 1.0}}}}}, 3,
+          {2.0, 1.0, 0.0});
   omiBody(b, "Box", {{"motion", {{"type", "dynamic"}}}}, 4, {3.0, 1.0, 0.0});
   omiBody(b, "Rock", {{"motion", {{"type", "static"}}}}, 5, {4.0, 1.0, 0.0});
   // an Area3D: a trigger body whose child shapes are triggers
@@ -93,16 +81,15 @@ TEST(ScenePhysics, GodotOmiBodiesAndShapesMapOntoTheModel) {
             std::string::npos)
       << notes;
   EXPECT_NE(notes.find("1 trigger volumes, not colliding (bodies 'Goal')"), std::string::npos);
-  EXPECT_NE(notes.find("mesh 1 'DentedMesh' (node 11 'RockShape'): not convex"),
-            std::string::npos)
+  EXPECT_NE(notes.find("mesh 1 'DentedMesh' (node 11 'RockShape'): not convex"), std::string::npos)
       << notes;
 }
 
 TEST(ScenePhysics, TheOlderOmiColliderAndBodyTypesStillLoad) {
   GltfBuilder b;
-  b.doc["extensions"]["OMI_collider"]["colliders"] = json::array(
-      {{{"type", "box"}, {"size", {1.0, 1.0, 1.0}}},
-       {{"type", "sphere"}, {"radius", 0.25}, {"isTrigger", true}}});
+  b.doc["extensions"]["OMI_collider"]["colliders"] =
+      json::array({{{"type", "box"}, {"size", {1.0, 1.0, 1.0}}},
+                   {{"type", "sphere"}, {"radius", 0.25}, {"isTrigger", true}}});
   b.useExtension("OMI_collider", false);
   b.useExtension("OMI_physics_body", false);
   json rigid = GltfBuilder::node("Crate", {0.0, 2.0, 0.0});
@@ -127,7 +114,8 @@ TEST(ScenePhysics, TheOlderOmiColliderAndBodyTypesStillLoad) {
   pill["extensions"]["OMI_collider"] = {{"collider", 2}};
   b.addNode(pill);
   r = load(b);
-  EXPECT_TRUE(hasProblem(r, "OMI_collider collider 2 capsule: height 0.5 is less than the two caps"))
+  EXPECT_TRUE(
+      hasProblem(r, "OMI_collider collider 2 capsule: height 0.5 is less than the two caps"))
       << r.message();
 }
 
@@ -162,8 +150,8 @@ TEST(ScenePhysics, EveryJointKindWithItsLimitsAndDrivesIsKept) {
   };
   const json locked_linear = {{"linearAxes", {0, 1, 2}}, {"max", 0.0}};
   const json locked_angular = {{"angularAxes", {0, 1, 2}}, {"max", 0.0}};
-  const json drive = {{"type", "angular"},   {"mode", "force"},       {"axis", 1},
-                      {"maxForce", 5.0},     {"velocityTarget", 2.0}, {"damping", 0.5}};
+  const json drive = {{"type", "angular"}, {"mode", "force"},       {"axis", 1},
+                      {"maxForce", 5.0},   {"velocityTarget", 2.0}, {"damping", 0.5}};
   const int hinge_driven =
       joint({locked_linear, {{"angularAxes", {0, 2}}, {"max", 0.0}}}, json::array({drive}));
   const int slider = joint({{{"linearAxes", {0, 2}}, {"max", 0.0}},
@@ -207,7 +195,7 @@ TEST(ScenePhysics, EveryJointKindWithItsLimitsAndDrivesIsKept) {
   EXPECT_EQ(s.unsimulated_joints[0].hinge_axis, 1);
   EXPECT_TRUE(s.unsimulated_joints[0].drives[0].acceleration);
   EXPECT_EQ(s.unsimulated_joints[0].drives[0].position_target, 0.05);
-  EXPECT_EQ(s.unsimulated_joints[1].kind, JointKind::kBall);  // a cone on a ball
+  EXPECT_EQ(s.unsimulated_joints[1].kind, JointKind::kBall);     // a cone on a ball
   EXPECT_EQ(s.unsimulated_joints[2].kind, JointKind::kGeneric);  // a soft distance
   EXPECT_EQ(s.unsimulated_joints[2].limits[0].stiffness, 50.0);
   const std::string notes = notesOf(s);
@@ -228,18 +216,19 @@ TEST(ScenePhysics, EveryJointKindWithItsLimitsAndDrivesIsKept) {
   const LoadReport refused = load(bad);
   EXPECT_TRUE(hasProblem(refused, "physicsJoint 0 drive 0: axis index 3 out of range (3 axes)"))
       << refused.message();
-  EXPECT_TRUE(hasProblem(refused, "physicsJoint 1 drive 0: mode 'torque' is not one of 'force', "
-                                  "'acceleration'"))
+  EXPECT_TRUE(hasProblem(refused,
+                         "physicsJoint 1 drive 0: mode 'torque' is not one of 'force', "
+                         "'acceleration'"))
       << refused.message();
 }
 
 TEST(ScenePhysics, MaterialsTakeTheExtensionsDefaultsAndCombineRule) {
   GltfBuilder b;
   const int plain = b.addPhysics("physicsMaterials", json::object());
-  const int max = b.addPhysics("physicsMaterials",
-                               {{"staticFriction", 0.2}, {"frictionCombine", "maximum"}});
-  const int min = b.addPhysics("physicsMaterials",
-                               {{"staticFriction", 0.4}, {"frictionCombine", "minimum"}});
+  const int max =
+      b.addPhysics("physicsMaterials", {{"staticFriction", 0.2}, {"frictionCombine", "maximum"}});
+  const int min =
+      b.addPhysics("physicsMaterials", {{"staticFriction", 0.4}, {"frictionCombine", "minimum"}});
   staticShape(b, "Floor", b.box({1.0, 1.0, 1.0}), {0.0, 0.0, 0.0});
   GltfBuilder::physics(b.doc["nodes"][0])["collider"]["physicsMaterial"] = plain;
   const LoadReport r = load(b);
@@ -254,14 +243,13 @@ TEST(ScenePhysics, MaterialsTakeTheExtensionsDefaultsAndCombineRule) {
   };
   EXPECT_DOUBLE_EQ(combine(plain, max), 0.6);  // only one declares: its rule, the maximum
   EXPECT_DOUBLE_EQ(combine(max, plain), 0.6);
-  EXPECT_DOUBLE_EQ(combine(max, min), 0.2);    // minimum before maximum
+  EXPECT_DOUBLE_EQ(combine(max, min), 0.2);      // minimum before maximum
   EXPECT_DOUBLE_EQ(combine(plain, plain), 0.6);  // neither declares: average
   Material avg;
   avg.static_friction = 1.0;
   avg.friction_combine_declared = true;  // declared average wins over everything
-  EXPECT_DOUBLE_EQ(combineMaterials(avg, m[static_cast<std::size_t>(min)],
-                                    MaterialValue::kStaticFriction),
-                   0.7);
+  EXPECT_DOUBLE_EQ(
+      combineMaterials(avg, m[static_cast<std::size_t>(min)], MaterialValue::kStaticFriction), 0.7);
 }
 
 }  // namespace
