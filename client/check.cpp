@@ -4,6 +4,8 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 
+#include "protocol/wire.h"  // nameOf
+
 namespace hapticd::client {
 namespace {
 
@@ -19,13 +21,11 @@ static_assert(std::size(kSourceNames) == static_cast<std::size_t>(ShapeSource::k
 constexpr const char* kJointNames[] = {"fixed", "hinge", "slider", "ball", "generic"};
 
 const char* motionName(Motion m) {
-  const auto i = static_cast<std::size_t>(m);
-  return i < std::size(kMotionNames) ? kMotionNames[i] : "?";
+  return proto::nameOf(m, kMotionNames, "?");
 }
 
 const char* sourceName(ShapeSource s) {
-  const auto i = static_cast<std::size_t>(s);
-  return i < std::size(kSourceNames) ? kSourceNames[i] : "?";
+  return proto::nameOf(s, kSourceNames, "?");
 }
 
 std::string num(double v) {

@@ -3,7 +3,8 @@
 /// hapticctl's commands that talk to a running hapticd over the UDP protocol (protocol/client.h):
 /// status, load, pose, replay, record, watch, arm, disarm (docs/architecture.md "hapticctl"), and
 /// the scene edits move, add, remove (SceneUpdate). pose, replay, watch and record can use the
-/// shared-memory segment instead (DaemonTarget::shm_name, protocol/shm.h).
+/// shared-memory segment instead (DaemonTarget::shm_name, protocol/shm.h). The transports are in
+/// client/link.h, what the commands print in client/state_format.h.
 /// Each returns the process exit code: 0 done, 1 refused or no daemon answered, 2 bad input
 /// (a file that cannot be read, a bad CSV line, a bad number). Messages go to `err`, results to
 /// `out`. Thread: the caller's (one Client, one thread).
@@ -28,15 +29,19 @@ struct DaemonTarget {
 struct StatusOptions {
   bool json = false;
 };
-struct PoseOptions {
+/// A target pose as typed: position (metres, scene frame) and quaternion (glTF order x, y, z, w),
+/// normalised before sending; it must be finite and the quaternion nonzero (else exit 2).
+struct TargetPose {
   double px = 0, py = 0, pz = 0;
   double qx = 0, qy = 0, qz = 0, qw = 1;
-  double seconds = 0.5;  ///< the pose is streamed this long (then the daemon's gate ramps)
-  double rate_hz = 200;  ///< stream rate
+};
+struct PoseOptions : TargetPose {
+  double seconds = 0.5;  ///< the pose is streamed this long (then the daemon's gate ramps), ≥ 0
+  double rate_hz = 200;  ///< stream rate, > 0
   bool arm = true;       ///< take control (arm) first: the gate takes commands of its controller
 };
 struct ReplayOptions {
-  std::string file;  ///< pose stream CSV (t,px,py,pz,qx,qy,qz,qw,buttons), client/pose_stream.h
+  std::string file;  ///< pose stream CSV (t,px,py,pz,qx,qy,qz,qw,buttons), client/replay_stream.h
   /// Send rate, Hz: the stream is interpolated (lerp, slerp, buttons held) at t_0 + k/rate and
   /// sent at those times. 0 (default): the daemon's tick rate (Welcome; over shared memory,
   /// measured from the state's clock, else 1000); a larger rate is clamped to the tick rate.
@@ -46,23 +51,28 @@ struct ReplayOptions {
 };
 struct RecordOptions {
   std::string file;      ///< output CSV, the daemon's --record columns
-  double seconds = 1.0;  ///< how long to record
+  double seconds = 1.0;  ///< how long to record, finite and ≥ 0
   /// State rate, Hz; 0 (default): the daemon's tick rate, at most its max state rate (1000).
   std::uint32_t rate_hz = 0;
+  /// Also the body poses, as the daemon's --record-bodies CSV (empty: not recorded). Each state
+  /// lists at most 64 bodies (16 over shared memory).
+  std::string bodies_file;
+  /// The scene the daemon runs (.glb/.gltf), read for the bodies' names (the daemon's
+  /// --record-bodies names bodies by node name); empty: "body<index>".
+  std::string scene_file;
 };
 struct WatchOptions {
   std::uint32_t rate_hz = 10;  ///< lines per second
   std::uint64_t count = 0;     ///< stop after this many lines; 0: until interrupted
   bool json = false;           ///< one JSON object per line instead of text
   std::size_t deepest = 3;     ///< contacts listed per line, deepest first
+  bool bodies = false;         ///< also every body pose the state lists (index, position)
 };
 /// `hapticctl move|add|remove BODY [PX PY PZ [QX QY QZ QW]]`: one SceneUpdate.
-struct SceneEditOptions {
+struct SceneEditOptions : TargetPose {
   enum class Kind { kMove, kAdd, kRemove };
   Kind kind = Kind::kMove;
   std::uint32_t body = 0;  ///< body index in the loaded scene (`hapticctl check` lists them)
-  double px = 0, py = 0, pz = 0;
-  double qx = 0, qy = 0, qz = 0, qw = 1;  ///< normalised before sending; must be nonzero
 };
 
 int runStatus(const DaemonTarget& t, const StatusOptions& o, std::ostream& out, std::ostream& err);
@@ -79,8 +89,5 @@ int runSceneEdit(const DaemonTarget& t,
                  const SceneEditOptions& o,
                  std::ostream& out,
                  std::ostream& err);
-
-/// The record header (the daemon's --record columns, docs/architecture.md "Records").
-const char* recordHeader();
 
 }  // namespace hapticd::client

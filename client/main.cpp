@@ -1,74 +1,86 @@
 // hapticctl: the command-line client of hapticd: the offline `query` and `check` commands, and
 // the commands that talk to a running daemon over the protocol (client/daemon_commands.h).
 #include <CLI/CLI.hpp>
-
 #include <cerrno>
 #include <cstring>
 #include <fstream>
 #include <iostream>
+#include <optional>
+#include <variant>
 
 #include "client/check.h"
 #include "client/daemon_commands.h"
+#include "client/import.h"
 #include "client/query.h"
 
 namespace {
 
 namespace hc = hapticd::client;
 
-// Every subcommand and the values its options fill.
-struct Commands {
-  CLI::App* query = nullptr;
-  std::string query_file;
-  CLI::App* check = nullptr;
-  std::string scene_file;
-  hc::CheckOptions check_options;
-  std::string allowed_dir;
+// A subcommand and the values its options fill.
+template <class Options>
+struct Command {
+  CLI::App* app = nullptr;
+  Options options;
+  bool parsed() const { return app->parsed(); }
+};
 
+// What `check` takes besides its options: the file and --allowed-uri-dir.
+struct CheckArgs {
+  std::string file;
+  std::string allowed_dir;
+  hc::CheckOptions options;
+};
+
+// hapticctl's subcommands. The daemon commands share one target (--host, --port, ...).
+struct Commands {
+  Command<std::string> query;  // FILE
+  Command<CheckArgs> check;
   hc::DaemonTarget target;
-  CLI::App* status = nullptr;
-  hc::StatusOptions status_options;
-  CLI::App* load = nullptr;
-  std::string load_file;
-  CLI::App* pose = nullptr;
-  hc::PoseOptions pose_options;
-  std::vector<double> pose_values;
-  CLI::App* replay = nullptr;
-  hc::ReplayOptions replay_options;
-  CLI::App* record = nullptr;
-  hc::RecordOptions record_options;
-  CLI::App* watch = nullptr;
-  hc::WatchOptions watch_options;
-  CLI::App* move = nullptr;
-  CLI::App* add = nullptr;
-  CLI::App* remove = nullptr;
-  hc::SceneEditOptions edit_options;
-  std::vector<double> edit_values;
-  CLI::App* arm = nullptr;
-  CLI::App* disarm = nullptr;
+  Command<hc::StatusOptions> status;
+  Command<std::string> load;  // FILE
+  Command<hc::PoseOptions> pose;
+  std::vector<double> pose_values;  // PX PY PZ [QX QY QZ QW]
+  Command<hc::ReplayOptions> replay;
+  Command<hc::RecordOptions> record;
+  Command<hc::WatchOptions> watch;
+  Command<hc::SceneEditOptions> move, add, remove;  // one SceneEditOptions each
+  std::vector<double> edit_values;                  // PX PY PZ [QX QY QZ QW] of move and add
+  Command<std::monostate> arm, disarm;              // no options
+  CLI::App* import = nullptr;                       // hapticctl import (client/import.h)
+  hc::ImportOptions import_options;
 };
 
 void defineOffline(CLI::App& app, Commands& c) {
-  c.query = app.add_subcommand(
-      "query", "Answer convex pair queries offline: one JSON object per line in FILE (- for stdin), "
-               "one result per line out (docs/query.md)");
-  c.query->add_option("FILE", c.query_file, "JSON-lines file of queries, or - for standard input")
+  c.query.app = app.add_subcommand(
+      "query",
+      "Answer convex pair queries offline: one JSON object per line in FILE (- for stdin), "
+      "one result per line out (docs/query.md)");
+  c.query.app
+      ->add_option("FILE", c.query.options, "JSON-lines file of queries, or - for standard input")
       ->required();
-  c.check = app.add_subcommand(
-      "check", "Validate a scene offline (.glb or .gltf): list its bodies, primitives and "
-               "simulation plan, or every problem (exit 1); docs/scenes.md");
-  c.check->add_option("FILE", c.scene_file, "scene file (.glb or .gltf)")->required();
-  c.check->add_flag("--json", c.check_options.json, "print a machine-readable JSON report");
-  c.check->add_option("--allowed-uri-dir", c.allowed_dir,
-                      "folder external URIs may be read from (default: none, external URIs "
-                      "refused)");
-  c.check->add_option("--tessellation-tolerance",
-                      c.check_options.load.limits.tessellation_tolerance,
-                      "curved shapes' tessellation tolerance, a fraction of their size (default "
-                      "1e-3)");
+  c.check.app = app.add_subcommand(
+      "check",
+      "Validate a scene offline (.glb or .gltf): list its bodies, primitives and "
+      "simulation plan, or every problem (exit 1); docs/scenes.md");
+  CheckArgs& k = c.check.options;
+  c.check.app->add_option("FILE", k.file, "scene file (.glb or .gltf)")->required();
+  c.check.app->add_flag("--json", k.options.json, "print a machine-readable JSON report");
+  c.check.app->add_option("--allowed-uri-dir", k.allowed_dir,
+                          "folder external URIs may be read from (default: none, external URIs "
+                          "refused)");
+  c.check.app->add_option("--tessellation-tolerance", k.options.load.limits.tessellation_tolerance,
+                          "curved shapes' tessellation tolerance, a fraction of their size "
+                          "(default 1e-3)");
 }
 
 // the daemon commands: --host, --port, --key-file, --timeout-ms on each
-CLI::App* daemonCommand(CLI::App& app, Commands& c, const char* name, const char* help) {
+template <class Options>
+void daemonCommand(CLI::App& app,
+                   Commands& c,
+                   Command<Options>& cmd,
+                   const char* name,
+                   const char* help) {
   auto* sub = app.add_subcommand(name, help);
   sub->add_option("--host", c.target.host, "daemon address (default 127.0.0.1)");
   sub->add_option("--port", c.target.port, "daemon UDP port (default 47100)");
@@ -76,7 +88,7 @@ CLI::App* daemonCommand(CLI::App& app, Commands& c, const char* name, const char
                   "pre-shared key file, 64 hex digits (default: none)");
   sub->add_option("--timeout-ms", c.target.timeout_ms,
                   "per request; no answer this long: no daemon (default 2000)");
-  return sub;
+  cmd.app = sub;
 }
 
 // --shm for the streaming commands: the shared-memory segment instead of UDP
@@ -87,71 +99,85 @@ void shmFlag(CLI::App* sub, Commands& c) {
 }
 
 void defineStreaming(CLI::App& app, Commands& c) {
-  c.pose = daemonCommand(app, c, "pose",
-                         "Arm and stream one target pose to the sim device (scene frame, metres, "
-                         "glTF quaternion order)");
-  shmFlag(c.pose, c);
-  c.pose->add_option("VALUES", c.pose_values, "PX PY PZ [QX QY QZ QW]")->required()->expected(3, 7);
-  c.pose->add_option("--seconds", c.pose_options.seconds,
-                     "stream the pose this long (default 0.5)");
-  c.pose->add_option("--rate", c.pose_options.rate_hz, "stream rate, Hz (default 200)");
-  c.replay = daemonCommand(app, c, "replay",
-                           "Arm and send a pose stream CSV as pose commands, "
-                           "interpolated (lerp, slerp) at the send rate and timed "
-                           "by its t");
-  c.replay->add_option("FILE", c.replay_options.file, "t,px,py,pz,qx,qy,qz,qw,buttons")
-      ->required();
-  c.replay->add_option("--rate", c.replay_options.rate_hz,
-                       "send rate, Hz, at most the daemon's tick rate (default 0: the tick rate)");
-  c.replay->add_flag("--quiet", c.replay_options.quiet,
-                     "no progress lines on stderr (default: one a second for replays over 2 s)");
-  shmFlag(c.replay, c);
-  c.record = daemonCommand(app, c, "record", "Write the state stream as the daemon's --record CSV");
-  c.record->add_option("OUT", c.record_options.file, "output CSV")->required();
-  c.record->add_option("--seconds", c.record_options.seconds, "how long (default 1)");
-  c.record->add_option("--rate", c.record_options.rate_hz,
-                       "state rate, Hz (default 0: the daemon's tick rate, at most 1000)");
-  shmFlag(c.record, c);
-  c.watch = daemonCommand(app, c, "watch",
-                          "Live tick percentiles, force, contacts and faults, one line per state");
-  c.watch->add_option("--count", c.watch_options.count, "stop after N lines (default 0: never)");
-  c.watch->add_option("--rate", c.watch_options.rate_hz, "lines per second (default 10)");
-  c.watch->add_flag("--json", c.watch_options.json, "one JSON object per line");
-  c.watch->add_option("--deepest", c.watch_options.deepest,
-                      "contacts listed per line, deepest first (default 3)");
-  shmFlag(c.watch, c);
+  daemonCommand(app, c, c.pose, "pose",
+                "Arm and stream one target pose to the sim device (scene frame, metres, glTF "
+                "quaternion order)");
+  CLI::App* pose = c.pose.app;
+  shmFlag(pose, c);
+  pose->add_option("VALUES", c.pose_values, "PX PY PZ [QX QY QZ QW]")->required()->expected(3, 7);
+  pose->add_option("--seconds", c.pose.options.seconds,
+                   "stream the pose this long, ≥ 0 (default 0.5; 0: once)");
+  pose->add_option("--rate", c.pose.options.rate_hz, "stream rate, Hz, > 0 (default 200)");
+  daemonCommand(app, c, c.replay, "replay",
+                "Arm and send a pose stream CSV as pose commands, interpolated (lerp, slerp) at "
+                "the send rate and timed by its t");
+  CLI::App* replay = c.replay.app;
+  hc::ReplayOptions& r = c.replay.options;
+  replay->add_option("FILE", r.file, "t,px,py,pz,qx,qy,qz,qw,buttons")->required();
+  replay->add_option("--rate", r.rate_hz,
+                     "send rate, Hz, at most the daemon's tick rate (default 0: the tick rate)");
+  replay->add_flag("--quiet", r.quiet,
+                   "no progress lines on stderr (default: one a second for replays over 2 s)");
+  shmFlag(replay, c);
+  daemonCommand(app, c, c.record, "record", "Write the state stream as the daemon's --record CSV");
+  CLI::App* record = c.record.app;
+  record->add_option("OUT", c.record.options.file, "output CSV")->required();
+  record->add_option("--seconds", c.record.options.seconds, "how long (default 1)");
+  record->add_option("--rate", c.record.options.rate_hz,
+                     "state rate, Hz (default 0: the daemon's tick rate, at most 1000)");
+  record->add_option("--bodies", c.record.options.bodies_file,
+                     "also write the body poses to this CSV, the daemon's --record-bodies columns "
+                     "(tick,t,body,px..qw; at most 64 bodies a state, 16 over --shm)");
+  record->add_option("--scene", c.record.options.scene_file,
+                     "the scene file the daemon runs, for the bodies' names in --bodies (default: "
+                     "body<index>)");
+  shmFlag(record, c);
+  daemonCommand(app, c, c.watch, "watch",
+                "Live tick percentiles, force, contacts and faults, one line per state");
+  CLI::App* watch = c.watch.app;
+  hc::WatchOptions& w = c.watch.options;
+  watch->add_option("--count", w.count, "stop after N lines (default 0: never)");
+  watch->add_option("--rate", w.rate_hz, "lines per second (default 10)");
+  watch->add_flag("--json", w.json, "one JSON object per line");
+  watch->add_option("--deepest", w.deepest, "contacts listed per line, deepest first (default 3)");
+  watch->add_flag("--bodies", w.bodies, "also the pose of every body the state lists");
+  shmFlag(watch, c);
 }
 
 void defineControl(CLI::App& app, Commands& c) {
-  c.status = daemonCommand(app, c, "status",
-                           "The daemon's device, scene, plan, tick figures, faults and refusal "
-                           "counters");
-  c.status->add_flag("--json", c.status_options.json, "print JSON");
-  c.load = daemonCommand(app, c, "load",
-                         "Upload a scene (.glb) to the daemon: exit 0 accepted, 1 refused (the "
-                         "first error on stderr)");
-  c.load->add_option("FILE", c.load_file, "scene file (.glb)")->required();
+  daemonCommand(app, c, c.status, "status",
+                "The daemon's device, scene, plan, tick figures, faults, force and contacts, and "
+                "refusal counters");
+  c.status.app->add_flag("--json", c.status.options.json, "print JSON");
+  daemonCommand(app, c, c.load, "load",
+                "Upload a scene (.glb) to the daemon: exit 0 accepted, 1 refused (the first error "
+                "on stderr)");
+  c.load.app->add_option("FILE", c.load.options, "scene file (.glb)")->required();
 }
 
 // scene edits (one SceneUpdate each), arm and disarm
 void defineEdits(CLI::App& app, Commands& c) {
-  c.move = daemonCommand(app, c, "move",
-                         "Set a kinematic body's pose (scene frame, metres, glTF "
-                         "quaternion order): exit 0 acknowledged, 1 refused");
-  c.move->add_option("BODY", c.edit_options.body,
-                     "body index in the scene (hapticctl check lists them)")
+  daemonCommand(app, c, c.move, "move",
+                "Set a kinematic body's pose (scene frame, metres, glTF quaternion order): exit 0 "
+                "acknowledged, 1 refused");
+  c.move.app
+      ->add_option("BODY", c.move.options.body,
+                   "body index in the scene (hapticctl check lists them)")
       ->required();
-  c.move->add_option("POSE", c.edit_values, "PX PY PZ [QX QY QZ QW]")->required()->expected(3, 7);
-  c.add = daemonCommand(app, c, "add",
-                        "Make an inactive body active at a pose: exit 0 acknowledged, 1 refused");
-  c.add->add_option("BODY", c.edit_options.body, "body index in the scene")->required();
-  c.add->add_option("POSE", c.edit_values, "PX PY PZ [QX QY QZ QW]")->required()->expected(3, 7);
-  c.remove =
-      daemonCommand(app, c, "remove", "Make a body inactive: exit 0 acknowledged, 1 refused");
-  c.remove->add_option("BODY", c.edit_options.body, "body index in the scene")->required();
-  c.arm = daemonCommand(app, c, "arm", "Enable forces; clears a latched fault");
-  c.disarm = daemonCommand(app, c, "disarm",
-                           "Ramp the force to zero over [servo] stop_ramp_s (0.2 s by default)");
+  c.move.app->add_option("POSE", c.edit_values, "PX PY PZ [QX QY QZ QW]")
+      ->required()
+      ->expected(3, 7);
+  daemonCommand(app, c, c.add, "add",
+                "Make an inactive body active at a pose: exit 0 acknowledged, 1 refused");
+  c.add.app->add_option("BODY", c.add.options.body, "body index in the scene")->required();
+  c.add.app->add_option("POSE", c.edit_values, "PX PY PZ [QX QY QZ QW]")
+      ->required()
+      ->expected(3, 7);
+  daemonCommand(app, c, c.remove, "remove", "Make a body inactive: exit 0 acknowledged, 1 refused");
+  c.remove.app->add_option("BODY", c.remove.options.body, "body index in the scene")->required();
+  daemonCommand(app, c, c.arm, "arm", "Enable forces; clears a latched fault");
+  daemonCommand(app, c, c.disarm, "disarm",
+                "Ramp the force to zero over [servo] stop_ramp_s (0.2 s by default)");
 }
 
 // PX PY PZ [QX QY QZ QW] into o's px .. qw; false (with `usage` on stderr) for another count
@@ -173,54 +199,94 @@ bool takePose(const std::vector<double>& v, Options& o, const char* usage) {
   return true;
 }
 
+// move, add or remove: one scene update
+int runSceneEdit(Commands& c) {
+  using Kind = hc::SceneEditOptions::Kind;
+  Command<hc::SceneEditOptions>& cmd = c.remove.parsed() ? c.remove
+                                       : c.move.parsed() ? c.move
+                                                         : c.add;
+  cmd.options.kind = &cmd == &c.remove ? Kind::kRemove : &cmd == &c.move ? Kind::kMove : Kind::kAdd;
+  if (cmd.options.kind != Kind::kRemove &&
+      !takePose(c.edit_values, cmd.options,
+                cmd.options.kind == Kind::kMove
+                    ? "hapticctl move: give BODY PX PY PZ or BODY PX PY PZ QX QY QZ QW\n"
+                    : "hapticctl add: give BODY PX PY PZ or BODY PX PY PZ QX QY QZ QW\n"))
+    return 2;
+  return hc::runSceneEdit(c.target, cmd.options, std::cout, std::cerr);
+}
+
 int runDaemonCommand(Commands& c) {
   const hc::DaemonTarget& t = c.target;
-  if (c.status->parsed()) return hc::runStatus(t, c.status_options, std::cout, std::cerr);
-  if (c.load->parsed()) return hc::runLoad(t, c.load_file, std::cout, std::cerr);
-  if (c.arm->parsed()) return hc::runArm(t, true, std::cout, std::cerr);
-  if (c.disarm->parsed()) return hc::runArm(t, false, std::cout, std::cerr);
-  if (c.record->parsed()) return hc::runRecord(t, c.record_options, std::cout, std::cerr);
-  if (c.watch->parsed()) return hc::runWatch(t, c.watch_options, std::cout, std::cerr);
-  if (c.replay->parsed()) return hc::runReplay(t, c.replay_options, std::cout, std::cerr);
-  if (c.remove->parsed()) {
-    c.edit_options.kind = hc::SceneEditOptions::Kind::kRemove;
-    return hc::runSceneEdit(t, c.edit_options, std::cout, std::cerr);
-  }
-  if (c.move->parsed() || c.add->parsed()) {
-    const bool move = c.move->parsed();
-    if (!takePose(c.edit_values, c.edit_options,
-                  move ? "hapticctl move: give BODY PX PY PZ or BODY PX PY PZ QX QY QZ QW\n"
-                       : "hapticctl add: give BODY PX PY PZ or BODY PX PY PZ QX QY QZ QW\n"))
-      return 2;
-    c.edit_options.kind =
-        move ? hc::SceneEditOptions::Kind::kMove : hc::SceneEditOptions::Kind::kAdd;
-    return hc::runSceneEdit(t, c.edit_options, std::cout, std::cerr);
-  }
-  if (c.pose->parsed()) {
-    if (!takePose(c.pose_values, c.pose_options,
+  if (c.status.parsed())
+    return hc::runStatus(t, c.status.options, std::cout, std::cerr);
+  if (c.load.parsed())
+    return hc::runLoad(t, c.load.options, std::cout, std::cerr);
+  if (c.arm.parsed())
+    return hc::runArm(t, true, std::cout, std::cerr);
+  if (c.disarm.parsed())
+    return hc::runArm(t, false, std::cout, std::cerr);
+  if (c.record.parsed())
+    return hc::runRecord(t, c.record.options, std::cout, std::cerr);
+  if (c.watch.parsed())
+    return hc::runWatch(t, c.watch.options, std::cout, std::cerr);
+  if (c.replay.parsed())
+    return hc::runReplay(t, c.replay.options, std::cout, std::cerr);
+  if (c.remove.parsed() || c.move.parsed() || c.add.parsed())
+    return runSceneEdit(c);
+  if (c.pose.parsed()) {
+    if (!takePose(c.pose_values, c.pose.options,
                   "hapticctl pose: give PX PY PZ or PX PY PZ QX QY QZ QW\n"))
       return 2;
-    return hc::runPose(t, c.pose_options, std::cout, std::cerr);
+    return hc::runPose(t, c.pose.options, std::cout, std::cerr);
   }
   return -1;  // not a daemon command
 }
 
 int runOffline(Commands& c) {
-  if (c.check->parsed()) {
-    if (!c.allowed_dir.empty()) c.check_options.load.allowed_uri_dir = c.allowed_dir;
-    return hc::runCheck(c.scene_file, c.check_options, std::cout, std::cerr);
+  if (c.import->parsed())
+    return hc::runImport(c.import_options, std::cout, std::cerr);
+  if (c.check.parsed()) {
+    CheckArgs& k = c.check.options;
+    if (!k.allowed_dir.empty())
+      k.options.load.allowed_uri_dir = k.allowed_dir;
+    return hc::runCheck(k.file, k.options, std::cout, std::cerr);
   }
-  if (c.query->parsed()) {
-    if (c.query_file == "-") return hc::runQuery(std::cin, std::cout);
-    std::ifstream in(c.query_file);
+  if (c.query.parsed()) {
+    const std::string& file = c.query.options;
+    if (file == "-")
+      return hc::runQuery(std::cin, std::cout);
+    std::ifstream in(file);
     if (!in) {
-      std::cerr << "hapticctl query: cannot open " << c.query_file << ": " << std::strerror(errno)
-                << '\n';
+      std::cerr << "hapticctl query: cannot open " << file << ": " << std::strerror(errno) << '\n';
       return 1;
     }
     return hc::runQuery(in, std::cout);
   }
   return 0;
+}
+
+// Parses the command line: nullopt to run, or the exit code (0 after --help; 2 for a bad command
+// line, the problem on stderr: an unknown command by its name, else CLI11's message).
+std::optional<int> parse(CLI::App& app, int argc, char** argv) {
+  if (argc > 1 && argv[1][0] != '-') {
+    std::string names;
+    bool known = false;
+    for (const CLI::App* sub : app.get_subcommands([](CLI::App*) { return true; })) {
+      known = known || sub->get_name() == argv[1];
+      names += (names.empty() ? "" : ", ") + sub->get_name();
+    }
+    if (!known) {
+      std::cerr << "hapticctl: unknown command '" << argv[1] << "' (the commands: " << names
+                << "; hapticctl --help says more)\n";
+      return 2;
+    }
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e) == 0 ? 0 : 2;  // CLI11's own codes for a refusal are 100 and up
+  }
+  return std::nullopt;
 }
 
 }  // namespace
@@ -233,7 +299,9 @@ int main(int argc, char** argv) {
   defineControl(app, c);
   defineStreaming(app, c);
   defineEdits(app, c);
-  CLI11_PARSE(app, argc, argv);
+  c.import = hc::defineImport(app, c.import_options);
+  if (const auto rc = parse(app, argc, argv))
+    return *rc;
   if (const int rc = runDaemonCommand(c); rc >= 0)
     return rc;
   return runOffline(c);

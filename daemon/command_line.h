@@ -33,15 +33,13 @@ struct CommandLine {
   bool print_config = false;               ///< --print-config: the effective config as TOML
 };
 
-/// Parses argv. Returns an exit code when the process should end now (--help: 0, a bad option:
-/// 2, the message already printed), or nullopt to run.
+/// Parses argv. Returns an exit code when the process should end now (--help: 0, a bad option or
+/// value: 2, the message already printed), or nullopt to run.
 std::optional<int> parseCommandLine(int argc, char** argv, CommandLine& out);
 
 /// The effective configuration: the file (when --config is given) over the defaults, then the
-/// command-line overrides, then the cross-field checks. Error: what and where.
-Result<Config> buildConfig(const CommandLine& cli);
-
-/// The effective configuration as TOML text (for --print-config). Any normal thread.
-std::string toToml(const Config& config);
+/// command-line overrides, then every value checked against its key (validateConfig). Error:
+/// what and where; the result's warnings name deprecated keys the file used.
+Result<ParsedConfig> buildConfig(const CommandLine& cli);
 
 }  // namespace hapticd::daemon

@@ -2,363 +2,41 @@
 
 #include <toml++/toml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
-#include <functional>
-#include <set>
 #include <sstream>
+#include <type_traits>
+#include <utility>
+
+#include "daemon/config_keys.h"
+#include "daemon/enum_names.h"
 
 namespace hapticd::daemon {
 namespace {
 
-std::string fmtNum(double v) {
-  std::ostringstream os;
-  os << v;
-  return os.str();
-}
-
-// Reads one [section] of the file; every problem becomes one line of `errors`.
-class Section {
+// Problems of one file, each with its line, listed in line order.
+class Problems {
  public:
-  Section(const toml::table* table,
-          std::string section,
-          const std::string& name,
-          std::vector<std::string>& errors,
-          std::vector<std::string>& keys_set,
-          std::vector<std::string>* all_keys)
-      : t_(table),
-        section_(std::move(section)),
-        name_(name),
-        errors_(errors),
-        keys_set_(keys_set),
-        all_keys_(all_keys) {}
-
-  ~Section() {
-    if (t_ == nullptr)
-      return;
-    for (auto&& [k, v] : *t_) {
-      if (known_.count(std::string(k.str())) == 0)
-        error(v, std::string(k.str()), "unknown key (see config/hapticd.toml for every key)");
-    }
+  explicit Problems(const std::string& name) : name_(name) {}
+  void add(const toml::node& at, const std::string& text) {
+    list_.emplace_back(at.source().begin.line,
+                       name_ + ":" + std::to_string(at.source().begin.line) + ": " + text);
   }
-
-  void number(const char* key, double& out, double lo, double hi, const char* unit = "") {
-    const toml::node* n = find(key);
-    if (n == nullptr)
-      return;
-    std::optional<double> v;
-    if (auto f = n->value_exact<double>())
-      v = *f;
-    else if (auto i = n->value_exact<std::int64_t>())
-      v = static_cast<double>(*i);
-    if (!v)
-      return error(*n, key, "must be a number");
-    if (!std::isfinite(*v) || *v < lo || *v > hi)
-      return error(*n, key,
-                   "must be in [" + fmtNum(lo) + ", " + fmtNum(hi) + "]" + unit + " (got " +
-                       fmtNum(*v) + ")");
-    out = *v;
-  }
-  void positive(const char* key, double& out, double hi, const char* unit = "") {
-    if (t_ == nullptr || t_->get(key) == nullptr) {
-      find(key);
-      return;
-    }
-    const std::size_t before = errors_.size();
-    double v = out;
-    number(key, v, 0.0, hi, unit);
-    if (errors_.size() != before)
-      return;
-    if (v <= 0.0)
-      return error(*t_->get(key), key, "must be > 0 (got " + fmtNum(v) + ")");
-    out = v;
-  }
-  template <class Int>
-  void integer(const char* key, Int& out, std::int64_t lo, std::int64_t hi) {
-    const toml::node* n = find(key);
-    if (n == nullptr)
-      return;
-    auto i = n->value_exact<std::int64_t>();
-    if (!i)
-      return error(*n, key, "must be an integer");
-    if (*i < lo || *i > hi)
-      return error(*n, key,
-                   "must be in [" + std::to_string(lo) + ", " + std::to_string(hi) + "] (got " +
-                       std::to_string(*i) + ")");
-    out = static_cast<Int>(*i);
-  }
-  void boolean(const char* key, bool& out) {
-    const toml::node* n = find(key);
-    if (n == nullptr)
-      return;
-    auto b = n->value_exact<bool>();
-    if (!b)
-      return error(*n, key, "must be true or false");
-    out = *b;
-  }
-  void string(const char* key,
-              std::string& out,
-              const std::function<std::optional<std::string>(const std::string&)>& check = {}) {
-    const toml::node* n = find(key);
-    if (n == nullptr)
-      return;
-    auto s = n->value_exact<std::string>();
-    if (!s)
-      return error(*n, key, "must be a string");
-    if (check) {
-      if (auto problem = check(*s))
-        return error(*n, key, *problem);
-    }
-    out = *s;
-  }
-  template <class E>
-  void choice(const char* key, E& out, Result<E> (*parse)(std::string_view)) {
-    const toml::node* n = find(key);
-    if (n == nullptr)
-      return;
-    auto s = n->value_exact<std::string>();
-    if (!s)
-      return error(*n, key, "must be a string");
-    auto r = parse(*s);
-    if (!r)
-      return error(*n, key, r.error().message);
-    out = r.value();
-  }
-  template <std::size_t N>
-  void vector(const char* key, std::array<double, N>& out, double bound) {
-    const toml::node* n = find(key);
-    if (n == nullptr)
-      return;
-    const toml::array* a = n->as_array();
-    if (a == nullptr || a->size() != N)
-      return error(*n, key, "must be an array of " + std::to_string(N) + " numbers");
-    std::array<double, N> v{};
-    for (std::size_t i = 0; i < N; ++i) {
-      const toml::node& e = *a->get(i);
-      if (auto f = e.value_exact<double>())
-        v[i] = *f;
-      else if (auto j = e.value_exact<std::int64_t>())
-        v[i] = static_cast<double>(*j);
-      else
-        return error(*n, key, "element " + std::to_string(i) + " must be a number");
-      if (!std::isfinite(v[i]) || std::abs(v[i]) > bound)
-        return error(*n, key,
-                     "element " + std::to_string(i) + " must be finite and within ±" +
-                         fmtNum(bound) + " (got " + fmtNum(v[i]) + ")");
-    }
-    out = v;
-  }
-  void quaternion(const char* key, std::array<double, 4>& out) {
-    const toml::node* n = t_ != nullptr ? t_->get(key) : nullptr;
-    std::array<double, 4> q = out;
-    const std::size_t before = errors_.size();
-    vector(key, q, 1.0 + 1e-9);
-    if (n == nullptr || errors_.size() != before)
-      return;
-    const double len = std::sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]);
-    if (std::abs(len - 1.0) > 1e-6)
-      return error(*n, key, "must be a unit quaternion [x, y, z, w] (length " + fmtNum(len) + ")");
-    out = q;
+  bool empty() const { return list_.empty(); }
+  std::vector<std::string> lines() {
+    std::stable_sort(list_.begin(), list_.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    std::vector<std::string> out;
+    for (auto& p : list_)
+      out.push_back(std::move(p.second));
+    return out;
   }
 
  private:
-  const toml::node* find(const char* key) {
-    known_.insert(key);
-    if (all_keys_ != nullptr)
-      all_keys_->push_back(section_ + "." + key);
-    if (t_ == nullptr)
-      return nullptr;
-    const toml::node* n = t_->get(key);
-    if (n != nullptr)
-      keys_set_.push_back(section_ + "." + key);
-    return n;
-  }
-  void error(const toml::node& n, const std::string& key, const std::string& what) {
-    errors_.push_back(name_ + ":" + std::to_string(n.source().begin.line) + ": [" + section_ +
-                      "] " + key + ": " + what);
-  }
-
-  const toml::table* t_;
-  std::string section_;
   const std::string& name_;
-  std::vector<std::string>& errors_;
-  std::vector<std::string>& keys_set_;
-  std::vector<std::string>* all_keys_;
-  std::set<std::string> known_;
+  std::vector<std::pair<std::uint32_t, std::string>> list_;
 };
-
-const toml::table* sectionOf(const toml::table& root,
-                             const char* name,
-                             const std::string& file,
-                             std::vector<std::string>& errors) {
-  const toml::node* n = root.get(name);
-  if (n == nullptr)
-    return nullptr;
-  if (!n->is_table()) {
-    errors.push_back(file + ":" + std::to_string(n->source().begin.line) + ": " + name +
-                     ": must be a table ([" + name + "])");
-    return nullptr;
-  }
-  return n->as_table();
-}
-
-std::optional<std::string> checkUdp(const std::string& s) {
-  const auto colon = s.rfind(':');
-  if (colon == std::string::npos || colon == 0)
-    return "must be \"ADDRESS:PORT\" (got \"" + s + "\")";
-  const std::string port = s.substr(colon + 1);
-  if (port.empty() || port.size() > 5 ||
-      port.find_first_not_of("0123456789") != std::string::npos || std::stoi(port) > 65535)
-    return "port must be 0..65535, 0 for any free port (got \"" + port + "\")";
-  return std::nullopt;
-}
-
-// "" (off) or "/name" (POSIX shm_open: one leading slash, no other, at most NAME_MAX)
-std::optional<std::string> checkShmName(const std::string& s) {
-  if (s.empty())
-    return std::nullopt;
-  if (s.size() < 2 || s[0] != '/' || s.find('/', 1) != std::string::npos || s.size() > 255)
-    return "must be empty (no shared memory) or \"/NAME\" with no other '/' (got \"" + s + "\")";
-  return std::nullopt;
-}
-
-std::optional<std::string> checkSpec(const std::string& s) {
-  if (s.empty())
-    return "must not be empty (\"sim\", \"replay:FILE\", \"hid\", \"usb\")";
-  return std::nullopt;
-}
-
-void readAll(const toml::table& root,
-             const std::string& name,
-             Config& c,
-             std::vector<std::string>& errors,
-             std::vector<std::string>& keys,
-             std::vector<std::string>* all_keys = nullptr) {
-  static const std::set<std::string> kSections = {"servo", "device",  "response",
-                                                  "scene", "network", "log"};
-  for (auto&& [k, v] : root)
-    if (kSections.count(std::string(k.str())) == 0)
-      errors.push_back(name + ":" + std::to_string(v.source().begin.line) + ": " +
-                       std::string(k.str()) +
-                       ": unknown section or key (sections: servo, device, response, scene, "
-                       "network, log)");
-  {
-    Section s(sectionOf(root, "servo", name, errors), "servo", name, errors, keys, all_keys);
-    s.number("rate_hz", c.servo.rate_hz, 1.0, 20000.0, " Hz");
-    s.choice("realtime", c.servo.realtime, &parseRealtimePolicy);
-    s.integer("priority", c.servo.priority, 1, 99);
-    s.integer("cpu", c.servo.cpu, -1, 1023);
-    s.integer("miss_fault_count", c.servo.miss_fault_count, 1, 1000000);
-    s.number("fault_fade_s", c.servo.fault_fade_s, 0.0, 10.0, " s");
-    s.number("stop_ramp_s", c.servo.stop_ramp_s, 0.0, 10.0, " s");
-    s.boolean("armed_at_start", c.servo.armed_at_start);
-    s.choice("clock", c.servo.clock, &parseClockKind);
-    s.integer("stack_prefault_kib", c.servo.stack_prefault_kib, 0, 8192);
-    s.integer("record_ring_rows", c.servo.record_ring_rows, 64, 1 << 24);
-  }
-  {
-    Section s(sectionOf(root, "device", name, errors), "device", name, errors, keys, all_keys);
-    auto& d = c.device;
-    s.string("spec", d.spec, &checkSpec);
-    s.positive("max_force_n", d.max_force_n, 1000.0, " N");
-    s.positive("max_torque_nm", d.max_torque_nm, 100.0, " N m");
-    s.positive("max_force_step_n", d.max_force_step_n, 1000.0, " N");
-    s.positive("max_torque_step_nm", d.max_torque_step_nm, 100.0, " N m");
-    s.positive("sim_hand_mass_kg", d.sim_hand_mass_kg, 1000.0, " kg");
-    s.positive("sim_hand_stiffness_n_per_m", d.sim_hand_stiffness_n_per_m, 1e7, " N/m");
-    s.number("sim_hand_damping_n_s_per_m", d.sim_hand_damping_n_s_per_m, 0.0, 1e6, " N s/m");
-    s.number("sim_idle_motion_after_s", d.sim_idle_motion_after_s, 0.0, 1e6, " s");
-    s.boolean("sim_home_from_scene", d.sim_home_from_scene);
-    s.vector("sim_home_translation_m", d.sim_home_translation_m, 1e9);
-    s.quaternion("sim_home_rotation", d.sim_home_rotation);
-    s.vector("workspace_translation_m", d.workspace_translation_m, 1e9);
-    s.quaternion("workspace_rotation", d.workspace_rotation);
-    s.positive("workspace_scale", d.workspace_scale, 1e9);
-    s.positive("service_interval_s", d.service_interval_s, 10.0, " s");
-    s.positive("sim_hand_inertia_kg_m2", d.sim_hand_inertia_kg_m2, 1000.0, " kg m^2");
-    s.positive("sim_hand_rot_stiffness_nm_per_rad", d.sim_hand_rot_stiffness_nm_per_rad, 1e6,
-               " N m/rad");
-    s.number("sim_hand_rot_damping_nm_s_per_rad", d.sim_hand_rot_damping_nm_s_per_rad, 0.0, 1e6,
-             " N m s/rad");
-    s.number("sim_idle_amplitude_m", d.sim_idle_amplitude_m, 0.0, 1e6, " m");
-    s.number("sim_idle_angle_rad", d.sim_idle_angle_rad, 0.0, 3.14159, " rad");
-    s.positive("sim_max_step_s", d.sim_max_step_s, 1.0, " s");
-    s.positive("replay_quat_tolerance", d.replay_quat_tolerance, 0.5);
-    s.positive("hid_spacemouse_speed_m_per_s", d.hid_spacemouse_speed_m_per_s, 1e3, " m/s");
-    s.positive("hid_spacemouse_angular_speed_rad_per_s", d.hid_spacemouse_angular_speed_rad_per_s,
-               1e3, " rad/s");
-    s.positive("hid_spacemouse_full_scale", d.hid_spacemouse_full_scale, 32767.0);
-    s.number("hid_spacemouse_deadband", d.hid_spacemouse_deadband, 0.0, 32767.0);
-    s.positive("hid_spacemouse_workspace_m", d.hid_spacemouse_workspace_m, 1e6, " m");
-    s.positive("usb_silence_lost_s", d.usb_silence_lost_s, 60.0, " s");
-    s.integer("usb_falcon_max_motor_command", d.usb_falcon_max_motor_command, 1, 32767);
-    s.string("usb_falcon_firmware", d.usb_falcon_firmware);
-  }
-  {
-    Section s(sectionOf(root, "response", name, errors), "response", name, errors, keys, all_keys);
-    auto& r = c.response;
-    s.positive("stiffness_n_per_m", r.stiffness_n_per_m, 1e9, " N/m");
-    s.number("tick_s", r.tick_s, 0.0, 1.0, " s");
-    s.positive("max_force_n", r.max_force_n, 1000.0, " N");
-    s.positive("max_torque_nm", r.max_torque_nm, 100.0, " N m");
-    s.positive("max_force_step_n", r.max_force_step_n, 1000.0, " N");
-    s.positive("max_torque_step_nm", r.max_torque_step_nm, 100.0, " N m");
-    s.number("ramp_s", r.ramp_s, 0.0, 60.0, " s");
-    s.integer("max_pairs_per_tick", r.max_pairs_per_tick, 0, 100000000);
-    s.positive("probe_sphere_radius_m", r.probe_sphere_radius_m, 1e6, " m");
-    s.positive("max_speed_m_per_s", r.max_speed_m_per_s, 1e6, " m/s");
-    s.positive("speed_decay_s", r.speed_decay_s, 60.0, " s");
-    s.number("min_predictive_fraction", r.min_predictive_fraction, 0.0, 1.0);
-    s.positive("proxy_stiffness_ratio", r.proxy_stiffness_ratio, 1e6);
-    s.number("coupling_damping_factor", r.coupling_damping_factor, 0.0, 1e3);
-    s.number("rot_stiffness_nm_per_rad", r.rot_stiffness_nm_per_rad, 0.0, 1e6, " N m/rad");
-    s.positive("penetration_allowance_m", r.penetration_allowance_m, 1e6, " m");
-    s.number("crease_angle_deg", r.crease_angle_deg, 0.0, 180.0, " degrees");
-    s.integer("attach_button_mask", r.attach_button_mask, 0, 0xffffffffll);
-    s.number("attach_distance_m", r.attach_distance_m, 0.0, 1e6, " m");
-    s.choice("hinge_attach", r.hinge_attach, &parseHingeAttach);
-    s.number("centre_radius_fraction", r.centre_radius_fraction, 0.0, 1.0);
-    s.boolean("grab_weight", r.grab_weight);
-    s.boolean("grab_inertia", r.grab_inertia);
-    s.number("grab_inertia_filter_s", r.grab_inertia_filter_s, 0.0, 10.0, " s");
-    s.number("dynamic_backstop_fraction", r.dynamic_backstop_fraction, 0.0, 1e3);
-    s.number("impulse_window_s", r.impulse_window_s, 0.0, 10.0, " s");
-    s.number("dynamics_sleep_time_s", r.dynamics_sleep_time_s, 0.0, 1e6, " s");
-  }
-  {
-    Section s(sectionOf(root, "scene", name, errors), "scene", name, errors, keys, all_keys);
-    auto& sc = c.scene;
-    s.string("path", sc.path);
-    s.string("demo", sc.demo, [](const std::string& v) -> std::optional<std::string> {
-      if (v.empty())
-        return std::string("must name a demo scene");
-      return std::nullopt;
-    });
-    s.integer("max_file_bytes", sc.max_file_bytes, 1, std::int64_t{1} << 40);
-    s.integer("max_nodes", sc.max_nodes, 1, 100000000);
-    s.integer("max_bodies", sc.max_bodies, 1, 100000000);
-    s.integer("max_primitives", sc.max_primitives, 1, 100000000);
-    s.integer("max_hull_input_points", sc.max_hull_input_points, 4, 100000000);
-    s.integer("max_hull_vertices", sc.max_hull_vertices, 4, 100000000);
-    s.positive("tessellation_tolerance", sc.tessellation_tolerance, 0.5);
-    s.string("allowed_uri_dir", sc.allowed_uri_dir);
-  }
-  {
-    Section s(sectionOf(root, "network", name, errors), "network", name, errors, keys, all_keys);
-    s.string("udp", c.network.udp, &checkUdp);
-    s.string("key_file", c.network.key_file);
-    s.number("rate_limit_packets_per_s", c.network.rate_limit_packets_per_s, 0.0, 1e9);
-    s.number("rate_limit_burst", c.network.rate_limit_burst, 1.0, 1e9);
-    s.integer("max_datagram_bytes", c.network.max_datagram_bytes, 512, 65507);
-    s.number("max_state_rate_hz", c.network.max_state_rate_hz, 1.0, 1000.0, " Hz");
-    s.string("shm", c.network.shm, &checkShmName);
-  }
-  {
-    Section s(sectionOf(root, "log", name, errors), "log", name, errors, keys, all_keys);
-    s.choice("level", c.log.level, &parseLogLevel);
-    s.number("status_interval_s", c.log.status_interval_s, 0.0, 86400.0, " s");
-  }
-}
 
 std::string joinLines(const std::vector<std::string>& lines) {
   std::string out;
@@ -370,9 +48,188 @@ std::string joinLines(const std::vector<std::string>& lines) {
   return out;
 }
 
+// a number: a TOML float, or an integer taken as one
+std::optional<double> numberOf(const toml::node& n) {
+  if (auto f = n.value_exact<double>())
+    return *f;
+  if (auto i = n.value_exact<std::int64_t>())
+    return static_cast<double>(*i);
+  return std::nullopt;
+}
+
+Result<RealtimePolicy> parseEnum(std::string_view t, RealtimePolicy*) {
+  return parseRealtimePolicy(t);
+}
+Result<ClockKind> parseEnum(std::string_view t, ClockKind*) {
+  return parseClockKind(t);
+}
+Result<LogLevel> parseEnum(std::string_view t, LogLevel*) {
+  return parseLogLevel(t);
+}
+Result<sim::ResponseOptions::HingeAttach> parseEnum(std::string_view t,
+                                                    sim::ResponseOptions::HingeAttach*) {
+  return parseHingeAttach(t);
+}
+
+// `n` as an array of N numbers, each finite and within ±bound; what is wrong, or nothing
+template <std::size_t N>
+std::optional<std::string> readArray(const toml::node& n, double bound, double (&out)[N]) {
+  const toml::array* a = n.as_array();
+  if (a == nullptr || a->size() != N)
+    return "must be an array of " + std::to_string(N) + " numbers";
+  for (std::size_t i = 0; i < N; ++i) {
+    const auto v = numberOf(*a->get(i));
+    if (!v)
+      return "element " + std::to_string(i) + " must be a number";
+    if (!std::isfinite(*v) || std::abs(*v) > bound)
+      return "element " + std::to_string(i) + " must be finite and within ±" +
+             shortestNumber(bound) + " (got " + shortestNumber(*v) + ")";
+    out[i] = *v;
+  }
+  return std::nullopt;
+}
+
+// Reads `n` into the key's field of `c`; what is wrong, or nothing (then the field may hold a
+// refused value: a refused file is never used).
+std::optional<std::string> readValue(const toml::node& n, const ConfigKey& key, Config& c) {
+  return std::visit(
+      [&](auto* p) -> std::optional<std::string> {
+        using T = std::remove_pointer_t<decltype(p)>;
+        if constexpr (std::is_same_v<T, bool>) {
+          const auto b = n.value_exact<bool>();
+          if (!b)
+            return "must be true or false";
+          *p = *b;
+          return std::nullopt;
+        } else if constexpr (std::is_same_v<T, double>) {
+          const auto v = numberOf(n);
+          if (!v)
+            return "must be a number";
+          *p = *v;
+          return checkNumber(key, *v);
+        } else if constexpr (std::is_integral_v<T>) {
+          const auto i = n.value_exact<std::int64_t>();
+          if (!i)
+            return "must be an integer";
+          if (auto problem = checkNumber(key, static_cast<double>(*i)))
+            return problem;
+          *p = static_cast<T>(*i);
+          return std::nullopt;
+        } else if constexpr (std::is_same_v<T, std::string>) {
+          const auto s = n.value_exact<std::string>();
+          if (!s)
+            return "must be a string";
+          *p = *s;
+          return checkValue(key, c);
+        } else if constexpr (std::is_same_v<T, geom::Vec3>) {
+          double v[3];
+          if (auto problem = readArray(n, key.range.hi, v))
+            return problem;
+          *p = geom::Vec3(v[0], v[1], v[2]);
+          return std::nullopt;
+        } else if constexpr (std::is_same_v<T, geom::Quat>) {
+          double q[4];
+          if (auto problem = readArray(n, 1.0 + 1e-9, q))
+            return problem;
+          *p = geom::Quat(q[3], q[0], q[1], q[2]);
+          if (auto problem = checkValue(key, c))
+            return problem;
+          *p = glm::normalize(*p);  // as geom::Pose::fromXyzw
+          return std::nullopt;
+        } else {
+          const auto s = n.value_exact<std::string>();
+          if (!s)
+            return "must be a string";
+          auto e = parseEnum(*s, p);
+          if (!e)
+            return e.error().message;
+          *p = e.value();
+          return std::nullopt;
+        }
+      },
+      key.in(c));
+}
+
+// the key a file's `section.name` sets (itself, or the one a deprecated key was replaced by)
+struct Resolved {
+  const ConfigKey* key = nullptr;
+  const DeprecatedKey* deprecated = nullptr;
+};
+Resolved resolve(std::string_view section,
+                 std::string_view name,
+                 std::span<const DeprecatedKey> deprecated) {
+  if (const ConfigKey* k = findConfigKey(section, name))
+    return {k, nullptr};
+  for (const DeprecatedKey& d : deprecated)
+    if (section == d.old_section && name == d.old_name)
+      return {findConfigKey(d.section, d.name), &d};
+  return {};
+}
+
+void readSection(const toml::table& table,
+                 std::string_view section,
+                 std::span<const DeprecatedKey> deprecated,
+                 Problems& problems,
+                 std::vector<std::string>& warnings,
+                 const std::string& name,
+                 std::vector<const ConfigKey*>& set,
+                 Config& c) {
+  const std::string label = "[" + std::string(section) + "] ";
+  for (auto&& [k, v] : table) {
+    const std::string key_name(k.str());
+    const Resolved r = resolve(section, key_name, deprecated);
+    if (r.key == nullptr) {
+      problems.add(v, label + key_name + ": unknown key (see config/hapticd.toml for every key)");
+      continue;
+    }
+    if (std::find(set.begin(), set.end(), r.key) != set.end()) {
+      problems.add(v, label + key_name + ": " + r.key->label() +
+                          " is set twice (under its deprecated name and its own): keep only " +
+                          r.key->label());
+      continue;
+    }
+    if (r.deprecated != nullptr)
+      warnings.push_back(name + ":" + std::to_string(v.source().begin.line) + ": " + label +
+                         key_name + " is deprecated: use " + r.key->label() +
+                         " (the value is taken for it)");
+    set.push_back(r.key);
+    if (auto problem = readValue(v, *r.key, c))
+      problems.add(v, label + key_name + ": " + *problem);
+  }
+}
+
 }  // namespace
 
-Result<ParsedConfig> parseConfig(std::string_view text, const std::string& name) {
+bool operator==(const Config& a, const Config& b) {
+  for (const ConfigKey& k : configKeys())
+    if (!sameValue(k, a, b))
+      return false;
+  return true;
+}
+
+std::vector<std::string> changedKeys(const Config& a,
+                                     const Config& b,
+                                     std::span<const std::string_view> sections) {
+  std::vector<std::string> out;
+  for (const ConfigKey& k : configKeys()) {
+    if (!sections.empty() &&
+        std::find(sections.begin(), sections.end(), k.section) == sections.end())
+      continue;
+    if (!sameValue(k, a, b))
+      out.push_back(std::string(k.section) + "." + std::string(k.name));
+  }
+  return out;
+}
+
+std::span<const DeprecatedKey> deprecatedConfigKeys() {
+  // none yet; a key renamed or moved is listed here (old section, old name, new section, new
+  // name), so that old files keep working with a warning
+  return {};
+}
+
+Result<ParsedConfig> parseConfig(std::string_view text,
+                                 const std::string& name,
+                                 std::span<const DeprecatedKey> deprecated) {
   toml::table root;
   try {
     root = toml::parse(text, name);
@@ -381,10 +238,27 @@ Result<ParsedConfig> parseConfig(std::string_view text, const std::string& name)
                  std::string(e.description())};
   }
   ParsedConfig parsed;
-  std::vector<std::string> errors;
-  readAll(root, name, parsed.config, errors, parsed.keys_set);
-  if (!errors.empty())
-    return Error{joinLines(errors)};
+  Problems problems(name);
+  std::vector<const ConfigKey*> set;
+  const auto sections = configSections();
+  for (auto&& [k, v] : root) {
+    const std::string section(k.str());
+    if (std::find(sections.begin(), sections.end(), section) == sections.end()) {
+      problems.add(v, section +
+                          ": unknown section or key (sections: servo, device, response, scene, "
+                          "network, log)");
+    } else if (!v.is_table()) {
+      problems.add(v, section + ": must be a table ([" + section + "])");
+    } else {
+      readSection(*v.as_table(), section, deprecated, problems, parsed.warnings, name, set,
+                  parsed.config);
+    }
+  }
+  if (!problems.empty())
+    return Error{joinLines(problems.lines())};
+  for (const ConfigKey& k : configKeys())
+    if (std::find(set.begin(), set.end(), &k) != set.end())
+      parsed.keys_set.push_back(std::string(k.section) + "." + std::string(k.name));
   return parsed;
 }
 
@@ -400,112 +274,98 @@ Result<ParsedConfig> loadConfigFile(const std::filesystem::path& path) {
 }
 
 std::vector<std::string> knownConfigKeys() {
-  // the reader itself lists the keys it looks up
-  std::vector<std::string> errors, keys_set, all;
-  Config c;
-  readAll(toml::table{}, "(keys)", c, errors, keys_set, &all);
+  std::vector<std::string> all;
+  for (const ConfigKey& k : configKeys())
+    all.push_back(std::string(k.section) + "." + std::string(k.name));
   return all;
 }
 
 Result<bool> validateConfig(const Config& c) {
   std::vector<std::string> errors;
-  if (!(c.servo.rate_hz >= 1.0 && c.servo.rate_hz <= 20000.0))
-    errors.push_back("[servo] rate_hz: must be in [1, 20000] Hz (got " + fmtNum(c.servo.rate_hz) +
-                     ")");
-  if (c.servo.priority < 1 || c.servo.priority > 99)
-    errors.push_back("[servo] priority: must be in [1, 99] (got " +
-                     std::to_string(c.servo.priority) + ")");
-  if (c.servo.cpu < -1 || c.servo.cpu > 1023)
-    errors.push_back("[servo] cpu: must be -1 or a CPU number (got " + std::to_string(c.servo.cpu) +
-                     ")");
-  if (c.device.spec.empty())
-    errors.push_back("[device] spec: must not be empty");
-  if (auto p = checkUdp(c.network.udp))
-    errors.push_back("[network] udp: " + *p);
-  if (auto p = checkShmName(c.network.shm))
-    errors.push_back("[network] shm: " + *p);
+  for (const ConfigKey& k : configKeys())
+    if (auto problem = checkValue(k, c))
+      errors.push_back(k.label() + ": " + *problem);
   if (!errors.empty())
     return Error{joinLines(errors)};
   return true;
 }
 
-sim::SimOptions toSimOptions(const Config& c) {
-  sim::SimOptions o;
-  o.response.stiffness_n_per_m = c.response.stiffness_n_per_m;
-  o.response.tick_s = c.response.tick_s > 0.0 ? c.response.tick_s : 1.0 / c.servo.rate_hz;
-  o.response.max_force_n = c.response.max_force_n;
-  o.response.max_torque_nm = c.response.max_torque_nm;
-  o.response.max_force_step_n = c.response.max_force_step_n;
-  o.response.max_torque_step_nm = c.response.max_torque_step_nm;
-  o.response.ramp_s = c.response.ramp_s;
-  o.max_pairs_per_tick = c.response.max_pairs_per_tick;
-  o.probe_sphere_radius_m = c.response.probe_sphere_radius_m;
-  auto& r = o.response;
-  const auto& cr = c.response;
-  r.max_speed_m_per_s = cr.max_speed_m_per_s;
-  r.speed_decay_s = cr.speed_decay_s;
-  r.min_predictive_fraction = cr.min_predictive_fraction;
-  r.proxy_stiffness_ratio = cr.proxy_stiffness_ratio;
-  r.coupling_damping_factor = cr.coupling_damping_factor;
-  r.rot_stiffness_nm_per_rad = cr.rot_stiffness_nm_per_rad;
-  r.penetration_allowance_m = cr.penetration_allowance_m;
-  r.crease_angle_deg = cr.crease_angle_deg;
-  r.attach_button_mask = cr.attach_button_mask;
-  r.attach_distance_m = cr.attach_distance_m;
-  r.hinge_attach = cr.hinge_attach;
-  r.centre_radius_fraction = cr.centre_radius_fraction;
-  r.grab_weight = cr.grab_weight;
-  r.grab_inertia = cr.grab_inertia;
-  r.grab_inertia_filter_s = cr.grab_inertia_filter_s;
-  r.dynamic_backstop_fraction = cr.dynamic_backstop_fraction;
-  o.dynamics_impulse_window_s = cr.impulse_window_s;
-  o.dynamics_sleep_time_s = cr.dynamics_sleep_time_s;
-  return o;
+namespace {
+
+// the comment above a key: its text, its range and unit, its default; wrapped at 100 columns
+// with "(default: ...)" and a range kept whole on one line
+std::string keyComment(const ConfigKey& k) {
+  std::vector<std::string> tokens;
+  std::istringstream words{std::string(k.text)};
+  for (std::string w; words >> w;)
+    tokens.push_back(w);
+  const std::string unit = k.unit.empty() ? "" : " " + std::string(k.unit);
+  std::string range;
+  std::visit(
+      [&](auto* p) {
+        using T = std::remove_pointer_t<decltype(p)>;
+        if constexpr (std::is_same_v<T, double> ||
+                      (std::is_integral_v<T> && !std::is_same_v<T, bool>))
+          range = "Range " + k.range.text() + unit + ".";
+        else if constexpr (std::is_same_v<T, geom::Vec3>)
+          range = "[x, y, z]" + unit + ", each within ±" + shortestNumber(k.range.hi) + ".";
+        else if constexpr (std::is_same_v<T, geom::Quat>)
+          range = "[x, y, z, w], unit length.";
+      },
+      k.in(Config{}));
+  if (!range.empty())
+    tokens.push_back(range);
+  tokens.push_back("(default: " + tomlValue(k, Config{}) + ")");
+  std::string out, line = "#";
+  for (const std::string& t : tokens) {
+    if (line.size() > 1 && line.size() + 1 + t.size() > 100) {
+      out += line + "\n";
+      line = "#";
+    }
+    line += " " + t;
+  }
+  return out + line + "\n";
 }
 
-namespace {
-geom::Pose poseOf(const std::array<double, 3>& t, const std::array<double, 4>& q) {
-  return geom::Pose::fromXyzw(geom::Vec3(t[0], t[1], t[2]), q[0], q[1], q[2], q[3]);
-}
+constexpr const char* kFileHeader =
+    "# hapticd configuration: every key with its value, and above it what the key does, its "
+    "range and\n"
+    "# its default. An empty file, or no --config at all, means the defaults.\n"
+    "# A wrong value, a wrong type or an unknown key is refused with the file, line and key; on "
+    "SIGHUP a\n"
+    "# refused file changes nothing (the daemon keeps the configuration it runs).\n"
+    "# Command-line options override the file (`hapticd --help`); `hapticd --check-config` runs "
+    "the\n"
+    "# start-up checks (the scene loaded, its simulation built, the device spec, the key file).\n"
+    "# Units: metres, kilograms, seconds, newtons; rotations are quaternions [x, y, z, w] (glTF "
+    "order).\n"
+    "# config/hapticd.toml is this text for the defaults, made from the table of keys in\n"
+    "# daemon/config_keys.cpp: `hapticd --print-config > config/hapticd.toml`.\n";
+
 }  // namespace
 
-device::DeviceOptions toDeviceOptions(const Config& c) {
-  device::DeviceOptions o;
-  o.limits.max_force_n = c.device.max_force_n;
-  o.limits.max_torque_nm = c.device.max_torque_nm;
-  o.sim_hand_mass_kg = c.device.sim_hand_mass_kg;
-  o.sim_hand_stiffness_n_per_m = c.device.sim_hand_stiffness_n_per_m;
-  o.sim_hand_damping_n_s_per_m = c.device.sim_hand_damping_n_s_per_m;
-  o.sim_idle_motion_after_s = c.device.sim_idle_motion_after_s;
-  o.sim_home = poseOf(c.device.sim_home_translation_m, c.device.sim_home_rotation);
-  const auto& d = c.device;
-  o.sim_hand_inertia_kg_m2 = d.sim_hand_inertia_kg_m2;
-  o.sim_hand_rot_stiffness_nm_per_rad = d.sim_hand_rot_stiffness_nm_per_rad;
-  o.sim_hand_rot_damping_nm_s_per_rad = d.sim_hand_rot_damping_nm_s_per_rad;
-  o.sim_idle_amplitude_m = d.sim_idle_amplitude_m;
-  o.sim_idle_angle_rad = d.sim_idle_angle_rad;
-  o.sim_max_step_s = d.sim_max_step_s;
-  o.replay_quat_tolerance = d.replay_quat_tolerance;
-  o.hid_spacemouse_speed_m_per_s = d.hid_spacemouse_speed_m_per_s;
-  o.hid_spacemouse_angular_speed_rad_per_s = d.hid_spacemouse_angular_speed_rad_per_s;
-  o.hid_spacemouse_full_scale = d.hid_spacemouse_full_scale;
-  o.hid_spacemouse_deadband = d.hid_spacemouse_deadband;
-  o.hid_spacemouse_workspace_m = d.hid_spacemouse_workspace_m;
-  o.usb_silence_lost_s = d.usb_silence_lost_s;
-  o.usb_falcon_max_motor_command = d.usb_falcon_max_motor_command;
-  o.usb_falcon_firmware = d.usb_falcon_firmware;
+std::string toToml(const Config& c) {
+  std::string out = kFileHeader;
+  std::string_view section;
+  for (const ConfigKey& k : configKeys()) {
+    if (k.section != section) {
+      section = k.section;
+      out += "\n[" + std::string(section) + "]\n";
+    }
+    out += keyComment(k) + std::string(k.name) + " = " + tomlValue(k, c) + "\n";
+  }
+  return out;
+}
+
+sim::SimOptions toSimOptions(const Config& c) {
+  sim::SimOptions o = c.response.sim;
+  o.response.tick_s = c.response.tick_s > 0.0 ? c.response.tick_s : 1.0 / c.servo.rate_hz;
   return o;
 }
 
 scene::LoadOptions toLoadOptions(const Config& c) {
   scene::LoadOptions o;
-  o.limits.max_file_bytes = c.scene.max_file_bytes;
-  o.limits.max_nodes = c.scene.max_nodes;
-  o.limits.max_bodies = c.scene.max_bodies;
-  o.limits.max_primitives = c.scene.max_primitives;
-  o.limits.max_hull_input_points = c.scene.max_hull_input_points;
-  o.limits.max_hull_vertices = c.scene.max_hull_vertices;
-  o.limits.tessellation_tolerance = c.scene.tessellation_tolerance;
+  o.limits = c.scene.limits;
   if (!c.scene.allowed_uri_dir.empty())
     o.allowed_uri_dir = c.scene.allowed_uri_dir;
   return o;
@@ -527,11 +387,11 @@ ServoOptions toServoOptions(const Config& c, const device::DeviceInfo& device) {
   o.fault_fade_s = c.servo.fault_fade_s;
   o.stop_ramp_s = c.servo.stop_ramp_s;
   o.armed_at_start = c.servo.armed_at_start;
-  o.workspace.X_SD = poseOf(c.device.workspace_translation_m, c.device.workspace_rotation);
-  o.workspace.scale = c.device.workspace_scale;
+  o.workspace = c.device.workspace;
   // the tighter of the configured limits and what the backend reports
-  o.limits.max_force_n = std::min(c.device.max_force_n, device.limits.max_force_n);
-  o.limits.max_torque_nm = std::min(c.device.max_torque_nm, device.limits.max_torque_nm);
+  const device::DeviceLimits& limits = c.device.options.limits;
+  o.limits.max_force_n = std::min(limits.max_force_n, device.limits.max_force_n);
+  o.limits.max_torque_nm = std::min(limits.max_torque_nm, device.limits.max_torque_nm);
   o.max_force_step_n = c.device.max_force_step_n;
   o.max_torque_step_nm = c.device.max_torque_step_nm;
   o.record_capacity = c.servo.record_ring_rows;
@@ -539,65 +399,36 @@ ServoOptions toServoOptions(const Config& c, const device::DeviceInfo& device) {
   return o;
 }
 
+namespace {
+constexpr EnumName<ClockKind> kClockNames[] = {{ClockKind::kMonotonic, "monotonic"},
+                                               {ClockKind::kVirtual, "virtual"}};
+constexpr EnumName<LogLevel> kLogLevelNames[] = {{LogLevel::kError, "error"},
+                                                 {LogLevel::kWarning, "warning"},
+                                                 {LogLevel::kInfo, "info"},
+                                                 {LogLevel::kDebug, "debug"}};
+constexpr EnumName<sim::ResponseOptions::HingeAttach> kHingeAttachNames[] = {
+    {sim::ResponseOptions::HingeAttach::kAuto, "auto"},
+    {sim::ResponseOptions::HingeAttach::kRim, "rim"},
+    {sim::ResponseOptions::HingeAttach::kCentre, "centre"}};
+}  // namespace
+
 const char* toString(ClockKind kind) {
-  return kind == ClockKind::kVirtual ? "virtual" : "monotonic";
+  return nameIn(kClockNames, kind);
 }
-
-const char* toString(LogLevel level) {
-  switch (level) {
-    case LogLevel::kError:
-      return "error";
-    case LogLevel::kWarning:
-      return "warning";
-    case LogLevel::kInfo:
-      return "info";
-    case LogLevel::kDebug:
-      return "debug";
-  }
-  return "?";
-}
-
-Result<LogLevel> parseLogLevel(std::string_view t) {
-  if (t == "error")
-    return LogLevel::kError;
-  if (t == "warning")
-    return LogLevel::kWarning;
-  if (t == "info")
-    return LogLevel::kInfo;
-  if (t == "debug")
-    return LogLevel::kDebug;
-  return Error{"\"" + std::string(t) +
-               "\" is not one of \"error\", \"warning\", \"info\", \"debug\""};
-}
-
-const char* toString(sim::ResponseOptions::HingeAttach a) {
-  switch (a) {
-    case sim::ResponseOptions::HingeAttach::kAuto:
-      return "auto";
-    case sim::ResponseOptions::HingeAttach::kRim:
-      return "rim";
-    case sim::ResponseOptions::HingeAttach::kCentre:
-      return "centre";
-  }
-  return "?";
-}
-
-Result<sim::ResponseOptions::HingeAttach> parseHingeAttach(std::string_view t) {
-  if (t == "auto")
-    return sim::ResponseOptions::HingeAttach::kAuto;
-  if (t == "rim")
-    return sim::ResponseOptions::HingeAttach::kRim;
-  if (t == "centre")
-    return sim::ResponseOptions::HingeAttach::kCentre;
-  return Error{"\"" + std::string(t) + "\" is not one of \"auto\", \"rim\", \"centre\""};
-}
-
 Result<ClockKind> parseClockKind(std::string_view t) {
-  if (t == "monotonic")
-    return ClockKind::kMonotonic;
-  if (t == "virtual")
-    return ClockKind::kVirtual;
-  return Error{"\"" + std::string(t) + "\" is not one of \"monotonic\", \"virtual\""};
+  return parseIn(kClockNames, t);
+}
+const char* toString(LogLevel level) {
+  return nameIn(kLogLevelNames, level);
+}
+Result<LogLevel> parseLogLevel(std::string_view t) {
+  return parseIn(kLogLevelNames, t);
+}
+const char* toString(sim::ResponseOptions::HingeAttach a) {
+  return nameIn(kHingeAttachNames, a);
+}
+Result<sim::ResponseOptions::HingeAttach> parseHingeAttach(std::string_view t) {
+  return parseIn(kHingeAttachNames, t);
 }
 
 }  // namespace hapticd::daemon

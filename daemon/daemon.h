@@ -1,42 +1,28 @@
 #pragma once
 /// \file
-/// The daemon's life (STYLE.md rule 15; chrony main.c): ordered init, the main thread's service
-/// loop (signals, logging of servo events, device service, scene reclaim, watchdog, status), and
-/// reverse teardown. main() only builds the Backends from the real libraries and calls
-/// runDaemon(); tests call runDaemon() with fakes.
+/// The daemon's life (docs/architecture.md rule 15; chrony main.c): ordered init, the main
+/// thread's service loop, and reverse teardown. main() only builds the Backends from the real
+/// libraries and calls runDaemon(); tests call runDaemon() with fakes. The jobs around it live in
+/// their own files: daemon/scene_builder.h (SIGHUP reloads and uploads, built off the servo
+/// thread), daemon/protocol_adapter.h (the UDP server and the shared-memory segment),
+/// daemon/status_report.h (the status file, status line and summary).
 ///
-/// Threads: runDaemon() on the main thread. It starts the servo thread (real-time setup, then
-/// ServoLoop::run()) and the record writer; everything else stays on the main thread.
-/// Signals: SIGTERM and SIGINT ramp the force to zero and end (exit 0); SIGHUP reloads the
-/// config file and the scene, keeping the old ones when the new are bad (the error is logged).
+/// Threads (docs/daemon.md "Threads and how they meet"), all started by runDaemon():
+///  - main (the caller): init and teardown, signals, servo events to the log, device service(),
+///    scene reclaim, watchdog, status file;
+///  - servo (`hapticd-servo`): its real-time setup, then ServoLoop::run() and nothing else;
+///  - record (`hapticd-record`, with --record / --record-bodies): the record rows to the files;
+///  - builder (`hapticd-build`, while a SIGHUP reload or an upload is built): the scene and its
+///    simulation;
+///  - network (`hapticd-net`): the protocol server on [network] udp.
+/// Signals: SIGTERM and SIGINT ramp the force to zero over [servo] stop_ramp_s and end (exit 0);
+/// SIGHUP reloads the config file and the scene, keeping the old ones when the new are bad (the
+/// error is logged).
 
-#include <functional>
-#include <memory>
-#include <string>
-#include <string_view>
-
-#include "core/common/result.h"
-#include "core/scene/scene.h"
-#include "core/sim/simulation.h"
+#include "daemon/backends.h"
 #include "daemon/command_line.h"
-#include "daemon/config.h"
-#include "daemon/device/device.h"
-#include "daemon/realtime.h"
 
 namespace hapticd::daemon {
-
-/// Where devices, scenes and simulations come from (the real libraries in main(), fakes in tests).
-struct Backends {
-  std::function<Result<std::unique_ptr<device::Device>>(std::string_view spec,
-                                                        const device::DeviceOptions&)>
-      make_device;
-  /// The scene of a config: [scene] path, or the built-in demo [scene] demo when path is empty.
-  std::function<Result<std::shared_ptr<const scene::SceneModel>>(const Config&)> load_scene;
-  std::function<Result<std::unique_ptr<sim::Simulation>>(std::shared_ptr<const scene::SceneModel>,
-                                                         const sim::SimOptions&)>
-      make_simulation;
-  RealtimeOps realtime = RealtimeOps::system();
-};
 
 /// Exit codes of runDaemon().
 enum ExitCode : int {

@@ -17,28 +17,39 @@ namespace {
 
 using namespace hapticd;
 
-Result<std::shared_ptr<const scene::SceneModel>> loadConfiguredScene(const daemon::Config& c) {
-  const scene::LoadOptions options = daemon::toLoadOptions(c);
-  scene::LoadReport report;
-  if (c.scene.path.empty()) {
-    const std::vector<std::uint8_t> bytes = scenes::makeDemoScene(c.scene.demo);
-    if (bytes.empty()) {
-      std::string known;
-      for (auto n : scenes::demoSceneNames())
-        known += (known.empty() ? "" : ", ") + std::string(n);
-      return Error{"[scene] demo: \"" + c.scene.demo + "\" is not a demo scene (" + known + ")"};
-    }
-    report = scene::loadScene(bytes, c.scene.demo, options);
-  } else {
-    report = scene::loadSceneFile(c.scene.path, options);
-  }
+// the loader's model, or its problems named by `what`
+daemon::SceneResult modelOf(scene::LoadReport report, const std::string& what) {
   if (!report.ok()) {
-    const std::string what = c.scene.path.empty() ? "demo scene '" + c.scene.demo + "'"
-                                                  : "scene file '" + c.scene.path + "'";
-    return Error{what + ": " + report.message()};
+    std::string text = report.message();
+    while (!text.empty() && text.back() == '\n')
+      text.pop_back();
+    return Error{what + ": " + text};
   }
   return std::shared_ptr<const scene::SceneModel>(
       std::make_shared<scene::SceneModel>(std::move(*report.scene)));
+}
+
+daemon::SceneResult loadConfiguredScene(const daemon::Config& c) {
+  const scene::LoadOptions options = daemon::toLoadOptions(c);
+  if (!c.scene.path.empty())
+    return modelOf(scene::loadSceneFile(c.scene.path, options),
+                   "[scene] path '" + c.scene.path + "'");
+  const std::vector<std::uint8_t> bytes = scenes::makeDemoScene(c.scene.demo);
+  if (bytes.empty()) {
+    std::string known;
+    for (auto n : scenes::demoSceneNames())
+      known += (known.empty() ? "" : ", ") + std::string(n);
+    return Error{"[scene] demo: \"" + c.scene.demo + "\" is not a demo scene (" + known + ")"};
+  }
+  return modelOf(scene::loadScene(bytes, c.scene.demo, options),
+                 "[scene] demo '" + c.scene.demo + "'");
+}
+
+// an upload: parsed from the bytes as they arrived (no file)
+daemon::SceneResult loadUploadedScene(std::span<const std::uint8_t> bytes,
+                                      const std::string& name,
+                                      const daemon::Config& c) {
+  return modelOf(scene::loadScene(bytes, name, daemon::toLoadOptions(c)), "scene '" + name + "'");
 }
 
 }  // namespace
@@ -51,6 +62,7 @@ int main(int argc, char** argv) {
     daemon::Backends backends;
     backends.make_device = &device::makeDevice;
     backends.load_scene = &loadConfiguredScene;
+    backends.load_scene_bytes = &loadUploadedScene;
     backends.make_simulation = &sim::Simulation::create;
     return daemon::runDaemon(cli, backends);
   } catch (const std::exception& e) {

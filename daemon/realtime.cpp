@@ -10,6 +10,8 @@
 #include <cstring>
 #include <utility>
 
+#include "daemon/enum_names.h"
+
 namespace hapticd::daemon {
 namespace {
 
@@ -58,27 +60,18 @@ bool memoryLockingSupported() {
   return !kAddressSanitizer;
 }
 
+namespace {
+constexpr EnumName<RealtimePolicy> kPolicyNames[] = {{RealtimePolicy::kRequire, "require"},
+                                                     {RealtimePolicy::kPrefer, "prefer"},
+                                                     {RealtimePolicy::kOff, "off"}};
+}  // namespace
+
 Result<RealtimePolicy> parseRealtimePolicy(std::string_view text) {
-  if (text == "require")
-    return RealtimePolicy::kRequire;
-  if (text == "prefer")
-    return RealtimePolicy::kPrefer;
-  if (text == "off")
-    return RealtimePolicy::kOff;
-  return Error{"realtime: \"" + std::string(text) +
-               "\" is not one of \"require\", \"prefer\", \"off\""};
+  return parseIn(kPolicyNames, text, "realtime: ");
 }
 
 const char* toString(RealtimePolicy policy) {
-  switch (policy) {
-    case RealtimePolicy::kRequire:
-      return "require";
-    case RealtimePolicy::kPrefer:
-      return "prefer";
-    case RealtimePolicy::kOff:
-      return "off";
-  }
-  return "?";
+  return nameIn(kPolicyNames, policy);
 }
 
 RealtimeOps RealtimeOps::system() {
@@ -141,28 +134,27 @@ Result<RealtimeReport> setupServoThreadRealtime(const RealtimeOptions& options,
   Error error;
   if (options.priority < 1 || options.priority > 99)
     return Error{"priority " + std::to_string(options.priority) + " is outside 1..99"};
-  if (const int err = ops.set_fifo(options.priority); err != 0) {
-    if (!refuse(options, report,
-                "SCHED_FIFO priority " + std::to_string(options.priority) +
-                    " refused for the servo thread: " + errnoText(err),
-                error))
-      return error;
-  } else {
-    report.fifo = true;
-  }
+  // a step done (its flag set), or refused: under "prefer" a warning, under "require" the error
+  const auto step = [&](int err, const std::string& what, bool& done) {
+    if (err == 0) {
+      done = true;
+      return true;
+    }
+    return refuse(options, report, what + ": " + errnoText(err), error);
+  };
+  if (!step(ops.set_fifo(options.priority),
+            "SCHED_FIFO priority " + std::to_string(options.priority) +
+                " refused for the servo thread",
+            report.fifo))
+    return error;
   if (options.cpu >= 0) {
     if (options.cpu >= CPU_SETSIZE)
       return Error{"cpu " + std::to_string(options.cpu) + " is outside 0.." +
                    std::to_string(CPU_SETSIZE - 1)};
-    if (const int err = ops.pin_to_cpu(options.cpu); err != 0) {
-      if (!refuse(options, report,
-                  "pinning the servo thread to CPU " + std::to_string(options.cpu) +
-                      " refused: " + errnoText(err),
-                  error))
-        return error;
-    } else {
-      report.pinned = true;
-    }
+    if (!step(ops.pin_to_cpu(options.cpu),
+              "pinning the servo thread to CPU " + std::to_string(options.cpu) + " refused",
+              report.pinned))
+      return error;
   }
   return report;
 }

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Every piece of real-time process setup, in this one file (STYLE.md rule 7; LinuxCNC
+/// Every piece of real-time process setup, in this one file (docs/architecture.md rule 7; LinuxCNC
 /// src/rtapi/uspace_rtapi_main.cc, libfranka RealtimeConfig): memory locking and stack
 /// pre-faulting, SCHED_FIFO with SCHED_RESET_ON_FORK for the servo thread, CPU pinning, the
 /// `require | prefer | off` policy, and the threads of the daemon (the servo thread gets its

@@ -2,8 +2,9 @@
 /// \file
 /// Writes --record and --record-bodies CSV files from the rows the servo thread hands over
 /// through its lock-free rings (ServoLoop::popRecord / popBody). All file I/O happens here, on a
-/// normal thread; never on the servo thread. Columns: ../shared/DESIGN.md "Records" and
-/// "Headless replay"; numbers as %.17g so that a record round-trips bit for bit.
+/// normal thread; never on the servo thread. Columns: docs/architecture.md "The interfaces that
+/// stay stable" (records) and docs/daemon.md "Running it"; numbers as %.17g so that a record
+/// round-trips bit for bit.
 
 #include <atomic>
 #include <cstdint>

@@ -7,6 +7,8 @@
 #include <string>
 #include <thread>
 
+#include "core/geometry/rotation.h"
+
 namespace hapticd::daemon {
 namespace {
 
@@ -14,10 +16,6 @@ std::int64_t realNowNs() noexcept {
   timespec ts{};
   clock_gettime(CLOCK_MONOTONIC, &ts);
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
-}
-
-bool finite(const geom::Vec3& v) noexcept {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
 // scales v down to magnitude `limit` when longer
@@ -66,17 +64,6 @@ ServoCommand gatedCommand(CommandKind kind,
     c.pose.buttons = p.buttons;
   }
   return c;
-}
-
-std::uint32_t wireFaultBits(std::uint32_t f) noexcept {
-  std::uint32_t w = 0;
-  if ((f & kFaultStreamLost) != 0)
-    w |= proto::kFaultStreamLost;
-  if ((f & kFaultMisses) != 0)
-    w |= proto::kFaultTickOverrun;
-  if ((f & kFaultNonFinite) != 0)
-    w |= proto::kFaultNotFinite;
-  return w;
 }
 
 std::uint32_t wireStateFlags(const ServoState& st) noexcept {
@@ -241,7 +228,7 @@ void ServoLoop::publishShm(std::int64_t now_real_ns) noexcept {
   m.tick_p50_ns = shm_p50_ns_;
   m.tick_p99_ns = shm_p99_ns_;
   m.tick_max_ns = static_cast<std::uint64_t>(std::max<std::int64_t>(0, compute_.maxNs()));
-  m.fault_bits = wireFaultBits(s_.faults);
+  m.fault_bits = s_.faults;
   m.state_flags = wireStateFlags(s_);
   m.contact_count = s_.contacts;
   m.pairs_tested = s_.pairs_tested;  // layout minor 1
@@ -263,15 +250,7 @@ void ServoLoop::applyCommand(const ServoCommand& cmd, std::uint64_t now_ns) noex
   if (cmd.gated) {
     gate_used_ = true;
     if (cmd.kind == CommandKind::kPose) {
-      proto::PoseCommand p;
-      const geom::Pose& X = cmd.pose.X_W_target;
-      p.X_WT.p = {X.translation.x, X.translation.y, X.translation.z};
-      p.X_WT.q = {X.rotation.x, X.rotation.y, X.rotation.z, X.rotation.w};
-      p.v_W = {cmd.pose.linear_velocity.x, cmd.pose.linear_velocity.y, cmd.pose.linear_velocity.z};
-      p.w_W = {cmd.pose.angular_velocity.x, cmd.pose.angular_velocity.y,
-               cmd.pose.angular_velocity.z};
-      p.buttons = cmd.pose.buttons;
-      (void)gate_.submit(cmd.session_id, cmd.sequence, p, now_ns);
+      (void)gate_.submit(cmd.session_id, cmd.sequence, cmd.pose, now_ns);
       return;  // the gate hands the newest to the device in applyGate()
     }
     if (cmd.kind == CommandKind::kArm)
@@ -282,14 +261,9 @@ void ServoLoop::applyCommand(const ServoCommand& cmd, std::uint64_t now_ns) noex
     s_.last_command_sequence = cmd.sequence;
   }
   switch (cmd.kind) {
-    case CommandKind::kPose: {
-      device::PoseCommand c = cmd.pose;
-      c.X_W_target = options_.workspace.toDevice(cmd.pose.X_W_target);
-      c.linear_velocity = options_.workspace.velocityToDevice(cmd.pose.linear_velocity);
-      c.angular_velocity = options_.workspace.angularToDevice(cmd.pose.angular_velocity);
-      device_.command(c);
+    case CommandKind::kPose:
+      commandDevice(cmd.pose);
       break;
-    }
     case CommandKind::kArm:
       s_.faults = 0;
       s_.consecutive_misses = 0;
@@ -312,39 +286,44 @@ void ServoLoop::applyGate(std::uint64_t now_ns) noexcept {
     s_.gate_scale = 1.0;
     return;
   }
-  const proto::GateOutput g = gate_.update(now_ns);
+  const auto g = gate_.update(now_ns);
   s_.gate_mode = static_cast<std::uint8_t>(g.mode);
   s_.commands_accepted = gate_.accepted();
   s_.commands_dropped = gate_.droppedTotal();
   if (g.last_sequence != 0)
     s_.last_command_sequence = g.last_sequence;
   if (g.has_target &&
-      (g.mode == proto::GateMode::kStreaming || g.mode == proto::GateMode::kRamping)) {
-    device::PoseCommand c;
-    const geom::Pose X_W = geom::Pose::fromXyzw(
-        geom::Vec3(g.target.X_WT.p[0], g.target.X_WT.p[1], g.target.X_WT.p[2]), g.target.X_WT.q[0],
-        g.target.X_WT.q[1], g.target.X_WT.q[2], g.target.X_WT.q[3]);
-    c.X_W_target = options_.workspace.toDevice(X_W);
-    c.linear_velocity = options_.workspace.velocityToDevice(
-        geom::Vec3(g.target.v_W[0], g.target.v_W[1], g.target.v_W[2]));
-    c.angular_velocity = options_.workspace.angularToDevice(
-        geom::Vec3(g.target.w_W[0], g.target.w_W[1], g.target.w_W[2]));
-    c.buttons = g.target.buttons;
-    device_.command(c);
-  }
+      (g.mode == proto::GateMode::kStreaming || g.mode == proto::GateMode::kRamping))
+    commandDevice(g.target);
   // a disarmed gate (never armed by a client, or disarmed) leaves the servo's own arm state in
   // charge; an armed gate scales the force by its ramp
   s_.gate_scale = g.mode == proto::GateMode::kDisarmed ? 1.0 : g.force_scale;
-  if ((g.fault_bits & proto::kFaultStreamLost) != 0)
-    s_.faults |= kFaultStreamLost;
+  if ((g.fault_bits & proto::kFaultStreamLost) != 0 && latch(kFaultStreamLost))
+    emit(ServoEventKind::kStreamLost);
+}
+
+void ServoLoop::commandDevice(const device::PoseCommand& c_W) noexcept {
+  device::PoseCommand c = c_W;
+  c.X_W_target = options_.workspace.toDevice(c_W.X_W_target);
+  c.linear_velocity = options_.workspace.velocityToDevice(c_W.linear_velocity);
+  c.angular_velocity = options_.workspace.angularToDevice(c_W.angular_velocity);
+  device_.command(c);
+}
+
+bool ServoLoop::latch(std::uint32_t fault) noexcept {
+  if ((s_.faults & fault) != 0)
+    return false;
+  s_.faults |= fault;
+  s_.faults_seen |= fault;
+  ++s_.fault_latches;
+  return true;
 }
 
 void ServoLoop::guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept {
   // the one place every force bound for the device is checked finite, clamped and rate-limited
-  if (!finite(force_D) || !finite(torque_D)) {
-    if ((s_.faults & kFaultNonFinite) == 0)
+  if (!geom::finite(force_D) || !geom::finite(torque_D)) {
+    if (latch(kFaultNonFinite))
       emit(ServoEventKind::kNonFiniteForce);
-    s_.faults |= kFaultNonFinite;
     force_D = geom::Vec3(0.0);
     torque_D = geom::Vec3(0.0);
   }
@@ -354,12 +333,7 @@ void ServoLoop::guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept 
   torque_D = limitStep(last_torque_D_, torque_D, options_.max_torque_step_nm);
 }
 
-void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept {
-  const std::int64_t t0 = realNowNs();
-  const double t_s = static_cast<double>(period_index) * period_s_;
-
-  const std::uint64_t now_ns =
-      static_cast<std::uint64_t>(period_index) * static_cast<std::uint64_t>(period_ns_);
+void ServoLoop::takeInputs(std::uint64_t now_ns) noexcept {
   drainCommands(now_ns);
   drainShm(now_ns);
   applyGate(now_ns);
@@ -371,21 +345,12 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
     emit(ServoEventKind::kSceneSwapped, static_cast<std::int64_t>(current_->generation));
   }
   applyEdits();  // after the swap: a batch validated against the new scene meets it
+}
 
-  device::DeviceSample sample;
+device::DeviceStatus ServoLoop::readDevice(double t_s, device::DeviceSample& sample) noexcept {
   const device::DeviceStatus status = device_.read(t_s, sample);
-  if (status == device::DeviceStatus::kEndOfStream) {
-    // the stream is over: zero force, no simulation step, no record row; run() returns
-    end_of_stream_ = true;
-    emit(ServoEventKind::kEndOfStream);
-    device_.write(geom::Vec3(0.0), geom::Vec3(0.0));
-    last_force_D_ = last_torque_D_ = geom::Vec3(0.0);
-    s_.force_W_n = s_.torque_W_nm = geom::Vec3(0.0);
-    tick_ns = realNowNs() - t0;
-    state_.write(s_);
-    publishShm(realNowNs());
-    return;
-  }
+  if (status == device::DeviceStatus::kEndOfStream)
+    return status;
   const bool connected = status == device::DeviceStatus::kOk;
   if (!connected && status == device::DeviceStatus::kLost && s_.device_connected) {
     ++s_.device_lost_count;
@@ -398,17 +363,22 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   s_.device_connected = connected;
   if (connected)
     s_.X_W_device = options_.workspace.toScene(sample.X_WD);
+  return status;
+}
 
-  sim::TickOutput out;
-  if (current_ != nullptr) {
-    sim::TickInput in;
-    in.t_s = t_s;
-    in.X_W_device = s_.X_W_device;
-    in.buttons = sample.buttons;
-    in.device_ok = connected;
-    out = current_->sim->step(in);
-  }
+void ServoLoop::endStream(std::int64_t t0, std::int64_t& tick_ns) noexcept {
+  // the stream is over: zero force, no simulation step, no record row; run() returns
+  end_of_stream_ = true;
+  emit(ServoEventKind::kEndOfStream);
+  device_.write(geom::Vec3(0.0), geom::Vec3(0.0));
+  last_force_D_ = last_torque_D_ = geom::Vec3(0.0);
+  s_.force_W_n = s_.torque_W_nm = geom::Vec3(0.0);
+  tick_ns = realNowNs() - t0;
+  state_.write(s_);
+  publishShm(realNowNs());
+}
 
+void ServoLoop::fadeOutputGain() noexcept {
   // the output gain fades to zero on a fault, a disarm and a stop; kArm sets it back to 1
   const bool hold_zero = s_.faults != 0 || !s_.armed || s_.stopping;
   if (hold_zero && s_.output_gain > 0.0) {
@@ -416,7 +386,9 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
     const double step = fade_s > 0.0 ? period_s_ / fade_s : 1.0;
     s_.output_gain = std::max(0.0, s_.output_gain - step);
   }
+}
 
+void ServoLoop::writeOutput(const sim::TickOutput& out, bool connected) noexcept {
   geom::Vec3 force_D(0.0), torque_D(0.0);
   if (connected) {
     const double gain = s_.output_gain * s_.gate_scale;
@@ -433,9 +405,13 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   // a lost device: zero at once (nothing to ramp on a device that is gone)
   last_force_D_ = force_D;
   last_torque_D_ = torque_D;
-
   s_.force_W_n = options_.workspace.forceToScene(force_D);
   s_.torque_W_nm = options_.workspace.torqueToScene(torque_D);
+}
+
+void ServoLoop::updateState(const sim::TickOutput& out,
+                            double t_s,
+                            std::uint64_t period_index) noexcept {
   s_.X_W_proxy = out.X_W_proxy;
   s_.contacts = out.contacts;
   s_.pairs_tested = out.pairs_tested;
@@ -448,16 +424,69 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   s_.peak_penetration_m = std::max(s_.peak_penetration_m, out.max_penetration_m);
   if (out.contacts > 0)
     ++s_.contact_ticks;
-
   if (s_.stopping && !stop_done_ && s_.output_gain == 0.0 && last_force_D_ == geom::Vec3(0.0) &&
       last_torque_D_ == geom::Vec3(0.0)) {
     stop_done_ = true;
     emit(ServoEventKind::kStopRampDone);
   }
-
   if (shm_ != nullptr)
     s_.shm_client_alive =
         shm_->clientAlive(static_cast<std::uint64_t>(realNowNs()), kShmAliveTimeoutNs);
+}
+
+template <class Row>
+bool ServoLoop::pushRow(SpscRing<Row>& ring, const Row& row) noexcept {
+  while (!ring.push(row)) {
+    if (!options_.wait_for_record_space) {
+      ++s_.records_dropped;
+      return false;
+    }
+    std::this_thread::yield();
+  }
+  return true;
+}
+
+void ServoLoop::pushRecords(double t_s, std::int64_t tick_ns) noexcept {
+  if (options_.record) {
+    // the tick's state as updateState() left it (its counts are the simulation's output's)
+    const RecordRow row{
+        s_.tick - 1,    t_s,         s_.X_W_device,   s_.X_W_proxy,     s_.force_W_n,
+        s_.torque_W_nm, s_.contacts, s_.pairs_tested, s_.pairs_skipped, s_.max_penetration_m,
+        tick_ns};
+    if (!pushRow(records_, row) && !record_drop_reported_) {
+      emit(ServoEventKind::kRecordDropped);
+      record_drop_reported_ = true;
+    }
+  }
+  if (options_.record_bodies && current_ != nullptr) {
+    for (const sim::BodyPose& b : current_->sim->bodyPoses())
+      (void)pushRow(bodies_, BodyRow{s_.tick - 1, t_s, current_->generation, b.body, b.X_WB});
+  }
+}
+
+void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept {
+  const std::int64_t t0 = realNowNs();
+  const double t_s = static_cast<double>(period_index) * period_s_;
+  takeInputs(static_cast<std::uint64_t>(period_index) * static_cast<std::uint64_t>(period_ns_));
+
+  device::DeviceSample sample;
+  const device::DeviceStatus status = readDevice(t_s, sample);
+  if (status == device::DeviceStatus::kEndOfStream)
+    return endStream(t0, tick_ns);
+  const bool connected = status == device::DeviceStatus::kOk;
+
+  sim::TickOutput out;
+  if (current_ != nullptr) {
+    sim::TickInput in;
+    in.t_s = t_s;
+    in.X_W_device = s_.X_W_device;
+    in.buttons = sample.buttons;
+    in.device_ok = connected;
+    out = current_->sim->step(in);
+  }
+  fadeOutputGain();
+  writeOutput(out, connected);
+  updateState(out, t_s, period_index);
 
   ++s_.tick;
   publishLists();
@@ -466,43 +495,7 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
   s_.last_tick_ns = tick_ns;
   state_.write(s_);
   publishShm(t_end);
-
-  if (options_.record) {
-    RecordRow row;
-    row.tick = s_.tick - 1;
-    row.t_s = t_s;
-    row.X_W_device = s_.X_W_device;
-    row.X_W_proxy = s_.X_W_proxy;
-    row.force_n = s_.force_W_n;
-    row.torque_nm = s_.torque_W_nm;
-    row.contacts = out.contacts;
-    row.pairs_tested = out.pairs_tested;
-    row.pairs_skipped = out.pairs_skipped;
-    row.max_penetration_m = out.max_penetration_m;
-    row.tick_ns = tick_ns;
-    while (!records_.push(row)) {
-      if (!options_.wait_for_record_space) {
-        ++s_.records_dropped;
-        if (!record_drop_reported_)
-          emit(ServoEventKind::kRecordDropped);
-        record_drop_reported_ = true;
-        break;
-      }
-      std::this_thread::yield();
-    }
-  }
-  if (options_.record_bodies && current_ != nullptr) {
-    for (const sim::BodyPose& b : current_->sim->bodyPoses()) {
-      const BodyRow row{s_.tick - 1, t_s, current_->generation, b.body, b.X_WB};
-      while (!bodies_.push(row)) {
-        if (!options_.wait_for_record_space) {
-          ++s_.records_dropped;
-          break;
-        }
-        std::this_thread::yield();
-      }
-    }
-  }
+  pushRecords(t_s, tick_ns);
 }
 
 void ServoLoop::prepareServoThread() {
@@ -541,10 +534,8 @@ ServoExit ServoLoop::run() noexcept {
       s_.skipped_periods += static_cast<std::uint64_t>(late_periods);
       ++s_.overruns;
       ++s_.consecutive_misses;
-      if (s_.consecutive_misses >= options_.miss_fault_count && (s_.faults & kFaultMisses) == 0) {
-        s_.faults |= kFaultMisses;
+      if (s_.consecutive_misses >= options_.miss_fault_count && latch(kFaultMisses))
         emit(ServoEventKind::kMissFault, s_.consecutive_misses);
-      }
       state_.write(s_);
     } else {
       s_.consecutive_misses = 0;
@@ -578,12 +569,16 @@ std::string describe(const ServoEvent& e) {
     case ServoEventKind::kDeviceBack:
       return "device back" + at + ": force ramps in again";
     case ServoEventKind::kMissFault:
-      return "fault latched" + at + ": " + std::to_string(e.a) +
+      return "fault latched" + at + ": tick_overrun: " + std::to_string(e.a) +
              " consecutive ticks overran their period; force fades to zero until re-armed";
     case ServoEventKind::kNonFiniteForce:
       return "fault latched" + at +
-             ": the simulation produced a non-finite force; force zero "
-             "until re-armed";
+             ": not_finite: the simulation produced a non-finite force; force zero until "
+             "re-armed";
+    case ServoEventKind::kStreamLost:
+      return "fault latched" + at +
+             ": stream_lost: a client's pose stream stopped (no command for 200 ms); force "
+             "fades to zero until re-armed";
     case ServoEventKind::kArmed:
       return "armed" + at;
     case ServoEventKind::kDisarmed:
@@ -608,6 +603,22 @@ std::string describe(const ServoEvent& e) {
              ", the running scene is generation " + std::to_string(e.b);
   }
   return "event" + at;
+}
+
+std::string faultNames(std::uint32_t faults) {
+  if (faults == 0)
+    return "none";
+  static constexpr std::pair<std::uint32_t, const char*> kNames[] = {
+      {proto::kFaultStreamLost, "stream_lost"},
+      {proto::kFaultDevice, "device"},
+      {proto::kFaultForceClamped, "force_clamped"},
+      {proto::kFaultNotFinite, "not_finite"},
+      {proto::kFaultTickOverrun, "tick_overrun"}};
+  std::string s;
+  for (const auto& [bit, name] : kNames)
+    if ((faults & bit) != 0)
+      s += (s.empty() ? "" : ",") + std::string(name);
+  return s;
 }
 
 }  // namespace hapticd::daemon

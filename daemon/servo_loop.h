@@ -1,13 +1,14 @@
 #pragma once
 /// \file
-/// The servo loop (../shared/DESIGN.md "One servo tick"): each period it reads the device, maps
+/// The servo loop (docs/architecture.md "One servo tick"): each period it reads the device, maps
 /// the pose into the scene, steps the simulation, checks and limits the force, writes it to the
 /// device, publishes state and hands a record row on. It is paced by a Clock (real monotonic,
 /// virtual, scripted), measures each tick's wake-up lateness and compute time into fixed
 /// histograms, skips missed periods instead of queueing them, and after `miss_fault_count`
 /// consecutive overruns fades the force to zero and latches a fault until re-armed.
 ///
-/// Threads (STYLE.md rule 6): run() is the servo thread. It meets the other threads only at
+/// Threads (docs/architecture.md rule 6): run() is the servo thread. It meets the other threads
+/// only at
 ///  - a command ring (single producer: the owner thread; sendCommand()),
 ///  - a ring of scene edit batches (single producer; sendEdits()), applied whole at one tick
 ///    boundary before step(),
@@ -33,15 +34,19 @@
 #include "daemon/clock.h"
 #include "daemon/device/device.h"
 #include "daemon/handoff/scene_exchange.h"
-#include "daemon/handoff/seqlock.h"
-#include "daemon/handoff/spsc_ring.h"
 #include "daemon/histogram.h"
 #include "daemon/workspace.h"
 #include "protocol/command_gate.h"
 #include "protocol/messages.h"
+#include "protocol/seqlock.h"
 #include "protocol/shm.h"
+#include "protocol/spsc_ring.h"
 
 namespace hapticd::daemon {
+
+// the project's one ring and one seqlock (protocol/spsc_ring.h, protocol/seqlock.h)
+using proto::Seqlock;
+using proto::SpscRing;
 
 /// The marker of functions that run on the servo thread (a hook for a real-time sanitizer).
 #define HAPTICD_SERVO_THREAD
@@ -91,11 +96,14 @@ struct ServoCommand {
   std::uint64_t session_id = 0;  ///< gated: the client session (the gate's controller)
 };
 
-/// Latched faults (ServoState::faults); cleared by kArm.
+/// Latched faults (ServoState::faults); cleared by kArm. The protocol's numbering (State and
+/// StatusReply fault_bits), so that a fault has one number wherever a number is shown (the wire,
+/// the status file's faults.bits); the log, the status line and the summary name them
+/// (faultNames()).
 enum FaultBits : std::uint32_t {
-  kFaultMisses = 1u << 0,      ///< miss_fault_count consecutive ticks overran their period
-  kFaultNonFinite = 1u << 1,   ///< the simulation produced a non-finite force or torque
-  kFaultStreamLost = 1u << 2,  ///< a client's pose stream stopped (CommandGate, 200 ms)
+  kFaultStreamLost = proto::kFaultStreamLost,  ///< "stream_lost": a client's pose stream stopped
+  kFaultNonFinite = proto::kFaultNotFinite,    ///< "not_finite": a non-finite force or torque
+  kFaultMisses = proto::kFaultTickOverrun,     ///< "tick_overrun": miss_fault_count overruns
 };
 
 /// The state block, published once per tick through the seqlock. Scene frame, SI units.
@@ -112,7 +120,9 @@ struct ServoState {
   std::uint32_t pairs_skipped = 0;
   std::uint32_t tick_flags = 0;  ///< sim::TickFlags of the last tick
   double max_penetration_m = 0.0;
-  std::uint32_t faults = 0;  ///< FaultBits
+  std::uint32_t faults = 0;         ///< FaultBits latched now
+  std::uint32_t faults_seen = 0;    ///< FaultBits latched at some time since start
+  std::uint64_t fault_latches = 0;  ///< faults latched since start (each a "fault latched" line)
   std::uint32_t consecutive_misses = 0;
   std::uint64_t overruns = 0;         ///< ticks whose end passed the next deadline
   std::uint64_t skipped_periods = 0;  ///< periods skipped after overruns
@@ -192,18 +202,17 @@ inline constexpr std::uint64_t kShmAliveTimeoutNs = 500'000'000;
 inline constexpr std::uint64_t kShmPercentileEveryTicks = 100;
 
 /// A client's command (UDP or shared memory) for the servo's command gate: gated, from session
-/// `session_id`, ordered by `sequence`; the pose (scene frame) only for kPose. Any thread.
+/// `session_id`, ordered by `sequence`; the pose (scene frame) only for kPose. The one place a
+/// wire pose becomes the daemon's: the gate and the device work on the result. Any thread.
 ServoCommand gatedCommand(CommandKind kind,
                           std::uint64_t session_id,
                           std::uint64_t sequence,
                           const proto::PoseCommand& pose) noexcept;
 
-/// ServoState::faults as the protocol's State::fault_bits. Any thread.
-std::uint32_t wireFaultBits(std::uint32_t faults) noexcept;
 /// ServoState as the protocol's State::state_flags (armed, streaming, ramping). Any thread.
 std::uint32_t wireStateFlags(const ServoState& st) noexcept;
 
-/// One --record row (../shared/DESIGN.md "Records"): scene frame, N, N m, m.
+/// One --record row (docs/architecture.md, records): scene frame, N, N m, m.
 struct RecordRow {
   std::uint64_t tick = 0;
   double t_s = 0.0;
@@ -233,6 +242,7 @@ enum class ServoEventKind : std::uint8_t {
   kDeviceBack,
   kMissFault,  ///< a = consecutive misses
   kNonFiniteForce,
+  kStreamLost,  ///< the command gate latched stream_lost
   kArmed,
   kDisarmed,
   kSceneSwapped,  ///< a = generation
@@ -317,7 +327,26 @@ class ServoLoop {
   const ServoScene* currentScene() const { return current_; }
 
  private:
+  // one tick, in order: takeInputs, readDevice, step, fadeOutputGain, writeOutput, updateState,
+  // publish, pushRecords
   HAPTICD_SERVO_THREAD void tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept;
+  // commands, shm commands, the gate, the stop flag, a scene swap, edits: at the tick boundary
+  HAPTICD_SERVO_THREAD void takeInputs(std::uint64_t now_ns) noexcept;
+  // the device's pose (scene frame, into s_), lost / back
+  HAPTICD_SERVO_THREAD device::DeviceStatus readDevice(double t_s,
+                                                       device::DeviceSample& sample) noexcept;
+  // the stream ended: zero force, no step, no record row
+  HAPTICD_SERVO_THREAD void endStream(std::int64_t t0, std::int64_t& tick_ns) noexcept;
+  HAPTICD_SERVO_THREAD void fadeOutputGain() noexcept;
+  // the simulation's wrench through the gain, the workspace and the guard to the device
+  HAPTICD_SERVO_THREAD void writeOutput(const sim::TickOutput& out, bool connected) noexcept;
+  HAPTICD_SERVO_THREAD void updateState(const sim::TickOutput& out,
+                                        double t_s,
+                                        std::uint64_t period_index) noexcept;
+  HAPTICD_SERVO_THREAD void pushRecords(double t_s, std::int64_t tick_ns) noexcept;
+  // pushes a record row, waiting (virtual clock) or dropping and counting (real clock) when full
+  template <class Row>
+  HAPTICD_SERVO_THREAD bool pushRow(SpscRing<Row>& ring, const Row& row) noexcept;
   HAPTICD_SERVO_THREAD void drainCommands(std::uint64_t now_ns) noexcept;
   HAPTICD_SERVO_THREAD void applyCommand(const ServoCommand& cmd, std::uint64_t now_ns) noexcept;
   HAPTICD_SERVO_THREAD void drainShm(std::uint64_t now_ns) noexcept;
@@ -325,11 +354,15 @@ class ServoLoop {
   HAPTICD_SERVO_THREAD void publishLists() noexcept;
   HAPTICD_SERVO_THREAD void publishShm(std::int64_t now_real_ns) noexcept;
   HAPTICD_SERVO_THREAD void applyGate(std::uint64_t now_ns) noexcept;
+  // a pose command (scene frame) through the workspace mapping to the device
+  HAPTICD_SERVO_THREAD void commandDevice(const device::PoseCommand& c_W) noexcept;
   HAPTICD_SERVO_THREAD void emit(ServoEventKind kind,
                                  std::int64_t a = 0,
                                  std::int64_t b = 0,
                                  std::int64_t c = 0) noexcept;
   HAPTICD_SERVO_THREAD void guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept;
+  // latches `fault` (FaultBits); true when it was not latched before (the caller logs it)
+  HAPTICD_SERVO_THREAD bool latch(std::uint32_t fault) noexcept;
 
   ServoOptions options_;
   Clock& clock_;
@@ -350,7 +383,9 @@ class ServoLoop {
   std::atomic<bool> stop_requested_{false};
 
   // servo-thread state
-  proto::CommandGate gate_;
+  // the gate on the daemon's own command (scene frame; the wire pose converted once, where it
+  // enters: gatedCommand())
+  proto::BasicCommandGate<device::PoseCommand> gate_;
   bool gate_used_ = false;  // a gated command arrived (the gate's scale then applies)
   ServoScene* current_ = nullptr;
   ServoState s_;
@@ -368,5 +403,9 @@ class ServoLoop {
 
 /// A one-line description of an event ("device lost at tick 1200"). Any thread; allocates.
 std::string describe(const ServoEvent& event);
+
+/// FaultBits by name, in bit order: "none", or e.g. "stream_lost,tick_overrun" (the names
+/// hapticctl shows). Any thread; allocates.
+std::string faultNames(std::uint32_t faults);
 
 }  // namespace hapticd::daemon

@@ -57,8 +57,11 @@ struct ClientCounters {
 /// See the file comment. Not thread-safe: one thread uses a Client.
 class Client {
  public:
-  /// Resolves the server, opens a socket and exchanges hello/welcome (hello resent every
-  /// resend_ms until timeout_ms). Errors: bad address, no answer, a refusal (its text).
+  /// Resolves the server, opens a socket connected to it and exchanges hello/welcome (hello
+  /// resent every resend_ms until timeout_ms). Errors: a bad address; a refusal (its text); no
+  /// answer: at once when the port is unreachable (nothing listens there; loopback says so at
+  /// once), else after timeout_ms; with a key, "wrong key" when the daemon answers an untagged
+  /// hello (it runs, has a key, and dropped ours), else that the key may also be wrong.
   static Result<std::unique_ptr<Client>> connect(ClientConfig config);
   ~Client();
 
@@ -91,19 +94,45 @@ class Client {
   void pump() { processIncoming(0); }
 
   const Welcome& welcome() const { return welcome_; }
+  /// The server's port was reported closed (ICMP port unreachable on the connected socket): no
+  /// daemon listens there any more; every wait now ends at once.
+  bool unreachable() const { return unreachable_; }
   const ClientCounters& counters() const { return counters_; }
 
  private:
   Client(ClientConfig config, UdpSocket socket, SocketAddress server);
+  /// Whether an incoming message is the answer awaited.
+  using Want = std::function<bool(const Header&, const Message&)>;
+  /// Whether a reply answers a request, given the sequences of the copies sent so far.
+  using Answers = std::function<bool(const Message&, const std::vector<std::uint64_t>& sent)>;
+
+  /// The error for a hello nobody answered (see connect()).
+  Error silence() const;
   std::uint64_t send(const Message& m);
   bool sendBytes(std::span<const std::uint8_t> datagram);
   /// Reads datagrams for up to timeout_ms; returns the first that `want` accepts (others are
   /// dispatched: states queued, errors counted). want == nullptr: just drain.
-  std::optional<Message> processIncoming(
-      int timeout_ms,
-      const std::function<bool(const Header&, const Message&)>* want = nullptr);
-  /// Sends `m`, resending every resend_ms, until an Ack for it or an Error referring to it.
+  std::optional<Message> processIncoming(int timeout_ms, const Want* want = nullptr);
+  /// Calls `send_once` every resend_ms until `want` takes an answer (returned) or timeout_ms
+  /// passes (nullopt).
+  std::optional<Message> exchange(const std::function<void()>& send_once, const Want& want);
+  /// Sends `m` (a new sequence each time) until `answers` takes a reply or an Error refers to a
+  /// copy sent; the error says "<what> refused: ..." or "<what>: no answer ...".
+  Result<Message> call(const Message& m, const char* what, const Answers& answers);
+  /// call() for a request answered with Ack.
   Result<Done> request(const Message& m);
+
+  // Scene upload phases (load()). Each returns the upload's result when it ended (accepted,
+  // refused, lost, timed out), or nullopt to go on.
+  struct Upload;
+  using Phase = std::optional<Result<Done>>;
+  /// Calls `send_once` every resend_ms until the server gives a verdict on the upload.
+  Phase untilVerdict(Upload& up, std::uint64_t t_end, const std::function<void()>& send_once);
+  /// Sends every chunk not acknowledged, a window at a time, resending the slow ones.
+  Phase sendChunks(Upload& up, std::uint64_t t_end);
+  /// Commits until a verdict or until the server names missing ranges (empty optional).
+  Phase commit(Upload& up, std::uint64_t t_end);
+  Phase uploadTimedOut() const;
 
   ClientConfig config_;
   UdpSocket socket_;
@@ -113,6 +142,7 @@ class Client {
   std::uint64_t sequence_ = 0;
   std::uint32_t next_upload_id_ = 1;
   std::uint64_t last_send_ns_ = 0;
+  bool unreachable_ = false;
   std::deque<State> states_;
   std::vector<std::uint8_t> rx_;
   std::vector<std::uint8_t> tx_;

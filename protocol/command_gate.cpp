@@ -1,24 +1,15 @@
 #include "protocol/command_gate.h"
 
+#include "protocol/wire.h"
+
 namespace hapticd::proto {
 
 const char* gateModeName(GateMode m) {
-  switch (m) {
-    case GateMode::kDisarmed:
-      return "disarmed";
-    case GateMode::kArmedIdle:
-      return "armed";
-    case GateMode::kStreaming:
-      return "streaming";
-    case GateMode::kRamping:
-      return "ramping";
-    case GateMode::kFaulted:
-      return "faulted";
-  }
-  return "unknown";
+  static constexpr const char* kNames[] = {"disarmed", "armed", "streaming", "ramping", "faulted"};
+  return nameOf(m, kNames);
 }
 
-CommandGate::SessionSeq& CommandGate::sessionEntry(std::uint64_t session_id) noexcept {
+CommandGateCore::SessionSeq& CommandGateCore::sessionEntry(std::uint64_t session_id) noexcept {
   SessionSeq* lru = &sessions_[0];
   for (auto& s : sessions_) {
     if (s.session == session_id && s.last_use != 0) {
@@ -32,9 +23,8 @@ CommandGate::SessionSeq& CommandGate::sessionEntry(std::uint64_t session_id) noe
   return *lru;
 }
 
-void CommandGate::arm(std::uint64_t session_id, std::uint64_t now_ns) noexcept {
-  if (now_ns > now_ns_)
-    now_ns_ = now_ns;
+void CommandGateCore::arm(std::uint64_t session_id, std::uint64_t now_ns) noexcept {
+  timeTo(now_ns);
   sessionEntry(session_id);
   controller_ = session_id;
   fault_bits_ = 0;
@@ -43,19 +33,16 @@ void CommandGate::arm(std::uint64_t session_id, std::uint64_t now_ns) noexcept {
   mode_ = GateMode::kArmedIdle;
 }
 
-void CommandGate::disarm(std::uint64_t now_ns) noexcept {
-  if (now_ns > now_ns_)
-    now_ns_ = now_ns;
+void CommandGateCore::disarm(std::uint64_t now_ns) noexcept {
+  timeTo(now_ns);
   mode_ = GateMode::kDisarmed;
   has_target_ = false;
 }
 
-bool CommandGate::submit(std::uint64_t session_id,
-                         std::uint64_t sequence,
-                         const PoseCommand& cmd,
-                         std::uint64_t now_ns) noexcept {
-  if (now_ns > now_ns_)
-    now_ns_ = now_ns;
+bool CommandGateCore::submit(std::uint64_t session_id,
+                             std::uint64_t sequence,
+                             std::uint64_t now_ns) noexcept {
+  timeTo(now_ns);
   SessionSeq& s = sessionEntry(session_id);
   if (sequence < s.max_seen) {
     drop(DropReason::kOlder);
@@ -78,7 +65,6 @@ bool CommandGate::submit(std::uint64_t session_id,
     drop(DropReason::kFaulted);
     return false;
   }
-  target_ = cmd;
   has_target_ = true;
   last_sequence_ = sequence;
   last_command_ns_ = now_ns_;
@@ -87,11 +73,8 @@ bool CommandGate::submit(std::uint64_t session_id,
   return true;
 }
 
-GateOutput CommandGate::update(std::uint64_t now_ns) noexcept {
-  if (now_ns > now_ns_)
-    now_ns_ = now_ns;
-  GateOutput out;
-  out.last_sequence = last_sequence_;
+GateStatus CommandGateCore::update(std::uint64_t now_ns) noexcept {
+  timeTo(now_ns);
   if (mode_ == GateMode::kStreaming || mode_ == GateMode::kRamping) {
     const std::uint64_t age = now_ns_ - last_command_ns_;
     if (age >= config_.zero_ns) {
@@ -101,10 +84,7 @@ GateOutput CommandGate::update(std::uint64_t now_ns) noexcept {
       mode_ = GateMode::kRamping;
     }
   }
-  out.mode = mode_;
-  out.fault_bits = fault_bits_;
-  out.has_target = has_target_;
-  out.target = target_;
+  GateStatus out{mode_, has_target_, 0.0, fault_bits_, last_sequence_, 0};
   if (has_target_)
     out.command_age_ns = now_ns_ - last_command_ns_;
   switch (mode_) {
@@ -123,14 +103,10 @@ GateOutput CommandGate::update(std::uint64_t now_ns) noexcept {
       break;
     }
   }
-  if (mode_ == GateMode::kRamping || mode_ == GateMode::kFaulted) {
-    out.target.v_W = {0.0, 0.0, 0.0};
-    out.target.w_W = {0.0, 0.0, 0.0};
-  }
   return out;
 }
 
-std::uint64_t CommandGate::droppedTotal() const noexcept {
+std::uint64_t CommandGateCore::droppedTotal() const noexcept {
   std::uint64_t n = 0;
   for (auto d : dropped_)
     n += d;

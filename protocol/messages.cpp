@@ -1,510 +1,497 @@
 #include "protocol/messages.h"
 
 #include <cmath>
+#include <concepts>
 #include <type_traits>
 
 namespace hapticd::proto {
 namespace {
 
-// ---- shared pieces ------------------------------------------------------------------------
+// ---- how a layout is written ----------------------------------------------------------------
+// Every message (and every list item) has ONE layout function, `layout(io, m)`, that lists its
+// fields in wire order. The same function encodes (io = Put), measures (Put over a ByteCounter)
+// and decodes with every check the format requires (io = Get). A field's C++ type is its wire
+// type: std::uint8_t..std::uint64_t as such, double as f64, an enum as its underlying integer,
+// std::array<double, N> as N f64, std::array<std::uint8_t, N> as N bytes, Pad<N> as N reserved
+// zero bytes, and a struct with a layout of its own (WirePose, BodyPose, ...) as that layout.
+//
+// Fields with a bound: count16/count32 is the count field of a list or string, code() an enum
+// field; a value over its bound is refused on both sides. body() marks the end of the fixed part,
+// where the decoder checks the payload length against the fixed part plus what the counts announce
+// (exact up to our minor, at least above it); list/text/data then carry the counted items in the
+// order of their counts. since(1) guards what minor 1 appended.
 
-void putPose(Writer& w, const WirePose& x) {
-  for (double v : x.p)
-    w.f64(v);
-  for (double v : x.q)
-    w.f64(v);
+/// N reserved bytes: zero on send, skipped on receive.
+template <std::size_t N>
+struct Pad {
+  static constexpr std::size_t kBytes = N;
+};
+constexpr Pad<2> kPad2;
+constexpr Pad<4> kPad4;
+
+template <class T>
+struct IsPad : std::false_type {};
+template <std::size_t N>
+struct IsPad<Pad<N>> : std::true_type {};
+
+/// std::array fields: kArray, and kBytes when its elements are bytes (carried as they are).
+template <class T>
+struct ArrayTraits {
+  static constexpr bool kArray = false;
+  static constexpr bool kBytes = false;
+};
+template <class T, std::size_t N>
+struct ArrayTraits<std::array<T, N>> {
+  static constexpr bool kArray = true;
+  static constexpr bool kBytes = std::is_same_v<T, std::uint8_t>;
+};
+
+/// The count field of a list or string (an integer of type N on the wire), bounded to
+/// [min, max]: an encoder refuses a longer list, a decoder a larger count (kBadValue, `field`).
+template <class N, class List>
+struct Count {
+  using Wire = N;
+  List& list;
+  std::size_t max;
+  const char* field;
+  std::size_t min = 0;
+};
+template <class T>
+struct IsCount : std::false_type {};
+template <class N, class List>
+struct IsCount<Count<N, List>> : std::true_type {};
+template <class List>
+constexpr Count<std::uint16_t, List> count16(List& l, std::size_t max, const char* field) {
+  return {l, max, field};
 }
-void putVec(Writer& w, const WireVec3& v) {
-  for (double c : v)
-    w.f64(c);
+template <class List>
+constexpr Count<std::uint32_t, List> count32(List& l,
+                                             std::size_t max,
+                                             const char* field,
+                                             std::size_t min) {
+  return {l, max, field, min};
 }
-WirePose getPose(Reader& r) {
-  WirePose x;
-  for (double& v : x.p)
-    v = r.f64();
-  for (double& v : x.q)
-    v = r.f64();
-  return x;
+/// An enum field (u16 on the wire) whose values stop at `max`: a decoder refuses a larger one.
+template <class E>
+struct Code {
+  E& value;
+  E max;
+  const char* field;
+};
+template <class E>
+constexpr Code<E> code(E& v, std::remove_const_t<E> max, const char* field) {
+  return {v, max, field};
 }
-WireVec3 getVec(Reader& r) {
-  WireVec3 v;
-  for (double& c : v)
-    c = r.f64();
-  return v;
+template <class T>
+struct IsCode : std::false_type {};
+template <class E>
+struct IsCode<Code<E>> : std::true_type {};
+
+/// M is T or const T (a layout serves the encoder, which reads a const message, and the
+/// decoder, which fills one).
+template <class M, class T>
+concept Is = std::same_as<std::remove_const_t<M>, T>;
+
+/// A Writer that only counts bytes: measures a message with the encoder's own layout.
+struct ByteCounter {
+  std::size_t n = 0;
+  constexpr void u8(std::uint8_t) { n += 1; }
+  constexpr void u16(std::uint16_t) { n += 2; }
+  constexpr void u32(std::uint32_t) { n += 4; }
+  constexpr void u64(std::uint64_t) { n += 8; }
+  constexpr void f64(double) { n += 8; }
+  constexpr void bytes(std::span<const std::uint8_t> s) { n += s.size(); }
+  constexpr void zeros(std::size_t k) { n += k; }
+};
+
+/// The encoder over a Writer (or a ByteCounter). ok() is false when a count is over its bound.
+template <class Sink>
+class Put {
+ public:
+  constexpr explicit Put(Sink& sink) : s_(sink) {}
+
+  template <class... F>
+  constexpr void fields(const F&... f) {
+    (one(f), ...);
+  }
+  constexpr void body(std::size_t = 0, bool = false) {}
+  constexpr bool since(std::uint8_t) const { return true; }  // the encoder writes our newest layout
+  template <class T>
+  constexpr void list(const std::vector<T>& items) {
+    for (const T& x : items)
+      one(x);
+  }
+  constexpr void text(const std::string& t) {
+    s_.bytes({reinterpret_cast<const std::uint8_t*>(t.data()), t.size()});
+  }
+  constexpr void data(std::span<const std::uint8_t> d) { s_.bytes(d); }
+  constexpr bool ok() const { return ok_; }
+
+ private:
+  template <class T>
+  constexpr void one(const T& v) {
+    if constexpr (std::is_enum_v<T>)
+      one(static_cast<std::underlying_type_t<T>>(v));
+    else if constexpr (std::is_same_v<T, std::uint8_t>)
+      s_.u8(v);
+    else if constexpr (std::is_same_v<T, std::uint16_t>)
+      s_.u16(v);
+    else if constexpr (std::is_same_v<T, std::uint32_t>)
+      s_.u32(v);
+    else if constexpr (std::is_same_v<T, std::uint64_t>)
+      s_.u64(v);
+    else if constexpr (std::is_same_v<T, double>)
+      s_.f64(v);
+    else if constexpr (IsPad<T>::value)
+      s_.zeros(T::kBytes);
+    else if constexpr (IsCode<T>::value)
+      one(v.value);
+    else if constexpr (IsCount<T>::value) {
+      if (v.list.size() < v.min || v.list.size() > v.max)
+        ok_ = false;
+      one(static_cast<typename T::Wire>(v.list.size()));
+    } else if constexpr (ArrayTraits<T>::kBytes)
+      s_.bytes(v);
+    else if constexpr (ArrayTraits<T>::kArray) {
+      for (const auto& x : v)
+        one(x);
+    } else {
+      layout(*this, v);
+    }
+  }
+  Sink& s_;
+  bool ok_ = true;
+};
+
+/// The decoder over a Reader of the whole payload: reads the fields, refuses a count or code
+/// over its bound at once, and checks the payload length at body(). The first refusal stops it.
+class Get {
+ public:
+  Get(Reader& r, MsgType type, std::size_t fixed_size, std::uint8_t minor)
+      : r_(r),
+        type_(type),
+        total_(r.remaining()),
+        expected_(fixed_size),
+        minor_(minor),
+        exact_(minor <= kVersionMinor) {}
+
+  template <class... F>
+  void fields(F&&... f) {
+    (one(f), ...);
+  }
+  /// The end of the fixed part: the payload must hold the fixed part and what the counts
+  /// announce, plus `minor1_tail` bytes from a minor-1 sender. `tail_counted`: that tail has
+  /// counts of its own (checked by a later body()), so for now "at least".
+  void body(std::size_t minor1_tail = 0, bool tail_counted = false) {
+    if (failed())
+      return;
+    if (minor_ >= 1)
+      expected_ += minor1_tail;
+    const bool exact = exact_ && !(tail_counted && minor_ >= 1);
+    if (exact ? total_ != expected_ : total_ < expected_)
+      refuse(Errc::kBadPayloadLength, total_, expected_, exact ? "payload" : "payload (at least)");
+  }
+  bool since(std::uint8_t minor) const { return !failed() && minor_ >= minor; }
+  template <class T>
+  void list(std::vector<T>& items) {
+    items.resize(take());
+    for (T& x : items)
+      one(x);
+  }
+  void text(std::string& t) {
+    const auto b = r_.bytes(take());
+    t.assign(reinterpret_cast<const char*>(b.data()), b.size());
+  }
+  void data(std::span<const std::uint8_t>& d) { d = r_.bytes(take()); }
+
+  bool failed() const { return error_.code != Errc::kOk; }
+  const DecodeError& error() const { return error_; }
+
+ private:
+  template <class T>
+  void one(T& v) {
+    using U = std::remove_const_t<T>;
+    if constexpr (std::is_enum_v<U>)
+      v = static_cast<U>(r_.u16());
+    else if constexpr (std::is_same_v<U, std::uint8_t>)
+      v = r_.u8();
+    else if constexpr (std::is_same_v<U, std::uint16_t>)
+      v = r_.u16();
+    else if constexpr (std::is_same_v<U, std::uint32_t>)
+      v = r_.u32();
+    else if constexpr (std::is_same_v<U, std::uint64_t>)
+      v = r_.u64();
+    else if constexpr (std::is_same_v<U, double>)
+      v = r_.f64();
+    else if constexpr (IsPad<U>::value)
+      r_.bytes(U::kBytes);
+    else if constexpr (IsCode<U>::value) {
+      const std::uint16_t raw = r_.u16();
+      if (raw > static_cast<std::uint16_t>(v.max))
+        refuse(Errc::kBadValue, raw, static_cast<std::uint16_t>(v.max), v.field);
+      v.value = static_cast<std::remove_reference_t<decltype(v.value)>>(raw);
+    } else if constexpr (IsCount<U>::value)
+      counted(read<typename U::Wire>(), v.list, v.min, v.max, v.field);
+    else if constexpr (ArrayTraits<U>::kBytes) {
+      const auto b = r_.bytes(v.size());
+      if (b.size() == v.size())
+        std::memcpy(v.data(), b.data(), b.size());
+    } else if constexpr (ArrayTraits<U>::kArray) {
+      for (auto& x : v)
+        one(x);
+    } else {
+      layout(*this, v);
+    }
+  }
+  template <class N>
+  std::size_t read() {
+    if constexpr (std::is_same_v<N, std::uint16_t>)
+      return r_.u16();
+    else
+      return r_.u32();
+  }
+  // a count: bounded at once; its items are read later, in the order of the counts
+  template <class List>
+  void counted(std::size_t n, const List&, std::size_t min, std::size_t max, const char* field) {
+    if (failed())
+      return;
+    if (n < min || n > max)
+      return refuse(Errc::kBadValue, n, max, field);
+    expected_ += n * itemBytes<List>();
+    pending_[pushed_++ % pending_.size()] = n;
+  }
+  std::size_t take() { return failed() ? 0 : pending_[taken_++ % pending_.size()]; }
+  void refuse(Errc c, std::uint64_t got, std::uint64_t expected, const char* field) {
+    if (!failed())
+      error_ = {c, static_cast<std::uint16_t>(type_), got, expected, field};
+  }
+  template <class List>
+  static constexpr std::size_t itemBytes();
+
+  Reader& r_;
+  MsgType type_;
+  std::size_t total_;
+  std::size_t expected_;
+  std::uint8_t minor_;
+  bool exact_;
+  std::array<std::size_t, 4> pending_{};  // counts whose items are still to read (≤ 4 per message)
+  std::size_t pushed_ = 0;
+  std::size_t taken_ = 0;
+  DecodeError error_;
+};
+
+// ---- the layouts, in wire order (protocol/README.md has them as tables) ---------------------
+
+template <class Io, Is<WirePose> M>
+constexpr void layout(Io& io, M& x) {
+  io.fields(x.p, x.q);
 }
+template <class Io, Is<SceneStatus::Range> M>
+constexpr void layout(Io& io, M& g) {
+  io.fields(g.offset, g.length);
+}
+template <class Io, Is<SceneUpdate::BodyPose> M>
+constexpr void layout(Io& io, M& b) {
+  io.fields(b.body_index, kPad4, b.X_WB);
+}
+template <class Io, Is<State::Contact> M>
+constexpr void layout(Io& io, M& c) {
+  io.fields(c.p_W, c.n_W, c.depth_m);
+}
+
+template <class Io, Is<Hello> M>
+constexpr void layout(Io& io, M& m) {
+  io.fields(m.capabilities, count16(m.client_name, kMaxNameBytes, "name_length"), kPad2);
+  io.body();
+  io.text(m.client_name);
+}
+template <class Io, Is<Welcome> M>
+constexpr void layout(Io& io, M& m) {
+  io.fields(m.session_id, m.capabilities, m.flags, m.max_datagram_bytes, m.max_chunk_bytes,
+            m.max_scene_bytes, m.max_state_rate_hz, m.tick_rate_hz, m.max_state_contacts,
+            m.max_state_bodies, m.max_update_entries, kPad2, m.session_timeout_ns);
+  io.body();
+}
+template <class Io, Is<SceneBegin> M>
+constexpr void layout(Io& io, M& m) {
+  io.fields(m.upload_id, m.chunk_bytes, m.total_bytes, m.sha256,
+            count16(m.name, kMaxSceneNameBytes, "name_length"), kPad2);
+  io.body();
+  io.text(m.name);
+}
+template <class Io, Is<SceneChunk> M>
+constexpr void layout(Io& io, M& m) {
+  io.fields(m.upload_id, count32(m.data, kMaxChunkBytes, "data_length", 1), m.offset);
+  io.body();
+  io.data(m.data);
+}
+template <class Io, Is<SceneChunkAck> M>
+constexpr void layout(Io& io, M& m) {
+  io.fields(m.upload_id, m.length, m.offset, m.received_bytes, m.total_bytes);
+  io.body();
+}
+template <class Io, Is<SceneCommit> M>
+constexpr void layout(Io& io, M& m) {
+  io.fields(m.upload_id, kPad4);
+  io.body();
+}
+template <class Io, Is<SceneStatus> M>
+constexpr void layout(Io& io, M& m) {
+  io.fields(m.upload_id, code(m.status, SceneStatusCode::kUnknownUpload, "status"),
+            count16(m.missing, kMaxMissingRanges, "missing_count"), m.received_bytes, m.total_bytes,
+            count16(m.text, kMaxTextBytes, "text_length"), kPad2, kPad4);
+  io.body();
+  io.list(m.missing);
+  io.text(m.text);
+}
+template <class Io, Is<SceneUpdate> M>
+constexpr void layout(Io& io, M& m) {
+  io.fields(count16(m.poses, kMaxUpdateEntries, "pose_count"),
+            count16(m.added, kMaxUpdateEntries, "add_count"),
+            count16(m.removed, kMaxUpdateEntries, "remove_count"), kPad2);
+  io.body();
+  io.list(m.poses);
+  io.list(m.added);
+  io.list(m.removed);
+}
+template <class Io, Is<PoseCommand> M>
+constexpr void layout(Io& io, M& m) {
+  io.fields(m.X_WT, m.v_W, m.w_W, m.buttons, kPad4);
+  io.body();
+}
+template <class Io, Is<Subscribe> M>
+constexpr void layout(Io& io, M& m) {
+  io.fields(m.rate_hz, m.flags);
+  io.body();
+}
+// State gained a tail in minor 1, after its lists: one exact length per minor up to ours.
+template <class Io, Is<State> M>
+constexpr void layout(Io& io, M& m) {
+  io.fields(m.tick, m.sim_time_ns, m.X_WD, m.X_WP, m.force_n, m.torque_nm, m.force_scale,
+            m.last_command_sequence, m.tick_misses, m.tick_p50_ns, m.tick_p99_ns, m.tick_max_ns,
+            m.fault_bits, m.state_flags, m.contact_count,
+            count16(m.contacts, kMaxStateContacts, "listed_contacts"),
+            count16(m.bodies, kMaxStateBodies, "listed_bodies"), kPad4);
+  io.body(State::kMinor1Size);
+  io.list(m.contacts);
+  io.list(m.bodies);
+  if (io.since(1))  // from a 1.0 sender these stay 0
+    io.fields(m.pairs_tested, m.pairs_skipped, m.max_penetration_m, m.tick_ns, kPad4);
+}
+template <class Io, Is<Heartbeat> M>
+constexpr void layout(Io& io, M& m) {
+  io.fields(m.echo_timestamp_ns);
+  io.body();
+}
+// a newer peer's unknown code is kept as is: errcName() says "unknown"
+template <class Io, Is<ErrorMsg> M>
+constexpr void layout(Io& io, M& m) {
+  io.fields(m.ref_sequence, m.ref_type, m.code, count16(m.text, kMaxTextBytes, "text_length"),
+            kPad2);
+  io.body();
+  io.text(m.text);
+}
+// Like State, StatusReply gained a tail in minor 1 (after its texts), with a count of its own.
+template <class Io, Is<StatusReply> M>
+constexpr void layout(Io& io, M& m) {
+  io.fields(m.uptime_ns, m.ticks, m.tick_misses, m.tick_rate_hz, m.measured_tick_hz, m.tick_p50_ns,
+            m.tick_p99_ns, m.tick_max_ns, m.fault_bits, m.state_flags, m.sessions, m.subscribers,
+            m.state_rate_hz, m.packets_received, m.packets_sent, m.commands_accepted,
+            m.commands_dropped, count16(m.refused, kMaxRefusalCounters, "refused_count"),
+            count16(m.device, kMaxDeviceBytes, "device_length"),
+            count16(m.scene, kMaxSceneNameBytes, "scene_length"),
+            count16(m.plan, kMaxPlanBytes, "plan_length"));
+  io.body(StatusReply::kMinor1FixedSize, /*tail_counted=*/true);
+  io.list(m.refused);
+  io.text(m.device);
+  io.text(m.scene);
+  io.text(m.plan);
+  if (!io.since(1))
+    return;  // a 1.0 sender: the minor-1 fields stay 0 and ""
+  io.fields(m.shm_commands, m.shm_commands_refused, m.edit_batches_applied, m.edit_batches_dropped,
+            m.edits_applied, m.edits_refused, m.shm_flags,
+            count16(m.shm_name, kMaxShmNameBytes, "shm_name_length"), kPad2);
+  io.body();
+  io.text(m.shm_name);
+}
+template <class Io, Is<Ack> M>
+constexpr void layout(Io& io, M& m) {
+  io.fields(m.ref_sequence, m.ref_type, kPad2, kPad4);
+  io.body();
+}
+// Arm, Disarm, StatusRequest, Bye: the messages without payload
+template <class Io, class M>
+requires(std::remove_const_t<M>::kFixedSize == 0) constexpr void layout(Io& io, M&) {
+  io.body();
+}
+
+/// Bytes of one item of a counted list (a string's item is a byte), from its layout.
+template <class T>
+constexpr std::size_t wireSize() {
+  ByteCounter n;
+  Put<ByteCounter> p(n);
+  const T item{};
+  p.fields(item);
+  return n.n;
+}
+template <class List>
+constexpr std::size_t Get::itemBytes() {
+  if constexpr (std::is_same_v<List, std::string> ||
+                std::is_same_v<List, std::span<const std::uint8_t>>)
+    return 1;
+  else
+    return wireSize<typename List::value_type>();
+}
+
+// ---- what a layout cannot say: value checks after decoding, and what an encoder refuses -----
+
 bool unitQuat(const WirePose& x) {
   const double n = std::sqrt(x.q[0] * x.q[0] + x.q[1] * x.q[1] + x.q[2] * x.q[2] + x.q[3] * x.q[3]);
   return std::fabs(n - 1.0) <= kQuatNormTolerance;
-}
-void putText(Writer& w, const std::string& s) {
-  w.bytes({reinterpret_cast<const std::uint8_t*>(s.data()), s.size()});
-}
-std::string getText(Reader& r, std::size_t n) {
-  auto b = r.bytes(n);
-  return std::string(reinterpret_cast<const char*>(b.data()), b.size());
 }
 
 DecodeError err(Errc c, MsgType t, std::uint64_t got, std::uint64_t expected, const char* field) {
   return {c, static_cast<std::uint16_t>(t), got, expected, field};
 }
 
-// The length rule: exact for our minor and older, at least for a newer minor.
-DecodeError checkLength(MsgType t, std::size_t got, std::size_t expected, bool exact) {
-  if (exact ? got != expected : got < expected)
-    return err(Errc::kBadPayloadLength, t, got, expected, exact ? "payload" : "payload (at least)");
+/// Ranges a decoded message must respect beyond its counts (finite floats are checked first).
+template <class M>
+DecodeError checkValues(const M&) {
   return {};
 }
-
-// ---- per-message size, encode, decode -------------------------------------------------------
-// Each message has size(m), put(w, m) and get(r, m, exact) -> DecodeError. get() is called with a
-// Reader over the whole payload.
-
-std::size_t size(const Hello& m) {
-  return Hello::kFixedSize + m.client_name.size();
-}
-bool fits(const Hello& m) {
-  return m.client_name.size() <= kMaxNameBytes;
-}
-void put(Writer& w, const Hello& m) {
-  w.u32(m.capabilities);
-  w.u16(static_cast<std::uint16_t>(m.client_name.size()));
-  w.u16(0);
-  putText(w, m.client_name);
-}
-DecodeError get(Reader& r, Hello& m, bool exact) {
-  const std::size_t total = r.remaining();
-  if (total < Hello::kFixedSize)
-    return checkLength(Hello::kType, total, Hello::kFixedSize, false);
-  m.capabilities = r.u32();
-  const std::size_t n = r.u16();
-  r.u16();
-  if (n > kMaxNameBytes)
-    return err(Errc::kBadValue, Hello::kType, n, kMaxNameBytes, "name_length");
-  if (auto e = checkLength(Hello::kType, total, Hello::kFixedSize + n, exact); e.code != Errc::kOk)
-    return e;
-  m.client_name = getText(r, n);
-  return {};
-}
-
-std::size_t size(const Welcome&) {
-  return Welcome::kFixedSize;
-}
-bool fits(const Welcome&) {
-  return true;
-}
-void put(Writer& w, const Welcome& m) {
-  w.u64(m.session_id);
-  w.u32(m.capabilities);
-  w.u32(m.flags);
-  w.u32(m.max_datagram_bytes);
-  w.u32(m.max_chunk_bytes);
-  w.u64(m.max_scene_bytes);
-  w.u32(m.max_state_rate_hz);
-  w.u32(m.tick_rate_hz);
-  w.u16(m.max_state_contacts);
-  w.u16(m.max_state_bodies);
-  w.u16(m.max_update_entries);
-  w.u16(0);
-  w.u64(m.session_timeout_ns);
-}
-DecodeError get(Reader& r, Welcome& m, bool exact) {
-  if (auto e = checkLength(Welcome::kType, r.remaining(), Welcome::kFixedSize, exact);
-      e.code != Errc::kOk)
-    return e;
-  m.session_id = r.u64();
-  m.capabilities = r.u32();
-  m.flags = r.u32();
-  m.max_datagram_bytes = r.u32();
-  m.max_chunk_bytes = r.u32();
-  m.max_scene_bytes = r.u64();
-  m.max_state_rate_hz = r.u32();
-  m.tick_rate_hz = r.u32();
-  m.max_state_contacts = r.u16();
-  m.max_state_bodies = r.u16();
-  m.max_update_entries = r.u16();
-  r.u16();
-  m.session_timeout_ns = r.u64();
-  return {};
-}
-
-std::size_t size(const SceneBegin& m) {
-  return SceneBegin::kFixedSize + m.name.size();
-}
-bool fits(const SceneBegin& m) {
-  return m.name.size() <= kMaxSceneNameBytes;
-}
-void put(Writer& w, const SceneBegin& m) {
-  w.u32(m.upload_id);
-  w.u32(m.chunk_bytes);
-  w.u64(m.total_bytes);
-  w.bytes(m.sha256);
-  w.u16(static_cast<std::uint16_t>(m.name.size()));
-  w.u16(0);
-  putText(w, m.name);
-}
-DecodeError get(Reader& r, SceneBegin& m, bool exact) {
-  const std::size_t total = r.remaining();
-  if (total < SceneBegin::kFixedSize)
-    return checkLength(SceneBegin::kType, total, SceneBegin::kFixedSize, false);
-  m.upload_id = r.u32();
-  m.chunk_bytes = r.u32();
-  m.total_bytes = r.u64();
-  auto h = r.bytes(32);
-  std::memcpy(m.sha256.data(), h.data(), 32);
-  const std::size_t n = r.u16();
-  r.u16();
-  if (n > kMaxSceneNameBytes)
-    return err(Errc::kBadValue, SceneBegin::kType, n, kMaxSceneNameBytes, "name_length");
-  if (auto e = checkLength(SceneBegin::kType, total, SceneBegin::kFixedSize + n, exact);
-      e.code != Errc::kOk)
-    return e;
-  m.name = getText(r, n);
+DecodeError checkValues(const SceneBegin& m) {
   if (m.upload_id == 0)
     return err(Errc::kBadValue, SceneBegin::kType, 0, 1, "upload_id");
   if (m.total_bytes == 0)
     return err(Errc::kBadValue, SceneBegin::kType, 0, 1, "total_bytes");
   return {};
 }
-
-std::size_t size(const SceneChunk& m) {
-  return SceneChunk::kFixedSize + m.data.size();
-}
-bool fits(const SceneChunk& m) {
-  return !m.data.empty() && m.data.size() <= kMaxChunkBytes;
-}
-void put(Writer& w, const SceneChunk& m) {
-  w.u32(m.upload_id);
-  w.u32(static_cast<std::uint32_t>(m.data.size()));
-  w.u64(m.offset);
-  w.bytes(m.data);
-}
-DecodeError get(Reader& r, SceneChunk& m, bool exact) {
-  const std::size_t total = r.remaining();
-  if (total < SceneChunk::kFixedSize)
-    return checkLength(SceneChunk::kType, total, SceneChunk::kFixedSize, false);
-  m.upload_id = r.u32();
-  const std::size_t n = r.u32();
-  m.offset = r.u64();
-  if (n == 0 || n > kMaxChunkBytes)
-    return err(Errc::kBadValue, SceneChunk::kType, n, kMaxChunkBytes, "data_length");
-  if (auto e = checkLength(SceneChunk::kType, total, SceneChunk::kFixedSize + n, exact);
-      e.code != Errc::kOk)
-    return e;
-  m.data = r.bytes(n);
-  if (m.offset > UINT64_MAX - n)
-    return err(Errc::kBadValue, SceneChunk::kType, m.offset, UINT64_MAX - n, "offset");
+DecodeError checkValues(const SceneChunk& m) {
+  if (m.offset > UINT64_MAX - m.data.size())
+    return err(Errc::kBadValue, SceneChunk::kType, m.offset, UINT64_MAX - m.data.size(), "offset");
   return {};
 }
-
-std::size_t size(const SceneChunkAck&) {
-  return SceneChunkAck::kFixedSize;
-}
-bool fits(const SceneChunkAck&) {
-  return true;
-}
-void put(Writer& w, const SceneChunkAck& m) {
-  w.u32(m.upload_id);
-  w.u32(m.length);
-  w.u64(m.offset);
-  w.u64(m.received_bytes);
-  w.u64(m.total_bytes);
-}
-DecodeError get(Reader& r, SceneChunkAck& m, bool exact) {
-  if (auto e = checkLength(SceneChunkAck::kType, r.remaining(), SceneChunkAck::kFixedSize, exact);
-      e.code != Errc::kOk)
-    return e;
-  m.upload_id = r.u32();
-  m.length = r.u32();
-  m.offset = r.u64();
-  m.received_bytes = r.u64();
-  m.total_bytes = r.u64();
-  return {};
-}
-
-std::size_t size(const SceneCommit&) {
-  return SceneCommit::kFixedSize;
-}
-bool fits(const SceneCommit&) {
-  return true;
-}
-void put(Writer& w, const SceneCommit& m) {
-  w.u32(m.upload_id);
-  w.u32(0);
-}
-DecodeError get(Reader& r, SceneCommit& m, bool exact) {
-  if (auto e = checkLength(SceneCommit::kType, r.remaining(), SceneCommit::kFixedSize, exact);
-      e.code != Errc::kOk)
-    return e;
-  m.upload_id = r.u32();
-  r.u32();
-  return {};
-}
-
-std::size_t size(const SceneStatus& m) {
-  return SceneStatus::kFixedSize + 16 * m.missing.size() + m.text.size();
-}
-bool fits(const SceneStatus& m) {
-  return m.missing.size() <= kMaxMissingRanges && m.text.size() <= kMaxTextBytes;
-}
-void put(Writer& w, const SceneStatus& m) {
-  w.u32(m.upload_id);
-  w.u16(static_cast<std::uint16_t>(m.status));
-  w.u16(static_cast<std::uint16_t>(m.missing.size()));
-  w.u64(m.received_bytes);
-  w.u64(m.total_bytes);
-  w.u16(static_cast<std::uint16_t>(m.text.size()));
-  w.u16(0);
-  w.u32(0);
-  for (const auto& g : m.missing) {
-    w.u64(g.offset);
-    w.u64(g.length);
-  }
-  putText(w, m.text);
-}
-DecodeError get(Reader& r, SceneStatus& m, bool exact) {
-  const std::size_t total = r.remaining();
-  constexpr auto t = SceneStatus::kType;
-  if (total < SceneStatus::kFixedSize)
-    return checkLength(t, total, SceneStatus::kFixedSize, false);
-  m.upload_id = r.u32();
-  const std::uint16_t status = r.u16();
-  const std::size_t ranges = r.u16();
-  m.received_bytes = r.u64();
-  m.total_bytes = r.u64();
-  const std::size_t text = r.u16();
-  r.u16();
-  r.u32();
-  if (status > static_cast<std::uint16_t>(SceneStatusCode::kUnknownUpload))
-    return err(Errc::kBadValue, t, status, 4, "status");
-  if (ranges > kMaxMissingRanges)
-    return err(Errc::kBadValue, t, ranges, kMaxMissingRanges, "missing_count");
-  if (text > kMaxTextBytes)
-    return err(Errc::kBadValue, t, text, kMaxTextBytes, "text_length");
-  if (auto e = checkLength(t, total, SceneStatus::kFixedSize + 16 * ranges + text, exact);
-      e.code != Errc::kOk)
-    return e;
-  m.status = static_cast<SceneStatusCode>(status);
-  m.missing.resize(ranges);
-  for (auto& g : m.missing) {
-    g.offset = r.u64();
-    g.length = r.u64();
-  }
-  m.text = getText(r, text);
-  return {};
-}
-
-void putBodyPose(Writer& w, const SceneUpdate::BodyPose& b) {
-  w.u32(b.body_index);
-  w.u32(0);
-  putPose(w, b.X_WB);
-}
-SceneUpdate::BodyPose getBodyPose(Reader& r) {
-  SceneUpdate::BodyPose b;
-  b.body_index = r.u32();
-  r.u32();
-  b.X_WB = getPose(r);
-  return b;
-}
-constexpr std::size_t kBodyPoseSize = 8 + kPoseSize;
-
-std::size_t size(const SceneUpdate& m) {
-  return SceneUpdate::kFixedSize + kBodyPoseSize * (m.poses.size() + m.added.size()) +
-         4 * m.removed.size();
-}
-bool fits(const SceneUpdate& m) {
-  return m.poses.size() <= kMaxUpdateEntries && m.added.size() <= kMaxUpdateEntries &&
-         m.removed.size() <= kMaxUpdateEntries;
-}
-void put(Writer& w, const SceneUpdate& m) {
-  w.u16(static_cast<std::uint16_t>(m.poses.size()));
-  w.u16(static_cast<std::uint16_t>(m.added.size()));
-  w.u16(static_cast<std::uint16_t>(m.removed.size()));
-  w.u16(0);
-  for (const auto& b : m.poses)
-    putBodyPose(w, b);
-  for (const auto& b : m.added)
-    putBodyPose(w, b);
-  for (auto i : m.removed)
-    w.u32(i);
-}
-DecodeError get(Reader& r, SceneUpdate& m, bool exact) {
-  const std::size_t total = r.remaining();
-  constexpr auto t = SceneUpdate::kType;
-  if (total < SceneUpdate::kFixedSize)
-    return checkLength(t, total, SceneUpdate::kFixedSize, false);
-  const std::size_t np = r.u16(), na = r.u16(), nr = r.u16();
-  r.u16();
-  if (np > kMaxUpdateEntries)
-    return err(Errc::kBadValue, t, np, kMaxUpdateEntries, "pose_count");
-  if (na > kMaxUpdateEntries)
-    return err(Errc::kBadValue, t, na, kMaxUpdateEntries, "add_count");
-  if (nr > kMaxUpdateEntries)
-    return err(Errc::kBadValue, t, nr, kMaxUpdateEntries, "remove_count");
-  if (auto e = checkLength(t, total, SceneUpdate::kFixedSize + kBodyPoseSize * (np + na) + 4 * nr,
-                           exact);
-      e.code != Errc::kOk)
-    return e;
-  m.poses.resize(np);
-  for (auto& b : m.poses)
-    b = getBodyPose(r);
-  m.added.resize(na);
-  for (auto& b : m.added)
-    b = getBodyPose(r);
-  m.removed.resize(nr);
-  for (auto& i : m.removed)
-    i = r.u32();
-  if (r.nonFinite())
-    return {};  // reported by the caller with its offset
+DecodeError checkValues(const SceneUpdate& m) {
   for (const auto& b : m.poses)
     if (!unitQuat(b.X_WB))
-      return err(Errc::kBadValue, t, b.body_index, 0, "poses[].q (norm)");
+      return err(Errc::kBadValue, SceneUpdate::kType, b.body_index, 0, "poses[].q (norm)");
   for (const auto& b : m.added)
     if (!unitQuat(b.X_WB))
-      return err(Errc::kBadValue, t, b.body_index, 0, "added[].q (norm)");
+      return err(Errc::kBadValue, SceneUpdate::kType, b.body_index, 0, "added[].q (norm)");
   return {};
 }
-
-std::size_t size(const PoseCommand&) {
-  return PoseCommand::kFixedSize;
-}
-bool fits(const PoseCommand&) {
-  return true;
-}
-void put(Writer& w, const PoseCommand& m) {
-  putPose(w, m.X_WT);
-  putVec(w, m.v_W);
-  putVec(w, m.w_W);
-  w.u32(m.buttons);
-  w.u32(0);
-}
-DecodeError get(Reader& r, PoseCommand& m, bool exact) {
-  if (auto e = checkLength(PoseCommand::kType, r.remaining(), PoseCommand::kFixedSize, exact);
-      e.code != Errc::kOk)
-    return e;
-  m.X_WT = getPose(r);
-  m.v_W = getVec(r);
-  m.w_W = getVec(r);
-  m.buttons = r.u32();
-  r.u32();
-  if (!r.nonFinite() && !unitQuat(m.X_WT))
+DecodeError checkValues(const PoseCommand& m) {
+  if (!unitQuat(m.X_WT))
     return err(Errc::kBadValue, PoseCommand::kType, 0, 0, "target q (norm)");
   return {};
 }
-
-std::size_t size(const Subscribe&) {
-  return Subscribe::kFixedSize;
-}
-bool fits(const Subscribe& m) {
-  return m.rate_hz <= kMaxStateRateHz;
-}
-void put(Writer& w, const Subscribe& m) {
-  w.u32(m.rate_hz);
-  w.u32(m.flags);
-}
-DecodeError get(Reader& r, Subscribe& m, bool exact) {
-  if (auto e = checkLength(Subscribe::kType, r.remaining(), Subscribe::kFixedSize, exact);
-      e.code != Errc::kOk)
-    return e;
-  m.rate_hz = r.u32();
-  m.flags = r.u32();
+DecodeError checkValues(const Subscribe& m) {
   if (m.rate_hz > kMaxStateRateHz)
     return err(Errc::kBadValue, Subscribe::kType, m.rate_hz, kMaxStateRateHz, "rate_hz");
   return {};
 }
-
-constexpr std::size_t kContactSize = 56;
-std::size_t size(const State& m) {
-  return State::kFixedSize + kContactSize * m.contacts.size() + kBodyPoseSize * m.bodies.size() +
-         State::kMinor1Size;
-}
-bool fits(const State& m) {
-  return m.contacts.size() <= kMaxStateContacts && m.bodies.size() <= kMaxStateBodies;
-}
-void put(Writer& w, const State& m) {
-  w.u64(m.tick);
-  w.u64(m.sim_time_ns);
-  putPose(w, m.X_WD);
-  putPose(w, m.X_WP);
-  putVec(w, m.force_n);
-  putVec(w, m.torque_nm);
-  w.f64(m.force_scale);
-  w.u64(m.last_command_sequence);
-  w.u64(m.tick_misses);
-  w.u32(m.tick_p50_ns);
-  w.u32(m.tick_p99_ns);
-  w.u32(m.tick_max_ns);
-  w.u32(m.fault_bits);
-  w.u32(m.state_flags);
-  w.u32(m.contact_count);
-  w.u16(static_cast<std::uint16_t>(m.contacts.size()));
-  w.u16(static_cast<std::uint16_t>(m.bodies.size()));
-  w.u32(0);
-  for (const auto& c : m.contacts) {
-    putVec(w, c.p_W);
-    putVec(w, c.n_W);
-    w.f64(c.depth_m);
-  }
-  for (const auto& b : m.bodies)
-    putBodyPose(w, b);
-  // minor 1
-  w.u32(m.pairs_tested);
-  w.u32(m.pairs_skipped);
-  w.f64(m.max_penetration_m);
-  w.u32(m.tick_ns);
-  w.u32(0);
-}
-// State is the one message whose length depends on the sender's minor: 1.0 has no tail, 1.1
-// appends kMinor1Size bytes; the length is exact up to our minor and "at least" above it.
-DecodeError get(Reader& r, State& m, std::uint8_t minor) {
-  const bool exact = minor <= kVersionMinor;
-  const std::size_t total = r.remaining();
+DecodeError checkValues(const State& m) {
   constexpr auto t = State::kType;
-  if (total < State::kFixedSize)
-    return checkLength(t, total, State::kFixedSize, false);
-  m.tick = r.u64();
-  m.sim_time_ns = r.u64();
-  m.X_WD = getPose(r);
-  m.X_WP = getPose(r);
-  m.force_n = getVec(r);
-  m.torque_nm = getVec(r);
-  m.force_scale = r.f64();
-  m.last_command_sequence = r.u64();
-  m.tick_misses = r.u64();
-  m.tick_p50_ns = r.u32();
-  m.tick_p99_ns = r.u32();
-  m.tick_max_ns = r.u32();
-  m.fault_bits = r.u32();
-  m.state_flags = r.u32();
-  m.contact_count = r.u32();
-  const std::size_t nc = r.u16(), nb = r.u16();
-  r.u32();
-  if (nc > kMaxStateContacts)
-    return err(Errc::kBadValue, t, nc, kMaxStateContacts, "listed_contacts");
-  if (nb > kMaxStateBodies)
-    return err(Errc::kBadValue, t, nb, kMaxStateBodies, "listed_bodies");
-  const std::size_t tail = minor >= 1 ? State::kMinor1Size : 0;
-  if (auto e = checkLength(
-          t, total, State::kFixedSize + kContactSize * nc + kBodyPoseSize * nb + tail, exact);
-      e.code != Errc::kOk)
-    return e;
-  m.contacts.resize(nc);
-  for (auto& c : m.contacts) {
-    c.p_W = getVec(r);
-    c.n_W = getVec(r);
-    c.depth_m = r.f64();
-  }
-  m.bodies.resize(nb);
-  for (auto& b : m.bodies)
-    b = getBodyPose(r);
-  if (minor >= 1) {
-    m.pairs_tested = r.u32();
-    m.pairs_skipped = r.u32();
-    m.max_penetration_m = r.f64();
-    m.tick_ns = r.u32();
-    r.u32();
-  }  // else: a 1.0 sender, the minor-1 fields stay 0
-  if (r.nonFinite())
-    return {};  // reported by the caller with its offset
   if (!(m.max_penetration_m >= 0.0))
     return err(Errc::kBadValue, t, 0, 0, "max_penetration_m (>= 0)");
   if (!(m.force_scale >= 0.0 && m.force_scale <= 1.0))
@@ -519,258 +506,59 @@ DecodeError get(Reader& r, State& m, std::uint8_t minor) {
   return {};
 }
 
-template <class Empty>
-std::size_t sizeEmpty(const Empty&) {
-  return 0;
-}
-std::size_t size(const Arm& m) {
-  return sizeEmpty(m);
-}
-std::size_t size(const Disarm& m) {
-  return sizeEmpty(m);
-}
-std::size_t size(const StatusRequest& m) {
-  return sizeEmpty(m);
-}
-std::size_t size(const Bye& m) {
-  return sizeEmpty(m);
-}
-bool fits(const Arm&) {
+/// Besides the counts: what an encoder refuses to send (kBadValue).
+template <class M>
+bool encodable(const M&) {
   return true;
 }
-bool fits(const Disarm&) {
-  return true;
-}
-bool fits(const StatusRequest&) {
-  return true;
-}
-bool fits(const Bye&) {
-  return true;
-}
-void put(Writer&, const Arm&) {}
-void put(Writer&, const Disarm&) {}
-void put(Writer&, const StatusRequest&) {}
-void put(Writer&, const Bye&) {}
-template <class Empty>
-DecodeError getEmpty(Reader& r, bool exact) {
-  return checkLength(Empty::kType, r.remaining(), 0, exact);
-}
-DecodeError get(Reader& r, Arm&, bool exact) {
-  return getEmpty<Arm>(r, exact);
-}
-DecodeError get(Reader& r, Disarm&, bool exact) {
-  return getEmpty<Disarm>(r, exact);
-}
-DecodeError get(Reader& r, StatusRequest&, bool exact) {
-  return getEmpty<StatusRequest>(r, exact);
-}
-DecodeError get(Reader& r, Bye&, bool exact) {
-  return getEmpty<Bye>(r, exact);
+bool encodable(const Subscribe& m) {
+  return m.rate_hz <= kMaxStateRateHz;
 }
 
-std::size_t size(const Heartbeat&) {
-  return Heartbeat::kFixedSize;
-}
-bool fits(const Heartbeat&) {
-  return true;
-}
-void put(Writer& w, const Heartbeat& m) {
-  w.u64(m.echo_timestamp_ns);
-}
-DecodeError get(Reader& r, Heartbeat& m, bool exact) {
-  if (auto e = checkLength(Heartbeat::kType, r.remaining(), Heartbeat::kFixedSize, exact);
-      e.code != Errc::kOk)
-    return e;
-  m.echo_timestamp_ns = r.u64();
-  return {};
-}
+/// Messages with counted parts: a payload shorter than their fixed part is "at least" short.
+template <class M>
+constexpr bool kCounted =
+    std::is_same_v<M, Hello> || std::is_same_v<M, SceneBegin> || std::is_same_v<M, SceneChunk> ||
+    std::is_same_v<M, SceneStatus> || std::is_same_v<M, SceneUpdate> || std::is_same_v<M, State> ||
+    std::is_same_v<M, ErrorMsg> || std::is_same_v<M, StatusReply>;
 
-std::size_t size(const ErrorMsg& m) {
-  return ErrorMsg::kFixedSize + m.text.size();
-}
-bool fits(const ErrorMsg& m) {
-  return m.text.size() <= kMaxTextBytes;
-}
-void put(Writer& w, const ErrorMsg& m) {
-  w.u64(m.ref_sequence);
-  w.u16(m.ref_type);
-  w.u16(static_cast<std::uint16_t>(m.code));
-  w.u16(static_cast<std::uint16_t>(m.text.size()));
-  w.u16(0);
-  putText(w, m.text);
-}
-DecodeError get(Reader& r, ErrorMsg& m, bool exact) {
-  const std::size_t total = r.remaining();
-  constexpr auto t = ErrorMsg::kType;
-  if (total < ErrorMsg::kFixedSize)
-    return checkLength(t, total, ErrorMsg::kFixedSize, false);
-  m.ref_sequence = r.u64();
-  m.ref_type = r.u16();
-  const std::uint16_t code = r.u16();
-  const std::size_t n = r.u16();
-  r.u16();
-  if (n > kMaxTextBytes)
-    return err(Errc::kBadValue, t, n, kMaxTextBytes, "text_length");
-  if (auto e = checkLength(t, total, ErrorMsg::kFixedSize + n, exact); e.code != Errc::kOk)
-    return e;
-  // a newer peer's unknown code is kept as is: errcName() says "unknown"
-  m.code = static_cast<Errc>(code);
-  m.text = getText(r, n);
-  return {};
-}
-
-std::size_t size(const StatusReply& m) {
-  return StatusReply::kFixedSize + 8 * m.refused.size() + m.device.size() + m.scene.size() +
-         m.plan.size() + StatusReply::kMinor1FixedSize + m.shm_name.size();
-}
-bool fits(const StatusReply& m) {
-  return m.refused.size() <= kMaxRefusalCounters && m.device.size() <= kMaxDeviceBytes &&
-         m.scene.size() <= kMaxSceneNameBytes && m.plan.size() <= kMaxPlanBytes &&
-         m.shm_name.size() <= kMaxShmNameBytes;
-}
-void put(Writer& w, const StatusReply& m) {
-  w.u64(m.uptime_ns);
-  w.u64(m.ticks);
-  w.u64(m.tick_misses);
-  w.f64(m.tick_rate_hz);
-  w.f64(m.measured_tick_hz);
-  w.u32(m.tick_p50_ns);
-  w.u32(m.tick_p99_ns);
-  w.u32(m.tick_max_ns);
-  w.u32(m.fault_bits);
-  w.u32(m.state_flags);
-  w.u32(m.sessions);
-  w.u32(m.subscribers);
-  w.u32(m.state_rate_hz);
-  w.u64(m.packets_received);
-  w.u64(m.packets_sent);
-  w.u64(m.commands_accepted);
-  w.u64(m.commands_dropped);
-  w.u16(static_cast<std::uint16_t>(m.refused.size()));
-  w.u16(static_cast<std::uint16_t>(m.device.size()));
-  w.u16(static_cast<std::uint16_t>(m.scene.size()));
-  w.u16(static_cast<std::uint16_t>(m.plan.size()));
-  for (auto c : m.refused)
-    w.u64(c);
-  putText(w, m.device);
-  putText(w, m.scene);
-  putText(w, m.plan);
-  // minor 1
-  w.u64(m.shm_commands);
-  w.u64(m.shm_commands_refused);
-  w.u64(m.edit_batches_applied);
-  w.u64(m.edit_batches_dropped);
-  w.u64(m.edits_applied);
-  w.u64(m.edits_refused);
-  w.u32(m.shm_flags);
-  w.u16(static_cast<std::uint16_t>(m.shm_name.size()));
-  w.u16(0);
-  putText(w, m.shm_name);
-}
-// Like State, StatusReply gained a tail in minor 1 (after its texts): one exact length per
-// minor up to ours, "at least" above it.
-DecodeError get(Reader& r, StatusReply& m, std::uint8_t minor) {
-  const bool exact = minor <= kVersionMinor;
-  const std::size_t total = r.remaining();
-  constexpr auto t = StatusReply::kType;
-  if (total < StatusReply::kFixedSize)
-    return checkLength(t, total, StatusReply::kFixedSize, false);
-  m.uptime_ns = r.u64();
-  m.ticks = r.u64();
-  m.tick_misses = r.u64();
-  m.tick_rate_hz = r.f64();
-  m.measured_tick_hz = r.f64();
-  m.tick_p50_ns = r.u32();
-  m.tick_p99_ns = r.u32();
-  m.tick_max_ns = r.u32();
-  m.fault_bits = r.u32();
-  m.state_flags = r.u32();
-  m.sessions = r.u32();
-  m.subscribers = r.u32();
-  m.state_rate_hz = r.u32();
-  m.packets_received = r.u64();
-  m.packets_sent = r.u64();
-  m.commands_accepted = r.u64();
-  m.commands_dropped = r.u64();
-  const std::size_t nc = r.u16(), nd = r.u16(), ns = r.u16(), np = r.u16();
-  if (nc > kMaxRefusalCounters)
-    return err(Errc::kBadValue, t, nc, kMaxRefusalCounters, "refused_count");
-  if (nd > kMaxDeviceBytes)
-    return err(Errc::kBadValue, t, nd, kMaxDeviceBytes, "device_length");
-  if (ns > kMaxSceneNameBytes)
-    return err(Errc::kBadValue, t, ns, kMaxSceneNameBytes, "scene_length");
-  if (np > kMaxPlanBytes)
-    return err(Errc::kBadValue, t, np, kMaxPlanBytes, "plan_length");
-  const std::size_t head = StatusReply::kFixedSize + 8 * nc + nd + ns + np;
-  if (minor == 0) {
-    if (auto e = checkLength(t, total, head, exact); e.code != Errc::kOk)
-      return e;
-  } else if (total < head + StatusReply::kMinor1FixedSize) {
-    return checkLength(t, total, head + StatusReply::kMinor1FixedSize, false);
+template <class M>
+DecodeError decodeAs(std::span<const std::uint8_t> payload, std::uint8_t minor, Message& out) {
+  if (payload.size() < M::kFixedSize) {
+    const bool exact = !kCounted<M> && minor <= kVersionMinor;
+    return err(Errc::kBadPayloadLength, M::kType, payload.size(), M::kFixedSize,
+               exact ? "payload" : "payload (at least)");
   }
-  m.refused.resize(nc);
-  for (auto& c : m.refused)
-    c = r.u64();
-  m.device = getText(r, nd);
-  m.scene = getText(r, ns);
-  m.plan = getText(r, np);
-  if (minor >= 1) {
-    m.shm_commands = r.u64();
-    m.shm_commands_refused = r.u64();
-    m.edit_batches_applied = r.u64();
-    m.edit_batches_dropped = r.u64();
-    m.edits_applied = r.u64();
-    m.edits_refused = r.u64();
-    m.shm_flags = r.u32();
-    const std::size_t nn = r.u16();
-    r.u16();
-    if (nn > kMaxShmNameBytes)
-      return err(Errc::kBadValue, t, nn, kMaxShmNameBytes, "shm_name_length");
-    if (auto e = checkLength(t, total, head + StatusReply::kMinor1FixedSize + nn, exact);
-        e.code != Errc::kOk)
-      return e;
-    m.shm_name = getText(r, nn);
-  }  // else: a 1.0 sender, the minor-1 fields stay 0 and ""
-  return {};
-}
-
-std::size_t size(const Ack&) {
-  return Ack::kFixedSize;
-}
-bool fits(const Ack&) {
-  return true;
-}
-void put(Writer& w, const Ack& m) {
-  w.u64(m.ref_sequence);
-  w.u16(m.ref_type);
-  w.u16(0);
-  w.u32(0);
-}
-DecodeError get(Reader& r, Ack& m, bool exact) {
-  if (auto e = checkLength(Ack::kType, r.remaining(), Ack::kFixedSize, exact); e.code != Errc::kOk)
+  M m{};
+  Reader r(payload);
+  Get get(r, M::kType, M::kFixedSize, minor);
+  layout(get, m);
+  if (get.failed())
+    return get.error();
+  if (r.nonFinite())
+    return err(Errc::kNotFinite, M::kType, r.nonFiniteAt(), 0, "a float field (NaN or Inf)");
+  if (DecodeError e = checkValues(m); e.code != Errc::kOk)
     return e;
-  m.ref_sequence = r.u64();
-  m.ref_type = r.u16();
-  r.u16();
-  r.u32();
+  out = std::move(m);
   return {};
 }
 
-// Layout checks: fixed sizes as the README documents them.
+// Layout checks: the fixed sizes the README documents are what the layouts write.
 static_assert(kHeaderSize == 4 + 1 + 1 + 2 + 2 + 2 + 4 + 8 + 8 + 8);
-static_assert(kPoseSize == 7 * 8);
-static_assert(Welcome::kFixedSize == 8 + 4 * 4 + 8 + 4 * 2 + 2 * 4 + 8);
-static_assert(SceneBegin::kFixedSize == 4 + 4 + 8 + 32 + 2 + 2);
-static_assert(SceneChunk::kFixedSize == 4 + 4 + 8);
-static_assert(SceneChunkAck::kFixedSize == 4 + 4 + 8 * 3);
-static_assert(SceneStatus::kFixedSize == 4 + 2 + 2 + 8 + 8 + 2 + 2 + 4);
-static_assert(PoseCommand::kFixedSize == kPoseSize + 3 * 8 + 3 * 8 + 4 + 4);
-static_assert(State::kFixedSize == 8 + 8 + 2 * kPoseSize + 6 * 8 + 8 + 8 + 8 + 6 * 4 + 2 + 2 + 4);
+static_assert(wireSize<WirePose>() == kPoseSize);
+static_assert(wireSize<Welcome>() == Welcome::kFixedSize);
+static_assert(wireSize<SceneChunkAck>() == SceneChunkAck::kFixedSize);
+static_assert(wireSize<SceneCommit>() == SceneCommit::kFixedSize);
+static_assert(wireSize<PoseCommand>() == PoseCommand::kFixedSize);
+static_assert(wireSize<Subscribe>() == Subscribe::kFixedSize);
+static_assert(wireSize<Heartbeat>() == Heartbeat::kFixedSize);
+static_assert(wireSize<Ack>() == Ack::kFixedSize);
+static_assert(wireSize<Arm>() == 0 && wireSize<Bye>() == 0);
+constexpr std::size_t kContactSize = wireSize<State::Contact>();
+constexpr std::size_t kBodyPoseSize = wireSize<SceneUpdate::BodyPose>();
+static_assert(kContactSize == 56 && kBodyPoseSize == 8 + kPoseSize);
+static_assert(wireSize<SceneStatus::Range>() == 16);
 static_assert(State::kMinor1Size == 4 + 4 + 8 + 4 + 4);
-static_assert(StatusReply::kFixedSize == 3 * 8 + 2 * 8 + 8 * 4 + 4 * 8 + 4 * 2);
-static_assert(StatusReply::kMinor1FixedSize == 6 * 8 + 4 + 2 + 2);
-static_assert(ErrorMsg::kFixedSize == 8 + 2 + 2 + 2 + 2);
-static_assert(Ack::kFixedSize == 16);
 static_assert(kErrcCount <= kMaxRefusalCounters);
 // the largest messages fit the largest datagram
 static_assert(kHeaderSize + State::kFixedSize + kMaxStateContacts * kContactSize +
@@ -779,32 +567,6 @@ static_assert(kHeaderSize + State::kFixedSize + kMaxStateContacts * kContactSize
 static_assert(kHeaderSize + SceneChunk::kFixedSize + kMaxChunkBytes + kMacSize <=
               kMaxDatagramLimit);
 
-// Every message but State has one layout per major: exact length up to our minor.
-template <class M>
-DecodeError getAt(Reader& r, M& m, std::uint8_t minor) {
-  return get(r, m, minor <= kVersionMinor);
-}
-template <>
-DecodeError getAt(Reader& r, State& m, std::uint8_t minor) {
-  return get(r, m, minor);
-}
-DecodeError getAt(Reader& r, StatusReply& m, std::uint8_t minor) {
-  return get(r, m, minor);
-}
-
-template <class M>
-DecodeError decodeAs(std::span<const std::uint8_t> payload, std::uint8_t minor, Message& out) {
-  M m{};
-  Reader r(payload);
-  DecodeError e = getAt(r, m, minor);
-  if (e.code != Errc::kOk)
-    return e;
-  if (r.nonFinite())
-    return err(Errc::kNotFinite, M::kType, r.nonFiniteAt(), 0, "a float field (NaN or Inf)");
-  out = std::move(m);
-  return {};
-}
-
 }  // namespace
 
 MsgType typeOf(const Message& m) {
@@ -812,7 +574,14 @@ MsgType typeOf(const Message& m) {
 }
 
 std::size_t payloadSize(const Message& m) {
-  return std::visit([](const auto& x) { return size(x); }, m);
+  return std::visit(
+      [](const auto& x) {
+        ByteCounter n;
+        Put<ByteCounter> p(n);
+        layout(p, x);
+        return n.n;
+      },
+      m);
 }
 
 std::size_t encode(Header h, const Message& m, std::span<std::uint8_t> out, Errc* error) {
@@ -821,17 +590,29 @@ std::size_t encode(Header h, const Message& m, std::span<std::uint8_t> out, Errc
       *error = c;
     return std::size_t{0};
   };
-  const bool ok = std::visit([](const auto& x) { return fits(x); }, m);
+  ByteCounter size;
+  const bool ok = std::visit(
+      [&](const auto& x) {
+        Put<ByteCounter> p(size);
+        layout(p, x);
+        return p.ok() && encodable(x);
+      },
+      m);
   if (!ok)
     return fail(Errc::kBadValue);
-  const std::size_t n = payloadSize(m);
+  const std::size_t n = size.n;
   if (out.size() < kHeaderSize + n)
     return fail(Errc::kBufferTooSmall);
   h.type = static_cast<std::uint16_t>(typeOf(m));
   h.payload_length = static_cast<std::uint32_t>(n);
   encodeHeader(h, out);
   Writer w(out.subspan(kHeaderSize, n));
-  std::visit([&](const auto& x) { put(w, x); }, m);
+  std::visit(
+      [&](const auto& x) {
+        Put<Writer> p(w);
+        layout(p, x);
+      },
+      m);
   if (w.nonFinite())
     return fail(Errc::kNotFinite);
   if (w.failed() || w.position() != n)

@@ -49,9 +49,9 @@ inline constexpr std::size_t kMaxPlanBytes = 4096;      ///< StatusReply plan te
 inline constexpr std::size_t kMaxShmNameBytes = 255;    ///< StatusReply shm segment name (NAME_MAX)
 
 /// Capability bits (Hello::capabilities, Welcome::capabilities).
-inline constexpr std::uint32_t kCapUdp = 1u << 0;
-inline constexpr std::uint32_t kCapShm = 1u << 1;
-inline constexpr std::uint32_t kCapMac = 1u << 2;
+inline constexpr std::uint32_t kCapUdp = 1u << 0;  ///< the UDP protocol (always set)
+inline constexpr std::uint32_t kCapShm = 1u << 1;  ///< the shared-memory segment (same host)
+inline constexpr std::uint32_t kCapMac = 1u << 2;  ///< tagged datagrams (a pre-shared key)
 
 /// Client → server, first message, session_id 0. Fixed 8 bytes + name.
 struct Hello {
@@ -177,16 +177,16 @@ struct SceneUpdate {
 struct PoseCommand {
   static constexpr MsgType kType = MsgType::kPoseCommand;
   static constexpr std::size_t kFixedSize = 112;
-  WirePose X_WT;              ///< target pose of the held body's origin, scene frame
-  WireVec3 v_W{0.0, 0.0, 0.0};    ///< linear velocity, m/s, scene frame
-  WireVec3 w_W{0.0, 0.0, 0.0};    ///< angular velocity, rad/s, scene frame
-  std::uint32_t buttons = 0;  ///< bit mask
+  WirePose X_WT;                ///< target pose of the held body's origin, scene frame
+  WireVec3 v_W{0.0, 0.0, 0.0};  ///< linear velocity, m/s, scene frame
+  WireVec3 w_W{0.0, 0.0, 0.0};  ///< angular velocity, rad/s, scene frame
+  std::uint32_t buttons = 0;    ///< bit mask
   bool operator==(const PoseCommand&) const = default;
 };
 
 /// Subscribe::flags bits.
-inline constexpr std::uint32_t kSubscribeBodies = 1u << 0;
-inline constexpr std::uint32_t kSubscribeContacts = 1u << 1;
+inline constexpr std::uint32_t kSubscribeBodies = 1u << 0;    ///< list the non-static bodies' poses
+inline constexpr std::uint32_t kSubscribeContacts = 1u << 1;  ///< list the contact points
 /// (1.1) Each state of a tick not sent before, as soon as the server sees it, at most rate_hz:
 /// no duplicates when the rate is at or above the tick rate (a 1.0 server ignores the bit).
 inline constexpr std::uint32_t kSubscribeEachTick = 1u << 2;
@@ -208,11 +208,11 @@ inline constexpr std::uint32_t kFaultNotFinite = 1u << 3;     ///< a non-finite 
 inline constexpr std::uint32_t kFaultTickOverrun = 1u << 4;   ///< a tick missed its deadline
 
 /// State::state_flags bits.
-inline constexpr std::uint32_t kStateArmed = 1u << 0;
+inline constexpr std::uint32_t kStateArmed = 1u << 0;      ///< forces enabled
 inline constexpr std::uint32_t kStateStreaming = 1u << 1;  ///< a fresh pose stream drives
 inline constexpr std::uint32_t kStateRamping = 1u << 2;    ///< stream stopped, force ramping
-inline constexpr std::uint32_t kStateContactsTruncated = 1u << 3;
-inline constexpr std::uint32_t kStateBodiesTruncated = 1u << 4;
+inline constexpr std::uint32_t kStateContactsTruncated = 1u << 3;  ///< more contacts than listed
+inline constexpr std::uint32_t kStateBodiesTruncated = 1u << 4;    ///< more bodies than listed
 
 /// Server → subscriber: one servo tick's state. Fixed 232 + 56 per contact + 64 per body, then
 /// (minor ≥ 1) the kMinor1Size bytes of the minor-1 fields. A 1.0 State (no tail) decodes with
@@ -224,21 +224,21 @@ struct State {
   struct Contact {
     WireVec3 p_W{0.0, 0.0, 0.0};  ///< contact point, scene frame, metres
     WireVec3 n_W{0.0, 0.0, 1.0};  ///< unit normal, scene frame
-    double depth_m = 0.0;     ///< penetration depth ≥ 0 (negative: gap)
+    double depth_m = 0.0;         ///< penetration depth ≥ 0 (negative: gap)
     bool operator==(const Contact&) const = default;
   };
-  std::uint64_t tick = 0;
-  std::uint64_t sim_time_ns = 0;  ///< servo clock (monotonic or virtual), ns
-  WirePose X_WD;                  ///< device (probe) pose, scene frame
-  WirePose X_WP;                  ///< proxy pose, scene frame
+  std::uint64_t tick = 0;             ///< servo tick counter (1 at the first tick)
+  std::uint64_t sim_time_ns = 0;      ///< servo clock (monotonic or virtual), ns
+  WirePose X_WD;                      ///< device (probe) pose, scene frame
+  WirePose X_WP;                      ///< proxy pose, scene frame
   WireVec3 force_n{0.0, 0.0, 0.0};    ///< force on the held body, N, scene frame
   WireVec3 torque_nm{0.0, 0.0, 0.0};  ///< torque about the held body's origin, N·m, scene frame
-  double force_scale = 1.0;       ///< 0..1, the command gate's ramp
-  std::uint64_t last_command_sequence = 0;  ///< sequence of the newest accepted PoseCommand
-  std::uint64_t tick_misses = 0;            ///< ticks over their deadline since start
-  std::uint32_t tick_p50_ns = 0;            ///< compute time per tick, recent window
-  std::uint32_t tick_p99_ns = 0;
-  std::uint32_t tick_max_ns = 0;
+  double force_scale = 1.0;           ///< 0..1, the command gate's ramp
+  std::uint64_t last_command_sequence = 0;    ///< sequence of the newest accepted PoseCommand
+  std::uint64_t tick_misses = 0;              ///< ticks over their deadline since start
+  std::uint32_t tick_p50_ns = 0;              ///< compute time per tick, recent window, median, ns
+  std::uint32_t tick_p99_ns = 0;              ///< ... 99th percentile, ns
+  std::uint32_t tick_max_ns = 0;              ///< ... largest, ns
   std::uint32_t fault_bits = 0;               ///< kFault* bits, latched until arm
   std::uint32_t state_flags = 0;              ///< kState* bits
   std::uint32_t contact_count = 0;            ///< contacts this tick (may exceed contacts.size())
@@ -254,18 +254,18 @@ struct State {
   bool operator==(const State&) const = default;
 };
 
-/// Client → server: enable forces (clears a latched fault). Empty payload.
-struct Arm {
-  static constexpr MsgType kType = MsgType::kArm;
+/// A message without payload: its type is all it says. Arm, Disarm, StatusRequest and Bye.
+template <MsgType T>
+struct EmptyMessage {
+  static constexpr MsgType kType = T;
   static constexpr std::size_t kFixedSize = 0;
-  bool operator==(const Arm&) const = default;
+  bool operator==(const EmptyMessage&) const = default;
 };
-/// Client → server: forces to zero now. Empty payload.
-struct Disarm {
-  static constexpr MsgType kType = MsgType::kDisarm;
-  static constexpr std::size_t kFixedSize = 0;
-  bool operator==(const Disarm&) const = default;
-};
+/// Client → server: take control and enable forces (clears a latched fault); answered with Ack.
+using Arm = EmptyMessage<MsgType::kArm>;
+/// Client → server: ramp the force to zero over the daemon's `[servo] stop_ramp_s` (0.2 s by
+/// default); answered with Ack.
+using Disarm = EmptyMessage<MsgType::kDisarm>;
 /// Both ways: keeps a session alive; echoes the last timestamp seen for round-trip time.
 /// Fixed 8 bytes.
 struct Heartbeat {
@@ -284,37 +284,33 @@ struct ErrorMsg {
   std::string text;  ///< ≤ kMaxTextBytes
   bool operator==(const ErrorMsg&) const = default;
 };
-/// Client → server: ask for a StatusReply. Empty payload.
-struct StatusRequest {
-  static constexpr MsgType kType = MsgType::kStatusRequest;
-  static constexpr std::size_t kFixedSize = 0;
-  bool operator==(const StatusRequest&) const = default;
-};
+/// Client → server: ask for a StatusReply.
+using StatusRequest = EmptyMessage<MsgType::kStatusRequest>;
 /// Server → client: what `hapticctl status` shows. Fixed 112 + 8 per counter + texts.
 struct StatusReply {
   static constexpr MsgType kType = MsgType::kStatusReply;
   static constexpr std::size_t kFixedSize = 112;
-  std::uint64_t uptime_ns = 0;
-  std::uint64_t ticks = 0;
-  std::uint64_t tick_misses = 0;
-  double tick_rate_hz = 0.0;      ///< configured servo rate
-  double measured_tick_hz = 0.0;  ///< recent measured servo rate
-  std::uint32_t tick_p50_ns = 0;
-  std::uint32_t tick_p99_ns = 0;
-  std::uint32_t tick_max_ns = 0;
-  std::uint32_t fault_bits = 0;
-  std::uint32_t state_flags = 0;
-  std::uint32_t sessions = 0;
-  std::uint32_t subscribers = 0;
-  std::uint32_t state_rate_hz = 0;  ///< sum of the subscribers' rates
-  std::uint64_t packets_received = 0;
-  std::uint64_t packets_sent = 0;
-  std::uint64_t commands_accepted = 0;
-  std::uint64_t commands_dropped = 0;
-  std::vector<std::uint64_t> refused;  ///< per Errc value in order, index 0 unused; ≤ 64
-  std::string device;                  ///< ≤ kMaxDeviceBytes
-  std::string scene;                   ///< ≤ kMaxSceneNameBytes
-  std::string plan;                    ///< the simulation plan as text, ≤ kMaxPlanBytes
+  std::uint64_t uptime_ns = 0;          ///< since the daemon started, ns
+  std::uint64_t ticks = 0;              ///< servo ticks since start
+  std::uint64_t tick_misses = 0;        ///< ticks over their deadline since start
+  double tick_rate_hz = 0.0;            ///< configured servo rate
+  double measured_tick_hz = 0.0;        ///< recent measured servo rate
+  std::uint32_t tick_p50_ns = 0;        ///< compute time per tick, recent window, median, ns
+  std::uint32_t tick_p99_ns = 0;        ///< ... 99th percentile, ns
+  std::uint32_t tick_max_ns = 0;        ///< ... largest, ns
+  std::uint32_t fault_bits = 0;         ///< kFault* bits, as State
+  std::uint32_t state_flags = 0;        ///< kState* bits, as State
+  std::uint32_t sessions = 0;           ///< UDP sessions open now
+  std::uint32_t subscribers = 0;        ///< sessions subscribed to states
+  std::uint32_t state_rate_hz = 0;      ///< sum of the subscribers' rates
+  std::uint64_t packets_received = 0;   ///< datagrams the server read
+  std::uint64_t packets_sent = 0;       ///< datagrams the server sent
+  std::uint64_t commands_accepted = 0;  ///< by the command gate
+  std::uint64_t commands_dropped = 0;   ///< by the gate and by a full queue
+  std::vector<std::uint64_t> refused;   ///< per Errc value in order, index 0 unused; ≤ 64
+  std::string device;                   ///< ≤ kMaxDeviceBytes
+  std::string scene;                    ///< ≤ kMaxSceneNameBytes
+  std::string plan;                     ///< the simulation plan as text, ≤ kMaxPlanBytes
   // --- minor version 1: appended after the texts (kMinor1FixedSize + shm_name; a 1.0 reader
   // ignores them; from a 1.0 sender they read as 0 and "") ---
   static constexpr std::size_t kMinor1FixedSize = 56;
@@ -325,29 +321,25 @@ struct StatusReply {
   std::uint64_t edits_applied = 0;         ///< entries of scene updates applied
   std::uint64_t edits_refused = 0;         ///< entries the simulation refused at the tick
   std::uint32_t shm_flags = 0;             ///< kShmServing | kShmClientAttached | kShmClientAlive
-  std::string shm_name;                    ///< the segment served, "" when none; ≤ kMaxShmNameBytes
+  std::string shm_name;  ///< the segment served, "" when none; ≤ kMaxShmNameBytes
   bool operator==(const StatusReply&) const = default;
 };
 /// StatusReply::shm_flags bits.
-inline constexpr std::uint32_t kShmServing = 1u << 0;        ///< the daemon serves the segment
-inline constexpr std::uint32_t kShmClientAttached = 1u << 1; ///< a client has attached
-inline constexpr std::uint32_t kShmClientAlive = 1u << 2;    ///< ... and beat within 500 ms
+inline constexpr std::uint32_t kShmServing = 1u << 0;         ///< the daemon serves the segment
+inline constexpr std::uint32_t kShmClientAttached = 1u << 1;  ///< a client has attached
+inline constexpr std::uint32_t kShmClientAlive = 1u << 2;     ///< ... and beat within 500 ms
 
 /// Server → client: a request that has no other answer (arm, disarm, subscribe, scene update)
 /// was accepted. Fixed 16 bytes.
 struct Ack {
   static constexpr MsgType kType = MsgType::kAck;
   static constexpr std::size_t kFixedSize = 16;
-  std::uint64_t ref_sequence = 0;
-  std::uint16_t ref_type = 0;
+  std::uint64_t ref_sequence = 0;  ///< sequence of the request acknowledged
+  std::uint16_t ref_type = 0;      ///< its type
   bool operator==(const Ack&) const = default;
 };
-/// Either way: the session ends. Empty payload.
-struct Bye {
-  static constexpr MsgType kType = MsgType::kBye;
-  static constexpr std::size_t kFixedSize = 0;
-  bool operator==(const Bye&) const = default;
-};
+/// Either way: the session ends.
+using Bye = EmptyMessage<MsgType::kBye>;
 
 /// Any message. The index order is not on the wire (MsgType is).
 using Message = std::variant<Hello,

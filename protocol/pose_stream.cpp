@@ -65,7 +65,8 @@ class Parser {
   Result<PoseStreamRow> row(std::string_view line);
   Result<double> number(std::size_t column, std::string_view field) const;
   Result<std::uint32_t> buttons(std::string_view field) const;
-  Result<bool> checkRow(PoseStreamRow& r, const std::array<double, 8>& v,
+  Result<bool> checkRow(PoseStreamRow& r,
+                        const std::array<double, 8>& v,
                         const std::array<std::string_view, kMaxFields>& f);
 
   std::string_view source_;
@@ -110,8 +111,9 @@ Result<std::vector<PoseStreamRow>> Parser::run(std::string_view text) {
       }
       if (!seen_header) {
         if (line != kHeader)
-          return fail(0, "the header must be exactly '" + std::string(kHeader) + "', got " +
-                             shown(line), "");
+          return fail(
+              0, "the header must be exactly '" + std::string(kHeader) + "', got " + shown(line),
+              "");
         seen_header = true;
         continue;
       }
@@ -149,8 +151,9 @@ Result<bool> Parser::header(std::string_view line) const {
   }
   if (same && (n == kMaxFields || n == kMaxFields - 1) && rows_.empty())
     return true;
-  return fail(0, "", rows_.empty() ? "header must be t,px,py,pz,qx,qy,qz,qw,buttons"
-                                    : "a header after the first row");
+  return fail(0, "",
+              rows_.empty() ? "header must be t,px,py,pz,qx,qy,qz,qw,buttons"
+                            : "a header after the first row");
 }
 
 Result<PoseStreamRow> Parser::row(std::string_view line) {
@@ -173,7 +176,8 @@ Result<PoseStreamRow> Parser::row(std::string_view line) {
       count += c == ',' ? 1u : 0u;
     return fail(0, "",
                 "expected 9 columns t,px,py,pz,qx,qy,qz,qw,buttons (buttons may be left out), "
-                "got " + std::to_string(count + 1));
+                "got " +
+                    std::to_string(count + 1));
   }
   PoseStreamRow r;
   std::array<double, 8> v{};
@@ -248,10 +252,11 @@ Result<bool> Parser::checkRow(PoseStreamRow& r,
     return fail(1, "time before 0: " + std::to_string(r.t_s), "");
   if (!rows_.empty() && !(r.t_s > rows_.back().t_s)) {
     if (strict_)
-      return fail(1, "time not after the previous row's (" + std::to_string(rows_.back().t_s) +
-                         " s)", "");
-    return fail(0, "", "t " + std::string(f[0]) + " is not after the previous row's t " +
-                           fmt17(rows_.back().t_s) + " (t must increase)");
+      return fail(
+          1, "time not after the previous row's (" + std::to_string(rows_.back().t_s) + " s)", "");
+    return fail(0, "",
+                "t " + std::string(f[0]) + " is not after the previous row's t " +
+                    fmt17(rows_.back().t_s) + " (t must increase)");
   }
   const double norm = std::sqrt(v[4] * v[4] + v[5] * v[5] + v[6] * v[6] + v[7] * v[7]);
   if (!(std::abs(norm - 1.0) <= tolerance_)) {

@@ -203,51 +203,83 @@ void Server::handleDatagram(std::span<const std::uint8_t> d,
       return refuse(e.code, from, &h, nullptr, true, describe(e));
     return handleHello(h, std::get<Hello>(m), tagged, from, t);
   }
-
-  auto it = sessions_.find(h.session_id);
-  if (it == sessions_.end())
-    return refuse(Errc::kUnknownSession, from, &h, nullptr, !tagged || config_.key.has_value(),
-                  "unknown session " + std::to_string(h.session_id) + ": send hello first");
-  Session& s = it->second;
-  if (!(s.peer == from))
-    return refuse(Errc::kWrongPeer, from, &h, nullptr, true,
-                  "session " + std::to_string(h.session_id) + " belongs to another address");
-  if (s.authenticated && !tagged)
-    return refuse(Errc::kNoMac, from, &h, nullptr, true,
-                  "this session is authenticated: every datagram needs a tag");
-  if (config_.key && privileged(h.type) && !tagged)
-    return refuse(Errc::kNoMac, from, &h, &s, true,
-                  std::string("a key is set: ") + msgTypeName(h.type) +
-                      " needs a tag (give the client the key)");
-  if (tagged) {
-    if (!s.replay.check(h.sequence))
-      return refuse(Errc::kReplay, from, &h, nullptr, false, "");
-    s.replay.accept(h.sequence);
-  }
+  Session* s = admit(h, tagged, from);
+  if (s == nullptr)
+    return;
   Message m;
   if (DecodeError e = decodePayload(h.type, h.minor, payload, m); e.code != Errc::kOk)
-    return refuse(e.code, from, &h, &s, true, describe(e));
-  s.last_rx_ns = t;
-  s.last_peer_timestamp_ns = h.timestamp_ns;
+    return refuse(e.code, from, &h, s, true, describe(e));
+  s->last_rx_ns = t;
+  s->last_peer_timestamp_ns = h.timestamp_ns;
+  dispatch(*s, h, tagged, m, t);
+}
 
-  auto command = [&](CommandEvent::Kind kind, const PoseCommand* p) {
-    CommandEvent ev;
-    ev.kind = kind;
-    ev.authenticated = tagged;
-    ev.session_id = s.id;
-    ev.sequence = h.sequence;
-    ev.sender_timestamp_ns = h.timestamp_ns;
-    ev.received_ns = t;
-    if (p)
-      ev.pose = *p;
-    const bool queued = !handlers_.on_command || handlers_.on_command(ev);
-    if (queued)
-      counters_.commands_forwarded.fetch_add(1, std::memory_order_relaxed);
+Server::Session* Server::admit(const Header& h, bool tagged, const SocketAddress& from) {
+  auto it = sessions_.find(h.session_id);
+  if (it == sessions_.end()) {
+    refuse(Errc::kUnknownSession, from, &h, nullptr, !tagged || config_.key.has_value(),
+           "unknown session " + std::to_string(h.session_id) + ": send hello first");
+    return nullptr;
+  }
+  Session& s = it->second;
+  if (!(s.peer == from)) {
+    refuse(Errc::kWrongPeer, from, &h, nullptr, true,
+           "session " + std::to_string(h.session_id) + " belongs to another address");
+    return nullptr;
+  }
+  if (s.authenticated && !tagged) {
+    refuse(Errc::kNoMac, from, &h, nullptr, true,
+           "this session is authenticated: every datagram needs a tag");
+    return nullptr;
+  }
+  if (config_.key && privileged(h.type) && !tagged) {
+    refuse(Errc::kNoMac, from, &h, &s, true,
+           std::string("a key is set: ") + msgTypeName(h.type) +
+               " needs a tag (give the client the key)");
+    return nullptr;
+  }
+  if (tagged) {
+    if (!s.replay.check(h.sequence)) {
+      refuse(Errc::kReplay, from, &h, nullptr, false, "");
+      return nullptr;
+    }
+    s.replay.accept(h.sequence);
+  }
+  return &s;
+}
+
+bool Server::forward(const Session& s,
+                     const Header& h,
+                     bool tagged,
+                     CommandEvent::Kind kind,
+                     const PoseCommand* pose,
+                     std::uint64_t t) {
+  CommandEvent ev;
+  ev.kind = kind;
+  ev.authenticated = tagged;
+  ev.session_id = s.id;
+  ev.sequence = h.sequence;
+  ev.sender_timestamp_ns = h.timestamp_ns;
+  ev.received_ns = t;
+  if (pose)
+    ev.pose = *pose;
+  const bool queued = !handlers_.on_command || handlers_.on_command(ev);
+  if (queued)
+    counters_.commands_forwarded.fetch_add(1, std::memory_order_relaxed);
+  else
+    counters_.commands_queue_full.fetch_add(1, std::memory_order_relaxed);
+  return queued;
+}
+
+void Server::dispatch(Session& s, const Header& h, bool tagged, const Message& m, std::uint64_t t) {
+  const SocketAddress from = s.peer;
+  // arm and disarm are answered: Ack when queued for the servo thread, else "queue full"
+  auto control = [&](CommandEvent::Kind kind, const char* full) {
+    if (forward(s, h, tagged, kind, nullptr, t))
+      sendTo(s, Ack{h.sequence, h.type});
     else
-      counters_.commands_queue_full.fetch_add(1, std::memory_order_relaxed);
-    return queued;
+      refuse(Errc::kServerFull, from, &h, &s, true, full);
   };
-
   std::visit(
       Overload{
           [&](const SceneBegin& x) { handleBegin(s, h, x, t); },
@@ -260,18 +292,10 @@ void Server::handleDatagram(std::span<const std::uint8_t> d,
                             error.empty() ? std::string("scene update refused") : error);
             sendTo(s, Ack{h.sequence, h.type});
           },
-          [&](const PoseCommand& x) { command(CommandEvent::Kind::kPose, &x); },
-          [&](const Arm&) {
-            if (command(CommandEvent::Kind::kArm, nullptr))
-              sendTo(s, Ack{h.sequence, h.type});
-            else
-              refuse(Errc::kServerFull, from, &h, &s, true, "command queue full: arm again");
-          },
+          [&](const PoseCommand& x) { forward(s, h, tagged, CommandEvent::Kind::kPose, &x, t); },
+          [&](const Arm&) { control(CommandEvent::Kind::kArm, "command queue full: arm again"); },
           [&](const Disarm&) {
-            if (command(CommandEvent::Kind::kDisarm, nullptr))
-              sendTo(s, Ack{h.sequence, h.type});
-            else
-              refuse(Errc::kServerFull, from, &h, &s, true, "command queue full: disarm again");
+            control(CommandEvent::Kind::kDisarm, "command queue full: disarm again");
           },
           [&](const Subscribe& x) {
             s.rate_hz = std::min(x.rate_hz, config_.max_state_rate_hz);
@@ -283,38 +307,40 @@ void Server::handleDatagram(std::span<const std::uint8_t> d,
             sendTo(s, Ack{h.sequence, h.type});
           },
           [&](const Heartbeat&) { sendTo(s, Heartbeat{h.timestamp_ns}); },
-          [&](const StatusRequest&) {
-            StatusReply r;
-            if (handlers_.fill_status)
-              handlers_.fill_status(r);
-            r.uptime_ns = r.uptime_ns ? r.uptime_ns : t - start_ns_;
-            r.sessions = static_cast<std::uint32_t>(sessions_.size());
-            r.subscribers = 0;
-            r.state_rate_hz = 0;
-            for (const auto& [id, o] : sessions_) {
-              if (o.rate_hz > 0)
-                ++r.subscribers;
-              r.state_rate_hz += o.rate_hz;
-            }
-            r.packets_received = counters_.received.load();
-            r.packets_sent = counters_.sent.load();
-            r.commands_dropped += counters_.commands_queue_full.load();
-            r.refused.resize(kErrcCount);
-            for (std::size_t i = 0; i < kErrcCount; ++i)
-              r.refused[i] = counters_.refused[i].load();
-            if (r.device.size() > kMaxDeviceBytes)
-              r.device.resize(kMaxDeviceBytes);
-            if (r.scene.size() > kMaxSceneNameBytes)
-              r.scene.resize(kMaxSceneNameBytes);
-            if (r.plan.size() > kMaxPlanBytes)
-              r.plan.resize(kMaxPlanBytes);
-            sendTo(s, r);
-          },
-          [&](const Bye&) { sessions_.erase(it); },
+          [&](const StatusRequest&) { sendTo(s, statusReply(t)); },
+          [&](const Bye&) { sessions_.erase(s.id); },
           [&](const Hello&) {},
           [&](const auto&) { refuse(Errc::kNotExpected, from, &h, nullptr, false, ""); },
       },
       m);
+}
+
+StatusReply Server::statusReply(std::uint64_t t) {
+  StatusReply r;
+  if (handlers_.fill_status)
+    handlers_.fill_status(r);
+  r.uptime_ns = r.uptime_ns ? r.uptime_ns : t - start_ns_;
+  r.sessions = static_cast<std::uint32_t>(sessions_.size());
+  r.subscribers = 0;
+  r.state_rate_hz = 0;
+  for (const auto& [id, o] : sessions_) {
+    if (o.rate_hz > 0)
+      ++r.subscribers;
+    r.state_rate_hz += o.rate_hz;
+  }
+  r.packets_received = counters_.received.load();
+  r.packets_sent = counters_.sent.load();
+  r.commands_dropped += counters_.commands_queue_full.load();
+  r.refused.resize(kErrcCount);
+  for (std::size_t i = 0; i < kErrcCount; ++i)
+    r.refused[i] = counters_.refused[i].load();
+  if (r.device.size() > kMaxDeviceBytes)
+    r.device.resize(kMaxDeviceBytes);
+  if (r.scene.size() > kMaxSceneNameBytes)
+    r.scene.resize(kMaxSceneNameBytes);
+  if (r.plan.size() > kMaxPlanBytes)
+    r.plan.resize(kMaxPlanBytes);
+  return r;
 }
 
 void Server::handleHello(const Header& h,

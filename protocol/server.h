@@ -21,7 +21,7 @@
 ///   server.value()->finishScene(ticket, accepted, first_error_text);
 /// \endcode
 /// The servo thread never touches the Server: it drains the queue that on_command fills
-/// (proto::SpscRing<CommandEvent, N>) into a proto::CommandGate every tick.
+/// (proto::SpscRing<CommandEvent>) into a proto::CommandGate every tick.
 
 #include <atomic>
 #include <cstdint>
@@ -192,6 +192,20 @@ class Server {
               Session* s,
               bool answer,
               const std::string& text);
+  /// The session a non-hello datagram belongs to, after the session, peer, tag and replay
+  /// checks; nullptr when refused (counted, answered where the rules say).
+  Session* admit(const Header& h, bool tagged, const SocketAddress& from);
+  /// Handles a decoded message of session `s`.
+  void dispatch(Session& s, const Header& h, bool tagged, const Message& m, std::uint64_t now);
+  /// Hands a pose, arm or disarm to on_command; false when its queue was full (counted).
+  bool forward(const Session& s,
+               const Header& h,
+               bool tagged,
+               CommandEvent::Kind kind,
+               const PoseCommand* pose,
+               std::uint64_t now);
+  /// The daemon's status (fill_status) with the server's own figures.
+  StatusReply statusReply(std::uint64_t now);
   void handleHello(const Header& h,
                    const Hello& m,
                    bool tagged,

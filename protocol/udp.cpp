@@ -66,6 +66,48 @@ bool SocketAddress::operator==(const SocketAddress& o) const {
   return length == o.length;
 }
 
+namespace {
+
+template <class Sockaddr>
+SocketAddress addressOf(const Sockaddr& a) {
+  SocketAddress out;
+  std::memcpy(&out.storage, &a, sizeof a);
+  out.length = sizeof a;
+  return out;
+}
+
+void setPort(SocketAddress& a, std::uint16_t port) {
+  if (a.storage.ss_family == AF_INET)
+    reinterpret_cast<sockaddr_in*>(&a.storage)->sin_port = htons(port);
+  else if (a.storage.ss_family == AF_INET6)
+    reinterpret_cast<sockaddr_in6*>(&a.storage)->sin6_port = htons(port);
+}
+
+// a host name through getaddrinfo (blocking), IPv4 preferred: the daemon binds 127.0.0.1 by
+// default and "localhost" often lists ::1 first
+Result<SocketAddress> lookUp(const std::string& host, const std::string& quoted) {
+  addrinfo hints{};
+  hints.ai_family = AF_UNSPEC;
+  hints.ai_socktype = SOCK_DGRAM;
+  addrinfo* res = nullptr;
+  const int rc = getaddrinfo(host.c_str(), nullptr, &hints, &res);
+  if (rc != 0 || !res)
+    return Error{quoted + ": cannot resolve '" + host + "': " + gai_strerror(rc)};
+  const addrinfo* pick = res;
+  for (const addrinfo* p = res; p; p = p->ai_next)
+    if (p->ai_family == AF_INET) {
+      pick = p;
+      break;
+    }
+  SocketAddress out;
+  std::memcpy(&out.storage, pick->ai_addr, pick->ai_addrlen);
+  out.length = static_cast<socklen_t>(pick->ai_addrlen);
+  freeaddrinfo(res);
+  return out;
+}
+
+}  // namespace
+
 Result<SocketAddress> parseAddress(std::string_view text,
                                    std::uint16_t default_port,
                                    bool resolve) {
@@ -111,41 +153,19 @@ Result<SocketAddress> parseAddress(std::string_view text,
   sockaddr_in6 v6{};
   if (inet_pton(AF_INET, host.c_str(), &v4.sin_addr) == 1) {
     v4.sin_family = AF_INET;
-    v4.sin_port = htons(port);
-    std::memcpy(&out.storage, &v4, sizeof v4);
-    out.length = sizeof v4;
-    return out;
-  }
-  if (inet_pton(AF_INET6, host.c_str(), &v6.sin6_addr) == 1) {
+    out = addressOf(v4);
+  } else if (inet_pton(AF_INET6, host.c_str(), &v6.sin6_addr) == 1) {
     v6.sin6_family = AF_INET6;
-    v6.sin6_port = htons(port);
-    std::memcpy(&out.storage, &v6, sizeof v6);
-    out.length = sizeof v6;
-    return out;
-  }
-  if (!resolve)
+    out = addressOf(v6);
+  } else if (!resolve) {
     return Error{quoted + ": '" + host + "' is not a numeric IPv4 or IPv6 address"};
-  addrinfo hints{};
-  hints.ai_family = AF_UNSPEC;
-  hints.ai_socktype = SOCK_DGRAM;
-  addrinfo* res = nullptr;
-  const int rc = getaddrinfo(host.c_str(), nullptr, &hints, &res);
-  if (rc != 0 || !res)
-    return Error{quoted + ": cannot resolve '" + host + "': " + gai_strerror(rc)};
-  // prefer IPv4: the daemon binds 127.0.0.1 by default and "localhost" often lists ::1 first
-  const addrinfo* pick = res;
-  for (const addrinfo* p = res; p; p = p->ai_next)
-    if (p->ai_family == AF_INET) {
-      pick = p;
-      break;
-    }
-  std::memcpy(&out.storage, pick->ai_addr, pick->ai_addrlen);
-  out.length = static_cast<socklen_t>(pick->ai_addrlen);
-  freeaddrinfo(res);
-  if (out.storage.ss_family == AF_INET)
-    reinterpret_cast<sockaddr_in*>(&out.storage)->sin_port = htons(port);
-  else
-    reinterpret_cast<sockaddr_in6*>(&out.storage)->sin6_port = htons(port);
+  } else {
+    auto found = lookUp(host, quoted);
+    if (!found)
+      return found.error();
+    out = found.value();
+  }
+  setPort(out, port);
   return out;
 }
 
@@ -192,6 +212,15 @@ Result<UdpSocket> UdpSocket::forPeer(const SocketAddress& peer, int receive_buff
   return bind(a.value(), receive_buffer_bytes);
 }
 
+Result<UdpSocket> UdpSocket::connectedTo(const SocketAddress& peer, int receive_buffer_bytes) {
+  auto s = forPeer(peer, receive_buffer_bytes);
+  if (!s)
+    return s.error();
+  if (::connect(s.value().fd_, reinterpret_cast<const sockaddr*>(&peer.storage), peer.length) != 0)
+    return Error{"udp: cannot connect to " + peer.toString() + ": " + std::strerror(errno)};
+  return s;
+}
+
 Received UdpSocket::receive(std::span<std::uint8_t> buffer, SocketAddress& from) {
   Received r;
   for (;;) {
@@ -201,8 +230,7 @@ Received UdpSocket::receive(std::span<std::uint8_t> buffer, SocketAddress& from)
     if (n < 0) {
       if (errno == EINTR)
         continue;
-      if (errno == ECONNREFUSED)
-        continue;  // an ICMP error from an earlier send: skip it
+      r.refused = errno == ECONNREFUSED;  // an ICMP port unreachable after an earlier send
       return r;
     }
     r.got = true;
@@ -212,12 +240,14 @@ Received UdpSocket::receive(std::span<std::uint8_t> buffer, SocketAddress& from)
   }
 }
 
-bool UdpSocket::sendTo(const SocketAddress& to, std::span<const std::uint8_t> d) {
+bool UdpSocket::sendTo(const SocketAddress& to, std::span<const std::uint8_t> d, bool* refused) {
   for (;;) {
     const ssize_t n = ::sendto(fd_, d.data(), d.size(), MSG_NOSIGNAL,
                                reinterpret_cast<const sockaddr*>(&to.storage), to.length);
     if (n < 0 && errno == EINTR)
       continue;
+    if (refused != nullptr)
+      *refused = n < 0 && errno == ECONNREFUSED;
     return n == static_cast<ssize_t>(d.size());
   }
 }
@@ -228,7 +258,7 @@ bool UdpSocket::waitReadable(int timeout_ms) const {
     const int rc = ::poll(&p, 1, timeout_ms);
     if (rc < 0 && errno == EINTR)
       continue;
-    return rc > 0 && (p.revents & POLLIN);
+    return rc > 0 && (p.revents & (POLLIN | POLLERR));
   }
 }
 
@@ -240,7 +270,7 @@ bool UdpSocket::waitReadableNs(std::uint64_t timeout_ns) const {
     const int rc = ::ppoll(&p, 1, &ts, nullptr);
     if (rc < 0 && errno == EINTR)
       continue;
-    return rc > 0 && (p.revents & POLLIN);
+    return rc > 0 && (p.revents & (POLLIN | POLLERR));
   }
 }
 

@@ -42,6 +42,9 @@ struct Received {
   std::size_t size = 0;    ///< bytes placed in the buffer
   bool got = false;        ///< a datagram was read
   bool truncated = false;  ///< the datagram was larger than the buffer (its tail is lost)
+  /// No datagram, but the kernel reported that the peer's port is closed (ICMP port unreachable,
+  /// ECONNREFUSED): only on a connected socket (connectedTo), at once on loopback.
+  bool refused = false;
 };
 
 /// A bound, non-blocking UDP socket. Movable, not copyable; closes on destruction.
@@ -59,13 +62,20 @@ class UdpSocket {
   /// An unconnected socket on an ephemeral port of the family of `peer` (loopback for a
   /// loopback peer, any address otherwise).
   static Result<UdpSocket> forPeer(const SocketAddress& peer, int receive_buffer_bytes = 0);
+  /// forPeer, connected to `peer`: it receives only from `peer`, and the kernel reports a closed
+  /// port there (ICMP port unreachable) as Received::refused or a refused send. A client's socket.
+  static Result<UdpSocket> connectedTo(const SocketAddress& peer, int receive_buffer_bytes = 0);
 
-  /// Reads one datagram if any is waiting (never blocks). Errors other than "nothing waiting"
-  /// (e.g. ICMP port unreachable on Linux) are swallowed: the datagram is simply not there.
+  /// Reads one datagram if any is waiting (never blocks). Other errors than "nothing waiting"
+  /// and ECONNREFUSED (Received::refused) are swallowed: the datagram is simply not there.
   Received receive(std::span<std::uint8_t> buffer, SocketAddress& from);
-  /// Sends one datagram; false when the kernel refused it (buffer full, unreachable).
-  bool sendTo(const SocketAddress& to, std::span<const std::uint8_t> datagram);
-  /// Waits up to timeout_ms (< 0: forever) for a datagram; true when one is waiting.
+  /// Sends one datagram; false when the kernel refused it (buffer full, unreachable), with
+  /// *refused (when given) set if the reason is a closed port (ECONNREFUSED, connected sockets).
+  bool sendTo(const SocketAddress& to,
+              std::span<const std::uint8_t> datagram,
+              bool* refused = nullptr);
+  /// Waits up to timeout_ms (< 0: forever) for a datagram or an error to read; true when one
+  /// is waiting.
   bool waitReadable(int timeout_ms) const;
   /// Same with a timeout in ns (ppoll), for sub-millisecond state pacing.
   bool waitReadableNs(std::uint64_t timeout_ns) const;

@@ -1,5 +1,6 @@
 #include "protocol/wire.h"
 
+#include <cstdarg>
 #include <cstdio>
 #include <iterator>
 
@@ -8,17 +9,29 @@ namespace {
 
 // in value order; 0 is no type
 constexpr const char* kMsgTypeNames[] = {
-    "unknown", "hello", "welcome", "scene_begin", "scene_chunk", "scene_chunk_ack", "scene_commit",
-    "scene_status", "scene_update", "pose_command", "subscribe", "state", "arm", "disarm",
-    "heartbeat", "error", "status_request", "status_reply", "ack", "bye"};
+    "unknown",         "hello",          "welcome",      "scene_begin",  "scene_chunk",
+    "scene_chunk_ack", "scene_commit",   "scene_status", "scene_update", "pose_command",
+    "subscribe",       "state",          "arm",          "disarm",       "heartbeat",
+    "error",           "status_request", "status_reply", "ack",          "bye"};
 static_assert(std::size(kMsgTypeNames) == kMsgTypeEnd);
 
 constexpr const char* kErrcNames[] = {
-    "ok", "too_short", "too_long", "bad_magic", "bad_major", "bad_flags", "unknown_type",
-    "bad_payload_length", "not_finite", "bad_value", "no_mac", "bad_mac", "replay", "rate_limited",
-    "unknown_session", "wrong_peer", "server_full", "upload_error", "not_expected",
-    "buffer_too_small"};
+    "ok",          "too_short",    "too_long",        "bad_magic",
+    "bad_major",   "bad_flags",    "unknown_type",    "bad_payload_length",
+    "not_finite",  "bad_value",    "no_mac",          "bad_mac",
+    "replay",      "rate_limited", "unknown_session", "wrong_peer",
+    "server_full", "upload_error", "not_expected",    "buffer_too_small"};
 static_assert(std::size(kErrcNames) == kErrcCount);
+
+// printf into a string (the sentences of describe() are short)
+[[gnu::format(printf, 1, 2)]] std::string format(const char* fmt, ...) {
+  char buf[256];
+  va_list args;
+  va_start(args, fmt);
+  std::vsnprintf(buf, sizeof buf, fmt, args);
+  va_end(args);
+  return buf;
+}
 
 }  // namespace
 
@@ -31,56 +44,38 @@ const char* errcName(Errc e) {
 }
 
 std::string describe(const DecodeError& e) {
-  char buf[256];
   const char* what = e.type != 0 ? msgTypeName(e.type) : "datagram";
   const auto got = static_cast<unsigned long long>(e.got);
   const auto exp = static_cast<unsigned long long>(e.expected);
+  const char* at_least = std::string_view(e.field) == "payload (at least)" ? "at least " : "";
   switch (e.code) {
     case Errc::kOk:
       return "ok";
     case Errc::kTooShort:
-      std::snprintf(buf, sizeof buf, "%s: %llu bytes, too short for its %s (needs %llu)", what, got,
-                    e.field, exp);
-      break;
+      return format("%s: %llu bytes, too short for its %s (needs %llu)", what, got, e.field, exp);
     case Errc::kTooLong:
-      std::snprintf(buf, sizeof buf, "%s: %llu bytes, more than %s allows (%llu)", what, got,
-                    e.field, exp);
-      break;
+      return format("%s: %llu bytes, more than %s allows (%llu)", what, got, e.field, exp);
     case Errc::kBadMagic:
-      std::snprintf(buf, sizeof buf, "not a hapticd datagram (magic 0x%08llx, expected 0x%08llx)",
-                    got, exp);
-      break;
+      return format("not a hapticd datagram (magic 0x%08llx, expected 0x%08llx)", got, exp);
     case Errc::kBadMajor:
-      std::snprintf(buf, sizeof buf,
-                    "protocol major version %llu is not supported: this build speaks %u.%u "
-                    "(upgrade the older side)",
-                    got, kVersionMajor, kVersionMinor);
-      break;
+      return format(
+          "protocol major version %llu is not supported: this build speaks %u.%u (upgrade the "
+          "older side)",
+          got, kVersionMajor, kVersionMinor);
     case Errc::kBadFlags:
-      std::snprintf(buf, sizeof buf, "%s: unknown header flags 0x%04llx", what, got);
-      break;
+      return format("%s: unknown header flags 0x%04llx", what, got);
     case Errc::kUnknownType:
-      std::snprintf(buf, sizeof buf, "unknown message type %llu (this build knows 1..%llu)", got,
-                    exp);
-      break;
+      return format("unknown message type %llu (this build knows 1..%llu)", got, exp);
     case Errc::kBadPayloadLength:
-      std::snprintf(buf, sizeof buf, "%s: payload length %llu bytes, expected %s%llu", what, got,
-                    std::string_view(e.field) == "payload (at least)" ? "at least " : "", exp);
-      break;
+      return format("%s: payload length %llu bytes, expected %s%llu", what, got, at_least, exp);
     case Errc::kNotFinite:
-      std::snprintf(buf, sizeof buf, "%s: NaN or Inf in a float field at payload offset %llu", what,
-                    got);
-      break;
+      return format("%s: NaN or Inf in a float field at payload offset %llu", what, got);
     case Errc::kBadValue:
-      std::snprintf(buf, sizeof buf, "%s: field %s out of range (value %llu, bound %llu)", what,
-                    e.field, got, exp);
-      break;
+      return format("%s: field %s out of range (value %llu, bound %llu)", what, e.field, got, exp);
     default:
-      std::snprintf(buf, sizeof buf, "%s: refused (%s%s%s)", what, errcName(e.code),
-                    e.field[0] ? ": " : "", e.field);
-      break;
+      return format("%s: refused (%s%s%s)", what, errcName(e.code), e.field[0] ? ": " : "",
+                    e.field);
   }
-  return buf;
 }
 
 DecodeError decodeHeader(std::span<const std::uint8_t> d, Header& h) {

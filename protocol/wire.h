@@ -130,14 +130,14 @@ const char* errcName(Errc e);
 /// | 24 | 8 | u64 | sequence | per sender and session, starts at 1, +1 per datagram |
 /// | 32 | 8 | u64 | timestamp_ns | sender's CLOCK_MONOTONIC when sent, ns |
 struct Header {
-  std::uint8_t major = kVersionMajor;
-  std::uint8_t minor = kVersionMinor;
-  std::uint16_t type = 0;
-  std::uint16_t flags = 0;
-  std::uint32_t payload_length = 0;
-  std::uint64_t session_id = 0;
-  std::uint64_t sequence = 0;
-  std::uint64_t timestamp_ns = 0;
+  std::uint8_t major = kVersionMajor;  ///< the sender's major version
+  std::uint8_t minor = kVersionMinor;  ///< the sender's minor version
+  std::uint16_t type = 0;              ///< MsgType
+  std::uint16_t flags = 0;             ///< kFlag* bits
+  std::uint32_t payload_length = 0;    ///< bytes after the header, tag excluded
+  std::uint64_t session_id = 0;        ///< 0 in Hello; else the id Welcome gave
+  std::uint64_t sequence = 0;          ///< per sender and session, from 1, +1 per datagram
+  std::uint64_t timestamp_ns = 0;      ///< the sender's CLOCK_MONOTONIC when sent, ns
 };
 
 /// A refusal with the values that explain it. `describe()` turns it into a sentence.
@@ -165,36 +165,10 @@ class Reader {
  public:
   explicit Reader(std::span<const std::uint8_t> bytes) : b_(bytes) {}
 
-  std::uint8_t u8() {
-    if (!need(1))
-      return 0;
-    return b_[pos_++];
-  }
-  std::uint16_t u16() {
-    if (!need(2))
-      return 0;
-    std::uint16_t v = static_cast<std::uint16_t>(b_[pos_] | (b_[pos_ + 1] << 8));
-    pos_ += 2;
-    return v;
-  }
-  std::uint32_t u32() {
-    if (!need(4))
-      return 0;
-    std::uint32_t v = 0;
-    for (std::size_t i = 0; i < 4; ++i)
-      v |= static_cast<std::uint32_t>(b_[pos_ + i]) << (8 * i);
-    pos_ += 4;
-    return v;
-  }
-  std::uint64_t u64() {
-    if (!need(8))
-      return 0;
-    std::uint64_t v = 0;
-    for (std::size_t i = 0; i < 8; ++i)
-      v |= static_cast<std::uint64_t>(b_[pos_ + i]) << (8 * i);
-    pos_ += 8;
-    return v;
-  }
+  std::uint8_t u8() { return le<std::uint8_t>(); }
+  std::uint16_t u16() { return le<std::uint16_t>(); }
+  std::uint32_t u32() { return le<std::uint32_t>(); }
+  std::uint64_t u64() { return le<std::uint64_t>(); }
   /// An IEEE-754 binary64; NaN and Inf are read as 0 and mark the reader non-finite.
   double f64() {
     const std::size_t at = pos_;
@@ -223,6 +197,17 @@ class Reader {
   std::size_t nonFiniteAt() const { return nonfinite_at_; }
 
  private:
+  // an unsigned integer of sizeof(T) bytes, least significant first
+  template <class T>
+  T le() {
+    if (!need(sizeof(T)))
+      return 0;
+    std::uint64_t v = 0;
+    for (std::size_t i = 0; i < sizeof(T); ++i)
+      v |= static_cast<std::uint64_t>(b_[pos_ + i]) << (8 * i);
+    pos_ += sizeof(T);
+    return static_cast<T>(v);
+  }
   bool need(std::size_t n) {
     if (failed_ || b_.size() - pos_ < n) {
       failed_ = true;

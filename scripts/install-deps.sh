@@ -16,14 +16,18 @@ PACKAGES=(
   libgtest-dev libgmock-dev           # tests
   libbenchmark-dev                    # hapticbench
   libccd-dev libfcl-dev libbullet-dev # peers compared in hapticbench
-  libtinygltf-dev                     # tests: an independent glTF reader of the demo scenes
+  libtinygltf-dev                     # hapticctl import; tests: an independent glTF reader
   libdraco-dev libmeshoptimizer-dev   # scenes: Draco and meshopt compressed geometry (core/scene)
+  libassimp-dev                       # hapticctl import: .obj .stl .ply .off
+  libbullet-extras-dev                # hapticbench: the HACD decomposition peer
   libtomlplusplus-dev                 # config/hapticd.toml
   libsystemd-dev systemd              # sd_notify (READY, WATCHDOG); systemd-analyze verify in CI
   libhidapi-dev                       # hid device backend
   libusb-1.0-0-dev                    # usb device backend (hotplug, bulk)
   libsodium-dev                       # protocol: per-packet MAC, SHA-256 of scene uploads
   gnuplot-nox                         # plots of the accuracy study
+  help2man                            # hapticd(8), hapticctl(1) from their --help
+  lintian                             # scripts/package.sh --check: the Debian package's lint
 )
 
 if [[ "${1:-}" == "--print" ]]; then

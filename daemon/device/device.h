@@ -30,8 +30,8 @@ enum Capability : std::uint32_t {
   kCapForce = 1u << 2,        ///< displays force
   kCapTorque = 1u << 3,       ///< displays torque
   kCapButtons = 1u << 4,
-  kCapPoseCommands = 1u << 5, ///< driven by clients' pose commands (the sim device)
-  kCapEndOfStream = 1u << 6,  ///< ends by itself (replay)
+  kCapPoseCommands = 1u << 5,  ///< driven by clients' pose commands (the sim device)
+  kCapEndOfStream = 1u << 6,   ///< ends by itself (replay)
 };
 
 struct DeviceLimits {
@@ -40,14 +40,14 @@ struct DeviceLimits {
 };
 
 struct DeviceInfo {
-  std::string name;         ///< e.g. "sim", "replay:poses.csv", "hid 046d:c626 SpaceMouse Pro"
+  std::string name;  ///< e.g. "sim", "replay:poses.csv", "hid 046d:c626 SpaceMouse Pro"
   std::uint32_t capabilities = 0;
   DeviceLimits limits;
 };
 
 /// One reading, in the device's workspace frame (metres, radians), before the workspace mapping.
 struct DeviceSample {
-  Pose X_WD;                 ///< pose of the handle
+  Pose X_WD;  ///< pose of the handle
   Vec3 linear_velocity{0.0};
   Vec3 angular_velocity{0.0};
   std::uint32_t buttons = 0;
@@ -56,8 +56,8 @@ struct DeviceSample {
 /// How a servo-thread call ended.
 enum class DeviceStatus : std::uint8_t {
   kOk,
-  kLost,       ///< not connected (removed, I/O error): the loop sets force to zero at once
-  kEndOfStream ///< replay finished: the loop ends
+  kLost,        ///< not connected (removed, I/O error): the loop sets force to zero at once
+  kEndOfStream  ///< replay finished: the loop ends
 };
 
 /// A pose command from a client (protocol), handed to the device on the servo thread.
@@ -67,6 +67,12 @@ struct PoseCommand {
   Vec3 angular_velocity{0.0};
   std::uint32_t buttons = 0;
 };
+
+/// The command held still (velocities zero): what the command gate hands on while it ramps.
+inline void zeroVelocities(PoseCommand& c) noexcept {
+  c.linear_velocity = Vec3(0.0);
+  c.angular_velocity = Vec3(0.0);
+}
 
 class Device {
  public:
@@ -138,8 +144,23 @@ struct DeviceOptions {
   std::string usb_falcon_firmware;
 };
 
-/// Opens a device from its spec: "sim", "replay:FILE", "hid", "hid:PATH", "usb", "usb:falcon".
-/// Off the servo thread. Errors name the spec and what is wrong.
+/// A device spec taken apart: the backend and its argument.
+struct DeviceSpec {
+  enum class Backend : std::uint8_t { kSim, kReplay, kHid, kUsb };
+  Backend backend = Backend::kSim;
+  std::string arg;  ///< replay: the file; hid: the hidraw path or ""; usb: "falcon" or ""
+  /// Opening it has no effect outside the process (sim, replay): `hapticd --check-config` opens
+  /// such a device; hid and usb are checked by their spec only (opening one would take it from
+  /// a running daemon).
+  bool openIsHarmless() const { return backend == Backend::kSim || backend == Backend::kReplay; }
+};
+
+/// Checks a spec: "sim", "replay:FILE", "hid", "hid:PATH", "usb", "usb:falcon". Any thread.
+/// Errors name the spec and what is wrong.
+Result<DeviceSpec> parseDeviceSpec(std::string_view spec);
+
+/// Opens a device from its spec (parseDeviceSpec). Off the servo thread. Errors name the spec
+/// and what is wrong.
 Result<std::unique_ptr<Device>> makeDevice(std::string_view spec, const DeviceOptions& options);
 
 }  // namespace hapticd::device

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/geometry/rotation.h"
+
 namespace hapticd::device::falcon {
 
 namespace {
@@ -40,6 +42,16 @@ Vec3 legFrame(const Geometry& g, int i, const Vec3& p) noexcept {
   return Vec3(cp * p.x + sp * p.y - g.r, -sp * p.x + cp * p.y - g.s, p.z);
 }
 
+// leg i's closure terms at p: U, V, W in the leg's frame, and S2 = b^2 - V^2
+struct LegTerms {
+  double U, V, W, S2;
+};
+LegTerms legTerms(const Geometry& g, int i, const Vec3& p) noexcept {
+  const Vec3 q = legFrame(g, i, p);
+  const double V = q.y + g.f;
+  return {q.x + g.c, V, q.z, g.b * g.b - V * V};
+}
+
 // dg/dp (rows per leg, world frame) and dg/dtheta (per leg); false when a shin is stretched
 bool partials(const Geometry& g,
               const Vec3& p,
@@ -47,11 +59,7 @@ bool partials(const Geometry& g,
               Mat3& G_p,
               Vec3& G_theta) noexcept {
   for (int i = 0; i < 3; ++i) {
-    const Vec3 q = legFrame(g, i, p);
-    const double U = q.x + g.c;
-    const double V = q.y + g.f;
-    const double W = q.z;
-    const double S2 = g.b * g.b - V * V;
+    const auto [U, V, W, S2] = legTerms(g, i, p);
     if (!(S2 > 1e-12 * g.b * g.b))
       return false;
     const double S = std::sqrt(S2);
@@ -72,10 +80,6 @@ bool partials(const Geometry& g,
   return true;
 }
 
-bool finite3(const Vec3& v) noexcept {
-  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
-}
-
 }  // namespace
 
 double encoderToAngle(std::int16_t counts) noexcept {
@@ -89,25 +93,49 @@ std::int16_t angleToEncoder(double angle_rad) noexcept {
   return static_cast<std::int16_t>(std::clamp(c, -32768.0, 32767.0));
 }
 
-void encodeOut(const OutPacket& in, std::span<std::uint8_t, kPacketSize> out) noexcept {
+namespace {
+
+// The frame both directions share: '<', three 16-bit values as nibbles, a status byte, a pad,
+// '>'.
+void encodeFrame(const std::array<std::int16_t, 3>& values,
+                 std::uint8_t status,
+                 std::span<std::uint8_t, kPacketSize> out) noexcept {
   out[0] = '<';
-  for (int i = 0; i < 3; ++i)
-    putNibbles(&out[static_cast<std::size_t>(1 + 4 * i)], in.motor[static_cast<std::size_t>(i)]);
-  out[13] = static_cast<std::uint8_t>(kNibbleBase + ((in.leds & 0x0e) | (in.homing_mode ? 1 : 0)));
+  for (std::size_t i = 0; i < 3; ++i)
+    putNibbles(&out[1 + 4 * i], values[i]);
+  out[13] = static_cast<std::uint8_t>(kNibbleBase + status);
   out[14] = kNibbleBase;
   out[15] = '>';
 }
 
-bool decodeOut(std::span<const std::uint8_t, kPacketSize> in, OutPacket& out) noexcept {
+// false when malformed: the delimiters, a value's nibbles, a status above `max_status`
+bool decodeFrame(std::span<const std::uint8_t, kPacketSize> in,
+                 std::uint8_t max_status,
+                 std::array<std::int16_t, 3>& values,
+                 std::uint8_t& status) noexcept {
   if (in[0] != '<' || in[15] != '>')
     return false;
-  OutPacket r;
-  for (int i = 0; i < 3; ++i)
-    if (!getNibbles(&in[static_cast<std::size_t>(1 + 4 * i)], r.motor[static_cast<std::size_t>(i)]))
+  for (std::size_t i = 0; i < 3; ++i)
+    if (!getNibbles(&in[1 + 4 * i], values[i]))
       return false;
-  if (in[13] < kNibbleBase || in[13] > kNibbleBase + 0xf)
+  if (in[13] < kNibbleBase || in[13] > kNibbleBase + max_status)
     return false;
-  const auto v = static_cast<std::uint8_t>(in[13] - kNibbleBase);
+  status = static_cast<std::uint8_t>(in[13] - kNibbleBase);
+  return true;
+}
+
+}  // namespace
+
+void encodeOut(const OutPacket& in, std::span<std::uint8_t, kPacketSize> out) noexcept {
+  encodeFrame(in.motor, static_cast<std::uint8_t>((in.leds & 0x0e) | (in.homing_mode ? 1 : 0)),
+              out);
+}
+
+bool decodeOut(std::span<const std::uint8_t, kPacketSize> in, OutPacket& out) noexcept {
+  OutPacket r;
+  std::uint8_t v = 0;
+  if (!decodeFrame(in, 0xf, r.motor, v))
+    return false;
   r.leds = static_cast<std::uint8_t>(v & 0x0e);
   r.homing_mode = (v & kHomingMode) != 0;
   out = r;
@@ -115,26 +143,15 @@ bool decodeOut(std::span<const std::uint8_t, kPacketSize> in, OutPacket& out) no
 }
 
 void encodeIn(const InPacket& in, std::span<std::uint8_t, kPacketSize> out) noexcept {
-  out[0] = '<';
-  for (int i = 0; i < 3; ++i)
-    putNibbles(&out[static_cast<std::size_t>(1 + 4 * i)], in.encoders[static_cast<std::size_t>(i)]);
-  out[13] = static_cast<std::uint8_t>(kNibbleBase +
-                                      (((in.homing_status & 7) << 4) | (in.buttons & 0x0f)));
-  out[14] = kNibbleBase;
-  out[15] = '>';
+  encodeFrame(in.encoders,
+              static_cast<std::uint8_t>(((in.homing_status & 7) << 4) | (in.buttons & 0x0f)), out);
 }
 
 bool decodeIn(std::span<const std::uint8_t, kPacketSize> in, InPacket& out) noexcept {
-  if (in[0] != '<' || in[15] != '>')
-    return false;
   InPacket r;
-  for (int i = 0; i < 3; ++i)
-    if (!getNibbles(&in[static_cast<std::size_t>(1 + 4 * i)],
-                    r.encoders[static_cast<std::size_t>(i)]))
-      return false;
-  if (in[13] < kNibbleBase || in[13] > kNibbleBase + 0x7f)
+  std::uint8_t v = 0;
+  if (!decodeFrame(in, 0x7f, r.encoders, v))
     return false;
-  const auto v = static_cast<std::uint8_t>(in[13] - kNibbleBase);
   r.homing_status = static_cast<std::uint8_t>((v >> 4) & 7);
   r.buttons = static_cast<std::uint8_t>(v & 0x0f);
   out = r;
@@ -169,11 +186,8 @@ int PacketReader::feed(std::span<const std::uint8_t> bytes) noexcept {
 Vec3 constraint(const Geometry& g, const Vec3& p, const Vec3& theta) noexcept {
   Vec3 out;
   for (int i = 0; i < 3; ++i) {
-    const Vec3 q = legFrame(g, i, p);
-    const double U = q.x + g.c;
-    const double V = q.y + g.f;
-    const double W = q.z;
-    const double S = std::sqrt(std::max(0.0, g.b * g.b - V * V));
+    const auto [U, V, W, S2] = legTerms(g, i, p);
+    const double S = std::sqrt(std::max(0.0, S2));
     const double du = U - g.a * std::cos(theta[i]);
     const double dw = W - g.a * std::sin(theta[i]);
     const double L = g.d + g.e + S;
@@ -203,7 +217,7 @@ FkStatus forwardKinematics(const Geometry& g,
     if (len > 0.02)
       step *= 0.02 / len;
     x -= step;
-    if (!finite3(x))
+    if (!geom::finite(x))
       return FkStatus::kSingular;
     if (len < kStepTolerance_m) {
       p = x;
@@ -216,11 +230,7 @@ FkStatus forwardKinematics(const Geometry& g,
 bool inverseKinematics(const Geometry& g, const Vec3& p, Vec3& theta) noexcept {
   Vec3 out;
   for (int i = 0; i < 3; ++i) {
-    const Vec3 q = legFrame(g, i, p);
-    const double U = q.x + g.c;
-    const double V = q.y + g.f;
-    const double W = q.z;
-    const double S2 = g.b * g.b - V * V;
+    const auto [U, V, W, S2] = legTerms(g, i, p);
     if (!(S2 >= 0.0))
       return false;
     const double L = g.d + g.e + std::sqrt(S2);
@@ -283,7 +293,7 @@ std::array<std::int16_t, 3> motorCommands(const Geometry& g,
                                           int max_command) noexcept {
   std::array<std::int16_t, 3> out{};
   Mat3 J;
-  if (!finite3(force_n) || !jacobian(g, p, theta, J))
+  if (!geom::finite(force_n) || !jacobian(g, p, theta, J))
     return out;
   const Vec3 tau = glm::transpose(J) * force_n;
   Vec3 counts = kMotorCountsPerNm * tau;

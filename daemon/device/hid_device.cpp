@@ -116,13 +116,8 @@ Result<std::unique_ptr<HidDevice>> HidDevice::open(std::unique_ptr<HidBackend> b
   return dev;
 }
 
-bool HidDevice::connected() const noexcept {
-  return state_.load() == kConnected;
-}
-
 void HidDevice::markLost() noexcept {
-  state_.store(kLost, std::memory_order_release);
-  disconnects_.fetch_add(1, std::memory_order_relaxed);
+  link_.markLost();
   has_input_ = false;
   has_previous_ = false;
   spacemouse_.started = false;
@@ -131,7 +126,7 @@ void HidDevice::markLost() noexcept {
 }
 
 DeviceStatus HidDevice::read(double t_s, DeviceSample& out) noexcept {
-  if (state_.load(std::memory_order_acquire) != kConnected)
+  if (!link_.connected())
     return DeviceStatus::kLost;
   std::array<std::uint8_t, 64> buf{};
   for (int i = 0; i < kMaxReportsPerRead; ++i) {
@@ -187,7 +182,7 @@ DeviceStatus HidDevice::read(double t_s, DeviceSample& out) noexcept {
 }
 
 DeviceStatus HidDevice::write(const Vec3& force_n, const Vec3& torque_nm) noexcept {
-  if (state_.load(std::memory_order_acquire) != kConnected)
+  if (!link_.connected())
     return DeviceStatus::kLost;
   if (model_.kind == HidModel::kSpaceMouse)
     return DeviceStatus::kOk;
@@ -207,9 +202,9 @@ DeviceStatus HidDevice::write(const Vec3& force_n, const Vec3& torque_nm) noexce
 }
 
 bool HidDevice::service() {
-  if (state_.load(std::memory_order_acquire) == kConnected)
+  if (link_.connected())
     return true;
-  // the servo thread stopped touching the transport when it stored kLost
+  // the servo thread stopped touching the transport when it marked the device lost
   transport_.reset();
   for (const HidDeviceEntry& e : backend_->enumerate()) {
     const bool same = explicit_path_
@@ -223,7 +218,7 @@ bool HidDevice::service() {
       continue;
     transport_ = std::move(t).value();
     entry_.path = e.path;  // a replugged device may come back under another hidraw node
-    state_.store(kConnected, std::memory_order_release);
+    link_.markConnected();
     return true;
   }
   return false;

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "daemon/device/device.h"
+#include "daemon/device/connection.h"
 #include "daemon/device/hid_reports.h"
 
 namespace hapticd::device {
@@ -54,7 +54,7 @@ std::unique_ptr<HidBackend> makeHidapiBackend();
 std::optional<HidModel> hidModelOf(const HidDeviceEntry& entry);
 
 /// The HID device. read()/write() on the servo thread; service() reopens a lost device.
-class HidDevice final : public Device {
+class HidDevice final : public HotplugDevice {
  public:
   /// path: the device to use ("" = the first SpaceMouse or generic device found). Off the servo
   /// thread; fails when nothing suitable is found or it cannot be opened.
@@ -72,8 +72,6 @@ class HidDevice final : public Device {
   DeviceStatus write(const Vec3& force_n, const Vec3& torque_nm) noexcept override;
   /// Reopens a lost device when it is back. Normal thread.
   bool service() override;
-  bool connected() const noexcept override;
-  std::uint64_t disconnects() const noexcept override { return disconnects_.load(); }
 
   /// Input reports refused (wrong size, bad quaternion, unknown id) since open. Any thread.
   std::uint64_t badReports() const noexcept { return bad_reports_.load(); }
@@ -88,16 +86,13 @@ class HidDevice final : public Device {
             const DeviceOptions& options);
   void markLost() noexcept;
 
-  enum State : int { kConnected, kLost };
   std::unique_ptr<HidBackend> backend_;
-  std::unique_ptr<HidTransport> transport_;  // used by the servo thread only while kConnected
+  std::unique_ptr<HidTransport> transport_;  // used by the servo thread only while connected
   HidDeviceEntry entry_;
   HidModel model_;
   bool explicit_path_;
   DeviceOptions options_;
   DeviceInfo info_;
-  std::atomic<int> state_{kConnected};
-  std::atomic<std::uint64_t> disconnects_{0};
   std::atomic<std::uint64_t> bad_reports_{0};
   // servo-thread state
   SpaceMouseState spacemouse_;

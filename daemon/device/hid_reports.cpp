@@ -64,14 +64,25 @@ constexpr SpaceMouseModel kModels[] = {
     {0x256f, 0xc652, "3Dconnexion Universal Receiver", SpaceMouseReports::kCombined},
 };
 
+// kOk when `r` is report `id` with at least `size` bytes; else kIgnored (another report) or
+// kWrongSize
+HidReportStatus checkReport(std::span<const std::uint8_t> r,
+                            std::uint8_t id,
+                            std::size_t size) noexcept {
+  if (r.empty() || r[0] != id)
+    return HidReportStatus::kIgnored;
+  if (r.size() < size)
+    return HidReportStatus::kWrongSize;
+  return HidReportStatus::kOk;
+}
+
 }  // namespace
 
 HidReportStatus parseGenericInput(std::span<const std::uint8_t> r,
                                   GenericInputReport& out) noexcept {
-  if (r.empty() || r[0] != kGenericInputReportId)
-    return HidReportStatus::kIgnored;
-  if (r.size() < kGenericInputReportSize)
-    return HidReportStatus::kWrongSize;
+  if (const auto st = checkReport(r, kGenericInputReportId, kGenericInputReportSize);
+      st != HidReportStatus::kOk)
+    return st;
   const std::uint8_t* p = r.data();
   const double qx = getI16(p + 15) * kGenericQuatUnit;
   const double qy = getI16(p + 17) * kGenericQuatUnit;
@@ -124,10 +135,9 @@ void composeGenericOutput(const GenericOutputReport& in,
 
 HidReportStatus parseGenericOutput(std::span<const std::uint8_t> r,
                                    GenericOutputReport& out) noexcept {
-  if (r.empty() || r[0] != kGenericOutputReportId)
-    return HidReportStatus::kIgnored;
-  if (r.size() < kGenericOutputReportSize)
-    return HidReportStatus::kWrongSize;
+  if (const auto st = checkReport(r, kGenericOutputReportId, kGenericOutputReportSize);
+      st != HidReportStatus::kOk)
+    return st;
   const std::uint8_t* p = r.data();
   out.sequence = getU16(p + 1);
   for (int i = 0; i < 3; ++i)

@@ -22,6 +22,18 @@ constexpr unsigned kBulkReadTimeout_ms = 1;
 constexpr unsigned kBulkWriteTimeout_ms = 2;
 constexpr int kFtdiPacket = 64;  // each USB packet from the FTDI starts with 2 modem status bytes
 
+// The data of `got` bytes of FTDI packets into `buf` (the 2 status bytes at the start of every
+// 64-byte USB packet stripped); the bytes written.
+int stripFtdiStatus(const std::uint8_t* raw, int got, std::span<std::uint8_t> buf) noexcept {
+  std::size_t out = 0;
+  for (int off = 0; off < got; off += kFtdiPacket) {
+    const int end = std::min(got, off + kFtdiPacket);
+    for (int i = off + 2; i < end && out < buf.size(); ++i)
+      buf[out++] = raw[i];
+  }
+  return static_cast<int>(out);
+}
+
 class LibusbTransport final : public UsbTransport {
  public:
   explicit LibusbTransport(libusb_device_handle* h) : h_(h) {}
@@ -35,14 +47,7 @@ class LibusbTransport final : public UsbTransport {
                                         &got, kBulkReadTimeout_ms);
     if (rc != 0 && rc != LIBUSB_ERROR_TIMEOUT)
       return -1;
-    // strip the 2 status bytes at the start of every 64-byte USB packet
-    std::size_t out = 0;
-    for (int off = 0; off < got; off += kFtdiPacket) {
-      const int end = std::min(got, off + kFtdiPacket);
-      for (int i = off + 2; i < end && out < buf.size(); ++i)
-        buf[out++] = raw_[static_cast<std::size_t>(i)];
-    }
-    return static_cast<int>(out);
+    return stripFtdiStatus(raw_.data(), got, buf);
   }
   int write(std::span<const std::uint8_t> bytes) noexcept override {
     int sent = 0;
@@ -85,10 +90,7 @@ class BlockingLink final : public falcon::FtdiLink {
                                         &got, timeout_ms);
     if (rc != 0 && rc != LIBUSB_ERROR_TIMEOUT)
       return -1;
-    std::size_t out = 0;
-    for (int i = 2; i < got && out < buf.size(); ++i)
-      buf[out++] = raw[static_cast<std::size_t>(i)];
-    return static_cast<int>(out);
+    return stripFtdiStatus(raw.data(), got, buf);
   }
 
  private:

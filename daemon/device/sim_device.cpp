@@ -38,22 +38,20 @@ double smoothstepDerivative(double x) noexcept {
 
 }  // namespace
 
-void simIdleMotion(const Pose& X_W_home,
-                   double amplitude_m,
-                   double angle_rad,
-                   double t_s,
-                   Pose& X_W_out,
-                   Vec3& v_W_out,
-                   Vec3& w_W_out) noexcept {
+IdleMotion simIdleMotion(const Pose& X_W_home,
+                         double amplitude_m,
+                         double angle_rad,
+                         double t_s) noexcept {
+  IdleMotion m;
   const double wx = kTwoPi / kIdlePeriodX_s;
   const double wy = kTwoPi / kIdlePeriodY_s;
   const double wz = kTwoPi / kIdlePeriodZ_s;
   // a closed Lissajous curve starting at the home pose (offset zero at t = 0)
-  X_W_out.translation =
+  m.X_W.translation =
       X_W_home.translation +
       amplitude_m * Vec3(std::sin(wx * t_s), std::sin(wy * t_s), 0.5 * std::sin(wz * t_s));
-  v_W_out = amplitude_m *
-            Vec3(wx * std::cos(wx * t_s), wy * std::cos(wy * t_s), 0.5 * wz * std::cos(wz * t_s));
+  m.v_W = amplitude_m *
+          Vec3(wx * std::cos(wx * t_s), wy * std::cos(wy * t_s), 0.5 * wz * std::cos(wz * t_s));
   // rotation: yaw beta about world Z after pitch alpha about world X, both applied before home
   const double wa = kTwoPi / kIdlePeriodPitch_s;
   const double wb = kTwoPi / kIdlePeriodYaw_s;
@@ -63,8 +61,9 @@ void simIdleMotion(const Pose& X_W_home,
   const double beta_dot = angle_rad * wb * std::cos(wb * t_s);
   const geom::Quat qx(std::cos(0.5 * alpha), std::sin(0.5 * alpha), 0.0, 0.0);
   const geom::Quat qz(std::cos(0.5 * beta), 0.0, 0.0, std::sin(0.5 * beta));
-  X_W_out.rotation = glm::normalize(qz * qx * X_W_home.rotation);
-  w_W_out = beta_dot * Vec3(0.0, 0.0, 1.0) + qz * (alpha_dot * Vec3(1.0, 0.0, 0.0));
+  m.X_W.rotation = glm::normalize(qz * qx * X_W_home.rotation);
+  m.w_W = beta_dot * Vec3(0.0, 0.0, 1.0) + qz * (alpha_dot * Vec3(1.0, 0.0, 0.0));
+  return m;
 }
 
 SimDevice::SimDevice(const DeviceOptions& options)
@@ -89,12 +88,12 @@ void SimDevice::target(double t_s,
     w_W_target = has_command_ ? command_.angular_velocity : Vec3(0.0);
     return;
   }
-  Pose X_idle;
-  Vec3 v_idle;
-  Vec3 w_idle;
   // the idle path's own clock starts when the idle motion starts, so it leaves from its home
-  simIdleMotion(options_.sim_home, options_.sim_idle_amplitude_m, options_.sim_idle_angle_rad,
-                t_s - idle_start_s, X_idle, v_idle, w_idle);
+  const IdleMotion idle = simIdleMotion(options_.sim_home, options_.sim_idle_amplitude_m,
+                                        options_.sim_idle_angle_rad, t_s - idle_start_s);
+  const Pose& X_idle = idle.X_W;
+  const Vec3& v_idle = idle.v_W;
+  const Vec3& w_idle = idle.w_W;
   const double x = (t_s - idle_start_s) / kIdleBlend_s;
   const double s = smoothstep(x);
   const double s_dot = smoothstepDerivative(x) / kIdleBlend_s;

@@ -9,15 +9,18 @@
 
 namespace hapticd::device {
 
-/// The built-in gentle motion: a smooth Lissajous path around X_W_home. t_s seconds.
-/// Returns the pose and its exact time derivative (linear m/s, angular rad/s, world frame).
-void simIdleMotion(const Pose& X_W_home,
-                   double amplitude_m,
-                   double angle_rad,
-                   double t_s,
-                   Pose& X_W_out,
-                   Vec3& v_W_out,
-                   Vec3& w_W_out) noexcept;
+/// A point of the built-in gentle motion: the pose and its exact time derivative (linear m/s,
+/// angular rad/s, world frame).
+struct IdleMotion {
+  Pose X_W;
+  Vec3 v_W{0.0};
+  Vec3 w_W{0.0};
+};
+/// The built-in gentle motion: a smooth Lissajous path around X_W_home at t_s seconds.
+IdleMotion simIdleMotion(const Pose& X_W_home,
+                         double amplitude_m,
+                         double angle_rad,
+                         double t_s) noexcept;
 
 /// The simulated hand. Deterministic: the same calls give bitwise the same samples.
 class SimDevice final : public Device {

@@ -62,19 +62,14 @@ Result<std::unique_ptr<FalconDevice>> FalconDevice::open(std::unique_ptr<UsbBack
     else
       self->arrival_seen_.store(true);
   });
-  dev->state_.store(kLost);
+  dev->link_.markClosed();
   if (!dev->reopen())
     return Error{"device 'usb:falcon': " + dev->last_error_};
   return dev;
 }
 
-bool FalconDevice::connected() const noexcept {
-  return state_.load() == kConnected;
-}
-
 void FalconDevice::markLost() noexcept {
-  state_.store(kLost, std::memory_order_release);
-  disconnects_.fetch_add(1, std::memory_order_relaxed);
+  link_.markLost();
   homed_.store(false, std::memory_order_relaxed);
 }
 
@@ -160,12 +155,12 @@ bool FalconDevice::reopen() {
   velocity_ = Vec3(0.0);
   removal_requested_.store(false);
   arrival_seen_.store(false);
-  state_.store(kConnected, std::memory_order_release);
+  link_.markConnected();
   return true;
 }
 
 DeviceStatus FalconDevice::read(double t_s, DeviceSample& out) noexcept {
-  if (state_.load(std::memory_order_acquire) != kConnected)
+  if (!link_.connected())
     return DeviceStatus::kLost;
   if (removal_requested_.load(std::memory_order_acquire)) {
     markLost();
@@ -222,7 +217,7 @@ DeviceStatus FalconDevice::read(double t_s, DeviceSample& out) noexcept {
 }
 
 DeviceStatus FalconDevice::write(const Vec3& force_n, const Vec3& /*torque_nm*/) noexcept {
-  if (state_.load(std::memory_order_acquire) != kConnected)
+  if (!link_.connected())
     return DeviceStatus::kLost;
   falcon::OutPacket cmd;
   const bool homed = homed_.load(std::memory_order_relaxed);
@@ -246,9 +241,9 @@ DeviceStatus FalconDevice::write(const Vec3& force_n, const Vec3& /*torque_nm*/)
 
 bool FalconDevice::service() {
   backend_->handleEvents();
-  if (!hotplug_ && state_.load() == kConnected && backend_->countFalcons() == 0)
+  if (!hotplug_ && link_.connected() && backend_->countFalcons() == 0)
     removal_requested_.store(true);  // polling stands in for the removal event
-  if (state_.load(std::memory_order_acquire) == kConnected)
+  if (link_.connected())
     return true;
   // lost: the servo thread no longer touches the transport
   transport_.reset();

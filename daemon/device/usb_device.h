@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "daemon/device/device.h"
+#include "daemon/device/connection.h"
 #include "daemon/device/falcon.h"
 
 namespace hapticd::device {
@@ -57,7 +57,7 @@ Result<std::unique_ptr<UsbBackend>> makeLibusbBackend();
 /// the user), identity orientation; force only (torque ignored). Until the firmware reports all
 /// three axes homed, forces are zero and the homing mode is on (the user moves the grip through
 /// its range to home; the LED is red, then green).
-class FalconDevice final : public Device {
+class FalconDevice final : public HotplugDevice {
  public:
   /// Opens the Falcon through backend. Off the servo thread; fails when none is plugged in or
   /// it cannot be opened.
@@ -74,8 +74,6 @@ class FalconDevice final : public Device {
   DeviceStatus write(const Vec3& force_n, const Vec3& torque_nm) noexcept override;
   /// Hotplug events; reopens the Falcon when it is back. Normal thread.
   bool service() override;
-  bool connected() const noexcept override;
-  std::uint64_t disconnects() const noexcept override { return disconnects_.load(); }
 
   /// Whether the firmware reports every axis homed (servo thread's view). Any thread.
   bool homed() const noexcept { return homed_.load(std::memory_order_relaxed); }
@@ -93,20 +91,17 @@ class FalconDevice final : public Device {
   Probe openAndProbe();
   bool probe();
 
-  enum State : int { kConnected, kLost };
   std::unique_ptr<UsbBackend> backend_;
-  std::unique_ptr<UsbTransport> transport_;  // servo thread only while kConnected
+  std::unique_ptr<UsbTransport> transport_;  // servo thread only while connected
   DeviceOptions options_;
   DeviceInfo info_;
   falcon::Geometry geometry_;
   Vec3 home_F_;  // the workspace middle, Falcon frame
   bool hotplug_ = false;
-  std::vector<std::uint8_t> firmware_;  // empty: never load
-  std::string last_error_;              // why the last reopen failed (normal thread)
-  std::atomic<int> state_{kConnected};
+  std::vector<std::uint8_t> firmware_;          // empty: never load
+  std::string last_error_;                      // why the last reopen failed (normal thread)
   std::atomic<bool> removal_requested_{false};  // set by the hotplug callback
   std::atomic<bool> arrival_seen_{false};
-  std::atomic<std::uint64_t> disconnects_{0};
   std::atomic<std::uint64_t> malformed_{0};
   std::atomic<std::uint64_t> fk_failures_{0};
   std::atomic<bool> homed_{false};

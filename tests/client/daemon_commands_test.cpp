@@ -11,10 +11,17 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <limits>
 #include <nlohmann/json.hpp>
 #include <numbers>
 #include <sstream>
+#include <thread>
+#include <tuple>
 
+#include "client/state_format.h"
+#include "core/scene/loader.h"
+#include "protocol/auth.h"
+#include "protocol/udp.h"
 #include "tests/client/fake_daemon.h"
 
 namespace hapticd::client {
@@ -40,6 +47,25 @@ std::vector<std::string> split(const std::string& line) {
   if (!line.empty() && line.back() == ',')
     out.emplace_back();
   return out;
+}
+
+// The rows of a CSV file whose first line must be `header`, each split into fields; a row whose
+// field count differs from the header's is reported and left out.
+std::vector<std::vector<std::string>> csvRows(const std::filesystem::path& file,
+                                              const std::string& header) {
+  std::ifstream in(file);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, header) << file;
+  const std::size_t columns = split(header).size();
+  std::vector<std::vector<std::string>> rows;
+  while (std::getline(in, line)) {
+    auto f = split(line);
+    EXPECT_EQ(f.size(), columns) << line;
+    if (f.size() == columns)
+      rows.push_back(std::move(f));
+  }
+  return rows;
 }
 
 double num(const std::string& s) {
@@ -77,17 +103,9 @@ struct RecordCheck {
 RecordCheck checkRecord(const std::filesystem::path& file,
                         const proto::WirePose* device = nullptr) {
   RecordCheck c;
-  std::ifstream in(file);
-  std::string line;
-  std::getline(in, line);
-  EXPECT_EQ(line, recordHeader());
-  EXPECT_EQ(split(line).size(), 27u);
+  EXPECT_EQ(split(recordHeader()).size(), 27u);
   std::uint64_t prev = 0;
-  while (std::getline(in, line)) {
-    const auto f = split(line);
-    EXPECT_EQ(f.size(), 27u) << line;
-    if (f.size() != 27)
-      continue;
+  for (const auto& f : csvRows(file, recordHeader())) {
     const std::uint64_t tick = std::stoull(f[0]) + 1;  // the record's tick is State::tick − 1
     if (c.rows > 0) {
       EXPECT_GT(tick, prev) << "rows out of tick order";
@@ -126,7 +144,7 @@ RecordCheck checkRecord(const std::filesystem::path& file,
                                    static_cast<double>(s.pairs_skipped),
                                    static_cast<double>(s.tick_ns)};
     for (std::size_t i = 0; i < want.size(); ++i) {
-      EXPECT_FALSE(f[i + 1].empty()) << "column " << i + 1 << " empty: " << line;
+      EXPECT_FALSE(f[i + 1].empty()) << "column " << i + 1 << " empty in the row of tick " << f[0];
       EXPECT_EQ(num(f[i + 1]), want[i]) << "column " << i + 1 << " of tick " << tick;
     }
   }
@@ -141,21 +159,37 @@ std::uint64_t reportedMissing(const std::string& out) {
   return std::stoull(out.substr(start + 1, at - start - 1));
 }
 
+// `hapticctl record` of `seconds` into the temp file `name` (and the body poses into the temp
+// file `bodies`, when given): its exit code, what it said, the files
+struct Recorded {
+  int rc = -1;
+  std::string out, err, file, bodies_file;
+};
+Recorded record(const DaemonTarget& t,
+                const std::string& name,
+                double seconds,
+                const std::string& bodies = "") {
+  RecordOptions o;
+  o.file = tempFile(name).string();
+  o.bodies_file = bodies.empty() ? "" : tempFile(bodies).string();
+  o.seconds = seconds;
+  std::ostringstream out, err;
+  const int rc = runRecord(t, o, out, err);
+  return {rc, out.str(), err.str(), o.file, o.bodies_file};
+}
+
 TEST(DaemonCommands, RecordWritesEveryColumnWithTheDaemonsValuesAndCountsMissingTicks) {
   FakeDaemon d(/*tick_rate_hz=*/500, /*skip_every=*/7);  // ticks 7, 14, 21, ... never shown
   ASSERT_TRUE(d.error().empty()) << d.error();
-  RecordOptions o;
-  o.file = tempFile("rec.csv").string();
-  o.seconds = 0.3;
-  std::ostringstream out, err;
-  ASSERT_EQ(runRecord(d.target(), o, out, err), 0) << err.str();
-  const RecordCheck c = checkRecord(o.file);
+  const Recorded r = record(d.target(), "rec.csv", 0.3);
+  ASSERT_EQ(r.rc, 0) << r.err;
+  const RecordCheck c = checkRecord(r.file);
   ASSERT_GT(c.rows, 20u);
   // every tick the fake never showed is missing, and every missing tick is counted
   ASSERT_GT(c.gaps, 0u);
   std::uint64_t first = 0, last = 0;
   {
-    std::ifstream in(o.file);
+    std::ifstream in(r.file);
     std::string line;
     std::getline(in, line);
     bool any = false;
@@ -172,34 +206,30 @@ TEST(DaemonCommands, RecordWritesEveryColumnWithTheDaemonsValuesAndCountsMissing
           << "tick " << k << " was never shown but is in the record";
     }
   }
-  EXPECT_EQ(reportedMissing(out.str()), c.gaps) << out.str();
+  EXPECT_EQ(reportedMissing(r.out), c.gaps) << r.out;
   EXPECT_EQ(
-      out.str().rfind("recorded " + std::to_string(c.rows) + " rows to " + o.file + " (ticks ", 0),
-      0u)
-      << out.str();
-  EXPECT_NE(err.str().find("warning: " + std::to_string(c.gaps) + " of the"), std::string::npos)
-      << err.str();
-  EXPECT_NE(err.str().find("not complete"), std::string::npos) << err.str();
+      r.out.rfind("recorded " + std::to_string(c.rows) + " rows to " + r.file + " (ticks ", 0), 0u)
+      << r.out;
+  EXPECT_NE(r.err.find("warning: " + std::to_string(c.gaps) + " of the"), std::string::npos)
+      << r.err;
+  EXPECT_NE(r.err.find("not complete"), std::string::npos) << r.err;
 }
 
 TEST(DaemonCommands, RecordWarnsExactlyWhenTicksAreMissing) {
   FakeDaemon d(500, 0);
   ASSERT_TRUE(d.error().empty()) << d.error();
-  RecordOptions o;
-  o.file = tempFile("rec_full.csv").string();
-  o.seconds = 0.2;
-  std::ostringstream out, err;
-  ASSERT_EQ(runRecord(d.target(), o, out, err), 0) << err.str();
-  const RecordCheck c = checkRecord(o.file);
+  const Recorded r = record(d.target(), "rec_full.csv", 0.2);
+  ASSERT_EQ(r.rc, 0) << r.err;
+  const RecordCheck c = checkRecord(r.file);
   EXPECT_GT(c.rows, 10u);
-  EXPECT_EQ(reportedMissing(out.str()), c.gaps) << out.str();
+  EXPECT_EQ(reportedMissing(r.out), c.gaps) << r.out;
   // each_tick: no tick twice; a tick is only missed when the fake's server thread was off the
   // CPU for a whole tick (2 ms), which the count then says
   if (c.gaps == 0) {
-    EXPECT_EQ(err.str().find("warning"), std::string::npos) << err.str();
+    EXPECT_EQ(r.err.find("warning"), std::string::npos) << r.err;
   } else {
-    EXPECT_NE(err.str().find("warning: " + std::to_string(c.gaps) + " of the"), std::string::npos)
-        << err.str();
+    EXPECT_NE(r.err.find("warning: " + std::to_string(c.gaps) + " of the"), std::string::npos)
+        << r.err;
   }
 }
 
@@ -462,17 +492,33 @@ TEST(DaemonCommands, SceneEditWithABadPoseExits2AndSendsNothing) {
 
 // ---- watch ----------------------------------------------------------------------------------
 
+// `hapticctl watch --json` of `count` lines at `rate_hz`: its exit code, stderr, the lines parsed
+struct Watched {
+  int rc = -1;
+  std::string err;
+  std::vector<nlohmann::json> lines;
+};
+Watched watchJson(const DaemonTarget& t,
+                  std::uint32_t rate_hz,
+                  std::uint64_t count,
+                  bool bodies = false) {
+  WatchOptions o;
+  o.rate_hz = rate_hz;
+  o.count = count;
+  o.json = true;
+  o.bodies = bodies;
+  std::ostringstream out, err;
+  const int rc = runWatch(t, o, out, err);
+  return {rc, err.str(), rc == 0 ? jsonLines(out.str()) : std::vector<nlohmann::json>{}};
+}
+
 TEST(DaemonCommands, WatchJsonCarriesTheMinorOneFieldsAndTheDeepestContacts) {
   FakeDaemon d;
   ASSERT_TRUE(d.error().empty()) << d.error();
-  WatchOptions o;
-  o.rate_hz = 50;
-  o.count = 3;
-  o.json = true;
-  std::ostringstream out, err;
-  ASSERT_EQ(runWatch(d.target(), o, out, err), 0) << err.str();
+  const Watched w = watchJson(d.target(), 50, 3);
+  ASSERT_EQ(w.rc, 0) << w.err;
   std::size_t n = 0;
-  for (const nlohmann::json& j : jsonLines(out.str())) {
+  for (const nlohmann::json& j : w.lines) {
     ++n;
     const std::uint64_t tick = j["tick"];
     const proto::State s = stateFor(tick);
@@ -528,9 +574,7 @@ TEST(DaemonCommandsShm, PoseOverSharedMemory) {
   FakeShmDaemon d("pose");
   ASSERT_TRUE(d.error().empty()) << d.error();
   PoseOptions o;
-  o.px = 0.01;
-  o.py = 0.02;
-  o.pz = 0.03;
+  std::tie(o.px, o.py, o.pz) = std::tuple(0.01, 0.02, 0.03);
   o.seconds = 0.1;
   o.rate_hz = 100;
   std::ostringstream out, err;
@@ -582,28 +626,21 @@ TEST(DaemonCommandsShm, ReplayOverSharedMemoryDefaultsToTheMeasuredTickRate) {
 TEST(DaemonCommandsShm, RecordOverSharedMemoryWritesEveryColumn) {
   FakeShmDaemon d("record");
   ASSERT_TRUE(d.error().empty()) << d.error();
-  RecordOptions o;
-  o.file = tempFile("shm_rec.csv").string();
-  o.seconds = 0.2;
-  std::ostringstream out, err;
-  ASSERT_EQ(runRecord(d.target(), o, out, err), 0) << err.str();
-  const RecordCheck c = checkRecord(o.file);
+  const Recorded r = record(d.target(), "shm_rec.csv", 0.2);
+  ASSERT_EQ(r.rc, 0) << r.err;
+  const RecordCheck c = checkRecord(r.file);
   EXPECT_GT(c.rows, 5u);
-  EXPECT_EQ(reportedMissing(out.str()), c.gaps) << out.str();
+  EXPECT_EQ(reportedMissing(r.out), c.gaps) << r.out;
 }
 
 TEST(DaemonCommandsShm, WatchOverSharedMemoryPrintsAtMostTheRate) {
   FakeShmDaemon d("watch");
   ASSERT_TRUE(d.error().empty()) << d.error();
-  WatchOptions o;
-  o.rate_hz = 1000;
-  o.count = 3;
-  o.json = true;
-  std::ostringstream out, err;
-  ASSERT_EQ(runWatch(d.target(), o, out, err), 0) << err.str();
+  const Watched w = watchJson(d.target(), 1000, 3);
+  ASSERT_EQ(w.rc, 0) << w.err;
   std::uint64_t prev = 0;
   std::size_t n = 0;
-  for (const nlohmann::json& j : jsonLines(out.str())) {
+  for (const nlohmann::json& j : w.lines) {
     const std::uint64_t tick = j["tick"];
     EXPECT_GT(tick, prev);
     prev = tick;
@@ -623,6 +660,273 @@ TEST(DaemonCommandsShm, NoSegmentExits1WithWhy) {
   std::ostringstream out, err;
   EXPECT_EQ(runPose(t, o, out, err), 1);
   EXPECT_NE(err.str().find("hapticctl pose: --shm " + t.shm_name), std::string::npos) << err.str();
+}
+
+// ---- the edges a user hits ------------------------------------------------------------------
+
+// a loopback UDP port nothing listens on (bound for a moment, then closed)
+std::uint16_t closedPort() {
+  auto s = proto::UdpSocket::bind(proto::parseAddress("127.0.0.1:0").value());
+  return s ? s.value().localAddress().port() : 1;
+}
+
+TEST(DaemonCommandsEdges, NoDaemonFailsAtOnceOnPortUnreachable) {
+  DaemonTarget t;
+  t.port = closedPort();
+  t.timeout_ms = 60000;  // waiting it out would take a minute and say "within 60000 ms"
+  std::ostringstream out, err;
+  EXPECT_EQ(runStatus(t, {}, out, err), 1);
+  EXPECT_NE(err.str().find("no daemon at 127.0.0.1:" + std::to_string(t.port) +
+                           ": the port is unreachable"),
+            std::string::npos)
+      << err.str();
+  EXPECT_EQ(err.str().find("within"), std::string::npos) << err.str();
+  EXPECT_TRUE(out.str().empty());
+}
+
+TEST(DaemonCommandsEdges, AWrongKeyIsReportedAsAWrongKey) {
+  const proto::Key key = proto::randomKey();
+  FakeDaemon d(1000, 0, key);
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  DaemonTarget t = d.target();
+  t.timeout_ms = 300;
+  t.key_file = tempFile("wrong.key").string();
+  std::ofstream(t.key_file) << proto::keyToHex(proto::randomKey()) << "\n";
+  std::ostringstream out, err;
+  EXPECT_EQ(runArm(t, true, out, err), 1);
+  EXPECT_NE(err.str().find("hapticctl: wrong key: hapticd at 127.0.0.1:"), std::string::npos)
+      << err.str();
+  EXPECT_EQ(err.str().find("no daemon"), std::string::npos) << err.str();
+  EXPECT_TRUE(d.commands().empty());
+  // the right key arms
+  std::ofstream(t.key_file) << proto::keyToHex(key) << "\n";
+  std::ostringstream out2, err2;
+  EXPECT_EQ(runArm(t, true, out2, err2), 0) << err2.str();
+  ASSERT_EQ(d.commands().size(), 1u);
+  EXPECT_TRUE(d.commands()[0].authenticated);
+}
+
+TEST(DaemonCommandsEdges, PoseRefusesNegativeSecondsAndARateNotAbove0) {
+  FakeDaemon d;
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  struct Case {
+    double seconds, rate_hz;
+    const char* message;
+  };
+  for (const Case& c : {Case{-1.0, 200.0, "--seconds must be a finite number ≥ 0 (got -1)"},
+                        Case{std::nan(""), 200.0, "--seconds must be"},
+                        Case{0.5, 0.0, "--rate must be a finite number > 0, Hz (got 0)"},
+                        Case{0.5, -5.0, "--rate must be"},
+                        Case{0.5, std::numeric_limits<double>::infinity(), "--rate must be"}}) {
+    PoseOptions o;
+    o.seconds = c.seconds;
+    o.rate_hz = c.rate_hz;
+    std::ostringstream out, err;
+    EXPECT_EQ(runPose(d.target(), o, out, err), 2) << c.message;
+    EXPECT_NE(err.str().find(std::string("hapticctl pose: ") + c.message), std::string::npos)
+        << err.str();
+  }
+  EXPECT_TRUE(d.commands().empty());  // refused before connecting
+}
+
+TEST(DaemonCommandsEdges, AFailedRecordLeavesNoFileAndAnOlderOneAsItWas) {
+  DaemonTarget t;
+  t.port = closedPort();
+  RecordOptions o;
+  o.file = tempFile("failed.csv").string();
+  o.bodies_file = tempFile("failed_bodies.csv").string();
+  std::filesystem::remove(o.file);
+  std::ofstream(o.bodies_file) << "an older file\n";
+  std::ostringstream out, err;
+  EXPECT_EQ(runRecord(t, o, out, err), 1);
+  EXPECT_FALSE(std::filesystem::exists(o.file));
+  std::ifstream older(o.bodies_file);
+  std::string line;
+  std::getline(older, line);
+  EXPECT_EQ(line, "an older file");
+  // nothing else left in the folder from this record
+  for (const auto& e : std::filesystem::directory_iterator(tempFile("").parent_path()))
+    EXPECT_EQ(e.path().filename().string().find("failed.csv.tmp"), std::string::npos);
+  // a daemon that went away: no file either
+  FakeDaemon d;
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  d.stop();
+  std::ostringstream out2, err2;
+  EXPECT_EQ(runRecord(d.target(), o, out2, err2), 1);
+  EXPECT_FALSE(std::filesystem::exists(o.file));
+  // a bad number refused before anything is created
+  o.seconds = -2.0;
+  std::ostringstream out3, err3;
+  EXPECT_EQ(runRecord(t, o, out3, err3), 2);
+  EXPECT_NE(err3.str().find("--seconds must be a finite number ≥ 0"), std::string::npos);
+  EXPECT_FALSE(std::filesystem::exists(o.file));
+}
+
+// Reads a bodies file and checks every row against stateFor(tick) (names: `names`, else
+// body<index>); the number of rows.
+std::size_t checkBodies(const std::filesystem::path& file, const std::vector<std::string>& names) {
+  EXPECT_EQ(std::string(bodiesHeader()), "tick,t,body,px,py,pz,qx,qy,qz,qw");
+  std::size_t rows = 0;
+  for (const auto& f : csvRows(file, bodiesHeader())) {
+    const std::string line = f[0] + "," + f[1] + "," + f[2];
+    const std::uint64_t tick = std::stoull(f[0]) + 1;
+    const proto::State s = stateFor(tick);
+    const auto& b = s.bodies[rows % 2];  // each tick lists body 1, then body 4
+    EXPECT_EQ(num(f[1]), static_cast<double>(s.sim_time_ns) * 1e-9);
+    EXPECT_EQ(f[2], names.empty() ? "body" + std::to_string(b.body_index) : names[b.body_index]);
+    for (std::size_t i = 0; i < 3; ++i)
+      EXPECT_EQ(num(f[3 + i]), b.X_WB.p[i]) << line;
+    for (std::size_t i = 0; i < 4; ++i)
+      EXPECT_EQ(num(f[6 + i]), b.X_WB.q[i]) << line;
+    ++rows;
+  }
+  return rows;
+}
+
+TEST(DaemonCommandsEdges, RecordBodiesWritesTheRecordBodiesColumnsForEveryRecordedTick) {
+  FakeDaemon d(500, 0);
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  const Recorded r = record(d.target(), "with_bodies.csv", 0.2, "bodies.csv");
+  ASSERT_EQ(r.rc, 0) << r.err;
+  const RecordCheck c = checkRecord(r.file);
+  ASSERT_GT(c.rows, 10u);
+  EXPECT_EQ(checkBodies(r.bodies_file, {}), 2 * c.rows);  // two bodies in every recorded tick
+  EXPECT_NE(r.out.find("recorded the body poses of those ticks to " + r.bodies_file),
+            std::string::npos)
+      << r.out;
+  RecordOptions o;
+  o.file = r.file;
+  o.bodies_file = r.bodies_file;
+  o.seconds = 0.2;
+  // with the scene: the bodies by their node names, as the daemon's --record-bodies
+  const std::string scene = std::string(HAPTICD_SOURCE_DIR) + "/scenes/dynamic.glb";
+  const scene::LoadReport report = scene::loadSceneFile(scene);
+  ASSERT_TRUE(report.ok()) << report.message();
+  std::vector<std::string> names;
+  for (const auto& b : report.scene->bodies)
+    names.push_back(b.name);
+  ASSERT_GT(names.size(), 4u);
+  o.scene_file = scene;
+  std::ostringstream out2, err2;
+  ASSERT_EQ(runRecord(d.target(), o, out2, err2), 0) << err2.str();
+  EXPECT_EQ(checkBodies(o.bodies_file, names), 2 * checkRecord(o.file).rows);
+  // a scene that does not load: exit 2, nothing written
+  o.scene_file = tempFile("not-a-scene.glb").string();
+  std::ofstream(o.scene_file) << "not glTF";
+  std::filesystem::remove(o.bodies_file);
+  std::ostringstream out3, err3;
+  EXPECT_EQ(runRecord(d.target(), o, out3, err3), 2);
+  EXPECT_NE(err3.str().find("hapticctl record: --scene " + o.scene_file), std::string::npos)
+      << err3.str();
+  EXPECT_FALSE(std::filesystem::exists(o.bodies_file));
+}
+
+TEST(DaemonCommandsEdges, RecordBodiesOverSharedMemory) {
+  FakeShmDaemon d("record_bodies");
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  const Recorded r = record(d.target(), "shm_with_bodies.csv", 0.2, "shm_bodies.csv");
+  ASSERT_EQ(r.rc, 0) << r.err;
+  const std::size_t rows = checkRecord(r.file).rows;
+  ASSERT_GT(rows, 5u);
+  EXPECT_EQ(checkBodies(r.bodies_file, {}), 2 * rows);
+}
+
+TEST(DaemonCommandsEdges, WatchBodiesShowsEveryBodyPose) {
+  FakeDaemon d;
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  const Watched w = watchJson(d.target(), 50, 2, /*bodies=*/true);
+  ASSERT_EQ(w.rc, 0) << w.err;
+  std::size_t n = 0;
+  for (const nlohmann::json& j : w.lines) {
+    const proto::State s = stateFor(j["tick"]);
+    ASSERT_EQ(j["bodies"].size(), 2u);
+    for (std::size_t b = 0; b < 2; ++b) {
+      EXPECT_EQ(j["bodies"][b]["body"], s.bodies[b].body_index);
+      EXPECT_EQ(j["bodies"][b]["p"], s.bodies[b].X_WB.p);
+      EXPECT_EQ(j["bodies"][b]["q"], s.bodies[b].X_WB.q);
+    }
+    EXPECT_EQ(j["bodies_truncated"], false);
+    ++n;
+  }
+  EXPECT_EQ(n, 2u);
+  WatchOptions o;
+  o.rate_hz = 50;
+  o.count = 2;
+  o.bodies = true;
+  o.json = false;
+  std::ostringstream text, err2;
+  ASSERT_EQ(runWatch(d.target(), o, text, err2), 0) << err2.str();
+  const std::string line = text.str().substr(0, text.str().find('\n'));
+  const proto::State s = stateFor(std::stoull(line.substr(5, line.find(' ', 5) - 5)));
+  char want[160];
+  std::snprintf(want, sizeof want, " | bodies 2: 1 at (%.4g, %.4g, %.4g), 4 at (%.4g, %.4g, %.4g)",
+                s.bodies[0].X_WB.p[0], s.bodies[0].X_WB.p[1], s.bodies[0].X_WB.p[2],
+                s.bodies[1].X_WB.p[0], s.bodies[1].X_WB.p[1], s.bodies[1].X_WB.p[2]);
+  EXPECT_NE(line.find(want), std::string::npos) << want << "\n" << line;
+  // without --bodies the line and the object say nothing of bodies
+  o.bodies = false;
+  std::ostringstream plain, err3;
+  ASSERT_EQ(runWatch(d.target(), o, plain, err3), 0) << err3.str();
+  EXPECT_EQ(plain.str().find("bodies"), std::string::npos) << plain.str();
+}
+
+TEST(DaemonCommandsEdges, StatusShowsForceAndContactsOfARecentTick) {
+  FakeDaemon d;
+  ASSERT_TRUE(d.error().empty()) << d.error();
+  StatusOptions o;
+  o.json = true;
+  std::ostringstream out, err;
+  ASSERT_EQ(runStatus(d.target(), o, out, err), 0) << err.str();
+  const nlohmann::json j = nlohmann::json::parse(out.str());
+  EXPECT_EQ(j["device"], "fake");
+  ASSERT_TRUE(j["state"].is_object()) << out.str();
+  const proto::State s = stateFor(j["state"]["tick"]);
+  EXPECT_EQ(j["state"]["force_n"], s.force_n);
+  EXPECT_EQ(j["state"]["torque_nm"], s.torque_nm);
+  EXPECT_EQ(j["state"]["contacts"], s.contact_count);
+  EXPECT_EQ(j["state"]["deepest_m"], 1e-4 * 3);
+  EXPECT_EQ(j["state"]["max_penetration_m"], s.max_penetration_m);
+  // the text says the same, on the line after the commands
+  o.json = false;
+  std::ostringstream text, err2;
+  ASSERT_EQ(runStatus(d.target(), o, text, err2), 0) << err2.str();
+  const std::string t = text.str();
+  const auto at = t.find("\nforce ");
+  ASSERT_NE(at, std::string::npos) << t;
+  const auto tick_at = t.find("(tick ", at);
+  const std::uint64_t tick = std::stoull(t.substr(tick_at + 6));
+  const proto::State st = stateFor(tick);
+  char want[200];
+  std::snprintf(want, sizeof want, "force %.4g N (%.4g, %.4g, %.4g), torque %.4g N m, contacts %u",
+                norm(st.force_n), st.force_n[0], st.force_n[1], st.force_n[2], norm(st.torque_nm),
+                st.contact_count);
+  EXPECT_EQ(t.find(want), at + 1) << want << "\n" << t;
+}
+
+TEST(DaemonCommandsEdges, WatchAndRecordSayWhenTheDaemonGoesAway) {
+  for (const bool record_it : {false, true}) {
+    FakeDaemon d;
+    ASSERT_TRUE(d.error().empty()) << d.error();
+    std::ostringstream out, err;
+    int rc = -1;
+    std::thread command([&] {
+      if (record_it) {
+        RecordOptions o;
+        o.file = tempFile("gone.csv").string();
+        o.seconds = 60.0;  // the daemon goes long before
+        rc = runRecord(d.target(), o, out, err);
+      } else {
+        WatchOptions o;  // until interrupted
+        rc = runWatch(d.target(), o, out, err);
+      }
+    });
+    EXPECT_TRUE(d.waitForSession());
+    std::this_thread::sleep_for(std::chrono::milliseconds(200));  // subscribed, states coming
+    d.stop();
+    command.join();
+    EXPECT_EQ(rc, 1);
+    EXPECT_NE(err.str().find("went away"), std::string::npos) << err.str();
+  }
 }
 
 }  // namespace

@@ -9,6 +9,7 @@
 #include <chrono>
 #include <cmath>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <vector>
@@ -44,6 +45,10 @@ inline proto::State stateFor(std::uint64_t tick) {
   s.pairs_tested = static_cast<std::uint32_t>(2 * tick);
   s.pairs_skipped = static_cast<std::uint32_t>(tick % 3);
   s.tick_ns = static_cast<std::uint32_t>(1000 + tick);
+  for (std::uint32_t b : {1u, 4u}) {  // two moving bodies, scene indices 1 and 4
+    const double h = 0.005 * k * b;   // a rotation about z
+    s.bodies.push_back({b, {{0.25 * b, k * 1e-4, -1.0}, {0.0, 0.0, std::sin(h), std::cos(h)}}});
+  }
   return s;
 }
 
@@ -51,12 +56,15 @@ inline proto::State stateFor(std::uint64_t tick) {
 class FakeDaemon {
  public:
   /// tick_rate_hz: told in Welcome, and the fake's tick rate on the monotonic clock. skip_every:
-  /// ticks that are multiples of it are never shown (0: none skipped).
-  explicit FakeDaemon(std::uint32_t tick_rate_hz = 1000, std::uint64_t skip_every = 0)
+  /// ticks that are multiples of it are never shown (0: none skipped). key: the daemon's key.
+  explicit FakeDaemon(std::uint32_t tick_rate_hz = 1000,
+                      std::uint64_t skip_every = 0,
+                      std::optional<proto::Key> key = std::nullopt)
       : skip_every_(skip_every) {
     proto::ServerConfig cfg;
     cfg.bind_address = "127.0.0.1:0";
     cfg.tick_rate_hz = tick_rate_hz;
+    cfg.key = key;
     proto::ServerHandlers h;
     h.on_command = [this](const proto::CommandEvent& e) {
       std::lock_guard<std::mutex> l(m_);
@@ -75,6 +83,10 @@ class FakeDaemon {
     // a servo ticking at tick_rate_hz since construction: the newest tick now (a skipped tick
     // is never newest: its predecessor is shown until the next one)
     start_ns_ = proto::monotonicNs();
+    h.fill_status = [](proto::StatusReply& r) {
+      r.device = "fake";
+      r.scene = "fake.glb";
+    };
     h.fill_state = [this, tick_rate_hz](proto::State& s) {
       std::uint64_t tick = 1 + (proto::monotonicNs() - start_ns_) * tick_rate_hz / 1'000'000'000;
       if (skip_every_ != 0 && tick % skip_every_ == 0)
@@ -87,21 +99,32 @@ class FakeDaemon {
       server_ = std::move(s).value();
     else
       error_ = s.error().message;
+    target_.host = "127.0.0.1";
+    target_.port = server_ ? server_->localAddress().port() : 1;
+    target_.timeout_ms = 3000;
     if (server_)
       thread_ = std::thread([this] { server_->run(stop_); });
   }
-  ~FakeDaemon() {
+  ~FakeDaemon() { stop(); }
+  /// The daemon goes away: its thread ends and its socket closes (the port then answers "port
+  /// unreachable"). target() stays as it was.
+  void stop() {
     stop_ = true;
     if (thread_.joinable())
       thread_.join();
+    server_.reset();
   }
   const std::string& error() const { return error_; }
-  DaemonTarget target() const {
-    DaemonTarget t;
-    t.host = "127.0.0.1";
-    t.port = server_ ? server_->localAddress().port() : 1;
-    t.timeout_ms = 3000;
-    return t;
+  DaemonTarget target() const { return target_; }
+  /// Waits up to 3 s for a client's session; false when none came.
+  bool waitForSession() const {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::seconds(3);
+    while (server_ && server_->sessionCount() == 0) {
+      if (std::chrono::steady_clock::now() > end)
+        return false;
+      std::this_thread::sleep_for(std::chrono::milliseconds(2));
+    }
+    return true;
   }
   void refuseUpdatesWith(std::string text) {
     std::lock_guard<std::mutex> l(m_);
@@ -133,6 +156,7 @@ class FakeDaemon {
   std::uint64_t skip_every_;
   std::uint64_t start_ns_ = 0;
   std::unique_ptr<proto::Server> server_;
+  DaemonTarget target_;
   std::string error_;
   std::atomic<bool> stop_{false};
   std::thread thread_;
@@ -194,6 +218,14 @@ class FakeShmDaemon {
         x.pairs_skipped = st.pairs_skipped;
         x.max_penetration_m = st.max_penetration_m;
         x.tick_ns = st.tick_ns;
+        x.body_count = st.bodies.size();
+        for (std::size_t b = 0; b < st.bodies.size(); ++b) {
+          x.bodies[b].index = st.bodies[b].body_index;
+          for (std::size_t i = 0; i < 3; ++i)
+            x.bodies[b].X_WB[i] = st.bodies[b].X_WB.p[i];
+          for (std::size_t i = 0; i < 4; ++i)
+            x.bodies[b].X_WB[3 + i] = st.bodies[b].X_WB.q[i];
+        }
         server_->publish(x);
         std::this_thread::sleep_for(period);
       }

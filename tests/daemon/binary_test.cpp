@@ -28,52 +28,37 @@
 #include <thread>
 #include <vector>
 
+#include "tests/daemon/daemon_fixture.h"
+
 namespace {
 
 namespace fs = std::filesystem;
+using hapticd::testing::ScratchDir;
+using hapticd::testing::slurp;
 const std::string kSource = HAPTICD_SOURCE_DIR;
-
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
 
 class BinaryTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("hapticd_binary_test_" + std::to_string(getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
   void TearDown() override {
     if (pid_ > 0) {
       kill(pid_, SIGKILL);
       waitpid(pid_, nullptr, 0);
     }
-    fs::remove_all(dir_);
   }
 
-  // Starts hapticd with `args`; stdout and stderr go to files. `prepare` runs in the child
-  // before exec (async-signal-safe calls only).
+  // Starts hapticd with `args` (and a free UDP port and a shm segment of its own unless given);
+  // stdout and stderr go to files. `prepare` runs in the child before exec (async-signal-safe
+  // calls only).
   void start(const std::vector<std::string>& args,
              void (*prepare)() = nullptr,
              const std::vector<std::string>& extra_env = {}) {
-    std::vector<std::string> env_strings(extra_env);
-    for (char** e = environ; *e != nullptr; ++e)
-      env_strings.emplace_back(*e);
-    std::vector<char*> envp;
-    for (auto& e : env_strings)
-      envp.push_back(e.data());
-    envp.push_back(nullptr);
     std::vector<std::string> all{HAPTICD_BINARY};
     all.insert(all.end(), args.begin(), args.end());
     if (std::find(args.begin(), args.end(), "--help") == args.end()) {
-      all.push_back("--udp");  // any free port: test runs in parallel do not collide
-      all.push_back("127.0.0.1:0");
+      if (std::find(args.begin(), args.end(), "--udp") == args.end()) {
+        all.push_back("--udp");  // any free port: test runs in parallel do not collide
+        all.push_back("127.0.0.1:0");
+      }
       if (std::find(args.begin(), args.end(), "--shm") == args.end()) {
         static int runs = 0;  // a segment of its own per run, for the same reason
         all.push_back("--shm");
@@ -81,44 +66,15 @@ class BinaryTest : public ::testing::Test {
                       std::to_string(++runs));
       }
     }
-    std::vector<char*> argv;
-    for (auto& a : all)
-      argv.push_back(a.data());
-    argv.push_back(nullptr);
-    const std::string out = (dir_ / "stdout").string(), err = (dir_ / "stderr").string();
-    pid_ = fork();
+    pid_ = hapticd::testing::spawn(all, dir_ / "stdout", dir_ / "stderr", {extra_env, prepare});
     ASSERT_GE(pid_, 0);
-    if (pid_ == 0) {
-      const int o = open(out.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-      const int e = open(err.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-      dup2(o, 1);
-      dup2(e, 2);
-      sigset_t none;
-      sigemptyset(&none);
-      sigprocmask(SIG_SETMASK, &none, nullptr);
-      if (prepare)
-        prepare();
-      execve(argv[0], argv.data(), envp.data());
-      _exit(127);
-    }
   }
 
   // Exit code, or -1 after killing a child that did not end within `limit_s` (a hang).
   int wait(double limit_s = 240.0) {
-    const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
-    int status = 0;
-    while (std::chrono::steady_clock::now() < until) {
-      const pid_t r = waitpid(pid_, &status, WNOHANG);
-      if (r == pid_) {
-        pid_ = -1;
-        return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    kill(pid_, SIGKILL);
-    waitpid(pid_, nullptr, 0);
+    const int code = hapticd::testing::waitExit(pid_, limit_s);
     pid_ = -1;
-    return -1;
+    return code;
   }
 
   int run(const std::vector<std::string>& args, void (*prepare)() = nullptr) {
@@ -127,28 +83,28 @@ class BinaryTest : public ::testing::Test {
   }
 
   nlohmann::json status() {
-    auto j = nlohmann::json::parse(slurp(dir_ / "status.json"), nullptr, false);
-    return j.is_discarded() ? nlohmann::json::object() : j;
+    return hapticd::testing::parseJsonOrEmpty(slurp(dir_ / "status.json"));
   }
   bool waitForStatus(const std::function<bool(const nlohmann::json&)>& pred) {
-    for (int i = 0; i < 12000; ++i) {
-      const auto j = status();
-      if (!j.empty() && pred(j))
-        return true;
-      int st = 0;
-      if (waitpid(pid_, &st, WNOHANG) == pid_) {
-        pid_ = -1;
-        return false;  // ended early
-      }
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
+    bool ended = false;
+    const bool held = hapticd::testing::pollUntil(
+        [&] {
+          const auto j = status();
+          if (!j.empty() && pred(j))
+            return true;
+          ended = !hapticd::testing::running(pid_);
+          return ended;
+        },
+        12000);
+    if (ended)
+      pid_ = -1;
+    return held && !ended;
   }
   std::string out() { return slurp(dir_ / "stdout"); }
   std::string err() { return slurp(dir_ / "stderr"); }
   std::string path(const char* name) { return (dir_ / name).string(); }
 
-  fs::path dir_;
+  ScratchDir dir_{"hapticd_binary_test"};
   pid_t pid_ = -1;
 };
 
@@ -166,6 +122,98 @@ TEST_F(BinaryTest, BadConfigIsRefusedWithFileLineAndKey) {
   EXPECT_EQ(
       run({"--config", (fs::path(kSource) / "config/hapticd.toml").string(), "--check-config"}), 0);
 }
+
+// the lines of a log that say "error:", and the command line parser's (not the log's) lines
+std::string errorLines(const std::string& log) {
+  std::istringstream in(log);
+  std::string out;
+  for (std::string line; std::getline(in, line);)
+    if (line.find("error:") != std::string::npos || line.rfind("hapticd: ", 0) != 0)
+      out += line + "\n";
+  return out;
+}
+
+struct StartCase {
+  const char* name;
+  const char* config;             // config file text (realtime off is added)
+  std::vector<std::string> args;  // more options
+  int code;                       // what start-up and --check-config exit with
+  const char* message;            // in the error line
+};
+
+void PrintTo(const StartCase& c, std::ostream* os) {
+  *os << c.name;
+}
+
+class CheckConfigTest : public BinaryTest, public ::testing::WithParamInterface<StartCase> {};
+
+// --check-config refuses exactly what start-up refuses, with the same exit code and message
+TEST_P(CheckConfigTest, RefusesExactlyWhatStartUpRefuses) {
+  const StartCase& c = GetParam();
+  std::ofstream(path("c.toml")) << "[servo]\nrealtime = \"off\"\n" << c.config;
+  std::vector<std::string> args{"--config", path("c.toml")};
+  args.insert(args.end(), c.args.begin(), c.args.end());
+  auto check = args;
+  check.push_back("--check-config");
+  EXPECT_EQ(run(check), c.code) << err();
+  const std::string checked = errorLines(err());
+  const std::string checked_out = out();
+  auto start = args;
+  start.insert(start.end(), {"--ticks", "1"});
+  EXPECT_EQ(run(start), c.code) << err();
+  EXPECT_EQ(errorLines(err()), checked);
+  if (c.code == 0) {
+    EXPECT_EQ(checked_out.rfind("configuration ok: ", 0), 0u) << checked_out;
+  } else {
+    EXPECT_NE(checked.find(c.message), std::string::npos) << checked;
+    EXPECT_EQ(checked_out, "");
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(
+    BinaryTest,
+    CheckConfigTest,
+    ::testing::Values(
+        StartCase{"Good", "", {}, 0, ""},
+        StartCase{"SceneMissing",
+                  "[scene]\npath = \"/nonexistent/scene.glb\"\n",
+                  {},
+                  1,
+                  "cannot load the scene: [scene] path '/nonexistent/scene.glb'"},
+        StartCase{"DemoUnknown",
+                  "[scene]\ndemo = \"nope\"\n",
+                  {},
+                  1,
+                  "[scene] demo: \"nope\" is not a demo scene"},
+        StartCase{"BackstopOverOne",
+                  "[response]\ndynamic_backstop_fraction = 2.0\n",
+                  {},
+                  2,
+                  "c.toml:4: [response] dynamic_backstop_fraction: must be in [0, 1] (got 2)"},
+        StartCase{"CreaseAngle90",
+                  "[response]\ncrease_angle_deg = 90\n",
+                  {},
+                  2,
+                  "[response] crease_angle_deg: must be in [0, 90) degrees (got 90)"},
+        StartCase{"RemoteWithoutKey",
+                  "",
+                  {"--udp", "0.0.0.0:0"},
+                  1,
+                  "[network] udp: 0.0.0.0:0 is not a loopback address and [network] key_file is "
+                  "not set"},
+        StartCase{"KeyFileMissing",
+                  "[network]\nkey_file = \"/nonexistent/key\"\n",
+                  {},
+                  1,
+                  "[network] key_file: cannot read '/nonexistent/key'"},
+        StartCase{"ReplayFileMissing",
+                  "",
+                  {"--device", "replay:/nonexistent/poses.csv"},
+                  1,
+                  "device 'replay:/nonexistent/poses.csv'"},
+        StartCase{"DeviceSpecBad", "[device]\nspec = \"hid:\"\n", {}, 1, "'hid:' needs a path"},
+        StartCase{"RateOnTheCommandLine", "", {"--rate", "0.5"}, 2, "--rate"}),
+    [](const ::testing::TestParamInfo<StartCase>& i) { return std::string(i.param.name); });
 
 // every column but tick_ns (the last) of a record
 std::vector<std::string> withoutTickNs(const std::string& csv) {

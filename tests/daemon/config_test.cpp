@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "daemon/command_line.h"
+#include "daemon/config_keys.h"
 
 namespace hapticd::daemon {
 namespace {
@@ -22,6 +23,18 @@ TEST(Config, ShippedFileEqualsTheBuiltInDefaults) {
   auto parsed = loadConfigFile(kFile);
   ASSERT_TRUE(parsed) << parsed.error().message;
   EXPECT_TRUE(parsed.value().config == Config{});
+}
+
+std::string slurp(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+TEST(Config, ShippedFileIsTheOneTheTableMakes) {
+  // regenerate with: build/release/bin/hapticd --print-config > config/hapticd.toml
+  EXPECT_EQ(slurp(kFile), toToml(Config{}));
 }
 
 TEST(Config, ShippedFileSetsEveryKeyOnceWithItsDefaultInTheCommentAbove) {
@@ -86,7 +99,7 @@ TEST(Config, DefaultsAreThoseOfTheSimulationAndDeviceOptions) {
   EXPECT_EQ(a.max_pairs_per_tick, b.max_pairs_per_tick);
   EXPECT_EQ(a.probe_sphere_radius_m, b.probe_sphere_radius_m);
 
-  const device::DeviceOptions d = toDeviceOptions(c);
+  const device::DeviceOptions& d = c.device.options;
   const device::DeviceOptions f;
   EXPECT_EQ(d.limits.max_force_n, f.limits.max_force_n);
   EXPECT_EQ(d.limits.max_torque_nm, f.limits.max_torque_nm);
@@ -128,12 +141,12 @@ TEST(Config, PrintedConfigParsesBackToTheSame) {
   Config c;
   c.servo.rate_hz = 4000.0;
   c.device.spec = "replay:a \"quoted\" name.csv";
-  c.device.workspace_scale = 0.1;
-  c.response.hinge_attach = sim::ResponseOptions::HingeAttach::kRim;
-  c.response.grab_weight = false;
-  c.response.grab_inertia_filter_s = 0.03;
-  c.response.impulse_window_s = 0.01;
-  c.response.dynamics_sleep_time_s = 0.0;
+  c.device.workspace.scale = 0.1;
+  c.response.sim.response.hinge_attach = sim::ResponseOptions::HingeAttach::kRim;
+  c.response.sim.response.grab_weight = false;
+  c.response.sim.response.grab_inertia_filter_s = 0.03;
+  c.response.sim.dynamics_impulse_window_s = 0.01;
+  c.response.sim.dynamics_sleep_time_s = 0.0;
   c.network.shm = "/hapticd-printed";
   auto parsed = parseConfig(toToml(c), "printed.toml");
   ASSERT_TRUE(parsed) << parsed.error().message;
@@ -177,8 +190,8 @@ level = "debug"
   EXPECT_EQ(c.servo.realtime, RealtimePolicy::kRequire);
   EXPECT_EQ(c.servo.cpu, 1);
   EXPECT_EQ(c.device.spec, "replay:x.csv");
-  EXPECT_EQ(c.device.workspace_scale, 2.5);
-  EXPECT_EQ(c.response.stiffness_n_per_m, 1200.0);
+  EXPECT_EQ(c.device.workspace.scale, 2.5);
+  EXPECT_EQ(c.response.sim.response.stiffness_n_per_m, 1200.0);
   EXPECT_FALSE(toSimOptions(c).response.grab_weight);
   EXPECT_TRUE(toSimOptions(c).response.grab_inertia);
   EXPECT_EQ(toSimOptions(c).response.grab_inertia_filter_s, 0.02);
@@ -248,6 +261,92 @@ TEST(Config, EveryProblemOfAFileIsListed) {
   EXPECT_NE(m.find("f.toml:2:"), std::string::npos);
   EXPECT_NE(m.find("f.toml:3:"), std::string::npos);
   EXPECT_NE(m.find("f.toml:5:"), std::string::npos);
+}
+
+// every key: a value past its range is refused, and the message names the key as the file does
+TEST(Config, EveryRangeIsCheckedAndNamesItsKey) {
+  for (const ConfigKey& k : configKeys()) {
+    if (!std::holds_alternative<double*>(k.in(Config{})))
+      continue;
+    for (const double v : {k.range.hi * 2.0 + 1.0, k.range.lo - 1.0}) {
+      Config c;
+      *std::get<double*>(k.in(c)) = v;
+      auto r = validateConfig(c);
+      ASSERT_FALSE(r) << k.label() << " = " << v;
+      EXPECT_EQ(r.error().message.rfind(k.label() + ": must be", 0), 0u) << r.error().message;
+      // the same through a file, with the line
+      auto parsed = parseConfig(
+          "[" + std::string(k.section) + "]\n" + std::string(k.name) + " = " + tomlFloat(v) + "\n",
+          "r.toml");
+      ASSERT_FALSE(parsed) << k.label();
+      EXPECT_NE(parsed.error().message.find("r.toml:2: " + k.label() + ": must be"),
+                std::string::npos)
+          << parsed.error().message;
+    }
+  }
+}
+
+// the cases the simulation refused after the config had passed them (issue 14)
+TEST(Config, RangesAreTheSimulationsAndTheLoaders) {
+  const std::pair<const char*, const char*> refused[] = {
+      {"[response]\ndynamic_backstop_fraction = 2.0\n",
+       "[response] dynamic_backstop_fraction: must be in [0, 1]"},
+      {"[response]\ncrease_angle_deg = 90.0\n", "[response] crease_angle_deg: must be in [0, 90)"},
+      {"[response]\ncrease_angle_deg = 120\n", "[response] crease_angle_deg: must be in [0, 90)"},
+      {"[response]\nproxy_stiffness_ratio = 1.0\n",
+       "[response] proxy_stiffness_ratio: must be > 1"},
+      {"[response]\nmin_predictive_fraction = 0\n",
+       "[response] min_predictive_fraction: must be > 0"},
+      {"[scene]\ntessellation_tolerance = 0.5\n",
+       "[scene] tessellation_tolerance: must be in (0, 0.5)"},
+  };
+  for (const auto& [text, expect] : refused) {
+    auto parsed = parseConfig(text, "s.toml");
+    ASSERT_FALSE(parsed) << text;
+    EXPECT_NE(parsed.error().message.find(expect), std::string::npos) << parsed.error().message;
+  }
+  auto ok = parseConfig("[response]\ndynamic_backstop_fraction = 1.0\ncrease_angle_deg = 89.5\n",
+                        "s.toml");
+  ASSERT_TRUE(ok) << ok.error().message;
+  EXPECT_EQ(ok.value().config.response.sim.response.crease_angle_deg, 89.5);
+}
+
+TEST(Config, ADeprecatedKeyIsReadIntoItsNewKeyWithAWarning) {
+  const DeprecatedKey renamed[] = {{"response", "k_s", "response", "stiffness_n_per_m"},
+                                   {"device", "old_scale", "device", "workspace_scale"}};
+  auto parsed = parseConfig("[response]\nk_s = 700\n", "d.toml", renamed);
+  ASSERT_TRUE(parsed) << parsed.error().message;
+  EXPECT_EQ(parsed.value().config.response.sim.response.stiffness_n_per_m, 700.0);
+  ASSERT_EQ(parsed.value().warnings.size(), 1u);
+  EXPECT_EQ(parsed.value().warnings[0],
+            "d.toml:2: [response] k_s is deprecated: use [response] stiffness_n_per_m (the value "
+            "is taken for it)");
+  EXPECT_EQ(parsed.value().keys_set, std::vector<std::string>{"response.stiffness_n_per_m"});
+  // its value is held to the new key's range, and the message names both
+  auto bad = parseConfig("[device]\nold_scale = -1\n", "d.toml", renamed);
+  ASSERT_FALSE(bad);
+  EXPECT_NE(bad.error().message.find("d.toml:2: [device] old_scale: must be > 0"),
+            std::string::npos)
+      << bad.error().message;
+  // both names at once: refused
+  auto both = parseConfig("[response]\nk_s = 700\nstiffness_n_per_m = 800\n", "d.toml", renamed);
+  ASSERT_FALSE(both);
+  EXPECT_NE(both.error().message.find("is set twice"), std::string::npos) << both.error().message;
+  EXPECT_NE(both.error().message.find("keep only [response] stiffness_n_per_m"), std::string::npos);
+  // without the list it is an unknown key
+  EXPECT_FALSE(parseConfig("[response]\nk_s = 700\n", "d.toml", {}));
+}
+
+TEST(Config, ChangedKeysNamesWhatDiffers) {
+  Config a, b;
+  b.device.options.sim_hand_mass_kg = 0.7;
+  b.response.sim.response.stiffness_n_per_m = 700.0;
+  EXPECT_EQ(changedKeys(a, b),
+            (std::vector<std::string>{"device.sim_hand_mass_kg", "response.stiffness_n_per_m"}));
+  const std::string_view restart_only[] = {"servo", "device", "network"};
+  EXPECT_EQ(changedKeys(a, b, restart_only), std::vector<std::string>{"device.sim_hand_mass_kg"});
+  EXPECT_FALSE(a == b);
+  EXPECT_TRUE(a == Config{});
 }
 
 TEST(Config, MissingFileIsAClearError) {

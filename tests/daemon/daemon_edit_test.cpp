@@ -32,6 +32,7 @@
 #include "protocol/client.h"
 #include "protocol/server.h"
 #include "protocol/shm.h"
+#include "tests/daemon/daemon_fixture.h"
 #include "tests/daemon/fakes.h"
 
 namespace hapticd::daemon {
@@ -44,22 +45,11 @@ using SteadyClock = std::chrono::steady_clock;
 
 class DaemonEditTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    name_ = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-    dir_ = fs::temp_directory_path() /
-           ("hapticd_daemon_edit_test_" + std::to_string(getpid()) + "_" + name_);
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    sigset_t set;
-    sigemptyset(&set);
-    sigaddset(&set, SIGTERM);
-    sigaddset(&set, SIGHUP);
-    sigaddset(&set, SIGINT);
-    pthread_sigmask(SIG_BLOCK, &set, nullptr);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  void SetUp() override { testing::blockDaemonSignals(); }
 
-  std::string shmName() const { return "/hapticd-test-" + std::to_string(getpid()) + "-" + name_; }
+  std::string shmName() const {
+    return "/hapticd-test-" + std::to_string(getpid()) + "-" + testing::testName();
+  }
 
   Backends backends() {
     Backends b;
@@ -75,6 +65,14 @@ class DaemonEditTest : public ::testing::Test {
     };
     b.load_scene = [](const Config&) -> Result<std::shared_ptr<const scene::SceneModel>> {
       return std::shared_ptr<const scene::SceneModel>(testing::editableSceneModel());
+    };
+    // an upload: the bytes as they arrived, kept for the test; "bad..." refused
+    b.load_scene_bytes = [this](std::span<const std::uint8_t> bytes, const std::string& name,
+                                const Config&) -> Result<std::shared_ptr<const scene::SceneModel>> {
+      uploaded_.assign(bytes.begin(), bytes.end());
+      if (name.rfind("bad", 0) == 0)
+        return Error{"scene '" + name + "': not a scene"};
+      return std::shared_ptr<const scene::SceneModel>(testing::editableSceneModel(name));
     };
     b.make_simulation = [](std::shared_ptr<const scene::SceneModel> model,
                            const sim::SimOptions&) -> Result<std::unique_ptr<sim::Simulation>> {
@@ -93,20 +91,13 @@ class DaemonEditTest : public ::testing::Test {
   }
 
   nlohmann::json status() {
-    std::ifstream in(dir_ / "status.json");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    auto j = nlohmann::json::parse(ss.str(), nullptr, false);
-    return j.is_discarded() ? nlohmann::json::object() : j;
+    return testing::parseJsonOrEmpty(testing::slurp(dir_ / "status.json"));
   }
   bool waitStatus(const std::function<bool(const nlohmann::json&)>& pred) {
-    for (int i = 0; i < 6000; ++i) {
+    return testing::pollUntil([&] {
       const auto j = status();
-      if (!j.empty() && pred(j))
-        return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
+      return !j.empty() && pred(j);
+    });
   }
 
   // Runs the daemon on this thread while `body` runs on another; body ends it with SIGTERM.
@@ -125,6 +116,8 @@ class DaemonEditTest : public ::testing::Test {
     return code;
   }
 
+  std::vector<std::uint8_t> uploaded_;  // what load_scene_bytes was given (builder thread)
+
   std::unique_ptr<proto::Client> client(std::optional<proto::Key> key = std::nullopt) {
     const std::string a = status()["network"]["udp"];
     proto::ClientConfig c;
@@ -140,21 +133,10 @@ class DaemonEditTest : public ::testing::Test {
   static bool until(proto::Client& c,
                     const std::function<bool(const proto::State&)>& pred,
                     proto::State* last = nullptr) {
-    const auto end = SteadyClock::now() + std::chrono::seconds(30);
-    while (SteadyClock::now() < end) {
-      auto s = c.receiveState(100);
-      if (!s)
-        continue;
-      if (last)
-        *last = *s;
-      if (pred(*s))
-        return true;
-    }
-    return false;
+    return testing::receiveUntil(c, pred, 30.0, last);
   }
 
-  std::string name_;
-  fs::path dir_;
+  testing::ScratchDir dir_{"hapticd_daemon_edit_test"};
   FakeDevice* device_ = nullptr;
   device::DeviceOptions device_options_;  // what the daemon opened the device with
   bool follow_commands_ = false;
@@ -171,6 +153,43 @@ const proto::SceneUpdate::BodyPose* bodyIn(const proto::State& s, std::uint32_t 
     if (b.body_index == body)
       return &b;
   return nullptr;
+}
+
+// an upload is built from its bytes as they arrived (no file in between), named by the upload;
+// a refused one keeps the running scene and answers with the loader's text
+TEST_F(DaemonEditTest, AnUploadIsBuiltFromItsBytes) {
+  std::vector<std::uint8_t> bytes(70000);  // several chunks
+  for (std::size_t i = 0; i < bytes.size(); ++i)
+    bytes[i] = static_cast<std::uint8_t>(i * 7 + 3);
+  const std::string tmp_before = [] {
+    std::string names;
+    for (const auto& e : fs::directory_iterator(fs::temp_directory_path()))
+      if (e.path().filename().string().rfind("hapticd-upload-", 0) == 0)
+        names += e.path().string() + " ";
+    return names;
+  }();
+  EXPECT_EQ(runWith(cli(""),
+                    [&] {
+                      auto c = client();
+                      ASSERT_TRUE(c);
+                      auto ok = c->load(bytes, "uploaded.glb");
+                      ASSERT_TRUE(ok) << ok.error().message;
+                      EXPECT_EQ(uploaded_, bytes);
+                      ASSERT_TRUE(waitStatus([](const nlohmann::json& j) {
+                        return j["scene"]["name"] == "uploaded.glb";
+                      }));
+                      EXPECT_EQ(status()["scene"]["generation"], 2);
+                      auto bad = c->load(bytes, "bad.glb");
+                      ASSERT_FALSE(bad);
+                      EXPECT_EQ(bad.error().message, "scene refused: scene 'bad.glb': not a scene");
+                      EXPECT_EQ(status()["scene"]["name"], "uploaded.glb");
+                    }),
+            kExitOk);
+  std::string tmp_after;
+  for (const auto& e : fs::directory_iterator(fs::temp_directory_path()))
+    if (e.path().filename().string().rfind("hapticd-upload-", 0) == 0)
+      tmp_after += e.path().string() + " ";
+  EXPECT_EQ(tmp_after, tmp_before);  // no upload file was left (none is written)
 }
 
 TEST_F(DaemonEditTest, ASceneUpdateMovingAKinematicBodyIsAckedAndLaterStatesListItThere) {
@@ -359,19 +378,9 @@ TEST_F(DaemonEditTest, AShmClientDrivesTheDeviceAndAStoppedStreamRampsThenFaults
     EXPECT_EQ(st.fault_bits, 0u);
 
     // the stream stops (the heartbeat goes on): the ramp, then the latched fault
-    bool saw_ramp = false, faulted = false;
-    for (int i = 0; i < 30000 && !faulted; ++i) {
-      shm.beat(proto::monotonicNs());
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-      if (!shm.readState(st))
-        continue;
-      if ((st.state_flags & proto::kStateRamping) != 0 && st.force_scale > 0.0 &&
-          st.force_scale < 1.0)
-        saw_ramp = true;
-      faulted = (st.fault_bits & proto::kFaultStreamLost) != 0;
-    }
-    ASSERT_TRUE(faulted);
-    EXPECT_TRUE(saw_ramp);
+    const auto stop = testing::awaitStreamStop(shm, st);
+    ASSERT_TRUE(stop.faulted);
+    EXPECT_TRUE(stop.saw_ramp);
     EXPECT_EQ(st.force_scale, 0.0);
     EXPECT_EQ(st.force_n[0] * st.force_n[0] + st.force_n[1] * st.force_n[1] +
                   st.force_n[2] * st.force_n[2],

@@ -4,8 +4,11 @@
 // on the virtual clock with a record.
 #include "daemon/daemon.h"
 
+#include <arpa/inet.h>
 #include <gtest/gtest.h>
+#include <netinet/in.h>
 #include <signal.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include <chrono>
@@ -16,6 +19,8 @@
 #include <sstream>
 #include <thread>
 
+#include "protocol/messages.h"
+#include "tests/daemon/daemon_fixture.h"
 #include "tests/daemon/fakes.h"
 
 namespace hapticd::daemon {
@@ -28,21 +33,8 @@ using testing::FakeSimulation;
 // A scratch folder per test.
 class DaemonTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("hapticd_daemon_test_" + std::to_string(getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-    // every thread of this process blocks the daemon's signals; runDaemon takes them
-    sigset_t set;
-    sigemptyset(&set);
-    sigaddset(&set, SIGTERM);
-    sigaddset(&set, SIGHUP);
-    sigaddset(&set, SIGINT);
-    pthread_sigmask(SIG_BLOCK, &set, nullptr);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  // every thread of this process blocks the daemon's signals; runDaemon takes them
+  void SetUp() override { testing::blockDaemonSignals(); }
 
   Backends fakeBackends() {
     Backends b;
@@ -55,6 +47,12 @@ class DaemonTest : public ::testing::Test {
       if (spec.rfind("end:", 0) == 0)
         d->end_after = std::stoull(std::string(spec.substr(4)));
       d->depth_offset = 0.002;
+      d->on_close = [this](const FakeDevice& closed) {
+        reads_at_close_ = closed.reads;
+        if (device_ == &closed)
+          device_ = nullptr;  // never read through a pointer to a destroyed device
+      };
+      ++devices_opened_;
       device_ = d.get();
       return std::unique_ptr<device::Device>(std::move(d));
     };
@@ -77,23 +75,24 @@ class DaemonTest : public ::testing::Test {
     return b;
   }
 
+  // memory locking granted, SCHED_FIFO refused
+  Backends fifoRefusedBackends() {
+    Backends b = fakeBackends();
+    b.realtime.lock_memory = [](int) { return 0; };
+    b.realtime.set_fifo = [](int) { return EPERM; };
+    return b;
+  }
+
   nlohmann::json status() {
-    std::ifstream in(dir_ / "status.json");
-    std::stringstream ss;
-    ss << in.rdbuf();
-    auto j = nlohmann::json::parse(ss.str(), nullptr, false);
-    return j.is_discarded() ? nlohmann::json::object() : j;
+    return testing::parseJsonOrEmpty(testing::slurp(dir_ / "status.json"));
   }
 
   // waits (bounded by a generous count of polls, never asserting a duration) for a status
   bool waitFor(const std::function<bool(const nlohmann::json&)>& pred) {
-    for (int i = 0; i < 6000; ++i) {
+    return testing::pollUntil([&] {
       const auto j = status();
-      if (!j.empty() && pred(j))
-        return true;
-      std::this_thread::sleep_for(std::chrono::milliseconds(10));
-    }
-    return false;
+      return !j.empty() && pred(j);
+    });
   }
 
   void writeConfig(const std::string& text) { std::ofstream(dir_ / "hapticd.toml") << text; }
@@ -107,8 +106,10 @@ class DaemonTest : public ::testing::Test {
     return cli;
   }
 
-  fs::path dir_;
+  testing::ScratchDir dir_{"hapticd_daemon_test"};
   FakeDevice* device_ = nullptr;
+  std::size_t devices_opened_ = 0;    ///< how many devices the daemon made
+  std::uint64_t reads_at_close_ = 0;  ///< the last destroyed device's read count
 };
 
 TEST_F(DaemonTest, StartsServesAndStopsOnSigtermWithTheRampThenExitsZero) {
@@ -131,7 +132,8 @@ TEST_F(DaemonTest, StartsServesAndStopsOnSigtermWithTheRampThenExitsZero) {
   EXPECT_FALSE(j["running"].get<bool>());
   EXPECT_EQ(j["output_gain"].get<double>(), 0.0);
   EXPECT_EQ(j["force_n"], nlohmann::json({0.0, 0.0, 0.0}));
-  ASSERT_NE(device_, nullptr);
+  EXPECT_EQ(devices_opened_, 1u);
+  EXPECT_EQ(device_, nullptr);  // closed on the way out
 }
 
 TEST_F(DaemonTest, SighupReloadsGoodScenesAndKeepsTheOldOnBadScenesAndConfigs) {
@@ -200,9 +202,7 @@ TEST_F(DaemonTest, RealtimeRefusedUnderPreferRunsWithAWarning) {
 }
 
 TEST_F(DaemonTest, RealtimeRefusedUnderRequireRefusesToStart) {
-  Backends b = fakeBackends();
-  b.realtime.lock_memory = [](int) { return 0; };
-  b.realtime.set_fifo = [](int) { return EPERM; };
+  Backends b = fifoRefusedBackends();
   CommandLine cli = baseCli();
   cli.realtime = "require";
   ::testing::internal::CaptureStderr();
@@ -210,6 +210,41 @@ TEST_F(DaemonTest, RealtimeRefusedUnderRequireRefusesToStart) {
   const std::string err = ::testing::internal::GetCapturedStderr();
   EXPECT_NE(err.find("realtime = \"require\": SCHED_FIFO priority 80 refused"), std::string::npos)
       << err;
+}
+
+TEST_F(DaemonTest, CheckConfigRunsTheRealtimeAndSceneStepsAndStartsNothing) {
+  Backends b = fifoRefusedBackends();
+  CommandLine cli = baseCli();
+  cli.realtime = "require";
+  cli.check_config = true;
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(runDaemon(cli, b), kExitFailure);  // as RealtimeRefusedUnderRequireRefusesToStart
+  std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("realtime = \"require\": SCHED_FIFO priority 80 refused"), std::string::npos)
+      << err;
+  ASSERT_EQ(devices_opened_, 1u);  // the steps before it ran, in start-up's order
+  EXPECT_EQ(device_, nullptr);     // and it was closed again
+  EXPECT_EQ(reads_at_close_, 0u);
+  devices_opened_ = 0;
+
+  cli = baseCli();
+  cli.check_config = true;
+  cli.scene = "nothing.glb";  // the fake loader refuses it, as at start-up
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitFailure);
+  err = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("cannot load the scene: file 'nothing.glb'"), std::string::npos) << err;
+
+  cli = baseCli();
+  cli.check_config = true;
+  devices_opened_ = 0;
+  ::testing::internal::CaptureStdout();
+  EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitOk);
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  EXPECT_EQ(out, "configuration ok (built-in defaults): scene 'peg_in_hole', device 'sim'\n");
+  ASSERT_EQ(devices_opened_, 1u);  // the sim device is opened (it has no effect outside)
+  EXPECT_EQ(reads_at_close_, 0u);
+  EXPECT_FALSE(fs::exists(dir_ / "status.json"));  // nothing ran
 }
 
 TEST_F(DaemonTest, DeviceLostAndBack) {
@@ -263,6 +298,56 @@ TEST_F(DaemonTest, VirtualClockReplayEndsAtTheEndOfTheStreamWithARecord) {
   EXPECT_EQ(line.rfind("0,0,Probe,", 0), 0u) << line;
   std::getline(bodies, line);
   EXPECT_EQ(line.rfind("0,0,Box,", 0), 0u) << line;
+}
+
+// a fault has a name in the log, the status line and the summary, and one number (the
+// protocol's) wherever a number is shown; the summary counts the faults latched over the run
+TEST_F(DaemonTest, FaultsAreNamedAndNumberedAsOnTheWire) {
+  Backends b = fakeBackends();
+  b.make_simulation = [](std::shared_ptr<const scene::SceneModel>,
+                         const sim::SimOptions&) -> Result<std::unique_ptr<sim::Simulation>> {
+    auto s = std::make_unique<FakeSimulation>();
+    s->nan_at_step = 100;
+    return std::unique_ptr<sim::Simulation>(std::move(s));
+  };
+  CommandLine cli = baseCli();
+  cli.device = "end:500";
+  cli.clock = "virtual";
+  ::testing::internal::CaptureStdout();
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(runDaemon(cli, b), kExitOk);
+  const std::string out = ::testing::internal::GetCapturedStdout();
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  EXPECT_NE(err.find("warning: fault latched at tick 99: not_finite: "), std::string::npos) << err;
+  EXPECT_NE(out.find(", faults not_finite (latched 1 times since start: not_finite), "),
+            std::string::npos)
+      << out;
+  const auto j = status();
+  EXPECT_EQ(j["faults"]["bits"], proto::kFaultNotFinite);
+  EXPECT_EQ(j["faults"]["names"], "not_finite");
+  EXPECT_TRUE(j["faults"]["non_finite"].get<bool>());
+  EXPECT_EQ(j["faults"]["latched_since_start"], 1);
+  EXPECT_EQ(faultNames(kFaultStreamLost | kFaultMisses), "stream_lost,tick_overrun");
+  EXPECT_EQ(faultNames(0), "none");
+}
+
+TEST_F(DaemonTest, AnAddressInUseIsRefusedNamingTheKey) {
+  const int sock = socket(AF_INET, SOCK_DGRAM, 0);
+  ASSERT_GE(sock, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  ASSERT_EQ(bind(sock, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+  socklen_t len = sizeof a;
+  ASSERT_EQ(getsockname(sock, reinterpret_cast<sockaddr*>(&a), &len), 0);
+  CommandLine cli = baseCli();
+  cli.udp = "127.0.0.1:" + std::to_string(ntohs(a.sin_port));
+  ::testing::internal::CaptureStderr();
+  EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitFailure);
+  const std::string err = ::testing::internal::GetCapturedStderr();
+  close(sock);
+  EXPECT_NE(err.find("error: [network] udp " + *cli.udp + ": "), std::string::npos) << err;
+  EXPECT_EQ(err.find("protocol."), std::string::npos) << err;  // no key that does not exist
 }
 
 TEST_F(DaemonTest, StartupFailuresAreClearAndExitNonZero) {

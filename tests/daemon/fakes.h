@@ -6,6 +6,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <span>
 #include <string>
@@ -13,6 +14,7 @@
 
 #include "core/sim/simulation.h"
 #include "daemon/device/device.h"
+#include "daemon/servo_loop.h"
 
 namespace hapticd::testing {
 
@@ -218,6 +220,10 @@ class FakeDevice final : public device::Device {
     info_.name = "fake";
     info_.capabilities = device::kCapPosition | device::kCapForce | device::kCapPoseCommands;
   }
+  ~FakeDevice() override {
+    if (on_close)
+      on_close(*this);
+  }
   const device::DeviceInfo& info() const override { return info_; }
   device::DeviceStatus read(double t_s, device::DeviceSample& out) noexcept override {
     const std::uint64_t n = reads++;
@@ -259,6 +265,29 @@ class FakeDevice final : public device::Device {
   geom::Vec3 last_force{0.0}, last_torque{0.0}, prev_force{0.0};
   double max_written_n = 0.0, max_step_n = 0.0;
   device::PoseCommand last_command;
+  std::function<void(const FakeDevice&)> on_close;  ///< called as the daemon destroys it
 };
+
+/// A scene for the servo loop holding a new `Sim` (FakeSimulation, EditableSimulation) as
+/// generation `gen`; `*out`, when given, points at the simulation.
+template <class Sim>
+std::unique_ptr<daemon::ServoScene> servoSceneOf(std::uint64_t gen = 1, Sim** out = nullptr) {
+  auto sim = std::make_unique<Sim>();
+  if (out != nullptr)
+    *out = sim.get();
+  auto s = std::make_unique<daemon::ServoScene>();
+  s->sim = std::move(sim);
+  s->generation = gen;
+  return s;
+}
+
+/// Every event the loop has queued, in order (the test is the events' one consumer).
+inline std::vector<daemon::ServoEvent> drainEvents(daemon::ServoLoop& loop) {
+  std::vector<daemon::ServoEvent> events;
+  daemon::ServoEvent e;
+  while (loop.popEvent(e))
+    events.push_back(e);
+  return events;
+}
 
 }  // namespace hapticd::testing

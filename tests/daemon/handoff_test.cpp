@@ -1,5 +1,6 @@
-// The lock-free hand-offs: an SPSC ring between two threads keeps order and loses nothing; a
-// seqlock reader never sees a torn value; the scene exchange frees every pointer exactly once.
+// The daemon's lock-free hand-offs: an SPSC ring between two threads keeps order and loses
+// nothing; a seqlock reader never sees a torn value (the project's one ring and seqlock,
+// protocol/, as the servo loop uses them); the scene exchange frees every pointer exactly once.
 #include <gtest/gtest.h>
 
 #include <atomic>
@@ -8,11 +9,14 @@
 #include <thread>
 
 #include "daemon/handoff/scene_exchange.h"
-#include "daemon/handoff/seqlock.h"
-#include "daemon/handoff/spsc_ring.h"
+#include "protocol/seqlock.h"
+#include "protocol/spsc_ring.h"
 
 namespace hapticd::daemon {
 namespace {
+
+using proto::Seqlock;
+using proto::SpscRing;
 
 TEST(SpscRing, RefusesWhenFullAndKeepsOrder) {
   SpscRing<int> ring(4);

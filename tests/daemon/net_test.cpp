@@ -30,6 +30,7 @@
 #include "protocol/client.h"
 #include "protocol/server.h"
 #include "protocol/shm.h"
+#include "tests/daemon/daemon_fixture.h"
 
 #ifdef HAPTICD_HAVE_SCENEGEN
 #include "core/scene/loader.h"
@@ -43,49 +44,10 @@ namespace proto = hapticd::proto;
 const std::string kSource = HAPTICD_SOURCE_DIR;
 using SteadyClock = std::chrono::steady_clock;
 
-std::string slurp(const fs::path& p) {
-  std::ifstream in(p, std::ios::binary);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
-
-// Runs `argv` with stdout and stderr to files; returns the pid.
-pid_t spawn(const std::vector<std::string>& args, const fs::path& out, const fs::path& err) {
-  std::vector<std::string> all(args);
-  std::vector<char*> argv;
-  for (auto& a : all)
-    argv.push_back(a.data());
-  argv.push_back(nullptr);
-  const std::string o = out.string(), e = err.string();
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const int fo = open(o.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    const int fe = open(e.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
-    dup2(fo, 1);
-    dup2(fe, 2);
-    sigset_t none;
-    sigemptyset(&none);
-    sigprocmask(SIG_SETMASK, &none, nullptr);
-    execv(argv[0], argv.data());
-    _exit(127);
-  }
-  return pid;
-}
-
-// Exit code, or -1 after killing a child that did not end within limit_s (a hang).
-int waitFor(pid_t pid, double limit_s) {
-  const auto until = SteadyClock::now() + std::chrono::duration<double>(limit_s);
-  int status = 0;
-  while (SteadyClock::now() < until) {
-    if (waitpid(pid, &status, WNOHANG) == pid)
-      return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
-    std::this_thread::sleep_for(std::chrono::milliseconds(5));
-  }
-  kill(pid, SIGKILL);
-  waitpid(pid, nullptr, 0);
-  return -1;
-}
+using hapticd::testing::receiveUntil;
+using hapticd::testing::slurp;
+using hapticd::testing::spawn;
+using hapticd::testing::waitExit;
 
 struct CtlRun {
   int code = -1;
@@ -94,20 +56,12 @@ struct CtlRun {
 
 class NetTest : public ::testing::Test {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("hapticd_net_test_" + std::to_string(getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
   void TearDown() override {
     if (pid_ > 0) {
       kill(pid_, SIGTERM);
-      if (waitFor(pid_, 60.0) != 0)
+      if (waitExit(pid_, 60.0) != 0)
         ADD_FAILURE() << "hapticd did not stop cleanly on SIGTERM\n" << slurp(dir_ / "d.err");
     }
-    fs::remove_all(dir_);
   }
 
   // Starts hapticd (real clock, realtime off, sim device) on a free loopback port and waits for
@@ -115,8 +69,7 @@ class NetTest : public ::testing::Test {
   void startDaemon(const std::string& scene = kSource + "/scenes/peg_in_hole.glb",
                    const std::string& network = "") {
     // a shm segment of its own per test (runs in parallel do not collide)
-    shm_ = "/hapticd-net-test-" + std::to_string(getpid()) + "-" +
-           ::testing::UnitTest::GetInstance()->current_test_info()->name();
+    shm_ = "/hapticd-net-test-" + std::to_string(getpid()) + "-" + hapticd::testing::testName();
     std::ofstream(dir_ / "hapticd.toml")
         << "[servo]\nrealtime = \"off\"\n[scene]\npath = \"" << scene << "\"\n[network]\n"
         << network
@@ -126,8 +79,8 @@ class NetTest : public ::testing::Test {
                  dir_ / "d.out", dir_ / "d.err");
     ASSERT_GT(pid_, 0);
     for (int i = 0; i < 6000 && port_ == 0; ++i) {
-      auto j = nlohmann::json::parse(slurp(dir_ / "status.json"), nullptr, false);
-      if (!j.is_discarded() && j.contains("network") && j.value("tick", 0) > 0) {
+      const auto j = hapticd::testing::parseJsonOrEmpty(slurp(dir_ / "status.json"));
+      if (j.contains("network") && j.value("tick", 0) > 0) {
         const std::string a = j["network"]["udp"];
         port_ = std::stoi(a.substr(a.rfind(':') + 1));
       }
@@ -145,7 +98,7 @@ class NetTest : public ::testing::Test {
     all.push_back(std::to_string(port_));
     const pid_t p = spawn(all, dir_ / "c.out", dir_ / "c.err");
     CtlRun r;
-    r.code = waitFor(p, limit_s);
+    r.code = waitExit(p, limit_s);
     r.out = slurp(dir_ / "c.out");
     r.err = slurp(dir_ / "c.err");
     return r;
@@ -164,29 +117,10 @@ class NetTest : public ::testing::Test {
   nlohmann::json statusJson() {
     CtlRun r = ctl({"status", "--json"});
     EXPECT_EQ(r.code, 0) << r.err;
-    auto j = nlohmann::json::parse(r.out, nullptr, false);
-    return j.is_discarded() ? nlohmann::json::object() : j;
+    return hapticd::testing::parseJsonOrEmpty(r.out);
   }
 
-  // Receives states until `pred` holds (true) or limit_s passes (false).
-  static bool until(proto::Client& c,
-                    const std::function<bool(const proto::State&)>& pred,
-                    double limit_s = 30.0,
-                    proto::State* last = nullptr) {
-    const auto end = SteadyClock::now() + std::chrono::duration<double>(limit_s);
-    while (SteadyClock::now() < end) {
-      auto s = c.receiveState(100);
-      if (!s)
-        continue;
-      if (last)
-        *last = *s;
-      if (pred(*s))
-        return true;
-    }
-    return false;
-  }
-
-  fs::path dir_;
+  hapticd::testing::ScratchDir dir_{"hapticd_net_test"};
   pid_t pid_ = -1;
   int port_ = 0;
   std::string shm_;
@@ -270,7 +204,7 @@ TEST_F(NetTest, PoseCommandsMoveTheSimDeviceThenTheStreamStopRampsAndLatchesAFau
 
   // the stream stops: held, ramping (scale strictly between 0 and 1 seen), then the fault
   bool saw_ramp = false;
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c,
       [&](const proto::State& s) {
         if ((s.state_flags & proto::kStateRamping) != 0 && s.force_scale > 0.0 &&
@@ -280,26 +214,26 @@ TEST_F(NetTest, PoseCommandsMoveTheSimDeviceThenTheStreamStopRampsAndLatchesAFau
       },
       30.0, &st));
   EXPECT_TRUE(saw_ramp);
-  EXPECT_TRUE(until(*c, [](const proto::State& s) { return s.force_scale == 0.0; }));
+  EXPECT_TRUE(receiveUntil(*c, [](const proto::State& s) { return s.force_scale == 0.0; }));
   EXPECT_NE(statusJson()["faults"].get<std::string>().find("stream_lost"), std::string::npos);
   // a command while faulted is dropped; re-arm clears the fault
   const auto dropped_before = statusJson()["commands_dropped"].get<std::uint64_t>();
   ASSERT_TRUE(c->sendPose(poseAt(start)));
-  EXPECT_TRUE(until(*c, [](const proto::State&) { return true; }));
+  EXPECT_TRUE(receiveUntil(*c, [](const proto::State&) { return true; }));
   ASSERT_TRUE(c->arm());
-  EXPECT_TRUE(until(*c, [](const proto::State& s) { return s.fault_bits == 0; }));
+  EXPECT_TRUE(receiveUntil(*c, [](const proto::State& s) { return s.fault_bits == 0; }));
   EXPECT_GT(statusJson()["commands_dropped"].get<std::uint64_t>(), dropped_before);
 
   // disarm and arm through hapticctl
   CtlRun d = ctl({"disarm"});
   EXPECT_EQ(d.code, 0) << d.err;
-  EXPECT_TRUE(until(*c, [](const proto::State& s) {
+  EXPECT_TRUE(receiveUntil(*c, [](const proto::State& s) {
     return (s.state_flags & proto::kStateArmed) == 0 && s.force_scale == 0.0;
   }));
   CtlRun a = ctl({"arm"});
   EXPECT_EQ(a.code, 0) << a.err;
-  EXPECT_TRUE(
-      until(*c, [](const proto::State& s) { return (s.state_flags & proto::kStateArmed) != 0; }));
+  EXPECT_TRUE(receiveUntil(
+      *c, [](const proto::State& s) { return (s.state_flags & proto::kStateArmed) != 0; }));
 }
 
 TEST_F(NetTest, AShmClientMovesTheSimDeviceThenTheStreamStopRampsAndLatchesAFault) {
@@ -333,19 +267,9 @@ TEST_F(NetTest, AShmClientMovesTheSimDeviceThenTheStreamStopRampsAndLatchesAFaul
   EXPECT_GT(st.last_command_sequence, 0u);
   EXPECT_EQ(st.fault_bits, 0u);
 
-  bool saw_ramp = false, faulted = false;
-  for (int i = 0; i < 30000 && !faulted; ++i) {
-    c.beat(proto::monotonicNs());
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    if (!c.readState(st))
-      continue;
-    if ((st.state_flags & proto::kStateRamping) != 0 && st.force_scale > 0.0 &&
-        st.force_scale < 1.0)
-      saw_ramp = true;
-    faulted = (st.fault_bits & proto::kFaultStreamLost) != 0;
-  }
-  ASSERT_TRUE(faulted);
-  EXPECT_TRUE(saw_ramp);
+  const auto stop = hapticd::testing::awaitStreamStop(c, st);
+  ASSERT_TRUE(stop.faulted);
+  EXPECT_TRUE(stop.saw_ramp);
   EXPECT_EQ(st.force_scale, 0.0);
   // hapticctl sees the same latched fault (one gate for UDP and shm clients)
   EXPECT_NE(statusJson()["faults"].get<std::string>().find("stream_lost"), std::string::npos);
@@ -359,7 +283,7 @@ TEST_F(NetTest, AShmClientMovesTheSimDeviceThenTheStreamStopRampsAndLatchesAFaul
 
   // the segment is removed when the daemon ends
   kill(pid_, SIGTERM);
-  EXPECT_EQ(waitFor(pid_, 60.0), 0) << slurp(dir_ / "d.err");
+  EXPECT_EQ(waitExit(pid_, 60.0), 0) << slurp(dir_ / "d.err");
   pid_ = -1;
   const int fd = shm_open(shm_.c_str(), O_RDONLY, 0);
   EXPECT_LT(fd, 0) << shm_ << " still exists";
@@ -425,7 +349,7 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   ASSERT_TRUE(c);
   ASSERT_TRUE(c->subscribe(200, proto::kSubscribeBodies | proto::kSubscribeContacts));
   proto::State st;
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c, [&](const proto::State& s) { return listed(s, slider) != nullptr; }, 30.0, &st));
   EXPECT_NEAR(listed(st, slider)->X_WB.p[0], 0.3, 1e-6);
   EXPECT_EQ(listed(st, floor), nullptr);  // static bodies are not listed
@@ -454,7 +378,7 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   r = c->sceneUpdate(bad);
   ASSERT_FALSE(r);
   EXPECT_NE(r.error().message.find("does not exist"), std::string::npos) << r.error().message;
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c, [](const proto::State&) { return true; }, 30.0, &st));
   EXPECT_NEAR(listed(st, slider)->X_WB.p[0], 0.3, 1e-6);  // the slider did not move
 
@@ -465,7 +389,7 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   move.poses.push_back({slider, to});
   auto ok = c->sceneUpdate(move);
   ASSERT_TRUE(ok) << ok.error().message;
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c,
       [&](const proto::State& s) {
         const auto* b = listed(s, slider);
@@ -477,7 +401,7 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   const proto::WireVec3 probe_at = st.X_WP.p;
   move.poses[0].X_WB.p = {probe_at[0] + 0.03, probe_at[1], probe_at[2]};
   ASSERT_TRUE(c->sceneUpdate(move));
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c, [](const proto::State& s) { return !s.contacts.empty(); }, 30.0, &st))
       << "contact_count " << st.contact_count;
   EXPECT_GT(st.contact_count, 0u);
@@ -492,7 +416,7 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   const std::string S = std::to_string(slider), L = std::to_string(lid);
   CtlRun mv = ctl({"move", S, "0.3", "0.25", "-0.1"});
   EXPECT_EQ(mv.code, 0) << mv.err;
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c,
       [&](const proto::State& s) {
         const auto* b = listed(s, slider);
@@ -504,11 +428,11 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   EXPECT_NE(no.err.find("'Lid' is dynamic, not kinematic"), std::string::npos) << no.err;
   CtlRun rm = ctl({"remove", L});
   EXPECT_EQ(rm.code, 0) << rm.err;
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c, [&](const proto::State& s) { return listed(s, lid) == nullptr; }, 30.0, &st));
   CtlRun ad = ctl({"add", L, "-0.3", "0.5", "0.2"});
   EXPECT_EQ(ad.code, 0) << ad.err;
-  ASSERT_TRUE(until(
+  ASSERT_TRUE(receiveUntil(
       *c, [&](const proto::State& s) { return listed(s, lid) != nullptr; }, 30.0, &st));
 
   const auto j = statusJson();
@@ -614,7 +538,7 @@ TEST_F(NetTest, TenClientsSubscribedAtOnceAllGetStatesAndTheFigures) {
   EXPECT_EQ(j["subscribers"].get<std::uint32_t>(), 10u);
   for (auto& c : clients) {
     int got = 0;
-    EXPECT_TRUE(until(*c, [&](const proto::State&) { return ++got >= 20; }));
+    EXPECT_TRUE(receiveUntil(*c, [&](const proto::State&) { return ++got >= 20; }));
   }
   // let the daemon run a while with ten 1 kHz subscribers, draining every client
   const auto end = SteadyClock::now() + std::chrono::seconds(2);
@@ -635,7 +559,7 @@ TEST_F(NetTest, TenClientsSubscribedAtOnceAllGetStatesAndTheFigures) {
     const auto t0 = SteadyClock::now();
     auto seq = c0.sendPose(poseAt({0.0, 0.0, 0.0}));
     ASSERT_TRUE(seq);
-    if (until(
+    if (receiveUntil(
             c0, [&](const proto::State& s) { return s.last_command_sequence >= seq.value(); }, 5.0))
       rtt_us.push_back(std::chrono::duration<double, std::micro>(SteadyClock::now() - t0).count());
   }

@@ -142,10 +142,7 @@ Counts runCounted(ServoLoop& loop,
 }
 
 std::unique_ptr<ServoScene> fakeScene(std::uint64_t gen) {
-  auto s = std::make_unique<ServoScene>();
-  s->sim = std::make_unique<testing::FakeSimulation>();
-  s->generation = gen;
-  return s;
+  return testing::servoSceneOf<testing::FakeSimulation>(gen);
 }
 
 // The daemon's wiring: a network thread running proto::Server is the command ring's only
@@ -239,10 +236,7 @@ TEST(ServoAllocation, NoneOnTheServoThreadOver100000TicksWithFakes) {
 }
 
 std::unique_ptr<ServoScene> editableScene(std::uint64_t gen) {
-  auto s = std::make_unique<ServoScene>();
-  s->sim = std::make_unique<testing::EditableSimulation>();
-  s->generation = gen;
-  return s;
+  return testing::servoSceneOf<testing::EditableSimulation>(gen);
 }
 
 TEST(ServoAllocation, NoneOnTheServoThreadWithEditsListsAndSharedMemory) {

@@ -77,12 +77,7 @@ class Stepped {
 };
 
 std::unique_ptr<ServoScene> editScene(EditableSimulation** out, std::uint64_t gen = 1) {
-  auto sim = std::make_unique<EditableSimulation>();
-  *out = sim.get();
-  auto s = std::make_unique<ServoScene>();
-  s->sim = std::move(sim);
-  s->generation = gen;
-  return s;
+  return testing::servoSceneOf<EditableSimulation>(gen, out);
 }
 
 geom::Pose at(double x, double y, double z) {
@@ -99,11 +94,7 @@ const sim::BodyPose* findBody(const ServoLists& l, std::uint32_t body) {
 }
 
 std::vector<ServoEvent> events(ServoLoop& loop) {
-  std::vector<ServoEvent> out;
-  ServoEvent e;
-  while (loop.popEvent(e))
-    out.push_back(e);
-  return out;
+  return testing::drainEvents(loop);
 }
 
 TEST(ServoEdits, ABatchIsAppliedWholeAtOneTickBoundaryAndSeenTogetherInTheNextLists) {

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstring>
 #include <thread>
 #include <vector>
@@ -18,22 +19,10 @@ namespace {
 using testing::FakeDevice;
 using testing::FakeSimulation;
 
-std::unique_ptr<ServoScene> fakeScene(FakeSimulation** out = nullptr, std::uint64_t gen = 1) {
-  auto sim = std::make_unique<FakeSimulation>();
-  if (out != nullptr)
-    *out = sim.get();
-  auto s = std::make_unique<ServoScene>();
-  s->sim = std::move(sim);
-  s->generation = gen;
-  return s;
-}
+using testing::drainEvents;
 
-std::vector<ServoEvent> drainEvents(ServoLoop& loop) {
-  std::vector<ServoEvent> events;
-  ServoEvent e;
-  while (loop.popEvent(e))
-    events.push_back(e);
-  return events;
+std::unique_ptr<ServoScene> fakeScene(FakeSimulation** out = nullptr, std::uint64_t gen = 1) {
+  return testing::servoSceneOf<FakeSimulation>(gen, out);
 }
 
 bool hasEvent(const std::vector<ServoEvent>& events, ServoEventKind kind) {
@@ -291,14 +280,19 @@ TEST(ServoLoop, StateReadFromAnotherThreadIsAlwaysOneWholeTick) {
   EXPECT_GT(reads, 0u);
 }
 
-TEST(ServoLoop, PoseCommandsGoToTheDeviceInItsOwnFrame) {
-  VirtualClock clock;
-  FakeDevice device;
+// 10 ticks; the device frame at x = 1 in the scene, scene metres per device metre 2
+ServoOptions mappedOptions() {
   ServoOptions options;
   options.max_ticks = 10;
   options.workspace.scale = 2.0;
   options.workspace.X_SD.translation = geom::Vec3(1.0, 0.0, 0.0);
-  ServoLoop loop(options, clock, device, fakeScene());
+  return options;
+}
+
+TEST(ServoLoop, PoseCommandsGoToTheDeviceInItsOwnFrame) {
+  VirtualClock clock;
+  FakeDevice device;
+  ServoLoop loop(mappedOptions(), clock, device, fakeScene());
   ServoCommand cmd;
   cmd.sequence = 42;
   cmd.pose.X_W_target.translation = geom::Vec3(3.0, 2.0, 0.0);
@@ -310,6 +304,48 @@ TEST(ServoLoop, PoseCommandsGoToTheDeviceInItsOwnFrame) {
   // and the device pose comes back mapped: x_S = 1 + 2 x_D
   const ServoState st = loop.state();
   EXPECT_DOUBLE_EQ(st.X_W_device.translation.x, 1.0 + 2.0 * 0.001 * st.t_s);
+}
+
+// a client's command goes through the gate as the daemon's own type: the device gets the pose
+// as sent (through the workspace), velocities and buttons too; when the stream stops the gate
+// latches stream_lost, which the loop reports with the protocol's number and a named event
+TEST(ServoLoop, GatedCommandsReachTheDeviceAsSentAndAStoppedStreamLatchesStreamLost) {
+  VirtualClock clock;
+  FakeDevice device;
+  ServoLoop loop(mappedOptions(), clock, device, fakeScene());
+  proto::PoseCommand wire;
+  wire.X_WT.p = {3.0, 2.0, 0.0};
+  wire.X_WT.q = {0.0, 0.0, std::sqrt(0.5), std::sqrt(0.5)};
+  wire.v_W = {0.5, 0.0, 0.0};
+  wire.w_W = {0.0, 0.0, 1.0};
+  wire.buttons = 3;
+  ASSERT_TRUE(loop.sendCommand(gatedCommand(CommandKind::kArm, 7, 1, {})));
+  ASSERT_TRUE(loop.sendCommand(gatedCommand(CommandKind::kPose, 7, 2, wire)));
+  loop.run();
+  ASSERT_GT(device.commands, 0u);
+  const device::PoseCommand& c = device.last_command;
+  EXPECT_EQ(c.X_W_target.translation, geom::Vec3(1.0, 1.0, 0.0));
+  const geom::Quat q = glm::normalize(geom::Quat(std::sqrt(0.5), 0.0, 0.0, std::sqrt(0.5)));
+  EXPECT_EQ(c.X_W_target.rotation, q);  // normalised once, as it entered
+  EXPECT_EQ(c.linear_velocity, geom::Vec3(0.25, 0.0, 0.0));
+  EXPECT_EQ(c.angular_velocity, geom::Vec3(0.0, 0.0, 1.0));
+  EXPECT_EQ(c.buttons, 3u);
+  EXPECT_EQ(loop.state().last_command_sequence, 2u);
+  EXPECT_EQ(loop.state().faults, 0u);
+  drainEvents(loop);
+  loop.setMaxTicks(400);  // 390 ms more without a command: the gate ramps, then faults
+  loop.run();
+  const ServoState st = loop.state();
+  EXPECT_EQ(st.faults, proto::kFaultStreamLost);
+  EXPECT_EQ(st.fault_latches, 1u);
+  const auto events = drainEvents(loop);
+  ASSERT_TRUE(hasEvent(events, ServoEventKind::kStreamLost));
+  for (const auto& e : events) {
+    if (e.kind == ServoEventKind::kStreamLost) {
+      EXPECT_EQ(describe(e).rfind("fault latched at tick ", 0), 0u) << describe(e);
+      EXPECT_NE(describe(e).find(": stream_lost: "), std::string::npos) << describe(e);
+    }
+  }
 }
 
 TEST(ServoLoop, VirtualClockRunsAreIdenticalButForTickNs) {

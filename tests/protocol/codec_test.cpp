@@ -15,6 +15,8 @@ namespace {
 
 using testing::sameMessage;
 using testing::sampleMessages;
+using testing::sampleState;
+using testing::sampleStatus;
 
 std::vector<std::uint8_t> encodeOrDie(const Message& m, Header h = {}) {
   std::vector<std::uint8_t> buf(kMaxDatagramLimit);
@@ -37,6 +39,24 @@ void putF64(std::vector<std::uint8_t>& b, std::size_t at, double v) {
   const auto u = std::bit_cast<std::uint64_t>(v);
   for (std::size_t i = 0; i < 8; ++i)
     b[at + i] = static_cast<std::uint8_t>(u >> (8 * i));
+}
+
+// Sets the header's payload_length to the bytes that follow it, then decodes.
+DecodeError redecode(std::vector<std::uint8_t>& b) {
+  putU32(b, 12, static_cast<std::uint32_t>(b.size() - kHeaderSize));
+  Header got;
+  Message back;
+  return decode(b, got, back);
+}
+
+// The message `b` decodes to, when it is an M.
+template <class M>
+std::optional<M> decoded(const std::vector<std::uint8_t>& b) {
+  Header h;
+  Message m;
+  if (decode(b, h, m).code != Errc::kOk || !std::holds_alternative<M>(m))
+    return std::nullopt;
+  return std::get<M>(m);
 }
 
 TEST(Codec, EveryMessageRoundTrips) {
@@ -144,11 +164,8 @@ TEST(Codec, SameMinorExtraBytesRefused) {
   for (const auto& m : sampleMessages()) {
     auto b = encodeOrDie(m);
     b.push_back(0);
-    putU32(b, 12, static_cast<std::uint32_t>(b.size() - kHeaderSize));
-    Header got;
-    Message back;
-    const auto e = decode(b, got, back);
-    EXPECT_EQ(e.code, Errc::kBadPayloadLength) << msgTypeName(got.type) << ": " << describe(e);
+    const auto e = redecode(b);
+    EXPECT_EQ(e.code, Errc::kBadPayloadLength) << describe(e);
   }
 }
 
@@ -176,11 +193,8 @@ TEST(Codec, TruncatedPayloadRefusedPerType) {
     if (b.size() == kHeaderSize)
       continue;
     b.pop_back();
-    putU32(b, 12, static_cast<std::uint32_t>(b.size() - kHeaderSize));
-    Header got;
-    Message back;
-    const auto e = decode(b, got, back);
-    EXPECT_EQ(e.code, Errc::kBadPayloadLength) << msgTypeName(got.type) << ": " << describe(e);
+    const auto e = redecode(b);
+    EXPECT_EQ(e.code, Errc::kBadPayloadLength) << describe(e);
   }
 }
 
@@ -364,13 +378,6 @@ TEST(Codec, CountsOverBoundsRefusedBeforeReading) {
 
 // ---- State minor 1: pairs_tested, pairs_skipped, max_penetration_m, tick_ns after the lists ----
 
-State sampleState() {
-  for (const auto& m : sampleMessages())
-    if (const auto* s = std::get_if<State>(&m))
-      return *s;
-  return {};
-}
-
 // Re-labels an encoded datagram as sent with `minor` and sets its payload length.
 void relabel(std::vector<std::uint8_t>& b, std::uint8_t minor) {
   b[5] = minor;
@@ -400,10 +407,7 @@ TEST(CodecStateMinor1, FieldsRoundTripAtTheDocumentedOffsets) {
   EXPECT_EQ(b[at + 19], 0x0F);
   for (std::size_t i = 20; i < 24; ++i)
     EXPECT_EQ(b[at + i], 0u) << "reserved byte " << i;
-  Header h;
-  Message back;
-  ASSERT_EQ(decode(b, h, back).code, Errc::kOk);
-  EXPECT_EQ(std::get<State>(back), s);
+  EXPECT_EQ(decoded<State>(b), s);
 }
 
 TEST(CodecStateMinor1, AOneZeroStateWithoutTheFieldsDecodesWithZeros) {
@@ -505,14 +509,7 @@ TEST(Codec, DescribeNamesWhatAndWhere) {
   EXPECT_EQ(describe(e), "pose_command: payload length 100 bytes, expected 112");
 }
 
-
 // ---- StatusReply minor 1: shm and scene-edit counters after the texts ----
-StatusReply sampleStatus() {
-  for (const Message& m : sampleMessages())
-    if (const auto* r = std::get_if<StatusReply>(&m))
-      return *r;
-  return {};
-}
 std::size_t statusTail(const StatusReply& r) {
   return StatusReply::kMinor1FixedSize + r.shm_name.size();
 }
@@ -524,19 +521,16 @@ TEST(CodecStatusMinor1, FieldsRoundTripAtTheDocumentedOffsets) {
   const std::size_t texts = kHeaderSize + StatusReply::kFixedSize + 8 * r.refused.size() +
                             r.device.size() + r.scene.size() + r.plan.size();
   ASSERT_EQ(b.size(), texts + statusTail(r));
-  EXPECT_EQ(b[texts], 77u);        // shm_commands, u64 little-endian
-  EXPECT_EQ(b[texts + 8], 2u);     // shm_commands_refused
-  EXPECT_EQ(b[texts + 16], 9u);    // edit_batches_applied
-  EXPECT_EQ(b[texts + 24], 1u);    // edit_batches_dropped
-  EXPECT_EQ(b[texts + 32], 30u);   // edits_applied
-  EXPECT_EQ(b[texts + 40], 4u);    // edits_refused
+  EXPECT_EQ(b[texts], 77u);                                    // shm_commands, u64 little-endian
+  EXPECT_EQ(b[texts + 8], 2u);                                 // shm_commands_refused
+  EXPECT_EQ(b[texts + 16], 9u);                                // edit_batches_applied
+  EXPECT_EQ(b[texts + 24], 1u);                                // edit_batches_dropped
+  EXPECT_EQ(b[texts + 32], 30u);                               // edits_applied
+  EXPECT_EQ(b[texts + 40], 4u);                                // edits_refused
   EXPECT_EQ(b[texts + 48], kShmServing | kShmClientAttached);  // shm_flags u32
   EXPECT_EQ(b[texts + 52], r.shm_name.size());                 // shm_name_length u16
   EXPECT_EQ(std::string(b.begin() + static_cast<long>(texts + 56), b.end()), r.shm_name);
-  Header h;
-  Message back;
-  ASSERT_EQ(decode(b, h, back).code, Errc::kOk);
-  EXPECT_EQ(std::get<StatusReply>(back), r);
+  EXPECT_EQ(decoded<StatusReply>(b), r);
 }
 
 TEST(CodecStatusMinor1, AOneZeroStatusWithoutTheTailDecodesWithZerosAndMustBeExact) {

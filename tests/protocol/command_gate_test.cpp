@@ -185,19 +185,5 @@ TEST(CommandGate, ServoCallsDoNotAllocate) {
   EXPECT_EQ(testing_alloc::count(), before);
 }
 
-TEST(SpscRing, FifoAndFullAndEmpty) {
-  SpscRing<int> r(4);
-  int v = 0;
-  EXPECT_FALSE(r.pop(v));
-  for (int i = 0; i < 4; ++i)
-    EXPECT_TRUE(r.push(i));
-  EXPECT_FALSE(r.push(99));
-  for (int i = 0; i < 4; ++i) {
-    ASSERT_TRUE(r.pop(v));
-    EXPECT_EQ(v, i);
-  }
-  EXPECT_FALSE(r.pop(v));
-}
-
 }  // namespace
 }  // namespace hapticd::proto

@@ -44,6 +44,20 @@ TEST(Seqlock, WriteRangesPublishesOnlyTheRanges) {
   EXPECT_EQ(got.items[5], 6u);
 }
 
+TEST(SpscRing, FifoAndFullAndEmpty) {
+  SpscRing<int> r(4);
+  int v = 0;
+  EXPECT_FALSE(r.pop(v));
+  for (int i = 0; i < 4; ++i)
+    EXPECT_TRUE(r.push(i));
+  EXPECT_FALSE(r.push(99));
+  for (int i = 0; i < 4; ++i) {
+    ASSERT_TRUE(r.pop(v));
+    EXPECT_EQ(v, i);
+  }
+  EXPECT_FALSE(r.pop(v));
+}
+
 TEST(SpscRing, FrontPeeksAndDropFrontTakesInOrder) {
   SpscRing<int> ring(3);  // rounded up to 4
   EXPECT_EQ(ring.capacity(), 4u);
@@ -66,7 +80,7 @@ TEST(SpscRingRef, ConsumerResynchronisesPastABrokenProducer) {
   int slots[4] = {};
   SpscRingRef<int> ring(ix, slots, 4);
   ASSERT_TRUE(ring.push(1));
-  EXPECT_EQ(ring.resync(), 0u);  // a sane ring is left alone
+  EXPECT_EQ(ring.resync(), 0u);       // a sane ring is left alone
   ix.head.store(ix.head.load() + 9);  // a producer that wrote past the tail
   EXPECT_EQ(ring.resync(), 10u);
   int v = 0;

@@ -151,13 +151,7 @@ class Relay {
   std::thread thread_;
 };
 
-std::vector<std::uint8_t> blob(std::size_t n, std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::vector<std::uint8_t> v(n);
-  for (auto& b : v)
-    b = static_cast<std::uint8_t>(rng());
-  return v;
-}
+using testing::randomBytes;
 
 ClientConfig clientFor(const std::string& address) {
   ClientConfig c;
@@ -186,17 +180,14 @@ struct Raw {
     send(buf);
     return buf;
   }
-  /// The next message from the server within timeout_ms.
-  std::optional<Message> receive(int timeout_ms, Header* hdr = nullptr) {
+  /// A message from the server waiting now (datagrams that do not decode are skipped).
+  std::optional<Message> poll(Header* hdr = nullptr) {
     std::vector<std::uint8_t> buf(kMaxDatagramLimit);
-    const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
-    while (std::chrono::steady_clock::now() < end) {
-      if (!sock.waitReadable(10))
-        continue;
+    for (;;) {
       SocketAddress from;
-      auto r = sock.receive(buf, from);
+      const Received r = sock.receive(buf, from);
       if (!r.got)
-        continue;
+        return std::nullopt;
       Header h;
       Message m;
       if (decode(std::span(buf.data(), r.size), h, m).code != Errc::kOk)
@@ -205,7 +196,23 @@ struct Raw {
         *hdr = h;
       return m;
     }
-    return std::nullopt;
+  }
+  /// The next message from the server within timeout_ms.
+  std::optional<Message> receive(int timeout_ms, Header* hdr = nullptr) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    for (;;) {
+      if (auto m = poll(hdr))
+        return m;
+      if (std::chrono::steady_clock::now() >= end)
+        return std::nullopt;
+      sock.waitReadable(10);
+    }
+  }
+  /// The ticks of the States waiting now, appended to `ticks` (other messages dropped).
+  void drainStates(std::vector<std::uint64_t>& ticks) {
+    while (auto m = poll())
+      if (const auto* st = std::get_if<State>(&*m))
+        ticks.push_back(st->tick);
   }
   std::uint64_t hello(const Key* key = nullptr) {
     sendMessage(Hello{kCapUdp, "raw"}, 0, 1, key);
@@ -231,6 +238,64 @@ bool waitUntil(F f, std::chrono::milliseconds limit = 10s) {
   }
   return f();
 }
+
+/// Two raw subscribers of a server that the test polls itself, on a simulated clock.
+class PolledSubscribers {
+ public:
+  /// Opens a session for each (hello, subscribe at hz.first / hz.second with its flags) and
+  /// drops what came before.
+  PolledSubscribers(Server& server,
+                    std::pair<std::uint32_t, std::uint32_t> hz,
+                    std::uint32_t flags_a,
+                    std::uint32_t flags_b)
+      : server_(server), a_(address()), b_(address()) {
+    open(a_, hz.first, flags_a, 2);
+    open(b_, hz.second, flags_b, 4);
+    EXPECT_EQ(server_.counters().received.load(), 4u);
+    drain();
+    ticks_a.clear();
+    ticks_b.clear();
+  }
+  /// `steps` times: the clock `now` on by `step_ns` and a poll, collecting the States' ticks
+  /// (every `drain_every` steps); then waits until every state the server sent has arrived.
+  bool run(std::uint64_t& now, int steps, std::uint64_t step_ns, int drain_every) {
+    const std::uint64_t sent_before = server_.counters().states_sent.load();
+    for (int step = 0; step < steps; ++step) {
+      now += step_ns;
+      server_.poll(0);
+      if (step % drain_every == 0)
+        drain();
+    }
+    return waitUntil([&] {
+      drain();
+      return ticks_a.size() + ticks_b.size() == server_.counters().states_sent.load() - sent_before;
+    });
+  }
+  std::vector<std::uint64_t> ticks_a, ticks_b;  ///< the ticks of the States each got, in order
+
+ private:
+  std::string address() const { return server_.localAddress().toString(); }
+  void drain() {
+    a_.drainStates(ticks_a);
+    b_.drainStates(ticks_b);
+  }
+  // hello and subscribe, polling until the server has read `received` datagrams in all
+  void open(Raw& r, std::uint32_t hz, std::uint32_t flags, std::uint64_t received) {
+    r.sendMessage(Hello{}, 0, 1);
+    std::optional<std::uint64_t> sid;
+    for (int i = 0; i < 100 && !sid; ++i) {
+      server_.poll(10);
+      if (auto m = r.receive(1); m && std::holds_alternative<Welcome>(*m))
+        sid = std::get<Welcome>(*m).session_id;
+    }
+    EXPECT_TRUE(sid.has_value());
+    r.sendMessage(Subscribe{hz, flags}, sid.value_or(0), 2);
+    for (int i = 0; i < 100 && server_.counters().received.load() < received; ++i)
+      server_.poll(10);
+  }
+  Server& server_;
+  Raw a_, b_;
+};
 
 std::uint64_t refused(Server& s, Errc e) {
   return s.counters().refused[static_cast<std::size_t>(e)].load();
@@ -372,9 +437,42 @@ TEST(Server, NoAnswerIsAClearError) {
       << c.error().message;
 }
 
+TEST(Client, AClosedPortFailsAtOnceAsUnreachable) {
+  // a loopback port nothing listens on answers "port unreachable" at once: no waiting out a
+  // timeout (one of a minute here, which the message would name)
+  std::uint16_t port = 0;
+  {
+    auto s = UdpSocket::bind(parseAddress("127.0.0.1:0").value());
+    ASSERT_TRUE(s);
+    port = s.value().localAddress().port();
+  }
+  ClientConfig cc = clientFor("127.0.0.1:" + std::to_string(port));
+  cc.timeout_ms = 60000;
+  auto c = Client::connect(cc);
+  ASSERT_FALSE(c);
+  EXPECT_NE(c.error().message.find("the port is unreachable"), std::string::npos)
+      << c.error().message;
+  EXPECT_EQ(c.error().message.find("within"), std::string::npos) << c.error().message;
+}
+
+TEST(Client, ARequestAfterTheServerStoppedSaysUnreachable) {
+  auto st = std::make_unique<ServerThread>(ServerConfig{}, ServerHandlers{});
+  ClientConfig cc = clientFor(st->address());
+  cc.timeout_ms = 60000;
+  auto c = Client::connect(cc);
+  ASSERT_TRUE(c) << c.error().message;
+  st.reset();  // the server's socket closes
+  auto r = c.value()->arm();
+  ASSERT_FALSE(r);
+  EXPECT_NE(r.error().message.find("arm: no answer from"), std::string::npos) << r.error().message;
+  EXPECT_NE(r.error().message.find("the port is unreachable"), std::string::npos)
+      << r.error().message;
+  EXPECT_TRUE(c.value()->unreachable());
+}
+
 // ---- scene upload ----------------------------------------------------------------------------
 
-TEST(Upload, LoadAcceptedAndRefusedWithTheFirstError) {
+TEST(SceneUpload, LoadAcceptedAndRefusedWithTheFirstError) {
   Recorder rec;
   ServerHandlers h = rec.handlers();
   std::atomic<Server*> server{nullptr};
@@ -391,7 +489,7 @@ TEST(Upload, LoadAcceptedAndRefusedWithTheFirstError) {
   server = &st.server();
   auto c = Client::connect(clientFor(st.address()));
   ASSERT_TRUE(c);
-  const auto data = blob(100'000, 1);
+  const auto data = randomBytes(100'000, 1);
   auto r = c.value()->load(data, "good.glb");
   ASSERT_TRUE(r) << r.error().message;
   auto bad = c.value()->load(data, "bad.glb");
@@ -404,22 +502,22 @@ TEST(Upload, LoadAcceptedAndRefusedWithTheFirstError) {
   EXPECT_EQ(rec.scenes[0].sha256, sha256(data));
 }
 
-TEST(Upload, OverTheLimitRefusedBeforeSending) {
+TEST(SceneUpload, OverTheLimitRefusedBeforeSending) {
   ServerConfig cfg;
   cfg.upload.max_scene_bytes = 1000;
   ServerThread st(cfg, {});
   auto c = Client::connect(clientFor(st.address()));
   ASSERT_TRUE(c);
-  auto r = c.value()->load(blob(1001, 2), "big.glb");
+  auto r = c.value()->load(randomBytes(1001, 2), "big.glb");
   ASSERT_FALSE(r);
   EXPECT_NE(r.error().message.find("1000 byte limit"), std::string::npos) << r.error().message;
 }
 
-TEST(Upload, HashMismatchRefusedByHand) {
+TEST(SceneUpload, HashMismatchRefusedByHand) {
   ServerThread st({}, {});
   Raw raw(st.address());
   const std::uint64_t sid = raw.hello();
-  const auto data = blob(3000, 3);
+  const auto data = randomBytes(3000, 3);
   SceneBegin b;
   b.upload_id = 5;
   b.total_bytes = data.size();
@@ -447,7 +545,7 @@ TEST(Upload, HashMismatchRefusedByHand) {
   EXPECT_NE(verdict->text.find("SHA-256"), std::string::npos) << verdict->text;
 }
 
-TEST(Upload, StaleUploadDroppedByTheServerOnSimulatedTime) {
+TEST(SceneUpload, StaleUploadDroppedByTheServerOnSimulatedTime) {
   std::uint64_t fake_now = 1'000'000'000;
   ServerConfig cfg;
   cfg.bind_address = "127.0.0.1:0";
@@ -470,7 +568,7 @@ TEST(Upload, StaleUploadDroppedByTheServerOnSimulatedTime) {
   auto w = exchange(Hello{}, 0, 1);
   ASSERT_TRUE(w && std::holds_alternative<Welcome>(*w));
   const std::uint64_t sid = std::get<Welcome>(*w).session_id;
-  const auto data = blob(5000, 8);
+  const auto data = randomBytes(5000, 8);
   SceneBegin b;
   b.upload_id = 9;
   b.total_bytes = data.size();
@@ -501,7 +599,7 @@ TEST(Upload, StaleUploadDroppedByTheServerOnSimulatedTime) {
   EXPECT_EQ(std::get<SceneStatus>(*gone).status, SceneStatusCode::kUnknownUpload);
 }
 
-TEST(Upload, FiveMegabytesThroughALossyRelayArriveExactly) {
+TEST(SceneUpload, FiveMegabytesThroughALossyRelayArriveExactly) {
   Recorder rec;
   ServerConfig cfg;
   cfg.rate_limit.packets_per_s = 0;  // the relay's bursts are not what this test is about
@@ -509,7 +607,7 @@ TEST(Upload, FiveMegabytesThroughALossyRelayArriveExactly) {
   Relay relay(st.address(), {.drop = 0.10, .duplicate = 0.05, .max_delay_us = 3000}, 12345);
   auto c = Client::connect(clientFor(relay.address()));
   ASSERT_TRUE(c) << c.error().message;
-  const auto data = blob(5 * 1000 * 1000, 4);
+  const auto data = randomBytes(5 * 1000 * 1000, 4);
   std::uint64_t last_progress = 0;
   auto r = c.value()->load(data, "big.glb", [&](std::uint64_t acked, std::uint64_t total) {
     EXPECT_LE(acked, total);
@@ -523,7 +621,7 @@ TEST(Upload, FiveMegabytesThroughALossyRelayArriveExactly) {
   EXPECT_EQ(st.server().counters().scenes_completed.load(), 1u);
 }
 
-TEST(Upload, FiveMegabytesExactBytesHandedOver) {
+TEST(SceneUpload, FiveMegabytesExactBytesHandedOver) {
   Recorder rec;
   ServerConfig cfg;
   cfg.rate_limit.packets_per_s = 0;
@@ -539,7 +637,7 @@ TEST(Upload, FiveMegabytesExactBytesHandedOver) {
   Relay relay(st.address(), {.drop = 0.05, .duplicate = 0.05, .max_delay_us = 2000}, 777);
   auto c = Client::connect(clientFor(relay.address()));
   ASSERT_TRUE(c) << c.error().message;
-  const auto data = blob(5 * 1000 * 1000 + 17, 5);
+  const auto data = randomBytes(5 * 1000 * 1000 + 17, 5);
   auto r = c.value()->load(data, "exact.glb");
   ASSERT_TRUE(r) << r.error().message;
   std::lock_guard<std::mutex> l(rec.m);
@@ -642,7 +740,7 @@ TEST(Security, AuthOnOnlyKeyHoldersChangeThingsWrongKeyCounted) {
   ASSERT_TRUE(c) << c.error().message;
   EXPECT_TRUE(c.value()->welcome().flags & kWelcomeAuthenticated);
   ASSERT_TRUE(c.value()->arm());
-  ASSERT_TRUE(c.value()->load(blob(5000, 6), "s.glb"));
+  ASSERT_TRUE(c.value()->load(randomBytes(5000, 6), "s.glb"));
   ASSERT_TRUE(c.value()->status());
   ASSERT_TRUE(waitUntil([&] { return rec.commandCount() >= 1; }));
   {
@@ -658,7 +756,7 @@ TEST(Security, AuthOnOnlyKeyHoldersChangeThingsWrongKeyCounted) {
   auto arm = anon.value()->arm();
   ASSERT_FALSE(arm);
   EXPECT_NE(arm.error().message.find("no_mac"), std::string::npos) << arm.error().message;
-  auto load = anon.value()->load(blob(100, 7), "x.glb");
+  auto load = anon.value()->load(randomBytes(100, 7), "x.glb");
   ASSERT_FALSE(load);
   EXPECT_NE(load.error().message.find("no_mac"), std::string::npos) << load.error().message;
   EXPECT_GE(refused(st.server(), Errc::kNoMac), 2u);
@@ -673,6 +771,33 @@ TEST(Security, AuthOnOnlyKeyHoldersChangeThingsWrongKeyCounted) {
   std::lock_guard<std::mutex> l(rec.m);
   for (const auto& e : rec.commands)
     EXPECT_TRUE(e.authenticated);
+}
+
+TEST(Security, AWrongKeyIsSaidToBeWrong) {
+  // the server stays silent to the wrong tag (no oracle); the client then finds it answers an
+  // untagged hello with "key required", so the daemon runs and the key is what is wrong
+  ServerConfig cfg;
+  cfg.key = randomKey();
+  ServerThread st(cfg, {});
+  ClientConfig wrong = clientFor(st.address());
+  wrong.key = randomKey();
+  wrong.timeout_ms = 300;
+  auto w = Client::connect(wrong);
+  ASSERT_FALSE(w);
+  EXPECT_EQ(w.error().message.rfind("wrong key: hapticd at " + st.address() + " answers", 0), 0u)
+      << w.error().message;
+  EXPECT_GE(refused(st.server(), Errc::kBadMac), 1u);
+  // the probe's watch-only session is closed again
+  EXPECT_TRUE(waitUntil([&] { return st.server().sessionCount() == 0; }));
+  // a keyed client and a silent address (a server that drops everything): "may be wrong"
+  Raw sink("127.0.0.1:9");  // only its socket: it never answers
+  ClientConfig silent = clientFor(sink.sock.localAddress().toString());
+  silent.key = randomKey();
+  silent.timeout_ms = 200;
+  auto s = Client::connect(silent);
+  ASSERT_FALSE(s);
+  EXPECT_NE(s.error().message.find("the key may also be wrong"), std::string::npos)
+      << s.error().message;
 }
 
 TEST(Security, ReplayedDatagramRefused) {
@@ -918,59 +1043,10 @@ TEST(Server, StatesAtEachSubscribersRateOnSimulatedTime) {
   auto created = Server::create(cfg, h);
   ASSERT_TRUE(created) << created.error().message;
   Server& server = *created.value();
-  const std::string addr = server.localAddress().toString();
-  Raw slow(addr), fast(addr);
-  auto open = [&](Raw& r, std::uint32_t hz) {
-    r.sendMessage(Hello{}, 0, 1);
-    std::optional<std::uint64_t> sid;
-    for (int i = 0; i < 100 && !sid; ++i) {
-      server.poll(10);
-      if (auto m = r.receive(1); m && std::holds_alternative<Welcome>(*m))
-        sid = std::get<Welcome>(*m).session_id;
-    }
-    EXPECT_TRUE(sid.has_value());
-    r.sendMessage(Subscribe{hz, 0}, sid.value_or(0), 2);
-    for (int i = 0; i < 100 && server.counters().received.load() < 4; ++i)
-      server.poll(10);
-  };
-  open(slow, 100);
-  open(fast, 1000);
-  ASSERT_EQ(server.counters().received.load(), 4u);
-  auto drain = [](Raw& r) {
-    int n = 0;
-    std::vector<std::uint8_t> buf(kMaxDatagramLimit);
-    for (;;) {
-      SocketAddress from;
-      auto got = r.sock.receive(buf, from);
-      if (!got.got)
-        return n;
-      Header hh;
-      Message m;
-      if (decode(std::span(buf.data(), got.size), hh, m).code == Errc::kOk &&
-          std::holds_alternative<State>(m))
-        ++n;
-    }
-  };
-  drain(slow);
-  drain(fast);
-  const std::uint64_t sent_before = server.counters().states_sent.load();
-  int n_slow = 0, n_fast = 0;
-  for (int step = 0; step < 2000; ++step) {  // 2000 × 0.5 ms = 1 s
-    fake_now += 500'000;
-    server.poll(0);
-    if (step % 50 == 0) {
-      n_slow += drain(slow);
-      n_fast += drain(fast);
-    }
-  }
-  ASSERT_TRUE(waitUntil([&] {
-    n_slow += drain(slow);
-    n_fast += drain(fast);
-    return static_cast<std::uint64_t>(n_slow + n_fast) ==
-           server.counters().states_sent.load() - sent_before;
-  }));
-  EXPECT_EQ(n_slow, 100);
-  EXPECT_EQ(n_fast, 1000);
+  PolledSubscribers subs(server, {100, 1000}, 0, 0);
+  ASSERT_TRUE(subs.run(fake_now, 2000, 500'000, 50));  // 2000 × 0.5 ms = 1 s
+  EXPECT_EQ(subs.ticks_a.size(), 100u);
+  EXPECT_EQ(subs.ticks_b.size(), 1000u);
 }
 
 TEST(Server, EachTickSubscribersGetEveryJitteredTickOnceOnSimulatedTime) {
@@ -997,57 +1073,10 @@ TEST(Server, EachTickSubscribersGetEveryJitteredTickOnceOnSimulatedTime) {
   auto created = Server::create(cfg, h);
   ASSERT_TRUE(created) << created.error().message;
   Server& server = *created.value();
-  const std::string addr = server.localAddress().toString();
-  Raw plain(addr), each(addr);
-  auto open = [&](Raw& r, std::uint32_t flags, std::uint64_t expect_received) {
-    r.sendMessage(Hello{}, 0, 1);
-    std::optional<std::uint64_t> sid;
-    for (int i = 0; i < 100 && !sid; ++i) {
-      server.poll(10);
-      if (auto m = r.receive(1); m && std::holds_alternative<Welcome>(*m))
-        sid = std::get<Welcome>(*m).session_id;
-    }
-    EXPECT_TRUE(sid.has_value());
-    r.sendMessage(Subscribe{1000, flags}, sid.value_or(0), 2);
-    for (int i = 0; i < 100 && server.counters().received.load() < expect_received; ++i)
-      server.poll(10);
-  };
-  open(plain, 0, 2);
-  open(each, kSubscribeEachTick, 4);
-  ASSERT_EQ(server.counters().received.load(), 4u);
-  auto drain = [](Raw& r, std::vector<std::uint64_t>& ticks) {
-    std::vector<std::uint8_t> buf(kMaxDatagramLimit);
-    for (;;) {
-      SocketAddress from;
-      auto got = r.sock.receive(buf, from);
-      if (!got.got)
-        return;
-      Header hh;
-      Message m;
-      if (decode(std::span(buf.data(), got.size), hh, m).code == Errc::kOk &&
-          std::holds_alternative<State>(m))
-        ticks.push_back(std::get<State>(m).tick);
-    }
-  };
-  std::vector<std::uint64_t> tp, te;
-  drain(plain, tp);
-  drain(each, te);
-  tp.clear();
-  te.clear();
-  const std::uint64_t sent_before = server.counters().states_sent.load();
-  for (int step = 0; step < 20000; ++step) {  // 20000 × 50 µs = 1 s
-    fake_now += 50'000;
-    server.poll(0);
-    if (step % 20 == 0) {
-      drain(plain, tp);
-      drain(each, te);
-    }
-  }
-  ASSERT_TRUE(waitUntil([&] {
-    drain(plain, tp);
-    drain(each, te);
-    return tp.size() + te.size() == server.counters().states_sent.load() - sent_before;
-  }));
+  PolledSubscribers subs(server, {1000, 1000}, 0, kSubscribeEachTick);
+  ASSERT_TRUE(subs.run(fake_now, 20000, 50'000, 20));   // 20000 × 50 µs = 1 s
+  const std::vector<std::uint64_t>& tp = subs.ticks_a;  // plain
+  const std::vector<std::uint64_t>& te = subs.ticks_b;  // each_tick
   // each_tick: strictly consecutive ticks, each once, about a second's worth
   ASSERT_GT(te.size(), 990u);
   for (std::size_t i = 1; i < te.size(); ++i)

@@ -93,7 +93,7 @@ TEST(Shm, SeqlockReaderNeverSeesATornState) {
 }
 
 // the seqlock of the state block (protocol/seqlock.h) on its own, outside a segment
-TEST(Seqlock, InProcessReaderNeverSeesATornValue) {
+TEST(ShmSeqlock, InProcessReaderNeverSeesATornValue) {
   SeqlockBlock<ShmState> lock;
   ShmState s{};
   EXPECT_FALSE(lock.tryRead(s));

@@ -7,16 +7,12 @@
 #include <algorithm>
 #include <random>
 
+#include "tests/protocol/samples.h"
+
 namespace hapticd::proto {
 namespace {
 
-std::vector<std::uint8_t> blob(std::size_t n, std::uint32_t seed) {
-  std::mt19937 rng(seed);
-  std::vector<std::uint8_t> v(n);
-  for (auto& b : v)
-    b = static_cast<std::uint8_t>(rng());
-  return v;
-}
+using testing::randomBytes;
 
 SceneBegin announce(const std::vector<std::uint8_t>& data, std::uint32_t id = 1) {
   SceneBegin b;
@@ -27,6 +23,12 @@ SceneBegin announce(const std::vector<std::uint8_t>& data, std::uint32_t id = 1)
   return b;
 }
 
+// the whole upload is there: commit says complete and hands over exactly `data`
+void expectHandedOver(Reassembly& r, const std::vector<std::uint8_t>& data) {
+  EXPECT_EQ(r.commit(0), CommitOutcome::kComplete);
+  EXPECT_EQ(r.take(), data);
+}
+
 TEST(Upload, Sha256MatchesKnownVector) {
   const std::string abc = "abc";
   const auto h = sha256({reinterpret_cast<const std::uint8_t*>(abc.data()), abc.size()});
@@ -35,7 +37,7 @@ TEST(Upload, Sha256MatchesKnownVector) {
 }
 
 TEST(Upload, InOrderCompletesAndHandsOverExactBytes) {
-  const auto data = blob(10000, 1);
+  const auto data = randomBytes(10000, 1);
   Reassembly r;
   ASSERT_TRUE(r.begin(announce(data), 0, nullptr));
   for (std::size_t off = 0; off < data.size(); off += 1000) {
@@ -51,7 +53,7 @@ TEST(Upload, InOrderCompletesAndHandsOverExactBytes) {
 }
 
 TEST(Upload, ShuffledDuplicatedOverlappingChunksStillExact) {
-  const auto data = blob(123457, 2);
+  const auto data = randomBytes(123457, 2);
   std::mt19937 rng(3);
   // random chunks of 1..3000 bytes covering everything, many overlapping, each sent 1-3 times
   struct C {
@@ -80,12 +82,11 @@ TEST(Upload, ShuffledDuplicatedOverlappingChunksStillExact) {
     EXPECT_LE(r.receivedBytes(), data.size());
   }
   EXPECT_GT(dups, 0u);
-  EXPECT_EQ(r.commit(0), CommitOutcome::kComplete);
-  EXPECT_EQ(r.take(), data);
+  expectHandedOver(r, data);
 }
 
 TEST(Upload, MissingRangesListedInOrder) {
-  const auto data = blob(10000, 4);
+  const auto data = randomBytes(10000, 4);
   Reassembly r;
   ASSERT_TRUE(r.begin(announce(data), 0, nullptr));
   ASSERT_EQ(r.add(1000, std::span(data).subspan(1000, 1000), 0), ChunkOutcome::kStored);
@@ -101,12 +102,11 @@ TEST(Upload, MissingRangesListedInOrder) {
     ASSERT_EQ(r.add(g.offset, std::span(data).subspan(g.offset, g.length), 0),
               ChunkOutcome::kStored);
   EXPECT_TRUE(r.missing(64).empty());
-  EXPECT_EQ(r.commit(0), CommitOutcome::kComplete);
-  EXPECT_EQ(r.take(), data);
+  expectHandedOver(r, data);
 }
 
 TEST(Upload, FirstBytesWinAndALyingOverlapFailsTheHash) {
-  const auto data = blob(4000, 5);
+  const auto data = randomBytes(4000, 5);
   Reassembly r;
   ASSERT_TRUE(r.begin(announce(data), 0, nullptr));
   auto bad = data;
@@ -126,12 +126,12 @@ TEST(Upload, BoundsRefused) {
   lim.max_scene_bytes = 1000;
   lim.max_chunk_bytes = 100;
   Reassembly r(lim);
-  const auto big = blob(1001, 6);
+  const auto big = randomBytes(1001, 6);
   std::string err;
   EXPECT_FALSE(r.begin(announce(big), 0, &err));
   EXPECT_NE(err.find("1001 bytes refused"), std::string::npos) << err;
   EXPECT_EQ(r.add(0, std::span(big).first(10), 0), ChunkOutcome::kNotBegun);
-  const auto data = blob(1000, 7);
+  const auto data = randomBytes(1000, 7);
   ASSERT_TRUE(r.begin(announce(data), 0, nullptr));
   EXPECT_EQ(r.add(0, std::span(data).first(101), 0), ChunkOutcome::kTooLarge);
   EXPECT_EQ(r.add(950, std::span(data).first(51), 0), ChunkOutcome::kOutOfRange);
@@ -145,7 +145,7 @@ TEST(Upload, FragmentationBounded) {
   UploadLimits lim;
   lim.max_ranges = 4;
   Reassembly r(lim);
-  const auto data = blob(100, 8);
+  const auto data = randomBytes(100, 8);
   ASSERT_TRUE(r.begin(announce(data), 0, nullptr));
   for (std::uint64_t off : {0u, 10u, 20u, 30u})
     ASSERT_EQ(r.add(off, std::span(data).subspan(off, 1), 0), ChunkOutcome::kStored);
@@ -159,7 +159,7 @@ TEST(Upload, StaleUploadTimesOut) {
   UploadLimits lim;
   lim.stale_timeout_ns = 1'000'000'000;
   Reassembly r(lim);
-  const auto data = blob(100, 9);
+  const auto data = randomBytes(100, 9);
   ASSERT_TRUE(r.begin(announce(data), 5'000'000'000, nullptr));
   EXPECT_FALSE(r.stale(5'900'000'000));
   ASSERT_EQ(r.add(0, std::span(data).first(10), 5'900'000'000), ChunkOutcome::kStored);
@@ -168,7 +168,7 @@ TEST(Upload, StaleUploadTimesOut) {
 }
 
 TEST(Upload, ResentBeginKeepsProgressNewBeginRestarts) {
-  const auto data = blob(1000, 10);
+  const auto data = randomBytes(1000, 10);
   Reassembly r;
   ASSERT_TRUE(r.begin(announce(data, 3), 0, nullptr));
   ASSERT_EQ(r.add(0, std::span(data).first(500), 0), ChunkOutcome::kStored);

@@ -424,7 +424,6 @@ TEST(HidDevice, ServoCallsDoNotAllocate) {
   EXPECT_EQ(testing_alloc::count(), before);
 }
 
-
 // random report bytes of every length: parsed or refused, never a non-finite pose
 TEST(HidReports, RandomReportsNeverCrash) {
   std::mt19937 rng(5);

@@ -268,7 +268,6 @@ TEST(ReplayDevice, OpensFilesThroughMakeDevice) {
   EXPECT_EQ(s.buttons, 1u);
 }
 
-
 // mutated files: every outcome is a row list or an error with a line number; no crash (ASan)
 TEST(ReplayDevice, MutatedFilesNeverCrash) {
   std::string good;

@@ -87,8 +87,8 @@ TEST(SimDevice, FollowsCommands) {
   for (int i = 1; i <= 3000; ++i)
     dev->read(i * 1e-3, s);
   const Vec3 dp = s.X_WD.translation - cmd.X_W_target.translation;
-  const double angle = glm::length(
-      geom::rotationVector(s.X_WD.rotation * glm::conjugate(cmd.X_W_target.rotation)));
+  const double angle =
+      glm::length(geom::rotationVector(s.X_WD.rotation * glm::conjugate(cmd.X_W_target.rotation)));
   std::printf("  after 3 s: position error %.3e m, angle error %.3e rad\n", glm::length(dp), angle);
   EXPECT_LT(glm::length(dp), 1e-6);
   EXPECT_LT(angle, 1e-6);
@@ -135,20 +135,19 @@ TEST(SimDevice, IdleMotionIsTheDerivativeOfItsPath) {
   const Pose home = Pose::fromXyzw(Vec3(0.1, 0.2, 0.3), 0.1, 0.2, 0.3, 0.9);
   const double h = 1e-6;
   for (double t = 0.0; t < 60.0; t += 0.37) {
-    Pose a, b, x;
-    Vec3 va, wa, vx, wx;
-    simIdleMotion(home, 0.02, 0.1, t - h, a, va, wa);
-    simIdleMotion(home, 0.02, 0.1, t + h, b, va, wa);
-    simIdleMotion(home, 0.02, 0.1, t, x, vx, wx);
+    const Pose a = simIdleMotion(home, 0.02, 0.1, t - h).X_W;
+    const Pose b = simIdleMotion(home, 0.02, 0.1, t + h).X_W;
+    const IdleMotion m = simIdleMotion(home, 0.02, 0.1, t);
+    const Pose& x = m.X_W;
+    const Vec3& vx = m.v_W;
+    const Vec3& wx = m.w_W;
     const Vec3 v_fd = (b.translation - a.translation) / (2.0 * h);
     const Vec3 w_fd = geom::rotationVector(b.rotation * glm::conjugate(a.rotation)) / (2.0 * h);
     EXPECT_LT(glm::length(v_fd - vx), 1e-8) << t;
     EXPECT_LT(glm::length(w_fd - wx), 1e-7) << t;
     EXPECT_LE(glm::length(x.translation - home.translation), 0.02 * 1.5 + 1e-12);
   }
-  Pose x0;
-  Vec3 v0, w0;
-  simIdleMotion(home, 0.02, 0.1, 0.0, x0, v0, w0);
+  const Pose x0 = simIdleMotion(home, 0.02, 0.1, 0.0).X_W;
   EXPECT_EQ(x0.translation, home.translation);
 }
 
@@ -261,21 +260,19 @@ TEST(SimDevice, BadSpecsAndOptionsAreRefusedWithTheirName) {
   r = makeDevice("sim", o);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("sim_hand_damping_n_s_per_m"), std::string::npos);
-  r = makeDevice("bogus", DeviceOptions{});
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("'bogus'"), std::string::npos);
-  EXPECT_NE(r.error().message.find("unknown backend"), std::string::npos);
-  r = makeDevice("sim:x", DeviceOptions{});
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("takes no argument"), std::string::npos);
-  r = makeDevice("replay:", DeviceOptions{});
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("needs a file"), std::string::npos);
-  r = makeDevice("usb:phantom", DeviceOptions{});
-  ASSERT_FALSE(r.ok());
-  EXPECT_NE(r.error().message.find("unknown usb device 'phantom'"), std::string::npos);
-  r = makeDevice("", DeviceOptions{});
-  ASSERT_FALSE(r.ok());
+  // each bad spec, and what its message must contain
+  const std::pair<const char*, std::vector<const char*>> bad_specs[] = {
+      {"bogus", {"'bogus'", "unknown backend"}},
+      {"sim:x", {"takes no argument"}},
+      {"replay:", {"needs a file"}},
+      {"usb:phantom", {"unknown usb device 'phantom'"}},
+      {"", {}}};
+  for (const auto& [spec, expect] : bad_specs) {
+    r = makeDevice(spec, DeviceOptions{});
+    ASSERT_FALSE(r.ok()) << spec;
+    for (const char* text : expect)
+      EXPECT_NE(r.error().message.find(text), std::string::npos) << spec;
+  }
   auto ok = makeDevice("sim", DeviceOptions{});
   ASSERT_TRUE(ok.ok());
   EXPECT_EQ(ok.value()->info().name, "sim");

@@ -506,7 +506,6 @@ TEST(FalconDevice, OpenErrors) {
   EXPECT_NE(hid.error().message.find("'hid:/dev/nonexistent-hidraw'"), std::string::npos);
 }
 
-
 // random bytes, and random encoder packets through the device: no crash, finite poses
 TEST(FalconPackets, RandomBytesNeverCrash) {
   std::mt19937 rng(9);
@@ -539,7 +538,6 @@ TEST(FalconDevice, AnyEncoderValuesGiveFinitePoses) {
   std::printf("  3000 random encoder packets: %llu forward kinematics solves failed (pose held)\n",
               static_cast<unsigned long long>(rig.dev->kinematicsFailures()));
 }
-
 
 // A Falcon in its bootloader, as the loading protocol describes it: it greets at 9600 baud with
 // DTR high, confirms 'A' at 140 kbaud, then echoes every byte.

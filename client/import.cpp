@@ -1,0 +1,578 @@
+#include "client/import.h"
+
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <tiny_gltf.h>
+
+#include <CLI/CLI.hpp>
+#include <algorithm>
+#include <assimp/Importer.hpp>
+#include <cctype>
+#include <chrono>
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <iostream>
+#include <optional>
+
+#include "core/decomp/quickhull.h"
+#include "scenes/glb_builder.h"
+
+namespace hapticd::client {
+namespace {
+
+namespace fs = std::filesystem;
+using decomp::TriangleMesh;
+using decomp::Vec3;
+using Json = nlohmann::json;
+
+std::string lower(std::string s) {
+  for (char& c : s)
+    c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// the glTF reader: the default scene's mesh nodes, TRIANGLES primitives, in world coordinates.
+// One function, so that a shared reader of core/scene can replace it.
+Result<TriangleMesh> readGltfTriangles(const std::string& path) {
+  tinygltf::TinyGLTF loader;
+  tinygltf::Model model;
+  std::string err, warn;
+  const bool glb = lower(fs::path(path).extension().string()) == ".glb";
+  const bool ok = glb ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
+                      : loader.LoadASCIIFromFile(&model, &err, &warn, path);
+  if (!ok)
+    return Error{path + ": not a readable glTF file: " + (err.empty() ? warn : err)};
+  TriangleMesh mesh;
+  auto localMatrix = [](const tinygltf::Node& n) {
+    if (n.matrix.size() == 16)
+      return glm::make_mat4(n.matrix.data());
+    glm::dmat4 m(1.0);
+    if (n.translation.size() == 3)
+      m = glm::translate(m, Vec3{n.translation[0], n.translation[1], n.translation[2]});
+    if (n.rotation.size() == 4)
+      m = m * glm::mat4_cast(glm::normalize(
+                  glm::dquat(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2])));
+    if (n.scale.size() == 3)
+      m = glm::scale(m, Vec3{n.scale[0], n.scale[1], n.scale[2]});
+    return m;
+  };
+  // a float VEC3 accessor, or an index accessor, element k
+  auto readFloat3 = [&](const tinygltf::Accessor& a, std::size_t k) -> std::optional<Vec3> {
+    if (a.bufferView < 0 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT ||
+        a.type != TINYGLTF_TYPE_VEC3)
+      return std::nullopt;
+    const tinygltf::BufferView& v = model.bufferViews[static_cast<std::size_t>(a.bufferView)];
+    const std::size_t stride = v.byteStride > 0 ? v.byteStride : 12;
+    const std::size_t at = v.byteOffset + a.byteOffset + k * stride;
+    const auto& data = model.buffers[static_cast<std::size_t>(v.buffer)].data;
+    if (at + 12 > data.size())
+      return std::nullopt;
+    float f[3];
+    std::memcpy(f, data.data() + at, 12);
+    return Vec3{f[0], f[1], f[2]};
+  };
+  auto readIndex = [&](const tinygltf::Accessor& a, std::size_t k) -> std::optional<std::uint32_t> {
+    if (a.bufferView < 0)
+      return std::nullopt;
+    const tinygltf::BufferView& v = model.bufferViews[static_cast<std::size_t>(a.bufferView)];
+    const std::size_t size = a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
+                             : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
+                                                                                         : 4;
+    const std::size_t at =
+        v.byteOffset + a.byteOffset + k * (v.byteStride > 0 ? v.byteStride : size);
+    const auto& data = model.buffers[static_cast<std::size_t>(v.buffer)].data;
+    if (at + size > data.size())
+      return std::nullopt;
+    std::uint32_t i = 0;
+    std::memcpy(&i, data.data() + at, size);  // little-endian host
+    return i;
+  };
+  std::vector<std::pair<int, glm::dmat4>> stack;
+  const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
+  if (!model.scenes.empty())
+    for (int n : model.scenes[static_cast<std::size_t>(scene)].nodes)
+      stack.push_back({n, glm::dmat4(1.0)});
+  while (!stack.empty()) {
+    const auto [ni, parent] = stack.back();
+    stack.pop_back();
+    if (ni < 0 || static_cast<std::size_t>(ni) >= model.nodes.size())
+      continue;
+    const tinygltf::Node& node = model.nodes[static_cast<std::size_t>(ni)];
+    const glm::dmat4 world = parent * localMatrix(node);
+    for (int c : node.children)
+      stack.push_back({c, world});
+    if (node.mesh < 0)
+      continue;
+    for (const tinygltf::Primitive& prim :
+         model.meshes[static_cast<std::size_t>(node.mesh)].primitives) {
+      const auto pos = prim.attributes.find("POSITION");
+      if ((prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) || pos == prim.attributes.end())
+        continue;
+      const tinygltf::Accessor& pa = model.accessors[static_cast<std::size_t>(pos->second)];
+      const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+      for (std::size_t k = 0; k < pa.count; ++k) {
+        const auto p = readFloat3(pa, k);
+        if (!p)
+          return Error{path + ": mesh " + std::to_string(node.mesh) +
+                       ": POSITION must be FLOAT VEC3 inside its buffer"};
+        mesh.positions.push_back(Vec3(world * glm::dvec4(*p, 1.0)));
+      }
+      std::vector<std::uint32_t> idx;
+      if (prim.indices >= 0) {
+        const tinygltf::Accessor& ia = model.accessors[static_cast<std::size_t>(prim.indices)];
+        for (std::size_t k = 0; k < ia.count; ++k) {
+          const auto i = readIndex(ia, k);
+          if (!i)
+            return Error{path + ": mesh " + std::to_string(node.mesh) +
+                         ": indices outside their buffer"};
+          idx.push_back(*i);
+        }
+      } else {
+        for (std::uint32_t k = 0; k < pa.count; ++k)
+          idx.push_back(k);
+      }
+      for (std::size_t k = 0; k + 2 < idx.size(); k += 3)
+        mesh.triangles.push_back({base + idx[k], base + idx[k + 1], base + idx[k + 2]});
+    }
+  }
+  return mesh;
+}
+
+Result<TriangleMesh> readWithAssimp(const std::string& path) {
+  Assimp::Importer importer;
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  const aiScene* scene = importer.ReadFile(
+      path, aiProcess_Triangulate | aiProcess_PreTransformVertices | aiProcess_SortByPType);
+  if (scene == nullptr)
+    return Error{path + ": " + importer.GetErrorString()};
+  TriangleMesh mesh;
+  for (unsigned m = 0; m < scene->mNumMeshes; ++m) {
+    const aiMesh* am = scene->mMeshes[m];
+    const auto base = static_cast<std::uint32_t>(mesh.positions.size());
+    for (unsigned v = 0; v < am->mNumVertices; ++v)
+      mesh.positions.push_back({am->mVertices[v].x, am->mVertices[v].y, am->mVertices[v].z});
+    for (unsigned f = 0; f < am->mNumFaces; ++f) {
+      const aiFace& face = am->mFaces[f];
+      if (face.mNumIndices == 3)
+        mesh.triangles.push_back(
+            {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
+    }
+  }
+  return mesh;
+}
+
+struct Parsed {
+  double scale = 1.0;  // to metres
+  std::string units;
+  bool units_assumed = false;
+  decomp::DecompOptions decomp;
+  std::optional<double> mass_kg, density;
+  std::vector<double> at;
+};
+
+std::optional<double> number(const std::string& s) {
+  if (s.empty())
+    return std::nullopt;
+  char* end = nullptr;
+  const double v = std::strtod(s.c_str(), &end);
+  if (end == s.c_str() || *end != '\0' || !std::isfinite(v))
+    return std::nullopt;
+  return v;
+}
+
+// every option checked; the first mistake as a message
+Result<Parsed> parse(const ImportOptions& o) {
+  Parsed p;
+  if (o.model.empty())
+    return Error{"give the MODEL file"};
+  if (o.output.empty())
+    return Error{"give the output scene with -o SCENE.glb"};
+  if (lower(fs::path(o.output).extension().string()) != ".glb")
+    return Error{"-o must name a .glb file, got " + o.output};
+  p.units = o.units.empty() ? "m" : o.units;
+  p.units_assumed = o.units.empty();
+  const std::pair<const char*, double> units[] = {
+      {"m", 1.0}, {"cm", 0.01}, {"mm", 0.001}, {"in", 0.0254}};
+  const auto u = std::find_if(std::begin(units), std::end(units),
+                              [&](const auto& x) { return p.units == x.first; });
+  if (u == std::end(units))
+    return Error{"--units must be m, cm, mm or in, got '" + p.units + "'"};
+  p.scale = u->second;
+  if (o.role != "static" && o.role != "dynamic" && o.role != "kinematic" && o.role != "probe")
+    return Error{"--role must be static, dynamic, kinematic or probe, got '" + o.role + "'"};
+  const auto c = number(o.concavity);
+  if (!c || !(*c > 0.0 && *c < 1.0))
+    return Error{"--concavity must be a number in (0, 1) (a fraction of the diagonal), got '" +
+                 o.concavity + "'"};
+  p.decomp.concavity = *c;
+  const auto mp = number(o.max_pieces);
+  if (!mp || *mp < 1.0 || *mp > 10000.0 || std::floor(*mp) != *mp)
+    return Error{"--max-pieces must be an integer from 1 to 10000, got '" + o.max_pieces + "'"};
+  p.decomp.max_pieces = static_cast<std::size_t>(*mp);
+  const auto tl = number(o.time_limit);
+  if (!tl || *tl < 0.0)
+    return Error{"--time-limit must be seconds >= 0 (0: none), got '" + o.time_limit + "'"};
+  p.decomp.time_limit_s = *tl;
+  if (!o.mass.empty() && !o.density.empty())
+    return Error{"give --mass or --density, not both"};
+  if ((!o.mass.empty() || !o.density.empty()) && o.role != "dynamic")
+    return Error{"--mass and --density need --role dynamic"};
+  if (!o.mass.empty()) {
+    p.mass_kg = number(o.mass);
+    if (!p.mass_kg || !(*p.mass_kg > 0.0))
+      return Error{"--mass must be kg > 0, got '" + o.mass + "'"};
+  }
+  if (!o.density.empty()) {
+    p.density = number(o.density);
+    if (!p.density || !(*p.density > 0.0))
+      return Error{"--density must be kg/m3 > 0, got '" + o.density + "'"};
+  }
+  if (!o.at.empty() && o.add.empty())
+    return Error{"--at needs --add SCENE.glb"};
+  if (!o.add.empty()) {
+    if (o.at.size() != 3 && o.at.size() != 7)
+      return Error{"--add needs --at X Y Z [QX QY QZ QW]"};
+    for (const std::string& s : o.at) {
+      const auto v = number(s);
+      if (!v)
+        return Error{"--at: '" + s + "' is not a number"};
+      p.at.push_back(*v);
+    }
+  }
+  return p;
+}
+
+// the model's node tree: a body node holding the visual mesh and one collider node per piece
+// (each naming a geometry node, outside the scene, that holds the piece's hull)
+std::vector<std::uint8_t> buildScene(const std::string& name,
+                                     const TriangleMesh& visual,
+                                     const decomp::DecompResult& r,
+                                     const ImportOptions& o,
+                                     const Parsed& p,
+                                     double mass_kg) {
+  scenes::GltfBuilder b;
+  const int grey = b.addRenderMaterial("model", {0.7, 0.7, 0.72, 1.0}, 0.1, 0.6);
+  scenes::MeshData vm;
+  vm.positions = visual.positions;
+  vm.triangles = visual.triangles;
+  const int mesh = b.addMesh(name, vm, grey);
+  Json body = {{"name", name}};
+  Json motion;
+  if (o.role == "dynamic")
+    motion = mass_kg > 0.0 ? Json{{"mass", scenes::quantize(mass_kg)}} : Json::object();
+  if (o.role == "kinematic" || o.role == "probe")
+    motion = {{"isKinematic", true}};
+  if (!motion.is_null())
+    body["extensions"] = {{"KHR_physics_rigid_bodies", {{"motion", motion}}}};
+  if (o.role == "probe")
+    body["extras"] = {{"haptic", {{"probe", true}}}};
+  if (!p.at.empty()) {
+    body["translation"] = scenes::jsonVec({p.at[0], p.at[1], p.at[2]});
+    if (p.at.size() == 7) {
+      const glm::dquat q = glm::normalize(glm::dquat(p.at[6], p.at[3], p.at[4], p.at[5]));
+      body["rotation"] = {scenes::quantize(q.x), scenes::quantize(q.y), scenes::quantize(q.z),
+                          scenes::quantize(q.w)};
+    }
+  }
+  const int root = b.addNode(body);
+  b.addRoot(root);
+  b.addChild(root, b.addNode({{"name", name + "_visual"}, {"mesh", mesh}}));
+  for (std::size_t i = 0; i < r.pieces.size(); ++i) {
+    scenes::MeshData pm;
+    for (const Vec3& v : r.pieces[i].vertices)
+      pm.positions.push_back(v * p.scale);
+    pm.triangles = r.pieces[i].triangles;
+    const std::string piece = name + "_piece" + std::to_string(i);
+    const int geometry = b.addNode({{"name", piece + "_hull"}, {"mesh", b.addMesh(piece, pm, -1)}});
+    const Json collider = {{"geometry", {{"node", geometry}, {"convexHull", true}}}};
+    b.addChild(
+        root,
+        b.addNode({{"name", piece},
+                   {"extensions", {{"KHR_physics_rigid_bodies", {{"collider", collider}}}}}}));
+  }
+  return b.finish(name);
+}
+
+// a GLB's JSON and BIN chunks
+Result<std::pair<Json, std::vector<std::uint8_t>>> splitGlb(const std::vector<std::uint8_t>& glb,
+                                                            const std::string& what) {
+  auto u32 = [&](std::size_t at) {
+    std::uint32_t v = 0;
+    std::memcpy(&v, glb.data() + at, 4);
+    return v;
+  };
+  if (glb.size() < 20 || u32(0) != 0x46546C67u || u32(4) != 2)
+    return Error{what + ": not a glTF 2.0 binary (.glb)"};
+  const std::size_t json_len = u32(12);
+  if (u32(16) != 0x4E4F534Au || 20 + json_len > glb.size())
+    return Error{what + ": the GLB's first chunk is not JSON"};
+  Json doc = Json::parse(glb.begin() + 20, glb.begin() + static_cast<std::ptrdiff_t>(20 + json_len),
+                         nullptr, false);
+  if (doc.is_discarded())
+    return Error{what + ": the GLB's JSON does not parse"};
+  std::vector<std::uint8_t> bin;
+  const std::size_t at = 20 + json_len;
+  if (at + 8 <= glb.size() && u32(at + 4) == 0x004E4942u) {
+    const std::size_t len = u32(at);
+    if (at + 8 + len > glb.size())
+      return Error{what + ": the GLB's BIN chunk runs past the end"};
+    bin.assign(glb.begin() + static_cast<std::ptrdiff_t>(at + 8),
+               glb.begin() + static_cast<std::ptrdiff_t>(at + 8 + len));
+  }
+  return std::make_pair(std::move(doc), std::move(bin));
+}
+
+// appends the model's document `add` (one root node) to `base`
+void mergeInto(Json& base,
+               std::vector<std::uint8_t>& bin,
+               const Json& add,
+               const std::vector<std::uint8_t>& add_bin) {
+  auto count = [&](const char* key) {
+    return base.contains(key) ? static_cast<int>(base[key].size()) : 0;
+  };
+  const int nodes = count("nodes"), meshes = count("meshes"), accessors = count("accessors"),
+            views = count("bufferViews"), materials = count("materials");
+  while (bin.size() % 4 != 0)
+    bin.push_back(0);
+  const auto offset = static_cast<long long>(bin.size());
+  bin.insert(bin.end(), add_bin.begin(), add_bin.end());
+  if (!base.contains("buffers") || base["buffers"].empty())
+    base["buffers"] = Json::array({Json::object()});
+  base["buffers"][0]["byteLength"] = bin.size();
+  for (Json v : add.value("bufferViews", Json::array())) {
+    v["buffer"] = 0;
+    v["byteOffset"] = v.value("byteOffset", 0ll) + offset;
+    base["bufferViews"].push_back(v);
+  }
+  for (Json a : add.value("accessors", Json::array())) {
+    if (a.contains("bufferView"))
+      a["bufferView"] = a["bufferView"].get<int>() + views;
+    base["accessors"].push_back(a);
+  }
+  for (const Json& m : add.value("materials", Json::array()))
+    base["materials"].push_back(m);
+  for (Json m : add.value("meshes", Json::array())) {
+    for (Json& prim : m["primitives"]) {
+      for (auto& [key, value] : prim["attributes"].items())
+        value = value.get<int>() + accessors;
+      if (prim.contains("indices"))
+        prim["indices"] = prim["indices"].get<int>() + accessors;
+      if (prim.contains("material"))
+        prim["material"] = prim["material"].get<int>() + materials;
+    }
+    base["meshes"].push_back(m);
+  }
+  for (Json n : add.value("nodes", Json::array())) {
+    if (n.contains("mesh"))
+      n["mesh"] = n["mesh"].get<int>() + meshes;
+    if (n.contains("children"))
+      for (Json& c : n["children"])
+        c = c.get<int>() + nodes;
+    auto* geometry = n.contains("extensions") ? &n["extensions"] : nullptr;
+    if (geometry != nullptr && geometry->contains("KHR_physics_rigid_bodies") &&
+        (*geometry)["KHR_physics_rigid_bodies"].contains("collider")) {
+      Json& g = (*geometry)["KHR_physics_rigid_bodies"]["collider"]["geometry"];
+      if (g.contains("node"))
+        g["node"] = g["node"].get<int>() + nodes;
+    }
+    base["nodes"].push_back(n);
+  }
+  const int scene = base.value("scene", 0);
+  if (!base.contains("scenes") || base["scenes"].empty())
+    base["scenes"] = Json::array({Json::object()});
+  for (const Json& r : add["scenes"][0]["nodes"])
+    base["scenes"][static_cast<std::size_t>(scene)]["nodes"].push_back(r.get<int>() + nodes);
+  for (const char* key : {"extensionsUsed", "extensionsRequired"}) {
+    for (const Json& e : add.value(key, Json::array()))
+      if (!base.contains(key) ||
+          std::find(base[key].begin(), base[key].end(), e) == base[key].end())
+        base[key].push_back(e);
+  }
+}
+
+Result<std::vector<std::uint8_t>> readFile(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    return Error{path + ": cannot open: " + std::strerror(errno)};
+  return std::vector<std::uint8_t>((std::istreambuf_iterator<char>(in)),
+                                   std::istreambuf_iterator<char>());
+}
+
+Json reportJson(const decomp::DecompReport& r) {
+  const decomp::RepairCounts& c = r.repairs;
+  return {{"pieces", r.pieces},
+          {"concavity", r.concavity},
+          {"concavity_bound", r.concavity_bound},
+          {"concavity_target", r.concavity_target},
+          {"volume_ratio", r.closed ? Json(r.volume_ratio) : Json(nullptr)},
+          {"closed", r.closed},
+          {"seconds", r.seconds},
+          {"cuts", r.cuts},
+          {"merges", r.merges},
+          {"time_limit_hit", r.time_limit_hit},
+          {"warnings", r.warnings},
+          {"repairs",
+           {{"input_vertices", c.input_vertices},
+            {"input_triangles", c.input_triangles},
+            {"non_finite_vertices", c.non_finite_vertices},
+            {"bad_index_triangles", c.bad_index_triangles},
+            {"duplicate_vertices", c.duplicate_vertices},
+            {"unreferenced_vertices", c.unreferenced_vertices},
+            {"degenerate_triangles", c.degenerate_triangles},
+            {"duplicate_triangles", c.duplicate_triangles},
+            {"boundary_edges", c.boundary_edges},
+            {"holes_filled", c.holes_filled},
+            {"non_manifold_edges", c.non_manifold_edges},
+            {"flipped_triangles", c.flipped_triangles},
+            {"inverted_components", c.inverted_components},
+            {"components", c.components},
+            {"open_components", c.open_components},
+            {"self_intersections", c.self_intersections},
+            {"decimated_from", c.decimated_from}}}};
+}
+
+}  // namespace
+
+Result<TriangleMesh> readModel(const std::string& path) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec))
+    return Error{path + ": no such file"};
+  const std::string ext = lower(fs::path(path).extension().string());
+  Result<TriangleMesh> mesh = Error{""};
+  if (ext == ".gltf" || ext == ".glb")
+    mesh = readGltfTriangles(path);
+  else if (ext == ".obj" || ext == ".stl" || ext == ".ply" || ext == ".off")
+    mesh = readWithAssimp(path);
+  else
+    return Error{path + ": unsupported format '" + ext +
+                 "' (give .obj, .stl, .ply, .off, .gltf or .glb)"};
+  if (mesh.ok() && mesh.value().triangles.empty())
+    return Error{path + ": the file has no triangles"};
+  return mesh;
+}
+
+CLI::App* defineImport(CLI::App& app, ImportOptions& o) {
+  CLI::App* sub = app.add_subcommand(
+      "import",
+      "Decompose a polygonal model (.obj .stl .ply .off .gltf .glb) into convex pieces and "
+      "write a scene with its colliders (docs/decomposition.md); exit 0 written, 1 bad "
+      "input, 2 bad arguments");
+  sub->add_option("MODEL", o.model, "the model file");
+  sub->add_option("-o,--output", o.output, "the scene to write (.glb)");
+  sub->add_option("--units", o.units,
+                  "the model's length unit: m, cm, mm, in (default m, said when assumed)");
+  sub->add_option("--role", o.role, "static, dynamic, kinematic or probe (default static)");
+  sub->add_option("--mass", o.mass, "dynamic: mass, kg (default: density x volume)");
+  sub->add_option("--density", o.density, "dynamic: density, kg/m3 (default 1000)");
+  sub->add_option("--concavity", o.concavity,
+                  "target concavity, fraction of the bounding-box diagonal (default 0.01)");
+  sub->add_option("--max-pieces", o.max_pieces, "at most this many pieces (default 64)");
+  sub->add_option("--time-limit", o.time_limit,
+                  "seconds; then the best so far, with a warning (default 0: none)");
+  sub->add_flag("--json", o.json, "print the report as JSON");
+  sub->add_option("--add", o.add,
+                  "append the model to this scene (.glb); -o may name the same file");
+  sub->add_option("--at", o.at, "with --add: X Y Z [QX QY QZ QW], the model's pose in the scene")
+      ->expected(3, 7);
+  sub->allow_extras();
+  return sub;
+}
+
+int runImport(const ImportOptions& o, std::ostream& out, std::ostream& err) {
+  Result<Parsed> parsed = parse(o);
+  if (!parsed) {
+    err << "hapticctl import: " << parsed.error().message << '\n';
+    return 2;
+  }
+  const Parsed& p = parsed.value();
+  Result<TriangleMesh> read = readModel(o.model);
+  if (!read) {
+    err << "hapticctl import: " << read.error().message << '\n';
+    return 1;
+  }
+  TriangleMesh mesh = std::move(read).value();
+  if (p.units_assumed)
+    err << "hapticctl import: units: m (assumed; give --units m|cm|mm|in)\n";
+  const auto start = std::chrono::steady_clock::now();
+  double last_line = 1.0;
+  const auto progress = [&](const decomp::Progress& pr) {
+    if (pr.elapsed_s < last_line)
+      return;
+    last_line = pr.elapsed_s + 1.0;
+    char buf[160];
+    std::snprintf(buf, sizeof buf, "hapticctl import: %zu pieces, concavity %.4f, %.1f s (%s)\n",
+                  pr.pieces, pr.concavity, pr.elapsed_s, pr.stage);
+    err << buf << std::flush;
+  };
+  auto result = decomp::decompose(mesh, p.decomp, progress);
+  if (!result) {
+    err << "hapticctl import: " << o.model << ": " << result.error().message << '\n';
+    return 1;
+  }
+  (void)start;
+  const decomp::DecompResult& r = result.value();
+  // visual mesh in metres: finite triangles with valid indices only
+  TriangleMesh visual;
+  for (const Vec3& v : mesh.positions)
+    visual.positions.push_back(std::isfinite(v.x + v.y + v.z) ? v * p.scale : Vec3{0.0});
+  for (const decomp::Triangle& t : mesh.triangles)
+    if (t[0] < mesh.positions.size() && t[1] < mesh.positions.size() &&
+        t[2] < mesh.positions.size() &&
+        std::isfinite(mesh.positions[t[0]].x + mesh.positions[t[1]].x + mesh.positions[t[2]].x +
+                      mesh.positions[t[0]].y + mesh.positions[t[1]].y + mesh.positions[t[2]].y +
+                      mesh.positions[t[0]].z + mesh.positions[t[1]].z + mesh.positions[t[2]].z))
+      visual.triangles.push_back(t);
+  double volume_m3 = 0.0;
+  for (const decomp::ConvexPiece& piece : r.pieces)
+    volume_m3 += decomp::meshVolume(piece.vertices, piece.triangles);
+  volume_m3 *= p.scale * p.scale * p.scale;
+  const double mass_kg = p.mass_kg ? *p.mass_kg : p.density ? *p.density * volume_m3 : 0.0;
+  const std::string name = fs::path(o.model).stem().string();
+  std::vector<std::uint8_t> glb = buildScene(name, visual, r, o, p, mass_kg);
+  if (!o.add.empty()) {
+    auto base_bytes = readFile(o.add);
+    if (!base_bytes) {
+      err << "hapticctl import: --add " << base_bytes.error().message << '\n';
+      return 1;
+    }
+    auto base = splitGlb(base_bytes.value(), o.add);
+    auto mine = splitGlb(glb, "the new model");
+    if (!base || !mine) {
+      err << "hapticctl import: " << (base ? mine.error().message : base.error().message) << '\n';
+      return 1;
+    }
+    auto [doc, bin] = std::move(base).value();
+    mergeInto(doc, bin, mine.value().first, mine.value().second);
+    glb = scenes::packGlb(doc.dump(), bin);
+  }
+  std::ofstream file(o.output, std::ios::binary | std::ios::trunc);
+  file.write(reinterpret_cast<const char*>(glb.data()), static_cast<std::streamsize>(glb.size()));
+  if (!file) {
+    err << "hapticctl import: cannot write " << o.output << ": " << std::strerror(errno) << '\n';
+    return 1;
+  }
+  if (o.json) {
+    Json j = reportJson(r.report);
+    j["ok"] = true;
+    j["output"] = o.output;
+    j["units"] = p.units;
+    j["units_assumed"] = p.units_assumed;
+    j["role"] = o.role;
+    if (o.role == "dynamic")
+      j["mass_kg"] = mass_kg > 0.0 ? Json(mass_kg) : Json(1000.0 * volume_m3);
+    out << j.dump() << '\n';
+  } else {
+    out << "wrote " << o.output << " (" << o.role << " body '" << name << "', units " << p.units
+        << (p.units_assumed ? " assumed" : "") << ")\n"
+        << decomp::describe(r.report);
+  }
+  return 0;
+}
+
+}  // namespace hapticd::client

@@ -1,0 +1,112 @@
+#include "daemon/scene_builder.h"
+
+#include <utility>
+
+namespace hapticd::daemon {
+namespace {
+
+Result<BuiltScene> withSimulation(const Backends& backends,
+                                  const Config& config,
+                                  SceneResult scene,
+                                  std::uint64_t generation) {
+  if (!scene)
+    return scene.error();
+  auto model = scene.value();
+  auto sim = backends.make_simulation(model, toSimOptions(config));
+  if (!sim)
+    return Error{"scene '" + model->name + "': " + sim.error().message};
+  BuiltScene built;
+  built.scene = std::make_unique<ServoScene>();
+  built.scene->sim = std::move(sim.value());
+  built.scene->generation = generation;
+  built.name = model->name;
+  built.model = model;
+  built.plan = scene::describePlan(model->plan);
+  built.body_names.reserve(model->bodies.size());
+  for (const auto& b : model->bodies)
+    built.body_names.push_back(b.name);
+  return built;
+}
+
+// restart-only sections keep running as they are
+Config withRunningRestartOnly(Config next, const Config& running) {
+  next.servo = running.servo;
+  next.device = running.device;
+  next.network = running.network;
+  return next;
+}
+
+}  // namespace
+
+Result<BuiltScene> buildScene(const Backends& backends,
+                              const Config& config,
+                              std::uint64_t generation) {
+  return withSimulation(backends, config, backends.load_scene(config), generation);
+}
+
+Result<BuiltScene> buildUploadedScene(const Backends& backends,
+                                      const Config& config,
+                                      const proto::SceneUploadDone& upload,
+                                      std::uint64_t generation) {
+  if (!backends.load_scene_bytes)
+    return Error{"this daemon takes no scene uploads"};
+  const std::string name = upload.name.empty() ? std::string("upload") : upload.name;
+  return withSimulation(backends, config, backends.load_scene_bytes(upload.bytes, name, config),
+                        generation);
+}
+
+Result<bool> SceneBuilder::start(std::function<void(Finished&)> work) {
+  done_ = false;
+  result_ = Finished{};
+  return thread_.start("hapticd-build", 4 << 20, [this, work = std::move(work)] {
+    work(result_);
+    done_ = true;
+  });
+}
+
+Result<bool> SceneBuilder::startReload(const CommandLine& cli,
+                                       const Config& running,
+                                       std::uint64_t generation) {
+  return start([this, &cli, running, generation](Finished& f) {
+    auto config = buildConfig(cli);
+    if (!config) {
+      f.error = config.error().message;
+      return;
+    }
+    f.config = config.value().config;
+    f.warnings = config.value().warnings;
+    auto built = buildScene(backends_, withRunningRestartOnly(f.config, running), generation);
+    if (built)
+      f.built = std::move(built.value());
+    else
+      f.error = built.error().message;
+  });
+}
+
+Result<bool> SceneBuilder::startUpload(proto::SceneUploadDone upload,
+                                       const Config& running,
+                                       std::uint64_t generation) {
+  return start([this, up = std::move(upload), running, generation](Finished& f) mutable {
+    auto built = buildUploadedScene(backends_, running, up, generation);
+    if (built)
+      f.built = std::move(built.value());
+    else
+      f.error = built.error().message;
+    up.bytes = {};  // the model holds what it needs
+    f.upload = std::move(up);
+  });
+}
+
+std::optional<SceneBuilder::Finished> SceneBuilder::finished() {
+  if (!thread_.joinable() || !done_.load())
+    return std::nullopt;
+  thread_.join();
+  return std::move(result_);
+}
+
+void SceneBuilder::join() {
+  thread_.join();
+  result_ = Finished{};
+}
+
+}  // namespace hapticd::daemon

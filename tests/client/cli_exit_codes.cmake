@@ -1,0 +1,28 @@
+# A bad command line exits 2 with the problem on stderr (never CLI11's own 100+ codes); --help
+# exits 0. Run with -DHAPTICCTL=... -DHAPTICD=... (the built binaries).
+function(expect rc what)
+  execute_process(COMMAND ${ARGN} RESULT_VARIABLE got OUTPUT_VARIABLE out ERROR_VARIABLE err
+                  TIMEOUT 30)
+  if(NOT got EQUAL rc)
+    message(FATAL_ERROR "'${ARGN}' exited ${got}, expected ${rc}\n${err}${out}")
+  endif()
+  if(NOT "${what}" STREQUAL "" AND NOT "${err}" MATCHES "${what}")
+    message(FATAL_ERROR "'${ARGN}': stderr does not say '${what}':\n${err}")
+  endif()
+endfunction()
+
+expect(2 "unknown command 'nosuch' \\(the commands: query, check, status" ${HAPTICCTL} nosuch)
+expect(2 "A subcommand is required" ${HAPTICCTL})
+expect(2 "not expected: --bogus" ${HAPTICCTL} status --bogus)
+expect(2 "VALUES: At least 3 required" ${HAPTICCTL} pose 1 2)
+expect(2 "--seconds must be a finite number" ${HAPTICCTL} pose 0 0 0 --seconds -1 --port 9)
+expect(2 "--rate must be a finite number > 0" ${HAPTICCTL} pose 0 0 0 --rate 0 --port 9)
+expect(2 "--seconds" ${HAPTICCTL} pose 0 0 0 --seconds abc)
+expect(2 "" ${HAPTICCTL} move 1 0 0)
+expect(0 "" ${HAPTICCTL} --help)
+expect(0 "" ${HAPTICCTL} record --help)
+expect(2 "--no-such-option" ${HAPTICD} --no-such-option)
+expect(2 "--rate" ${HAPTICD} --rate 0)
+expect(2 "--clock" ${HAPTICD} --clock sometimes)
+expect(0 "" ${HAPTICD} --help)
+message(STATUS "bad command lines exit 2")

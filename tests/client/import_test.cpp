@@ -1,0 +1,310 @@
+// hapticctl import, run as the built binary: every input format, the exit codes and messages, the
+// options, --add, and the round trip through `hapticctl check` and a headless hapticd replay that
+// presses the probe onto the imported model.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "scenes/glb_builder.h"
+#include "tests/core/decomp/models.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using hapticd::decomp::TriangleMesh;
+using hapticd::decomp::Vec3;
+
+class ImportTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("hapticd_import_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override {
+    std::error_code ec;
+    fs::remove_all(dir_, ec);
+  }
+  std::string path(const std::string& name) const { return (dir_ / name).string(); }
+  static std::string slurp(const std::string& p) {
+    std::ifstream in(p, std::ios::binary);
+    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  }
+  // runs a command line (arguments single-quoted); stdout and stderr kept
+  int run(const std::string& program, const std::vector<std::string>& args) {
+    std::string cmd = "'" + program + "'";
+    for (const std::string& a : args)
+      cmd += " '" + a + "'";
+    cmd += " > '" + path("stdout") + "' 2> '" + path("stderr") + "'";
+    const int status = std::system(cmd.c_str());
+    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  }
+  int import(const std::vector<std::string>& args) {
+    std::vector<std::string> all{"import"};
+    all.insert(all.end(), args.begin(), args.end());
+    return run(HAPTICCTL, all);
+  }
+  std::string out() const { return slurp(path("stdout")); }
+  std::string err() const { return slurp(path("stderr")); }
+
+  fs::path dir_;
+};
+
+void writeObj(const TriangleMesh& m, const std::string& p) {
+  std::ofstream f(p);
+  f << "# an L-block\n";
+  for (const Vec3& v : m.positions)
+    f << "v " << v.x << ' ' << v.y << ' ' << v.z << '\n';
+  for (const auto& t : m.triangles)
+    f << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+}
+
+Vec3 normalOf(const TriangleMesh& m, const hapticd::decomp::Triangle& t) {
+  return glm::normalize(
+      glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]]));
+}
+
+void writeAsciiStl(const TriangleMesh& m, const std::string& p) {
+  std::ofstream f(p);
+  f << "solid lblock\n";
+  for (const auto& t : m.triangles) {
+    const Vec3 n = normalOf(m, t);
+    f << " facet normal " << n.x << ' ' << n.y << ' ' << n.z << "\n  outer loop\n";
+    for (std::uint32_t v : t)
+      f << "   vertex " << m.positions[v].x << ' ' << m.positions[v].y << ' ' << m.positions[v].z
+        << '\n';
+    f << "  endloop\n endfacet\n";
+  }
+  f << "endsolid lblock\n";
+}
+
+// a binary STL whose 80-byte header starts with "solid" (as many exporters write it)
+void writeBinaryStl(const TriangleMesh& m, const std::string& p) {
+  std::ofstream f(p, std::ios::binary);
+  char header[80] = {};
+  std::strncpy(header, "solid exported by a CAD tool, binary anyway", sizeof header);
+  f.write(header, 80);
+  const auto count = static_cast<std::uint32_t>(m.triangles.size());
+  f.write(reinterpret_cast<const char*>(&count), 4);
+  for (const auto& t : m.triangles) {
+    const Vec3 n = normalOf(m, t);
+    float rec[12] = {static_cast<float>(n.x), static_cast<float>(n.y), static_cast<float>(n.z)};
+    for (int k = 0; k < 3; ++k)
+      for (int a = 0; a < 3; ++a)
+        rec[3 + 3 * k + a] = static_cast<float>(m.positions[t[static_cast<std::size_t>(k)]][a]);
+    f.write(reinterpret_cast<const char*>(rec), sizeof rec);
+    const std::uint16_t attr = 0;
+    f.write(reinterpret_cast<const char*>(&attr), 2);
+  }
+}
+
+void writePly(const TriangleMesh& m, const std::string& p) {
+  std::ofstream f(p);
+  f << "ply\nformat ascii 1.0\nelement vertex " << m.positions.size()
+    << "\nproperty float x\nproperty float y\nproperty float z\nelement face " << m.triangles.size()
+    << "\nproperty list uchar int vertex_indices\nend_header\n";
+  for (const Vec3& v : m.positions)
+    f << v.x << ' ' << v.y << ' ' << v.z << '\n';
+  for (const auto& t : m.triangles)
+    f << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+}
+
+void writeOff(const TriangleMesh& m, const std::string& p) {
+  std::ofstream f(p);
+  f << "OFF\n" << m.positions.size() << ' ' << m.triangles.size() << " 0\n";
+  for (const Vec3& v : m.positions)
+    f << v.x << ' ' << v.y << ' ' << v.z << '\n';
+  for (const auto& t : m.triangles)
+    f << "3 " << t[0] << ' ' << t[1] << ' ' << t[2] << '\n';
+}
+
+// a glTF binary with the mesh on a node translated by (1, 0, 0): read in world coordinates
+void writeGlb(const TriangleMesh& m, const std::string& p) {
+  hapticd::scenes::GltfBuilder b;
+  hapticd::scenes::MeshData md{m.positions, m.triangles};
+  const int mesh = b.addMesh("lblock", md, -1);
+  const int node =
+      b.addNode({{"name", "lblock"}, {"mesh", mesh}, {"translation", {1.0, 0.0, 0.0}}});
+  b.addRoot(node);
+  const auto bytes = b.finish("model");
+  std::ofstream(p, std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()),
+             static_cast<std::streamsize>(bytes.size()));
+}
+
+TEST_F(ImportTest, EveryFormatImportsAndChecks) {
+  const TriangleMesh m = hapticd::decomp::models::lBlock();
+  const std::vector<std::pair<std::string, void (*)(const TriangleMesh&, const std::string&)>>
+      formats{{"l.obj", writeObj},
+              {"l_ascii.stl", writeAsciiStl},
+              {"l_binary.stl", writeBinaryStl},
+              {"l.ply", writePly},
+              {"l.off", writeOff},
+              {"l.glb", writeGlb}};
+  for (const auto& [file, write] : formats) {
+    write(m, path(file));
+    ASSERT_EQ(import({path(file), "-o", path("out.glb"), "--json"}), 0) << file << ": " << err();
+    const auto report = nlohmann::json::parse(out());
+    // two boxes; float32 coordinates (the glTF file) may take one more cut
+    const int pieces = report["pieces"].get<int>();
+    EXPECT_GE(pieces, 2) << file;
+    EXPECT_LE(pieces, 3) << file;
+    EXPECT_LE(report["concavity"].get<double>(), 0.01) << file;
+    EXPECT_EQ(report["repairs"]["input_triangles"], 112) << file;
+    EXPECT_NE(err().find("units: m (assumed"), std::string::npos) << err();
+    ASSERT_EQ(run(HAPTICCTL, {"check", path("out.glb"), "--json"}), 0)
+        << file << ": " << out() << err();
+    const auto check = nlohmann::json::parse(out());
+    EXPECT_EQ(check["bodies"][0]["primitives"], pieces) << file;
+    EXPECT_EQ(check["primitives"][0]["source"], "mesh hull");
+  }
+}
+
+TEST_F(ImportTest, BadArgumentsExitTwoWithTheReason) {
+  writeObj(hapticd::decomp::models::lBlock(), path("l.obj"));
+  const std::vector<std::pair<std::vector<std::string>, std::string>> cases{
+      {{path("l.obj")}, "-o SCENE.glb"},
+      {{path("l.obj"), "-o", path("x.gltf")}, ".glb"},
+      {{path("l.obj"), "-o", path("x.glb"), "--units", "furlong"},
+       "--units must be m, cm, mm or in"},
+      {{path("l.obj"), "-o", path("x.glb"), "--role", "ghost"}, "--role must be"},
+      {{path("l.obj"), "-o", path("x.glb"), "--concavity", "2"}, "--concavity must be"},
+      {{path("l.obj"), "-o", path("x.glb"), "--concavity", "abc"}, "--concavity must be"},
+      {{path("l.obj"), "-o", path("x.glb"), "--max-pieces", "0"}, "--max-pieces must be"},
+      {{path("l.obj"), "-o", path("x.glb"), "--time-limit", "-1"}, "--time-limit must be"},
+      {{path("l.obj"), "-o", path("x.glb"), "--mass", "2"}, "--role dynamic"},
+      {{path("l.obj"), "-o", path("x.glb"), "--role", "dynamic", "--mass", "2", "--density", "3"},
+       "not both"},
+      {{path("l.obj"), "-o", path("x.glb"), "--at", "1", "2", "3"}, "--at needs --add"},
+      {{path("l.obj"), "-o", path("x.glb"), "--add", path("s.glb")}, "--add needs --at"}};
+  for (const auto& [args, message] : cases) {
+    EXPECT_EQ(import(args), 2) << message;
+    EXPECT_NE(err().find(message), std::string::npos) << err();
+    EXPECT_FALSE(fs::exists(path("x.glb")));
+  }
+}
+
+TEST_F(ImportTest, UnusableInputExitsOneNamingTheFile) {
+  std::ofstream(path("empty.obj")) << "# nothing\n";
+  std::ofstream(path("junk.stl")) << "this is not an STL file at all";
+  std::ofstream(path("model.xyz")) << "1 2 3\n";
+  std::ofstream(path("flat.obj")) << "v 0 0 0\nv 1 0 0\nv 2 0 0\nf 1 2 3\n";
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {path("missing.obj"), "no such file"},
+      {path("empty.obj"), "empty.obj"},
+      {path("junk.stl"), "junk.stl"},
+      {path("model.xyz"), "unsupported format '.xyz'"},
+      {path("flat.obj"), "no usable triangle"}};
+  for (const auto& [file, message] : cases) {
+    EXPECT_EQ(import({file, "-o", path("x.glb")}), 1) << file << ": " << err();
+    EXPECT_NE(err().find(message), std::string::npos) << err();
+    EXPECT_FALSE(fs::exists(path("x.glb")));
+  }
+}
+
+TEST_F(ImportTest, UnitsRoleMassAndJson) {
+  TriangleMesh m = hapticd::decomp::models::lBlock();
+  for (Vec3& v : m.positions)
+    v *= 1000.0;  // the same block in millimetres
+  writeObj(m, path("l_mm.obj"));
+  ASSERT_EQ(import({path("l_mm.obj"), "-o", path("out.glb"), "--units", "mm", "--role", "dynamic",
+                    "--density", "2000", "--json"}),
+            0)
+      << err();
+  const auto j = nlohmann::json::parse(out());
+  EXPECT_EQ(j["units"], "mm");
+  EXPECT_FALSE(j["units_assumed"].get<bool>());
+  EXPECT_EQ(j["pieces"], 2);
+  // the block is 0.003 m3 of material: 6 kg at 2000 kg/m3
+  EXPECT_NEAR(j["mass_kg"].get<double>(), 6.0, 1e-6);
+  EXPECT_EQ(err().find("assumed"), std::string::npos);
+  ASSERT_EQ(run(HAPTICCTL, {"check", path("out.glb"), "--json"}), 0) << err();
+  const auto c = nlohmann::json::parse(out());
+  EXPECT_EQ(c["bodies"][0]["motion"], "dynamic");
+  EXPECT_NEAR(c["bodies"][0]["mass_kg"].get<double>(), 6.0, 1e-5);
+  EXPECT_NEAR(c["length_scale_m"].get<double>(), 0.3, 1e-6);  // metres in the scene
+}
+
+TEST_F(ImportTest, AddAppendsTheModelToAScene) {
+  writeObj(hapticd::decomp::models::lBlock(), path("l.obj"));
+  writeObj(hapticd::decomp::models::box({0, 0, 0}, {0.1, 0.1, 0.1}), path("box.obj"));
+  ASSERT_EQ(import({path("box.obj"), "-o", path("scene.glb")}), 0) << err();
+  ASSERT_EQ(
+      import({path("l.obj"), "-o", path("scene.glb"), "--add", path("scene.glb"), "--at", "1", "0",
+              "0", "0", "0", "0.7071067811865476", "0.7071067811865476", "--role", "kinematic"}),
+      0)
+      << err();
+  ASSERT_EQ(run(HAPTICCTL, {"check", path("scene.glb"), "--json"}), 0) << out() << err();
+  const auto c = nlohmann::json::parse(out());
+  ASSERT_EQ(c["bodies"].size(), 2u);
+  for (const auto& body : c["bodies"]) {
+    if (body["name"] == "box") {
+      EXPECT_EQ(body["motion"], "static");
+      EXPECT_EQ(body["primitives"], 1);
+    } else {
+      EXPECT_EQ(body["name"], "l");
+      EXPECT_EQ(body["motion"], "kinematic");
+      EXPECT_EQ(body["primitives"], 2);
+    }
+  }
+}
+
+// the probe sphere (config default: radius 10 mm) comes down onto the block's top face (z = 0.1)
+// and presses 5 mm past it, then leaves
+TEST_F(ImportTest, RoundTripThroughTheDaemonTouchesTheModel) {
+  writeObj(hapticd::decomp::models::lBlock(), path("l.obj"));
+  ASSERT_EQ(import({path("l.obj"), "-o", path("scene.glb")}), 0) << err();
+  {
+    std::ofstream s(path("stream.csv"));
+    s << "t,px,py,pz,qx,qy,qz,qw,buttons\n";
+    const double top = 0.1 + 0.01;
+    s << "0,0.05,0.05," << top + 0.05 << ",0,0,0,1,0\n";
+    s << "1,0.05,0.05," << top - 0.005 << ",0,0,0,1,0\n";
+    s << "2,0.05,0.05," << top - 0.005 << ",0,0,0,1,0\n";
+    s << "3,0.05,0.05," << top + 0.05 << ",0,0,0,1,0\n";
+  }
+  ASSERT_EQ(run(HAPTICD_BINARY, {"--scene", path("scene.glb"), "--device",
+                                 "replay:" + path("stream.csv"), "--clock", "virtual", "--record",
+                                 path("r.csv"), "--udp", "127.0.0.1:0", "--shm", ""}),
+            0)
+      << err();
+  std::istringstream rows(slurp(path("r.csv")));
+  std::string line;
+  std::getline(rows, line);
+  ASSERT_EQ(line.rfind("tick,t,dev_px", 0), 0u);
+  std::size_t n = 0, touching = 0;
+  double max_force = 0.0, max_depth = 0.0;
+  while (std::getline(rows, line)) {
+    std::vector<double> v;
+    std::stringstream ss(line);
+    std::string cell;
+    while (std::getline(ss, cell, ','))
+      v.push_back(std::strtod(cell.c_str(), nullptr));
+    ASSERT_GE(v.size(), 24u);
+    for (double x : v)
+      ASSERT_TRUE(std::isfinite(x)) << line;
+    const double f = std::sqrt(v[16] * v[16] + v[17] * v[17] + v[18] * v[18]);
+    max_force = std::max(max_force, f);
+    max_depth = std::max(max_depth, v[23]);
+    if (v[22] > 0)
+      ++touching;
+    ++n;
+  }
+  EXPECT_GT(n, 2900u);
+  EXPECT_GT(touching, 500u);            // the probe rests on the block for over a second
+  EXPECT_GT(max_force, 1.0);            // and is pushed back
+  EXPECT_LE(max_force, 10.0 + 1e-9);    // [device] max_force_n
+  EXPECT_LE(max_depth, 0.0005 + 1e-6);  // [response] penetration_allowance_m
+}
+
+}  // namespace
