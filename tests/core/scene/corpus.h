@@ -484,7 +484,8 @@ inline std::vector<CorpusFile> goodCorpus() {
   // once refused, now loaded: a non-convex mesh collider, a ball joint, 40 systems in one filter
   out.push_back({"non_convex_mesh.glb",
                  baseSceneWithMesh(dentedCubeMesh(), "DentedMesh", false).glb(),
-                 "node 1 'Cube'): not convex, touched through its convex hull"});
+                 "node 1 'Cube'): not convex, touched through\n"
+                 "convex pieces (convex decomposition, concavity"});
   {
     GltfBuilder b = baseScene();
     const int j = b.addPhysics(

@@ -195,8 +195,8 @@ inline void documentCorpus(std::vector<CorpusFile>& good,
     good.push_back({"plain_model.glb", b.glb(),
                     "no physics extension: 4 meshes as static geometry\n"
                     "mesh 1 'Ground' primitive 0 (node 1 'Part0'): flat, given a thickness\n"
-                    "mesh 2 'Bowl' primitive 0 (node 4 'Part3'): not convex, touched through its "
-                    "convex hull\n"
+                    "mesh 2 'Bowl' primitive 0 (node 4 'Part3'): not convex, touched through\n"
+                    "convex pieces (convex decomposition, concavity\n"
                     "1 moving primitives (one the probe sphere of the config)"});
     GltfBuilder none;
     none.useExtension("KHR_physics_rigid_bodies", false);

@@ -162,7 +162,7 @@ LoadReport meshColliderScene(const testing::Mesh& mesh, const std::string& name,
   return load(b);
 }
 
-TEST(SceneLoader, MeshHullAndConvexMeshAndNonConvexThroughItsHull) {
+TEST(SceneLoader, MeshHullAndConvexMeshAndNonConvexThroughItsPieces) {
   {
     const LoadReport r = meshColliderScene(testing::dentedCubeMesh(), "Dented", true);
     ASSERT_TRUE(r.ok()) << r.message();
@@ -179,16 +179,23 @@ TEST(SceneLoader, MeshHullAndConvexMeshAndNonConvexThroughItsHull) {
     EXPECT_EQ(p.shape->faces().size(), 6u);
   }
   {
-    // not convex: touched through the pieces standing for it (today its convex hull), said so
-    const LoadReport r = meshColliderScene(testing::dentedCubeMesh(), "Dented", false);
+    // not convex: touched through the pieces of core/decomp's decomposition, said so; the dent
+    // stays open: a point in it, 0.3 h above its apex, is outside every piece
+    const LoadReport r = meshColliderScene(testing::dentedCubeMesh(0.5), "Dented", false);
     ASSERT_TRUE(r.ok()) << r.message();
-    ASSERT_EQ(r.scene->bodies[0].primitives.size(), 1u);
-    const Primitive& p = r.scene->bodies[0].primitives[0];
-    EXPECT_EQ(p.source, ShapeSource::kMeshPiece);
-    EXPECT_EQ(p.shape->vertices().size(), 8u);  // the hull: the dent is filled
+    const auto& prims = r.scene->bodies[0].primitives;
+    ASSERT_GE(prims.size(), 2u);
+    for (const Primitive& p : prims) {
+      EXPECT_EQ(p.source, ShapeSource::kMeshPiece);
+      const Vec3 in_dent_P = p.X_BP.toTransform().inverse().apply(Vec3{0.0, 0.4, 0.0});
+      bool outside = false;
+      for (const auto& f : p.shape->faces())
+        outside = outside || glm::dot(f.normal, in_dent_P) > f.offset + 1e-9;
+      EXPECT_TRUE(outside) << "a piece fills the dent";
+    }
     const std::string notes = testing::notesOf(*r.scene);
-    EXPECT_NE(notes.find("mesh 0 'DentedMesh' (node 0 'Dented'): not convex, touched through its "
-                         "convex hull"),
+    EXPECT_NE(notes.find("mesh 0 'DentedMesh' (node 0 'Dented'): not convex, touched through " +
+                         std::to_string(prims.size()) + " convex pieces (convex decomposition"),
               std::string::npos)
         << notes;
   }
