@@ -105,15 +105,25 @@ TEST_F(UploadBundleTest, TheDaemonLoadsTheClientsGeometryWhateverItsFolderHolds)
   auto status = nlohmann::json::parse(slurp(dir_ / "c.out"), nullptr, false);
   EXPECT_EQ(status.value("scene", ""), "ext2.gltf") << slurp(dir_ / "c.out");
 
-  // the same .gltf sent as it is (no bundle) would have used the daemon's external.bin, or
-  // been refused for naming a file: it is not loaded
+  // the same .gltf sent as it is (no bundle) is refused for naming a file, not resolved against
+  // the daemon's folder: neither with the poisoned external.bin there nor with a valid one
   hapticd::proto::ClientConfig config;
   config.server = "127.0.0.1:" + std::to_string(port_);
   config.timeout_ms = 10000;
   auto client = hapticd::proto::Client::connect(config);
   ASSERT_TRUE(client) << client.error().message;
   const auto raw = std::vector<std::uint8_t>(gltf_.begin(), gltf_.end());
-  EXPECT_FALSE(client.value()->load(raw, "raw.gltf"));
+  auto refused = client.value()->load(raw, "raw.gltf");
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().message.find("external URI 'external.bin' refused: no folder is allowed"),
+            std::string::npos)
+      << refused.error().message;
+  fs::copy_file(dir_ / "client" / "external.bin", dir_ / "daemon" / "external.bin",
+                fs::copy_options::overwrite_existing);
+  refused = client.value()->load(raw, "raw.gltf");
+  ASSERT_FALSE(refused);
+  EXPECT_NE(refused.error().message.find("no folder is allowed"), std::string::npos)
+      << refused.error().message;
   client.value()->bye();
 
   // with nothing of that name in the daemon's folder, the bundle still loads
