@@ -7,6 +7,7 @@
 #include <fstream>
 #include <random>
 
+#include "bench/scene_load.h"
 #include "core/scene/loader.h"
 #include "tests/core/scene/gltf_builder.h"
 
@@ -20,25 +21,6 @@ std::vector<std::uint8_t> readFile(const std::string& path) {
   return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-void loadBytes(benchmark::State& state,
-               const std::vector<std::uint8_t>& bytes,
-               const std::string& name) {
-  std::size_t primitives = 0;
-  for (auto _ : state) {
-    const scene::LoadReport r = scene::loadScene(bytes, name);
-    if (!r.ok()) {
-      state.SkipWithError(("the scene does not load: " + r.message()).c_str());
-      return;
-    }
-    primitives = r.scene->plan.static_primitives + r.scene->plan.moving_primitives;
-    benchmark::DoNotOptimize(r.scene->bodies.data());
-  }
-  state.SetBytesProcessed(static_cast<std::int64_t>(state.iterations()) *
-                          static_cast<std::int64_t>(bytes.size()));
-  state.counters["bytes"] = static_cast<double>(bytes.size());
-  state.counters["primitives"] = static_cast<double>(primitives);
-}
-
 void demoScene(benchmark::State& state, const char* name) {
   const std::string path = std::string(HAPTICD_SOURCE_DIR "/scenes/") + name + ".glb";
   const auto bytes = readFile(path);
@@ -46,7 +28,7 @@ void demoScene(benchmark::State& state, const char* name) {
     state.SkipWithError((path + " is absent (the scene generator writes it)").c_str());
     return;
   }
-  loadBytes(state, bytes, std::string(name) + ".glb");
+  loadSceneBytes(state, bytes, std::string(name) + ".glb");
 }
 
 std::vector<std::uint8_t> tenMegabyteScene() {
@@ -81,7 +63,7 @@ std::vector<std::uint8_t> tenMegabyteScene() {
 
 void BM_SceneLoad10MB(benchmark::State& state) {
   static const std::vector<std::uint8_t> bytes = tenMegabyteScene();
-  loadBytes(state, bytes, "10MB.glb");
+  loadSceneBytes(state, bytes, "10MB.glb");
 }
 
 BENCHMARK_CAPTURE(demoScene, gears, "gears")

@@ -14,9 +14,11 @@ using scene::ShapeSource;
 
 // in enum order
 constexpr const char* kMotionNames[] = {"static", "kinematic", "dynamic"};
-constexpr const char* kSourceNames[] = {"box",   "sphere",    "capsule",     "cylinder",
-                                        "plane", "mesh hull", "convex mesh", "code"};
-static_assert(std::size(kSourceNames) == static_cast<std::size_t>(ShapeSource::kCode) + 1);
+constexpr const char* kSourceNames[] = {"box",         "sphere", "capsule",
+                                        "cylinder",    "plane",  "mesh hull",
+                                        "convex mesh", "code",   "mesh piece (non-convex mesh)"};
+static_assert(std::size(kSourceNames) == static_cast<std::size_t>(ShapeSource::kMeshPiece) + 1);
+constexpr const char* kJointNames[] = {"fixed", "hinge", "slider", "ball", "generic"};
 
 const char* motionName(Motion m) {
   return proto::nameOf(m, kMotionNames, "?");
@@ -40,7 +42,9 @@ nlohmann::json planJson(const scene::SimulationPlan& p) {
           {"restitution", p.restitution},
           {"joints", p.joints},
           {"static_primitives", p.static_primitives},
-          {"moving_primitives", p.moving_primitives}};
+          {"moving_primitives", p.moving_primitives},
+          {"probe_sphere", p.probe_sphere},
+          {"notes", p.notes}};
 }
 
 nlohmann::json sceneJson(const scene::SceneModel& s) {
@@ -67,7 +71,8 @@ nlohmann::json sceneJson(const scene::SceneModel& s) {
                        {"node", p.node},
                        {"vertices", p.shape->vertices().size()},
                        {"faces", p.shape->faces().size()},
-                       {"material", p.material}});
+                       {"material", p.material},
+                       {"trigger", p.trigger}});
     }
   }
   nlohmann::json out = {{"ok", true},
@@ -75,6 +80,7 @@ nlohmann::json sceneJson(const scene::SceneModel& s) {
                         {"bodies", bodies},
                         {"primitives", prims},
                         {"joints", s.joints.size()},
+                        {"unsimulated_joints", s.unsimulated_joints.size()},
                         {"materials", s.materials.size()},
                         {"probe_body", s.probe_body},
                         {"length_scale_m", s.length_scale},
@@ -82,6 +88,35 @@ nlohmann::json sceneJson(const scene::SceneModel& s) {
   if (s.gravity_W)
     out["gravity"] = {s.gravity_W->x, s.gravity_W->y, s.gravity_W->z};
   return out;
+}
+
+/// The pairs of bodies (not both static) whose collision filters keep every primitive apart.
+std::string keptApart(const scene::SceneModel& s) {
+  const auto apart = [&](const scene::Body& a, const scene::Body& b) {
+    bool solid = false;
+    for (const scene::Primitive& p : a.primitives) {
+      for (const scene::Primitive& q : b.primitives) {
+        if (p.trigger || q.trigger)
+          continue;
+        solid = true;
+        if ((p.group & q.mask) && (q.group & p.mask))
+          return false;
+      }
+    }
+    return solid;
+  };
+  std::string out;
+  std::size_t lines = 0;
+  for (std::size_t i = 0; i < s.bodies.size() && lines < 50; ++i) {
+    for (std::size_t j = i + 1; j < s.bodies.size() && lines < 50; ++j) {
+      const scene::Body &a = s.bodies[i], &b = s.bodies[j];
+      if ((a.motion != Motion::kStatic || b.motion != Motion::kStatic) && apart(a, b)) {
+        out += "  '" + a.name + "' and '" + b.name + "'\n";
+        ++lines;
+      }
+    }
+  }
+  return out.empty() ? out : "collision filters keep apart:\n" + out;
 }
 
 }  // namespace
@@ -121,15 +156,21 @@ std::string describeScene(const scene::SceneModel& s) {
       out += "  body " + std::to_string(b) + " primitive " + std::to_string(k) + ": " +
              sourceName(p.source) + " (node " + std::to_string(p.node) + "), " +
              std::to_string(p.shape->vertices().size()) + " vertices, " +
-             std::to_string(p.shape->faces().size()) + " faces\n";
+             std::to_string(p.shape->faces().size()) + " faces" +
+             (p.trigger ? ", trigger (not colliding)" : "") + "\n";
     }
   }
-  if (!s.joints.empty()) {
+  out += keptApart(s);
+  if (!s.joints.empty() || !s.unsimulated_joints.empty()) {
     out += "joints:\n";
-    for (const scene::Joint& j : s.joints) {
-      out += "  " + std::string(j.kind == scene::JointKind::kFixed ? "fixed" : "hinge") +
-             " between body " + std::to_string(j.body_a) + " and " +
-             (j.body_b < 0 ? std::string("the scene") : "body " + std::to_string(j.body_b)) + "\n";
+    for (const auto* list : {&s.joints, &s.unsimulated_joints}) {
+      for (const scene::Joint& j : *list) {
+        out += "  " + std::string(kJointNames[static_cast<std::size_t>(j.kind)]) +
+               " between body " + std::to_string(j.body_a) + " and " +
+               (j.body_b < 0 ? std::string("the scene") : "body " + std::to_string(j.body_b)) +
+               (j.drives.empty() ? "" : ", " + std::to_string(j.drives.size()) + " drives") +
+               (list == &s.unsimulated_joints ? ", not yet simulated" : "") + "\n";
+      }
     }
   }
   out += "plan:\n";

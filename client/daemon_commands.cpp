@@ -9,6 +9,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <memory>
@@ -21,6 +22,7 @@
 #include "client/replay_stream.h"
 #include "client/state_format.h"
 #include "client/tick_order.h"
+#include "core/scene/bundle.h"
 #include "core/scene/loader.h"
 #include "protocol/client.h"
 #include "protocol/server.h"  // monotonicNs
@@ -195,8 +197,18 @@ int runLoad(const DaemonTarget& t, const std::string& file, std::ostream& out, s
     err << "hapticctl load: cannot open " << file << "\n";
     return 2;
   }
-  const std::vector<std::uint8_t> bytes((std::istreambuf_iterator<char>(in)),
-                                        std::istreambuf_iterator<char>());
+  // the scene with its external buffers read in beside it (one GLB): the daemon never resolves a
+  // client's relative path against its own folders
+  scene::LoadOptions beside;
+  beside.allowed_uri_dir = std::filesystem::absolute(file).parent_path();
+  auto bundled = scene::bundleScene(std::vector<std::uint8_t>((std::istreambuf_iterator<char>(in)),
+                                                              std::istreambuf_iterator<char>()),
+                                    beside);
+  if (!bundled) {
+    err << "hapticctl load: " << file << ": " << bundled.error().message << "\n";
+    return 1;
+  }
+  const std::vector<std::uint8_t>& bytes = bundled.value();
   auto c = connectUdp(t, err);
   if (!c)
     return 1;

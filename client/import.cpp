@@ -20,6 +20,7 @@
 #include <optional>
 
 #include "core/decomp/quickhull.h"
+#include "core/scene/glb.h"
 #include "scenes/glb_builder.h"
 
 namespace hapticd::client {
@@ -549,7 +550,7 @@ int runImport(const ImportOptions& o, std::ostream& out, std::ostream& err) {
     }
     auto [doc, bin] = std::move(base).value();
     mergeInto(doc, bin, mine.value().first, mine.value().second);
-    glb = scenes::packGlb(doc.dump(), bin);
+    glb = scene::packGlb(doc.dump(), bin);
   }
   std::ofstream file(o.output, std::ios::binary | std::ios::trunc);
   file.write(reinterpret_cast<const char*>(glb.data()), static_cast<std::streamsize>(glb.size()));

@@ -43,6 +43,17 @@ if(NOT TARGET TinyGLTF::TinyGLTF)
   hapticd_missing("tinygltf" "libtinygltf-dev")
 endif()
 
+# compressed glTF geometry (core/scene/compression.cpp): KHR_draco_mesh_compression and
+# EXT_meshopt_compression
+find_package(draco QUIET)
+if(NOT TARGET draco::draco)
+  hapticd_missing("Draco (draco::draco)" "libdraco-dev")
+endif()
+find_package(meshoptimizer QUIET)
+if(NOT TARGET meshoptimizer::meshoptimizer)
+  hapticd_missing("meshoptimizer" "libmeshoptimizer-dev")
+endif()
+
 find_package(tomlplusplus 3 QUIET)
 if(NOT TARGET tomlplusplus::tomlplusplus)
   hapticd_missing("toml++" "libtomlplusplus-dev")

@@ -318,8 +318,8 @@ const ConfigKey kKeys[] = {
      "Curved implicit shapes are tessellated so that no surface point is farther than this "
      "fraction of the shape's size from its polytope."},
     {"scene", "allowed_uri_dir", HAPTICD_FIELD(scene.allowed_uri_dir), kNoRange, "",
-     "External URIs (buffers, images) are refused unless this folder is set; then only files "
-     "inside it are read."},
+     "The folder the scene file's external URIs (buffers, images) resolve in; empty: the file's "
+     "own folder. Uploads never resolve external URIs (hapticctl load bundles them)."},
 
     // [network]
     {"network", "udp", HAPTICD_FIELD(network.udp), kNoRange, "",

@@ -148,6 +148,9 @@ void Daemon::install(BuiltScene built) {
   if (writer_)
     writer_->setBodyNames(generation_, std::move(built.body_names));
   auto model = std::move(built.model);
+  // what the loader ignored, stood in for or parsed without simulating (the plan's notes)
+  for (const std::string& note : model->plan.notes)
+    logInfo("scene '" + built.name + "': " + note);
   loop_->offerScene(std::move(built.scene));
   // after the offer, so that a batch validated against this scene meets it at the servo
   adapter_->setScene(built.name, built.plan, std::move(model), generation_);

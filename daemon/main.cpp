@@ -48,11 +48,15 @@ daemon::SceneResult loadConfiguredScene(const daemon::Config& c) {
                  "[scene] demo '" + c.scene.demo + "'");
 }
 
-// an upload: parsed from the bytes as they arrived (no file)
+// an upload: parsed from the bytes as they arrived (no file). Its external URIs are refused: a
+// client's relative path never resolves against the daemon's folders ([scene] allowed_uri_dir is
+// for the daemon's own scene files); `hapticctl load` bundles a .gltf's buffers into a GLB.
 daemon::SceneResult loadUploadedScene(std::span<const std::uint8_t> bytes,
                                       const std::string& name,
                                       const daemon::Config& c) {
-  return modelOf(scene::loadScene(bytes, name, daemon::toLoadOptions(c)), "scene '" + name + "'");
+  scene::LoadOptions options = daemon::toLoadOptions(c);
+  options.allowed_uri_dir.reset();
+  return modelOf(scene::loadScene(bytes, name, options), "scene '" + name + "'");
 }
 
 // the bytes of a config's scene, for viewers: the file (a .glb) or the demo

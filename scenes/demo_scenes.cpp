@@ -33,6 +33,18 @@ void shapeCollider(GltfBuilder& b, int index, int shape, int material = -1) {
   b.node(index)["extensions"]["KHR_physics_rigid_bodies"]["collider"] = collider;
 }
 
+/// The body the probe holds: a kinematic root node with `mesh`, at `start`; its collider is added
+/// by the caller.
+int heldBody(GltfBuilder& b, const std::string& name, int mesh, const Json& start) {
+  const int n = b.addNode({{"name", name},
+                           {"mesh", mesh},
+                           {"translation", start},
+                           {"extensions", physics({{"motion", {{"isKinematic", true}}}})},
+                           {"extras", {{"haptic", {{"probe", true}}}}}});
+  b.addRoot(n);
+  return n;
+}
+
 Json boxShape(const Vec3& size) {
   return {{"type", "box"}, {"box", {{"size", jsonVec(size)}}}};
 }
@@ -114,13 +126,7 @@ std::vector<std::uint8_t> makeGears() {
   const int rod_mesh = b.addMesh("Handle", prismMesh(rod, kRodLength_m), grip);
   const double gap = 4.5 * pitch;
   const Vec3 start{-0.5 * kCentreDistance_m + 0.075 * std::cos(gap), 0.075 * std::sin(gap), 0.0};
-  const int handle = b.addNode({{"name", "Handle"},
-                                {"mesh", rod_mesh},
-                                {"translation", jsonVec(start)},
-                                {"extensions", physics({{"motion", {{"isKinematic", true}}}})},
-                                {"extras", {{"haptic", {{"probe", true}}}}}});
-  meshCollider(b, handle);
-  b.addRoot(handle);
+  meshCollider(b, heldBody(b, "Handle", rod_mesh, jsonVec(start)));
   return b.finish("gears");
 }
 
@@ -156,13 +162,7 @@ std::vector<std::uint8_t> makePegInHole() {
   const int peg_mesh = b.addMesh("Peg", boxMesh({kPegSide_m, kPegLength_m, kPegSide_m}), wood);
   // starts with its end 40 mm above the wall tops, off to one side (the pose stream's first row)
   const Vec3 start{0.030, kHoleDepth_m + 0.5 * kPegLength_m + 0.040, 0.020};
-  const int peg_node = b.addNode({{"name", "Peg"},
-                                  {"mesh", peg_mesh},
-                                  {"translation", jsonVec(start)},
-                                  {"extensions", physics({{"motion", {{"isKinematic", true}}}})},
-                                  {"extras", {{"haptic", {{"probe", true}}}}}});
-  meshCollider(b, peg_node);
-  b.addRoot(peg_node);
+  meshCollider(b, heldBody(b, "Peg", peg_mesh, jsonVec(start)));
   return b.finish("peg_in_hole");
 }
 
@@ -254,13 +254,7 @@ std::vector<std::uint8_t> makeDynamic() {
 
   const Vec3 stick_size{kStickSize_m[0], kStickSize_m[1], kStickSize_m[2]};
   const int stick_mesh = b.addMesh("Stick", boxMesh(stick_size), yellow);
-  const int stick = b.addNode({{"name", "Stick"},
-                               {"mesh", stick_mesh},
-                               {"translation", jsonVec({0.0, 0.20, 0.25})},
-                               {"extensions", physics({{"motion", {{"isKinematic", true}}}})},
-                               {"extras", {{"haptic", {{"probe", true}}}}}});
-  meshCollider(b, stick, wood);
-  b.addRoot(stick);
+  meshCollider(b, heldBody(b, "Stick", stick_mesh, jsonVec({0.0, 0.20, 0.25})), wood);
 
   b.setSceneExtras({{"haptic", {{"gravity", Json::array({0.0, -9.81, 0.0})}}}});
   return b.finish("dynamic");
@@ -322,14 +316,10 @@ std::vector<std::uint8_t> makeStress() {
   const int sweeper_shape =
       b.addShape({{"type", "sphere"}, {"sphere", {{"radius", quantize(kSweeperRadius_m)}}}});
   const int sweeper_mesh = b.addMesh("Sweeper", icosphereMesh(Vec3{kSweeperRadius_m}, 2), white);
-  const int sweeper = b.addNode(
-      {{"name", "Sweeper"},
-       {"mesh", sweeper_mesh},
-       {"translation", jsonVec({-0.52, 0.1, pillarCoordinate(4)})},  // the stream's first row
-       {"extensions", physics({{"motion", {{"isKinematic", true}}}})},
-       {"extras", {{"haptic", {{"probe", true}}}}}});
+  // at the stream's first row
+  const int sweeper =
+      heldBody(b, "Sweeper", sweeper_mesh, jsonVec({-0.52, 0.1, pillarCoordinate(4)}));
   shapeCollider(b, sweeper, sweeper_shape);
-  b.addRoot(sweeper);
 
   b.setSceneExtras({{"haptic", {{"gravity", Json::array({0.0, -9.81, 0.0})}}}});
   return b.finish("stress");
@@ -350,20 +340,38 @@ SpurGear gear() {
 }
 }  // namespace gears
 
+namespace {
+
+/// The demo scenes in demoSceneNames() order.
+struct DemoScene {
+  std::string_view name;
+  std::vector<std::uint8_t> (*make)();
+};
+constexpr DemoScene kDemoScenes[] = {{"gears", &makeGears},
+                                     {"peg_in_hole", &makePegInHole},
+                                     {"dynamic", &makeDynamic},
+                                     {"stress", &makeStress}};
+
+}  // namespace
+
 std::vector<std::string_view> demoSceneNames() {
-  return {"gears", "peg_in_hole", "dynamic", "stress"};
+  std::vector<std::string_view> names;
+  for (const DemoScene& d : kDemoScenes)
+    names.push_back(d.name);
+  return names;
+}
+
+int demoSceneIndex(std::string_view name) {
+  for (std::size_t i = 0; i < std::size(kDemoScenes); ++i) {
+    if (kDemoScenes[i].name == name)
+      return static_cast<int>(i);
+  }
+  return -1;
 }
 
 std::vector<std::uint8_t> makeDemoScene(std::string_view name) {
-  if (name == "gears")
-    return makeGears();
-  if (name == "peg_in_hole")
-    return makePegInHole();
-  if (name == "dynamic")
-    return makeDynamic();
-  if (name == "stress")
-    return makeStress();
-  return {};
+  const int i = demoSceneIndex(name);
+  return i < 0 ? std::vector<std::uint8_t>{} : kDemoScenes[static_cast<std::size_t>(i)].make();
 }
 
 }  // namespace hapticd::scenes

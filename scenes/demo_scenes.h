@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// The demo scenes of the paper's §6.2 (Gregory et al. 2000), generated reproducibly as glTF 2.0
-/// binaries with KHR_physics_rigid_bodies and KHR_implicit_shapes (../shared/DESIGN.md, Scenes):
+/// binaries with KHR_physics_rigid_bodies and KHR_implicit_shapes (docs/demo-scenes.md):
 /// "gears", "peg_in_hole", "dynamic" and "stress". docs/demo-scenes.md describes each one.
 /// The same call gives the same bytes on every run and build; scenes/*.glb are its output
 /// (written by the `make_scenes` tool). Any thread; allocates.
@@ -19,6 +19,9 @@ std::vector<std::string_view> demoSceneNames();
 
 /// The .glb bytes of the named demo scene; empty when `name` is not a demo scene.
 std::vector<std::uint8_t> makeDemoScene(std::string_view name);
+
+/// The position of `name` in demoSceneNames(), -1 when it is not a demo scene.
+int demoSceneIndex(std::string_view name);
 
 /// Dimensions of the scenes, shared by the generator, the pose streams, tests and docs (metres,
 /// kilograms). Y is up in every scene.

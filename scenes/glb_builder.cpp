@@ -5,28 +5,17 @@
 #include <cstring>
 #include <limits>
 #include <stdexcept>
-#include <system_error>
+
+#include "core/scene/glb.h"
 
 namespace hapticd::scenes {
 namespace {
-
-constexpr int kArrayBuffer = 34962;
-constexpr int kElementArrayBuffer = 34963;
-constexpr int kFloat = 5126;
-constexpr int kUnsignedShort = 5123;
-constexpr int kUnsignedInt = 5125;
-constexpr int kTriangles = 4;
 
 // a last-bit difference in a libm result changes the rounded float only when the double lies
 // within that bit of a float rounding boundary (about 2^-29 of all values): the float cast is the
 // quantization
 float vertexCoordinate(double x) {
   return static_cast<float>(x);
-}
-
-void appendLe32(std::vector<std::uint8_t>& out, std::uint32_t v) {
-  for (int i = 0; i < 4; ++i)
-    out.push_back(static_cast<std::uint8_t>((v >> (8 * i)) & 0xffu));
 }
 
 }  // namespace
@@ -98,9 +87,9 @@ int GltfBuilder::addMesh(const std::string& name, const MeshData& mesh, int rend
       hi[static_cast<std::size_t>(k)] = std::max(hi[static_cast<std::size_t>(k)], f);
     }
   }
-  const int pos_view = addView(xyz.data(), xyz.size() * sizeof(float), kArrayBuffer);
+  const int pos_view = addView(xyz.data(), xyz.size() * sizeof(float), scene::kTargetArrayBuffer);
   Json pos_accessor = {{"bufferView", pos_view},
-                       {"componentType", kFloat},
+                       {"componentType", scene::kComponentFloat},
                        {"count", mesh.positions.size()},
                        {"type", "VEC3"},
                        {"min", Json::array({lo[0], lo[1], lo[2]})},
@@ -110,7 +99,7 @@ int GltfBuilder::addMesh(const std::string& name, const MeshData& mesh, int rend
 
   const std::size_t n_index = mesh.triangles.size() * 3;
   int index_view = 0;
-  int component = 0;
+  std::uint32_t component = 0;
   if (mesh.positions.size() <= 65535) {
     std::vector<std::uint16_t> idx;
     idx.reserve(n_index);
@@ -120,16 +109,18 @@ int GltfBuilder::addMesh(const std::string& name, const MeshData& mesh, int rend
           throw std::invalid_argument("scene generator: index out of range in " + name);
         idx.push_back(static_cast<std::uint16_t>(i));
       }
-    index_view = addView(idx.data(), idx.size() * sizeof(std::uint16_t), kElementArrayBuffer);
-    component = kUnsignedShort;
+    index_view =
+        addView(idx.data(), idx.size() * sizeof(std::uint16_t), scene::kTargetElementArrayBuffer);
+    component = scene::kComponentUnsignedShort;
   } else {
     std::vector<std::uint32_t> idx;
     idx.reserve(n_index);
     for (const auto& t : mesh.triangles)
       for (std::uint32_t i : t)
         idx.push_back(i);
-    index_view = addView(idx.data(), idx.size() * sizeof(std::uint32_t), kElementArrayBuffer);
-    component = kUnsignedInt;
+    index_view =
+        addView(idx.data(), idx.size() * sizeof(std::uint32_t), scene::kTargetElementArrayBuffer);
+    component = scene::kComponentUnsignedInt;
   }
   accessors_.push_back({{"bufferView", index_view},
                         {"componentType", component},
@@ -137,8 +128,9 @@ int GltfBuilder::addMesh(const std::string& name, const MeshData& mesh, int rend
                         {"type", "SCALAR"}});
   const int index_accessor = static_cast<int>(accessors_.size()) - 1;
 
-  Json prim = {
-      {"attributes", {{"POSITION", pos_index}}}, {"indices", index_accessor}, {"mode", kTriangles}};
+  Json prim = {{"attributes", {{"POSITION", pos_index}}},
+               {"indices", index_accessor},
+               {"mode", scene::kModeTriangles}};
   if (render_material >= 0)
     prim["material"] = render_material;
   meshes_.push_back({{"name", name}, {"primitives", Json::array({std::move(prim)})}});
@@ -217,38 +209,7 @@ std::vector<std::uint8_t> GltfBuilder::finish(const std::string& scene_name) con
     bin.push_back(0);
   if (!bin.empty())
     doc["buffers"] = Json::array({{{"byteLength", bin.size()}}});
-  return packGlb(doc.dump(), bin);
-}
-
-std::vector<std::uint8_t> packGlb(const std::string& json_text,
-                                  const std::vector<std::uint8_t>& bin) {
-  std::string text = json_text;
-  while (text.size() % 4 != 0)
-    text.push_back(' ');
-  std::vector<std::uint8_t> padded_bin = bin;
-  while (padded_bin.size() % 4 != 0)
-    padded_bin.push_back(0);
-
-  std::size_t total = 12 + 8 + text.size();
-  if (!padded_bin.empty())
-    total += 8 + padded_bin.size();
-  if (total > std::numeric_limits<std::uint32_t>::max())
-    throw std::length_error("scene generator: GLB over 4 GiB");
-
-  std::vector<std::uint8_t> out;
-  out.reserve(total);
-  appendLe32(out, 0x46546C67u);  // "glTF"
-  appendLe32(out, 2u);
-  appendLe32(out, static_cast<std::uint32_t>(total));
-  appendLe32(out, static_cast<std::uint32_t>(text.size()));
-  appendLe32(out, 0x4E4F534Au);  // "JSON"
-  out.insert(out.end(), text.begin(), text.end());
-  if (!padded_bin.empty()) {
-    appendLe32(out, static_cast<std::uint32_t>(padded_bin.size()));
-    appendLe32(out, 0x004E4942u);  // "BIN\0"
-    out.insert(out.end(), padded_bin.begin(), padded_bin.end());
-  }
-  return out;
+  return scene::packGlb(doc.dump(), bin);
 }
 
 }  // namespace hapticd::scenes

@@ -2,7 +2,7 @@
 /// \file
 /// A small, deterministic glTF 2.0 binary (.glb) writer for the demo scenes: meshes of float32
 /// positions and triangle indices, nodes, and the top-level objects of KHR_physics_rigid_bodies
-/// and KHR_implicit_shapes (../shared/DESIGN.md, Scenes). The JSON is written by nlohmann_json with
+/// and KHR_implicit_shapes (docs/scenes.md). The JSON is written by nlohmann_json with
 /// sorted keys and no indentation; computed numbers go through `quantize()` and vertices are
 /// float32 (accessor min/max are those floats), so the same scene gives the same bytes on every
 /// build — checked for GCC -O2/-O3 and clang -O1 with sanitizers (GLB layout: glTF 2.0
@@ -84,9 +84,5 @@ class GltfBuilder {
   Json physics_joints_ = Json::array();
   Json scene_extras_;
 };
-
-/// Packs a glTF JSON document and its binary buffer as GLB (no BIN chunk when `bin` is empty).
-std::vector<std::uint8_t> packGlb(const std::string& json_text,
-                                  const std::vector<std::uint8_t>& bin);
 
 }  // namespace hapticd::scenes

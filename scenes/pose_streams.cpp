@@ -231,15 +231,11 @@ std::string stressStream() {
 }  // namespace
 
 std::string makePoseStream(std::string_view scene) {
-  if (scene == "gears")
-    return gearsStream();
-  if (scene == "peg_in_hole")
-    return pegStream();
-  if (scene == "dynamic")
-    return dynamicStream();
-  if (scene == "stress")
-    return stressStream();
-  return {};
+  // in demoSceneNames() order
+  static constexpr std::string (*kStreams[])() = {&gearsStream, &pegStream, &dynamicStream,
+                                                  &stressStream};
+  const int i = demoSceneIndex(scene);
+  return i < 0 ? std::string{} : kStreams[static_cast<std::size_t>(i)]();
 }
 
 }  // namespace hapticd::scenes

@@ -1,6 +1,6 @@
 #pragma once
 /// \file
-/// Pose streams that exercise the demo scenes, in the replay format of ../shared/DESIGN.md
+/// Pose streams that exercise the demo scenes, in the replay format of docs/architecture.md
 /// (header `t,px,py,pz,qx,qy,qz,qw,buttons`; seconds from 0, metres, glTF quaternion order; the
 /// target pose of the held body's origin in scene coordinates). tests/streams/<scene>.csv are
 /// this module's output (written by `make_scenes`); docs/demo-scenes.md says what each stream

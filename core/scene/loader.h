@@ -1,9 +1,12 @@
 #pragma once
 /// \file
-/// glTF 2.0 scenes (.glb, or .gltf with embedded data) to a SceneModel: tinygltf parses, then our
-/// own validation (tinygltf 2.7 accepts out-of-range indices, node cycles and unknown required
-/// extensions), then bodies, primitives (hulls), materials, filters, joints and the plan.
-/// Any thread but the servo thread (allocates, builds hulls).
+/// glTF 2.0 scenes (.glb, or .gltf with its data; KHR_physics_rigid_bodies and KHR_implicit_shapes,
+/// Godot's OMI_physics_body / OMI_physics_shape / OMI_collider, or a plain model whose meshes
+/// become static geometry; quantized, sparse, Draco and meshopt geometry) to a SceneModel, in three
+/// passes, each run only when the earlier ones found nothing: the document (the container split,
+/// the JSON parsed once and validated in one walk: core/scene/document.h), the buffers and
+/// accessors (accessors.h), then bodies, primitives (hulls), materials, filters, joints and the
+/// plan (builder.h). Any thread but the servo thread (allocates, builds hulls).
 ///
 /// This header is the contract between the loader, the daemon, the protocol's scene upload and
 /// hapticctl: functions may be added, none renamed or removed.
@@ -22,8 +25,9 @@ namespace hapticd::scene {
 
 struct LoadOptions {
   SceneLimits limits;
-  /// External URIs (buffers, images) are refused unless this folder is set; then only files
-  /// inside it (no traversal out of it, no symbolic link out of it) are read.
+  /// The base folder of external URIs (buffers, images): a URI is a relative path inside it (no
+  /// scheme, not absolute, no `..`, no symbolic link out of it). Unset: external URIs are refused,
+  /// which is what bytes from elsewhere (an upload) must use.
   std::optional<std::filesystem::path> allowed_uri_dir;
 };
 
@@ -42,13 +46,15 @@ struct LoadReport {
   std::string message() const;
 };
 
-/// Loads from bytes already in memory (a file's contents, an upload). `name` names the scene in
-/// messages. Never throws, never crashes, never hangs on any input.
+/// Loads from bytes already in memory (a file's contents, an upload): no file is written or read
+/// but the external URIs `options.allowed_uri_dir` lets through. `name` names the scene in messages
+/// and SceneModel::name. Never throws, never crashes, never hangs on any input.
 LoadReport loadScene(std::span<const std::uint8_t> bytes,
                      const std::string& name,
                      const LoadOptions& options = {});
 
-/// Reads and loads a file (size checked before reading).
+/// Reads and loads a file (size checked before reading). External URIs resolve inside the file's
+/// own folder unless options.allowed_uri_dir names another, with the same guards.
 LoadReport loadSceneFile(const std::filesystem::path& path, const LoadOptions& options = {});
 
 }  // namespace hapticd::scene

@@ -1,4 +1,5 @@
-// The simulation plan of a scene: "simulate only the effects a scene calls for" (DESIGN.md).
+// The simulation plan of a scene: "simulate only the effects a scene calls for"
+// (docs/architecture.md), and the notes on what the scene declares that is not simulated yet.
 #include <algorithm>
 #include <set>
 
@@ -7,26 +8,107 @@
 namespace hapticd::scene {
 namespace {
 
-// KHR_physics_rigid_bodies: average if either asks, else minimum, else maximum, else multiply
-double combine(double a, Combine ca, double b, Combine cb) {
-  const auto either = [&](Combine c) { return ca == c || cb == c; };
-  if (either(Combine::kAverage))
-    return 0.5 * (a + b);
-  if (either(Combine::kMinimum))
-    return std::min(a, b);
-  if (either(Combine::kMaximum))
-    return std::max(a, b);
-  return a * b;
-}
-
 // a primitive without a material: no friction, no restitution, combined by average
 Material materialOf(const SceneModel& scene, std::int32_t index) {
-  if (index < 0 || static_cast<std::size_t>(index) >= scene.materials.size())
-    return Material{};
-  return scene.materials[static_cast<std::size_t>(index)];
+  if (index >= 0 && static_cast<std::size_t>(index) < scene.materials.size())
+    return scene.materials[static_cast<std::size_t>(index)];
+  Material none;
+  none.friction_combine_declared = none.restitution_combine_declared = true;
+  return none;
+}
+
+const char* kJointKindNames[] = {"fixed", "hinge", "slider", "ball", "generic"};
+
+std::string jointName(const SceneModel& scene, const Joint& j, std::size_t index) {
+  std::string s = "joint " + std::to_string(index) + " (" +
+                  kJointKindNames[static_cast<std::size_t>(j.kind)] + ", body '" +
+                  scene.bodies[static_cast<std::size_t>(j.body_a)].name + "' to ";
+  s += j.body_b < 0 ? std::string("the scene")
+                    : "body '" + scene.bodies[static_cast<std::size_t>(j.body_b)].name + "'";
+  return s + ")";
+}
+
+/// Joints and drives the dynamics do not simulate yet, kinematic velocities that do not move
+/// their bodies, trigger volumes, and a scene with nothing to touch.
+std::vector<std::string> sceneNotes(const SceneModel& scene) {
+  std::vector<std::string> notes;
+  for (std::size_t i = 0; i < scene.joints.size(); ++i) {
+    const Joint& j = scene.joints[i];
+    if (!j.drives.empty())
+      notes.push_back(jointName(scene, j, i) + ": drive parsed, not yet simulated");
+    for (const JointLimit& lim : j.limits) {
+      if (lim.stiffness && j.kind == JointKind::kHinge && lim.angular_axes) {
+        notes.push_back(jointName(scene, j, i) +
+                        ": soft limit (stiffness) parsed, simulated as a hard limit");
+        break;
+      }
+    }
+  }
+  for (std::size_t i = 0; i < scene.unsimulated_joints.size(); ++i) {
+    const Joint& j = scene.unsimulated_joints[i];
+    notes.push_back(jointName(scene, j, scene.joints.size() + i) + ": " +
+                    std::to_string(j.limits.size()) + " limits" +
+                    (j.drives.empty() ? "" : ", " + std::to_string(j.drives.size()) + " drives") +
+                    " parsed, not yet simulated (the bodies move as if unjoined)");
+  }
+  std::size_t triggers = 0, solid = 0;
+  for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
+    const Body& b = scene.bodies[i];
+    const bool probe = b.probe || static_cast<std::int32_t>(i) == scene.probe_body;
+    if (b.motion == Motion::kKinematic &&
+        (b.linear_velocity_W != Vec3{0.0} || b.angular_velocity_W != Vec3{0.0})) {
+      notes.push_back("body '" + b.name +
+                      "': kinematic velocity parsed, not yet simulated (it stays where clients "
+                      "put it)");
+    }
+    for (const Primitive& p : b.primitives) {
+      if (p.trigger)
+        ++triggers;
+      else if (!probe)
+        ++solid;
+    }
+  }
+  if (triggers > 0) {
+    std::string names;
+    for (const Body& b : scene.bodies) {
+      for (const Primitive& p : b.primitives) {
+        if (p.trigger)
+          names += std::string(names.empty() ? "" : ", ") + "'" + b.name + "'";
+      }
+    }
+    notes.push_back(std::to_string(triggers) + " trigger volumes, not colliding (bodies " + names +
+                    ")");
+  }
+  if (solid == 0)
+    notes.push_back("warning: nothing to touch: the scene has no collider but the probe's");
+  return notes;
 }
 
 }  // namespace
+
+double combineMaterials(const Material& a, const Material& b, MaterialValue which) {
+  const bool friction = which != MaterialValue::kRestitution;
+  const auto value = [&](const Material& m) {
+    return which == MaterialValue::kStaticFriction    ? m.static_friction
+           : which == MaterialValue::kDynamicFriction ? m.dynamic_friction
+                                                      : m.restitution;
+  };
+  const auto declares = [&](const Material& m, Combine c) {
+    return friction ? m.friction_combine_declared && m.friction_combine == c
+                    : m.restitution_combine_declared && m.restitution_combine == c;
+  };
+  const auto either = [&](Combine c) { return declares(a, c) || declares(b, c); };
+  const double x = value(a), y = value(b);
+  if (either(Combine::kAverage))
+    return 0.5 * (x + y);
+  if (either(Combine::kMinimum))
+    return std::min(x, y);
+  if (either(Combine::kMaximum))
+    return std::max(x, y);
+  if (either(Combine::kMultiply))
+    return x * y;
+  return 0.5 * (x + y);  // neither declares a mode
+}
 
 SimulationPlan makePlan(const SceneModel& scene) {
   SimulationPlan plan;
@@ -60,19 +142,17 @@ SimulationPlan makePlan(const SceneModel& scene) {
     const Material ma = materialOf(scene, a);
     for (std::int32_t b : all) {
       const Material mb = materialOf(scene, b);
-      const double friction = std::max(
-          combine(ma.static_friction, ma.friction_combine, mb.static_friction, mb.friction_combine),
-          combine(ma.dynamic_friction, ma.friction_combine, mb.dynamic_friction,
-                  mb.friction_combine));
+      const double friction = std::max(combineMaterials(ma, mb, MaterialValue::kStaticFriction),
+                                       combineMaterials(ma, mb, MaterialValue::kDynamicFriction));
       if (friction > 0.0)
         plan.friction = true;
-      if (dynamic.count(a) && combine(ma.restitution, ma.restitution_combine, mb.restitution,
-                                      mb.restitution_combine) > 0.0) {
+      if (dynamic.count(a) && combineMaterials(ma, mb, MaterialValue::kRestitution) > 0.0)
         plan.restitution = true;
-      }
     }
   }
   plan.joints = !scene.joints.empty();
+  plan.probe_sphere = scene.probe_body < 0;
+  plan.notes = sceneNotes(scene);
   return plan;
 }
 
@@ -86,9 +166,16 @@ std::string describePlan(const SimulationPlan& plan) {
   out += std::string("friction: ") + onOff(plan.friction) + "\n";
   out += std::string("restitution: ") + onOff(plan.restitution) + "\n";
   out += std::string("joints: ") + onOff(plan.joints) + "\n";
-  out += "broad phase: " + std::to_string(plan.moving_primitives) + " moving primitives, " +
+  const std::uint32_t moving = plan.moving_primitives + (plan.probe_sphere ? 1u : 0u);
+  out += "broad phase: " + std::to_string(moving) + " moving primitives" +
+         (plan.probe_sphere ? " (one the probe sphere of the config)" : "") + ", " +
          std::to_string(plan.static_primitives) +
          " static primitives (static pairs never tested)\n";
+  if (!plan.notes.empty()) {
+    out += "notes:\n";
+    for (const std::string& n : plan.notes)
+      out += "  " + n + "\n";
+  }
   return out;
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 /// \file
 /// The compiled scene model: what exists in a scene and so what must be simulated
-/// (../shared/DESIGN.md, Scenes; KHR_physics_rigid_bodies, KHR_implicit_shapes). Built off the
+/// (docs/scenes.md; KHR_physics_rigid_bodies, KHR_implicit_shapes). Built off the
 /// servo thread by the loader (core/scene/loader.h) or by code; immutable once built; read by
 /// collision, response, dynamics and the daemon (MuJoCo's model: `step(const SceneModel&,
 /// state...)`).
@@ -37,15 +37,28 @@ enum class Motion : std::uint8_t {
 /// How two material values combine (KHR `frictionCombine`, `restitutionCombine`).
 enum class Combine : std::uint8_t { kAverage, kMinimum, kMaximum, kMultiply };
 
-/// A physics material (KHR `physicsMaterials[i]`).
+/// A physics material (KHR `physicsMaterials[i]`). A declared material's undeclared values take
+/// the extension's defaults (friction 0.6, restitution 0); a collider without a material has
+/// friction 0 and restitution 0, combined by average (declared).
 struct Material {
   std::string name;
   double static_friction = 0.0;
   double dynamic_friction = 0.0;
   double restitution = 0.0;
-  Combine friction_combine = Combine::kAverage;
-  Combine restitution_combine = Combine::kAverage;
+  Combine friction_combine = Combine::kAverage;     ///< as declared; kAverage when not declared
+  Combine restitution_combine = Combine::kAverage;  ///< as declared; kAverage when not declared
+  bool friction_combine_declared = false;           ///< `frictionCombine` was given
+  bool restitution_combine_declared = false;        ///< `restitutionCombine` was given
 };
+
+/// Which value of a pair of materials combineMaterials combines.
+enum class MaterialValue : std::uint8_t { kStaticFriction, kDynamicFriction, kRestitution };
+
+/// The value two materials give together, as KHR_physics_rigid_bodies says: "average" if either
+/// declares it, else "minimum" if either does, else "maximum", else "multiply"; a material that
+/// declares no combine mode takes no part in the choice, and when neither declares one the values
+/// are averaged. The one implementation of the rule (plan, dynamics). Pure; any thread.
+double combineMaterials(const Material& a, const Material& b, MaterialValue which);
 
 /// What a primitive was made from, for messages and `hapticctl check`.
 enum class ShapeSource : std::uint8_t {
@@ -54,9 +67,14 @@ enum class ShapeSource : std::uint8_t {
   kCapsule,
   kCylinder,
   kPlane,       ///< KHR_implicit_shapes (curved ones tessellated)
-  kMeshHull,    ///< a mesh node with `convexHull: true`
-  kConvexMesh,  ///< a mesh node verified convex
+  kMeshHull,    ///< a mesh node with `convexHull: true` (OMI `convex`; a plain model's points or
+                ///< lines)
+  kConvexMesh,  ///< a mesh node verified convex (a plain model's convex mesh primitive)
   kCode,        ///< built by code, not from a file
+  /// A convex piece of a mesh that is not convex (a mesh collider without `convexHull`, an OMI
+  /// `trimesh`, a plain model's mesh): today the mesh's convex hull, one piece, until the convex
+  /// decomposition lands (core/scene/decompose.h).
+  kMeshPiece,
 };
 
 /// One convex primitive of a body.
@@ -66,10 +84,15 @@ struct Primitive {
   ShapeSource source = ShapeSource::kCode;
   std::int32_t node = -1;      ///< glTF node index of the collider, -1 if none
   std::int32_t material = -1;  ///< index into SceneModel::materials, -1: no material declared
-  /// Collision filter as bits (KHR `collisionFilters`, one bit per collision system name):
-  /// two primitives collide when (a.group & b.mask) && (b.group & a.mask).
+  /// Collision filter as bits: two primitives collide when (a.group & b.mask) && (b.group &
+  /// a.mask). The loader gives each distinct collision behaviour (KHR `collisionFilters`, decided
+  /// by the extension's rule in both directions) one bit in `group` and sets in `mask` the bits of
+  /// the behaviours it collides with; unfiltered primitives share one bit. Triggers: 0 and 0.
   std::uint32_t group = 1;
   std::uint32_t mask = ~0u;
+  /// A trigger volume (KHR `trigger`, OMI trigger): in the scene, never in contact (group = mask
+  /// = 0), no mass. Listed by `hapticctl check`.
+  bool trigger = false;
 };
 
 /// One rigid body: a node with `motion`, or a static collider (or a group of them).
@@ -115,10 +138,29 @@ struct JointLimit {
   double damping = 0.0;
 };
 
-/// The kinds of joint the dynamics handle; others are refused by the loader.
+/// A joint's kind, from which of its degrees of freedom are locked (hard limits with min = max =
+/// 0): the dynamics simulate kFixed and kHinge; the others are parsed and kept in
+/// SceneModel::unsimulated_joints until the dynamics simulate them.
 enum class JointKind : std::uint8_t {
-  kFixed,  ///< all six degrees locked
-  kHinge,  ///< rotation about one axis of the attachment frame only (optionally limited)
+  kFixed,    ///< all six degrees locked
+  kHinge,    ///< rotation about one axis of the attachment frame only (optionally limited)
+  kSlider,   ///< translation along one axis only (a prismatic joint; optionally limited)
+  kBall,     ///< the three linear axes locked, rotation free or limited (a cone, a twist)
+  kGeneric,  ///< any other combination of limits (ranged, one-sided, soft), drives alone
+};
+
+/// A drive of a joint (KHR `physicsJoints[i].drives[j]`): a force (or torque) along (or about)
+/// one axis of the attachment frame, stiffness * (position_target - position) + damping *
+/// (velocity_target - velocity), limited to max_force.
+struct JointDrive {
+  bool angular = false;             ///< `type`: false "linear" (N, m), true "angular" (N m, rad)
+  bool acceleration = false;        ///< `mode`: false "force", true "acceleration" (scaled by mass)
+  std::uint8_t axis = 0;            ///< 0..2, an axis of the attachment frame
+  std::optional<double> max_force;  ///< N or N m; absent: not limited
+  std::optional<double> position_target;  ///< m or rad; absent: no position target
+  std::optional<double> velocity_target;  ///< m/s or rad/s; absent: no velocity target
+  double stiffness = 0.0;                 ///< N/m or N m/rad
+  double damping = 0.0;                   ///< N s/m or N m s/rad
 };
 
 /// A joint between two bodies (KHR node `joint`), kept for the dynamics.
@@ -128,10 +170,12 @@ struct Joint {
   std::int32_t body_b = -1;  ///< body of `connectedNode`; -1: the fixed scene frame
   Pose X_AJ;                 ///< attachment frame in body a's frame
   Pose X_BJ;                 ///< attachment frame in body b's frame (scene frame when body_b < 0)
-  std::uint8_t hinge_axis = 0;  ///< kHinge: the free angular axis (0..2) of the attachment frame
+  std::uint8_t hinge_axis = 0;  ///< kHinge: the free angular axis (0..2); kSlider: the free linear
   std::optional<double> hinge_min, hinge_max;  ///< kHinge: limits in radians, where declared
   std::vector<JointLimit> limits;              ///< as declared
   bool enable_collision = false;               ///< KHR default: constrained bodies do not collide
+  std::vector<JointDrive> drives;              ///< as declared
+  std::int32_t node = -1;                      ///< glTF node index of the node carrying the joint
 };
 
 /// Which stages run for this scene: "simulate only the effects a scene calls for".
@@ -144,7 +188,14 @@ struct SimulationPlan {
   bool joints = false;       ///< at least one joint
   /// Primitives the broad phase keeps (static ones are tracked but never paired with each other).
   std::uint32_t static_primitives = 0;
-  std::uint32_t moving_primitives = 0;
+  std::uint32_t moving_primitives = 0;  ///< the scene's own, without the probe sphere
+  /// The scene names no probe body: the simulation adds the probe sphere of the config, one more
+  /// moving primitive (describePlan counts it).
+  bool probe_sphere = false;
+  /// What the loader ignored or stood in for, and what is parsed but not simulated, one line each
+  /// ("ignored (appearance only): KHR_lights_punctual"; "joint 0 (node 3 'Door'): drive parsed,
+  /// not yet simulated"); a line starting "warning: " is a warning. describePlan prints them.
+  std::vector<std::string> notes;
 };
 
 /// Limits and tolerances of scene loading (config [scene]); every default documented there.
@@ -167,7 +218,10 @@ struct SceneModel {
   std::string name;  ///< file name or demo name
   std::vector<Body> bodies;
   std::vector<Material> materials;
-  std::vector<Joint> joints;
+  std::vector<Joint> joints;  ///< joints the dynamics simulate: kFixed and kHinge
+  /// Joints parsed and validated but not simulated yet (kSlider, kBall, kGeneric): the dynamics
+  /// of issue 15 item 4 will take them; until then their bodies move as if unjoined.
+  std::vector<Joint> unsimulated_joints;
   std::optional<Vec3> gravity_W;  ///< `extras.haptic.gravity` on the scene; absent: no gravity
   std::int32_t probe_body =
       -1;  ///< index of the body with `probe: true`, -1: a probe sphere from config
@@ -177,7 +231,8 @@ struct SceneModel {
   SimulationPlan plan;
 };
 
-/// The plan of a scene, from what it declares. Pure; any thread.
+/// The plan of a scene, from what it declares, with the notes the scene itself tells (joints and
+/// drives not simulated, kinematic velocities, triggers, nothing to touch). Pure; any thread.
 SimulationPlan makePlan(const SceneModel& scene);
 
 /// A multi-line human-readable description of the plan (printed by `hapticctl check`, reported

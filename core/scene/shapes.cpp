@@ -186,4 +186,72 @@ void splitRigid(const Mat3& A, Mat3* R, Mat3* S) {
   *S = glm::transpose(*R) * A;
 }
 
+double boundingDiagonal(std::span<const Vec3> points) {
+  if (points.empty())
+    return 0.0;
+  Vec3 lo = points[0], hi = points[0];
+  for (const Vec3& p : points) {
+    lo = glm::min(lo, p);
+    hi = glm::max(hi, p);
+  }
+  return glm::length(hi - lo);
+}
+
+std::optional<Vec3> flatNormal(std::span<const Vec3> points,
+                               std::span<const std::uint32_t> triangles,
+                               double relative_tolerance) {
+  const double size = boundingDiagonal(points);
+  if (!(size > 0.0))
+    return std::nullopt;
+  // the triangles' area-weighted normal; when they cancel out, a plane through three far points
+  Vec3 n{0.0};
+  for (std::size_t t = 0; t + 2 < triangles.size(); t += 3) {
+    const Vec3& a = points[triangles[t]];
+    n += glm::cross(points[triangles[t + 1]] - a, points[triangles[t + 2]] - a);
+  }
+  const Vec3& p0 = points[0];
+  if (!(glm::length(n) > 1e-9 * size * size)) {
+    std::size_t i1 = 0, i2 = 0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (glm::length(points[i] - p0) > glm::length(points[i1] - p0))
+        i1 = i;
+    }
+    const Vec3 u = points[i1] - p0;
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      if (glm::length(glm::cross(u, points[i] - p0)) > glm::length(glm::cross(u, points[i2] - p0)))
+        i2 = i;
+    }
+    n = glm::cross(u, points[i2] - p0);
+    if (!(glm::length(n) > 1e-12 * size * size))
+      return std::nullopt;  // collinear
+  }
+  n = glm::normalize(n);
+  for (const Vec3& p : points) {
+    if (std::abs(glm::dot(p - p0, n)) > relative_tolerance * size)
+      return std::nullopt;
+  }
+  return n;
+}
+
+double thickenFlat(const Vec3& normal,
+                   double thickness,
+                   std::vector<Vec3>* points,
+                   std::vector<std::uint32_t>* triangles) {
+  const std::size_t n = points->size(), t = triangles->size();
+  double area = 0.0;
+  for (std::size_t i = 0; i + 2 < t; i += 3) {
+    const Vec3& a = (*points)[(*triangles)[i]];
+    area += 0.5 * glm::length(glm::cross((*points)[(*triangles)[i + 1]] - a,
+                                         (*points)[(*triangles)[i + 2]] - a));
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    points->push_back((*points)[i] - thickness * normal);
+  const auto back = static_cast<std::uint32_t>(n);
+  for (std::size_t i = 0; i + 2 < t; i += 3) {
+    triangles->insert(triangles->end(), {back + (*triangles)[i], back + (*triangles)[i + 2],
+                                         back + (*triangles)[i + 1]});
+  }
+  return area;
+}
+
 }  // namespace hapticd::scene::detail

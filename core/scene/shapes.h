@@ -6,6 +6,7 @@
 /// Any thread but the servo thread (allocates).
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -65,6 +66,23 @@ using geom::VolumeIntegrals;
 double convexityViolation(const Polytope& hull,
                           std::span<const Vec3> points,
                           std::span<const std::uint32_t> triangles);
+
+/// The diagonal of the points' bounding box (0 for none).
+double boundingDiagonal(std::span<const Vec3> points);
+
+/// The unit normal of the plane the points lie in, within `relative_tolerance` * their bounding
+/// diagonal, turned to the side the triangles face (their area-weighted normal; either side when
+/// they face both ways); nullopt when the points are not flat or are collinear.
+std::optional<Vec3> flatNormal(std::span<const Vec3> points,
+                               std::span<const std::uint32_t> triangles,
+                               double relative_tolerance);
+
+/// Gives a flat surface a `thickness` behind it: a copy of every point moved by -thickness *
+/// normal, the triangles repeated on it reversed. Returns the area of the original triangles.
+double thickenFlat(const Vec3& normal,
+                   double thickness,
+                   std::vector<Vec3>* points,
+                   std::vector<std::uint32_t>* triangles);
 
 /// The rigid part of an affine map (Gram-Schmidt on the columns, always a proper rotation) and the
 /// remaining linear part: A = R * S with S upper triangular. Degenerate columns get any

@@ -8,44 +8,10 @@
 #include <set>
 #include <utility>
 
+#include "core/scene/glb.h"
+
 namespace hapticd::scenes::testing {
 namespace {
-
-std::uint32_t le32(const std::vector<std::uint8_t>& b, std::size_t at) {
-  return static_cast<std::uint32_t>(b[at]) | (static_cast<std::uint32_t>(b[at + 1]) << 8) |
-         (static_cast<std::uint32_t>(b[at + 2]) << 16) |
-         (static_cast<std::uint32_t>(b[at + 3]) << 24);
-}
-
-std::size_t componentSize(int type) {
-  switch (type) {
-    case 5120:
-    case 5121:
-      return 1;
-    case 5122:
-    case 5123:
-      return 2;
-    case 5125:
-    case 5126:
-      return 4;
-    default:
-      return 0;
-  }
-}
-
-std::size_t typeCount(const std::string& type) {
-  if (type == "SCALAR")
-    return 1;
-  if (type == "VEC2")
-    return 2;
-  if (type == "VEC3")
-    return 3;
-  if (type == "VEC4")
-    return 4;
-  if (type == "MAT4")
-    return 16;
-  return 0;
-}
 
 std::size_t sizeOf(const Json& array) {
   return array.is_array() ? array.size() : 0;
@@ -60,8 +26,8 @@ bool inRange(const Json& v, std::size_t n) {
 std::vector<std::uint8_t> accessorBytes(const Glb& glb, int accessor, std::size_t& elem_size) {
   const Json& a = glb.json["accessors"][static_cast<std::size_t>(accessor)];
   const Json& v = glb.json["bufferViews"][a["bufferView"].get<std::size_t>()];
-  elem_size =
-      componentSize(a["componentType"].get<int>()) * typeCount(a["type"].get<std::string>());
+  elem_size = scene::componentBytes(a["componentType"].get<std::uint64_t>()) *
+              scene::typeComponents(a["type"].get<std::string>());
   const std::size_t offset =
       v.value("byteOffset", std::size_t{0}) + a.value("byteOffset", std::size_t{0});
   const std::size_t bytes = elem_size * a["count"].get<std::size_t>();
@@ -80,52 +46,27 @@ std::vector<std::uint8_t> readFile(const std::string& path) {
 
 std::optional<Glb> splitGlb(const std::vector<std::uint8_t>& b,
                             std::vector<std::string>& problems) {
-  if (b.size() < 20) {
-    problems.push_back("shorter than a header and a chunk header");
+  // the container as the loader reads it, then what the generator promises beyond it
+  const auto chunks = scene::splitGlb(b);
+  if (!chunks) {
+    problems.push_back(chunks.error().message);
     return std::nullopt;
   }
-  if (le32(b, 0) != 0x46546C67u)
-    problems.push_back("magic is not glTF");
-  if (le32(b, 4) != 2u)
-    problems.push_back("version is not 2");
-  if (le32(b, 8) != b.size())
-    problems.push_back("total length differs from the size");
-  const std::size_t json_len = le32(b, 12);
-  if (le32(b, 16) != 0x4E4F534Au)
-    problems.push_back("first chunk is not JSON");
-  if (json_len % 4 != 0)
-    problems.push_back("JSON chunk length not a multiple of 4");
-  if (20 + json_len > b.size()) {
-    problems.push_back("JSON chunk runs past the end");
-    return std::nullopt;
-  }
-  Glb glb;
-  const std::string text(b.begin() + 20, b.begin() + 20 + static_cast<std::ptrdiff_t>(json_len));
+  const std::string_view text = chunks.value().json;
   const auto last = text.find_last_not_of(' ');
-  if (last == std::string::npos || text.size() - last - 1 > 3)
+  if (last == std::string_view::npos || text.size() - last - 1 > 3)
     problems.push_back("JSON chunk padding is more than 3 spaces");
+  const std::span<const std::uint8_t> bin = chunks.value().bin;
+  if (!bin.empty() && bin.data() + bin.size() != b.data() + b.size())
+    problems.push_back("BIN chunk does not end the file");
+  Glb glb;
   try {
     glb.json = Json::parse(text);
   } catch (const Json::exception& e) {
     problems.push_back(std::string("JSON does not parse: ") + e.what());
     return std::nullopt;
   }
-  std::size_t at = 20 + json_len;
-  if (at < b.size()) {
-    if (at + 8 > b.size()) {
-      problems.push_back("BIN chunk header runs past the end");
-      return std::nullopt;
-    }
-    const std::size_t bin_len = le32(b, at);
-    if (le32(b, at + 4) != 0x004E4942u)
-      problems.push_back("second chunk is not BIN");
-    if (bin_len % 4 != 0)
-      problems.push_back("BIN chunk length not a multiple of 4");
-    if (at + 8 + bin_len != b.size())
-      problems.push_back("BIN chunk does not end the file");
-    else
-      glb.bin.assign(b.begin() + static_cast<std::ptrdiff_t>(at + 8), b.end());
-  }
+  glb.bin.assign(bin.begin(), bin.end());
   return glb;
 }
 
@@ -181,8 +122,8 @@ std::vector<std::string> checkReferences(const Glb& glb) {
       continue;
     }
     const Json& v = j["bufferViews"][a["bufferView"].get<std::size_t>()];
-    const std::size_t elem =
-        componentSize(a["componentType"].get<int>()) * typeCount(a["type"].get<std::string>());
+    const std::size_t elem = scene::componentBytes(a["componentType"].get<std::uint64_t>()) *
+                             scene::typeComponents(a["type"].get<std::string>());
     need(elem > 0, "accessor " + std::to_string(i) + ": bad type");
     const std::size_t end =
         a.value("byteOffset", std::size_t{0}) + elem * a["count"].get<std::size_t>();

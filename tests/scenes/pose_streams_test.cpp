@@ -1,4 +1,4 @@
-// The pose streams (tests/streams/*.csv): they parse in the format of ../shared/DESIGN.md, time
+// The pose streams (tests/streams/*.csv): they parse in the format of docs/architecture.md, time
 // runs from 0 and only forwards, quaternions are unit and continuous, nothing jumps, and each
 // stream does what its scene is for (docs/demo-scenes.md).
 

@@ -12,6 +12,7 @@
 
 #include "core/scene/loader.h"
 #include "scenes/demo_scenes.h"
+#include "tests/core/scene/plan_expect.h"
 #include "tests/scenes/glb_reader.h"
 
 namespace hapticd::scenes {
@@ -70,14 +71,7 @@ TEST(SceneRoundTrip, EveryDemoSceneLoads) {
     std::printf("%s: %zu bodies, %zu primitives, %zu joints\n%s\n", std::string(name).c_str(),
                 s.bodies.size(), prims, s.joints.size(), scene::describePlan(s.plan).c_str());
     // the plan stored is the plan of what the scene declares
-    const scene::SimulationPlan plan = scene::makePlan(s);
-    EXPECT_EQ(s.plan.dynamics, plan.dynamics);
-    EXPECT_EQ(s.plan.gravity, plan.gravity);
-    EXPECT_EQ(s.plan.friction, plan.friction);
-    EXPECT_EQ(s.plan.restitution, plan.restitution);
-    EXPECT_EQ(s.plan.joints, plan.joints);
-    EXPECT_EQ(s.plan.static_primitives, plan.static_primitives);
-    EXPECT_EQ(s.plan.moving_primitives, plan.moving_primitives);
+    scene::testing::expectSamePlan(s.plan, scene::makePlan(s));
     EXPECT_EQ(s.plan.static_primitives + s.plan.moving_primitives, prims);
   }
 }
@@ -144,14 +138,7 @@ TEST(SceneRoundTrip, GearsAreTwoDynamicBodiesOnHingesWithoutGravity) {
             2u * static_cast<unsigned>(gears::kRodSides));
   EXPECT_FALSE(s.gravity_W.has_value());
   EXPECT_TRUE(s.materials.empty());
-  EXPECT_TRUE(s.plan.contact_forces);
-  EXPECT_TRUE(s.plan.dynamics);
-  EXPECT_TRUE(s.plan.joints);
-  EXPECT_FALSE(s.plan.gravity);
-  EXPECT_FALSE(s.plan.friction);
-  EXPECT_FALSE(s.plan.restitution);
-  EXPECT_EQ(s.plan.static_primitives, 0u);
-  EXPECT_EQ(s.plan.moving_primitives, 41u);
+  scene::testing::expectPlan(s.plan, "dynamics joints", 0, 41);
 }
 
 TEST(SceneRoundTrip, PegInHoleNeedsOnlyContactForcesAndKeepsItsClearance) {
@@ -201,14 +188,7 @@ TEST(SceneRoundTrip, PegInHoleNeedsOnlyContactForcesAndKeepsItsClearance) {
 
   EXPECT_FALSE(s.gravity_W.has_value());
   EXPECT_TRUE(s.joints.empty());
-  EXPECT_TRUE(s.plan.contact_forces);
-  EXPECT_FALSE(s.plan.dynamics);
-  EXPECT_FALSE(s.plan.gravity);
-  EXPECT_FALSE(s.plan.friction);
-  EXPECT_FALSE(s.plan.restitution);
-  EXPECT_FALSE(s.plan.joints);
-  EXPECT_EQ(s.plan.static_primitives, 5u);
-  EXPECT_EQ(s.plan.moving_primitives, 1u);
+  scene::testing::expectPlan(s.plan, "", 5, 1);
 }
 
 /// Volume of a closed convex polytope (tetrahedra from its centroid to every face fan).
@@ -297,13 +277,7 @@ TEST(SceneRoundTrip, DynamicHasDynamicsGravityFrictionAndRestitution) {
   EXPECT_EQ(*s.gravity_W, geom::Vec3(0.0, -9.81, 0.0));
   EXPECT_EQ(s.materials.size(), 4u);
   EXPECT_TRUE(s.joints.empty());
-  EXPECT_TRUE(s.plan.dynamics);
-  EXPECT_TRUE(s.plan.gravity);
-  EXPECT_TRUE(s.plan.friction);
-  EXPECT_TRUE(s.plan.restitution);
-  EXPECT_FALSE(s.plan.joints);
-  EXPECT_EQ(s.plan.static_primitives, 1u);
-  EXPECT_EQ(s.plan.moving_primitives, 13u);
+  scene::testing::expectPlan(s.plan, "dynamics gravity friction restitution", 1, 13);
 }
 
 TEST(SceneRoundTrip, StressHasOverAThousandPrimitivesMostlyStatic) {
@@ -340,13 +314,7 @@ TEST(SceneRoundTrip, StressHasOverAThousandPrimitivesMostlyStatic) {
   }
   EXPECT_EQ(blocks, 16);
   ASSERT_TRUE(s.gravity_W.has_value());
-  EXPECT_TRUE(s.plan.dynamics);
-  EXPECT_TRUE(s.plan.gravity);
-  EXPECT_FALSE(s.plan.friction);
-  EXPECT_FALSE(s.plan.restitution);
-  EXPECT_FALSE(s.plan.joints);
-  EXPECT_EQ(s.plan.static_primitives, 1025u);
-  EXPECT_EQ(s.plan.moving_primitives, 17u);
+  scene::testing::expectPlan(s.plan, "dynamics gravity", 1025, 17);
   EXPECT_GE(s.plan.static_primitives + s.plan.moving_primitives, 1000u);
 }
 

@@ -1,6 +1,7 @@
 # Runs `hapticctl check` on every file of the bad corpus (BAD/expected.txt: name, allow, message):
 # each must exit 1 with its message on stderr as "FILE: where: what"; then on every GOOD file,
-# which must exit 0 with its plan; then --json on one of each.
+# which must exit 0 with its plan and the lines GOOD/expected.txt names; then --json on one of
+# each.
 file(STRINGS ${BAD}/expected.txt lines)
 set(count 0)
 foreach(line IN LISTS lines)
@@ -23,6 +24,19 @@ foreach(line IN LISTS lines)
     message(FATAL_ERROR "hapticctl check ${name}: expected '${expect}' on stderr, got:\n${err}")
   endif()
   math(EXPR count "${count} + 1")
+endforeach()
+# each good file prints every line its manifest names (GOOD/expected.txt: name, a check line)
+file(STRINGS ${GOOD}/expected.txt lines)
+foreach(line IN LISTS lines)
+  string(REPLACE "\t" ";" fields "${line}")
+  list(GET fields 0 name)
+  list(GET fields 1 expect)
+  execute_process(COMMAND ${HAPTICCTL} check ${GOOD}/${name} RESULT_VARIABLE rc OUTPUT_VARIABLE out
+                  ERROR_VARIABLE err TIMEOUT 60)
+  string(FIND "${out}" "${expect}" at)
+  if(NOT rc EQUAL 0 OR at EQUAL -1)
+    message(FATAL_ERROR "hapticctl check ${name}: exit ${rc}, expected 0 and '${expect}'\n${out}${err}")
+  endif()
 endforeach()
 file(GLOB good ${GOOD}/*.glb ${GOOD}/*.gltf ${EXTRA_GOOD})
 foreach(path IN LISTS good)

@@ -1,9 +1,11 @@
 #pragma once
 /// \file
-/// The bad-file corpus of the scene loader (tests/scenes/bad/) and a few good scenes
+/// The corpus of the scene loader: bad files (tests/scenes/bad/) and good scenes
 /// (tests/scenes/good/), made in code so that they are reproducible: `scene_corpus_gen DIR`
-/// writes them, scene_corpus_test checks the committed files are exactly these and that each bad
-/// one gives its own error.
+/// writes them with their expected.txt, scene_corpus_test checks the committed files are exactly
+/// these, that each bad one gives its own error and each good one loads; `hapticctl check` is run
+/// on all of them (check_corpus.cmake). The files of glTF as exporters write it are
+/// corpus_formats.h's.
 
 #include <cmath>
 #include <cstring>
@@ -11,16 +13,10 @@
 #include <string>
 #include <vector>
 
+#include "tests/core/scene/corpus_formats.h"
 #include "tests/core/scene/gltf_builder.h"
 
 namespace hapticd::scene::testing {
-
-struct CorpusFile {
-  std::string name;
-  std::vector<std::uint8_t> bytes;
-  std::string expect;         ///< bad files: a substring of the error; good files: empty
-  bool allow_folder = false;  ///< load with allowed_uri_dir = the corpus folder
-};
 
 /// A small valid scene: a static floor box and a dynamic cube mesh (a convex mesh collider).
 inline GltfBuilder baseScene() {
@@ -33,6 +29,19 @@ inline GltfBuilder baseScene() {
   GltfBuilder::physics(cube)["motion"] = json::object();
   GltfBuilder::physics(cube)["collider"] = {{"geometry", {{"node", 1}}}};
   b.addNode(cube);
+  return b;
+}
+
+/// The base scene with the cube's mesh replaced by `mesh`; `hull`: its collider a convex hull.
+inline GltfBuilder baseSceneWithMesh(const Mesh& mesh, const std::string& name, bool hull) {
+  GltfBuilder b = baseScene();
+  b.doc["meshes"] = json::array();
+  b.doc["bufferViews"] = json::array();
+  b.doc["accessors"] = json::array();
+  b.bin.clear();
+  b.addMesh(mesh, name);
+  if (hull)
+    GltfBuilder::physics(b.doc["nodes"][1])["collider"]["geometry"]["convexHull"] = true;
   return b;
 }
 
@@ -289,7 +298,8 @@ inline std::vector<CorpusFile> badCorpus() {
   {
     GltfBuilder b = baseScene();
     b.doc["accessors"][0]["sparse"] = {{"count", 1}};
-    add("sparse_accessor.gltf", bytesOf(b.gltf()), "sparse accessors are not supported");
+    add("sparse_accessor.gltf", bytesOf(b.gltf()),
+        "accessor 0 sparse: required property indices is missing");
   }
 
   // ---- URIs
@@ -298,7 +308,7 @@ inline std::vector<CorpusFile> badCorpus() {
     json d = b.doc;
     d["buffers"] = json::array({json{{"byteLength", b.bin.size()}, {"uri", "cube.bin"}}});
     add("external_uri.gltf", bytesOf(d.dump()),
-        "buffer 0: external URI 'cube.bin' refused: no folder is allowed");
+        "buffer 0: external URI 'cube.bin': no such file in the allowed folder");
     d["buffers"][0]["uri"] = "../../etc/passwd";
     add("traversing_uri.gltf", bytesOf(d.dump()),
         "external URI '../../etc/passwd' traverses out of the allowed folder", true);
@@ -323,42 +333,24 @@ inline std::vector<CorpusFile> badCorpus() {
   // ---- extensions
   {
     GltfBuilder b = baseScene();
-    b.doc["extensionsRequired"] = {"KHR_physics_rigid_bodies", "KHR_draco_mesh_compression"};
-    add("unknown_required_extension.gltf", bytesOf(b.gltf()),
-        "extensionsRequired: unsupported required extension 'KHR_draco_mesh_compression'");
-  }
-  {
-    GltfBuilder b = baseScene();
     b.doc["extensions"]["KHR_implicit_shapes"]["shapes"][0] = {{"type", "torus"}};
     add("unknown_shape_type.gltf", bytesOf(b.gltf()), "shape type 'torus' is not supported");
   }
 
   // ---- geometry
   {
-    GltfBuilder b = baseScene();
     Mesh quad;
     quad.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 0, 1}, {0, 0, 1}};
     quad.triangles = {0, 1, 2, 0, 2, 3};
-    b.doc["meshes"] = json::array();
-    b.doc["bufferViews"] = json::array();
-    b.doc["accessors"] = json::array();
-    b.bin.clear();
-    b.addMesh(quad, "Quad");
-    GltfBuilder::physics(b.doc["nodes"][1])["collider"]["geometry"]["convexHull"] = true;
+    const GltfBuilder b = baseSceneWithMesh(quad, "Quad", true);
     add("flat_hull.gltf", bytesOf(b.gltf()),
         "node 1 'Cube': mesh 0 'Quad': cannot build a convex hull: all points are coplanar");
   }
   {
-    GltfBuilder b = baseScene();
     Mesh line;
     line.vertices = {{0, 0, 0}, {1, 1, 1}, {2, 2, 2}, {3, 3, 3}, {1, 1, 1}, {2, 2, 2}};
     line.triangles = {0, 1, 2, 3, 4, 5};
-    b.doc["meshes"] = json::array();
-    b.doc["bufferViews"] = json::array();
-    b.doc["accessors"] = json::array();
-    b.bin.clear();
-    b.addMesh(line, "Line");
-    GltfBuilder::physics(b.doc["nodes"][1])["collider"]["geometry"]["convexHull"] = true;
+    const GltfBuilder b = baseSceneWithMesh(line, "Line", true);
     add("degenerate_hull.gltf", bytesOf(b.gltf()),
         "mesh 0 'Line': cannot build a convex hull: all points are collinear");
   }
@@ -372,17 +364,6 @@ inline std::vector<CorpusFile> badCorpus() {
     b.doc["nodes"][0]["scale"] = {1.0, 0.0, 1.0};
     add("flattened_by_scale.gltf", bytesOf(b.gltf()),
         "node 0 'Floor': collider: cannot build a convex hull: all points are coplanar");
-  }
-  {
-    GltfBuilder b = baseScene();
-    b.doc["meshes"] = json::array();
-    b.doc["bufferViews"] = json::array();
-    b.doc["accessors"] = json::array();
-    b.bin.clear();
-    b.addMesh(dentedCubeMesh(), "DentedMesh");
-    add("non_convex_mesh.glb", b.glb(),
-        "node 1 'Cube': mesh 0 'DentedMesh': non-convex mesh collider without convexHull (convex "
-        "decomposition is not supported)");
   }
   {
     GltfBuilder b = baseScene();
@@ -439,23 +420,6 @@ inline std::vector<CorpusFile> badCorpus() {
   }
   {
     GltfBuilder b = baseScene();
-    const int j = b.addPhysics(
-        "physicsJoints", {{"limits", json::array({{{"linearAxes", {0, 1, 2}}, {"max", 0.0}}})}});
-    GltfBuilder::physics(b.doc["nodes"][1])["joint"] = {{"connectedNode", 0}, {"joint", j}};
-    add("ball_joint.gltf", bytesOf(b.gltf()),
-        "joint: is neither fixed nor a hinge: 3 free angular axes");
-  }
-  {
-    GltfBuilder b = baseScene();
-    json systems = json::array();
-    for (int i = 0; i < 40; ++i)
-      systems.push_back("system" + std::to_string(i));
-    const int f = b.addPhysics("collisionFilters", {{"collisionSystems", systems}});
-    GltfBuilder::physics(b.doc["nodes"][0])["collider"]["collisionFilter"] = f;
-    add("too_many_collision_systems.gltf", bytesOf(b.gltf()), "more than 32 collision systems");
-  }
-  {
-    GltfBuilder b = baseScene();
     b.doc["extensions"]["KHR_implicit_shapes"]["shapes"].push_back(
         {{"type", "plane"}, {"plane", json::object()}});
     json n = GltfBuilder::node("Wall", {0.0, 0.0, 0.0});
@@ -464,13 +428,16 @@ inline std::vector<CorpusFile> badCorpus() {
     b.addNode(n);
     add("moving_plane.gltf", bytesOf(b.gltf()), "a plane collider must be static");
   }
+  std::vector<CorpusFile> good;
+  formatsCorpus(good, out, baseScene());
   return out;
 }
 
 inline std::vector<CorpusFile> goodCorpus() {
   std::vector<CorpusFile> out;
-  out.push_back({"base.glb", baseScene().glb(), "", false});
-  out.push_back({"base.gltf", bytesOf(baseScene().gltf()), "", false});
+  const std::string plan = "plan:\n  contact forces: on";
+  out.push_back({"base.glb", baseScene().glb(), plan});
+  out.push_back({"base.gltf", bytesOf(baseScene().gltf()), plan});
   {
     GltfBuilder b;
     b.gravity({0.0, -9.81, 0.0});
@@ -493,7 +460,7 @@ inline std::vector<CorpusFile> goodCorpus() {
         GltfBuilder::shapeCollider(b.capsule(0.2, 0.01, 0.01));
     probe["extras"]["haptic"] = {{"probe", true}, {"stiffness", 1500.0}};
     b.addNode(probe);
-    out.push_back({"shapes_gravity_probe.glb", b.glb(), "", false});
+    out.push_back({"shapes_gravity_probe.glb", b.glb(), plan});
   }
   {
     GltfBuilder b;
@@ -512,8 +479,32 @@ inline std::vector<CorpusFile> goodCorpus() {
       GltfBuilder::physics(pivot)["joint"] = {{"connectedNode", anchor}, {"joint", hinge}};
       b.addNode(pivot, g);
     }
-    out.push_back({"hinges.gltf", bytesOf(b.gltf()), "", false});
+    out.push_back({"hinges.gltf", bytesOf(b.gltf()), plan});
   }
+  // once refused, now loaded: a non-convex mesh collider, a ball joint, 40 systems in one filter
+  out.push_back({"non_convex_mesh.glb",
+                 baseSceneWithMesh(dentedCubeMesh(), "DentedMesh", false).glb(),
+                 "node 1 'Cube'): not convex, touched through\n"
+                 "convex pieces (convex decomposition, concavity"});
+  {
+    GltfBuilder b = baseScene();
+    const int j = b.addPhysics(
+        "physicsJoints", {{"limits", json::array({{{"linearAxes", {0, 1, 2}}, {"max", 0.0}}})}});
+    GltfBuilder::physics(b.doc["nodes"][1])["joint"] = {{"connectedNode", 0}, {"joint", j}};
+    out.push_back({"ball_joint.gltf", bytesOf(b.gltf()),
+                   "ball between body 0 and the scene, not yet simulated"});
+  }
+  {
+    GltfBuilder b = baseScene();
+    json systems = json::array();
+    for (int i = 0; i < 40; ++i)
+      systems.push_back("system" + std::to_string(i));
+    const int f = b.addPhysics("collisionFilters", {{"collisionSystems", systems}});
+    GltfBuilder::physics(b.doc["nodes"][0])["collider"]["collisionFilter"] = f;
+    out.push_back({"many_collision_systems.gltf", bytesOf(b.gltf()), plan});
+  }
+  std::vector<CorpusFile> bad;
+  formatsCorpus(out, bad, baseScene());
   return out;
 }
 

@@ -4,6 +4,7 @@
 /// the fuzz seeds and the load benchmark: JSON with nlohmann, mesh data in one buffer, written as
 /// .gltf (base64 data URI) or .glb. Header-only, test code.
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <nlohmann/json.hpp>
@@ -11,6 +12,7 @@
 #include <vector>
 
 #include "core/geometry/pose.h"
+#include "core/scene/glb.h"
 
 namespace hapticd::scene::testing {
 
@@ -64,12 +66,26 @@ class GltfBuilder {
  public:
   json doc;
   std::vector<std::uint8_t> bin;
+  /// Buffers after buffer 0 (the bin), e.g. a meshopt fallback buffer.
+  std::vector<json> more_buffers;
 
   GltfBuilder() {
     doc = {{"asset", {{"version", "2.0"}, {"generator", "hapticd tests"}}}};
     doc["scenes"] = json::array({json{{"nodes", json::array()}}});
     doc["scene"] = 0;
     doc["nodes"] = json::array();
+  }
+
+  /// Names an extension in extensionsUsed (and extensionsRequired when `required`), once.
+  void useExtension(const std::string& name, bool required) {
+    const auto add = [&](const char* list) {
+      json& l = doc[list];
+      if (std::find(l.begin(), l.end(), name) == l.end())
+        l.push_back(name);
+    };
+    add("extensionsUsed");
+    if (required)
+      add("extensionsRequired");
   }
 
   /// Appends raw bytes to the buffer (4-byte aligned) and returns a bufferView index.
@@ -189,6 +205,8 @@ class GltfBuilder {
       d["buffers"] =
           json::array({json{{"byteLength", bin.size()},
                             {"uri", "data:application/octet-stream;base64," + base64(bin)}}});
+      for (const json& extra : more_buffers)
+        d["buffers"].push_back(extra);
     }
     return d.dump();
   }
@@ -196,34 +214,12 @@ class GltfBuilder {
   /// The GLB container, the buffer in the BIN chunk.
   std::vector<std::uint8_t> glb() const {
     json d = doc;
-    std::vector<std::uint8_t> b = bin;
-    while (b.size() % 4 != 0)
-      b.push_back(0);
-    if (!b.empty())
+    if (!bin.empty()) {
       d["buffers"] = json::array({json{{"byteLength", bin.size()}}});
-    std::string text = d.dump();
-    while (text.size() % 4 != 0)
-      text.push_back(' ');
-    std::vector<std::uint8_t> out;
-    out.reserve(28 + text.size() + b.size());
-    const auto u32 = [&](std::uint32_t v) {
-      for (int k = 0; k < 4; ++k)
-        out.push_back(static_cast<std::uint8_t>(v >> (8 * k)));
-    };
-    const std::size_t total = 12 + 8 + text.size() + (b.empty() ? 0 : 8 + b.size());
-    for (const char c : {'g', 'l', 'T', 'F'})
-      out.push_back(static_cast<std::uint8_t>(c));
-    u32(2);
-    u32(static_cast<std::uint32_t>(total));
-    u32(static_cast<std::uint32_t>(text.size()));
-    u32(0x4E4F534Au);
-    out.insert(out.end(), text.begin(), text.end());
-    if (!b.empty()) {
-      u32(static_cast<std::uint32_t>(b.size()));
-      u32(0x004E4942u);
-      out.insert(out.end(), b.begin(), b.end());
+      for (const json& extra : more_buffers)
+        d["buffers"].push_back(extra);
     }
-    return out;
+    return packGlb(d.dump(), bin);
   }
 };
 
