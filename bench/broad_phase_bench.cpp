@@ -4,7 +4,6 @@
 // new extent, then the library updates its pair set. The motion itself (a few adds per box) is
 // inside the timed loop for every library alike.
 #include <benchmark/benchmark.h>
-
 #include <btBulletCollisionCommon.h>
 #include <fcl/broadphase/broadphase_SaP.h>
 #include <fcl/broadphase/broadphase_dynamic_AABB_tree.h>
@@ -42,7 +41,8 @@ struct Boxes {
   void step(std::size_t i) {
     c[i] += v[i];
     for (int k = 0; k < 3; ++k) {
-      if (c[i][k] < 0.0 || c[i][k] > side) v[i][k] = -v[i][k];
+      if (c[i][k] < 0.0 || c[i][k] > side)
+        v[i][k] = -v[i][k];
     }
   }
   Aabb box(std::size_t i) const { return {c[i] - h[i], c[i] + h[i]}; }
@@ -108,9 +108,10 @@ void oursOneMoving(benchmark::State& state, std::size_t n) {
   double t = 0.0;
   for (auto _ : state) {
     t += 1.0;
-    origin = Vec3{boxes.side * (0.3 + 0.2 * std::sin(t * 1e-3)), boxes.side * 0.5 + 3.0 * std::sin(t * 7e-3),
-                  boxes.side * 0.5};
-    for (std::size_t k = 0; k < 20; ++k) sap.update(mine[k], member(k));
+    origin = Vec3{boxes.side * (0.3 + 0.2 * std::sin(t * 1e-3)),
+                  boxes.side * 0.5 + 3.0 * std::sin(t * 7e-3), boxes.side * 0.5};
+    for (std::size_t k = 0; k < 20; ++k)
+      sap.update(mine[k], member(k));
     sap.commit();
     benchmark::DoNotOptimize(sap.takeEvents().size());
   }
@@ -121,7 +122,8 @@ void oursOneMoving(benchmark::State& state, std::size_t n) {
 void oursOneMovingWorld(benchmark::State& state, std::size_t n) {
   Boxes boxes(n, 2);
   std::vector<Vec3> pts;
-  for (int i = 0; i < 8; ++i) pts.push_back(Vec3{i & 1 ? 0.5 : -0.5, i & 2 ? 0.5 : -0.5, i & 4 ? 0.5 : -0.5});
+  for (int i = 0; i < 8; ++i)
+    pts.push_back(Vec3{i & 1 ? 0.5 : -0.5, i & 2 ? 0.5 : -0.5, i & 4 ? 0.5 : -0.5});
   auto cube = std::make_shared<const geom::Polytope>(geom::Polytope::fromPoints(pts).value());
   collision::CollisionWorld world;
   world.reserve(n + 20, 8 * n);
@@ -139,13 +141,15 @@ void oursOneMovingWorld(benchmark::State& state, std::size_t n) {
     probe.primitives.push_back({cube, X});
   }
   // a corridor with no static box in it, so that the narrow phase has nothing to do
-  const std::uint32_t id = world.addBody(probe, geom::Pose{Vec3{-100.0, 0.0, 0.0}, geom::Quat{1, 0, 0, 0}});
+  const std::uint32_t id =
+      world.addBody(probe, geom::Pose{Vec3{-100.0, 0.0, 0.0}, geom::Quat{1, 0, 0, 0}});
   world.step();
   double t = 0.0;
   for (auto _ : state) {
     t += 1.0;
-    world.setPose(id, geom::Pose{Vec3{-100.0 + 3.0 * std::sin(t * 1e-3), 0.1 * std::sin(t * 7e-3), 0.0},
-                                 geom::Quat{1, 0, 0, 0}});
+    world.setPose(id,
+                  geom::Pose{Vec3{-100.0 + 3.0 * std::sin(t * 1e-3), 0.1 * std::sin(t * 7e-3), 0.0},
+                             geom::Quat{1, 0, 0, 0}});
     benchmark::DoNotOptimize(world.step());
   }
 }
@@ -174,7 +178,8 @@ void bulletAllMoving(benchmark::State& state, std::size_t n, BulletKind kind) {
   std::vector<btBroadphaseProxy*> proxies(n);
   for (std::size_t i = 0; i < n; ++i) {
     const Aabb b = boxes.box(i);
-    proxies[i] = bp->createProxy(bt(b.lo), bt(b.hi), 0, reinterpret_cast<void*>(i + 1), 1, -1, &dispatcher);
+    proxies[i] =
+        bp->createProxy(bt(b.lo), bt(b.hi), 0, reinterpret_cast<void*>(i + 1), 1, -1, &dispatcher);
   }
   bp->calculateOverlappingPairs(&dispatcher);
   for (auto _ : state) {
@@ -227,22 +232,29 @@ void registerAll() {
     const std::string name = "BroadPhase/AllMoving/" + std::to_string(n);
     iterationsFor(benchmark::RegisterBenchmark(name.c_str(), oursAllMoving, n), n);
     if (n < 65535) {  // btAxisSweep3 has 16-bit handles
-      iterationsFor(benchmark::RegisterBenchmark(("Peer/Bullet-btAxisSweep3/" + name).c_str(), bulletAllMoving, n,
-                                                 BulletKind::kAxisSweep3), n);
+      iterationsFor(benchmark::RegisterBenchmark(("Peer/Bullet-btAxisSweep3/" + name).c_str(),
+                                                 bulletAllMoving, n, BulletKind::kAxisSweep3),
+                    n);
     }
-    iterationsFor(benchmark::RegisterBenchmark(("Peer/Bullet-bt32BitAxisSweep3/" + name).c_str(), bulletAllMoving,
-                                               n, BulletKind::k32BitAxisSweep3), n);
-    iterationsFor(benchmark::RegisterBenchmark(("Peer/Bullet-btDbvtBroadphase/" + name).c_str(), bulletAllMoving, n,
-                                               BulletKind::kDbvt), n);
-    iterationsFor(benchmark::RegisterBenchmark(("Peer/FCL-DynamicAABBTree/" + name).c_str(),
-                                               fclAllMoving<fcl::DynamicAABBTreeCollisionManagerd>, n), n);
+    iterationsFor(benchmark::RegisterBenchmark(("Peer/Bullet-bt32BitAxisSweep3/" + name).c_str(),
+                                               bulletAllMoving, n, BulletKind::k32BitAxisSweep3),
+                  n);
+    iterationsFor(benchmark::RegisterBenchmark(("Peer/Bullet-btDbvtBroadphase/" + name).c_str(),
+                                               bulletAllMoving, n, BulletKind::kDbvt),
+                  n);
+    iterationsFor(
+        benchmark::RegisterBenchmark(("Peer/FCL-DynamicAABBTree/" + name).c_str(),
+                                     fclAllMoving<fcl::DynamicAABBTreeCollisionManagerd>, n),
+        n);
     if (n <= 10000) {  // FCL's SaP manager is quadratic in places: 100 000 takes minutes
       iterationsFor(benchmark::RegisterBenchmark(("Peer/FCL-SaP/" + name).c_str(),
-                                                 fclAllMoving<fcl::SaPCollisionManagerd>, n), n);
+                                                 fclAllMoving<fcl::SaPCollisionManagerd>, n),
+                    n);
     }
   }
   for (const std::size_t n : {1000u, 10000u}) {
-    benchmark::RegisterBenchmark(("BroadPhase/OneMoving/" + std::to_string(n)).c_str(), oursOneMoving, n)
+    benchmark::RegisterBenchmark(("BroadPhase/OneMoving/" + std::to_string(n)).c_str(),
+                                 oursOneMoving, n)
         ->Unit(benchmark::kMicrosecond);
   }
   benchmark::RegisterBenchmark("BroadPhase/OneMovingWorld/10000", oursOneMovingWorld, 10000)

@@ -1,6 +1,7 @@
 // hapticbench, narrow phase: distance and penetration between convex hulls, coherent and
 // incoherent, ours and the peers', each also checked for wrong answers against the brute-force
-// reference. Names as in ../shared/DESIGN.md: Distance/Coherent/<N>, ..., Peer/<lib>-<method>/<name>.
+// reference. Names as in ../shared/DESIGN.md: Distance/Coherent/<N>, ...,
+// Peer/<lib>-<method>/<name>.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -30,11 +31,14 @@ constexpr std::size_t kChecks = 20;
 Polytope ellipsoidHull(std::size_t n, std::uint64_t seed, double scale) {
   auto pts = reference::ellipsoidPoints(n, 0.025 * scale, 0.018 * scale, 0.012 * scale, seed);
   const Vec3 c = Polytope::fromPoints(pts).value().centroid();
-  for (Vec3& p : pts) p -= c;
+  for (Vec3& p : pts)
+    p -= c;
   return Polytope::fromPoints(pts).value();
 }
 
-Transform scaledTransform(const Transform& X, double s) { return {X.R, X.t * s}; }
+Transform scaledTransform(const Transform& X, double s) {
+  return {X.R, X.t * s};
+}
 
 struct Scenario {
   std::size_t n = 0;
@@ -57,7 +61,8 @@ Scenario& scenario(std::size_t n, bool overlap) {
   static std::map<std::pair<std::size_t, bool>, Scenario> all;
   auto [it, fresh] = all.try_emplace({n, overlap});
   Scenario& s = it->second;
-  if (!fresh) return s;
+  if (!fresh)
+    return s;
   s.n = n;
   s.overlap = overlap;
   s.a = std::make_unique<Polytope>(ellipsoidHull(n, 1, 1.0));
@@ -69,12 +74,14 @@ Scenario& scenario(std::size_t n, bool overlap) {
   // radii of the balls inscribed about the origin (coarse hulls have small ones)
   auto inscribed = [](const Polytope& p) {
     double r = 1e300;
-    for (const auto& f : p.faces()) r = std::min(r, f.offset);
+    for (const auto& f : p.faces())
+      r = std::min(r, f.offset);
     return r;
   };
   const double r = overlap ? 0.7 * (inscribed(*s.a) + inscribed(*s.b)) : 0.060;
   const Vec3 axis = glm::normalize(Vec3{1, 2, 3});
-  for (int k = 0; k < 20000; ++k) s.coherent.push_back(orbit(r, k, axis));
+  for (int k = 0; k < 20000; ++k)
+    s.coherent.push_back(orbit(r, k, axis));
   std::mt19937_64 rng(n * 7 + overlap);
   std::normal_distribution<double> g(0.0, 1.0);
   for (int k = 0; k < 1024; ++k) {
@@ -105,8 +112,10 @@ Wrong countWrong(const Scenario& s, F&& f) {
       bool ok = true;
       const double d = f(mm, scaledTransform(s.check[k], unit), ok) / unit;
       const double err = ok ? std::abs(d - s.ref[k]) / s.size : 1.0;
-      if (!mm) w.max_rel = std::max(w.max_rel, err);
-      if (!ok || !(err <= kWrong)) ++(mm ? w.mm : w.m);
+      if (!mm)
+        w.max_rel = std::max(w.max_rel, err);
+      if (!ok || !(err <= kWrong))
+        ++(mm ? w.mm : w.m);
     }
   }
   return w;
@@ -134,7 +143,8 @@ void ours(benchmark::State& state, std::size_t n, bool overlap, bool coherent) {
   collision::FeatureCache warm_features;
   for (auto _ : state) {
     const Transform& X = poses[i];
-    if (++i == poses.size()) i = 0;
+    if (++i == poses.size())
+      i = 0;
     if (!overlap) {
       // the distance query: closest features (V-Clip), witness points, normal
       collision::FeatureCache cold;
@@ -156,7 +166,8 @@ void oursPairQuery(benchmark::State& state, std::size_t n) {
   PairCache warm;
   for (auto _ : state) {
     auto r = collision::queryPair(*s.a, *s.b, s.coherent[i], warm);
-    if (++i == s.coherent.size()) i = 0;
+    if (++i == s.coherent.size())
+      i = 0;
     benchmark::DoNotOptimize(r);
   }
 }
@@ -166,15 +177,15 @@ void peer(benchmark::State& state, std::string name, std::size_t n, bool overlap
   Scenario& s = scenario(n, overlap);
   auto m = makePeer(name, *s.a, *s.b);
   auto m_mm = makePeer(name, *s.a_mm, *s.b_mm);
-  const Wrong w = countWrong(s, [&](bool mm, const Transform& X, bool& ok) {
-    return (mm ? m_mm : m)->query(X, ok);
-  });
+  const Wrong w = countWrong(
+      s, [&](bool mm, const Transform& X, bool& ok) { return (mm ? m_mm : m)->query(X, ok); });
   const auto& poses = coherent ? s.coherent : s.incoherent;
   std::size_t i = 0;
   for (auto _ : state) {
     bool ok = true;
     const double d = m->query(poses[i], ok);
-    if (++i == poses.size()) i = 0;
+    if (++i == poses.size())
+      i = 0;
     benchmark::DoNotOptimize(d);
     benchmark::DoNotOptimize(ok);
   }
@@ -189,14 +200,15 @@ void registerAll() {
                                  (coherent ? "Coherent/" : "Incoherent/") + std::to_string(n);
         benchmark::RegisterBenchmark(name.c_str(), ours, n, overlap, coherent);
         for (const PeerInfo& p : peerList()) {
-          if (overlap ? !p.penetration : !p.distance) continue;
+          if (overlap ? !p.penetration : !p.distance)
+            continue;
           benchmark::RegisterBenchmark(("Peer/" + p.name + "/" + name).c_str(), peer, p.name, n,
                                        overlap, coherent);
         }
       }
     }
-    benchmark::RegisterBenchmark(("PairQuery/Coherent/" + std::to_string(n)).c_str(),
-                                 oursPairQuery, n);
+    benchmark::RegisterBenchmark(("PairQuery/Coherent/" + std::to_string(n)).c_str(), oursPairQuery,
+                                 n);
   }
 }
 

@@ -1,17 +1,16 @@
 #include "bench/peers.h"
 
-#include <ccd/ccd.h>
-#include <ccd/quat.h>
-#include <fcl/geometry/shape/convex.h>
-#include <fcl/narrowphase/collision.h>
-#include <fcl/narrowphase/distance.h>
-
 #include <BulletCollision/CollisionShapes/btConvexHullShape.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpa2.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkEpaPenetrationDepthSolver.h>
 #include <BulletCollision/NarrowPhaseCollision/btGjkPairDetector.h>
 #include <BulletCollision/NarrowPhaseCollision/btPointCollector.h>
 #include <BulletCollision/NarrowPhaseCollision/btVoronoiSimplexSolver.h>
+#include <ccd/ccd.h>
+#include <ccd/quat.h>
+#include <fcl/geometry/shape/convex.h>
+#include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/distance.h>
 
 #include <cmath>
 #include <limits>
@@ -36,7 +35,8 @@ void ccdSupport(const void* obj, const ccd_vec3_t* dir, ccd_vec3_t* out) {
   Vec3 p{0.0};
   for (const Vec3& v : o->local) {
     const double s = glm::dot(v, d_local);
-    if (s > best) best = s, p = v;
+    if (s > best)
+      best = s, p = v;
   }
   const Vec3 w = o->X.apply(p);
   ccdVec3Set(out, w.x, w.y, w.z);
@@ -45,7 +45,8 @@ void ccdSupport(const void* obj, const ccd_vec3_t* dir, ccd_vec3_t* out) {
 void ccdCenter(const void* obj, ccd_vec3_t* out) {
   const auto* o = static_cast<const CcdObject*>(obj);
   Vec3 c{0.0};
-  for (const Vec3& v : o->local) c += v;
+  for (const Vec3& v : o->local)
+    c += v;
   c = o->X.apply(c / static_cast<double>(o->local.size()));
   ccdVec3Set(out, c.x, c.y, c.z);
 }
@@ -53,8 +54,10 @@ void ccdCenter(const void* obj, ccd_vec3_t* out) {
 class CcdPeer : public PeerMethod {
  public:
   CcdPeer(const Polytope& a, const Polytope& b, bool mpr) : mpr_(mpr) {
-    for (const auto& v : a.vertices()) a_.local.push_back(v.p);
-    for (const auto& v : b.vertices()) b_.local.push_back(v.p);
+    for (const auto& v : a.vertices())
+      a_.local.push_back(v.p);
+    for (const auto& v : b.vertices())
+      b_.local.push_back(v.p);
     CCD_INIT(&ccd_);
     ccd_.support1 = ccdSupport;
     ccd_.support2 = ccdSupport;
@@ -86,7 +89,8 @@ class CcdPeer : public PeerMethod {
     const int r = mpr_ ? ccdMPRPenetration(&a_, &b_, &ccd_, &depth, &dir, &pos)
                        : ccdGJKPenetration(&a_, &b_, &ccd_, &depth, &dir, &pos);
     PeerAnswer out;
-    if (r != 0) return out;
+    if (r != 0)
+      return out;
     out.ok = true;
     out.distance = -depth;
     out.normal = {dir.v[0], dir.v[1], dir.v[2]};
@@ -103,11 +107,13 @@ class CcdPeer : public PeerMethod {
 // ---------------------------------------------------------------- FCL
 std::shared_ptr<fcl::Convexd> fclConvex(const Polytope& p) {
   auto verts = std::make_shared<std::vector<fcl::Vector3d>>();
-  for (const auto& v : p.vertices()) verts->emplace_back(v.p.x, v.p.y, v.p.z);
+  for (const auto& v : p.vertices())
+    verts->emplace_back(v.p.x, v.p.y, v.p.z);
   auto faces = std::make_shared<std::vector<int>>();
   for (std::uint32_t f = 0; f < p.faces().size(); ++f) {
     faces->push_back(static_cast<int>(p.faceEdges(f).size()));
-    for (const auto& fe : p.faceEdges(f)) faces->push_back(static_cast<int>(fe.vertex));
+    for (const auto& fe : p.faceEdges(f))
+      faces->push_back(static_cast<int>(fe.vertex));
   }
   return std::make_shared<fcl::Convexd>(verts, static_cast<int>(p.faces().size()), faces);
 }
@@ -116,7 +122,8 @@ fcl::Transform3d fclTransform(const Transform& X) {
   fcl::Transform3d t = fcl::Transform3d::Identity();
   fcl::Matrix3d R;
   for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) R(r, c) = X.R[c][r];
+    for (int c = 0; c < 3; ++c)
+      R(r, c) = X.R[c][r];
   }
   t.linear() = R;
   t.translation() = fcl::Vector3d(X.t.x, X.t.y, X.t.z);
@@ -137,7 +144,8 @@ class FclPeer : public PeerMethod {
       req.enable_signed_distance = false;
       fcl::DistanceResultd res;
       fcl::distance(a_.get(), I, b_.get(), T, req, res);
-      if (res.min_distance <= 0.0) ok = false;  // overlapping: no distance
+      if (res.min_distance <= 0.0)
+        ok = false;  // overlapping: no distance
       return res.min_distance;
     }
     fcl::CollisionRequestd req(1, true);
@@ -162,7 +170,8 @@ class FclPeer : public PeerMethod {
       req.enable_nearest_points = true;
       fcl::DistanceResultd res;
       fcl::distance(a_.get(), I, b_.get(), T, req, res);
-      if (!(res.min_distance > 0.0)) return out;
+      if (!(res.min_distance > 0.0))
+        return out;
       const Vec3 p1{res.nearest_points[0][0], res.nearest_points[0][1], res.nearest_points[0][2]};
       const Vec3 p2{res.nearest_points[1][0], res.nearest_points[1][1], res.nearest_points[1][2]};
       out.ok = true;
@@ -175,7 +184,8 @@ class FclPeer : public PeerMethod {
     req.gjk_solver_type = fcl::GST_LIBCCD;
     fcl::CollisionResultd res;
     fcl::collide(a_.get(), I, b_.get(), T, req, res);
-    if (!res.isCollision()) return out;
+    if (!res.isCollision())
+      return out;
     const auto& c = res.getContact(0);
     out.ok = true;
     out.distance = -c.penetration_depth;
@@ -198,7 +208,8 @@ btTransform btFrom(const Transform& X) {
 
 std::unique_ptr<btConvexHullShape> btHull(const Polytope& p) {
   auto s = std::make_unique<btConvexHullShape>();
-  for (const auto& v : p.vertices()) s->addPoint(btVector3(v.p.x, v.p.y, v.p.z), false);
+  for (const auto& v : p.vertices())
+    s->addPoint(btVector3(v.p.x, v.p.y, v.p.z), false);
   s->recalcLocalAabb();
   s->setMargin(0.0);
   return s;
@@ -230,7 +241,8 @@ class BulletGjkPeer : public PeerMethod {
     btPointCollector res;
     gjk.getClosestPoints(in, res, nullptr);
     PeerAnswer out;
-    if (!res.m_hasResult) return out;
+    if (!res.m_hasResult)
+      return out;
     const Vec3 n_ba{res.m_normalOnBInWorld.x(), res.m_normalOnBInWorld.y(),
                     res.m_normalOnBInWorld.z()};
     const Vec3 p_b{res.m_pointInWorld.x(), res.m_pointInWorld.y(), res.m_pointInWorld.z()};
@@ -272,7 +284,8 @@ class BulletEpa2Peer : public PeerMethod {
     PeerAnswer out;
     out.ok = depth_ ? btGjkEpaSolver2::Penetration(a_.get(), I, b_.get(), T, guess, res)
                     : btGjkEpaSolver2::Distance(a_.get(), I, b_.get(), T, guess, res);
-    if (!out.ok) return out;
+    if (!out.ok)
+      return out;
     out.distance = res.distance;
     out.normal = -Vec3{res.normal.x(), res.normal.y(), res.normal.z()};
     const Vec3 w0{res.witnesses[0].x(), res.witnesses[0].y(), res.witnesses[0].z()};
@@ -290,21 +303,33 @@ class BulletEpa2Peer : public PeerMethod {
 
 std::vector<PeerInfo> peerList() {
   return {
-      {"libccd-GJK-EPA", false, true},   {"libccd-MPR", false, true},
-      {"FCL-GJK-libccd", true, false},   {"FCL-GJK-EPA-libccd", false, true},
+      {"libccd-GJK-EPA", false, true},
+      {"libccd-MPR", false, true},
+      {"FCL-GJK-libccd", true, false},
+      {"FCL-GJK-EPA-libccd", false, true},
       {"Bullet-btGjkPairDetector", true, true},
-      {"Bullet-btGjkEpaSolver2", true, false}, {"Bullet-btGjkEpaSolver2-Penetration", false, true},
+      {"Bullet-btGjkEpaSolver2", true, false},
+      {"Bullet-btGjkEpaSolver2-Penetration", false, true},
   };
 }
 
-std::unique_ptr<PeerMethod> makePeer(const std::string& name, const Polytope& a, const Polytope& b) {
-  if (name == "libccd-GJK-EPA") return std::make_unique<CcdPeer>(a, b, false);
-  if (name == "libccd-MPR") return std::make_unique<CcdPeer>(a, b, true);
-  if (name == "FCL-GJK-libccd") return std::make_unique<FclPeer>(a, b, false);
-  if (name == "FCL-GJK-EPA-libccd") return std::make_unique<FclPeer>(a, b, true);
-  if (name == "Bullet-btGjkPairDetector") return std::make_unique<BulletGjkPeer>(a, b);
-  if (name == "Bullet-btGjkEpaSolver2") return std::make_unique<BulletEpa2Peer>(a, b, false);
-  if (name == "Bullet-btGjkEpaSolver2-Penetration") return std::make_unique<BulletEpa2Peer>(a, b, true);
+std::unique_ptr<PeerMethod> makePeer(const std::string& name,
+                                     const Polytope& a,
+                                     const Polytope& b) {
+  if (name == "libccd-GJK-EPA")
+    return std::make_unique<CcdPeer>(a, b, false);
+  if (name == "libccd-MPR")
+    return std::make_unique<CcdPeer>(a, b, true);
+  if (name == "FCL-GJK-libccd")
+    return std::make_unique<FclPeer>(a, b, false);
+  if (name == "FCL-GJK-EPA-libccd")
+    return std::make_unique<FclPeer>(a, b, true);
+  if (name == "Bullet-btGjkPairDetector")
+    return std::make_unique<BulletGjkPeer>(a, b);
+  if (name == "Bullet-btGjkEpaSolver2")
+    return std::make_unique<BulletEpa2Peer>(a, b, false);
+  if (name == "Bullet-btGjkEpaSolver2-Penetration")
+    return std::make_unique<BulletEpa2Peer>(a, b, true);
   return nullptr;
 }
 

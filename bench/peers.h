@@ -15,8 +15,8 @@ namespace hapticd::bench {
 
 /// A peer's whole answer, in A's frame, in our conventions (each library's own converted here).
 struct PeerAnswer {
-  bool ok = false;        ///< false: no answer for this configuration
-  double distance = 0.0;  ///< > 0 gap, < 0 minus the penetration depth
+  bool ok = false;         ///< false: no answer for this configuration
+  double distance = 0.0;   ///< > 0 gap, < 0 minus the penetration depth
   geom::Vec3 normal{0.0};  ///< unit, from A toward B (penetrating: the direction to move B out)
   geom::Vec3 point{0.0};   ///< the contact point: midway between the two witnesses
 };
@@ -42,7 +42,8 @@ struct PeerInfo {
 std::vector<PeerInfo> peerList();
 
 /// A method of peer `name` for hulls of points a and b (each the hull's vertices).
-std::unique_ptr<PeerMethod> makePeer(const std::string& name, const geom::Polytope& a,
+std::unique_ptr<PeerMethod> makePeer(const std::string& name,
+                                     const geom::Polytope& a,
                                      const geom::Polytope& b);
 
 }  // namespace hapticd::bench

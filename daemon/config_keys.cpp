@@ -207,8 +207,8 @@ const ConfigKey kKeys[] = {
      kNoRange, "",
      "forcedimension device: the Force Dimension DHD library to load (a path or a library "
      "name); empty uses $HAPTICD_DHD_LIBRARY, else libdhd.so and libdhd.so.3 from the SDK."},
-    {"device", "openhaptics_library", HAPTICD_FIELD(device.options.openhaptics_library),
-     kNoRange, "",
+    {"device", "openhaptics_library", HAPTICD_FIELD(device.options.openhaptics_library), kNoRange,
+     "",
      "openhaptics device: the OpenHaptics HD library to load (a path or a library name); empty "
      "uses $HAPTICD_HD_LIBRARY, else libHD.so and libHD.so.3.4."},
 

@@ -2,7 +2,6 @@
 // the tables as Markdown (also into docs/accuracy.md between its study markers), and the plots as
 // PNG through gnuplot. scripts/accuracy.sh builds and runs it: one command regenerates everything.
 #include <CLI/CLI.hpp>
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -23,10 +22,12 @@ namespace hapticd::study {
 
 Stats stats(std::vector<double> v) {
   Stats s;
-  if (v.empty()) return s;
+  if (v.empty())
+    return s;
   std::sort(v.begin(), v.end());
   double sum = 0.0;
-  for (double x : v) sum += x;
+  for (double x : v)
+    sum += x;
   s.mean = sum / static_cast<double>(v.size());
   const auto n = static_cast<double>(v.size());
   s.p99 = v[std::min(v.size() - 1, static_cast<std::size_t>(std::ceil(0.99 * n)) - 1)];
@@ -39,8 +40,8 @@ double timerOverheadNs() {
   for (int i = 0; i < 10001; ++i) {
     const auto t0 = std::chrono::steady_clock::now();
     const auto t1 = std::chrono::steady_clock::now();
-    d.push_back(static_cast<double>(
-        std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count()));
+    d.push_back(
+        static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count()));
   }
   std::nth_element(d.begin(), d.begin() + 5000, d.end());
   return d[5000];
@@ -68,7 +69,8 @@ std::string cpuModel() {
   std::ifstream in("/proc/cpuinfo");
   std::string line;
   while (std::getline(in, line)) {
-    if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+    if (line.rfind("model name", 0) == 0)
+      return line.substr(line.find(':') + 2);
   }
   return "unknown CPU";
 }
@@ -76,7 +78,8 @@ std::string cpuModel() {
 // Replaces what stands between the study markers of docs/accuracy.md.
 void updateDoc(const std::filesystem::path& doc, const std::string& text) {
   std::ifstream in(doc);
-  if (!in) return;
+  if (!in)
+    return;
   std::stringstream ss;
   ss << in.rdbuf();
   std::string s = ss.str();
@@ -107,7 +110,8 @@ int main(int argc, char** argv) {
   app.add_flag("--from-csv", from_csv,
                "measure nothing: redraw the plots and tables from OUT/results.csv and "
                "OUT/measured.txt");
-  app.add_option("--seed", options.seed, "seed of every random configuration")->capture_default_str();
+  app.add_option("--seed", options.seed, "seed of every random configuration")
+      ->capture_default_str();
   CLI11_PARSE(app, argc, argv);
 
   std::error_code ec;
@@ -153,8 +157,8 @@ int main(int argc, char** argv) {
   std::string plot_rel = options.out_dir;
   if (!doc.empty()) {
     std::error_code rel_ec;
-    const auto rel = std::filesystem::relative(
-        dir, std::filesystem::absolute(doc).parent_path(), rel_ec);
+    const auto rel =
+        std::filesystem::relative(dir, std::filesystem::absolute(doc).parent_path(), rel_ec);
     if (!rel_ec && !rel.empty())
       plot_rel = rel.generic_string();
   }

@@ -48,7 +48,8 @@ struct Wrench {
 
 Wrench penalty(const Answer& a, const Vec3& c_B) {
   Wrench w;
-  if (!a.ok || !(a.distance < kDelta)) return w;
+  if (!a.ok || !(a.distance < kDelta))
+    return w;
   w.f = a.normal * (kStiffness * (kDelta - a.distance));
   w.t = glm::cross(a.point - c_B, w.f);
   return w;
@@ -61,7 +62,8 @@ Answer fromPair(const collision::PairResult& r) {
 Polytope ellipsoidHull(std::size_t n, std::uint64_t seed) {
   auto pts = reference::ellipsoidPoints(n, 0.025, 0.018, 0.012, seed);
   const Vec3 c = Polytope::fromPoints(pts).value().centroid();
-  for (Vec3& p : pts) p -= c;
+  for (Vec3& p : pts)
+    p -= c;
   return Polytope::fromPoints(pts).value();
 }
 
@@ -107,20 +109,21 @@ std::vector<Transform> path(const Polytope& a, const Polytope& b, std::mt19937_6
 }
 
 double nowNs() {
-  return static_cast<double>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(
-          std::chrono::steady_clock::now().time_since_epoch())
-          .count());
+  return static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                 std::chrono::steady_clock::now().time_since_epoch())
+                                 .count());
 }
 
 void score(Row& row, const Wrench& truth, const Wrench& got, bool answered, double ns) {
   row.force_err_n.push_back(glm::length(got.f - truth.f));
   row.torque_err_nm.push_back(glm::length(got.t - truth.t));
   row.time_ns.push_back(ns);
-  if (!answered) ++row.no_answer;
+  if (!answered)
+    ++row.no_answer;
   if (truth.contact()) {
     ++row.truth_contacts;
-    if (!got.contact()) ++row.misses;
+    if (!got.contact())
+      ++row.misses;
   } else if (got.contact()) {
     ++row.false_contacts;
   }
@@ -140,7 +143,8 @@ void runPairs(const Options& options, std::vector<Row>& rows) {
   const int steps = options.quick ? 40 : 100;
   const double overhead = timerOverheadNs();
   std::vector<double> voxel_sizes = {2e-3, 1e-3, 0.5e-3};
-  if (!options.quick) voxel_sizes.push_back(0.25e-3);
+  if (!options.quick)
+    voxel_sizes.push_back(0.25e-3);
   for (const std::size_t n : {std::size_t{8}, std::size_t{32}, std::size_t{128}}) {
     const std::string part = "pairs/" + std::to_string(n);
     std::fprintf(stderr, "study: %s: %d paths of %d steps\n", part.c_str(), paths, steps);
@@ -148,10 +152,12 @@ void runPairs(const Options& options, std::vector<Row>& rows) {
     const double size = std::max(a.radius(), b.radius());
     std::mt19937_64 rng(options.seed + n);
     std::vector<std::vector<Transform>> all;
-    for (int i = 0; i < paths; ++i) all.push_back(path(a, b, rng, steps));
+    for (int i = 0; i < paths; ++i)
+      all.push_back(path(a, b, rng, steps));
     std::mt19937_64 cal_rng(options.seed + 1000 + n);
     std::vector<std::vector<Transform>> calibration;
-    for (int i = 0; i < std::max(2, paths / 5); ++i) calibration.push_back(path(a, b, cal_rng, steps));
+    for (int i = 0; i < std::max(2, paths / 5); ++i)
+      calibration.push_back(path(a, b, cal_rng, steps));
 
     // the truth, checked against brute force
     std::vector<std::vector<Wrench>> truth(all.size());
@@ -166,13 +172,15 @@ void runPairs(const Options& options, std::vector<Row>& rows) {
         const Answer t = truthAnswer(a, b, X);
         if ((i * all[i].size() + k) % check_every == 0) {
           const auto ref = reference::bruteForce(a, b, X);
-          if (std::abs(ref.signed_distance - t.distance) > 1e-9 * size) ++truth_mismatch;
+          if (std::abs(ref.signed_distance - t.distance) > 1e-9 * size)
+            ++truth_mismatch;
           ++checked;
         }
         truth[i].push_back(penalty(t, X.t));
       }
     }
-    std::fprintf(stderr, "study: %s: the truth checked against brute force at %llu configurations\n",
+    std::fprintf(stderr,
+                 "study: %s: the truth checked against brute force at %llu configurations\n",
                  part.c_str(), static_cast<unsigned long long>(checked));
     if (truth_mismatch != 0) {
       std::fprintf(stderr, "study: %s: the truth differs from brute force at %llu configurations\n",
@@ -185,7 +193,8 @@ void runPairs(const Options& options, std::vector<Row>& rows) {
       for (std::size_t i = 0; i < all.size(); ++i) {
         PairCache cache;
         for (std::size_t k = 0; k < all[i].size(); ++k) {
-          if (!warm) cache = PairCache{};
+          if (!warm)
+            cache = PairCache{};
           const double t0 = nowNs();
           const auto r = collision::queryPair(a, b, all[i][k], cache);
           const double ns = nowNs() - t0 - overhead;
@@ -239,11 +248,13 @@ void runPairs(const Options& options, std::vector<Row>& rows) {
         {"libccd-MPR", {"libccd-MPR"}},
         {"FCL-libccd", {"FCL-GJK-libccd", "FCL-GJK-EPA-libccd"}},
         {"Bullet-btGjkPairDetector", {"Bullet-btGjkPairDetector"}},
-        {"Bullet-btGjkEpaSolver2", {"Bullet-btGjkEpaSolver2", "Bullet-btGjkEpaSolver2-Penetration"}},
+        {"Bullet-btGjkEpaSolver2",
+         {"Bullet-btGjkEpaSolver2", "Bullet-btGjkEpaSolver2-Penetration"}},
     };
     for (const auto& set : peers) {
       std::vector<std::unique_ptr<bench::PeerMethod>> methods;
-      for (const auto& m : set.methods) methods.push_back(bench::makePeer(m, a, b));
+      for (const auto& m : set.methods)
+        methods.push_back(bench::makePeer(m, a, b));
       Row row{part, set.name, "", {}, {}, {}, 0, 0, 0, 0};
       for (std::size_t i = 0; i < all.size(); ++i) {
         for (std::size_t k = 0; k < all[i].size(); ++k) {
@@ -252,7 +263,8 @@ void runPairs(const Options& options, std::vector<Row>& rows) {
           bench::PeerAnswer p;
           for (auto& m : methods) {
             p = m->answer(X);
-            if (p.ok) break;
+            if (p.ok)
+              break;
           }
           const double ns = nowNs() - t0 - overhead;
           const bool finite = std::isfinite(p.distance) && std::isfinite(p.normal.x) &&
@@ -304,9 +316,10 @@ void runPairs(const Options& options, std::vector<Row>& rows) {
           score(row, truth[i][k], Wrench{f.force_W, f.torque_W}, true, ns);
         }
       }
-      std::fprintf(stderr, "study: %s: voxel h=%g mm: %llu voxels, %zu shell points, k=%.3g N/m per point\n",
-                   part.c_str(), h * 1e3, static_cast<unsigned long long>(v.map.voxelCount()),
-                   v.shell.p_B.size(), v.k);
+      std::fprintf(
+          stderr, "study: %s: voxel h=%g mm: %llu voxels, %zu shell points, k=%.3g N/m per point\n",
+          part.c_str(), h * 1e3, static_cast<unsigned long long>(v.map.voxelCount()),
+          v.shell.p_B.size(), v.k);
       rows.push_back(std::move(row));
     }
   }

@@ -25,7 +25,9 @@ std::string label(const Summary& r) {
   return r.setting.empty() ? r.method : r.method + " " + r.setting;
 }
 
-bool perTick(const std::string& part) { return part.rfind("scene/", 0) == 0; }
+bool perTick(const std::string& part) {
+  return part.rfind("scene/", 0) == 0;
+}
 
 /// "0.61 µs", "107 µs", "1.2 ms", "85 ns"
 std::string duration(double ns) {
@@ -146,8 +148,8 @@ std::string reading(const std::vector<const Summary*>& part, bool tick) {
       fastest = r;
   }
   const char* per = tick ? " per tick" : " per query";
-  std::string s = "Most accurate: " + label(*best) + " (p99 force error " +
-                  fmt(best->force_n.p99) + " N, " + duration(best->time_ns.mean) + per + ")";
+  std::string s = "Most accurate: " + label(*best) + " (p99 force error " + fmt(best->force_n.p99) +
+                  " N, " + duration(best->time_ns.mean) + per + ")";
   if (fastest != best) {
     s += "; fastest: " + label(*fastest) + " (" + duration(fastest->time_ns.mean) + ", p99 " +
          fmt(fastest->force_n.p99) + " N, " + std::to_string(fastest->misses) + " of " +
@@ -192,8 +194,9 @@ struct Axes {
 
 // Greedy: each label at the first of a ring of candidate spots around its point that overlaps no
 // point and no label placed before it and stays inside the plot; if none is free, the least bad.
-std::vector<Placed> placeLabels(const std::vector<std::pair<std::string, std::array<double, 2>>>& want,
-                                const std::vector<std::array<double, 2>>& points) {
+std::vector<Placed> placeLabels(
+    const std::vector<std::pair<std::string, std::array<double, 2>>>& want,
+    const std::vector<std::array<double, 2>>& points) {
   std::vector<Box> taken;
   for (const auto& p : points)
     taken.push_back({p[0] - 5, p[1] - 5, p[0] + 5, p[1] + 5});
@@ -244,7 +247,9 @@ std::string quoted(std::string s) {
   return out + "\"";
 }
 
-void plotPart(std::ostream& gp, const std::filesystem::path& dir, const std::string& part,
+void plotPart(std::ostream& gp,
+              const std::filesystem::path& dir,
+              const std::string& part,
               const std::vector<const Summary*>& rows) {
   // errors of exactly zero (the truth's own row) are drawn on a floor line below the rest
   double min_err = 1e300, max_err = 0.0, min_t = 1e300, max_t = 0.0;
@@ -289,9 +294,8 @@ void plotPart(std::ostream& gp, const std::filesystem::path& dir, const std::str
        << "set label " << quoted(name) << " at " << ns << ", graph 0.97 right rotate by 90 "
        << "offset -1.3,0 font 'Sans,8' tc rgb '#b00000'\n";
   }
-  if (min_err / 30.0 == floor_err && std::any_of(rows.begin(), rows.end(), [](const Summary* r) {
-        return r->force_n.p99 <= 0;
-      })) {
+  if (min_err / 30.0 == floor_err &&
+      std::any_of(rows.begin(), rows.end(), [](const Summary* r) { return r->force_n.p99 <= 0; })) {
     gp << "set arrow from graph 0, first " << floor_err << " to graph 1, first " << floor_err
        << " nohead dt 2 lc rgb '#999999' back\n"
        << "set label 'no error (exact)' at graph 0.99, first " << floor_err
@@ -367,11 +371,12 @@ bool writeCsv(const std::filesystem::path& file, const std::vector<Summary>& row
          "force_err_mean_n,force_err_p99_n,force_err_max_n,torque_err_mean_nm,torque_err_p99_nm,"
          "torque_err_max_nm,time_mean_ns,time_p99_ns,time_max_ns\n";
   for (const Summary& r : rows) {
-    out << csvField(r.part) << ',' << csvField(r.method) << ',' << csvField(r.setting) << ',' << r.configurations << ','
-        << r.truth_contacts << ',' << r.misses << ',' << r.false_contacts << ',' << r.no_answer
-        << ',' << r.force_n.mean << ',' << r.force_n.p99 << ',' << r.force_n.max << ','
-        << r.torque_nm.mean << ',' << r.torque_nm.p99 << ',' << r.torque_nm.max << ','
-        << r.time_ns.mean << ',' << r.time_ns.p99 << ',' << r.time_ns.max << '\n';
+    out << csvField(r.part) << ',' << csvField(r.method) << ',' << csvField(r.setting) << ','
+        << r.configurations << ',' << r.truth_contacts << ',' << r.misses << ',' << r.false_contacts
+        << ',' << r.no_answer << ',' << r.force_n.mean << ',' << r.force_n.p99 << ','
+        << r.force_n.max << ',' << r.torque_nm.mean << ',' << r.torque_nm.p99 << ','
+        << r.torque_nm.max << ',' << r.time_ns.mean << ',' << r.time_ns.p99 << ',' << r.time_ns.max
+        << '\n';
   }
   out.close();
   if (!out) {
@@ -430,7 +435,8 @@ bool readCsv(const std::filesystem::path& file, std::vector<Summary>& rows, std:
   return true;
 }
 
-std::string tables(const std::vector<Summary>& rows, const std::string& header,
+std::string tables(const std::vector<Summary>& rows,
+                   const std::string& header,
                    const std::string& plot_dir_rel) {
   std::ostringstream md;
   md << header << "\n";
@@ -448,9 +454,9 @@ std::string tables(const std::vector<Summary>& rows, const std::string& header,
     for (const Summary* r : list) {
       md << "| " << label(*r) << " | " << fmt(r->force_n.mean) << " / " << fmt(r->force_n.p99)
          << " / " << fmt(r->force_n.max) << " | " << fmt(r->torque_nm.mean) << " / "
-         << fmt(r->torque_nm.p99) << " / " << fmt(r->torque_nm.max) << " | " << r->misses
-         << " of " << r->truth_contacts << " | " << r->false_contacts << " | " << r->no_answer
-         << " | " << fmt(r->time_ns.mean, "%.0f") << " / " << fmt(r->time_ns.p99, "%.0f") << " / "
+         << fmt(r->torque_nm.p99) << " / " << fmt(r->torque_nm.max) << " | " << r->misses << " of "
+         << r->truth_contacts << " | " << r->false_contacts << " | " << r->no_answer << " | "
+         << fmt(r->time_ns.mean, "%.0f") << " / " << fmt(r->time_ns.p99, "%.0f") << " / "
          << fmt(r->time_ns.max, "%.0f") << " |\n";
     }
   }

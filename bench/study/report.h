@@ -32,7 +32,8 @@ bool readCsv(const std::filesystem::path& file, std::vector<Summary>& rows, std:
 
 /// The Markdown of the results: `header` (machine, date), then per part its plot (a link relative
 /// to the document, `plot_dir_rel`), two sentences read from the figures, and its table.
-std::string tables(const std::vector<Summary>& rows, const std::string& header,
+std::string tables(const std::vector<Summary>& rows,
+                   const std::string& header,
                    const std::string& plot_dir_rel);
 
 /// One PNG per part in `dir` through gnuplot (`dir`/plots.gp): p99 force error against mean time on

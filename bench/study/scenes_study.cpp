@@ -9,8 +9,8 @@
 // - Open loop: voxel sampling (McNeely et al. 1999) at the truth run's proxy poses: the static
 //   bodies as a voxel map, the held body as a point shell, its force against the truth's contact
 //   wrench at the same pose (the force the coupling balances), its stiffness fitted by least
-//   squares on every fifth tick and scored on the others. Moving bodies are not in the voxel map (McNeely's
-//   method voxelises a static scene): contacts with them are misses, and counted.
+//   squares on every fifth tick and scored on the others. Moving bodies are not in the voxel map
+//   (McNeely's method voxelises a static scene): contacts with them are misses, and counted.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -41,15 +41,16 @@ struct TickRecord {
 };
 
 double nowNs() {
-  return static_cast<double>(
-      std::chrono::duration_cast<std::chrono::nanoseconds>(
-          std::chrono::steady_clock::now().time_since_epoch())
-          .count());
+  return static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(
+                                 std::chrono::steady_clock::now().time_since_epoch())
+                                 .count());
 }
 
 // Runs the tick over the stream; false with a message when something cannot be opened.
-bool run(const std::shared_ptr<const scene::SceneModel>& model, const sim::SimOptions& options,
-         const std::vector<proto::PoseStreamRow>& rows, std::size_t ticks,
+bool run(const std::shared_ptr<const scene::SceneModel>& model,
+         const sim::SimOptions& options,
+         const std::vector<proto::PoseStreamRow>& rows,
+         std::size_t ticks,
          std::vector<TickRecord>& out) {
   auto created = sim::Simulation::create(model, options);
   if (!created.ok()) {
@@ -68,8 +69,8 @@ bool run(const std::shared_ptr<const scene::SceneModel>& model, const sim::SimOp
     const double t0 = nowNs();
     const sim::TickOutput o = simulation.step(in);
     const double ns = nowNs() - t0 - overhead;
-    out.push_back({o.force_W_n, o.torque_W_nm, o.contact_force_W_n, o.contact_torque_W_nm,
-                   o.X_W_proxy, ns});
+    out.push_back(
+        {o.force_W_n, o.torque_W_nm, o.contact_force_W_n, o.contact_torque_W_nm, o.X_W_proxy, ns});
   }
   return true;
 }
@@ -81,9 +82,12 @@ void scoreRun(Row& row, const std::vector<TickRecord>& truth, const std::vector<
     row.time_ns.push_back(got[k].ns);
     const bool t = glm::dot(truth[k].contact_force, truth[k].contact_force) > 0.0;
     const bool g = glm::dot(got[k].contact_force, got[k].contact_force) > 0.0;
-    if (t) ++row.truth_contacts;
-    if (t && !g) ++row.misses;
-    if (!t && g) ++row.false_contacts;
+    if (t)
+      ++row.truth_contacts;
+    if (t && !g)
+      ++row.misses;
+    if (!t && g)
+      ++row.false_contacts;
   }
 }
 
@@ -103,7 +107,8 @@ void runScenes(const Options& options, std::vector<Row>& rows) {
     auto model = std::make_shared<const scene::SceneModel>(std::move(*report.scene));
     auto text = proto::readPoseStreamFile(csv);
     if (!text.ok()) {
-      std::fprintf(stderr, "study: cannot read %s: %s\n", csv.c_str(), text.error().message.c_str());
+      std::fprintf(stderr, "study: cannot read %s: %s\n", csv.c_str(),
+                   text.error().message.c_str());
       continue;
     }
     auto parsed =
@@ -119,9 +124,12 @@ void runScenes(const Options& options, std::vector<Row>& rows) {
     std::fprintf(stderr, "study: %s: %zu ticks per run\n", part.c_str(), ticks);
 
     std::vector<TickRecord> truth;
-    if (!run(model, base, stream, ticks, truth)) continue;
+    if (!run(model, base, stream, ticks, truth))
+      continue;
     {
-      Row row{part, "hapticd-tick", "exact, budget unlimited, δ on (the truth)", {}, {}, {}, 0, 0, 0, 0};
+      Row row{
+          part, "hapticd-tick", "exact, budget unlimited, δ on (the truth)", {}, {}, {}, 0, 0, 0,
+          0};
       scoreRun(row, truth, truth);
       rows.push_back(std::move(row));
     }
@@ -129,8 +137,18 @@ void runScenes(const Options& options, std::vector<Row>& rows) {
       sim::SimOptions o = base;
       o.max_pairs_per_tick = budget;
       std::vector<TickRecord> got;
-      if (!run(model, o, stream, ticks, got)) continue;
-      Row row{part, "hapticd-tick", "budget=" + std::to_string(budget) + " pairs/tick", {}, {}, {}, 0, 0, 0, 0};
+      if (!run(model, o, stream, ticks, got))
+        continue;
+      Row row{part,
+              "hapticd-tick",
+              "budget=" + std::to_string(budget) + " pairs/tick",
+              {},
+              {},
+              {},
+              0,
+              0,
+              0,
+              0};
       scoreRun(row, truth, got);
       rows.push_back(std::move(row));
     }
@@ -153,16 +171,20 @@ void runScenes(const Options& options, std::vector<Row>& rows) {
     }
     std::vector<voxel::PlacedShape> statics, shell_shapes;
     for (const auto& body : model->bodies) {
-      if (body.motion != scene::Motion::kStatic) continue;
+      if (body.motion != scene::Motion::kStatic)
+        continue;
       for (const auto& p : body.primitives) {
         statics.push_back({p.shape.get(), (body.X_WB.toTransform() * p.X_BP.toTransform())});
       }
     }
     const scene::Body& hb = model->bodies[static_cast<std::size_t>(held)];
-    for (const auto& p : hb.primitives) shell_shapes.push_back({p.shape.get(), p.X_BP.toTransform()});
-    if (statics.empty() || shell_shapes.empty()) continue;
+    for (const auto& p : hb.primitives)
+      shell_shapes.push_back({p.shape.get(), p.X_BP.toTransform()});
+    if (statics.empty() || shell_shapes.empty())
+      continue;
     double size = 0.0;
-    for (const auto& s : shell_shapes) size = std::max(size, s.shape->radius());
+    for (const auto& s : shell_shapes)
+      size = std::max(size, s.shape->radius());
     for (const double fraction : {0.1, 0.05, 0.025}) {
       const double h = fraction * size;
       auto map = voxel::VoxelMap::build(statics, h);
@@ -186,20 +208,24 @@ void runScenes(const Options& options, std::vector<Row>& rows) {
       Row row{part, "voxel-McNeely", setting, {}, {}, {}, 0, 0, 0, 0};
       const double overhead = timerOverheadNs();
       for (std::size_t k = 0; k < truth.size(); ++k) {
-        if (k % 5 == 0) continue;  // scored on the other ticks
+        if (k % 5 == 0)
+          continue;  // scored on the other ticks
         const TickRecord& t = truth[k];
         const double t0 = nowNs();
-        const auto f = voxel::force(map.value(), shell.value(), t.proxy.toTransform(),
-                                    com(t.proxy), kp);
+        const auto f =
+            voxel::force(map.value(), shell.value(), t.proxy.toTransform(), com(t.proxy), kp);
         const double ns = nowNs() - t0 - overhead;
         row.force_err_n.push_back(glm::length(f.force_W - t.contact_force));
         row.torque_err_nm.push_back(glm::length(f.torque_W - t.contact_torque));
         row.time_ns.push_back(ns);
         const bool tc = glm::dot(t.contact_force, t.contact_force) > 0.0;
         const bool gc = f.points_in_contact > 0;
-        if (tc) ++row.truth_contacts;
-        if (tc && !gc) ++row.misses;
-        if (!tc && gc) ++row.false_contacts;
+        if (tc)
+          ++row.truth_contacts;
+        if (tc && !gc)
+          ++row.misses;
+        if (!tc && gc)
+          ++row.false_contacts;
       }
       rows.push_back(std::move(row));
     }

@@ -34,7 +34,7 @@ Stats stats(std::vector<double> v);
 /// Options of the whole study.
 struct Options {
   std::string out_dir = "docs/accuracy";
-  bool quick = false;           ///< fewer configurations (CI smoke run)
+  bool quick = false;  ///< fewer configurations (CI smoke run)
   std::uint64_t seed = 20261201;
 };
 

@@ -28,8 +28,12 @@ struct Outcome {
   Act act = Act::kDone;
   Feature f;
 };
-Outcome set1(Feature f) { return {Act::kSet1, f}; }
-Outcome set2(Feature f) { return {Act::kSet2, f}; }
+Outcome set1(Feature f) {
+  return {Act::kSet1, f};
+}
+Outcome set2(Feature f) {
+  return {Act::kSet2, f};
+}
 constexpr Outcome kDone{Act::kDone, {}};
 constexpr Outcome kPenetrating{Act::kPenetration, {}};
 
@@ -47,9 +51,15 @@ struct Clip {
 };
 
 // Clips against the plane (x - p)·n >= 0 (inside) whose other side belongs to `neighbour`.
-inline void clipPlane(Clip& c, const Vec3& t, const Vec3& h, const Vec3& p, const Vec3& n,
-                      Feature neighbour, double eps) {
-  if (c.excluded) return;
+inline void clipPlane(Clip& c,
+                      const Vec3& t,
+                      const Vec3& h,
+                      const Vec3& p,
+                      const Vec3& n,
+                      Feature neighbour,
+                      double eps) {
+  if (c.excluded)
+    return;
   const double st = glm::dot(t - p, n);
   const double sh = glm::dot(h - p, n);
   if (st < -eps && sh < -eps) {
@@ -60,12 +70,15 @@ inline void clipPlane(Clip& c, const Vec3& t, const Vec3& h, const Vec3& p, cons
   }
   if (st < -eps) {
     const double l = std::clamp(st / (st - sh), 0.0, 1.0);
-    if (l > c.lo) c.lo = l, c.nlo = neighbour;
+    if (l > c.lo)
+      c.lo = l, c.nlo = neighbour;
   } else if (sh < -eps) {
     const double l = std::clamp(st / (st - sh), 0.0, 1.0);
-    if (l < c.hi) c.hi = l, c.nhi = neighbour;
+    if (l < c.hi)
+      c.hi = l, c.nhi = neighbour;
   }
-  if (c.lo > c.hi) c.excluded = true;
+  if (c.lo > c.hi)
+    c.excluded = true;
 }
 
 // Derivative of half the squared distance from the moving point x(l) (unit direction u) to
@@ -84,7 +97,8 @@ double distanceDerivative(const Polytope& p, Feature n, const Vec3& x, const Vec
       const auto& f = p.faces()[n.index];
       return (glm::dot(f.normal, x) - f.offset) * glm::dot(u, f.normal);
     }
-    case FeatureType::kNone: break;
+    case FeatureType::kNone:
+      break;
   }
   return 0.0;
 }
@@ -92,20 +106,27 @@ double distanceDerivative(const Polytope& p, Feature n, const Vec3& x, const Vec
 // After clipping segment [t, h] (in p's frame) against VR(X) of p: Mirtich's derivative test.
 // Returns the neighbour to move X to, or kNone. The derivative is that of half the squared
 // distance, D * dD/dl: a slope below eps / D goes unseen, and `ambiguous` says one was that small.
-Feature derivativeUpdate(const Polytope& p, const Clip& c, const Vec3& t, const Vec3& h,
-                         double eps, bool& ambiguous) {
+Feature derivativeUpdate(const Polytope& p,
+                         const Clip& c,
+                         const Vec3& t,
+                         const Vec3& h,
+                         double eps,
+                         bool& ambiguous) {
   const Vec3 u = h - t;
   const double ulen = glm::length(u);
-  if (ulen <= 0.0) return {};
+  if (ulen <= 0.0)
+    return {};
   const Vec3 un = u / ulen;
   if (c.nlo.valid()) {
     const double d = distanceDerivative(p, c.nlo, t + u * c.lo, un);
-    if (d > eps) return c.nlo;
+    if (d > eps)
+      return c.nlo;
     ambiguous = ambiguous || d >= -eps;
   }
   if (c.nhi.valid()) {
     const double d = distanceDerivative(p, c.nhi, t + u * c.hi, un);
-    if (d < -eps) return c.nhi;
+    if (d < -eps)
+      return c.nhi;
     ambiguous = ambiguous || d <= eps;
   }
   return {};
@@ -117,14 +138,17 @@ Feature derivativeUpdate(const Polytope& p, const Clip& c, const Vec3& t, const 
 // is at the distance of its offset from line 1, and the offsets are linear along segment 2 and
 // computed without cancellation; a point whose foot falls outside is nearer an end of segment 1,
 // against which segment 2 is also tried. s, t are set; dist2 is the squared offset.
-detail::SegmentPair closestSegmentsExact(const Vec3& p1, const Vec3& q1, const Vec3& p2,
+detail::SegmentPair closestSegmentsExact(const Vec3& p1,
+                                         const Vec3& q1,
+                                         const Vec3& p2,
                                          const Vec3& q2) {
   detail::SegmentPair best;
   best.dist2 = std::numeric_limits<double>::infinity();
   const Vec3 d1 = q1 - p1, d2 = q2 - p2;
   const double l1 = glm::length(d1);
   auto consider = [&](double s, double t, const Vec3& c1, const Vec3& c2, double dist2) {
-    if (dist2 < best.dist2) best.s = s, best.t = t, best.c1 = c1, best.c2 = c2, best.dist2 = dist2;
+    if (dist2 < best.dist2)
+      best.s = s, best.t = t, best.c1 = c1, best.c2 = c2, best.dist2 = dist2;
   };
   for (const double s : {0.0, 1.0}) {
     const Vec3 x = s == 0.0 ? p1 : q1;
@@ -162,8 +186,12 @@ detail::SegmentPair closestSegmentsExact(const Vec3& p1, const Vec3& q1, const V
 // the walk may hold the far end's vertex (measured: 30% of a 1e-6 s gap). An edge of the vertex
 // nearer to the other edge by more than `margin` is returned (kNoIndex when there is none);
 // distances are compared directly, so each such move strictly lowers the distance.
-std::uint32_t nearerEdgeOfVertex(const Polytope& pv, std::uint32_t v, const Transform& X_v,
-                                 const Polytope& pe, std::uint32_t e, const Transform& X_e,
+std::uint32_t nearerEdgeOfVertex(const Polytope& pv,
+                                 std::uint32_t v,
+                                 const Transform& X_v,
+                                 const Polytope& pe,
+                                 std::uint32_t e,
+                                 const Transform& X_e,
                                  double margin) {
   const auto& edge = pe.edges()[e];
   const Vec3 t = X_e.apply(pe.vertices()[edge.tail].p), h = X_e.apply(pe.vertices()[edge.head].p);
@@ -174,7 +202,8 @@ std::uint32_t nearerEdgeOfVertex(const Polytope& pv, std::uint32_t v, const Tran
   std::uint32_t out = kNoIndex;
   for (const auto& ve : pv.vertexEdges(v)) {
     const double d2 = closestSegmentsExact(x, X_v.apply(pv.vertices()[ve.other].p), t, h).dist2;
-    if (d2 < best && std::sqrt(d2) < d0 - margin) best = d2, out = ve.edge;
+    if (d2 < best && std::sqrt(d2) < d0 - margin)
+      best = d2, out = ve.edge;
   }
   return out;
 }
@@ -186,18 +215,21 @@ double segmentFaceDistance(const Polytope& p, std::uint32_t f, const Vec3& t, co
   for (const auto& fe : p.faceEdges(f)) {
     const Vec3& v = p.vertices()[fe.vertex].p;
     const double st = glm::dot(t - v, fe.side), sh = glm::dot(h - v, fe.side);
-    if (st < 0.0 && sh < 0.0) return std::numeric_limits<double>::infinity();
+    if (st < 0.0 && sh < 0.0)
+      return std::numeric_limits<double>::infinity();
     if (st < 0.0) {
       lo = std::max(lo, st / (st - sh));
     } else if (sh < 0.0) {
       hi = std::min(hi, st / (st - sh));
     }
   }
-  if (lo > hi) return std::numeric_limits<double>::infinity();
+  if (lo > hi)
+    return std::numeric_limits<double>::infinity();
   const auto& face = p.faces()[f];
   const double dl = glm::dot(face.normal, t + (h - t) * lo) - face.offset;
   const double dh = glm::dot(face.normal, t + (h - t) * hi) - face.offset;
-  if ((dl > 0.0) != (dh > 0.0)) return 0.0;
+  if ((dl > 0.0) != (dh > 0.0))
+    return 0.0;
   return std::min(std::abs(dl), std::abs(dh));
 }
 
@@ -205,8 +237,14 @@ double segmentFaceDistance(const Polytope& p, std::uint32_t f, const Vec3& t, co
 // faces at a small gap, over which the distance falls at a slope below eps / D. A face of either
 // edge nearer to the other edge by more than `margin` gives the next state (false: none). A's
 // frame; X_AB places B.
-bool nearerFaceOfEdges(const Polytope& a, std::uint32_t ea, const Polytope& b, std::uint32_t eb,
-                       const Transform& X_AB, const Transform& X_BA, double margin, Feature& fa,
+bool nearerFaceOfEdges(const Polytope& a,
+                       std::uint32_t ea,
+                       const Polytope& b,
+                       std::uint32_t eb,
+                       const Transform& X_AB,
+                       const Transform& X_BA,
+                       double margin,
+                       Feature& fa,
                        Feature& fb) {
   const auto& e1 = a.edges()[ea];
   const auto& e2 = b.edges()[eb];
@@ -218,25 +256,29 @@ bool nearerFaceOfEdges(const Polytope& a, std::uint32_t ea, const Polytope& b, s
   bool found = false;
   for (const std::uint32_t f : e2.face) {  // a face of B against A's edge, in B's frame
     const double d = segmentFaceDistance(b, f, X_BA.apply(t1), X_BA.apply(h1));
-    if (d < best) best = d, fa = Feature::edge(ea), fb = Feature::face(f), found = true;
+    if (d < best)
+      best = d, fa = Feature::edge(ea), fb = Feature::face(f), found = true;
   }
   for (const std::uint32_t f : e1.face) {  // a face of A against B's edge
     const double d = segmentFaceDistance(a, f, X_AB.apply(t2), X_AB.apply(h2));
-    if (d < best) best = d, fa = Feature::face(f), fb = Feature::edge(eb), found = true;
+    if (d < best)
+      best = d, fa = Feature::face(f), fb = Feature::edge(eb), found = true;
   }
   return found;
 }
 
 // The boundary edge of face f (of p) closest to segment [t, h] (p's frame).
-std::uint32_t closestBoundaryEdge(const Polytope& p, std::uint32_t f, const Vec3& t,
+std::uint32_t closestBoundaryEdge(const Polytope& p,
+                                  std::uint32_t f,
+                                  const Vec3& t,
                                   const Vec3& h) {
   double best = std::numeric_limits<double>::infinity();
   std::uint32_t best_edge = kNoIndex;
   for (const auto& fe : p.faceEdges(f)) {
     const auto& e = p.edges()[fe.edge];
-    const double d2 =
-        closestSegments(t, h, p.vertices()[e.tail].p, p.vertices()[e.head].p).dist2;
-    if (d2 < best) best = d2, best_edge = fe.edge;
+    const double d2 = closestSegments(t, h, p.vertices()[e.tail].p, p.vertices()[e.head].p).dist2;
+    if (d2 < best)
+      best = d2, best_edge = fe.edge;
   }
   return best_edge;
 }
@@ -248,7 +290,8 @@ std::uint32_t mostViolatedEdge(const Polytope& p, std::uint32_t v, const Vec3& x
   std::uint32_t edge = kNoIndex;
   for (const auto& ve : p.vertexEdges(v)) {
     const double s = glm::dot(x - pv, ve.out);
-    if (s > worst) worst = s, edge = ve.edge;
+    if (s > worst)
+      worst = s, edge = ve.edge;
   }
   return edge;
 }
@@ -272,11 +315,14 @@ Outcome stepVE(const View& w, std::uint32_t v, std::uint32_t ei, const Tol& tol)
   const Vec3& h = w.p2->vertices()[e.head].p;
   const Vec3 x = w.T21->apply(w.p1->vertices()[v].p);
   // x against VR(e): vertex planes first, then face planes
-  if (glm::dot(x - t, e.dir) < -tol.len) return set2(Feature::vertex(e.tail));
-  if (glm::dot(h - x, e.dir) < -tol.len) return set2(Feature::vertex(e.head));
+  if (glm::dot(x - t, e.dir) < -tol.len)
+    return set2(Feature::vertex(e.tail));
+  if (glm::dot(h - x, e.dir) < -tol.len)
+    return set2(Feature::vertex(e.head));
   const double s0 = glm::dot(x - t, e.fe_normal[0]);
   const double s1 = glm::dot(x - t, e.fe_normal[1]);
-  if (s0 < -tol.len || s1 < -tol.len) return set2(Feature::face(s0 < s1 ? e.face[0] : e.face[1]));
+  if (s0 < -tol.len || s1 < -tol.len)
+    return set2(Feature::face(s0 < s1 ? e.face[0] : e.face[1]));
   // clip e against VR(v) in p1's frame
   const Vec3& pv = w.p1->vertices()[v].p;
   const Vec3 t1 = w.T12->apply(t), h1 = w.T12->apply(h);
@@ -284,10 +330,13 @@ Outcome stepVE(const View& w, std::uint32_t v, std::uint32_t ei, const Tol& tol)
   for (const auto& ve : w.p1->vertexEdges(v)) {
     clipPlane(c, t1, h1, pv, -ve.out, Feature::edge(ve.edge), tol.len);
   }
-  if (c.excluded && c.simple) return set1(c.nlo);
+  if (c.excluded && c.simple)
+    return set1(c.nlo);
   const Feature n = derivativeUpdate(*w.p1, c, t1, h1, tol.len, *w.ambiguous);
-  if (n.valid()) return set1(n);
-  if (c.excluded) return set1(c.nlo);
+  if (n.valid())
+    return set1(n);
+  if (c.excluded)
+    return set1(c.nlo);
   return kDone;
 }
 
@@ -299,9 +348,11 @@ Outcome stepVF(const View& w, std::uint32_t v, std::uint32_t fi, const Tol& tol)
   bool outside = false;
   for (const auto& fe : w.p2->faceEdges(fi)) {
     const double s = glm::dot(x - w.p2->vertices()[fe.vertex].p, fe.side);
-    if (s < worst) worst = s, outside = true;
+    if (s < worst)
+      worst = s, outside = true;
   }
-  if (outside) return set2(Feature::edge(closestBoundaryEdge(*w.p2, fi, x, x)));
+  if (outside)
+    return set2(Feature::edge(closestBoundaryEdge(*w.p2, fi, x, x)));
 
   const double D = glm::dot(f.normal, x) - f.offset;
   // the edge of v that descends most steeply toward (D > 0) or away from (D < 0) the plane
@@ -309,15 +360,18 @@ Outcome stepVF(const View& w, std::uint32_t v, std::uint32_t fi, const Tol& tol)
   std::uint32_t edge = kNoIndex;
   for (const auto& ve : w.p1->vertexEdges(v)) {
     const double c = glm::dot(w.T21->rotate(ve.out), f.normal);
-    if (c < steepest) steepest = c, edge = ve.edge;
+    if (c < steepest)
+      steepest = c, edge = ve.edge;
   }
   if (D > tol.len) {
-    if (edge != kNoIndex && steepest < -tol.angle) return set1(Feature::edge(edge));
+    if (edge != kNoIndex && steepest < -tol.angle)
+      return set1(Feature::edge(edge));
     return kDone;
   }
   if (D >= -tol.len) {
     // on the plane: an edge of v going below it pierces the face
-    if (edge != kNoIndex && steepest < -tol.angle) return kPenetrating;
+    if (edge != kNoIndex && steepest < -tol.angle)
+      return kPenetrating;
     return kDone;
   }
   // below the face plane: a local minimum unless some face of p2 has v above it
@@ -326,10 +380,13 @@ Outcome stepVF(const View& w, std::uint32_t v, std::uint32_t fi, const Tol& tol)
   const auto faces = w.p2->faces();
   for (std::uint32_t k = 0; k < faces.size(); ++k) {
     const double d = glm::dot(faces[k].normal, x) - faces[k].offset;
-    if (d > best) best = d, best_face = k;
+    if (d > best)
+      best = d, best_face = k;
   }
-  if (best < -tol.len) return kPenetrating;
-  if (best_face == fi) return kPenetrating;  // cannot happen (D < -tol); guards a cycle
+  if (best < -tol.len)
+    return kPenetrating;
+  if (best_face == fi)
+    return kPenetrating;  // cannot happen (D < -tol); guards a cycle
   return set2(Feature::face(best_face));
 }
 
@@ -344,13 +401,15 @@ Outcome clipEdgeAgainstEdge(const View& w, std::uint32_t e1i, std::uint32_t e2i,
   Clip c;
   clipPlane(c, t1, h1, t2, e2.dir, Feature::vertex(e2.tail), tol.len);
   clipPlane(c, t1, h1, h2, -e2.dir, Feature::vertex(e2.head), tol.len);
-  if (c.excluded && c.simple) return set2(c.nlo);
+  if (c.excluded && c.simple)
+    return set2(c.nlo);
   if (const Feature n = derivativeUpdate(*w.p2, c, t1, h1, tol.len, *w.ambiguous); n.valid()) {
     return set2(n);
   }
   clipPlane(c, t1, h1, t2, e2.fe_normal[0], Feature::face(e2.face[0]), tol.len);
   clipPlane(c, t1, h1, t2, e2.fe_normal[1], Feature::face(e2.face[1]), tol.len);
-  if (c.excluded && c.simple) return set2(c.nlo);
+  if (c.excluded && c.simple)
+    return set2(c.nlo);
   if (const Feature n = derivativeUpdate(*w.p2, c, t1, h1, tol.len, *w.ambiguous); n.valid()) {
     return set2(n);
   }
@@ -359,17 +418,20 @@ Outcome clipEdgeAgainstEdge(const View& w, std::uint32_t e1i, std::uint32_t e2i,
     // e2's wedge, i.e. the edges meet (distance within the plane tolerance). No neighbour is
     // nearer, and moving e2 to a face would keep the distance while raising the dimension: the
     // edge-face step then hands the face back to e2, a cycle. The pair is final (touching).
-    if (closestSegments(t1, h1, t2, h2).dist2 <= 4.0 * tol.len * tol.len) return kDone;
+    if (closestSegments(t1, h1, t2, h2).dist2 <= 4.0 * tol.len * tol.len)
+      return kDone;
     return set2(c.nlo);
   }
   return kDone;
 }
 
 Outcome stepEE(const View& w, std::uint32_t e1, std::uint32_t e2, const Tol& tol) {
-  if (const Outcome o = clipEdgeAgainstEdge(w, e1, e2, tol); o.act != Act::kDone) return o;
+  if (const Outcome o = clipEdgeAgainstEdge(w, e1, e2, tol); o.act != Act::kDone)
+    return o;
   const View r{w.p2, w.p1, w.T21, w.T12, w.ambiguous};
   const Outcome o = clipEdgeAgainstEdge(r, e2, e1, tol);
-  if (o.act == Act::kSet2) return set1(o.f);
+  if (o.act == Act::kSet2)
+    return set1(o.f);
   return o;
 }
 
@@ -383,11 +445,13 @@ Outcome stepEF(const View& w, std::uint32_t ei, std::uint32_t fi, const Tol& tol
   for (const auto& fe : w.p2->faceEdges(fi)) {
     clipPlane(c, t, h, w.p2->vertices()[fe.vertex].p, fe.side, Feature::edge(fe.edge), tol.len);
   }
-  if (c.excluded) return set2(Feature::edge(closestBoundaryEdge(*w.p2, fi, t, h)));
+  if (c.excluded)
+    return set2(Feature::edge(closestBoundaryEdge(*w.p2, fi, t, h)));
   const Vec3 u = h - t;
   const double dl = glm::dot(f.normal, t + u * c.lo) - f.offset;
   const double du = glm::dot(f.normal, t + u * c.hi) - f.offset;
-  if ((dl > tol.len && du < -tol.len) || (dl < -tol.len && du > tol.len)) return kPenetrating;
+  if ((dl > tol.len && du < -tol.len) || (dl < -tol.len && du > tol.len))
+    return kPenetrating;
   const double un = glm::dot(glm::normalize(u), f.normal);
   auto sgn = [&](double d) { return d > tol.len ? 1.0 : (d < -tol.len ? -1.0 : 0.0); };
   if (sgn(dl) * un >= 0.0) {
@@ -403,11 +467,14 @@ Outcome dispatch(const View& w, Feature f1, Feature f2, const Tol& tol) {
   using FT = FeatureType;
   switch (f1.type) {
     case FT::kVertex:
-      if (f2.type == FT::kVertex) return stepVV(w, f1.index, f2.index, tol);
-      if (f2.type == FT::kEdge) return stepVE(w, f1.index, f2.index, tol);
+      if (f2.type == FT::kVertex)
+        return stepVV(w, f1.index, f2.index, tol);
+      if (f2.type == FT::kEdge)
+        return stepVE(w, f1.index, f2.index, tol);
       return stepVF(w, f1.index, f2.index, tol);
     case FT::kEdge:
-      if (f2.type == FT::kEdge) return stepEE(w, f1.index, f2.index, tol);
+      if (f2.type == FT::kEdge)
+        return stepEE(w, f1.index, f2.index, tol);
       return stepEF(w, f1.index, f2.index, tol);
     default:
       // face-face is never reached by the walk; a stale cache may hold it: restart at a vertex
@@ -417,17 +484,25 @@ Outcome dispatch(const View& w, Feature f1, Feature f2, const Tol& tol) {
 
 bool validFeature(const Polytope& p, Feature f) {
   switch (f.type) {
-    case FeatureType::kVertex: return f.index < p.vertices().size();
-    case FeatureType::kEdge: return f.index < p.edges().size();
-    case FeatureType::kFace: return f.index < p.faces().size();
-    case FeatureType::kNone: break;
+    case FeatureType::kVertex:
+      return f.index < p.vertices().size();
+    case FeatureType::kEdge:
+      return f.index < p.edges().size();
+    case FeatureType::kFace:
+      return f.index < p.faces().size();
+    case FeatureType::kNone:
+      break;
   }
   return false;
 }
 
 // Closest points of the final feature pair, in A's frame.
-void closestPoints(const Polytope& a, const Polytope& b, const Transform& T_ab, Feature fa,
-                   Feature fb, ClosestResult& r) {
+void closestPoints(const Polytope& a,
+                   const Polytope& b,
+                   const Transform& T_ab,
+                   Feature fa,
+                   Feature fb,
+                   ClosestResult& r) {
   using FT = FeatureType;
   auto vertA = [&](std::uint32_t i) { return a.vertices()[i].p; };
   auto vertB = [&](std::uint32_t i) { return T_ab.apply(b.vertices()[i].p); };
@@ -452,9 +527,9 @@ void closestPoints(const Polytope& a, const Polytope& b, const Transform& T_ab, 
     const double len = glm::length(n);
     // (edges within 1e-3 rad of parallel: closestSegments' line solution is ill-conditioned)
     const auto s =
-        len > 1e-3 ? closestSegments(vertA(ea.tail), vertA(ea.head), vertB(eb.tail), vertB(eb.head))
-                   : closestSegmentsExact(vertA(ea.tail), vertA(ea.head), vertB(eb.tail),
-                                          vertB(eb.head));
+        len > 1e-3
+            ? closestSegments(vertA(ea.tail), vertA(ea.head), vertB(eb.tail), vertB(eb.head))
+            : closestSegmentsExact(vertA(ea.tail), vertA(ea.head), vertB(eb.tail), vertB(eb.head));
     r.point_a = s.c1;
     r.point_b = s.c2;
     const bool interior = s.s > 0.0 && s.s < 1.0 && s.t > 0.0 && s.t < 1.0;
@@ -489,8 +564,11 @@ void closestPoints(const Polytope& a, const Polytope& b, const Transform& T_ab, 
 
 }  // namespace
 
-ClosestResult closestFeatures(const Polytope& a, const Polytope& b, const Transform& X_AB,
-                              FeatureCache& cache, const QueryOptions& options) {
+ClosestResult closestFeatures(const Polytope& a,
+                              const Polytope& b,
+                              const Transform& X_AB,
+                              FeatureCache& cache,
+                              const QueryOptions& options) {
   const Transform X_BA = X_AB.inverse();
   const double scale = std::max(a.radius(), b.radius());
   const Tol tol{1e-12 * scale, 1e-12};
@@ -499,11 +577,13 @@ ClosestResult closestFeatures(const Polytope& a, const Polytope& b, const Transf
     // cold start: the directional lookup table, along the line between the centres
     const Vec3 cb_a = X_AB.apply(b.centroid());
     Vec3 d = cb_a - a.centroid();
-    if (glm::dot(d, d) <= 0.0) d = Vec3{1.0, 0.0, 0.0};
+    if (glm::dot(d, d) <= 0.0)
+      d = Vec3{1.0, 0.0, 0.0};
     fa = Feature::vertex(a.lookup(d));
     fb = Feature::vertex(b.lookup(X_BA.rotate(-d)));
   }
-  // the cap, 4 * (features of A + features of B) + 64, is only worked out if 64 steps are not enough
+  // the cap, 4 * (features of A + features of B) + 64, is only worked out if 64 steps are not
+  // enough
   std::uint32_t cap = options.max_iterations != 0 ? options.max_iterations : 64;
   const bool default_cap = options.max_iterations == 0;
   bool ambiguous = false;
@@ -516,11 +596,14 @@ ClosestResult closestFeatures(const Polytope& a, const Polytope& b, const Transf
   int nudges = 0;
   for (;; ++it) {
     if (it == cap) {
-      if (!default_cap || cap > 64) break;
-      cap = static_cast<std::uint32_t>(
-          4 * (a.vertices().size() + a.edges().size() + a.faces().size() + b.vertices().size() +
-               b.edges().size() + b.faces().size()) + 64);
-      if (it == cap) break;
+      if (!default_cap || cap > 64)
+        break;
+      cap = static_cast<std::uint32_t>(4 * (a.vertices().size() + a.edges().size() +
+                                            a.faces().size() + b.vertices().size() +
+                                            b.edges().size() + b.faces().size()) +
+                                       64);
+      if (it == cap)
+        break;
     }
     const bool swap = static_cast<int>(fa.type) > static_cast<int>(fb.type);
     ambiguous = false;
@@ -531,10 +614,12 @@ ClosestResult closestFeatures(const Polytope& a, const Polytope& b, const Transf
       std::uint32_t e = kNoIndex;
       if (fa.type == FeatureType::kVertex && fb.type == FeatureType::kEdge) {
         e = nearerEdgeOfVertex(a, fa.index, I, b, fb.index, X_AB, 1e-2 * tol.len);
-        if (e != kNoIndex) fa = Feature::edge(e);
+        if (e != kNoIndex)
+          fa = Feature::edge(e);
       } else if (fa.type == FeatureType::kEdge && fb.type == FeatureType::kVertex) {
         e = nearerEdgeOfVertex(b, fb.index, X_AB, a, fa.index, I, 1e-2 * tol.len);
-        if (e != kNoIndex) fb = Feature::edge(e);
+        if (e != kNoIndex)
+          fb = Feature::edge(e);
       }
       if (e != kNoIndex) {
         ++nudges;
@@ -546,7 +631,8 @@ ClosestResult closestFeatures(const Polytope& a, const Polytope& b, const Transf
         continue;
       }
     }
-    if (o.act == Act::kDone || o.act == Act::kPenetration) break;
+    if (o.act == Act::kDone || o.act == Act::kPenetration)
+      break;
     const bool first = o.act == Act::kSet1;
     if (first != swap) {
       fa = o.f;
@@ -571,7 +657,7 @@ ClosestResult closestFeatures(const Polytope& a, const Polytope& b, const Transf
   r.end = WalkEnd::kConverged;
   closestPoints(a, b, X_AB, fa, fb, r);
   r.status = r.distance <= options.touch_tolerance * scale ? ContactStatus::kTouching
-                                                            : ContactStatus::kSeparated;
+                                                           : ContactStatus::kSeparated;
   return r;
 }
 

@@ -24,9 +24,9 @@ enum class ContactStatus : std::uint8_t { kSeparated, kTouching, kPenetrating };
 
 /// How the walk ended.
 enum class WalkEnd : std::uint8_t {
-  kConverged,      ///< a feature pair satisfying both Voronoi conditions (separated or touching)
-  kPenetration,    ///< the features intersect: the polytopes overlap
-  kIterationCap,   ///< the cap was reached (a bug if it ever happens; tests say it does not)
+  kConverged,     ///< a feature pair satisfying both Voronoi conditions (separated or touching)
+  kPenetration,   ///< the features intersect: the polytopes overlap
+  kIterationCap,  ///< the cap was reached (a bug if it ever happens; tests say it does not)
 };
 
 /// Tolerances, relative to the pair's size (the larger polytope radius). Any unit scale gives the
@@ -53,14 +53,18 @@ struct ClosestResult {
   double distance = 0.0;
   Vec3 point_a{0.0};  ///< witness on A (separated/touching)
   Vec3 point_b{0.0};  ///< witness on B (separated/touching)
-  Vec3 normal{0.0};   ///< unit, from A toward B (separated/touching; for touching, the best available)
-  Feature fa, fb;     ///< the final feature pair
+  Vec3 normal{
+      0.0};        ///< unit, from A toward B (separated/touching; for touching, the best available)
+  Feature fa, fb;  ///< the final feature pair
   std::uint32_t iterations = 0;
 };
 
 /// Walks to the closest features of A and B, B placed in A's frame by X_AB.
 /// Updates `cache` with the final pair. No allocation; any thread, including the servo thread.
-ClosestResult closestFeatures(const Polytope& a, const Polytope& b, const Transform& X_AB,
-                              FeatureCache& cache, const QueryOptions& options = {});
+ClosestResult closestFeatures(const Polytope& a,
+                              const Polytope& b,
+                              const Transform& X_AB,
+                              FeatureCache& cache,
+                              const QueryOptions& options = {});
 
 }  // namespace hapticd::collision

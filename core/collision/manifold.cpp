@@ -36,25 +36,32 @@ struct Polygon {
 void clipPolygon(const Polygon& in, const Vec3& o, const Vec3& m, double tol, Polygon& out) {
   out.n = 0;
   out.overflow = in.overflow;
-  if (in.n == 0) return;
+  if (in.n == 0)
+    return;
   if (in.n == 1) {
-    if (glm::dot(in.p[0] - o, m) + tol >= 0.0) out.push(in.p[0]);
+    if (glm::dot(in.p[0] - o, m) + tol >= 0.0)
+      out.push(in.p[0]);
     return;
   }
   const std::size_t count = in.n == 2 ? 1 : in.n;  // a segment is not closed
   if (in.n == 2) {
     const double s0 = glm::dot(in.p[0] - o, m) + tol, s1 = glm::dot(in.p[1] - o, m) + tol;
-    if (s0 >= 0.0) out.push(in.p[0]);
-    if ((s0 >= 0.0) != (s1 >= 0.0)) out.push(in.p[0] + (in.p[1] - in.p[0]) * (s0 / (s0 - s1)));
-    if (s1 >= 0.0) out.push(in.p[1]);
+    if (s0 >= 0.0)
+      out.push(in.p[0]);
+    if ((s0 >= 0.0) != (s1 >= 0.0))
+      out.push(in.p[0] + (in.p[1] - in.p[0]) * (s0 / (s0 - s1)));
+    if (s1 >= 0.0)
+      out.push(in.p[1]);
     return;
   }
   for (std::size_t k = 0; k < count; ++k) {
     const Vec3& a = in.p[k];
     const Vec3& b = in.p[(k + 1) % in.n];
     const double sa = glm::dot(a - o, m) + tol, sb = glm::dot(b - o, m) + tol;
-    if (sa >= 0.0) out.push(a);
-    if ((sa >= 0.0) != (sb >= 0.0)) out.push(a + (b - a) * (sa / (sa - sb)));
+    if (sa >= 0.0)
+      out.push(a);
+    if ((sa >= 0.0) != (sb >= 0.0))
+      out.push(a + (b - a) * (sa / (sa - sb)));
   }
 }
 
@@ -68,7 +75,8 @@ struct FaceView {
 
 void facePolygon(const FaceView& v, Polygon& out) {
   out.n = 0;
-  for (const auto& fe : v.p->faceEdges(v.f)) out.push(v.X->apply(v.p->vertices()[fe.vertex].p));
+  for (const auto& fe : v.p->faceEdges(v.f))
+    out.push(v.X->apply(v.p->vertices()[fe.vertex].p));
 }
 
 // Clips `poly` (in A's frame) against the side planes of face `ref`, `tol` outside them kept.
@@ -77,7 +85,8 @@ void clipToFace(const FaceView& ref, Polygon& poly, Polygon& scratch, double tol
     clipPolygon(poly, ref.X->apply(ref.p->vertices()[fe.vertex].p), ref.X->rotate(fe.side), tol,
                 scratch);
     poly.copyFrom(scratch);
-    if (poly.n == 0) return;
+    if (poly.n == 0)
+      return;
   }
 }
 
@@ -85,63 +94,75 @@ void clipToFace(const FaceView& ref, Polygon& poly, Polygon& scratch, double tol
 // deepest, farthest from it, then largest triangle, then largest quadrilateral).
 void reduce(ContactPoint* in, std::size_t n, double merge, Manifold& m) {
   m.count = 0;
-  if (n == 0) return;
+  if (n == 0)
+    return;
   // merge coincident points (degenerate overlaps), keeping the deeper
   std::size_t kept = 0;
   for (std::size_t i = 0; i < n; ++i) {
     bool dup = false;
     for (std::size_t j = 0; j < kept && !dup; ++j) {
       if (glm::length(in[i].point - in[j].point) <= merge) {
-        if (in[i].depth > in[j].depth) in[j] = in[i];
+        if (in[i].depth > in[j].depth)
+          in[j] = in[i];
         dup = true;
       }
     }
-    if (!dup) in[kept++] = in[i];
+    if (!dup)
+      in[kept++] = in[i];
   }
   n = kept;
   if (n <= Manifold::kMaxPoints) {
-    for (std::size_t i = 0; i < n; ++i) m.points[m.count++] = in[i];
+    for (std::size_t i = 0; i < n; ++i)
+      m.points[m.count++] = in[i];
     return;
   }
   std::array<std::size_t, 4> pick{};
   std::size_t deepest = 0;
   for (std::size_t i = 1; i < n; ++i) {
-    if (in[i].depth > in[deepest].depth) deepest = i;
+    if (in[i].depth > in[deepest].depth)
+      deepest = i;
   }
   pick[0] = deepest;
   double best = -1.0;
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 d = in[i].point - in[pick[0]].point;
-    if (glm::dot(d, d) > best) best = glm::dot(d, d), pick[1] = i;
+    if (glm::dot(d, d) > best)
+      best = glm::dot(d, d), pick[1] = i;
   }
   const Vec3 nrm = in[deepest].normal;
   best = -1.0;
   double signed_area = 0.0;
   for (std::size_t i = 0; i < n; ++i) {
-    const double area = glm::dot(glm::cross(in[pick[1]].point - in[pick[0]].point,
-                                            in[i].point - in[pick[0]].point), nrm);
-    if (std::abs(area) > best) best = std::abs(area), pick[2] = i, signed_area = area;
+    const double area = glm::dot(
+        glm::cross(in[pick[1]].point - in[pick[0]].point, in[i].point - in[pick[0]].point), nrm);
+    if (std::abs(area) > best)
+      best = std::abs(area), pick[2] = i, signed_area = area;
   }
   // the fourth point: most area on the other side of the first edge
   best = -1.0;
   pick[3] = pick[0];
   for (std::size_t i = 0; i < n; ++i) {
-    if (i == pick[0] || i == pick[1] || i == pick[2]) continue;
+    if (i == pick[0] || i == pick[1] || i == pick[2])
+      continue;
     double area = 0.0;
     for (std::size_t k = 0; k < 3; ++k) {
       const Vec3& p0 = in[pick[k]].point;
       const Vec3& p1 = in[pick[(k + 1) % 3]].point;
       const double a = glm::dot(glm::cross(p1 - p0, in[i].point - p0), nrm);
       // outside the triangle's edge (orientation by the triangle's sign)
-      if ((signed_area >= 0.0 ? -a : a) > area) area = signed_area >= 0.0 ? -a : a;
+      if ((signed_area >= 0.0 ? -a : a) > area)
+        area = signed_area >= 0.0 ? -a : a;
     }
-    if (area > best) best = area, pick[3] = i;
+    if (area > best)
+      best = area, pick[3] = i;
   }
   std::size_t count = 0;
   for (std::size_t k = 0; k < 4; ++k) {
     bool dup = false;
-    for (std::size_t j = 0; j < k; ++j) dup = dup || pick[j] == pick[k];
-    if (!dup) m.points[count++] = in[pick[k]];
+    for (std::size_t j = 0; j < k; ++j)
+      dup = dup || pick[j] == pick[k];
+    if (!dup)
+      m.points[count++] = in[pick[k]];
   }
   m.count = static_cast<std::uint8_t>(count);
 }
@@ -152,10 +173,13 @@ double bestIncidentFace(const Polytope& p, Feature f, const Vec3& dir_p, std::ui
   double best = -2.0;
   auto consider = [&](std::uint32_t k) {
     const double c = glm::dot(p.faces()[k].normal, dir_p);
-    if (c > best) best = c, face = k;
+    if (c > best)
+      best = c, face = k;
   };
   switch (f.type) {
-    case FeatureType::kFace: consider(f.index); break;
+    case FeatureType::kFace:
+      consider(f.index);
+      break;
     case FeatureType::kEdge:
       consider(p.edges()[f.index].face[0]);
       consider(p.edges()[f.index].face[1]);
@@ -166,7 +190,8 @@ double bestIncidentFace(const Polytope& p, Feature f, const Vec3& dir_p, std::ui
         consider(p.edges()[ve.edge].face[1]);
       }
       break;
-    case FeatureType::kNone: break;
+    case FeatureType::kNone:
+      break;
   }
   return best;
 }
@@ -176,17 +201,23 @@ double bestIncidentEdge(const Polytope& p, Feature f, const Vec3& dir_p, std::ui
   double best = 2.0;
   auto consider = [&](std::uint32_t k) {
     const double c = std::abs(glm::dot(p.edges()[k].dir, dir_p));
-    if (c < best) best = c, edge = k;
+    if (c < best)
+      best = c, edge = k;
   };
   switch (f.type) {
-    case FeatureType::kEdge: consider(f.index); break;
+    case FeatureType::kEdge:
+      consider(f.index);
+      break;
     case FeatureType::kVertex:
-      for (const auto& ve : p.vertexEdges(f.index)) consider(ve.edge);
+      for (const auto& ve : p.vertexEdges(f.index))
+        consider(ve.edge);
       break;
     case FeatureType::kFace:
-      for (const auto& fe : p.faceEdges(f.index)) consider(fe.edge);
+      for (const auto& fe : p.faceEdges(f.index))
+        consider(fe.edge);
       break;
-    case FeatureType::kNone: break;
+    case FeatureType::kNone:
+      break;
   }
   return best;
 }
@@ -194,9 +225,16 @@ double bestIncidentEdge(const Polytope& p, Feature f, const Vec3& dir_p, std::ui
 // The contact feature of one side, `dir` pointing from this side toward the other (A's frame):
 // a face parallel to the contact plane (polygon); else, when `want_edge`, an edge lying in the
 // contact plane (segment); else the witness point.
-void contactFeature(const Polytope& p, const Transform& X, Feature f, const Vec3& witness,
-                    const Vec3& dir, double sin_tol, bool want_edge, Polygon& out,
-                    FaceView& face_out, bool& is_face) {
+void contactFeature(const Polytope& p,
+                    const Transform& X,
+                    Feature f,
+                    const Vec3& witness,
+                    const Vec3& dir,
+                    double sin_tol,
+                    bool want_edge,
+                    Polygon& out,
+                    FaceView& face_out,
+                    bool& is_face) {
   is_face = false;
   out.n = 0;
   std::uint32_t face = 0;
@@ -220,22 +258,33 @@ void contactFeature(const Polytope& p, const Transform& X, Feature f, const Vec3
 
 // Among the edges incident to fa (on A) and fb (on B), a pair lying in the contact plane (normal
 // n in A's frame, n_b in B's) and parallel to each other.
-bool parallelEdges(const Polytope& a, Feature fa, const Vec3& n, const Polytope& b, Feature fb,
-                   const Vec3& n_b, const Transform& X_AB, double sin_tol, std::uint32_t& ea,
+bool parallelEdges(const Polytope& a,
+                   Feature fa,
+                   const Vec3& n,
+                   const Polytope& b,
+                   Feature fb,
+                   const Vec3& n_b,
+                   const Transform& X_AB,
+                   double sin_tol,
+                   std::uint32_t& ea,
                    std::uint32_t& eb) {
   auto incident = [](const Polytope& p, Feature f, auto&& visit) {
     if (f.type == FeatureType::kEdge) {
       visit(f.index);
     } else if (f.type == FeatureType::kVertex) {
-      for (const auto& ve : p.vertexEdges(f.index)) visit(ve.edge);
+      for (const auto& ve : p.vertexEdges(f.index))
+        visit(ve.edge);
     }
   };
   bool found = false;
   incident(a, fa, [&](std::uint32_t i) {
-    if (found || std::abs(glm::dot(a.edges()[i].dir, n)) > sin_tol) return;
+    if (found || std::abs(glm::dot(a.edges()[i].dir, n)) > sin_tol)
+      return;
     incident(b, fb, [&](std::uint32_t j) {
-      if (found || std::abs(glm::dot(b.edges()[j].dir, n_b)) > sin_tol) return;
-      if (glm::length(glm::cross(a.edges()[i].dir, X_AB.rotate(b.edges()[j].dir))) > sin_tol) return;
+      if (found || std::abs(glm::dot(b.edges()[j].dir, n_b)) > sin_tol)
+        return;
+      if (glm::length(glm::cross(a.edges()[i].dir, X_AB.rotate(b.edges()[j].dir))) > sin_tol)
+        return;
       ea = i, eb = j, found = true;
     });
   });
@@ -246,9 +295,16 @@ bool parallelEdges(const Polytope& a, Feature fa, const Vec3& n, const Polytope&
 // segments, their overlap. Depth of each point measured along n (A toward B). `size`: the pair's
 // size; points closer than 1e-9 of it merge, and clipping keeps 1e-12 of it outside a side plane
 // (the closest-feature walk's plane tolerance).
-Manifold assemble(const Polygon& pa, bool a_face, const FaceView& fa, const Polygon& pb,
-                  bool b_face, const FaceView& fb, const Vec3& n, double fallback_depth,
-                  const Vec3& fallback_point, double size) {
+Manifold assemble(const Polygon& pa,
+                  bool a_face,
+                  const FaceView& fa,
+                  const Polygon& pb,
+                  bool b_face,
+                  const FaceView& fb,
+                  const Vec3& n,
+                  double fallback_depth,
+                  const Vec3& fallback_point,
+                  double size) {
   const double merge = 1e-9 * size;
   const double clip_tol = 1e-12 * size;
   Manifold m;
@@ -262,7 +318,8 @@ Manifold assemble(const Polygon& pa, bool a_face, const FaceView& fa, const Poly
     work.copyFrom(ref_is_a ? pb : pa);
     clipToFace(ref, work, scratch, clip_tol);
     const Vec3 rn = ref.normal();  // outward of the reference face
-    const double off = glm::dot(rn, ref.X->apply(ref.p->vertices()[ref.p->faceEdges(ref.f)[0].vertex].p));
+    const double off =
+        glm::dot(rn, ref.X->apply(ref.p->vertices()[ref.p->faceEdges(ref.f)[0].vertex].p));
     for (std::size_t k = 0; k < work.n; ++k) {
       // gap from the reference plane to the incident point, along the reference's outward normal
       const double gap = glm::dot(rn, work.p[k]) - off;
@@ -275,18 +332,21 @@ Manifold assemble(const Polygon& pa, bool a_face, const FaceView& fa, const Poly
     const double dd = glm::dot(d, d);
     double lo = glm::dot(pb.p[0] - pa.p[0], d) / dd;
     double hi = glm::dot(pb.p[1] - pa.p[0], d) / dd;
-    if (lo > hi) std::swap(lo, hi);
+    if (lo > hi)
+      std::swap(lo, hi);
     lo = std::max(lo, 0.0);
     hi = std::min(hi, 1.0);
     if (lo <= hi) {
       for (const double s : {lo, hi}) {
         const Vec3 on_a = pa.p[0] + d * s;
-        const Vec3 on_b = pb.p[0] + (pb.p[1] - pb.p[0]) *
-                                        std::clamp(glm::dot(on_a - pb.p[0], pb.p[1] - pb.p[0]) /
-                                                       glm::dot(pb.p[1] - pb.p[0], pb.p[1] - pb.p[0]),
-                                                   0.0, 1.0);
+        const Vec3 on_b =
+            pb.p[0] +
+            (pb.p[1] - pb.p[0]) * std::clamp(glm::dot(on_a - pb.p[0], pb.p[1] - pb.p[0]) /
+                                                 glm::dot(pb.p[1] - pb.p[0], pb.p[1] - pb.p[0]),
+                                             0.0, 1.0);
         pts[count++] = ContactPoint{(on_a + on_b) * 0.5, n, -glm::dot(on_b - on_a, n)};
-        if (hi - lo <= 0.0) break;
+        if (hi - lo <= 0.0)
+          break;
       }
     }
   }
@@ -303,8 +363,11 @@ Manifold assemble(const Polygon& pa, bool a_face, const FaceView& fa, const Poly
 
 }  // namespace
 
-Manifold manifoldFromClosest(const Polytope& a, const Polytope& b, const Transform& X_AB,
-                             const ClosestResult& closest, const ManifoldOptions& options) {
+Manifold manifoldFromClosest(const Polytope& a,
+                             const Polytope& b,
+                             const Transform& X_AB,
+                             const ClosestResult& closest,
+                             const ManifoldOptions& options) {
   const Transform I{};
   const Vec3& n = closest.normal;
   const Vec3 mid = (closest.point_a + closest.point_b) * 0.5;
@@ -326,20 +389,23 @@ Manifold manifoldFromClosest(const Polytope& a, const Polytope& b, const Transfo
     // parallel edges, both in the contact plane, around the closest features: the overlap segment
     const Vec3 n_b = glm::transpose(X_AB.R) * n;
     std::uint32_t ea = 0, eb = 0;
-    if (!parallelEdges(a, closest.fa, n, b, closest.fb, n_b, X_AB, sin_tol, ea, eb)) return single;
+    if (!parallelEdges(a, closest.fa, n, b, closest.fb, n_b, X_AB, sin_tol, ea, eb))
+      return single;
     pa.n = pb.n = 0;
     pa.push(a.vertices()[a.edges()[ea].tail].p);
     pa.push(a.vertices()[a.edges()[ea].head].p);
     pb.push(X_AB.apply(b.vertices()[b.edges()[eb].tail].p));
     pb.push(X_AB.apply(b.vertices()[b.edges()[eb].head].p));
   }
-  if (pa.n <= 1 || pb.n <= 1) return single;
+  if (pa.n <= 1 || pb.n <= 1)
+    return single;
   Manifold m = assemble(pa, a_face, fa, pb, b_face, fb, n, -closest.distance, mid,
                         std::max(a.radius(), b.radius()));
   // the closest pair is exact: the manifold's deepest point must say so
   std::size_t deepest = 0;
   for (std::size_t i = 1; i < m.count; ++i) {
-    if (m.points[i].depth > m.points[deepest].depth) deepest = i;
+    if (m.points[i].depth > m.points[deepest].depth)
+      deepest = i;
   }
   if (std::abs(m.points[deepest].depth + closest.distance) >
       1e-9 * std::max(a.radius(), b.radius())) {
@@ -348,8 +414,11 @@ Manifold manifoldFromClosest(const Polytope& a, const Polytope& b, const Transfo
   return m;
 }
 
-Manifold manifoldFromDepth(const Polytope& a, const Polytope& b, const Transform& X_AB,
-                           const DepthResult& depth, const ManifoldOptions& /*options*/) {
+Manifold manifoldFromDepth(const Polytope& a,
+                           const Polytope& b,
+                           const Transform& X_AB,
+                           const DepthResult& depth,
+                           const ManifoldOptions& /*options*/) {
   const Transform I{};
   const Vec3& n = depth.normal;
   const Vec3 mid = (depth.point_a + depth.point_b) * 0.5;
@@ -370,7 +439,8 @@ Manifold manifoldFromDepth(const Polytope& a, const Polytope& b, const Transform
     facePolygon(fa, pa);
     a_face = true;
     std::uint32_t inc = 0;
-    bestIncidentFace(b, Feature::vertex(b.support(X_BA.rotate(-n), depth.support_b)), X_BA.rotate(-n), inc);
+    bestIncidentFace(b, Feature::vertex(b.support(X_BA.rotate(-n), depth.support_b)),
+                     X_BA.rotate(-n), inc);
     facePolygon(FaceView{&b, &X_AB, inc}, pb);
   } else {
     fb = FaceView{&b, &X_AB, depth.ib};
@@ -392,7 +462,8 @@ Manifold manifoldFromDepth(const Polytope& a, const Polytope& b, const Transform
   double deepest = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < m.count; ++i) {
     deepest = std::max(deepest, m.points[i].depth);
-    if (m.points[i].depth >= 0.0) m.points[kept++] = m.points[i];
+    if (m.points[i].depth >= 0.0)
+      m.points[kept++] = m.points[i];
   }
   if (kept == 0 || std::abs(deepest - depth.depth) > 1e-9 * std::max(a.radius(), b.radius())) {
     m.points[0] = ContactPoint{mid, n, depth.depth};

@@ -13,8 +13,8 @@
 namespace hapticd::collision {
 
 struct ContactPoint {
-  Vec3 point{0.0};   ///< A's frame: midway between the two surfaces
-  Vec3 normal{0.0};  ///< unit, from A toward B
+  Vec3 point{0.0};     ///< A's frame: midway between the two surfaces
+  Vec3 normal{0.0};    ///< unit, from A toward B
   double depth = 0.0;  ///< > 0 overlap along normal, < 0 gap
 };
 
@@ -34,12 +34,18 @@ struct ManifoldOptions {
 };
 
 /// Manifold of a separated or touching pair, from its closest features (A's frame).
-Manifold manifoldFromClosest(const Polytope& a, const Polytope& b, const Transform& X_AB,
-                             const ClosestResult& closest, const ManifoldOptions& options = {});
+Manifold manifoldFromClosest(const Polytope& a,
+                             const Polytope& b,
+                             const Transform& X_AB,
+                             const ClosestResult& closest,
+                             const ManifoldOptions& options = {});
 
 /// Manifold of an overlapping pair from its MTD (A's frame): the faces of A and B most aligned
 /// with the normal are clipped against each other; edge-edge MTDs give one point.
-Manifold manifoldFromDepth(const Polytope& a, const Polytope& b, const Transform& X_AB,
-                           const DepthResult& depth, const ManifoldOptions& options = {});
+Manifold manifoldFromDepth(const Polytope& a,
+                           const Polytope& b,
+                           const Transform& X_AB,
+                           const DepthResult& depth,
+                           const ManifoldOptions& options = {});
 
 }  // namespace hapticd::collision

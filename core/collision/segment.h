@@ -16,7 +16,8 @@ using geom::Vec3;
 inline double closestOnSegment(const Vec3& x, const Vec3& p, const Vec3& q) {
   const Vec3 d = q - p;
   const double dd = glm::dot(d, d);
-  if (dd <= 0.0) return 0.0;
+  if (dd <= 0.0)
+    return 0.0;
   return std::clamp(glm::dot(x - p, d) / dd, 0.0, 1.0);
 }
 
@@ -27,8 +28,7 @@ struct SegmentPair {
 };
 
 /// Closest points of segments [p1, q1] and [p2, q2]; parallel segments give one of the pairs.
-inline SegmentPair closestSegments(const Vec3& p1, const Vec3& q1, const Vec3& p2,
-                                   const Vec3& q2) {
+inline SegmentPair closestSegments(const Vec3& p1, const Vec3& q1, const Vec3& p2, const Vec3& q2) {
   const Vec3 d1 = q1 - p1, d2 = q2 - p2, r = p1 - p2;
   const double a = glm::dot(d1, d1), e = glm::dot(d2, d2), f = glm::dot(d2, r);
   SegmentPair out;

@@ -30,7 +30,8 @@ Vec3 nearestOnFace(const Polytope& p, std::uint32_t f, const Vec3& x) {
       break;
     }
   }
-  if (inside) return x - face.normal * (glm::dot(face.normal, x) - face.offset);
+  if (inside)
+    return x - face.normal * (glm::dot(face.normal, x) - face.offset);
   double best2 = kInf;
   Vec3 nearest{0.0};
   for (std::size_t k = 0; k < fe.size(); ++k) {
@@ -38,7 +39,8 @@ Vec3 nearestOnFace(const Polytope& p, std::uint32_t f, const Vec3& x) {
     const Vec3& b = p.vertices()[fe[(k + 1) % fe.size()].vertex].p;
     const Vec3 c = a + (b - a) * closestOnSegment(x, a, b);
     const double d2 = glm::dot(x - c, x - c);
-    if (d2 < best2) best2 = d2, nearest = c;
+    if (d2 < best2)
+      best2 = d2, nearest = c;
   }
   return nearest;
 }
@@ -53,7 +55,8 @@ ShapeDistance shapeDistance(const Polytope& p, const Vec3& x) {
   const auto faces = p.faces();
   for (std::uint32_t f = 0; f < faces.size(); ++f) {
     const double s = glm::dot(faces[f].normal, x) - faces[f].offset;
-    if (s > s_max) s_max = s, f_max = f;
+    if (s > s_max)
+      s_max = s, f_max = f;
   }
   if (s_max <= 0.0) {
     best.distance = s_max;
@@ -63,10 +66,12 @@ ShapeDistance shapeDistance(const Polytope& p, const Vec3& x) {
   double best2 = kInf;
   Vec3 nearest{0.0};
   for (std::uint32_t f = 0; f < faces.size(); ++f) {
-    if (glm::dot(faces[f].normal, x) - faces[f].offset <= 0.0) continue;
+    if (glm::dot(faces[f].normal, x) - faces[f].offset <= 0.0)
+      continue;
     const Vec3 c = nearestOnFace(p, f, x);
     const double d2 = glm::dot(x - c, x - c);
-    if (d2 < best2) best2 = d2, nearest = c;
+    if (d2 < best2)
+      best2 = d2, nearest = c;
   }
   best.distance = std::sqrt(best2);
   best.normal_P = best.distance > 0.0 ? (x - nearest) / best.distance : faces[f_max].normal;
@@ -88,9 +93,11 @@ SignedDistance signedDistance(std::span<const PlacedShape> shapes, const Vec3& p
   return out;
 }
 
-Result<VoxelMap> VoxelMap::build(std::span<const PlacedShape> shapes, double voxel_size,
+Result<VoxelMap> VoxelMap::build(std::span<const PlacedShape> shapes,
+                                 double voxel_size,
                                  std::uint64_t max_voxels) {
-  if (shapes.empty()) return Error{"voxel map: no shape to voxelise"};
+  if (shapes.empty())
+    return Error{"voxel map: no shape to voxelise"};
   if (!(voxel_size > 0.0) || !std::isfinite(voxel_size)) {
     return Error{"voxel map: the voxel size must be positive and finite, not " +
                  std::to_string(voxel_size)};
@@ -119,7 +126,8 @@ Result<VoxelMap> VoxelMap::build(std::span<const PlacedShape> shapes, double vox
   map.cells_.assign(static_cast<std::size_t>(count), 0u);
   const double r = 0.5 * std::sqrt(3.0) * voxel_size;  // half a voxel diagonal
   std::vector<Transform> X_PW;
-  for (const auto& s : shapes) X_PW.push_back(s.X_WP.inverse());
+  for (const auto& s : shapes)
+    X_PW.push_back(s.X_WP.inverse());
   // the shapes near each brick of 8 x 8 x 8 voxels: those whose box, grown by r, meets the brick
   // (a shape within r of a voxel centre, or holding a point within r of it, is one of them)
   constexpr std::uint32_t kBrick = 8;
@@ -147,11 +155,14 @@ Result<VoxelMap> VoxelMap::build(std::span<const PlacedShape> shapes, double vox
       }
     }
   }
-  const auto inside = [&](const Vec3& p_W, std::size_t skip, const std::vector<std::uint32_t>& list) {
+  const auto inside = [&](const Vec3& p_W, std::size_t skip,
+                          const std::vector<std::uint32_t>& list) {
     for (const std::uint32_t k : list) {
-      if (k == skip) continue;
+      if (k == skip)
+        continue;
       const Polytope& q = *shapes[k].shape;
-      if (shapeDistance(q, X_PW[k].apply(p_W)).distance < -1e-9 * q.radius()) return true;
+      if (shapeDistance(q, X_PW[k].apply(p_W)).distance < -1e-9 * q.radius())
+        return true;
     }
     return false;
   };
@@ -161,14 +172,16 @@ Result<VoxelMap> VoxelMap::build(std::span<const PlacedShape> shapes, double vox
       for (std::uint32_t x = 0; x < map.nx_; ++x, ++i) {
         const auto& list =
             near[(static_cast<std::size_t>(z / kBrick) * by + y / kBrick) * bx + x / kBrick];
-        if (list.empty()) continue;  // nothing within r: free
+        if (list.empty())
+          continue;  // nothing within r: free
         const Vec3 c = map.origin_ + (Vec3(x, y, z) + 0.5) * voxel_size;
         // the distance to the union is exact outside it: far from every shape, free
         double d_min = kInf;
         for (const std::uint32_t k : list) {
           d_min = std::min(d_min, shapeDistance(*shapes[k].shape, X_PW[k].apply(c)).distance);
         }
-        if (d_min > r) continue;
+        if (d_min > r)
+          continue;
         // a surface voxel when an exposed surface point (on a shape's face, not covered by
         // another shape) lies within r of the centre: seams between touching shapes are not
         // surfaces. Each face is represented by its point nearest the centre.
@@ -179,19 +192,23 @@ Result<VoxelMap> VoxelMap::build(std::span<const PlacedShape> shapes, double vox
           const Vec3 c_P = X_PW[k].apply(c);
           for (std::uint32_t f = 0; f < q.faces().size(); ++f) {
             const double plane = glm::dot(q.faces()[f].normal, c_P) - q.faces()[f].offset;
-            if (std::abs(plane) > r) continue;
+            if (std::abs(plane) > r)
+              continue;
             const Vec3 on_P = nearestOnFace(q, f, c_P);
             const double dist = glm::length(c_P - on_P);
-            if (dist > r || dist >= best) continue;
+            if (dist > r || dist >= best)
+              continue;
             // covered when a step off the face along its normal is inside another shape
             const Vec3 n_W = shapes[k].X_WP.rotate(q.faces()[f].normal);
-            if (inside(shapes[k].X_WP.apply(on_P) + n_W * (1e-4 * voxel_size), k, list)) continue;
+            if (inside(shapes[k].X_WP.apply(on_P) + n_W * (1e-4 * voxel_size), k, list))
+              continue;
             best = dist;
             normal = n_W;
           }
         }
         if (best > r) {
-          if (d_min < 0.0) map.cells_[i] = 1u;  // inside the union, no surface near
+          if (d_min < 0.0)
+            map.cells_[i] = 1u;  // inside the union, no surface near
           continue;
         }
         map.cells_[i] = static_cast<std::uint32_t>(map.normals_.size()) + 2u;
@@ -210,16 +227,22 @@ VoxelMap::Cell VoxelMap::lookup(const Vec3& p_W, Vec3* centre_W, Vec3* normal_W)
   const auto x = static_cast<std::uint32_t>(g.x), y = static_cast<std::uint32_t>(g.y),
              z = static_cast<std::uint32_t>(g.z);
   const std::uint32_t c = cells_[(static_cast<std::size_t>(z) * ny_ + y) * nx_ + x];
-  if (c == 0u) return Cell::kFree;
-  if (c == 1u) return Cell::kInterior;
-  if (centre_W) *centre_W = origin_ + (Vec3(x, y, z) + 0.5) * h_;
-  if (normal_W) *normal_W = normals_[c - 2u];
+  if (c == 0u)
+    return Cell::kFree;
+  if (c == 1u)
+    return Cell::kInterior;
+  if (centre_W)
+    *centre_W = origin_ + (Vec3(x, y, z) + 0.5) * h_;
+  if (normal_W)
+    *normal_W = normals_[c - 2u];
   return Cell::kSurface;
 }
 
-Result<PointShell> makePointShell(std::span<const PlacedShape> shapes, double spacing,
+Result<PointShell> makePointShell(std::span<const PlacedShape> shapes,
+                                  double spacing,
                                   std::size_t max_points) {
-  if (shapes.empty()) return Error{"point shell: no shape to sample"};
+  if (shapes.empty())
+    return Error{"point shell: no shape to sample"};
   if (!(spacing > 0.0) || !std::isfinite(spacing)) {
     return Error{"point shell: the spacing must be positive and finite, not " +
                  std::to_string(spacing)};
@@ -228,15 +251,18 @@ Result<PointShell> makePointShell(std::span<const PlacedShape> shapes, double sp
   // a point on one shape's surface inside another shape of the body is not on the body's surface
   const auto keep = [&](std::size_t self, const Vec3& p_B) {
     for (std::size_t k = 0; k < shapes.size(); ++k) {
-      if (k == self) continue;
+      if (k == self)
+        continue;
       const Polytope& q = *shapes[k].shape;
       const double tol = 1e-9 * q.radius();
-      if (shapeDistance(q, shapes[k].X_WP.inverse().apply(p_B)).distance < -tol) return false;
+      if (shapeDistance(q, shapes[k].X_WP.inverse().apply(p_B)).distance < -tol)
+        return false;
     }
     return true;
   };
   const auto add = [&](const Vec3& p_B, const Vec3& inward_B) -> bool {
-    if (shell.p_B.size() >= max_points) return false;
+    if (shell.p_B.size() >= max_points)
+      return false;
     shell.p_B.push_back(p_B);
     shell.inward_B.push_back(inward_B);
     return true;
@@ -267,9 +293,11 @@ Result<PointShell> makePointShell(std::span<const PlacedShape> shapes, double sp
               break;
             }
           }
-          if (!inside) continue;
+          if (!inside)
+            continue;
           const Vec3 q_B = X.apply(q);
-          if (!keep(s, q_B)) continue;
+          if (!keep(s, q_B))
+            continue;
           if (!add(q_B, -X.rotate(n))) {
             return Error{"point shell: more than " + std::to_string(max_points) +
                          " points at spacing " + std::to_string(spacing)};
@@ -285,7 +313,8 @@ Result<PointShell> makePointShell(std::span<const PlacedShape> shapes, double sp
         inward -= p.faces()[e.face[0]].normal + p.faces()[e.face[1]].normal;
       }
       const Vec3 q_B = X.apply(p.vertices()[vi].p);
-      if (!keep(s, q_B)) continue;
+      if (!keep(s, q_B))
+        continue;
       if (!add(q_B, X.rotate(glm::normalize(inward)))) {
         return Error{"point shell: more than " + std::to_string(max_points) +
                      " points at spacing " + std::to_string(spacing)};
@@ -295,8 +324,11 @@ Result<PointShell> makePointShell(std::span<const PlacedShape> shapes, double sp
   return shell;
 }
 
-VoxelForce force(const VoxelMap& map, const PointShell& shell, const Transform& X_WB,
-                 const Vec3& com_W, double stiffness_per_point) {
+VoxelForce force(const VoxelMap& map,
+                 const PointShell& shell,
+                 const Transform& X_WB,
+                 const Vec3& com_W,
+                 double stiffness_per_point) {
   VoxelForce out;
   Vec3 centre{0.0}, normal{0.0};
   for (std::size_t i = 0; i < shell.p_B.size(); ++i) {
@@ -306,9 +338,11 @@ VoxelForce force(const VoxelMap& map, const PointShell& shell, const Transform& 
       ++out.points_interior;
       continue;
     }
-    if (cell != VoxelMap::Cell::kSurface) continue;
+    if (cell != VoxelMap::Cell::kSurface)
+      continue;
     const double depth = glm::dot(centre - p, normal);  // below the voxel's tangent plane
-    if (depth <= 0.0) continue;
+    if (depth <= 0.0)
+      continue;
     const Vec3 f = normal * (stiffness_per_point * depth);
     out.force_W += f;
     out.torque_W += glm::cross(p - com_W, f);

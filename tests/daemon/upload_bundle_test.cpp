@@ -115,8 +115,9 @@ TEST_F(UploadBundleTest, TheDaemonLoadsTheClientsGeometryWhateverItsFolderHolds)
   const auto raw = std::vector<std::uint8_t>(gltf_.begin(), gltf_.end());
   auto refused = client.value()->load(raw, "raw.gltf");
   ASSERT_FALSE(refused);
-  EXPECT_NE(refused.error().message.find("external URI 'external.bin' refused: no folder is allowed"),
-            std::string::npos)
+  EXPECT_NE(
+      refused.error().message.find("external URI 'external.bin' refused: no folder is allowed"),
+      std::string::npos)
       << refused.error().message;
   fs::copy_file(dir_ / "client" / "external.bin", dir_ / "daemon" / "external.bin",
                 fs::copy_options::overwrite_existing);

@@ -38,13 +38,23 @@ double bruteSeparatedDistance(const Polytope& a, const Polytope& b, const Transf
 /// Penetration depth by separating axes restricted to the face normals and to the edge pairs whose
 /// Gauss-map arcs cross (the Minkowski faces), each axis's depth from a scan of all vertices:
 /// O(EA*EB + (F + K)*(VA + VB)); for hulls too large for bruteForce(). Positive when overlapping.
-double bruteMinkowskiDepth(const Polytope& a, const Polytope& b, const Transform& X_AB, Vec3* normal);
+double bruteMinkowskiDepth(const Polytope& a,
+                           const Polytope& b,
+                           const Transform& X_AB,
+                           Vec3* normal);
 
 /// Depth along unit dir (A's frame): max_A dot(dir,x) - min_B dot(dir,x), by scanning all vertices.
-double bruteDepthAlong(const Polytope& a, const Polytope& b, const Transform& X_AB, const Vec3& dir);
+double bruteDepthAlong(const Polytope& a,
+                       const Polytope& b,
+                       const Transform& X_AB,
+                       const Vec3& dir);
 
 /// n points on the ellipsoid with semi-axes (ax, ay, az), seeded (the benchmark's hulls).
-std::vector<Vec3> ellipsoidPoints(std::size_t n, double ax, double ay, double az, std::uint64_t seed);
+std::vector<Vec3> ellipsoidPoints(std::size_t n,
+                                  double ax,
+                                  double ay,
+                                  double az,
+                                  std::uint64_t seed);
 
 /// A random convex point set: n points, various shapes (ellipsoid, box corners, slivers),
 /// roughly of radius `size`.

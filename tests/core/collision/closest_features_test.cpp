@@ -278,10 +278,9 @@ TEST(ClosestFeatures, NearlyParallelFacesFromEveryStart) {
   Failures fails;
   for (const double tilt : {1e-9, 1e-8, 1e-7}) {
     for (const double gap : {1e-3, 2e-4, 1e-5, 1e-7}) {
-      const Transform X =
-          geom::Pose{{-0.57, 0.18, -1.11 - 0.42 - gap * size},
-                     glm::angleAxis(tilt, glm::normalize(Vec3{0.35, 0.4, 0.86}))}
-              .toTransform();
+      const Transform X = geom::Pose{{-0.57, 0.18, -1.11 - 0.42 - gap * size},
+                                     glm::angleAxis(tilt, glm::normalize(Vec3{0.35, 0.4, 0.86}))}
+                              .toTransform();
       const reference::RefAnswer ref = reference::bruteForce(a, b, X);
       std::vector<std::pair<Feature, Feature>> starts;
       for (std::uint32_t i = 0; i < a.vertices().size(); ++i) {

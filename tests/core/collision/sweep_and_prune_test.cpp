@@ -1,13 +1,12 @@
 // Sweep and prune against an O(N^2) brute force on random moving boxes: teleports, boxes added and
 // removed mid-run, equal endpoints, zero extents, both update paths, filters, events.
-#include "core/collision/broad_phase.h"
-
 #include <gtest/gtest.h>
 
 #include <cstdio>
 #include <random>
 #include <set>
 
+#include "core/collision/broad_phase.h"
 #include "tests/core/alloc_counter.h"
 
 namespace hapticd::collision {
@@ -34,21 +33,26 @@ struct Sim {
       for (std::size_t j = i + 1; j < items.size(); ++j) {
         const Item& a = items[i];
         const Item& b = items[j];
-        if (!a.live || !b.live) continue;
-        if (a.filter.body == b.filter.body || (a.filter.is_static && b.filter.is_static)) continue;
-        if ((a.filter.group & b.filter.mask) == 0 || (b.filter.group & a.filter.mask) == 0) continue;
+        if (!a.live || !b.live)
+          continue;
+        if (a.filter.body == b.filter.body || (a.filter.is_static && b.filter.is_static))
+          continue;
+        if ((a.filter.group & b.filter.mask) == 0 || (b.filter.group & a.filter.mask) == 0)
+          continue;
         bool overlap = true;
         for (int k = 0; k < 3; ++k) {
           overlap = overlap && a.box.lo[k] <= b.box.hi[k] && b.box.lo[k] <= a.box.hi[k];
         }
-        if (overlap) s.insert({std::min(a.handle, b.handle), std::max(a.handle, b.handle)});
+        if (overlap)
+          s.insert({std::min(a.handle, b.handle), std::max(a.handle, b.handle)});
       }
     }
     return s;
   }
   PairSet ours() const {
     PairSet s;
-    for (const BoxPair& p : sap.pairs()) s.insert({p.lo, p.hi});
+    for (const BoxPair& p : sap.pairs())
+      s.insert({p.lo, p.hi});
     return s;
   }
   void replay() {
@@ -64,7 +68,10 @@ struct Sim {
 };
 
 // `moving_share`: fraction of boxes moved each frame (small: the per-endpoint path; large: re-sort)
-void run(double moving_share, std::uint64_t seed, std::size_t& frames_checked, std::size_t& max_pairs) {
+void run(double moving_share,
+         std::uint64_t seed,
+         std::size_t& frames_checked,
+         std::size_t& max_pairs) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const std::size_t n = 300;
@@ -73,7 +80,8 @@ void run(double moving_share, std::uint64_t seed, std::size_t& frames_checked, s
   auto randomBox = [&](Sim::Item& it) {
     const Vec3 c{u(rng) * side, u(rng) * side, u(rng) * side};
     Vec3 h{0.5 + u(rng), 0.5 + u(rng), 0.5 + u(rng)};
-    if (u(rng) < 0.1) h[static_cast<int>(u(rng) * 3)] = 0.0;  // zero extent on an axis
+    if (u(rng) < 0.1)
+      h[static_cast<int>(u(rng) * 3)] = 0.0;  // zero extent on an axis
     it.box = {c - h, c + h};
     if (u(rng) < 0.1) {  // snap to a grid: many exactly equal endpoints
       it.box.lo = glm::floor(it.box.lo);
@@ -96,14 +104,16 @@ void run(double moving_share, std::uint64_t seed, std::size_t& frames_checked, s
   sim.replay();
   for (int frame = 0; frame < 300; ++frame) {
     for (auto& it : sim.items) {
-      if (!it.live || it.filter.is_static || u(rng) > moving_share) continue;
+      if (!it.live || it.filter.is_static || u(rng) > moving_share)
+        continue;
       if (u(rng) < 0.01) {
         randomBox(it);  // teleport
       } else {
         it.box.lo += it.v;
         it.box.hi += it.v;
         for (int k = 0; k < 3; ++k) {
-          if (it.box.lo[k] < 0.0 || it.box.hi[k] > side) it.v[k] = -it.v[k];
+          if (it.box.lo[k] < 0.0 || it.box.hi[k] > side)
+            it.v[k] = -it.v[k];
         }
       }
       sim.sap.update(it.handle, it.box);
@@ -121,7 +131,8 @@ void run(double moving_share, std::uint64_t seed, std::size_t& frames_checked, s
     }
     sim.sap.commit();
     sim.replay();
-    if (::testing::Test::HasFatalFailure()) return;
+    if (::testing::Test::HasFatalFailure())
+      return;
     const PairSet ref = sim.brute();
     ASSERT_EQ(sim.ours(), ref) << "frame " << frame;
     ASSERT_EQ(sim.replayed, ref) << "events, frame " << frame;
@@ -134,18 +145,22 @@ TEST(SweepAndPrune, EqualsBruteForceFewMoving) {
   std::size_t frames = 0, pairs = 0;
   for (std::uint64_t seed = 1; seed <= 3; ++seed) {
     run(0.05, seed, frames, pairs);
-    if (HasFatalFailure()) return;
+    if (HasFatalFailure())
+      return;
   }
-  std::printf("[figures] few moving: %zu frames equal to brute force, up to %zu pairs\n", frames, pairs);
+  std::printf("[figures] few moving: %zu frames equal to brute force, up to %zu pairs\n", frames,
+              pairs);
 }
 
 TEST(SweepAndPrune, EqualsBruteForceAllMoving) {
   std::size_t frames = 0, pairs = 0;
   for (std::uint64_t seed = 4; seed <= 6; ++seed) {
     run(1.0, seed, frames, pairs);
-    if (HasFatalFailure()) return;
+    if (HasFatalFailure())
+      return;
   }
-  std::printf("[figures] all moving: %zu frames equal to brute force, up to %zu pairs\n", frames, pairs);
+  std::printf("[figures] all moving: %zu frames equal to brute force, up to %zu pairs\n", frames,
+              pairs);
 }
 
 TEST(SweepAndPrune, TouchingBoxesOverlap) {
@@ -186,7 +201,8 @@ TEST(SweepAndPrune, UpdateAllocatesNothingAfterWarmUp) {
   sap.takeEvents();
   auto frame = [&](double share) {
     for (std::size_t i = 0; i < boxes.size(); ++i) {
-      if (u(rng) > share) continue;
+      if (u(rng) > share)
+        continue;
       const Vec3 d{u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5};
       boxes[i].lo += d * 0.2;
       boxes[i].hi += d * 0.2;
@@ -195,9 +211,11 @@ TEST(SweepAndPrune, UpdateAllocatesNothingAfterWarmUp) {
     sap.commit();
     sap.takeEvents();
   };
-  for (int f = 0; f < 20; ++f) frame(f % 2 ? 1.0 : 0.01);  // warm-up, both paths
+  for (int f = 0; f < 20; ++f)
+    frame(f % 2 ? 1.0 : 0.01);  // warm-up, both paths
   const std::uint64_t before = testing_alloc::count();
-  for (int f = 0; f < 200; ++f) frame(f % 2 ? 1.0 : 0.01);
+  for (int f = 0; f < 200; ++f)
+    frame(f % 2 ? 1.0 : 0.01);
   EXPECT_EQ(testing_alloc::count() - before, 0u);
 }
 

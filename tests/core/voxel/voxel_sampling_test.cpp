@@ -183,8 +183,10 @@ CubeOnFloor cubeOnFloor(double unit, double h) {
 TEST(VoxelSampling, CubeOnFloorForceWithinTheVoxelBound) {
   for (const double h : {2.0, 1.0, 0.5, 0.25}) {
     const CubeOnFloor r = cubeOnFloor(1.0, h);
-    std::printf("voxel %.2f: max mean-depth error %.3f voxels (bound 0.866), %d of %d depths "
-                "felt nothing\n", h, r.max_error, r.misses, r.depths);
+    std::printf(
+        "voxel %.2f: max mean-depth error %.3f voxels (bound 0.866), %d of %d depths "
+        "felt nothing\n",
+        h, r.max_error, r.misses, r.depths);
     EXPECT_LT(r.misses, r.depths);  // not vacuous
     EXPECT_GT(r.misses, 0);         // the method's known blind spots show
   }
