@@ -2,6 +2,7 @@
 // the commands that talk to a running daemon over the protocol (client/daemon_commands.h).
 #include <CLI/CLI.hpp>
 #include <cerrno>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <iostream>
@@ -291,7 +292,8 @@ std::optional<int> parse(CLI::App& app, int argc, char** argv) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+int run(int argc, char** argv) {
   CLI::App app{"hapticctl: the command-line client of the hapticd haptic server"};
   app.require_subcommand(1);
   Commands c;
@@ -305,4 +307,14 @@ int main(int argc, char** argv) {
   if (const int rc = runDaemonCommand(c); rc >= 0)
     return rc;
   return runOffline(c);
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {  // a bug: every expected failure is reported where it happens
+    std::fprintf(stderr, "hapticctl: unexpected error: %s\n", e.what());
+    return 1;
+  }
 }

@@ -134,9 +134,10 @@ Result<ParsedConfig> buildConfig(const CommandLine& cli) {
   setIf(cli.udp, c.network.udp);
   setIf(cli.shm, c.network.shm);
   setIf(cli.web, c.web.listen);
-  for (auto r : {setChoice("--clock", cli.clock, &parseClockKind, c.servo.clock),
-                 setChoice("--realtime", cli.realtime, &parseRealtimePolicy, c.servo.realtime),
-                 setChoice("--log-level", cli.log_level, &parseLogLevel, c.log.level)})
+  for (const auto& r :
+       {setChoice("--clock", cli.clock, &parseClockKind, c.servo.clock),
+        setChoice("--realtime", cli.realtime, &parseRealtimePolicy, c.servo.realtime),
+        setChoice("--log-level", cli.log_level, &parseLogLevel, c.log.level)})
     if (!r)
       return r.error();
   virtualClockNetworkOff(cli, parsed);

@@ -186,7 +186,8 @@ void sameValueWarning(std::vector<std::string>& warnings,
   for (std::string& w : warnings) {
     const std::size_t at = w.find(earlier);
     if (at != std::string::npos) {
-      w = w.substr(0, at + 2) + text;
+      w.resize(at + 2);
+      w += text;
       return;
     }
   }
@@ -221,14 +222,22 @@ void readSection(const toml::table& table,
       else if (sameValue(*r.key, c, other))
         sameValueWarning(warnings, line, old_label, *r.key);
       else
-        problems.add(v, old_label + " and " + r.key->label() +
-                            " are both set, to different values: " + old_label +
-                            " is deprecated, keep only " + r.key->label());
+        problems.add(v, std::string(old_label)
+                            .append(" and ")
+                            .append(r.key->label())
+                            .append(" are both set, to different values: ")
+                            .append(old_label)
+                            .append(" is deprecated, keep only ")
+                            .append(r.key->label()));
       continue;
     }
     if (r.deprecated != nullptr)
-      warnings.push_back(line + label + key_name + " is deprecated: use " + r.key->label() +
-                         " (the value is taken for it)");
+      warnings.push_back(std::string(line)
+                             .append(label)
+                             .append(key_name)
+                             .append(" is deprecated: use ")
+                             .append(r.key->label())
+                             .append(" (the value is taken for it)"));
     set.push_back(r.key);
     if (auto problem = readValue(v, *r.key, c))
       problems.add(v, label + key_name + ": " + *problem);
@@ -293,7 +302,8 @@ Result<ParsedConfig> parseConfig(std::string_view text,
                           ": unknown section or key (sections: servo, device, response, scene, "
                           "network, web, log)");
     } else if (!v.is_table()) {
-      problems.add(v, section + ": must be a table ([" + section + "])");
+      problems.add(
+          v, std::string(section).append(": must be a table ([").append(section).append("])"));
     } else {
       readSection(*v.as_table(), section, deprecated, problems, parsed.warnings, name, set,
                   parsed.config);

@@ -34,7 +34,7 @@ std::string errnoText(int err) {
 // one refused step: an error under `require`, a warning under `prefer`
 bool refuse(const RealtimeOptions& options,
             RealtimeReport& report,
-            std::string what,
+            const std::string& what,
             Error& error) {
   if (options.policy == RealtimePolicy::kRequire) {
     error.message = "realtime = \"require\": " + what +
@@ -123,7 +123,7 @@ Result<RealtimeReport> setupServoThreadRealtime(const RealtimeOptions& options,
     std::size_t stack_size = 0;
     pthread_attr_getstacksize(&attr, &stack_size);
     pthread_attr_destroy(&attr);
-    constexpr std::size_t kMargin = 64 * 1024;
+    constexpr std::size_t kMargin = std::size_t{64} * 1024;
     if (stack_size > 0)
       prefault =
           std::min(prefault, stack_size > 2 * kMargin ? stack_size - kMargin : stack_size / 2);

@@ -30,7 +30,8 @@ struct RealtimeOptions {
   RealtimePolicy policy = RealtimePolicy::kPrefer;
   int priority = 80;  ///< SCHED_FIFO priority of the servo thread, 1..99
   int cpu = -1;       ///< CPU the servo thread is pinned to; -1: not pinned
-  std::size_t stack_prefault_bytes = 256 * 1024;  ///< servo stack touched before the loop
+  std::size_t stack_prefault_bytes =
+      std::size_t{256} * 1024;  ///< servo stack touched before the loop
 };
 
 /// The system calls the setup makes, injectable so that tests can simulate a refusal. Each

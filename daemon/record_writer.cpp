@@ -48,7 +48,7 @@ void RecordWriter::setBodyNames(std::uint64_t generation, std::vector<std::strin
 Result<bool> RecordWriter::start() {
   if (record_ == nullptr && bodies_ == nullptr)
     return true;
-  return thread_.start("hapticd-record", 256 * 1024, [this] { run(); });
+  return thread_.start("hapticd-record", std::size_t{256} * 1024, [this] { run(); });
 }
 
 bool RecordWriter::drainOnce() {

@@ -491,18 +491,18 @@ DecodeError checkValues(const Subscribe& m) {
   return {};
 }
 DecodeError checkValues(const State& m) {
-  constexpr auto t = State::kType;
+  constexpr auto kT = State::kType;
   if (!(m.max_penetration_m >= 0.0))
-    return err(Errc::kBadValue, t, 0, 0, "max_penetration_m (>= 0)");
+    return err(Errc::kBadValue, kT, 0, 0, "max_penetration_m (>= 0)");
   if (!(m.force_scale >= 0.0 && m.force_scale <= 1.0))
-    return err(Errc::kBadValue, t, 0, 1, "force_scale (0..1)");
+    return err(Errc::kBadValue, kT, 0, 1, "force_scale (0..1)");
   if (!unitQuat(m.X_WD))
-    return err(Errc::kBadValue, t, 0, 0, "device q (norm)");
+    return err(Errc::kBadValue, kT, 0, 0, "device q (norm)");
   if (!unitQuat(m.X_WP))
-    return err(Errc::kBadValue, t, 0, 0, "proxy q (norm)");
+    return err(Errc::kBadValue, kT, 0, 0, "proxy q (norm)");
   for (const auto& b : m.bodies)
     if (!unitQuat(b.X_WB))
-      return err(Errc::kBadValue, t, b.body_index, 0, "bodies[].q (norm)");
+      return err(Errc::kBadValue, kT, b.body_index, 0, "bodies[].q (norm)");
   return {};
 }
 

@@ -415,7 +415,7 @@ std::size_t Server::uploadsActive() const {
 void Server::sendSceneStatus(Session& s,
                              std::uint32_t upload_id,
                              SceneStatusCode code,
-                             std::string text,
+                             const std::string& text,
                              bool with_missing) {
   SceneStatus st;
   st.upload_id = upload_id;

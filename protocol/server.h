@@ -217,7 +217,7 @@ class Server {
   void sendSceneStatus(Session& s,
                        std::uint32_t upload_id,
                        SceneStatusCode code,
-                       std::string text,
+                       const std::string& text,
                        bool with_missing);
   void sendStates(std::uint64_t now);
   void sendTo(Session& s, const Message& m);

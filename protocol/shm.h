@@ -111,7 +111,7 @@ struct ShmCommand {
   double w_W[3];               ///< rad/s
   std::uint64_t buttons;
 };
-static_assert(sizeof(ShmCommand) == 18 * 8);
+static_assert(sizeof(ShmCommand) == std::size_t{18} * 8);
 
 /// The state block: the seqlock word (odd while the writer is inside), then ShmState as 64-bit
 /// words (protocol/seqlock.h, the same seqlock the daemon uses in process).

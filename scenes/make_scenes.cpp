@@ -38,7 +38,8 @@ bool writeFile(const fs::path& path, const std::vector<std::uint8_t>& bytes) {
 
 }  // namespace
 
-int main(int argc, char** argv) {
+namespace {
+int run(int argc, char** argv) {
   CLI::App app{"Writes hapticd's demo scenes (.glb) and their pose streams (.csv)"};
   std::string scenes_dir = HAPTICD_SOURCE_DIR "/scenes";
   std::string streams_dir = HAPTICD_SOURCE_DIR "/tests/streams";
@@ -71,4 +72,14 @@ int main(int argc, char** argv) {
     }
   }
   return status;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {  // a bug: every expected failure is reported where it happens
+    std::fprintf(stderr, "make_scenes: unexpected error: %s\n", e.what());
+    return 1;
+  }
 }

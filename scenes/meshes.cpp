@@ -130,6 +130,7 @@ std::vector<Vec2> SpurGear::toothPolygon(double centre_rad) const {
     flank.emplace_back(r, toothHalfAngle(r));
   }
   std::vector<Vec2> poly;
+  poly.reserve(2 * flank.size());
   for (const auto& [r, half] : flank)
     poly.push_back({r * std::cos(centre_rad - half), r * std::sin(centre_rad - half)});
   for (auto it = flank.rbegin(); it != flank.rend(); ++it)

@@ -48,6 +48,9 @@ struct PairEvent {
   BoxPair pair;
 };
 
+// bugprone-reserved-identifier: clang-tidy 14 reports the loop index `__i0` of the
+// compiler-generated copy of the class's array members, not a name of ours
+// NOLINTNEXTLINE(bugprone-reserved-identifier)
 class SweepAndPrune {
  public:
   /// Adds a box; returns its handle (handles of removed boxes are reused). It enters the lists at

@@ -59,8 +59,8 @@ Aabb CollisionWorld::primitiveBox(Prim& p) {
   for (int k = 0; k < 3; ++k) {
     // world coordinate k of a vertex v is dot(row k of R, v) + t[k]: climb to its extremes
     const Vec3 row{X.R[0][k], X.R[1][k], X.R[2][k]};
-    auto& lo_hint = p.hint[static_cast<std::size_t>(2 * k)];
-    auto& hi_hint = p.hint[static_cast<std::size_t>(2 * k + 1)];
+    auto& lo_hint = p.hint[2 * static_cast<std::size_t>(k)];
+    auto& hi_hint = p.hint[2 * static_cast<std::size_t>(k) + 1];
     lo_hint = shape.support(-row, lo_hint);
     hi_hint = shape.support(row, hi_hint);
     box.lo[k] = glm::dot(row, shape.vertices()[lo_hint].p) + X.t[k] - options_.box_margin;
@@ -227,9 +227,8 @@ StepStats CollisionWorld::step() {
     o = cls << 62 | age << 32 | (0xffffffffull - o);
   }
   const bool timed = options_.budget.max_microseconds > 0.0;
-  if (timed) {
-    std::sort(order_.begin(), order_.end(), std::greater<>());
-  } else if (budget < count) {
+  // a time budget may reach any pair: all in order; a count budget needs only its first `budget`
+  if (!timed && budget < count) {
     std::nth_element(order_.begin(), order_.begin() + budget, order_.end(), std::greater<>());
     std::sort(order_.begin(), order_.begin() + budget, std::greater<>());
   } else {

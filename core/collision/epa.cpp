@@ -150,7 +150,7 @@ struct ExpandingPolytope {
   bool insert(const SupportPoint& w) {
     if (nv >= kMaxVerts)
       return false;
-    std::array<std::array<int, 2>, 3 * kMaxFaces> edges;
+    std::array<std::array<int, 2>, 3 * static_cast<std::size_t>(kMaxFaces)> edges;
     int ne = 0;
     for (int f = 0; f < nf;) {
       const Face fc = faces[static_cast<std::size_t>(f)];

@@ -78,6 +78,7 @@ std::vector<Vec3> sectionLoop(std::vector<Vec3> pts, const Plane& plane) {
     return x.first != y.first ? x.first < y.first : lexLess(x.second, y.second);
   });
   std::vector<Vec3> loop;
+  loop.reserve(keyed.size());
   for (const auto& k : keyed)
     loop.push_back(k.second);
   return loop;

@@ -292,7 +292,9 @@ double searchExcess(const Context& ctx,
     o.focus_radius = kFocusRadius * part.concavity + ctx.c_abs;
   }
   const ExcessBound e = hullExcess(ctx.view, hull, o);
-  return e.aborted ? kInf : e.upper;
+  if (e.aborted)
+    return kInf;
+  return e.upper;
 }
 
 // The new hulls of a cut (two) or of a cross (up to four), from the search's sample.
@@ -486,7 +488,7 @@ std::optional<CutPlan> chooseCut(const Context& ctx, const Part& part) {
       for (int j = 0; j < 3; ++j)
         if (i != j)
           pairs.push_back(
-              {first[static_cast<std::size_t>(3 * i)], first[static_cast<std::size_t>(3 * j)]});
+              {first[3 * static_cast<std::size_t>(i)], first[3 * static_cast<std::size_t>(j)]});
     std::vector<Trial> trials(pairs.size());
     parallelFor(pairs.size(), ctx.threads, [&](std::size_t i) {
       trials[i] = crossTrial(ctx, part, pairs[i].first, pairs[i].second);

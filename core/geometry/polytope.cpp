@@ -422,7 +422,8 @@ void Polytope::buildLookup() {
         if (d > best_dot)
           best_dot = d, best = static_cast<std::uint32_t>(k);
       }
-      lookup_[static_cast<std::size_t>(i * kLookupSide + j)] = static_cast<std::uint16_t>(best);
+      lookup_[static_cast<std::size_t>(i) * kLookupSide + static_cast<std::size_t>(j)] =
+          static_cast<std::uint16_t>(best);
     }
   }
 }

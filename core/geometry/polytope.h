@@ -111,7 +111,7 @@ class Polytope {
   /// containing `dir` (need not be normalised, must be non-zero). A start for support().
   std::uint32_t lookup(const Vec3& dir) const;
   /// Bytes used by the lookup table (<= 1024).
-  static constexpr std::size_t kLookupBytes = 2 * 16 * 16;
+  static constexpr std::size_t kLookupBytes = std::size_t{2} * 16 * 16;
 
  private:
   // the steps of fromPoints
@@ -132,7 +132,7 @@ class Polytope {
   std::vector<std::uint32_t> face_order_;
   Vec3 centroid_{0.0};
   double radius_ = 0.0;
-  std::array<std::uint16_t, 16 * 16> lookup_{};
+  std::array<std::uint16_t, std::size_t{16} * 16> lookup_{};
 };
 
 }  // namespace hapticd::geom

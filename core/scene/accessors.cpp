@@ -208,8 +208,8 @@ bool AccessorReader::components(std::size_t index,
     for (std::size_t i = 0; i < count; ++i) {
       const std::uint8_t* element = bytes.data() + a.byte_offset + i * stride;
       for (std::uint32_t c = 0; c < a.components; ++c)
-        (*out)[i * a.components + c] =
-            componentAt(element + c * size, a.component_type, a.normalized);
+        (*out)[i * a.components + c] = componentAt(element + static_cast<std::size_t>(c) * size,
+                                                   a.component_type, a.normalized);
     }
   }
   return !a.sparse || applySparse(a, "accessor " + std::to_string(index) + " " + use, out);

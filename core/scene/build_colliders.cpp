@@ -178,7 +178,7 @@ Builder::HullKey Builder::hullKey(int kind, std::int32_t index, std::int32_t sub
   std::array<double, 9> m{};
   for (int c = 0; c < 3; ++c) {
     for (int r = 0; r < 3; ++r)
-      m[static_cast<std::size_t>(3 * c + r)] = S[c][r];
+      m[3 * static_cast<std::size_t>(c) + static_cast<std::size_t>(r)] = S[c][r];
   }
   return {kind, index, sub, m};
 }

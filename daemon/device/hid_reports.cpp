@@ -110,7 +110,7 @@ void composeGenericInput(const GenericInputReport& in,
   for (int i = 0; i < 3; ++i) {
     const auto v = static_cast<std::int32_t>(
         quantise(in.X_WD.translation[i], kGenericPositionUnit_m, -2147483647LL, 2147483647LL));
-    putU32(p + 3 + 4 * i, static_cast<std::uint32_t>(v));
+    putU32(p + 3 + 4 * static_cast<std::ptrdiff_t>(i), static_cast<std::uint32_t>(v));
   }
   const geom::Quat q = glm::normalize(in.X_WD.rotation);
   putI16(p + 15, q.x, kGenericQuatUnit);
@@ -127,9 +127,9 @@ void composeGenericOutput(const GenericOutputReport& in,
   p[0] = kGenericOutputReportId;
   putU16(p + 1, in.sequence);
   for (int i = 0; i < 3; ++i)
-    putI16(p + 3 + 2 * i, in.force_n[i], kGenericForceUnit_n);
+    putI16(p + 3 + 2 * static_cast<std::ptrdiff_t>(i), in.force_n[i], kGenericForceUnit_n);
   for (int i = 0; i < 3; ++i)
-    putI16(p + 9 + 2 * i, in.torque_nm[i], kGenericTorqueUnit_nm);
+    putI16(p + 9 + 2 * static_cast<std::ptrdiff_t>(i), in.torque_nm[i], kGenericTorqueUnit_nm);
   p[15] = in.flags;
 }
 
@@ -141,9 +141,9 @@ HidReportStatus parseGenericOutput(std::span<const std::uint8_t> r,
   const std::uint8_t* p = r.data();
   out.sequence = getU16(p + 1);
   for (int i = 0; i < 3; ++i)
-    out.force_n[i] = getI16(p + 3 + 2 * i) * kGenericForceUnit_n;
+    out.force_n[i] = getI16(p + 3 + 2 * static_cast<std::ptrdiff_t>(i)) * kGenericForceUnit_n;
   for (int i = 0; i < 3; ++i)
-    out.torque_nm[i] = getI16(p + 9 + 2 * i) * kGenericTorqueUnit_nm;
+    out.torque_nm[i] = getI16(p + 9 + 2 * static_cast<std::ptrdiff_t>(i)) * kGenericTorqueUnit_nm;
   out.flags = p[15];
   return HidReportStatus::kOk;
 }

@@ -135,7 +135,7 @@ class WsSession : public std::enable_shared_from_this<WsSession> {
     } while (id_ == 0);
   }
 
-  void start(http::request<http::string_body> request) {
+  void start(const http::request<http::string_body>& request) {
     ws_.read_message_max(server_.config_.max_message_bytes);
     ws_.set_option(websocket::stream_base::timeout::suggested(beast::role_type::server));
     ws_.async_accept(request, [self = shared_from_this()](beast::error_code ec) {
@@ -566,7 +566,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   }
 
  private:
-  void onRequest(http::request<http::string_body> req);
+  void onRequest(const http::request<http::string_body>& req);
   void respond(http::response<http::string_body> res) {
     auto r = std::make_shared<http::response<http::string_body>>(std::move(res));
     r->prepare_payload();
@@ -597,7 +597,7 @@ class HttpSession : public std::enable_shared_from_this<HttpSession> {
   std::optional<http::request_parser<http::string_body>> parser_;
 };
 
-void HttpSession::onRequest(http::request<http::string_body> req) {
+void HttpSession::onRequest(const http::request<http::string_body>& req) {
   ++server_.counters_.http_requests;
   std::string target(req.target());
   target = target.substr(0, target.find_first_of("?#"));
@@ -610,7 +610,7 @@ void HttpSession::onRequest(http::request<http::string_body> req) {
           "server full: " + std::to_string(server_.config_.max_clients) + " WebSocket clients"));
     stream_.expires_never();
     auto s = std::make_shared<WsSession>(server_, stream_.release_socket());
-    return s->start(std::move(req));
+    return s->start(req);
   }
   if (req.method() != http::verb::get && req.method() != http::verb::head)
     return respond(simple(req, http::status::method_not_allowed, "GET only"));
