@@ -1,6 +1,6 @@
 // hapticbench, narrow phase: distance and penetration between convex hulls, coherent and
 // incoherent, ours and the peers', each also checked for wrong answers against the brute-force
-// reference. Names as in ../shared/DESIGN.md: Distance/Coherent/<N>, ...,
+// reference. Names as in docs/architecture.md: Distance/Coherent/<N>, ...,
 // Peer/<lib>-<method>/<name>.
 #include <benchmark/benchmark.h>
 
