@@ -118,7 +118,9 @@ inline void geometryCorpus(std::vector<CorpusFile>& good, std::vector<CorpusFile
   }
   {
     GltfBuilder b;
-    const GltfBuilder d = withMesh(b, addDracoMesh(b, dentedCubeMesh(0.05), "Dented"));
+    // the mesh is added before withMesh copies the builder (argument order is unspecified)
+    const int dented = addDracoMesh(b, dentedCubeMesh(0.05), "Dented");
+    const GltfBuilder d = withMesh(b, dented);
     good.push_back({"draco.glb", d.glb(), "mesh piece (non-convex mesh) (node 0)"});
     GltfBuilder broken = d;
     for (std::size_t i = 8; i < broken.bin.size(); ++i)
@@ -130,13 +132,12 @@ inline void geometryCorpus(std::vector<CorpusFile>& good, std::vector<CorpusFile
   }
   {
     GltfBuilder b;
-    const GltfBuilder m = withMesh(b, addMeshoptMesh(b, cubeMesh(0.05), "Cube", "EXPONENTIAL"));
+    const int cube = addMeshoptMesh(b, cubeMesh(0.05), "Cube", "EXPONENTIAL");
+    const GltfBuilder m = withMesh(b, cube);
     good.push_back({"meshopt.glb", m.glb(), "convex mesh (node 0)"});
     GltfBuilder seq;
-    good.push_back(
-        {"meshopt_indices.glb",
-         withMesh(seq, addMeshoptMesh(seq, cubeMesh(0.05), "Cube", "NONE", "INDICES")).glb(),
-         "convex mesh (node 0)"});
+    const int seq_cube = addMeshoptMesh(seq, cubeMesh(0.05), "Cube", "NONE", "INDICES");
+    good.push_back({"meshopt_indices.glb", withMesh(seq, seq_cube).glb(), "convex mesh (node 0)"});
     GltfBuilder broken = m;
     broken.bin[0] ^= 0xFF;
     bad.push_back({"meshopt_malformed.glb", broken.glb(),

@@ -11,16 +11,16 @@
 #include <cstring>
 #include <thread>
 
+#include "daemon/device/hd_api.h"
+
 namespace {
 
 constexpr unsigned kCommError = 0x0302;
 constexpr unsigned kDeviceFault = 0x0300;
 
-struct ErrorInfo {
-  unsigned int error_code;
-  int internal_error_code;
-  unsigned int device;
-};
+// the very type the daemon calls hdGetError() through (a struct of the same layout under another
+// name is another function type: UBSan's -fsanitize=function refuses the call)
+using hapticd::device::hd::ErrorInfo;
 
 struct Scripted {
   std::uint64_t frame;
