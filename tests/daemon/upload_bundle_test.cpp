@@ -5,12 +5,16 @@
 // is timed.
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <fstream>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "core/scene/glb.h"
 #include "protocol/client.h"
 #include "tests/core/scene/gltf_builder.h"
-#include "tests/daemon/subprocess.h"
+#include "tests/daemon/daemon_fixture.h"
 
 namespace {
 
@@ -19,7 +23,7 @@ using hapticd::scene::testing::GltfBuilder;
 using hapticd::scene::testing::json;
 using hapticd::testing::slurp;
 using hapticd::testing::spawn;
-using hapticd::testing::waitFor;
+using hapticd::testing::waitExit;
 
 class UploadBundleTest : public ::testing::Test {
  protected:
@@ -53,7 +57,7 @@ class UploadBundleTest : public ::testing::Test {
   void TearDown() override {
     if (pid_ > 0) {
       kill(pid_, SIGTERM);
-      EXPECT_EQ(waitFor(pid_, 60.0), 0) << slurp(dir_ / "d.err");
+      EXPECT_EQ(waitExit(pid_, 60.0), 0) << slurp(dir_ / "d.err");
     }
     fs::remove_all(dir_);
   }
@@ -88,7 +92,7 @@ class UploadBundleTest : public ::testing::Test {
     std::vector<std::string> all{HAPTICCTL_BINARY};
     all.insert(all.end(), args.begin(), args.end());
     all.insert(all.end(), {"--port", std::to_string(port_)});
-    return waitFor(spawn(all, dir_ / "c.out", dir_ / "c.err"), 120.0);
+    return waitExit(spawn(all, dir_ / "c.out", dir_ / "c.err"), 120.0);
   }
 
   fs::path dir_;
