@@ -17,6 +17,7 @@
 #include <optional>
 #include <string>
 
+#include "bench/decomp_meshes.h"
 #include "core/decomp/decompose.h"
 #include "tests/core/decomp/models.h"
 
@@ -30,15 +31,8 @@ constexpr double kConcavities[] = {0.05, 0.02, 0.01, 0.005};
 
 const std::map<std::string, TriangleMesh>& meshes() {
   static const std::map<std::string, TriangleMesh> all = [] {
-    std::map<std::string, TriangleMesh> m;
+    std::map<std::string, TriangleMesh> m = hapticd::bench::decompMeshes();
     m["lblock"] = models::lBlock();
-    m["torus"] = models::torus();
-    m["gear"] = models::gear();
-    m["scan70k"] = models::noisySphere(0.1, 70000, 0.002, 5, 0.06);
-    if (auto d = models::sharedMesh("dragon_lowres.obj"))
-      m["dragon"] = *d;
-    if (auto f = models::sharedMesh("featuretype.STL"))
-      m["featuretype"] = *f;
     return m;
   }();
   return all;

@@ -22,16 +22,14 @@
 #include <string>
 #include <vector>
 
+#include "bench/decomp_meshes.h"
 #include "core/decomp/quickhull.h"
 #include "core/decomp/repair.h"
-#include "tests/core/decomp/models.h"
 
 namespace {
 
 using hapticd::decomp::HullMesh;
-using hapticd::decomp::TriangleMesh;
 using hapticd::decomp::Vec3;
-namespace models = hapticd::decomp::models;
 
 constexpr std::size_t kSample = 2500;
 constexpr int kLevels = 5;
@@ -69,16 +67,8 @@ void split(std::vector<Vec3> pts, int level, std::vector<std::vector<Vec3>>& out
 
 const std::map<std::string, Cells>& cells() {
   static const std::map<std::string, Cells> all = [] {
-    std::map<std::string, TriangleMesh> meshes;
-    meshes["torus"] = models::torus();
-    meshes["gear"] = models::gear();
-    meshes["scan70k"] = models::noisySphere(0.1, 70000, 0.002, 5, 0.06);
-    if (auto d = models::sharedMesh("dragon_lowres.obj"))
-      meshes["dragon"] = *d;
-    if (auto f = models::sharedMesh("featuretype.STL"))
-      meshes["featuretype"] = *f;
     std::map<std::string, Cells> m;
-    for (const auto& [name, raw] : meshes) {
+    for (const auto& [name, raw] : hapticd::bench::decompMeshes()) {
       hapticd::decomp::RepairCounts counts;
       const auto mesh = hapticd::decomp::repairMesh(raw, {}, counts);
       if (!mesh)

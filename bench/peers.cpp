@@ -219,27 +219,15 @@ class BulletGjkPeer : public PeerMethod {
  public:
   BulletGjkPeer(const Polytope& a, const Polytope& b) : a_(btHull(a)), b_(btHull(b)) {}
   double query(const Transform& X_AB, bool& ok) override {
-    btVoronoiSimplexSolver simplex;
-    btGjkEpaPenetrationDepthSolver epa;
-    btGjkPairDetector gjk(a_.get(), b_.get(), &simplex, &epa);
-    btDiscreteCollisionDetectorInterface::ClosestPointInput in;
-    in.m_transformA.setIdentity();
-    in.m_transformB = btFrom(X_AB);
     btPointCollector out;
-    gjk.getClosestPoints(in, out, nullptr);
+    closestPoints(X_AB, out);
     ok = out.m_hasResult;
     return out.m_distance;
   }
   // Bullet: the normal on B points from B toward A, the point is on B
   PeerAnswer answer(const Transform& X_AB) override {
-    btVoronoiSimplexSolver simplex;
-    btGjkEpaPenetrationDepthSolver epa;
-    btGjkPairDetector gjk(a_.get(), b_.get(), &simplex, &epa);
-    btDiscreteCollisionDetectorInterface::ClosestPointInput in;
-    in.m_transformA.setIdentity();
-    in.m_transformB = btFrom(X_AB);
     btPointCollector res;
-    gjk.getClosestPoints(in, res, nullptr);
+    closestPoints(X_AB, res);
     PeerAnswer out;
     if (!res.m_hasResult)
       return out;
@@ -254,6 +242,17 @@ class BulletGjkPeer : public PeerMethod {
   }
 
  private:
+  // one GJK (EPA when they overlap) query, A at the origin and B at X_AB
+  void closestPoints(const Transform& X_AB, btPointCollector& out) const {
+    btVoronoiSimplexSolver simplex;
+    btGjkEpaPenetrationDepthSolver epa;
+    btGjkPairDetector gjk(a_.get(), b_.get(), &simplex, &epa);
+    btDiscreteCollisionDetectorInterface::ClosestPointInput in;
+    in.m_transformA.setIdentity();
+    in.m_transformB = btFrom(X_AB);
+    gjk.getClosestPoints(in, out, nullptr);
+  }
+
   std::unique_ptr<btConvexHullShape> a_, b_;
 };
 

@@ -382,44 +382,40 @@ void tickVirtual(benchmark::State& state, std::size_t bodies, std::size_t contac
   }
 }
 
+void registerAll() {
+  benchmark::RegisterBenchmark("Daemon/RoundTrip/Shm", roundTripShm)
+      ->Iterations(1)
+      ->Unit(benchmark::kSecond);
+  benchmark::RegisterBenchmark("Daemon/RoundTrip/Udp", roundTripUdp)
+      ->Iterations(1)
+      ->Unit(benchmark::kSecond);
+  struct Lists {
+    const char* name;
+    std::size_t bodies, contacts;
+    bool shm;
+  };
+  for (const Lists& l :
+       {Lists{"Bare", 0, 0, false},
+        Lists{"Lists64x32", kListBodiesForBench, kListContactsForBench, false},
+        Lists{"Lists4x2", 4, 2, false}, Lists{"Lists4x2Shm", 4, 2, true},
+        Lists{"Lists64x32Shm", kListBodiesForBench, kListContactsForBench, true}}) {
+    benchmark::RegisterBenchmark(("Daemon/Tick/Virtual/" + std::string(l.name)).c_str(),
+                                 tickVirtual, l.bodies, l.contacts, l.shm)
+        ->Iterations(1)
+        ->Unit(benchmark::kMillisecond);
+  }
+  for (const int rate_hz : {1000, 4000}) {
+    for (const bool fifo : {false, true}) {
+      const std::string name = "ServoLoop/RealClock/" + std::to_string(rate_hz) + "Hz/" +
+                               (fifo ? "SCHED_FIFO" : "SCHED_OTHER");
+      benchmark::RegisterBenchmark(name.c_str(), servoLoopRealClock, static_cast<double>(rate_hz),
+                                   fifo)
+          ->Iterations(1)
+          ->Unit(benchmark::kSecond);
+    }
+  }
+}
+
+const bool kRegistered = (registerAll(), true);
+
 }  // namespace
-
-BENCHMARK(roundTripShm)->Name("Daemon/RoundTrip/Shm")->Iterations(1)->Unit(benchmark::kSecond);
-BENCHMARK(roundTripUdp)->Name("Daemon/RoundTrip/Udp")->Iterations(1)->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(tickVirtual, Bare, 0, 0, false)
-    ->Name("Daemon/Tick/Virtual/Bare")
-    ->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(tickVirtual, Lists64x32, kListBodiesForBench, kListContactsForBench, false)
-    ->Name("Daemon/Tick/Virtual/Lists64x32")
-    ->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(tickVirtual, Lists4x2, 4, 2, false)
-    ->Name("Daemon/Tick/Virtual/Lists4x2")
-    ->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(tickVirtual, Lists4x2Shm, 4, 2, true)
-    ->Name("Daemon/Tick/Virtual/Lists4x2Shm")
-    ->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
-BENCHMARK_CAPTURE(tickVirtual, Lists64x32Shm, kListBodiesForBench, kListContactsForBench, true)
-    ->Name("Daemon/Tick/Virtual/Lists64x32Shm")
-    ->Iterations(1)
-    ->Unit(benchmark::kMillisecond);
-
-BENCHMARK_CAPTURE(servoLoopRealClock, 1000Hz / SCHED_OTHER, 1000.0, false)
-    ->Name("ServoLoop/RealClock/1000Hz/SCHED_OTHER")
-    ->Iterations(1)
-    ->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(servoLoopRealClock, 1000Hz / SCHED_FIFO, 1000.0, true)
-    ->Name("ServoLoop/RealClock/1000Hz/SCHED_FIFO")
-    ->Iterations(1)
-    ->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(servoLoopRealClock, 4000Hz / SCHED_OTHER, 4000.0, false)
-    ->Name("ServoLoop/RealClock/4000Hz/SCHED_OTHER")
-    ->Iterations(1)
-    ->Unit(benchmark::kSecond);
-BENCHMARK_CAPTURE(servoLoopRealClock, 4000Hz / SCHED_FIFO, 4000.0, true)
-    ->Name("ServoLoop/RealClock/4000Hz/SCHED_FIFO")
-    ->Iterations(1)
-    ->Unit(benchmark::kSecond);

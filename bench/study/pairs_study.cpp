@@ -115,18 +115,10 @@ double nowNs() {
 }
 
 void score(Row& row, const Wrench& truth, const Wrench& got, bool answered, double ns) {
-  row.force_err_n.push_back(glm::length(got.f - truth.f));
-  row.torque_err_nm.push_back(glm::length(got.t - truth.t));
-  row.time_ns.push_back(ns);
+  row.add(glm::length(got.f - truth.f), glm::length(got.t - truth.t), ns, truth.contact(),
+          got.contact());
   if (!answered)
     ++row.no_answer;
-  if (truth.contact()) {
-    ++row.truth_contacts;
-    if (!got.contact())
-      ++row.misses;
-  } else if (got.contact()) {
-    ++row.false_contacts;
-  }
 }
 
 struct Voxel {

@@ -77,17 +77,10 @@ bool run(const std::shared_ptr<const scene::SceneModel>& model,
 
 void scoreRun(Row& row, const std::vector<TickRecord>& truth, const std::vector<TickRecord>& got) {
   for (std::size_t k = 0; k < truth.size() && k < got.size(); ++k) {
-    row.force_err_n.push_back(glm::length(got[k].force - truth[k].force));
-    row.torque_err_nm.push_back(glm::length(got[k].torque - truth[k].torque));
-    row.time_ns.push_back(got[k].ns);
     const bool t = glm::dot(truth[k].contact_force, truth[k].contact_force) > 0.0;
     const bool g = glm::dot(got[k].contact_force, got[k].contact_force) > 0.0;
-    if (t)
-      ++row.truth_contacts;
-    if (t && !g)
-      ++row.misses;
-    if (!t && g)
-      ++row.false_contacts;
+    row.add(glm::length(got[k].force - truth[k].force),
+            glm::length(got[k].torque - truth[k].torque), got[k].ns, t, g);
   }
 }
 
@@ -215,17 +208,9 @@ void runScenes(const Options& options, std::vector<Row>& rows) {
         const auto f =
             voxel::force(map.value(), shell.value(), t.proxy.toTransform(), com(t.proxy), kp);
         const double ns = nowNs() - t0 - overhead;
-        row.force_err_n.push_back(glm::length(f.force_W - t.contact_force));
-        row.torque_err_nm.push_back(glm::length(f.torque_W - t.contact_torque));
-        row.time_ns.push_back(ns);
-        const bool tc = glm::dot(t.contact_force, t.contact_force) > 0.0;
-        const bool gc = f.points_in_contact > 0;
-        if (tc)
-          ++row.truth_contacts;
-        if (tc && !gc)
-          ++row.misses;
-        if (!tc && gc)
-          ++row.false_contacts;
+        row.add(glm::length(f.force_W - t.contact_force),
+                glm::length(f.torque_W - t.contact_torque), ns,
+                glm::dot(t.contact_force, t.contact_force) > 0.0, f.points_in_contact > 0);
       }
       rows.push_back(std::move(row));
     }

@@ -23,6 +23,20 @@ struct Row {
   std::uint64_t false_contacts = 0;   ///< truth free, method felt a force
   std::uint64_t no_answer = 0;        ///< the method returned no answer at all
   std::uint64_t truth_contacts = 0;   ///< configurations in contact by the truth
+
+  /// Adds one configuration: its errors, its time, whether the truth and the method were in
+  /// contact.
+  void add(double force_err, double torque_err, double ns, bool truth_contact, bool got_contact) {
+    force_err_n.push_back(force_err);
+    torque_err_nm.push_back(torque_err);
+    time_ns.push_back(ns);
+    if (truth_contact)
+      ++truth_contacts;
+    if (truth_contact && !got_contact)
+      ++misses;
+    if (!truth_contact && got_contact)
+      ++false_contacts;
+  }
 };
 
 /// mean, p99, max of a sample (0 for an empty one).
