@@ -5,6 +5,8 @@
 #include <cmath>
 #include <limits>
 
+#include "core/collision/clip.h"
+
 namespace hapticd::collision {
 namespace {
 
@@ -30,39 +32,11 @@ struct Polygon {
   }
 };
 
-// Sutherland-Hodgman: keeps the part of `in` with (x - o)·m >= -tol. The tolerance keeps an
-// overlap that has no area (two faces meeting along an edge, parallel edges lying in a face):
-// rounding would put its points on either side of the plane.
+// The part of `in` with (x - o)·m >= -tol (clip.h); `out` keeps `in`'s overflow flag.
 void clipPolygon(const Polygon& in, const Vec3& o, const Vec3& m, double tol, Polygon& out) {
   out.n = 0;
   out.overflow = in.overflow;
-  if (in.n == 0)
-    return;
-  if (in.n == 1) {
-    if (glm::dot(in.p[0] - o, m) + tol >= 0.0)
-      out.push(in.p[0]);
-    return;
-  }
-  const std::size_t count = in.n == 2 ? 1 : in.n;  // a segment is not closed
-  if (in.n == 2) {
-    const double s0 = glm::dot(in.p[0] - o, m) + tol, s1 = glm::dot(in.p[1] - o, m) + tol;
-    if (s0 >= 0.0)
-      out.push(in.p[0]);
-    if ((s0 >= 0.0) != (s1 >= 0.0))
-      out.push(in.p[0] + (in.p[1] - in.p[0]) * (s0 / (s0 - s1)));
-    if (s1 >= 0.0)
-      out.push(in.p[1]);
-    return;
-  }
-  for (std::size_t k = 0; k < count; ++k) {
-    const Vec3& a = in.p[k];
-    const Vec3& b = in.p[(k + 1) % in.n];
-    const double sa = glm::dot(a - o, m) + tol, sb = glm::dot(b - o, m) + tol;
-    if (sa >= 0.0)
-      out.push(a);
-    if ((sa >= 0.0) != (sb >= 0.0))
-      out.push(a + (b - a) * (sa / (sa - sb)));
-  }
+  detail::clipAgainstPlane(in, o, m, tol, out);
 }
 
 // A face seen in A's frame: plane and side planes.

@@ -114,6 +114,20 @@ void penetrating(const Polytope& a,
   r.manifold = manifoldFromDepth(a, b, X_AB, d);
 }
 
+// The normal, witnesses, closest features and manifold of `r` from the walk's answer `c`.
+inline void fromWalk(const Polytope& a,
+                     const Polytope& b,
+                     const Transform& X_AB,
+                     const ClosestResult& c,
+                     PairResult& r) {
+  r.normal = c.normal;
+  r.point_a = c.point_a;
+  r.point_b = c.point_b;
+  r.fa = c.fa;
+  r.fb = c.fb;
+  r.manifold = manifoldFromClosest(a, b, X_AB, c);
+}
+
 }  // namespace
 
 PairResult queryPair(const Polytope& a,
@@ -146,12 +160,7 @@ PairResult queryPair(const Polytope& a,
   if (c.end == WalkEnd::kConverged && c.distance > tol) {
     r.status = ContactStatus::kSeparated;
     r.distance = c.distance;
-    r.normal = c.normal;
-    r.point_a = c.point_a;
-    r.point_b = c.point_b;
-    r.fa = c.fa;
-    r.fb = c.fb;
-    r.manifold = manifoldFromClosest(a, b, X_AB, c);
+    fromWalk(a, b, X_AB, c, r);
     return r;
   }
   // touching, overlapping, or a walk that gave up: the separating-axis answer decides
@@ -165,14 +174,9 @@ PairResult queryPair(const Polytope& a,
     // touching: the walk's exact pair, the separating axis's normal
     r.status = ContactStatus::kTouching;
     r.distance = d.depth > 0.0 ? -d.depth : c.distance;
-    r.normal = d.normal;
-    r.point_a = c.point_a;
-    r.point_b = c.point_b;
-    r.fa = c.fa;
-    r.fb = c.fb;
     ClosestResult cn = c;
     cn.normal = d.normal;
-    r.manifold = manifoldFromClosest(a, b, X_AB, cn);
+    fromWalk(a, b, X_AB, cn, r);
     return r;
   }
   if (d.depth >= 0.0) {

@@ -6,6 +6,7 @@
 #include <limits>
 #include <vector>
 
+#include "core/collision/clip.h"
 #include "core/collision/segment.h"
 
 namespace hapticd::collision {
@@ -47,18 +48,7 @@ void clipWitness(const WitnessPolygon& in,
                  double tol,
                  WitnessPolygon& out) {
   out.n = 0;
-  const std::size_t edges = in.n == 2 ? 1 : in.n;
-  for (std::size_t k = 0; k < edges; ++k) {
-    const Vec3& x = in.p[k];
-    const Vec3& y = in.p[(k + 1) % in.n];
-    const double sx = glm::dot(x - o, m) + tol, sy = glm::dot(y - o, m) + tol;
-    if (sx >= 0.0)
-      out.push(x);
-    if ((sx >= 0.0) != (sy >= 0.0))
-      out.push(x + (y - x) * (sx / (sx - sy)));
-  }
-  if (in.n == 2 && glm::dot(in.p[1] - o, m) + tol >= 0.0)
-    out.push(in.p[1]);
+  detail::clipAgainstPlane(in, o, m, tol, out);
   if (in.n == 1 && glm::dot(in.p[0] - o, m) + tol >= 0.0)
     out.push(in.p[0]);
 }
@@ -335,13 +325,6 @@ DepthScratch& DepthScratch::forThisThread() {
 DepthResult penetrationDepthExact(const Polytope& a,
                                   const Polytope& b,
                                   const Transform& X_AB,
-                                  DepthCache& cache) {
-  return penetrationDepthExact(a, b, X_AB, cache, DepthScratch::forThisThread());
-}
-
-DepthResult penetrationDepthExact(const Polytope& a,
-                                  const Polytope& b,
-                                  const Transform& X_AB,
                                   DepthCache& cache,
                                   DepthScratch& scratch) {
   const Transform X_BA = X_AB.inverse();
@@ -371,13 +354,6 @@ DepthResult penetrationDepthExact(const Polytope& a,
   cache.ia = s.best.ia;
   cache.ib = s.best.ib;
   return s.best;
-}
-
-DepthResult penetrationDepth(const Polytope& a,
-                             const Polytope& b,
-                             const Transform& X_AB,
-                             DepthCache& cache) {
-  return penetrationDepth(a, b, X_AB, cache, DepthScratch::forThisThread());
 }
 
 DepthResult penetrationDepth(const Polytope& a,

@@ -18,7 +18,7 @@
 /// Memory: EPA works in fixed arrays on the stack. The exact method needs per-face scratch; the
 /// caller owns it (DepthScratch), sized before the first query for the largest polytope it will
 /// meet (a CollisionWorld keeps one, sized as bodies are added), after which no query allocates.
-/// The overloads without a scratch use the calling thread's (DepthScratch::forThisThread), which
+/// Called without a scratch they use the calling thread's (DepthScratch::forThisThread), which
 /// grows, allocating, the first time a larger polytope comes: for tools and tests, not for the
 /// servo thread.
 
@@ -58,7 +58,7 @@ struct DepthScratch {
   /// Room for polytopes of up to `faces` faces (grows only).
   void reserve(std::size_t faces);
   std::size_t faces() const { return std::min(support_of_face.size(), neg_normal_b.size()); }
-  /// The calling thread's scratch (the overloads without one use it): it grows to the largest
+  /// The calling thread's scratch (the default of the queries' `scratch`): it grows to the largest
   /// polytope this thread has queried, allocating when it grows.
   static DepthScratch& forThisThread();
 };
@@ -80,17 +80,12 @@ struct DepthResult {
 
 /// Exact MTD by separating axes. O(FA + FB + EA * EB) worst case. Updates `cache`. No
 /// allocation when `scratch` holds the faces of both polytopes (else it grows: allocates); any
-/// thread that owns `scratch`.
+/// thread that owns `scratch` (by default the calling thread's: not for the servo thread).
 DepthResult penetrationDepthExact(const Polytope& a,
                                   const Polytope& b,
                                   const Transform& X_AB,
                                   DepthCache& cache,
-                                  DepthScratch& scratch);
-/// The same with the calling thread's scratch (allocates when it grows; not for the servo thread).
-DepthResult penetrationDepthExact(const Polytope& a,
-                                  const Polytope& b,
-                                  const Transform& X_AB,
-                                  DepthCache& cache);
+                                  DepthScratch& scratch = DepthScratch::forThisThread());
 
 /// The MTD by GJK and EPA on A - B with climbed supports, started from last tick's direction.
 /// Returns false, changing nothing the caller relies on, when it cannot certify its answer (the
@@ -104,17 +99,13 @@ bool penetrationDepthEpa(const Polytope& a,
 
 /// The MTD: penetrationDepthEpa when it certifies its answer (hulls with more than 4096 edge
 /// pairs), else penetrationDepthExact with `scratch`. No allocation when `scratch` holds the faces
-/// of both polytopes; any thread that owns it.
+/// of both polytopes; any thread that owns it (by default the calling thread's: not for the servo
+/// thread).
 DepthResult penetrationDepth(const Polytope& a,
                              const Polytope& b,
                              const Transform& X_AB,
                              DepthCache& cache,
-                             DepthScratch& scratch);
-/// The same with the calling thread's scratch (allocates when it grows; not for the servo thread).
-DepthResult penetrationDepth(const Polytope& a,
-                             const Polytope& b,
-                             const Transform& X_AB,
-                             DepthCache& cache);
+                             DepthScratch& scratch = DepthScratch::forThisThread());
 
 /// Translation distance along unit `dir` (A's frame) that B must move so the pair stops
 /// overlapping: max over A of dot(dir, x) - min over B of dot(dir, x) (negative when already
