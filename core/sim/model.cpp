@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <utility>
 
 #include "core/dynamics/scene_world.h"
 
@@ -19,52 +20,49 @@ bool finitePositive(double v) {
   return std::isfinite(v) && v > 0.0;
 }
 
-// the checks of ResponseOptions and SimOptions; the message names the config key (the table's
-// name: daemon/config_keys.cpp)
+bool finiteNonNegative(double v) {
+  return std::isfinite(v) && v >= 0.0;
+}
+
+// the checks of ResponseOptions and SimOptions, in order: the first that fails is the error; the
+// message names the config key (the table's name: daemon/config_keys.cpp)
 Result<bool> checkOptions(const SimOptions& o) {
   const ResponseOptions& r = o.response;
-  if (!finitePositive(r.stiffness_n_per_m))
-    return Error{"[response] stiffness_n_per_m must be > 0"};
-  if (!finitePositive(r.tick_s))
-    return Error{"[response] tick_s (0: 1 / [servo] rate_hz) must give a tick > 0"};
-  if (!finitePositive(r.max_force_n))
-    return Error{"[device] max_force_n must be > 0"};
-  if (!finitePositive(r.max_torque_nm))
-    return Error{"[device] max_torque_nm must be > 0"};
-  if (!finitePositive(r.max_force_step_n))
-    return Error{"[device] max_force_step_n must be > 0"};
-  if (!finitePositive(r.max_torque_step_nm))
-    return Error{"[device] max_torque_step_nm must be > 0"};
-  if (!std::isfinite(r.ramp_s) || r.ramp_s < 0.0)
-    return Error{"[servo] ramp_in_s must be >= 0"};
-  if (!finitePositive(r.max_speed_m_per_s))
-    return Error{"[response] max_speed_m_per_s must be > 0"};
-  if (!std::isfinite(r.speed_decay_s) || r.speed_decay_s < 0.0)
-    return Error{"[response] speed_decay_s must be >= 0"};
-  if (!std::isfinite(r.min_predictive_fraction) || r.min_predictive_fraction <= 0.0 ||
-      r.min_predictive_fraction > 1.0)
-    return Error{"[response] min_predictive_fraction must be in (0, 1]"};
-  if (!std::isfinite(r.proxy_stiffness_ratio) || r.proxy_stiffness_ratio <= 1.0)
-    return Error{"[response] proxy_stiffness_ratio must be > 1"};
-  if (!std::isfinite(r.coupling_damping_factor) || r.coupling_damping_factor < 0.0)
-    return Error{"[response] coupling_damping_factor must be >= 0"};
-  if (!std::isfinite(r.rot_stiffness_nm_per_rad) || r.rot_stiffness_nm_per_rad < 0.0)
-    return Error{"[response] rot_stiffness_nm_per_rad must be >= 0"};
-  if (!finitePositive(r.penetration_allowance_m))
-    return Error{"[response] penetration_allowance_m must be > 0"};
-  if (!std::isfinite(r.crease_angle_deg) || r.crease_angle_deg < 0.0 || r.crease_angle_deg >= 90.0)
-    return Error{"[response] crease_angle_deg must be in [0, 90)"};
-  if (!std::isfinite(r.dynamic_backstop_fraction) || r.dynamic_backstop_fraction < 0.0 ||
-      r.dynamic_backstop_fraction > 1.0)
-    return Error{"[response] dynamic_backstop_fraction must be in [0, 1]"};
-  if (!std::isfinite(o.dynamics_impulse_window_s) || o.dynamics_impulse_window_s < 0.0)
-    return Error{"[response] impulse_window_s must be >= 0"};
-  if (!std::isfinite(o.dynamics_sleep_time_s) || o.dynamics_sleep_time_s < 0.0)
-    return Error{"[response] dynamics_sleep_time_s must be >= 0"};
-  if (!std::isfinite(r.attach_distance_m) || r.attach_distance_m < 0.0)
-    return Error{"[response] attach_distance_m must be >= 0"};
-  if (!std::isfinite(r.grab_inertia_filter_s) || r.grab_inertia_filter_s < 0.0)
-    return Error{"[response] grab_inertia_filter_s must be >= 0"};
+  const double fraction = r.min_predictive_fraction;
+  const double crease = r.crease_angle_deg;
+  const double backstop = r.dynamic_backstop_fraction;
+  const std::pair<bool, const char*> checks[] = {
+      {finitePositive(r.stiffness_n_per_m), "[response] stiffness_n_per_m must be > 0"},
+      {finitePositive(r.tick_s), "[response] tick_s (0: 1 / [servo] rate_hz) must give a tick > 0"},
+      {finitePositive(r.max_force_n), "[device] max_force_n must be > 0"},
+      {finitePositive(r.max_torque_nm), "[device] max_torque_nm must be > 0"},
+      {finitePositive(r.max_force_step_n), "[device] max_force_step_n must be > 0"},
+      {finitePositive(r.max_torque_step_nm), "[device] max_torque_step_nm must be > 0"},
+      {finiteNonNegative(r.ramp_s), "[servo] ramp_in_s must be >= 0"},
+      {finitePositive(r.max_speed_m_per_s), "[response] max_speed_m_per_s must be > 0"},
+      {finiteNonNegative(r.speed_decay_s), "[response] speed_decay_s must be >= 0"},
+      {std::isfinite(fraction) && fraction > 0.0 && fraction <= 1.0,
+       "[response] min_predictive_fraction must be in (0, 1]"},
+      {std::isfinite(r.proxy_stiffness_ratio) && r.proxy_stiffness_ratio > 1.0,
+       "[response] proxy_stiffness_ratio must be > 1"},
+      {finiteNonNegative(r.coupling_damping_factor),
+       "[response] coupling_damping_factor must be >= 0"},
+      {finiteNonNegative(r.rot_stiffness_nm_per_rad),
+       "[response] rot_stiffness_nm_per_rad must be >= 0"},
+      {finitePositive(r.penetration_allowance_m), "[response] penetration_allowance_m must be > 0"},
+      {std::isfinite(crease) && crease >= 0.0 && crease < 90.0,
+       "[response] crease_angle_deg must be in [0, 90)"},
+      {std::isfinite(backstop) && backstop >= 0.0 && backstop <= 1.0,
+       "[response] dynamic_backstop_fraction must be in [0, 1]"},
+      {finiteNonNegative(o.dynamics_impulse_window_s), "[response] impulse_window_s must be >= 0"},
+      {finiteNonNegative(o.dynamics_sleep_time_s), "[response] dynamics_sleep_time_s must be >= 0"},
+      {finiteNonNegative(r.attach_distance_m), "[response] attach_distance_m must be >= 0"},
+      {finiteNonNegative(r.grab_inertia_filter_s), "[response] grab_inertia_filter_s must be >= 0"},
+  };
+  for (const auto& [ok, message] : checks) {
+    if (!ok)
+      return Error{message};
+  }
   return true;
 }
 

@@ -78,6 +78,22 @@ ShapeDistance shapeDistance(const Polytope& p, const Vec3& x) {
   return best;
 }
 
+// The inputs of `what` ("voxel map", "point shell"): some shapes to `verb`, and a step
+// (`step_name`, "the voxel size") positive and finite.
+Result<bool> checkSampling(std::span<const PlacedShape> shapes,
+                           double step,
+                           const char* what,
+                           const char* verb,
+                           const char* step_name) {
+  if (shapes.empty())
+    return Error{std::string(what) + ": no shape to " + verb};
+  if (!(step > 0.0) || !std::isfinite(step)) {
+    return Error{std::string(what) + ": " + step_name + " must be positive and finite, not " +
+                 std::to_string(step)};
+  }
+  return true;
+}
+
 }  // namespace
 
 SignedDistance signedDistance(std::span<const PlacedShape> shapes, const Vec3& p_W) {
@@ -96,12 +112,8 @@ SignedDistance signedDistance(std::span<const PlacedShape> shapes, const Vec3& p
 Result<VoxelMap> VoxelMap::build(std::span<const PlacedShape> shapes,
                                  double voxel_size,
                                  std::uint64_t max_voxels) {
-  if (shapes.empty())
-    return Error{"voxel map: no shape to voxelise"};
-  if (!(voxel_size > 0.0) || !std::isfinite(voxel_size)) {
-    return Error{"voxel map: the voxel size must be positive and finite, not " +
-                 std::to_string(voxel_size)};
-  }
+  if (auto ok = checkSampling(shapes, voxel_size, "voxel map", "voxelise", "the voxel size"); !ok)
+    return ok.error();
   Vec3 lo(kInf), hi(-kInf);
   for (const auto& s : shapes) {
     for (const auto& v : s.shape->vertices()) {
@@ -241,12 +253,8 @@ VoxelMap::Cell VoxelMap::lookup(const Vec3& p_W, Vec3* centre_W, Vec3* normal_W)
 Result<PointShell> makePointShell(std::span<const PlacedShape> shapes,
                                   double spacing,
                                   std::size_t max_points) {
-  if (shapes.empty())
-    return Error{"point shell: no shape to sample"};
-  if (!(spacing > 0.0) || !std::isfinite(spacing)) {
-    return Error{"point shell: the spacing must be positive and finite, not " +
-                 std::to_string(spacing)};
-  }
+  if (auto ok = checkSampling(shapes, spacing, "point shell", "sample", "the spacing"); !ok)
+    return ok.error();
   PointShell shell;
   // a point on one shape's surface inside another shape of the body is not on the body's surface
   const auto keep = [&](std::size_t self, const Vec3& p_B) {
