@@ -97,6 +97,18 @@ void putTickFigures(const ServoState& st, const DurationHistogram& compute, Mess
   m.state_flags = wireStateFlags(st);
 }
 
+// The address `text` of the config key `key` parses; one other hosts can reach needs the key file.
+Result<bool> checkListenAddress(const char* key, const std::string& text, bool has_key_file) {
+  auto address = proto::parseAddress(text);
+  if (!address)
+    return Error{std::string(key) + ": " + address.error().message};
+  if (!address.value().isLoopback() && !has_key_file)
+    return Error{std::string(key) + ": " + address.value().toString() +
+                 " is not a loopback address and [network] key_file is not set: set key_file "
+                 "(64 hex digits) to serve other hosts"};
+  return true;
+}
+
 }  // namespace
 
 Result<proto::ServerConfig> serverConfigOf(const Config& c) {
@@ -120,13 +132,9 @@ Result<proto::ServerConfig> serverConfigOf(const Config& c) {
       return Error{"[network] key_file '" + c.network.key_file + "': " + why};
     cfg.key = *key;
   }
-  auto address = proto::parseAddress(c.network.udp);
-  if (!address)
-    return Error{"[network] udp: " + address.error().message};
-  if (!address.value().isLoopback() && !cfg.key)
-    return Error{"[network] udp: " + address.value().toString() +
-                 " is not a loopback address and [network] key_file is not set: set key_file "
-                 "(64 hex digits) to serve other hosts"};
+  if (auto listen = checkListenAddress("[network] udp", c.network.udp, cfg.key.has_value());
+      !listen)
+    return listen.error();
   return cfg;
 }
 
@@ -142,13 +150,8 @@ Result<web::WebServerConfig> webConfigOf(const Config& c) {
   w.max_state_rate_hz = udp.value().max_state_rate_hz;
   w.tick_rate_hz = udp.value().tick_rate_hz;
   w.max_scene_bytes = proto::UploadLimits{}.max_scene_bytes;
-  auto address = proto::parseAddress(c.web.listen);
-  if (!address)
-    return Error{"[web] listen: " + address.error().message};
-  if (!address.value().isLoopback() && !w.key)
-    return Error{"[web] listen: " + address.value().toString() +
-                 " is not a loopback address and [network] key_file is not set: set key_file "
-                 "(64 hex digits) to serve other hosts"};
+  if (auto listen = checkListenAddress("[web] listen", c.web.listen, w.key.has_value()); !listen)
+    return listen.error();
   namespace fs = std::filesystem;
   std::error_code ec;
   if (!c.web.root.empty()) {

@@ -3,7 +3,8 @@
 #include <libusb-1.0/libusb.h>
 
 #include <algorithm>
-#include <cstring>
+#include <array>
+#include <span>
 
 #include "daemon/device/falcon_firmware.h"
 #include "daemon/device/usb_device.h"
@@ -34,6 +35,34 @@ int stripFtdiStatus(const std::uint8_t* raw, int got, std::span<std::uint8_t> bu
   return static_cast<int>(out);
 }
 
+// One bulk read of FTDI packets into `raw`, their data into `buf`: the bytes written (0 on a
+// timeout), -1 on a failure. No allocation (the servo thread's transport and the loader use it).
+int readFtdi(libusb_device_handle* h,
+             std::span<std::uint8_t, kFtdiPacket> raw,
+             std::span<std::uint8_t> buf,
+             unsigned timeout_ms) noexcept {
+  int got = 0;
+  const int rc = libusb_bulk_transfer(h, kEndpointIn, raw.data(), static_cast<int>(raw.size()),
+                                      &got, timeout_ms);
+  if (rc != 0 && rc != LIBUSB_ERROR_TIMEOUT)
+    return -1;
+  return stripFtdiStatus(raw.data(), got, buf);
+}
+
+// One bulk write of up to 64 bytes of `bytes` through `out`: the bytes sent (a timeout may send
+// fewer), -1 on a failure. No allocation.
+int writeFtdi(libusb_device_handle* h,
+              std::span<std::uint8_t, 64> out,
+              std::span<const std::uint8_t> bytes,
+              unsigned timeout_ms) noexcept {
+  const std::size_t n = std::min(bytes.size(), out.size());
+  std::copy_n(bytes.begin(), n, out.begin());
+  int sent = 0;
+  const int rc =
+      libusb_bulk_transfer(h, kEndpointOut, out.data(), static_cast<int>(n), &sent, timeout_ms);
+  return rc == 0 || rc == LIBUSB_ERROR_TIMEOUT ? sent : -1;
+}
+
 class LibusbTransport final : public UsbTransport {
  public:
   explicit LibusbTransport(libusb_device_handle* h) : h_(h) {}
@@ -42,22 +71,10 @@ class LibusbTransport final : public UsbTransport {
     libusb_close(h_);
   }
   int read(std::span<std::uint8_t> buf) noexcept override {
-    int got = 0;
-    const int rc = libusb_bulk_transfer(h_, kEndpointIn, raw_.data(), static_cast<int>(raw_.size()),
-                                        &got, kBulkReadTimeout_ms);
-    if (rc != 0 && rc != LIBUSB_ERROR_TIMEOUT)
-      return -1;
-    return stripFtdiStatus(raw_.data(), got, buf);
+    return readFtdi(h_, raw_, buf, kBulkReadTimeout_ms);
   }
   int write(std::span<const std::uint8_t> bytes) noexcept override {
-    int sent = 0;
-    std::memcpy(out_.data(), bytes.data(), std::min(bytes.size(), out_.size()));
-    const int rc = libusb_bulk_transfer(h_, kEndpointOut, out_.data(),
-                                        static_cast<int>(std::min(bytes.size(), out_.size())),
-                                        &sent, kBulkWriteTimeout_ms);
-    if (rc != 0 && rc != LIBUSB_ERROR_TIMEOUT)
-      return -1;
-    return sent;
+    return writeFtdi(h_, out_, bytes, kBulkWriteTimeout_ms);
   }
 
  private:
@@ -76,21 +93,11 @@ class BlockingLink final : public falcon::FtdiLink {
   }
   int write(std::span<const std::uint8_t> bytes, unsigned timeout_ms) override {
     std::array<std::uint8_t, 64> out{};
-    const std::size_t n = std::min(bytes.size(), out.size());
-    std::copy_n(bytes.begin(), n, out.begin());
-    int sent = 0;
-    const int rc =
-        libusb_bulk_transfer(h_, kEndpointOut, out.data(), static_cast<int>(n), &sent, timeout_ms);
-    return rc == 0 || rc == LIBUSB_ERROR_TIMEOUT ? sent : -1;
+    return writeFtdi(h_, out, bytes, timeout_ms);
   }
   int read(std::span<std::uint8_t> buf, unsigned timeout_ms) override {
     std::array<std::uint8_t, kFtdiPacket> raw{};
-    int got = 0;
-    const int rc = libusb_bulk_transfer(h_, kEndpointIn, raw.data(), static_cast<int>(raw.size()),
-                                        &got, timeout_ms);
-    if (rc != 0 && rc != LIBUSB_ERROR_TIMEOUT)
-      return -1;
-    return stripFtdiStatus(raw.data(), got, buf);
+    return readFtdi(h_, raw, buf, timeout_ms);
   }
 
  private:

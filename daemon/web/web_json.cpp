@@ -61,6 +61,20 @@ bool numbersOf(const json& message,
   return true;
 }
 
+// The members a state and a status share, appended to `j` in this order: the servo's recent
+// compute times and misses, the faults and the armed and streaming flags (proto::State and
+// proto::StatusReply name them alike).
+template <class Message>
+void appendServoHealth(json& j, const Message& m, const FaultNames& names) {
+  j["tick_p50_ns"] = m.tick_p50_ns;
+  j["tick_p99_ns"] = m.tick_p99_ns;
+  j["tick_max_ns"] = m.tick_max_ns;
+  j["tick_misses"] = m.tick_misses;
+  j["faults"] = faultList(m.fault_bits, names);
+  j["armed"] = (m.state_flags & proto::kStateArmed) != 0;
+  j["streaming"] = (m.state_flags & proto::kStateStreaming) != 0;
+}
+
 }  // namespace
 
 json stateJson(const proto::State& s, const FaultNames& names) {
@@ -84,42 +98,31 @@ json stateJson(const proto::State& s, const FaultNames& names) {
             {"max_penetration", s.max_penetration_m},
             {"pairs_tested", s.pairs_tested},
             {"pairs_skipped", s.pairs_skipped},
-            {"tick_ns", s.tick_ns},
-            {"tick_p50_ns", s.tick_p50_ns},
-            {"tick_p99_ns", s.tick_p99_ns},
-            {"tick_max_ns", s.tick_max_ns},
-            {"tick_misses", s.tick_misses},
-            {"faults", faultList(s.fault_bits, names)},
-            {"armed", (s.state_flags & proto::kStateArmed) != 0},
-            {"streaming", (s.state_flags & proto::kStateStreaming) != 0},
-            {"ramping", (s.state_flags & proto::kStateRamping) != 0},
-            {"last_sequence", s.last_command_sequence}};
+            {"tick_ns", s.tick_ns}};
+  appendServoHealth(j, s, names);
+  j["ramping"] = (s.state_flags & proto::kStateRamping) != 0;
+  j["last_sequence"] = s.last_command_sequence;
   return j;
 }
 
 json statusJson(const proto::StatusReply& r, const FaultNames& names) {
-  return {{"type", "status"},
-          {"device", r.device},
-          {"scene", r.scene},
-          {"plan", r.plan},
-          {"uptime_s", static_cast<double>(r.uptime_ns) * 1e-9},
-          {"ticks", r.ticks},
-          {"tick_rate_hz", r.tick_rate_hz},
-          {"measured_tick_hz", r.measured_tick_hz},
-          {"tick_p50_ns", r.tick_p50_ns},
-          {"tick_p99_ns", r.tick_p99_ns},
-          {"tick_max_ns", r.tick_max_ns},
-          {"tick_misses", r.tick_misses},
-          {"faults", faultList(r.fault_bits, names)},
-          {"armed", (r.state_flags & proto::kStateArmed) != 0},
-          {"streaming", (r.state_flags & proto::kStateStreaming) != 0},
-          {"commands_accepted", r.commands_accepted},
-          {"commands_dropped", r.commands_dropped},
-          {"edit_batches_applied", r.edit_batches_applied},
-          {"edit_batches_dropped", r.edit_batches_dropped},
-          {"edits_applied", r.edits_applied},
-          {"edits_refused", r.edits_refused},
-          {"shm", r.shm_name}};
+  json j = {{"type", "status"},
+            {"device", r.device},
+            {"scene", r.scene},
+            {"plan", r.plan},
+            {"uptime_s", static_cast<double>(r.uptime_ns) * 1e-9},
+            {"ticks", r.ticks},
+            {"tick_rate_hz", r.tick_rate_hz},
+            {"measured_tick_hz", r.measured_tick_hz}};
+  appendServoHealth(j, r, names);
+  j.update(json{{"commands_accepted", r.commands_accepted},
+                {"commands_dropped", r.commands_dropped},
+                {"edit_batches_applied", r.edit_batches_applied},
+                {"edit_batches_dropped", r.edit_batches_dropped},
+                {"edits_applied", r.edits_applied},
+                {"edits_refused", r.edits_refused},
+                {"shm", r.shm_name}});  // appended in this order (ordered_json)
+  return j;
 }
 
 std::optional<proto::WirePose> poseOf(const json& message, std::string* error) {
