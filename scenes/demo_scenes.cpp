@@ -49,6 +49,50 @@ Json boxShape(const Vec3& size) {
   return {{"type", "box"}, {"box", {{"size", jsonVec(size)}}}};
 }
 
+/// A box's implicit shape and its render mesh `name`, shared by the nodes that use them.
+struct Box {
+  int shape = 0;
+  int mesh = 0;
+};
+Box addBox(GltfBuilder& b, const std::string& name, const Vec3& size, int colour) {
+  const int shape = b.addShape(boxShape(size));
+  return {shape, b.addMesh(name, boxMesh(size), colour)};
+}
+
+/// A dynamic root node `name` of `box` at `translation` with mass `mass_kg` (the loader computes
+/// its inertia); its collider is the box's shape, with physics material `material` (-1: none).
+void addDynamicBox(GltfBuilder& b,
+                   const std::string& name,
+                   const Box& box,
+                   const Json& translation,
+                   double mass_kg,
+                   int material = -1) {
+  const int n = b.addNode({{"name", name},
+                           {"mesh", box.mesh},
+                           {"translation", translation},
+                           {"extensions", physics({{"motion", {{"mass", quantize(mass_kg)}}}})}});
+  shapeCollider(b, n, box.shape, material);
+  b.addRoot(n);
+}
+
+/// The static floor "Floor": a box of `size` (20 mm thick) whose top is at y = 0, with a box
+/// collider of physics material `material` (-1: none).
+void addFloor(GltfBuilder& b, const Vec3& size, int colour, int material = -1) {
+  const Box floor = addBox(b, "Floor", size, colour);
+  const int node = b.addNode(
+      {{"name", "Floor"}, {"mesh", floor.mesh}, {"translation", jsonVec({0.0, -0.01, 0.0})}});
+  shapeCollider(b, node, floor.shape, material);
+  b.addRoot(node);
+}
+
+/// The lowest y of a mesh's positions, or 0 when none is below 0.
+double lowestY(const MeshData& mesh) {
+  double min_y = 0.0;
+  for (const Vec3& p : mesh.positions)
+    min_y = std::min(min_y, p.y);
+  return min_y;
+}
+
 std::string numbered(const char* prefix, int i) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%s%d", prefix, i);
@@ -190,26 +234,13 @@ std::vector<std::uint8_t> makeDynamic() {
                                             {"dynamicFriction", 0.3},
                                             {"restitution", 0.5}});
 
-  // floor: 1 m x 1 m, 20 mm thick, top at y = 0
-  const Vec3 floor_size{1.0, 0.02, 1.0};
-  const int floor_shape = b.addShape(boxShape(floor_size));
-  const int floor_mesh = b.addMesh("Floor", boxMesh(floor_size), floor_colour);
-  const int floor_node = b.addNode(
-      {{"name", "Floor"}, {"mesh", floor_mesh}, {"translation", jsonVec({0.0, -0.01, 0.0})}});
-  shapeCollider(b, floor_node, floor_shape, floor_mat);
-  b.addRoot(floor_node);
+  addFloor(b, {1.0, 0.02, 1.0}, floor_colour, floor_mat);  // 1 m x 1 m
 
-  const Vec3 cube_size{kCubeSide_m, kCubeSide_m, kCubeSide_m};
-  const int cube_shape = b.addShape(boxShape(cube_size));
-  const int cube_mesh = b.addMesh("Cube", boxMesh(cube_size), red);
+  const Box cube = addBox(b, "Cube", {kCubeSide_m, kCubeSide_m, kCubeSide_m}, red);
   for (int i = 0; i < 4; ++i) {
-    const int n =
-        b.addNode({{"name", numbered("Cube", i)},
-                   {"mesh", cube_mesh},
-                   {"translation", jsonVec({kRowX_m[i], 0.5 * kCubeSide_m + kDropGap_m, kCubeZ_m})},
-                   {"extensions", physics({{"motion", {{"mass", quantize(kCubeMass_kg)}}}})}});
-    shapeCollider(b, n, cube_shape, wood);
-    b.addRoot(n);
+    addDynamicBox(b, numbered("Cube", i), cube,
+                  jsonVec({kRowX_m[i], 0.5 * kCubeSide_m + kDropGap_m, kCubeZ_m}), kCubeMass_kg,
+                  wood);
   }
 
   // the spheres share one mesh and the ellipsoids another; each node's collider is the hull of
@@ -217,15 +248,12 @@ std::vector<std::uint8_t> makeDynamic() {
   const MeshData sphere = icosphereMesh(Vec3{kSphereRadius_m}, 2);
   const double sphere_inertia = 0.4 * kSphereMass_kg * kSphereRadius_m * kSphereRadius_m;
   const int sphere_mesh = b.addMesh("Sphere", sphere, green);
+  const double sphere_min_y = lowestY(sphere);
   for (int i = 0; i < 4; ++i) {
-    const int mesh = sphere_mesh;
-    double min_y = 0.0;
-    for (const Vec3& p : sphere.positions)
-      min_y = std::min(min_y, p.y);
     const int n = b.addNode(
         {{"name", numbered("Sphere", i)},
-         {"mesh", mesh},
-         {"translation", jsonVec({kRowX_m[i], -min_y + kDropGap_m, kSphereZ_m})},
+         {"mesh", sphere_mesh},
+         {"translation", jsonVec({kRowX_m[i], -sphere_min_y + kDropGap_m, kSphereZ_m})},
          {"extensions", physics({{"motion",
                                   {{"mass", quantize(kSphereMass_kg)},
                                    {"inertiaDiagonal", jsonVec(Vec3{sphere_inertia})}}}})}});
@@ -236,18 +264,15 @@ std::vector<std::uint8_t> makeDynamic() {
   const MeshData ellipsoid =
       icosphereMesh({kEllipsoidRadii_m[0], kEllipsoidRadii_m[1], kEllipsoidRadii_m[2]}, 2);
   const int ellipsoid_mesh = b.addMesh("Ellipsoid", ellipsoid, blue);
+  const double ellipsoid_min_y = lowestY(ellipsoid);
   for (int i = 0; i < 4; ++i) {
-    const int mesh = ellipsoid_mesh;
-    double min_y = 0.0;
-    for (const Vec3& p : ellipsoid.positions)
-      min_y = std::min(min_y, p.y);
     // turned about Y by 0, 30, 60, 90 degrees; mass and inertia left to the loader
-    const int n =
-        b.addNode({{"name", numbered("Ellipsoid", i)},
-                   {"mesh", mesh},
-                   {"translation", jsonVec({kRowX_m[i], -min_y + kDropGap_m, kEllipsoidZ_m})},
-                   {"rotation", jsonQuatAxisAngle({0.0, 1.0, 0.0}, i * kPi / 6.0)},
-                   {"extensions", physics({{"motion", Json::object()}})}});
+    const int n = b.addNode(
+        {{"name", numbered("Ellipsoid", i)},
+         {"mesh", ellipsoid_mesh},
+         {"translation", jsonVec({kRowX_m[i], -ellipsoid_min_y + kDropGap_m, kEllipsoidZ_m})},
+         {"rotation", jsonQuatAxisAngle({0.0, 1.0, 0.0}, i * kPi / 6.0)},
+         {"extensions", physics({{"motion", Json::object()}})}});
     meshCollider(b, n, plastic);
     b.addRoot(n);
   }
@@ -270,17 +295,10 @@ std::vector<std::uint8_t> makeStress() {
   const int orange = b.addRenderMaterial("block", {0.95, 0.55, 0.15, 1.0}, 0.0, 0.6);
   const int white = b.addRenderMaterial("sweeper", {0.95, 0.95, 0.95, 1.0}, 0.0, 0.3);
 
-  const Vec3 floor_size{1.2, 0.02, 1.2};
-  const int floor_shape = b.addShape(boxShape(floor_size));
-  const int floor_mesh = b.addMesh("Floor", boxMesh(floor_size), floor_colour);
-  const int floor_node = b.addNode(
-      {{"name", "Floor"}, {"mesh", floor_mesh}, {"translation", jsonVec({0.0, -0.01, 0.0})}});
-  shapeCollider(b, floor_node, floor_shape);
-  b.addRoot(floor_node);
+  addFloor(b, {1.2, 0.02, 1.2}, floor_colour);
 
-  const Vec3 pillar_size{kPillarSize_m[0], kPillarSize_m[1], kPillarSize_m[2]};
-  const int pillar_shape = b.addShape(boxShape(pillar_size));
-  const int pillar_mesh = b.addMesh("Pillar", boxMesh(pillar_size), grey);
+  const Box pillar =
+      addBox(b, "Pillar", {kPillarSize_m[0], kPillarSize_m[1], kPillarSize_m[2]}, grey);
   const int field = b.addNode({{"name", "Field"}});
   b.addRoot(field);
   for (int i = 0; i < kGrid; ++i) {
@@ -288,28 +306,21 @@ std::vector<std::uint8_t> makeStress() {
       char name[32];
       std::snprintf(name, sizeof name, "Pillar_%02d_%02d", i, j);
       const int n = b.addNode({{"name", name},
-                               {"mesh", pillar_mesh},
+                               {"mesh", pillar.mesh},
                                {"translation", jsonVec({pillarCoordinate(i), 0.5 * kPillarSize_m[1],
                                                         pillarCoordinate(j)})}});
-      shapeCollider(b, n, pillar_shape);
+      shapeCollider(b, n, pillar.shape);
       b.addChild(field, n);
     }
   }
 
-  const Vec3 block_size{kBlockSide_m, kBlockSide_m, kBlockSide_m};
-  const int block_shape = b.addShape(boxShape(block_size));
-  const int block_mesh = b.addMesh("Block", boxMesh(block_size), orange);
+  const Box block = addBox(b, "Block", {kBlockSide_m, kBlockSide_m, kBlockSide_m}, orange);
   for (int i = 0; i < kBlocksPerSide; ++i) {
     for (int j = 0; j < kBlocksPerSide; ++j) {
-      const int n =
-          b.addNode({{"name", numbered("Block", i * kBlocksPerSide + j)},
-                     {"mesh", block_mesh},
-                     {"translation",
-                      jsonVec({blockCoordinate(i), kPillarSize_m[1] + 0.5 * kBlockSide_m + 0.001,
-                               blockCoordinate(j)})},
-                     {"extensions", physics({{"motion", {{"mass", quantize(kBlockMass_kg)}}}})}});
-      shapeCollider(b, n, block_shape);
-      b.addRoot(n);
+      addDynamicBox(b, numbered("Block", i * kBlocksPerSide + j), block,
+                    jsonVec({blockCoordinate(i), kPillarSize_m[1] + 0.5 * kBlockSide_m + 0.001,
+                             blockCoordinate(j)}),
+                    kBlockMass_kg);
     }
   }
 
