@@ -23,17 +23,21 @@ using namespace checks;  // NOLINT(google-build-using-namespace): test helpers
 
 void tally(const ClosestResult& c, Figures& fig) {
   ++fig.pairs;
-  switch (c.status) {
-    case ContactStatus::kSeparated:
-      ++fig.separated;
-      break;
-    case ContactStatus::kTouching:
-      ++fig.touching;
-      break;
-    case ContactStatus::kPenetrating:
-      ++fig.penetrating;
-      break;
+  fig.countStatus(c.status);
+}
+
+// Every vertex-vertex and every edge-edge pair of a and b: start features for the walk.
+std::vector<std::pair<Feature, Feature>> vertexAndEdgePairs(const Polytope& a, const Polytope& b) {
+  std::vector<std::pair<Feature, Feature>> starts;
+  for (std::uint32_t i = 0; i < a.vertices().size(); ++i) {
+    for (std::uint32_t j = 0; j < b.vertices().size(); ++j)
+      starts.emplace_back(Feature::vertex(i), Feature::vertex(j));
   }
+  for (std::uint32_t i = 0; i < a.edges().size(); ++i) {
+    for (std::uint32_t j = 0; j < b.edges().size(); ++j)
+      starts.emplace_back(Feature::edge(i), Feature::edge(j));
+  }
+  return starts;
 }
 
 // Small hulls of every family at three unit scales, poses spread so that about a third overlap.
@@ -236,16 +240,7 @@ TEST(ClosestFeatures, NearlyParallelEdgesFromEveryStart) {
           geom::Pose{{2 + s, 2 + s, 0.5}, glm::angleAxis(tilt, glm::normalize(Vec3{1, -1, 0}))}
               .toTransform();
       const reference::RefAnswer ref = reference::bruteForce(a, a, X);
-      std::vector<std::pair<Feature, Feature>> starts;
-      for (std::uint32_t i = 0; i < a.vertices().size(); ++i) {
-        for (std::uint32_t j = 0; j < a.vertices().size(); ++j)
-          starts.emplace_back(Feature::vertex(i), Feature::vertex(j));
-      }
-      for (std::uint32_t i = 0; i < a.edges().size(); ++i) {
-        for (std::uint32_t j = 0; j < a.edges().size(); ++j)
-          starts.emplace_back(Feature::edge(i), Feature::edge(j));
-      }
-      for (const auto& [fa, fb] : starts) {
+      for (const auto& [fa, fb] : vertexAndEdgePairs(a, a)) {
         const std::string what =
             label("tilt ", tilt, ", gap ", gap, ", start ", fa.name(), " ", fb.name());
         FeatureCache fc{fa, fb};
@@ -282,16 +277,7 @@ TEST(ClosestFeatures, NearlyParallelFacesFromEveryStart) {
                                      glm::angleAxis(tilt, glm::normalize(Vec3{0.35, 0.4, 0.86}))}
                               .toTransform();
       const reference::RefAnswer ref = reference::bruteForce(a, b, X);
-      std::vector<std::pair<Feature, Feature>> starts;
-      for (std::uint32_t i = 0; i < a.vertices().size(); ++i) {
-        for (std::uint32_t j = 0; j < b.vertices().size(); ++j)
-          starts.emplace_back(Feature::vertex(i), Feature::vertex(j));
-      }
-      for (std::uint32_t i = 0; i < a.edges().size(); ++i) {
-        for (std::uint32_t j = 0; j < b.edges().size(); ++j)
-          starts.emplace_back(Feature::edge(i), Feature::edge(j));
-      }
-      for (const auto& [fa, fb] : starts) {
+      for (const auto& [fa, fb] : vertexAndEdgePairs(a, b)) {
         FeatureCache fc{fa, fb};
         const ClosestResult c = closestFeatures(a, b, X, fc);
         tally(c, fig);

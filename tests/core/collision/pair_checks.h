@@ -15,6 +15,7 @@
 
 #include "core/collision/pair_query.h"
 #include "core/geometry/rotation.h"
+#include "tests/core/geometry_helpers.h"
 #include "tests/reference/reference.h"
 
 namespace hapticd::collision::checks {
@@ -44,7 +45,7 @@ Polytope hullOf(std::span<const Vec3> points);
 /// Corners of the box [-x, x] x [-y, y] x [-z, z].
 std::vector<Vec3> box(double x, double y, double z);
 /// A prism over a regular k-gon of circumradius r, z in [-h, h].
-std::vector<Vec3> prism(int k, double r, double h);
+using testing::prism;
 /// Every point times s.
 std::vector<Vec3> scaled(std::vector<Vec3> points, double s);
 /// The larger radius of the two: the pair's size.
@@ -91,6 +92,8 @@ struct Figures {
   std::size_t walk_handoffs =
       0;  ///< overlapping pairs the walk ended as touching (docs: settled by the depth)
   std::array<std::size_t, 5> manifold_sizes{};
+  /// Counts one answer of status `s` (separated, touching or penetrating).
+  void countStatus(ContactStatus s);
   void print(const std::string& what) const;
 };
 
