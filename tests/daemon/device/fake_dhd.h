@@ -43,7 +43,6 @@ extern "C" const FakeDhdControl* fakedhd_control();
 #ifdef HAPTICD_FAKE_DHD
 /// The control API of the fake library the tests' devices load (HAPTICD_FAKE_DHD, its path).
 inline const FakeDhdControl& fakeDhd() {
-  static const FakeDhdControl& c = fakeControl<FakeDhdControl>(HAPTICD_FAKE_DHD, "fakedhd_control");
-  return c;
+  return fakeControl<FakeDhdControl>(HAPTICD_FAKE_DHD, "fakedhd_control");
 }
 #endif

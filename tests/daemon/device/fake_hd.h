@@ -54,7 +54,6 @@ extern "C" const FakeHdControl* fakehd_control();
 #ifdef HAPTICD_FAKE_HD
 /// The control API of the fake library the tests' devices load (HAPTICD_FAKE_HD, its path).
 inline const FakeHdControl& fakeHd() {
-  static const FakeHdControl& c = fakeControl<FakeHdControl>(HAPTICD_FAKE_HD, "fakehd_control");
-  return c;
+  return fakeControl<FakeHdControl>(HAPTICD_FAKE_HD, "fakehd_control");
 }
 #endif

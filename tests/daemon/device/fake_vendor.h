@@ -31,10 +31,9 @@ struct FakePose {
   }
 };
 
-/// The control table of the fake library at `path`: what its exported function `symbol` returns.
-/// Throws std::runtime_error naming the library when it cannot be loaded or lacks the symbol.
+namespace fake_vendor_detail {
 template <class Control>
-const Control& fakeControl(const std::string& path, const char* symbol) {
+const Control& bindControl(const std::string& path, const char* symbol) {
   void* h = dlopen(path.c_str(), RTLD_NOW | RTLD_LOCAL);
   if (h == nullptr)
     throw std::runtime_error("cannot load " + path);
@@ -44,4 +43,14 @@ const Control& fakeControl(const std::string& path, const char* symbol) {
   const Control* (*table)() = nullptr;
   std::memcpy(&table, &p, sizeof table);
   return *table();
+}
+}  // namespace fake_vendor_detail
+
+/// The control table of the fake library at `path`: what its exported function `symbol` returns,
+/// bound at the first call (one library per Control type). Throws std::runtime_error naming the
+/// library when it cannot be loaded or lacks the symbol.
+template <class Control>
+const Control& fakeControl(const std::string& path, const char* symbol) {
+  static const Control& c = fake_vendor_detail::bindControl<Control>(path, symbol);
+  return c;
 }
