@@ -58,7 +58,7 @@ TEST(ClosestFeatures, RandomPairsAgainstBruteForce) {
     overlapping += ref.overlapping;
     FeatureCache cache;
     const ClosestResult c = closestFeatures(ra.value(), rb.value(), X, cache);
-    const std::string err = checkClosest(ra.value(), rb.value(), X, c, ref, fig);
+    const std::string err = checkClosest({ra.value(), rb.value(), X, ref}, c, fig);
     fails.add(label("pair ", i, ": "), err);
     tally(c, fig);
     // the cache holds the final pair
@@ -97,7 +97,7 @@ TEST(ClosestFeatures, EveryStartGivesTheSameAnswer) {
       FeatureCache cache{randomFeature(rng, a), randomFeature(rng, b)};
       const FeatureCache start = cache;
       const ClosestResult c = closestFeatures(a, b, X, cache);
-      const std::string err = checkClosest(a, b, X, c, ref, fig);
+      const std::string err = checkClosest({a, b, X, ref}, c, fig);
       fails.add(label("pair ", i, ", start ", start.a.name(), " ", start.b.name(), ": "), err);
       tally(c, fig);
       ++starts;
@@ -121,7 +121,7 @@ TEST(ClosestFeatures, LargerHullsAgainstBruteForce) {
       const auto ref = reference::bruteForce(a, b, X);
       FeatureCache cache;
       const ClosestResult c = closestFeatures(a, b, X, cache);
-      const std::string err = checkClosest(a, b, X, c, ref, fig);
+      const std::string err = checkClosest({a, b, X, ref}, c, fig);
       fails.add(label("n=", n, " pair ", i, ": "), err);
       tally(c, fig);
     }
@@ -214,7 +214,7 @@ TEST(ClosestFeatures, TouchingEdgesInEveryFrameEndBeforeTheCap) {
           Figures fig;
           fails.add(label(c.name, ", scale ", s, far ? ", 1e4 sizes away" : ", at the origin",
                           turn ? ", turned frame" : ", axis-aligned frame"),
-                    checkClosest(a, b, X, r, reference::bruteForce(a, b, X), fig));
+                    checkClosest({a, b, X, reference::bruteForce(a, b, X)}, r, fig));
         }
       }
     }
@@ -246,12 +246,12 @@ TEST(ClosestFeatures, NearlyParallelEdgesFromEveryStart) {
         FeatureCache fc{fa, fb};
         const ClosestResult c = closestFeatures(a, a, X, fc);
         tally(c, fig);
-        if (fails.add(what, checkClosest(a, a, X, c, ref, fig)))
+        if (fails.add(what, checkClosest({a, a, X, ref}, c, fig)))
           continue;
         PairCache pc;
         pc.features = {fa, fb};
         fails.add(what + " (queryPair)",
-                  checkPairResult(a, a, X, queryPair(a, a, X, pc), ref, pair_fig));
+                  checkPairResult({a, a, X, ref}, queryPair(a, a, X, pc), pair_fig));
       }
     }
   }
@@ -282,7 +282,7 @@ TEST(ClosestFeatures, NearlyParallelFacesFromEveryStart) {
         const ClosestResult c = closestFeatures(a, b, X, fc);
         tally(c, fig);
         fails.add(label("tilt ", tilt, ", gap ", gap, ", start ", fa.name(), " ", fb.name()),
-                  checkClosest(a, b, X, c, ref, fig));
+                  checkClosest({a, b, X, ref}, c, fig));
       }
     }
   }

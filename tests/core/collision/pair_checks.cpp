@@ -330,19 +330,28 @@ Transform randomTransform(std::mt19937_64& rng, double spread) {
       .toTransform();
 }
 
-std::string checkPairResult(const Polytope& a,
-                            const Polytope& b,
-                            const Transform& X_AB,
-                            const PairResult& r,
-                            const reference::RefAnswer& ref,
-                            Figures& fig) {
+namespace {
+
+// starts a failure's message: its first line is "[check: kind, the status the reference implies]
+// details", so that Failures counts the failures by kind
+std::ostringstream& failLine(std::ostringstream& err,
+                             const char* check,
+                             const char* kind,
+                             const PairCase& in) {
+  err << "[" << check << ": " << kind << ", "
+      << name(statusOf(in.ref.signed_distance, pairSize(in.a, in.b))) << "] ";
+  return err;
+}
+
+}  // namespace
+
+std::string checkPairResult(const PairCase& in, const PairResult& r, Figures& fig) {
+  const auto& [a, b, X_AB, ref] = in;
   const double size = pairSize(a, b);
   const double tol = kDistTol * size;
   std::ostringstream err;
-  // the first line of a failure is "[queryPair: kind, status] details"
   auto fail = [&](const char* kind) -> std::ostringstream& {
-    err << "[queryPair: " << kind << ", " << name(statusOf(ref.signed_distance, size)) << "] ";
-    return err;
+    return failLine(err, "queryPair", kind, in);
   };
   auto report = [&] {
     std::ostringstream s;
@@ -485,12 +494,8 @@ std::string checkPairResult(const Polytope& a,
   return {};
 }
 
-std::string checkClosest(const Polytope& a,
-                         const Polytope& b,
-                         const Transform& X_AB,
-                         const ClosestResult& c,
-                         const reference::RefAnswer& ref,
-                         Figures& fig) {
+std::string checkClosest(const PairCase& in, const ClosestResult& c, Figures& fig) {
+  const auto& [a, b, X_AB, ref] = in;
   const double size = pairSize(a, b);
   const double tol = kDistTol * size;
   std::ostringstream err;
@@ -503,11 +508,8 @@ std::string checkClosest(const Polytope& a,
       << describe(a, b, X_AB);
     return s.str();
   };
-  // the first line of a failure is "[closestFeatures: kind] details"
   auto fail = [&](const char* kind) -> std::ostringstream& {
-    err << "[closestFeatures: " << kind << ", " << name(statusOf(ref.signed_distance, size))
-        << "] ";
-    return err;
+    return failLine(err, "closestFeatures", kind, in);
   };
   fig.max_iterations = std::max(fig.max_iterations, c.iterations);
   if (c.end == WalkEnd::kIterationCap) {
@@ -580,12 +582,12 @@ std::string checkPair(const Polytope& a, const Polytope& b, const Transform& X_A
   const reference::RefAnswer ref = reference::bruteForce(a, b, X_AB);
   FeatureCache fc;
   const ClosestResult c = closestFeatures(a, b, X_AB, fc);
-  std::string s = checkClosest(a, b, X_AB, c, ref, fig);
+  std::string s = checkClosest({a, b, X_AB, ref}, c, fig);
   if (!s.empty())
     return s;
   PairCache cache;
   const PairResult r = queryPair(a, b, X_AB, cache);
-  return checkPairResult(a, b, X_AB, r, ref, fig);
+  return checkPairResult({a, b, X_AB, ref}, r, fig);
 }
 
 }  // namespace hapticd::collision::checks

@@ -124,22 +124,21 @@ class Failures {
 
 // --- the checks (empty string: every property holds; else what failed, with the inputs) --------
 
+/// The inputs of one checked answer: the two hulls, B placed in A's frame by X_AB, and the
+/// reference's answer for them.
+struct PairCase {
+  const Polytope& a;
+  const Polytope& b;
+  const Transform& X_AB;
+  const reference::RefAnswer& ref;
+};
+
 /// A queryPair answer: status, signed distance, normal (when unique), witnesses, features,
 /// manifold, no NaN.
-std::string checkPairResult(const Polytope& a,
-                            const Polytope& b,
-                            const Transform& X_AB,
-                            const PairResult& r,
-                            const reference::RefAnswer& ref,
-                            Figures& fig);
+std::string checkPairResult(const PairCase& in, const PairResult& r, Figures& fig);
 /// A closestFeatures answer: never the iteration cap; separated pairs converge to the reference
 /// distance with witnesses on the reported features; overlapping pairs report penetration.
-std::string checkClosest(const Polytope& a,
-                         const Polytope& b,
-                         const Transform& X_AB,
-                         const ClosestResult& c,
-                         const reference::RefAnswer& ref,
-                         Figures& fig);
+std::string checkClosest(const PairCase& in, const ClosestResult& c, Figures& fig);
 /// Runs a cold queryPair and a cold closestFeatures and both checks above.
 std::string checkPair(const Polytope& a, const Polytope& b, const Transform& X_AB, Figures& fig);
 
