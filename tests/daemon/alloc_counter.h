@@ -1,14 +1,10 @@
 #pragma once
-// Counts heap allocations per thread (tests/core/alloc_counter.cpp, which a test executable links),
-// under the name the daemon's tests use: a test reads the servo thread's own count before and
-// after its loop.
+// Counts heap allocations per thread. A test executable that links tests/daemon/alloc_counter.cpp
+// gets a global operator new (every form) that bumps a thread-local counter, so a test can read
+// the servo thread's own count before and after its loop.
 #include <cstdint>
-
-#include "tests/core/alloc_counter.h"
 
 namespace hapticd::testing {
 /// Allocations made so far by the calling thread.
-inline std::uint64_t threadAllocations() {
-  return testing_alloc::count();
-}
+std::uint64_t threadAllocations();
 }  // namespace hapticd::testing

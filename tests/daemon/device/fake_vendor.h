@@ -48,9 +48,10 @@ const Control& bindControl(const std::string& path, const char* symbol) {
 
 /// The control table of the fake library at `path`: what its exported function `symbol` returns,
 /// bound at the first call (one library per Control type). Throws std::runtime_error naming the
-/// library when it cannot be loaded or lacks the symbol.
+/// library when it cannot be loaded or lacks the symbol. Allocates nothing once bound (the tests
+/// call it on the servo thread while counting allocations).
 template <class Control>
-const Control& fakeControl(const std::string& path, const char* symbol) {
+const Control& fakeControl(const char* path, const char* symbol) {
   static const Control& c = fake_vendor_detail::bindControl<Control>(path, symbol);
   return c;
 }
