@@ -316,45 +316,44 @@ TEST(Config, RangesAreTheSimulationsAndTheLoaders) {
 TEST(Config, ADeprecatedKeyIsReadIntoItsNewKeyWithAWarning) {
   const DeprecatedKey renamed[] = {{"response", "k_s", "response", "stiffness_n_per_m"},
                                    {"device", "old_scale", "device", "workspace_scale"}};
-  auto parsed = parseConfig("[response]\nk_s = 700\n", "d.toml", renamed);
-  ASSERT_TRUE(parsed) << parsed.error().message;
-  EXPECT_EQ(parsed.value().config.response.sim.response.stiffness_n_per_m, 700.0);
-  ASSERT_EQ(parsed.value().warnings.size(), 1u);
-  EXPECT_EQ(parsed.value().warnings[0],
-            "d.toml:2: [response] k_s is deprecated: use [response] stiffness_n_per_m (the value "
-            "is taken for it)");
-  EXPECT_EQ(parsed.value().keys_set, std::vector<std::string>{"response.stiffness_n_per_m"});
+  // `text` taken: 700 N/m set as the new key, with the one warning `warning`
+  auto expectTaken = [&](const char* text, const char* warning) {
+    auto parsed = parseConfig(text, "d.toml", renamed);
+    ASSERT_TRUE(parsed) << parsed.error().message;
+    EXPECT_EQ(parsed.value().config.response.sim.response.stiffness_n_per_m, 700.0);
+    ASSERT_EQ(parsed.value().warnings.size(), 1u);
+    EXPECT_EQ(parsed.value().warnings[0], warning);
+    EXPECT_EQ(parsed.value().keys_set, std::vector<std::string>{"response.stiffness_n_per_m"});
+  };
+  // the message `text` is refused with ("" and a failure when taken)
+  auto refusal = [&](const char* text) -> std::string {
+    auto parsed = parseConfig(text, "d.toml", renamed);
+    EXPECT_FALSE(parsed) << text;
+    return parsed ? std::string() : parsed.error().message;
+  };
+  expectTaken("[response]\nk_s = 700\n",
+              "d.toml:2: [response] k_s is deprecated: use [response] stiffness_n_per_m (the value "
+              "is taken for it)");
   // its value is held to the new key's range, and the message names both
-  auto bad = parseConfig("[device]\nold_scale = -1\n", "d.toml", renamed);
-  ASSERT_FALSE(bad);
-  EXPECT_NE(bad.error().message.find("d.toml:2: [device] old_scale: must be > 0"),
-            std::string::npos)
-      << bad.error().message;
+  const std::string bad = refusal("[device]\nold_scale = -1\n");
+  EXPECT_NE(bad.find("d.toml:2: [device] old_scale: must be > 0"), std::string::npos) << bad;
   // both names at once, different values: refused, naming both (in either order)
-  auto both = parseConfig("[response]\nk_s = 700\nstiffness_n_per_m = 800\n", "d.toml", renamed);
-  ASSERT_FALSE(both);
-  EXPECT_NE(both.error().message.find("[response] k_s and [response] stiffness_n_per_m are both "
-                                      "set, to different values"),
+  const std::string both = refusal("[response]\nk_s = 700\nstiffness_n_per_m = 800\n");
+  EXPECT_NE(both.find("[response] k_s and [response] stiffness_n_per_m are both set, to different "
+                      "values"),
             std::string::npos)
-      << both.error().message;
-  EXPECT_NE(both.error().message.find("keep only [response] stiffness_n_per_m"), std::string::npos);
-  auto both_new_first =
-      parseConfig("[device]\nworkspace_scale = 2\nold_scale = 3\n", "d.toml", renamed);
-  ASSERT_FALSE(both_new_first);
+      << both;
+  EXPECT_NE(both.find("keep only [response] stiffness_n_per_m"), std::string::npos);
+  const std::string both_new_first = refusal("[device]\nworkspace_scale = 2\nold_scale = 3\n");
   EXPECT_NE(
-      both_new_first.error().message.find(
+      both_new_first.find(
           "[device] old_scale and [device] workspace_scale are both set, to different values"),
       std::string::npos)
-      << both_new_first.error().message;
+      << both_new_first;
   // both names at once, the same value: taken, with a warning naming both
-  auto same = parseConfig("[response]\nstiffness_n_per_m = 700\nk_s = 700.0\n", "d.toml", renamed);
-  ASSERT_TRUE(same) << same.error().message;
-  EXPECT_EQ(same.value().config.response.sim.response.stiffness_n_per_m, 700.0);
-  ASSERT_EQ(same.value().warnings.size(), 1u);
-  EXPECT_EQ(same.value().warnings[0],
-            "d.toml:3: [response] k_s is deprecated: use [response] stiffness_n_per_m (both are "
-            "set, to the same value: remove [response] k_s)");
-  EXPECT_EQ(same.value().keys_set, std::vector<std::string>{"response.stiffness_n_per_m"});
+  expectTaken("[response]\nstiffness_n_per_m = 700\nk_s = 700.0\n",
+              "d.toml:3: [response] k_s is deprecated: use [response] stiffness_n_per_m (both are "
+              "set, to the same value: remove [response] k_s)");
   // without the list it is an unknown key
   EXPECT_FALSE(parseConfig("[response]\nk_s = 700\n", "d.toml", {}));
 }

@@ -99,14 +99,9 @@ class DaemonEditTest : public ::testing::Test {
     return c;
   }
 
-  nlohmann::json status() {
-    return testing::parseJsonOrEmpty(testing::slurp(dir_ / "status.json"));
-  }
+  nlohmann::json status() { return testing::readStatus(dir_ / "status.json"); }
   bool waitStatus(const std::function<bool(const nlohmann::json&)>& pred) {
-    return testing::pollUntil([&] {
-      const auto j = status();
-      return !j.empty() && pred(j);
-    });
+    return testing::waitForStatus(dir_ / "status.json", pred);
   }
 
   // Runs the daemon on this thread while `body` runs on another; body ends it with SIGTERM.
@@ -159,12 +154,7 @@ proto::WirePose wireAt(double x, double y, double z) {
   return p;
 }
 
-const proto::SceneUpdate::BodyPose* bodyIn(const proto::State& s, std::uint32_t body) {
-  for (const auto& b : s.bodies)
-    if (b.body_index == body)
-      return &b;
-  return nullptr;
-}
+using testing::listedBody;
 
 // an upload is built from its bytes as they arrived (no file in between), named by the upload;
 // a refused one keeps the running scene and answers with the loader's text
@@ -210,9 +200,9 @@ TEST_F(DaemonEditTest, ASceneUpdateMovingAKinematicBodyIsAckedAndLaterStatesList
     ASSERT_TRUE(c->subscribe(200, proto::kSubscribeBodies));
     proto::State st;
     ASSERT_TRUE(until(
-        *c, [](const proto::State& s) { return bodyIn(s, 3) != nullptr; }, &st));
-    EXPECT_EQ(bodyIn(st, 3)->X_WB.p, (proto::WireVec3{3.0, 0.0, 0.0}));
-    EXPECT_EQ(bodyIn(st, 4), nullptr);  // inactive at the start
+        *c, [](const proto::State& s) { return listedBody(s, 3) != nullptr; }, &st));
+    EXPECT_EQ(listedBody(st, 3)->X_WB.p, (proto::WireVec3{3.0, 0.0, 0.0}));
+    EXPECT_EQ(listedBody(st, 4), nullptr);  // inactive at the start
 
     proto::SceneUpdate u;
     u.poses.push_back({3, wireAt(3.0, 0.25, -0.5)});
@@ -222,17 +212,17 @@ TEST_F(DaemonEditTest, ASceneUpdateMovingAKinematicBodyIsAckedAndLaterStatesList
     ASSERT_TRUE(until(
         *c,
         [](const proto::State& s) {
-          const auto* b = bodyIn(s, 3);
+          const auto* b = listedBody(s, 3);
           return b != nullptr && b->X_WB.p == proto::WireVec3{3.0, 0.25, -0.5};
         },
         &st));
-    ASSERT_NE(bodyIn(st, 4), nullptr);  // the same update, the same state
-    EXPECT_EQ(bodyIn(st, 4)->X_WB.p, (proto::WireVec3{0.0, 1.0, 2.0}));
+    ASSERT_NE(listedBody(st, 4), nullptr);  // the same update, the same state
+    EXPECT_EQ(listedBody(st, 4)->X_WB.p, (proto::WireVec3{0.0, 1.0, 2.0}));
 
     proto::SceneUpdate out;
     out.removed.push_back(4);
     ASSERT_TRUE(c->sceneUpdate(out));
-    EXPECT_TRUE(until(*c, [](const proto::State& s) { return bodyIn(s, 4) == nullptr; }));
+    EXPECT_TRUE(until(*c, [](const proto::State& s) { return listedBody(s, 4) == nullptr; }));
     EXPECT_TRUE(waitStatus([](const nlohmann::json& j) {
       return j["edits"]["batches_applied"] == 2 && j["edits"]["entries_applied"] == 3;
     })) << status().dump();
@@ -282,17 +272,17 @@ TEST_F(DaemonEditTest, BadUpdatesGetAnErrorNamingTheEntryAndNothingChanges) {
     ASSERT_TRUE(until(
         *c,
         [](const proto::State& s) {
-          const auto* b = bodyIn(s, 3);
+          const auto* b = listedBody(s, 3);
           return b != nullptr && b->X_WB.p == proto::WireVec3{0.0, 0.0, 0.0};
         },
         &st));
-    EXPECT_NEAR(bodyIn(st, 3)->X_WB.q[3], 1.0, 1e-12);
+    EXPECT_NEAR(listedBody(st, 3)->X_WB.q[3], 1.0, 1e-12);
     // nothing of the refused updates reached the servo: only the last one was applied
     EXPECT_TRUE(waitStatus([](const nlohmann::json& j) {
       return j["edits"]["batches_applied"] == 1 && j["edits"]["entries_applied"] == 1;
     })) << status().dump();
     EXPECT_EQ(status()["edits"]["entries_refused"], 0);
-    EXPECT_NE(bodyIn(st, 5), nullptr);  // the crate was not removed by the refused update
+    EXPECT_NE(listedBody(st, 5), nullptr);  // the crate was not removed by the refused update
   });
   EXPECT_EQ(code, kExitOk);
 }
@@ -318,12 +308,12 @@ TEST_F(DaemonEditTest, WithAKeyOnlyAuthenticatedPeersChangeTheScene) {
     // the refused update changed nothing: the slider is where the scene put it
     proto::State st;
     ASSERT_TRUE(until(
-        *keyed, [](const proto::State& s) { return bodyIn(s, 3) != nullptr; }, &st));
-    EXPECT_EQ(bodyIn(st, 3)->X_WB.p, (proto::WireVec3{3.0, 0.0, 0.0}));
+        *keyed, [](const proto::State& s) { return listedBody(s, 3) != nullptr; }, &st));
+    EXPECT_EQ(listedBody(st, 3)->X_WB.p, (proto::WireVec3{3.0, 0.0, 0.0}));
     auto ok = keyed->sceneUpdate(u);
     ASSERT_TRUE(ok) << ok.error().message;
     EXPECT_TRUE(until(*keyed, [](const proto::State& s) {
-      const auto* b = bodyIn(s, 3);
+      const auto* b = listedBody(s, 3);
       return b != nullptr && b->X_WB.p == proto::WireVec3{3.0, 0.75, 0.0};
     }));
     EXPECT_TRUE(

@@ -64,6 +64,24 @@ bool pollUntil(const std::function<bool()>& pred, int polls, int ms) {
   return false;
 }
 
+nlohmann::json readStatus(const fs::path& file) {
+  return parseJsonOrEmpty(slurp(file));
+}
+
+bool waitForStatus(const fs::path& file, const std::function<bool(const nlohmann::json&)>& pred) {
+  return pollUntil([&] {
+    const auto j = readStatus(file);
+    return !j.empty() && pred(j);
+  });
+}
+
+const proto::SceneUpdate::BodyPose* listedBody(const proto::State& s, std::uint32_t body) {
+  for (const auto& b : s.bodies)
+    if (b.body_index == body)
+      return &b;
+  return nullptr;
+}
+
 pid_t spawn(const std::vector<std::string>& args,
             const fs::path& out,
             const fs::path& err,

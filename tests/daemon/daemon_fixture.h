@@ -51,6 +51,15 @@ void blockDaemonSignals();
 /// Polls `pred` up to `polls` times, `ms` apart; true as soon as it holds.
 bool pollUntil(const std::function<bool()>& pred, int polls = 6000, int ms = 10);
 
+/// The daemon's status file `file` parsed (an empty object while it is missing or half written).
+nlohmann::json readStatus(const fs::path& file);
+/// Waits (bounded by pollUntil's generous count of polls, never asserting a duration) until the
+/// status file `file` holds a status for which `pred` holds.
+bool waitForStatus(const fs::path& file, const std::function<bool(const nlohmann::json&)>& pred);
+
+/// The pose of body `body` in a state's body list, or nullptr when it is not listed.
+const proto::SceneUpdate::BodyPose* listedBody(const proto::State& s, std::uint32_t body);
+
 /// How a child is started.
 struct SpawnOptions {
   std::vector<std::string> extra_env;  ///< added to this process's environment

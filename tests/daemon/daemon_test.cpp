@@ -83,16 +83,11 @@ class DaemonTest : public ::testing::Test {
     return b;
   }
 
-  nlohmann::json status() {
-    return testing::parseJsonOrEmpty(testing::slurp(dir_ / "status.json"));
-  }
+  nlohmann::json status() { return testing::readStatus(dir_ / "status.json"); }
 
   // waits (bounded by a generous count of polls, never asserting a duration) for a status
   bool waitFor(const std::function<bool(const nlohmann::json&)>& pred) {
-    return testing::pollUntil([&] {
-      const auto j = status();
-      return !j.empty() && pred(j);
-    });
+    return testing::waitForStatus(dir_ / "status.json", pred);
   }
 
   void writeConfig(const std::string& text) { std::ofstream(dir_ / "hapticd.toml") << text; }

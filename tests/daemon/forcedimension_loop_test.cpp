@@ -5,7 +5,6 @@
 // a disconnect zeroes the force at once; a reconnection stays braked until re-armed.
 #include <gtest/gtest.h>
 
-#include <cmath>
 #include <vector>
 
 #include "daemon/device/dhd_api.h"
@@ -13,42 +12,26 @@
 #include "daemon/servo_loop.h"
 #include "tests/daemon/device/fake_dhd.h"
 #include "tests/daemon/fakes.h"
+#include "tests/daemon/vendor_loop.h"
 
 namespace hapticd::daemon {
 namespace {
 
-FakeDhd& fake() {
-  static FakeDhd f(HAPTICD_FAKE_DHD);
-  return f;
-}
+using testing::length;
+using testing::stepFrom;
 
-double length(const double v[3]) {
-  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-}
-
-struct Rig {
-  std::unique_ptr<device::ForceDimensionDevice> device;
-  VirtualClock clock;
-  std::unique_ptr<ServoLoop> loop;
+struct Rig : testing::VendorLoopRig<device::ForceDimensionDevice> {
   std::uint64_t ticks = 0;
 
   explicit Rig(int type = 104) {
-    fake().reset(1, type);
+    fakeDhd().reset(1, type);
     // 5 cm below the wall (the SDK's z is up)
     const double p[3] = {0.0, 0.0, -0.05};
     const double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    fake().set_pose(0, p, R);
+    fakeDhd().set_pose(0, p, R);
     auto api = device::dhd::loadApi(HAPTICD_FAKE_DHD);
     EXPECT_TRUE(api.ok());
-    device::DeviceOptions o;
-    auto d = device::ForceDimensionDevice::open(api.value(), 0, o);
-    EXPECT_TRUE(d.ok()) << d.error().message;
-    device = std::move(d).value();
-    ServoOptions so;
-    so.limits = device->info().limits;  // as toServoOptions: the tighter of config and device
-    loop = std::make_unique<ServoLoop>(so, clock, *device,
-                                       testing::servoSceneOf<testing::FakeSimulation>(1));
-    loop->prepareServoThread();
+    start(device::ForceDimensionDevice::open(api.value(), 0, device::DeviceOptions{}));
   }
   void run(std::uint64_t n) {
     ticks += n;
@@ -61,8 +44,8 @@ struct Rig {
     ASSERT_TRUE(loop->sendCommand(c));
   }
   std::vector<FakeDhdForce> forces() const {
-    const FakeDhdState s = fake().state(0);
-    const FakeDhdForce* f = fake().forces(0);
+    const FakeDhdState s = fakeDhd().state(0);
+    const FakeDhdForce* f = fakeDhd().forces(0);
     return {f, f + std::min<std::uint64_t>(s.force_calls, kFakeDhdForceCapacity)};
   }
 };
@@ -78,10 +61,7 @@ TEST(ForceDimensionLoop, EveryForceWithinTheLimitsAndTheStepLimitInTheSdkFrame) 
     EXPECT_EQ(r.forces_on, 1);
     EXPECT_LE(length(r.force), 10.0 + 1e-12);  // the configured 10 N (sigma.7: 20 N)
     EXPECT_LE(length(r.torque), 0.4 + 1e-12);  // the sigma.7's 0.4 N m (configured: 1)
-    const double d[3] = {r.force[0] - previous[0], r.force[1] - previous[1],
-                         r.force[2] - previous[2]};
-    EXPECT_LE(length(d), defaults.max_force_step_n + 1e-12);
-    std::copy(r.force, r.force + 3, previous);
+    EXPECT_LE(stepFrom(previous, r.force), defaults.max_force_step_n + 1e-12);
   }
   // the wall pushes up: the SDK's z; the fake simulation's torque about the device's z (toward
   // the user) is about the SDK's x
@@ -95,7 +75,7 @@ TEST(ForceDimensionLoop, ADeviceErrorLatchesAFaultFadesTheForceToZeroThenBrakes)
   Rig rig;
   rig.run(500);
   const std::size_t before = rig.forces().size();
-  fake().fail(0, device::dhd::kError, 1);  // the next call (the position read) fails
+  fakeDhd().fail(0, device::dhd::kError, 1);  // the next call (the position read) fails
   rig.run(200);
   const ServoState st = rig.loop->state();
   EXPECT_NE(st.faults & kFaultDevice, 0u);
@@ -112,8 +92,8 @@ TEST(ForceDimensionLoop, ADeviceErrorLatchesAFaultFadesTheForceToZeroThenBrakes)
   EXPECT_GT(length(f[before + 10].force), 0.0);
   EXPECT_EQ(last, 0.0);
   // after the fade: braked, and no more force calls
-  EXPECT_TRUE(fake().state(0).brakes);
-  EXPECT_FALSE(fake().state(0).forces_on);
+  EXPECT_TRUE(fakeDhd().state(0).brakes);
+  EXPECT_FALSE(fakeDhd().state(0).forces_on);
   EXPECT_LT(f.size(), before + 200);
   const std::size_t braked = f.size();
   rig.run(50);
@@ -121,7 +101,7 @@ TEST(ForceDimensionLoop, ADeviceErrorLatchesAFaultFadesTheForceToZeroThenBrakes)
   // re-armed: forces again
   rig.arm();
   rig.run(100);
-  EXPECT_FALSE(fake().state(0).brakes);
+  EXPECT_FALSE(fakeDhd().state(0).brakes);
   EXPECT_GT(rig.forces().size(), braked);
   EXPECT_EQ(rig.forces().back().forces_on, 1);
   EXPECT_GT(length(rig.forces().back().force), 0.0);
@@ -133,7 +113,7 @@ TEST(ForceDimensionLoop, ADisconnectZeroesTheForceAtOnceAndAReconnectionNeedsReA
   rig.run(500);
   EXPECT_NEAR(glm::length(rig.loop->state().force_W_n), 10.0, 1e-9);
   const std::size_t before = rig.forces().size();
-  fake().set_present(0, 0);
+  fakeDhd().set_present(0, 0);
   rig.run(1);
   ServoState st = rig.loop->state();
   EXPECT_EQ(st.force_W_n, geom::Vec3(0.0));  // at once, no ramp
@@ -144,25 +124,25 @@ TEST(ForceDimensionLoop, ADisconnectZeroesTheForceAtOnceAndAReconnectionNeedsReA
   EXPECT_EQ(rig.loop->state().force_W_n, geom::Vec3(0.0));
   EXPECT_EQ(rig.forces().size(), before);  // nothing reached the (absent) device
   EXPECT_FALSE(rig.device->service());
-  fake().set_present(0, 1);
+  fakeDhd().set_present(0, 1);
   ASSERT_TRUE(rig.device->service());
   rig.run(200);
   st = rig.loop->state();
   EXPECT_TRUE(st.device_connected);
   EXPECT_NE(st.faults & kFaultDevice, 0u);  // back: the device fault holds the output
-  EXPECT_TRUE(fake().state(0).brakes);
+  EXPECT_TRUE(fakeDhd().state(0).brakes);
   EXPECT_EQ(rig.forces().size(), before);  // braked since it came back
   rig.arm();
   rig.run(100);
   EXPECT_EQ(rig.loop->state().faults, 0u);
-  EXPECT_FALSE(fake().state(0).brakes);
+  EXPECT_FALSE(fakeDhd().state(0).brakes);
   ASSERT_GT(rig.forces().size(), before);
   EXPECT_GT(length(rig.forces().back().force), 0.0);
   EXPECT_LE(length(rig.forces().back().force), 10.0 + 1e-12);
 }
 
 TEST(ForceDimensionLoop, DisarmedAtTheStartTheDeviceStaysBrakedUntilArmed) {
-  fake().reset(1, 104);
+  fakeDhd().reset(1, 104);
   auto api = device::dhd::loadApi(HAPTICD_FAKE_DHD);
   ASSERT_TRUE(api.ok());
   auto d = device::ForceDimensionDevice::open(api.value(), 0, device::DeviceOptions{});
@@ -174,8 +154,8 @@ TEST(ForceDimensionLoop, DisarmedAtTheStartTheDeviceStaysBrakedUntilArmed) {
   ServoLoop loop(so, clock, *d.value(), testing::servoSceneOf<testing::FakeSimulation>(1));
   loop.prepareServoThread();
   (void)loop.run();
-  EXPECT_TRUE(fake().state(0).brakes);
-  EXPECT_EQ(fake().state(0).force_calls, 0u);
+  EXPECT_TRUE(fakeDhd().state(0).brakes);
+  EXPECT_EQ(fakeDhd().state(0).force_calls, 0u);
 }
 
 }  // namespace

@@ -344,12 +344,7 @@ std::uint32_t bodyIndex(const hapticd::scene::SceneModel& m, const std::string& 
   return 0;
 }
 
-const proto::SceneUpdate::BodyPose* listed(const proto::State& s, std::uint32_t body) {
-  for (const auto& b : s.bodies)
-    if (b.body_index == body)
-      return &b;
-  return nullptr;
-}
+using hapticd::testing::listedBody;
 
 TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts) {
   const auto bytes = editScene();
@@ -367,10 +362,10 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   ASSERT_TRUE(c->subscribe(200, proto::kSubscribeBodies | proto::kSubscribeContacts));
   proto::State st;
   ASSERT_TRUE(receiveUntil(
-      *c, [&](const proto::State& s) { return listed(s, slider) != nullptr; }, 30.0, &st));
-  EXPECT_NEAR(listed(st, slider)->X_WB.p[0], 0.3, 1e-6);
-  EXPECT_EQ(listed(st, floor), nullptr);  // static bodies are not listed
-  EXPECT_NE(listed(st, lid), nullptr);
+      *c, [&](const proto::State& s) { return listedBody(s, slider) != nullptr; }, 30.0, &st));
+  EXPECT_NEAR(listedBody(st, slider)->X_WB.p[0], 0.3, 1e-6);
+  EXPECT_EQ(listedBody(st, floor), nullptr);  // static bodies are not listed
+  EXPECT_NE(listedBody(st, lid), nullptr);
   EXPECT_EQ(st.contacts.size(), 0u);  // the probe touches nothing yet
 
   // refused, named, nothing changed
@@ -397,7 +392,7 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   EXPECT_NE(r.error().message.find("does not exist"), std::string::npos) << r.error().message;
   ASSERT_TRUE(receiveUntil(
       *c, [](const proto::State&) { return true; }, 30.0, &st));
-  EXPECT_NEAR(listed(st, slider)->X_WB.p[0], 0.3, 1e-6);  // the slider did not move
+  EXPECT_NEAR(listedBody(st, slider)->X_WB.p[0], 0.3, 1e-6);  // the slider did not move
 
   // moved: acknowledged, then listed at the new pose
   proto::SceneUpdate move;
@@ -409,7 +404,7 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   ASSERT_TRUE(receiveUntil(
       *c,
       [&](const proto::State& s) {
-        const auto* b = listed(s, slider);
+        const auto* b = listedBody(s, slider);
         return b != nullptr && dist(b->X_WB.p, to.p) < 1e-9;
       },
       30.0, &st));
@@ -436,7 +431,7 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   ASSERT_TRUE(receiveUntil(
       *c,
       [&](const proto::State& s) {
-        const auto* b = listed(s, slider);
+        const auto* b = listedBody(s, slider);
         return b != nullptr && dist(b->X_WB.p, proto::WireVec3{0.3, 0.25, -0.1}) < 1e-9;
       },
       30.0, &st));
@@ -446,11 +441,11 @@ TEST_F(NetTest, ASceneUpdateMovesARealKinematicBodyAndStatesListItAndItsContacts
   CtlRun rm = ctl({"remove", L});
   EXPECT_EQ(rm.code, 0) << rm.err;
   ASSERT_TRUE(receiveUntil(
-      *c, [&](const proto::State& s) { return listed(s, lid) == nullptr; }, 30.0, &st));
+      *c, [&](const proto::State& s) { return listedBody(s, lid) == nullptr; }, 30.0, &st));
   CtlRun ad = ctl({"add", L, "-0.3", "0.5", "0.2"});
   EXPECT_EQ(ad.code, 0) << ad.err;
   ASSERT_TRUE(receiveUntil(
-      *c, [&](const proto::State& s) { return listed(s, lid) != nullptr; }, 30.0, &st));
+      *c, [&](const proto::State& s) { return listedBody(s, lid) != nullptr; }, 30.0, &st));
 
   const auto j = statusJson();
   EXPECT_EQ(j["scene"], "edits.glb");

@@ -16,50 +16,35 @@
 #include "daemon/servo_loop.h"
 #include "tests/daemon/device/fake_hd.h"
 #include "tests/daemon/fakes.h"
+#include "tests/daemon/vendor_loop.h"
 
 namespace hapticd::daemon {
 namespace {
 
-FakeHd& fake() {
-  static FakeHd f(HAPTICD_FAKE_HD);
-  return f;
-}
+using testing::length;
+using testing::stepFrom;
 
-double length(const double v[3]) {
-  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
-}
-
-struct Rig {
-  std::unique_ptr<device::OpenHapticsDevice> device;
-  VirtualClock clock;
-  std::unique_ptr<ServoLoop> loop;
-
+struct Rig : testing::VendorLoopRig<device::OpenHapticsDevice> {
   Rig(const char* model, int output_dof, double force_n, double torque_mnm, std::uint64_t ticks) {
-    fake().reset(model, output_dof, force_n, torque_mnm);
+    fakeHd().reset(model, output_dof, force_n, torque_mnm);
     const double p[3] = {0.0, -50.0, 0.0};  // 5 cm below the wall (mm)
     const double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    fake().set_pose(p, R);
+    fakeHd().set_pose(p, R);
     auto api = device::hd::loadApi(HAPTICD_FAKE_HD);
     EXPECT_TRUE(api.ok());
-    auto d = device::OpenHapticsDevice::open(api.value(), "", device::DeviceOptions{});
-    EXPECT_TRUE(d.ok()) << d.error().message;
-    device = std::move(d).value();
     ServoOptions so;
-    so.limits = device->info().limits;
     so.max_ticks = ticks;
-    loop = std::make_unique<ServoLoop>(so, clock, *device,
-                                       testing::servoSceneOf<testing::FakeSimulation>(1));
-    loop->prepareServoThread();
+    start(device::OpenHapticsDevice::open(api.value(), "", device::DeviceOptions{}), so);
   }
   std::vector<FakeHdFrame> frames() const {
-    const FakeHdFrame* f = fake().records();
-    return {f, f + std::min<std::uint64_t>(fake().frame_count(), kFakeHdForceCapacity)};
+    const FakeHdFrame* f = fakeHd().records();
+    return {f, f + std::min<std::uint64_t>(fakeHd().frame_count(), kFakeHdForceCapacity)};
   }
 };
 
 // waits (bounded) until the scheduler waits at its pause of frame `frame`
 bool waitPausedAt(std::uint64_t frame) {
-  auto there = [&] { return fake().paused() != 0 && fake().frames() == frame; };
+  auto there = [&] { return fakeHd().paused() != 0 && fakeHd().frames() == frame; };
   for (int i = 0; i < 20000 && !there(); ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   return there();
@@ -68,18 +53,15 @@ bool waitPausedAt(std::uint64_t frame) {
 TEST(OpenHapticsLoop, EveryTickRunsInsideASchedulerFrameWithinTheLimits) {
   Rig rig("Touch", 3, 3.3, 0.0, 1000);
   EXPECT_EQ(rig.loop->run(), ServoExit::kMaxTicks);
-  EXPECT_EQ(fake().frames(), 1000u);  // the device's scheduler ran every tick
-  EXPECT_EQ(fake().misuse(), 0u);     // every state call inside a frame, on its thread
+  EXPECT_EQ(fakeHd().frames(), 1000u);  // the device's scheduler ran every tick
+  EXPECT_EQ(fakeHd().misuse(), 0u);     // every state call inside a frame, on its thread
   const auto f = rig.frames();
   ASSERT_EQ(f.size(), 1000u);
   const ServoOptions defaults;
   double previous[3] = {0.0, 0.0, 0.0};
   for (const FakeHdFrame& r : f) {
     EXPECT_LE(length(r.force), 3.3 + 1e-12);
-    const double d[3] = {r.force[0] - previous[0], r.force[1] - previous[1],
-                         r.force[2] - previous[2]};
-    EXPECT_LE(length(d), defaults.max_force_step_n + 1e-12);
-    std::copy(r.force, r.force + 3, previous);
+    EXPECT_LE(stepFrom(previous, r.force), defaults.max_force_step_n + 1e-12);
     EXPECT_EQ(length(r.torque), 0.0);  // 3-DOF force: no torque sent
   }
   EXPECT_NEAR(f.back().force[1], 3.3, 1e-9);  // the wall pushes up (y)
@@ -105,7 +87,7 @@ TEST(OpenHapticsLoop, ASixDofDeviceGetsGimbalTorqueInMilliNewtonMetres) {
 
 TEST(OpenHapticsLoop, AnHdErrorLatchesTheDeviceFaultAndFadesTheForceToZero) {
   Rig rig("Touch", 3, 3.3, 0.0, 500);
-  fake().at(300, kFakeHdError, 0x0201);  // HD_EXCEEDED_MAX_FORCE
+  fakeHd().at(300, kFakeHdError, 0x0201);  // HD_EXCEEDED_MAX_FORCE
   EXPECT_EQ(rig.loop->run(), ServoExit::kMaxTicks);
   EXPECT_NE(rig.loop->state().faults & kFaultDevice, 0u);
   EXPECT_GE(rig.device->faults(), 1u);
@@ -123,10 +105,10 @@ TEST(OpenHapticsLoop, AnHdErrorLatchesTheDeviceFaultAndFadesTheForceToZero) {
 
 TEST(OpenHapticsLoop, ADisconnectZeroesTheForceAtOnceAndAReconnectionNeedsReArming) {
   Rig rig("Touch", 3, 3.3, 0.0, 1500);
-  fake().at(300, kFakeHdDisconnect, 0);
-  fake().at(500, kFakeHdReconnect, 0);
-  fake().at(600, kFakeHdPause, 0);
-  fake().at(700, kFakeHdPause, 0);
+  fakeHd().at(300, kFakeHdDisconnect, 0);
+  fakeHd().at(500, kFakeHdReconnect, 0);
+  fakeHd().at(600, kFakeHdPause, 0);
+  fakeHd().at(700, kFakeHdPause, 0);
   ServoExit exit = ServoExit::kStopped;
   std::atomic<bool> finished{false};
   std::thread servo([&] {
@@ -138,7 +120,7 @@ TEST(OpenHapticsLoop, ADisconnectZeroesTheForceAtOnceAndAReconnectionNeedsReArmi
     std::atomic<bool>& finished;
     ~Joiner() {
       for (int i = 0; i < 60000 && !finished.load(); ++i) {
-        fake().resume();
+        fakeHd().resume();
         std::this_thread::sleep_for(std::chrono::milliseconds(1));
       }
       t.join();
@@ -155,7 +137,7 @@ TEST(OpenHapticsLoop, ADisconnectZeroesTheForceAtOnceAndAReconnectionNeedsReArmi
   for (std::size_t i = 299; i < before; ++i)
     EXPECT_EQ(length(f[i].force), 0.0) << i;  // nothing but zero since the loss
   EXPECT_TRUE(rig.device->service());         // the callback's probe saw it back
-  fake().resume();
+  fakeHd().resume();
   ASSERT_TRUE(waitPausedAt(700));
   st = rig.loop->state();
   EXPECT_TRUE(st.device_connected);
@@ -167,7 +149,7 @@ TEST(OpenHapticsLoop, ADisconnectZeroesTheForceAtOnceAndAReconnectionNeedsReArmi
   ServoCommand arm;
   arm.kind = CommandKind::kArm;
   ASSERT_TRUE(rig.loop->sendCommand(arm));
-  fake().resume();
+  fakeHd().resume();
   for (int i = 0; i < 60000 && !finished.load(); ++i)
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
   ASSERT_TRUE(finished.load());
@@ -175,12 +157,12 @@ TEST(OpenHapticsLoop, ADisconnectZeroesTheForceAtOnceAndAReconnectionNeedsReArmi
   EXPECT_EQ(rig.loop->state().faults, 0u);
   f = rig.frames();
   EXPECT_NEAR(length(f.back().force), 3.3, 1e-9);
-  EXPECT_EQ(fake().misuse(), 0u);
+  EXPECT_EQ(fakeHd().misuse(), 0u);
 }
 
 TEST(OpenHapticsLoop, ACalibrationThatIsNotOkIsAFault) {
   Rig rig("Touch", 3, 3.3, 0.0, 200);
-  fake().set_calibration(device::hd::kCalibrationNeedsUpdate);
+  fakeHd().set_calibration(device::hd::kCalibrationNeedsUpdate);
   EXPECT_EQ(rig.loop->run(), ServoExit::kMaxTicks);
   EXPECT_NE(rig.loop->state().faults & kFaultDevice, 0u);
   EXPECT_EQ(rig.device->calibration(), device::hd::kCalibrationNeedsUpdate);

@@ -155,6 +155,15 @@ std::unique_ptr<ServoScene> fakeScene(std::uint64_t gen) {
   return testing::servoSceneOf<testing::FakeSimulation>(gen);
 }
 
+// kTicks ticks, every one recorded (the loop waits for record space: no row dropped)
+ServoOptions recordingOptions() {
+  ServoOptions options;
+  options.max_ticks = kTicks;
+  options.record = true;
+  options.wait_for_record_space = true;
+  return options;
+}
+
 // The daemon's wiring: a network thread running proto::Server is the command ring's only
 // producer; a protocol client arms, streams pose commands (gated) and subscribes to state at
 // 1 kHz while the loop runs on the real clock.
@@ -230,11 +239,8 @@ TEST(ServoAllocation, NoneOnTheServoThreadOver100000TicksWithFakes) {
   VirtualClock clock;
   testing::FakeDevice device;
   device.depth_offset = 0.002;
-  ServoOptions options;
-  options.max_ticks = kTicks;
-  options.record = true;
+  ServoOptions options = recordingOptions();
   options.record_bodies = true;
-  options.wait_for_record_space = true;
   ServoLoop loop(options, clock, device, fakeScene(1));
   const Counts c = runCounted(loop, true, &fakeScene);
   EXPECT_EQ(c.exit, ServoExit::kMaxTicks);
@@ -258,10 +264,7 @@ TEST(ServoAllocation, NoneOnTheServoThreadWithEditsListsAndSharedMemory) {
   VirtualClock clock;
   testing::FakeDevice device;
   device.depth_offset = 0.002;  // in contact: contact lists every tick
-  ServoOptions options;
-  options.max_ticks = kTicks;
-  options.record = true;
-  options.wait_for_record_space = true;
+  const ServoOptions options = recordingOptions();
   ServoLoop loop(options, clock, device, editableScene(1));
   loop.attachShm(&server.value());
   Extras extras;
@@ -286,7 +289,7 @@ TEST(ServoAllocation, NoneOnTheServoThreadWithEditsListsAndSharedMemory) {
 // writes, device faults (latched, faded, braked) and re-arms (forces on again) on the servo
 // thread, every 1000th command an arm.
 TEST(ServoAllocation, NoneOnTheServoThreadWithTheForceDimensionDevice) {
-  FakeDhd fake(HAPTICD_FAKE_DHD);
+  const FakeDhdControl& fake = fakeDhd();
   fake.reset(1, 104);
   const double p[3] = {0.0, 0.0, -0.002};  // in contact with the fake wall
   const double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
@@ -297,10 +300,7 @@ TEST(ServoAllocation, NoneOnTheServoThreadWithTheForceDimensionDevice) {
   ASSERT_TRUE(device.ok()) << device.error().message;
   fake.fail(0, device::dhd::kError, 1);  // a device fault at the first read
   VirtualClock clock;
-  ServoOptions options;
-  options.max_ticks = kTicks;
-  options.record = true;
-  options.wait_for_record_space = true;
+  const ServoOptions options = recordingOptions();
   ServoLoop loop(options, clock, *device.value(), fakeScene(1));
   const Counts c = runCounted(loop, true, &fakeScene);
   EXPECT_EQ(c.exit, ServoExit::kMaxTicks);
@@ -315,7 +315,7 @@ TEST(ServoAllocation, NoneOnTheServoThreadWithTheForceDimensionDevice) {
 // (the servo thread of this mode); its allocations are read by the fake's end-of-frame hook, on
 // that thread, from the second frame to the last, with HD errors (faults), arms and the gate.
 TEST(ServoAllocation, NoneOnTheHdSchedulerThreadWithTheOpenHapticsDevice) {
-  FakeHd fake(HAPTICD_FAKE_HD);
+  const FakeHdControl& fake = fakeHd();
   fake.reset("PHANTOM Premium 1.5 6DOF", 6, 8.5, 515.0);
   const double p[3] = {0.0, -2.0, 0.0};  // in contact with the fake wall (mm)
   const double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
@@ -339,10 +339,7 @@ TEST(ServoAllocation, NoneOnTheHdSchedulerThreadWithTheOpenHapticsDevice) {
   auto device = device::OpenHapticsDevice::open(api.value(), "", device::DeviceOptions{});
   ASSERT_TRUE(device.ok()) << device.error().message;
   VirtualClock clock;
-  ServoOptions options;
-  options.max_ticks = kTicks;
-  options.record = true;
-  options.wait_for_record_space = true;
+  const ServoOptions options = recordingOptions();
   ServoLoop loop(options, clock, *device.value(), fakeScene(1));
   const Counts c = runCounted(loop, true, &fakeScene);
   fake.set_frame_hook(nullptr, nullptr);
@@ -420,11 +417,8 @@ TEST_P(ServoAllocationDemo, NoneOnTheServoThreadOver100000Ticks) {
   auto device = device::makeDevice("replay:" + long_stream, device::DeviceOptions{});
   ASSERT_TRUE(device.ok()) << device.error().message;
   VirtualClock clock;
-  ServoOptions options;
-  options.max_ticks = kTicks;
-  options.record = true;
+  ServoOptions options = recordingOptions();
   options.record_bodies = true;
-  options.wait_for_record_space = true;
   ServoLoop loop(options, clock, *device.value(), make(1));
   // edits of the first non-static, non-probe bodies (whatever the simulation answers: refusals
   // are events, never allocations) and a shm segment served

@@ -20,14 +20,19 @@ PoseCommand at(double x) {
   return c;
 }
 
+// the gate's output at `now`: disarmed, no force, no target
+void expectDisarmedAt(CommandGate& g, std::uint64_t now) {
+  const auto o = g.update(now);
+  EXPECT_EQ(o.mode, GateMode::kDisarmed);
+  EXPECT_EQ(o.force_scale, 0.0);
+  EXPECT_FALSE(o.has_target);
+}
+
 TEST(CommandGate, DisarmedRefusesAndGivesNoForce) {
   CommandGate g;
   EXPECT_FALSE(g.submit(kS1, 1, at(1), 0));
   EXPECT_EQ(g.dropped(DropReason::kNotArmed), 1u);
-  const auto o = g.update(1 * kMs);
-  EXPECT_EQ(o.mode, GateMode::kDisarmed);
-  EXPECT_EQ(o.force_scale, 0.0);
-  EXPECT_FALSE(o.has_target);
+  expectDisarmedAt(g, 1 * kMs);
 }
 
 TEST(CommandGate, NewestWinsOlderAndDuplicatesDroppedAndCounted) {
@@ -131,10 +136,7 @@ TEST(CommandGate, DisarmDropsForceAtOnce) {
   g.arm(kS1, 0);
   ASSERT_TRUE(g.submit(kS1, 1, at(1), 0));
   g.disarm(1 * kMs);
-  const auto o = g.update(1 * kMs);
-  EXPECT_EQ(o.mode, GateMode::kDisarmed);
-  EXPECT_EQ(o.force_scale, 0.0);
-  EXPECT_FALSE(o.has_target);
+  expectDisarmedAt(g, 1 * kMs);
 }
 
 TEST(CommandGate, TimeNeverRunsBackwards) {

@@ -233,24 +233,20 @@ Closest closestPair(const Placed& A, const Placed& B) {
   }
   const Bounds ba(A), bb(B);
   R3 c, c2;
-  for (const R3& x : A.v) {
-    for (std::size_t f = 0; f < B.loops.size(); ++f) {
-      if (beyond(x, 0, bb.face_c[f], bb.face_r[f], out.d2))
-        continue;
-      const Real d2 = pointPolygon2(B, f, x, c);
-      if (d2 < out.d2)
-        out.d2 = d2, out.pa = x, out.pb = c;
+  // every vertex of P against every face of Q (bounds qb); a_is_p: P is A
+  auto vertexFace = [&](const Placed& P, const Placed& Q, const Bounds& qb, bool a_is_p) {
+    for (const R3& x : P.v) {
+      for (std::size_t f = 0; f < Q.loops.size(); ++f) {
+        if (beyond(x, 0, qb.face_c[f], qb.face_r[f], out.d2))
+          continue;
+        const Real d2 = pointPolygon2(Q, f, x, c);
+        if (d2 < out.d2)
+          out.d2 = d2, out.pa = a_is_p ? x : c, out.pb = a_is_p ? c : x;
+      }
     }
-  }
-  for (const R3& x : B.v) {
-    for (std::size_t f = 0; f < A.loops.size(); ++f) {
-      if (beyond(x, 0, ba.face_c[f], ba.face_r[f], out.d2))
-        continue;
-      const Real d2 = pointPolygon2(A, f, x, c);
-      if (d2 < out.d2)
-        out.d2 = d2, out.pa = c, out.pb = x;
-    }
-  }
+  };
+  vertexFace(A, B, bb, true);
+  vertexFace(B, A, ba, false);
   for (std::size_t i = 0; i < A.e.size(); ++i) {
     for (std::size_t j = 0; j < B.e.size(); ++j) {
       if (beyond(ba.edge_c[i], ba.edge_r[i], bb.edge_c[j], bb.edge_r[j], out.d2))

@@ -23,17 +23,21 @@ using namespace checks;  // NOLINT(google-build-using-namespace): test helpers
 
 void tally(const ClosestResult& c, Figures& fig) {
   ++fig.pairs;
-  switch (c.status) {
-    case ContactStatus::kSeparated:
-      ++fig.separated;
-      break;
-    case ContactStatus::kTouching:
-      ++fig.touching;
-      break;
-    case ContactStatus::kPenetrating:
-      ++fig.penetrating;
-      break;
+  fig.countStatus(c.status);
+}
+
+// Every vertex-vertex and every edge-edge pair of a and b: start features for the walk.
+std::vector<std::pair<Feature, Feature>> vertexAndEdgePairs(const Polytope& a, const Polytope& b) {
+  std::vector<std::pair<Feature, Feature>> starts;
+  for (std::uint32_t i = 0; i < a.vertices().size(); ++i) {
+    for (std::uint32_t j = 0; j < b.vertices().size(); ++j)
+      starts.emplace_back(Feature::vertex(i), Feature::vertex(j));
   }
+  for (std::uint32_t i = 0; i < a.edges().size(); ++i) {
+    for (std::uint32_t j = 0; j < b.edges().size(); ++j)
+      starts.emplace_back(Feature::edge(i), Feature::edge(j));
+  }
+  return starts;
 }
 
 // Small hulls of every family at three unit scales, poses spread so that about a third overlap.
@@ -54,7 +58,7 @@ TEST(ClosestFeatures, RandomPairsAgainstBruteForce) {
     overlapping += ref.overlapping;
     FeatureCache cache;
     const ClosestResult c = closestFeatures(ra.value(), rb.value(), X, cache);
-    const std::string err = checkClosest(ra.value(), rb.value(), X, c, ref, fig);
+    const std::string err = checkClosest({ra.value(), rb.value(), X, ref}, c, fig);
     fails.add(label("pair ", i, ": "), err);
     tally(c, fig);
     // the cache holds the final pair
@@ -93,7 +97,7 @@ TEST(ClosestFeatures, EveryStartGivesTheSameAnswer) {
       FeatureCache cache{randomFeature(rng, a), randomFeature(rng, b)};
       const FeatureCache start = cache;
       const ClosestResult c = closestFeatures(a, b, X, cache);
-      const std::string err = checkClosest(a, b, X, c, ref, fig);
+      const std::string err = checkClosest({a, b, X, ref}, c, fig);
       fails.add(label("pair ", i, ", start ", start.a.name(), " ", start.b.name(), ": "), err);
       tally(c, fig);
       ++starts;
@@ -117,7 +121,7 @@ TEST(ClosestFeatures, LargerHullsAgainstBruteForce) {
       const auto ref = reference::bruteForce(a, b, X);
       FeatureCache cache;
       const ClosestResult c = closestFeatures(a, b, X, cache);
-      const std::string err = checkClosest(a, b, X, c, ref, fig);
+      const std::string err = checkClosest({a, b, X, ref}, c, fig);
       fails.add(label("n=", n, " pair ", i, ": "), err);
       tally(c, fig);
     }
@@ -210,7 +214,7 @@ TEST(ClosestFeatures, TouchingEdgesInEveryFrameEndBeforeTheCap) {
           Figures fig;
           fails.add(label(c.name, ", scale ", s, far ? ", 1e4 sizes away" : ", at the origin",
                           turn ? ", turned frame" : ", axis-aligned frame"),
-                    checkClosest(a, b, X, r, reference::bruteForce(a, b, X), fig));
+                    checkClosest({a, b, X, reference::bruteForce(a, b, X)}, r, fig));
         }
       }
     }
@@ -236,27 +240,18 @@ TEST(ClosestFeatures, NearlyParallelEdgesFromEveryStart) {
           geom::Pose{{2 + s, 2 + s, 0.5}, glm::angleAxis(tilt, glm::normalize(Vec3{1, -1, 0}))}
               .toTransform();
       const reference::RefAnswer ref = reference::bruteForce(a, a, X);
-      std::vector<std::pair<Feature, Feature>> starts;
-      for (std::uint32_t i = 0; i < a.vertices().size(); ++i) {
-        for (std::uint32_t j = 0; j < a.vertices().size(); ++j)
-          starts.emplace_back(Feature::vertex(i), Feature::vertex(j));
-      }
-      for (std::uint32_t i = 0; i < a.edges().size(); ++i) {
-        for (std::uint32_t j = 0; j < a.edges().size(); ++j)
-          starts.emplace_back(Feature::edge(i), Feature::edge(j));
-      }
-      for (const auto& [fa, fb] : starts) {
+      for (const auto& [fa, fb] : vertexAndEdgePairs(a, a)) {
         const std::string what =
             label("tilt ", tilt, ", gap ", gap, ", start ", fa.name(), " ", fb.name());
         FeatureCache fc{fa, fb};
         const ClosestResult c = closestFeatures(a, a, X, fc);
         tally(c, fig);
-        if (fails.add(what, checkClosest(a, a, X, c, ref, fig)))
+        if (fails.add(what, checkClosest({a, a, X, ref}, c, fig)))
           continue;
         PairCache pc;
         pc.features = {fa, fb};
         fails.add(what + " (queryPair)",
-                  checkPairResult(a, a, X, queryPair(a, a, X, pc), ref, pair_fig));
+                  checkPairResult({a, a, X, ref}, queryPair(a, a, X, pc), pair_fig));
       }
     }
   }
@@ -282,21 +277,12 @@ TEST(ClosestFeatures, NearlyParallelFacesFromEveryStart) {
                                      glm::angleAxis(tilt, glm::normalize(Vec3{0.35, 0.4, 0.86}))}
                               .toTransform();
       const reference::RefAnswer ref = reference::bruteForce(a, b, X);
-      std::vector<std::pair<Feature, Feature>> starts;
-      for (std::uint32_t i = 0; i < a.vertices().size(); ++i) {
-        for (std::uint32_t j = 0; j < b.vertices().size(); ++j)
-          starts.emplace_back(Feature::vertex(i), Feature::vertex(j));
-      }
-      for (std::uint32_t i = 0; i < a.edges().size(); ++i) {
-        for (std::uint32_t j = 0; j < b.edges().size(); ++j)
-          starts.emplace_back(Feature::edge(i), Feature::edge(j));
-      }
-      for (const auto& [fa, fb] : starts) {
+      for (const auto& [fa, fb] : vertexAndEdgePairs(a, b)) {
         FeatureCache fc{fa, fb};
         const ClosestResult c = closestFeatures(a, b, X, fc);
         tally(c, fig);
         fails.add(label("tilt ", tilt, ", gap ", gap, ", start ", fa.name(), " ", fb.name()),
-                  checkClosest(a, b, X, c, ref, fig));
+                  checkClosest({a, b, X, ref}, c, fig));
       }
     }
   }

@@ -26,6 +26,15 @@ const Quat kIdentity{1.0, 0.0, 0.0, 0.0};
 const double kSqrt2 = std::sqrt(2.0);
 const double kSqrt3 = std::sqrt(3.0);
 
+// queryPair's cold answer on (a, b, X), after every property of checkPair holds for it
+PairResult checkedQuery(const Polytope& a, const Polytope& b, const Transform& X) {
+  Figures fig;
+  const std::string err = checkPair(a, b, X, fig);
+  EXPECT_TRUE(err.empty()) << err;
+  PairCache cache;
+  return queryPair(a, b, X, cache);
+}
+
 struct Expected {
   std::vector<Vec3> points;  // contact points, A's frame
   double depth;              // every point's depth
@@ -40,12 +49,7 @@ void expectManifold(const Polytope& a,
                     const Expected& want,
                     const std::string& label) {
   SCOPED_TRACE(label);
-  Figures fig;
-  Failures fails;
-  const std::string err = checkPair(a, b, X, fig);
-  EXPECT_TRUE(err.empty()) << err;
-  PairCache cache;
-  const PairResult r = queryPair(a, b, X, cache);
+  const PairResult r = checkedQuery(a, b, X);
   const ContactStatus status = gap > 0.0   ? ContactStatus::kSeparated
                                : gap < 0.0 ? ContactStatus::kPenetrating
                                            : ContactStatus::kTouching;
@@ -165,12 +169,7 @@ TEST(Manifold, ManyCornersReducedToFourKeepingTheDeepest) {
     SCOPED_TRACE(label("tilt ", tilt, gapName(gap)));
     const Transform X =
         geom::Pose{{0.0, 0.0, 1.0 + gap}, glm::angleAxis(tilt, Vec3{1, 0, 0})}.toTransform();
-    Figures fig;
-    Failures fails;
-    const std::string err = checkPair(a, b, X, fig);
-    EXPECT_TRUE(err.empty()) << err;
-    PairCache cache;
-    const PairResult r = queryPair(a, b, X, cache);
+    const PairResult r = checkedQuery(a, b, X);
     // separated: the lowest corner over A's face; penetrating: the minimal translation is along
     // the cap's normal (shallower than along z), its deepest point over the same corner
     const double deepest_depth =

@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "tests/core/geometry_helpers.h"
+
 // The brute-force checks run inside the Debug (-O0) test binaries; optimising them changes no
 // result (no -ffast-math).
 #if defined(__GNUC__) && !defined(__clang__)
@@ -27,16 +29,6 @@ std::vector<Vec3> box(double x, double y, double z) {
   std::vector<Vec3> p;
   for (int i = 0; i < 8; ++i)
     p.push_back(Vec3{i & 1 ? x : -x, i & 2 ? y : -y, i & 4 ? z : -z});
-  return p;
-}
-
-std::vector<Vec3> prism(int k, double r, double h) {
-  std::vector<Vec3> p;
-  for (int i = 0; i < k; ++i) {
-    const double t = i * 2.0 * std::numbers::pi / k;
-    p.push_back({r * std::cos(t), r * std::sin(t), -h});
-    p.push_back({r * std::cos(t), r * std::sin(t), h});
-  }
   return p;
 }
 
@@ -62,16 +54,7 @@ double outside(const Polytope& q, const Transform& X, const Vec3& p) {
   return worst;
 }
 
-namespace {
-
-double pointSegment(const Vec3& x, const Vec3& p, const Vec3& q) {
-  const Vec3 d = q - p;
-  const double dd = glm::dot(d, d);
-  const double s = dd > 0.0 ? std::clamp(glm::dot(x - p, d) / dd, 0.0, 1.0) : 0.0;
-  return glm::length(x - (p + d * s));
-}
-
-}  // namespace
+using testing::segmentDistance;
 
 double distanceToFeature(const Polytope& q, const Transform& X, Feature f, const Vec3& p) {
   const Vec3 x = X.inverse().apply(p);
@@ -83,7 +66,7 @@ double distanceToFeature(const Polytope& q, const Transform& X, Feature f, const
       if (f.index >= q.edges().size())
         return std::numeric_limits<double>::infinity();
       const auto& e = q.edges()[f.index];
-      return pointSegment(x, q.vertices()[e.tail].p, q.vertices()[e.head].p);
+      return segmentDistance(x, q.vertices()[e.tail].p, q.vertices()[e.head].p);
     }
     case FeatureType::kFace: {
       if (f.index >= q.faces().size())
@@ -107,8 +90,8 @@ double distanceToFeature(const Polytope& q, const Transform& X, Feature f, const
         return std::abs(glm::dot(n, x - c));
       double best = std::numeric_limits<double>::infinity();
       for (std::size_t k = 0; k < fe.size(); ++k) {
-        best = std::min(best, pointSegment(x, q.vertices()[fe[k].vertex].p,
-                                           q.vertices()[fe[(k + 1) % fe.size()].vertex].p));
+        best = std::min(best, segmentDistance(x, q.vertices()[fe[k].vertex].p,
+                                              q.vertices()[fe[(k + 1) % fe.size()].vertex].p));
       }
       return best;
     }
@@ -248,6 +231,20 @@ const char* name(ContactStatus s) {
   return "?";
 }
 
+void Figures::countStatus(ContactStatus s) {
+  switch (s) {
+    case ContactStatus::kSeparated:
+      ++separated;
+      break;
+    case ContactStatus::kTouching:
+      ++touching;
+      break;
+    case ContactStatus::kPenetrating:
+      ++penetrating;
+      break;
+  }
+}
+
 void Figures::print(const std::string& what) const {
   std::printf(
       "[figures] %s: %zu pairs (%zu separated, %zu touching, %zu penetrating); max errors, "
@@ -333,19 +330,28 @@ Transform randomTransform(std::mt19937_64& rng, double spread) {
       .toTransform();
 }
 
-std::string checkPairResult(const Polytope& a,
-                            const Polytope& b,
-                            const Transform& X_AB,
-                            const PairResult& r,
-                            const reference::RefAnswer& ref,
-                            Figures& fig) {
+namespace {
+
+// starts a failure's message: its first line is "[check: kind, the status the reference implies]
+// details", so that Failures counts the failures by kind
+std::ostringstream& failLine(std::ostringstream& err,
+                             const char* check,
+                             const char* kind,
+                             const PairCase& in) {
+  err << "[" << check << ": " << kind << ", "
+      << name(statusOf(in.ref.signed_distance, pairSize(in.a, in.b))) << "] ";
+  return err;
+}
+
+}  // namespace
+
+std::string checkPairResult(const PairCase& in, const PairResult& r, Figures& fig) {
+  const auto& [a, b, X_AB, ref] = in;
   const double size = pairSize(a, b);
   const double tol = kDistTol * size;
   std::ostringstream err;
-  // the first line of a failure is "[queryPair: kind, status] details"
   auto fail = [&](const char* kind) -> std::ostringstream& {
-    err << "[queryPair: " << kind << ", " << name(statusOf(ref.signed_distance, size)) << "] ";
-    return err;
+    return failLine(err, "queryPair", kind, in);
   };
   auto report = [&] {
     std::ostringstream s;
@@ -379,17 +385,7 @@ std::string checkPairResult(const Polytope& a,
         << "status " << name(r.status) << " disagrees with its own distance";
     return report();
   }
-  switch (r.status) {
-    case ContactStatus::kSeparated:
-      ++fig.separated;
-      break;
-    case ContactStatus::kTouching:
-      ++fig.touching;
-      break;
-    case ContactStatus::kPenetrating:
-      ++fig.penetrating;
-      break;
-  }
+  fig.countStatus(r.status);
   // signed distance
   const double dist_err = std::abs(r.distance - ref.signed_distance);
   fig.max_dist_err = std::max(fig.max_dist_err, dist_err / size);
@@ -498,12 +494,8 @@ std::string checkPairResult(const Polytope& a,
   return {};
 }
 
-std::string checkClosest(const Polytope& a,
-                         const Polytope& b,
-                         const Transform& X_AB,
-                         const ClosestResult& c,
-                         const reference::RefAnswer& ref,
-                         Figures& fig) {
+std::string checkClosest(const PairCase& in, const ClosestResult& c, Figures& fig) {
+  const auto& [a, b, X_AB, ref] = in;
   const double size = pairSize(a, b);
   const double tol = kDistTol * size;
   std::ostringstream err;
@@ -516,11 +508,8 @@ std::string checkClosest(const Polytope& a,
       << describe(a, b, X_AB);
     return s.str();
   };
-  // the first line of a failure is "[closestFeatures: kind] details"
   auto fail = [&](const char* kind) -> std::ostringstream& {
-    err << "[closestFeatures: " << kind << ", " << name(statusOf(ref.signed_distance, size))
-        << "] ";
-    return err;
+    return failLine(err, "closestFeatures", kind, in);
   };
   fig.max_iterations = std::max(fig.max_iterations, c.iterations);
   if (c.end == WalkEnd::kIterationCap) {
@@ -593,12 +582,12 @@ std::string checkPair(const Polytope& a, const Polytope& b, const Transform& X_A
   const reference::RefAnswer ref = reference::bruteForce(a, b, X_AB);
   FeatureCache fc;
   const ClosestResult c = closestFeatures(a, b, X_AB, fc);
-  std::string s = checkClosest(a, b, X_AB, c, ref, fig);
+  std::string s = checkClosest({a, b, X_AB, ref}, c, fig);
   if (!s.empty())
     return s;
   PairCache cache;
   const PairResult r = queryPair(a, b, X_AB, cache);
-  return checkPairResult(a, b, X_AB, r, ref, fig);
+  return checkPairResult({a, b, X_AB, ref}, r, fig);
 }
 
 }  // namespace hapticd::collision::checks

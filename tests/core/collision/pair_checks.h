@@ -15,6 +15,7 @@
 
 #include "core/collision/pair_query.h"
 #include "core/geometry/rotation.h"
+#include "tests/core/geometry_helpers.h"
 #include "tests/reference/reference.h"
 
 namespace hapticd::collision::checks {
@@ -44,7 +45,7 @@ Polytope hullOf(std::span<const Vec3> points);
 /// Corners of the box [-x, x] x [-y, y] x [-z, z].
 std::vector<Vec3> box(double x, double y, double z);
 /// A prism over a regular k-gon of circumradius r, z in [-h, h].
-std::vector<Vec3> prism(int k, double r, double h);
+using testing::prism;
 /// Every point times s.
 std::vector<Vec3> scaled(std::vector<Vec3> points, double s);
 /// The larger radius of the two: the pair's size.
@@ -91,6 +92,8 @@ struct Figures {
   std::size_t walk_handoffs =
       0;  ///< overlapping pairs the walk ended as touching (docs: settled by the depth)
   std::array<std::size_t, 5> manifold_sizes{};
+  /// Counts one answer of status `s` (separated, touching or penetrating).
+  void countStatus(ContactStatus s);
   void print(const std::string& what) const;
 };
 
@@ -121,22 +124,21 @@ class Failures {
 
 // --- the checks (empty string: every property holds; else what failed, with the inputs) --------
 
+/// The inputs of one checked answer: the two hulls, B placed in A's frame by X_AB, and the
+/// reference's answer for them.
+struct PairCase {
+  const Polytope& a;
+  const Polytope& b;
+  const Transform& X_AB;
+  const reference::RefAnswer& ref;
+};
+
 /// A queryPair answer: status, signed distance, normal (when unique), witnesses, features,
 /// manifold, no NaN.
-std::string checkPairResult(const Polytope& a,
-                            const Polytope& b,
-                            const Transform& X_AB,
-                            const PairResult& r,
-                            const reference::RefAnswer& ref,
-                            Figures& fig);
+std::string checkPairResult(const PairCase& in, const PairResult& r, Figures& fig);
 /// A closestFeatures answer: never the iteration cap; separated pairs converge to the reference
 /// distance with witnesses on the reported features; overlapping pairs report penetration.
-std::string checkClosest(const Polytope& a,
-                         const Polytope& b,
-                         const Transform& X_AB,
-                         const ClosestResult& c,
-                         const reference::RefAnswer& ref,
-                         Figures& fig);
+std::string checkClosest(const PairCase& in, const ClosestResult& c, Figures& fig);
 /// Runs a cold queryPair and a cold closestFeatures and both checks above.
 std::string checkPair(const Polytope& a, const Polytope& b, const Transform& X_AB, Figures& fig);
 

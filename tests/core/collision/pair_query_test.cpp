@@ -120,7 +120,7 @@ TEST(PairQuery, StaleCacheGivesTheColdAnswer) {
         ASSERT_LE(angle(w.normal, c.normal), kAngleTol) << "pair " << i << " pose " << k;
       }
       if (k == 4) {
-        const std::string err = checkPairResult(a, b, X, w, reference::bruteForce(a, b, X), fig);
+        const std::string err = checkPairResult({a, b, X, reference::bruteForce(a, b, X)}, w, fig);
         fails.add(label("pair ", i, ": "), err);
       }
       ++compared;

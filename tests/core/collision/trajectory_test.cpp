@@ -99,8 +99,8 @@ void runTrajectory(const char* what,
     // the reference every 10th step and at every touching step
     if (k % 10 == 0 || w.status == ContactStatus::kTouching) {
       const auto ref = reference::bruteForce(a, b, X_AB);
-      fails.add(label + " (warm query)", checkPairResult(a, b, X_AB, w, ref, fig));
-      fails.add(label + " (warm walk)", checkClosest(a, b, X_AB, wf, ref, fig));
+      fails.add(label + " (warm query)", checkPairResult({a, b, X_AB, ref}, w, fig));
+      fails.add(label + " (warm walk)", checkClosest({a, b, X_AB, ref}, wf, fig));
     }
   }
   fig.print(std::string(what) + ", warm answers checked against the reference");

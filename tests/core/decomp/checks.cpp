@@ -8,16 +8,12 @@
 #include <random>
 
 #include "core/geometry/polytope.h"
+#include "tests/core/geometry_helpers.h"
 
 namespace hapticd::decomp::checks {
 namespace {
 
-double segmentDistance(const Vec3& p, const Vec3& a, const Vec3& b) {
-  const Vec3 ab = b - a;
-  const double len2 = glm::dot(ab, ab);
-  const double t = len2 > 0.0 ? std::clamp(glm::dot(p - a, ab) / len2, 0.0, 1.0) : 0.0;
-  return glm::length(p - (a + ab * t));
-}
+using testing::segmentDistance;
 
 struct Face {
   std::vector<std::array<Vec3, 3>> tris;  // the face's fan

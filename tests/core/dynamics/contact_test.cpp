@@ -15,6 +15,16 @@ constexpr double kLongRunS = 15.0;  // sanitizer builds: a quarter of the run, t
 constexpr double kLongRunS = 60.0;
 #endif
 
+// A scene under gravity with one material (friction mu, restitution e) and a static floor of
+// that material whose top face is y = 0.
+SceneModel floorScene(double mu, double e) {
+  SceneModel s;
+  s.gravity_W = Vec3{0, -9.81, 0};
+  s.materials.push_back(material(mu, e));
+  s.bodies.push_back(staticBody("floor", boxShape(Vec3{1, 0.1, 1}), at(Vec3{0, -0.1, 0}), 0));
+  return s;
+}
+
 // a cube dropped from rest onto a floor; `unit` scales every length (1: metres, 1000: mm)
 struct Bounce {
   double v_before = 0.0;  // velocity at the end of the tick before the impact
@@ -176,10 +186,7 @@ TEST(Energy, NoGainInAClosedFrictionlessBoxOfBricks) {
 }
 
 TEST(Stack, FourBoxesStayStandingFor60s) {
-  SceneModel s;
-  s.gravity_W = Vec3{0, -9.81, 0};
-  s.materials.push_back(material(0.6, 0.0));
-  s.bodies.push_back(staticBody("floor", boxShape(Vec3{1, 0.1, 1}), at(Vec3{0, -0.1, 0}), 0));
+  SceneModel s = floorScene(0.6, 0.0);
   const double h = 0.05;
   for (int i = 0; i < 4; ++i) {
     s.bodies.push_back(
@@ -273,10 +280,7 @@ TEST(Friction, BoxOnSlopeSticksBelowTheFrictionAngleAndSlidesAbove) {
 // two cubes whose impacts fall at different times of one tick, with room for one time of
 // impact: the cap is flagged and counted, and the second is held apart speculatively
 TEST(TimeOfImpact, CapIsFlaggedAndTheRestHeldApart) {
-  SceneModel s;
-  s.gravity_W = Vec3{0, -9.81, 0};
-  s.materials.push_back(material(0.0, 0.5));
-  s.bodies.push_back(staticBody("floor", boxShape(Vec3{1, 0.1, 1}), at(Vec3{0, -0.1, 0}), 0));
+  SceneModel s = floorScene(0.0, 0.5);
   // both reach the floor in the same tick: one 0.1 ms after the other
   const double h = 0.05, v = 2.0;
   for (int i = 0; i < 2; ++i) {
@@ -343,10 +347,7 @@ TEST(Kinematic, PlatformLiftsABox) {
 // inputs that are not numbers change nothing; two boxes created half inside each other come
 // apart without being thrown (split impulses put no energy into the velocities)
 TEST(Robustness, BadInputsChangeNothingAndOverlapsSeparateGently) {
-  SceneModel s;
-  s.gravity_W = Vec3{0, -9.81, 0};
-  s.materials.push_back(material(0.5, 0.5));
-  s.bodies.push_back(staticBody("floor", boxShape(Vec3{1, 0.1, 1}), at(Vec3{0, -0.1, 0}), 0));
+  SceneModel s = floorScene(0.5, 0.5);
   s.bodies.push_back(dynamicBody("a", boxShape(Vec3{0.05}), at(Vec3{0, 0.04, 0}), 500.0, 0));
   s.bodies.push_back(dynamicBody("b", boxShape(Vec3{0.05}), at(Vec3{0.05, 0.09, 0.01}), 500.0, 0));
   Body k = staticBody("pusher", boxShape(Vec3{0.02}), at(Vec3{0.5, 0.02, 0.5}), 0);
@@ -385,10 +386,7 @@ TEST(Robustness, BadInputsChangeNothingAndOverlapsSeparateGently) {
 
 // a resting scene sleeps (steps do no work) and wakes when pushed
 TEST(Sleep, RestingSceneSleepsAndWakesWhenPushed) {
-  SceneModel s;
-  s.gravity_W = Vec3{0, -9.81, 0};
-  s.materials.push_back(material(0.5, 0.0));
-  s.bodies.push_back(staticBody("floor", boxShape(Vec3{1, 0.1, 1}), at(Vec3{0, -0.1, 0}), 0));
+  SceneModel s = floorScene(0.5, 0.0);
   s.bodies.push_back(dynamicBody("box", boxShape(Vec3{0.05}), at(Vec3{0, 0.05, 0}), 500.0, 0));
   Rig rig(std::move(s));
   std::uint32_t first_asleep = 0;
@@ -425,10 +423,7 @@ TEST(Sleep, RestingSceneSleepsAndWakesWhenPushed) {
 // a scene without a probe body: the Simulation adds a probe sphere of its own after the scene's
 // bodies; held kinematically, it pushes a box along the floor and feels it
 TEST(HeldBody, ExtraProbeSpherePushesABox) {
-  SceneModel s;
-  s.gravity_W = Vec3{0, -9.81, 0};
-  s.materials.push_back(material(0.3, 0.0));
-  s.bodies.push_back(staticBody("floor", boxShape(Vec3{1, 0.1, 1}), at(Vec3{0, -0.1, 0}), 0));
+  SceneModel s = floorScene(0.3, 0.0);
   s.bodies.push_back(dynamicBody("box", boxShape(Vec3{0.05}), at(Vec3{0, 0.05, 0}), 500.0, 0));
   s.length_scale = lengthScale(s);
   auto world = buildCollisionWorld(s, {}).value();

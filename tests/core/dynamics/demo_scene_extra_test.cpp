@@ -49,8 +49,7 @@ TEST(DemoScene, StepAllocatesNothing) {
   Rig rig(demoScene(true));
   HeldInput in;
   in.mode = HeldMode::kKinematic;
-  for (int k = 0; k < 500; ++k)
-    rig.tick(kDt);
+  rig.run(500, kDt);
   std::uint64_t during_dynamics = 0;
   const std::uint64_t start = testing_alloc::count();
   for (int k = 0; k < 3000; ++k) {
@@ -68,8 +67,7 @@ TEST(DemoScene, StepAllocatesNothing) {
 TEST(DemoScene, SameRunSameBits) {
   const auto run = [] {
     Rig rig(demoScene(false));
-    for (int k = 0; k < 3000; ++k)
-      rig.tick(kDt);
+    rig.run(3000, kDt);
     std::vector<double> out;
     for (std::uint32_t b = 0; b < rig.dyn->bodyCount(); ++b) {
       const Pose X = rig.dyn->pose(b);

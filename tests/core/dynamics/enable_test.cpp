@@ -28,8 +28,7 @@ TEST(DynamicsEnable, ADisabledBodyIsFrozenAndOutOfContactsEnabledItFallsAndRests
   Rig rig(std::move(s));
   EXPECT_FALSE(rig.dyn->enabled(1));
   EXPECT_FALSE(rig.world->enabled(1));  // buildCollisionWorld disables it too
-  for (int k = 0; k < 300; ++k)
-    rig.tick(kDt);
+  rig.run(300, kDt);
   EXPECT_EQ(rig.dyn->pose(1).translation.y, 0.02);
   EXPECT_EQ(pairsWith(*rig.world, 1), 0u);
   EXPECT_EQ(rig.dyn->kineticEnergy(), 0.0);
@@ -39,21 +38,18 @@ TEST(DynamicsEnable, ADisabledBodyIsFrozenAndOutOfContactsEnabledItFallsAndRests
   rig.world->setPose(1, at(Vec3{0, 0.3, 0}));
   rig.dyn->setEnabled(1, true, at(Vec3{0, 0.3, 0}));
   EXPECT_TRUE(rig.dyn->enabled(1));
-  for (int k = 0; k < 100; ++k)
-    rig.tick(kDt);
+  rig.run(100, kDt);
   // free fall for 0.1 s: 0.3 - g t^2 / 2 (semi-implicit Euler: within a tick's worth)
   EXPECT_NEAR(rig.dyn->pose(1).translation.y, 0.3 - 0.5 * 9.81 * 0.01,
               0.5 * 9.81 * 0.1 * kDt * 1.1);
-  for (int k = 0; k < 1900; ++k)
-    rig.tick(kDt);
+  rig.run(1900, kDt);
   EXPECT_NEAR(rig.dyn->pose(1).translation.y, 0.05, 5e-4);
   EXPECT_LT(glm::length(rig.dyn->linearVelocity(1)), 1e-3);
   // disabled again: frozen where it rests, its velocity zero
   rig.dyn->setEnabled(1, false);
   rig.world->setEnabled(1, false);
   const Pose frozen = rig.dyn->pose(1);
-  for (int k = 0; k < 200; ++k)
-    rig.tick(kDt);
+  rig.run(200, kDt);
   EXPECT_EQ(rig.dyn->pose(1).translation.y, frozen.translation.y);
   EXPECT_EQ(glm::length(rig.dyn->linearVelocity(1)), 0.0);
   // a static body cannot be disabled
@@ -77,19 +73,12 @@ TEST(DynamicsEnable, AJointToADisabledBodyIsInert) {
     s.bodies.push_back(block);
     s.bodies.push_back(
         dynamicBody("bar", boxShape(Vec3{0.02, 0.1, 0.02}), at(Vec3{0, 0.8, 0}), 1000.0));
-    scene::Joint j;
-    j.kind = scene::JointKind::kFixed;
-    j.body_a = 0;
-    j.body_b = 1;
-    j.X_AJ = at(Vec3{0, -0.1, 0});
-    j.X_BJ = at(Vec3{0, 0.1, 0});
-    s.joints.push_back(j);
+    s.joints.push_back(joint(scene::JointKind::kFixed, 0, 1, Vec3{0, -0.1, 0}, Vec3{0, 0.1, 0}));
     // a dynamic body so that the stage is active in both cases
     s.bodies.push_back(dynamicBody("other", boxShape(Vec3{0.01}), at(Vec3{5, 0, 0}), 1000.0));
     s.bodies.back().gravity_factor = 0.0;
     Rig rig(std::move(s));
-    for (int k = 0; k < 300; ++k)
-      rig.tick(kDt);
+    rig.run(300, kDt);
     const double y = rig.dyn->pose(1).translation.y;
     std::printf("  block %s: bar at y %.5f after 0.3 s\n", disabled ? "disabled" : "kinematic", y);
     if (disabled) {

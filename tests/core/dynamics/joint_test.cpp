@@ -15,14 +15,7 @@ scene::Joint hingeToWorld(std::int32_t body,
                           const Vec3& anchor_B,
                           const Vec3& anchor_W,
                           std::uint8_t axis) {
-  scene::Joint j;
-  j.kind = scene::JointKind::kHinge;
-  j.body_a = body;
-  j.body_b = -1;
-  j.X_AJ = at(anchor_B);
-  j.X_BJ = at(anchor_W);
-  j.hinge_axis = axis;
-  return j;
+  return joint(scene::JointKind::kHinge, body, -1, anchor_B, anchor_W, axis);
 }
 
 // hinge angle of body 0 about z (rotation of the body from its start)
@@ -88,13 +81,7 @@ TEST(Fixed, KeepsTwoBodiesTogether) {
   b.angular_velocity_W = Vec3{1, 2, 3};
   b.linear_velocity_W = glm::cross(Vec3{1, 2, 3}, Vec3{0.15, 0, 0});
   s.bodies = {a, b};
-  scene::Joint j;
-  j.kind = scene::JointKind::kFixed;
-  j.body_a = 0;
-  j.body_b = 1;
-  j.X_AJ = at(Vec3{0.075, 0, 0});
-  j.X_BJ = at(Vec3{-0.075, 0, 0});
-  s.joints.push_back(j);
+  s.joints.push_back(joint(scene::JointKind::kFixed, 0, 1, Vec3{0.075, 0, 0}, Vec3{-0.075, 0, 0}));
   Rig rig(std::move(s));
   double worst = 0.0;
   for (int k = 0; k < 3000; ++k) {
@@ -117,14 +104,7 @@ TEST(Hinge, BetweenTwoDynamicBodies) {
   door.angular_velocity_W = Vec3{0.5, 3.2, -0.3};  // the frame's spin plus 3 rad/s about the hinge
   door.linear_velocity_W = glm::cross(door.angular_velocity_W, Vec3{0.15, 0, 0});
   s.bodies = {frame, door};
-  scene::Joint j;
-  j.kind = scene::JointKind::kHinge;
-  j.body_a = 0;
-  j.body_b = 1;
-  j.X_AJ = at(Vec3{0.02, 0, 0});
-  j.X_BJ = at(Vec3{-0.15, 0, 0});
-  j.hinge_axis = 1;
-  s.joints.push_back(j);
+  s.joints.push_back(joint(scene::JointKind::kHinge, 0, 1, Vec3{0.02, 0, 0}, Vec3{-0.15, 0, 0}, 1));
   Rig rig(std::move(s));
   const double e0 = rig.dyn->kineticEnergy();
   double worst_e = 0.0;

@@ -74,6 +74,24 @@ inline Pose at(const Vec3& t, const Quat& q = Quat{1, 0, 0, 0}) {
   return Pose{t, q};
 }
 
+/// A joint of `kind` between bodies a and b (-1: the world), its frame at anchor_A in a and at
+/// anchor_B in b (unturned), `axis` its free axis (kHinge, kSlider).
+inline scene::Joint joint(scene::JointKind kind,
+                          std::int32_t a,
+                          std::int32_t b,
+                          const Vec3& anchor_A,
+                          const Vec3& anchor_B,
+                          std::uint8_t axis = 0) {
+  scene::Joint j;
+  j.kind = kind;
+  j.body_a = a;
+  j.body_b = b;
+  j.X_AJ = at(anchor_A);
+  j.X_BJ = at(anchor_B);
+  j.hinge_axis = axis;
+  return j;
+}
+
 inline Body staticBody(const std::string& name,
                        std::shared_ptr<const geom::Polytope> s,
                        const Pose& X,
@@ -139,6 +157,11 @@ struct Rig {
   StepReport tick(double dt = 0.001, const HeldInput* held = nullptr) {
     world->step();
     return dyn->step(*world, dt, held);
+  }
+  /// n ticks of dt.
+  void run(int n, double dt = 0.001) {
+    for (int k = 0; k < n; ++k)
+      tick(dt);
   }
   double energy() const { return dyn->kineticEnergy() + dyn->potentialEnergy(); }
 };

@@ -15,6 +15,7 @@
 #include "core/response/output_stage.h"
 #include "core/response/proxy.h"
 #include "core/response/shading.h"
+#include "tests/core/geometry_helpers.h"
 
 namespace hapticd::response {
 namespace {
@@ -247,15 +248,7 @@ TEST(ProxyStep, AHingeBasisTurnsAboutItsAxisOnly) {
   EXPECT_NEAR(glm::length(s.dc_W), 0.0, 1e-15);  // the centre is on the axis
 }
 
-std::vector<Vec3> prism(int sides, double r, double h) {
-  std::vector<Vec3> p;
-  for (int i = 0; i < sides; ++i) {
-    const double a = 2.0 * kPi * i / sides;
-    p.push_back(Vec3{r * std::cos(a), r * std::sin(a), -h});
-    p.push_back(Vec3{r * std::cos(a), r * std::sin(a), h});
-  }
-  return p;
-}
+using testing::prism;
 
 TEST(ForceShading, NormalsAreContinuousAcrossSmoothEdgesAndCreasesStaySharp) {
   const auto cyl = geom::Polytope::fromPoints(prism(32, 0.02, 0.01)).value();

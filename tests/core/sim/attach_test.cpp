@@ -8,6 +8,7 @@
 #include <numbers>
 
 #include "tests/core/alloc_counter.h"
+#include "tests/core/geometry_helpers.h"
 #include "tests/core/sim/harness.h"
 
 namespace hapticd::simtest {
@@ -16,26 +17,7 @@ namespace {
 using scene::Motion;
 constexpr double kPi = std::numbers::pi;
 
-Pose at(double x, double y, double z, Quat q = Quat{1, 0, 0, 0}) {
-  return Pose{Vec3{x, y, z}, q};
-}
-
-std::unique_ptr<sim::Simulation> make(std::shared_ptr<const scene::SceneModel> s,
-                                      const sim::SimOptions& o) {
-  auto r = sim::Simulation::create(std::move(s), o);
-  EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
-  return std::move(r).value();
-}
-
-std::vector<Vec3> prism(int sides, double r, double h) {
-  std::vector<Vec3> p;
-  for (int i = 0; i < sides; ++i) {
-    const double a = 2.0 * kPi * i / sides;
-    p.push_back(Vec3{r * std::cos(a), r * std::sin(a), -h});
-    p.push_back(Vec3{r * std::cos(a), r * std::sin(a), h});
-  }
-  return p;
-}
+using testing::prism;
 
 TEST(Attach, GrabARigidBodyCarryItSetItDownAndLetGo) {
   scene::SceneModel s;

@@ -10,24 +10,33 @@
 
 #include "core/scene/loader.h"
 #include "tests/core/alloc_counter.h"
+#include "tests/core/sim/demo_streams.h"
 #include "tests/core/sim/harness.h"
 
 namespace hapticd::simtest {
 namespace {
 
-class DemoScene : public ::testing::TestWithParam<const char*> {};
+// The scene GetParam() through the loader, and its pose stream.
+class DemoScene : public ::testing::TestWithParam<const char*> {
+ protected:
+  void SetUp() override {
+    const std::string dir = HAPTICD_SOURCE_DIR;
+    auto report = scene::loadSceneFile(dir + "/scenes/" + name + ".glb");
+    ASSERT_TRUE(report.ok()) << report.message();
+    model = std::make_shared<const scene::SceneModel>(std::move(*report.scene));
+    keys = readPoseStream(dir + "/tests/streams/" + name + ".csv");
+    ASSERT_GE(keys.size(), 2u);
+  }
+
+  const std::string name = GetParam();
+  std::shared_ptr<const scene::SceneModel> model;
+  std::vector<Key> keys;
+};
 
 TEST_P(DemoScene, ReplaysItsPoseStreamWithinTheInvariants) {
-  const std::string name = GetParam();
-  const std::string dir = HAPTICD_SOURCE_DIR;
-  auto report = scene::loadSceneFile(dir + "/scenes/" + name + ".glb");
-  ASSERT_TRUE(report.ok()) << report.message();
-  auto keys = readPoseStream(dir + "/tests/streams/" + name + ".csv");
-  ASSERT_GE(keys.size(), 2u);
   const bool closed =
       glm::length(keys.front().X.translation - keys.back().X.translation) < 1e-9 &&
       std::abs(glm::dot(keys.front().X.rotation, keys.back().X.rotation)) > 1.0 - 1e-12;
-  auto model = std::make_shared<const scene::SceneModel>(std::move(*report.scene));
   sim::SimOptions o;
   auto created = sim::Simulation::create(model, o);
   ASSERT_TRUE(created.ok()) << created.error().message;
@@ -67,13 +76,6 @@ TEST_P(DemoScene, ReplaysItsPoseStreamWithinTheInvariants) {
 // allocates nothing from its first tick (the narrow phase's scratch is the state's, sized at
 // create()).
 TEST_P(DemoScene, AFreshThreadStepsTheStreamWithoutAllocating) {
-  const std::string name = GetParam();
-  const std::string dir = HAPTICD_SOURCE_DIR;
-  auto report = scene::loadSceneFile(dir + "/scenes/" + name + ".glb");
-  ASSERT_TRUE(report.ok()) << report.message();
-  auto keys = readPoseStream(dir + "/tests/streams/" + name + ".csv");
-  ASSERT_GE(keys.size(), 2u);
-  auto model = std::make_shared<const scene::SceneModel>(std::move(*report.scene));
   sim::SimOptions o;
   auto created = sim::Simulation::create(model, o);
   ASSERT_TRUE(created.ok()) << created.error().message;
@@ -92,10 +94,7 @@ TEST_P(DemoScene, AFreshThreadStepsTheStreamWithoutAllocating) {
   EXPECT_EQ(allocations, 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes,
-                         DemoScene,
-                         ::testing::Values("peg_in_hole", "gears", "dynamic", "stress"),
-                         [](const auto& param_info) { return std::string(param_info.param); });
+INSTANTIATE_TEST_SUITE_P(Scenes, DemoScene, demoStreams(), demoStreamName);
 
 }  // namespace
 }  // namespace hapticd::simtest

@@ -22,6 +22,7 @@
 #include "core/sim/scene_state.h"
 #include "protocol/pose_stream.h"
 #include "tests/core/alloc_counter.h"
+#include "tests/core/sim/demo_streams.h"
 
 namespace hapticd::sim {
 namespace {
@@ -188,10 +189,7 @@ TEST_P(Determinism, AStateCopiedMidStreamStepsOnAsTheOriginal) {
   EXPECT_NE(stateHash(copy), stateHash(original));
 }
 
-INSTANTIATE_TEST_SUITE_P(Scenes,
-                         Determinism,
-                         ::testing::Values("peg_in_hole", "gears", "dynamic", "stress"),
-                         [](const auto& param_info) { return std::string(param_info.param); });
+INSTANTIATE_TEST_SUITE_P(Scenes, Determinism, simtest::demoStreams(), simtest::demoStreamName);
 
 }  // namespace
 }  // namespace hapticd::sim

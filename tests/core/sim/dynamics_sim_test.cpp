@@ -16,12 +16,6 @@ namespace {
 
 using scene::Motion;
 
-Pose at(double x, double y, double z) {
-  Pose p;
-  p.translation = Vec3{x, y, z};
-  return p;
-}
-
 std::shared_ptr<const geom::Polytope> sphereShape(double r) {
   std::vector<Vec3> pts;
   const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));

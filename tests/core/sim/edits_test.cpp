@@ -19,33 +19,13 @@ namespace {
 using scene::Motion;
 using sim::EditStatus;
 
-Pose at(double x, double y, double z) {
-  Pose p;
-  p.translation = Vec3{x, y, z};
-  return p;
-}
-
 scene::Body box(const std::string& name, Motion motion, const Vec3& p, const Vec3& half) {
   return makeBody(name, motion, at(p.x, p.y, p.z), {boxShape(half)});
 }
 
-std::unique_ptr<sim::Simulation> make(std::shared_ptr<const scene::SceneModel> sc,
-                                      const sim::SimOptions& o) {
-  auto created = sim::Simulation::create(std::move(sc), o);
-  EXPECT_TRUE(created.ok()) << (created.ok() ? "" : created.error().message);
-  return created.ok() ? std::move(created).value() : nullptr;
-}
-
 // Options for a scene whose lengths are s times metres: the same relative behaviour.
 sim::SimOptions scaledOptions(double s) {
-  sim::SimOptions o;
-  o.response.ramp_s = 0.0;
-  o.response.stiffness_n_per_m /= s;
-  o.response.max_speed_m_per_s *= s;
-  o.response.penetration_allowance_m *= s;
-  o.response.attach_distance_m *= s;
-  o.response.max_torque_nm *= s;
-  o.response.max_torque_step_nm *= s;
+  sim::SimOptions o = scaledResponseOptions(s);
   o.probe_sphere_radius_m *= s;
   return o;
 }
@@ -318,6 +298,15 @@ std::shared_ptr<const scene::SceneModel> editScene() {
   return finish(sc);
 }
 
+// editScene() with the default options, stepped once with the device at `device` (nullptr,
+// the test failed, when refused)
+std::unique_ptr<sim::Simulation> editSimAfterOneTick(const Pose& device) {
+  auto sim = make(editScene(), sim::SimOptions{});
+  if (sim)
+    sim->step(tick(0, device));
+  return sim;
+}
+
 TEST(SimEdits, BadEditsAreRefusedWithTheirStatusAndChangeNothing) {
   const auto model = editScene();
   sim::SimOptions o;
@@ -378,12 +367,9 @@ TEST(SimEdits, BadEditsAreRefusedWithTheirStatusAndChangeNothing) {
 }
 
 TEST(SimEdits, BodyPosesReportTheEditedPose) {
-  const auto model = editScene();
-  sim::SimOptions o;
-  auto sim = make(model, o);
-  ASSERT_TRUE(sim);
   const Pose device = at(0.0, 0.1, 0.0);
-  sim->step(tick(0, device));
+  auto sim = editSimAfterOneTick(device);
+  ASSERT_TRUE(sim);
   Pose X = at(0.31, 0.07, -0.02);
   const Quat q = axisAngle(Vec3{0, 1, 0}, 0.3);
   // a quaternion off unit by less than the tolerance is taken, normalised
@@ -592,12 +578,9 @@ TEST(SimEdits, AnInactiveProbeIsRefusedAStaticBodyIsAlwaysActive) {
 // ---- no allocation
 
 TEST(SimEdits, EditsAndStepsAllocateNothingAfterTheFirstStep) {
-  const auto model = editScene();
-  sim::SimOptions o;
-  auto sim = make(model, o);
-  ASSERT_TRUE(sim);
   const Pose device = at(0.0, 0.1, 0.0);
-  sim->step(tick(0, device));
+  auto sim = editSimAfterOneTick(device);
+  ASSERT_TRUE(sim);
   const std::uint64_t before = testing_alloc::count();
   std::size_t points = 0;
   for (std::uint64_t k = 1; k < 600; ++k) {

@@ -14,12 +14,6 @@ namespace {
 
 using scene::Motion;
 
-Pose at(double x, double y, double z) {
-  Pose p;
-  p.translation = Vec3{x, y, z};
-  return p;
-}
-
 struct GrabRun {
   Vec3 resting_force{0.0};     // held, the box still on the floor
   Vec3 lifted_force{0.0};      // mean over the last 0.5 s of holding it still in the air
@@ -30,17 +24,22 @@ struct GrabRun {
   bool finite = true;
 };
 
-// Scene: floor, a 1 kg cube of 0.1 m at rest on it, the probe sphere (r 0.01) resting on its top.
-// The device presses, grabs (button 1), lifts by 0.3 m in 1 s, holds, then accelerates along +x.
-GrabRun runGrab(const sim::SimOptions& o) {
-  GrabRun r;
+// A floor (top face y = 0) and a dynamic cube of 0.1 m at rest on it (1 kg), under gravity.
+std::shared_ptr<const scene::SceneModel> boxOnFloor() {
   scene::SceneModel sc;
   sc.bodies.push_back(
       makeBody("floor", Motion::kStatic, at(0, -0.05, 0), {boxShape(Vec3{1.0, 0.05, 1.0})}));
   sc.bodies.push_back(makeBody("box", Motion::kDynamic, at(0, 0.05, 0), {boxShape(Vec3{0.05})}));
   sc.gravity_W = Vec3{0, -9.81, 0};
   sc.length_scale = 2.9;
-  auto created = sim::Simulation::create(finish(sc), o);
+  return finish(sc);
+}
+
+// Scene: floor, a 1 kg cube of 0.1 m at rest on it, the probe sphere (r 0.01) resting on its top.
+// The device presses, grabs (button 1), lifts by 0.3 m in 1 s, holds, then accelerates along +x.
+GrabRun runGrab(const sim::SimOptions& o) {
+  GrabRun r;
+  auto created = sim::Simulation::create(boxOnFloor(), o);
   EXPECT_TRUE(created.ok());
   if (!created.ok())
     return r;
@@ -141,16 +140,10 @@ struct LoopRun {
 
 LoopRun runLoop(bool inertia) {
   LoopRun r;
-  scene::SceneModel sc;
-  sc.bodies.push_back(
-      makeBody("floor", Motion::kStatic, at(0, -0.05, 0), {boxShape(Vec3{1.0, 0.05, 1.0})}));
-  sc.bodies.push_back(makeBody("box", Motion::kDynamic, at(0, 0.05, 0), {boxShape(Vec3{0.05})}));
-  sc.gravity_W = Vec3{0, -9.81, 0};
-  sc.length_scale = 2.9;
   sim::SimOptions o;
   o.response.ramp_s = 0.0;
   o.response.grab_inertia = inertia;
-  auto created = sim::Simulation::create(finish(sc), o);
+  auto created = sim::Simulation::create(boxOnFloor(), o);
   EXPECT_TRUE(created.ok());
   if (!created.ok())
     return r;

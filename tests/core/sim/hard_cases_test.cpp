@@ -15,17 +15,6 @@ namespace {
 
 using scene::Motion;
 
-Pose at(double x, double y, double z, Quat q = Quat{1, 0, 0, 0}) {
-  return Pose{Vec3{x, y, z}, q};
-}
-
-std::unique_ptr<sim::Simulation> make(std::shared_ptr<const scene::SceneModel> s,
-                                      const sim::SimOptions& o) {
-  auto r = sim::Simulation::create(std::move(s), o);
-  EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
-  return std::move(r).value();
-}
-
 scene::Body staticBox(const std::string& name,
                       const Vec3& centre,
                       const Vec3& half,
@@ -192,14 +181,21 @@ TEST(HardCases, EdgeSlidingAlongAnEdge) {
   EXPECT_NEAR(ty, -0.02 * fy_arm, 0.05 * 0.02 * fy_arm);
 }
 
-// A narrow pyramid whose apex points into the corner of three walls (x = 0, y = 0, z = 0 planes,
-// free space x, y, z > 0): three vertex-face contacts at one point with three normals.
-TEST(HardCases, VertexDrivenIntoAThreeWallCorner) {
+// A scene of three static walls meeting at the origin: the planes x = 0, y = 0 (the floor) and
+// z = 0, free space x, y, z > 0.
+scene::SceneModel threeWallCorner(const std::string& name) {
   scene::SceneModel s;
-  s.name = "corner";
+  s.name = name;
   s.bodies.push_back(staticBox("floor", Vec3{0.05, -0.05, 0.05}, Vec3{0.15, 0.05, 0.15}));
   s.bodies.push_back(staticBox("wall x", Vec3{-0.05, 0.1, 0.05}, Vec3{0.05, 0.1, 0.15}));
   s.bodies.push_back(staticBox("wall z", Vec3{0.1, 0.1, -0.05}, Vec3{0.1, 0.1, 0.05}));
+  return s;
+}
+
+// A narrow pyramid whose apex points into the corner of three walls (x = 0, y = 0, z = 0 planes,
+// free space x, y, z > 0): three vertex-face contacts at one point with three normals.
+TEST(HardCases, VertexDrivenIntoAThreeWallCorner) {
+  scene::SceneModel s = threeWallCorner("corner");
   const Vec3 d = glm::normalize(Vec3{1, 1, 1});
   const Vec3 u = glm::normalize(glm::cross(d, Vec3{0, 1, 0}));
   const Vec3 v = glm::cross(d, u);
@@ -246,11 +242,7 @@ TEST(HardCases, VertexDrivenIntoAThreeWallCorner) {
 // faces meet the three walls at once (three face-face contacts, the vertex and its edges in the
 // walls' planes).
 TEST(HardCases, CubeCornerDrivenIntoAThreeWallCorner) {
-  scene::SceneModel s;
-  s.name = "cube corner";
-  s.bodies.push_back(staticBox("floor", Vec3{0.05, -0.05, 0.05}, Vec3{0.15, 0.05, 0.15}));
-  s.bodies.push_back(staticBox("wall x", Vec3{-0.05, 0.1, 0.05}, Vec3{0.05, 0.1, 0.15}));
-  s.bodies.push_back(staticBox("wall z", Vec3{0.1, 0.1, -0.05}, Vec3{0.1, 0.1, 0.05}));
+  scene::SceneModel s = threeWallCorner("cube corner");
   const double h = 0.01;
   auto cube = makeBody("cube", Motion::kKinematic, at(0.03, 0.03, 0.03), {boxShape(Vec3{h})});
   cube.probe = true;
@@ -299,15 +291,8 @@ TEST(HardCases, MillimetresAndMetresGiveTheSameAnswer) {
         makeBody("cube", Motion::kKinematic, at(0, 0.05 * s, 0), {boxShape(Vec3{0.01 * s})});
     cube.probe = true;
     sc.bodies.push_back(cube);
-    sim::SimOptions o;
-    o.response.ramp_s = 0.0;
-    o.response.stiffness_n_per_m /= s;
-    o.response.max_speed_m_per_s *= s;
-    o.response.penetration_allowance_m *= s;
-    o.response.attach_distance_m *= s;
     // torques are in N per scene unit: N mm in the millimetre scene
-    o.response.max_torque_nm *= s;
-    o.response.max_torque_step_nm *= s;
+    const sim::SimOptions o = scaledResponseOptions(s);
     Runner run(make(finish(sc), o), o);
     const Quat tilt = axisAngle(Vec3{1, 0, 1}, 0.01);
     Path path({{0.0, at(0, 0.05 * s, 0)},

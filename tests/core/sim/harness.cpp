@@ -114,6 +114,29 @@ void Figures::print(const char* name) const {
       longest_alternation, max_contacts, static_cast<unsigned long long>(hash));
 }
 
+Pose at(double x, double y, double z, Quat q) {
+  return Pose{Vec3{x, y, z}, q};
+}
+
+std::unique_ptr<sim::Simulation> make(std::shared_ptr<const scene::SceneModel> s,
+                                      const sim::SimOptions& o) {
+  auto created = sim::Simulation::create(std::move(s), o);
+  EXPECT_TRUE(created.ok()) << (created.ok() ? "" : created.error().message);
+  return created.ok() ? std::move(created).value() : nullptr;
+}
+
+sim::SimOptions scaledResponseOptions(double s) {
+  sim::SimOptions o;
+  o.response.ramp_s = 0.0;
+  o.response.stiffness_n_per_m /= s;
+  o.response.max_speed_m_per_s *= s;
+  o.response.penetration_allowance_m *= s;
+  o.response.attach_distance_m *= s;
+  o.response.max_torque_nm *= s;
+  o.response.max_torque_step_nm *= s;
+  return o;
+}
+
 namespace {
 void hashBytes(std::uint64_t& h, const void* p, std::size_t n) {
   const auto* b = static_cast<const unsigned char*>(p);

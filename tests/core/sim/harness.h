@@ -33,6 +33,18 @@ std::shared_ptr<const scene::SceneModel> finish(scene::SceneModel s);
 
 Quat axisAngle(const Vec3& axis, double angle_rad);
 
+/// The pose at (x, y, z) turned by q (unturned by default).
+Pose at(double x, double y, double z, Quat q = Quat{1, 0, 0, 0});
+
+/// sim::Simulation::create; a refusal fails the test (with its message) and gives nullptr.
+std::unique_ptr<sim::Simulation> make(std::shared_ptr<const scene::SceneModel> s,
+                                      const sim::SimOptions& o);
+
+/// Default options, the ramp off, with the response's lengths (stiffness, speed, penetration
+/// allowance, attach distance, torques: N per scene unit) for a scene whose unit is s metres: the
+/// same relative behaviour at any scale.
+sim::SimOptions scaledResponseOptions(double s);
+
 /// Keyframed device path: piecewise linear positions, slerped rotations, held buttons.
 struct Key {
   double t_s;

@@ -17,21 +17,10 @@ namespace {
 
 using scene::Motion;
 
-Pose at(double x, double y, double z, Quat q = Quat{1, 0, 0, 0}) {
-  return Pose{Vec3{x, y, z}, q};
-}
-
 // A floor: a static box whose top face is y = 0.
 scene::Body floorBody(double s = 1.0) {
   return makeBody("floor", Motion::kStatic, at(0, -0.05 * s, 0),
                   {boxShape(Vec3{0.2, 0.05, 0.2} * s)});
-}
-
-std::unique_ptr<sim::Simulation> make(std::shared_ptr<const scene::SceneModel> s,
-                                      const sim::SimOptions& o) {
-  auto r = sim::Simulation::create(std::move(s), o);
-  EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
-  return std::move(r).value();
 }
 
 TEST(Simulation, ProbeSphereDriven50mmIntoAWall) {

@@ -201,36 +201,42 @@ TEST(VoxelSampling, TheSameSceneInMillimetresMetresAndKilometres) {
   EXPECT_EQ(km.misses, mm.misses);
 }
 
-TEST(VoxelSampling, DeepPenetrationReachesInteriorVoxelsWhichGiveNoForce) {
-  // where the method breaks: pushed deeper than the surface layer, points feel nothing
-  const Polytope floor = box(Vec3(-50.0, -30.0, -50.0), Vec3(50.0, 0.0, 50.0));
-  auto map = floorMap(floor, 1.0);
-  ASSERT_TRUE(map.ok());
+// A floor from y = -floor_depth to its top at y = 0 voxelised at 1, and a cube of side 20 at the
+// origin sampled as a point shell at spacing 1.
+struct CubeOverFloor {
+  Result<VoxelMap> map;
+  Result<PointShell> shell;
+};
+
+CubeOverFloor cubeOverFloor(double floor_depth) {
+  const Polytope floor = box(Vec3(-50.0, -floor_depth, -50.0), Vec3(50.0, 0.0, 50.0));
   const Polytope cube = box(Vec3(-10.0), Vec3(10.0));
   const PlacedShape c{&cube, Transform{}};
-  auto shell = makePointShell(std::span<const PlacedShape>(&c, 1), 1.0);
-  ASSERT_TRUE(shell.ok());
+  return {floorMap(floor, 1.0), makePointShell(std::span<const PlacedShape>(&c, 1), 1.0)};
+}
+
+TEST(VoxelSampling, DeepPenetrationReachesInteriorVoxelsWhichGiveNoForce) {
+  // where the method breaks: pushed deeper than the surface layer, points feel nothing
+  const CubeOverFloor set = cubeOverFloor(30.0);
+  ASSERT_TRUE(set.map.ok());
+  ASSERT_TRUE(set.shell.ok());
   Transform X_WB;
   X_WB.t = Vec3(0.0, 10.0 - 8.0, 0.0);
-  const VoxelForce f = force(map.value(), shell.value(), X_WB, X_WB.t, 1.0);
+  const VoxelForce f = force(set.map.value(), set.shell.value(), X_WB, X_WB.t, 1.0);
   EXPECT_GT(f.points_interior, 400u);  // the whole bottom face (20 x 20) and more
   EXPECT_LT(f.max_depth, 1.0);         // only the side points near the surface push
 }
 
 TEST(VoxelSampling, ForceAllocatesNothing) {
-  const Polytope floor = box(Vec3(-50.0, -10.0, -50.0), Vec3(50.0, 0.0, 50.0));
-  auto map = floorMap(floor, 1.0);
-  ASSERT_TRUE(map.ok());
-  const Polytope cube = box(Vec3(-10.0), Vec3(10.0));
-  const PlacedShape c{&cube, Transform{}};
-  auto shell = makePointShell(std::span<const PlacedShape>(&c, 1), 1.0);
-  ASSERT_TRUE(shell.ok());
+  const CubeOverFloor set = cubeOverFloor(10.0);
+  ASSERT_TRUE(set.map.ok());
+  ASSERT_TRUE(set.shell.ok());
   Transform X_WB;
   const std::uint64_t before = testing_alloc::count();
   double sum = 0.0;
   for (int i = 0; i < 100; ++i) {
     X_WB.t = Vec3(0.0, 10.0 - 0.01 * i, 0.0);
-    sum += force(map.value(), shell.value(), X_WB, X_WB.t, 1.0).force_W.y;
+    sum += force(set.map.value(), set.shell.value(), X_WB, X_WB.t, 1.0).force_W.y;
   }
   EXPECT_EQ(testing_alloc::count(), before);
   EXPECT_GT(sum, 0.0);

@@ -23,8 +23,7 @@ struct Device {
   std::atomic<bool> gravity{false};
   std::atomic<int> fail_error{0};  // the next fail_count calls fail with this
   std::atomic<int> fail_count{0};
-  std::atomic<double> p[3] = {0.0, 0.0, 0.0};
-  std::atomic<double> R[9] = {1.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0};
+  FakePose pose;  // SDK frame, R row-major
   std::atomic<double> gripper{0.0};
   std::atomic<unsigned> buttons{0};
   std::atomic<std::uint64_t> force_count{0};
@@ -64,6 +63,20 @@ bool call(char id) {
   }
   t_error = 0;
   return true;
+}
+
+// sets a device's `flag`; turning it on clears `excluded` (forces and brakes exclude each other)
+int setFlag(char id,
+            bool on,
+            std::atomic<bool> Device::*flag,
+            std::atomic<bool> Device::*excluded) {
+  if (!call(id))
+    return -1;
+  Device& d = *dev(id);
+  d.*flag = on;
+  if (on && excluded != nullptr)
+    d.*excluded = false;
+  return 0;
 }
 
 }  // namespace
@@ -137,33 +150,20 @@ bool dhdIsLeftHanded(char) {
   return false;
 }
 int dhdEnableForce(unsigned char on, char id) {
-  if (!call(id))
-    return -1;
-  dev(id)->forces_on = on != 0;
-  if (on != 0)
-    dev(id)->brakes = false;
-  return 0;
+  return setFlag(id, on != 0, &Device::forces_on, &Device::brakes);
 }
 int dhdSetGravityCompensation(int on, char id) {
-  if (!call(id))
-    return -1;
-  dev(id)->gravity = on != 0;
-  return 0;
+  return setFlag(id, on != 0, &Device::gravity, nullptr);
 }
 int dhdSetBrakes(int on, char id) {
-  if (!call(id))
-    return -1;
-  dev(id)->brakes = on != 0;
-  if (on != 0)
-    dev(id)->forces_on = false;
-  return 0;
+  return setFlag(id, on != 0, &Device::brakes, &Device::forces_on);
 }
 int dhdGetPosition(double* px, double* py, double* pz, char id) {
   if (!call(id))
     return -1;
-  *px = dev(id)->p[0].load();
-  *py = dev(id)->p[1].load();
-  *pz = dev(id)->p[2].load();
+  *px = dev(id)->pose.p[0].load();
+  *py = dev(id)->pose.p[1].load();
+  *pz = dev(id)->pose.p[2].load();
   return 0;
 }
 int dhdGetOrientationFrame(double m[3][3], char id) {
@@ -171,7 +171,7 @@ int dhdGetOrientationFrame(double m[3][3], char id) {
     return -1;
   for (int r = 0; r < 3; ++r)
     for (int c = 0; c < 3; ++c)
-      m[r][c] = dev(id)->R[r * 3 + c].load();
+      m[r][c] = dev(id)->pose.R[r * 3 + c].load();
   return 0;
 }
 int dhdGetGripperAngleRad(double* a, char id) {
@@ -207,50 +207,54 @@ const char* dhdErrorGetLastStr() {
   return t_error == 0 ? "no error" : "fake error";
 }
 
+}  // extern "C"
+
+namespace {
+
 // the control API (fake_dhd.h)
-void fakedhd_reset(int device_count, int type) {
+void reset(int device_count, int type) {
   g_count = device_count;
   for (Device& d : g_dev) {
     d.type = type;
     d.present = true;
     d.open = d.forces_on = d.brakes = d.gravity = false;
     d.fail_error = d.fail_count = 0;
-    for (auto& v : d.p)
-      v = 0.0;
-    for (int i = 0; i < 9; ++i)
-      d.R[i] = i % 4 == 0 ? 1.0 : 0.0;
+    d.pose.reset();
     d.gripper = 0.0;
     d.buttons = 0;
     d.force_count = 0;
     d.opens = 0;
   }
 }
-void fakedhd_set_pose(int index, const double p[3], const double R[9]) {
-  for (int i = 0; i < 3; ++i)
-    g_dev[index].p[i] = p[i];
-  for (int i = 0; i < 9; ++i)
-    g_dev[index].R[i] = R[i];
+void setPose(int index, const double p[3], const double R[9]) {
+  g_dev[index].pose.set(p, R);
 }
-void fakedhd_set_buttons(int index, unsigned mask, double gripper_rad) {
+void setButtons(int index, unsigned mask, double gripper_rad) {
   g_dev[index].buttons = mask;
   g_dev[index].gripper = gripper_rad;
 }
-void fakedhd_fail(int index, int error, int count) {
+void fail(int index, int error, int count) {
   g_dev[index].fail_error = error;
   g_dev[index].fail_count = count;
 }
-void fakedhd_set_present(int index, int present) {
+void setPresent(int index, int present) {
   g_dev[index].present = present != 0;
   if (present == 0)
     g_dev[index].open = g_dev[index].forces_on = false;
 }
-FakeDhdState fakedhd_state(int index) {
+FakeDhdState state(int index) {
   const Device& d = g_dev[index];
   return FakeDhdState{d.open.load(),    d.forces_on.load(),   d.brakes.load(),
                       d.gravity.load(), d.force_count.load(), d.opens.load()};
 }
-const FakeDhdForce* fakedhd_forces(int index) {
+const FakeDhdForce* forces(int index) {
   return g_dev[index].forces;
 }
 
-}  // extern "C"
+}  // namespace
+
+extern "C" const FakeDhdControl* fakedhd_control() {
+  static constexpr FakeDhdControl kControl{reset,      setPose, setButtons, fail,
+                                           setPresent, state,   forces};
+  return &kControl;
+}

@@ -35,8 +35,7 @@ struct State {
   double torque_mnm = 0.0;
   std::atomic<bool> present{true};
   std::atomic<int> calibration{0x5000};
-  std::atomic<double> p[3] = {0.0, 0.0, 0.0};
-  std::atomic<double> R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  FakePose pose;  // millimetres, R column-major
   std::atomic<int> buttons{0};
   std::atomic<unsigned> errors[16] = {};
   std::atomic<int> error_count{0};
@@ -179,12 +178,12 @@ void hdGetDoublev(unsigned int what, double* v) {
         return;
       for (int c = 0; c < 3; ++c) {
         for (int r = 0; r < 3; ++r)
-          v[4 * c + r] = g.R[3 * c + r].load();
+          v[4 * c + r] = g.pose.R[3 * c + r].load();
         v[4 * c + 3] = 0.0;
       }
-      v[12] = g.p[0].load();
-      v[13] = g.p[1].load();
-      v[14] = g.p[2].load();
+      v[12] = g.pose.p[0].load();
+      v[13] = g.pose.p[1].load();
+      v[14] = g.pose.p[2].load();
       v[15] = 1.0;
       return;
     case 0x2604:  // HD_NOMINAL_MAX_CONTINUOUS_FORCE
@@ -241,18 +240,19 @@ int hdCheckCalibration() {
   return g.calibration.load();
 }
 
+}  // extern "C"
+
+namespace {
+
 // the control API (fake_hd.h)
-void fakehd_reset(const char* model, int output_dof, double force_n, double torque_mnm) {
+void reset(const char* model, int output_dof, double force_n, double torque_mnm) {
   std::strncpy(g.model, model, sizeof g.model - 1);
   g.output_dof = output_dof;
   g.force_n = force_n;
   g.torque_mnm = torque_mnm;
   g.present = true;
   g.calibration = 0x5000;
-  for (auto& v : g.p)
-    v = 0.0;
-  for (int i = 0; i < 9; ++i)
-    g.R[i] = i % 4 == 0 ? 1.0 : 0.0;
+  g.pose.reset();
   g.buttons = 0;
   g.error_count = 0;
   g.script_count = 0;
@@ -261,43 +261,47 @@ void fakehd_reset(const char* model, int output_dof, double force_n, double torq
   g.recorded = 0;
   g.hook = nullptr;
 }
-void fakehd_set_pose(const double p_mm[3], const double R[9]) {
-  for (int i = 0; i < 3; ++i)
-    g.p[i] = p_mm[i];
-  for (int i = 0; i < 9; ++i)
-    g.R[i] = R[i];
+void setPose(const double p_mm[3], const double R[9]) {
+  g.pose.set(p_mm, R);
 }
-void fakehd_set_calibration(int state) {
+void setCalibration(int state) {
   g.calibration = state;
 }
-void fakehd_at(std::uint64_t frame, int event, int arg) {
+void at(std::uint64_t frame, int event, int arg) {
   const int n = g.script_count.load();
   if (n < 16) {
     g.script[n] = Scripted{frame, event, arg};
     g.script_count = n + 1;
   }
 }
-int fakehd_paused() {
+int paused() {
   return g.paused.load() ? 1 : 0;
 }
-void fakehd_resume() {
+void resume() {
   g.resume = true;
 }
-std::uint64_t fakehd_frames() {
+std::uint64_t frames() {
   return g.frames.load();
 }
-std::uint64_t fakehd_frame_count() {
+std::uint64_t frameCount() {
   return g.recorded.load();
 }
-const FakeHdFrame* fakehd_records() {
+const FakeHdFrame* records() {
   return g.records;
 }
-std::uint64_t fakehd_misuse() {
+std::uint64_t misuse() {
   return g.misuse.load();
 }
-void fakehd_set_frame_hook(void (*hook)(void*), void* data) {
+void setFrameHook(void (*hook)(void*), void* data) {
   g.hook = hook;
   g.hook_data = data;
 }
 
-}  // extern "C"
+}  // namespace
+
+extern "C" const FakeHdControl* fakehd_control() {
+  static constexpr FakeHdControl kControl{reset,   setPose, setCalibration, at,
+                                          paused,  resume,  frames,         frameCount,
+                                          records, misuse,  setFrameHook};
+  return &kControl;
+}

@@ -19,11 +19,6 @@
 namespace hapticd::device {
 namespace {
 
-FakeDhd& fake() {
-  static FakeDhd f(HAPTICD_FAKE_DHD);
-  return f;
-}
-
 DeviceOptions fakeOptions() {
   DeviceOptions o;
   o.forcedimension_library = HAPTICD_FAKE_DHD;
@@ -58,7 +53,7 @@ TEST(ForceDimensionDevice, TheDefaultNamesAreTheSdksAndTheEnvironmentVariableOve
   ASSERT_FALSE(none.ok());
   EXPECT_NE(none.error().message.find("tried libdhd.so, libdhd.so.3"), std::string::npos)
       << none.error().message;
-  fake().reset(1, 104);
+  fakeDhd().reset(1, 104);
   ::setenv(dhd::kLibraryEnv, HAPTICD_FAKE_DHD, 1);
   auto d = makeDevice("forcedimension", DeviceOptions{});
   ::unsetenv(dhd::kLibraryEnv);
@@ -84,7 +79,7 @@ TEST(ForceDimensionDevice, SpecsTakeAnIndexFrom0To15) {
 }
 
 TEST(ForceDimensionDevice, OpensWithGravityCompensationAndBrakesAndReportsWhatItIs) {
-  fake().reset(1, 104);
+  fakeDhd().reset(1, 104);
   auto d = openFake();
   ASSERT_TRUE(d);
   const DeviceInfo& i = d->info();
@@ -100,25 +95,25 @@ TEST(ForceDimensionDevice, OpensWithGravityCompensationAndBrakesAndReportsWhatIt
   EXPECT_EQ(
       describeDevice(i),
       "forcedimension:0 sigma.7: serial 1200, sensing 7 DOF, force 7 DOF, limits 10 N 0.4 N m");
-  const FakeDhdState s = fake().state(0);
+  const FakeDhdState s = fakeDhd().state(0);
   EXPECT_TRUE(s.open);
   EXPECT_TRUE(s.gravity);
   EXPECT_TRUE(s.brakes);
   EXPECT_FALSE(s.forces_on);
   d.reset();
-  EXPECT_FALSE(fake().state(0).open);  // closed, brakes on
-  EXPECT_TRUE(fake().state(0).brakes);
+  EXPECT_FALSE(fakeDhd().state(0).open);  // closed, brakes on
+  EXPECT_TRUE(fakeDhd().state(0).brakes);
 }
 
 TEST(ForceDimensionDevice, PoseButtonsAndGripperInTheDeviceFrame) {
-  fake().reset(1, 104);
+  fakeDhd().reset(1, 104);
   auto d = openFake();
   ASSERT_TRUE(d);
   // SDK frame: x toward the user, y right, z up; a quarter turn about the SDK's z (up)
   const double p[3] = {0.01, 0.02, 0.03};
   const double R[9] = {0.0, -1.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, 1.0};
-  fake().set_pose(0, p, R);
-  fake().set_buttons(0, 0b101, 0.25);
+  fakeDhd().set_pose(0, p, R);
+  fakeDhd().set_buttons(0, 0b101, 0.25);
   DeviceSample s;
   ASSERT_EQ(d->read(0.0, s), DeviceStatus::kOk);
   // device frame: x right, y up, z toward the user
@@ -129,25 +124,25 @@ TEST(ForceDimensionDevice, PoseButtonsAndGripperInTheDeviceFrame) {
   EXPECT_EQ(s.gripper_rad, 0.25);
   // velocity: the backward difference
   const double p2[3] = {0.01, 0.02, 0.031};
-  fake().set_pose(0, p2, R);
+  fakeDhd().set_pose(0, p2, R);
   ASSERT_EQ(d->read(0.001, s), DeviceStatus::kOk);
   EXPECT_NEAR(s.linear_velocity.y, 1.0, 1e-9);
   EXPECT_NEAR(s.linear_velocity.x, 0.0, 1e-9);
 }
 
 TEST(ForceDimensionDevice, ForcesGoOutInTheSdkFrameOnlyWhileLive) {
-  fake().reset(1, 104);
+  fakeDhd().reset(1, 104);
   auto d = openFake();
   ASSERT_TRUE(d);
   EXPECT_EQ(d->write(Vec3(1.0, 2.0, 3.0), Vec3(0.1, 0.2, 0.3)), DeviceStatus::kOk);
-  EXPECT_EQ(fake().state(0).force_calls, 0u);  // braked: nothing sent
+  EXPECT_EQ(fakeDhd().state(0).force_calls, 0u);  // braked: nothing sent
   d->setOutputHeld(false);
-  EXPECT_TRUE(fake().state(0).forces_on);
-  EXPECT_FALSE(fake().state(0).brakes);
+  EXPECT_TRUE(fakeDhd().state(0).forces_on);
+  EXPECT_FALSE(fakeDhd().state(0).brakes);
   EXPECT_FALSE(d->braked());
   EXPECT_EQ(d->write(Vec3(1.0, 2.0, 3.0), Vec3(0.1, 0.2, 0.3)), DeviceStatus::kOk);
-  ASSERT_EQ(fake().state(0).force_calls, 1u);
-  const FakeDhdForce& f = fake().forces(0)[0];
+  ASSERT_EQ(fakeDhd().state(0).force_calls, 1u);
+  const FakeDhdForce& f = fakeDhd().forces(0)[0];
   EXPECT_EQ(f.force[0], 3.0);  // SDK x = device z
   EXPECT_EQ(f.force[1], 1.0);
   EXPECT_EQ(f.force[2], 2.0);
@@ -157,13 +152,13 @@ TEST(ForceDimensionDevice, ForcesGoOutInTheSdkFrameOnlyWhileLive) {
   EXPECT_EQ(f.gripper, 0.0);
   EXPECT_EQ(f.forces_on, 1);
   d->setOutputHeld(true);
-  EXPECT_TRUE(fake().state(0).brakes);
-  EXPECT_FALSE(fake().state(0).forces_on);
+  EXPECT_TRUE(fakeDhd().state(0).brakes);
+  EXPECT_FALSE(fakeDhd().state(0).forces_on);
   EXPECT_TRUE(d->braked());
 }
 
 TEST(ForceDimensionDevice, WithoutAnActiveWristTorqueIsDroppedAndCounted) {
-  fake().reset(1, 33);  // omega.3
+  fakeDhd().reset(1, 33);  // omega.3
   auto d = openFake();
   ASSERT_TRUE(d);
   EXPECT_EQ(d->info().sensing_dof, 3);
@@ -173,14 +168,14 @@ TEST(ForceDimensionDevice, WithoutAnActiveWristTorqueIsDroppedAndCounted) {
   d->setOutputHeld(false);
   EXPECT_EQ(d->write(Vec3(0.0, 1.0, 0.0), Vec3(0.1, 0.0, 0.0)), DeviceStatus::kOk);
   EXPECT_EQ(d->write(Vec3(0.0, 1.0, 0.0), Vec3(0.0)), DeviceStatus::kOk);
-  ASSERT_EQ(fake().state(0).force_calls, 2u);
-  EXPECT_EQ(fake().forces(0)[0].torque[1], 0.0);
-  EXPECT_EQ(fake().forces(0)[0].force[2], 1.0);
+  ASSERT_EQ(fakeDhd().state(0).force_calls, 2u);
+  EXPECT_EQ(fakeDhd().forces(0)[0].torque[1], 0.0);
+  EXPECT_EQ(fakeDhd().forces(0)[0].force[2], 1.0);
   EXPECT_EQ(d->torquesDropped(), 1u);
 }
 
 TEST(ForceDimensionDevice, SeveralDevicesByIndex) {
-  fake().reset(2, 104);
+  fakeDhd().reset(2, 104);
   auto a = openFake(0);
   auto b = openFake(1);
   ASSERT_TRUE(a && b);
@@ -189,8 +184,8 @@ TEST(ForceDimensionDevice, SeveralDevicesByIndex) {
   EXPECT_EQ(b->info().name, "forcedimension:1 sigma.7");
   b->setOutputHeld(false);
   EXPECT_EQ(b->write(Vec3(0.0, 1.0, 0.0), Vec3(0.0)), DeviceStatus::kOk);
-  EXPECT_EQ(fake().state(1).force_calls, 1u);
-  EXPECT_EQ(fake().state(0).force_calls, 0u);
+  EXPECT_EQ(fakeDhd().state(1).force_calls, 1u);
+  EXPECT_EQ(fakeDhd().state(0).force_calls, 0u);
   auto c = makeDevice("forcedimension:2", fakeOptions());
   ASSERT_FALSE(c.ok());
   EXPECT_NE(c.error().message.find("device 'forcedimension:2': no device found at index 2 (the "
@@ -200,21 +195,21 @@ TEST(ForceDimensionDevice, SeveralDevicesByIndex) {
 }
 
 TEST(ForceDimensionDevice, AnErrorIsAFaultAndACommunicationErrorALoss) {
-  fake().reset(1, 104);
+  fakeDhd().reset(1, 104);
   auto d = openFake();
   ASSERT_TRUE(d);
   DeviceSample s;
   const double p[3] = {0.0, 0.0, 0.05};
   const double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-  fake().set_pose(0, p, R);
+  fakeDhd().set_pose(0, p, R);
   ASSERT_EQ(d->read(0.0, s), DeviceStatus::kOk);
-  fake().fail(0, dhd::kError, 1);
+  fakeDhd().fail(0, dhd::kError, 1);
   ASSERT_EQ(d->read(0.001, s), DeviceStatus::kFault);
   EXPECT_EQ(s.X_WD.translation.y, 0.05);  // the last good sample
   EXPECT_EQ(d->faults(), 1u);
   EXPECT_TRUE(d->connected());
   ASSERT_EQ(d->read(0.002, s), DeviceStatus::kOk);
-  fake().fail(0, dhd::kErrorCom, 1);
+  fakeDhd().fail(0, dhd::kErrorCom, 1);
   EXPECT_EQ(d->read(0.003, s), DeviceStatus::kLost);
   EXPECT_FALSE(d->connected());
   EXPECT_EQ(d->disconnects(), 1u);
@@ -225,40 +220,40 @@ TEST(ForceDimensionDevice, AnErrorIsAFaultAndACommunicationErrorALoss) {
   ASSERT_EQ(d->read(0.005, s), DeviceStatus::kFault);  // back after a loss
   d->setOutputHeld(true);
   d->setOutputHeld(false);
-  fake().fail(0, dhd::kError, 1);
+  fakeDhd().fail(0, dhd::kError, 1);
   EXPECT_EQ(d->write(Vec3(1.0), Vec3(0.0)), DeviceStatus::kFault);
   EXPECT_EQ(d->read(0.006, s), DeviceStatus::kFault);
   EXPECT_EQ(d->read(0.007, s), DeviceStatus::kOk);
 }
 
 TEST(ForceDimensionDevice, ReconnectsThroughServiceBrakedUntilReArmed) {
-  fake().reset(1, 104);
+  fakeDhd().reset(1, 104);
   auto d = openFake();
   ASSERT_TRUE(d);
   d->setOutputHeld(false);
   DeviceSample s;
   ASSERT_EQ(d->read(0.0, s), DeviceStatus::kOk);
-  fake().set_present(0, 0);
+  fakeDhd().set_present(0, 0);
   EXPECT_EQ(d->read(0.001, s), DeviceStatus::kLost);
   EXPECT_FALSE(d->service());  // not back yet
-  fake().set_present(0, 1);
+  fakeDhd().set_present(0, 1);
   EXPECT_TRUE(d->service());
   EXPECT_TRUE(d->connected());
-  FakeDhdState st = fake().state(0);
+  FakeDhdState st = fakeDhd().state(0);
   EXPECT_EQ(st.opens, 2u);
   EXPECT_TRUE(st.open && st.brakes && st.gravity && !st.forces_on);
   EXPECT_EQ(d->read(0.002, s), DeviceStatus::kFault);  // once: the loop latches a fault
   EXPECT_EQ(d->read(0.003, s), DeviceStatus::kOk);
   EXPECT_EQ(d->write(Vec3(0.0, 1.0, 0.0), Vec3(0.0)), DeviceStatus::kOk);
-  EXPECT_EQ(fake().state(0).force_calls, 0u);  // braked
-  d->setOutputHeld(true);                      // the fault held the output...
-  d->setOutputHeld(false);                     // ...until re-armed
+  EXPECT_EQ(fakeDhd().state(0).force_calls, 0u);  // braked
+  d->setOutputHeld(true);                         // the fault held the output...
+  d->setOutputHeld(false);                        // ...until re-armed
   EXPECT_EQ(d->write(Vec3(0.0, 1.0, 0.0), Vec3(0.0)), DeviceStatus::kOk);
-  EXPECT_EQ(fake().state(0).force_calls, 1u);
+  EXPECT_EQ(fakeDhd().state(0).force_calls, 1u);
 }
 
 TEST(ForceDimensionDevice, ServoThreadCallsAllocateNothing) {
-  fake().reset(1, 104);
+  fakeDhd().reset(1, 104);
   auto d = openFake();
   ASSERT_TRUE(d);
   DeviceSample s;
@@ -268,14 +263,14 @@ TEST(ForceDimensionDevice, ServoThreadCallsAllocateNothing) {
   const std::uint64_t before = testing_alloc::count();
   for (int i = 1; i < 20000; ++i) {
     if (i % 1000 == 0)
-      fake().fail(0, dhd::kError, 1);
+      fakeDhd().fail(0, dhd::kError, 1);
     if (i % 500 == 0)
       d->setOutputHeld(i % 1000 == 0);
     (void)d->read(i * 0.001, s);
     (void)d->write(Vec3(0.0, 0.001 * (i % 7), 0.0), Vec3(0.01, 0.0, 0.0));
   }
   EXPECT_EQ(testing_alloc::count(), before);
-  EXPECT_GT(fake().state(0).force_calls, 10000u);
+  EXPECT_GT(fakeDhd().state(0).force_calls, 10000u);
 }
 
 }  // namespace

@@ -13,11 +13,6 @@
 namespace hapticd::device {
 namespace {
 
-FakeHd& fake() {
-  static FakeHd f(HAPTICD_FAKE_HD);
-  return f;
-}
-
 DeviceOptions fakeOptions() {
   DeviceOptions o;
   o.openhaptics_library = HAPTICD_FAKE_HD;
@@ -61,7 +56,7 @@ TEST(OpenHapticsDevice, SpecsTakeAnOptionalDeviceName) {
 }
 
 TEST(OpenHapticsDevice, ATouchReportsSixDofSensingThreeDofForceAndItsLimits) {
-  fake().reset("Touch", 3, 3.3, 0.0);
+  fakeHd().reset("Touch", 3, 3.3, 0.0);
   auto d = makeDevice("openhaptics", fakeOptions());
   ASSERT_TRUE(d.ok()) << d.error().message;
   const DeviceInfo& i = d.value()->info();
@@ -80,7 +75,7 @@ TEST(OpenHapticsDevice, ATouchReportsSixDofSensingThreeDofForceAndItsLimits) {
 }
 
 TEST(OpenHapticsDevice, APremiumSixDofRendersTorqueWithinItsNominalLimit) {
-  fake().reset("PHANTOM Premium 1.5 6DOF", 6, 8.5, 515.0);
+  fakeHd().reset("PHANTOM Premium 1.5 6DOF", 6, 8.5, 515.0);
   auto d = makeDevice("openhaptics:Default Device", fakeOptions());
   ASSERT_TRUE(d.ok()) << d.error().message;
   const DeviceInfo& i = d.value()->info();
@@ -92,7 +87,7 @@ TEST(OpenHapticsDevice, APremiumSixDofRendersTorqueWithinItsNominalLimit) {
 }
 
 TEST(OpenHapticsDevice, AnUnknownNameIsAClearError) {
-  fake().reset("Touch", 3, 3.3, 0.0);
+  fakeHd().reset("Touch", 3, 3.3, 0.0);
   auto d = makeDevice("openhaptics:Right Arm", fakeOptions());
   ASSERT_FALSE(d.ok());
   EXPECT_NE(d.error().message.find("device 'openhaptics:Right Arm': cannot initialise the device "
