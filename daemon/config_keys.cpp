@@ -112,7 +112,8 @@ const ConfigKey kKeys[] = {
     // [device]
     {"device", "spec", HAPTICD_FIELD(device.spec), kNoRange, "",
      "The device: \"sim\" (a simulated 6-DOF hand), \"replay:FILE\" (a pose stream CSV), "
-     "\"hid\", \"hid:PATH\", \"usb\", \"usb:falcon\".",
+     "\"hid\", \"hid:PATH\", \"usb\", \"usb:falcon\", \"forcedimension[:INDEX]\", "
+     "\"openhaptics[:NAME]\", \"haply[:ws://HOST:PORT]\" (docs/devices.md).",
      &checkSpec},
     {"device", "max_force_n", HAPTICD_FIELD(device.options.limits.max_force_n), positive(1000.0),
      "N",
