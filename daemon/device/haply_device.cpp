@@ -50,7 +50,9 @@ std::string modelOf(const haply::Inventory& inv) {
 class HaplyWsClient {
  public:
   /// TCP connection, handshake and the first message, within `timeout`.
-  bool connect(const WsUrl& url, std::chrono::steady_clock::duration timeout, std::string& first,
+  bool connect(const WsUrl& url,
+               std::chrono::steady_clock::duration timeout,
+               std::string& first,
                std::string& error) {
     tcp::resolver resolver(ioc_);
     beast::error_code ec;
@@ -84,8 +86,10 @@ class HaplyWsClient {
   }
 
   /// Sends `out`, then reads one message into `in`, within `timeout`.
-  bool exchange(const std::string& out, std::string& in,
-                std::chrono::steady_clock::duration timeout, std::string& error) {
+  bool exchange(const std::string& out,
+                std::string& in,
+                std::chrono::steady_clock::duration timeout,
+                std::string& error) {
     beast::get_lowest_layer(ws_).expires_after(timeout);
     beast::error_code ec;
     ws_.text(true);
@@ -160,9 +164,8 @@ Result<std::unique_ptr<HaplyDevice>> HaplyDevice::open(std::string_view url,
   info.name = "haply:" + dev->url_text_ + " " + info.model;
   info.sensing_dof = grip ? 6 : 3;
   info.force_dof = 3;
-  info.capabilities =
-      kCapPosition | kCapForce | (grip ? static_cast<std::uint32_t>(kCapOrientation | kCapButtons)
-                                       : 0u);
+  info.capabilities = kCapPosition | kCapForce |
+                      (grip ? static_cast<std::uint32_t>(kCapOrientation | kCapButtons) : 0u);
   info.limits = options.limits;
   info.limits.max_torque_nm = 0.0;  // force only
   dev->last_ = inv.state;
@@ -220,6 +223,7 @@ void HaplyDevice::session(HaplyWsClient& client, std::uint64_t forces_before) {
       break;
     }
     exchanges_.fetch_add(1, std::memory_order_relaxed);
+    answered_.store(writes, std::memory_order_release);
     const haply::Parsed p = haply::parseState(in, inventory_, state);
     if (p == haply::Parsed::kMissing) {
       lost = true;
@@ -247,9 +251,12 @@ DeviceStatus HaplyDevice::read(double t_s, DeviceSample& out) noexcept {
   if (state_.tryRead(s, 100))
     last_ = s;
   const bool rearm = rearm_pending_.exchange(false, std::memory_order_acq_rel);
-  if (rearm)
+  if (rearm) {
     velocity_.reset();
-  const Pose X{haply::toDevice(last_.position_m), haply::orientationToDevice(last_.orientation_xyzw)};
+    held_ = true;  // back after a loss: nothing is displayed until the loop is re-armed
+  }
+  const Pose X{haply::toDevice(last_.position_m),
+               haply::orientationToDevice(last_.orientation_xyzw)};
   Vec3 difference(0.0);
   velocity_.update(t_s, X, difference, out.angular_velocity);
   out.X_WD = X;
@@ -297,7 +304,8 @@ bool HaplyDevice::service() {
   return false;
 }
 
-Result<std::unique_ptr<Device>> makeHaplyDevice(std::string_view url, const DeviceOptions& options) {
+Result<std::unique_ptr<Device>> makeHaplyDevice(std::string_view url,
+                                                const DeviceOptions& options) {
   auto d = HaplyDevice::open(url, options);
   if (!d)
     return d.error();

@@ -66,6 +66,11 @@ class HaplyDevice final : public HotplugDevice {
   std::uint64_t badMessages() const noexcept { return bad_messages_.load(); }
   std::uint64_t faultTicks() const noexcept { return fault_ticks_.load(); }
   std::uint64_t torquesDropped() const noexcept { return torque_dropped_.load(); }
+  /// The forces handed over by the servo thread so far (write() and a hold), and how many of
+  /// them the service has had when it last answered: equal once the service has the newest
+  /// force. Any thread.
+  std::uint64_t forcesWritten() const noexcept { return force_.writes(); }
+  std::uint64_t forcesAnswered() const noexcept { return answered_.load(); }
 
  private:
   struct Force {
@@ -82,7 +87,7 @@ class HaplyDevice final : public HotplugDevice {
   std::string url_text_;
   DeviceOptions options_;
   DeviceInfo info_;
-  haply::Inventory inventory_;  // the I/O thread's while it runs, else service()'s
+  haply::Inventory inventory_;          // the I/O thread's while it runs, else service()'s
   proto::Seqlock<haply::State> state_;  // written by the I/O thread (and connect())
   proto::Seqlock<Force> force_;         // written by the servo thread
   std::thread io_;
@@ -93,6 +98,7 @@ class HaplyDevice final : public HotplugDevice {
   std::atomic<std::uint64_t> bad_messages_{0};
   std::atomic<std::uint64_t> fault_ticks_{0};
   std::atomic<std::uint64_t> torque_dropped_{0};
+  std::atomic<std::uint64_t> answered_{0};
   // servo-thread state
   haply::State last_;
   PoseVelocity velocity_;

@@ -93,7 +93,8 @@ bool readDevices(const json& message, const json& inverse3, const json* grip, St
   const auto status = inverse3.find("status");
   if (status != inverse3.end() && status->is_object()) {
     const auto ready = status->find("ready");
-    if (saysError(*status) || (ready != status->end() && ready->is_boolean() && !ready->get<bool>()))
+    if (saysError(*status) ||
+        (ready != status->end() && ready->is_boolean() && !ready->get<bool>()))
       next.fault = 1u;
   }
   if (grip != nullptr) {
@@ -126,12 +127,14 @@ std::string stringAt(const json& object, const char* key) {
 Result<Inventory> parseInventory(std::string_view text) {
   const json message = json::parse(text, nullptr, false);
   if (message.is_discarded() || !message.is_object())
-    return Error{"its first message is not a JSON object (is it the Haply Inverse Service's "
-                 "simulation channel, of the 3.x JSON format?)"};
+    return Error{
+        "its first message is not a JSON object (is it the Haply Inverse Service's "
+        "simulation channel, of the 3.x JSON format?)"};
   const auto list = message.find("inverse3");
   if (list == message.end() || !list->is_array() || list->empty() || !(*list)[0].is_object())
-    return Error{"the service lists no Inverse3 (is it plugged in, powered and seen by the Haply "
-                 "Hub?)"};
+    return Error{
+        "the service lists no Inverse3 (is it plugged in, powered and seen by the Haply "
+        "Hub?)"};
   const json& inverse3 = (*list)[0];
   Inventory out;
   out.inverse3_id = stringAt(inverse3, "device_id");

@@ -20,11 +20,12 @@ namespace hapticd::device::haply {
 /// What hapticd takes from one message, in Haply's frame (x right, y forward, z up; metres,
 /// seconds). Trivially copyable: it crosses from the I/O thread to the servo thread in a seqlock.
 struct State {
-  double position_m[3] = {0.0, 0.0, 0.0};         ///< the Inverse3's cursor_position
-  double velocity_m_per_s[3] = {0.0, 0.0, 0.0};   ///< its cursor_velocity
+  double position_m[3] = {0.0, 0.0, 0.0};             ///< the Inverse3's cursor_position
+  double velocity_m_per_s[3] = {0.0, 0.0, 0.0};       ///< its cursor_velocity
   double orientation_xyzw[4] = {0.0, 0.0, 0.0, 1.0};  ///< the VerseGrip's (identity without one)
-  std::uint32_t buttons = 0;  ///< the VerseGrip's: bit 0 `a` (or a wired grip's `button`), 1 `b`, 2 `c`
-  std::uint32_t fault = 0;    ///< the service reported an error or a device not ready (see below)
+  std::uint32_t buttons =
+      0;  ///< the VerseGrip's: bit 0 `a` (or a wired grip's `button`), 1 `b`, 2 `c`
+  std::uint32_t fault = 0;  ///< the service reported an error or a device not ready (see below)
 };
 
 /// The device list the service sends on connecting: the first Inverse3 and the first VerseGrip

@@ -48,9 +48,10 @@ struct FakeHaply::Impl {
   // the device list (with config) or a state message; under the mutex
   std::string message(bool with_config) const {
     json inverse3 = {{"device_id", options.id},
-                     {"state", {{"cursor_position", vec3(position)},
-                                {"cursor_velocity", vec3(velocity)},
-                                {"mode", "idle"}}},
+                     {"state",
+                      {{"cursor_position", vec3(position)},
+                       {"cursor_velocity", vec3(velocity)},
+                       {"mode", "idle"}}},
                      {"status", {{"calibrated", true}, {"ready", !error}, {"started", true}}}};
     if (error)
       inverse3["status"]["error"] = "fake: a safety error";
@@ -58,7 +59,9 @@ struct FakeHaply::Impl {
       inverse3["config"] = {{"type", options.type}, {"handedness", options.handedness}};
     json out = {{"session_id", 1}, {"inverse3", dropped ? json::array() : json::array({inverse3})}};
     if (options.grip) {
-      const json q = {{"x", orientation[0]}, {"y", orientation[1]}, {"z", orientation[2]},
+      const json q = {{"x", orientation[0]},
+                      {"y", orientation[1]},
+                      {"z", orientation[2]},
                       {"w", orientation[3]}};
       json grip = {{"device_id", "61548"}, {"status", json::object()}};
       if (options.wireless)
@@ -111,11 +114,11 @@ struct FakeHaply::Impl {
     }
     void send() {
       ws.text(true);
-      ws.async_write(net::buffer(out), [self = shared_from_this()](beast::error_code ec,
-                                                                    std::size_t) {
-        if (!ec)
-          self->read();
-      });
+      ws.async_write(net::buffer(out),
+                     [self = shared_from_this()](beast::error_code ec, std::size_t) {
+                       if (!ec)
+                         self->read();
+                     });
     }
     void read() {
       buffer.clear();
@@ -193,7 +196,8 @@ std::string FakeHaply::url() const {
   return "ws://127.0.0.1:" + std::to_string(port());
 }
 
-void FakeHaply::move(const std::array<double, 3>& position_m, const std::array<double, 3>& velocity) {
+void FakeHaply::move(const std::array<double, 3>& position_m,
+                     const std::array<double, 3>& velocity) {
   std::lock_guard lock(impl_->mutex);
   impl_->position = position_m;
   impl_->velocity = velocity;

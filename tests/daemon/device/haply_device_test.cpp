@@ -4,6 +4,8 @@
 // forces in Haply's frame (zero while held, torque dropped), a service error as a fault, a lost
 // service (closed, silent, the Inverse3 gone) as a lost device, reconnection by service() that
 // needs re-arming, and no allocation in the servo-thread calls.
+#include "daemon/device/haply_device.h"
+
 #include <gtest/gtest.h>
 
 #include <boost/asio/ip/tcp.hpp>
@@ -12,7 +14,6 @@
 #include <functional>
 #include <thread>
 
-#include "daemon/device/haply_device.h"
 #include "tests/core/alloc_counter.h"
 #include "tests/daemon/device/fake_haply.h"
 
@@ -53,9 +54,9 @@ TEST(HaplyDevice, SpecTakesAWebSocketUrlAndDefaultsToTheServicesPort) {
   EXPECT_EQ(u.value().host, "::1");
   EXPECT_EQ(u.value().port, 9000);
   EXPECT_EQ(u.value().path, "/sim");
-  for (const char* bad : {"haply:", "haply:http://127.0.0.1:10001", "haply:ws://127.0.0.1",
-                          "haply:ws://:10001", "haply:ws://h:0", "haply:ws://h:65536",
-                          "haply:ws://h:1x", "haply:wss://h:1"}) {
+  for (const char* bad :
+       {"haply:", "haply:http://127.0.0.1:10001", "haply:ws://127.0.0.1", "haply:ws://:10001",
+        "haply:ws://h:0", "haply:ws://h:65536", "haply:ws://h:1x", "haply:wss://h:1"}) {
     auto r = parseDeviceSpec(bad);
     ASSERT_FALSE(r.ok()) << bad;
     EXPECT_NE(r.error().message.find(std::string("device '") + bad + "'"), std::string::npos)
@@ -70,9 +71,9 @@ TEST(HaplyDevice, NoServiceIsAOneLineErrorThatSaysWhatToInstall) {
   ASSERT_FALSE(d.ok());
   const std::string& m = d.error().message;
   EXPECT_EQ(m.find('\n'), std::string::npos) << m;
-  EXPECT_EQ(m.rfind("device 'haply:" + url + "': cannot reach the Haply Inverse Service at " + url,
-                    0),
-            0u)
+  EXPECT_EQ(
+      m.rfind("device 'haply:" + url + "': cannot reach the Haply Inverse Service at " + url, 0),
+      0u)
       << m;
   EXPECT_NE(m.find("install the Haply Inverse Service"), std::string::npos) << m;
   DeviceOptions bad;
@@ -134,7 +135,7 @@ TEST(HaplyDevice, PoseVelocityOrientationAndButtonsInTheDeviceFrame) {
     EXPECT_NEAR(glm::length(sample.linear_velocity - Vec3(0.1, 0.3, -0.2)), 0.0, 1e-15);
     const Vec3 x = sample.X_WD.rotation * Vec3(1.0, 0.0, 0.0);
     EXPECT_NEAR(glm::length(x - Vec3(0.0, 0.0, -1.0)), 0.0, 1e-12);  // x turned toward -z
-    EXPECT_EQ(sample.buttons, wireless ? 0b101u : 0b1u);  // a wired grip has one button
+    EXPECT_EQ(sample.buttons, wireless ? 0b101u : 0b1u);             // a wired grip has one button
     EXPECT_EQ(d->badMessages(), 0u);
   }
 }
