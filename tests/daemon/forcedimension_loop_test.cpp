@@ -13,53 +13,33 @@
 #include "daemon/servo_loop.h"
 #include "tests/daemon/device/fake_dhd.h"
 #include "tests/daemon/fakes.h"
+#include "tests/daemon/loop_rig.h"
 
 namespace hapticd::daemon {
 namespace {
+
+using testing::length3;
 
 FakeDhd& fake() {
   static FakeDhd f(HAPTICD_FAKE_DHD);
   return f;
 }
 
-double length(const double v[3]) {
-  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+std::unique_ptr<device::ForceDimensionDevice> openFake(int type) {
+  fake().reset(1, type);
+  // 5 cm below the wall (the SDK's z is up)
+  const double p[3] = {0.0, 0.0, -0.05};
+  const double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  fake().set_pose(0, p, R);
+  auto api = device::dhd::loadApi(HAPTICD_FAKE_DHD);
+  EXPECT_TRUE(api.ok());
+  auto d = device::ForceDimensionDevice::open(api.value(), 0, device::DeviceOptions{});
+  EXPECT_TRUE(d.ok()) << d.error().message;
+  return std::move(d).value();
 }
 
-struct Rig {
-  std::unique_ptr<device::ForceDimensionDevice> device;
-  VirtualClock clock;
-  std::unique_ptr<ServoLoop> loop;
-  std::uint64_t ticks = 0;
-
-  explicit Rig(int type = 104) {
-    fake().reset(1, type);
-    // 5 cm below the wall (the SDK's z is up)
-    const double p[3] = {0.0, 0.0, -0.05};
-    const double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    fake().set_pose(0, p, R);
-    auto api = device::dhd::loadApi(HAPTICD_FAKE_DHD);
-    EXPECT_TRUE(api.ok());
-    device::DeviceOptions o;
-    auto d = device::ForceDimensionDevice::open(api.value(), 0, o);
-    EXPECT_TRUE(d.ok()) << d.error().message;
-    device = std::move(d).value();
-    ServoOptions so;
-    so.limits = device->info().limits;  // as toServoOptions: the tighter of config and device
-    loop = std::make_unique<ServoLoop>(so, clock, *device,
-                                       testing::servoSceneOf<testing::FakeSimulation>(1));
-    loop->prepareServoThread();
-  }
-  void run(std::uint64_t n) {
-    ticks += n;
-    loop->setMaxTicks(ticks);
-    EXPECT_EQ(loop->run(), ServoExit::kMaxTicks);
-  }
-  void arm() {
-    ServoCommand c;
-    c.kind = CommandKind::kArm;
-    ASSERT_TRUE(loop->sendCommand(c));
-  }
+struct Rig : testing::LoopRig<device::ForceDimensionDevice> {
+  explicit Rig(int type = 104) : LoopRig(openFake(type)) {}
   std::vector<FakeDhdForce> forces() const {
     const FakeDhdState s = fake().state(0);
     const FakeDhdForce* f = fake().forces(0);
@@ -76,11 +56,11 @@ TEST(ForceDimensionLoop, EveryForceWithinTheLimitsAndTheStepLimitInTheSdkFrame) 
   double previous[3] = {0.0, 0.0, 0.0};
   for (const FakeDhdForce& r : f) {
     EXPECT_EQ(r.forces_on, 1);
-    EXPECT_LE(length(r.force), 10.0 + 1e-12);  // the configured 10 N (sigma.7: 20 N)
-    EXPECT_LE(length(r.torque), 0.4 + 1e-12);  // the sigma.7's 0.4 N m (configured: 1)
+    EXPECT_LE(length3(r.force), 10.0 + 1e-12);  // the configured 10 N (sigma.7: 20 N)
+    EXPECT_LE(length3(r.torque), 0.4 + 1e-12);  // the sigma.7's 0.4 N m (configured: 1)
     const double d[3] = {r.force[0] - previous[0], r.force[1] - previous[1],
                          r.force[2] - previous[2]};
-    EXPECT_LE(length(d), defaults.max_force_step_n + 1e-12);
+    EXPECT_LE(length3(d), defaults.max_force_step_n + 1e-12);
     std::copy(r.force, r.force + 3, previous);
   }
   // the wall pushes up: the SDK's z; the fake simulation's torque about the device's z (toward
@@ -103,13 +83,13 @@ TEST(ForceDimensionLoop, ADeviceErrorLatchesAFaultFadesTheForceToZeroThenBrakes)
   const auto f = rig.forces();
   ASSERT_GT(f.size(), before + 10);
   // a ramp: never rising, still above zero 10 ticks in, zero at the end
-  double last = length(f[before - 1].force);
+  double last = length3(f[before - 1].force);
   EXPECT_NEAR(last, 10.0, 1e-9);
   for (std::size_t i = before; i < f.size(); ++i) {
-    EXPECT_LE(length(f[i].force), last + 1e-12) << i;
-    last = length(f[i].force);
+    EXPECT_LE(length3(f[i].force), last + 1e-12) << i;
+    last = length3(f[i].force);
   }
-  EXPECT_GT(length(f[before + 10].force), 0.0);
+  EXPECT_GT(length3(f[before + 10].force), 0.0);
   EXPECT_EQ(last, 0.0);
   // after the fade: braked, and no more force calls
   EXPECT_TRUE(fake().state(0).brakes);
@@ -124,7 +104,7 @@ TEST(ForceDimensionLoop, ADeviceErrorLatchesAFaultFadesTheForceToZeroThenBrakes)
   EXPECT_FALSE(fake().state(0).brakes);
   EXPECT_GT(rig.forces().size(), braked);
   EXPECT_EQ(rig.forces().back().forces_on, 1);
-  EXPECT_GT(length(rig.forces().back().force), 0.0);
+  EXPECT_GT(length3(rig.forces().back().force), 0.0);
   EXPECT_EQ(rig.loop->state().faults, 0u);
 }
 
@@ -157,8 +137,8 @@ TEST(ForceDimensionLoop, ADisconnectZeroesTheForceAtOnceAndAReconnectionNeedsReA
   EXPECT_EQ(rig.loop->state().faults, 0u);
   EXPECT_FALSE(fake().state(0).brakes);
   ASSERT_GT(rig.forces().size(), before);
-  EXPECT_GT(length(rig.forces().back().force), 0.0);
-  EXPECT_LE(length(rig.forces().back().force), 10.0 + 1e-12);
+  EXPECT_GT(length3(rig.forces().back().force), 0.0);
+  EXPECT_LE(length3(rig.forces().back().force), 10.0 + 1e-12);
 }
 
 TEST(ForceDimensionLoop, DisarmedAtTheStartTheDeviceStaysBrakedUntilArmed) {

@@ -38,7 +38,8 @@ struct Rig {
   FakeHaply fake;
   testing::LoopRig<device::HaplyDevice> rig;
 
-  Rig() : rig(([this] {
+  Rig()
+      : rig(([this] {
           fake.move({0.0, 0.0, -0.05});  // 5 cm below the wall (Haply's z is up)
           return openOn(fake);
         })()) {}
@@ -48,9 +49,10 @@ struct Rig {
     for (std::uint64_t i = 0; i < n; ++i) {
       rig.run(1);
       const device::HaplyDevice& d = *rig.device;
-      ASSERT_TRUE(eventually(
-          [&] { return !d.connected() || d.forcesAnswered() >= d.forcesWritten(); }))
-          << "tick " << rig.ticks;
+      ASSERT_TRUE(eventually([&] {
+        return !d.connected() || d.forcesAnswered() >= d.forcesWritten();
+      })) << "tick "
+          << rig.ticks;
     }
   }
 };

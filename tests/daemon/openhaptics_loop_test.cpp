@@ -16,41 +16,42 @@
 #include "daemon/servo_loop.h"
 #include "tests/daemon/device/fake_hd.h"
 #include "tests/daemon/fakes.h"
+#include "tests/daemon/loop_rig.h"
 
 namespace hapticd::daemon {
 namespace {
+
+using testing::length3;
 
 FakeHd& fake() {
   static FakeHd f(HAPTICD_FAKE_HD);
   return f;
 }
 
-double length(const double v[3]) {
-  return std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+std::unique_ptr<device::OpenHapticsDevice> openFake(const char* model,
+                                                    int output_dof,
+                                                    double force_n,
+                                                    double torque_mnm) {
+  fake().reset(model, output_dof, force_n, torque_mnm);
+  const double p[3] = {0.0, -50.0, 0.0};  // 5 cm below the wall (mm)
+  const double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
+  fake().set_pose(p, R);
+  auto api = device::hd::loadApi(HAPTICD_FAKE_HD);
+  EXPECT_TRUE(api.ok());
+  auto d = device::OpenHapticsDevice::open(api.value(), "", device::DeviceOptions{});
+  EXPECT_TRUE(d.ok()) << d.error().message;
+  return std::move(d).value();
 }
 
-struct Rig {
-  std::unique_ptr<device::OpenHapticsDevice> device;
-  VirtualClock clock;
-  std::unique_ptr<ServoLoop> loop;
+ServoOptions maxTicks(std::uint64_t ticks) {
+  ServoOptions so;
+  so.max_ticks = ticks;
+  return so;
+}
 
-  Rig(const char* model, int output_dof, double force_n, double torque_mnm, std::uint64_t ticks) {
-    fake().reset(model, output_dof, force_n, torque_mnm);
-    const double p[3] = {0.0, -50.0, 0.0};  // 5 cm below the wall (mm)
-    const double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
-    fake().set_pose(p, R);
-    auto api = device::hd::loadApi(HAPTICD_FAKE_HD);
-    EXPECT_TRUE(api.ok());
-    auto d = device::OpenHapticsDevice::open(api.value(), "", device::DeviceOptions{});
-    EXPECT_TRUE(d.ok()) << d.error().message;
-    device = std::move(d).value();
-    ServoOptions so;
-    so.limits = device->info().limits;
-    so.max_ticks = ticks;
-    loop = std::make_unique<ServoLoop>(so, clock, *device,
-                                       testing::servoSceneOf<testing::FakeSimulation>(1));
-    loop->prepareServoThread();
-  }
+struct Rig : testing::LoopRig<device::OpenHapticsDevice> {
+  Rig(const char* model, int output_dof, double force_n, double torque_mnm, std::uint64_t max_ticks)
+      : LoopRig(openFake(model, output_dof, force_n, torque_mnm), maxTicks(max_ticks)) {}
   std::vector<FakeHdFrame> frames() const {
     const FakeHdFrame* f = fake().records();
     return {f, f + std::min<std::uint64_t>(fake().frame_count(), kFakeHdForceCapacity)};
@@ -75,12 +76,12 @@ TEST(OpenHapticsLoop, EveryTickRunsInsideASchedulerFrameWithinTheLimits) {
   const ServoOptions defaults;
   double previous[3] = {0.0, 0.0, 0.0};
   for (const FakeHdFrame& r : f) {
-    EXPECT_LE(length(r.force), 3.3 + 1e-12);
+    EXPECT_LE(length3(r.force), 3.3 + 1e-12);
     const double d[3] = {r.force[0] - previous[0], r.force[1] - previous[1],
                          r.force[2] - previous[2]};
-    EXPECT_LE(length(d), defaults.max_force_step_n + 1e-12);
+    EXPECT_LE(length3(d), defaults.max_force_step_n + 1e-12);
     std::copy(r.force, r.force + 3, previous);
-    EXPECT_EQ(length(r.torque), 0.0);  // 3-DOF force: no torque sent
+    EXPECT_EQ(length3(r.torque), 0.0);  // 3-DOF force: no torque sent
   }
   EXPECT_NEAR(f.back().force[1], 3.3, 1e-9);  // the wall pushes up (y)
   // the fake simulation's torque never reaches the device: the output stage clamps it to the
@@ -96,8 +97,8 @@ TEST(OpenHapticsLoop, ASixDofDeviceGetsGimbalTorqueInMilliNewtonMetres) {
   const auto f = rig.frames();
   ASSERT_EQ(f.size(), 1000u);
   for (const FakeHdFrame& r : f) {
-    EXPECT_LE(length(r.force), 8.5 + 1e-12);
-    EXPECT_LE(length(r.torque), 515.0 + 1e-9);
+    EXPECT_LE(length3(r.force), 8.5 + 1e-12);
+    EXPECT_LE(length3(r.torque), 515.0 + 1e-9);
   }
   EXPECT_NEAR(f.back().torque[2], 515.0, 1e-6);  // the fake simulation's torque about z
   EXPECT_EQ(rig.device->torquesDropped(), 0u);
@@ -111,13 +112,13 @@ TEST(OpenHapticsLoop, AnHdErrorLatchesTheDeviceFaultAndFadesTheForceToZero) {
   EXPECT_GE(rig.device->faults(), 1u);
   const auto f = rig.frames();
   ASSERT_EQ(f.size(), 500u);
-  EXPECT_NEAR(length(f[298].force), 3.3, 1e-9);
-  double last = length(f[299].force);
+  EXPECT_NEAR(length3(f[298].force), 3.3, 1e-9);
+  double last = length3(f[299].force);
   for (std::size_t i = 300; i < f.size(); ++i) {
-    EXPECT_LE(length(f[i].force), last + 1e-12) << i;
-    last = length(f[i].force);
+    EXPECT_LE(length3(f[i].force), last + 1e-12) << i;
+    last = length3(f[i].force);
   }
-  EXPECT_GT(length(f[305].force), 0.0);  // a ramp, not a cut
+  EXPECT_GT(length3(f[305].force), 0.0);  // a ramp, not a cut
   EXPECT_EQ(last, 0.0);
 }
 
@@ -153,8 +154,8 @@ TEST(OpenHapticsLoop, ADisconnectZeroesTheForceAtOnceAndAReconnectionNeedsReArmi
   const std::size_t before = f.size();
   ASSERT_GE(before, 299u);
   for (std::size_t i = 299; i < before; ++i)
-    EXPECT_EQ(length(f[i].force), 0.0) << i;  // nothing but zero since the loss
-  EXPECT_TRUE(rig.device->service());         // the callback's probe saw it back
+    EXPECT_EQ(length3(f[i].force), 0.0) << i;  // nothing but zero since the loss
+  EXPECT_TRUE(rig.device->service());          // the callback's probe saw it back
   fake().resume();
   ASSERT_TRUE(waitPausedAt(700));
   st = rig.loop->state();
@@ -163,7 +164,7 @@ TEST(OpenHapticsLoop, ADisconnectZeroesTheForceAtOnceAndAReconnectionNeedsReArmi
   f = rig.frames();
   ASSERT_GT(f.size(), before);
   for (std::size_t i = before; i < f.size(); ++i)
-    EXPECT_EQ(length(f[i].force), 0.0) << i;  // held since it came back
+    EXPECT_EQ(length3(f[i].force), 0.0) << i;  // held since it came back
   ServoCommand arm;
   arm.kind = CommandKind::kArm;
   ASSERT_TRUE(rig.loop->sendCommand(arm));
@@ -174,7 +175,7 @@ TEST(OpenHapticsLoop, ADisconnectZeroesTheForceAtOnceAndAReconnectionNeedsReArmi
   EXPECT_EQ(exit, ServoExit::kMaxTicks);
   EXPECT_EQ(rig.loop->state().faults, 0u);
   f = rig.frames();
-  EXPECT_NEAR(length(f.back().force), 3.3, 1e-9);
+  EXPECT_NEAR(length3(f.back().force), 3.3, 1e-9);
   EXPECT_EQ(fake().misuse(), 0u);
 }
 
@@ -185,7 +186,7 @@ TEST(OpenHapticsLoop, ACalibrationThatIsNotOkIsAFault) {
   EXPECT_NE(rig.loop->state().faults & kFaultDevice, 0u);
   EXPECT_EQ(rig.device->calibration(), device::hd::kCalibrationNeedsUpdate);
   EXPECT_EQ(rig.device->uncalibratedTicks(), 200u);
-  EXPECT_EQ(length(rig.frames().back().force), 0.0);
+  EXPECT_EQ(length3(rig.frames().back().force), 0.0);
 }
 
 }  // namespace
