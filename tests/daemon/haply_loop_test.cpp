@@ -20,19 +20,8 @@
 namespace hapticd::daemon {
 namespace {
 
+using testing::eventually;
 using testing::FakeHaply;
-
-bool eventually(const std::function<bool()>& done) {
-  for (int i = 0; i < 5000 && !done(); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  return done();
-}
-
-std::unique_ptr<device::HaplyDevice> openOn(const FakeHaply& fake) {
-  auto d = device::HaplyDevice::open(fake.url(), device::DeviceOptions{});
-  EXPECT_TRUE(d.ok()) << d.error().message;
-  return d.ok() ? std::move(d).value() : nullptr;
-}
 
 struct Rig {
   FakeHaply fake;
@@ -41,7 +30,9 @@ struct Rig {
   Rig()
       : rig(([this] {
           fake.move({0.0, 0.0, -0.05});  // 5 cm below the wall (Haply's z is up)
-          return openOn(fake);
+          auto d = device::HaplyDevice::open(fake.url(), device::DeviceOptions{});
+          EXPECT_TRUE(d.ok()) << d.error().message;
+          return std::move(d).value();
         })()) {}
 
   // n ticks, each waited for until the service has answered its force

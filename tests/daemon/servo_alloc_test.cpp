@@ -48,6 +48,16 @@ namespace {
 
 constexpr std::uint64_t kTicks = 100'000;
 
+// the loop's options of a counted run: kTicks ticks, every record row kept (the loop waits for
+// space)
+ServoOptions countedOptions() {
+  ServoOptions o;
+  o.max_ticks = kTicks;
+  o.record = true;
+  o.wait_for_record_space = true;
+  return o;
+}
+
 struct Counts {
   std::uint64_t servo_allocations = ~0ull;
   ServoExit exit = ServoExit::kStopped;
@@ -263,10 +273,7 @@ TEST(ServoAllocation, NoneOnTheServoThreadWithEditsListsAndSharedMemory) {
   VirtualClock clock;
   testing::FakeDevice device;
   device.depth_offset = 0.002;  // in contact: contact lists every tick
-  ServoOptions options;
-  options.max_ticks = kTicks;
-  options.record = true;
-  options.wait_for_record_space = true;
+  ServoOptions options = countedOptions();
   ServoLoop loop(options, clock, device, editableScene(1));
   loop.attachShm(&server.value());
   Extras extras;
@@ -302,10 +309,7 @@ TEST(ServoAllocation, NoneOnTheServoThreadWithTheForceDimensionDevice) {
   ASSERT_TRUE(device.ok()) << device.error().message;
   fake.fail(0, device::dhd::kError, 1);  // a device fault at the first read
   VirtualClock clock;
-  ServoOptions options;
-  options.max_ticks = kTicks;
-  options.record = true;
-  options.wait_for_record_space = true;
+  ServoOptions options = countedOptions();
   ServoLoop loop(options, clock, *device.value(), fakeScene(1));
   const Counts c = runCounted(loop, true, &fakeScene);
   EXPECT_EQ(c.exit, ServoExit::kMaxTicks);
@@ -344,10 +348,7 @@ TEST(ServoAllocation, NoneOnTheHdSchedulerThreadWithTheOpenHapticsDevice) {
   auto device = device::OpenHapticsDevice::open(api.value(), "", device::DeviceOptions{});
   ASSERT_TRUE(device.ok()) << device.error().message;
   VirtualClock clock;
-  ServoOptions options;
-  options.max_ticks = kTicks;
-  options.record = true;
-  options.wait_for_record_space = true;
+  ServoOptions options = countedOptions();
   ServoLoop loop(options, clock, *device.value(), fakeScene(1));
   const Counts c = runCounted(loop, true, &fakeScene);
   fake.set_frame_hook(nullptr, nullptr);
@@ -375,10 +376,7 @@ TEST(ServoAllocation, NoneOnTheServoThreadWithTheHaplyDevice) {
     fake.reportError(false);
   });
   VirtualClock clock;
-  ServoOptions options;
-  options.max_ticks = kTicks;
-  options.record = true;
-  options.wait_for_record_space = true;
+  ServoOptions options = countedOptions();
   ServoLoop loop(options, clock, *device.value(), fakeScene(1));
   const Counts c = runCounted(loop, true, &fakeScene);
   clear.join();

@@ -8,9 +8,12 @@
 // Inverse3 from its list, disconnect and come back. It records every set_cursor_force it
 // receives. Its own thread runs the server.
 #include <array>
+#include <chrono>
 #include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
+#include <thread>
 #include <vector>
 
 namespace hapticd::testing {
@@ -60,5 +63,13 @@ class FakeHaply {
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
+
+/// Waits (bounded: 5 s; never a timing assertion) until `done`, for what the device's I/O thread
+/// and the fake's thread do in their own time; returns `done()`.
+inline bool eventually(const std::function<bool()>& done) {
+  for (int i = 0; i < 5000 && !done(); ++i)
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  return done();
+}
 
 }  // namespace hapticd::testing

@@ -20,14 +20,8 @@
 namespace hapticd::device {
 namespace {
 
+using testing::eventually;
 using testing::FakeHaply;
-
-// waits (bounded; never a timing assertion) until `done`
-bool eventually(const std::function<bool()>& done) {
-  for (int i = 0; i < 5000 && !done(); ++i)
-    std::this_thread::sleep_for(std::chrono::milliseconds(1));
-  return done();
-}
 
 // a loopback port with nothing listening on it
 std::uint16_t closedPort() {
