@@ -21,7 +21,9 @@ std::optional<int> parseCommandLine(int argc, char** argv, CommandLine& o) {
   app.add_option("--demo", o.demo,
                  "built-in demo scene served when no scene file is given ([scene] demo)");
   app.add_option("--device", o.device,
-                 "device: sim, replay:FILE.csv, hid, hid:PATH, usb, usb:falcon ([device] spec)");
+                 "device: sim, replay:FILE.csv, hid, hid:PATH, usb, usb:falcon, "
+                 "forcedimension[:INDEX], openhaptics[:NAME], haply[:ws://HOST:PORT] ([device] "
+                 "spec)");
   app.add_option("--clock", o.clock,
                  "monotonic (real time) or virtual (ticks back to back) ([servo] clock)")
       ->check(CLI::IsMember({"monotonic", "virtual"}));

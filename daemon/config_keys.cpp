@@ -112,7 +112,8 @@ const ConfigKey kKeys[] = {
     // [device]
     {"device", "spec", HAPTICD_FIELD(device.spec), kNoRange, "",
      "The device: \"sim\" (a simulated 6-DOF hand), \"replay:FILE\" (a pose stream CSV), "
-     "\"hid\", \"hid:PATH\", \"usb\", \"usb:falcon\".",
+     "\"hid\", \"hid:PATH\", \"usb\", \"usb:falcon\", \"forcedimension[:INDEX]\", "
+     "\"openhaptics[:NAME]\", \"haply[:ws://HOST:PORT]\" (docs/devices.md).",
      &checkSpec},
     {"device", "max_force_n", HAPTICD_FIELD(device.options.limits.max_force_n), positive(1000.0),
      "N",
@@ -211,6 +212,14 @@ const ConfigKey kKeys[] = {
      "",
      "openhaptics device: the OpenHaptics HD library to load (a path or a library name); empty "
      "uses $HAPTICD_HD_LIBRARY, else libHD.so and libHD.so.3.4."},
+    {"device", "haply_silence_lost_s", HAPTICD_FIELD(device.options.haply_silence_lost_s),
+     closed(1e-3, 60.0), "s",
+     "haply device: the Haply Inverse Service answering no command for this long counts as the "
+     "device lost (reconnected when it is back)."},
+    {"device", "haply_connect_timeout_s", HAPTICD_FIELD(device.options.haply_connect_timeout_s),
+     closed(1e-3, 60.0), "s",
+     "haply device: how long opening (and each reconnection) waits for the service's WebSocket "
+     "and its device list."},
 
     // [response]
     {"response", "stiffness_n_per_m", HAPTICD_FIELD(response.sim.response.stiffness_n_per_m),

@@ -2,7 +2,7 @@
 /// \file
 /// The haptic device behind one interface: pose and buttons in, force and torque out, limits,
 /// capabilities. Backends: `sim` (default), `replay:FILE`, `hid`, `usb`, `forcedimension`,
-/// `openhaptics` (daemon/device/*.cpp).
+/// `openhaptics`, `haply` (daemon/device/*.cpp).
 ///
 /// This header is the contract between the device backends and the servo loop: members may be
 /// added, none renamed or removed.
@@ -194,14 +194,30 @@ struct DeviceOptions {
   /// openhaptics: the OpenHaptics HD library to load (a path or a name for dlopen); empty:
   /// $HAPTICD_HD_LIBRARY when set, else libHD.so, libHD.so.3.4.
   std::string openhaptics_library;
+
+  /// haply: how long the Haply Inverse Service may leave a command unanswered before the device
+  /// counts as lost (the service answers every command with one state message).
+  double haply_silence_lost_s = 0.1;
+  /// haply: how long opening (and each reconnection by service()) may wait for the service's
+  /// WebSocket: the TCP connection, the handshake and the first message (the device list).
+  double haply_connect_timeout_s = 1.0;
 };
 
 /// A device spec taken apart: the backend and its argument.
 struct DeviceSpec {
-  enum class Backend : std::uint8_t { kSim, kReplay, kHid, kUsb, kForceDimension, kOpenHaptics };
+  enum class Backend : std::uint8_t {
+    kSim,
+    kReplay,
+    kHid,
+    kUsb,
+    kForceDimension,
+    kOpenHaptics,
+    kHaply
+  };
   Backend backend = Backend::kSim;
   /// replay: the file; hid: the hidraw path or ""; usb: "falcon" or ""; forcedimension: the
-  /// device index ("" is 0); openhaptics: the device's configured name ("": the default)
+  /// device index ("" is 0); openhaptics: the device's configured name ("": the default); haply:
+  /// the service's WebSocket URL (kHaplyDefaultUrl when none is given)
   std::string arg;
   /// Opening it has no effect outside the process (sim, replay): `hapticd --check-config` opens
   /// such a device; hid and usb are checked by their spec only (opening one would take it from
@@ -212,9 +228,23 @@ struct DeviceSpec {
 /// The largest device index of forcedimension:INDEX.
 inline constexpr int kMaxForceDimensionIndex = 15;
 
+/// The Haply Inverse Service's WebSocket (its simulation channel, the 3.x JSON format).
+inline constexpr const char* kHaplyDefaultUrl = "ws://127.0.0.1:10001";
+
+/// A `ws://HOST:PORT[/PATH]` URL taken apart (haply:URL).
+struct WsUrl {
+  std::string host;
+  std::uint16_t port = 0;
+  std::string path = "/";  ///< the request target, "/" when the URL has none
+};
+
+/// Checks a WebSocket URL: `ws://`, a host (a name, an IPv4 address or `[IPv6]`), `:PORT`
+/// (1-65535) and an optional path; `wss://` (TLS) is refused. Any thread.
+Result<WsUrl> parseWsUrl(std::string_view url);
+
 /// Checks a spec: "sim", "replay:FILE", "hid", "hid:PATH", "usb", "usb:falcon",
-/// "forcedimension", "forcedimension:INDEX" (0-15), "openhaptics", "openhaptics:NAME". Any thread.
-/// Errors name the spec and what is wrong.
+/// "forcedimension", "forcedimension:INDEX" (0-15), "openhaptics", "openhaptics:NAME", "haply",
+/// "haply:ws://HOST:PORT". Any thread. Errors name the spec and what is wrong.
 Result<DeviceSpec> parseDeviceSpec(std::string_view spec);
 
 /// Opens a device from its spec (parseDeviceSpec). Off the servo thread. Errors name the spec

@@ -9,7 +9,7 @@ namespace hapticd::device {
 Result<DeviceSpec> parseDeviceSpec(std::string_view spec) {
   constexpr const char* kKnown =
       "(known: sim, replay:FILE, hid, hid:PATH, usb, usb:falcon, forcedimension, "
-      "forcedimension:INDEX, openhaptics, openhaptics:NAME)";
+      "forcedimension:INDEX, openhaptics, openhaptics:NAME, haply, haply:ws://HOST:PORT)";
   const std::string quoted = "'" + std::string(spec) + "'";
   const auto colon = spec.find(':');
   const std::string_view backend = spec.substr(0, colon);
@@ -52,11 +52,54 @@ Result<DeviceSpec> parseDeviceSpec(std::string_view spec) {
                    ": 'openhaptics:' needs the device's configured name (openhaptics:NAME) or "
                    "none (openhaptics: the default device)"};
     out.backend = DeviceSpec::Backend::kOpenHaptics;
+  } else if (backend == "haply") {
+    if (!has_arg)
+      out.arg = kHaplyDefaultUrl;
+    auto url = parseWsUrl(out.arg);
+    if (!url)
+      return Error{"device " + quoted + ": " + url.error().message};
+    out.backend = DeviceSpec::Backend::kHaply;
   } else if (spec.empty()) {
     return Error{std::string("device '': empty spec ") + kKnown};
   } else {
     return Error{"device " + quoted + ": unknown backend '" + std::string(backend) + "' " + kKnown};
   }
+  return out;
+}
+
+Result<WsUrl> parseWsUrl(std::string_view url) {
+  constexpr std::string_view kScheme = "ws://";
+  const std::string what = "'" + std::string(url) + "' is not a WebSocket URL ws://HOST:PORT";
+  if (url.substr(0, 6) == "wss://")
+    return Error{what + " (wss://, TLS, is not supported: the service listens on plain ws://)"};
+  if (url.substr(0, kScheme.size()) != kScheme)
+    return Error{what};
+  std::string_view rest = url.substr(kScheme.size());
+  WsUrl out;
+  const auto slash = rest.find('/');
+  if (slash != std::string_view::npos) {
+    out.path = std::string(rest.substr(slash));
+    rest = rest.substr(0, slash);
+  }
+  std::size_t colon = rest.rfind(':');
+  if (!rest.empty() && rest.front() == '[') {  // [IPv6]:PORT
+    const auto close = rest.find(']');
+    if (close == std::string_view::npos || close + 1 != colon)
+      return Error{what};
+    out.host = std::string(rest.substr(1, close - 1));
+  } else if (colon != std::string_view::npos) {
+    out.host = std::string(rest.substr(0, colon));
+  }
+  if (out.host.empty() || colon == std::string_view::npos ||
+      out.host.find_first_of(" /?#@") != std::string::npos)
+    return Error{what};
+  const std::string_view port = rest.substr(colon + 1);
+  unsigned value = 0;
+  const auto r = std::from_chars(port.data(), port.data() + port.size(), value);
+  if (port.empty() || r.ec != std::errc() || r.ptr != port.data() + port.size() || value == 0 ||
+      value > 65535)
+    return Error{what + " (the port must be a whole number from 1 to 65535)"};
+  out.port = static_cast<std::uint16_t>(value);
   return out;
 }
 

@@ -2,6 +2,7 @@
 
 #include "daemon/device/device.h"
 #include "daemon/device/forcedimension_device.h"
+#include "daemon/device/haply_device.h"
 #include "daemon/device/hid_device.h"
 #include "daemon/device/openhaptics_device.h"
 #include "daemon/device/replay_device.h"
@@ -26,6 +27,8 @@ Result<std::unique_ptr<Device>> makeDevice(std::string_view spec, const DeviceOp
       return makeForceDimensionDevice(std::stoi(s.arg), options);
     case DeviceSpec::Backend::kOpenHaptics:
       return makeOpenHapticsDevice(s.arg, options);
+    case DeviceSpec::Backend::kHaply:
+      return makeHaplyDevice(s.arg, options);
     case DeviceSpec::Backend::kUsb:
       break;
   }

@@ -7,6 +7,7 @@
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <linux/capability.h>
+#include <netinet/in.h>
 #include <signal.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
@@ -123,24 +124,38 @@ TEST_F(BinaryTest, BadConfigIsRefusedWithFileLineAndKey) {
       run({"--config", (fs::path(kSource) / "config/hapticd.toml").string(), "--check-config"}), 0);
 }
 
-// a vendor device whose library is absent: one error line naming the library and what to
+// a loopback TCP port with nothing listening on it (bound, read, closed)
+std::string closedLoopbackPort() {
+  const int fd = ::socket(AF_INET, SOCK_STREAM, 0);
+  sockaddr_in a{};
+  a.sin_family = AF_INET;
+  a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  socklen_t n = sizeof a;
+  EXPECT_EQ(::bind(fd, reinterpret_cast<sockaddr*>(&a), sizeof a), 0);
+  EXPECT_EQ(::getsockname(fd, reinterpret_cast<sockaddr*>(&a), &n), 0);
+  ::close(fd);
+  return std::to_string(ntohs(a.sin_port));
+}
+
+// a vendor device whose library (or service) is absent: one error line naming it and what to
 // install, exit 1, before the servo loop, the network or any other thread started
 TEST_F(BinaryTest, AVendorDeviceWithoutItsLibraryIsAOneLineErrorAndExit1) {
   struct Case {
-    const char* device;
-    const char* key;
-    const char* library;
-    const char* message;
+    std::string device;
+    std::string config;  // [device] lines
+    std::string message;
   };
+  const std::string haply = "ws://127.0.0.1:" + closedLoopbackPort();
   for (const Case& c :
-       {Case{"forcedimension", "forcedimension_library", "/nonexistent/libdhd.so",
+       {Case{"forcedimension", "forcedimension_library = \"/nonexistent/libdhd.so\"\n",
              "device 'forcedimension:0': cannot load the Force Dimension DHD library (tried "
              "/nonexistent/libdhd.so"},
-        Case{"openhaptics", "openhaptics_library", "/nonexistent/libHD.so",
+        Case{"openhaptics", "openhaptics_library = \"/nonexistent/libHD.so\"\n",
              "device 'openhaptics': cannot load the OpenHaptics HD library (tried "
-             "/nonexistent/libHD.so"}}) {
-    std::ofstream(path("c.toml")) << "[servo]\nrealtime = \"off\"\n[device]\n"
-                                  << c.key << " = \"" << c.library << "\"\n";
+             "/nonexistent/libHD.so"},
+        Case{"haply:" + haply, "",
+             "device 'haply:" + haply + "': cannot reach the Haply Inverse Service at " + haply}}) {
+    std::ofstream(path("c.toml")) << "[servo]\nrealtime = \"off\"\n[device]\n" << c.config;
     EXPECT_EQ(run({"--config", path("c.toml"), "--device", c.device, "--ticks", "1"}), 1) << err();
     std::string errors;
     std::istringstream in(err());

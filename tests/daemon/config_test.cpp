@@ -126,6 +126,8 @@ TEST(Config, DefaultsAreThoseOfTheSimulationAndDeviceOptions) {
   EXPECT_EQ(d.usb_falcon_firmware, f.usb_falcon_firmware);
   EXPECT_EQ(d.forcedimension_library, f.forcedimension_library);
   EXPECT_EQ(d.openhaptics_library, f.openhaptics_library);
+  EXPECT_EQ(d.haply_silence_lost_s, f.haply_silence_lost_s);
+  EXPECT_EQ(d.haply_connect_timeout_s, f.haply_connect_timeout_s);
 
   const scene::LoadOptions l = toLoadOptions(c);
   const scene::SceneLimits g;

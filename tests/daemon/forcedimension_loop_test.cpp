@@ -21,8 +21,6 @@ using testing::length;
 using testing::stepFrom;
 
 struct Rig : testing::VendorLoopRig<device::ForceDimensionDevice> {
-  std::uint64_t ticks = 0;
-
   explicit Rig(int type = 104) {
     fakeDhd().reset(1, type);
     // 5 cm below the wall (the SDK's z is up)
@@ -32,16 +30,6 @@ struct Rig : testing::VendorLoopRig<device::ForceDimensionDevice> {
     auto api = device::dhd::loadApi(HAPTICD_FAKE_DHD);
     EXPECT_TRUE(api.ok());
     start(device::ForceDimensionDevice::open(api.value(), 0, device::DeviceOptions{}));
-  }
-  void run(std::uint64_t n) {
-    ticks += n;
-    loop->setMaxTicks(ticks);
-    EXPECT_EQ(loop->run(), ServoExit::kMaxTicks);
-  }
-  void arm() {
-    ServoCommand c;
-    c.kind = CommandKind::kArm;
-    ASSERT_TRUE(loop->sendCommand(c));
   }
   std::vector<FakeDhdForce> forces() const {
     const FakeDhdState s = fakeDhd().state(0);

@@ -31,6 +31,9 @@
 #include "protocol/server.h"
 #include "protocol/shm.h"
 #include "tests/daemon/daemon_fixture.h"
+#ifdef HAPTICD_FAKE_HAPLY
+#include "tests/daemon/device/fake_haply.h"
+#endif
 
 #ifdef HAPTICD_HAVE_SCENEGEN
 #include "core/scene/loader.h"
@@ -167,19 +170,39 @@ TEST_F(NetTest, StatusShowsTheSceneAndPlanAndLoadAcceptsGoodAndRefusesBadScenes)
   EXPECT_EQ(statusJson()["scene"], "gears.glb");                             // the old scene stays
 }
 
+#if defined(HAPTICD_FAKE_DHD) || defined(HAPTICD_FAKE_HAPLY)
+// a vendor device: status names its model and serial, the DOF it senses and renders, and its
+// limits, as text and as JSON
+#define EXPECT_STATUS_DEVICE(want)                                               \
+  do {                                                                           \
+    CtlRun text = ctl({"status"});                                               \
+    EXPECT_EQ(text.code, 0) << text.err;                                         \
+    EXPECT_NE(text.out.find("device " + (want)), std::string::npos) << text.out; \
+    EXPECT_EQ(statusJson()["device"], (want));                                   \
+  } while (false)
+#endif
+
 #ifdef HAPTICD_FAKE_DHD
-// a vendor device (forcedimension over the fake DHD library): status names its model and serial,
-// the DOF it senses and renders, and its limits
+// forcedimension over the fake DHD library
 TEST_F(NetTest, StatusShowsAVendorDevicesModelSerialDofAndLimits) {
   startDaemon(kSource + "/scenes/peg_in_hole.glb", "",
               "[device]\nspec = \"forcedimension\"\nforcedimension_library = \"" HAPTICD_FAKE_DHD
               "\"\n");
-  const std::string want =
-      "forcedimension:0 sigma.7: serial 1200, sensing 7 DOF, force 7 DOF, limits 10 N 0.4 N m";
-  CtlRun text = ctl({"status"});
-  EXPECT_EQ(text.code, 0) << text.err;
-  EXPECT_NE(text.out.find("device " + want), std::string::npos) << text.out;
-  EXPECT_EQ(statusJson()["device"], want);
+  EXPECT_STATUS_DEVICE(std::string(
+      "forcedimension:0 sigma.7: serial 1200, sensing 7 DOF, force 7 DOF, limits 10 N 0.4 N m"));
+}
+#endif
+
+#ifdef HAPTICD_FAKE_HAPLY
+// haply over the fake Haply Inverse Service (a WebSocket server in this process)
+TEST_F(NetTest, StatusShowsTheHaplyDevicesModelSerialDofAndLimits) {
+  hapticd::testing::FakeHaply fake;
+  startDaemon(kSource + "/scenes/peg_in_hole.glb", "",
+              "[device]\nspec = \"haply:" + fake.url() + "\"\n");
+  EXPECT_STATUS_DEVICE("haply:" + fake.url() +
+                       " Inverse3 (right-handed) + VerseGrip: serial 049D, sensing 6 DOF, force 3 "
+                       "DOF, limits 10 N 0 N m");
+  EXPECT_GT(fake.forceCount(), 0u);  // the daemon's servo loop drives it
 }
 #endif
 

@@ -10,6 +10,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -32,6 +33,10 @@
 #include "daemon/device/hd_api.h"
 #include "daemon/device/openhaptics_device.h"
 #include "tests/daemon/device/fake_hd.h"
+#endif
+#ifdef HAPTICD_FAKE_HAPLY
+#include "daemon/device/haply_device.h"
+#include "tests/daemon/device/fake_haply.h"
 #endif
 #ifdef HAPTICD_HAVE_REAL_BACKENDS
 #include "core/scene/loader.h"
@@ -348,6 +353,34 @@ TEST(ServoAllocation, NoneOnTheHdSchedulerThreadWithTheOpenHapticsDevice) {
   EXPECT_EQ(seen.last - seen.first, 0u);
   EXPECT_GE(loop.state().fault_latches, 1u);
   EXPECT_GT(fake.frame_count(), 0u);
+}
+#endif
+
+#ifdef HAPTICD_FAKE_HAPLY
+// The haply backend over the fake Haply Inverse Service: reads and writes are seqlock copies, the
+// WebSocket exchange runs on the device's I/O thread; the service reports an error at the start
+// (a device fault, latched and faded) and clears it after a few exchanges; arms re-arm.
+TEST(ServoAllocation, NoneOnTheServoThreadWithTheHaplyDevice) {
+  testing::FakeHaply fake;
+  fake.move({0.0, 0.0, -0.002});  // in contact with the fake wall (Haply's z is up)
+  fake.reportError(true);
+  auto device = device::HaplyDevice::open(fake.url(), device::DeviceOptions{});
+  ASSERT_TRUE(device.ok()) << device.error().message;
+  std::thread clear([&] {
+    for (int i = 0; i < 5000 && fake.forceCount() < 20; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    fake.reportError(false);
+  });
+  VirtualClock clock;
+  const ServoOptions options = recordingOptions();
+  ServoLoop loop(options, clock, *device.value(), fakeScene(1));
+  const Counts c = runCounted(loop, true, &fakeScene);
+  clear.join();
+  EXPECT_EQ(c.exit, ServoExit::kMaxTicks);
+  EXPECT_EQ(c.servo_allocations, 0u);
+  EXPECT_GE(loop.state().fault_latches, 1u);
+  EXPECT_GE(device.value()->faultTicks(), 1u);
+  EXPECT_GT(fake.forceCount(), 0u);
 }
 #endif
 

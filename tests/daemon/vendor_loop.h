@@ -1,12 +1,13 @@
 #pragma once
 // The set-up the vendor-backend loop tests share (forcedimension_loop_test.cpp,
-// openhaptics_loop_test.cpp): the real servo loop on the virtual clock over a device opened on a
+// openhaptics_loop_test.cpp, haply_loop_test.cpp): the real servo loop on the virtual clock over a device opened on a
 // fake vendor library (tests/daemon/device/), with the fake simulation (a wall at y = 0 pushing up
 // with 600 N/m) and the device's limits; and the vector measures of the forces the fakes record.
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <memory>
 #include <utility>
 
@@ -33,6 +34,7 @@ struct VendorLoopRig {
   std::unique_ptr<Device> device;
   daemon::VirtualClock clock;
   std::unique_ptr<daemon::ServoLoop> loop;
+  std::uint64_t ticks = 0;
 
   /// Takes `opened` (a failure fails the test) and builds the loop over it with options `so`
   /// limited as toServoOptions does (the tighter of config and device: here the device's).
@@ -43,6 +45,17 @@ struct VendorLoopRig {
     so.limits = device->info().limits;
     loop = std::make_unique<daemon::ServoLoop>(so, clock, *device, servoSceneOf<FakeSimulation>(1));
     loop->prepareServoThread();
+  }
+  /// n more ticks; the loop must end at its tick limit.
+  void run(std::uint64_t n) {
+    ticks += n;
+    loop->setMaxTicks(ticks);
+    EXPECT_EQ(loop->run(), daemon::ServoExit::kMaxTicks);
+  }
+  void arm() {
+    daemon::ServoCommand c;
+    c.kind = daemon::CommandKind::kArm;
+    ASSERT_TRUE(loop->sendCommand(c));
   }
 };
 
