@@ -33,7 +33,8 @@ std::unique_ptr<sim::Simulation> make(std::shared_ptr<const scene::SceneModel> s
                                       const sim::SimOptions& o) {
   auto created = sim::Simulation::create(std::move(sc), o);
   EXPECT_TRUE(created.ok()) << (created.ok() ? "" : created.error().message);
-  return created.ok() ? std::move(created).value() : nullptr;
+  // with the daemon's output stage after it: the wrench a device would be sent
+  return created.ok() ? sim::withOutputStage(std::move(created).value(), o.response) : nullptr;
 }
 
 // Options for a scene whose lengths are s times metres: the same relative behaviour.

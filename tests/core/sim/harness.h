@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/sim/output_shaping.h"
 #include "core/sim/simulation.h"
 
 namespace hapticd::simtest {
@@ -70,11 +71,13 @@ struct Figures {
   void print(const char* name) const;
 };
 
-/// Drives a Simulation along a path, tick by tick, checking the invariants as it goes.
+/// Drives a Simulation along a path, tick by tick, checking the invariants as it goes. The
+/// simulation runs with the daemon's output stage after it (sim::withOutputStage): the wrench
+/// checked is the one a device would be sent.
 class Runner {
  public:
   Runner(std::unique_ptr<sim::Simulation> sim, const sim::SimOptions& options)
-      : sim_(std::move(sim)), options_(options) {}
+      : sim_(sim::withOutputStage(std::move(sim), options.response)), options_(options) {}
   /// Runs the whole path; `each` (if set) sees every tick's input and output.
   template <class F>
   Figures run(const Path& path, F&& each) {

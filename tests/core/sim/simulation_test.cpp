@@ -31,7 +31,8 @@ std::unique_ptr<sim::Simulation> make(std::shared_ptr<const scene::SceneModel> s
                                       const sim::SimOptions& o) {
   auto r = sim::Simulation::create(std::move(s), o);
   EXPECT_TRUE(r.ok()) << (r.ok() ? "" : r.error().message);
-  return std::move(r).value();
+  // with the daemon's output stage after it: the wrench a device would be sent
+  return sim::withOutputStage(std::move(r).value(), o.response);
 }
 
 TEST(Simulation, ProbeSphereDriven50mmIntoAWall) {
