@@ -22,16 +22,14 @@ std::int64_t realNowNs() noexcept {
 // the one output stage's limits and times: the tighter device limits, the step limits, the
 // ramp-in and the fades; its tick is the loop's period
 response::OutputLimits outputLimits(const ServoOptions& o, double period_s) noexcept {
-  response::OutputLimits l;
-  l.max_force_n = o.limits.max_force_n;
-  l.max_torque_nm = o.limits.max_torque_nm;
-  l.max_force_step_n = o.max_force_step_n;
-  l.max_torque_step_nm = o.max_torque_step_nm;
-  l.ramp_s = o.ramp_in_s;
-  l.fault_fade_s = o.fault_fade_s;
-  l.hold_fade_s = o.stop_ramp_s;
-  l.tick_s = period_s;
-  return l;
+  return {.max_force_n = o.limits.max_force_n,
+          .max_torque_nm = o.limits.max_torque_nm,
+          .max_force_step_n = o.max_force_step_n,
+          .max_torque_step_nm = o.max_torque_step_nm,
+          .ramp_s = o.ramp_in_s,
+          .fault_fade_s = o.fault_fade_s,
+          .hold_fade_s = o.stop_ramp_s,
+          .tick_s = period_s};
 }
 
 void putPose(const geom::Pose& X, double* out) noexcept {

@@ -3,10 +3,11 @@
 /// The servo loop (docs/architecture.md "One servo tick"): each period it reads the device, maps
 /// the pose into the scene, steps the simulation, passes its raw wrench through the one output
 /// stage (response::OutputStage: finite, device frame, clamp, ramp-in x fade x gate, step limit)
-/// and writes the result to the device, publishes state and hands a record row on. It is paced by a Clock (real monotonic,
-/// virtual, scripted), measures each tick's wake-up lateness and compute time into fixed
-/// histograms, skips missed periods instead of queueing them, and after `miss_fault_count`
-/// consecutive overruns fades the force to zero and latches a fault until re-armed.
+/// and writes the result to the device, publishes state and hands a record row on. It is paced by a
+/// Clock (real monotonic, virtual, scripted), measures each tick's wake-up lateness and compute
+/// time into fixed histograms, skips missed periods instead of queueing them, and after
+/// `miss_fault_count` consecutive overruns fades the force to zero and latches a fault until
+/// re-armed.
 ///
 /// Threads (docs/architecture.md rule 6): run() is the servo thread. It meets the other threads
 /// only at

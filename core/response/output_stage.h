@@ -10,7 +10,8 @@
 ///  3. one clamp to the device limits, in the device frame;
 ///  4. the gain: ramp-in (0 to 1 over ramp_s) x fade (1 to 0 over fault_fade_s on a fault,
 ///     hold_fade_s on a disarm or stop) x the caller's gate scale. It scales the clamped wrench, so
-///     that a ramp or a fade takes its whole time whatever the wrench (and cannot leave the limits);
+///     that a ramp or a fade takes its whole time whatever the wrench (and cannot leave the
+///     limits);
 ///  5. one step limit from the last output (§5.3 of Gregory et al. 2000, limitStep below);
 ///  6. the last output remembered for the next step limit.
 /// A lost device (OutputInputs::device_ok false) gives zero at once (no step limit: nothing can be

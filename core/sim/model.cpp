@@ -200,7 +200,6 @@ void setResponse(SimModel& m) {
   m.proxy.max_travel = m.max_travel_m;
   m.proxy.max_force_n = r.max_force_n;
   m.proxy.max_torque_nm = r.max_torque_nm;
-
 }
 
 // the dynamics, exactly when the plan asks (world ids are the scene's body indices, the probe

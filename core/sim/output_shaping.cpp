@@ -47,19 +47,15 @@ class ShapedSimulation final : public Simulation {
 }  // namespace
 
 response::OutputLimits outputLimits(const ResponseOptions& r) {
-  response::OutputLimits l;
-  l.max_force_n = r.max_force_n;
-  l.max_torque_nm = r.max_torque_nm;
-  l.max_force_step_n = r.max_force_step_n;
-  l.max_torque_step_nm = r.max_torque_step_nm;
-  l.ramp_s = r.ramp_s;
-  l.tick_s = r.tick_s;
-  return l;
-}
-
-std::uint32_t outputFlags(const response::OutputReport& r) {
-  return (r.ramping ? kTickRamping : 0u) | (r.clamped ? kTickForceClamped : 0u) |
-         (r.step_limited ? kTickStepLimited : 0u) | (r.non_finite ? kTickNonFinite : 0u);
+  const response::OutputLimits defaults;
+  return {.max_force_n = r.max_force_n,
+          .max_torque_nm = r.max_torque_nm,
+          .max_force_step_n = r.max_force_step_n,
+          .max_torque_step_nm = r.max_torque_step_nm,
+          .ramp_s = r.ramp_s,
+          .fault_fade_s = defaults.fault_fade_s,
+          .hold_fade_s = defaults.hold_fade_s,
+          .tick_s = r.tick_s};
 }
 
 std::unique_ptr<Simulation> withOutputStage(std::unique_ptr<Simulation> sim,

@@ -24,8 +24,12 @@ namespace hapticd::sim {
 response::OutputLimits outputLimits(const ResponseOptions& r);
 
 /// kTickRamping, kTickForceClamped, kTickStepLimited, kTickNonFinite for what the stage did. Any
-/// thread.
-std::uint32_t outputFlags(const response::OutputReport& r);
+/// thread; inline, so that code which does not link the simulation (the servo loop with test
+/// fakes) maps them the same way.
+inline std::uint32_t outputFlags(const response::OutputReport& r) {
+  return (r.ramping ? kTickRamping : 0u) | (r.clamped ? kTickForceClamped : 0u) |
+         (r.step_limited ? kTickStepLimited : 0u) | (r.non_finite ? kTickNonFinite : 0u);
+}
 
 /// `sim` followed by an output stage of outputLimits(r): step() is sim's step() with its wrench
 /// shaped (TickOutput::device_ok drives the stage) and the stage's flags added; restartRamp()

@@ -162,6 +162,8 @@ TEST(ServoLoop, StopRampsTheForceToZeroWithinTheStepLimitThenReturns) {
   device.depth_offset = 0.02;  // 12 N before the clamp: the clamp holds it at 10 N
   ServoOptions options;
   options.max_ticks = 300;
+  options.ramp_in_s =
+      0.0;  // full force from the start (the output stage's ramp-in is tested apart)
   ServoLoop loop(options, clock, device, fakeScene());
   loop.run();
   EXPECT_NEAR(glm::length(device.last_force), 10.0, 1e-9);
