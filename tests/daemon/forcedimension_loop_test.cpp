@@ -46,6 +46,7 @@ struct Rig {
     device = std::move(d).value();
     ServoOptions so;
     so.limits = device->info().limits;  // as toServoOptions: the tighter of config and device
+    so.ramp_in_s = 0.0;  // full force from the start (the output stage's ramp-in is tested apart)
     loop = std::make_unique<ServoLoop>(so, clock, *device,
                                        testing::servoSceneOf<testing::FakeSimulation>(1));
     loop->prepareServoThread();

@@ -47,6 +47,7 @@ struct Rig {
     ServoOptions so;
     so.limits = device->info().limits;
     so.max_ticks = ticks;
+    so.ramp_in_s = 0.0;  // full force from the start (the output stage's ramp-in is tested apart)
     loop = std::make_unique<ServoLoop>(so, clock, *device,
                                        testing::servoSceneOf<testing::FakeSimulation>(1));
     loop->prepareServoThread();
