@@ -21,6 +21,7 @@
 
 #include "core/dynamics/dynamics.h"
 #include "core/scene/loader.h"
+#include "core/sim/output_shaping.h"
 #include "core/sim/simulation.h"
 #include "protocol/pose_stream.h"
 
@@ -71,7 +72,8 @@ void runTicks(benchmark::State& state,
     state.SkipWithError(created.error().message.c_str());
     return;
   }
-  auto sim = std::move(created).value();
+  // the tick as the daemon runs it: the simulation, then the one output stage
+  auto sim = sim::withOutputStage(std::move(created).value(), options.response);
   sim->prepareThread();  // as the daemon does on its servo thread before the first tick
   std::vector<sim::TickInput> inputs(kTicks);
   for (std::size_t k = 0; k < kTicks; ++k)

@@ -447,6 +447,7 @@ ServoOptions toServoOptions(const Config& c, const device::DeviceInfo& device) {
   o.miss_fault_count = c.servo.miss_fault_count;
   o.fault_fade_s = c.servo.fault_fade_s;
   o.stop_ramp_s = c.servo.stop_ramp_s;
+  o.ramp_in_s = c.servo.ramp_in_s;
   o.armed_at_start = c.servo.armed_at_start;
   o.workspace = c.device.workspace;
   // the tighter of the configured limits and what the backend reports

@@ -42,7 +42,7 @@ struct ServoConfig {
   std::uint32_t miss_fault_count = 10;
   double fault_fade_s = 0.05;
   double stop_ramp_s = 0.2;
-  double ramp_in_s = 0.5;  ///< the force's ramp-in (the simulation's output stage: toSimOptions)
+  double ramp_in_s = 0.5;  ///< the force's ramp-in (the output stage: toServoOptions, toSimOptions)
   bool armed_at_start = true;
   ClockKind clock = ClockKind::kMonotonic;
   std::uint32_t stack_prefault_kib = 256;

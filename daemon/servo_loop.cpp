@@ -8,6 +8,7 @@
 #include <thread>
 
 #include "core/geometry/rotation.h"
+#include "core/sim/output_shaping.h"
 
 namespace hapticd::daemon {
 namespace {
@@ -18,17 +19,17 @@ std::int64_t realNowNs() noexcept {
   return static_cast<std::int64_t>(ts.tv_sec) * 1'000'000'000 + ts.tv_nsec;
 }
 
-// scales v down to magnitude `limit` when longer
-geom::Vec3 clampLength(const geom::Vec3& v, double limit) noexcept {
-  const double len = glm::length(v);
-  return len > limit && len > 0.0 ? v * (limit / len) : v;
-}
-
-// moves from `last` toward `target` by at most `step`
-geom::Vec3 limitStep(const geom::Vec3& last, const geom::Vec3& target, double step) noexcept {
-  const geom::Vec3 d = target - last;
-  const double len = glm::length(d);
-  return len > step ? last + d * (step / len) : target;
+// the one output stage's limits and times: the tighter device limits, the step limits, the
+// ramp-in and the fades; its tick is the loop's period
+response::OutputLimits outputLimits(const ServoOptions& o, double period_s) noexcept {
+  return {.max_force_n = o.limits.max_force_n,
+          .max_torque_nm = o.limits.max_torque_nm,
+          .max_force_step_n = o.max_force_step_n,
+          .max_torque_step_nm = o.max_torque_step_nm,
+          .ramp_s = o.ramp_in_s,
+          .fault_fade_s = o.fault_fade_s,
+          .hold_fade_s = o.stop_ramp_s,
+          .tick_s = period_s};
 }
 
 void putPose(const geom::Pose& X, double* out) noexcept {
@@ -90,9 +91,11 @@ ServoLoop::ServoLoop(const ServoOptions& options,
       events_(options.log_capacity),
       records_(options.record ? options.record_capacity : 2),
       bodies_(options.record_bodies ? options.body_capacity : 2),
-      current_(initial_scene.release()) {
+      current_(initial_scene.release()),
+      output_(outputLimits(options, period_s_), options.armed_at_start),
+      output_frame_(options.workspace.outputFrame()) {
   s_.armed = options_.armed_at_start;
-  s_.output_gain = s_.armed ? 1.0 : 0.0;
+  s_.output_gain = output_.fadeGain();
   s_.device_connected = true;
   s_.scene_generation = current_ != nullptr ? current_->generation : 0;
   state_.write(s_);
@@ -268,9 +271,9 @@ void ServoLoop::applyCommand(const ServoCommand& cmd, std::uint64_t now_ns) noex
       s_.faults = 0;
       s_.consecutive_misses = 0;
       s_.armed = true;
-      s_.output_gain = 1.0;
-      if (current_ != nullptr)
-        current_->sim->restartRamp();
+      output_.rearm();  // the fade back to 1, the force ramps in from zero
+      s_.output_gain = output_.fadeGain();
+      s_.ramp_restarts = output_.rampRestarts();
       emit(ServoEventKind::kArmed);
       break;
     case CommandKind::kDisarm:
@@ -319,20 +322,6 @@ bool ServoLoop::latch(std::uint32_t fault) noexcept {
   return true;
 }
 
-void ServoLoop::guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept {
-  // the one place every force bound for the device is checked finite, clamped and rate-limited
-  if (!geom::finite(force_D) || !geom::finite(torque_D)) {
-    if (latch(kFaultNonFinite))
-      emit(ServoEventKind::kNonFiniteForce);
-    force_D = geom::Vec3(0.0);
-    torque_D = geom::Vec3(0.0);
-  }
-  force_D = clampLength(force_D, options_.limits.max_force_n);
-  torque_D = clampLength(torque_D, options_.limits.max_torque_nm);
-  force_D = limitStep(last_force_D_, force_D, options_.max_force_step_n);
-  torque_D = limitStep(last_torque_D_, torque_D, options_.max_torque_step_nm);
-}
-
 void ServoLoop::takeInputs(std::uint64_t now_ns) noexcept {
   drainCommands(now_ns);
   drainShm(now_ns);
@@ -362,9 +351,7 @@ device::DeviceStatus ServoLoop::readDevice(double t_s, device::DeviceSample& sam
     ++s_.device_lost_count;
     emit(ServoEventKind::kDeviceLost);
   } else if (connected && !s_.device_connected) {
-    emit(ServoEventKind::kDeviceBack);
-    if (current_ != nullptr)
-      current_->sim->restartRamp();
+    emit(ServoEventKind::kDeviceBack);  // the output stage ramps in again (it cut at the loss)
   }
   s_.device_connected = connected;
   if (connected)
@@ -377,29 +364,18 @@ void ServoLoop::endStream(std::int64_t t0, std::int64_t& tick_ns) noexcept {
   end_of_stream_ = true;
   emit(ServoEventKind::kEndOfStream);
   device_.write(geom::Vec3(0.0), geom::Vec3(0.0));
-  last_force_D_ = last_torque_D_ = geom::Vec3(0.0);
+  output_.zeroLast();
   s_.force_W_n = s_.torque_W_nm = geom::Vec3(0.0);
   tick_ns = realNowNs() - t0;
   state_.write(s_);
   publishShm(realNowNs());
 }
 
-void ServoLoop::fadeOutputGain() noexcept {
-  // the output gain fades to zero on a fault, a disarm and a stop; kArm sets it back to 1
-  const bool hold_zero = s_.faults != 0 || !s_.armed || s_.stopping;
-  if (hold_zero && s_.output_gain > 0.0) {
-    const double fade_s = s_.faults != 0 ? options_.fault_fade_s : options_.stop_ramp_s;
-    const double step = fade_s > 0.0 ? period_s_ / fade_s : 1.0;
-    s_.output_gain = std::max(0.0, s_.output_gain - step);
-  }
-}
-
 void ServoLoop::syncDeviceHold(bool after_write) noexcept {
   // held: the output is held at zero and a zero force and torque have been written; live again
   // is told before the write (so that the tick's force is displayed), held after it
   const bool hold_zero = s_.faults != 0 || !s_.armed || s_.stopping;
-  const bool zero_written = last_force_D_ == geom::Vec3(0.0) && last_torque_D_ == geom::Vec3(0.0);
-  const int held = hold_zero && s_.output_gain == 0.0 && zero_written ? 1 : 0;
+  const int held = hold_zero && output_.atZero() ? 1 : 0;
   if (held != device_held_ && (held == 1) == after_write) {
     device_held_ = held;
     device_.setOutputHeld(held == 1);
@@ -407,22 +383,28 @@ void ServoLoop::syncDeviceHold(bool after_write) noexcept {
 }
 
 void ServoLoop::writeOutput(const sim::TickOutput& out, bool connected) noexcept {
-  geom::Vec3 force_D(0.0), torque_D(0.0);
-  if (connected) {
-    const double gain = s_.output_gain * s_.gate_scale;
-    force_D = options_.workspace.forceToDevice(out.force_W_n * gain);
-    torque_D = options_.workspace.torqueToDevice(out.torque_W_nm * gain);
-    guardOutput(force_D, torque_D);
-    if (device_.write(force_D, torque_D) != device::DeviceStatus::kOk) {
-      // counted as lost at the next read; force state goes to zero at once
-      emit(ServoEventKind::kDeviceWriteFailed);
-      force_D = geom::Vec3(0.0);
-      torque_D = geom::Vec3(0.0);
-    }
+  // the one output stage: finite, the frame, the clamp, ramp-in x fade x gate, the step limit
+  response::OutputInputs in;
+  in.device_ok = connected && out.device_ok;
+  in.fault = s_.faults != 0;
+  in.hold = !s_.armed || s_.stopping;
+  in.gate_scale = s_.gate_scale;
+  response::OutputReport rep;
+  const response::Wrench w =
+      output_.apply({out.force_W_n, out.torque_W_nm}, in, output_frame_, &rep);
+  if (rep.non_finite && latch(kFaultNonFinite))
+    emit(ServoEventKind::kNonFiniteForce);
+  s_.tick_flags = out.flags | sim::outputFlags(rep);
+  s_.output_gain = output_.fadeGain();
+  s_.ramp_restarts = output_.rampRestarts();
+  geom::Vec3 force_D = w.force_n, torque_D = w.torque_nm;
+  // a lost device: zero at once, nothing written (nothing to ramp on a device that is gone)
+  if (connected && device_.write(force_D, torque_D) != device::DeviceStatus::kOk) {
+    // counted as lost at the next read; force state goes to zero at once
+    emit(ServoEventKind::kDeviceWriteFailed);
+    output_.zeroLast();
+    force_D = torque_D = geom::Vec3(0.0);
   }
-  // a lost device: zero at once (nothing to ramp on a device that is gone)
-  last_force_D_ = force_D;
-  last_torque_D_ = torque_D;
   s_.force_W_n = options_.workspace.forceToScene(force_D);
   s_.torque_W_nm = options_.workspace.torqueToScene(torque_D);
 }
@@ -434,7 +416,6 @@ void ServoLoop::updateState(const sim::TickOutput& out,
   s_.contacts = out.contacts;
   s_.pairs_tested = out.pairs_tested;
   s_.pairs_skipped = out.pairs_skipped;
-  s_.tick_flags = out.flags;
   s_.max_penetration_m = out.max_penetration_m;
   s_.t_s = t_s;
   s_.period_index = period_index;
@@ -442,8 +423,7 @@ void ServoLoop::updateState(const sim::TickOutput& out,
   s_.peak_penetration_m = std::max(s_.peak_penetration_m, out.max_penetration_m);
   if (out.contacts > 0)
     ++s_.contact_ticks;
-  if (s_.stopping && !stop_done_ && s_.output_gain == 0.0 && last_force_D_ == geom::Vec3(0.0) &&
-      last_torque_D_ == geom::Vec3(0.0)) {
+  if (s_.stopping && !stop_done_ && output_.atZero()) {
     stop_done_ = true;
     emit(ServoEventKind::kStopRampDone);
   }
@@ -502,7 +482,6 @@ void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept
     in.device_ok = connected;
     out = current_->sim->step(in);
   }
-  fadeOutputGain();
   syncDeviceHold(false);
   writeOutput(out, connected);
   syncDeviceHold(true);

@@ -1,11 +1,13 @@
 #pragma once
 /// \file
 /// The servo loop (docs/architecture.md "One servo tick"): each period it reads the device, maps
-/// the pose into the scene, steps the simulation, checks and limits the force, writes it to the
-/// device, publishes state and hands a record row on. It is paced by a Clock (real monotonic,
-/// virtual, scripted), measures each tick's wake-up lateness and compute time into fixed
-/// histograms, skips missed periods instead of queueing them, and after `miss_fault_count`
-/// consecutive overruns fades the force to zero and latches a fault until re-armed.
+/// the pose into the scene, steps the simulation, passes its raw wrench through the one output
+/// stage (response::OutputStage: finite, device frame, clamp, ramp-in x fade x gate, step limit)
+/// and writes the result to the device, publishes state and hands a record row on. It is paced by a
+/// Clock (real monotonic, virtual, scripted), measures each tick's wake-up lateness and compute
+/// time into fixed histograms, skips missed periods instead of queueing them, and after
+/// `miss_fault_count` consecutive overruns fades the force to zero and latches a fault until
+/// re-armed.
 ///
 /// Threads (docs/architecture.md rule 6): run() is the servo thread. It meets the other threads
 /// only at
@@ -31,6 +33,7 @@
 #include <memory>
 #include <optional>
 
+#include "core/response/output_stage.h"
 #include "core/sim/simulation.h"
 #include "daemon/clock.h"
 #include "daemon/device/device.h"
@@ -67,6 +70,7 @@ struct ServoOptions {
   std::uint32_t miss_fault_count = 10;  ///< consecutive overrunning ticks that latch a fault
   double fault_fade_s = 0.05;           ///< the force fades to zero over this after a fault (s)
   double stop_ramp_s = 0.2;             ///< SIGTERM / disarm: the force ramps to zero over this (s)
+  double ramp_in_s = 0.5;  ///< the force ramps in over this at start, on arm and device back (s)
   WorkspaceMapping workspace;
   device::DeviceLimits limits;         ///< clamp of the force written to the device (device frame)
   double max_force_step_n = 0.5;       ///< largest change of the written force per tick (N)
@@ -118,12 +122,12 @@ struct ServoState {
   double t_s = 0.0;                ///< loop time of the last tick
   geom::Pose X_W_device;           ///< device pose after the workspace mapping
   geom::Pose X_W_proxy;
-  geom::Vec3 force_W_n{0.0};  ///< force written (after gain, clamp, step limit)
+  geom::Vec3 force_W_n{0.0};  ///< force written (after the output stage)
   geom::Vec3 torque_W_nm{0.0};
   std::uint32_t contacts = 0;
   std::uint32_t pairs_tested = 0;
   std::uint32_t pairs_skipped = 0;
-  std::uint32_t tick_flags = 0;  ///< sim::TickFlags of the last tick
+  std::uint32_t tick_flags = 0;  ///< sim::TickFlags of the last tick, the output stage's included
   double max_penetration_m = 0.0;
   std::uint32_t faults = 0;         ///< FaultBits latched now
   std::uint32_t faults_seen = 0;    ///< FaultBits latched at some time since start
@@ -138,6 +142,7 @@ struct ServoState {
   std::uint64_t log_dropped = 0;
   std::int64_t last_tick_ns = 0;    ///< compute time of the last tick
   double output_gain = 1.0;         ///< 1 normally, fading to 0 on fault, disarm and stop
+  std::uint64_t ramp_restarts = 0;  ///< times the output stage's ramp-in started again
   double peak_force_n = 0.0;        ///< largest |force| written so far
   double peak_penetration_m = 0.0;  ///< largest max_penetration so far
   std::uint64_t contact_ticks = 0;  ///< ticks with at least one contact
@@ -341,8 +346,8 @@ class ServoLoop {
   // one period of run(): wait for the deadline, tick, count overruns; false when run() ends
   HAPTICD_SERVO_THREAD bool runPeriod() noexcept;
   HAPTICD_SERVO_THREAD static bool clockedTick(void* self) noexcept;
-  // one tick, in order: takeInputs, readDevice, step, fadeOutputGain, writeOutput, updateState,
-  // publish, pushRecords
+  // one tick, in order: takeInputs, readDevice, step, writeOutput, updateState, publish,
+  // pushRecords
   HAPTICD_SERVO_THREAD void tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept;
   // commands, shm commands, the gate, the stop flag, a scene swap, edits: at the tick boundary
   HAPTICD_SERVO_THREAD void takeInputs(std::uint64_t now_ns) noexcept;
@@ -351,11 +356,10 @@ class ServoLoop {
                                                        device::DeviceSample& sample) noexcept;
   // the stream ended: zero force, no step, no record row
   HAPTICD_SERVO_THREAD void endStream(std::int64_t t0, std::int64_t& tick_ns) noexcept;
-  HAPTICD_SERVO_THREAD void fadeOutputGain() noexcept;
   // tells the device when the output is live (before the write) and when it is held at zero
   // (after the write of a zero force)
   HAPTICD_SERVO_THREAD void syncDeviceHold(bool after_write) noexcept;
-  // the simulation's wrench through the gain, the workspace and the guard to the device
+  // the simulation's raw wrench through the one output stage (in the device frame) to the device
   HAPTICD_SERVO_THREAD void writeOutput(const sim::TickOutput& out, bool connected) noexcept;
   HAPTICD_SERVO_THREAD void updateState(const sim::TickOutput& out,
                                         double t_s,
@@ -377,7 +381,6 @@ class ServoLoop {
                                  std::int64_t a = 0,
                                  std::int64_t b = 0,
                                  std::int64_t c = 0) noexcept;
-  HAPTICD_SERVO_THREAD void guardOutput(geom::Vec3& force_D, geom::Vec3& torque_D) noexcept;
   // latches `fault` (FaultBits); true when it was not latched before (the caller logs it)
   HAPTICD_SERVO_THREAD bool latch(std::uint32_t fault) noexcept;
 
@@ -410,9 +413,9 @@ class ServoLoop {
   proto::ShmServer* shm_ = nullptr;
   proto::ShmState shm_state_{};
   std::uint64_t shm_p50_ns_ = 0, shm_p99_ns_ = 0;
-  geom::Vec3 last_force_D_{0.0};
-  geom::Vec3 last_torque_D_{0.0};
-  double fade_per_tick_ = 0.0;
+  // the one output stage: every wrench for the device, its ramps and fades, its last output
+  response::OutputStage output_;
+  response::OutputFrame output_frame_;  // the workspace mapping's scene-to-device frame
   std::uint64_t run_period_index_ = 0;  // run()'s state (runPeriod())
   std::int64_t run_deadline_ = 0;
   ServoExit run_exit_ = ServoExit::kStopped;

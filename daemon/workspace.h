@@ -7,6 +7,7 @@
 /// Identity by default. Pure; any thread (servo thread included: no allocation).
 
 #include "core/geometry/pose.h"
+#include "core/response/output_stage.h"
 
 namespace hapticd::daemon {
 
@@ -28,14 +29,13 @@ struct WorkspaceMapping {
   geom::Vec3 angularToDevice(const geom::Vec3& w_S) const noexcept {
     return glm::conjugate(X_SD.rotation) * w_S;
   }
-  geom::Vec3 forceToDevice(const geom::Vec3& F_S) const noexcept {
-    return scale * (glm::conjugate(X_SD.rotation) * F_S);
+  /// Forces and torques to the device frame (F_D = s R_SD^T F_S, tau_D = R_SD^T tau_S), as the
+  /// output stage's frame: the stage maps the wrench and clamps it in the device frame.
+  response::OutputFrame outputFrame() const noexcept {
+    return {glm::conjugate(X_SD.rotation), scale};
   }
   geom::Vec3 forceToScene(const geom::Vec3& F_D) const noexcept {
     return (X_SD.rotation * F_D) / scale;
-  }
-  geom::Vec3 torqueToDevice(const geom::Vec3& tau_S) const noexcept {
-    return glm::conjugate(X_SD.rotation) * tau_S;
   }
   geom::Vec3 torqueToScene(const geom::Vec3& tau_D) const noexcept { return X_SD.rotation * tau_D; }
 };

@@ -18,6 +18,7 @@
 
 #include "bench/study/study.h"
 #include "core/scene/loader.h"
+#include "core/sim/output_shaping.h"
 #include "core/sim/simulation.h"
 #include "core/voxel/voxel_sampling.h"
 #include "daemon/device/replay_device.h"
@@ -57,7 +58,9 @@ bool run(const std::shared_ptr<const scene::SceneModel>& model,
     std::fprintf(stderr, "study: %s: %s\n", model->name.c_str(), created.error().message.c_str());
     return false;
   }
-  auto& simulation = *created.value();
+  // the wrench a device would be sent: the simulation, then the one output stage
+  const auto shaped = sim::withOutputStage(std::move(created).value(), options.response);
+  auto& simulation = *shaped;
   device::ReplayDevice replay("study", rows, device::DeviceOptions{});
   const double overhead = timerOverheadNs();
   out.clear();

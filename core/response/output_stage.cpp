@@ -29,25 +29,44 @@ Vec3 limitStep(const Vec3& prev, const Vec3& next, double max_step, bool* limite
   return next;
 }
 
-Wrench OutputStage::apply(const Wrench& raw, bool device_ok, OutputReport* report) {
+void OutputStage::fade(const OutputInputs& in) {
+  // a fault, a disarm and a stop fade the gain to zero; rearm() sets it back to 1
+  if ((in.fault || in.hold) && fade_ > 0.0) {
+    const double fade_s = in.fault ? limits_.fault_fade_s : limits_.hold_fade_s;
+    fade_ = std::max(0.0, fade_ - (fade_s > 0.0 ? limits_.tick_s / fade_s : 1.0));
+  }
+}
+
+Wrench OutputStage::apply(const Wrench& raw_W,
+                          const OutputInputs& in,
+                          const OutputFrame& frame,
+                          OutputReport* report) {
   OutputReport r;
-  if (!device_ok) {
+  fade(in);
+  if (!in.device_ok) {
+    if (device_ok_)
+      ++ramp_restarts_;
+    device_ok_ = false;
     ramp_ = 0.0;
     last_ = Wrench{};
     r.ramping = true;
     *report = r;
     return last_;
   }
-  Wrench target = raw;
+  device_ok_ = true;
+  Wrench target = raw_W;
   if (!isFinite(target.force_n) || !isFinite(target.torque_nm)) {
     r.non_finite = true;
-    ramp_ = 0.0;
+    restartRamp();
     target = Wrench{};
   }
+  target.force_n = frame.force_scale * (frame.q_DW * target.force_n);
+  target.torque_nm = frame.q_DW * target.torque_nm;
   target.force_n = clampLength(target.force_n, limits_.max_force_n, &r.clamped);
   target.torque_nm = clampLength(target.torque_nm, limits_.max_torque_nm, &r.clamped);
-  target.force_n *= ramp_;
-  target.torque_nm *= ramp_;
+  const double gain = ramp_ * fade_ * in.gate_scale;
+  target.force_n *= gain;
+  target.torque_nm *= gain;
   r.ramping = ramp_ < 1.0;
   Wrench out;
   out.force_n = limitStep(last_.force_n, target.force_n, limits_.max_force_step_n, &r.step_limited);

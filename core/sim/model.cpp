@@ -198,13 +198,6 @@ void setResponse(SimModel& m) {
   m.proxy.max_travel = m.max_travel_m;
   m.proxy.max_force_n = r.max_force_n;
   m.proxy.max_torque_nm = r.max_torque_nm;
-
-  m.output.max_force_n = r.max_force_n;
-  m.output.max_torque_nm = r.max_torque_nm;
-  m.output.max_force_step_n = r.max_force_step_n;
-  m.output.max_torque_step_nm = r.max_torque_step_nm;
-  m.output.ramp_s = r.ramp_s;
-  m.output.tick_s = r.tick_s;
 }
 
 // the dynamics, exactly when the plan asks (world ids are the scene's body indices, the probe

@@ -17,7 +17,6 @@
 #include "core/common/result.h"
 #include "core/dynamics/dynamics.h"
 #include "core/response/coupling.h"
-#include "core/response/output_stage.h"
 #include "core/response/proxy.h"
 #include "core/response/shading.h"
 #include "core/sim/simulation.h"
@@ -68,7 +67,6 @@ struct SimModel {
   /// The response's parameters at the start (SceneState keeps the current ones).
   response::CouplingParams coupling;
   response::ProxyParams proxy;
-  response::OutputLimits output;
 
   /// Checks the options and the scene and derives the model. Errors name the option or the
   /// body. Off the servo thread.

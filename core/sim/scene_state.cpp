@@ -46,10 +46,6 @@ void writeGrab(StateWriter& w, const GrabState& g) {
 
 void writeResponse(StateWriter& w, const SceneState& s) {
   s.coupling.writeState(w);
-  // the output stage's memory: its last wrench and its ramp
-  w.glm(s.output.last().force_n);
-  w.glm(s.output.last().torque_nm);
-  w.f64(s.output.rampScale());
   const response::ProxyParams& p = s.proxy;
   for (const double v : {p.coupling_stiffness, p.rot_coupling_stiffness, p.delta, p.max_travel,
                          p.max_force_n, p.max_torque_nm})
@@ -152,7 +148,6 @@ Result<SceneState> makeState(const SimModel& m) {
   s.held.radius_m = m.probe_radius_m;
   s.delta_m = m.proxy.delta;
   s.coupling = response::VirtualCoupling(m.coupling);
-  s.output = response::OutputStage(m.output);
   s.proxy = m.proxy;
 
   s.world.step();

@@ -11,13 +11,13 @@
 /// (stateHash()). The hash and the comparison cover every field below that a later tick reads:
 /// the collision world's poses, boxes, sweep-and-prune lists, pair states with their feature and
 /// depth caches and last answers, and contacts; the dynamics' bodies, joints' warm starts, warm
-/// contact points, impulse spreader, feedback, sleep and counters; the coupling's and the output
-/// stage's memory; the proxy and its parameters; the contact rows; the held set, attach and grab
-/// state; the device's speed tracking; scene edits pending. Not covered: the shapes (the
-/// model's), per-tick scratch that a step rewrites before reading (the scheduler's order, the
-/// broad phase's event lists, the dynamics' contact points and restitution scratch) and the
-/// hash maps that index hashed lists (their layout depends on capacity, not on the run).
-/// Doubles are hashed by their bits: two states are equal only if bitwise equal.
+/// contact points, impulse spreader, feedback, sleep and counters; the coupling's memory; the proxy
+/// and its parameters; the contact rows; the held set, attach and grab state; the device's speed
+/// tracking; scene edits pending. Not covered: the shapes (the model's), per-tick scratch that a
+/// step rewrites before reading (the scheduler's order, the broad phase's event lists, the
+/// dynamics' contact points and restitution scratch) and the hash maps that index hashed lists
+/// (their layout depends on capacity, not on the run). Doubles are hashed by their bits: two states
+/// are equal only if bitwise equal.
 ///
 /// Threads: makeState() and copies off the servo thread; step() and the edits on the thread that
 /// owns the state (the servo thread): no allocation, lock, log or throw.
@@ -32,7 +32,6 @@
 #include "core/common/result.h"
 #include "core/dynamics/dynamics.h"
 #include "core/response/coupling.h"
-#include "core/response/output_stage.h"
 #include "core/response/proxy.h"
 #include "core/sim/model.h"
 #include "core/sim/simulation.h"
@@ -100,7 +99,6 @@ struct SceneState {
   /// Present exactly when the model's plan has dynamics.
   std::optional<dynamics::Dynamics> dynamics;
   response::VirtualCoupling coupling{response::CouplingParams{}};
-  response::OutputStage output{response::OutputLimits{}};
   response::ProxyParams proxy;
   geom::Pose X_W_probe;             ///< the proxy: the probe body's pose
   double delta_m = 0.0;             ///< this tick's predictive distance

@@ -16,7 +16,6 @@ class SimulationImpl final : public Simulation {
 
   TickOutput step(const TickInput& input) override { return sim::step(*model_, state_, input); }
   std::span<const BodyPose> bodyPoses() const override { return state_.body_poses; }
-  void restartRamp() override { state_.output.restartRamp(); }
   const scene::SceneModel& scene() const override { return *model_->scene; }
   DynamicsStatus dynamicsStatus() const override { return sim::dynamicsStatus(*model_, state_); }
   void prepareThread() override {}  // nothing per thread: the world owns its scratch

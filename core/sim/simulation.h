@@ -29,8 +29,10 @@ using geom::Vec3;
 struct ResponseOptions {
   double stiffness_n_per_m = 600.0;  ///< k_s: 0.6 N/mm (§5.1)
   double tick_s = 0.001;             ///< Δt: 1 ms (§5.2)
-  // the output stage's limits: config [device] max_force_n, max_torque_nm, max_force_step_n,
-  // max_torque_step_nm and [servo] ramp_in_s (one set for the whole daemon)
+  // the output limits: config [device] max_force_n, max_torque_nm, max_force_step_n,
+  // max_torque_step_nm and [servo] ramp_in_s (one set for the whole daemon). The simulation
+  // bounds the coupling's pull on the proxy by the device limits; the rest is the output stage's
+  // (response::OutputStage, run by the caller: the servo loop, or withOutputStage() offline)
   double max_force_n = 10.0;         ///< device limit
   double max_torque_nm = 1.0;        ///< device limit
   double max_force_step_n = 0.5;     ///< F_max (§5.3): largest force change between ticks
@@ -114,10 +116,12 @@ struct TickInput {
   double t_s = 0.0;  ///< simulated time of this tick
   Pose X_W_device;   ///< target pose of the held body's origin
   std::uint32_t buttons = 0;
-  bool device_ok = true;  ///< false: the device is lost or faulted: force goes to zero at once
+  bool device_ok = true;  ///< false: the device is lost or faulted: the wrench is zero
 };
 
-/// Status bits of a tick (TickOutput::flags).
+/// Status bits of a tick (TickOutput::flags). kTickRamping, kTickForceClamped, kTickStepLimited
+/// and kTickNonFinite are the output stage's (response::OutputStage, outputFlags()): step() never
+/// sets them; the servo loop and withOutputStage() add them.
 enum TickFlags : std::uint32_t {
   kTickRamping = 1u << 0,       ///< force still ramping in
   kTickForceClamped = 1u << 1,  ///< the force hit a device limit
@@ -131,14 +135,21 @@ enum TickFlags : std::uint32_t {
 
 /// One tick's output, in scene coordinates.
 struct TickOutput {
-  Vec3 force_W_n{0.0};             ///< force on the hand (device), N
-  Vec3 torque_W_nm{0.0};           ///< torque on the hand, N m
+  /// The raw wrench on the hand (device): the coupling's, the dynamics' feedback and a grabbed
+  /// body's inertia, not yet shaped. The caller passes it through the one output stage
+  /// (response::OutputStage: clamp, ramps and fades, step limit) before a device sees it. N, N m.
+  Vec3 force_W_n{0.0};
+  Vec3 torque_W_nm{0.0};
   Pose X_W_proxy;                  ///< the proxy's pose
   std::uint32_t contacts = 0;      ///< contact points used this tick
   double max_penetration_m = 0.0;  ///< >= 0
   std::uint32_t pairs_tested = 0;
   std::uint32_t pairs_skipped = 0;
   std::uint32_t flags = 0;  ///< TickFlags
+  /// TickInput::device_ok and a finite device pose: false when the device is lost or its pose is
+  /// NaN or Inf (the proxy then holds and the wrench is zero); the output stage then cuts to zero
+  /// at once and restarts its ramp (response::OutputInputs::device_ok).
+  bool device_ok = true;
   // --- added by the response ---
   /// The penalty wrench of §5.1–5.2 on the proxy (about the held body's centre of mass): what
   /// the coupling balances at rest. World frame, N and N m.
@@ -245,8 +256,10 @@ class Simulation {
   /// Poses of every non-static body after the last step (ordered by body index).
   virtual std::span<const BodyPose> bodyPoses() const = 0;
 
-  /// Forces fade to zero and ramp in again from there (after a fault is re-armed). Servo thread.
-  virtual void restartRamp() = 0;
+  /// Forces fade to zero and ramp in again from there. The ramp is the output stage's now
+  /// (response::OutputStage, run after step() by the caller): the simulation has none, so the
+  /// default does nothing; withOutputStage()'s restarts its stage's. Servo thread.
+  virtual void restartRamp() {}
 
   virtual const scene::SceneModel& scene() const = 0;
 

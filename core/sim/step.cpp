@@ -1,7 +1,7 @@
 // One servo tick of the whole simulation (docs/architecture.md "One servo tick"; §3.1, §6.1 of
 // Gregory et al. 2000): edits seen, attachment, the predictive distance, the proxy's step (backed
-// off when it went too deep), the dynamics, the coupling and the wrench on the hand, the output
-// stage, the outputs.
+// off when it went too deep), the dynamics, the coupling and the raw wrench on the hand (the
+// caller's output stage shapes it: response::OutputStage), the outputs.
 #include <algorithm>
 #include <cmath>
 
@@ -316,8 +316,9 @@ TickOutput step(const SimModel& m, SceneState& s, const TickInput& input) {
   response::Wrench impact = stepDynamics(m, s, &out);
 
   // the coupling between the device and the proxy, the dynamics' impacts moved from the held
-  // set's centre of mass to the handle point, a grabbed body's inertia; then the one output
-  // stage
+  // set's centre of mass to the handle point, a grabbed body's inertia: the raw wrench, which
+  // the caller's one output stage shapes (response::OutputStage; the servo loop, or
+  // sim::withOutputStage offline)
   const Vec3 h_prx = s.held.mode == AttachMode::kCentre ? s.held.centre_h_W : comW(m, s, m.probe);
   response::Wrench raw = s.coupling.step(dev.h_W, dev.q, h_prx, s.X_W_probe.rotation);
   if (m.dynamics_active) {
@@ -331,27 +332,21 @@ TickOutput step(const SimModel& m, SceneState& s, const TickInput& input) {
     raw.force_n += inertia.force_n;
     raw.torque_nm += inertia.torque_nm;
   }
-  response::OutputReport rep;
-  const response::Wrench w = s.output.apply(raw, input.device_ok && dev.finite, &rep);
-  if (!input.device_ok || !dev.finite)
+  out.device_ok = input.device_ok && dev.finite;
+  if (!out.device_ok) {
+    // nothing to couple: zero, and the coupling starts afresh
     s.coupling.reset();
+    raw = response::Wrench{};
+  }
 
-  out.force_W_n = w.force_n;
-  out.torque_W_nm = w.torque_nm;
+  out.force_W_n = raw.force_n;
+  out.torque_W_nm = raw.torque_nm;
   out.impact_force_W_n = impact.force_n;
   out.impact_torque_W_nm = impact.torque_nm;
   out.grab_weight_W_n = grab_weight;
   out.grab_inertia_force_W_n = inertia.force_n;
   out.grab_inertia_torque_W_nm = inertia.torque_nm;
   out.pairs_tested = mv.stats.pairs_tested + edits.pairs_tested;
-  if (rep.ramping)
-    out.flags |= kTickRamping;
-  if (rep.clamped)
-    out.flags |= kTickForceClamped;
-  if (rep.step_limited)
-    out.flags |= kTickStepLimited;
-  if (rep.non_finite)
-    out.flags |= kTickNonFinite;
   fillOutput(m, s, mv, &out);
   return out;
 }

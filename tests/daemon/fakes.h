@@ -19,7 +19,7 @@
 namespace hapticd::testing {
 
 /// A "scene" of one wall at y = 0: penalty force k * depth pushing +y when the device is below.
-/// Optional NaN at one tick. Tracks ramp restarts and the ticks it has seen.
+/// Optional NaN at one tick. Tracks the ticks it has seen.
 class FakeSimulation final : public sim::Simulation {
  public:
   explicit FakeSimulation(double stiffness = 600.0, std::uint32_t bodies = 2)
@@ -48,13 +48,11 @@ class FakeSimulation final : public sim::Simulation {
     return out;
   }
   std::span<const sim::BodyPose> bodyPoses() const override { return poses_; }
-  void restartRamp() override { ++ramp_restarts; }
   const scene::SceneModel& scene() const override { return scene_; }
   void prepareThread() override { ++prepared; }
 
   std::uint64_t steps = 0;
   std::uint64_t nan_at_step = 0;
-  std::uint32_t ramp_restarts = 0;
   std::uint32_t prepared = 0;
   sim::TickInput last_input;
 

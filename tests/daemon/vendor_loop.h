@@ -1,8 +1,9 @@
 #pragma once
 // The set-up the vendor-backend loop tests share (forcedimension_loop_test.cpp,
-// openhaptics_loop_test.cpp, haply_loop_test.cpp): the real servo loop on the virtual clock over a device opened on a
-// fake vendor library (tests/daemon/device/), with the fake simulation (a wall at y = 0 pushing up
-// with 600 N/m) and the device's limits; and the vector measures of the forces the fakes record.
+// openhaptics_loop_test.cpp, haply_loop_test.cpp): the real servo loop on the virtual clock over a
+// device opened on a fake vendor library (tests/daemon/device/), with the fake simulation (a wall
+// at y = 0 pushing up with 600 N/m) and the device's limits; and the vector measures of the forces
+// the fakes record.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -37,12 +38,14 @@ struct VendorLoopRig {
   std::uint64_t ticks = 0;
 
   /// Takes `opened` (a failure fails the test) and builds the loop over it with options `so`
-  /// limited as toServoOptions does (the tighter of config and device: here the device's).
+  /// limited as toServoOptions does (the tighter of config and device: here the device's), the
+  /// output stage's ramp-in off (the fake simulation never had one).
   template <class Opened>
   void start(Opened opened, daemon::ServoOptions so = {}) {
     EXPECT_TRUE(opened.ok()) << opened.error().message;
     device = std::move(opened).value();
     so.limits = device->info().limits;
+    so.ramp_in_s = 0.0;  // full force from the start (the output stage's ramp-in is tested apart)
     loop = std::make_unique<daemon::ServoLoop>(so, clock, *device, servoSceneOf<FakeSimulation>(1));
     loop->prepareServoThread();
   }

@@ -107,6 +107,71 @@ TEST(OutputStage, ClampsRampsAndCutsAtOnceWhenTheDeviceIsLost) {
   EXPECT_LE(glm::length(back.force_n), 0.5);
 }
 
+// One clamp, in the device frame: a 6 N world force that the frame doubles and turns is 12 N on
+// the device, cut to 10 N there (in the world frame it would pass). The gate scales it.
+TEST(OutputStage, ClampsOnceInTheDeviceFrameAndScalesByTheGate) {
+  OutputLimits l;
+  l.ramp_s = 0.0;
+  OutputStage s(l);
+  OutputFrame frame;
+  frame.q_DW = glm::angleAxis(kPi / 2.0, Vec3{0, 0, 1});  // world x is device y
+  frame.force_scale = 2.0;
+  OutputReport r;
+  Wrench w;
+  for (int i = 0; i < 100; ++i)
+    w = s.apply({Vec3{6, 0, 0}, Vec3{0.0}}, OutputInputs{}, frame, &r);
+  EXPECT_TRUE(r.clamped);
+  EXPECT_NEAR(w.force_n.y, 10.0, 1e-12);
+  EXPECT_NEAR(std::abs(w.force_n.x) + std::abs(w.force_n.z), 0.0, 1e-12);
+  OutputInputs gated;
+  gated.gate_scale = 0.5;
+  for (int i = 0; i < 100; ++i)
+    w = s.apply({Vec3{6, 0, 0}, Vec3{0.0}}, gated, frame, &r);
+  EXPECT_NEAR(w.force_n.y, 5.0, 1e-12);
+}
+
+// The fades: a hold (disarm, stop) over hold_fade_s, a fault over fault_fade_s, both to exactly
+// zero within the step limit; rearm() brings the force back through the ramp-in.
+TEST(OutputStage, FadesToZeroOnAHoldOrAFaultAndRearmRampsBackIn) {
+  OutputLimits l;
+  l.ramp_s = 0.05;
+  l.hold_fade_s = 0.2;
+  l.fault_fade_s = 0.02;
+  for (const bool fault : {false, true}) {
+    OutputStage s(l);
+    OutputReport r;
+    for (int i = 0; i < 200; ++i)
+      s.apply({Vec3{0, 20, 0}, Vec3{0, 0, 2}}, OutputInputs{}, OutputFrame{}, &r);
+    EXPECT_EQ(s.last().force_n, Vec3(0, 10, 0));
+    OutputInputs in;
+    in.fault = fault;
+    in.hold = !fault;
+    Vec3 prev = s.last().force_n;
+    int ticks = 0;
+    while (!s.atZero() && ticks < 1000) {
+      const Wrench w = s.apply({Vec3{0, 20, 0}, Vec3{0, 0, 2}}, in, OutputFrame{}, &r);
+      EXPECT_LE(glm::length(w.force_n - prev), l.max_force_step_n + 1e-12);
+      prev = w.force_n;
+      ++ticks;
+    }
+    ASSERT_TRUE(s.atZero());
+    EXPECT_EQ(s.last().torque_nm, Vec3(0.0));
+    // the gain reaches zero after fade_s / tick ticks (the step limit may hold it up a little)
+    const int fade_ticks = static_cast<int>(std::lround((fault ? 0.02 : 0.2) / l.tick_s));
+    std::printf("[fade] %s: zero after %d ticks (fade %d ticks)\n", fault ? "fault" : "hold", ticks,
+                fade_ticks);
+    EXPECT_GE(ticks, fade_ticks);
+    EXPECT_LE(ticks, fade_ticks + 20);
+    EXPECT_EQ(s.rampRestarts(), 0u);
+    s.rearm();
+    EXPECT_EQ(s.fadeGain(), 1.0);
+    EXPECT_EQ(s.rampRestarts(), 1u);
+    const Wrench back = s.apply({Vec3{0, 20, 0}, Vec3{0.0}}, OutputInputs{}, OutputFrame{}, &r);
+    EXPECT_TRUE(r.ramping);
+    EXPECT_EQ(back.force_n, Vec3(0.0));  // the ramp starts from zero
+  }
+}
+
 // A virtual wall through the coupling: the proxy held on the surface x = 0, the device moving in
 // and out of it sinusoidally, F held for each tick. Energy the coupling gives the hand over whole
 // cycles: a sampled spring alone gives K/2 sum dx^2 > 0; the damper B = K dt takes it back.

@@ -83,7 +83,7 @@ PushRun runPaddle(double s) {
   sc.length_scale = 2.3 * s;
   const auto model = finish(sc);
   const sim::SimOptions o = scaledOptions(s);
-  auto sim = make(model, o);
+  auto sim = makeShaped(model, o);
   if (!sim)
     return r;
   const double v = 0.2;  // per s, per second
@@ -172,7 +172,7 @@ WallRun runWall(double s, double v) {
   sc.bodies.push_back(probe);
   sc.length_scale = 0.3 * s;
   const sim::SimOptions o = scaledOptions(s);
-  auto sim = make(finish(sc), o);
+  auto sim = makeShaped(finish(sc), o);
   if (!sim)
     return r;
   const Pose device = at(0, 0, 0);
@@ -301,7 +301,7 @@ std::shared_ptr<const scene::SceneModel> editScene() {
 // editScene() with the default options, stepped once with the device at `device` (nullptr,
 // the test failed, when refused)
 std::unique_ptr<sim::Simulation> editSimAfterOneTick(const Pose& device) {
-  auto sim = make(editScene(), sim::SimOptions{});
+  auto sim = makeShaped(editScene(), sim::SimOptions{});
   if (sim)
     sim->step(tick(0, device));
   return sim;
@@ -310,8 +310,8 @@ std::unique_ptr<sim::Simulation> editSimAfterOneTick(const Pose& device) {
 TEST(SimEdits, BadEditsAreRefusedWithTheirStatusAndChangeNothing) {
   const auto model = editScene();
   sim::SimOptions o;
-  auto a = make(model, o);
-  auto b = make(model, o);
+  auto a = makeShaped(model, o);
+  auto b = makeShaped(model, o);
   ASSERT_TRUE(a && b);
   const Pose device = at(0.0, 0.1, 0.0);
   const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -408,7 +408,7 @@ TEST(SimEdits, AnAttachedBodyIsHeld) {
   sc.length_scale = 0.2;
   sim::SimOptions o;
   o.response.ramp_s = 0.0;
-  auto sim = make(finish(sc), o);
+  auto sim = makeShaped(finish(sc), o);
   ASSERT_TRUE(sim);
   // the probe sphere (r 0.01) resting on the box's top face, then the button pressed
   const Pose device = at(0.0, 0.0605, 0.0);
@@ -438,7 +438,7 @@ TEST(SimEdits, AnInactiveBoxDoesNotFallAddedItFallsAndRestsRemovedWhatRestsOnItF
   sc.gravity_W = Vec3{0, -9.81, 0};
   sc.length_scale = 2.9;
   sim::SimOptions o;
-  auto sim = make(finish(sc), o);
+  auto sim = makeShaped(finish(sc), o);
   ASSERT_TRUE(sim);
   const Pose device = at(0.0, 2.0, 0.0);  // the probe sphere far above
   std::uint64_t k = 0;
@@ -506,7 +506,7 @@ TEST(SimEdits, ASceneFileWithAnInactiveBodyStartsItInactive) {
   ASSERT_FALSE(model->bodies[crate].active);
   ASSERT_TRUE(model->plan.dynamics);
   sim::SimOptions o;
-  auto sim = make(model, o);
+  auto sim = makeShaped(model, o);
   ASSERT_TRUE(sim);
   EXPECT_FALSE(sim->bodyActive(crate));
   const Pose device = at(0.0, 2.0, 0.0);
@@ -570,7 +570,7 @@ TEST(SimEdits, AnInactiveProbeIsRefusedAStaticBodyIsAlwaysActive) {
             std::string::npos)
       << created.error().message;
   sc.bodies[1].active = true;
-  auto sim = make(finish(sc), sim::SimOptions{});
+  auto sim = makeShaped(finish(sc), sim::SimOptions{});
   ASSERT_TRUE(sim);
   EXPECT_TRUE(sim->bodyActive(0));
 }

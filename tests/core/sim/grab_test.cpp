@@ -43,7 +43,7 @@ GrabRun runGrab(const sim::SimOptions& o) {
   EXPECT_TRUE(created.ok());
   if (!created.ok())
     return r;
-  auto sim = std::move(created).value();
+  auto sim = sim::withOutputStage(std::move(created).value(), o.response);
   const double dt = o.response.tick_s;
   const double y0 = 0.1095;  // the sphere 0.5 mm into the box's top: resting on it
   Vec3 lifted_sum{0.0}, weight_sum{0.0};
@@ -147,7 +147,7 @@ LoopRun runLoop(bool inertia) {
   EXPECT_TRUE(created.ok());
   if (!created.ok())
     return r;
-  auto sim = std::move(created).value();
+  auto sim = sim::withOutputStage(std::move(created).value(), o.response);
   const double dt = 0.001, mass = 0.5, k = 200.0, c = 20.0;
   const double inertia_h = 0.001, k_r = 1.0, c_r = 0.06;
   Vec3 x{0.0, 0.1095, 0.0}, v{0.0}, w{0.0};

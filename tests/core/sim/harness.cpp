@@ -125,6 +125,12 @@ std::unique_ptr<sim::Simulation> make(std::shared_ptr<const scene::SceneModel> s
   return created.ok() ? std::move(created).value() : nullptr;
 }
 
+std::unique_ptr<sim::Simulation> makeShaped(std::shared_ptr<const scene::SceneModel> s,
+                                            const sim::SimOptions& o) {
+  auto sim = make(std::move(s), o);
+  return sim ? sim::withOutputStage(std::move(sim), o.response) : nullptr;
+}
+
 sim::SimOptions scaledResponseOptions(double s) {
   sim::SimOptions o;
   o.response.ramp_s = 0.0;

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "core/sim/output_shaping.h"
 #include "core/sim/simulation.h"
 
 namespace hapticd::simtest {
@@ -39,6 +40,10 @@ Pose at(double x, double y, double z, Quat q = Quat{1, 0, 0, 0});
 /// sim::Simulation::create; a refusal fails the test (with its message) and gives nullptr.
 std::unique_ptr<sim::Simulation> make(std::shared_ptr<const scene::SceneModel> s,
                                       const sim::SimOptions& o);
+/// make() with the daemon's output stage after it (sim::withOutputStage): the wrench a device
+/// would be sent.
+std::unique_ptr<sim::Simulation> makeShaped(std::shared_ptr<const scene::SceneModel> s,
+                                            const sim::SimOptions& o);
 
 /// Default options, the ramp off, with the response's lengths (stiffness, speed, penetration
 /// allowance, attach distance, torques: N per scene unit) for a scene whose unit is s metres: the
@@ -82,11 +87,13 @@ struct Figures {
   void print(const char* name) const;
 };
 
-/// Drives a Simulation along a path, tick by tick, checking the invariants as it goes.
+/// Drives a Simulation along a path, tick by tick, checking the invariants as it goes. The
+/// simulation runs with the daemon's output stage after it (sim::withOutputStage): the wrench
+/// checked is the one a device would be sent.
 class Runner {
  public:
   Runner(std::unique_ptr<sim::Simulation> sim, const sim::SimOptions& options)
-      : sim_(std::move(sim)), options_(options) {}
+      : sim_(sim::withOutputStage(std::move(sim), options.response)), options_(options) {}
   /// Runs the whole path; `each` (if set) sees every tick's input and output.
   template <class F>
   Figures run(const Path& path, F&& each) {

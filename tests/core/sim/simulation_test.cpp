@@ -29,7 +29,7 @@ TEST(Simulation, ProbeSphereDriven50mmIntoAWall) {
   s.bodies.push_back(floorBody());
   sim::SimOptions o;
   o.response.ramp_s = 0.0;
-  Runner run(make(finish(s), o), o);
+  Runner run(makeShaped(finish(s), o), o);
   const double r = o.probe_sphere_radius_m;
   Path path({{0.0, at(0, r + 0.02, 0)},
              {2.0, at(0, r - 0.05, 0)},  // 50 mm inside the wall
@@ -62,7 +62,7 @@ TEST(Simulation, FaceRestingOnFace) {
   s.bodies.push_back(cube);
   sim::SimOptions o;
   o.response.ramp_s = 0.0;
-  Runner run(make(finish(s), o), o);
+  Runner run(makeShaped(finish(s), o), o);
   const double D = 0.002;  // device 2 mm below the floor
   Path path({{0.0, at(0, 0.05, 0)},
              {1.0, at(0, 0.01 - D, 0)},
@@ -105,7 +105,7 @@ TEST(Simulation, StepAllocatesNothingAfterCreate) {
   scene::SceneModel s;
   s.bodies.push_back(floorBody());
   sim::SimOptions o;
-  auto sim = make(finish(s), o);
+  auto sim = makeShaped(finish(s), o);
   const double r = o.probe_sphere_radius_m;
   Path path(
       {{0.0, at(0, r + 0.01, 0)}, {1.0, at(0, r - 0.01, 0.01)}, {2.0, at(0.01, r + 0.01, 0)}});
@@ -127,7 +127,7 @@ TEST(Simulation, LostDeviceBadPoseAndRestartRampAreSafe) {
   s.bodies.push_back(floorBody());
   sim::SimOptions o;
   o.response.ramp_s = 0.1;
-  auto sim = make(finish(s), o);
+  auto sim = makeShaped(finish(s), o);
   const double r = o.probe_sphere_radius_m;
   sim::TickInput in;
   in.X_W_device = at(0, r - 0.005, 0);  // 5 mm into the floor
