@@ -25,7 +25,11 @@ using testing::length;
 using testing::stepFrom;
 
 struct Rig : testing::VendorLoopRig<device::OpenHapticsDevice> {
-  Rig(const char* model, int output_dof, double force_n, double torque_mnm, std::uint64_t ticks) {
+  Rig(const char* model,
+      int output_dof,
+      double force_n,
+      double torque_mnm,
+      std::uint64_t max_ticks) {
     fakeHd().reset(model, output_dof, force_n, torque_mnm);
     const double p[3] = {0.0, -50.0, 0.0};  // 5 cm below the wall (mm)
     const double R[9] = {1, 0, 0, 0, 1, 0, 0, 0, 1};
@@ -33,7 +37,7 @@ struct Rig : testing::VendorLoopRig<device::OpenHapticsDevice> {
     auto api = device::hd::loadApi(HAPTICD_FAKE_HD);
     EXPECT_TRUE(api.ok());
     ServoOptions so;
-    so.max_ticks = ticks;
+    so.max_ticks = max_ticks;
     start(device::OpenHapticsDevice::open(api.value(), "", device::DeviceOptions{}), so);
   }
   std::vector<FakeHdFrame> frames() const {
