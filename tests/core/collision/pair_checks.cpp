@@ -346,7 +346,11 @@ std::ostringstream& failLine(std::ostringstream& err,
 }  // namespace
 
 std::string checkPairResult(const PairCase& in, const PairResult& r, Figures& fig) {
-  const auto& [a, b, X_AB, ref] = in;
+  // named references, not a structured binding: clang 14 cannot capture bindings in lambdas
+  const Polytope& a = in.a;
+  const Polytope& b = in.b;
+  const Transform& X_AB = in.X_AB;
+  const reference::RefAnswer& ref = in.ref;
   const double size = pairSize(a, b);
   const double tol = kDistTol * size;
   std::ostringstream err;
@@ -495,7 +499,11 @@ std::string checkPairResult(const PairCase& in, const PairResult& r, Figures& fi
 }
 
 std::string checkClosest(const PairCase& in, const ClosestResult& c, Figures& fig) {
-  const auto& [a, b, X_AB, ref] = in;
+  // named references, not a structured binding: clang 14 cannot capture bindings in lambdas
+  const Polytope& a = in.a;
+  const Polytope& b = in.b;
+  const Transform& X_AB = in.X_AB;
+  const reference::RefAnswer& ref = in.ref;
   const double size = pairSize(a, b);
   const double tol = kDistTol * size;
   std::ostringstream err;
