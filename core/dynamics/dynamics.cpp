@@ -87,7 +87,7 @@ void Dynamics::writeState(StateWriter& w) const {
     for (const Quat& q : {b.q_BP, b.q, b.target_q})
       w.glm(q);
     for (const Vec3& v : {b.inertia_P, b.inv_inertia_P, b.com_B, b.x_W, b.v_W, b.w_W, b.gravity_W,
-                          b.force_W, b.torque_W, b.pv, b.pw, b.target_x})
+                          b.force_W, b.torque_W, b.pv, b.pw, b.target_x, b.v_coast, b.w_coast})
       w.glm(v);
   }
   w.integer(joints_.size());
@@ -104,6 +104,20 @@ void Dynamics::writeState(StateWriter& w) const {
     for (const double v : {j.m1, j.m2, j.m_axis, j.c_min, j.c_max, j.l1, j.l2, j.l_lo, j.l_hi,
                            j.size, j.tot_lo, j.tot_hi, j.warm_lo, j.warm_hi})
       w.f64(v);
+  }
+  w.integer(general_.size());
+  for (const GeneralJoint& g : general_) {
+    w.flag(g.off);
+    w.integer(g.rows.size());
+    for (const JointRow& r : g.rows) {
+      for (const bool f : {r.active, r.was_active, r.pos_on})
+        w.flag(f);
+      for (const Vec3& v : {r.u, r.ca, r.cb, r.ia, r.ib})
+        w.glm(v);
+      for (const double v : {r.mass, r.soft_mass, r.bias, r.gamma, r.lo, r.hi, r.acc, r.warm,
+                             r.position, r.lp, r.pos_err})
+        w.f64(v);
+    }
   }
   w.integer(warm_.size());
   for (const WarmPoint& p : warm_) {
@@ -239,8 +253,15 @@ Result<bool> Dynamics::initBody(std::uint32_t i, const Vec3& g, std::size_t* mov
     b.motion = scene::Motion::kKinematic;
     b.infinite = true;
     b.coast = true;
-    b.v_W = sb.linear_velocity_W;
-    b.w_W = sb.angular_velocity_W;
+    b.v_W = b.v_coast = sb.linear_velocity_W;
+    b.w_W = b.w_coast = sb.angular_velocity_W;
+  } else if (sb.motion == scene::Motion::kKinematic &&
+             (sb.linear_velocity_W != Vec3{0.0} || sb.angular_velocity_W != Vec3{0.0})) {
+    // KHR `motion.linearVelocity` / `angularVelocity` of a kinematic body: it moves at them
+    // (scene frame, about its centre of mass) whenever no client target moves it
+    b.coast = true;
+    b.v_W = b.v_coast = sb.linear_velocity_W;
+    b.w_W = b.w_coast = sb.angular_velocity_W;
   } else if (sb.motion == scene::Motion::kDynamic) {
     *moving_prims += sb.primitives.size();
     if (auto ok = initMass(sb, g, b); !ok.ok())
@@ -322,24 +343,38 @@ Result<bool> Dynamics::initMass(const scene::Body& sb, const Vec3& g, BodyState&
   return true;
 }
 
-// the scene's joints, and the body pairs they keep from colliding
+// the scene's joints, and the body pairs they keep from colliding: plain fixed joints and hinges
+// (their limits hard) on the rows of dynamics_solver.cpp, every other joint (sliders, ball joints,
+// cones, soft limits, drives) on the general rows of dynamics_joints.cpp
 Result<bool> Dynamics::initJoints() {
   const scene::SceneModel& scene = *scene_;
-  for (const scene::Joint& j : scene.joints) {
-    const auto n = static_cast<std::int32_t>(scene.bodies.size());
-    if (j.body_a < 0 || j.body_a >= n || j.body_b >= n || j.body_a == j.body_b ||
-        j.hinge_axis > 2) {
-      return Error{"dynamics: a joint names a body out of range (or itself, or an axis > 2)"};
-    }
-    JointState js;
-    js.joint = &j;
-    js.a = static_cast<std::uint32_t>(j.body_a);
-    js.b = j.body_b;
-    js.size = std::max(bodies_[js.a].size,
-                       js.b >= 0 ? bodies_[static_cast<std::size_t>(js.b)].size : 0.0);
-    joints_.push_back(js);
-    if (!j.enable_collision && j.body_b >= 0) {
-      no_collide_.push_back(pairKey(js.a, static_cast<std::uint32_t>(j.body_b)));
+  const auto n = static_cast<std::int32_t>(scene.bodies.size());
+  for (const auto* list : {&scene.joints, &scene.unsimulated_joints}) {
+    for (const scene::Joint& j : *list) {
+      if (j.body_a < 0 || j.body_a >= n || j.body_b >= n || j.body_a == j.body_b ||
+          j.hinge_axis > 2) {
+        return Error{"dynamics: a joint names a body out of range (or itself, or an axis > 2)"};
+      }
+      const bool soft = std::any_of(j.limits.begin(), j.limits.end(),
+                                    [](const scene::JointLimit& l) { return l.stiffness; });
+      const bool plain =
+          (j.kind == scene::JointKind::kFixed || j.kind == scene::JointKind::kHinge) &&
+          j.drives.empty() && !soft;
+      if (!plain) {
+        if (auto ok = initGeneralJoint(j); !ok.ok())
+          return ok.error();
+        continue;
+      }
+      JointState js;
+      js.joint = &j;
+      js.a = static_cast<std::uint32_t>(j.body_a);
+      js.b = j.body_b;
+      js.size = std::max(bodies_[js.a].size,
+                         js.b >= 0 ? bodies_[static_cast<std::size_t>(js.b)].size : 0.0);
+      joints_.push_back(js);
+      if (!j.enable_collision && j.body_b >= 0) {
+        no_collide_.push_back(pairKey(js.a, static_cast<std::uint32_t>(j.body_b)));
+      }
     }
   }
   std::sort(no_collide_.begin(), no_collide_.end());

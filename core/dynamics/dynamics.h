@@ -275,6 +275,9 @@ class Dynamics {
   struct ContactPoint;
   struct JointState;
   struct WarmPoint;
+  struct JointRowSpec;
+  struct JointRow;
+  struct GeneralJoint;
 
   Dynamics();
   // create (dynamics.cpp)
@@ -307,6 +310,17 @@ class Dynamics {
   bool measureJointErrors();
   void correctJoint(JointState& js, double beta, double inv_dt);
   void correctContact(ContactPoint& cp, double beta, double inv_dt);
+  // the general joints (dynamics_joints.cpp)
+  Result<bool> initGeneralJoint(const scene::Joint& j);
+  struct JointFrames;
+  JointFrames jointFrames(const GeneralJoint& gj) const;
+  bool measureRow(const JointFrames& f, const JointRowSpec& spec, JointRow& row) const;
+  void prepareGeneralJoints();
+  void warmStartGeneralJoints();
+  void solveGeneralJoint(GeneralJoint& gj, double& residual);
+  bool measureGeneralErrors();
+  void correctGeneralJoint(GeneralJoint& gj, double beta, double inv_dt);
+  void generalFeedback(HeldFeedback& fb) const;
 
   std::uint32_t step_flags_ = 0;
   double tick_dt_ = 0.001;
@@ -329,6 +343,7 @@ class Dynamics {
   std::size_t max_points_ = 0;  // the capacity of points_ (options' max_contact_points)
   ReservedVector<WarmPoint> warm_, warm_next_;
   std::vector<JointState> joints_;
+  std::vector<GeneralJoint> general_;      // every other joint: limits, cones, soft limits, drives
   std::vector<std::uint64_t> no_collide_;  // body-pair keys kept apart by joints, sorted
   ImpulseSpreader spreader_;
   HeldFeedback held_feedback_;

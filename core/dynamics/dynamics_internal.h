@@ -29,18 +29,6 @@ inline void tangents(const Vec3& n, Vec3* t1, Vec3* t2) {
   *t2 = glm::cross(n, *t1);
 }
 
-inline double combine(double a, double b, scene::Combine ca, scene::Combine cb) {
-  using scene::Combine;
-  // KHR_physics_rigid_bodies: average, else minimum, else maximum, else multiply
-  if (ca == Combine::kAverage || cb == Combine::kAverage)
-    return 0.5 * (a + b);
-  if (ca == Combine::kMinimum || cb == Combine::kMinimum)
-    return std::min(a, b);
-  if (ca == Combine::kMaximum || cb == Combine::kMaximum)
-    return std::max(a, b);
-  return a * b;
-}
-
 inline std::uint64_t pairKey(std::uint32_t a, std::uint32_t b) {
   if (a > b)
     std::swap(a, b);
@@ -57,10 +45,12 @@ struct Dynamics::BodyState {
   Quat q_BP{1.0, 0.0, 0.0, 0.0};  // principal axes in the body frame
   Vec3 inertia_P{1.0};            // principal moments (0: infinite about that axis)
   Vec3 inv_inertia_P{1.0};        // their inverses (0 for an infinite one)
-  bool coast = false;             // infinite mass (declared 0): keeps its velocities
-  bool driven = false;            // a dynamic body the caller moves (setDriven): infinite mass
-  bool enabled = true;            // false: out of the scene (setEnabled): frozen, no contacts
-  bool isotropic = false;         // all three equal (cubes, regular polyhedra)
+  bool coast = false;  // infinite mass (declared 0, or kinematic with a declared velocity): moves
+                       // at v_coast / w_coast whenever no target is given
+  Vec3 v_coast{0.0}, w_coast{0.0};
+  bool driven = false;     // a dynamic body the caller moves (setDriven): infinite mass
+  bool enabled = true;     // false: out of the scene (setEnabled): frozen, no contacts
+  bool isotropic = false;  // all three equal (cubes, regular polyhedra)
   Mat3 inv_inertia_W{0.0};
   Vec3 com_B{0.0};
   Vec3 x_W{0.0};  // centre of mass
@@ -150,6 +140,62 @@ struct Dynamics::JointState {
   double warm_lo = 0.0, warm_hi = 0.0;
   Vec3 total_J{0.0},
       total_L{0.0};  // whole tick: impulse on b at its anchor (-J on a), pure angular impulse on b
+};
+
+// one row of a general joint (dynamics_joints.cpp), fixed at create: what it measures along which
+// axis of the attachment frame, and what it does with it
+struct Dynamics::JointRowSpec {
+  enum class Measure : std::uint8_t {
+    kLinear,   // d_J[axis]: b's anchor from a's along an axis of a's attachment frame
+    kAngular,  // the XYZ Euler angle `axis` of b's attachment frame in a's
+    kRadial,   // |d_J| over the axes of `mask` (2: from a line, 3: from a point)
+    kCone,     // the angle between the two frames' axis `axis` (a cone about it)
+  };
+  enum class Bound : std::uint8_t { kLock, kMin, kMax, kDrive };
+  Measure measure = Measure::kLinear;
+  Bound bound = Bound::kLock;
+  std::uint8_t axis = 0;
+  std::uint8_t mask = 0;
+  double value = 0.0;  // kLock, kMin, kMax: the bound (m or rad)
+  bool soft = false;   // a limit with a stiffness: an implicit spring-damper beyond the bound
+  double stiffness = 0.0, damping = 0.0;  // soft limits and drives
+  // drives
+  bool acceleration = false;
+  bool has_position = false, has_velocity = false;
+  double position_target = 0.0, velocity_target = 0.0;
+  double max_impulse_rate = 0.0;  // maxForce (N or N m); 0: not limited
+};
+
+// a row's state this tick: its Jacobian (b gets +u at its anchor and +cb, a the opposite), the
+// soft-constraint terms and the accumulated impulse
+struct Dynamics::JointRow {
+  bool active = false;
+  bool was_active = false;  // last tick (its warm start)
+  Vec3 u{0.0}, ca{0.0}, cb{0.0};
+  Vec3 ia{0.0}, ib{0.0};  // inverse world inertias times ca, cb
+  double mass = 0.0;      // effective mass of the (hard) row
+  double soft_mass = 0.0;
+  double bias = 0.0;   // the solve drives u.(v_b - v_a) + cb.w_b - ca.w_a + bias + gamma acc to 0
+  double gamma = 0.0;  // 0: a hard row
+  double lo = -detail::kInf, hi = detail::kInf;  // bounds of acc
+  double acc = 0.0;                              // this tick (N s or N m s)
+  double warm = 0.0;                             // last tick's
+  double position = 0.0;                         // the measure at the start of the tick
+  double lp = 0.0;                               // split impulse
+  bool pos_on = false;   // the drift correction acts on it (end of tick: a hard row to correct)
+  double pos_err = 0.0;  // its error then (lock: position - bound; limits: the violation)
+};
+
+// a joint solved by the general rows (dynamics_joints.cpp): every joint but plain fixed joints and
+// hinges
+struct Dynamics::GeneralJoint {
+  const scene::Joint* joint = nullptr;
+  bool off = false;
+  std::uint32_t a = 0;
+  std::int32_t b = -1;
+  double size = 0.0;
+  std::vector<JointRowSpec> specs;
+  std::vector<JointRow> rows;  // one per spec
 };
 
 struct Dynamics::WarmPoint {

@@ -109,6 +109,10 @@ void Dynamics::solveVelocities(double remaining) {
         continue;
       solveJoint(js, inv_dt, residual);
     }
+    for (GeneralJoint& gj : general_) {
+      if (!gj.off)
+        solveGeneralJoint(gj, residual);
+    }
     for (ContactPoint& cp : points_) {
       if (!cp.active && !cp.speculative)
         continue;
@@ -190,6 +194,7 @@ void Dynamics::applyWarmStart() {
     js.total_J += js.warm_J;
     js.total_L += L;
   }
+  warmStartGeneralJoints();
   for (ContactPoint& cp : points_) {
     if (!cp.active || cp.total_n <= 0.0) {
       cp.total_n = 0.0;
@@ -385,7 +390,8 @@ void Dynamics::correctPositions(double dt) {
     any = any || cp.gap < -options_.slop_fraction * cp.size;
   }
   const bool joints = measureJointErrors();
-  any = any || joints;
+  const bool general = measureGeneralErrors();
+  any = any || joints || general;
   if (!any)
     return;
   for (std::uint32_t it = 0; it < options_.position_iterations; ++it) {
@@ -393,6 +399,10 @@ void Dynamics::correctPositions(double dt) {
       if (js.off)
         continue;
       correctJoint(js, beta, inv_dt);
+    }
+    for (GeneralJoint& gj : general_) {
+      if (!gj.off)
+        correctGeneralJoint(gj, beta, inv_dt);
     }
     for (ContactPoint& cp : points_)
       correctContact(cp, beta, inv_dt);

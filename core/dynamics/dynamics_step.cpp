@@ -10,16 +10,19 @@
 
 namespace hapticd::dynamics {
 
-using detail::combine;
 using detail::kInf;
 using detail::pairKey;
 using detail::tangents;
 
 namespace {
 
-// a primitive without a material: frictionless, inelastic (built before main, never on the
-// servo thread)
-const scene::Material kNoMaterial{};
+// a primitive without a material: frictionless, inelastic, combined by average as if declared
+// (scene.h; built before main, never on the servo thread)
+const scene::Material kNoMaterial = [] {
+  scene::Material m;
+  m.friction_combine_declared = m.restitution_combine_declared = true;
+  return m;
+}();
 
 }  // namespace
 
@@ -59,7 +62,8 @@ void Dynamics::integrateForces(double dt, double margin, const HeldInput* held) 
         b.v_W = (b.target_x - b.x_W) / dt;
         b.w_W = geom::rotationVector(b.target_q * glm::conjugate(b.q)) / dt;
       } else if (b.coast) {
-        continue;
+        b.v_W = b.v_coast;
+        b.w_W = b.w_coast;
       } else {
         b.v_W = Vec3{0.0};
         b.w_W = Vec3{0.0};
@@ -127,12 +131,10 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
     };
     const scene::Material& ma = material(c.body_a, c.prim_a);
     const scene::Material& mb = material(c.body_b, c.prim_b);
-    const double e =
-        combine(ma.restitution, mb.restitution, ma.restitution_combine, mb.restitution_combine);
-    const double mu_s =
-        combine(ma.static_friction, mb.static_friction, ma.friction_combine, mb.friction_combine);
-    const double mu_d =
-        combine(ma.dynamic_friction, mb.dynamic_friction, ma.friction_combine, mb.friction_combine);
+    // KHR_physics_rigid_bodies' combine rule, the one implementation the plan uses too
+    const double e = scene::combineMaterials(ma, mb, scene::MaterialValue::kRestitution);
+    const double mu_s = scene::combineMaterials(ma, mb, scene::MaterialValue::kStaticFriction);
+    const double mu_d = scene::combineMaterials(ma, mb, scene::MaterialValue::kDynamicFriction);
     const double size = std::min(A.infinite ? kInf : A.size, B.infinite ? kInf : B.size);
 
     while (warm < warm_.size() &&
@@ -286,6 +288,7 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
   integrateForces(dt, world.options().box_margin, held);
   gatherContacts(world.contacts(), report);
   prepareJoints();
+  prepareGeneralJoints();
   solveThroughImpacts(dt, report);
   correctPositions(dt);
 
@@ -380,7 +383,7 @@ void Dynamics::solveThroughImpacts(double dt, StepReport& report) {
     cp.size = size;
   }
   warm_pending_ = true;
-  bool any_active = !joints_.empty();
+  bool any_active = !joints_.empty() || !general_.empty();
   for (ContactPoint& cp : points_) {
     cp.active = false;
     cp.speculative = false;
@@ -464,6 +467,7 @@ HeldFeedback Dynamics::heldFeedbackOfTick() {
       fb.angular_impulse_W_nms += js.total_L + glm::cross(js.rb, js.total_J);
     }
   }
+  generalFeedback(fb);
   spreader_.add(fb.impulse_W_ns, fb.angular_impulse_W_nms);
   spreader_.pop(&fb.force_W_n, &fb.torque_W_nm);
   return fb;

@@ -229,9 +229,8 @@ void Builder::buildJoints(SceneModel& scene) {
     joint.limits = doc_.joints[static_cast<std::size_t>(ref.joint)].limits;
     joint.drives = doc_.joints[static_cast<std::size_t>(ref.joint)].drives;
     classifyJoint(&joint);
-    // the dynamics simulate fixed joints and hinges; the others wait for them, parsed
-    const bool simulated = joint.kind == JointKind::kFixed || joint.kind == JointKind::kHinge;
-    (simulated ? scene.joints : scene.unsimulated_joints).push_back(std::move(joint));
+    // the dynamics simulate every kind (SceneModel::unsimulated_joints stays empty)
+    scene.joints.push_back(std::move(joint));
   }
 }
 

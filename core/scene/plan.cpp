@@ -1,5 +1,5 @@
 // The simulation plan of a scene: "simulate only the effects a scene calls for"
-// (docs/architecture.md), and the notes on what the scene declares that is not simulated yet.
+// (docs/architecture.md), and the notes on what the scene declares that is not simulated.
 #include <algorithm>
 #include <set>
 
@@ -17,49 +17,22 @@ Material materialOf(const SceneModel& scene, std::int32_t index) {
   return none;
 }
 
-const char* kJointKindNames[] = {"fixed", "hinge", "slider", "ball", "generic"};
-
-std::string jointName(const SceneModel& scene, const Joint& j, std::size_t index) {
-  std::string s = "joint " + std::to_string(index) + " (" +
-                  kJointKindNames[static_cast<std::size_t>(j.kind)] + ", body '" +
-                  scene.bodies[static_cast<std::size_t>(j.body_a)].name + "' to ";
-  s += j.body_b < 0 ? std::string("the scene")
-                    : "body '" + scene.bodies[static_cast<std::size_t>(j.body_b)].name + "'";
-  return s + ")";
-}
-
-/// Joints and drives the dynamics do not simulate yet, kinematic velocities that do not move
-/// their bodies, trigger volumes, and a scene with nothing to touch.
+/// Kinematic velocities in a scene whose dynamics do not run (no dynamic body), trigger volumes,
+/// and a scene with nothing to touch. Every joint, limit and drive is simulated (core/dynamics).
 std::vector<std::string> sceneNotes(const SceneModel& scene) {
   std::vector<std::string> notes;
-  for (std::size_t i = 0; i < scene.joints.size(); ++i) {
-    const Joint& j = scene.joints[i];
-    if (!j.drives.empty())
-      notes.push_back(jointName(scene, j, i) + ": drive parsed, not yet simulated");
-    for (const JointLimit& lim : j.limits) {
-      if (lim.stiffness && j.kind == JointKind::kHinge && lim.angular_axes) {
-        notes.push_back(jointName(scene, j, i) +
-                        ": soft limit (stiffness) parsed, simulated as a hard limit");
-        break;
-      }
-    }
-  }
-  for (std::size_t i = 0; i < scene.unsimulated_joints.size(); ++i) {
-    const Joint& j = scene.unsimulated_joints[i];
-    notes.push_back(jointName(scene, j, scene.joints.size() + i) + ": " +
-                    std::to_string(j.limits.size()) + " limits" +
-                    (j.drives.empty() ? "" : ", " + std::to_string(j.drives.size()) + " drives") +
-                    " parsed, not yet simulated (the bodies move as if unjoined)");
-  }
+  bool dynamic = false;
+  for (const Body& b : scene.bodies)
+    dynamic = dynamic || b.motion == Motion::kDynamic;
   std::size_t triggers = 0, solid = 0;
   for (std::size_t i = 0; i < scene.bodies.size(); ++i) {
     const Body& b = scene.bodies[i];
     const bool probe = b.probe || static_cast<std::int32_t>(i) == scene.probe_body;
-    if (b.motion == Motion::kKinematic &&
+    if (!dynamic && b.motion == Motion::kKinematic &&
         (b.linear_velocity_W != Vec3{0.0} || b.angular_velocity_W != Vec3{0.0})) {
       notes.push_back("body '" + b.name +
-                      "': kinematic velocity parsed, not yet simulated (it stays where clients "
-                      "put it)");
+                      "': kinematic velocity not simulated: the scene has no dynamic body, so no "
+                      "dynamics run (it stays where clients put it)");
     }
     for (const Primitive& p : b.primitives) {
       if (p.trigger)
@@ -85,30 +58,6 @@ std::vector<std::string> sceneNotes(const SceneModel& scene) {
 }
 
 }  // namespace
-
-double combineMaterials(const Material& a, const Material& b, MaterialValue which) {
-  const bool friction = which != MaterialValue::kRestitution;
-  const auto value = [&](const Material& m) {
-    return which == MaterialValue::kStaticFriction    ? m.static_friction
-           : which == MaterialValue::kDynamicFriction ? m.dynamic_friction
-                                                      : m.restitution;
-  };
-  const auto declares = [&](const Material& m, Combine c) {
-    return friction ? m.friction_combine_declared && m.friction_combine == c
-                    : m.restitution_combine_declared && m.restitution_combine == c;
-  };
-  const auto either = [&](Combine c) { return declares(a, c) || declares(b, c); };
-  const double x = value(a), y = value(b);
-  if (either(Combine::kAverage))
-    return 0.5 * (x + y);
-  if (either(Combine::kMinimum))
-    return std::min(x, y);
-  if (either(Combine::kMaximum))
-    return std::max(x, y);
-  if (either(Combine::kMultiply))
-    return x * y;
-  return 0.5 * (x + y);  // neither declares a mode
-}
 
 SimulationPlan makePlan(const SceneModel& scene) {
   SimulationPlan plan;
@@ -150,7 +99,7 @@ SimulationPlan makePlan(const SceneModel& scene) {
         plan.restitution = true;
     }
   }
-  plan.joints = !scene.joints.empty();
+  plan.joints = !scene.joints.empty() || !scene.unsimulated_joints.empty();
   plan.probe_sphere = scene.probe_body < 0;
   plan.notes = sceneNotes(scene);
   return plan;

@@ -139,8 +139,9 @@ struct JointLimit {
 };
 
 /// A joint's kind, from which of its degrees of freedom are locked (hard limits with min = max =
-/// 0): the dynamics simulate kFixed and kHinge; the others are parsed and kept in
-/// SceneModel::unsimulated_joints until the dynamics simulate them.
+/// 0). The dynamics simulate every kind: plain kFixed and kHinge on their own rows, the others (and
+/// any joint with drives or soft limits) on general rows built from `limits` and `drives`
+/// (docs/dynamics.md).
 enum class JointKind : std::uint8_t {
   kFixed,    ///< all six degrees locked
   kHinge,    ///< rotation about one axis of the attachment frame only (optionally limited)
@@ -193,8 +194,8 @@ struct SimulationPlan {
   /// moving primitive (describePlan counts it).
   bool probe_sphere = false;
   /// What the loader ignored or stood in for, and what is parsed but not simulated, one line each
-  /// ("ignored (appearance only): KHR_lights_punctual"; "joint 0 (node 3 'Door'): drive parsed,
-  /// not yet simulated"); a line starting "warning: " is a warning. describePlan prints them.
+  /// ("ignored (appearance only): KHR_lights_punctual"; "body 'Belt': kinematic velocity not
+  /// simulated: ..."); a line starting "warning: " is a warning. describePlan prints them.
   std::vector<std::string> notes;
 };
 
@@ -218,9 +219,9 @@ struct SceneModel {
   std::string name;  ///< file name or demo name
   std::vector<Body> bodies;
   std::vector<Material> materials;
-  std::vector<Joint> joints;  ///< joints the dynamics simulate: kFixed and kHinge
-  /// Joints parsed and validated but not simulated yet (kSlider, kBall, kGeneric): the dynamics
-  /// of issue 15 item 4 will take them; until then their bodies move as if unjoined.
+  std::vector<Joint> joints;  ///< every joint; the dynamics simulate all kinds
+  /// Kept for interface stability: the loader leaves it empty since the dynamics simulate every
+  /// joint (issue 15 item 4); joints a model built by code puts here are simulated too.
   std::vector<Joint> unsimulated_joints;
   std::optional<Vec3> gravity_W;  ///< `extras.haptic.gravity` on the scene; absent: no gravity
   std::int32_t probe_body =
@@ -231,8 +232,8 @@ struct SceneModel {
   SimulationPlan plan;
 };
 
-/// The plan of a scene, from what it declares, with the notes the scene itself tells (joints and
-/// drives not simulated, kinematic velocities, triggers, nothing to touch). Pure; any thread.
+/// The plan of a scene, from what it declares, with the notes the scene itself tells (kinematic
+/// velocities without dynamics, triggers, nothing to touch). Pure; any thread.
 SimulationPlan makePlan(const SceneModel& scene);
 
 /// A multi-line human-readable description of the plan (printed by `hapticctl check`, reported

@@ -171,6 +171,7 @@ inline Material material(double mu, double e, scene::Combine c = scene::Combine:
   m.static_friction = m.dynamic_friction = mu;
   m.restitution = e;
   m.friction_combine = m.restitution_combine = c;
+  m.friction_combine_declared = m.restitution_combine_declared = true;  // as a file declares it
   return m;
 }
 

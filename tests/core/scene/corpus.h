@@ -491,8 +491,7 @@ inline std::vector<CorpusFile> goodCorpus() {
     const int j = b.addPhysics(
         "physicsJoints", {{"limits", json::array({{{"linearAxes", {0, 1, 2}}, {"max", 0.0}}})}});
     GltfBuilder::physics(b.doc["nodes"][1])["joint"] = {{"connectedNode", 0}, {"joint", j}};
-    out.push_back({"ball_joint.gltf", bytesOf(b.gltf()),
-                   "ball between body 0 and the scene, not yet simulated"});
+    out.push_back({"ball_joint.gltf", bytesOf(b.gltf()), "ball between body 0 and the scene"});
   }
   {
     GltfBuilder b = baseScene();

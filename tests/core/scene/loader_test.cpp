@@ -389,7 +389,7 @@ TEST(SceneLoader, CollisionFiltersFollowTheExtensionInBothDirections) {
   // collideWithSystems and not of its notCollideWithSystems (the list B leaves out is the inverse
   // of the other), tested both ways
   GltfBuilder b;
-  const auto filter = [&](json f) { return b.addPhysics("collisionFilters", f); };
+  const auto filter = [&](const json& f) { return b.addPhysics("collisionFilters", f); };
   const int fa =
       filter({{"collisionSystems", {"character"}}, {"collideWithSystems", {"landscape"}}});
   const int fb =
@@ -476,7 +476,7 @@ LoadReport jointScene(const json& limits) {
   return load(b);
 }
 
-TEST(SceneLoader, JointsAreClassifiedAndTheUnsimulatedKept) {
+TEST(SceneLoader, JointsAreClassifiedAndAllKeptForTheDynamics) {
   {
     const LoadReport r = jointScene({lockedLinear(), {{"angularAxes", {0, 1, 2}}, {"max", 0.0}}});
     ASSERT_TRUE(r.ok()) << r.message();
@@ -511,26 +511,24 @@ TEST(SceneLoader, JointsAreClassifiedAndTheUnsimulatedKept) {
     EXPECT_FALSE(r.scene->joints[0].hinge_min);
   }
   {
-    // a ball joint: kept for the dynamics to come, not simulated, said so
+    // a ball joint: simulated like every kind (SceneModel::joints), no note
     const LoadReport r = jointScene(json::array({lockedLinear()}));
     ASSERT_TRUE(r.ok()) << r.message();
-    EXPECT_TRUE(r.scene->joints.empty());
-    ASSERT_EQ(r.scene->unsimulated_joints.size(), 1u);
-    EXPECT_EQ(r.scene->unsimulated_joints[0].kind, JointKind::kBall);
-    EXPECT_EQ(r.scene->unsimulated_joints[0].node, 2);
-    EXPECT_FALSE(r.scene->plan.joints);
-    EXPECT_NE(testing::notesOf(*r.scene).find("joint 0 (ball, body 'Wheel' to the scene): 1 "
-                                              "limits parsed, not yet simulated"),
-              std::string::npos)
+    EXPECT_TRUE(r.scene->unsimulated_joints.empty());
+    ASSERT_EQ(r.scene->joints.size(), 1u);
+    EXPECT_EQ(r.scene->joints[0].kind, JointKind::kBall);
+    EXPECT_EQ(r.scene->joints[0].node, 2);
+    EXPECT_TRUE(r.scene->plan.joints);
+    EXPECT_EQ(testing::notesOf(*r.scene).find("joint"), std::string::npos)
         << testing::notesOf(*r.scene);
   }
   {
     const LoadReport r = jointScene({{{"linearAxes", {0, 2}}, {"max", 0.0}},
                                      {{"angularAxes", {0, 1, 2}}, {"max", 0.0}}});  // prismatic
     ASSERT_TRUE(r.ok()) << r.message();
-    ASSERT_EQ(r.scene->unsimulated_joints.size(), 1u);
-    EXPECT_EQ(r.scene->unsimulated_joints[0].kind, JointKind::kSlider);
-    EXPECT_EQ(r.scene->unsimulated_joints[0].hinge_axis, 1);
+    ASSERT_EQ(r.scene->joints.size(), 1u);
+    EXPECT_EQ(r.scene->joints[0].kind, JointKind::kSlider);
+    EXPECT_EQ(r.scene->joints[0].hinge_axis, 1);
   }
 }
 
