@@ -108,6 +108,7 @@ void Dynamics::writeState(StateWriter& w) const {
   w.integer(general_.size());
   for (const GeneralJoint& g : general_) {
     w.flag(g.off);
+    w.integer(g.euler_shift);
     w.integer(g.rows.size());
     for (const JointRow& r : g.rows) {
       for (const bool f : {r.active, r.was_active, r.pos_on})

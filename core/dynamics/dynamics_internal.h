@@ -194,6 +194,7 @@ struct Dynamics::GeneralJoint {
   std::uint32_t a = 0;
   std::int32_t b = -1;
   double size = 0.0;
+  std::uint8_t euler_shift = 0;  // the angles are about axes shift, shift + 1, shift + 2 (mod 3)
   std::vector<JointRowSpec> specs;
   std::vector<JointRow> rows;  // one per spec
 };

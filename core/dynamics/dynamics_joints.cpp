@@ -4,9 +4,10 @@
 // temporal coherence", GDC 2005) along an axis of body a's attachment frame:
 //  - linear: b's anchor from a's along an axis (one axis), or its distance from a line (two axes)
 //    or from a's anchor (three axes);
-//  - angular: the XYZ Euler angles of b's attachment frame in a's (the rates of the three angles
-//    are the dual basis of a's x axis, the line of nodes and b's z axis, Craig 2005 §2.8), or for
-//    a limit on two axes the angle between the frames' third axes (a cone about it).
+//  - angular: Tait-Bryan angles of b's attachment frame in a's about a cyclic order of the axes
+//    chosen per joint so that the singular middle axis is a locked one (the rates of the three
+//    angles are the dual basis of a's first axis, the line of nodes and b's last axis), or for a
+//    limit on two axes the angle between the frames' third axes (a cone about it).
 // Hard rows are velocity constraints (limits speculative, as the hinge's) with their drift removed
 // by split impulses; soft limits and drives are implicit spring-dampers (Catto, "Soft step", GDC
 // 2011: for a stiffness k, damping c and tick h the row solves v + bias + gamma * impulse = 0 with
@@ -28,12 +29,12 @@ using detail::pairKey;
 
 // the two attachment frames at the bodies' current poses
 struct Dynamics::JointFrames {
-  Mat3 Aw{1.0}, Bw{1.0};       // columns: the frames' axes in the scene frame
-  Vec3 ra{0.0}, rb{0.0};       // b's anchor from a's centre of mass, and from b's
-  Vec3 d_J{0.0};               // b's anchor from a's, in a's attachment frame
-  Vec3 euler{0.0};             // XYZ Euler angles of b's frame in a's: R = Rx(x) Ry(y) Rz(z)
+  Mat3 Aw{1.0}, Bw{1.0};  // columns: the frames' axes in the scene frame
+  Vec3 ra{0.0}, rb{0.0};  // b's anchor from a's centre of mass, and from b's
+  Vec3 d_J{0.0};          // b's anchor from a's, in a's attachment frame
+  Vec3 euler{0.0};  // Tait-Bryan angles of b's frame in a's, by axis (GeneralJoint::euler_shift)
   std::array<Vec3, 3> rate{};  // the angles' rates are rate[k] . (w_b - w_a)
-  bool euler_ok = false;       // false at the Euler angles' singularity (|y| = pi / 2)
+  bool euler_ok = false;       // false at the angles' singularity (the middle one at +-pi / 2)
 };
 
 Dynamics::JointFrames Dynamics::jointFrames(const GeneralJoint& gj) const {
@@ -54,20 +55,24 @@ Dynamics::JointFrames Dynamics::jointFrames(const GeneralJoint& gj) const {
   f.Aw = glm::mat3_cast(glm::normalize(qa));
   f.Bw = glm::mat3_cast(glm::normalize(qb));
   f.d_J = glm::transpose(f.Aw) * (pb - pa);
+  // Tait-Bryan angles about the axes i, j, k (a cyclic shift of x, y, z, so R = Ri Rj Rk in a
+  // right-handed relabelling): the middle one is singular at +-pi/2, so the shift chosen at load
+  // puts a locked axis (or one without angular rows) there
+  const int i = gj.euler_shift, m = (i + 1) % 3, k = (i + 2) % 3;
   const Mat3 R = glm::transpose(f.Aw) * f.Bw;  // R[col][row]
-  f.euler.y = std::asin(std::clamp(R[2][0], -1.0, 1.0));
-  f.euler.x = std::atan2(-R[2][1], R[2][2]);
-  f.euler.z = std::atan2(-R[1][0], R[0][0]);
-  // w_b - w_a = x' e1 + y' e2 + z' e3 with e1 a's x axis, e3 b's z axis, e2 the line of nodes;
+  f.euler[m] = std::asin(std::clamp(R[k][i], -1.0, 1.0));
+  f.euler[i] = std::atan2(-R[k][m], R[k][k]);
+  f.euler[k] = std::atan2(-R[m][i], R[i][i]);
+  // w_b - w_a = i' e1 + j' e2 + k' e3 with e1 a's i axis, e3 b's k axis, e2 the line of nodes;
   // the rates are the dual basis
-  const Vec3 e1 = f.Aw[0], e3 = f.Bw[2];
+  const Vec3 e1 = f.Aw[i], e3 = f.Bw[k];
   const Vec3 c = glm::cross(e3, e1);
-  const double v = glm::length(c);  // cos y
+  const double v = glm::length(c);  // cos of the middle angle
   if (v > 1e-6) {
     const Vec3 e2 = c / v;
-    f.rate[0] = glm::cross(e2, e3) / v;
-    f.rate[1] = e2;
-    f.rate[2] = glm::cross(e1, e2) / v;
+    f.rate[static_cast<std::size_t>(i)] = glm::cross(e2, e3) / v;
+    f.rate[static_cast<std::size_t>(m)] = e2;
+    f.rate[static_cast<std::size_t>(k)] = glm::cross(e1, e2) / v;
     f.euler_ok = true;
   }
   return f;
@@ -249,6 +254,23 @@ Result<bool> Dynamics::initGeneralJoint(const scene::Joint& j) {
     // a maxForce of 0 holds nothing: a tiny bound rather than "unlimited"
     s.max_impulse_rate = d.max_force ? std::max(*d.max_force, 1e-300) : 0.0;
     gj.specs.push_back(s);
+  }
+  // the middle Euler axis (singular at +-pi/2): a locked one if any, else one without angular
+  // rows, never one with a range or a drive if avoidable (a hinge about y keeps its full turn)
+  int best = 3;
+  for (std::uint8_t shift = 0; shift < 3; ++shift) {
+    const int middle = (shift + 1) % 3;
+    bool locked = false, ranged = false;
+    for (const JointRowSpec& sp : gj.specs) {
+      if (sp.measure != JointRowSpec::Measure::kAngular || sp.axis != middle)
+        continue;
+      (sp.bound == JointRowSpec::Bound::kLock ? locked : ranged) = true;
+    }
+    const int score = ranged ? 2 : locked ? 0 : 1;
+    if (score < best) {
+      best = score;
+      gj.euler_shift = shift;
+    }
   }
   gj.rows.resize(gj.specs.size());
   general_.push_back(std::move(gj));

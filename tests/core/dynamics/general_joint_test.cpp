@@ -326,6 +326,45 @@ TEST_P(Scaled, AccelerationModeMovesEveryMassTheSame) {
   }
 }
 
+// a hinge about y (Y up: a door) built from limits, with a velocity drive: it turns through full
+// turns at the target rate (no singularity at 90 degrees), about its axis only, its anchor held.
+// The drive sets b's (the scene's) rate in a's (the door's) frame: the door turns at -rate
+TEST_P(Scaled, DrivenHingeAboutYTurnsFullCircles) {
+  const double S = GetParam();
+  const double rate = 3.0;  // rad/s: three full turns in the run
+  SceneModel s;
+  s.bodies.push_back(dynamicBody("door", boxShape(Vec3{0.2 * S, 0.3 * S, 0.02 * S}),
+                                 at(Vec3{0.2 * S, 0, 0}), 1000.0));
+  scene::Joint j = generalJoint(0, -1, Vec3{-0.2 * S, 0, 0}, Vec3{0.0},
+                                {limit(7, 0, 0.0, 0.0), limit(0, 5, std::nullopt, 0.0)});
+  JointDrive d;
+  d.angular = true;
+  d.acceleration = true;
+  d.axis = 1;
+  d.velocity_target = rate;
+  d.damping = 50.0;  // 1/s
+  j.drives.push_back(d);
+  s.joints.push_back(j);
+  DynamicsOptions o;
+  o.sleep_time_s = 0.0;
+  Rig rig(std::move(s), o);
+  double worst_anchor = 0.0, worst_tilt = 0.0, turned = 0.0;
+  for (int t = 0; t < 6500; ++t) {
+    rig.tick(kDt);
+    const Pose X = rig.dyn->pose(0);
+    worst_anchor =
+        std::max(worst_anchor, glm::length(X.translation + X.rotation * Vec3{-0.2 * S, 0, 0}));
+    worst_tilt = std::max(worst_tilt, 1.0 - (X.rotation * Vec3{0, 1, 0}).y);
+    turned += rig.dyn->angularVelocity(0).y * kDt;
+  }
+  const Vec3 w = rig.dyn->angularVelocity(0);
+  EXPECT_NEAR(-w.y / rate, 1.0, 1e-3);
+  EXPECT_LT(std::hypot(w.x, w.z), 1e-6);
+  EXPECT_LT(turned, -2.0 * (2.0 * kPi));
+  EXPECT_LT(worst_anchor, 1e-3 * S);
+  EXPECT_LT(worst_tilt, 1e-6);
+}
+
 // a kinematic box with a declared linearVelocity moves at it (exactly) and pushes a dynamic box
 // in its way along at the same speed
 TEST_P(Scaled, KinematicVelocityMovesTheBodyAndPushes) {

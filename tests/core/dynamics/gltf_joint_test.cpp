@@ -19,24 +19,22 @@ using scene::testing::json;
 // +0.05 m (KHR: the drive acts on the connected node's position in the joint node's frame)
 TEST(GltfJoint, SliderWithAPositionDriveReachesItsTarget) {
   GltfBuilder b;
-  const int joint = b.addPhysics(
-      "physicsJoints",
-      {{"limits",
-        {{{"linearAxes", {1, 2}}, {"max", 0.0}},
-         {{"linearAxes", {0}}, {"min", -0.1}, {"max", 0.1}},
-         {{"angularAxes", {0, 1, 2}}, {"max", 0.0}}}},
-       {"drives",
-        {{{"type", "linear"},
-          {"mode", "force"},
-          {"axis", 0},
-          {"positionTarget", -0.05},
-          {"stiffness", 400.0},
-          {"damping", 40.0}}}}});
+  const int joint =
+      b.addPhysics("physicsJoints", {{"limits",
+                                      {{{"linearAxes", {1, 2}}, {"max", 0.0}},
+                                       {{"linearAxes", {0}}, {"min", -0.1}, {"max", 0.1}},
+                                       {{"angularAxes", {0, 1, 2}}, {"max", 0.0}}}},
+                                     {"drives",
+                                      {{{"type", "linear"},
+                                        {"mode", "force"},
+                                        {"axis", 0},
+                                        {"positionTarget", -0.05},
+                                        {"stiffness", 400.0},
+                                        {"damping", 40.0}}}}});
   const int anchor = b.addNode(GltfBuilder::node("Anchor", {0.0, 0.0, 0.0}));
   json drawer = GltfBuilder::node("Drawer", {0.0, 0.0, 0.0});
   GltfBuilder::physics(drawer)["motion"] = {{"mass", 1.0}};
-  GltfBuilder::physics(drawer)["collider"] =
-      GltfBuilder::shapeCollider(b.box({0.2, 0.1, 0.1}));
+  GltfBuilder::physics(drawer)["collider"] = GltfBuilder::shapeCollider(b.box({0.2, 0.1, 0.1}));
   GltfBuilder::physics(drawer)["joint"] = {{"connectedNode", anchor}, {"joint", joint}};
   b.addNode(drawer);
   const scene::LoadReport r = scene::testing::load(b);
