@@ -486,7 +486,7 @@ TEST(SceneLoader, CollisionFiltersFollowTheExtensionInBothDirections) {
   // collideWithSystems and not of its notCollideWithSystems (the list B leaves out is the inverse
   // of the other), tested both ways
   GltfBuilder b;
-  const auto filter = [&](json f) { return b.addPhysics("collisionFilters", f); };
+  const auto filter = [&](const json& f) { return b.addPhysics("collisionFilters", f); };
   const int fa =
       filter({{"collisionSystems", {"character"}}, {"collideWithSystems", {"landscape"}}});
   const int fb =
