@@ -1,10 +1,11 @@
 // hapticctl check's text report (client/check.h): the pairs that collision filters keep apart are
 // named up to a bound, then counted, so a scene with thousands of such pairs stays readable.
+#include "client/check.h"
+
 #include <gtest/gtest.h>
 
 #include <string>
 
-#include "client/check.h"
 #include "tests/core/scene/gltf_builder.h"
 
 namespace hapticd::client {
@@ -44,8 +45,7 @@ std::size_t countOf(const std::string& text, const std::string& what) {
 TEST(CheckReport, KeptApartPairsAreListedThenSummarised) {
   // 10 bodies: 45 pairs, every one named
   const std::string few = reportOfApartBodies(10);
-  EXPECT_NE(few.find("collision filters keep apart:\n  'Crate0' and 'Crate1'\n"),
-            std::string::npos)
+  EXPECT_NE(few.find("collision filters keep apart:\n  'Crate0' and 'Crate1'\n"), std::string::npos)
       << few;
   EXPECT_EQ(countOf(few, "' and '"), 45u);
   EXPECT_EQ(few.find("more pairs"), std::string::npos);
