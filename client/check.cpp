@@ -12,6 +12,9 @@ namespace {
 using scene::Motion;
 using scene::ShapeSource;
 
+// the pairs kept apart by collision filters that the text report names one by one
+constexpr std::size_t kListedPairs = 50;
+
 // in enum order
 constexpr const char* kMotionNames[] = {"static", "kinematic", "dynamic"};
 constexpr const char* kSourceNames[] = {"box",         "sphere", "capsule",
@@ -72,6 +75,8 @@ nlohmann::json sceneJson(const scene::SceneModel& s) {
                        {"vertices", p.shape->vertices().size()},
                        {"faces", p.shape->faces().size()},
                        {"material", p.material},
+                       {"group", p.group},
+                       {"mask", p.mask},
                        {"trigger", p.trigger}});
     }
   }
@@ -90,7 +95,8 @@ nlohmann::json sceneJson(const scene::SceneModel& s) {
   return out;
 }
 
-/// The pairs of bodies (not both static) whose collision filters keep every primitive apart.
+/// The pairs of bodies (not both static) whose collision filters keep every primitive apart: the
+/// first kListedPairs by name, then how many more there are.
 std::string keptApart(const scene::SceneModel& s) {
   const auto apart = [&](const scene::Body& a, const scene::Body& b) {
     bool solid = false;
@@ -106,16 +112,19 @@ std::string keptApart(const scene::SceneModel& s) {
     return solid;
   };
   std::string out;
-  std::size_t lines = 0;
-  for (std::size_t i = 0; i < s.bodies.size() && lines < 50; ++i) {
-    for (std::size_t j = i + 1; j < s.bodies.size() && lines < 50; ++j) {
+  std::size_t pairs = 0;
+  for (std::size_t i = 0; i < s.bodies.size(); ++i) {
+    for (std::size_t j = i + 1; j < s.bodies.size(); ++j) {
       const scene::Body &a = s.bodies[i], &b = s.bodies[j];
       if ((a.motion != Motion::kStatic || b.motion != Motion::kStatic) && apart(a, b)) {
-        out += "  '" + a.name + "' and '" + b.name + "'\n";
-        ++lines;
+        if (pairs < kListedPairs)
+          out += "  '" + a.name + "' and '" + b.name + "'\n";
+        ++pairs;
       }
     }
   }
+  if (pairs > kListedPairs)
+    out += "  ... and " + std::to_string(pairs - kListedPairs) + " more pairs\n";
   return out.empty() ? out : "collision filters keep apart:\n" + out;
 }
 

@@ -18,6 +18,9 @@ constexpr double kPlaneExtents = 10.0;
 constexpr double kFlatTolerance = 1e-6;
 /// ... and is given this fraction of its size as a thickness, behind its front faces.
 constexpr double kFlatThickness = 0.05;
+/// The hull that tells whether a surface mesh is convex may have this many vertices (the most a
+/// Polytope indexes); the primitives made are held to max_hull_vertices.
+constexpr std::size_t kMaxTestHullVertices = 65535;
 
 /// The value in `slot`, made by `make` (a Result) the first time; false with a problem when it
 /// cannot be made.
@@ -217,9 +220,10 @@ bool Builder::reuse(SceneModel& scene,
 
 std::shared_ptr<const geom::Polytope> Builder::hullOf(const std::vector<Vec3>& points_P,
                                                       std::uint32_t node,
-                                                      const std::string& name) {
+                                                      const std::string& name,
+                                                      std::size_t max_vertices) {
   geom::HullOptions hull;
-  hull.max_vertices = options_.limits.max_hull_vertices;
+  hull.max_vertices = max_vertices > 0 ? max_vertices : options_.limits.max_hull_vertices;
   hull.max_input_points = options_.limits.max_hull_input_points;
   auto poly = geom::Polytope::fromPoints(points_P, hull);
   if (!poly) {
@@ -244,14 +248,28 @@ bool Builder::surfacePieces(const Target& target,
                          "): flat, given a thickness of " + formatNumber(thickness) +
                          " m behind its front faces");
   }
-  auto hull = hullOf(points_P, target.node, in.mesh_name);
+  // the hull only tells whether the surface is convex: max_hull_vertices applies to the
+  // primitives made, this hull when the surface is convex, otherwise each piece (a fine
+  // non-convex mesh has a hull of more vertices than any of its pieces)
+  auto hull = hullOf(points_P, target.node, in.mesh_name, kMaxTestHullVertices);
   if (!hull)
     return false;
+  const auto withinLimit = [&](const geom::Polytope& h) {
+    const std::size_t limit = options_.limits.max_hull_vertices;
+    if (h.vertices().size() <= limit)
+      return true;
+    p_->add(where(target.node), in.mesh_name + ": cannot build a convex hull: hull has " +
+                                    std::to_string(h.vertices().size()) + " vertices (limit " +
+                                    std::to_string(limit) + ")");
+    return false;
+  };
   const bool convex =
       thickness > 0.0
           ? polytopeIntegrals(*hull, Transform{}).volume <= (1.0 + 1e-3) * flat_area * thickness
           : convexityViolation(*hull, points_P, in.triangles) <= kConvexTolerance * hull->radius();
   if (convex) {
+    if (!withinLimit(*hull))
+      return false;
     built->source = ShapeSource::kConvexMesh;
     built->hulls = {std::move(hull)};
     return true;
@@ -260,6 +278,8 @@ bool Builder::surfacePieces(const Target& target,
   built->source = ShapeSource::kMeshPiece;
   for (const std::vector<Vec3>& piece : pieces.pieces) {
     if (piece == points_P) {
+      if (!withinLimit(*hull))
+        return false;
       built->hulls.push_back(hull);  // the hull already built
       continue;
     }

@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <numbers>
 
 #include "core/geometry/rotation.h"
 #include "core/scene/builder.h"
@@ -30,18 +31,29 @@ void Builder::massProperties(Body& body, const MotionDef& motion, std::uint32_t 
 
   body.mass_declared = motion.mass.has_value();
   body.inertia_declared = motion.inertia_diagonal.has_value();
-  if (!have_volume && (!motion.mass || !motion.inertia_diagonal)) {
-    p_->add(w, "dynamic body has no collider volume to compute its " +
-                   std::string(!motion.mass ? "mass" : "inertia") +
-                   " from: declare mass and inertiaDiagonal, or give it colliders");
+  if (!have_volume && !motion.mass) {
+    p_->add(w,
+            "dynamic body has no collider volume to compute its mass from: declare mass (and "
+            "inertiaDiagonal), or give it colliders");
     return;
   }
   const bool infinite_mass = motion.mass && *motion.mass == 0.0;  // 0 means infinite (KHR)
   body.mass = motion.mass ? *motion.mass : computed.mass;
   body.inverse_mass = infinite_mass ? 0.0 : 1.0 / body.mass;
-  body.com_B = motion.center_of_mass ? S * *motion.center_of_mass : computed.com_B;
+  body.com_B = motion.center_of_mass ? S * *motion.center_of_mass
+                                     : (have_volume ? computed.com_B : Vec3{0.0});
 
-  if (motion.inertia_diagonal) {
+  if (!have_volume && !motion.inertia_diagonal && !infinite_mass) {
+    // a declared mass with nothing to take a shape from (a driver or anchor body of joints, a
+    // body of triggers only): the inertia of a solid sphere of that mass at the density the
+    // loader assumes, about the centre of mass
+    const double radius = std::cbrt(3.0 * body.mass / (4.0 * std::numbers::pi * kDensity));
+    const double moment = 0.4 * body.mass * radius * radius;
+    body.inertia_B = Mat3(moment);
+    body.inverse_inertia_B = Mat3(1.0 / moment);
+    p_->note(w + ": no collider volume: inertia of a solid sphere of its mass at " +
+             formatNumber(kDensity) + " kg/m^3 (radius " + formatNumber(radius) + " m)");
+  } else if (motion.inertia_diagonal) {
     const Mat3 Rq = glm::mat3_cast(motion.inertia_orientation);
     const Vec3 d = *motion.inertia_diagonal;
     Mat3 D(0.0), Dinv(0.0);

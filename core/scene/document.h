@@ -183,6 +183,8 @@ struct Document {
   /// Where the OMI shapes, colliders, materials and filters start in shapes, materials, filters.
   std::size_t omi_shape_base = 0, omi_collider_base = 0;
   std::size_t omi_material_base = 0, omi_filter_base = 0;
+  /// Where the OMI_physics_joint joints start in joints (the KHR ones come first).
+  std::size_t omi_joint_base = 0;
 };
 
 /// "node 3 'Peg'" (or "node 3" when unnamed); the same for meshes.
@@ -214,8 +216,9 @@ struct TopLevel {
   bool meshopt_used = false;  ///< EXT_ or KHR_meshopt_compression is used
 };
 bool validateTopLevel(Checker& c, const json& root, TopLevel* top, Document* doc);
-/// buffers (URIs resolved under the folder policy; meshopt fallback buffers), images' URIs,
-/// bufferViews (meshopt compression), accessors (sparse storage) (validate_data.cpp).
+/// buffers (URIs resolved under the folder policy; meshopt fallback buffers; images' URIs are
+/// never looked at), bufferViews (meshopt compression), accessors (sparse storage)
+/// (validate_data.cpp).
 void validateData(Checker& c, const TopLevel& top, const LoadOptions& options, Document* doc);
 /// meshes and their primitives (KHR_draco_mesh_compression).
 void validateMeshes(Checker& c, const TopLevel& top, Document* doc);
@@ -229,6 +232,14 @@ void validateMaterialsAndFilters(Checker& c,
                                  const json& ext,
                                  const std::string& name,
                                  Document* doc);
+/// Whose rules a joint follows. KHR_physics_rigid_bodies: each limit names linearAxes or
+/// angularAxes (1 to 3 axes); stiffness and maxForce are >= 0. OMI_physics_joint (Godot): a limit
+/// may name both (kept as two limits with the same range) and an empty list is no axis; a
+/// negative stiffness is infinitely stiff and a negative maxForce not limited, as absent ones.
+enum class JointDialect { kKhr, kOmi };
+/// physicsJoints (limits and drives) of a KHR_physics_rigid_bodies or OMI_physics_joint document
+/// object, appended to doc.joints (validate_physics.cpp).
+void validateJoints(Checker& c, const json& ext, JointDialect dialect, Document* doc);
 /// nodes (transforms, physics, extras), one parent each, no cycles; false when over max_nodes.
 bool validateNodes(Checker& c, const TopLevel& top, const SceneLimits& limits, Document* doc);
 /// A node's KHR_physics_rigid_bodies object (validate_physics.cpp).

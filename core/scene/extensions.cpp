@@ -6,7 +6,8 @@ namespace hapticd::scene::detail {
 namespace {
 
 constexpr std::string_view kPhysics[] = {"KHR_physics_rigid_bodies", "KHR_implicit_shapes",
-                                         "OMI_physics_body", "OMI_physics_shape", "OMI_collider"};
+                                         "OMI_physics_body",         "OMI_physics_shape",
+                                         "OMI_physics_joint",        "OMI_collider"};
 
 constexpr std::string_view kGeometry[] = {"KHR_mesh_quantization", "KHR_draco_mesh_compression",
                                           "EXT_meshopt_compression", "KHR_meshopt_compression"};

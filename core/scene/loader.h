@@ -25,9 +25,9 @@ namespace hapticd::scene {
 
 struct LoadOptions {
   SceneLimits limits;
-  /// The base folder of external URIs (buffers, images): a URI is a relative path inside it (no
-  /// scheme, not absolute, no `..`, no symbolic link out of it). Unset: external URIs are refused,
-  /// which is what bytes from elsewhere (an upload) must use.
+  /// The base folder of external buffer URIs (images are never read): a URI is a relative path
+  /// inside it (no scheme, not absolute, no `..`, no symbolic link out of it). Unset: external
+  /// URIs are refused, which is what bytes from elsewhere (an upload) must use.
   std::optional<std::filesystem::path> allowed_uri_dir;
 };
 

@@ -300,14 +300,8 @@ void validateAccessors(Checker& c, const json& accessors, Document* doc) {
 void validateData(Checker& c, const TopLevel& top, const LoadOptions& options, Document* doc) {
   if (top.buffers)
     validateBuffers(c, *top.buffers, options, top.meshopt_used, doc);
-  if (top.images) {
-    for (std::size_t i = 0; i < top.images->size(); ++i) {
-      std::string uri;
-      const std::string w = "image " + std::to_string(i);
-      if (c.string((*top.images)[i], "uri", w, &uri) == Got::kOk && !isDataUri(uri))
-        checkUri(c, uri, options, w);
-    }
-  }
+  // images are appearance only: their URIs are never resolved, read or required (a texture
+  // beside the file, elsewhere, on the web or missing changes nothing that is touched)
   if (top.views)
     validateViews(c, *top.views, doc);
   if (top.accessors)

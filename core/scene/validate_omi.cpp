@@ -1,7 +1,8 @@
 // The validation walk over the OMI physics extensions that Godot 4 exports (document.h):
 // OMI_physics_shape (shapes), OMI_physics_body (a node's motion, collider and trigger; document
 // physics materials and collision filters like KHR's), and the older OMI_collider (shapes with
-// isTrigger) and OMI_physics_body `type` (static, kinematic, character, rigid, vehicle, trigger).
+// isTrigger) and OMI_physics_body `type` (static, kinematic, character, rigid, vehicle, trigger),
+// and OMI_physics_joint (joints as KHR's, JointDialect::kOmi).
 // They map onto the same Document as KHR_physics_rigid_bodies: OMI shapes are appended to
 // Document::shapes, OMI materials and filters to Document::materials and filters.
 #include "core/scene/document.h"
@@ -101,17 +102,19 @@ void appendShapes(Checker& c,
 }
 
 /// OMI motion: `type` static (no motion), kinematic or character (kinematic), dynamic, rigid or
-/// vehicle (dynamic), trigger (the older form: a trigger body); mass 1 kg when not given; an
-/// inertia of zeros means computed (OMI), not infinite (KHR).
+/// vehicle (dynamic), trigger (the older form: a trigger body); without a type, dynamic (the
+/// schema requires one, but Godot's importer reads a motion without it as a rigid body, and the
+/// extension's own examples write one: a motion object is there to move); mass 1 kg when not
+/// given; an inertia of zeros means computed (OMI), not infinite (KHR).
 void omiMotion(Checker& c, const json& m, const std::string& w, NodeDef* node) {
   static const std::vector<std::string> kTypes = {"static", "kinematic", "character", "dynamic",
                                                   "rigid",  "vehicle",   "trigger"};
-  std::size_t type = 0;
-  if (c.choice(m, "type", w, kTypes, &type) != Got::kOk) {
-    if (!Checker::find(m, "type"))
-      c.add(w, "required property type is missing");
+  std::size_t type = 3;
+  const Got got = c.choice(m, "type", w, kTypes, &type);
+  if (got == Got::kBad)
     return;
-  }
+  if (got == Got::kAbsent)
+    c.problems().note(w + ": no type: read as dynamic (as Godot reads it)");
   if (type == 6) {
     node->trigger_body = true;
     return;
@@ -184,6 +187,8 @@ void validateOmiRoot(Checker& c, const json& extensions, Document* doc) {
   doc->omi_filter_base = doc->filters.size();
   if (c.object(extensions, "OMI_physics_body", "extensions", &ext) == Got::kOk)
     validateMaterialsAndFilters(c, *ext, "OMI_physics_body", doc);
+  if (c.object(extensions, "OMI_physics_joint", "extensions", &ext) == Got::kOk)
+    validateJoints(c, *ext, JointDialect::kOmi, doc);
 }
 
 void validateOmiNode(Checker& c,
@@ -209,6 +214,20 @@ void validateOmiNode(Checker& c,
       if (!node->trigger && nodes.empty())
         node->trigger_body = true;  // Godot's Area3D: the triggers are its children
     }
+  }
+  const json* joint = nullptr;
+  if (c.object(extensions, "OMI_physics_joint", w + " extensions", &joint) == Got::kOk) {
+    // the same node object as KHR's joint, its joint settings in OMI_physics_joint physicsJoints
+    const std::string jw = w + " OMI_physics_joint";
+    JointRef ref;
+    std::int32_t index = -1;
+    c.index(*joint, "connectedNode", doc.nodes.size(), "nodes", jw, &ref.connected_node, true);
+    if (c.index(*joint, "joint", doc.joints.size() - doc.omi_joint_base,
+                "OMI_physics_joint physicsJoints", jw, &index, true) == Got::kOk) {
+      ref.joint = static_cast<std::int32_t>(doc.omi_joint_base) + index;
+    }
+    c.boolean(*joint, "enableCollision", jw, &ref.enable_collision);
+    node->joint = ref;
   }
   const json* collider = nullptr;
   if (c.object(extensions, "OMI_collider", w + " extensions", &collider) == Got::kOk) {

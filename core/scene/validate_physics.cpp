@@ -112,16 +112,18 @@ FilterDef validateFilter(Checker& c, const json& f, std::size_t i) {
   return def;
 }
 
-/// A limit's axis list (1 to 3 distinct axes in 0..2) into bits; false when absent.
+/// A limit's axis list (1 to 3 distinct axes in 0..2) into bits; false when absent. OMI allows
+/// an empty list (no axis of that kind).
 bool limitAxes(Checker& c,
                const json& l,
                const char* key,
                const std::string& w,
+               JointDialect dialect,
                std::uint8_t* bits) {
   const json* a = nullptr;
   if (c.array(l, key, w, &a) != Got::kOk)
     return false;
-  if (a->empty() || a->size() > 3)
+  if ((a->empty() && dialect == JointDialect::kKhr) || a->size() > 3)
     c.add(w, std::string(key) + " must list 1 to 3 axes");
   for (const json& e : *a) {
     std::int32_t axis = 0;
@@ -132,17 +134,43 @@ bool limitAxes(Checker& c,
       c.add(w, std::string(key) + " lists axis " + std::to_string(axis) + " twice");
     *bits = static_cast<std::uint8_t>(*bits | bit);
   }
-  return true;
+  return !a->empty();
 }
 
-std::optional<JointLimit> validateLimit(Checker& c, const json& l, const std::string& lw) {
-  if (!isObject(c, l, lw))
+/// A stiffness or force bound: KHR refuses a negative one; OMI reads it as none (infinitely stiff,
+/// not limited).
+std::optional<double> unbounded(Checker& c,
+                                const json& o,
+                                const char* key,
+                                const std::string& w,
+                                JointDialect dialect) {
+  double v = 0.0;
+  if (dialect == JointDialect::kOmi) {
+    if (c.number(o, key, w, &v) == Got::kOk && v >= 0.0)
+      return v;
     return std::nullopt;
+  }
+  if (c.bounded(o, key, w, &v, 0.0, false) == Got::kOk)
+    return v;
+  return std::nullopt;
+}
+
+/// One declared limit, appended to `out`: KHR limits one kind of axes; an OMI limit may name
+/// linear and angular axes at once (a weld), kept as two limits with the same range.
+void validateLimit(Checker& c,
+                   const json& l,
+                   const std::string& lw,
+                   JointDialect dialect,
+                   std::vector<JointLimit>* out) {
+  if (!isObject(c, l, lw))
+    return;
   JointLimit lim;
-  const bool linear = limitAxes(c, l, "linearAxes", lw, &lim.linear_axes);
-  const bool angular = limitAxes(c, l, "angularAxes", lw, &lim.angular_axes);
-  if (linear == angular)
+  const bool linear = limitAxes(c, l, "linearAxes", lw, dialect, &lim.linear_axes);
+  const bool angular = limitAxes(c, l, "angularAxes", lw, dialect, &lim.angular_axes);
+  if (dialect == JointDialect::kKhr && linear == angular)
     c.add(lw, "give exactly one of linearAxes and angularAxes");
+  if (dialect == JointDialect::kOmi && !linear && !angular)
+    c.add(lw, "give linearAxes or angularAxes (a limit must limit some axis)");
   double v = 0.0;
   if (c.number(l, "min", lw, &v) == Got::kOk)
     lim.min = v;
@@ -150,13 +178,23 @@ std::optional<JointLimit> validateLimit(Checker& c, const json& l, const std::st
     lim.max = v;
   if (lim.min && lim.max && *lim.min > *lim.max)
     c.add(lw, "min " + formatNumber(*lim.min) + " is above max " + formatNumber(*lim.max));
-  if (c.bounded(l, "stiffness", lw, &v, 0.0, false) == Got::kOk)
-    lim.stiffness = v;
+  lim.stiffness = unbounded(c, l, "stiffness", lw, dialect);
   c.bounded(l, "damping", lw, &lim.damping, 0.0, false);
-  return lim;
+  if (lim.linear_axes && lim.angular_axes) {
+    JointLimit angular_part = lim;
+    lim.angular_axes = 0;
+    angular_part.linear_axes = 0;
+    out->push_back(lim);
+    out->push_back(angular_part);
+    return;
+  }
+  out->push_back(lim);
 }
 
-std::optional<JointDrive> validateDrive(Checker& c, const json& d, const std::string& dw) {
+std::optional<JointDrive> validateDrive(Checker& c,
+                                        const json& d,
+                                        const std::string& dw,
+                                        JointDialect dialect) {
   static const std::vector<std::string> kTypes = {"linear", "angular"};
   static const std::vector<std::string> kModes = {"force", "acceleration"};
   if (!isObject(c, d, dw))
@@ -177,8 +215,7 @@ std::optional<JointDrive> validateDrive(Checker& c, const json& d, const std::st
   drive.acceleration = mode == 1;
   drive.axis = static_cast<std::uint8_t>(axis);
   double v = 0.0;
-  if (c.bounded(d, "maxForce", dw, &v, 0.0, false) == Got::kOk)
-    drive.max_force = v;
+  drive.max_force = unbounded(c, d, "maxForce", dw, dialect);
   if (c.number(d, "positionTarget", dw, &v) == Got::kOk)
     drive.position_target = v;
   if (c.number(d, "velocityTarget", dw, &v) == Got::kOk)
@@ -188,35 +225,28 @@ std::optional<JointDrive> validateDrive(Checker& c, const json& d, const std::st
   return drive;
 }
 
-JointDef validateJoint(Checker& c, const json& j, std::size_t i) {
-  const std::string w = "physicsJoint " + std::to_string(i);
+JointDef validateJoint(Checker& c, const json& j, const std::string& w, JointDialect dialect) {
   JointDef def;
   if (!isObject(c, j, w))
     return def;
   const json* drives = nullptr;
   if (c.array(j, "drives", w, &drives) == Got::kOk) {
     for (std::size_t k = 0; k < drives->size(); ++k) {
-      if (auto drive = validateDrive(c, (*drives)[k], w + " drive " + std::to_string(k)))
+      if (auto drive = validateDrive(c, (*drives)[k], w + " drive " + std::to_string(k), dialect))
         def.drives.push_back(*drive);
     }
   }
   const json* limits = nullptr;
   if (c.array(j, "limits", w, &limits) == Got::kOk) {
-    for (std::size_t k = 0; k < limits->size(); ++k) {
-      if (auto lim = validateLimit(c, (*limits)[k], w + " limit " + std::to_string(k)))
-        def.limits.push_back(*lim);
-    }
+    for (std::size_t k = 0; k < limits->size(); ++k)
+      validateLimit(c, (*limits)[k], w + " limit " + std::to_string(k), dialect, &def.limits);
   }
   return def;
 }
 
 void validateRigidBodiesRoot(Checker& c, const json& ext, Document* doc) {
   validateMaterialsAndFilters(c, ext, "KHR_physics_rigid_bodies", doc);
-  const json* arr = nullptr;
-  if (c.array(ext, "physicsJoints", "KHR_physics_rigid_bodies", &arr) == Got::kOk) {
-    for (std::size_t i = 0; i < arr->size(); ++i)
-      doc->joints.push_back(validateJoint(c, (*arr)[i], i));
-  }
+  validateJoints(c, ext, JointDialect::kKhr, doc);
 }
 
 MotionDef validateMotion(Checker& c, const json& motion, const std::string& mw) {
@@ -311,6 +341,20 @@ void validateMaterialsAndFilters(Checker& c,
   }
 }
 
+void validateJoints(Checker& c, const json& ext, JointDialect dialect, Document* doc) {
+  const json* arr = nullptr;
+  const bool omi = dialect == JointDialect::kOmi;
+  if (c.array(ext, "physicsJoints", omi ? "OMI_physics_joint" : "KHR_physics_rigid_bodies", &arr) !=
+      Got::kOk) {
+    return;
+  }
+  for (std::size_t i = 0; i < arr->size(); ++i) {
+    const std::string w =
+        (omi ? "OMI_physics_joint physicsJoint " : "physicsJoint ") + std::to_string(i);
+    doc->joints.push_back(validateJoint(c, (*arr)[i], w, dialect));
+  }
+}
+
 void validatePhysicsRoot(Checker& c, const json& root, Document* doc) {
   // shapes first, then materials, filters, joints (nodes index them); the OMI ones after KHR's
   const json* extensions = nullptr;
@@ -322,6 +366,7 @@ void validatePhysicsRoot(Checker& c, const json& root, Document* doc) {
   const json* physics = nullptr;
   if (c.object(*extensions, "KHR_physics_rigid_bodies", "extensions", &physics) == Got::kOk)
     validateRigidBodiesRoot(c, *physics, doc);
+  doc->omi_joint_base = doc->joints.size();
   validateOmiRoot(c, *extensions, doc);
 }
 
@@ -360,7 +405,7 @@ void validateNodePhysics(Checker& c,
     const std::string jw = w + " joint";
     JointRef ref;
     c.index(*joint, "connectedNode", doc.nodes.size(), "nodes", jw, &ref.connected_node, true);
-    c.index(*joint, "joint", doc.joints.size(), "physicsJoints", jw, &ref.joint, true);
+    c.index(*joint, "joint", doc.omi_joint_base, "physicsJoints", jw, &ref.joint, true);
     c.boolean(*joint, "enableCollision", jw, &ref.enable_collision);
     node->joint = ref;
   }

@@ -151,7 +151,10 @@ TEST(SceneLoader, AnInfinitePlaneBecomesALargeBoxUnderTheScene) {
 }
 
 /// One node whose collider is its own mesh (a convex hull of it when `hull`).
-LoadReport meshColliderScene(const testing::Mesh& mesh, const std::string& name, bool hull) {
+LoadReport meshColliderScene(const testing::Mesh& mesh,
+                             const std::string& name,
+                             bool hull,
+                             const LoadOptions& options = {}) {
   GltfBuilder b;
   json n = GltfBuilder::node(name);
   n["mesh"] = b.addMesh(mesh, name + "Mesh");
@@ -159,7 +162,7 @@ LoadReport meshColliderScene(const testing::Mesh& mesh, const std::string& name,
   if (hull)
     GltfBuilder::physics(n)["collider"]["geometry"]["convexHull"] = true;
   b.addNode(n);
-  return load(b);
+  return load(b, options);
 }
 
 TEST(SceneLoader, MeshHullAndConvexMeshAndNonConvexThroughItsPieces) {
@@ -199,6 +202,55 @@ TEST(SceneLoader, MeshHullAndConvexMeshAndNonConvexThroughItsPieces) {
               std::string::npos)
         << notes;
   }
+}
+
+TEST(SceneLoader, MaxHullVerticesHoldsThePrimitivesNotTheHullOfANonConvexMesh) {
+  // eight small cubes on a ring, one mesh: its hull has more vertices than the limit, each of its
+  // pieces fewer (a fine non-convex mesh, such as a torus, is like this)
+  testing::Mesh ring;
+  for (int k = 0; k < 8; ++k) {
+    const testing::Mesh cube = testing::cubeMesh(0.1);
+    const double a = 2.0 * std::numbers::pi * k / 8.0;
+    const auto base = static_cast<std::uint32_t>(ring.vertices.size());
+    for (const Vec3& v : cube.vertices)
+      ring.vertices.push_back(v + Vec3{std::cos(a), 0.0, std::sin(a)});
+    for (const std::uint32_t i : cube.triangles)
+      ring.triangles.push_back(base + i);
+  }
+  LoadOptions options;
+  options.limits.max_hull_vertices = 16;
+  const LoadReport hull = meshColliderScene(ring, "Ring", true, options);
+  EXPECT_TRUE(hasProblem(hull, "cannot build a convex hull: hull has")) << hull.message();
+  const LoadReport r = meshColliderScene(ring, "Ring", false, options);
+  ASSERT_TRUE(r.ok()) << r.message();
+  const auto& prims = r.scene->bodies[0].primitives;
+  ASSERT_GE(prims.size(), 8u);
+  for (const Primitive& p : prims) {
+    EXPECT_EQ(p.source, ShapeSource::kMeshPiece);
+    EXPECT_LE(p.shape->vertices().size(), 16u);
+  }
+
+  // a convex surface over the limit is still refused, with the hull's count
+  testing::Mesh prism;
+  for (int k = 0; k < 12; ++k) {
+    const double a = 2.0 * std::numbers::pi * k / 12.0;
+    prism.vertices.push_back({std::cos(a), 0.0, std::sin(a)});
+    prism.vertices.push_back({std::cos(a), 1.0, std::sin(a)});
+  }
+  for (std::uint32_t k = 0; k < 12; ++k) {
+    const std::uint32_t n = (k + 1) % 12;
+    prism.triangles.insert(prism.triangles.end(),
+                           {2 * k, 2 * k + 1, 2 * n, 2 * n, 2 * k + 1, 2 * n + 1});
+    if (k > 0 && k < 11) {
+      prism.triangles.insert(prism.triangles.end(), {0, 2 * k, 2 * n});
+      prism.triangles.insert(prism.triangles.end(), {1, 2 * n + 1, 2 * k + 1});
+    }
+  }
+  const LoadReport convex = meshColliderScene(prism, "Prism", false, options);
+  EXPECT_TRUE(hasProblem(convex,
+                         "node 0 'Prism': mesh 0 'PrismMesh': cannot build a "
+                         "convex hull: hull has 24 vertices (limit 16)"))
+      << convex.message();
 }
 
 TEST(SceneLoader, ScaleIsFoldedIntoTheShapeAndPosesStayRigid) {
@@ -298,6 +350,51 @@ TEST(SceneLoader, DeclaredMassPropertiesAndInfiniteValues) {
   const Body& inf = bodyNamed(*r.scene, "Infinite");
   EXPECT_DOUBLE_EQ(inf.inverse_mass, 0.0);
   EXPECT_DOUBLE_EQ(inf.inverse_inertia_B[0][0], 0.0);
+}
+
+TEST(SceneLoader, ADeclaredMassWithoutColliderVolumeGetsASphereInertia) {
+  // a driver body of joints (Blender writes an empty with a motion and a mass), and a body whose
+  // only shape is a trigger: no volume to compute the inertia from, so a solid sphere of the
+  // declared mass at 1000 kg/m^3 stands in, about the declared centre
+  GltfBuilder b;
+  staticShape(b, "Floor", b.box({1.0, 0.1, 1.0}), {0.0, -0.05, 0.0});
+  json driver = GltfBuilder::node("Driver", {0.0, 1.0, 0.0});
+  driver["scale"] = {0.02, 0.007, 0.02};
+  GltfBuilder::physics(driver)["motion"] = {{"mass", 2.0}, {"centerOfMass", {0.0, 1.0, 0.0}}};
+  b.addNode(driver);
+  json sensor = GltfBuilder::node("Sensor", {2.0, 1.0, 0.0});
+  GltfBuilder::physics(sensor)["motion"] = {{"mass", 0.5}};
+  GltfBuilder::physics(sensor)["trigger"] = {{"geometry", {{"shape", b.sphere(0.2)}}}};
+  b.addNode(sensor);
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  for (const auto& [name, mass] : {std::pair{"Driver", 2.0}, std::pair{"Sensor", 0.5}}) {
+    const Body& body = bodyNamed(*r.scene, name);
+    EXPECT_DOUBLE_EQ(body.mass, mass);
+    const double radius = std::cbrt(3.0 * mass / (4.0 * std::numbers::pi * 1000.0));
+    const double moment = 0.4 * mass * radius * radius;
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_NEAR(body.inertia_B[k][k], moment, 1e-12 * moment) << name;
+      EXPECT_NEAR(body.inverse_inertia_B[k][k], 1.0 / moment, 1e-9 / moment) << name;
+      EXPECT_EQ(body.inertia_B[k][(k + 1) % 3], 0.0) << name;
+    }
+  }
+  // the declared centre, in node space, takes the node's scale
+  EXPECT_NEAR(bodyNamed(*r.scene, "Driver").com_B.y, 0.007, 1e-12);
+  EXPECT_EQ(bodyNamed(*r.scene, "Sensor").com_B, Vec3(0.0));
+  EXPECT_NE(
+      testing::notesOf(*r.scene).find("node 1 'Driver': no collider volume: inertia of a solid "
+                                      "sphere of its mass at 1000 kg/m^3 (radius 0.0781"),
+      std::string::npos)
+      << testing::notesOf(*r.scene);
+
+  // with no mass either there is nothing to go on: refused, naming the body
+  b.doc["nodes"][1]["extensions"]["KHR_physics_rigid_bodies"]["motion"].erase("mass");
+  const LoadReport refused = load(b);
+  EXPECT_TRUE(hasProblem(refused,
+                         "node 1 'Driver': dynamic body has no collider volume to compute its "
+                         "mass from"))
+      << refused.message();
 }
 
 TEST(SceneLoader, ACompoundBodyOwnsItsDescendantColliders) {
@@ -783,6 +880,29 @@ TEST_F(ExternalUri, RefusedUnlessAFolderIsAllowedThenOnlyInsideIt) {
   EXPECT_TRUE(hasProblem(missing, "no such file")) << missing.message();
   const LoadReport scheme = withUri("file:///etc/passwd", true);
   EXPECT_TRUE(hasProblem(scheme, "has a scheme")) << scheme.message();
+}
+
+TEST_F(ExternalUri, ImageUrisAreNeverResolvedReadOrRequired) {
+  // textures are appearance only: missing ones, ones outside the folder, absolute paths and web
+  // addresses change nothing, with a folder allowed or without one
+  json d = doc_;
+  d["images"] = json::array({{{"uri", "textures/missing.png"}},
+                             {{"uri", "../outside.bin"}},
+                             {{"uri", (dir_ / "outside.bin").string()}},
+                             {{"uri", "https://example.com/wood.png"}},
+                             {{"uri", "link.bin"}},
+                             {{"bufferView", 0}, {"mimeType", "image/png"}}});
+  d["textures"] = json::array({{{"source", 0}}});
+  d["buffers"] = json::array({json{{"byteLength", bin_.size()}, {"uri", "cube.bin"}}});
+  LoadOptions options;
+  options.allowed_uri_dir = dir_ / "inside";
+  const LoadReport beside = loadScene(testing::bytesOf(d.dump()), "images.gltf", options);
+  ASSERT_TRUE(beside.ok()) << beside.message();
+  EXPECT_EQ(beside.scene->bodies[0].primitives[0].shape->vertices().size(), 8u);
+
+  d["buffers"][0]["uri"] = "data:application/octet-stream;base64," + testing::base64(bin_);
+  const LoadReport upload = loadScene(testing::bytesOf(d.dump()), "images.gltf");
+  EXPECT_TRUE(upload.ok()) << upload.message();
 }
 
 TEST(SceneLoader, LoadSceneFileChecksTheSizeFirst) {

@@ -118,6 +118,29 @@ TEST(ScenePhysics, TheOlderOmiColliderAndBodyTypesStillLoad) {
       << r.message();
 }
 
+TEST(ScenePhysics, AnOmiMotionWithoutATypeIsDynamicAsGodotReadsIt) {
+  // the schema requires `type`; Godot's importer reads a motion without one as a rigid body,
+  // and the extension's own trigger example writes {"mass": 1}
+  GltfBuilder b;
+  b.doc["extensions"]["OMI_physics_shape"]["shapes"] =
+      json::array({{{"type", "box"}, {"box", {{"size", {0.2, 0.2, 0.2}}}}}});
+  b.useExtension("OMI_physics_body", false);
+  b.useExtension("OMI_physics_shape", false);
+  omiBody(b, "Cube", {{"motion", {{"mass", 1.5}}}}, 0, {0.0, 1.0, 0.0});
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  const Body& cube = bodyNamed(*r.scene, "Cube");
+  EXPECT_EQ(cube.motion, Motion::kDynamic);
+  EXPECT_DOUBLE_EQ(cube.mass, 1.5);
+  EXPECT_NE(notesOf(*r.scene).find("node 0 'Cube' OMI_physics_body motion: no type: read as "
+                                   "dynamic (as Godot reads it)"),
+            std::string::npos)
+      << notesOf(*r.scene);
+  // a type that is there must still be one of the known ones
+  b.doc["nodes"][0]["extensions"]["OMI_physics_body"]["motion"]["type"] = "floaty";
+  EXPECT_TRUE(hasProblem(load(b), "motion: type 'floaty' is not one of"));
+}
+
 TEST(ScenePhysics, KhrTriggersAreNonCollidingVolumesWithoutMass) {
   GltfBuilder b = testing::GltfBuilder();
   const int box = b.box({1.0, 1.0, 1.0});
@@ -214,6 +237,124 @@ TEST(ScenePhysics, EveryJointKindWithItsLimitsAndDrivesIsKept) {
   EXPECT_TRUE(hasProblem(refused,
                          "physicsJoint 1 drive 0: mode 'torque' is not one of 'force', "
                          "'acceleration'"))
+      << refused.message();
+}
+
+/// Every joint of a scene, simulated or not yet, in file order of the lists.
+std::vector<Joint> allJoints(const SceneModel& s) {
+  std::vector<Joint> all = s.joints;
+  all.insert(all.end(), s.unsimulated_joints.begin(), s.unsimulated_joints.end());
+  return all;
+}
+
+TEST(ScenePhysics, GodotOmiJointsAreReadAsKhrJoints) {
+  // as Godot 4 writes a joint: the joint node under body A, its connectedNode an attachment node
+  // under body B, the settings in the document's OMI_physics_joint physicsJoints
+  GltfBuilder b;
+  b.doc["extensions"]["OMI_physics_shape"]["shapes"] =
+      json::array({{{"type", "box"}, {"box", {{"size", {0.2, 0.2, 0.2}}}}}});
+  b.useExtension("OMI_physics_body", false);
+  b.useExtension("OMI_physics_shape", false);
+  b.useExtension("OMI_physics_joint", false);
+  // a weld (one limit on linear and angular axes at once), a pin whose negative stiffness is
+  // infinitely stiff, and a slider whose drive's negative maxForce is not limited
+  b.doc["extensions"]["OMI_physics_joint"]["physicsJoints"] = json::array(
+      {{{"limits", json::array({{{"linearAxes", {0, 1, 2}},
+                                 {"angularAxes", {0, 1, 2}},
+                                 {"min", 0.0},
+                                 {"max", 0.0}}})}},
+       {{"limits",
+         json::array({{{"linearAxes", {0, 1, 2}}, {"min", 0.0}, {"max", 0.0}, {"stiffness", -1}},
+                      {{"linearAxes", json::array()}, {"angularAxes", {0}}, {"max", 1.0}}})}},
+       {{"limits", json::array({{{"linearAxes", {1, 2}}, {"min", 0.0}, {"max", 0.0}},
+                                {{"angularAxes", {0, 1, 2}}, {"min", 0.0}, {"max", 0.0}}})},
+        {"drives", json::array({{{"type", "linear"},
+                                 {"mode", "force"},
+                                 {"axis", 0},
+                                 {"maxForce", -1},
+                                 {"velocityTarget", 0.5},
+                                 {"damping", 2.0}}})}}});
+  std::vector<int> bodies;
+  for (int i = 0; i < 4; ++i) {
+    json n = GltfBuilder::node("Link" + std::to_string(i), {0.5 * i, 1.0, 0.0});
+    n["extensions"]["OMI_physics_body"] = {{"motion", {{"type", "dynamic"}}}};
+    bodies.push_back(b.addNode(n));
+    json c = GltfBuilder::node("LinkShape" + std::to_string(i));
+    c["extensions"]["OMI_physics_body"] = {{"collider", {{"shape", 0}}}};
+    b.addNode(c, bodies.back());
+  }
+  for (int i = 0; i < 3; ++i) {
+    const int attachment =
+        b.addNode(GltfBuilder::node("Attach" + std::to_string(i), {-0.25, 0.0, 0.0}),
+                  bodies[static_cast<std::size_t>(i) + 1]);
+    json j = GltfBuilder::node("Joint" + std::to_string(i), {0.25, 0.0, 0.0});
+    j["extensions"]["OMI_physics_joint"] = {{"connectedNode", attachment}, {"joint", i}};
+    if (i == 2)
+      j["extensions"]["OMI_physics_joint"]["enableCollision"] = true;
+    b.addNode(j, bodies[static_cast<std::size_t>(i)]);
+  }
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  const std::vector<Joint> joints = allJoints(*r.scene);
+  ASSERT_EQ(joints.size(), 3u);
+  const auto jointFrom = [&](const std::string& body) -> const Joint& {
+    for (const Joint& j : joints) {
+      if (r.scene->bodies[static_cast<std::size_t>(j.body_a)].name == body)
+        return j;
+    }
+    ADD_FAILURE() << "no joint from " << body;
+    return joints.front();
+  };
+  const Joint& weld = jointFrom("Link0");
+  EXPECT_EQ(weld.kind, JointKind::kFixed);
+  ASSERT_EQ(weld.limits.size(), 2u);  // the one OMI limit, as a linear and an angular one
+  EXPECT_EQ(weld.limits[0].linear_axes, 7);
+  EXPECT_EQ(weld.limits[0].angular_axes, 0);
+  EXPECT_EQ(weld.limits[1].angular_axes, 7);
+  EXPECT_EQ(weld.limits[1].linear_axes, 0);
+  EXPECT_EQ(r.scene->bodies[static_cast<std::size_t>(weld.body_b)].name, "Link1");
+  // the attachment frames: the joint node in body A, the connected node in body B
+  EXPECT_NEAR(weld.X_AJ.translation.x, 0.25, 1e-12);
+  EXPECT_NEAR(weld.X_BJ.translation.x, -0.25, 1e-12);
+  EXPECT_FALSE(weld.enable_collision);
+  const Joint& pin = jointFrom("Link1");
+  EXPECT_EQ(pin.kind, JointKind::kBall);  // the negative stiffness is a hard limit
+  EXPECT_FALSE(pin.limits[0].stiffness);
+  ASSERT_EQ(pin.limits.size(), 2u);  // the empty linearAxes list limits no linear axis
+  EXPECT_EQ(pin.limits[1].linear_axes, 0);
+  EXPECT_EQ(pin.limits[1].angular_axes, 1);
+  const Joint& slider = jointFrom("Link2");
+  EXPECT_EQ(slider.kind, JointKind::kSlider);
+  EXPECT_EQ(slider.hinge_axis, 0);
+  ASSERT_EQ(slider.drives.size(), 1u);
+  EXPECT_FALSE(slider.drives[0].max_force);  // negative: not limited
+  EXPECT_EQ(slider.drives[0].velocity_target, 0.5);
+  EXPECT_TRUE(slider.enable_collision);
+  EXPECT_EQ(notesOf(*r.scene).find("not read (unknown"), std::string::npos) << notesOf(*r.scene);
+
+  // a limit of no axis, a joint index past the OMI joints and a KHR joint index into them are
+  // refused, each with its place
+  GltfBuilder bad = b;
+  bad.doc["extensions"]["OMI_physics_joint"]["physicsJoints"][1]["limits"][1]["angularAxes"] =
+      json::array();
+  bad.doc["nodes"][static_cast<std::size_t>(bodies[0]) + 1]["extensions"]["OMI_physics_joint"] = {
+      {"connectedNode", 0}, {"joint", 3}};
+  bad.doc["extensions"]["KHR_physics_rigid_bodies"]["physicsJoints"] = json::array();
+  json khr = GltfBuilder::node("KhrJoint");
+  GltfBuilder::physics(khr)["joint"] = {{"connectedNode", 0}, {"joint", 0}};
+  bad.addNode(khr, bodies[3]);
+  const LoadReport refused = load(bad);
+  EXPECT_TRUE(hasProblem(refused,
+                         "OMI_physics_joint physicsJoint 1 limit 1: give linearAxes or "
+                         "angularAxes (a limit must limit some axis)"))
+      << refused.message();
+  EXPECT_TRUE(hasProblem(refused,
+                         "node 1 'LinkShape0' OMI_physics_joint: joint index 3 out of range (3 "
+                         "OMI_physics_joint physicsJoints)"))
+      << refused.message();
+  EXPECT_TRUE(hasProblem(refused,
+                         "node 14 'KhrJoint' joint: joint index 0 out of range (0 "
+                         "physicsJoints)"))
       << refused.message();
 }
 
