@@ -244,22 +244,34 @@ bool Builder::surfacePieces(const Target& target,
                          "): flat, given a thickness of " + formatNumber(thickness) +
                          " m behind its front faces");
   }
-  auto hull = hullOf(points_P, target.node, in.mesh_name);
-  if (!hull)
+  // the whole mesh's hull with no vertex limit: a mesh whose hull has more vertices than
+  // max_hull_vertices (a dense scan) is decomposed, its pieces within the limit
+  geom::HullOptions unlimited;
+  unlimited.max_vertices = options_.limits.max_hull_input_points;
+  unlimited.max_input_points = options_.limits.max_hull_input_points;
+  auto whole = geom::Polytope::fromPoints(points_P, unlimited);
+  if (!whole) {
+    p_->add(where(target.node), (in.mesh_name.empty() ? "collider" : in.mesh_name) +
+                                    ": cannot build a convex hull: " + whole.error().message);
     return false;
+  }
+  auto hull = std::make_shared<const geom::Polytope>(std::move(whole).value());
+  const bool within = hull->vertices().size() <= options_.limits.max_hull_vertices;
   const bool convex =
       thickness > 0.0
           ? polytopeIntegrals(*hull, Transform{}).volume <= (1.0 + 1e-3) * flat_area * thickness
           : convexityViolation(*hull, points_P, in.triangles) <= kConvexTolerance * hull->radius();
-  if (convex) {
+  if (convex && within) {
     built->source = ShapeSource::kConvexMesh;
     built->hulls = {std::move(hull)};
     return true;
   }
-  const ConvexPieces pieces = convexPieces(points_P, in.triangles);
+  const std::string name = in.mesh_name + " (" + where(target.node) + ")";
+  const ConvexPieces pieces =
+      decomposer_.convexPieces(points_P, in.triangles, concavityOf(target.node), name);
   built->source = ShapeSource::kMeshPiece;
   for (const std::vector<Vec3>& piece : pieces.pieces) {
-    if (piece == points_P) {
+    if (within && piece == points_P) {
       built->hulls.push_back(hull);  // the hull already built
       continue;
     }
@@ -269,9 +281,22 @@ bool Builder::surfacePieces(const Target& target,
       return false;
     built->hulls.push_back(std::move(h));
   }
-  stand_ins_.push_back(in.mesh_name + " (" + where(target.node) + "): not convex, " +
+  stand_ins_.push_back(name +
+                       (convex ? ": convex, but its hull has more than " +
+                                     std::to_string(options_.limits.max_hull_vertices) +
+                                     " vertices (max_hull_vertices), "
+                               : ": not convex, ") +
                        pieces.method);
   return true;
+}
+
+double Builder::concavityOf(std::uint32_t node) const {
+  for (std::int32_t n = static_cast<std::int32_t>(node); n >= 0;
+       n = doc_.nodes[static_cast<std::size_t>(n)].parent) {
+    if (const auto& c = doc_.nodes[static_cast<std::size_t>(n)].concavity)
+      return *c;
+  }
+  return options_.decomposition.concavity;
 }
 
 bool Builder::finishPrimitive(SceneModel& scene,
