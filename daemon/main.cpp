@@ -22,6 +22,8 @@ using namespace hapticd;
 
 // the loader's model, or its problems named by `what`
 daemon::SceneResult modelOf(scene::LoadReport report, const std::string& what) {
+  for (const std::string& w : report.warnings)
+    daemon::logWarning(what + ": " + w);
   if (!report.ok()) {
     std::string text = report.message();
     while (!text.empty() && text.back() == '\n')

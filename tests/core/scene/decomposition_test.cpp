@@ -72,8 +72,7 @@ LoadOptions withCache(const fs::path& dir) {
 
 // one static node whose collider is the dented cube (not convex); `concavity` on a parent node
 // when set
-GltfBuilder dentedScene(std::optional<double> parent_concavity = std::nullopt,
-                        double h = 0.5) {
+GltfBuilder dentedScene(std::optional<double> parent_concavity = std::nullopt, double h = 0.5) {
   GltfBuilder b;
   json parent = GltfBuilder::node("Group");
   if (parent_concavity)
@@ -218,8 +217,7 @@ TEST(SceneDecomposition, CorruptTruncatedForeignAndOldEntriesAreRefusedAndRebuil
   expectRefusedAndRebuilt(
       "empty", [](const fs::path& e) { writeAll(e, ""); }, "truncated");
   expectRefusedAndRebuilt(
-      "not an entry",
-      [](const fs::path& e) { writeAll(e, std::string(300, 'x')); },
+      "not an entry", [](const fs::path& e) { writeAll(e, std::string(300, 'x')); },
       "not a hapticd decomposition cache entry");
   expectRefusedAndRebuilt(
       "an older format version",
@@ -413,8 +411,8 @@ testing::Mesh uvSphere(int rings, int segments, double r) {
     const double th = std::numbers::pi * i / rings;
     for (int j = 0; j < segments; ++j) {
       const double ph = 2.0 * std::numbers::pi * j / segments;
-      m.vertices.push_back({r * std::sin(th) * std::cos(ph), r * std::cos(th),
-                            r * std::sin(th) * std::sin(ph)});
+      m.vertices.push_back(
+          {r * std::sin(th) * std::cos(ph), r * std::cos(th), r * std::sin(th) * std::sin(ph)});
     }
   }
   m.vertices.push_back({0.0, -r, 0.0});
