@@ -244,6 +244,30 @@ bool Builder::surfacePieces(const Target& target,
                          "): flat, given a thickness of " + formatNumber(thickness) +
                          " m behind its front faces");
   }
+  const std::string name = in.mesh_name + " (" + where(target.node) + ")";
+  const double concavity = concavityOf(target.node);
+  // the hulls of `pieces` (the whole mesh's `hull` reused when a piece is the whole mesh)
+  const auto usePieces = [&](const ConvexPieces& pieces,
+                             const std::shared_ptr<const geom::Polytope>& hull) {
+    built->source = ShapeSource::kMeshPiece;
+    for (const std::vector<Vec3>& piece : pieces.pieces) {
+      if (hull && piece == points_P) {
+        built->hulls.push_back(hull);  // the hull already built
+        continue;
+      }
+      hull_points_ += piece.size();
+      auto h = hullOf(piece, target.node, in.mesh_name);
+      if (!h || !withinTotalHullPoints(target.node, 0))
+        return false;
+      built->hulls.push_back(std::move(h));
+    }
+    stand_ins_.push_back(name + ": " + pieces.method);
+    return true;
+  };
+  // a mesh decomposed before with these options (only such meshes have an entry): its pieces
+  // from the cache, without the whole mesh's hull and convexity test
+  if (auto cached = decomposer_.cachedPieces(points_P, in.triangles, concavity, name))
+    return usePieces(*cached, nullptr);
   // the whole mesh's hull with no vertex limit: a mesh whose hull has more vertices than
   // max_hull_vertices (a dense scan) is decomposed, its pieces within the limit
   geom::HullOptions unlimited;
@@ -266,28 +290,12 @@ bool Builder::surfacePieces(const Target& target,
     built->hulls = {std::move(hull)};
     return true;
   }
-  const std::string name = in.mesh_name + " (" + where(target.node) + ")";
-  const ConvexPieces pieces =
-      decomposer_.convexPieces(points_P, in.triangles, concavityOf(target.node), name);
-  built->source = ShapeSource::kMeshPiece;
-  for (const std::vector<Vec3>& piece : pieces.pieces) {
-    if (within && piece == points_P) {
-      built->hulls.push_back(hull);  // the hull already built
-      continue;
-    }
-    hull_points_ += piece.size();
-    auto h = hullOf(piece, target.node, in.mesh_name);
-    if (!h || !withinTotalHullPoints(target.node, 0))
-      return false;
-    built->hulls.push_back(std::move(h));
-  }
-  stand_ins_.push_back(name +
-                       (convex ? ": convex, but its hull has more than " +
-                                     std::to_string(options_.limits.max_hull_vertices) +
-                                     " vertices (max_hull_vertices), "
-                               : ": not convex, ") +
-                       pieces.method);
-  return true;
+  const std::string why = convex ? "convex, but its hull has more than " +
+                                       std::to_string(options_.limits.max_hull_vertices) +
+                                       " vertices (max_hull_vertices)"
+                                 : std::string("not convex");
+  return usePieces(decomposer_.convexPieces(points_P, in.triangles, concavity, name, why),
+                   within ? hull : nullptr);
 }
 
 double Builder::concavityOf(std::uint32_t node) const {

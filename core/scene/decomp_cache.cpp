@@ -119,10 +119,13 @@ std::optional<std::string> parsePayload(const std::string& payload,
 
 }  // namespace
 
-std::string decompCacheKey(const decomp::TriangleMesh& mesh, const decomp::DecompOptions& options) {
+std::string decompCacheKey(const decomp::TriangleMesh& mesh,
+                           const decomp::DecompOptions& options,
+                           std::uint64_t max_hull_vertices) {
   std::string text = "hapticd decomposition cache " + std::to_string(kDecompCacheVersion) + "\n";
   text += decomp::contentHash(mesh, options);
   putF64(text, options.time_limit_s);
+  putU64(text, max_hull_vertices);
   return sha256Hex(text);
 }
 

@@ -40,11 +40,14 @@ struct CachedPieces {
   std::string note;
 };
 
-/// The cache key (64 hex digits) of `mesh` decomposed with `options`: SHA-256 over the entry
-/// format version, core/decomp's contentHash (the mesh's bytes and the options that change the
-/// pieces, with its algorithm's version) and the time limit (a limit that cut a decomposition
-/// short gives other pieces). Any thread.
-std::string decompCacheKey(const decomp::TriangleMesh& mesh, const decomp::DecompOptions& options);
+/// The cache key (64 hex digits) of `mesh` decomposed with `options` by a loader whose hull limit
+/// is `max_hull_vertices`: SHA-256 over the entry format version, core/decomp's contentHash (the
+/// mesh's bytes and the options that change the pieces, with its algorithm's version), the time
+/// limit (a limit that cut a decomposition short gives other pieces) and the hull limit (it
+/// decides whether a convex mesh is decomposed at all). Any thread.
+std::string decompCacheKey(const decomp::TriangleMesh& mesh,
+                           const decomp::DecompOptions& options,
+                           std::uint64_t max_hull_vertices);
 
 /// What a lookup found.
 struct CacheLookup {

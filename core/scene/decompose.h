@@ -12,6 +12,7 @@
 /// (allocates, reads and writes the cache folder).
 
 #include <cstdint>
+#include <optional>
 #include <span>
 #include <string>
 #include <vector>
@@ -35,16 +36,33 @@ class Decomposer {
 
   /// The pieces of the mesh `points` / `triangles` (3 indices each, into points; the mesh may be
   /// open, non-manifold, inconsistently wound), in the mesh's frame, decomposed to `concavity`
-  /// (a fraction of its diagonal, in (0, 1)). `name` names it in progress and warnings.
+  /// (a fraction of its diagonal, in (0, 1)), from the cache when it has them. `name` names it in
+  /// progress and warnings; `why` (why it is decomposed: "not convex") begins the method.
   ConvexPieces convexPieces(std::span<const geom::Vec3> points,
                             std::span<const std::uint32_t> triangles,
                             double concavity,
-                            const std::string& name);
+                            const std::string& name,
+                            const std::string& why = "not convex");
+  /// The same mesh's pieces from the cache only: nothing when there is no cache, no entry, or
+  /// the entry is refused (then a warning, and the entry is removed so that convexPieces()
+  /// decomposes and writes it again). An entry exists only for a mesh that was decomposed, so a
+  /// hit also says the mesh needs its pieces.
+  std::optional<ConvexPieces> cachedPieces(std::span<const geom::Vec3> points,
+                                           std::span<const std::uint32_t> triangles,
+                                           double concavity,
+                                           const std::string& name);
 
   const DecompositionCounts& counts() const { return counts_; }
   std::vector<std::string> takeWarnings() { return std::move(warnings_); }
 
  private:
+  // the mesh as core/decomp takes it, and its options
+  struct Input;
+  Input input(std::span<const geom::Vec3> points,
+              std::span<const std::uint32_t> triangles,
+              double concavity) const;
+  std::optional<ConvexPieces> lookup(const Input& in, const std::string& name);
+
   const LoadOptions& options_;
   DecompositionCounts counts_;
   std::vector<std::string> warnings_;

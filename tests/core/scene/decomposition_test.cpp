@@ -455,6 +455,21 @@ TEST(SceneDecomposition, AMeshWhoseHullIsOverTheVertexLimitIsDecomposedNotRefuse
   EXPECT_NE(testing::notesOf(*r.scene).find("convex, but its hull has more than 64 vertices"),
             std::string::npos)
       << testing::notesOf(*r.scene);
+  // with a cache: the pieces are read back under the same limit, and an entry made under
+  // another limit is not used where the whole hull fits
+  const TempDir dir;
+  small.decomposition.cache_dir = dir.path();
+  ASSERT_TRUE(load(b, small).ok());
+  const LoadReport again = load(b, small);
+  ASSERT_TRUE(again.ok()) << again.message();
+  EXPECT_EQ(again.decomposition.cache_hits, 1u);
+  EXPECT_EQ(shapesOf(*again.scene), shapesOf(*r.scene));
+  EXPECT_EQ(testing::notesOf(*again.scene), testing::notesOf(*r.scene));
+  const LoadReport fits = load(b, withCache(dir.path()));
+  ASSERT_TRUE(fits.ok()) << fits.message();
+  EXPECT_EQ(fits.decomposition.cache_hits, 0u);
+  ASSERT_EQ(fits.scene->bodies[0].primitives.size(), 1u);
+  EXPECT_EQ(fits.scene->bodies[0].primitives[0].source, ShapeSource::kConvexMesh);
 }
 
 TEST(SceneDecomposition, TheAutoCacheFolderFollowsTheEnvironment) {
