@@ -200,6 +200,8 @@ int runCheck(const std::filesystem::path& path,
              std::ostream& out,
              std::ostream& err) {
   const scene::LoadReport report = scene::loadSceneFile(path, options.load);
+  for (const std::string& w : report.warnings)
+    err << path.string() << ": warning: " << w << '\n';
   if (!report.ok()) {
     for (const scene::Problem& p : report.problems) {
       err << path.string() << ": " << p.where << ": " << p.what << '\n';
@@ -218,6 +220,12 @@ int runCheck(const std::filesystem::path& path,
   if (options.json) {
     nlohmann::json j = sceneJson(*report.scene);
     j["file"] = path.string();
+    j["warnings"] = report.warnings;
+    const scene::DecompositionCounts& d = report.decomposition;
+    j["decomposition"] = {{"decomposed", d.decomposed},
+                          {"cache_hits", d.cache_hits},
+                          {"cache_refused", d.cache_refused},
+                          {"cache_written", d.cache_written}};
     out << j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
   } else {
     out << path.string() << ": ok\n" << describeScene(*report.scene);

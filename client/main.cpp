@@ -30,6 +30,7 @@ struct Command {
 struct CheckArgs {
   std::string file;
   std::string allowed_dir;
+  std::string cache_dir = "auto";
   hc::CheckOptions options;
 };
 
@@ -73,6 +74,21 @@ void defineOffline(CLI::App& app, Commands& c) {
   c.check.app->add_option("--tessellation-tolerance", k.options.load.limits.tessellation_tolerance,
                           "curved shapes' tessellation tolerance, a fraction of their size "
                           "(default 1e-3)");
+  // the decomposition of meshes that are not convex, as the daemon's [scene] keys
+  c.check.app->add_option("--concavity", k.options.load.decomposition.concavity,
+                          "decomposition target, a fraction of a mesh's diagonal in (0, 1); "
+                          "extras.haptic.concavity on a node overrides it (default 0.01, as "
+                          "[scene] concavity)");
+  c.check.app->add_option("--max-pieces", k.options.load.decomposition.max_pieces,
+                          "most convex pieces per decomposed mesh (default 64, as [scene] "
+                          "max_pieces)");
+  c.check.app->add_option("--time-limit", k.options.load.decomposition.time_limit_s,
+                          "seconds one mesh's decomposition may take, 0: none (default 5, as "
+                          "[scene] decompose_time_limit_s)");
+  c.check.app->add_option("--cache-dir", k.cache_dir,
+                          "decomposition cache folder: auto ($XDG_CACHE_HOME/hapticd or "
+                          "~/.cache/hapticd), \"\" for none, or a folder (default auto, as "
+                          "[scene] cache_dir)");
 }
 
 // the daemon commands: --host, --port, --key-file, --timeout-ms on each
@@ -250,6 +266,7 @@ int runOffline(Commands& c) {
     CheckArgs& k = c.check.options;
     if (!k.allowed_dir.empty())
       k.options.load.allowed_uri_dir = k.allowed_dir;
+    k.options.load.decomposition.cache_dir = hapticd::scene::decompositionCacheDir(k.cache_dir);
     return hc::runCheck(k.file, k.options, std::cout, std::cerr);
   }
   if (c.query.parsed()) {

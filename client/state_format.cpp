@@ -198,6 +198,7 @@ nlohmann::json statusJson(const proto::StatusReply& s,
   return {{"daemon", daemon},
           {"device", s.device},
           {"scene", s.scene},
+          {"loading", s.loading},
           {"plan", s.plan},
           {"uptime_s", static_cast<double>(s.uptime_ns) * 1e-9},
           {"ticks", s.ticks},
@@ -249,7 +250,11 @@ std::string statusText(const proto::StatusReply& s,
                 s.subscribers, s.state_rate_hz, s.packets_received, s.packets_sent,
                 s.commands_accepted, s.commands_dropped);
   std::ostringstream out;
-  out << buf << (state ? tickText(*state) : std::string("force and contacts: no state came"))
+  out << buf;
+  // a scene being built (protocol 1.2): the running scene stays until it is ready
+  if (!s.loading.empty())
+    out << "loading " << s.loading << " (scene " << s.scene << " runs until it is ready)\n";
+  out << (state ? tickText(*state) : std::string("force and contacts: no state came"))
       << "\nrefused";
   bool any = false;
   const nlohmann::json refused = refusedJson(s);

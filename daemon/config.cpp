@@ -429,6 +429,10 @@ scene::LoadOptions toLoadOptions(const Config& c) {
   o.limits = c.scene.limits;
   if (!c.scene.allowed_uri_dir.empty())
     o.allowed_uri_dir = c.scene.allowed_uri_dir;
+  o.decomposition.concavity = c.scene.concavity;
+  o.decomposition.max_pieces = c.scene.max_pieces;
+  o.decomposition.time_limit_s = c.scene.decompose_time_limit_s;
+  o.decomposition.cache_dir = scene::decompositionCacheDir(c.scene.cache_dir);
   return o;
 }
 

@@ -71,12 +71,19 @@ struct ResponseConfig {
   sim::SimOptions sim;
 };
 
-/// [scene]: what to load, scene::SceneLimits, and where external URIs may be read from.
+/// [scene]: what to load, scene::SceneLimits, where external URIs may be read from, and how
+/// meshes that are not convex are decomposed (scene::DecompositionOptions) and cached.
 struct SceneConfig {
   std::string path;  ///< empty: the built-in demo scene `demo`
   std::string demo = "peg_in_hole";
   scene::SceneLimits limits;
-  std::string allowed_uri_dir;  ///< empty: external URIs refused
+  std::string allowed_uri_dir;                                 ///< empty: external URIs refused
+  double concavity = scene::DecompositionOptions{}.concavity;  ///< fraction of the diagonal
+  std::uint32_t max_pieces = scene::DecompositionOptions{}.max_pieces;
+  double decompose_time_limit_s = scene::DecompositionOptions{}.time_limit_s;  ///< 0: none
+  /// The decomposition cache's folder: "auto" (scene::decompositionCacheDir()), "" (no cache), or
+  /// an absolute path.
+  std::string cache_dir = "auto";
 };
 
 /// [network]
@@ -168,6 +175,7 @@ std::string toToml(const Config& config);
 
 /// Derived option blocks.
 sim::SimOptions toSimOptions(const Config& config);
+/// (cache_dir through scene::decompositionCacheDir: "auto" reads the environment)
 scene::LoadOptions toLoadOptions(const Config& config);
 RealtimeOptions toRealtimeOptions(const Config& config);
 /// The servo loop's options (record flags are the caller's).

@@ -71,6 +71,13 @@ std::optional<std::string> checkDemo(const std::string& s) {
   return std::nullopt;
 }
 
+// "auto", "" (no cache) or an absolute folder
+std::optional<std::string> checkCacheDir(const std::string& s) {
+  if (s.empty() || s == "auto" || s.front() == '/')
+    return std::nullopt;
+  return "must be \"auto\", \"\" (no cache) or an absolute folder (got \"" + s + "\")";
+}
+
 const ConfigKey kKeys[] = {
     // [servo]
     {"servo", "rate_hz", HAPTICD_FIELD(servo.rate_hz), closed(1.0, 20000.0), "Hz",
@@ -329,6 +336,24 @@ const ConfigKey kKeys[] = {
     {"scene", "allowed_uri_dir", HAPTICD_FIELD(scene.allowed_uri_dir), kNoRange, "",
      "The folder the scene file's external URIs (buffers, images) resolve in; empty: the file's "
      "own folder. Uploads never resolve external URIs (hapticctl load bundles them)."},
+    {"scene", "concavity", HAPTICD_FIELD(scene.concavity), Range{0.0, 1.0, true, true}, "",
+     "Meshes that are not convex (TRIMESH colliders, mesh colliders without convexHull, plain "
+     "models) are touched through convex pieces of an approximate convex decomposition, each "
+     "within this fraction of the mesh's bounding-box diagonal; extras.haptic.concavity on a "
+     "node (or an ancestor) overrides it for its meshes."},
+    {"scene", "max_pieces", HAPTICD_FIELD(scene.max_pieces), closed(1, 10000), "",
+     "Most convex pieces per decomposed mesh (each a primitive, counted against "
+     "max_primitives)."},
+    {"scene", "decompose_time_limit_s", HAPTICD_FIELD(scene.decompose_time_limit_s),
+     closed(0.0, 86400.0), "s",
+     "Wall-clock limit of one mesh's decomposition: past it the best pieces so far are used "
+     "and hapticctl check says so; 0: no limit."},
+    {"scene", "cache_dir", HAPTICD_FIELD(scene.cache_dir), kNoRange, "",
+     "Folder of the decomposition cache (a mesh decomposed once with the same options is read "
+     "back on the next load): \"auto\" is $CACHE_DIRECTORY (the unit's CacheDirectory=), else "
+     "$XDG_CACHE_HOME/hapticd, else $HOME/.cache/hapticd; \"\" turns the cache off. Entries "
+     "that fail their checks are rebuilt; a folder that cannot be written is a warning.",
+     &checkCacheDir},
 
     // [network]
     {"network", "udp", HAPTICD_FIELD(network.udp), kNoRange, "",

@@ -168,8 +168,18 @@ void Daemon::startReload() {
 }
 
 void Daemon::startUpload() {
-  if (builder_.busy())
-    return;  // a build (SIGHUP or upload) runs; this one waits
+  if (builder_.busy()) {
+    // a build (SIGHUP or upload) runs: an upload that completes meanwhile is refused at once,
+    // saying what the build is doing; the running scene stays until the build ends
+    while (auto waiting = adapter_->takeUpload()) {
+      const std::string why = "another scene is being built (" + builder_.progress() +
+                              "); scene '" + scene_name_ +
+                              "' runs until it is done: upload again then";
+      logWarning("upload '" + waiting->name + "' refused: " + why);
+      adapter_->finishUpload(waiting->ticket, false, why);
+    }
+    return;
+  }
   auto up = adapter_->takeUpload();
   if (!up)
     return;
@@ -270,6 +280,8 @@ void Daemon::writeStatus(const char* phase) {
                           .edits_pending = loop_->editsPending()};
   nlohmann::json j = statusJson(st, loop_->lateness(), loop_->compute(), facts);
   adapter_->addStatus(j, st);
+  // what a SIGHUP reload or an upload being built is doing; "" when none runs
+  j["loading"] = builder_.busy() ? builder_.progress() : std::string();
   j["pid"] = static_cast<long>(getpid());
   writeJsonFile(cli_.status_file, j);
 }
@@ -485,6 +497,7 @@ std::optional<int> Daemon::startServo() {
 void Daemon::serviceOnce(ServiceTimers& timers, bool stopping) {
   finishBuild();
   startUpload();
+  adapter_->setLoading(builder_.busy() ? builder_.progress() : std::string());
   drainEvents();
   loop_->reclaimScenes();
   if (secondsSince(timers.service) >= config_.device.service_interval_s) {

@@ -10,6 +10,7 @@
 
 #include "core/scene/loader.h"
 #include "core/sim/simulation.h"
+#include "daemon/build_progress.h"
 #include "daemon/command_line.h"
 #include "daemon/daemon.h"
 #include "daemon/device/device.h"
@@ -22,6 +23,12 @@ using namespace hapticd;
 
 // the loader's model, or its problems named by `what`
 daemon::SceneResult modelOf(scene::LoadReport report, const std::string& what) {
+  for (const std::string& w : report.warnings) {
+    std::string line = what;
+    line += ": ";
+    line += w;
+    daemon::logWarning(line);
+  }
   if (!report.ok()) {
     std::string text = report.message();
     while (!text.empty() && text.back() == '\n')
@@ -33,7 +40,9 @@ daemon::SceneResult modelOf(scene::LoadReport report, const std::string& what) {
 }
 
 daemon::SceneResult loadConfiguredScene(const daemon::Config& c) {
-  const scene::LoadOptions options = daemon::toLoadOptions(c);
+  scene::LoadOptions options = daemon::toLoadOptions(c);
+  options.progress =
+      daemon::loadProgressReporter(c.scene.path.empty() ? c.scene.demo : c.scene.path);
   if (!c.scene.path.empty())
     return modelOf(scene::loadSceneFile(c.scene.path, options),
                    "[scene] path '" + c.scene.path + "'");
@@ -56,6 +65,7 @@ daemon::SceneResult loadUploadedScene(std::span<const std::uint8_t> bytes,
                                       const daemon::Config& c) {
   scene::LoadOptions options = daemon::toLoadOptions(c);
   options.allowed_uri_dir.reset();
+  options.progress = daemon::loadProgressReporter(name);
   return modelOf(scene::loadScene(bytes, name, options), "scene '" + name + "'");
 }
 

@@ -211,6 +211,11 @@ void ProtocolAdapter::finishUpload(std::uint64_t ticket, bool accepted, const st
   }
 }
 
+void ProtocolAdapter::setLoading(std::string text) {
+  std::lock_guard<std::mutex> lock(info_mutex_);
+  info_loading_ = std::move(text);
+}
+
 void ProtocolAdapter::setSceneBytes(SceneBytes bytes) {
   std::lock_guard<std::mutex> lock(info_mutex_);
   scene_bytes_ = std::move(bytes);
@@ -437,6 +442,7 @@ void ProtocolAdapter::fillStatus(proto::StatusReply& r) const {
   r.device = info_device_.substr(0, proto::kMaxDeviceBytes);
   r.scene = info_scene_.substr(0, proto::kMaxSceneNameBytes);
   r.plan = info_plan_.substr(0, proto::kMaxPlanBytes);
+  r.loading = info_loading_.substr(0, proto::kMaxTextBytes);  // protocol minor 2
 }
 
 void ProtocolAdapter::startShm(const std::string& name) {

@@ -76,6 +76,9 @@ class ProtocolAdapter {
                 std::shared_ptr<const scene::SceneModel> model,
                 std::uint64_t generation);
 
+  /// What a scene build is doing ("" when none runs), for status replies (main thread).
+  void setLoading(std::string text);
+
   /// Where the running scene's bytes come from (set with each scene: the configured file or demo,
   /// or the upload's bytes).
   void setSceneBytes(SceneBytes bytes);
@@ -115,6 +118,7 @@ class ProtocolAdapter {
   std::string info_device_;
   std::string info_scene_;
   std::string info_plan_;
+  std::string info_loading_;  // a scene build's progress, "" when none runs
   // the scene updates are validated against: set after the scene is offered, so that a batch
   // validated against it meets it at the servo
   std::shared_ptr<const scene::SceneModel> edit_model_;

@@ -63,10 +63,12 @@ Result<BuiltScene> buildUploadedScene(const Backends& backends,
                         generation);
 }
 
-Result<bool> SceneBuilder::start(std::function<void(Finished&)> work) {
+Result<bool> SceneBuilder::start(std::string what, std::function<void(Finished&)> work) {
   done_ = false;
   result_ = Finished{};
+  progress_.set(std::move(what));
   return thread_.start("hapticd-build", 4 << 20, [this, work = std::move(work)] {
+    const BuildProgressScope scope(&progress_);
     work(result_);
     done_ = true;
   });
@@ -75,7 +77,8 @@ Result<bool> SceneBuilder::start(std::function<void(Finished&)> work) {
 Result<bool> SceneBuilder::startReload(const CommandLine& cli,
                                        const Config& running,
                                        std::uint64_t generation) {
-  return start([this, &cli, running, generation](Finished& f) {
+  return start("reloading the configuration and the scene (SIGHUP)", [this, &cli, running,
+                                                                      generation](Finished& f) {
     auto config = buildConfig(cli);
     if (!config) {
       f.error = config.error().message;
@@ -94,16 +97,19 @@ Result<bool> SceneBuilder::startReload(const CommandLine& cli,
 Result<bool> SceneBuilder::startUpload(proto::SceneUploadDone upload,
                                        const Config& running,
                                        std::uint64_t generation) {
-  return start([this, up = std::move(upload), running, generation](Finished& f) mutable {
-    auto built = buildUploadedScene(backends_, running, up, generation);
-    if (built)
-      f.built = std::move(built.value());
-    else
-      f.error = built.error().message;
-    if (!built)
-      up.bytes = {};  // else kept: the daemon hands the running scene's bytes to viewers
-    f.upload = std::move(up);
-  });
+  std::string what = "loading uploaded scene '" + upload.name + "' (" +
+                     std::to_string(upload.bytes.size()) + " bytes)";
+  return start(
+      std::move(what), [this, up = std::move(upload), running, generation](Finished& f) mutable {
+        auto built = buildUploadedScene(backends_, running, up, generation);
+        if (built)
+          f.built = std::move(built.value());
+        else
+          f.error = built.error().message;
+        if (!built)
+          up.bytes = {};  // else kept: the daemon hands the running scene's bytes to viewers
+        f.upload = std::move(up);
+      });
 }
 
 std::optional<SceneBuilder::Finished> SceneBuilder::finished() {

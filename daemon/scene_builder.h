@@ -18,6 +18,7 @@
 
 #include "core/common/result.h"
 #include "daemon/backends.h"
+#include "daemon/build_progress.h"
 #include "daemon/command_line.h"
 #include "daemon/realtime.h"
 #include "daemon/servo_loop.h"
@@ -78,18 +79,22 @@ class SceneBuilder {
   Result<bool> startUpload(proto::SceneUploadDone upload,
                            const Config& running,
                            std::uint64_t generation);
+  /// What the running build is doing ("loading scene 'x.glb': decomposing mesh 2 ..."), as its
+  /// loader last reported (reportBuildProgress()); meaningful while busy().
+  std::string progress() const { return progress_.text(); }
   /// The build that ended (its thread joined), once; nothing while one runs or none ran.
   std::optional<Finished> finished();
   /// Waits for a running build and drops its result (teardown).
   void join();
 
  private:
-  Result<bool> start(std::function<void(Finished&)> work);
+  Result<bool> start(std::string what, std::function<void(Finished&)> work);
 
   const Backends& backends_;
   Thread thread_;
   std::atomic<bool> done_{false};
   Finished result_;  // written by the builder before done_, read by the owner after
+  BuildProgress progress_;
 };
 
 /// Sections a reload does not change (they take effect at restart).

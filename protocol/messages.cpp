@@ -114,7 +114,7 @@ class Put {
   constexpr void fields(const F&... f) {
     (one(f), ...);
   }
-  constexpr void body(std::size_t = 0, bool = false) {}
+  constexpr void body(std::size_t = 0, bool = false, std::uint8_t = 1) {}
   constexpr bool since(std::uint8_t) const { return true; }  // the encoder writes our newest layout
   template <class T>
   constexpr void list(const std::vector<T>& items) {
@@ -180,14 +180,14 @@ class Get {
     (one(f), ...);
   }
   /// The end of the fixed part: the payload must hold the fixed part and what the counts
-  /// announce, plus `minor1_tail` bytes from a minor-1 sender. `tail_counted`: that tail has
-  /// counts of its own (checked by a later body()), so for now "at least".
-  void body(std::size_t minor1_tail = 0, bool tail_counted = false) {
+  /// announce, plus `tail` bytes from a sender of minor `tail_minor` or newer. `tail_counted`:
+  /// that tail has counts of its own (checked by a later body()), so for now "at least".
+  void body(std::size_t tail = 0, bool tail_counted = false, std::uint8_t tail_minor = 1) {
     if (failed())
       return;
-    if (minor_ >= 1)
-      expected_ += minor1_tail;
-    const bool exact = exact_ && !(tail_counted && minor_ >= 1);
+    if (minor_ >= tail_minor)
+      expected_ += tail;
+    const bool exact = exact_ && !(tail_counted && minor_ >= tail_minor);
     if (exact ? total_ != expected_ : total_ < expected_)
       refuse(Errc::kBadPayloadLength, total_, expected_, exact ? "payload" : "payload (at least)");
   }
@@ -391,7 +391,8 @@ constexpr void layout(Io& io, M& m) {
   io.body();
   io.text(m.text);
 }
-// Like State, StatusReply gained a tail in minor 1 (after its texts), with a count of its own.
+// Like State, StatusReply gained a tail in minor 1 (after its texts), with a count of its own,
+// and another in minor 2 (after the first).
 template <class Io, Is<StatusReply> M>
 constexpr void layout(Io& io, M& m) {
   io.fields(m.uptime_ns, m.ticks, m.tick_misses, m.tick_rate_hz, m.measured_tick_hz, m.tick_p50_ns,
@@ -411,8 +412,13 @@ constexpr void layout(Io& io, M& m) {
   io.fields(m.shm_commands, m.shm_commands_refused, m.edit_batches_applied, m.edit_batches_dropped,
             m.edits_applied, m.edits_refused, m.shm_flags,
             count16(m.shm_name, kMaxShmNameBytes, "shm_name_length"), kPad2);
-  io.body();
+  io.body(StatusReply::kMinor2FixedSize, /*tail_counted=*/true, /*tail_minor=*/2);
   io.text(m.shm_name);
+  if (!io.since(2))
+    return;  // a 1.1 sender: loading stays ""
+  io.fields(count16(m.loading, kMaxTextBytes, "loading_length"), kPad2);
+  io.body();
+  io.text(m.loading);
 }
 template <class Io, Is<Ack> M>
 constexpr void layout(Io& io, M& m) {

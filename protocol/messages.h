@@ -322,6 +322,12 @@ struct StatusReply {
   std::uint64_t edits_refused = 0;         ///< entries the simulation refused at the tick
   std::uint32_t shm_flags = 0;             ///< kShmServing | kShmClientAttached | kShmClientAlive
   std::string shm_name;  ///< the segment served, "" when none; ≤ kMaxShmNameBytes
+  // --- minor version 2: appended after shm_name (kMinor2FixedSize + loading; a 1.1 reader
+  // ignores it; from a 1.1 sender it reads as "") ---
+  static constexpr std::size_t kMinor2FixedSize = 4;
+  /// What a scene build (SIGHUP reload, upload) is doing ("loading scene 'part.glb': decomposing
+  /// mesh 2 (...), 12 pieces, 1.4 s"); "" when none runs. ≤ kMaxTextBytes
+  std::string loading;
   bool operator==(const StatusReply&) const = default;
 };
 /// StatusReply::shm_flags bits.

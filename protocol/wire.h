@@ -28,6 +28,9 @@ namespace hapticd::proto {
 //                    ignores it). StatusReply appends, after its texts, the shm and
 //                    scene-edit counters (6 u64), shm_flags u32, shm_name_length u16,
 //                    reserved u16, shm_name.
+//   1.2  2026-12-03  StatusReply appends, after shm_name, loading_length u16, reserved u16 and
+//                    loading: what a scene build (SIGHUP reload, upload) is doing, "" when none
+//                    runs (a 1.1 sender's reads as ""; a 1.1 reader ignores it).
 //
 // Rules for later versions. A minor version may only (a) append fields at the end of a
 // message's payload (after its lists and strings) or (b) add message types; a receiver of an
@@ -35,7 +38,7 @@ namespace hapticd::proto {
 // Error kUnknownType. Anything else (moved fields, changed units, new header fields) is a new
 // major version, which a receiver refuses (Errc::kBadMajor).
 inline constexpr std::uint8_t kVersionMajor = 1;
-inline constexpr std::uint8_t kVersionMinor = 1;
+inline constexpr std::uint8_t kVersionMinor = 2;
 
 /// "HPTC" in the first four bytes of every datagram (0x43545048 read little-endian).
 inline constexpr std::uint32_t kMagic = 0x43545048u;

@@ -32,7 +32,7 @@ __all__ = ["Client", "HapticdError", "NoDaemon", "WrongKey", "Refused", "read_po
            "sample_pose_stream", "RECORD_COLUMNS", "record_row", "load_key"]
 
 VERSION_MAJOR = 1
-VERSION_MINOR = 1
+VERSION_MINOR = 2
 MAGIC = 0x43545048
 FLAG_MAC = 1
 MAC_SIZE = 32
@@ -67,6 +67,7 @@ _STATE_FIXED = struct.Struct("<QQ7d7d3d3ddQQIIIIIIHHI")  # 232 bytes
 _STATE_MINOR1 = struct.Struct("<IIdII")                 # 24 bytes
 _STATUS_FIXED = struct.Struct("<QQQddIIIIIIIIQQQQHHHH")  # 112 bytes
 _STATUS_MINOR1 = struct.Struct("<QQQQQQIHH")             # 56 bytes
+_STATUS_MINOR2 = struct.Struct("<HH")                    # 4 bytes: loading_length, reserved
 _WELCOME = struct.Struct("<QIIIIQIIHHHHQ")               # 56 bytes
 _ERROR_FIXED = struct.Struct("<QHHHH")                   # 16 bytes
 _SCENE_STATUS_FIXED = struct.Struct("<IHHQQHHI")         # 32 bytes
@@ -176,6 +177,12 @@ def _decode_status(payload, minor):
                  shm_flags=t[6])
         at += _STATUS_MINOR1.size
         r["shm_name"] = payload[at:at + t[7]].decode("utf-8", "replace")
+        at += t[7]
+    r["loading"] = ""
+    if minor >= 2:
+        n_loading, _ = _STATUS_MINOR2.unpack_from(payload, at)
+        at += _STATUS_MINOR2.size
+        r["loading"] = payload[at:at + n_loading].decode("utf-8", "replace")
     return r
 
 

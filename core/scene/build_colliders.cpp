@@ -18,9 +18,6 @@ constexpr double kPlaneExtents = 10.0;
 constexpr double kFlatTolerance = 1e-6;
 /// ... and is given this fraction of its size as a thickness, behind its front faces.
 constexpr double kFlatThickness = 0.05;
-/// The hull that tells whether a surface mesh is convex may have this many vertices (the most a
-/// Polytope indexes); the primitives made are held to max_hull_vertices.
-constexpr std::size_t kMaxTestHullVertices = 65535;
 
 /// The value in `slot`, made by `make` (a Result) the first time; false with a problem when it
 /// cannot be made.
@@ -220,10 +217,9 @@ bool Builder::reuse(SceneModel& scene,
 
 std::shared_ptr<const geom::Polytope> Builder::hullOf(const std::vector<Vec3>& points_P,
                                                       std::uint32_t node,
-                                                      const std::string& name,
-                                                      std::size_t max_vertices) {
+                                                      const std::string& name) {
   geom::HullOptions hull;
-  hull.max_vertices = max_vertices > 0 ? max_vertices : options_.limits.max_hull_vertices;
+  hull.max_vertices = options_.limits.max_hull_vertices;
   hull.max_input_points = options_.limits.max_hull_input_points;
   auto poly = geom::Polytope::fromPoints(points_P, hull);
   if (!poly) {
@@ -248,50 +244,67 @@ bool Builder::surfacePieces(const Target& target,
                          "): flat, given a thickness of " + formatNumber(thickness) +
                          " m behind its front faces");
   }
-  // the hull only tells whether the surface is convex: max_hull_vertices applies to the
-  // primitives made, this hull when the surface is convex, otherwise each piece (a fine
-  // non-convex mesh has a hull of more vertices than any of its pieces)
-  auto hull = hullOf(points_P, target.node, in.mesh_name, kMaxTestHullVertices);
-  if (!hull)
-    return false;
-  const auto withinLimit = [&](const geom::Polytope& h) {
-    const std::size_t limit = options_.limits.max_hull_vertices;
-    if (h.vertices().size() <= limit)
-      return true;
-    p_->add(where(target.node), in.mesh_name + ": cannot build a convex hull: hull has " +
-                                    std::to_string(h.vertices().size()) + " vertices (limit " +
-                                    std::to_string(limit) + ")");
-    return false;
+  const std::string name = in.mesh_name + " (" + where(target.node) + ")";
+  const double concavity = concavityOf(target.node);
+  // the hulls of `pieces` (the whole mesh's `hull` reused when a piece is the whole mesh)
+  const auto usePieces = [&](const ConvexPieces& pieces,
+                             const std::shared_ptr<const geom::Polytope>& hull) {
+    built->source = ShapeSource::kMeshPiece;
+    for (const std::vector<Vec3>& piece : pieces.pieces) {
+      if (hull && piece == points_P) {
+        built->hulls.push_back(hull);  // the hull already built
+        continue;
+      }
+      hull_points_ += piece.size();
+      auto h = hullOf(piece, target.node, in.mesh_name);
+      if (!h || !withinTotalHullPoints(target.node, 0))
+        return false;
+      built->hulls.push_back(std::move(h));
+    }
+    stand_ins_.push_back(name + ": " + pieces.method);
+    return true;
   };
+  // a mesh decomposed before with these options (only such meshes have an entry): its pieces
+  // from the cache, without the whole mesh's hull and convexity test
+  if (auto cached = decomposer_.cachedPieces(points_P, in.triangles, concavity, name))
+    return usePieces(*cached, nullptr);
+  // the whole mesh's hull with no vertex limit: a mesh whose hull has more vertices than
+  // max_hull_vertices (a dense scan) is decomposed, its pieces within the limit
+  geom::HullOptions unlimited;
+  unlimited.max_vertices = options_.limits.max_hull_input_points;
+  unlimited.max_input_points = options_.limits.max_hull_input_points;
+  auto whole = geom::Polytope::fromPoints(points_P, unlimited);
+  if (!whole) {
+    p_->add(where(target.node), (in.mesh_name.empty() ? "collider" : in.mesh_name) +
+                                    ": cannot build a convex hull: " + whole.error().message);
+    return false;
+  }
+  auto hull = std::make_shared<const geom::Polytope>(std::move(whole).value());
+  const bool within = hull->vertices().size() <= options_.limits.max_hull_vertices;
   const bool convex =
       thickness > 0.0
           ? polytopeIntegrals(*hull, Transform{}).volume <= (1.0 + 1e-3) * flat_area * thickness
           : convexityViolation(*hull, points_P, in.triangles) <= kConvexTolerance * hull->radius();
-  if (convex) {
-    if (!withinLimit(*hull))
-      return false;
+  if (convex && within) {
     built->source = ShapeSource::kConvexMesh;
     built->hulls = {std::move(hull)};
     return true;
   }
-  const ConvexPieces pieces = convexPieces(points_P, in.triangles);
-  built->source = ShapeSource::kMeshPiece;
-  for (const std::vector<Vec3>& piece : pieces.pieces) {
-    if (piece == points_P) {
-      if (!withinLimit(*hull))
-        return false;
-      built->hulls.push_back(hull);  // the hull already built
-      continue;
-    }
-    hull_points_ += piece.size();
-    auto h = hullOf(piece, target.node, in.mesh_name);
-    if (!h || !withinTotalHullPoints(target.node, 0))
-      return false;
-    built->hulls.push_back(std::move(h));
+  const std::string why = convex ? "convex, but its hull has more than " +
+                                       std::to_string(options_.limits.max_hull_vertices) +
+                                       " vertices (max_hull_vertices)"
+                                 : std::string("not convex");
+  return usePieces(decomposer_.convexPieces(points_P, in.triangles, concavity, name, why),
+                   within ? hull : nullptr);
+}
+
+double Builder::concavityOf(std::uint32_t node) const {
+  for (std::int32_t n = static_cast<std::int32_t>(node); n >= 0;
+       n = doc_.nodes[static_cast<std::size_t>(n)].parent) {
+    if (const auto& c = doc_.nodes[static_cast<std::size_t>(n)].concavity)
+      return *c;
   }
-  stand_ins_.push_back(in.mesh_name + " (" + where(target.node) + "): not convex, " +
-                       pieces.method);
-  return true;
+  return options_.decomposition.concavity;
 }
 
 bool Builder::finishPrimitive(SceneModel& scene,

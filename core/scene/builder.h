@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "core/scene/accessors.h"
+#include "core/scene/decompose.h"
 #include "core/scene/document.h"
 #include "core/scene/shapes.h"
 
@@ -31,10 +32,16 @@ class Builder {
           const BufferData& data,
           const LoadOptions& options,
           Problems* problems)
-      : doc_(doc), options_(options), p_(problems), reader_(doc, data, options.limits, problems) {}
+      : doc_(doc),
+        options_(options),
+        p_(problems),
+        reader_(doc, data, options.limits, problems),
+        decomposer_(options) {}
 
   /// The scene, or nullopt with problems.
   std::optional<SceneModel> build(const std::string& name);
+  /// What the decomposition of non-convex meshes did (counts, cache warnings).
+  Decomposer& decomposer() { return decomposer_; }
 
  private:
   struct Target;
@@ -141,6 +148,9 @@ class Builder {
                      std::vector<Vec3>& points_P,
                      Built* built);
   bool withinTotalHullPoints(std::uint32_t node, std::uint64_t more);
+  /// The decomposition's concavity for a mesh on `node`: `extras.haptic.concavity` of the node
+  /// or its nearest ancestor that sets it, else the load's option.
+  double concavityOf(std::uint32_t node) const;
 
   // build_physics.cpp
   void massProperties(Body& body, const MotionDef& motion, std::uint32_t node);
@@ -154,6 +164,7 @@ class Builder {
   const LoadOptions& options_;
   Problems* p_;
   AccessorReader reader_;
+  Decomposer decomposer_;
   std::vector<glm::dmat4> world_;           // per node
   std::vector<std::uint8_t> in_scene_;      // per node
   std::vector<std::uint8_t> in_trigger_;    // per node: under an OMI trigger body (same body)

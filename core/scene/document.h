@@ -85,6 +85,9 @@ struct NodeDef {
   bool probe = false;
   std::optional<double> stiffness;
   std::optional<bool> active;  ///< extras.haptic.active, where declared
+  /// extras.haptic.concavity, where declared: the decomposition's target for meshes at or below
+  /// this node, in (0, 1)
+  std::optional<double> concavity;
   glm::dmat4 local() const;
 };
 
@@ -270,6 +273,7 @@ struct HapticExtras {
   bool probe = false;
   std::optional<double> stiffness;
   std::optional<bool> active;
+  std::optional<double> concavity;
   std::optional<Vec3> gravity;
 };
 void validateHapticExtras(Checker& c,

@@ -2,6 +2,9 @@
 // accessors.h, builder.h), each run only when the earlier ones found nothing.
 #include "core/scene/loader.h"
 
+#include <cmath>
+#include <cstdlib>
+
 #include "core/scene/builder.h"
 #include "core/scene/uri.h"
 
@@ -26,6 +29,22 @@ LoadReport loadImpl(std::span<const std::uint8_t> bytes,
                                 " must be in (0, 0.5)");
     return finish();
   }
+  const DecompositionOptions& decomposition = options.decomposition;
+  if (!(decomposition.concavity > 0.0 && decomposition.concavity < 1.0)) {
+    problems.add("options", "concavity " + detail::formatNumber(decomposition.concavity) +
+                                " must be in (0, 1)");
+    return finish();
+  }
+  if (decomposition.max_pieces < 1) {
+    problems.add("options", "max_pieces must be at least 1");
+    return finish();
+  }
+  if (!(decomposition.time_limit_s >= 0.0 && std::isfinite(decomposition.time_limit_s))) {
+    problems.add("options", "decompose_time_limit_s " +
+                                detail::formatNumber(decomposition.time_limit_s) +
+                                " must be finite and >= 0");
+    return finish();
+  }
   detail::Document doc;
   if (!detail::parseDocument(bytes, options, &doc, &problems))
     return finish();
@@ -34,6 +53,8 @@ LoadReport loadImpl(std::span<const std::uint8_t> bytes,
     return finish();
   detail::Builder builder(doc, *data, options, &problems);
   report.scene = builder.build(name);
+  report.decomposition = builder.decomposer().counts();
+  report.warnings = builder.decomposer().takeWarnings();
   return finish();
 }
 
@@ -74,6 +95,23 @@ LoadReport loadSceneFile(const std::filesystem::path& path, const LoadOptions& o
   if (!beside.allowed_uri_dir)
     beside.allowed_uri_dir = std::filesystem::absolute(path).parent_path();
   return loadScene(bytes.value(), path.filename().string(), beside);
+}
+
+std::filesystem::path decompositionCacheDir(const std::string& setting) {
+  if (setting != "auto")
+    return setting;
+  // an environment variable that is set and not empty
+  const auto env = [](const char* name) -> std::string {
+    const char* v = std::getenv(name);  // NOLINT(concurrency-mt-unsafe): read-only here
+    return v ? std::string(v) : std::string();
+  };
+  if (const std::string systemd = env("CACHE_DIRECTORY"); !systemd.empty())
+    return systemd.substr(0, systemd.find(':'));  // one folder per CacheDirectory= entry
+  if (const std::string xdg = env("XDG_CACHE_HOME"); !xdg.empty())
+    return std::filesystem::path(xdg) / "hapticd";
+  if (const std::string home = env("HOME"); !home.empty())
+    return std::filesystem::path(home) / ".cache" / "hapticd";
+  return {};
 }
 
 }  // namespace hapticd::scene

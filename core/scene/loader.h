@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <optional>
 #include <span>
 #include <string>
@@ -23,8 +24,39 @@
 
 namespace hapticd::scene {
 
+/// How meshes that are not convex are made convex (core/scene/decompose.h, docs/scenes.md): a
+/// TRIMESH collider, a mesh collider without `convexHull` and a plain model's mesh alike.
+struct DecompositionOptions {
+  /// Target concavity, a fraction of the mesh's bounding-box diagonal, in (0, 1).
+  /// `extras.haptic.concavity` on the collider's node or an ancestor overrides it.
+  double concavity = 0.01;
+  /// At most this many pieces per mesh (>= 1; each a primitive, counted against max_primitives).
+  std::uint32_t max_pieces = 64;
+  /// Wall-clock limit of one mesh's decomposition, seconds (>= 0; 0: none): past it the best
+  /// pieces so far are used and the notes say so.
+  double time_limit_s = 5.0;
+  /// Folder of the decomposition cache (core/scene/decomp_cache.h): a mesh decomposed once with
+  /// the same options is read back instead. Empty: no cache. A folder that cannot be written is
+  /// a warning, never a failure.
+  std::filesystem::path cache_dir;
+};
+
+/// Where a load is, for a progress line ("decomposing mesh 3 (Bunny), 12 pieces, 1.4 s").
+struct LoadProgress {
+  std::size_t mesh = 0;   ///< 1-based: the how-manieth mesh this load decomposes
+  std::string mesh_name;  ///< "mesh 2 'Bunny'"
+  std::size_t pieces = 0;
+  double elapsed_s = 0.0;  ///< of this mesh's decomposition
+  const char* stage = "";  ///< core/decomp's stage: "repair", "cut", "merge", "finish"
+};
+/// Called on the loading thread, often (throttle yourself); must not throw.
+using LoadProgressFn = std::function<void(const LoadProgress&)>;
+
 struct LoadOptions {
   SceneLimits limits;
+  DecompositionOptions decomposition;
+  /// Told while meshes are decomposed (not for meshes read from the cache). Empty: none.
+  LoadProgressFn progress;
   /// The base folder of external buffer URIs (images are never read): a URI is a relative path
   /// inside it (no scheme, not absolute, no `..`, no symbolic link out of it). Unset: external
   /// URIs are refused, which is what bytes from elsewhere (an upload) must use.
@@ -38,9 +70,21 @@ struct Problem {
 };
 
 /// Everything the loader found: the model when there is no problem.
+/// What the load did with meshes that are not convex.
+struct DecompositionCounts {
+  std::size_t decomposed = 0;     ///< meshes decomposed by core/decomp in this load
+  std::size_t cache_hits = 0;     ///< meshes whose pieces were read from the cache
+  std::size_t cache_refused = 0;  ///< cache entries refused (corrupt, foreign, old): rebuilt
+  std::size_t cache_written = 0;  ///< entries written
+};
+
 struct LoadReport {
   std::optional<SceneModel> scene;
   std::vector<Problem> problems;  ///< empty exactly when scene is set
+  /// Not problems, each a sentence: a cache entry refused and rebuilt, a cache folder that
+  /// cannot be written. The scene loads all the same.
+  std::vector<std::string> warnings;
+  DecompositionCounts decomposition;
   bool ok() const { return scene.has_value(); }
   /// All problems, one line each: "where: what".
   std::string message() const;
@@ -52,6 +96,12 @@ struct LoadReport {
 LoadReport loadScene(std::span<const std::uint8_t> bytes,
                      const std::string& name,
                      const LoadOptions& options = {});
+
+/// The folder a cache setting names (config [scene] cache_dir, hapticctl check --cache-dir):
+/// "auto" is $CACHE_DIRECTORY (systemd's CacheDirectory=, its first entry), else
+/// $XDG_CACHE_HOME/hapticd, else $HOME/.cache/hapticd, else none (empty); "" is none (no cache);
+/// anything else is itself. Reads the environment; any thread that does not set it.
+std::filesystem::path decompositionCacheDir(const std::string& setting);
 
 /// Reads and loads a file (size checked before reading). External URIs resolve inside the file's
 /// own folder unless options.allowed_uri_dir names another, with the same guards.

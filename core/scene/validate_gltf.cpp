@@ -313,6 +313,7 @@ bool validateNodes(Checker& c, const TopLevel& top, const SceneLimits& limits, D
     def.probe = extras.probe;
     def.stiffness = extras.stiffness;
     def.active = extras.active;
+    def.concavity = extras.concavity;
   }
   validateHierarchy(c, doc);
   return true;

@@ -425,7 +425,8 @@ void validateHapticExtras(Checker& c,
   for (auto it = haptic->begin(); it != haptic->end(); ++it) {
     const std::string& key = it.key();
     const bool known =
-        out->node ? key == "probe" || key == "stiffness" || key == "active" : key == "gravity";
+        out->node ? key == "probe" || key == "stiffness" || key == "active" || key == "concavity"
+                  : key == "gravity";
     if (!known)
       c.add(w, "unknown property " + inQuotes(key));
   }
@@ -442,6 +443,14 @@ void validateHapticExtras(Checker& c,
     out->stiffness = k;
   if (c.boolean(*haptic, "active", w, &on) == Got::kOk)
     out->active = on;
+  double concavity = 0.0;
+  if (c.bounded(*haptic, "concavity", w, &concavity, 0.0, true) == Got::kOk) {
+    if (concavity < 1.0)
+      out->concavity = concavity;
+    else
+      c.add(w, "concavity " + formatNumber(concavity) +
+                   " must be in (0, 1) (a fraction of the mesh's bounding-box diagonal)");
+  }
 }
 
 }  // namespace hapticd::scene::detail

@@ -121,7 +121,8 @@ json statusJson(const proto::StatusReply& r, const FaultNames& names) {
                 {"edit_batches_dropped", r.edit_batches_dropped},
                 {"edits_applied", r.edits_applied},
                 {"edits_refused", r.edits_refused},
-                {"shm", r.shm_name}});  // appended in this order (ordered_json)
+                {"shm", r.shm_name},
+                {"loading", r.loading}});  // appended in this order (ordered_json)
   return j;
 }
 

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cctype>
+#include <filesystem>
 #include <fstream>
 #include <ostream>
 #include <regex>
@@ -139,6 +140,33 @@ TEST(Config, DefaultsAreThoseOfTheSimulationAndDeviceOptions) {
   EXPECT_EQ(l.limits.max_hull_vertices, g.max_hull_vertices);
   EXPECT_EQ(l.limits.tessellation_tolerance, g.tessellation_tolerance);
   EXPECT_FALSE(l.allowed_uri_dir.has_value());
+  const scene::DecompositionOptions dd;
+  EXPECT_EQ(l.decomposition.concavity, dd.concavity);
+  EXPECT_EQ(l.decomposition.max_pieces, dd.max_pieces);
+  EXPECT_EQ(l.decomposition.time_limit_s, dd.time_limit_s);
+  EXPECT_EQ(c.scene.cache_dir, "auto");
+}
+
+// [scene] concavity, max_pieces, decompose_time_limit_s and cache_dir reach the loader's options
+TEST(Config, DecompositionKeysReachTheLoader) {
+  auto parsed = parseConfig(R"([scene]
+concavity = 0.05
+max_pieces = 12
+decompose_time_limit_s = 30
+cache_dir = "/srv/hapticd-cache"
+)",
+                            "t.toml");
+  ASSERT_TRUE(parsed) << parsed.error().message;
+  const scene::LoadOptions l = toLoadOptions(parsed.value().config);
+  EXPECT_EQ(l.decomposition.concavity, 0.05);
+  EXPECT_EQ(l.decomposition.max_pieces, 12u);
+  EXPECT_EQ(l.decomposition.time_limit_s, 30.0);
+  EXPECT_EQ(l.decomposition.cache_dir, std::filesystem::path("/srv/hapticd-cache"));
+  // "" turns the cache off; "auto" is the environment's folder
+  auto off = parseConfig("[scene]\ncache_dir = \"\"\n", "t.toml");
+  ASSERT_TRUE(off) << off.error().message;
+  EXPECT_TRUE(toLoadOptions(off.value().config).decomposition.cache_dir.empty());
+  EXPECT_EQ(toLoadOptions(Config{}).decomposition.cache_dir, scene::decompositionCacheDir("auto"));
 }
 
 TEST(Config, PrintedConfigParsesBackToTheSame) {
@@ -253,6 +281,15 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"servo = 3\n", "bad.toml:1: servo: must be a table"},
         BadCase{"[servo\nrate_hz = 1\n", "bad.toml:1:"},
         BadCase{"[scene]\nmax_nodes = -4\n", "bad.toml:2: [scene] max_nodes"},
+        BadCase{"[scene]\nconcavity = 0\n", "bad.toml:2: [scene] concavity: must be > 0"},
+        BadCase{"[scene]\nconcavity = 1.0\n", "bad.toml:2: [scene] concavity: must be in (0, 1)"},
+        BadCase{"[scene]\nmax_pieces = 0\n",
+                "bad.toml:2: [scene] max_pieces: must be in [1, 10000]"},
+        BadCase{"[scene]\ndecompose_time_limit_s = -1\n",
+                "bad.toml:2: [scene] decompose_time_limit_s: must be in [0, 86400]"},
+        BadCase{"[scene]\ncache_dir = \"cache\"\n",
+                "bad.toml:2: [scene] cache_dir: must be \"auto\", \"\" (no cache) or an absolute "
+                "folder (got \"cache\")"},
         BadCase{"[response]\nhinge_attach = \"side\"\n",
                 "bad.toml:2: [response] hinge_attach: \"side\""},
         BadCase{"[device]\nusb_falcon_max_motor_command = 40000\n",

@@ -28,6 +28,7 @@
 #include <sstream>
 #include <thread>
 
+#include "daemon/build_progress.h"
 #include "daemon/daemon.h"
 #include "protocol/auth.h"
 #include "protocol/client.h"
@@ -75,6 +76,12 @@ class DaemonEditTest : public ::testing::Test {
     b.load_scene_bytes = [this](std::span<const std::uint8_t> bytes, const std::string& name,
                                 const Config&) -> Result<std::shared_ptr<const scene::SceneModel>> {
       uploaded_.assign(bytes.begin(), bytes.end());
+      if (name.rfind("slow", 0) == 0) {  // a long build (a decomposition): until released
+        reportBuildProgress("loading scene '" + name +
+                            "': decomposing mesh 1 (mesh 0 'Bunny'), 3 pieces, 0.5 s");
+        while (!release_.load())
+          std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      }
       if (name.rfind("bad", 0) == 0)
         return Error{"scene '" + name + "': not a scene"};
       auto m = testing::editableSceneModel(name);
@@ -121,6 +128,7 @@ class DaemonEditTest : public ::testing::Test {
   }
 
   std::vector<std::uint8_t> uploaded_;  // what load_scene_bytes was given (builder thread)
+  std::atomic<bool> release_{true};     // a "slow..." upload's build waits for it
 
   std::unique_ptr<proto::Client> client(std::optional<proto::Key> key = std::nullopt) {
     const std::string a = status()["network"]["udp"];
@@ -191,6 +199,54 @@ TEST_F(DaemonEditTest, AnUploadIsBuiltFromItsBytes) {
     if (e.path().filename().string().rfind("hapticd-upload-", 0) == 0)
       tmp_after += e.path().string() + " ";
   EXPECT_EQ(tmp_after, tmp_before);  // no upload file was left (none is written)
+}
+
+// while an upload builds for long, the running scene stays, a status reply (protocol 1.2) says
+// what the build is doing, and another upload is refused at once with that progress
+TEST_F(DaemonEditTest, AnUploadDuringALongBuildIsRefusedWithItsProgress) {
+  release_ = false;
+  const std::vector<std::uint8_t> bytes(100, 7);
+  EXPECT_EQ(runWith(cli(""),
+                    [&] {
+                      auto first = client();
+                      auto second = client();
+                      ASSERT_TRUE(first && second);
+                      std::thread slow([&] {
+                        auto ok = first->load(bytes, "slow.glb");
+                        EXPECT_TRUE(ok) << ok.error().message;
+                      });
+                      EXPECT_TRUE(waitStatus([](const nlohmann::json& j) {
+                        return j.value("loading", std::string()).find("decomposing mesh 1") !=
+                               std::string::npos;
+                      }));
+                      auto st = second->status();
+                      EXPECT_TRUE(st) << st.error().message;
+                      if (st) {
+                        EXPECT_EQ(st.value().loading,
+                                  "loading scene 'slow.glb': decomposing mesh 1 (mesh 0 'Bunny'), "
+                                  "3 pieces, 0.5 s");
+                        EXPECT_EQ(st.value().scene, "edits");  // the running scene stays
+                      }
+                      auto refused = second->load(bytes, "other.glb");
+                      EXPECT_FALSE(refused);
+                      if (!refused) {
+                        EXPECT_NE(refused.error().message.find(
+                                      "another scene is being built (loading scene 'slow.glb': "
+                                      "decomposing mesh 1"),
+                                  std::string::npos)
+                            << refused.error().message;
+                      }
+                      release_ = true;
+                      slow.join();
+                      EXPECT_TRUE(waitStatus([](const nlohmann::json& j) {
+                        return j["scene"]["name"] == "slow.glb" && j["loading"] == "";
+                      }));
+                      auto after = second->status();
+                      ASSERT_TRUE(after);
+                      EXPECT_EQ(after.value().loading, "");
+                    }),
+            kExitOk);
+  release_ = true;
 }
 
 TEST_F(DaemonEditTest, ASceneUpdateMovingAKinematicBodyIsAckedAndLaterStatesListItThere) {

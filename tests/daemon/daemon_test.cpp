@@ -11,6 +11,7 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <atomic>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -19,6 +20,7 @@
 #include <sstream>
 #include <thread>
 
+#include "daemon/build_progress.h"
 #include "protocol/messages.h"
 #include "tests/daemon/daemon_fixture.h"
 #include "tests/daemon/fakes.h"
@@ -166,6 +168,55 @@ TEST_F(DaemonTest, SighupReloadsGoodScenesAndKeepsTheOldOnBadScenesAndConfigs) {
     kill(getpid(), SIGTERM);
   });
   EXPECT_EQ(runDaemon(cli, fakeBackends()), kExitOk);
+  helper.join();
+}
+
+// A reload whose scene takes long to build (a decomposition): the old scene keeps ticking, the
+// status file says what the build is doing, and the new scene replaces the old when it is ready.
+// The fake loader of "slow:NAME" reports progress and waits for the test's word (no clock).
+TEST_F(DaemonTest, ALongBuildKeepsTheOldSceneTickingAndShowsItsProgress) {
+  std::atomic<bool> release{false};
+  Backends backends = fakeBackends();
+  const auto good = backends.load_scene;
+  backends.load_scene = [&](const Config& c) {
+    if (c.scene.path.rfind("slow:", 0) != 0)
+      return good(c);
+    reportBuildProgress("loading scene 'slow': decomposing mesh 1 (mesh 0 'Bunny'), 3 pieces");
+    while (!release.load())
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    Config named = c;
+    named.scene.path = "good:" + c.scene.path.substr(5);
+    return good(named);
+  };
+  writeConfig("[scene]\npath = \"good:first\"\n");
+  CommandLine cli = baseCli();
+  cli.config_path = (dir_ / "hapticd.toml").string();
+  std::thread helper([&] {
+    ASSERT_TRUE(waitFor([](const auto& j) { return j.value("tick", 0) > 10; }));
+    EXPECT_EQ(status()["loading"], "");
+    writeConfig("[scene]\npath = \"slow:second\"\n");
+    kill(getpid(), SIGHUP);
+    ASSERT_TRUE(waitFor([](const auto& j) {
+      return j.value("loading", std::string()).find("decomposing mesh 1") != std::string::npos;
+    }));
+    const auto before = status()["tick"].get<std::uint64_t>();
+    // the servo loop runs the old scene meanwhile: its ticks go on, it is still the scene
+    ASSERT_TRUE(waitFor([&](const auto& j) { return j.value("tick", 0ull) > before + 200; }));
+    auto j = status();
+    EXPECT_EQ(j["scene"]["name"], "first");
+    EXPECT_EQ(j["scene"]["generation"], 1);
+    EXPECT_NE(j["loading"].get<std::string>().find("loading scene 'slow': decomposing mesh 1"),
+              std::string::npos)
+        << j["loading"];
+    release = true;
+    ASSERT_TRUE(waitFor([](const auto& s) { return s["scene"]["generation"] == 2; }));
+    j = status();
+    EXPECT_EQ(j["scene"]["name"], "second");
+    EXPECT_TRUE(waitFor([](const auto& s) { return s["loading"] == ""; }));
+    kill(getpid(), SIGTERM);
+  });
+  EXPECT_EQ(runDaemon(cli, backends), kExitOk);
+  release = true;
   helper.join();
 }
 

@@ -393,7 +393,7 @@ TEST(CodecStateMinor1, FieldsRoundTripAtTheDocumentedOffsets) {
   const auto b = encodeOrDie(s);
   const std::size_t lists = State::kFixedSize + 56 * s.contacts.size() + 64 * s.bodies.size();
   ASSERT_EQ(b.size(), kHeaderSize + lists + State::kMinor1Size);
-  EXPECT_EQ(b[5], 1u);  // minor 1 on the wire
+  EXPECT_EQ(b[5], kVersionMinor);  // our minor on the wire (1 when these fields came)
   const std::size_t at = kHeaderSize + lists;
   EXPECT_EQ(b[at + 0], 0xD4);
   EXPECT_EQ(b[at + 3], 0xA1);
@@ -452,15 +452,15 @@ TEST(CodecStateMinor1, AOneZeroStateMustStillBeExact) {
 TEST(CodecStateMinor1, ANewerMinorsTrailingBytesAreIgnored) {
   const State s = sampleState();
   auto b = encodeOrDie(s);
-  for (int i = 0; i < 40; ++i)  // a 1.2 field list we do not know
+  for (int i = 0; i < 40; ++i)  // a newer minor's field list we do not know
     b.push_back(static_cast<std::uint8_t>(0x80 + i));
-  relabel(b, 2);
+  relabel(b, kVersionMinor + 1);
   Header h;
   Message back;
   const auto e = decode(b, h, back);
   ASSERT_EQ(e.code, Errc::kOk) << describe(e);
   EXPECT_EQ(std::get<State>(back), s);  // the 1.1 fields are read, the rest ignored
-  EXPECT_EQ(h.minor, 2u);
+  EXPECT_EQ(h.minor, kVersionMinor + 1);
 }
 
 TEST(CodecStateMinor1, OneByteShortIsRefusedAtMinorOneAndAbove) {
@@ -510,8 +510,10 @@ TEST(Codec, DescribeNamesWhatAndWhere) {
 }
 
 // ---- StatusReply minor 1: shm and scene-edit counters after the texts ----
+// the minor-1 and minor-2 tails
 std::size_t statusTail(const StatusReply& r) {
-  return StatusReply::kMinor1FixedSize + r.shm_name.size();
+  return StatusReply::kMinor1FixedSize + r.shm_name.size() + StatusReply::kMinor2FixedSize +
+         r.loading.size();
 }
 
 TEST(CodecStatusMinor1, FieldsRoundTripAtTheDocumentedOffsets) {
@@ -529,7 +531,9 @@ TEST(CodecStatusMinor1, FieldsRoundTripAtTheDocumentedOffsets) {
   EXPECT_EQ(b[texts + 40], 4u);                                // edits_refused
   EXPECT_EQ(b[texts + 48], kShmServing | kShmClientAttached);  // shm_flags u32
   EXPECT_EQ(b[texts + 52], r.shm_name.size());                 // shm_name_length u16
-  EXPECT_EQ(std::string(b.begin() + static_cast<long>(texts + 56), b.end()), r.shm_name);
+  EXPECT_EQ(std::string(b.begin() + static_cast<long>(texts + 56),
+                        b.begin() + static_cast<long>(texts + 56 + r.shm_name.size())),
+            r.shm_name);
   EXPECT_EQ(decoded<StatusReply>(b), r);
 }
 
@@ -583,6 +587,57 @@ TEST(CodecStatusMinor1, ShortLongAndNewerMinor) {
   // a name over its bound is refused on both sides
   StatusReply longer = r;
   longer.shm_name.assign(kMaxShmNameBytes + 1, 'x');
+  std::vector<std::uint8_t> out(65536);
+  Errc why = Errc::kOk;
+  EXPECT_EQ(encode(Header{}, longer, out, &why), 0u);
+  EXPECT_EQ(why, Errc::kBadValue);
+}
+
+// ---- StatusReply minor 2: what a scene build is doing, after shm_name ----
+TEST(CodecStatusMinor2, LoadingRoundTripsAtTheDocumentedOffset) {
+  StatusReply r = sampleStatus();
+  r.loading = "loading scene 'a.glb': decomposing mesh 2 (mesh 1 'Bunny'), 12 pieces, 1.4 s";
+  const auto b = encodeOrDie(r);
+  ASSERT_EQ(b[5], 2u);
+  const std::size_t at = b.size() - StatusReply::kMinor2FixedSize - r.loading.size();
+  EXPECT_EQ(b[at] | (b[at + 1] << 8), static_cast<int>(r.loading.size()));  // loading_length
+  EXPECT_EQ(b[at + 2], 0u);                                                 // reserved
+  EXPECT_EQ(b[at + 3], 0u);
+  EXPECT_EQ(std::string(b.begin() + static_cast<long>(at + 4), b.end()), r.loading);
+  EXPECT_EQ(decoded<StatusReply>(b), r);
+  // with no build running: 4 bytes, ""
+  const StatusReply idle = sampleStatus();
+  ASSERT_TRUE(idle.loading.empty());
+  EXPECT_EQ(decoded<StatusReply>(encodeOrDie(idle)), idle);
+}
+
+TEST(CodecStatusMinor2, AOneOneStatusWithoutItReadsEmptyAndMustBeExact) {
+  StatusReply r = sampleStatus();
+  r.loading = "loading";
+  auto b = encodeOrDie(r);
+  b.resize(b.size() - StatusReply::kMinor2FixedSize - r.loading.size());  // a 1.1 sender's
+  relabel(b, 1);
+  Header h;
+  Message back;
+  const auto e = decode(b, h, back);
+  ASSERT_EQ(e.code, Errc::kOk) << describe(e);
+  StatusReply expect = r;
+  expect.loading.clear();
+  EXPECT_EQ(std::get<StatusReply>(back), expect);
+  // 1.1 had no loading: a 1.1 StatusReply carrying it is refused
+  auto full = encodeOrDie(r);
+  relabel(full, 1);
+  EXPECT_EQ(decode(full, h, back).code, Errc::kBadPayloadLength);
+  // at 1.2: one byte short (in the text), and without the length field, are refused
+  full = encodeOrDie(r);
+  full.pop_back();
+  relabel(full, 2);
+  EXPECT_EQ(decode(full, h, back).code, Errc::kBadPayloadLength);
+  relabel(b, 2);
+  EXPECT_EQ(decode(b, h, back).code, Errc::kBadPayloadLength);
+  // a text over its bound is refused on both sides
+  StatusReply longer = r;
+  longer.loading.assign(kMaxTextBytes + 1, 'x');
   std::vector<std::uint8_t> out(65536);
   Errc why = Errc::kOk;
   EXPECT_EQ(encode(Header{}, longer, out, &why), 0u);

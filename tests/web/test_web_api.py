@@ -138,6 +138,7 @@ class Messages(unittest.TestCase):
             self.assertIsInstance(s["faults"], list)
             self.assertGreaterEqual(s["web"]["clients"], 1)
             self.assertIn("peg_in_hole", s["scene"])
+            self.assertEqual(s["loading"], "")  # no scene build runs
 
     def test_subscribe_every_field_and_a_subset(self):
         with self.d.client() as c:

@@ -142,6 +142,7 @@ class AgainstTheDaemon(unittest.TestCase):
         self.assertIn("bad_mac", s["refused"])
         self.assertIn("contact forces", s["plan"])
         self.assertEqual(s["shm_name"], "")  # --shm ""
+        self.assertEqual(s["loading"], "")  # protocol 1.2: no scene build runs
 
     def test_states_carry_poses_forces_and_bodies(self):
         with self.daemon.client() as c:
