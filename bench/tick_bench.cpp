@@ -259,7 +259,7 @@ void registerAll() {
     b->Iterations(1)->Unit(benchmark::kMillisecond);
   };
   once(benchmark::RegisterBenchmark("Tick/empty", tickEmpty));
-  for (const char* scene : {"peg_in_hole", "gears", "dynamic", "stress"})
+  for (const char* scene : {"peg_in_hole", "gears", "dynamic", "stress", "decomposed"})
     once(benchmark::RegisterBenchmark(("Tick/" + std::string(scene)).c_str(), tickScene, scene));
   once(benchmark::RegisterBenchmark("Tick/stack100", tickStack100)->Arg(1));
   once(benchmark::RegisterBenchmark("Tick/stack100_sleeping", tickStack100)->Arg(0));

@@ -3,8 +3,10 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <stdexcept>
 #include <string>
 
+#include "core/decomp/decompose.h"
 #include "scenes/glb_builder.h"
 
 namespace hapticd::scenes {
@@ -336,6 +338,85 @@ std::vector<std::uint8_t> makeStress() {
   return b.finish("stress");
 }
 
+/// The pieces of the closed mesh `mesh`, by the product's decomposition; throws if it fails.
+std::vector<MeshData> decomposeCell(const MeshData& mesh) {
+  decomp::TriangleMesh in;
+  in.positions = mesh.positions;
+  in.triangles = mesh.triangles;
+  decomp::DecompOptions options;
+  options.threads = 1;
+  auto result = decomp::decompose(in, options);
+  if (!result.ok())
+    throw std::runtime_error("scene generator: decomposition failed: " + result.error().message);
+  std::vector<MeshData> pieces;
+  for (const decomp::ConvexPiece& p : result.value().pieces)
+    pieces.push_back({p.vertices, p.triangles});
+  return pieces;
+}
+
+/// A static plate of grooves along Z and a held plate of pins over it, both non-convex meshes
+/// built cell by cell and decomposed into convex pieces, one collider node per piece.
+std::vector<std::uint8_t> makeDecomposed() {
+  using namespace decomposed;
+  GltfBuilder b;
+  const int grey = b.addRenderMaterial("grooved", {0.55, 0.57, 0.60, 1.0}, 0.3, 0.6);
+  const int copper = b.addRenderMaterial("pins", {0.78, 0.45, 0.28, 1.0}, 0.8, 0.4);
+
+  // each plate's cell decomposed once; its pieces' meshes shared by every cell's nodes
+  auto addPieces = [&](const std::string& name, const MeshData& cell, int colour) {
+    std::vector<int> meshes;
+    const std::vector<MeshData> pieces = decomposeCell(cell);
+    for (std::size_t k = 0; k < pieces.size(); ++k)
+      meshes.push_back(
+          b.addMesh(numbered((name + "_piece").c_str(), static_cast<int>(k)), pieces[k], colour));
+    return meshes;
+  };
+  const std::vector<int> ridge_pieces = addPieces(
+      "Ridge", ridgeCellMesh(kCell_m, kRidgeWidth_m, kGrooveDepth_m, kBaseThickness_m), grey);
+  const std::vector<int> pin_pieces =
+      addPieces("Pin", pinCellMesh(kCell_m, kTileThickness_m, kPinSide_m, kPinLength_m), copper);
+
+  const int grooved = b.addNode({{"name", "GroovedPlate"}});
+  b.addRoot(grooved);
+  for (int i = 0; i < kGrooveCells; ++i) {
+    for (int j = 0; j < kGrooveCells; ++j) {
+      for (std::size_t k = 0; k < ridge_pieces.size(); ++k) {
+        char name[48];
+        std::snprintf(name, sizeof name, "Ridge_%02d_%02d_%zu", i, j, k);
+        const int n = b.addNode(
+            {{"name", name},
+             {"mesh", ridge_pieces[k]},
+             {"translation", jsonVec({grooveCellCoordinate(i), 0.0, grooveCellCoordinate(j)})}});
+        meshCollider(b, n);
+        b.addChild(grooved, n);
+      }
+    }
+  }
+
+  // the held plate, at the stream's first row
+  const int held = b.addNode({{"name", "PinPlate"},
+                              {"translation", jsonVec({kRunX_m, kStartY_m, kRunZ_m[0]})},
+                              {"rotation", jsonQuatAxisAngle({0.0, 0.0, 1.0}, kTilt_rad)},
+                              {"extensions", physics({{"motion", {{"isKinematic", true}}}})},
+                              {"extras", {{"haptic", {{"probe", true}}}}}});
+  b.addRoot(held);
+  for (int i = 0; i < kPinCellsX; ++i) {
+    for (int j = 0; j < kPinCellsZ; ++j) {
+      for (std::size_t k = 0; k < pin_pieces.size(); ++k) {
+        char name[48];
+        std::snprintf(name, sizeof name, "Pin_%02d_%02d_%zu", i, j, k);
+        const int n = b.addNode(
+            {{"name", name},
+             {"mesh", pin_pieces[k]},
+             {"translation", jsonVec({i * kCell_m, 0.0, (j - 0.5 * (kPinCellsZ - 1)) * kCell_m})}});
+        meshCollider(b, n);
+        b.addChild(held, n);
+      }
+    }
+  }
+  return b.finish("decomposed");
+}
+
 }  // namespace
 
 namespace gears {
@@ -361,7 +442,8 @@ struct DemoScene {
 constexpr DemoScene kDemoScenes[] = {{"gears", &makeGears},
                                      {"peg_in_hole", &makePegInHole},
                                      {"dynamic", &makeDynamic},
-                                     {"stress", &makeStress}};
+                                     {"stress", &makeStress},
+                                     {"decomposed", &makeDecomposed}};
 
 }  // namespace
 

@@ -2,8 +2,8 @@
 /// \file
 /// The demo scenes of the paper's §6.2 (Gregory et al. 2000), generated reproducibly as glTF 2.0
 /// binaries with KHR_physics_rigid_bodies and KHR_implicit_shapes (docs/demo-scenes.md):
-/// "gears", "peg_in_hole", "dynamic" and "stress". docs/demo-scenes.md describes each one.
-/// The same call gives the same bytes on every run and build; scenes/*.glb are its output
+/// "gears", "peg_in_hole", "dynamic", "stress" and "decomposed". docs/demo-scenes.md describes each
+/// one. The same call gives the same bytes on every run and build; scenes/*.glb are its output
 /// (written by the `make_scenes` tool). Any thread; allocates.
 
 #include <cstdint>
@@ -76,5 +76,41 @@ inline constexpr double blockCoordinate(int i) {
   return (8 * i + 4 - 0.5 * kGrid) * kPitch_m;
 }
 }  // namespace stress
+
+/// A held plate of pins sliding in the grooves of a static plate; both plates are non-convex
+/// meshes the generator builds cell by cell and decomposes into convex pieces
+/// (core/decomp/decompose.h): ~500 pieces static, ~100 held.
+namespace decomposed {
+inline constexpr double kCell_m = 0.008;  // both plates' cell pitch, X and Z
+/// The grooved plate: kGrooveCells x kGrooveCells ridge cells centred on the origin, ridge tops
+/// at y = 0, grooves along Z centred at x = (k + 1/2) * kCell_m.
+inline constexpr int kGrooveCells = 13;
+inline constexpr double kRidgeWidth_m = 0.004;  // the grooves are kCell_m - this wide: 4 mm
+inline constexpr double kGrooveDepth_m = 0.0035;
+inline constexpr double kBaseThickness_m = 0.003;
+/// The pin plate (held): kPinCellsX x kPinCellsZ pin cells; in its own frame cell (i, j) is
+/// centred at x = i * kCell_m, z = (j - (kPinCellsZ - 1) / 2) * kCell_m; pins hang from y = 0.
+inline constexpr int kPinCellsX = 10;
+inline constexpr int kPinCellsZ = 5;
+inline constexpr double kTileThickness_m = 0.002;
+inline constexpr double kPinSide_m = 0.0024;
+inline constexpr double kPinLength_m = 0.004;
+/// The stream holds the plate turned by this about +Z (its +X side up), so that only its first
+/// column of pins (x = 0) reaches into a groove.
+inline constexpr double kTilt_rad = 20.0 * 3.14159265358979323846 / 180.0;
+/// The groove the first column of pins runs in (its centre on X).
+inline constexpr double kGrooveX_m = -0.028;
+/// Where the stream runs the plate's origin (its first pin's root centre): the first pins' part
+/// below the ridge tops centred in that groove (0.42 mm to each wall), their lowest corner 2.5 mm
+/// below the ridge tops, the tiles' lower edge 0.3 mm above a ridge.
+inline constexpr double kRunX_m = -0.0289;
+inline constexpr double kRunY_m = 0.00167;
+inline constexpr double kStartY_m = 0.030;             // the first and last rows: 30 mm up
+inline constexpr double kRunZ_m[2] = {-0.030, 0.030};  // the run from one to the other along Z
+/// Ridge cell (i, j) centre on X (Z alike).
+inline constexpr double grooveCellCoordinate(int i) {
+  return (i - 0.5 * (kGrooveCells - 1)) * kCell_m;
+}
+}  // namespace decomposed
 
 }  // namespace hapticd::scenes

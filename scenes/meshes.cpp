@@ -4,6 +4,7 @@
 #include <map>
 #include <numbers>
 #include <stdexcept>
+#include <tuple>
 #include <utility>
 
 namespace hapticd::scenes {
@@ -95,6 +96,104 @@ MeshData prismMesh(const std::vector<Vec2>& polygon_ccw, double width) {
     m.triangles.push_back({n, n + i, n + i + 1});  // +z cap
   }
   return m;
+}
+
+namespace {
+
+/// A closed mesh built face by face from convex planar quads: vertices shared by exact position,
+/// each quad wound counter-clockwise seen along its outward normal.
+class QuadMesh {
+ public:
+  void quad(const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d, const Vec3& outward) {
+    std::array<std::uint32_t, 4> v = {index(a), index(b), index(c), index(d)};
+    if (glm::dot(glm::cross(b - a, c - a), outward) < 0.0)
+      std::swap(v[1], v[3]);
+    mesh_.triangles.push_back({v[0], v[1], v[2]});
+    mesh_.triangles.push_back({v[0], v[2], v[3]});
+  }
+  /// An axis-aligned rectangle on the plane `axis` = `at` from `lo` to `hi` in the other two
+  /// axes (in cyclic order), facing `sign` along `axis`.
+  void rect(int axis, double at, Vec2 lo, Vec2 hi, double sign) {
+    const int u = (axis + 1) % 3, w = (axis + 2) % 3;
+    auto point = [&](double pu, double pw) {
+      Vec3 p{0.0};
+      p[axis] = at;
+      p[u] = pu;
+      p[w] = pw;
+      return p;
+    };
+    Vec3 n{0.0};
+    n[axis] = sign;
+    quad(point(lo.x, lo.y), point(hi.x, lo.y), point(hi.x, hi.y), point(lo.x, hi.y), n);
+  }
+  MeshData take() { return std::move(mesh_); }
+
+ private:
+  std::uint32_t index(const Vec3& p) {
+    const auto key = std::make_tuple(p.x, p.y, p.z);
+    const auto [it, added] =
+        index_.emplace(key, static_cast<std::uint32_t>(mesh_.positions.size()));
+    if (added)
+      mesh_.positions.push_back(p);
+    return it->second;
+  }
+  MeshData mesh_;
+  std::map<std::tuple<double, double, double>, std::uint32_t> index_;
+};
+
+}  // namespace
+
+MeshData pinCellMesh(double tile_side, double tile_thickness, double pin_side, double pin_length) {
+  const double t = 0.5 * tile_side, p = 0.5 * pin_side, top = tile_thickness;
+  QuadMesh m;
+  // the tile: top, four sides, and the bottom as a ring of four trapezoids around the pin
+  m.rect(1, top, {-t, -t}, {t, t}, 1.0);  // (z, x)
+  for (double s : {-1.0, 1.0}) {
+    m.rect(0, s * t, {0.0, -t}, {top, t}, s);  // (y, z)
+    m.rect(2, s * t, {-t, 0.0}, {t, top}, s);  // (x, y)
+  }
+  const Vec3 down{0.0, -1.0, 0.0};
+  const Vec3 outer[4] = {{-t, 0.0, -t}, {t, 0.0, -t}, {t, 0.0, t}, {-t, 0.0, t}};
+  const Vec3 inner[4] = {{-p, 0.0, -p}, {p, 0.0, -p}, {p, 0.0, p}, {-p, 0.0, p}};
+  for (int i = 0; i < 4; ++i) {
+    const int j = (i + 1) % 4;
+    m.quad(outer[i], outer[j], inner[j], inner[i], down);
+  }
+  // the pin: four sides and its end
+  for (double s : {-1.0, 1.0}) {
+    m.rect(0, s * p, {-pin_length, -p}, {0.0, p}, s);
+    m.rect(2, s * p, {-p, -pin_length}, {p, 0.0}, s);
+  }
+  m.rect(1, -pin_length, {-p, -p}, {p, p}, -1.0);
+  return m.take();
+}
+
+MeshData ridgeCellMesh(double cell,
+                       double ridge_width,
+                       double ridge_height,
+                       double base_thickness) {
+  const double c = 0.5 * cell, r = 0.5 * ridge_width, h = ridge_height;
+  const double bottom = -(ridge_height + base_thickness);
+  QuadMesh m;
+  // rect(1, ...) takes (z, x); rect(0, ...) takes (y, z); rect(2, ...) takes (x, y)
+  m.rect(1, 0.0, {-c, -r}, {c, r}, 1.0);    // ridge top
+  m.rect(0, -r, {-h, -c}, {0.0, c}, -1.0);  // ridge sides
+  m.rect(0, r, {-h, -c}, {0.0, c}, 1.0);
+  m.rect(1, -h, {-c, -c}, {c, -r}, 1.0);  // shoulders
+  m.rect(1, -h, {-c, r}, {c, c}, 1.0);
+  m.rect(0, -c, {bottom, -c}, {-h, c}, -1.0);  // base sides along Z
+  m.rect(0, c, {bottom, -c}, {-h, c}, 1.0);
+  // the bottom and the two T-shaped ends, split at the ridge's edges so that no vertex lies on
+  // another face's edge
+  const double xs[4] = {-c, -r, r, c};
+  for (int k = 0; k < 3; ++k) {
+    m.rect(1, bottom, {-c, xs[k]}, {c, xs[k + 1]}, -1.0);
+    for (double s : {-1.0, 1.0})
+      m.rect(2, s * c, {xs[k], bottom}, {xs[k + 1], -h}, s);
+  }
+  for (double s : {-1.0, 1.0})
+    m.rect(2, s * c, {-r, -h}, {r, 0.0}, s);
+  return m.take();
 }
 
 double SpurGear::baseRadius() const {

@@ -26,6 +26,16 @@ MeshData icosphereMesh(const Vec3& radii, int levels);
 /// +width/2: 2n vertices, 4n - 4 triangles (fans on the caps).
 MeshData prismMesh(const std::vector<Vec2>& polygon_ccw, double width);
 
+/// A closed mesh of the union of a slab and a narrower bar under it, for the "decomposed" scene's
+/// non-convex cells (docs/demo-scenes.md); every face axis-aligned, no T-junction.
+/// A pin cell: a square tile (`tile_side` in X and Z, from y = 0 up to `tile_thickness`) with a
+/// square pin (`pin_side`) under its centre, from y = -pin_length to 0. 16 vertices, 28 triangles.
+MeshData pinCellMesh(double tile_side, double tile_thickness, double pin_side, double pin_length);
+/// A ridge cell: a base slab `cell` wide (X) and long (Z) from y = -(ridge_height + base_thickness)
+/// to -ridge_height, and a ridge `ridge_width` wide along the whole Z length on its centre, up to
+/// y = 0: a bar of T section. Side by side, cells make a plate of grooves along Z.
+MeshData ridgeCellMesh(double cell, double ridge_width, double ridge_height, double base_thickness);
+
 /// A standard involute spur gear (pressure angle 20°, addendum = module, dedendum = 1.25 module),
 /// teeth thinned at the pitch circle by half the pair's backlash.
 struct SpurGear {

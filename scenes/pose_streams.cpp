@@ -228,12 +228,31 @@ std::string stressStream() {
   });
 }
 
+/// The pin plate, tilted 20 degrees about Z throughout: down until its first column of pins is in
+/// a groove and its tiles' edge presses a ridge (0.3 mm), along the groove 60 mm, 1 mm sideways
+/// against the groove's wall, back along it so pressed, back to the middle, up.
+std::string decomposedStream() {
+  using namespace decomposed;
+  const double x = kRunX_m, up = kStartY_m, y = kRunY_m - 0.0006;
+  const double z0 = kRunZ_m[0], z1 = kRunZ_m[1];
+  const Vec3 tilt{0.0, 0.0, kTilt_rad};
+  const std::vector<Key> keys = {
+      {0.0, {x, up, z0}, tilt}, {1.0, {x, up, z0}, tilt},        {2.5, {x, y, z0}, tilt},
+      {6.5, {x, y, z1}, tilt},  {7.0, {x + 0.001, y, z1}, tilt}, {10.0, {x + 0.001, y, z0}, tilt},
+      {10.5, {x, y, z0}, tilt}, {12.0, {x, up, z0}, tilt},       {12.5, {x, up, z0}, tilt},
+  };
+  return writeStream(12.5, [&](double t) {
+    const Sample s = sampleKeys(keys, t);
+    return Pose{s.a, s.rot, s.buttons};
+  });
+}
+
 }  // namespace
 
 std::string makePoseStream(std::string_view scene) {
   // in demoSceneNames() order
   static constexpr std::string (*kStreams[])() = {&gearsStream, &pegStream, &dynamicStream,
-                                                  &stressStream};
+                                                  &stressStream, &decomposedStream};
   const int i = demoSceneIndex(scene);
   return i < 0 ? std::string{} : kStreams[static_cast<std::size_t>(i)]();
 }

@@ -62,7 +62,8 @@ class SweepAndPrune {
   /// Gives a box its new extent; the move takes effect at the next commit(). Servo thread.
   void update(std::uint32_t handle, const Aabb& box);
   /// Applies the moves given since the last commit and reports the pair changes as events.
-  /// Few moved boxes: each endpoint is moved by insertion (cost ~ the swaps it makes). Many:
+  /// Fewer than a third of the boxes moved: each endpoint is moved by insertion (cost ~ the swaps
+  /// it makes). More:
   /// all endpoint values are refreshed and each axis is re-sorted by one insertion-sort pass over
   /// contiguous memory. Either way every change of endpoint order between a min and a max is one
   /// overlap transition. Servo thread: allocates only when the pair set outgrows its capacity.

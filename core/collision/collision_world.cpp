@@ -44,6 +44,7 @@ void CollisionWorld::reserve(std::size_t primitives, std::size_t pairs) {
   free_pair_states_.reserve(pairs);
   state_of_pair_.reserve(pairs);
   order_.reserve(pairs);
+  contact_order_.reserve(pairs);
   contacts_.reserve(pairs);
 }
 
@@ -52,10 +53,34 @@ Transform CollisionWorld::primitiveTransform(const Prim& p) const {
   return b.T_WB * b.desc.primitives[p.index].X_BP;
 }
 
+// shapes of at most this many vertices get their boxes by one pass over the vertices
+constexpr std::size_t kSmallShape = 16;
+
 Aabb CollisionWorld::primitiveBox(Prim& p) {
   const Polytope& shape = *bodies_[p.body].desc.primitives[p.index].shape;
   const Transform X = primitiveTransform(p);
   Aabb box;
+  const auto& vertices = shape.vertices();
+  if (vertices.size() <= kSmallShape) {
+    // a small piece: one pass over its vertices costs less than six climbs; the extremes are
+    // the same values the climbs find
+    const Vec3 rows[3] = {{X.R[0][0], X.R[1][0], X.R[2][0]},
+                          {X.R[0][1], X.R[1][1], X.R[2][1]},
+                          {X.R[0][2], X.R[1][2], X.R[2][2]}};
+    Vec3 lo{std::numeric_limits<double>::infinity()}, hi{-std::numeric_limits<double>::infinity()};
+    for (const auto& v : vertices) {
+      for (int k = 0; k < 3; ++k) {
+        const double d = glm::dot(rows[k], v.p);
+        lo[k] = std::min(lo[k], d);
+        hi[k] = std::max(hi[k], d);
+      }
+    }
+    for (int k = 0; k < 3; ++k) {
+      box.lo[k] = lo[k] + X.t[k] - options_.box_margin;
+      box.hi[k] = hi[k] + X.t[k] + options_.box_margin;
+    }
+    return box;
+  }
   for (int k = 0; k < 3; ++k) {
     // world coordinate k of a vertex v is dot(row k of R, v) + t[k]: climb to its extremes
     const Vec3 row{X.R[0][k], X.R[1][k], X.R[2][k]};
@@ -219,7 +244,12 @@ StepStats CollisionWorld::step() {
       options_.budget.max_pairs == 0 ? count : std::min(count, options_.budget.max_pairs);
   const std::uint64_t due = budget == 0 ? 1 : (count + budget - 1) / budget;
   constexpr std::uint64_t kAgeMask = (1ull << 28) - 1;
+  const bool ranked = options_.budget.max_microseconds > 0.0 || budget < count;
   for (std::uint64_t& o : order_) {
+    if (!ranked) {  // every pair is tested: only the state index is read
+      o = 0xffffffffull - o;
+      continue;
+    }
     const PairState& s = pair_states_[o];
     const std::uint64_t age = std::min<std::uint64_t>(tick_ - s.last_tested, kAgeMask);
     const std::uint64_t cls = (!s.last.answered || age >= due) ? 3 : (s.in_contact ? 2 : 1);
@@ -227,11 +257,13 @@ StepStats CollisionWorld::step() {
     o = cls << 62 | age << 32 | (0xffffffffull - o);
   }
   const bool timed = options_.budget.max_microseconds > 0.0;
-  // a time budget may reach any pair: all in order; a count budget needs only its first `budget`
+  // a time budget may reach any pair: all in order; a count budget needs only its first
+  // `budget`; no budget reached: every pair is tested this tick and the order changes no answer
+  // (each pair's test reads only its own cache), so it is left in state order, unsorted
   if (!timed && budget < count) {
     std::nth_element(order_.begin(), order_.begin() + budget, order_.end(), std::greater<>());
     std::sort(order_.begin(), order_.begin() + budget, std::greater<>());
-  } else {
+  } else if (timed) {
     std::sort(order_.begin(), order_.end(), std::greater<>());
   }
   const auto start = std::chrono::steady_clock::now();
@@ -254,16 +286,17 @@ StepStats CollisionWorld::step() {
                  static_cast<std::uint32_t>(std::min<std::uint64_t>(age, 0xffffffffu)));
   }
 
-  // every close pair's latest answer, grouped by body pair
-  contacts_.clear();
-  for (const PairState& s : pair_states_) {
-    if (!s.live || resting(s))
-      continue;
-    contacts_.push_back(s.last);
-    contacts_.back().age =
-        static_cast<std::uint32_t>(std::min<std::uint64_t>(tick_ - s.last_tested, 0xffffffffu));
+  // every close pair's latest answer, grouped by body pair: the states' indices sorted (not the
+  // answers, which are large), then the answers copied in that order
+  contact_order_.clear();
+  for (std::uint32_t si = 0; si < pair_states_.size(); ++si) {
+    const PairState& s = pair_states_[si];
+    if (s.live && !resting(s))
+      contact_order_.push_back(si);
   }
-  std::sort(contacts_.begin(), contacts_.end(), [](const Contact& x, const Contact& y) {
+  std::sort(contact_order_.begin(), contact_order_.end(), [this](std::uint32_t i, std::uint32_t j) {
+    const Contact& x = pair_states_[i].last;
+    const Contact& y = pair_states_[j].last;
     if (x.body_a != y.body_a)
       return x.body_a < y.body_a;
     if (x.body_b != y.body_b)
@@ -272,6 +305,13 @@ StepStats CollisionWorld::step() {
       return x.prim_a < y.prim_a;
     return x.prim_b < y.prim_b;
   });
+  contacts_.clear();
+  for (const std::uint32_t si : contact_order_) {
+    const PairState& s = pair_states_[si];
+    contacts_.push_back(s.last);
+    contacts_.back().age =
+        static_cast<std::uint32_t>(std::min<std::uint64_t>(tick_ - s.last_tested, 0xffffffffu));
+  }
   return stats;
 }
 

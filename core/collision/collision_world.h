@@ -190,8 +190,9 @@ class CollisionWorld {
   FlatMap state_of_pair_;  // box-pair key -> pair_states_ index
   ReservedVector<std::uint32_t> free_prims_;
   ReservedVector<std::uint32_t> free_bodies_;
-  ReservedVector<std::uint32_t> moved_;  // bodies given a pose since the last step
-  ReservedVector<std::uint64_t> order_;  // scheduler scratch: priority << 32 | state index
+  ReservedVector<std::uint32_t> moved_;          // bodies given a pose since the last step
+  ReservedVector<std::uint64_t> order_;          // scheduler scratch: priority << 32 | state index
+  ReservedVector<std::uint32_t> contact_order_;  // scratch: states listed in contacts(), sorted
   ReservedVector<Contact> contacts_;
   DepthScratch depth_scratch_;  // the narrow phase's, sized for every shape added
   std::uint64_t tick_ = 0;

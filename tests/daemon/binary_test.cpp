@@ -305,9 +305,10 @@ TEST_P(ReplayTest, HeadlessReplayIsBitwiseRepeatableButForTickNs) {
   EXPECT_EQ(slurp(path("ab.csv")).rfind("tick,t,body,px,py,pz,qx,qy,qz,qw\n", 0), 0u);
 }
 
-INSTANTIATE_TEST_SUITE_P(DemoScenes,
-                         ReplayTest,
-                         ::testing::Values("gears", "peg_in_hole", "dynamic", "stress"));
+INSTANTIATE_TEST_SUITE_P(
+    DemoScenes,
+    ReplayTest,
+    ::testing::Values("gears", "peg_in_hole", "dynamic", "stress", "decomposed"));
 
 TEST_F(BinaryTest, ServesWithNoSceneArgumentsAndStopsOnSigtermWithTheRamp) {
   start({"--realtime", "off", "--status-file", path("status.json")});

@@ -475,9 +475,10 @@ TEST_P(ServoAllocationDemo, NoneOnTheServoThreadOver100000Ticks) {
   EXPECT_GT(loop.state().contact_ticks, 0u) << name << ": the stream never touched anything";
 }
 
-INSTANTIATE_TEST_SUITE_P(DemoScenes,
-                         ServoAllocationDemo,
-                         ::testing::Values("gears", "peg_in_hole", "dynamic", "stress"));
+INSTANTIATE_TEST_SUITE_P(
+    DemoScenes,
+    ServoAllocationDemo,
+    ::testing::Values("gears", "peg_in_hole", "dynamic", "stress", "decomposed"));
 #endif
 
 }  // namespace

@@ -443,9 +443,61 @@ TEST(DemoScenes, StressHasOverAThousandPrimitivesUnderTwoMegabytes) {
   EXPECT_EQ(glb.json["scenes"][0]["extras"]["haptic"]["gravity"], Json::array({0.0, -9.81, 0.0}));
 }
 
+// decomposed: the plates' pieces are the decomposition's (convex, the cell's volume between
+// them), ~500 static and ~100 held, one collider node each, the file well under 2 MB
+TEST(DemoScenes, DecomposedPlatesAreConvexPiecesOfTheirCells) {
+  using namespace decomposed;
+  const std::vector<std::uint8_t> bytes = makeDemoScene("decomposed");
+  EXPECT_LT(bytes.size(), 2u << 20);
+  const Glb glb = loadDemo("decomposed");
+  const int grooved = nodeNamed(glb, "GroovedPlate");
+  const int pins = nodeNamed(glb, "PinPlate");
+  ASSERT_GE(grooved, 0);
+  ASSERT_GE(pins, 0);
+  const std::size_t ridge_cells = static_cast<std::size_t>(kGrooveCells) * kGrooveCells;
+  const std::size_t pin_cells = static_cast<std::size_t>(kPinCellsX) * kPinCellsZ;
+  const std::vector<int> ridge = collidersUnder(glb, grooved);
+  const std::vector<int> pin = collidersUnder(glb, pins);
+  std::printf("decomposed: %zu static pieces, %zu held, %zu bytes\n", ridge.size(), pin.size(),
+              bytes.size());
+  EXPECT_GE(ridge.size(), 450u);
+  EXPECT_LE(ridge.size(), 600u);
+  EXPECT_EQ(ridge.size() % ridge_cells, 0u);  // the same pieces in every cell
+  EXPECT_GE(pin.size(), 90u);
+  EXPECT_LE(pin.size(), 150u);
+  EXPECT_EQ(pin.size() % pin_cells, 0u);
+  EXPECT_GT(ridge.size(), ridge_cells);  // the cells are not convex: cut
+  EXPECT_GT(pin.size(), pin_cells);
+  // each piece convex; a cell's pieces hold the cell's volume, within what the decomposition's
+  // concavity allows their hulls (1% of the cell's diagonal)
+  auto cellVolume = [&](const std::vector<int>& nodes, std::size_t per_cell) {
+    double v = 0.0;
+    for (std::size_t k = 0; k < per_cell; ++k) {
+      const auto mesh =
+          readMesh(glb, glb.json["nodes"][static_cast<std::size_t>(nodes[k])]["mesh"].get<int>());
+      EXPECT_TRUE(geom::Polytope::fromPoints(mesh.positions).ok());
+      // the closed mesh's volume (divergence theorem; triangles wound outwards)
+      for (const auto& t : mesh.triangles)
+        v +=
+            glm::dot(mesh.positions[t[0]], glm::cross(mesh.positions[t[1]], mesh.positions[t[2]])) /
+            6.0;
+    }
+    return v;
+  };
+  const double ridge_volume =
+      kCell_m * kCell_m * kBaseThickness_m + kRidgeWidth_m * kCell_m * kGrooveDepth_m;
+  const double pin_volume =
+      kCell_m * kCell_m * kTileThickness_m + kPinSide_m * kPinSide_m * kPinLength_m;
+  EXPECT_NEAR(cellVolume(ridge, ridge.size() / ridge_cells), ridge_volume, 0.02 * ridge_volume);
+  EXPECT_NEAR(cellVolume(pin, pin.size() / pin_cells), pin_volume, 0.02 * pin_volume);
+}
+
 TEST(DemoScenes, ProbeBodyStartsWhereItsStreamStarts) {
-  const std::map<std::string, std::string> probe = {
-      {"gears", "Handle"}, {"peg_in_hole", "Peg"}, {"dynamic", "Stick"}, {"stress", "Sweeper"}};
+  const std::map<std::string, std::string> probe = {{"gears", "Handle"},
+                                                    {"peg_in_hole", "Peg"},
+                                                    {"dynamic", "Stick"},
+                                                    {"stress", "Sweeper"},
+                                                    {"decomposed", "PinPlate"}};
   for (std::string_view name : demoSceneNames()) {
     SCOPED_TRACE(std::string(name));
     const Glb glb = loadDemo(std::string(name));

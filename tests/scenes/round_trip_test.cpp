@@ -318,5 +318,38 @@ TEST(SceneRoundTrip, StressHasOverAThousandPrimitivesMostlyStatic) {
   EXPECT_GE(s.plan.static_primitives + s.plan.moving_primitives, 1000u);
 }
 
+// decomposed: two bodies, the static grooved plate and the held pin plate, each a primitive per
+// piece node (hulls, already convex), the pin plate tilted where the stream starts; contact
+// forces only
+TEST(SceneRoundTrip, DecomposedIsTwoPlatesOfPiecesAndNeedsOnlyContactForces) {
+  using namespace decomposed;
+  const SceneModel s = load("decomposed");
+  const Body* grooved = bodyNamed(s, "GroovedPlate");
+  const Body* pins = bodyNamed(s, "PinPlate");
+  ASSERT_TRUE(grooved && pins);
+  EXPECT_EQ(s.bodies.size(), 2u);
+  EXPECT_EQ(grooved->motion, Motion::kStatic);
+  EXPECT_EQ(pins->motion, Motion::kKinematic);
+  EXPECT_TRUE(pins->probe);
+  EXPECT_EQ(grooved->primitives.size() % static_cast<std::size_t>(kGrooveCells * kGrooveCells), 0u);
+  EXPECT_GE(grooved->primitives.size(), 450u);
+  EXPECT_EQ(pins->primitives.size() % static_cast<std::size_t>(kPinCellsX * kPinCellsZ), 0u);
+  EXPECT_GE(pins->primitives.size(), 90u);
+  expectPose(*pins, {kRunX_m, kStartY_m, kRunZ_m[0]},
+             glm::angleAxis(kTilt_rad, geom::Vec3{0.0, 0.0, 1.0}), 1e-9);
+  // the ridge tops at y = 0 and the plate's floor kGrooveDepth_m + kBaseThickness_m below
+  double top = -1.0, bottom = 1.0;
+  for (const auto& p : grooved->primitives) {
+    for (const geom::Vec3& v : worldPoints(*grooved, p)) {
+      top = std::max(top, v.y);
+      bottom = std::min(bottom, v.y);
+    }
+  }
+  EXPECT_NEAR(top, 0.0, 1e-7);
+  EXPECT_NEAR(bottom, -(kGrooveDepth_m + kBaseThickness_m), 1e-7);
+  scene::testing::expectPlan(s.plan, "", static_cast<std::uint32_t>(grooved->primitives.size()),
+                             static_cast<std::uint32_t>(pins->primitives.size()));
+}
+
 }  // namespace
 }  // namespace hapticd::scenes

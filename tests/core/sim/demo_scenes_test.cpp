@@ -1,6 +1,8 @@
 // The demo scenes (scenes/*.glb, through the loader) replayed from their pose streams
 // (tests/streams/*.csv) at 1 kHz: every tick finite, within the limits and the force step, the
 // proxy's penetration within 1 mm; passivity where the stream comes back to where it started.
+#include "scenes/demo_scenes.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -157,6 +159,70 @@ TEST(GearsScene, TheProbeTurnsOneGearAndItTurnsTheOther) {
   EXPECT_LT(worst_ratio_err, 1.0);
   EXPECT_TRUE(f.all_finite);
   EXPECT_LE(f.max_force_step_n, o.response.max_force_step_n * (1.0 + 1e-9));
+  EXPECT_LE(f.max_penetration, 1e-3);
+}
+
+// decomposed.glb and its stream: the held plate's first column of pins runs along a groove of
+// the static plate (both ~100 and ~500 convex pieces of a decomposition) without leaving it, and
+// pressed sideways the pins stop at the groove's wall.
+TEST(DecomposedScene, ThePinsSlideInTheGrooveAndStopAtItsWall) {
+  using namespace scenes::decomposed;
+  const std::string dir = HAPTICD_SOURCE_DIR;
+  auto report = scene::loadSceneFile(dir + "/scenes/decomposed.glb");
+  ASSERT_TRUE(report.ok()) << report.message();
+  auto keys = readPoseStream(dir + "/tests/streams/decomposed.csv");
+  ASSERT_GE(keys.size(), 2u);
+  auto model = std::make_shared<const scene::SceneModel>(std::move(*report.scene));
+  sim::SimOptions o;
+  auto created = sim::Simulation::create(model, o);
+  ASSERT_TRUE(created.ok()) << created.error().message;
+  Runner run(std::move(created).value(), o);
+  // the groove the first pins run in: x from -30 to -26 mm (the ridges' faces)
+  const double groove_lo = kGrooveX_m - 0.5 * (kCell_m - kRidgeWidth_m);
+  const double groove_hi = kGrooveX_m + 0.5 * (kCell_m - kRidgeWidth_m);
+  double z_min = 1.0, z_max = -1.0, deepest = 0.0, widest_out = -1.0, push_x = 0.0;
+  std::uint64_t run_ticks = 0, touching = 0, pushed = 0;
+  const Figures f = run.run(Path(keys), [&](const sim::TickInput& in, const sim::TickOutput& out) {
+    const bool along = in.t_s > 3.0 && in.t_s < 10.0;  // on the ridges, in the groove
+    if (!along)
+      return;
+    ++run_ticks;
+    touching += out.contacts > 0 ? 1u : 0u;
+    z_min = std::min(z_min, out.X_W_proxy.translation.z);
+    z_max = std::max(z_max, out.X_W_proxy.translation.z);
+    // every corner of every first-column pin below the ridge tops is inside the groove
+    const double h = 0.5 * kPinSide_m;
+    for (int j = 0; j < kPinCellsZ; ++j) {
+      const double z = (j - 0.5 * (kPinCellsZ - 1)) * kCell_m;
+      for (int c = 0; c < 8; ++c) {
+        const Vec3 p_B{(c & 1) ? h : -h, (c & 2) ? 0.0 : -kPinLength_m, z + ((c & 4) ? h : -h)};
+        const Vec3 p_W = out.X_W_proxy.translation + out.X_W_proxy.rotation * p_B;
+        deepest = std::min(deepest, p_W.y);
+        if (p_W.y < 0.0)
+          widest_out = std::max(widest_out, std::max(groove_lo - p_W.x, p_W.x - groove_hi));
+      }
+    }
+    if (in.t_s > 7.5 && in.t_s < 9.5) {  // pressed 1 mm towards +X
+      ++pushed;
+      push_x = std::max(push_x, out.X_W_proxy.translation.x - kRunX_m);
+      EXPECT_LT(out.force_W_n.x, 0.0) << "t = " << in.t_s;  // the wall pushes the hand back
+    }
+  });
+  f.print("decomposed: the pin plate along the groove");
+  std::printf(
+      "  proxy z from %.1f to %.1f mm, pins down to %.2f mm, at most %.3f mm outside the groove "
+      "below the ridge tops, touching in %llu of %llu ticks; pressed 1 mm sideways the proxy "
+      "moved %.3f mm\n",
+      z_min * 1e3, z_max * 1e3, deepest * 1e3, widest_out * 1e3,
+      static_cast<unsigned long long>(touching), static_cast<unsigned long long>(run_ticks),
+      push_x * 1e3);
+  EXPECT_GT(z_max - z_min, 0.9 * (kRunZ_m[1] - kRunZ_m[0]));  // it slid the run's length
+  EXPECT_LT(deepest, -0.002);                                 // 2 mm deep in the groove
+  EXPECT_LE(widest_out, 1e-3 * 0.1);  // within 0.1 mm (the proxy's penetration allowance)
+  EXPECT_GT(touching, run_ticks / 2);
+  EXPECT_GT(pushed, 0u);
+  EXPECT_LT(push_x, 0.0006);  // the clearance to the wall is 0.42 mm; the device went 1 mm
+  EXPECT_TRUE(f.all_finite);
   EXPECT_LE(f.max_penetration, 1e-3);
 }
 

@@ -9,7 +9,7 @@ namespace hapticd::simtest {
 
 /// The names, as test parameters.
 inline auto demoStreams() {
-  return ::testing::Values("peg_in_hole", "gears", "dynamic", "stress");
+  return ::testing::Values("peg_in_hole", "gears", "dynamic", "stress", "decomposed");
 }
 
 /// A parameterised test's name suffix: the scene's name.
