@@ -136,12 +136,11 @@ class Builder {
   bool reuse(SceneModel& scene, const Target& target, const Placement& at, const HullKey& key);
   /// Builds the primitive(s) of `in` on the target's body; false with a problem.
   bool finishPrimitive(SceneModel& scene, const Target& target, const Placement& at, HullInput in);
-  /// A hull of points_P of at most `max_vertices` vertices (0: max_hull_vertices), or null with
-  /// a problem naming `name`.
+  /// A hull of points_P of at most max_hull_vertices vertices, or null with a problem naming
+  /// `name`.
   std::shared_ptr<const geom::Polytope> hullOf(const std::vector<Vec3>& points_P,
                                                std::uint32_t node,
-                                               const std::string& name,
-                                               std::size_t max_vertices = 0);
+                                               const std::string& name);
   /// A surface mesh (in P) made convex: itself when convex, else the pieces standing for it.
   bool surfacePieces(const Target& target,
                      HullInput& in,
