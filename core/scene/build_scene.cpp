@@ -309,7 +309,7 @@ void Builder::finishNotes(SceneModel& scene) {
       notes.push_back("... and " + std::to_string(lines.size() - kMaxLines) + " more " + what);
     }
   };
-  listed(stand_ins_, "meshes that are not convex, touched through their convex hulls");
+  listed(stand_ins_, "meshes that are not convex, touched through convex pieces");
   listed(thickened_, "flat meshes given a thickness");
   notes.insert(notes.end(), scene.plan.notes.begin(), scene.plan.notes.end());
   scene.plan.notes = std::move(notes);
