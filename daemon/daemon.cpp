@@ -151,6 +151,8 @@ void Daemon::install(BuiltScene built) {
   // what the loader ignored, stood in for or parsed without simulating (the plan's notes)
   for (const std::string& note : model->plan.notes)
     logInfo("scene '" + built.name + "': " + note);
+  if (!built.prewarm.empty())
+    logInfo("scene '" + built.name + "': " + built.prewarm);
   loop_->offerScene(std::move(built.scene));
   // after the offer, so that a batch validated against this scene meets it at the servo
   adapter_->setScene(built.name, built.plan, std::move(model), generation_);
@@ -411,6 +413,13 @@ std::optional<int> Daemon::start(sigset_t& signals) {
   loop_ = std::make_unique<ServoLoop>(servo, *clock_, *device_, nullptr);
   adapter_ = std::make_unique<ProtocolAdapter>(*loop_);
   adapter_->setDevice(device::describeDevice(device_->info()));
+  // scenes swapped in later are prewarmed at the device's pose (the loop's seqlock state)
+  builder_.setDevicePose([loop = loop_.get()]() -> std::optional<geom::Pose> {
+    const ServoState st = loop->state();
+    if (st.tick == 0 || !st.device_connected)
+      return std::nullopt;
+    return st.X_W_device;
+  });
 
   // 6. record writer (files opened now: a bad path fails start-up)
   if (servo.record || servo.record_bodies) {

@@ -1,21 +1,48 @@
 #include "daemon/scene_builder.h"
 
+#include <chrono>
+#include <cstdio>
 #include <utility>
 
 namespace hapticd::daemon {
 namespace {
 
+// "prewarmed in 8.7 ms: 8 collision steps, 7 dynamics steps, at rest: sleeps from its first tick"
+std::string describePrewarm(const sim::PrewarmReport& r, double ms) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.1f", ms);
+  std::string s = "prewarmed in " + std::string(buf) + " ms: " + std::to_string(r.collision_steps) +
+                  " collision steps";
+  if (r.dynamics_steps > 0)
+    s += ", " + std::to_string(r.dynamics_steps) + " dynamics steps";
+  if (r.at_rest)
+    s += ", at rest: sleeps from its first tick";
+  return s;
+}
+
 Result<BuiltScene> withSimulation(const Backends& backends,
                                   const Config& config,
                                   SceneResult scene,
-                                  std::uint64_t generation) {
+                                  std::uint64_t generation,
+                                  const DevicePoseSource& device_pose) {
   if (!scene)
     return scene.error();
   auto model = scene.value();
   auto sim = backends.make_simulation(model, toSimOptions(config));
   if (!sim)
     return Error{"scene '" + model->name + "': " + sim.error().message};
+  std::string prewarm;
+  if (device_pose) {
+    // the scene's first ticks' cold work, here rather than on the servo thread, at the pose the
+    // device has now (docs/architecture.md "Scene swaps")
+    const auto t0 = std::chrono::steady_clock::now();
+    const sim::PrewarmReport r = sim.value()->prewarm(device_pose());
+    prewarm = describePrewarm(
+        r,
+        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+  }
   BuiltScene built;
+  built.prewarm = std::move(prewarm);
   built.scene = std::make_unique<ServoScene>();
   built.scene->sim = std::move(sim.value());
   built.scene->generation = generation;
@@ -48,19 +75,21 @@ std::optional<geom::Pose> sceneHome(const Config& config, const scene::SceneMode
 
 Result<BuiltScene> buildScene(const Backends& backends,
                               const Config& config,
-                              std::uint64_t generation) {
-  return withSimulation(backends, config, backends.load_scene(config), generation);
+                              std::uint64_t generation,
+                              const DevicePoseSource& device_pose) {
+  return withSimulation(backends, config, backends.load_scene(config), generation, device_pose);
 }
 
 Result<BuiltScene> buildUploadedScene(const Backends& backends,
                                       const Config& config,
                                       const proto::SceneUploadDone& upload,
-                                      std::uint64_t generation) {
+                                      std::uint64_t generation,
+                                      const DevicePoseSource& device_pose) {
   if (!backends.load_scene_bytes)
     return Error{"this daemon takes no scene uploads"};
   const std::string name = upload.name.empty() ? std::string("upload") : upload.name;
   return withSimulation(backends, config, backends.load_scene_bytes(upload.bytes, name, config),
-                        generation);
+                        generation, device_pose);
 }
 
 Result<bool> SceneBuilder::start(std::string what, std::function<void(Finished&)> work) {
@@ -77,21 +106,22 @@ Result<bool> SceneBuilder::start(std::string what, std::function<void(Finished&)
 Result<bool> SceneBuilder::startReload(const CommandLine& cli,
                                        const Config& running,
                                        std::uint64_t generation) {
-  return start("reloading the configuration and the scene (SIGHUP)", [this, &cli, running,
-                                                                      generation](Finished& f) {
-    auto config = buildConfig(cli);
-    if (!config) {
-      f.error = config.error().message;
-      return;
-    }
-    f.config = config.value().config;
-    f.warnings = config.value().warnings;
-    auto built = buildScene(backends_, withRunningRestartOnly(f.config, running), generation);
-    if (built)
-      f.built = std::move(built.value());
-    else
-      f.error = built.error().message;
-  });
+  return start("reloading the configuration and the scene (SIGHUP)",
+               [this, &cli, running, generation](Finished& f) {
+                 auto config = buildConfig(cli);
+                 if (!config) {
+                   f.error = config.error().message;
+                   return;
+                 }
+                 f.config = config.value().config;
+                 f.warnings = config.value().warnings;
+                 auto built = buildScene(backends_, withRunningRestartOnly(f.config, running),
+                                         generation, device_pose_);
+                 if (built)
+                   f.built = std::move(built.value());
+                 else
+                   f.error = built.error().message;
+               });
 }
 
 Result<bool> SceneBuilder::startUpload(proto::SceneUploadDone upload,
@@ -101,7 +131,7 @@ Result<bool> SceneBuilder::startUpload(proto::SceneUploadDone upload,
                      std::to_string(upload.bytes.size()) + " bytes)";
   return start(
       std::move(what), [this, up = std::move(upload), running, generation](Finished& f) mutable {
-        auto built = buildUploadedScene(backends_, running, up, generation);
+        auto built = buildUploadedScene(backends_, running, up, generation, device_pose_);
         if (built)
           f.built = std::move(built.value());
         else

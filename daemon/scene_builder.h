@@ -33,7 +33,14 @@ struct BuiltScene {
   std::string plan;  ///< scene::describePlan of its plan
   std::vector<std::string> body_names;
   std::shared_ptr<const scene::SceneModel> model;  ///< what scene updates are validated against
+  /// What the prewarm did ("prewarmed in 8.7 ms: 8 collision steps, 7 dynamics steps, at rest:
+  /// sleeps from its first tick"); empty when the build ran none (the start-up scene).
+  std::string prewarm;
 };
+
+/// Where the device is now (scene frame), read by a build right before its prewarm; none when
+/// the servo loop has not ticked yet. Any thread.
+using DevicePoseSource = std::function<std::optional<geom::Pose>()>;
 
 /// The held body's start pose in `model`, device frame (through [device] workspace), when
 /// [device] sim_home_from_scene is on and the scene has a probe body; else none. Any thread.
@@ -41,14 +48,19 @@ std::optional<geom::Pose> sceneHome(const Config& config, const scene::SceneMode
 
 /// The scene of `config` ([scene] path or demo) and its simulation (toSimOptions), as
 /// generation `generation`. Error: the loader's or the simulation's text, naming the scene.
+/// With `device_pose` (a scene that will be swapped into a running loop), the simulation is
+/// prewarmed (sim::Simulation::prewarm, docs/architecture.md "Scene swaps") at the pose it gives
+/// right then; without (the start-up scene), not.
 Result<BuiltScene> buildScene(const Backends& backends,
                               const Config& config,
-                              std::uint64_t generation);
+                              std::uint64_t generation,
+                              const DevicePoseSource& device_pose = nullptr);
 /// The same from an upload's bytes, parsed where they are (no file), named by the upload.
 Result<BuiltScene> buildUploadedScene(const Backends& backends,
                                       const Config& config,
                                       const proto::SceneUploadDone& upload,
-                                      std::uint64_t generation);
+                                      std::uint64_t generation,
+                                      const DevicePoseSource& device_pose = nullptr);
 
 /// One build at a time on the builder thread: SIGHUP's reload, or an upload.
 class SceneBuilder {
@@ -69,6 +81,9 @@ class SceneBuilder {
   SceneBuilder(const SceneBuilder&) = delete;
   SceneBuilder& operator=(const SceneBuilder&) = delete;
 
+  /// The device's pose for the prewarm of the scenes built from here on (every build of the
+  /// builder swaps a scene into the running loop). Only when not busy().
+  void setDevicePose(DevicePoseSource source) { device_pose_ = std::move(source); }
   /// A build runs, or has ended and was not taken by finished() yet.
   bool busy() const { return thread_.joinable(); }
   /// SIGHUP: reads the configuration again (buildConfig(cli)) and builds its scene, with
@@ -91,6 +106,7 @@ class SceneBuilder {
   Result<bool> start(std::string what, std::function<void(Finished&)> work);
 
   const Backends& backends_;
+  DevicePoseSource device_pose_;
   Thread thread_;
   std::atomic<bool> done_{false};
   Finished result_;  // written by the builder before done_, read by the owner after

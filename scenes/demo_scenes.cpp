@@ -1,5 +1,6 @@
 #include "scenes/demo_scenes.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
@@ -446,6 +447,27 @@ constexpr DemoScene kDemoScenes[] = {{"gears", &makeGears},
                                      {"decomposed", &makeDecomposed}};
 
 }  // namespace
+
+std::vector<std::uint8_t> makeBoxField(int boxes) {
+  GltfBuilder b;
+  const int grey = b.addRenderMaterial("floor", {0.30, 0.32, 0.35, 1.0}, 0.0, 0.9);
+  const int orange = b.addRenderMaterial("box", {0.95, 0.55, 0.15, 1.0}, 0.0, 0.6);
+  const int n = std::max(boxes, 0);
+  int side = 1;
+  while (side * side < n)
+    ++side;
+  const double floor_side = side * kBoxFieldPitch_m + 0.1;
+  addFloor(b, {floor_side, 0.02, floor_side}, grey);
+  const Box box = addBox(b, "Box", Vec3{kBoxFieldSide_m}, orange);
+  for (int i = 0; i < n; ++i) {
+    const int row = i / side, column = i % side;
+    const double x = (column - 0.5 * (side - 1)) * kBoxFieldPitch_m;
+    const double z = (row - 0.5 * (side - 1)) * kBoxFieldPitch_m;
+    addDynamicBox(b, numbered("Box", i), box, jsonVec({x, 0.5 * kBoxFieldSide_m, z}), 0.010);
+  }
+  b.setSceneExtras({{"haptic", {{"gravity", Json::array({0.0, -9.81, 0.0})}}}});
+  return b.finish("box_field");
+}
 
 std::vector<std::string_view> demoSceneNames() {
   std::vector<std::string_view> names;

@@ -23,6 +23,15 @@ std::vector<std::uint8_t> makeDemoScene(std::string_view name);
 /// The position of `name` in demoSceneNames(), -1 when it is not a demo scene.
 int demoSceneIndex(std::string_view name);
 
+/// Not a demo scene: `boxes` dynamic boxes of kBoxFieldSide_m (10 g each) resting on a static
+/// floor, their bottoms at y = 0, in a square grid of kBoxFieldPitch_m centred on the origin; no
+/// probe body (the simulation adds its probe sphere at the device); gravity -9.81 m/s^2 along Y.
+/// The scene swap's test and benchmark load it into a running servo loop (issue 18: "200 boxes
+/// of 2 cm resting on a floor"). The same bytes on every run; boxes < 1 gives the floor alone.
+std::vector<std::uint8_t> makeBoxField(int boxes);
+inline constexpr double kBoxFieldSide_m = 0.020;
+inline constexpr double kBoxFieldPitch_m = 0.040;
+
 /// Dimensions of the scenes, shared by the generator, the pose streams, tests and docs (metres,
 /// kilograms). Y is up in every scene.
 namespace gears {

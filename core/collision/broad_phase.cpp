@@ -117,6 +117,7 @@ void SweepAndPrune::reserve(std::size_t boxes, std::size_t pairs) {
 }
 
 void SweepAndPrune::rebuildPositions() {
+  ++position_rebuilds_;
   for (int k = 0; k < 3; ++k) {
     const auto& axis = axes_[k];
     for (std::size_t i = 0; i < axis.size(); ++i)
@@ -150,6 +151,7 @@ std::uint32_t SweepAndPrune::add(const Aabb& box, const BoxFilter& filter) {
 }
 
 void SweepAndPrune::insertAdded() {
+  ++full_sorts_;
   const EndpointLess less;
   if (added_.size() < 16) {
     // a few boxes: insert each endpoint in place, then test the new boxes against all
@@ -350,6 +352,12 @@ void SweepAndPrune::applyMoves() {
   for (const std::uint32_t h : dirty_)
     boxes_[h].dirty = false;
   dirty_.clear();
+}
+
+void SweepAndPrune::prewarm() {
+  commit();
+  if (!positions_valid_)
+    rebuildPositions();
 }
 
 std::span<const PairEvent> SweepAndPrune::takeEvents() {

@@ -85,6 +85,16 @@ class SweepAndPrune {
 
   /// Endpoint swaps done by update() since construction (a measure of coherence).
   std::uint64_t swaps() const { return swaps_; }
+  /// Cold work since construction (a scene swap's prewarm is judged by these): commits that
+  /// sorted added boxes into the lists (the first sort), and rebuilds of the endpoint positions
+  /// (a whole pass over the lists, lazily after a sort or an all-axes pass). Not state (not in
+  /// writeState()).
+  std::uint64_t fullSorts() const { return full_sorts_; }
+  std::uint64_t positionRebuilds() const { return position_rebuilds_; }
+  /// Commits what is pending and rebuilds the endpoint positions if a sort left them stale, so
+  /// that the next commit() of a few moved boxes does no whole pass. Off the servo thread (a
+  /// scene's prewarm); allocates only as commit() does.
+  void prewarm();
 
   /// Writes the boxes, the sorted endpoint lists and the pair list in its order (not the hash
   /// index of the pairs or the event lists, which commit() and takeEvents() rewrite). For the
@@ -131,6 +141,8 @@ class SweepAndPrune {
   ReservedVector<PairEvent> taken_;
   std::size_t live_ = 0;
   std::uint64_t swaps_ = 0;
+  std::uint64_t full_sorts_ = 0;
+  std::uint64_t position_rebuilds_ = 0;
 };
 
 }  // namespace hapticd::collision

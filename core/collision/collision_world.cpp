@@ -193,7 +193,14 @@ void CollisionWorld::applyEvents(StepStats* stats) {
   }
 }
 
+void CollisionWorld::prewarm() {
+  sap_.prewarm();
+  applyEvents(nullptr);
+}
+
 void CollisionWorld::test(PairState& s) {
+  if (!s.last.answered)
+    ++cold_queries_;
   const Prim& pa = prims_[s.prim_a];
   const Prim& pb = prims_[s.prim_b];
   const Transform X_WA = primitiveTransform(pa);

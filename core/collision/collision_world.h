@@ -129,6 +129,22 @@ class CollisionWorld {
   const WorldOptions& options() const { return options_; }
   std::uint64_t tick() const { return tick_; }
 
+  /// Cold work since construction: what a new scene's first steps do once and its later steps
+  /// should not (a scene swap's prewarm does it off the servo thread, core/sim/scene_state.h).
+  /// Not state (not in writeState()). Any thread that may read the world.
+  struct ColdCounters {
+    std::uint64_t cold_queries = 0;       ///< pair queries with no cache yet (a pair's first)
+    std::uint64_t full_sorts = 0;         ///< SweepAndPrune::fullSorts()
+    std::uint64_t position_rebuilds = 0;  ///< SweepAndPrune::positionRebuilds()
+  };
+  ColdCounters coldCounters() const {
+    return {cold_queries_, sap_.fullSorts(), sap_.positionRebuilds()};
+  }
+  /// Makes the broad phase's lazily rebuilt tables ready (SweepAndPrune::prewarm) and applies
+  /// its events, so that the next step of a few moved bodies does no whole-list pass. Off the
+  /// servo thread (a scene's prewarm, after its first steps).
+  void prewarm();
+
   /// Writes the world's state: bodies' poses and flags, primitives' extreme-vertex hints, the
   /// sweep and prune, every pair's caches and last answer, contacts(), the tick (not the shapes,
   /// the scheduler's scratch or the hash index of the pairs). For the simulation state's hash
@@ -197,6 +213,7 @@ class CollisionWorld {
   DepthScratch depth_scratch_;  // the narrow phase's, sized for every shape added
   std::uint64_t tick_ = 0;
   std::size_t reserved_pairs_ = 0;
+  std::uint64_t cold_queries_ = 0;
 };
 
 }  // namespace hapticd::collision

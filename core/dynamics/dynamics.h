@@ -259,6 +259,19 @@ class Dynamics {
   double kineticEnergy() const;
   double potentialEnergy() const;
 
+  // --- added by the scene swap's prewarm (core/sim/scene_state.h prewarmState) ---
+  /// Whether every moving body is still now by the sleep test
+  /// (DynamicsOptions::sleep_speed_fraction; a kinematically held body touching a dynamic body
+  /// keeps the scene awake), after the last step. false for an inactive stage or with sleep off
+  /// (sleep_time_s 0). Any thread that may read the stage.
+  bool stillNow(const collision::CollisionWorld& world) const;
+  /// Off the servo thread, for a scene about to be swapped in whose first steps the loader ran:
+  /// if it is still now (stillNow()), the whole scene sleeps at once, as if it had been still
+  /// for sleep_time_s (velocities zeroed; it wakes as a sleeping scene does). Returns whether it
+  /// sleeps. A scene loaded at rest then costs the servo thread nothing from its first tick,
+  /// instead of sleep_time_s of whole solves.
+  bool sleepIfStill(const collision::CollisionWorld& world);
+
   /// The held body's feedback of the last step (zero when the scene has no held body).
   const HeldFeedback& heldFeedback() const { return held_feedback_; }
   const DynamicsCounters& counters() const { return counters_; }

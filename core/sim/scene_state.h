@@ -132,6 +132,34 @@ struct SceneState {
 /// positive mass, a joint out of range). Off the servo thread.
 Result<SceneState> makeState(const SimModel& model);
 
+/// Steps of the collision world and the dynamics a prewarm runs at most, and the still steps in
+/// a row after which it stops and the scene sleeps (prewarmState).
+inline constexpr std::uint32_t kMaxPrewarmSteps = 32;
+inline constexpr std::uint32_t kPrewarmStillSteps = 4;
+
+/// A scene swap's prewarm (docs/architecture.md "Scene swaps"), on a state makeState() just made,
+/// off the servo thread: what the scene's first ticks would compute cold is done here, so that
+/// the servo thread's swap is a pointer exchange and its first ticks cost what later ones do
+/// (the CollisionWorld's ColdCounters do not move on them while the device stays put):
+///  - a probe sphere (the scene marks no probe body) is placed at X_W_device, as the first tick
+///    places it, and the collision step runs there: every pair the first ticks test has its
+///    cache (no pair query starts cold on the servo thread);
+///  - with dynamics: steps of the collision world and the dynamics, the held body standing
+///    where it is, until the scene has been still kPrewarmStillSteps steps in a row (at most
+///    kMaxPrewarmSteps); a scene still then sleeps at once (Dynamics::sleepIfStill) instead of
+///    solving every tick for sleep_time_s; one still moving is handed over with its contacts and
+///    warm starts, those steps of simulated time later;
+///  - the broad phase's position tables rebuilt (CollisionWorld::prewarm), the rows gathered.
+/// The proxy, the coupling and the device tracking are untouched: the first tick starts as it
+/// would without the prewarm. No X_W_device (or one not finite): the probe stays at its pose.
+PrewarmReport prewarmState(const SimModel& model,
+                           SceneState& state,
+                           const std::optional<geom::Pose>& X_W_device);
+
+/// The state's cold work so far (collision::CollisionWorld::coldCounters). Any thread that may
+/// read the state; no allocation.
+ColdWork coldWork(const SceneState& state);
+
 /// One tick. The thread that owns `state`; no allocation, lock, log or throw.
 TickOutput step(const SimModel& model, SceneState& state, const TickInput& input);
 

@@ -29,6 +29,10 @@ class SimulationImpl final : public Simulation {
     return body < model_->scene->bodies.size() && state_.active[body] != 0;
   }
   std::span<const ContactPoint> contactPoints() const override { return state_.contact_points; }
+  PrewarmReport prewarm(const std::optional<Pose>& X_W_device) override {
+    return prewarmState(*model_, state_, X_W_device);
+  }
+  ColdWork coldWork() const override { return sim::coldWork(state_); }
   const SimModel* model() const override { return model_.get(); }
   const SceneState* state() const override { return &state_; }
 

@@ -13,6 +13,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <string>
 
@@ -236,6 +237,22 @@ inline const char* toString(EditStatus s) {
   return "unknown";
 }
 
+/// What a scene swap's prewarm did (Simulation::prewarm, sim::prewarmState).
+struct PrewarmReport {
+  std::uint32_t collision_steps = 0;  ///< collision steps run off the servo thread
+  std::uint32_t dynamics_steps = 0;   ///< dynamics steps run off the servo thread
+  bool at_rest = false;  ///< the dynamics were still: the scene sleeps from its first tick
+};
+
+/// Cold work done so far: what a new scene's first ticks do once and later ticks should not
+/// (collision::CollisionWorld::coldCounters). A scene swap's prewarm does it off the servo
+/// thread; the swap test (tests/daemon/scene_swap_test.cpp) reads these before and after.
+struct ColdWork {
+  std::uint64_t cold_queries = 0;       ///< pair queries with no cache yet (a pair's first)
+  std::uint64_t full_sorts = 0;         ///< boxes sorted into the broad phase's lists
+  std::uint64_t position_rebuilds = 0;  ///< whole passes rebuilding the broad phase's positions
+};
+
 struct SimModel;
 struct SceneState;
 
@@ -306,6 +323,21 @@ class Simulation {
   /// The held set's contact points after the last step (at most a fixed capacity, in the order
   /// the response used them). Servo thread or the owner between steps.
   virtual std::span<const ContactPoint> contactPoints() const { return {}; }
+
+  // --- scene swaps without a hiccup (issue 18; docs/architecture.md "Scene swaps") ---
+  /// Runs what the scene's first ticks would compute cold (sim::prewarmState): its first
+  /// queries at the device's pose, the broad phase's tables, and with dynamics its first steps,
+  /// a scene found at rest put to sleep. X_W_device: where the device is now (scene frame, after
+  /// the workspace mapping), or none (the scene's own probe pose). Off the servo thread, once,
+  /// before the first step() (the daemon's builder, before handing the scene over). The
+  /// default (test fakes) does nothing.
+  virtual PrewarmReport prewarm(const std::optional<Pose>& X_W_device) {
+    (void)X_W_device;
+    return {};
+  }
+  /// The cold work done so far (all zero for implementations without it). The owner thread,
+  /// between steps; no allocation.
+  virtual ColdWork coldWork() const { return {}; }
 
   // --- the model apart from the state (docs/architecture.md "Model apart from state") ---
   /// The compiled model and the state after the last step (for a copy, a comparison or the

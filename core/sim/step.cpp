@@ -28,8 +28,11 @@ struct EditsSeen {
 
 EditsSeen beginTick(const SimModel& m, SceneState& s, const TickInput& input) {
   if (s.first_step && m.info[m.probe].scene_index < 0 &&
-      geom::finite(input.X_W_device.translation)) {
-    // the probe sphere has no pose in the scene: it starts where the device is
+      geom::finite(input.X_W_device.translation) &&
+      input.X_W_device.translation != s.X_W_probe.translation) {
+    // the probe sphere has no pose in the scene: it starts where the device is (where it is
+    // already, the world was stepped and the rows gathered there: by makeState, or by a swap's
+    // prewarm at the device's pose)
     s.X_W_probe.translation = input.X_W_device.translation;
     s.world.setPose(m.probe, s.X_W_probe);
     s.world.step();

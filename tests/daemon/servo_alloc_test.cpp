@@ -1,7 +1,8 @@
 // The servo thread allocates nothing after start: ServoLoop::run() over 100 000 ticks (after
 // ServoLoop::prepareServoThread(), as in the daemon), counted by a per-thread allocator hook
 // (tests/daemon/alloc_counter.cpp), with the record rings on, commands and scene swaps (of the
-// same scene, freshly built) arriving, scene edit batches arriving, a shared-memory segment
+// same scene, freshly built, and with the real simulation prewarmed as the daemon's builder does)
+// arriving, scene edit batches arriving, a shared-memory segment
 // served (a client pushing commands, the state published every tick), and state and lists read
 // from another thread. With the real libraries
 // in the tree it runs every demo scene through the real simulation and the replay device fed by the
@@ -434,11 +435,15 @@ TEST_P(ServoAllocationDemo, NoneOnTheServoThreadOver100000Ticks) {
   ASSERT_TRUE(report.ok()) << report.message();
   auto model = std::make_shared<const scene::SceneModel>(std::move(*report.scene));
   sim::SimOptions sim_options;
+  const ServoLoop* running = nullptr;
   auto make = [&](std::uint64_t gen) {
     auto sim = sim::Simulation::create(model, sim_options);
     EXPECT_TRUE(sim.ok());
     auto s = std::make_unique<ServoScene>();
     s->sim = std::move(sim.value());
+    // a swapped-in scene is prewarmed at the device's pose, as the daemon's builder does
+    if (running != nullptr)
+      (void)s->sim->prewarm(running->state().X_W_device);
     s->generation = gen;
     return s;
   };
@@ -453,6 +458,7 @@ TEST_P(ServoAllocationDemo, NoneOnTheServoThreadOver100000Ticks) {
   ServoOptions options = recordingOptions();
   options.record_bodies = true;
   ServoLoop loop(options, clock, *device.value(), make(1));
+  running = &loop;
   // edits of the first non-static, non-probe bodies (whatever the simulation answers: refusals
   // are events, never allocations) and a shm segment served
   Extras extras;
