@@ -118,14 +118,19 @@ void oursOneMoving(benchmark::State& state, std::size_t n) {
   state.counters["pairs"] = static_cast<double>(sap.pairs().size());
 }
 
-// the same through the whole collision step: a 20-cube body among N static cube bodies
+// the same through the whole collision step: a 20-cube body among N static cube bodies.
+// state.range(0): 1 = the world's default (a body of 8 pieces or more is one box with a tree of
+// its pieces), 0 = a box per piece (WorldOptions::piece_tree_min = 0, as before issue 16)
 void oursOneMovingWorld(benchmark::State& state, std::size_t n) {
   Boxes boxes(n, 2);
   std::vector<Vec3> pts;
   for (int i = 0; i < 8; ++i)
     pts.push_back(Vec3{i & 1 ? 0.5 : -0.5, i & 2 ? 0.5 : -0.5, i & 4 ? 0.5 : -0.5});
   auto cube = std::make_shared<const geom::Polytope>(geom::Polytope::fromPoints(pts).value());
-  collision::CollisionWorld world;
+  collision::WorldOptions options;
+  if (state.range(0) == 0)
+    options.piece_tree_min = 0;
+  collision::CollisionWorld world(options);
   world.reserve(n + 20, 8 * n);
   for (std::size_t i = 0; i < n; ++i) {
     collision::BodyDesc d;
@@ -152,6 +157,55 @@ void oursOneMovingWorld(benchmark::State& state, std::size_t n) {
                              geom::Quat{1, 0, 0, 0}});
     benchmark::DoNotOptimize(world.step());
   }
+}
+
+// Many pieces of one body moving together (issue 16, issue 18 item 3): a body of `pieces` cubes
+// of 0.2 (a 10-wide grid, 0.25 apart) sweeps and turns slowly through N static unit cubes of
+// the box field; every box pair it meets goes to the narrow phase (the same pairs either way).
+// state.range(0): 1 = a tree of its pieces under one box, 0 = a box per piece.
+void oursManyPiecesWorld(benchmark::State& state, std::size_t n, std::size_t pieces) {
+  Boxes boxes(n, 3);
+  auto cubeOf = [](double h) {
+    std::vector<Vec3> pts;
+    for (int i = 0; i < 8; ++i)
+      pts.push_back(Vec3{i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h});
+    return std::make_shared<const geom::Polytope>(geom::Polytope::fromPoints(pts).value());
+  };
+  const auto unit = cubeOf(0.5), small = cubeOf(0.1);
+  collision::WorldOptions options;
+  options.box_margin = 0.01;
+  if (state.range(0) == 0)
+    options.piece_tree_min = 0;
+  collision::CollisionWorld world(options);
+  world.reserve(n + pieces, 8 * n);
+  for (std::size_t i = 0; i < n; ++i) {
+    collision::BodyDesc d;
+    d.kind = collision::BodyKind::kStatic;
+    d.primitives.push_back({unit, geom::Transform{}});
+    world.addBody(d, geom::Pose{boxes.c[i], geom::Quat{1, 0, 0, 0}});
+  }
+  collision::BodyDesc body;
+  body.kind = collision::BodyKind::kKinematic;
+  for (std::size_t k = 0; k < pieces; ++k) {
+    geom::Transform X;
+    X.t = Vec3{0.25 * static_cast<double>(k % 10), 0.0, 0.25 * static_cast<double>(k / 10)};
+    body.primitives.push_back({small, X});
+  }
+  const Vec3 centre{boxes.side * 0.5};
+  auto poseAt = [&](double t) {
+    return geom::Pose{centre + Vec3{0.3 * boxes.side * std::sin(t * 1e-3),
+                                    0.2 * boxes.side * std::sin(t * 1.3e-3), 0.0},
+                      glm::angleAxis(t * 2e-3, glm::normalize(Vec3{1.0, 2.0, 3.0}))};
+  };
+  const std::uint32_t id = world.addBody(body, poseAt(0.0));
+  world.step();
+  double t = 0.0, pairs = 0.0;
+  for (auto _ : state) {
+    t += 1.0;
+    world.setPose(id, poseAt(t));
+    pairs += world.step().pairs_overlapping;
+  }
+  state.counters["pairs"] = pairs / static_cast<double>(state.iterations());
 }
 
 // ---------------------------------------------------------------- Bullet
@@ -258,7 +312,20 @@ void registerAll() {
         ->Unit(benchmark::kMicrosecond);
   }
   benchmark::RegisterBenchmark("BroadPhase/OneMovingWorld/10000", oursOneMovingWorld, 10000)
+      ->ArgName("piece_tree")
+      ->Arg(1)
+      ->Arg(0)
       ->Unit(benchmark::kMicrosecond);
+  for (const std::size_t pieces : {100u, 500u}) {
+    benchmark::RegisterBenchmark(
+        ("BroadPhase/ManyPiecesWorld/10000/" + std::to_string(pieces)).c_str(), oursManyPiecesWorld,
+        10000, pieces)
+        ->ArgName("piece_tree")
+        ->Arg(1)
+        ->Arg(0)
+        ->Iterations(4000)  // the same poses both ways: the same pairs
+        ->Unit(benchmark::kMicrosecond);
+  }
 }
 
 const bool kRegistered = (registerAll(), true);

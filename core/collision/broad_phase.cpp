@@ -36,6 +36,14 @@ std::uint64_t SweepAndPrune::key(std::uint32_t a, std::uint32_t b) {
   return static_cast<std::uint64_t>(a) << 32 | b;
 }
 
+bool SweepAndPrune::overlap(const Aabb& a, const Aabb& b) {
+  for (int k = 0; k < 3; ++k) {
+    if (!(sortKey(a.lo[k], 0) <= sortKey(b.hi[k], 1) && sortKey(b.lo[k], 0) <= sortKey(a.hi[k], 1)))
+      return false;
+  }
+  return true;
+}
+
 bool SweepAndPrune::admissible(std::uint32_t a, std::uint32_t b) const {
   const BoxFilter& fa = boxes_[a].filter;
   const BoxFilter& fb = boxes_[b].filter;

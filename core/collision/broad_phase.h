@@ -77,6 +77,9 @@ class SweepAndPrune {
   std::span<const BoxPair> pairs() const { return pairs_; }
   bool overlapping(std::uint32_t a, std::uint32_t b) const;
   const Aabb& box(std::uint32_t handle) const { return boxes_[handle].box; }
+  /// The lists' own overlap test on two boxes' values: closed, and boxes less than one unit in
+  /// the last place apart overlap too. Two boxes the lists would pair (filters aside) pass it.
+  static bool overlap(const Aabb& a, const Aabb& b);
   /// Boxes moved since the last commit().
   std::size_t pending() const { return dirty_.size(); }
 

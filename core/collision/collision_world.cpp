@@ -39,6 +39,7 @@ void CollisionWorld::reserve(std::size_t primitives, std::size_t pairs) {
   sap_.reserve(primitives, pairs);
   prims_.reserve(primitives);
   prim_of_box_.reserve(primitives);
+  tree_pairs_.reserve(pairs);
   pair_states_.reserve(pairs);
   moved_.reserve(primitives);
   free_pair_states_.reserve(pairs);
@@ -101,6 +102,9 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
   b.X_WB = X_WB;
   b.T_WB = X_WB.toTransform();
   b.live = true;
+  const bool tree =
+      options_.piece_tree_min > 0 && desc.primitives.size() >= options_.piece_tree_min;
+  std::uint32_t groups = 0, masks = 0;  // a tree body's box: any of its pieces' filters
   for (std::uint32_t i = 0; i < desc.primitives.size(); ++i) {
     const std::uint32_t pi = takeSlot(prims_, free_prims_);
     Prim& p = prims_[pi];
@@ -116,27 +120,190 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
     filter.is_static = desc.kind == BodyKind::kStatic;
     filter.group = desc.group & desc.primitives[i].group;
     filter.mask = desc.mask & desc.primitives[i].mask;
+    groups |= filter.group;
+    masks |= filter.mask;
+    bodies_[id].prims.push_back(pi);
+    if (tree) {
+      p.box = 0xffffffffu;  // in the body's tree, not in the sweep and prune
+      continue;
+    }
     p.box = sap_.add(primitiveBox(p), filter);
     if (prim_of_box_.size() <= p.box)
       prim_of_box_.resize(p.box + 1);
     prim_of_box_[p.box] = pi;
-    b.prims.push_back(pi);
+  }
+  if (tree) {
+    buildTree(bodies_[id]);
+    BoxFilter filter;
+    filter.body = id;
+    filter.is_static = desc.kind == BodyKind::kStatic;
+    filter.group = groups;
+    filter.mask = masks;
+    refit(id);
+    const std::uint32_t h = sap_.add(bodies_[id].tree_W[0].box, filter);
+    bodies_[id].box = h;
+    if (prim_of_box_.size() <= h)
+      prim_of_box_.resize(h + 1);
+    prim_of_box_[h] = kBodyBox | id;
   }
   applyEvents(nullptr);
   return id;
 }
 
+void CollisionWorld::buildTree(Body& b) {
+  struct Item {
+    Vec3 lo, hi, mid;
+    double scale = 0.0;
+    std::uint32_t prim = 0;
+  };
+  std::vector<Item> items;
+  items.reserve(b.prims.size());
+  for (std::uint32_t i = 0; i < b.prims.size(); ++i) {
+    const PrimitiveDesc& pd = b.desc.primitives[i];
+    Item it;
+    it.prim = b.prims[i];
+    it.lo = Vec3{std::numeric_limits<double>::infinity()};
+    it.hi = -it.lo;
+    double vmax = 0.0;
+    for (const auto& v : pd.shape->vertices()) {
+      const Vec3 w = pd.X_BP.apply(v.p);
+      it.lo = glm::min(it.lo, w);
+      it.hi = glm::max(it.hi, w);
+      for (int k = 0; k < 3; ++k)
+        vmax = std::max({vmax, std::abs(v.p[k]), std::abs(w[k])});
+    }
+    for (int k = 0; k < 3; ++k)
+      it.scale = std::max(it.scale, std::abs(pd.X_BP.t[k]));
+    it.scale += vmax;
+    it.mid = 0.5 * (it.lo + it.hi);
+    items.push_back(it);
+  }
+  b.tree.clear();
+  b.tree.reserve(2 * items.size());
+  std::size_t depth = 0;
+  // top down: each node split at the median of its pieces' centres along its widest spread
+  // (ties by piece index, so that the tree depends on the pieces alone)
+  auto build = [&](auto&& self, std::size_t begin, std::size_t end,
+                   std::size_t level) -> std::uint32_t {
+    depth = std::max(depth, level);
+    const auto node = static_cast<std::uint32_t>(b.tree.size());
+    b.tree.emplace_back();
+    Vec3 lo = items[begin].lo, hi = items[begin].hi, mlo = items[begin].mid, mhi = mlo;
+    double scale = 0.0;
+    for (std::size_t i = begin; i < end; ++i) {
+      lo = glm::min(lo, items[i].lo);
+      hi = glm::max(hi, items[i].hi);
+      mlo = glm::min(mlo, items[i].mid);
+      mhi = glm::max(mhi, items[i].mid);
+      scale = std::max(scale, items[i].scale);
+    }
+    TreeNode n;
+    n.c = 0.5 * (lo + hi);
+    n.e = 0.5 * (hi - lo);
+    n.scale = scale;
+    if (end - begin == 1) {
+      n.prim = items[begin].prim;
+      b.tree[node] = n;
+      return node;
+    }
+    const Vec3 spread = mhi - mlo;
+    const int axis =
+        spread.x >= spread.y && spread.x >= spread.z ? 0 : (spread.y >= spread.z ? 1 : 2);
+    const std::size_t mid = begin + (end - begin) / 2;
+    std::nth_element(items.begin() + static_cast<std::ptrdiff_t>(begin),
+                     items.begin() + static_cast<std::ptrdiff_t>(mid),
+                     items.begin() + static_cast<std::ptrdiff_t>(end),
+                     [axis](const Item& x, const Item& y) {
+                       if (x.mid[axis] != y.mid[axis])
+                         return x.mid[axis] < y.mid[axis];
+                       return x.prim < y.prim;
+                     });
+    n.left = self(self, begin, mid, level + 1);
+    n.right = self(self, mid, end, level + 1);
+    b.tree[node] = n;
+    return node;
+  };
+  build(build, 0, items.size(), 1);
+  b.tree_W.assign(b.tree.size(), WorldNode{});
+  for (std::size_t i = 0; i < b.tree.size(); ++i) {
+    b.tree_W[i].left = b.tree[i].left;
+    b.tree_W[i].right = b.tree[i].right;
+    b.tree_W[i].prim = b.tree[i].prim;
+  }
+  b.refit_at = 0;
+  // the descent's stack holds at most the two trees' depths plus one pairs
+  const std::size_t need = 2 * depth + 8;
+  if (descent_.capacity() < need)
+    descent_.reserve(need);
+}
+
+void CollisionWorld::refit(std::uint32_t body) {
+  Body& b = bodies_[body];
+  if (b.refit_at > b.moved_tick)
+    return;
+  const bool exact = b.desc.kind == BodyKind::kStatic;  // refitted once: the exact boxes
+  const Transform& T = b.T_WB;
+  // children come after their parent in the array: backwards, every child before its parent
+  for (std::size_t i = b.tree.size(); i-- > 0;) {
+    const TreeNode& n = b.tree[i];
+    Aabb& box = b.tree_W[i].box;
+    if (n.prim == 0xffffffffu) {
+      const Aabb& l = b.tree_W[n.left].box;
+      const Aabb& r = b.tree_W[n.right].box;
+      box.lo = glm::min(l.lo, r.lo);
+      box.hi = glm::max(l.hi, r.hi);
+      continue;
+    }
+    if (exact) {
+      box = pieceBox(n.prim);
+      continue;
+    }
+    const Vec3 c = T.R * n.c + T.t;
+    Vec3 h{0.0};
+    for (int j = 0; j < 3; ++j) {
+      for (int k = 0; k < 3; ++k)
+        h[k] += std::abs(T.R[j][k]) * n.e[j];
+    }
+    // the box of the piece's body-frame box turned into the world holds its vertices; the pad
+    // covers the rounding of the two ways of computing a vertex's world coordinates (here and
+    // in primitiveBox) many times over, and the broad phase's one ulp
+    double mag = n.scale;
+    for (int k = 0; k < 3; ++k)
+      mag = std::max({mag, std::abs(T.t[k]), std::abs(c[k]) + h[k]});
+    const double pad = options_.box_margin + 1e-9 * mag;
+    box.lo = c - h - pad;
+    box.hi = c + h + pad;
+  }
+  b.refit_at = tick_ + 1;
+}
+
+const Aabb& CollisionWorld::pieceBox(std::uint32_t prim) {
+  Prim& p = prims_[prim];
+  if (p.box_at > bodies_[p.body].moved_tick)
+    return p.box_W;
+  p.box_W = primitiveBox(p);
+  p.box_at = tick_ + 1;
+  return p.box_W;
+}
+
 void CollisionWorld::removeBody(std::uint32_t id) {
   if (id >= bodies_.size() || !bodies_[id].live)
     return;
-  for (const std::uint32_t pi : bodies_[id].prims) {
-    sap_.remove(prims_[pi].box);
+  if (!bodies_[id].tree.empty()) {
+    sap_.remove(bodies_[id].box);
     applyEvents(nullptr);
+  }
+  for (const std::uint32_t pi : bodies_[id].prims) {
+    if (bodies_[id].tree.empty()) {
+      sap_.remove(prims_[pi].box);
+      applyEvents(nullptr);
+    }
     prims_[pi].live = false;
     free_prims_.push_back(pi);
   }
   bodies_[id].live = false;
   bodies_[id].prims.clear();
+  bodies_[id].tree.clear();
   free_bodies_.push_back(id);
 }
 
@@ -160,35 +327,187 @@ void CollisionWorld::setEnabled(std::uint32_t body, bool enabled) {
   b.enabled = enabled;
 }
 
+std::uint32_t CollisionWorld::newPairState(std::uint32_t pa, std::uint32_t pb, StepStats* stats) {
+  const std::uint32_t si = takeSlot(pair_states_, free_pair_states_);
+  PairState& s = pair_states_[si];
+  if (prims_[pa].body > prims_[pb].body)
+    std::swap(pa, pb);
+  s.prim_a = pa;
+  s.prim_b = pb;
+  s.live = true;
+  s.last.body_a = prims_[pa].body;
+  s.last.body_b = prims_[pb].body;
+  s.last.prim_a = prims_[pa].index;
+  s.last.prim_b = prims_[pb].index;
+  s.last_tested = tick_ - 1;  // never tested: as stale as one tick
+  state_of_pair_.insert(pairKey(pa, pb), si);
+  if (stats != nullptr)
+    ++stats->pairs_added;
+  return si;
+}
+
+void CollisionWorld::freePairState(std::uint32_t si, StepStats* stats) {
+  PairState& s = pair_states_[si];
+  state_of_pair_.erase(pairKey(s.prim_a, s.prim_b));
+  s.live = false;
+  free_pair_states_.push_back(si);
+  if (stats != nullptr)
+    ++stats->pairs_removed;
+}
+
 void CollisionWorld::applyEvents(StepStats* stats) {
   for (const PairEvent& e : sap_.takeEvents()) {
-    const std::uint64_t k = pairKey(e.pair.lo, e.pair.hi);
+    const std::uint32_t pa = prim_of_box_[e.pair.lo], pb = prim_of_box_[e.pair.hi];
+    if (((pa | pb) & kBodyBox) != 0) {
+      // a tree body's box: its piece pairs come from the descent
+      if (e.kind == PairEvent::Kind::kAdded)
+        tree_pairs_.push_back({e.pair.lo, e.pair.hi, true});
+      else
+        dropTreePair(e.pair.lo, e.pair.hi, stats);
+      continue;
+    }
     if (e.kind == PairEvent::Kind::kAdded) {
-      const std::uint32_t si = takeSlot(pair_states_, free_pair_states_);
-      PairState& s = pair_states_[si];
-      std::uint32_t pa = prim_of_box_[e.pair.lo], pb = prim_of_box_[e.pair.hi];
-      if (prims_[pa].body > prims_[pb].body)
-        std::swap(pa, pb);
-      s.prim_a = pa;
-      s.prim_b = pb;
-      s.live = true;
-      s.last.body_a = prims_[pa].body;
-      s.last.body_b = prims_[pb].body;
-      s.last.prim_a = prims_[pa].index;
-      s.last.prim_b = prims_[pb].index;
-      s.last_tested = tick_ - 1;  // never tested: as stale as one tick
-      state_of_pair_.insert(k, si);
-      if (stats != nullptr)
-        ++stats->pairs_added;
+      newPairState(pa, pb, stats);
     } else {
-      const std::uint32_t si = state_of_pair_.find(k);
-      if (si == FlatMap::kNone)
+      const std::uint32_t si = state_of_pair_.find(pairKey(pa, pb));
+      if (si != FlatMap::kNone)
+        freePairState(si, stats);
+    }
+  }
+}
+
+namespace {
+
+// one side of a tree pair: a tree body (its root node) or one piece with a box of its own
+struct Side {
+  bool tree = false;
+  std::uint32_t body = 0;
+  std::uint32_t prim = 0;  // a piece with a box of its own: its prims_ index
+};
+
+}  // namespace
+
+void CollisionWorld::dropTreePair(std::uint32_t lo, std::uint32_t hi, StepStats* stats) {
+  for (std::size_t i = 0; i < tree_pairs_.size(); ++i) {
+    if (tree_pairs_[i].lo == lo && tree_pairs_[i].hi == hi) {
+      tree_pairs_[i] = tree_pairs_.back();
+      tree_pairs_.pop_back();
+      break;
+    }
+  }
+  auto side = [this](std::uint32_t h) {
+    const std::uint32_t t = prim_of_box_[h];
+    return (t & kBodyBox) != 0 ? Side{true, t & ~kBodyBox, 0} : Side{false, prims_[t].body, t};
+  };
+  const Side x = side(lo), y = side(hi);
+  auto holds = [this](const Side& s, std::uint32_t prim) {
+    return s.tree ? prims_[prim].body == s.body : prim == s.prim;
+  };
+  for (std::uint32_t si = 0; si < pair_states_.size(); ++si) {
+    const PairState& s = pair_states_[si];
+    if (!s.live || !s.from_tree)
+      continue;
+    if ((holds(x, s.prim_a) && holds(y, s.prim_b)) || (holds(x, s.prim_b) && holds(y, s.prim_a)))
+      freePairState(si, stats);
+  }
+}
+
+void CollisionWorld::descend(const TreePair& tp, StepStats* stats) {
+  // each side as an array of world nodes: a tree body's own, or a lone piece as one leaf
+  WorldNode lone[2];
+  const WorldNode* side[2] = {nullptr, nullptr};
+  const std::uint32_t handles[2] = {tp.lo, tp.hi};
+  bool tree[2] = {false, false};
+  for (int i = 0; i < 2; ++i) {
+    const std::uint32_t t = prim_of_box_[handles[i]];
+    if ((t & kBodyBox) != 0) {
+      refit(t & ~kBodyBox);
+      side[i] = bodies_[t & ~kBodyBox].tree_W.data();
+      tree[i] = true;
+    } else {
+      lone[i].box = sap_.box(handles[i]);
+      lone[i].prim = t;
+      side[i] = &lone[i];
+    }
+  }
+  const WorldNode* const x = side[0];
+  const WorldNode* const y = side[1];
+  auto filter = [this](std::uint32_t pi, std::uint32_t* group, std::uint32_t* mask) {
+    const Body& b = bodies_[prims_[pi].body];
+    const PrimitiveDesc& d = b.desc.primitives[prims_[pi].index];
+    *group = b.desc.group & d.group;
+    *mask = b.desc.mask & d.mask;
+  };
+  constexpr std::uint32_t kInner = 0xffffffffu;
+  descent_.clear();
+  descent_.push_back({0, 0});
+  while (!descent_.empty()) {
+    const NodePair np = descent_.back();
+    descent_.pop_back();
+    const WorldNode& na = x[np.a];
+    const WorldNode& nb = y[np.b];
+    const Aabb& A = na.box;
+    const Aabb& B = nb.box;
+    if (A.lo.x > B.hi.x || B.lo.x > A.hi.x || A.lo.y > B.hi.y || B.lo.y > A.hi.y ||
+        A.lo.z > B.hi.z || B.lo.z > A.hi.z) {
+      continue;
+    }
+    const bool la = na.prim != kInner, lb = nb.prim != kInner;
+    if (la && lb) {
+      // two pieces: the pair the sweep and prune would make of their exact boxes
+      const std::uint32_t pa = na.prim, pb = nb.prim;
+      std::uint32_t ga = 0, ma = 0, gb = 0, mb = 0;
+      filter(pa, &ga, &ma);
+      filter(pb, &gb, &mb);
+      if ((ga & mb) == 0 || (gb & ma) == 0)
         continue;
-      state_of_pair_.erase(k);
-      pair_states_[si].live = false;
-      free_pair_states_.push_back(si);
-      if (stats != nullptr)
-        ++stats->pairs_removed;
+      const Aabb& ea = tree[0] ? pieceBox(pa) : A;
+      const Aabb& eb = tree[1] ? pieceBox(pb) : B;
+      if (!SweepAndPrune::overlap(ea, eb))
+        continue;
+      std::uint32_t si = state_of_pair_.find(pairKey(pa, pb));
+      if (si == FlatMap::kNone) {
+        si = newPairState(pa, pb, stats);
+        pair_states_[si].from_tree = true;
+      }
+      pair_states_[si].seen = tick_;
+      continue;
+    }
+    // open the larger node (a leaf never)
+    const double size_a = (A.hi.x - A.lo.x) + (A.hi.y - A.lo.y) + (A.hi.z - A.lo.z);
+    const double size_b = (B.hi.x - B.lo.x) + (B.hi.y - B.lo.y) + (B.hi.z - B.lo.z);
+    if (lb || (!la && size_a >= size_b)) {
+      descent_.push_back({na.right, np.b});
+      descent_.push_back({na.left, np.b});
+    } else {
+      descent_.push_back({np.a, nb.right});
+      descent_.push_back({np.a, nb.left});
+    }
+  }
+}
+
+void CollisionWorld::resolveTreePairs(StepStats* stats) {
+  if (tree_pairs_.empty())
+    return;
+  auto bodyOf = [this](std::uint32_t h) {
+    const std::uint32_t t = prim_of_box_[h];
+    return (t & kBodyBox) != 0 ? (t & ~kBodyBox) : prims_[t].body;
+  };
+  for (TreePair& tp : tree_pairs_) {
+    if (tp.fresh || bodies_[bodyOf(tp.lo)].moved_tick == tick_ ||
+        bodies_[bodyOf(tp.hi)].moved_tick == tick_) {
+      descend(tp, stats);
+      tp.fresh = false;
+    }
+  }
+  // a piece pair of a descended tree pair that the descent did not find again: its boxes parted
+  for (std::uint32_t si = 0; si < pair_states_.size(); ++si) {
+    const PairState& s = pair_states_[si];
+    if (!s.live || !s.from_tree || s.seen == tick_)
+      continue;
+    if (bodies_[prims_[s.prim_a].body].moved_tick == tick_ ||
+        bodies_[prims_[s.prim_b].body].moved_tick == tick_) {
+      freePairState(si, stats);
     }
   }
 }
@@ -225,14 +544,20 @@ StepStats CollisionWorld::step() {
     Body& b = bodies_[bi];
     if (!b.live || !b.moved)
       continue;
-    for (const std::uint32_t pi : b.prims)
-      sap_.update(prims_[pi].box, primitiveBox(prims_[pi]));
     b.moved = false;
     b.moved_tick = tick_;
+    if (!b.tree.empty()) {
+      refit(bi);
+      sap_.update(b.box, b.tree_W[0].box);  // one box; its pieces' only where the descent asks
+      continue;
+    }
+    for (const std::uint32_t pi : b.prims)
+      sap_.update(prims_[pi].box, primitiveBox(prims_[pi]));
   }
   moved_.clear();
   sap_.commit();
   applyEvents(&stats);
+  resolveTreePairs(&stats);
 
   // the scheduler (§4.2): overdue pairs first (so that none waits more than ceil(P/B) ticks),
   // then pairs in contact last tick, then the rest by time since their last test
@@ -390,6 +715,9 @@ void CollisionWorld::writeState(StateWriter& w) const {
     for (const bool f : {b.live, b.moved, b.asleep, b.enabled})
       w.flag(f);
     w.u64(b.moved_tick);
+    w.integer(b.tree.size());
+    if (!b.tree.empty())
+      w.integer(b.box);
   }
   w.integer(prims_.size());
   for (const Prim& p : prims_) {
@@ -410,6 +738,14 @@ void CollisionWorld::writeState(StateWriter& w) const {
     writeContact(w, s.last);
     w.u64(s.last_tested);
     w.flag(s.in_contact);
+    w.flag(s.from_tree);
+    w.u64(s.seen);
+  }
+  w.integer(tree_pairs_.size());
+  for (const TreePair& tp : tree_pairs_) {
+    w.integer(tp.lo);
+    w.integer(tp.hi);
+    w.flag(tp.fresh);
   }
   for (const auto* list : {&prim_of_box_, &free_pair_states_, &free_prims_, &free_bodies_, &moved_})
     w.array(*list);

@@ -62,6 +62,13 @@ struct WorldOptions {
   /// A pair whose bodies have not been given a pose since its last test keeps that answer (it
   /// is exact still) instead of being tested again; it stays listed in contacts() with its age.
   bool skip_unmoved_pairs = false;
+  /// A body of at least this many primitives is one box in the sweep and prune, with a tree of
+  /// its pieces' boxes (in its own frame) below it: moving it costs one box, and a pair of such
+  /// bodies (or one and another body's box) is resolved to piece pairs by descending the trees.
+  /// The pieces' pairs are exactly those the sweep and prune would find with a box per piece
+  /// (the leaves are compared on the same exact boxes by the same closed test). 0: every
+  /// primitive is a box of its own in the sweep and prune.
+  std::uint32_t piece_tree_min = 8;
 };
 
 /// One primitive pair's answer this tick, in world coordinates.
@@ -152,6 +159,20 @@ class CollisionWorld {
   void writeState(StateWriter& w) const;
 
  private:
+  // a node of a body's piece tree: a box in the body's frame around the vertices of the pieces
+  // below it; a leaf holds one piece (`prim`, an index into prims_)
+  struct TreeNode {
+    Vec3 c{0.0}, e{0.0};  // centre and half extents, body frame
+    double scale = 0.0;   // the largest coordinate magnitude met in computing a piece's box
+    std::uint32_t left = 0, right = 0;
+    std::uint32_t prim = 0xffffffffu;  // leaf: its piece
+  };
+  // a node of a body's piece tree in the world (what the descent reads: one cache line)
+  struct WorldNode {
+    Aabb box;
+    std::uint32_t left = 0, right = 0;
+    std::uint32_t prim = 0xffffffffu;  // leaf: its piece
+  };
   struct Body {
     BodyDesc desc;
     geom::Pose X_WB;
@@ -162,12 +183,24 @@ class CollisionWorld {
     bool asleep = false;
     bool enabled = true;
     std::uint64_t moved_tick = 0;  // the step in which its last pose took effect
+    // piece tree (options_.piece_tree_min): empty for a body whose pieces are boxes of their own
+    std::vector<TreeNode> tree;
+    // node boxes in the world, refitted bottom-up when the body has moved: a leaf's is its piece's
+    // exact box (a static body) or the box of its body-frame box turned into the world (a
+    // moving one: no pass over the vertices), a node's the union of its children's
+    std::vector<WorldNode> tree_W;
+    std::uint64_t refit_at = 0;  // tick + 1 of the last refit (0: never)
+    std::uint32_t box = 0;       // the body's broad-phase handle (a tree body)
   };
   struct Prim {
     std::uint32_t body = 0, index = 0;    // body and index within it
     std::uint32_t box = 0;                // broad-phase handle
     std::array<std::uint32_t, 6> hint{};  // extreme-vertex hints: -x +x -y +y -z +z
     bool live = false;
+    // a piece of a tree body: its exact box (primitiveBox), computed lazily, and the tick + 1 at
+    // which it was (0: never)
+    Aabb box_W;
+    std::uint64_t box_at = 0;
   };
   struct PairState {
     std::uint32_t prim_a = 0, prim_b = 0;  // prims_ indices, ordered by body
@@ -176,11 +209,27 @@ class CollisionWorld {
     std::uint64_t last_tested = 0;  // tick of the last test (the tick before it appeared, if none)
     bool in_contact = false;
     bool live = false;
+    bool from_tree = false;  // found by a descent of piece trees, not by the sweep and prune
+    std::uint64_t seen = 0;  // the last step whose descent found it
   };
+  // two broad-phase boxes that overlap, one of them (at least) a tree body's
+  struct TreePair {
+    std::uint32_t lo = 0, hi = 0;  // broad-phase handles
+    bool fresh = true;             // not yet descended
+  };
+  static constexpr std::uint32_t kBodyBox = 0x80000000u;  // prim_of_box_ tag: a body's box
 
   Aabb primitiveBox(Prim& p);
   Transform primitiveTransform(const Prim& p) const;
   void applyEvents(StepStats* stats);
+  std::uint32_t newPairState(std::uint32_t pa, std::uint32_t pb, StepStats* stats);
+  void freePairState(std::uint32_t si, StepStats* stats);
+  void buildTree(Body& b);
+  void refit(std::uint32_t body);
+  const Aabb& pieceBox(std::uint32_t prim);
+  void descend(const TreePair& tp, StepStats* stats);
+  void dropTreePair(std::uint32_t lo, std::uint32_t hi, StepStats* stats);
+  void resolveTreePairs(StepStats* stats);
   void test(PairState& s);
   bool unchanged(const PairState& s) const {
     return s.last.answered && bodies_[prims_[s.prim_a].body].moved_tick <= s.last_tested &&
@@ -200,10 +249,15 @@ class CollisionWorld {
   SweepAndPrune sap_;
   ReservedVector<Body> bodies_;
   ReservedVector<Prim> prims_;
-  ReservedVector<std::uint32_t> prim_of_box_;  // broad-phase handle -> prims_ index
+  ReservedVector<std::uint32_t> prim_of_box_;  // handle -> prims_ index, or kBodyBox | body
+  ReservedVector<TreePair> tree_pairs_;
+  struct NodePair {
+    std::uint32_t a = 0, b = 0;
+  };
+  ReservedVector<NodePair> descent_;  // scratch: the descent's stack, sized by addBody
   ReservedVector<PairState> pair_states_;
   ReservedVector<std::uint32_t> free_pair_states_;
-  FlatMap state_of_pair_;  // box-pair key -> pair_states_ index
+  FlatMap state_of_pair_;  // prim-pair key (prims_ indices) -> pair_states_ index
   ReservedVector<std::uint32_t> free_prims_;
   ReservedVector<std::uint32_t> free_bodies_;
   ReservedVector<std::uint32_t> moved_;          // bodies given a pose since the last step

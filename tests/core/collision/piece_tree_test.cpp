@@ -1,0 +1,185 @@
+// Bodies of many pieces (WorldOptions::piece_tree_min): one box per body in the sweep and prune
+// and a tree of its pieces below it give exactly the piece pairs, and so the answers, of a box per
+// piece; the step still allocates nothing.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <random>
+
+#include "core/collision/collision_world.h"
+#include "tests/core/alloc_counter.h"
+#include "tests/reference/reference.h"
+
+namespace hapticd::collision {
+namespace {
+
+using geom::Pose;
+using geom::Quat;
+
+std::shared_ptr<const Polytope> shape(const std::vector<Vec3>& pts) {
+  return std::make_shared<const Polytope>(Polytope::fromPoints(pts).value());
+}
+
+std::shared_ptr<const Polytope> cube(double h) {
+  std::vector<Vec3> p;
+  for (int i = 0; i < 8; ++i)
+    p.push_back(Vec3{i & 1 ? h : -h, i & 2 ? h : -h, i & 4 ? h : -h});
+  return shape(p);
+}
+
+// A static slab of 8 x 8 pieces (its pose turned, so its frame is not the world's), a kinematic
+// comb of 24 pieces (one of them filtered out of group 1) that sweeps over it turning, a
+// two-piece probe (boxes of its own) and a dynamic comb of 10 pieces, in one world.
+struct Scene {
+  CollisionWorld world;
+  std::uint32_t slab = 0, comb = 0, probe = 0, small_comb = 0;
+  BodyDesc comb_desc;
+
+  explicit Scene(const WorldOptions& o) : world(o) {
+    world.reserve(256, 2048);
+    const auto c = cube(0.005);
+    const auto e = shape(reference::ellipsoidPoints(30, 0.006, 0.004, 0.003, 7));
+    BodyDesc s;
+    s.kind = BodyKind::kStatic;
+    for (int i = 0; i < 8; ++i) {
+      for (int j = 0; j < 8; ++j) {
+        Transform X;
+        X.t = Vec3{0.011 * i, 0.0015 * ((i * 3 + j) % 4), 0.011 * j};
+        s.primitives.push_back({(i + j) % 3 == 0 ? e : c, X});
+      }
+    }
+    slab = world.addBody(
+        s, Pose{Vec3{0.1, -0.2, 0.3}, glm::angleAxis(0.3, glm::normalize(Vec3{0.2, 1.0, 0.1}))});
+    comb_desc.kind = BodyKind::kKinematic;
+    for (int k = 0; k < 24; ++k) {
+      Transform X;
+      X.t = Vec3{0.008 * (k % 6), -0.004 * (k / 6), 0.008 * (k / 6)};
+      PrimitiveDesc p{k % 4 == 1 ? e : c, X};
+      if (k == 5)
+        p.group = 2, p.mask = 2;  // collides with nothing here
+      comb_desc.primitives.push_back(p);
+    }
+    comb = world.addBody(comb_desc, Pose{Vec3{0.1, -0.18, 0.3}, Quat{1, 0, 0, 0}});
+    BodyDesc pr;
+    pr.kind = BodyKind::kProbe;
+    pr.primitives.push_back({c, Transform{}});
+    Transform X;
+    X.t = Vec3{0.009, 0.0, 0.0};
+    pr.primitives.push_back({e, X});
+    probe = world.addBody(pr, Pose{Vec3{0.12, -0.19, 0.33}, Quat{1, 0, 0, 0}});
+    BodyDesc sm;
+    sm.kind = BodyKind::kDynamic;
+    for (int k = 0; k < 10; ++k) {
+      Transform Y;
+      Y.t = Vec3{0.0, 0.007 * k, 0.0};
+      Y.R = glm::mat3_cast(glm::angleAxis(0.2 * k, Vec3{0.0, 1.0, 0.0}));
+      sm.primitives.push_back({k % 2 ? c : e, Y});
+    }
+    small_comb = world.addBody(sm, Pose{Vec3{0.13, -0.2, 0.34}, Quat{1, 0, 0, 0}});
+  }
+
+  void move(int k) {
+    const double t = 0.01 * k;
+    const Vec3 c{0.1, -0.2, 0.3};
+    const Quat slab_q = glm::angleAxis(0.3, glm::normalize(Vec3{0.2, 1.0, 0.1}));
+    // the comb sweeps over the slab's top, dipping into it and turning
+    world.setPose(
+        comb, Pose{c + slab_q * Vec3{0.04 + 0.035 * std::sin(t), 0.006 + 0.004 * std::sin(3.1 * t),
+                                     0.04 + 0.035 * std::cos(0.7 * t)},
+                   slab_q * glm::angleAxis(0.4 * std::sin(0.5 * t), Vec3{0.0, 1.0, 0.0})});
+    world.setPose(probe, Pose{c + slab_q * Vec3{0.04 + 0.03 * std::cos(1.3 * t), 0.008,
+                                                0.04 + 0.03 * std::sin(0.9 * t)},
+                              Quat{1, 0, 0, 0}});
+    if (k % 3 == 0) {  // the dynamic comb moves every third step only
+      world.setPose(small_comb,
+                    Pose{c + slab_q * Vec3{0.03 + 0.02 * std::sin(0.4 * t), 0.004, 0.05},
+                         glm::angleAxis(0.2 * t, Vec3{1.0, 0.0, 0.0})});
+    }
+  }
+};
+
+void expectSame(const Contact& x, const Contact& y) {
+  EXPECT_EQ(x.body_a, y.body_a);
+  EXPECT_EQ(x.body_b, y.body_b);
+  EXPECT_EQ(x.prim_a, y.prim_a);
+  EXPECT_EQ(x.prim_b, y.prim_b);
+  EXPECT_EQ(x.status, y.status);
+  EXPECT_EQ(x.answered, y.answered);
+  EXPECT_EQ(x.age, y.age);
+  // bit for bit: the same queries with the same caches
+  EXPECT_EQ(x.distance, y.distance);
+  EXPECT_EQ(x.normal, y.normal);
+  EXPECT_EQ(x.point_a, y.point_a);
+  EXPECT_EQ(x.point_b, y.point_b);
+  EXPECT_EQ(x.manifold.count, y.manifold.count);
+  for (std::size_t i = 0; i < x.manifold.count && i < y.manifold.count; ++i) {
+    EXPECT_EQ(x.manifold.points[i].point, y.manifold.points[i].point);
+    EXPECT_EQ(x.manifold.points[i].depth, y.manifold.points[i].depth);
+  }
+}
+
+TEST(PieceTree, SamePairsAndAnswersAsABoxPerPiece) {
+  WorldOptions with_tree;
+  with_tree.box_margin = 0.002;
+  WorldOptions without = with_tree;
+  without.piece_tree_min = 0;
+  Scene a(with_tree), b(without);
+  std::size_t most = 0, added = 0, removed = 0, from_comb = 0;
+  for (int k = 0; k < 900; ++k) {
+    a.move(k);
+    b.move(k);
+    if (k == 300) {  // a tree body leaves and comes back; another is disabled for a while
+      a.world.removeBody(a.comb);
+      b.world.removeBody(b.comb);
+      a.comb = a.world.addBody(a.comb_desc, Pose{Vec3{0.1, -0.19, 0.3}, Quat{1, 0, 0, 0}});
+      b.comb = b.world.addBody(b.comb_desc, Pose{Vec3{0.1, -0.19, 0.3}, Quat{1, 0, 0, 0}});
+    }
+    if (k == 500 || k == 560) {
+      a.world.setEnabled(a.small_comb, k == 560);
+      b.world.setEnabled(b.small_comb, k == 560);
+    }
+    const StepStats sa = a.world.step();
+    const StepStats sb = b.world.step();
+    EXPECT_EQ(sa.pairs_overlapping, sb.pairs_overlapping) << "step " << k;
+    EXPECT_EQ(sa.pairs_tested, sb.pairs_tested) << "step " << k;
+    ASSERT_EQ(a.world.contacts().size(), b.world.contacts().size()) << "step " << k;
+    for (std::size_t i = 0; i < a.world.contacts().size(); ++i) {
+      expectSame(a.world.contacts()[i], b.world.contacts()[i]);
+      const Contact& c = a.world.contacts()[i];
+      from_comb += c.body_a == a.comb || c.body_b == a.comb;
+      // the filtered-out piece never pairs
+      EXPECT_FALSE((c.body_a == a.comb && c.prim_a == 5) || (c.body_b == a.comb && c.prim_b == 5));
+    }
+    most = std::max(most, a.world.contacts().size());
+    added += sa.pairs_added;
+    removed += sa.pairs_removed;
+  }
+  // the motion makes and breaks many piece pairs, most of them between two tree bodies
+  EXPECT_GT(most, 20u);
+  EXPECT_GT(added, 200u);
+  EXPECT_GT(removed, 200u);
+  EXPECT_GT(from_comb, 2000u);
+}
+
+TEST(PieceTree, StepAllocatesNothing) {
+  WorldOptions o;
+  o.box_margin = 0.002;
+  Scene s(o);
+  for (int k = 0; k < 50; ++k) {
+    s.move(k);
+    s.world.step();
+  }
+  const std::uint64_t before = testing_alloc::count();
+  std::size_t contacts = 0;
+  for (int k = 50; k < 1050; ++k) {
+    s.move(k);
+    s.world.step();
+    contacts += s.world.contacts().size();
+  }
+  EXPECT_EQ(testing_alloc::count() - before, 0u);
+  EXPECT_GT(contacts, 1000u);
+}
+
+}  // namespace
+}  // namespace hapticd::collision
