@@ -145,7 +145,8 @@ TEST(ProxySpeed, FreeSpaceAtTenMetresPerSecondAndNoTunnelling) {
     scene::SceneModel sc;
     sc.bodies.push_back(makeBody("wall", scene::Motion::kStatic, at(0.5 * s, 0, 0),
                                  {boxShape(Vec3{0.0005 * s, 0.1 * s, 0.1 * s})}));
-    auto cube = makeBody("cube", scene::Motion::kKinematic, at(0, 0, 0), {boxShape(Vec3{0.01 * s})});
+    auto cube =
+        makeBody("cube", scene::Motion::kKinematic, at(0, 0, 0), {boxShape(Vec3{0.01 * s})});
     cube.probe = true;
     sc.bodies.push_back(cube);
     const sim::SimOptions o = scaledResponseOptions(s);
@@ -153,25 +154,29 @@ TEST(ProxySpeed, FreeSpaceAtTenMetresPerSecondAndNoTunnelling) {
     const Quat turned = axisAngle(Vec3{0, 1, 1}, 1.0);
     // 0.4 m in 40 ms turning 1 rad, then 0.2 m more at the same speed, through the wall's face
     // at 0.4995 m (the cube's face reaches it at 0.4895 m)
-    Path path({{0.0, at(0, 0, 0)}, {0.04, at(0.4 * s, 0, 0, turned)}, {0.06, at(0.6 * s, 0, 0, turned)},
+    Path path({{0.0, at(0, 0, 0)},
+               {0.04, at(0.4 * s, 0, 0, turned)},
+               {0.06, at(0.6 * s, 0, 0, turned)},
                {0.1, at(0.6 * s, 0, 0, turned)}});
     double free_lag = 0.0, free_angle = 0.0, free_force = 0.0, deepest_x = 0.0, wall_force = 0.0;
     std::uint32_t most_substeps = 0, free_ticks = 0, wall_ticks = 0;
     run.run(path, [&](const sim::TickInput& in, const sim::TickOutput& out) {
       most_substeps = std::max(most_substeps, out.proxy_substeps);
       for (int corner = 0; corner < 8; ++corner) {  // the cube's farthest corner along +x
-        const Vec3 c_B = 0.01 * s *
-                         Vec3{(corner & 1) ? 1.0 : -1.0, (corner & 2) ? 1.0 : -1.0,
-                              (corner & 4) ? 1.0 : -1.0};
+        const Vec3 c_B =
+            0.01 * s *
+            Vec3{(corner & 1) ? 1.0 : -1.0, (corner & 2) ? 1.0 : -1.0, (corner & 4) ? 1.0 : -1.0};
         deepest_x =
             std::max(deepest_x, (out.X_W_proxy.translation + out.X_W_proxy.rotation * c_B).x);
       }
       if (in.t_s <= 0.04) {
         ++free_ticks;
         EXPECT_EQ(out.contacts, 0u);
-        free_lag = std::max(free_lag, glm::length(out.X_W_proxy.translation - in.X_W_device.translation));
-        free_angle = std::max(free_angle, glm::length(geom::rotationVector(
-                                              out.X_W_proxy.rotation * glm::conjugate(in.X_W_device.rotation))));
+        free_lag =
+            std::max(free_lag, glm::length(out.X_W_proxy.translation - in.X_W_device.translation));
+        free_angle = std::max(
+            free_angle, glm::length(geom::rotationVector(out.X_W_proxy.rotation *
+                                                         glm::conjugate(in.X_W_device.rotation))));
         free_force = std::max(free_force, glm::length(out.force_W_n));
       }
       if (in.t_s >= 0.07) {
