@@ -294,6 +294,7 @@ Result<std::shared_ptr<const SimModel>> SimModel::compile(
   }
   setDynamics(*m);
   setResponse(*m);
+  m->friction = sc.plan.friction;
   return std::shared_ptr<const SimModel>(std::move(m));
 }
 

@@ -57,6 +57,11 @@ struct SimModel {
   bool dynamics_active = false;
   dynamics::DynamicsOptions dynamics_options;
   collision::WorldOptions world_options;
+  /// The plan has friction (scene::SimulationPlan::friction): the held set's rows carry the
+  /// combined materials' coefficients (docs/response.md "Friction at the probe").
+  bool friction = false;
+  /// The material of a collider that declares none (combined by the scene's rule).
+  scene::Material no_material;
   double backstop_m = 0.0;  ///< depth into a dynamic body beyond which its penalty rows act
   /// The safe distance of one proxy sub-step (ResponseOptions::safe_distance_fraction of the
   /// probe's radius, or max_speed_m_per_s * tick_s when that is set).

@@ -178,7 +178,11 @@ struct TickOutput {
   /// still cut by the safe distance (max_substeps sub-steps taken, or one bisected back).
   bool travel_limited = false;
   std::uint32_t proxy_substeps = 0;  ///< proxy sub-steps taken this tick (>= 1)
-  double delta_m = 0.0;              ///< this tick's predictive distance delta (scene units)
+  /// Friction at the probe (docs/response.md "Friction at the probe"), the last sub-step: the
+  /// proxy stuck inside the friction cone, or slid on its edge.
+  bool proxy_stuck = false;
+  bool proxy_sliding = false;
+  double delta_m = 0.0;  ///< this tick's predictive distance delta (scene units)
   // --- added by the dynamics integration (docs/dynamics.md "In the Simulation") ---
   /// The dynamics' feedback on the held set this tick: its contact and joint impulses with the
   /// bodies the dynamics move, spread over DynamicsOptions::impulse_window_s, added to the

@@ -224,6 +224,7 @@ ProxyMove moveProxy(const SimModel& m,
   for (std::uint32_t k = 0; k < most; ++k) {
     response::ProxyProblem pb;
     *grab_weight = proxyProblem(m, s, dev, &pb);
+    pb.sliding = s.proxy_sliding;
     const double error_before = couplingError(pb);
     // no nearer by a quarter of a safe distance, not pushed out of a surface by as much, and
     // the last sub-step hardly moved the handle or moved it away: it turns or slides on the spot
@@ -236,6 +237,7 @@ ProxyMove moveProxy(const SimModel& m,
     pen = s.last_penetration_m;
     const ProxyMove one = moveProxyOnce(m, s, pb, k == 0 ? pusher_travel : 0.0);
     moved = glm::length(one.step.dc_W);
+    s.proxy_sliding = one.step.sliding;
     mv.step = one.step;
     mv.stats.pairs_tested += one.stats.pairs_tested;
     mv.stats.pairs_skipped = one.stats.pairs_skipped;
@@ -344,6 +346,8 @@ void fillOutput(const SimModel& m, SceneState& s, const ProxyMove& mv, TickOutpu
   out->attached_body = h.attached == kNoBody ? -1 : m.info[h.attached].scene_index;
   out->travel_limited = mv.step.travel_limited;
   out->proxy_substeps = mv.substeps;
+  out->proxy_stuck = mv.step.stuck;
+  out->proxy_sliding = mv.step.sliding;
   out->delta_m = s.delta_m;
   for (std::size_t i = 0; i < m.pose_bodies.size(); ++i) {
     const std::uint32_t id = m.pose_bodies[i];

@@ -146,7 +146,7 @@ TEST(StressDemo, TheSweeperRidesOverThePillarsOfItsFirstPass) {
   EXPECT_GT(over_field, 1000u);
   EXPECT_GT(over_tops, 200u);
   EXPECT_GT(lowest_in_gap, ride_y - 0.0015);  // the target is 1 mm below the tops
-  EXPECT_GT(touching, over_field / 4);  // it rides on the tops, losing contact over the gaps
+  EXPECT_GT(touching, over_field / 4);        // it rides on the tops, losing contact over the gaps
   // never ploughs into a pillar: at most the proxy's penetration at the force limit (0.33 mm)
   EXPECT_GT(lowest, ride_y - 0.0005);
   // and keeps up with its stream (0.78 m/s at its peak): within 2 mm along the pass, except
