@@ -34,12 +34,12 @@ FrictionRun pushBlock(double mu_s, double mu_d) {
   mat.static_friction = mu_s;
   mat.dynamic_friction = mu_d;
   sc.materials.push_back(mat);
-  auto floor = makeBody("floor", scene::Motion::kStatic, at(0, -0.01, 0),
-                        {boxShape(Vec3{0.2, 0.01, 0.2})});
+  auto floor =
+      makeBody("floor", scene::Motion::kStatic, at(0, -0.01, 0), {boxShape(Vec3{0.2, 0.01, 0.2})});
   floor.primitives[0].material = 0;
   sc.bodies.push_back(floor);
-  auto block = makeBody("block", scene::Motion::kKinematic, at(-0.05, 0.02, 0),
-                        {boxShape(Vec3{0.01})});
+  auto block =
+      makeBody("block", scene::Motion::kKinematic, at(-0.05, 0.02, 0), {boxShape(Vec3{0.01})});
   block.probe = true;
   block.primitives[0].material = 0;
   sc.bodies.push_back(block);
@@ -67,8 +67,8 @@ FrictionRun pushBlock(double mu_s, double mu_d) {
     if (std::abs(in.t_s - 0.5) < 1e-9)
       proxy_x_at_pull = out.X_W_proxy.translation.x;
     if (in.t_s > 0.5 && in.t_s <= 0.9) {
-      r.stuck_proxy_move = std::max(r.stuck_proxy_move,
-                                    std::abs(out.X_W_proxy.translation.x - proxy_x_at_pull));
+      r.stuck_proxy_move =
+          std::max(r.stuck_proxy_move, std::abs(out.X_W_proxy.translation.x - proxy_x_at_pull));
       r.stuck_pull = std::max(r.stuck_pull, ft / fn);
     }
     if (in.t_s > 1.2 && in.t_s < 1.8) {  // sliding at a steady 60 mm/s
@@ -161,12 +161,11 @@ TEST_P(ProbeFrictionDemo, TheEnergyIntoTheHandStaysNonPositive) {
   EXPECT_LE(f.max_force_n, o.response.max_force_n * (1.0 + 1e-12));
 }
 
-INSTANTIATE_TEST_SUITE_P(Demo,
-                         ProbeFrictionDemo,
-                         ::testing::Values("peg_in_hole", "gears", "dynamic", "stress", "decomposed"),
-                         [](const ::testing::TestParamInfo<const char*>& param) {
-                           return std::string(param.param);
-                         });
+INSTANTIATE_TEST_SUITE_P(
+    Demo,
+    ProbeFrictionDemo,
+    ::testing::Values("peg_in_hole", "gears", "dynamic", "stress", "decomposed"),
+    [](const ::testing::TestParamInfo<const char*>& param) { return std::string(param.param); });
 
 }  // namespace
 }  // namespace hapticd::simtest
