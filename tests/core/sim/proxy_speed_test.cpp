@@ -327,7 +327,7 @@ INSTANTIATE_TEST_SUITE_P(Demo,
                                            ScaleCase{"gears", 0, 0},
                                            ScaleCase{"dynamic", 0, 0},
                                            ScaleCase{"stress", 6.0, 1e-6},
-                                           ScaleCase{"decomposed", 7.0, 1e-6}),
+                                           ScaleCase{"decomposed", 3.0, 1e-6}),
                          scaleCaseName);
 
 }  // namespace
