@@ -242,10 +242,20 @@ const ConfigKey kKeys[] = {
     {"response", "probe_sphere_radius_m", HAPTICD_FIELD(response.sim.probe_sphere_radius_m),
      positive(1e6), "m", "Radius of the probe sphere used when the scene marks no probe body."},
     {"response", "max_speed_m_per_s", HAPTICD_FIELD(response.sim.response.max_speed_m_per_s),
-     positive(1e6), "m/s",
-     "Bound on the speed of every point of the held body: the proxy never moves farther than "
-     "max_speed_m_per_s * tick per tick (the safe distance), and the broad phase looks twice "
-     "that far."},
+     closed(0.0, 1e6), "m/s",
+     "Deprecated, kept for configurations that set it: > 0 makes the safe distance absolute, "
+     "max_speed_m_per_s * tick scene units per proxy sub-step (it no longer bounds the proxy's "
+     "speed); 0 takes it from safe_distance_fraction."},
+    {"response", "safe_distance_fraction",
+     HAPTICD_FIELD(response.sim.response.safe_distance_fraction), positive(1.0), "",
+     "The safe distance (paper section 5.2) is this fraction of the probe body's radius: no "
+     "point of the held body moves farther in one proxy sub-step, and the broad phase looks "
+     "twice that far. The proxy takes as many sub-steps as it needs to reach the device in one "
+     "tick (up to max_substeps), so in free space it keeps up at any speed."},
+    {"response", "max_substeps", HAPTICD_FIELD(response.sim.response.max_substeps),
+     closed(1, 100000), "",
+     "Most proxy sub-steps in one tick; beyond max_substeps safe distances per tick the proxy "
+     "catches up over the next ticks (TickOutput travel_limited)."},
     {"response", "speed_decay_s", HAPTICD_FIELD(response.sim.response.speed_decay_s),
      positive(60.0), "s",
      "The predictive distance delta = v_c * tick (paper section 5.2); v_c, the bound on the held "
@@ -266,8 +276,11 @@ const ConfigKey kKeys[] = {
      HAPTICD_FIELD(response.sim.response.rot_stiffness_nm_per_rad), closed(0.0, 1e6), "N m/rad",
      "Rotational coupling stiffness; 0 takes k_c * r^2 with r the held body's radius."},
     {"response", "penetration_allowance_m",
-     HAPTICD_FIELD(response.sim.response.penetration_allowance_m), positive(1e6), "m",
-     "A proxy step that would leave the proxy deeper than this is bisected back."},
+     HAPTICD_FIELD(response.sim.response.penetration_allowance_m), closed(0.0, 1e6), "m",
+     "A proxy step that would leave the proxy deeper than this is bisected back; 0 derives it "
+     "from the device and the stiffness: 1.5 max_force_n / (proxy_stiffness_ratio * "
+     "stiffness_n_per_m), 1.5 times the proxy's penetration at the force limit (0.5 mm at the "
+     "defaults)."},
     {"response", "crease_angle_deg", HAPTICD_FIELD(response.sim.response.crease_angle_deg),
      below(0.0, 90.0), "degrees",
      "Force shading (paper section 5.3): edges whose faces bend by less than this are "
@@ -276,8 +289,14 @@ const ConfigKey kKeys[] = {
      closed(0, 4294967295.0), "",
      "Buttons (bit mask) that attach the probe to the body it touches while held down (section "
      "6.2)."},
+    {"response", "attach_distance_fraction",
+     HAPTICD_FIELD(response.sim.response.attach_distance_fraction), closed(0.0, 1.0), "",
+     "The probe attaches to a body no farther than this fraction of the probe body's radius "
+     "(and never less than two safe distances)."},
     {"response", "attach_distance_m", HAPTICD_FIELD(response.sim.response.attach_distance_m),
-     closed(0.0, 1e6), "m", "The probe attaches to a body no farther than this."},
+     closed(0.0, 1e6), "m",
+     "Deprecated, kept for configurations that set it: > 0 is an absolute attach distance "
+     "(scene units) instead of attach_distance_fraction; 0 uses the fraction."},
     {"response", "hinge_attach", HAPTICD_FIELD(response.sim.response.hinge_attach), kNoRange, "",
      "How the probe attaches to a body on a hinge: \"rim\", \"centre\", or \"auto\" (centre when "
      "the probe is within centre_radius_fraction of the body's radius from the axis, else "

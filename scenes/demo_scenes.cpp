@@ -78,6 +78,16 @@ void addDynamicBox(GltfBuilder& b,
   b.addRoot(n);
 }
 
+/// The physics material of every collider of a scene whose plan has no friction (gears,
+/// peg_in_hole, stress, decomposed): static and dynamic friction 0 and no restitution, so that
+/// a collider without one does not take the default friction (docs/demo-scenes.md).
+int addFrictionless(GltfBuilder& b) {
+  return b.addPhysicsMaterial({{"name", "frictionless"},
+                               {"staticFriction", 0.0},
+                               {"dynamicFriction", 0.0},
+                               {"restitution", 0.0}});
+}
+
 /// The static floor "Floor": a box of `size` (20 mm thick) whose top is at y = 0, with a box
 /// collider of physics material `material` (-1: none).
 void addFloor(GltfBuilder& b, const Vec3& size, int colour, int material = -1) {
@@ -106,6 +116,7 @@ std::string numbered(const char* prefix, int i) {
 std::vector<std::uint8_t> makeGears() {
   using namespace gears;
   GltfBuilder b;
+  const int none = addFrictionless(b);
   const SpurGear g = gear();
   const double pitch = 2.0 * kPi / g.teeth;
   const int steel = b.addRenderMaterial("steel", {0.72, 0.73, 0.76, 1.0}, 0.9, 0.35);
@@ -140,7 +151,7 @@ std::vector<std::uint8_t> makeGears() {
 
     const int hub_mesh = b.addMesh(name + "_hub", prismMesh(g.hubPolygon(first_tooth), w), render);
     const int hub = b.addNode({{"name", name + "_hub"}, {"mesh", hub_mesh}});
-    meshCollider(b, hub);
+    meshCollider(b, hub, none);
     b.addChild(body, hub);
     for (int k = 0; k < g.teeth; ++k) {
       char suffix[32];
@@ -148,7 +159,7 @@ std::vector<std::uint8_t> makeGears() {
       const int mesh =
           b.addMesh(name + suffix, prismMesh(g.toothPolygon(first_tooth + k * pitch), w), render);
       const int tooth = b.addNode({{"name", name + suffix}, {"mesh", mesh}});
-      meshCollider(b, tooth);
+      meshCollider(b, tooth, none);
       b.addChild(body, tooth);
     }
     // the axle: a node of the scene frame (no motion) at the gear's centre; the hinge node is the
@@ -173,7 +184,7 @@ std::vector<std::uint8_t> makeGears() {
   const int rod_mesh = b.addMesh("Handle", prismMesh(rod, kRodLength_m), grip);
   const double gap = 4.5 * pitch;
   const Vec3 start{-0.5 * kCentreDistance_m + 0.075 * std::cos(gap), 0.075 * std::sin(gap), 0.0};
-  meshCollider(b, heldBody(b, "Handle", rod_mesh, jsonVec(start)));
+  meshCollider(b, heldBody(b, "Handle", rod_mesh, jsonVec(start)), none);
   return b.finish("gears");
 }
 
@@ -181,6 +192,7 @@ std::vector<std::uint8_t> makeGears() {
 std::vector<std::uint8_t> makePegInHole() {
   using namespace peg;
   GltfBuilder b;
+  const int none = addFrictionless(b);
   const int wood = b.addRenderMaterial("peg", {0.85, 0.65, 0.40, 1.0}, 0.0, 0.7);
   const int grey = b.addRenderMaterial("block", {0.55, 0.57, 0.60, 1.0}, 0.2, 0.6);
 
@@ -191,7 +203,7 @@ std::vector<std::uint8_t> makePegInHole() {
   auto part = [&](const std::string& name, const Vec3& size, const Vec3& centre) {
     const int mesh = b.addMesh(name, boxMesh(size), grey);
     const int n = b.addNode({{"name", name}, {"mesh", mesh}, {"translation", jsonVec(centre)}});
-    meshCollider(b, n);
+    meshCollider(b, n, none);
     b.addChild(hole, n);
   };
   part("Hole_floor", {kBaseSide_m, kBaseThickness_m, kBaseSide_m},
@@ -209,7 +221,7 @@ std::vector<std::uint8_t> makePegInHole() {
   const int peg_mesh = b.addMesh("Peg", boxMesh({kPegSide_m, kPegLength_m, kPegSide_m}), wood);
   // starts with its end 40 mm above the wall tops, off to one side (the pose stream's first row)
   const Vec3 start{0.030, kHoleDepth_m + 0.5 * kPegLength_m + 0.040, 0.020};
-  meshCollider(b, heldBody(b, "Peg", peg_mesh, jsonVec(start)));
+  meshCollider(b, heldBody(b, "Peg", peg_mesh, jsonVec(start)), none);
   return b.finish("peg_in_hole");
 }
 
@@ -293,12 +305,13 @@ std::vector<std::uint8_t> makeDynamic() {
 std::vector<std::uint8_t> makeStress() {
   using namespace stress;
   GltfBuilder b;
+  const int none = addFrictionless(b);
   const int grey = b.addRenderMaterial("pillar", {0.60, 0.60, 0.62, 1.0}, 0.1, 0.7);
   const int floor_colour = b.addRenderMaterial("floor", {0.30, 0.32, 0.35, 1.0}, 0.0, 0.9);
   const int orange = b.addRenderMaterial("block", {0.95, 0.55, 0.15, 1.0}, 0.0, 0.6);
   const int white = b.addRenderMaterial("sweeper", {0.95, 0.95, 0.95, 1.0}, 0.0, 0.3);
 
-  addFloor(b, {1.2, 0.02, 1.2}, floor_colour);
+  addFloor(b, {1.2, 0.02, 1.2}, floor_colour, none);
 
   const Box pillar =
       addBox(b, "Pillar", {kPillarSize_m[0], kPillarSize_m[1], kPillarSize_m[2]}, grey);
@@ -312,7 +325,7 @@ std::vector<std::uint8_t> makeStress() {
                                {"mesh", pillar.mesh},
                                {"translation", jsonVec({pillarCoordinate(i), 0.5 * kPillarSize_m[1],
                                                         pillarCoordinate(j)})}});
-      shapeCollider(b, n, pillar.shape);
+      shapeCollider(b, n, pillar.shape, none);
       b.addChild(field, n);
     }
   }
@@ -323,7 +336,7 @@ std::vector<std::uint8_t> makeStress() {
       addDynamicBox(b, numbered("Block", i * kBlocksPerSide + j), block,
                     jsonVec({blockCoordinate(i), kPillarSize_m[1] + 0.5 * kBlockSide_m + 0.001,
                              blockCoordinate(j)}),
-                    kBlockMass_kg);
+                    kBlockMass_kg, none);
     }
   }
 
@@ -333,7 +346,7 @@ std::vector<std::uint8_t> makeStress() {
   // at the stream's first row
   const int sweeper =
       heldBody(b, "Sweeper", sweeper_mesh, jsonVec({-0.52, 0.1, pillarCoordinate(4)}));
-  shapeCollider(b, sweeper, sweeper_shape);
+  shapeCollider(b, sweeper, sweeper_shape, none);
 
   b.setSceneExtras({{"haptic", {{"gravity", Json::array({0.0, -9.81, 0.0})}}}});
   return b.finish("stress");
@@ -360,6 +373,7 @@ std::vector<MeshData> decomposeCell(const MeshData& mesh) {
 std::vector<std::uint8_t> makeDecomposed() {
   using namespace decomposed;
   GltfBuilder b;
+  const int none = addFrictionless(b);
   const int grey = b.addRenderMaterial("grooved", {0.55, 0.57, 0.60, 1.0}, 0.3, 0.6);
   const int copper = b.addRenderMaterial("pins", {0.78, 0.45, 0.28, 1.0}, 0.8, 0.4);
 
@@ -388,7 +402,7 @@ std::vector<std::uint8_t> makeDecomposed() {
             {{"name", name},
              {"mesh", ridge_pieces[k]},
              {"translation", jsonVec({grooveCellCoordinate(i), 0.0, grooveCellCoordinate(j)})}});
-        meshCollider(b, n);
+        meshCollider(b, n, none);
         b.addChild(grooved, n);
       }
     }
@@ -410,7 +424,7 @@ std::vector<std::uint8_t> makeDecomposed() {
             {{"name", name},
              {"mesh", pin_pieces[k]},
              {"translation", jsonVec({i * kCell_m, 0.0, (j - 0.5 * (kPinCellsZ - 1)) * kCell_m})}});
-        meshCollider(b, n);
+        meshCollider(b, n, none);
         b.addChild(held, n);
       }
     }

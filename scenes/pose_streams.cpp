@@ -165,11 +165,13 @@ std::string dynamicStream() {
   const std::vector<Key> keys = {
       {0.0, {0.0, 0.20, 0.25}},
       {1.0, {0.0, 0.20, 0.25}},
-      {2.5, {-0.21, 0.090, kCubeZ_m}},   // left of Cube0, lower end 15 mm up
+      {1.8, {-0.21, 0.17, kCubeZ_m}},    // high over the spheres and ellipsoids, then
+      {2.5, {-0.21, 0.090, kCubeZ_m}},   // down left of Cube0, lower end 15 mm up
       {4.5, {-0.125, 0.090, kCubeZ_m}},  // push it 55 mm along +X
       {5.0, {-0.125, 0.090, kCubeZ_m}},
       {5.8, {-0.125, 0.17, kCubeZ_m}},
-      {7.0, {0.21, 0.10, kSphereZ_m}},  // right of Sphere3, at its equator
+      {6.5, {0.21, 0.17, kSphereZ_m}},  // over to the right of Sphere3, high above it
+      {7.0, {0.21, 0.10, kSphereZ_m}},  // down beside it, the lower end at its equator
       {7.5, {0.21, 0.10, kSphereZ_m}},
       {7.8, {0.14, 0.10, kSphereZ_m}},  // strike: 70 mm in 0.3 s
       {8.3, {0.14, 0.10, kSphereZ_m}},
@@ -179,11 +181,12 @@ std::string dynamicStream() {
       {12.0, {-0.05, 0.110, kEllipsoidZ_m}, {tilt, 0.0, 0.0}},  // press into its top
       {12.5, {-0.05, 0.110, kEllipsoidZ_m}, {tilt, 0.0, 0.0}},
       {13.0, {-0.05, 0.17, kEllipsoidZ_m}},
-      {14.0, {0.05, 0.17, kCubeZ_m}},                 // over Cube2
-      {15.0, {0.05, 0.116, kCubeZ_m}, Vec3{0.0}, 1},  // on its top; button 1 held from here
-      {16.5, {0.05, 0.20, kCubeZ_m}, Vec3{0.0}, 1},   // lift
-      {17.5, {0.05, 0.20, 0.20}, Vec3{0.0}, 1},       // carry
-      {18.0, {0.05, 0.14, 0.20}},                     // lower, release: it drops
+      {14.0, {0.05, 0.17, kCubeZ_m}},  // over Cube2
+      // on its top as it rests on the floor (it started kDropGap_m higher); button 1 held
+      {15.0, {0.05, 0.5 * kStickSize_m[1] + kCubeSide_m, kCubeZ_m}, Vec3{0.0}, 1},
+      {16.5, {0.05, 0.20, kCubeZ_m}, Vec3{0.0}, 1},  // lift
+      {17.5, {0.05, 0.20, 0.20}, Vec3{0.0}, 1},      // carry
+      {18.0, {0.05, 0.14, 0.20}},                    // lower, release: it drops
       {19.0, {0.05, 0.22, 0.20}},
       {19.5, {0.05, 0.22, 0.20}},
   };

@@ -93,6 +93,8 @@ void ContactRows::writeState(StateWriter& w) const {
     w.f64(r.stiffness);
     w.integer(r.first);
     w.integer(r.second);
+    w.f64(r.mu_s);
+    w.f64(r.mu_d);
   }
   w.integer(capacity_);
   w.flag(full_);
@@ -268,6 +270,63 @@ VecN solveActiveSet(std::span<const ContactRow> rows,
   return x;
 }
 
+// Coulomb friction on the translation of a freely held set (see the file comment of proxy.h):
+// stick inside the cone, slide on its edge
+void applyFriction(const ProxyProblem& pb,
+                   std::span<const ContactRow> rows,
+                   const ProxyParams& params,
+                   const RowSystem& rs,
+                   std::size_t n,
+                   VecN& x,
+                   ProxyStep& out) {
+  if (pb.basis.dofs != 6)
+    return;
+  Vec3 n_sum{0.0};
+  double f_sum = 0.0, mus = 0.0, mud = 0.0;
+  for (std::size_t i = 0; i < rs.nr; ++i) {
+    const ContactRow& r = rows[i];
+    if (!rs.active[i] || r.first >= 0)
+      continue;
+    double gp = r.gap;
+    for (std::size_t p = 0; p < n; ++p)
+      gp += rs.g[i][p] * x[p];
+    const double f = r.stiffness * (params.delta - gp);
+    if (!(f > 0.0))
+      continue;
+    n_sum += f * r.n_W;
+    f_sum += f;
+    mus += f * r.mu_s;
+    mud += f * r.mu_d;
+  }
+  const double N = std::sqrt(glm::dot(n_sum, n_sum));
+  if (!(f_sum > 0.0 && N > 0.0) || !(mus > 0.0 || mud > 0.0))
+    return;
+  mus /= f_sum;
+  mud /= f_sum;
+  const Vec3 nb = n_sum / N;
+  const double kc = params.coupling_stiffness;
+  const Vec3 e = clampLength(pb.h_target_W - pb.h_W, params.max_force_n / kc);
+  const Vec3 e_t = e - glm::dot(e, nb) * nb;
+  const double pull = kc * std::sqrt(glm::dot(e_t, e_t));  // tangential, were it not to slide
+  const Vec3 dc{x[0], x[1], x[2]};
+  const Vec3 dc_n = glm::dot(dc, nb) * nb;
+  const Vec3 dc_t = dc - dc_n;
+  out.normal_force_n = N;
+  const double limit = (pb.sliding ? mud : mus) * N;
+  Vec3 moved = dc_n;
+  if (pull <= limit) {
+    out.stuck = true;
+    out.friction_force_n = pull;
+  } else {
+    out.sliding = true;
+    out.friction_force_n = mud * N;
+    moved += dc_t * (1.0 - mud * N / pull);
+  }
+  x[0] = moved.x;
+  x[1] = moved.y;
+  x[2] = moved.z;
+}
+
 // the step's motion, scaled so that no point of the held set, nor of a driven body, moves
 // farther than max_travel (the safe distance)
 void finishStep(const ProxyProblem& pb,
@@ -318,7 +377,8 @@ ProxyStep solveProxyStep(const ProxyProblem& pb,
   rs.nr = std::min(rows.size(), kMaxRows);
   out.rows_dropped = rows.size() > kMaxRows;
   rowSystem(pb, rows, params, nd, rs);
-  const VecN x = solveActiveSet(rows, params, Ac, bc, n, rs, out);
+  VecN x = solveActiveSet(rows, params, Ac, bc, n, rs, out);
+  applyFriction(pb, rows, params, rs, n, x, out);
   finishStep(pb, params, x, nd, out);
   return out;
 }

@@ -21,6 +21,16 @@
 /// k (delta - d) within delta and k (delta + D_p) on penetration; a pair's stiffness k is split
 /// over its manifold's points, so that the total does not depend on how many there are. The
 /// restoring torque is T = sum_i R_i x f_i about the reference point (the held set's centre).
+///
+/// Friction (Coulomb, after the god-object friction cone of Salisbury et al. 1995 and Ruspini
+/// et al. 1997): rows pressed after the step load the proxy with N (their total normal force,
+/// along their force-weighted normal) and carry the pair's static and dynamic coefficients. The
+/// coupling's tangential pull, were the proxy not to slide, is F_t = k_c |e_t|. Within the cone
+/// (F_t <= mu_s N, or mu_d N while already sliding) the proxy sticks: its tangential translation
+/// is removed. Beyond it the proxy slides on the cone's edge: its tangential translation is cut
+/// so that the pull left is mu_d N. Friction acts on the translation of a freely held set (not on
+/// its rotation, nor on a hinge's coordinate); it only removes motion, so the coupling stays the
+/// passive spring and damper it is.
 
 #include <array>
 #include <cstdint>
@@ -43,6 +53,10 @@ struct ContactRow {
   std::int32_t first = -1;
   /// The side n_W pushes against: -1 fixed, d >= 0 driven hinge d.
   std::int32_t second = -1;
+  /// Coulomb friction of the pair (the combined materials, KHR_physics_rigid_bodies' rule):
+  /// static and dynamic coefficients; 0: frictionless.
+  double mu_s = 0.0;
+  double mu_d = 0.0;
 };
 
 /// Fixed-capacity row buffer: reserve() off the servo thread, then push() never allocates; a full
@@ -123,6 +137,10 @@ struct ProxyProblem {
   ProxyBasis basis = ProxyBasis::free();
   std::array<DrivenHinge, kMaxDriven> driven{};
   std::uint32_t driven_count = 0;
+  /// The proxy was sliding on a surface with friction at the end of the last step: it goes on
+  /// sliding while the coupling's tangential pull exceeds the dynamic friction, where a proxy at
+  /// rest breaks away only beyond the static friction.
+  bool sliding = false;
 };
 
 /// What the step decided.
@@ -133,6 +151,12 @@ struct ProxyStep {
   std::array<double, ProxyProblem::kMaxDriven> driven_angle{};  ///< each driven hinge's turn
   bool travel_limited = false;
   bool rows_dropped = false;  ///< more rows than the solver holds (kMaxRows): the rest ignored
+  /// Friction (rows with mu_s or mu_d > 0 pressed this step): the proxy stuck (its tangential
+  /// motion removed), or slid on the edge of the friction cone.
+  bool stuck = false;
+  bool sliding = false;
+  double normal_force_n = 0.0;    ///< the pressed rows' total normal force (friction's N)
+  double friction_force_n = 0.0;  ///< the tangential force friction holds (N)
   std::uint32_t passes = 0;
   std::uint32_t active = 0;  ///< rows active at the end
 };

@@ -143,7 +143,7 @@ void updateAttachment(const SimModel& m, SceneState& s, const TickInput& input) 
   if (down && !was && s.held.mode == AttachMode::kFree) {
     // the nearest non-static body the probe touches
     std::uint32_t best = kNoBody;
-    double best_d = m.options.response.attach_distance_m;
+    double best_d = m.attach_distance_m;
     for (const collision::Contact& c : s.world.contacts()) {
       if (!c.answered)
         continue;

@@ -39,7 +39,13 @@ Result<bool> checkOptions(const SimOptions& o) {
       {finitePositive(r.max_force_step_n), "[device] max_force_step_n must be > 0"},
       {finitePositive(r.max_torque_step_nm), "[device] max_torque_step_nm must be > 0"},
       {finiteNonNegative(r.ramp_s), "[servo] ramp_in_s must be >= 0"},
-      {finitePositive(r.max_speed_m_per_s), "[response] max_speed_m_per_s must be > 0"},
+      {finiteNonNegative(r.max_speed_m_per_s),
+       "[response] max_speed_m_per_s must be >= 0 (0: the safe distance from "
+       "safe_distance_fraction)"},
+      {std::isfinite(r.safe_distance_fraction) && r.safe_distance_fraction > 0.0 &&
+           r.safe_distance_fraction <= 1.0,
+       "[response] safe_distance_fraction must be in (0, 1]"},
+      {r.max_substeps >= 1, "[response] max_substeps must be >= 1"},
       {finiteNonNegative(r.speed_decay_s), "[response] speed_decay_s must be >= 0"},
       {std::isfinite(fraction) && fraction > 0.0 && fraction <= 1.0,
        "[response] min_predictive_fraction must be in (0, 1]"},
@@ -49,7 +55,9 @@ Result<bool> checkOptions(const SimOptions& o) {
        "[response] coupling_damping_factor must be >= 0"},
       {finiteNonNegative(r.rot_stiffness_nm_per_rad),
        "[response] rot_stiffness_nm_per_rad must be >= 0"},
-      {finitePositive(r.penetration_allowance_m), "[response] penetration_allowance_m must be > 0"},
+      {finiteNonNegative(r.penetration_allowance_m),
+       "[response] penetration_allowance_m must be >= 0 (0: from the force limit and the "
+       "stiffness)"},
       {std::isfinite(crease) && crease >= 0.0 && crease < 90.0,
        "[response] crease_angle_deg must be in [0, 90)"},
       {std::isfinite(backstop) && backstop >= 0.0 && backstop <= 1.0,
@@ -57,6 +65,9 @@ Result<bool> checkOptions(const SimOptions& o) {
       {finiteNonNegative(o.dynamics_impulse_window_s), "[response] impulse_window_s must be >= 0"},
       {finiteNonNegative(o.dynamics_sleep_time_s), "[response] dynamics_sleep_time_s must be >= 0"},
       {finiteNonNegative(r.attach_distance_m), "[response] attach_distance_m must be >= 0"},
+      {std::isfinite(r.attach_distance_fraction) && r.attach_distance_fraction >= 0.0 &&
+           r.attach_distance_fraction <= 1.0,
+       "[response] attach_distance_fraction must be in [0, 1]"},
       {finiteNonNegative(r.grab_inertia_filter_s), "[response] grab_inertia_filter_s must be >= 0"},
   };
   for (const auto& [ok, message] : checks) {
@@ -173,14 +184,30 @@ Result<bool> addJoints(SimModel& m) {
   return true;
 }
 
-// the response's parameters at the start: the coupling's stiffness k_c in series with the proxy's
-// contact springs gives k_s; rotational stiffness k_c r^2 with r the probe's radius
-void setResponse(SimModel& m) {
+// the lengths of the response, relative to the probe's size or derived from the device's force
+// limit and the stiffness unless an absolute value is configured (docs/response.md "Knobs")
+void setLengths(SimModel& m) {
   const ResponseOptions& r = m.options.response;
   const scene::SceneModel& sc = *m.scene;
   const geom::Pose X_probe = initialPose(sc, m.probe);
   const Vec3 c = X_probe.translation + X_probe.rotation * m.info[m.probe].com_B;
   m.probe_radius_m = std::max(m.radiusAbout(m.probe, X_probe, c), 1e-9);
+  m.max_travel_m = r.max_speed_m_per_s > 0.0 ? r.max_speed_m_per_s * r.tick_s
+                                             : r.safe_distance_fraction * m.probe_radius_m;
+  m.penetration_allowance_m =
+      r.penetration_allowance_m > 0.0
+          ? r.penetration_allowance_m
+          : 1.5 * r.max_force_n / (r.proxy_stiffness_ratio * r.stiffness_n_per_m);
+  m.attach_distance_m =
+      r.attach_distance_m > 0.0
+          ? r.attach_distance_m
+          : std::max(r.attach_distance_fraction * m.probe_radius_m, 2.0 * m.max_travel_m);
+}
+
+// the response's parameters at the start: the coupling's stiffness k_c in series with the proxy's
+// contact springs gives k_s; rotational stiffness k_c r^2 with r the probe's radius
+void setResponse(SimModel& m) {
+  const ResponseOptions& r = m.options.response;
 
   response::CouplingParams& cp = m.coupling;
   cp.tick_s = r.tick_s;
@@ -218,7 +245,7 @@ void setDynamics(SimModel& m) {
   d.sleep_time_s = m.options.dynamics_sleep_time_s;
   if (sc.probe_body < 0)
     d.extra_probe_body = static_cast<std::int32_t>(sc.bodies.size());
-  m.backstop_m = r.dynamic_backstop_fraction * r.penetration_allowance_m;
+  m.backstop_m = r.dynamic_backstop_fraction * m.penetration_allowance_m;
 }
 
 }  // namespace
@@ -243,22 +270,22 @@ Result<std::shared_ptr<const SimModel>> SimModel::compile(
   if (sc.probe_body < 0 && !finitePositive(options.probe_sphere_radius_m))
     return Error{"probe sphere radius must be > 0"};
 
-  m->max_travel_m = r.max_speed_m_per_s * r.tick_s;
   m->speed_decay = r.speed_decay_s > 0.0 ? std::exp(-r.tick_s / r.speed_decay_s) : 0.0;
   m->k_s = r.stiffness_n_per_m;
   // series springs: k_c in series with ratio * k_s gives k_s
   m->k_c = m->k_s * r.proxy_stiffness_ratio / (r.proxy_stiffness_ratio - 1.0);
-  // pairs within the predictive distance plus one tick's travel are found (buildCollisionWorld
-  // raises the margin to the dynamics' when the scene has dynamic bodies); a pair of bodies that
-  // did not move keeps its exact answer
-  m->world_options.box_margin = 2.0 * m->max_travel_m;
-  m->world_options.budget.max_pairs = options.max_pairs_per_tick;
-  m->world_options.skip_unmoved_pairs = true;
 
   if (auto ok = addBodies(*m, r.crease_angle_deg * std::numbers::pi / 180.0); !ok.ok())
     return ok.error();
   if (auto ok = addJoints(*m); !ok.ok())
     return ok.error();
+  setLengths(*m);
+  // pairs within the predictive distance plus one sub-step's travel are found
+  // (buildCollisionWorld raises the margin to the dynamics' when the scene has dynamic bodies);
+  // a pair of bodies that did not move keeps its exact answer
+  m->world_options.box_margin = 2.0 * m->max_travel_m;
+  m->world_options.budget.max_pairs = options.max_pairs_per_tick;
+  m->world_options.skip_unmoved_pairs = true;
   // the bodies whose poses are listed
   for (std::uint32_t id = 0; id < m->info.size(); ++id) {
     const BodyInfo& bi = m->info[id];
@@ -267,6 +294,7 @@ Result<std::shared_ptr<const SimModel>> SimModel::compile(
   }
   setDynamics(*m);
   setResponse(*m);
+  m->friction = sc.plan.friction;
   return std::shared_ptr<const SimModel>(std::move(m));
 }
 

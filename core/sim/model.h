@@ -57,11 +57,24 @@ struct SimModel {
   bool dynamics_active = false;
   dynamics::DynamicsOptions dynamics_options;
   collision::WorldOptions world_options;
-  double backstop_m = 0.0;    ///< depth into a dynamic body beyond which its penalty rows act
-  double max_travel_m = 0.0;  ///< the safe distance per tick
-  double speed_decay = 0.0;   ///< per-tick decay of the speed bound v_c
-  double k_s = 0.0;           ///< felt stiffness at the device (N per scene unit)
-  double k_c = 0.0;           ///< coupling stiffness
+  /// The plan has friction (scene::SimulationPlan::friction): the held set's rows carry the
+  /// combined materials' coefficients (docs/response.md "Friction at the probe").
+  bool friction = false;
+  /// The material of a collider that declares none (combined by the scene's rule).
+  scene::Material no_material;
+  double backstop_m = 0.0;  ///< depth into a dynamic body beyond which its penalty rows act
+  /// The safe distance of one proxy sub-step (ResponseOptions::safe_distance_fraction of the
+  /// probe's radius, or max_speed_m_per_s * tick_s when that is set).
+  double max_travel_m = 0.0;
+  /// ResponseOptions::penetration_allowance_m, or when 0 what it derives from: 1.5 times the
+  /// proxy's deepest penetration at the force limit, max_force_n / (ratio * k_s).
+  double penetration_allowance_m = 0.0;
+  /// ResponseOptions::attach_distance_m, or when 0 attach_distance_fraction of the probe's
+  /// radius (and never less than two safe distances: the proxy rests delta from what it touches).
+  double attach_distance_m = 0.0;
+  double speed_decay = 0.0;  ///< per-tick decay of the speed bound v_c
+  double k_s = 0.0;          ///< felt stiffness at the device (N per scene unit)
+  double k_c = 0.0;          ///< coupling stiffness
   double probe_radius_m = 0.0;
   double grab_beta = 1.0;  ///< the grab inertia low-pass's gain per tick
   /// The response's parameters at the start (SceneState keeps the current ones).

@@ -30,9 +30,25 @@ struct PairSides {
   std::uint32_t env = 0, env_prim = 0, held = 0, held_prim = 0;
   geom::Feature env_feature, held_feature;
   std::int32_t row_first = -1, row_second = -1;
-  double shift = 0.0;  // the backstop of a body the dynamics move
-  double kp = 0.0;     // the proxy's contact stiffness for this pair
+  double shift = 0.0;             // the backstop of a body the dynamics move
+  double kp = 0.0;                // the proxy's contact stiffness for this pair
+  double mu_s = 0.0, mu_d = 0.0;  // the pair's friction (0: none)
 };
+
+// the material of primitive `prim` of world body `body` (none declared, or the probe sphere:
+// the model's no_material)
+const scene::Material& primMaterial(const SimModel& m, std::uint32_t body, std::uint32_t prim) {
+  const std::int32_t index = m.info[body].scene_index;
+  if (index < 0)
+    return m.no_material;
+  const auto& prims = m.scene->bodies[static_cast<std::size_t>(index)].primitives;
+  if (prim >= prims.size())
+    return m.no_material;
+  const std::int32_t mat = prims[prim].material;
+  return mat >= 0 && static_cast<std::size_t>(mat) < m.scene->materials.size()
+             ? m.scene->materials[static_cast<std::size_t>(mat)]
+             : m.no_material;
+}
 
 // false: the contact makes no rows (both sides held or fixed, a joint's pair, or too far)
 bool pairSides(const SimModel& m, const SceneState& s, const collision::Contact& c, PairSides* p) {
@@ -66,6 +82,15 @@ bool pairSides(const SimModel& m, const SceneState& s, const collision::Contact&
   // contact spring k_p = k_f k_c / (k_c - k_f), so that k_c and k_p in series give k_f
   const double kf = m.info[p->env].stiffness;
   p->kp = kf * m.k_c / (m.k_c - kf);
+  // friction of the held set's rows against a body the dynamics do not move (those contacts
+  // are the dynamics', with their own friction): the pair's combined materials
+  p->mu_s = p->mu_d = 0.0;
+  if (m.friction && p->row_first < 0 && p->shift == 0.0) {
+    const scene::Material& a = primMaterial(m, p->held, p->held_prim);
+    const scene::Material& b = primMaterial(m, p->env, p->env_prim);
+    p->mu_s = scene::combineMaterials(a, b, scene::MaterialValue::kStaticFriction);
+    p->mu_d = scene::combineMaterials(a, b, scene::MaterialValue::kDynamicFriction);
+  }
   return true;
 }
 
@@ -86,6 +111,8 @@ void contactRows(const SimModel& m,
   ContactRow row;
   row.first = p.row_first;
   row.second = p.row_second;
+  row.mu_s = p.mu_s;
+  row.mu_d = p.mu_d;
 
   // a face against a face: the whole clipped region, each point with its own gap
   if (response::faceContact(env_shape, X_WE, p.env_feature, m.primShape(p.held, p.held_prim),

@@ -103,6 +103,7 @@ struct SceneState {
   geom::Pose X_W_probe;             ///< the proxy: the probe body's pose
   double delta_m = 0.0;             ///< this tick's predictive distance
   double last_penetration_m = 0.0;  ///< of the rows at the current proxy pose
+  bool proxy_sliding = false;       ///< the proxy slid with friction in its last step
   bool first_step = true;
   response::ContactRows rows;
   ReservedVector<std::uint32_t> row_env;        ///< per row: the environment body's world id

@@ -42,13 +42,22 @@ struct ResponseOptions {
   double ramp_s = 0.5;
 
   // --- added by the response (docs/response.md lists every knob) ---
-  /// The bound on the speed of every point of the held body (linear + angular times radius),
-  /// scene units per second: the proxy never moves farther than max_speed * tick_s per tick (the
-  /// safe distance, 0.5 mm at the defaults), and the broad phase looks twice that far.
-  double max_speed_m_per_s = 0.5;
+  /// The safe distance s (§5.2): no point of the held set moves farther than s in one proxy
+  /// sub-step, and the broad phase looks twice that far, so that the proxy never passes a
+  /// surface it has not seen. s = safe_distance_fraction * the probe body's radius: relative to
+  /// the held body's size, the same in mm, m and km. The proxy takes as many sub-steps of at
+  /// most s as it needs to reach its equilibrium with the device in one tick (at most
+  /// max_substeps): in free space it follows the device within the tick whatever its speed, and
+  /// the bound only limits travel toward contact (docs/response.md "The proxy").
+  double safe_distance_fraction = 0.02;
+  std::uint32_t max_substeps = 64;
+  /// Deprecated (kept for configurations that set it): > 0 makes the safe distance absolute,
+  /// max_speed_m_per_s * tick_s scene units per sub-step (before 2026-12-03: per tick, which made
+  /// it a bound on the proxy's speed). 0: from safe_distance_fraction.
+  double max_speed_m_per_s = 0.0;
   /// The predictive distance of §5.2 is delta = v_c * tick_s, v_c the current bound on the speed
   /// of the held body's points (from the device's motion, decaying with this time constant, s),
-  /// clamped to [min_predictive_fraction * radius of the held body, max_speed * tick_s].
+  /// clamped to [min_predictive_fraction * radius of the held body, the safe distance].
   double speed_decay_s = 0.02;
   double min_predictive_fraction = 1e-3;
   /// false: no predictive distance (δ = 0): force only on penetration, F = k_s D_p (§5.1). For the
@@ -63,7 +72,10 @@ struct ResponseOptions {
   /// Rotational coupling stiffness (N m/rad); 0: k_c * r^2 with r the held body's radius.
   double rot_stiffness_nm_per_rad = 0.0;
   /// A proxy step that would leave the proxy deeper than this (scene units) is bisected back.
-  double penetration_allowance_m = 0.5e-3;
+  /// 0: derived from the device and the stiffness, 1.5 times the proxy's penetration at the force
+  /// limit, 1.5 max_force_n / (proxy_stiffness_ratio * stiffness_n_per_m) (0.5 mm at the
+  /// defaults; it scales with the scene as the stiffness's units do).
+  double penetration_allowance_m = 0.0;
   /// With dynamics: the held set's contacts with a dynamic body are the dynamics' (impulses,
   /// spread, felt through TickOutput::impact_force_W_n); its penalty rows act only once the held
   /// set is deeper than this fraction of penetration_allowance_m into the body (a body the
@@ -74,8 +86,12 @@ struct ResponseOptions {
   double crease_angle_deg = 40.0;
   /// Buttons that attach the probe to the body it touches (§6.2) while held down.
   std::uint32_t attach_button_mask = 1u;
-  /// The probe attaches to a body no farther than this (scene units).
-  double attach_distance_m = 1e-3;
+  /// The probe attaches to a body no farther than attach_distance_fraction of the probe body's
+  /// radius (and never less than two safe distances: the proxy rests up to a safe distance from
+  /// what it presses). attach_distance_m > 0 (deprecated, for configurations that set it): that
+  /// absolute distance instead (scene units).
+  double attach_distance_fraction = 0.1;
+  double attach_distance_m = 0.0;
   /// How the probe attaches to a body on a hinge (§6.2): kAuto picks kCentre when the probe is
   /// within centre_radius_fraction of the body's radius from the axis, else kRim.
   enum class HingeAttach : std::uint8_t { kAuto, kRim, kCentre };
@@ -159,8 +175,15 @@ struct TickOutput {
   /// 0: free; 1: a body grabbed rigidly; 2: attached at a rim point; 3: attached at the centre.
   std::uint8_t attach_mode = 0;
   std::int32_t attached_body = -1;  ///< scene body index, -1: none
-  bool travel_limited = false;      ///< the safe distance cut the proxy's step
-  double delta_m = 0.0;             ///< this tick's predictive distance delta (scene units)
+  /// The proxy did not reach its equilibrium with the device this tick: its last sub-step was
+  /// still cut by the safe distance (max_substeps sub-steps taken, or one bisected back).
+  bool travel_limited = false;
+  std::uint32_t proxy_substeps = 0;  ///< proxy sub-steps taken this tick (>= 1)
+  /// Friction at the probe (docs/response.md "Friction at the probe"), the last sub-step: the
+  /// proxy stuck inside the friction cone, or slid on its edge.
+  bool proxy_stuck = false;
+  bool proxy_sliding = false;
+  double delta_m = 0.0;  ///< this tick's predictive distance delta (scene units)
   // --- added by the dynamics integration (docs/dynamics.md "In the Simulation") ---
   /// The dynamics' feedback on the held set this tick: its contact and joint impulses with the
   /// bodies the dynamics move, spread over DynamicsOptions::impulse_window_s, added to the

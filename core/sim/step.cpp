@@ -146,21 +146,23 @@ Vec3 proxyProblem(const SimModel& m, SceneState& s, const Device& dev, response:
   return grab_weight;
 }
 
-// the proxy's step, the collision step at the new pose and its rows; a step that went too deep
-// (a contact the linearisation missed) is bisected back, only when this step made it deeper by
-// a jump, a twentieth of the allowance or more (a proxy pressed into several surfaces at once
-// may rest deeper, and creeps there slowly)
+// one sub-step of the proxy, the collision step at the new pose and its rows; a step that went
+// too deep (a contact the linearisation missed) is bisected back, only when this step made it
+// deeper by a jump, a twentieth of the allowance or more (a proxy pressed into several surfaces
+// at once may rest deeper, and creeps there slowly)
 struct ProxyMove {
   response::ProxyStep step;
   collision::StepStats stats;
   double penetration_m = 0.0;
   bool backed_off = false;
+  bool rows_dropped = false;
+  std::uint32_t substeps = 0;
 };
 
-ProxyMove moveProxy(const SimModel& m,
-                    SceneState& s,
-                    const response::ProxyProblem& pb,
-                    double pusher_travel) {
+ProxyMove moveProxyOnce(const SimModel& m,
+                        SceneState& s,
+                        const response::ProxyProblem& pb,
+                        double pusher_travel) {
   ProxyMove mv;
   const geom::Pose probe_before = s.X_W_probe;
   const geom::Pose attached_before =
@@ -174,7 +176,7 @@ ProxyMove moveProxy(const SimModel& m,
   detail::applyStep(m, s, mv.step);
   mv.stats = s.world.step();
   mv.penetration_m = detail::gatherRows(m, s);
-  const double allowance = m.options.response.penetration_allowance_m;
+  const double allowance = m.penetration_allowance_m;
   for (int k = 0;
        k < 3 && mv.penetration_m > allowance && mv.penetration_m - pen_before > 0.05 * allowance;
        ++k) {
@@ -196,6 +198,58 @@ ProxyMove moveProxy(const SimModel& m,
     mv.stats.pairs_tested += again.pairs_tested;
     mv.stats.pairs_skipped = again.pairs_skipped;
     mv.penetration_m = detail::gatherRows(m, s);
+  }
+  return mv;
+}
+
+// how far the proxy's handle is from its target: the distance plus the angle times the radius
+double couplingError(const response::ProxyProblem& pb) {
+  return glm::length(pb.h_target_W - pb.h_W) +
+         glm::length(geom::rotationVector(pb.q_target * glm::conjugate(pb.q_handle))) * pb.radius;
+}
+
+// the proxy's move of one tick (§3.2, §5.2): sub-steps of at most the safe distance, each from
+// the rows seen at its start, until the proxy reaches its equilibrium with the device (a step the
+// safe distance did not cut), a sub-step brings it no nearer its target by a quarter of a safe
+// distance nor out of a surface (pressed or wedged, it slides no farther; pushed by a moving
+// body, it is pushed out), a sub-step is bisected back, or
+// max_substeps are taken. So in free space the proxy is at the device at the end of the tick
+// whatever its speed, and the safe distance only limits how far it travels between two looks at
+// what is near (toward contact).
+ProxyMove moveProxy(const SimModel& m,
+                    SceneState& s,
+                    const Device& dev,
+                    double pusher_travel,
+                    Vec3* grab_weight) {
+  ProxyMove mv;
+  const std::uint32_t most = std::max<std::uint32_t>(m.options.response.max_substeps, 1);
+  double error = 0.0, moved = 0.0, pen = 0.0;
+  for (std::uint32_t k = 0; k < most; ++k) {
+    response::ProxyProblem pb;
+    *grab_weight = proxyProblem(m, s, dev, &pb);
+    pb.sliding = s.proxy_sliding;
+    const double error_before = couplingError(pb);
+    // no nearer by a quarter of a safe distance, not pushed out of a surface by as much, and
+    // the last sub-step hardly moved the handle or moved it away: it turns or slides on the spot
+    // (a facet flipping under a face)
+    const double quarter = 0.25 * m.max_travel_m;
+    if (k > 0 && !(error_before < error - quarter) && !(s.last_penetration_m < pen - quarter) &&
+        !(moved >= quarter && error_before <= error))
+      break;
+    error = error_before;
+    pen = s.last_penetration_m;
+    const ProxyMove one = moveProxyOnce(m, s, pb, k == 0 ? pusher_travel : 0.0);
+    moved = glm::length(one.step.dc_W);
+    s.proxy_sliding = one.step.sliding;
+    mv.step = one.step;
+    mv.stats.pairs_tested += one.stats.pairs_tested;
+    mv.stats.pairs_skipped = one.stats.pairs_skipped;
+    mv.penetration_m = one.penetration_m;
+    mv.backed_off = mv.backed_off || one.backed_off;
+    mv.rows_dropped = mv.rows_dropped || one.step.rows_dropped;
+    ++mv.substeps;
+    if (!one.step.travel_limited || one.backed_off)
+      break;
   }
   return mv;
 }
@@ -289,11 +343,14 @@ void fillOutput(const SimModel& m, SceneState& s, const ProxyMove& mv, TickOutpu
   out->pairs_skipped = mv.stats.pairs_skipped;
   if (mv.stats.pairs_skipped > 0)
     out->flags |= kTickPairsSkipped;
-  if (s.rows.full() || mv.step.rows_dropped)
+  if (s.rows.full() || mv.rows_dropped)
     out->flags |= kTickCapacityFull;
   out->attach_mode = static_cast<std::uint8_t>(h.mode);
   out->attached_body = h.attached == kNoBody ? -1 : m.info[h.attached].scene_index;
   out->travel_limited = mv.step.travel_limited;
+  out->proxy_substeps = mv.substeps;
+  out->proxy_stuck = mv.step.stuck;
+  out->proxy_sliding = mv.step.sliding;
   out->delta_m = s.delta_m;
   for (std::size_t i = 0; i < m.pose_bodies.size(); ++i) {
     const std::uint32_t id = m.pose_bodies[i];
@@ -311,9 +368,8 @@ TickOutput step(const SimModel& m, SceneState& s, const TickInput& input) {
   const EditsSeen edits = beginTick(m, s, input);
   detail::updateAttachment(m, s, input);
   const Device dev = trackDevice(m, s, input);
-  response::ProxyProblem pb;
-  const Vec3 grab_weight = proxyProblem(m, s, dev, &pb);
-  const ProxyMove mv = moveProxy(m, s, pb, edits.pusher_travel);
+  Vec3 grab_weight{0.0};
+  const ProxyMove mv = moveProxy(m, s, dev, edits.pusher_travel, &grab_weight);
   if (mv.backed_off)
     out.flags |= kTickBackedOff;
   response::Wrench impact = stepDynamics(m, s, &out);

@@ -75,10 +75,12 @@ Box3 bounds(const std::vector<Vec3>& pts) {
 TEST(DemoScenes, CommittedFilesAreTheGeneratorsOutput) {
   for (std::string_view name : demoSceneNames()) {
     const std::string n(name);
-    const std::vector<std::uint8_t> glb = readFile(kSource + "/scenes/" + n + ".glb");
+    const std::vector<std::uint8_t> glb =
+        readFile(std::string(kSource).append("/scenes/").append(n).append(".glb"));
     EXPECT_FALSE(glb.empty()) << n << ".glb missing";
     EXPECT_TRUE(glb == makeDemoScene(name)) << "scenes/" << n << ".glb differs: run make_scenes";
-    const std::vector<std::uint8_t> csv = readFile(kSource + "/tests/streams/" + n + ".csv");
+    const std::vector<std::uint8_t> csv =
+        readFile(std::string(kSource).append("/tests/streams/").append(n).append(".csv"));
     const std::string made = makePoseStream(name);
     EXPECT_TRUE(std::string(csv.begin(), csv.end()) == made)
         << "tests/streams/" << n << ".csv differs: run make_scenes";
@@ -136,11 +138,31 @@ TEST(DemoScenes, StructurallyValid) {
   }
 }
 
+// A scene whose plan has no friction declares exactly one physics material, frictionless (static
+// and dynamic friction 0, no restitution), and every collider names it: so that no collider takes
+// the default friction of a collider without a material (issue 17).
+void expectOneFrictionlessMaterial(const Json& j) {
+  const Json& mats = j["extensions"]["KHR_physics_rigid_bodies"]["physicsMaterials"];
+  ASSERT_EQ(mats.size(), 1u);
+  EXPECT_EQ(mats[0]["staticFriction"].get<double>(), 0.0);
+  EXPECT_EQ(mats[0]["dynamicFriction"].get<double>(), 0.0);
+  EXPECT_EQ(mats[0]["restitution"].get<double>(), 0.0);
+  std::size_t colliders = 0;
+  for (const Json& node : j["nodes"]) {
+    const Json* ph = physicsOf(node);
+    if (ph == nullptr || !ph->contains("collider"))
+      continue;
+    ++colliders;
+    EXPECT_EQ((*ph)["collider"].value("physicsMaterial", -1), 0) << node.value("name", "");
+  }
+  EXPECT_GT(colliders, 0u);
+}
+
 TEST(DemoScenes, GearsHaveTwentyPrimitivesEachAndHingeJoints) {
   const Glb glb = loadDemo("gears");
   const Json& j = glb.json;
   EXPECT_FALSE(j["scenes"][0].contains("extras")) << "gears declare no gravity";
-  EXPECT_FALSE(j["extensions"]["KHR_physics_rigid_bodies"].contains("physicsMaterials"));
+  expectOneFrictionlessMaterial(j);
   const Json& joints = j["extensions"]["KHR_physics_rigid_bodies"]["physicsJoints"];
   ASSERT_EQ(joints.size(), 1u);
   // 3 linear axes locked at 0, angular X and Y locked, Z free
@@ -276,7 +298,11 @@ TEST(DemoScenes, PegHasHalfAMillimetreClearanceOnEachSide) {
   EXPECT_TRUE(peg_node["extras"]["haptic"]["probe"].get<bool>());
   EXPECT_TRUE((*physicsOf(peg_node))["motion"]["isKinematic"].get<bool>());
   EXPECT_FALSE(j["scenes"][0].contains("extras")) << "no gravity";
-  EXPECT_FALSE(j.contains("extensions")) << "no materials, joints or shapes";
+  // no joints or shapes: the one frictionless material is all the file declares at its top
+  ASSERT_TRUE(j.contains("extensions"));
+  EXPECT_EQ(j["extensions"].size(), 1u);
+  EXPECT_EQ(j["extensions"]["KHR_physics_rigid_bodies"].size(), 1u);
+  expectOneFrictionlessMaterial(j);
 
   // the peg, measured in its own frame: 20 x 60 x 20 mm
   const Box3 pb = bounds(readMesh(glb, peg_node["mesh"].get<int>()).positions);

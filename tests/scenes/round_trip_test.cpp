@@ -100,7 +100,7 @@ TEST(SceneRoundTrip, GearsAreTwoDynamicBodiesOnHingesWithoutGravity) {
     for (const auto& p : b->primitives) {
       EXPECT_EQ(p.source, ShapeSource::kMeshHull);
       const std::size_t n = p.shape->vertices().size();
-      if (n == 2u * static_cast<unsigned>(g.teeth))
+      if (n == std::size_t{2} * static_cast<std::size_t>(g.teeth))
         ++hubs;
       if (n == 20u)
         ++teeth;  // a 10-gon prism
@@ -137,7 +137,15 @@ TEST(SceneRoundTrip, GearsAreTwoDynamicBodiesOnHingesWithoutGravity) {
   EXPECT_EQ(handle->primitives[0].shape->vertices().size(),
             2u * static_cast<unsigned>(gears::kRodSides));
   EXPECT_FALSE(s.gravity_W.has_value());
-  EXPECT_TRUE(s.materials.empty());
+  // one frictionless material on every collider: no friction in the plan, whatever the default
+  ASSERT_EQ(s.materials.size(), 1u);
+  EXPECT_EQ(s.materials[0].static_friction, 0.0);
+  EXPECT_EQ(s.materials[0].dynamic_friction, 0.0);
+  EXPECT_EQ(s.materials[0].restitution, 0.0);
+  for (const Body& b : s.bodies) {
+    for (const auto& p : b.primitives)
+      EXPECT_EQ(p.material, 0) << b.name;
+  }
   scene::testing::expectPlan(s.plan, "dynamics joints", 0, 41);
 }
 

@@ -227,6 +227,7 @@ TEST(PenaltyWrench, TotalDoesNotDependOnThePointCountAndTorqueIsRxF) {
   ContactRow one{Vec3{0.01, 0, 0}, Vec3{0, 1, 0}, -2e-4, k};
   const Wrench w1 = penaltyWrench(std::span<const ContactRow>(&one, 1), Vec3{0.0}, delta);
   std::vector<ContactRow> four;
+  four.reserve(4);
   for (int i = 0; i < 4; ++i)
     four.push_back({Vec3{0.01, 0, 0.001 * (i - 1.5)}, Vec3{0, 1, 0}, -2e-4, k / 4});
   const Wrench w4 = penaltyWrench(four, Vec3{0.0}, delta);
@@ -268,11 +269,65 @@ TEST(ProxyStep, FreeSpaceReachesTheTargetAndTheSafeDistanceBoundsEveryPoint) {
   EXPECT_NEAR(glm::length(f.dc_W) + glm::length(f.dtheta_W) * pb.radius, 5e-4, 1e-15);
 }
 
+// Coulomb friction on the proxy's rows: a floor of four rows (mu_s 0.6, mu_d 0.4), the device
+// 2 mm into it and pulled sideways: inside the cone the proxy does not move sideways; beyond it
+// (or, sliding, beyond mu_d N) it moves so that the pull left is mu_d N; no friction, no hold.
+TEST(ProxyStep, FrictionSticksInsideTheConeAndSlidesOnItsEdge) {
+  ProxyParams p = params();
+  p.max_travel = 1.0;  // the whole step at once
+  const double kp = 30600.0;
+  std::vector<ContactRow> rows;
+  rows.reserve(4);
+  for (const Vec3 at :
+       {Vec3{-0.01, 0, -0.01}, Vec3{0.01, 0, -0.01}, Vec3{-0.01, 0, 0.01}, Vec3{0.01, 0, 0.01}}) {
+    ContactRow r{at, Vec3{0, 1, 0}, 0.5 * p.delta, kp / 4.0};
+    r.mu_s = 0.6;
+    r.mu_d = 0.4;
+    rows.push_back(r);
+  }
+  ProxyProblem pb;
+  pb.radius = 0.02;
+  pb.c_W = pb.h_W = Vec3{0.0, 0.01, 0.0};
+  auto pullAfter = [&](const ProxyStep& st) {
+    const Vec3 e = pb.h_target_W - (pb.h_W + st.dc_W);
+    return Vec3{e.x, 0.0, e.z} * p.coupling_stiffness;
+  };
+  // N about k_c * 2 mm = 1.22 N; a pull of 0.5 N (0.41 N) sticks
+  pb.h_target_W = pb.h_W + Vec3{0.5 / p.coupling_stiffness, -0.002, 0.0};
+  const ProxyStep stick = solveProxyStep(pb, rows, p);
+  EXPECT_TRUE(stick.stuck);
+  EXPECT_FALSE(stick.sliding);
+  EXPECT_LT(std::abs(stick.dc_W.x), 1e-15);
+  EXPECT_NEAR(glm::length(pullAfter(stick)), 0.5, 1e-9);
+  // a pull of 1.0 N (0.82 N) is beyond mu_s N: it slides, the pull left mu_d N
+  pb.h_target_W = pb.h_W + Vec3{0.6 / p.coupling_stiffness, -0.002, 0.8 / p.coupling_stiffness};
+  const ProxyStep slide = solveProxyStep(pb, rows, p);
+  EXPECT_TRUE(slide.sliding);
+  EXPECT_GT(slide.normal_force_n, 1.0);
+  EXPECT_NEAR(glm::length(pullAfter(slide)), 0.4 * slide.normal_force_n,
+              1e-9 * slide.normal_force_n);
+  EXPECT_NEAR(pullAfter(slide).z / pullAfter(slide).x, 0.8 / 0.6, 1e-9);  // along the pull
+  // already sliding, the 0.5 N pull (beyond mu_d N = 0.49 N) goes on sliding
+  pb.sliding = true;
+  pb.h_target_W = pb.h_W + Vec3{0.55 / p.coupling_stiffness, -0.002, 0.0};
+  const ProxyStep still = solveProxyStep(pb, rows, p);
+  EXPECT_TRUE(still.sliding);
+  EXPECT_NEAR(glm::length(pullAfter(still)), 0.4 * still.normal_force_n,
+              1e-9 * still.normal_force_n);
+  // frictionless rows: the proxy follows the pull, nothing holds it
+  for (ContactRow& r : rows)
+    r.mu_s = r.mu_d = 0.0;
+  const ProxyStep none = solveProxyStep(pb, rows, p);
+  EXPECT_FALSE(none.stuck || none.sliding);
+  EXPECT_LT(glm::length(pullAfter(none)), 1e-9);
+}
+
 TEST(ProxyStep, AContactRowHoldsTheProxyAndARowThatWouldPullIsDropped) {
   const ProxyParams p = params();
   const double kp = 30600.0;
   // a floor under the proxy: four rows at gap 0.5 delta, the device 2 mm below
   std::vector<ContactRow> rows;
+  rows.reserve(4);
   for (int i = 0; i < 4; ++i) {
     rows.push_back(
         {Vec3{i & 1 ? 0.01 : -0.01, -0.01, i & 2 ? 0.01 : -0.01}, Vec3{0, 1, 0}, 0.5e-4, kp / 4});
@@ -353,6 +408,7 @@ TEST(ForceShading, NormalsAreContinuousAcrossSmoothEdgesAndCreasesStaySharp) {
 TEST(FaceContact, ClipsTheHeldFaceToTheEnvironmentsFace) {
   auto square = [](double h, double t) {
     std::vector<Vec3> p;
+    p.reserve(8);
     for (int i = 0; i < 8; ++i)
       p.push_back(Vec3{i & 1 ? h : -h, i & 2 ? t : -t, i & 4 ? h : -h});
     return geom::Polytope::fromPoints(p).value();

@@ -158,7 +158,7 @@ TEST(Simulation, LostDeviceBadPoseAndRestartRampAreSafe) {
   EXPECT_NEAR(out.force_W_n.y, pressed, 1e-9);
   EXPECT_LE(worst_step, o.response.max_force_step_n + 1e-12);
   // a NaN pose: zero, finite; the proxy is not pulled anywhere (only its contacts may relax it,
-  // by less than one tick's safe distance)
+  // by less than one safe distance: safe_distance_fraction of the probe sphere's radius)
   const Pose proxy_before = out.X_W_proxy;
   sim::TickInput bad = in;
   bad.X_W_device.translation.x = std::numeric_limits<double>::quiet_NaN();
@@ -166,7 +166,7 @@ TEST(Simulation, LostDeviceBadPoseAndRestartRampAreSafe) {
   EXPECT_EQ(glm::length(out.force_W_n), 0.0);
   EXPECT_TRUE(std::isfinite(out.X_W_proxy.translation.x));
   EXPECT_LE(glm::length(out.X_W_proxy.translation - proxy_before.translation),
-            o.response.max_speed_m_per_s * o.response.tick_s + 1e-12);
+            o.response.safe_distance_fraction * o.probe_sphere_radius_m + 1e-12);
   EXPECT_TRUE(out.flags & sim::kTickRamping);
   bad.X_W_device.translation.x = std::numeric_limits<double>::infinity();
   out = sim->step(bad);
