@@ -132,8 +132,7 @@ void expectStands(const SizeCase& sc) {
   c.gap_fraction = sc.gap;
   c.mu = sc.mu;
   c.options = awake();
-  const StackResult r =
-      runStack(c, column(4, sc.edge, sc.gap * sc.edge), column(4, sc.edge, 0.0));
+  const StackResult r = runStack(c, column(4, sc.edge, sc.gap * sc.edge), column(4, sc.edge, 0.0));
   std::printf("stack of 4, %s: drift %.3g edges, spin %.3g rad/s, momentum %.3g\n",
               name(sc).c_str(), r.drift, r.spin, r.momentum);
   EXPECT_LT(r.drift, 1e-3) << name(sc) << ": a corner moved";
@@ -183,8 +182,7 @@ TEST(Stack, FourBoxesStandForAMinute) {
     c.mu = sc.mu;
     c.seconds = kLongRunS;
     c.options = awake();
-    const StackResult r =
-        runStack(c, column(4, c.edge, sc.gap * c.edge), column(4, c.edge, 0.0));
+    const StackResult r = runStack(c, column(4, c.edge, sc.gap * c.edge), column(4, c.edge, 0.0));
     EXPECT_LT(r.drift, 1e-3) << name(sc);
     EXPECT_LT(r.spin, 1e-3) << name(sc);
   }
@@ -271,8 +269,8 @@ TEST(Islands, EachStackSleepsAndWakesAlone) {
   s.bodies.push_back(staticBody("floor", boxShape(Vec3{2, h, 2}), at(Vec3{0, -h, 0}), 0));
   for (const double x : {-0.5, 0.5}) {
     for (int i = 0; i < 3; ++i)
-      s.bodies.push_back(dynamicBody("box", boxShape(Vec3{h}), at(Vec3{x, h + 2 * h * i, 0}),
-                                     500.0, 0));
+      s.bodies.push_back(
+          dynamicBody("box", boxShape(Vec3{h}), at(Vec3{x, h + 2 * h * i, 0}), 500.0, 0));
   }
   // a box held high above the right stack by a wrench equal to its weight (at rest: it sleeps
   // too), released later
