@@ -283,6 +283,16 @@ void oursNearDistance(benchmark::State& state, std::size_t n) {
     ok = r.status == collision::ContactStatus::kSeparated;
     return r.distance;
   });
+  {
+    // walk steps per query along the path (untimed)
+    collision::FeatureCache c;
+    double steps = 0.0;
+    for (const Transform& X : s.coherent) {
+      const auto r = collision::closestFeatures(*s.a, *s.b, X, c);
+      steps += r.iterations;
+    }
+    state.counters["walk_steps"] = steps / static_cast<double>(s.coherent.size());
+  }
   std::size_t i = 0;
   collision::FeatureCache warm;
   for (auto _ : state) {

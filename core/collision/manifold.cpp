@@ -196,6 +196,32 @@ double bestIncidentEdge(const Polytope& p, Feature f, const Vec3& dir_p, std::ui
   return best;
 }
 
+// False when no face or edge incident to feature f of p (a vertex: its edges and faces; an edge:
+// itself and its two faces) can lie in the contact plane of normal dir_p (p's frame), i.e. when
+// contactFeature() can only give the witness point and parallelEdges() cannot pick an edge here.
+// A face within sin_tol of the plane (cosine >= sqrt(1 - sin_tol^2)) has every edge within
+// sin_tol of it (|edge·dir| <= sin_tol), so edges all steeper than twice that (the factor covers
+// rounding) rule the faces out too. A face feature is not tested (true). One dot product per
+// edge: most near-contact pairs (a vertex against a face, crossing edges) end here.
+bool mayLieInPlane(const Polytope& p, Feature f, const Vec3& dir_p, double sin_tol) {
+  const double steep = 2.0 * sin_tol;
+  switch (f.type) {
+    case FeatureType::kVertex:
+      for (const auto& ve : p.vertexEdges(f.index)) {
+        if (std::abs(glm::dot(ve.out, dir_p)) <= steep)
+          return true;
+      }
+      return false;
+    case FeatureType::kEdge:
+      return std::abs(glm::dot(p.edges()[f.index].dir, dir_p)) <= steep;
+    case FeatureType::kFace:
+      return true;
+    case FeatureType::kNone:
+      break;
+  }
+  return false;
+}
+
 // The contact feature of one side, `dir` pointing from this side toward the other (A's frame):
 // a face parallel to the contact plane (polygon); else, when `want_edge`, an edge lying in the
 // contact plane (segment); else the witness point.
@@ -355,6 +381,11 @@ Manifold manifoldFromClosest(const Polytope& a,
   single.points[0] = ContactPoint{mid, n, -closest.distance};
   single.count = 1;
 
+  // a side whose contact feature can only be its witness point: the closest pair alone
+  const Vec3 n_b = glm::transpose(X_AB.R) * n;
+  if (!mayLieInPlane(a, closest.fa, n, sin_tol) || !mayLieInPlane(b, closest.fb, n_b, sin_tol))
+    return single;
+
   Polygon pa, pb;
   FaceView fa, fb;
   bool a_face = false, b_face = false;
@@ -366,7 +397,6 @@ Manifold manifoldFromClosest(const Polytope& a,
   }
   if (!a_face && !b_face) {
     // parallel edges, both in the contact plane, around the closest features: the overlap segment
-    const Vec3 n_b = glm::transpose(X_AB.R) * n;
     std::uint32_t ea = 0, eb = 0;
     if (!parallelEdges(a, closest.fa, n, b, closest.fb, n_b, X_AB, sin_tol, ea, eb))
       return single;
