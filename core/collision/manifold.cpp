@@ -373,18 +373,33 @@ Manifold manifoldFromClosest(const Polytope& a,
                              const Transform& X_AB,
                              const ClosestResult& closest,
                              const ManifoldOptions& options) {
+  Manifold m;
+  manifoldFromClosest(a, b, X_AB, closest, m, options);
+  return m;
+}
+
+void manifoldFromClosest(const Polytope& a,
+                         const Polytope& b,
+                         const Transform& X_AB,
+                         const ClosestResult& closest,
+                         Manifold& out,
+                         const ManifoldOptions& options) {
   const Transform I{};
   const Vec3& n = closest.normal;
-  const Vec3 mid = (closest.point_a + closest.point_b) * 0.5;
   const double sin_tol = options.parallel_tolerance;
-  Manifold single;
-  single.points[0] = ContactPoint{mid, n, -closest.distance};
-  single.count = 1;
+  // the closest pair alone: one point midway between the witnesses
+  auto single = [&] {
+    out.points[0] = ContactPoint{(closest.point_a + closest.point_b) * 0.5, n, -closest.distance};
+    out.count = 1;
+    out.truncated = false;
+  };
 
   // a side whose contact feature can only be its witness point: the closest pair alone
   const Vec3 n_b = glm::transpose(X_AB.R) * n;
-  if (!mayLieInPlane(a, closest.fa, n, sin_tol) || !mayLieInPlane(b, closest.fb, n_b, sin_tol))
-    return single;
+  if (!mayLieInPlane(a, closest.fa, n, sin_tol) || !mayLieInPlane(b, closest.fb, n_b, sin_tol)) {
+    single();
+    return;
+  }
 
   Polygon pa, pb;
   FaceView fa, fb;
@@ -398,18 +413,23 @@ Manifold manifoldFromClosest(const Polytope& a,
   if (!a_face && !b_face) {
     // parallel edges, both in the contact plane, around the closest features: the overlap segment
     std::uint32_t ea = 0, eb = 0;
-    if (!parallelEdges(a, closest.fa, n, b, closest.fb, n_b, X_AB, sin_tol, ea, eb))
-      return single;
+    if (!parallelEdges(a, closest.fa, n, b, closest.fb, n_b, X_AB, sin_tol, ea, eb)) {
+      single();
+      return;
+    }
     pa.n = pb.n = 0;
     pa.push(a.vertices()[a.edges()[ea].tail].p);
     pa.push(a.vertices()[a.edges()[ea].head].p);
     pb.push(X_AB.apply(b.vertices()[b.edges()[eb].tail].p));
     pb.push(X_AB.apply(b.vertices()[b.edges()[eb].head].p));
   }
-  if (pa.n <= 1 || pb.n <= 1)
-    return single;
-  Manifold m = assemble(pa, a_face, fa, pb, b_face, fb, n, -closest.distance, mid,
-                        std::max(a.radius(), b.radius()));
+  if (pa.n <= 1 || pb.n <= 1) {
+    single();
+    return;
+  }
+  const Vec3 mid = (closest.point_a + closest.point_b) * 0.5;
+  const Manifold m = assemble(pa, a_face, fa, pb, b_face, fb, n, -closest.distance, mid,
+                              std::max(a.radius(), b.radius()));
   // the closest pair is exact: the manifold's deepest point must say so
   std::size_t deepest = 0;
   for (std::size_t i = 1; i < m.count; ++i) {
@@ -418,9 +438,10 @@ Manifold manifoldFromClosest(const Polytope& a,
   }
   if (std::abs(m.points[deepest].depth + closest.distance) >
       1e-9 * std::max(a.radius(), b.radius())) {
-    return single;  // clipping lost the closest pair (features not really parallel)
+    single();  // clipping lost the closest pair (features not really parallel)
+    return;
   }
-  return m;
+  out = m;
 }
 
 Manifold manifoldFromDepth(const Polytope& a,
