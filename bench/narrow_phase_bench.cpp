@@ -1,14 +1,16 @@
 // hapticbench, narrow phase: distance and penetration between convex hulls, coherent and
 // incoherent, ours and the peers', each also checked for wrong answers against the brute-force
 // reference. Names as in docs/architecture.md: Distance/Coherent/<N>, ...,
-// Peer/<lib>-<method>/<name>.
+// Peer/<lib>-<method>/<name>. The NearContact path brings B within 0.05-5 mm of A.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <map>
 #include <memory>
 #include <random>
+#include <vector>
 
 #include "bench/peers.h"
 #include "core/collision/pair_query.h"
@@ -97,6 +99,66 @@ Scenario& scenario(std::size_t n, bool overlap) {
   return s;
 }
 
+// The near-contact path: B's centre along a slowly turning direction u, B spinning 0.1 degree
+// per step about a seeded axis, at the centre distance that leaves a gap g between the hulls; g
+// goes from 5 mm down to 0.05 mm and back (geometrically) every 1 000 steps (B approaching A,
+// then backing off). Each pose's centre distance is solved on our own closest features (Newton
+// on the gap along u); the check poses' distances come from the brute-force reference.
+constexpr std::size_t kNearSteps = 20000;
+constexpr double kGapMin = 0.05e-3, kGapMax = 5e-3;
+
+// The k-th check pose of the near-contact path: the first at the closest approach, the others
+// spread over the approach's phases (0.05 to 5 mm) and over the path.
+std::size_t nearCheckIndex(std::size_t k) {
+  return (500 + k * 1049) % kNearSteps;
+}
+
+Scenario& nearScenario(std::size_t n) {
+  static std::map<std::size_t, Scenario> all;
+  auto [it, fresh] = all.try_emplace(n);
+  Scenario& s = it->second;
+  if (!fresh)
+    return s;
+  s.n = n;
+  s.a = std::make_unique<Polytope>(ellipsoidHull(n, 1, 1.0));
+  s.b = std::make_unique<Polytope>(ellipsoidHull(n, 2, 1.0));
+  s.a_mm = std::make_unique<Polytope>(ellipsoidHull(n, 1, 1000.0));
+  s.b_mm = std::make_unique<Polytope>(ellipsoidHull(n, 2, 1000.0));
+  s.size = std::max(s.a->radius(), s.b->radius());
+  std::mt19937_64 rng(1800 + n);
+  std::normal_distribution<double> g(0.0, 1.0);
+  const Vec3 axis = glm::normalize(Vec3{g(rng), g(rng), g(rng)});
+  const geom::Quat q0 = reference::randomRotation(rng);
+  const double t0 = 2.0 * M_PI * std::uniform_real_distribution<double>(0.0, 1.0)(rng);
+  collision::FeatureCache cache;
+  for (std::size_t k = 0; k < kNearSteps; ++k) {
+    const double t = t0 + static_cast<double>(k) * 2e-4;  // the approach direction turns slowly
+    const Vec3 u = glm::normalize(Vec3{std::cos(t), 0.8 * std::sin(t), 0.6 * std::sin(2.0 * t)});
+    const double phase = 0.5 - 0.5 * std::cos(2.0 * M_PI * static_cast<double>(k % 1000) / 1000.0);
+    const double gap = kGapMax * std::pow(kGapMin / kGapMax, phase);
+    const geom::Quat q = glm::angleAxis(static_cast<double>(k) * 0.1 * M_PI / 180.0, axis) * q0;
+    // start where the gap along u is `gap` (a lower bound of the distance), then Newton
+    const Vec3 u_b = glm::inverse(q) * -u;
+    double r = glm::dot(s.a->vertices()[s.a->support(u, 0)].p, u) +
+               glm::dot(s.b->vertices()[s.b->support(u_b, 0)].p, u_b) + gap;
+    Transform X = Pose{u * r, q}.toTransform();
+    for (int step = 0; step < 30; ++step) {
+      const auto c = collision::closestFeatures(*s.a, *s.b, X, cache);
+      const double err = c.distance - gap;
+      if (std::abs(err) <= 1e-4 * gap)
+        break;
+      r -= err / std::max(glm::dot(c.normal, u), 0.2);
+      X = Pose{u * r, q}.toTransform();
+    }
+    s.coherent.push_back(X);
+  }
+  for (std::size_t k = 0; k < kChecks; ++k) {
+    s.check.push_back(s.coherent[nearCheckIndex(k)]);
+    s.ref.push_back(reference::bruteSeparatedDistance(*s.a, *s.b, s.check.back()));
+  }
+  return s;
+}
+
 // Wrong answers on the check poses, in metres and in millimetres.
 struct Wrong {
   int m = 0, mm = 0;
@@ -172,8 +234,128 @@ void oursPairQuery(benchmark::State& state, std::size_t n) {
   }
 }
 
+// On the near-contact path: the wrong answers are counted on the warm answers of a walk along the
+// whole path (what the timed loop computes), at the check poses, in metres and in millimetres.
+template <class F>  // F(bool mm, const Transform&, Cache&, bool& ok) -> distance in that unit
+Wrong countWrongAlongPath(const Scenario& s, F&& f) {
+  Wrong w;
+  for (const bool mm : {false, true}) {
+    const double unit = mm ? 1000.0 : 1.0;
+    PairCache cache;
+    std::size_t next = 0;
+    std::vector<std::size_t> at;
+    for (std::size_t k = 0; k < s.check.size(); ++k)
+      at.push_back(nearCheckIndex(k));
+    for (std::size_t i = 0; i < s.coherent.size(); ++i) {
+      bool ok = true;
+      const double d = f(mm, scaledTransform(s.coherent[i], unit), cache, ok) / unit;
+      for (std::size_t k = 0; k < at.size(); ++k) {
+        if (at[k] != i)
+          continue;
+        ++next;
+        const double err = ok ? std::abs(d - s.ref[k]) / s.size : 1.0;
+        if (!mm)
+          w.max_rel = std::max(w.max_rel, err);
+        if (!ok || !(err <= kWrong))
+          ++(mm ? w.mm : w.m);
+      }
+    }
+    if (next != at.size())
+      ++(mm ? w.mm : w.m);  // a check pose not reached: count it
+  }
+  return w;
+}
+
+void setNearCounters(benchmark::State& state, const Scenario& s) {
+  double lo = 1e300, hi = 0.0;
+  for (const double r : s.ref)
+    lo = std::min(lo, r), hi = std::max(hi, r);
+  state.counters["gap_min_mm"] = lo * 1e3;  // of the check poses
+  state.counters["gap_max_mm"] = hi * 1e3;
+}
+
+// Distance/NearContact/<N>: the warm distance query (closest features, witnesses, normal).
+void oursNearDistance(benchmark::State& state, std::size_t n) {
+  Scenario& s = nearScenario(n);
+  const Wrong w = countWrongAlongPath(s, [&](bool mm, const Transform& X, PairCache& c, bool& ok) {
+    const auto r =
+        collision::closestFeatures(mm ? *s.a_mm : *s.a, mm ? *s.b_mm : *s.b, X, c.features);
+    ok = r.status == collision::ContactStatus::kSeparated;
+    return r.distance;
+  });
+  {
+    // walk steps per query along the path (untimed)
+    collision::FeatureCache c;
+    double steps = 0.0;
+    for (const Transform& X : s.coherent) {
+      const auto r = collision::closestFeatures(*s.a, *s.b, X, c);
+      steps += r.iterations;
+    }
+    state.counters["walk_steps"] = steps / static_cast<double>(s.coherent.size());
+  }
+  std::size_t i = 0;
+  collision::FeatureCache warm;
+  for (auto _ : state) {
+    auto r = collision::closestFeatures(*s.a, *s.b, s.coherent[i], warm);
+    if (++i == s.coherent.size())
+      i = 0;
+    benchmark::DoNotOptimize(r);
+  }
+  setCounters(state, w, s);
+  setNearCounters(state, s);
+}
+
+// PairQuery/NearContact/<N>: the whole pair query (closest features and the contact manifold).
+void oursNearPairQuery(benchmark::State& state, std::size_t n) {
+  Scenario& s = nearScenario(n);
+  const Wrong w = countWrongAlongPath(s, [&](bool mm, const Transform& X, PairCache& c, bool& ok) {
+    const auto r = collision::queryPair(mm ? *s.a_mm : *s.a, mm ? *s.b_mm : *s.b, X, c);
+    // separated, and the manifold's deepest point is the pair's distance
+    double deepest = -1e300;
+    for (std::size_t k = 0; k < r.manifold.count; ++k)
+      deepest = std::max(deepest, r.manifold.points[k].depth);
+    ok = r.status == collision::ContactStatus::kSeparated && r.manifold.count > 0 &&
+         std::abs(deepest + r.distance) <= kWrong * (mm ? 1000.0 : 1.0) * s.size;
+    return r.distance;
+  });
+  std::size_t i = 0;
+  PairCache warm;
+  for (auto _ : state) {
+    auto r = collision::queryPair(*s.a, *s.b, s.coherent[i], warm);
+    if (++i == s.coherent.size())
+      i = 0;
+    benchmark::DoNotOptimize(r);
+  }
+  setCounters(state, w, s);
+  setNearCounters(state, s);
+}
+
+// The peers on the near-contact path (they keep no state between queries).
+void peerNear(benchmark::State& state, const std::string& name, std::size_t n) {
+  Scenario& s = nearScenario(n);
+  auto m = makePeer(name, *s.a, *s.b);
+  auto m_mm = makePeer(name, *s.a_mm, *s.b_mm);
+  const Wrong w = countWrong(
+      s, [&](bool mm, const Transform& X, bool& ok) { return (mm ? m_mm : m)->query(X, ok); });
+  std::size_t i = 0;
+  for (auto _ : state) {
+    bool ok = true;
+    const double d = m->query(s.coherent[i], ok);
+    if (++i == s.coherent.size())
+      i = 0;
+    benchmark::DoNotOptimize(d);
+    benchmark::DoNotOptimize(ok);
+  }
+  setCounters(state, w, s);
+  setNearCounters(state, s);
+}
+
 // ---------------------------------------------------------------- peers
-void peer(benchmark::State& state, std::string name, std::size_t n, bool overlap, bool coherent) {
+void peer(benchmark::State& state,
+          const std::string& name,
+          std::size_t n,
+          bool overlap,
+          bool coherent) {
   Scenario& s = scenario(n, overlap);
   auto m = makePeer(name, *s.a, *s.b);
   auto m_mm = makePeer(name, *s.a_mm, *s.b_mm);
@@ -209,6 +391,15 @@ void registerAll() {
     }
     benchmark::RegisterBenchmark(("PairQuery/Coherent/" + std::to_string(n)).c_str(), oursPairQuery,
                                  n);
+    const std::string near = "NearContact/" + std::to_string(n);
+    benchmark::RegisterBenchmark(("Distance/" + near).c_str(), oursNearDistance, n);
+    benchmark::RegisterBenchmark(("PairQuery/" + near).c_str(), oursNearPairQuery, n);
+    for (const PeerInfo& p : peerList()) {
+      if (p.distance) {
+        benchmark::RegisterBenchmark(("Peer/" + p.name + "/Distance/" + near).c_str(), peerNear,
+                                     p.name, n);
+      }
+    }
   }
 }
 

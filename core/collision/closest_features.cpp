@@ -112,6 +112,8 @@ Feature derivativeUpdate(const Polytope& p,
                          const Vec3& h,
                          double eps,
                          bool& ambiguous) {
+  if (!c.nlo.valid() && !c.nhi.valid())
+    return {};  // not clipped: no neighbour to test (most warm steps end here)
   const Vec3 u = h - t;
   const double ulen = glm::length(u);
   if (ulen <= 0.0)

@@ -196,6 +196,32 @@ double bestIncidentEdge(const Polytope& p, Feature f, const Vec3& dir_p, std::ui
   return best;
 }
 
+// False when no face or edge incident to feature f of p (a vertex: its edges and faces; an edge:
+// itself and its two faces) can lie in the contact plane of normal dir_p (p's frame), i.e. when
+// contactFeature() can only give the witness point and parallelEdges() cannot pick an edge here.
+// A face within sin_tol of the plane (cosine >= sqrt(1 - sin_tol^2)) has every edge within
+// sin_tol of it (|edge·dir| <= sin_tol), so edges all steeper than twice that (the factor covers
+// rounding) rule the faces out too. A face feature is not tested (true). One dot product per
+// edge: most near-contact pairs (a vertex against a face, crossing edges) end here.
+bool mayLieInPlane(const Polytope& p, Feature f, const Vec3& dir_p, double sin_tol) {
+  const double steep = 2.0 * sin_tol;
+  switch (f.type) {
+    case FeatureType::kVertex:
+      for (const auto& ve : p.vertexEdges(f.index)) {
+        if (std::abs(glm::dot(ve.out, dir_p)) <= steep)
+          return true;
+      }
+      return false;
+    case FeatureType::kEdge:
+      return std::abs(glm::dot(p.edges()[f.index].dir, dir_p)) <= steep;
+    case FeatureType::kFace:
+      return true;
+    case FeatureType::kNone:
+      break;
+  }
+  return false;
+}
+
 // The contact feature of one side, `dir` pointing from this side toward the other (A's frame):
 // a face parallel to the contact plane (polygon); else, when `want_edge`, an edge lying in the
 // contact plane (segment); else the witness point.
@@ -347,13 +373,33 @@ Manifold manifoldFromClosest(const Polytope& a,
                              const Transform& X_AB,
                              const ClosestResult& closest,
                              const ManifoldOptions& options) {
+  Manifold m;
+  manifoldFromClosest(a, b, X_AB, closest, m, options);
+  return m;
+}
+
+void manifoldFromClosest(const Polytope& a,
+                         const Polytope& b,
+                         const Transform& X_AB,
+                         const ClosestResult& closest,
+                         Manifold& out,
+                         const ManifoldOptions& options) {
   const Transform I{};
   const Vec3& n = closest.normal;
-  const Vec3 mid = (closest.point_a + closest.point_b) * 0.5;
   const double sin_tol = options.parallel_tolerance;
-  Manifold single;
-  single.points[0] = ContactPoint{mid, n, -closest.distance};
-  single.count = 1;
+  // the closest pair alone: one point midway between the witnesses
+  auto single = [&] {
+    out.points[0] = ContactPoint{(closest.point_a + closest.point_b) * 0.5, n, -closest.distance};
+    out.count = 1;
+    out.truncated = false;
+  };
+
+  // a side whose contact feature can only be its witness point: the closest pair alone
+  const Vec3 n_b = glm::transpose(X_AB.R) * n;
+  if (!mayLieInPlane(a, closest.fa, n, sin_tol) || !mayLieInPlane(b, closest.fb, n_b, sin_tol)) {
+    single();
+    return;
+  }
 
   Polygon pa, pb;
   FaceView fa, fb;
@@ -366,20 +412,24 @@ Manifold manifoldFromClosest(const Polytope& a,
   }
   if (!a_face && !b_face) {
     // parallel edges, both in the contact plane, around the closest features: the overlap segment
-    const Vec3 n_b = glm::transpose(X_AB.R) * n;
     std::uint32_t ea = 0, eb = 0;
-    if (!parallelEdges(a, closest.fa, n, b, closest.fb, n_b, X_AB, sin_tol, ea, eb))
-      return single;
+    if (!parallelEdges(a, closest.fa, n, b, closest.fb, n_b, X_AB, sin_tol, ea, eb)) {
+      single();
+      return;
+    }
     pa.n = pb.n = 0;
     pa.push(a.vertices()[a.edges()[ea].tail].p);
     pa.push(a.vertices()[a.edges()[ea].head].p);
     pb.push(X_AB.apply(b.vertices()[b.edges()[eb].tail].p));
     pb.push(X_AB.apply(b.vertices()[b.edges()[eb].head].p));
   }
-  if (pa.n <= 1 || pb.n <= 1)
-    return single;
-  Manifold m = assemble(pa, a_face, fa, pb, b_face, fb, n, -closest.distance, mid,
-                        std::max(a.radius(), b.radius()));
+  if (pa.n <= 1 || pb.n <= 1) {
+    single();
+    return;
+  }
+  const Vec3 mid = (closest.point_a + closest.point_b) * 0.5;
+  const Manifold m = assemble(pa, a_face, fa, pb, b_face, fb, n, -closest.distance, mid,
+                              std::max(a.radius(), b.radius()));
   // the closest pair is exact: the manifold's deepest point must say so
   std::size_t deepest = 0;
   for (std::size_t i = 1; i < m.count; ++i) {
@@ -388,9 +438,10 @@ Manifold manifoldFromClosest(const Polytope& a,
   }
   if (std::abs(m.points[deepest].depth + closest.distance) >
       1e-9 * std::max(a.radius(), b.radius())) {
-    return single;  // clipping lost the closest pair (features not really parallel)
+    single();  // clipping lost the closest pair (features not really parallel)
+    return;
   }
-  return m;
+  out = m;
 }
 
 Manifold manifoldFromDepth(const Polytope& a,

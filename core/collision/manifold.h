@@ -40,6 +40,16 @@ Manifold manifoldFromClosest(const Polytope& a,
                              const ClosestResult& closest,
                              const ManifoldOptions& options = {});
 
+/// The same written into `out` (count, truncated and the points in use; the others are left as
+/// they were): a near-contact query mostly ends with one point, and building a whole Manifold to
+/// copy it cost more than the point itself (PairQuery/NearContact, bench/README.md).
+void manifoldFromClosest(const Polytope& a,
+                         const Polytope& b,
+                         const Transform& X_AB,
+                         const ClosestResult& closest,
+                         Manifold& out,
+                         const ManifoldOptions& options = {});
+
 /// Manifold of an overlapping pair from its MTD (A's frame): the faces of A and B most aligned
 /// with the normal are clipped against each other; edge-edge MTDs give one point.
 Manifold manifoldFromDepth(const Polytope& a,

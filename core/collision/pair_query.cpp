@@ -125,7 +125,7 @@ inline void fromWalk(const Polytope& a,
   r.point_b = c.point_b;
   r.fa = c.fa;
   r.fb = c.fb;
-  r.manifold = manifoldFromClosest(a, b, X_AB, c);
+  manifoldFromClosest(a, b, X_AB, c, r.manifold);
 }
 
 }  // namespace
@@ -201,7 +201,7 @@ PairResult queryPair(const Polytope& a,
   ClosestResult cn;
   cn.fa = r.fa, cn.fb = r.fb, cn.point_a = r.point_a, cn.point_b = r.point_b;
   cn.normal = r.normal, cn.distance = r.distance;
-  r.manifold = manifoldFromClosest(a, b, X_AB, cn);
+  manifoldFromClosest(a, b, X_AB, cn, r.manifold);
   return r;
 }
 
