@@ -73,7 +73,7 @@ class HoldClock final : public Clock {
 };
 
 struct SwapFigures {
-  sim::ColdWork before, after;          // the new scene's counters at the offer, at the end
+  sim::ColdWork before, after;  // the new scene's counters at the offer, at the end
   sim::DynamicsStatus dyn_before, dyn_after;
   sim::PrewarmReport prewarm;
   std::uint64_t servo_allocations = ~0ull;
@@ -154,7 +154,8 @@ TEST_P(SceneSwap, TheSwapTickAndTheTicksAfterItDoNoColdWork) {
   EXPECT_EQ(f.after.cold_queries, f.before.cold_queries) << boxes;
   EXPECT_EQ(f.after.full_sorts, f.before.full_sorts) << boxes;
   EXPECT_EQ(f.after.position_rebuilds, f.before.position_rebuilds) << boxes;
-  EXPECT_EQ(f.dyn_after.ticks, f.dyn_before.ticks) << boxes << ": the dynamics solved after the swap";
+  EXPECT_EQ(f.dyn_after.ticks, f.dyn_before.ticks)
+      << boxes << ": the dynamics solved after the swap";
   EXPECT_EQ(f.dyn_after.ticks_asleep - f.dyn_before.ticks_asleep, kTicksAfter);
   EXPECT_EQ(f.servo_allocations, 0u) << boxes;
 }
