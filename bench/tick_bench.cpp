@@ -86,6 +86,8 @@ void runTicks(benchmark::State& state,
   };
   double checksum = 0.0;
   std::uint64_t contacts = 0, pairs = 0, dynamics_ticks = 0;
+  std::vector<double> asleep_cpu_us;
+  asleep_cpu_us.reserve(kTicks);
   for (auto _ : state) {
     for (std::size_t k = 0; k < kTicks; ++k) {
       const double c0 = threadCpuNs();
@@ -99,6 +101,9 @@ void runTicks(benchmark::State& state,
       contacts += out.contacts;
       pairs += out.pairs_tested;
       dynamics_ticks += (out.flags & sim::kTickDynamics) != 0 ? 1u : 0u;
+      // once the dynamics have run and then stopped (the scene asleep): those ticks apart
+      if ((out.flags & sim::kTickDynamics) == 0 && dynamics_ticks > 0)
+        asleep_cpu_us.push_back(cpu_us[k]);
     }
   }
   benchmark::DoNotOptimize(checksum);
@@ -123,6 +128,8 @@ void runTicks(benchmark::State& state,
   };
   report(us, "");
   report(cpu_us, "cpu_");
+  if (!asleep_cpu_us.empty())
+    report(asleep_cpu_us, "asleep_cpu_");  // thread CPU time of the ticks once asleep
   state.counters["contacts_per_tick"] = static_cast<double>(contacts) / static_cast<double>(kTicks);
   state.counters["pairs_per_tick"] = static_cast<double>(pairs) / static_cast<double>(kTicks);
   state.counters["dynamics_ticks"] = static_cast<double>(dynamics_ticks);

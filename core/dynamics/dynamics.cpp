@@ -72,14 +72,16 @@ void Dynamics::writeState(StateWriter& w) const {
   w.flag(held_kinematic_);
   w.flag(asleep_);
   w.flag(warm_pending_);
-  for (const double v :
-       {min_size_, velocity_tolerance_, ke_episode_start_, rest_s_, accel_scale_, tick_dt_})
+  for (const double v : {min_size_, velocity_tolerance_, ke_episode_start_, accel_scale_, tick_dt_})
     w.f64(v);
   w.integer(bodies_.size());
   for (const BodyState& b : bodies_) {
     w.integer(b.motion);
-    for (const bool f : {b.infinite, b.coast, b.driven, b.enabled, b.isotropic, b.has_target})
+    for (const bool f :
+         {b.infinite, b.coast, b.driven, b.enabled, b.isotropic, b.has_target, b.asleep})
       w.flag(f);
+    w.f64(b.rest_s);
+    w.integer(b.island);
     w.f64(b.inv_mass);
     w.f64(b.size);
     for (const Mat3& m : {b.inertia_B, b.inv_inertia_B, b.inv_inertia_W, b.R})
@@ -124,7 +126,10 @@ void Dynamics::writeState(StateWriter& w) const {
   for (const WarmPoint& p : warm_) {
     for (const std::uint32_t i : {p.a, p.b, p.prim_a, p.prim_b})
       w.integer(i);
-    w.glm(p.ra_B);
+    w.glm(p.sa_B);
+    w.glm(p.sb_B);
+    w.glm(p.na_B);
+    w.glm(p.nb_B);
     w.f64(p.ln);
     w.glm(p.lt);
   }
@@ -228,6 +233,8 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
       options.max_contact_points != 0 ? options.max_contact_points : 16 * moving_prims + 64;
   d->max_points_ = cap;
   d->points_.reserve(cap);
+  d->parent_.assign(d->bodies_.size(), 0);
+  d->island_rest_.assign(d->bodies_.size(), 0.0);
   d->dv_.assign(d->bodies_.size(), Vec3{0.0});
   d->dw_.assign(d->bodies_.size(), Vec3{0.0});
   d->warm_.reserve(cap);
@@ -424,11 +431,16 @@ void Dynamics::setEnabled(std::uint32_t body, bool enabled, const Pose& X_WB) {
               warm_.end());
   // something changed: what rested on it (or under where it appears) must move
   asleep_ = false;
-  rest_s_ = 0.0;
+  for (BodyState& o : bodies_)
+    o.asleep = false, o.rest_s = 0.0;
 }
 
 bool Dynamics::enabled(std::uint32_t body) const {
   return !active_ || body >= bodies_.size() || bodies_[body].enabled;
+}
+
+bool Dynamics::asleep(std::uint32_t body) const {
+  return active_ && body < bodies_.size() && bodies_[body].asleep;
 }
 
 void Dynamics::setDriven(std::uint32_t body, bool driven) {
@@ -439,8 +451,12 @@ void Dynamics::setDriven(std::uint32_t body, bool driven) {
     return;
   b.driven = driven;
   b.has_target = false;
-  if (driven)
-    asleep_ = false, rest_s_ = 0.0;
+  if (driven) {
+    asleep_ = false;
+    if (b.asleep)
+      wakeIsland(b.island);
+    b.rest_s = 0.0;
+  }
 }
 
 void Dynamics::setExternalWrench(std::uint32_t body,
@@ -450,8 +466,14 @@ void Dynamics::setExternalWrench(std::uint32_t body,
     return;
   if (!geom::finite(force_W_n) || !geom::finite(torque_W_nm))
     return;  // not a wrench: ignored, nothing changes
-  bodies_[body].force_W = force_W_n;
-  bodies_[body].torque_W = torque_W_nm;
+  BodyState& b = bodies_[body];
+  const bool changed = b.force_W != force_W_n || b.torque_W != torque_W_nm;
+  b.force_W = force_W_n;
+  b.torque_W = torque_W_nm;
+  if (changed && b.asleep) {
+    wakeIsland(b.island);  // its island wakes, and the scene
+    asleep_ = false;
+  }
 }
 
 Pose Dynamics::pose(std::uint32_t body) const {

@@ -10,8 +10,11 @@
 ///     the free-rigid-body splitting (McLachlan 1993, Touma & Wisdom 1994: exact rotations about
 ///     the principal axes, composed symmetrically; quaternions normalised), so the gyroscopic
 ///     term never blows up (|ω| <= |L| / I_min) and the energy error stays bounded;
+///  0. islands touched by something that moves wake (sleep is per island, step 6);
 ///  2. constraints from the CollisionWorld's contacts (manifold points, close but separated ones
-///     included) and from the scene's joints (fixed, hinge with limits);
+///     included; persistent: a point of last tick that the manifold does not name again is kept
+///     while its two surface points stay together, so a resting box keeps its four corners) and
+///     from the scene's joints (fixed, hinge with limits, the general joint);
 ///  3. the time-of-impact loop of §6.1: for every contact point the time at which its gap closes
 ///     is estimated from the relative velocity, the normal and the distance; all bodies advance to
 ///     the earliest, the impulses there (restitution, Coulomb friction, joints; sequential
@@ -20,8 +23,22 @@
 ///     DynamicsOptions::max_toi_substeps times (then the remaining approaching points are treated
 ///     speculatively for the rest of the tick and kStepToiCapped is set);
 ///  4. drift correction: split impulses (pseudo-velocities that move poses but add no energy) for
-///     penetration beyond a slop relative to the bodies' size and for joint error;
-///  5. new poses written back with CollisionWorld::setPose (its next step() sees them).
+///     penetration beyond a slop relative to the bodies' size and for joint error. Split
+///     impulses rather than Baumgarte (a velocity bias: adds energy, stacks jitter) or soft
+///     constraints with sub-steps (several solves per tick: too costly at 1 kHz). A frictionless
+///     resting point may also close toward the slop's depth in the velocity solve (20% per
+///     tick), so a body's resting points settle at one depth and a frictionless box rests flat
+///     instead of sliding off the tilt its first ticks gave it;
+///  5. new poses written back with CollisionWorld::setPose (its next step() sees them; a
+///     sleeping body's are not);
+///  6. sleep per island: contacts and joints join dynamic bodies into islands; an island at rest
+///     for sleep_time_s sleeps, the whole scene when every island does.
+///
+/// Tolerances, all relative (docs/dynamics.md, "One tick"): slop 0.2% of the smaller body's
+/// size (radius about its centre of mass); touching: a quarter of the slop; point persistence
+/// 2% and warm-start matching 5% of the size; restitution and static-friction threshold
+/// max(4 ticks of gravity, 1% of the size per second); travel per tick <= max(box margin, 50%
+/// of the size); still (sleep): slower than 0.1% of the size per second.
 ///
 /// Threads and memory: create() off the servo thread (allocates every capacity); step(),
 /// setKinematicPose(), setExternalWrench() and the getters on the servo thread: no allocation, no
@@ -83,16 +100,26 @@ struct DynamicsOptions {
   /// found within the world's box margin before they touch (time of impact) and, for faster
   /// bodies, on the tick they overlap (then resolved from the overlap).
   double max_travel_fraction = 0.5;
+  /// Persistent contact points: a point of last tick that the collision manifold does not name
+  /// again is kept while its two surface points stay within this fraction of the smaller body's
+  /// size of each other (along the contact plane and across it); a new point that near one of
+  /// last tick's takes its impulses (warm start). At most 4 points per primitive pair.
+  double contact_persist_fraction = 0.02;
   /// Contact points the solver may hold per tick; 0 picks 16 per moving primitive + 64.
   /// Overflow drops points (kStepCapacityFull, counted), never allocates.
   std::uint32_t max_contact_points = 0;
-  /// Sleep: when every dynamic body has moved slower than sleep_speed_fraction of its size per
-  /// second for sleep_time_s, the whole scene sleeps (velocities zeroed, steps do nothing)
-  /// until the held body's input, a kinematic target or an external wrench moves something.
-  /// A kinematically held body keeps the scene awake (or wakes it) only while it moves with a
-  /// contact, within the world's box margin, with a dynamic body; in free space it is taken to
-  /// its target while the scene sleeps.
-  /// 0 s: never sleep.
+  /// Sleep, per island: contacts (touching, between dynamic bodies) and joints join dynamic
+  /// bodies into islands; an island whose every body has moved slower than
+  /// sleep_speed_fraction of its size per second for sleep_time_s sleeps (velocities zeroed;
+  /// its bodies take no part in the ticks, as if of infinite mass, and their poses are not
+  /// given to the world again). It wakes when a body that moves (an awake dynamic body, the
+  /// held body or a driven one moving, a kinematic body with a target or a velocity) has a
+  /// contact within the world's box margin with one of its bodies, or when an external wrench
+  /// is set on one of them. A kinematically held body touching a body keeps that body's
+  /// island awake. When every island sleeps the whole scene sleeps (steps do nothing) until
+  /// the held body's input, a kinematic target or an external wrench could move something; in
+  /// free space the held body is taken to its target while the scene sleeps. Bodies held by a
+  /// joint with a velocity drive never sleep. 0 s: never sleep.
   double sleep_time_s = 0.5;
   double sleep_speed_fraction = 1e-3;
   /// For a scene without a probe body (SceneModel::probe_body < 0) whose Simulation adds a probe
@@ -225,6 +252,9 @@ class Dynamics {
   void setEnabled(std::uint32_t body, bool enabled, const Pose& X_WB = Pose{});
   /// Whether a body is in the scene (true for an inactive stage or an index out of range).
   bool enabled(std::uint32_t body) const;
+  /// Whether a dynamic body's island sleeps (DynamicsOptions::sleep_time_s); false for other
+  /// bodies, an inactive stage or an index out of range. Servo thread (or the owner thread).
+  bool asleep(std::uint32_t body) const;
 
   /// Hands a dynamic body over to the caller (driven = true) or back (false): while driven it has
   /// infinite mass, follows setKinematicPose() like a kinematic body (standing still without a
@@ -307,7 +337,10 @@ class Dynamics {
   void activate(ContactPoint& cp) const;
   void advance(double h);
   HeldFeedback heldFeedbackOfTick();
-  void updateSleep(const collision::CollisionWorld& world, double dt);
+  void updateSleep(double dt);
+  void wakeIslands(const collision::CollisionWorld& world, const HeldInput* held);
+  void wakeIsland(std::uint32_t island);
+  std::uint32_t findRoot(std::uint32_t i);
   bool wakeRequested(const collision::CollisionWorld& world, const HeldInput* held) const;
   bool heldTouchesDynamic(const collision::CollisionWorld& world) const;
   void storeWarmStart();
@@ -342,8 +375,9 @@ class Dynamics {
   double ke_episode_start_ = 0.0;    // kinetic energy before a solve with restitution
   std::vector<Vec3> dv_, dw_;        // per body: scratch of the restitution impulses
   bool warm_pending_ = false;
-  bool asleep_ = false;
-  double rest_s_ = 0.0;  // how long every dynamic body has been still
+  bool asleep_ = false;                // every island sleeps: step() does no work
+  std::vector<std::uint32_t> parent_;  // per body: the islands' union-find (scratch)
+  std::vector<double> island_rest_;    // per root: its bodies' shortest rest (scratch)
 
   const scene::SceneModel* scene_ = nullptr;
   DynamicsOptions options_;

@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include "core/dynamics/dynamics.h"
 
@@ -48,9 +49,12 @@ struct Dynamics::BodyState {
   bool coast = false;  // infinite mass (declared 0, or kinematic with a declared velocity): moves
                        // at v_coast / w_coast whenever no target is given
   Vec3 v_coast{0.0}, w_coast{0.0};
-  bool driven = false;     // a dynamic body the caller moves (setDriven): infinite mass
-  bool enabled = true;     // false: out of the scene (setEnabled): frozen, no contacts
-  bool isotropic = false;  // all three equal (cubes, regular polyhedra)
+  bool driven = false;       // a dynamic body the caller moves (setDriven): infinite mass
+  bool asleep = false;       // its island sleeps: infinite mass, at rest, not integrated
+  double rest_s = 0.0;       // how long it has been still
+  std::uint32_t island = 0;  // its island's id (the root body) when it fell asleep
+  bool enabled = true;       // false: out of the scene (setEnabled): frozen, no contacts
+  bool isotropic = false;    // all three equal (cubes, regular polyhedra)
   Mat3 inv_inertia_W{0.0};
   Vec3 com_B{0.0};
   Vec3 x_W{0.0};  // centre of mass
@@ -101,6 +105,7 @@ struct Dynamics::ContactPoint {
   std::uint32_t prim_a = 0, prim_b = 0;
   Vec3 ra_B{0.0}, rb_B{0.0};  // from each centre of mass, body frames
   Vec3 ra{0.0}, rb{0.0};      // world, current
+  Vec3 sa_B{0.0}, sb_B{0.0};  // the point on each surface (body frames, from the centres of mass)
   Vec3 n{0.0}, t1{0.0}, t2{0.0};
   double gap = 0.0;     // > 0 apart, < 0 penetrating (tracked through the tick)
   double size = 0.0;    // the smaller body's size
@@ -117,6 +122,7 @@ struct Dynamics::ContactPoint {
   double ln_max = 0.0;  // largest normal impulse per solve (held_max_force_n), 0: none
   bool active = false;
   bool speculative = false;
+  bool resting = false;  // not sliding when it became active (static friction)
 };
 
 struct Dynamics::JointState {
@@ -199,11 +205,16 @@ struct Dynamics::GeneralJoint {
   std::vector<JointRow> rows;  // one per spec
 };
 
+// a contact point kept from one tick to the next (persistent, as Bullet's btPersistentManifold
+// keeps them): its primitive pair, where it sits on each surface (from each centre of mass, body
+// frames) and its impulses of the tick (the next tick's warm start)
 struct Dynamics::WarmPoint {
   std::uint32_t a = 0, b = 0, prim_a = 0, prim_b = 0;
-  Vec3 ra_B{0.0};
+  Vec3 sa_B{0.0}, sb_B{0.0};  // on a's surface (a's frame), on b's surface (b's frame)
+  Vec3 na_B{0.0}, nb_B{0.0};  // the normal in a's frame and in b's
   double ln = 0.0;
   Vec3 lt{0.0};
+  auto key() const { return std::tie(a, b, prim_a, prim_b); }
 };
 
 }  // namespace hapticd::dynamics

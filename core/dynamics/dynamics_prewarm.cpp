@@ -24,7 +24,7 @@ bool Dynamics::sleepIfStill(const collision::CollisionWorld& world) {
   if (asleep_ || !stillNow(world))
     return asleep_;
   // still now: a whole sleep time of rest at once
-  updateSleep(world, options_.sleep_time_s);
+  updateSleep(options_.sleep_time_s);
   return asleep_;
 }
 

@@ -161,7 +161,23 @@ void Dynamics::prepareRows(double remaining) {
     row(cp.t2, cp.rt2);
     cp.mass_n = cp.rn.mass;
     cp.ln = cp.lt1 = cp.lt2 = 0.0;
-    cp.min_vn = cp.speculative ? -std::max(cp.gap, 0.0) / remaining : 0.0;
+    // a frictionless resting point may close toward the slop, position_correction of the way
+    // per tick (a speculative one down to touching): every such point of a body settles at the
+    // same depth, so a box rests flat on its support instead of keeping whatever tilt its first
+    // impact gave it, which without friction would make it slide for ever (the split impulses
+    // push out what is deeper, at the same rate; Box2D v3's soft step closes to its linear
+    // slop the same way)
+    if (cp.speculative) {
+      cp.min_vn = -std::max(cp.gap, 0.0) / remaining;
+    } else if (cp.bounce > 0.0 || !cp.resting || cp.mu_s > 0.0 || cp.mu_d > 0.0) {
+      // an impact: its whole compression impulse, for the restitution; a sliding contact (a
+      // gear's teeth) is no resting support; with friction a tilt within the slop is held by
+      // static friction (and the closing made tall towers with friction creep)
+      cp.min_vn = 0.0;
+    } else {
+      cp.min_vn = -options_.position_correction *
+                  std::max(cp.gap + options_.slop_fraction * cp.size, 0.0) / tick_dt_;
+    }
   }
   for (JointState& js : joints_) {
     js.l_point = js.l_ang = Vec3{0.0};
@@ -313,7 +329,7 @@ void Dynamics::solveContact(ContactPoint& cp, double& residual) {
       residual = std::max(residual, std::abs(l2 - o2) / cp.rt2.mass);
   }
   const double vn = rel(cp.n, cp.rn);
-  const double target = cp.speculative ? cp.min_vn : 0.0;
+  const double target = cp.min_vn;
   const double old = cp.ln;
   cp.ln = std::max(0.0, old + cp.rn.mass * (target - vn));
   if (cp.ln_max > 0.0)

@@ -2,6 +2,7 @@
 // collision world with their warm starts, the solves through the times of impact, drift
 // correction, the held body's feedback, poses back to the world, sleep.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <tuple>
 
@@ -10,19 +11,86 @@
 
 namespace hapticd::dynamics {
 
+using collision::Manifold;
 using detail::kInf;
 using detail::pairKey;
 using detail::tangents;
 
 namespace {
 
-// a primitive without a material: frictionless, inelastic, combined by average as if declared
-// (scene.h; built before main, never on the servo thread)
-const scene::Material kNoMaterial = [] {
+// one primitive pair's point this tick: fresh from the collision manifold or kept from last tick
+struct Candidate {
+  Vec3 n{0.0};
+  double gap = 0.0;
+  Vec3 sa_B{0.0}, sb_B{0.0};  // on each surface, body frames (from the centres of mass)
+  bool warm = false;          // last tick's impulses found
+  double ln = 0.0;
+  Vec3 lt{0.0};
+};
+
+// the Simulation's own probe sphere (extra_probe_body): frictionless, inelastic (built before
+// main, never on the servo thread)
+const scene::Material kProbeSphereMaterial = [] {
   scene::Material m;
-  m.friction_combine_declared = m.restitution_combine_declared = true;
+  m.name = "probe sphere";
   return m;
 }();
+
+// a kept point's normal (in either body) within about 0.25 degrees of this tick's
+constexpr double kSameNormalCos = 0.99999;
+
+// a manifold's points plus as many kept ones
+constexpr std::size_t kMaxCandidates = 2 * Manifold::kMaxPoints;
+
+// the four of `n` candidates that support best (the collision manifold's rule, manifold.cpp:
+// the deepest, the farthest from it, the largest triangle, the point farthest outside it),
+// moved to the front; returns 4
+std::size_t reduceCandidates(Candidate* c, std::size_t n, const auto& A) {
+  const auto at = [&](std::size_t i) { return A.R * c[i].sa_B; };
+  std::array<std::size_t, 4> pick{};
+  for (std::size_t i = 1; i < n; ++i) {
+    if (c[i].gap < c[pick[0]].gap)
+      pick[0] = i;
+  }
+  double best = -1.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Vec3 d = at(i) - at(pick[0]);
+    if (glm::dot(d, d) > best)
+      best = glm::dot(d, d), pick[1] = i;
+  }
+  const Vec3 nrm = c[pick[0]].n;
+  best = -1.0;
+  double sign = 1.0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const double area = glm::dot(glm::cross(at(pick[1]) - at(pick[0]), at(i) - at(pick[0])), nrm);
+    if (std::abs(area) > best)
+      best = std::abs(area), pick[2] = i, sign = area >= 0.0 ? 1.0 : -1.0;
+  }
+  best = -1.0;
+  pick[3] = pick[0];
+  for (std::size_t i = 0; i < n; ++i) {
+    if (i == pick[0] || i == pick[1] || i == pick[2])
+      continue;
+    double out = 0.0;
+    for (std::size_t k = 0; k < 3; ++k) {
+      const Vec3 p0 = at(pick[k]), p1 = at(pick[(k + 1) % 3]);
+      out = std::max(out, -sign * glm::dot(glm::cross(p1 - p0, at(i) - p0), nrm));
+    }
+    if (out > best)
+      best = out, pick[3] = i;
+  }
+  std::array<Candidate, 4> kept;
+  std::size_t m = 0;
+  for (std::size_t k = 0; k < 4; ++k) {
+    bool dup = false;
+    for (std::size_t j = 0; j < k; ++j)
+      dup = dup || pick[j] == pick[k];
+    if (!dup)
+      kept[m++] = c[pick[k]];
+  }
+  std::copy(kept.begin(), kept.begin() + static_cast<std::ptrdiff_t>(m), c);
+  return m;
+}
 
 }  // namespace
 
@@ -44,11 +112,12 @@ void Dynamics::integrateForces(double dt, double margin, const HeldInput* held) 
   for (std::size_t i = 0; i < bodies_.size(); ++i) {
     BodyState& b = bodies_[i];
     const bool held_here = held_kinematic_ && static_cast<std::int32_t>(i) == held_;
-    b.infinite = b.motion != scene::Motion::kDynamic || held_here || b.driven || !b.enabled;
+    b.infinite =
+        b.motion != scene::Motion::kDynamic || held_here || b.driven || !b.enabled || b.asleep;
     b.pv = Vec3{0.0};
     b.pw = Vec3{0.0};
-    if (!b.enabled) {
-      // out of the scene: frozen where it left (no gravity, no velocity)
+    if (!b.enabled || (b.asleep && !b.driven && !held_here)) {
+      // out of the scene, or asleep: frozen where it is (no gravity, no velocity)
       b.inv_inertia_W = Mat3{0.0};
       b.v_W = b.w_W = Vec3{0.0};
       b.has_target = false;
@@ -103,7 +172,6 @@ void Dynamics::integrateForces(double dt, double margin, const HeldInput* held) 
 void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, StepReport& report) {
   points_.clear();
   const std::size_t cap = max_points_;
-  std::size_t warm = 0;  // warm_ is sorted like the contacts: walk both
   for (const collision::Contact& c : contacts) {
     if (!c.answered || c.body_a >= bodies_.size() || c.body_b >= bodies_.size())
       continue;
@@ -117,17 +185,14 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
     }
     if (c.age > 0)
       step_flags_ |= kStepStaleContacts;
-    // materials of the two primitives (none declared: frictionless, no restitution)
+    // materials of the two primitives (none declared: scene::defaultMaterial()); a body after
+    // the scene's, the probe sphere the Simulation adds from its config, is no collider of the
+    // scene and pushes without friction (what the hand feels of friction is the response's)
     const auto material = [&](std::uint32_t body, std::uint32_t prim) -> const scene::Material& {
       if (body >= scene_->bodies.size())
-        return kNoMaterial;
+        return kProbeSphereMaterial;
       const auto& prims = scene_->bodies[body].primitives;
-      if (prim >= prims.size())
-        return kNoMaterial;
-      const std::int32_t m = prims[prim].material;
-      return m >= 0 && static_cast<std::size_t>(m) < scene_->materials.size()
-                 ? scene_->materials[static_cast<std::size_t>(m)]
-                 : kNoMaterial;
+      return scene::materialOf(*scene_, prim < prims.size() ? prims[prim].material : -1);
     };
     const scene::Material& ma = material(c.body_a, c.prim_a);
     const scene::Material& mb = material(c.body_b, c.prim_b);
@@ -137,12 +202,23 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
     const double mu_d = scene::combineMaterials(ma, mb, scene::MaterialValue::kDynamicFriction);
     const double size = std::min(A.infinite ? kInf : A.size, B.infinite ? kInf : B.size);
 
-    while (warm < warm_.size() &&
-           std::tie(warm_[warm].a, warm_[warm].b, warm_[warm].prim_a, warm_[warm].prim_b) <
-               std::tie(c.body_a, c.body_b, c.prim_a, c.prim_b)) {
-      ++warm;
-    }
+    // last tick's points of this primitive pair (warm_ is sorted by pair)
+    const WarmPoint probe{c.body_a, c.body_b, c.prim_a, c.prim_b};
+    const auto lo =
+        std::lower_bound(warm_.begin(), warm_.end(), probe,
+                         [](const WarmPoint& x, const WarmPoint& y) { return x.key() < y.key(); });
+    std::size_t warm_end = static_cast<std::size_t>(lo - warm_.begin());
+    const std::size_t warm_begin = warm_end;
+    while (warm_end < warm_.size() && warm_[warm_end].key() == probe.key())
+      ++warm_end;
+
+    // this tick's candidates: the manifold's points, then last tick's that are still in contact
+    // and were not found again (persistent points: a resting box keeps its four corners even on
+    // a tick whose manifold names one)
+    std::array<Candidate, kMaxCandidates> cand;
+    std::size_t nc = 0;
     const std::size_t count = c.manifold.count;
+    Vec3 n_pair{0.0};
     for (std::size_t k = 0; k < std::max<std::size_t>(count, 1); ++k) {
       Vec3 p, n;
       double gap;
@@ -156,8 +232,70 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
         gap = c.distance;
       }
       const double nl = glm::length(n);
-      if (!(nl > 0.5) || !geom::finite(p) || !std::isfinite(gap))
+      if (!(nl > 0.5) || !geom::finite(p) || !std::isfinite(gap) || nc == Manifold::kMaxPoints)
         continue;
+      n /= nl;
+      n_pair = n;
+      Candidate& cd = cand[nc++];
+      cd.n = n;
+      cd.gap = gap;
+      cd.sa_B = glm::transpose(A.R) * (p - n * (0.5 * gap) - A.x_W);
+      cd.sb_B = glm::transpose(B.R) * (p + n * (0.5 * gap) - B.x_W);
+    }
+    if (nc == 0)
+      continue;
+    const double keep = options_.contact_persist_fraction * size;
+    const std::size_t fresh = nc;
+    // warm start: each fresh point takes the impulses of last tick's nearest point of the pair
+    // that pushed, within 0.05 of the size (a sliding contact's points move a little every tick)
+    const double reach2 = (0.05 * size) * (0.05 * size);
+    for (std::size_t k = 0; k < fresh; ++k) {
+      double best = reach2;
+      for (std::size_t w = warm_begin; w < warm_end; ++w) {
+        const Vec3 d = cand[k].sa_B - warm_[w].sa_B;
+        if (warm_[w].ln > 0.0 && glm::dot(d, d) < best) {
+          best = glm::dot(d, d);
+          cand[k].ln = warm_[w].ln;
+          cand[k].lt = warm_[w].lt;
+          cand[k].warm = true;
+        }
+      }
+    }
+    for (std::size_t w = warm_begin; w < warm_end; ++w) {
+      const WarmPoint& wp = warm_[w];
+      bool found = false;  // named again by the manifold this tick
+      for (std::size_t k = 0; k < fresh && !found; ++k) {
+        const Vec3 d = cand[k].sa_B - wp.sa_B;
+        found = glm::dot(d, d) < keep * keep;
+      }
+      if (found)
+        continue;
+      // not found again: kept while its two surface points stay together along the contact
+      // plane and apart by less than `keep` across it
+      const Vec3 pa = A.x_W + A.R * wp.sa_B, pb = B.x_W + B.R * wp.sb_B;
+      const Vec3 d = pb - pa;
+      const double gap = glm::dot(d, n_pair);
+      const Vec3 slide = d - n_pair * gap;
+      // and while the contact keeps its normal in both bodies (the same pair of features:
+      // a turning or rolling contact has new points every tick, never stale ones)
+      const bool same_normal = glm::dot(A.R * wp.na_B, n_pair) >= kSameNormalCos &&
+                               glm::dot(B.R * wp.nb_B, n_pair) >= kSameNormalCos;
+      if (gap > keep || glm::dot(slide, slide) > keep * keep || !same_normal ||
+          nc == kMaxCandidates)
+        continue;
+      Candidate& cd = cand[nc++];
+      cd.n = n_pair;
+      cd.gap = gap;
+      cd.sa_B = wp.sa_B;
+      cd.sb_B = wp.sb_B;
+      cd.ln = wp.ln;
+      cd.lt = wp.lt;
+      cd.warm = true;
+    }
+    if (nc > Manifold::kMaxPoints)
+      nc = reduceCandidates(cand.data(), nc, A);
+    for (std::size_t k = 0; k < nc; ++k) {
+      const Candidate& cd = cand[k];
       if (points_.size() == cap) {
         ++counters_.points_dropped;
         step_flags_ |= kStepCapacityFull;
@@ -168,29 +306,24 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
       cp.b = c.body_b;
       cp.prim_a = c.prim_a;
       cp.prim_b = c.prim_b;
-      cp.n = n / nl;
+      cp.n = cd.n;
       tangents(cp.n, &cp.t1, &cp.t2);
-      cp.ra = p - A.x_W;
-      cp.rb = p - B.x_W;
+      // impulses act midway between the two surface points
+      const Vec3 mid = 0.5 * (A.x_W + A.R * cd.sa_B + B.x_W + B.R * cd.sb_B);
+      cp.ra = mid - A.x_W;
+      cp.rb = mid - B.x_W;
       cp.ra_B = glm::transpose(A.R) * cp.ra;
       cp.rb_B = glm::transpose(B.R) * cp.rb;
-      cp.gap = gap;
+      cp.sa_B = cd.sa_B;
+      cp.sb_B = cd.sb_B;
+      cp.gap = cd.gap;
       cp.size = size;
       cp.e = e;
       cp.mu_s = mu_s;
       cp.mu_d = mu_d;
-      // warm start: the nearest point of the same primitive pair last tick
-      double best = 0.05 * size * 0.05 * size;
-      for (std::size_t w = warm; w < warm_.size() && warm_[w].a == cp.a && warm_[w].b == cp.b &&
-                                 warm_[w].prim_a == cp.prim_a && warm_[w].prim_b == cp.prim_b;
-           ++w) {
-        const Vec3 dr = warm_[w].ra_B - cp.ra_B;
-        const double d2 = glm::dot(dr, dr);
-        if (d2 < best) {
-          best = d2;
-          cp.total_n = warm_[w].ln;
-          cp.total_t = warm_[w].lt;
-        }
+      if (cd.warm) {
+        cp.total_n = cd.ln;
+        cp.total_t = cd.lt;
       }
     }
   }
@@ -279,12 +412,12 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
       report.flags = kStepAsleep;
       return report;
     }
-    asleep_ = false;
-    rest_s_ = 0.0;
+    asleep_ = false;  // the islands the input touches wake below (wakeIslands)
   }
   ++counters_.ticks;
   step_flags_ = 0;
   tick_dt_ = dt;
+  wakeIslands(world, held);
   integrateForces(dt, world.options().box_margin, held);
   gatherContacts(world.contacts(), report);
   prepareJoints();
@@ -314,11 +447,11 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
     report.impulse_points += cp.total_n > 0.0;
   for (std::uint32_t i = 0; i < bodies_.size(); ++i) {
     const BodyState& b = bodies_[i];
-    if (b.motion == scene::Motion::kStatic || !b.enabled)
-      continue;
+    if (b.motion == scene::Motion::kStatic || !b.enabled || b.asleep)
+      continue;  // a sleeping body's pairs keep their answers (skip_unmoved_pairs)
     world.setPose(i, Pose{b.x_W - b.R * b.com_B, b.q});
   }
-  updateSleep(world, dt);
+  updateSleep(dt);
   report.flags = step_flags_;
   return report;
 }
@@ -369,7 +502,8 @@ void Dynamics::activate(ContactPoint& cp) const {
   cp.active = true;
   cp.bounce = vn < -thr ? cp.e : 0.0;
   const double vt = glm::length(vrel - cp.n * vn);
-  cp.mu = vt < options_.static_friction_speed_fraction * thr ? cp.mu_s : cp.mu_d;
+  cp.resting = vt < options_.static_friction_speed_fraction * thr;
+  cp.mu = cp.resting ? cp.mu_s : cp.mu_d;
 }
 
 // the first solve at the start of the tick (the points touching now, the joints); then §6.1:
@@ -473,29 +607,159 @@ HeldFeedback Dynamics::heldFeedbackOfTick() {
   return fb;
 }
 
-// sleep: once every moving body has been still for sleep_time_s
-void Dynamics::updateSleep(const collision::CollisionWorld& world, double dt) {
+std::uint32_t Dynamics::findRoot(std::uint32_t i) {
+  while (parent_[i] != i) {
+    parent_[i] = parent_[parent_[i]];  // path halving
+    i = parent_[i];
+  }
+  return i;
+}
+
+void Dynamics::wakeIsland(std::uint32_t island) {
+  for (BodyState& b : bodies_) {
+    if (b.asleep && b.island == island)
+      b.asleep = false, b.rest_s = 0.0;
+  }
+}
+
+// islands that something moving touches wake: an awake dynamic body that moves, the held body
+// or a driven one moving, a kinematic body with a target or a velocity, within the box margin
+void Dynamics::wakeIslands(const collision::CollisionWorld& world, const HeldInput* held) {
+  bool any = false;
+  for (const BodyState& b : bodies_)
+    any = any || b.asleep;
+  if (!any)
+    return;
+  const double margin = world.options().box_margin;
+  const auto moving = [&](std::uint32_t i) {
+    const BodyState& b = bodies_[i];
+    if (!b.enabled || b.asleep || b.motion == scene::Motion::kStatic)
+      return false;
+    if (static_cast<std::int32_t>(i) == held_ && held != nullptr) {
+      if (held->mode == HeldMode::kWrench)
+        return true;
+      if (held->mode == HeldMode::kKinematic) {
+        const Vec3 x =
+            held->X_WB_target.translation + glm::mat3_cast(held->X_WB_target.rotation) * b.com_B;
+        return x != b.x_W || std::abs(glm::dot(held->X_WB_target.rotation, b.q)) < 1.0;
+      }
+    }
+    if (b.has_target || (b.coast && (b.v_coast != Vec3{0.0} || b.w_coast != Vec3{0.0})))
+      return true;
+    if (b.motion != scene::Motion::kDynamic)
+      return false;
+    const double speed = glm::length(b.v_W) + glm::length(b.w_W) * b.size;
+    return speed > options_.sleep_speed_fraction * b.size;
+  };
+  for (const collision::Contact& c : world.contacts()) {
+    if (!c.answered || c.body_a >= bodies_.size() || c.body_b >= bodies_.size() ||
+        c.distance > margin)
+      continue;
+    const BodyState& A = bodies_[c.body_a];
+    const BodyState& B = bodies_[c.body_b];
+    if (A.asleep && !B.asleep && moving(c.body_b))
+      wakeIsland(A.island);
+    else if (B.asleep && !A.asleep && moving(c.body_a))
+      wakeIsland(B.island);
+  }
+}
+
+// sleep per island: every body's rest timer; islands joined by touching contacts and joints
+// between dynamic bodies; an island whose bodies have all rested for sleep_time_s sleeps; when
+// all have, the scene does
+void Dynamics::updateSleep(double dt) {
   if (!(options_.sleep_time_s > 0.0))
     return;
-  bool still = true;
-  for (const BodyState& b : bodies_) {
-    if (b.motion == scene::Motion::kStatic || b.driven || !b.enabled ||
-        (b.motion == scene::Motion::kKinematic && !b.coast))
+  const auto n = static_cast<std::uint32_t>(bodies_.size());
+  const auto sleeper = [&](std::uint32_t i) {
+    const BodyState& b = bodies_[i];
+    return b.motion == scene::Motion::kDynamic && b.enabled && !b.driven && !b.asleep &&
+           static_cast<std::int32_t>(i) != held_;
+  };
+  for (std::uint32_t i = 0; i < n; ++i) {
+    parent_[i] = i;
+    BodyState& b = bodies_[i];
+    if (!sleeper(i))
       continue;
     const double speed = glm::length(b.v_W) + glm::length(b.w_W) * b.size;
-    still = still && speed <= options_.sleep_speed_fraction * b.size;
+    b.rest_s = speed <= options_.sleep_speed_fraction * b.size ? b.rest_s + dt : 0.0;
   }
-  // a held body moving in free space does not keep the scene awake; one touching a dynamic
-  // body does
-  still = still && !(held_kinematic_ && heldTouchesDynamic(world));
-  rest_s_ = still ? rest_s_ + dt : 0.0;
-  if (rest_s_ >= options_.sleep_time_s) {
-    asleep_ = true;
-    for (BodyState& b : bodies_) {
-      if (b.motion == scene::Motion::kDynamic)
-        b.v_W = b.w_W = Vec3{0.0};
+  const auto join = [&](std::uint32_t a, std::uint32_t b) {
+    const std::uint32_t ra = findRoot(a), rb = findRoot(b);
+    if (ra != rb)
+      parent_[std::max(ra, rb)] = std::min(ra, rb);
+  };
+  const auto heldSet = [&](std::uint32_t i) {
+    return static_cast<std::int32_t>(i) == held_ || bodies_[i].driven;
+  };
+  for (const ContactPoint& cp : points_) {
+    if (cp.gap > touchTolerance(cp) && !(cp.active && cp.total_n > 0.0))
+      continue;
+    if (sleeper(cp.a) && sleeper(cp.b)) {
+      join(cp.a, cp.b);
+    } else if (held_kinematic_ && (heldSet(cp.a) || heldSet(cp.b))) {
+      // the hand keeps what it touches awake
+      bodies_[heldSet(cp.a) ? cp.b : cp.a].rest_s = 0.0;
     }
   }
+  for (const JointState& js : joints_) {
+    if (!js.off && js.b >= 0 && sleeper(js.a) && sleeper(static_cast<std::uint32_t>(js.b)))
+      join(js.a, static_cast<std::uint32_t>(js.b));
+  }
+  for (const GeneralJoint& gj : general_) {
+    if (gj.off)
+      continue;
+    bool driving = false;
+    for (const JointRowSpec& spec : gj.specs) {
+      driving = driving || (spec.bound == JointRowSpec::Bound::kDrive && spec.has_velocity &&
+                            spec.velocity_target != 0.0);
+    }
+    if (driving) {
+      bodies_[gj.a].rest_s = 0.0;
+      if (gj.b >= 0)
+        bodies_[static_cast<std::size_t>(gj.b)].rest_s = 0.0;
+    }
+    if (gj.b >= 0 && sleeper(gj.a) && sleeper(static_cast<std::uint32_t>(gj.b)))
+      join(gj.a, static_cast<std::uint32_t>(gj.b));
+  }
+  for (std::uint32_t i = 0; i < n; ++i)
+    island_rest_[i] = kInf;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (sleeper(i)) {
+      const std::uint32_t r = findRoot(i);
+      island_rest_[r] = std::min(island_rest_[r], bodies_[i].rest_s);
+    }
+  }
+  bool all = true;
+  for (std::uint32_t i = 0; i < n; ++i) {
+    BodyState& b = bodies_[i];
+    if (!sleeper(i))
+      continue;
+    const std::uint32_t r = findRoot(i);
+    if (island_rest_[r] >= options_.sleep_time_s) {
+      b.asleep = true;
+      b.island = r;
+      b.v_W = b.w_W = Vec3{0.0};
+    } else {
+      all = false;
+    }
+  }
+  // the whole scene sleeps when every island does and nothing else moves
+  for (std::uint32_t i = 0; i < n && all; ++i) {
+    const BodyState& b = bodies_[i];
+    if (b.enabled && b.motion == scene::Motion::kDynamic && b.driven)
+      all = false;
+    if (b.enabled && b.coast && (b.v_coast != Vec3{0.0} || b.w_coast != Vec3{0.0}))
+      all = false;
+  }
+  if (all && held_kinematic_) {
+    for (const ContactPoint& cp : points_) {
+      if ((heldSet(cp.a) || heldSet(cp.b)) && cp.gap <= touchTolerance(cp))
+        all = false;
+    }
+  }
+  if (all)
+    asleep_ = true;
 }
 
 // the held body (or a body driven with it) has a contact this tick, within the world's box
@@ -519,8 +783,7 @@ bool Dynamics::heldTouchesDynamic(const collision::CollisionWorld& world) const 
   return false;
 }
 
-// anything that could move a resting scene: the held body's input, a kinematic target, an
-// external wrench
+// anything that could move a resting scene: the held body's input, a kinematic target
 bool Dynamics::wakeRequested(const collision::CollisionWorld& world, const HeldInput* held) const {
   if (held != nullptr && held_ >= 0) {
     if (held->mode == HeldMode::kWrench &&
@@ -538,29 +801,36 @@ bool Dynamics::wakeRequested(const collision::CollisionWorld& world, const HeldI
   for (const BodyState& b : bodies_) {
     if (!b.enabled)
       continue;
+    // (an external wrench wakes its island when it is set: setExternalWrench; one that was
+    // there when the island fell asleep is balanced)
     if (b.has_target && (b.motion == scene::Motion::kKinematic || b.driven))
-      return true;
-    if (b.motion == scene::Motion::kDynamic &&
-        (glm::length(b.force_W) > 0.0 || glm::length(b.torque_W) > 0.0))
       return true;
   }
   return false;
 }
 
+// every point of the tick is kept for the next (gatherContacts drops those that came apart),
+// with its impulses where it pushed; sorted by primitive pair
 void Dynamics::storeWarmStart() {
   warm_next_.clear();
   for (const ContactPoint& cp : points_) {
-    if (!cp.active || cp.total_n <= 0.0)
-      continue;
     WarmPoint& w = warm_next_.emplace_back();
     w.a = cp.a;
     w.b = cp.b;
     w.prim_a = cp.prim_a;
     w.prim_b = cp.prim_b;
-    w.ra_B = cp.ra_B;
-    w.ln = cp.total_n;
-    w.lt = cp.total_t;
+    w.sa_B = cp.sa_B;
+    w.sb_B = cp.sb_B;
+    w.na_B = glm::transpose(bodies_[cp.a].R) * cp.n;
+    w.nb_B = glm::transpose(bodies_[cp.b].R) * cp.n;
+    const bool pushed = cp.active && cp.total_n > 0.0;
+    w.ln = pushed ? cp.total_n : 0.0;
+    w.lt = pushed ? cp.total_t : Vec3{0.0};
   }
+  // the contacts come sorted by body pair: usually already in order (no sort then)
+  const auto less = [](const WarmPoint& x, const WarmPoint& y) { return x.key() < y.key(); };
+  if (!std::is_sorted(warm_next_.begin(), warm_next_.end(), less))
+    std::sort(warm_next_.begin(), warm_next_.end(), less);
   std::swap(warm_, warm_next_);
 }
 

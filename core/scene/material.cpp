@@ -1,11 +1,34 @@
-// KHR_physics_rigid_bodies' rule for combining two materials' friction and restitution: the one
-// implementation, used by the plan (plan.cpp) and by the dynamics' contacts (core/dynamics), so
-// its own small library (hapticd_scene_material) that the dynamics link without the loader.
+// KHR_physics_rigid_bodies' rule for combining two materials' friction and restitution, and the
+// default material of a collider without one: the one implementation, used by the plan
+// (plan.cpp) and by the dynamics' contacts (core/dynamics), so its own small library
+// (hapticd_scene_material) that the dynamics link without the loader.
 #include <algorithm>
 
 #include "core/scene/scene.h"
 
 namespace hapticd::scene {
+namespace {
+
+// built before main: the servo thread reads it and never constructs it
+const Material kDefault = [] {
+  Material m;
+  m.name = "default";
+  m.static_friction = m.dynamic_friction = kDefaultFriction;
+  m.restitution = 0.0;
+  return m;
+}();
+
+}  // namespace
+
+const Material& defaultMaterial() {
+  return kDefault;
+}
+
+const Material& materialOf(const SceneModel& scene, std::int32_t index) {
+  return index >= 0 && static_cast<std::size_t>(index) < scene.materials.size()
+             ? scene.materials[static_cast<std::size_t>(index)]
+             : kDefault;
+}
 
 double combineMaterials(const Material& a, const Material& b, MaterialValue which) {
   const bool friction = which != MaterialValue::kRestitution;

@@ -1,21 +1,13 @@
 // The simulation plan of a scene: "simulate only the effects a scene calls for"
 // (docs/architecture.md), and the notes on what the scene declares that is not simulated.
 #include <algorithm>
+#include <cstdio>
 #include <set>
 
 #include "core/scene/scene.h"
 
 namespace hapticd::scene {
 namespace {
-
-// a primitive without a material: no friction, no restitution, combined by average
-Material materialOf(const SceneModel& scene, std::int32_t index) {
-  if (index >= 0 && static_cast<std::size_t>(index) < scene.materials.size())
-    return scene.materials[static_cast<std::size_t>(index)];
-  Material none;
-  none.friction_combine_declared = none.restitution_combine_declared = true;
-  return none;
-}
 
 /// Kinematic velocities in a scene whose dynamics do not run (no dynamic body), trigger volumes,
 /// and a scene with nothing to touch. Every joint, limit and drive is simulated (core/dynamics).
@@ -87,14 +79,20 @@ SimulationPlan makePlan(const SceneModel& scene) {
       }
     }
   }
+  bool first = true;
   for (std::int32_t a : touching) {
-    const Material ma = materialOf(scene, a);
+    const Material& ma = materialOf(scene, a);
     for (std::int32_t b : all) {
-      const Material mb = materialOf(scene, b);
-      const double friction = std::max(combineMaterials(ma, mb, MaterialValue::kStaticFriction),
-                                       combineMaterials(ma, mb, MaterialValue::kDynamicFriction));
-      if (friction > 0.0)
+      const Material& mb = materialOf(scene, b);
+      const double fs = combineMaterials(ma, mb, MaterialValue::kStaticFriction);
+      const double fd = combineMaterials(ma, mb, MaterialValue::kDynamicFriction);
+      plan.friction_min = first ? std::min(fs, fd) : std::min({plan.friction_min, fs, fd});
+      plan.friction_max = first ? std::max(fs, fd) : std::max({plan.friction_max, fs, fd});
+      first = false;
+      if (std::max(fs, fd) > 0.0)
         plan.friction = true;
+      if (&ma == &defaultMaterial() || &mb == &defaultMaterial())
+        plan.friction_default = true;
       if (dynamic.count(a) && combineMaterials(ma, mb, MaterialValue::kRestitution) > 0.0)
         plan.restitution = true;
     }
@@ -112,7 +110,23 @@ std::string describePlan(const SimulationPlan& plan) {
   out += std::string("dynamics: ") + onOff(plan.dynamics) +
          (plan.dynamics ? " (dynamic bodies)\n" : " (no dynamic body)\n");
   out += std::string("gravity: ") + onOff(plan.gravity) + "\n";
-  out += std::string("friction: ") + onOff(plan.friction) + "\n";
+  out += std::string("friction: ") + onOff(plan.friction);
+  if (plan.friction) {
+    char range[64];
+    if (plan.friction_min == plan.friction_max)
+      std::snprintf(range, sizeof range, " (%.3g", plan.friction_max);
+    else
+      std::snprintf(range, sizeof range, " (%.3g to %.3g", plan.friction_min, plan.friction_max);
+    out += range;
+    if (plan.friction_default) {
+      char def[96];
+      std::snprintf(def, sizeof def, "; %.3g for colliders without a physics material",
+                    kDefaultFriction);
+      out += def;
+    }
+    out += ")";
+  }
+  out += "\n";
   out += std::string("restitution: ") + onOff(plan.restitution) + "\n";
   out += std::string("joints: ") + onOff(plan.joints) + "\n";
   const std::uint32_t moving = plan.moving_primitives + (plan.probe_sphere ? 1u : 0u);

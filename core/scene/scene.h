@@ -38,8 +38,8 @@ enum class Motion : std::uint8_t {
 enum class Combine : std::uint8_t { kAverage, kMinimum, kMaximum, kMultiply };
 
 /// A physics material (KHR `physicsMaterials[i]`). A declared material's undeclared values take
-/// the extension's defaults (friction 0.6, restitution 0); a collider without a material has
-/// friction 0 and restitution 0, combined by average (declared).
+/// the extension's defaults (friction 0.6, restitution 0); a collider without a material takes
+/// defaultMaterial() (friction 0.5, restitution 0). A declared 0 is 0: no friction.
 struct Material {
   std::string name;
   double static_friction = 0.0;
@@ -59,6 +59,21 @@ enum class MaterialValue : std::uint8_t { kStaticFriction, kDynamicFriction, kRe
 /// declares no combine mode takes no part in the choice, and when neither declares one the values
 /// are averaged. The one implementation of the rule (plan, dynamics). Pure; any thread.
 double combineMaterials(const Material& a, const Material& b, MaterialValue which);
+
+/// Friction (static and dynamic) of a collider that declares no physics material: 0.5, the
+/// default of Bullet (btRigidBody's m_friction) and PhysX; a scene that wants ice says so with a
+/// material of friction 0. No restitution: a collider bounces only when a material asks for it.
+inline constexpr double kDefaultFriction = 0.5;
+
+/// The material of a collider without one (Primitive::material < 0): static and dynamic friction
+/// kDefaultFriction, restitution 0, no combine mode declared (so the other material's mode, or
+/// the average, combines them). Any thread; a reference to an object built before main.
+const Material& defaultMaterial();
+
+/// The material a primitive's index names: SceneModel::materials[index], or defaultMaterial() for
+/// -1 (or an index out of range). Any thread; no allocation.
+struct SceneModel;
+const Material& materialOf(const SceneModel& scene, std::int32_t index);
 
 /// What a primitive was made from, for messages and `hapticctl check`.
 enum class ShapeSource : std::uint8_t {
@@ -185,6 +200,12 @@ struct SimulationPlan {
   bool dynamics = false;       ///< at least one dynamic body
   bool gravity = false;        ///< the scene declares gravity and a dynamic body feels it
   bool friction = false;  ///< a material with non-zero friction is used by a dynamic or probe body
+  /// The smallest and largest friction (static or dynamic, combined as the contacts combine
+  /// them) of the pairs a dynamic or probe body can make; both 0 without friction.
+  double friction_min = 0.0, friction_max = 0.0;
+  /// Some collider a dynamic or probe body can touch (or that body itself) has no physics
+  /// material and so takes defaultMaterial()'s friction.
+  bool friction_default = false;
   bool restitution = false;  ///< a material with non-zero restitution is used by a dynamic body
   bool joints = false;       ///< at least one joint
   /// Primitives the broad phase keeps (static ones are tracked but never paired with each other).

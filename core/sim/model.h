@@ -60,7 +60,8 @@ struct SimModel {
   /// The plan has friction (scene::SimulationPlan::friction): the held set's rows carry the
   /// combined materials' coefficients (docs/response.md "Friction at the probe").
   bool friction = false;
-  /// The material of a collider that declares none (combined by the scene's rule).
+  /// The material of the config's probe sphere, which is not in the scene: none (no friction);
+  /// a collider that declares no material has scene::defaultMaterial().
   scene::Material no_material;
   double backstop_m = 0.0;  ///< depth into a dynamic body beyond which its penalty rows act
   /// The safe distance of one proxy sub-step (ResponseOptions::safe_distance_fraction of the

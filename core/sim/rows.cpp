@@ -35,8 +35,9 @@ struct PairSides {
   double mu_s = 0.0, mu_d = 0.0;  // the pair's friction (0: none)
 };
 
-// the material of primitive `prim` of world body `body` (none declared, or the probe sphere:
-// the model's no_material)
+// the material of primitive `prim` of world body `body`: its own, or scene::defaultMaterial()
+// when it declares none (docs/scenes.md); the probe sphere of the config, which is not in the
+// scene, has the model's no_material (no friction, as in the dynamics)
 const scene::Material& primMaterial(const SimModel& m, std::uint32_t body, std::uint32_t prim) {
   const std::int32_t index = m.info[body].scene_index;
   if (index < 0)
@@ -44,10 +45,7 @@ const scene::Material& primMaterial(const SimModel& m, std::uint32_t body, std::
   const auto& prims = m.scene->bodies[static_cast<std::size_t>(index)].primitives;
   if (prim >= prims.size())
     return m.no_material;
-  const std::int32_t mat = prims[prim].material;
-  return mat >= 0 && static_cast<std::size_t>(mat) < m.scene->materials.size()
-             ? m.scene->materials[static_cast<std::size_t>(mat)]
-             : m.no_material;
+  return scene::materialOf(*m.scene, prims[prim].material);
 }
 
 // false: the contact makes no rows (both sides held or fixed, a joint's pair, or too far)

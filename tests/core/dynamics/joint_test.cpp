@@ -162,6 +162,9 @@ struct Gears {
   static constexpr double kM = 0.01;
   Gears() {
     s.gravity_W = Vec3{0, -9.81, 0};
+    // frictionless teeth: the ratio and the load are the teeth's alone (a collider without a
+    // material would have scene::kDefaultFriction)
+    s.materials.push_back(material(0.0, 0.0));
     const double c = kM * (kN1 + kN2) / 2.0;
     for (int g = 0; g < 2; ++g) {
       Body b;
@@ -170,6 +173,8 @@ struct Gears {
       b.X_WB = at(Vec3{g == 0 ? 0.0 : c, 0, 0});
       // driver: a tooth toward the driven gear; driven: a gap toward the driver
       b.primitives = g == 0 ? gear(kN1, kM, 0.01, 0.0) : gear(kN2, kM, 0.01, kPi + kPi / kN2);
+      for (Primitive& p : b.primitives)
+        p.material = 0;
       const MassProperties mp = computeMassProperties(b.primitives, 1000.0);
       b.mass = mp.mass;
       b.com_B = mp.com_B;

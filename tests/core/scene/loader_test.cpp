@@ -441,7 +441,16 @@ TEST(SceneLoader, MaterialsDecideFrictionAndRestitution) {
   EXPECT_TRUE(planOf(0.5, 0.0, "average", false).friction);
   EXPECT_FALSE(planOf(0.5, 0.0, "average", false).restitution);
   EXPECT_TRUE(planOf(0.0, 0.3, "average", false).restitution);
-  EXPECT_FALSE(planOf(0.0, 0.3, "average", false).friction);
+  // a frictionless cube on a floor without a material: the floor's default friction (0.5),
+  // averaged with the cube's 0, is what the contacts use
+  const SimulationPlan ice_on_default = planOf(0.0, 0.3, "average", false);
+  EXPECT_TRUE(ice_on_default.friction);
+  // (0: the plan pairs each material with itself too, as two such cubes would meet)
+  EXPECT_DOUBLE_EQ(ice_on_default.friction_min, 0.0);
+  EXPECT_DOUBLE_EQ(ice_on_default.friction_max, 0.25);
+  EXPECT_TRUE(ice_on_default.friction_default);
+  EXPECT_NE(describePlan(ice_on_default).find("friction: on (0 to 0.25; 0.5 for colliders without"),
+            std::string::npos);
   // a material on the floor asks for friction against the cube (average with 0)
   EXPECT_TRUE(planOf(0.5, 0.0, "average", true).friction);
   // both materials multiply (or take the minimum) and the cube's is 0: nothing to simulate
@@ -467,7 +476,8 @@ TEST(SceneLoader, MaterialsDecideFrictionAndRestitution) {
   EXPECT_FALSE(both("minimum").friction);
   EXPECT_TRUE(both("maximum").friction);
   EXPECT_TRUE(both("maximum").restitution);
-  // the floor's material meets the cube's default (no material: 0, average)
+  // the floor's material meets the cube's default (no material: friction 0.5, no combine mode
+  // declared: the floor's multiply)
   EXPECT_TRUE(planOf(0.5, 0.5, "multiply", true).friction);
 
   GltfBuilder b;
