@@ -18,12 +18,18 @@ using detail::tangents;
 
 namespace {
 
+constexpr std::size_t kNoSlot = ~std::size_t{0};
+
 // one primitive pair's point this tick: fresh from the collision manifold or kept from last tick
 struct Candidate {
   Vec3 n{0.0};
   double gap = 0.0;
   Vec3 sa_B{0.0}, sb_B{0.0};  // on each surface, body frames (from the centres of mass)
   bool warm = false;          // last tick's impulses found
+  // its place in the solve order: last tick's nearest point of the pair (kNoSlot: none), then
+  // its distance from it and its place on a's surface, in grains of 1e-9 of the size
+  std::size_t slot = kNoSlot;
+  std::array<double, 4> order{};
   double ln = 0.0;
   Vec3 lt{0.0};
 };
@@ -249,10 +255,16 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
     // warm start: each fresh point takes the impulses of last tick's nearest point of the pair
     // that pushed, within 0.05 of the size (a sliding contact's points move a little every tick)
     const double reach2 = (0.05 * size) * (0.05 * size);
+    std::array<double, Manifold::kMaxPoints> nearest{};
     for (std::size_t k = 0; k < fresh; ++k) {
       double best = reach2;
+      nearest[k] = reach2;
       for (std::size_t w = warm_begin; w < warm_end; ++w) {
         const Vec3 d = cand[k].sa_B - warm_[w].sa_B;
+        if (glm::dot(d, d) < nearest[k]) {
+          nearest[k] = glm::dot(d, d);
+          cand[k].slot = w;
+        }
         if (warm_[w].ln > 0.0 && glm::dot(d, d) < best) {
           best = glm::dot(d, d);
           cand[k].ln = warm_[w].ln;
@@ -260,6 +272,20 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
           cand[k].warm = true;
         }
       }
+    }
+    // the solve order (sequential impulses: the result depends on it) is the geometry's, not
+    // the collision manifold's: a point that continues one of last tick's (the nearest within
+    // the warm start's reach, or a kept one) takes its place, new ones follow by their place
+    // on a's surface (in grains of 1e-9 of the size). The manifold's order and count are
+    // rounding's where its points are equally deep (a body resting flat, as the settling
+    // leaves it): with them the same scene in another length unit gave other forces
+    // (Demo/ProxyScale.*, Stack.SameRelativeAnswerInMillimetresMetresAndKilometres)
+    const double grain = 1e-9 * size;
+    const auto grains = [&](double v) { return std::round(std::clamp(v / grain, -1e15, 1e15)); };
+    for (std::size_t k = 0; k < fresh; ++k) {
+      Candidate& cd = cand[k];
+      cd.order = {cd.slot == kNoSlot ? 0.0 : grains(std::sqrt(nearest[k])), grains(cd.sa_B.x),
+                  grains(cd.sa_B.y), grains(cd.sa_B.z)};
     }
     for (std::size_t w = warm_begin; w < warm_end; ++w) {
       const WarmPoint& wp = warm_[w];
@@ -291,9 +317,19 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
       cd.ln = wp.ln;
       cd.lt = wp.lt;
       cd.warm = true;
+      cd.slot = w;
+      cd.order = {0.0, grains(cd.sa_B.x), grains(cd.sa_B.y), grains(cd.sa_B.z)};
     }
     if (nc > Manifold::kMaxPoints)
       nc = reduceCandidates(cand.data(), nc, A);
+    // insertion sort (at most Manifold::kMaxPoints; std::stable_sort may allocate)
+    for (std::size_t k = 1; k < nc; ++k) {
+      for (std::size_t j = k; j > 0 && std::tie(cand[j].slot, cand[j].order) <
+                                           std::tie(cand[j - 1].slot, cand[j - 1].order);
+           --j) {
+        std::swap(cand[j], cand[j - 1]);
+      }
+    }
     for (std::size_t k = 0; k < nc; ++k) {
       const Candidate& cd = cand[k];
       if (points_.size() == cap) {

@@ -196,7 +196,7 @@ TEST(SceneRoundTrip, PegInHoleNeedsOnlyContactForcesAndKeepsItsClearance) {
 
   EXPECT_FALSE(s.gravity_W.has_value());
   EXPECT_TRUE(s.joints.empty());
-  scene::testing::expectPlan(s.plan, "friction", 5, 1);
+  scene::testing::expectPlan(s.plan, "", 5, 1);
 }
 
 /// Volume of a closed convex polytope (tetrahedra from its centroid to every face fan).
@@ -322,7 +322,7 @@ TEST(SceneRoundTrip, StressHasOverAThousandPrimitivesMostlyStatic) {
   }
   EXPECT_EQ(blocks, 16);
   ASSERT_TRUE(s.gravity_W.has_value());
-  scene::testing::expectPlan(s.plan, "dynamics gravity friction", 1025, 17);
+  scene::testing::expectPlan(s.plan, "dynamics gravity", 1025, 17);
   EXPECT_GE(s.plan.static_primitives + s.plan.moving_primitives, 1000u);
 }
 
@@ -355,8 +355,7 @@ TEST(SceneRoundTrip, DecomposedIsTwoPlatesOfPiecesAndNeedsOnlyContactForces) {
   }
   EXPECT_NEAR(top, 0.0, 1e-7);
   EXPECT_NEAR(bottom, -(kGrooveDepth_m + kBaseThickness_m), 1e-7);
-  scene::testing::expectPlan(s.plan, "friction",
-                             static_cast<std::uint32_t>(grooved->primitives.size()),
+  scene::testing::expectPlan(s.plan, "", static_cast<std::uint32_t>(grooved->primitives.size()),
                              static_cast<std::uint32_t>(pins->primitives.size()));
 }
 
