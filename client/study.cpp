@@ -42,8 +42,8 @@ std::string badOption(const StudyOptions& o) {
   if (!std::isfinite(o.budget_us) || o.budget_us < 0.0)
     return "--budget-us must be a finite number of µs > 0 (got " + fmt(o.budget_us, "%g") + ")";
   if (!std::isfinite(o.time_limit_s) || o.time_limit_s < 0.0)
-    return "--time-limit must be a finite number of seconds ≥ 0 (got " +
-           fmt(o.time_limit_s, "%g") + ")";
+    return "--time-limit must be a finite number of seconds ≥ 0 (got " + fmt(o.time_limit_s, "%g") +
+           ")";
   return "";
 }
 
@@ -119,13 +119,13 @@ int runStudy(const StudyOptions& o, std::ostream& out, std::ostream& err) {
     err << "hapticctl study: " << o.scene << ": " << probe.error().message << "\n";
     return 1;
   }
-  const double estimate_s =
-      1.5 * static_cast<double>(runs.size()) * static_cast<double>(ticks) * probe.value().first *
-      1e-9;
+  const double estimate_s = 1.5 * static_cast<double>(runs.size()) * static_cast<double>(ticks) *
+                            probe.value().first * 1e-9;
   err << "study: " << model->name << ": " << runs.size() << " runs of " << ticks << " ticks ("
       << fmt(static_cast<double>(ticks) / o.rate_hz) << " s of "
-      << (o.stream.empty() ? "generated approach stream" : "stream") << " at " << fmt(o.rate_hz, "%.4g")
-      << " Hz), about " << fmt(std::max(estimate_s, 0.1), "%.2g") << " s" << std::endl;
+      << (o.stream.empty() ? "generated approach stream" : "stream") << " at "
+      << fmt(o.rate_hz, "%.4g") << " Hz), about " << fmt(std::max(estimate_s, 0.1), "%.2g") << " s"
+      << std::endl;
   if (o.time_limit_s > 0.0 && estimate_s > o.time_limit_s) {
     err << "hapticctl study: this study would take about " << fmt(estimate_s, "%.0f")
         << " s (the most accurate tick takes " << fmt(probe.value().first / 1e3)
@@ -161,23 +161,23 @@ int runStudy(const StudyOptions& o, std::ostream& out, std::ostream& err) {
   const std::time_t now = std::time(nullptr);
   char date[32];
   std::strftime(date, sizeof date, "%Y-%m-%d %H:%M UTC", std::gmtime(&now));
-  const std::string header = std::string("Measured ") + date + " on " + study::machine() + "; " +
-                             o.scene + ", " +
-                             (o.stream.empty() ? std::string("a generated approach stream")
-                                               : "stream " + o.stream) +
-                             ", " + fmt(o.rate_hz, "%.4g") + " Hz" + (o.quick ? ", quick run" : "") + ".";
+  const std::string header =
+      std::string("Measured ") + date + " on " + study::machine() + "; " + o.scene + ", " +
+      (o.stream.empty() ? std::string("a generated approach stream") : "stream " + o.stream) +
+      ", " + fmt(o.rate_hz, "%.4g") + " Hz" + (o.quick ? ", quick run" : "") + ".";
   std::string md = study::tables(summaries, header, ".");
   std::vector<std::string> comment;
   if (rec.row != nullptr) {
     comment.push_back("hapticctl study " + o.scene + ": " +
                       (rec.fits ? "the most accurate settings whose p99.9 tick fits "
                                 : "NO setting fits; the fastest, over ") +
-                      fmt(budget_ns / 1e3, "%.4g") + " µs at " + fmt(o.rate_hz, "%.4g") + " Hz ([servo] rate_hz)");
+                      fmt(budget_ns / 1e3, "%.4g") + " µs at " + fmt(o.rate_hz, "%.4g") +
+                      " Hz ([servo] rate_hz)");
     comment.push_back("setting: " + rec.row->setting + "; p99.9 tick " +
                       fmt(rec.row->time_ns.p999 / 1e3, "%.4g") + " µs, p99 force error " +
                       fmt(rec.row->force_n.p99) + " N; " + date + " on " + study::machine());
-    md += "\nRecommended for a p99.9 tick budget of " + fmt(budget_ns / 1e3, "%.4g") + " µs: " +
-          (rec.fits ? "" : "(none fits; the fastest) ") + rec.row->setting + ".\n";
+    md += "\nRecommended for a p99.9 tick budget of " + fmt(budget_ns / 1e3, "%.4g") +
+          " µs: " + (rec.fits ? "" : "(none fits; the fastest) ") + rec.row->setting + ".\n";
   }
   bool written = study::writeCsv(dir / "results.csv", summaries) &&
                  writeFile(dir / "measured.txt", header + "\n", err) &&

@@ -14,8 +14,8 @@
 namespace hapticd::client {
 
 struct StudyOptions {
-  std::string scene;   ///< .glb or .gltf
-  std::string stream;  ///< pose stream CSV; empty: an approach stream generated for the scene
+  std::string scene;       ///< .glb or .gltf
+  std::string stream;      ///< pose stream CSV; empty: an approach stream generated for the scene
   double budget_us = 0.0;  ///< p99.9 tick budget, µs; 0: one tick at rate_hz
   double rate_hz = 1000.0;
   std::string out_dir;  ///< empty: "study-<scene stem>"

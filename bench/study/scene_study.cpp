@@ -3,10 +3,10 @@
 #include "bench/study/scene_study.h"
 
 #include <algorithm>
-#include <ctime>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <ctime>
 #include <limits>
 #include <sstream>
 
@@ -82,8 +82,8 @@ void score(Row& row,
     const TickRecord& g = got[k * m];
     const bool t = glm::dot(truth[k].truth.contact_force, truth[k].truth.contact_force) > 0.0;
     const bool c = glm::dot(g.truth.contact_force, g.truth.contact_force) > 0.0;
-    row.add(glm::length(g.force - truth[k].force), glm::length(g.torque - truth[k].torque), g.ns,
-            t, c);
+    row.add(glm::length(g.force - truth[k].force), glm::length(g.torque - truth[k].torque), g.ns, t,
+            c);
   }
   // the times of the ticks between
   if (m > 1) {
@@ -143,8 +143,8 @@ std::optional<Knobs> knobsOf(const std::string& setting) {
   if (setting.size() > pre.size() + post.size() && setting.rfind(pre, 0) == 0 &&
       setting.compare(setting.size() - post.size(), post.size(), post) == 0) {
     const std::string n = setting.substr(pre.size(), setting.size() - pre.size() - post.size());
-    if (n.size() <= 9 && std::all_of(n.begin(), n.end(), [](char c) { return c >= '0' && c <= '9'; }) &&
-        n != "0") {
+    if (n.size() <= 9 &&
+        std::all_of(n.begin(), n.end(), [](char c) { return c >= '0' && c <= '9'; }) && n != "0") {
       k.max_pairs_per_tick = static_cast<std::uint32_t>(std::stoul(n));
       return k;
     }
@@ -394,7 +394,8 @@ std::string poseStreamCsv(const std::vector<proto::PoseStreamRow>& rows) {
   return out.str();
 }
 
-// --- the decision ---------------------------------------------------------------------------------
+// --- the decision
+// ---------------------------------------------------------------------------------
 
 Recommendation recommend(const std::vector<const Summary*>& rows, double budget_ns) {
   Recommendation best, fastest;

@@ -46,8 +46,8 @@ struct PlannedRun {
 
 /// The runs of a scene's study, the truth first: the scheduler budget (8, 4, 2, 1 pairs per tick),
 /// δ off, and, when the scene has curved implicit shapes (sphere, capsule, cylinder), the
-/// tessellation tolerance 0.003, 0.01 and 0.03 (coarser than the truth's 0.001); then the servo rate
-/// at each of `rate_multiples` times the study's.
+/// tessellation tolerance 0.003, 0.01 and 0.03 (coarser than the truth's 0.001); then the servo
+/// rate at each of `rate_multiples` times the study's.
 std::vector<PlannedRun> planRuns(const scene::SceneModel& scene,
                                  const std::vector<std::uint32_t>& rate_multiples = {},
                                  double rate_hz = 1000.0);

@@ -73,8 +73,8 @@ std::string machine() {
       break;
     }
   }
-  return cpu + " (" + std::to_string(std::thread::hardware_concurrency()) +
-         " threads), compiler " + __VERSION__;
+  return cpu + " (" + std::to_string(std::thread::hardware_concurrency()) + " threads), compiler " +
+         __VERSION__;
 }
 
 }  // namespace hapticd::study

@@ -213,11 +213,11 @@ TEST_F(StudyCommand, RecommendsWhatItsTableSaysFitsAndTheDaemonReplaysIt) {
       knobs->tessellation_tolerance);
 
   // fed back: a headless replay of the study's stream on the virtual clock runs to its end
-  EXPECT_EQ(run(HAPTICD_BINARY,
-                {"--config", out_dir + "/recommended.toml", "--scene", scene("peg_in_hole"),
-                 "--device", "replay:" + out_dir + "/stream.csv", "--clock", "virtual", "--record",
-                 path("record.csv")}),
-            0)
+  EXPECT_EQ(
+      run(HAPTICD_BINARY, {"--config", out_dir + "/recommended.toml", "--scene",
+                           scene("peg_in_hole"), "--device", "replay:" + out_dir + "/stream.csv",
+                           "--clock", "virtual", "--record", path("record.csv")}),
+      0)
       << err();
   EXPECT_GT(fs::file_size(path("record.csv")), 1000u);
 }
@@ -242,9 +242,7 @@ TEST_F(StudyCommand, NothingFitsATinyBudgetTheFastestIsPrintedAndExitIsOne) {
 
 TEST_F(StudyCommand, BadInputGetsCheckMessagesAndNothingRuns) {
   // a file that is not a scene: the same lines as `hapticctl check`, exit 1 like check
-  {
-    std::ofstream(path("bad.glb")) << "not a glb";
-  }
+  { std::ofstream(path("bad.glb")) << "not a glb"; }
   ASSERT_EQ(run(HAPTICCTL, {"check", path("bad.glb")}), 1);
   const std::string check_err = err();
   ASSERT_FALSE(check_err.empty());
