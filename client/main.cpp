@@ -13,6 +13,7 @@
 #include "client/daemon_commands.h"
 #include "client/import.h"
 #include "client/query.h"
+#include "client/study.h"
 
 namespace {
 
@@ -51,6 +52,8 @@ struct Commands {
   Command<std::monostate> arm, disarm;              // no options
   CLI::App* import = nullptr;                       // hapticctl import (client/import.h)
   hc::ImportOptions import_options;
+  Command<hc::StudyOptions> study;  // hapticctl study (client/study.h)
+  std::string study_cache_dir = "auto";
 };
 
 void defineOffline(CLI::App& app, Commands& c) {
@@ -89,6 +92,33 @@ void defineOffline(CLI::App& app, Commands& c) {
                           "decomposition cache folder: auto ($XDG_CACHE_HOME/hapticd or "
                           "~/.cache/hapticd), \"\" for none, or a folder (default auto, as "
                           "[scene] cache_dir)");
+}
+
+// hapticctl study (registered after the others: `hapticctl nosuch` lists the commands in order)
+void defineStudy(CLI::App& app, Commands& c) {
+  c.study.app = app.add_subcommand(
+      "study",
+      "The accuracy study on your scene: the real tick at its most accurate settings and at each "
+      "setting that trades accuracy for time, tables, CSV and plots in --out, and the most "
+      "accurate settings whose p99.9 tick fits the budget as a config snippet (docs/accuracy.md)");
+  hc::StudyOptions& s = c.study.options;
+  CLI::App* sub = c.study.app;
+  sub->add_option("SCENE", s.scene, "scene file (.glb or .gltf)")->required();
+  sub->add_option("STREAM", s.stream,
+                  "pose stream CSV (t,px,py,pz,qx,qy,qz,qw,buttons); default: an approach stream "
+                  "generated for the scene, written to OUT/stream.csv");
+  sub->add_option("--budget-us", s.budget_us,
+                  "p99.9 tick time the settings must fit, µs (default: one tick at --rate)");
+  sub->add_option("--rate", s.rate_hz, "servo rate, Hz, [100, 20000] (default 1000)");
+  sub->add_option("--out", s.out_dir,
+                  "folder for tables.md, results.csv, the plot and recommended.toml (default "
+                  "study-<scene name>)");
+  sub->add_flag("--quick", s.quick, "at most 3 s of the stream (a generated one at half length)");
+  sub->add_option("--time-limit", s.time_limit_s,
+                  "refuse before starting when the estimate is longer, seconds; 0: none "
+                  "(default 600)");
+  sub->add_option("--cache-dir", c.study_cache_dir,
+                  "decomposition cache folder, as check's --cache-dir (default auto)");
 }
 
 // the daemon commands: --host, --port, --key-file, --timeout-ms on each
@@ -260,6 +290,11 @@ int runDaemonCommand(Commands& c) {
 }
 
 int runOffline(Commands& c) {
+  if (c.study.parsed()) {
+    c.study.options.load.decomposition.cache_dir =
+        hapticd::scene::decompositionCacheDir(c.study_cache_dir);
+    return hc::runStudy(c.study.options, std::cout, std::cerr);
+  }
   if (c.import->parsed())
     return hc::runImport(c.import_options, std::cout, std::cerr);
   if (c.check.parsed()) {
@@ -319,6 +354,7 @@ int run(int argc, char** argv) {
   defineStreaming(app, c);
   defineEdits(app, c);
   c.import = hc::defineImport(app, c.import_options);
+  defineStudy(app, c);
   if (const auto rc = parse(app, argc, argv))
     return *rc;
   if (const int rc = runDaemonCommand(c); rc >= 0)

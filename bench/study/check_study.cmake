@@ -26,14 +26,14 @@ endif()
 file(READ ${OUT}/tables.md tables)
 set(parts "")
 foreach(line IN LISTS lines)
-  # 17 fields (a quoted setting may hold commas); the last 14 are figures, each a finite number
+  # 19 fields (a quoted setting may hold commas); the last 16 are figures, each a finite number
   string(REGEX REPLACE "\"[^\"]*\"" "setting" plain "${line}")
   string(REPLACE "," ";" fields "${plain};")
   list(LENGTH fields nf)
-  if(NOT nf EQUAL 18)  # the ';' appended keeps a trailing empty field counted
-    message(FATAL_ERROR "results.csv: a row without its 17 fields: ${line}")
+  if(NOT nf EQUAL 20)  # the ';' appended keeps a trailing empty field counted
+    message(FATAL_ERROR "results.csv: a row without its 19 fields: ${line}")
   endif()
-  list(SUBLIST fields 3 14 values)
+  list(SUBLIST fields 3 16 values)
   foreach(v IN LISTS values)
     if(NOT v MATCHES "^-?[0-9]+(\\.[0-9]*)?([eE][-+]?[0-9]+)?$")
       message(FATAL_ERROR "results.csv: '${v}' is not a finite number in: ${line}")

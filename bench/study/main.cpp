@@ -2,50 +2,17 @@
 // the tables as Markdown (also into docs/accuracy.md between its study markers), and the plots as
 // PNG through gnuplot. scripts/accuracy.sh builds and runs it: one command regenerates everything.
 #include <CLI/CLI.hpp>
-#include <algorithm>
-#include <chrono>
-#include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <map>
 #include <sstream>
-#include <thread>
 
 #include "bench/study/report.h"
 #include "bench/study/study.h"
 
 namespace hapticd::study {
-
-Stats stats(std::vector<double> v) {
-  Stats s;
-  if (v.empty())
-    return s;
-  std::sort(v.begin(), v.end());
-  double sum = 0.0;
-  for (double x : v)
-    sum += x;
-  s.mean = sum / static_cast<double>(v.size());
-  const auto n = static_cast<double>(v.size());
-  s.p99 = v[std::min(v.size() - 1, static_cast<std::size_t>(std::ceil(0.99 * n)) - 1)];
-  s.max = v.back();
-  return s;
-}
-
-double timerOverheadNs() {
-  std::vector<double> d;
-  for (int i = 0; i < 10001; ++i) {
-    const auto t0 = std::chrono::steady_clock::now();
-    const auto t1 = std::chrono::steady_clock::now();
-    d.push_back(
-        static_cast<double>(std::chrono::duration_cast<std::chrono::nanoseconds>(t1 - t0).count()));
-  }
-  std::nth_element(d.begin(), d.begin() + 5000, d.end());
-  return d[5000];
-}
 
 namespace {
 
@@ -63,16 +30,6 @@ std::string slurp(const std::filesystem::path& file) {
   while (!s.empty() && s.back() == '\n')
     s.pop_back();
   return s;
-}
-
-std::string cpuModel() {
-  std::ifstream in("/proc/cpuinfo");
-  std::string line;
-  while (std::getline(in, line)) {
-    if (line.rfind("model name", 0) == 0)
-      return line.substr(line.find(':') + 2);
-  }
-  return "unknown CPU";
 }
 
 // Replaces what stands between the study markers of docs/accuracy.md.
@@ -145,9 +102,8 @@ int main(int argc, char** argv) {
     const std::time_t now = std::time(nullptr);
     char date[32];
     std::strftime(date, sizeof date, "%Y-%m-%d", std::gmtime(&now));
-    header = std::string("Measured ") + date + " on " + cpuModel() + " (" +
-             std::to_string(std::thread::hardware_concurrency()) + " threads), compiler " +
-             __VERSION__ + (options.quick ? ", quick run" : "") + "; timer overhead " +
+    header = std::string("Measured ") + date + " on " + machine() +
+             (options.quick ? ", quick run" : "") + "; timer overhead " +
              fmt(timerOverheadNs(), "%.0f") + " ns subtracted from every time.";
     if (!writeCsv(dir / "results.csv", summaries))
       return 1;

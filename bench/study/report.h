@@ -36,11 +36,19 @@ std::string tables(const std::vector<Summary>& rows,
                    const std::string& header,
                    const std::string& plot_dir_rel);
 
-/// One PNG per part in `dir` through gnuplot (`dir`/plots.gp): p99 force error against mean time on
+/// One PNG per part in `dir` through gnuplot (`dir`/plots.gp): p99 force error against time (a
+/// tick's p99.9, a query's median) on
 /// log axes, one colour and marker per method family, a swept setting as a line through its values
 /// (labelled, placed so that labels do not overlap), the Pareto front, and the budget of one tick
-/// at 1 kHz and 4 kHz as vertical lines. Returns false when gnuplot is missing or fails.
-bool plots(const std::filesystem::path& dir, const std::vector<Summary>& rows);
+/// at 1 kHz and 4 kHz as vertical lines (labels kept off them). Returns false when gnuplot is
+/// missing or fails.
+struct PlotOptions {
+  /// One more vertical line: a budget (ns) of the user's, 0 for none.
+  double budget_ns = 0.0;
+};
+bool plots(const std::filesystem::path& dir,
+           const std::vector<Summary>& rows,
+           const PlotOptions& options = {});
 
 /// The file name of a part's plot: "pairs/32" -> "pairs_32.png".
 std::string plotName(const std::string& part);

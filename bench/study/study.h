@@ -39,9 +39,11 @@ struct Row {
   }
 };
 
-/// mean, p99, max of a sample (0 for an empty one).
+/// mean, p99, max, p50 and p99.9 of a sample (0 for an empty one); a percentile is the sample's
+/// value at that rank (nearest rank, no interpolation).
 struct Stats {
   double mean = 0.0, p99 = 0.0, max = 0.0;
+  double p50 = 0.0, p999 = 0.0;
 };
 Stats stats(std::vector<double> v);
 
@@ -58,6 +60,15 @@ void runPairs(const Options& options, std::vector<Row>& rows);
 /// The demo scenes replayed from their pose streams through the whole tick: scheduler budgets, δ
 /// on and off (closed loop), voxel sampling at the truth's proxy poses (open loop).
 void runScenes(const Options& options, std::vector<Row>& rows);
+
+/// "AMD EPYC ... (2 threads), compiler 12.2.0": where the figures were measured.
+std::string machine();
+
+/// The CPU time of the calling thread, ns (CLOCK_THREAD_CPUTIME_ID): what a tick costs, without
+/// the preemptions of a shared machine (the servo thread runs SCHED_FIFO).
+double threadNowNs();
+/// Nanoseconds of one pair of threadNowNs() readings (the median of many).
+double threadClockOverheadNs();
 
 /// Nanoseconds of one steady_clock reading pair (subtracted from every timed call).
 double timerOverheadNs();

@@ -10,9 +10,9 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [60.7025:1.77828e+06]
+set xrange [95.598:1.77828e+06]
 set yrange [5.29327e-17:60.3467]
-set xlabel 'mean time per query (ns)'
+set xlabel 'median time per query (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: pairs/8" noenhanced
 set key at screen 0.65, screen 0.91 left top Left reverse font 'Sans,9' spacing 1.2
@@ -22,44 +22,44 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 1.67388e-16 to graph 1, first 1.67388e-16 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 1.67388e-16 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "2mm" at graph 0.252995, graph 0.912978 left font 'Sans,8' front noenhanced
-set label "1mm" at graph 0.464096, graph 0.912643 left font 'Sans,8' front noenhanced
-set label "0.5mm" at graph 0.556667, graph 0.913303 left font 'Sans,8' front noenhanced
-set label "0.25mm" at graph 0.687863, graph 0.915836 left font 'Sans,8' front noenhanced
+set label "2mm" at graph 0.268689, graph 0.912978 left font 'Sans,8' front noenhanced
+set label "1mm" at graph 0.450088, graph 0.912643 left font 'Sans,8' front noenhanced
+set label "0.5mm" at graph 0.584254, graph 0.913303 left font 'Sans,8' front noenhanced
+set label "0.25mm" at graph 0.647062, graph 0.915836 left font 'Sans,8' front noenhanced
 $pairs_8_0 << EOD
-606.684 1.67388e-16
+1363 1.67388e-16
 EOD
 $pairs_8_1 << EOD
-787.713 1.67388e-16
+1613 1.67388e-16
 EOD
 $pairs_8_2 << EOD
-107.946 15.1584
+170 15.1584
 EOD
 $pairs_8_3 << EOD
-1078.36 0.037277
+1593 0.037277
 EOD
 $pairs_8_4 << EOD
-405.368 0.976496
+611 0.976496
 EOD
 $pairs_8_5 << EOD
-1498.19 0.976496
+2143 0.976496
 EOD
 $pairs_8_6 << EOD
-1768.5 5.02164e-15
+2956 5.02164e-15
 EOD
 $pairs_8_7 << EOD
-1258.94 5.49364e-15
+2224 5.49364e-15
 EOD
 $pairs_8_8 << EOD
-1252.74 1.61924
-6375.98 1.5968
-16521.2 1.64122
-63689.6 1.8235
+2014 1.61924
+7124 1.5968
+26641 1.64122
+111319 1.8235
 EOD
 $pairs_8_front << EOD
-107.946 15.1584
-405.368 0.976496
-606.684 1.67388e-16
+170 15.1584
+611 0.976496
+1363 1.67388e-16
 EOD
 plot $pairs_8_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $pairs_8_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-exact-warm" noenhanced, \
@@ -82,9 +82,9 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [102.061:1.77828e+06]
+set xrange [146.209:1.77828e+06]
 set yrange [6.29794e-17:75.9911]
-set xlabel 'mean time per query (ns)'
+set xlabel 'median time per query (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: pairs/32" noenhanced
 set key at screen 0.65, screen 0.91 left top Left reverse font 'Sans,9' spacing 1.2
@@ -92,44 +92,45 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set label "2mm" at graph 0.358042, graph 0.903153 left font 'Sans,8' front noenhanced
-set label "1mm" at graph 0.49215, graph 0.906912 left font 'Sans,8' front noenhanced
-set label "0.5mm" at graph 0.628078, graph 0.90828 left font 'Sans,8' front noenhanced
-set label "0.25mm" at graph 0.765253, graph 0.90844 left font 'Sans,8' front noenhanced
+set label "2mm" at graph 0.389816, graph 0.903153 left font 'Sans,8' front noenhanced
+set label "1mm" at graph 0.525749, graph 0.906912 left font 'Sans,8' front noenhanced
+set label "0.5mm" at graph 0.670539, graph 0.90828 left font 'Sans,8' front noenhanced
+set label "0.25mm" at graph 0.822536, graph 0.90844 left font 'Sans,8' front noenhanced
 $pairs_32_0 << EOD
-1523.36 5.97475e-15
+2265 5.97475e-15
 EOD
 $pairs_32_1 << EOD
-1180.48 5.97475e-15
+1954 5.97475e-15
 EOD
 $pairs_32_2 << EOD
-181.493 19.0881
+260 19.0881
 EOD
 $pairs_32_3 << EOD
-1818.49 0.0373738
+2836 0.0373738
 EOD
 $pairs_32_4 << EOD
-829.011 0.355001
+1243 0.355001
 EOD
 $pairs_32_5 << EOD
-2372.95 0.324079
+3537 0.324079
 EOD
 $pairs_32_6 << EOD
-2953.11 8.90573e-15
+4909 8.90573e-15
 EOD
 $pairs_32_7 << EOD
-2171.55 9.62266e-15
+3577 9.62266e-15
 EOD
 $pairs_32_8 << EOD
-3008.12 1.34775
-11144.6 1.57608
-42029.6 1.66848
-160448 1.67964
+5130 1.34775
+18425 1.57608
+71925 1.66848
+300463 1.67964
 EOD
 $pairs_32_front << EOD
-181.493 19.0881
-829.011 0.355001
-1180.48 5.97475e-15
+260 19.0881
+1243 0.355001
+1954 5.97475e-15
+2265 5.97475e-15
 EOD
 plot $pairs_32_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $pairs_32_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-exact-warm" noenhanced, \
@@ -152,9 +153,9 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [199.585:1.77828e+06]
+set xrange [269.924:1.77828e+06]
 set yrange [6.37184e-17:77.7993]
-set xlabel 'mean time per query (ns)'
+set xlabel 'median time per query (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: pairs/128" noenhanced
 set key at screen 0.65, screen 0.91 left top Left reverse font 'Sans,9' spacing 1.2
@@ -162,43 +163,43 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set label "2mm" at graph 0.33857, graph 0.895944 left font 'Sans,8' front noenhanced
-set label "1mm" at graph 0.474431, graph 0.899083 left font 'Sans,8' front noenhanced
-set label "0.5mm" at graph 0.616549, graph 0.902287 left font 'Sans,8' front noenhanced
-set label "0.25mm" at graph 0.764586, graph 0.903916 left font 'Sans,8' front noenhanced
+set label "2mm" at graph 0.371832, graph 0.895944 left font 'Sans,8' front noenhanced
+set label "1mm" at graph 0.516069, graph 0.899083 left font 'Sans,8' front noenhanced
+set label "0.5mm" at graph 0.668065, graph 0.902287 left font 'Sans,8' front noenhanced
+set label "0.25mm" at graph 0.809807, graph 0.927298 left font 'Sans,8' front noenhanced
 $pairs_128_0 << EOD
-2135.69 6.14985e-15
+3778 6.14985e-15
 EOD
 $pairs_128_1 << EOD
-1863.09 6.04486e-15
+3156 6.04486e-15
 EOD
 $pairs_128_2 << EOD
-354.918 19.5423
+480 19.5423
 EOD
 $pairs_128_3 << EOD
-4531.37 0.0339337
+7154 0.0339337
 EOD
 $pairs_128_4 << EOD
-2723.95 0.540271
+4279 0.540271
 EOD
 $pairs_128_5 << EOD
-2866.42 0.570367
+5029 0.570367
 EOD
 $pairs_128_6 << EOD
-7177.5 0.00433206
+11752 0.00433206
 EOD
 $pairs_128_7 << EOD
-5312.08 1.38057e-14
+8215 1.38057e-14
 EOD
 $pairs_128_8 << EOD
-3906.04 1.02081
-13439 1.16336
-48946.1 1.32942
-188123 1.42276
+6412 1.02081
+22793 1.16336
+86743 1.32942
+433824 1.42276
 EOD
 $pairs_128_front << EOD
-354.918 19.5423
-1863.09 6.04486e-15
+480 19.5423
+3156 6.04486e-15
 EOD
 plot $pairs_128_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $pairs_128_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-exact-warm" noenhanced, \
@@ -221,9 +222,9 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [1010.3:1.77828e+06]
-set yrange [0.000276824:40.5902]
-set xlabel 'mean time per tick (ns)'
+set xrange [14293.6:1.77828e+06]
+set yrange [5.13112e-05:40.5416]
+set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: scene/peg_in_hole" noenhanced
 set key at screen 0.65, screen 0.91 left top Left reverse font 'Sans,9' spacing 1.2
@@ -231,41 +232,48 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 0.000875393 to graph 1, first 0.000875393 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 0.000875393 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.156411, graph 0.0967826 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.121697, graph 0.0967826 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.103553, graph 0.120165 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.0644147, graph 0.0967826 left font 'Sans,8' front noenhanced
-set label "3.32mm" at graph 0.0885988, graph 0.863933 left font 'Sans,8' front noenhanced
-set label "1.66mm" at graph 0.263055, graph 0.883861 left font 'Sans,8' front noenhanced
-set label "0.829mm" at graph 0.447297, graph 0.876105 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 0.00016226 to graph 1, first 0.00016226 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 0.00016226 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "8" at graph 0.184089, graph 0.108161 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.154606, graph 0.084779 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.217321, graph 0.084779 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.189892, graph 0.061397 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.363988, graph 0.335237 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.251232, graph 0.397419 left font 'Sans,8' front noenhanced
+set label "3.32mm" at graph 0.13091, graph 0.880961 left font 'Sans,8' front noenhanced
+set label "1.66mm" at graph 0.257097, graph 0.898265 left font 'Sans,8' front noenhanced
+set label "0.829mm" at graph 0.399927, graph 0.89156 left font 'Sans,8' front noenhanced
 $scene_peg_in_hole_0 << EOD
-3009.7 0.000875393
+45234 0.00016226
 EOD
 $scene_peg_in_hole_1 << EOD
-2982.21 0.000875393
-2945.51 0.000875393
-2273.16 0.000875393
-1919.77 0.000875393
+35577 0.00016226
+33422 0.00016226
+38562 0.00016226
+36587 0.00016226
 EOD
 $scene_peg_in_hole_2 << EOD
-2930.27 0.0262618
+63960 0.026241
 EOD
 $scene_peg_in_hole_3 << EOD
-1796.59 8.04397
-6616.91 10.1958
-26219.3 9.29719
+78236 0.00486781
+45415 0.0113258
+EOD
+$scene_peg_in_hole_4 << EOD
+25418 8.05094
+46718 10.1836
+93045 9.29728
 EOD
 $scene_peg_in_hole_front << EOD
-1796.59 8.04397
-1919.77 0.000875393
+25418 8.05094
+33422 0.00016226
 EOD
 plot $scene_peg_in_hole_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_peg_in_hole_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
   $scene_peg_in_hole_1 using 1:2 with linespoints lw 1.5 pt 5 ps 1.6 lc rgb '#d62728' title "hapticd-tick, budget swept" noenhanced, \
   $scene_peg_in_hole_2 using 1:2 with points pt 9 ps 1.6 lc rgb '#2ca02c' title "hapticd-tick δ off" noenhanced, \
-  $scene_peg_in_hole_3 using 1:2 with linespoints lw 1.5 pt 11 ps 1.6 lc rgb '#9467bd' title "voxel-McNeely, h swept" noenhanced
+  $scene_peg_in_hole_3 using 1:2 with linespoints lw 1.5 pt 11 ps 1.6 lc rgb '#9467bd' title "hapticd-tick, servo rate swept" noenhanced, \
+  $scene_peg_in_hole_4 using 1:2 with linespoints lw 1.5 pt 13 ps 1.6 lc rgb '#ff7f0e' title "voxel-McNeely, h swept" noenhanced
 reset
 set terminal pngcairo size 1100,660 font 'Sans,10'
 set output "docs/accuracy/scene_gears.png"
@@ -277,9 +285,9 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [4645.45:1.77828e+06]
-set yrange [9.76207e-07:0.0296921]
-set xlabel 'mean time per tick (ns)'
+set xrange [56711:1.77828e+06]
+set yrange [1.64798e-05:0.0243855]
+set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: scene/gears" noenhanced
 set key at screen 0.65, screen 0.91 left top Left reverse font 'Sans,9' spacing 1.2
@@ -287,35 +295,39 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 3.08704e-06 to graph 1, first 3.08704e-06 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 3.08704e-06 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.148261, graph 0.441017 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.123986, graph 0.831953 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.114505, graph 0.86495 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.0753001, graph 0.866164 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 5.21137e-05 to graph 1, first 5.21137e-05 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 5.21137e-05 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "8" at graph 0.239572, graph 0.623662 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.272485, graph 0.731976 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.178645, graph 0.810736 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.247321, graph 0.802952 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.354111, graph 0.736547 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.479028, graph 0.743712 left font 'Sans,8' front noenhanced
 $scene_gears_0 << EOD
-11485.4 3.08704e-06
+115076 5.21137e-05
 EOD
 $scene_gears_1 << EOD
-10473.6 9.26111e-05
-9065.55 0.00523924
-8568.52 0.00736546
-8260.9 0.00745831
+124404 0.00156341
+139342 0.00344705
+100848 0.00612535
+127770 0.00578698
 EOD
 $scene_gears_2 << EOD
-11231.3 3.08704e-06
+152997 5.21137e-05
+EOD
+$scene_gears_3 << EOD
+184596 0.00356399
+283883 0.00375535
 EOD
 $scene_gears_front << EOD
-8260.9 0.00745831
-8568.52 0.00736546
-9065.55 0.00523924
-10473.6 9.26111e-05
-11231.3 3.08704e-06
+100848 0.00612535
+115076 5.21137e-05
 EOD
 plot $scene_gears_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_gears_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
   $scene_gears_1 using 1:2 with linespoints lw 1.5 pt 5 ps 1.6 lc rgb '#d62728' title "hapticd-tick, budget swept" noenhanced, \
-  $scene_gears_2 using 1:2 with points pt 9 ps 1.6 lc rgb '#2ca02c' title "hapticd-tick δ off" noenhanced
+  $scene_gears_2 using 1:2 with points pt 9 ps 1.6 lc rgb '#2ca02c' title "hapticd-tick δ off" noenhanced, \
+  $scene_gears_3 using 1:2 with linespoints lw 1.5 pt 11 ps 1.6 lc rgb '#9467bd' title "hapticd-tick, servo rate swept" noenhanced
 reset
 set terminal pngcairo size 1100,660 font 'Sans,10'
 set output "docs/accuracy/scene_dynamic.png"
@@ -327,9 +339,9 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [450.452:1.77828e+06]
-set yrange [0.0169018:39.8107]
-set xlabel 'mean time per tick (ns)'
+set xrange [11869.9:1.77828e+06]
+set yrange [0.00171883:31.3554]
+set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: scene/dynamic" noenhanced
 set key at screen 0.65, screen 0.91 left top Left reverse font 'Sans,9' spacing 1.2
@@ -337,41 +349,48 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 0.0534483 to graph 1, first 0.0534483 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 0.0534483 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.439912, graph 0.783827 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.381145, graph 0.820917 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.400239, graph 0.845138 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.438785, graph 0.822068 left font 'Sans,8' front noenhanced
-set label "7.63mm" at graph 0.0810851, graph 0.586323 left font 'Sans,8' front noenhanced
-set label "3.82mm" at graph 0.218713, graph 0.586323 left font 'Sans,8' front noenhanced
-set label "1.91mm" at graph 0.385962, graph 0.586323 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 0.00543543 to graph 1, first 0.00543543 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 0.00543543 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "8" at graph 0.483813, graph 0.463995 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.547489, graph 0.51373 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.554171, graph 0.812521 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.528146, graph 0.859191 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.479337, graph 0.731879 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.421514, graph 0.788481 left font 'Sans,8' front noenhanced
+set label "7.63mm" at graph 0.126484, graph 0.117341 left font 'Sans,8' front noenhanced
+set label "3.82mm" at graph 0.263205, graph 0.117341 left font 'Sans,8' front noenhanced
+set label "1.91mm" at graph 0.331716, graph 0.117341 left font 'Sans,8' front noenhanced
 $scene_dynamic_0 << EOD
-18246.7 0.0534483
+122430 0.00543543
 EOD
 $scene_dynamic_1 << EOD
-15635.6 7.43107
-12637.4 9.91104
-12908.7 9.97581
-15490.4 10
+126426 0.163063
+173927 0.26563
+179847 4.98252
+157865 7.87613
 EOD
 $scene_dynamic_2 << EOD
-18139.2 3.3286
+132919 1.26781
 EOD
 $scene_dynamic_3 << EOD
-801.029 1.60345
-2503.83 1.60345
-10002.1 1.60345
+123623 2.25854
+92534 3.93564
+EOD
+$scene_dynamic_4 << EOD
+21108 0.00543543
+41869 0.00543543
+89277 0.00543543
 EOD
 $scene_dynamic_front << EOD
-801.029 1.60345
-18246.7 0.0534483
+21108 0.00543543
+122430 0.00543543
 EOD
 plot $scene_dynamic_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_dynamic_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
   $scene_dynamic_1 using 1:2 with linespoints lw 1.5 pt 5 ps 1.6 lc rgb '#d62728' title "hapticd-tick, budget swept" noenhanced, \
   $scene_dynamic_2 using 1:2 with points pt 9 ps 1.6 lc rgb '#2ca02c' title "hapticd-tick δ off" noenhanced, \
-  $scene_dynamic_3 using 1:2 with linespoints lw 1.5 pt 11 ps 1.6 lc rgb '#9467bd' title "voxel-McNeely, h swept" noenhanced
+  $scene_dynamic_3 using 1:2 with linespoints lw 1.5 pt 11 ps 1.6 lc rgb '#9467bd' title "hapticd-tick, servo rate swept" noenhanced, \
+  $scene_dynamic_4 using 1:2 with linespoints lw 1.5 pt 13 ps 1.6 lc rgb '#ff7f0e' title "voxel-McNeely, h swept" noenhanced
 reset
 set terminal pngcairo size 1100,660 font 'Sans,10'
 set output "docs/accuracy/scene_stress.png"
@@ -383,9 +402,9 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [4973.16:1.77828e+06]
-set yrange [0.030143:37.8507]
-set xlabel 'mean time per tick (ns)'
+set xrange [84013.8:1.77828e+06]
+set yrange [0.0357019:38.942]
+set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: scene/stress" noenhanced
 set key at screen 0.65, screen 0.91 left top Left reverse font 'Sans,9' spacing 1.2
@@ -393,35 +412,49 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 0.0953207 to graph 1, first 0.0953207 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 0.0953207 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.440499, graph 0.749244 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.220375, graph 0.80626 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.172141, graph 0.806382 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.10948, graph 0.777229 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 0.112899 to graph 1, first 0.112899 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 0.112899 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "8" at graph 0.785616, graph 0.747858 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.603351, graph 0.747858 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.49704, graph 0.739205 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.450565, graph 0.740916 left font 'Sans,8' front noenhanced
+set label "0.003" at graph 0.62621, graph 0.765642 left font 'Sans,8' front noenhanced
+set label "0.01" at graph 0.638122, graph 0.824274 left font 'Sans,8' front noenhanced
+set label "0.03" at graph 0.545515, graph 0.802484 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.737927, graph 0.797778 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.568642, graph 0.838526 left font 'Sans,8' front noenhanced
 $scene_stress_0 << EOD
-99753.9 0.0953207
+633539 0.112899
 EOD
 $scene_stress_1 << EOD
-61921.9 6.32426
-16974.1 9.49939
-12782.9 9.50766
-8843.67 7.72203
+892203 6.67545
+511499 6.67545
+369754 6.2834
+320851 6.35902
 EOD
 $scene_stress_2 << EOD
-107579 2.85962
+740187 9.75087
 EOD
 $scene_stress_3 << EOD
-15025.3 6.53751
+612849 8.90289
+625994 9.67346
+519324 9.78178
+EOD
+$scene_stress_4 << EOD
+963066 9.46505
+574438 9.75215
+EOD
+$scene_stress_5 << EOD
+149400 3.38698
 EOD
 $scene_stress_front << EOD
-8843.67 7.72203
-15025.3 6.53751
-61921.9 6.32426
-99753.9 0.0953207
+149400 3.38698
+633539 0.112899
 EOD
 plot $scene_stress_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_stress_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
   $scene_stress_1 using 1:2 with linespoints lw 1.5 pt 5 ps 1.6 lc rgb '#d62728' title "hapticd-tick, budget swept" noenhanced, \
   $scene_stress_2 using 1:2 with points pt 9 ps 1.6 lc rgb '#2ca02c' title "hapticd-tick δ off" noenhanced, \
-  $scene_stress_3 using 1:2 with points pt 11 ps 1.6 lc rgb '#9467bd' title "voxel-McNeely, h swept" noenhanced
+  $scene_stress_3 using 1:2 with linespoints lw 1.5 pt 11 ps 1.6 lc rgb '#9467bd' title "hapticd-tick, tessellation swept" noenhanced, \
+  $scene_stress_4 using 1:2 with linespoints lw 1.5 pt 13 ps 1.6 lc rgb '#ff7f0e' title "hapticd-tick, servo rate swept" noenhanced, \
+  $scene_stress_5 using 1:2 with points pt 4 ps 1.6 lc rgb '#8c564b' title "voxel-McNeely, h swept" noenhanced

@@ -1,0 +1,123 @@
+#pragma once
+/// \file
+/// The closed-loop part of the accuracy study on one scene and pose stream, shared by
+/// `hapticstudy` (the demo scenes, docs/accuracy.md) and `hapticctl study` (the user's scene): the
+/// real tick (core/sim with the one output stage) replayed from the stream on simulated time, once
+/// at its most accurate settings (the truth) and once per setting of each knob that trades accuracy
+/// for time, each run's force and torque against the truth's at the same tick. Then the decision:
+/// the most accurate settings whose p99.9 tick fits a budget, as a config snippet.
+
+#include <cstdint>
+#include <filesystem>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "bench/study/report.h"
+#include "bench/study/study.h"
+#include "core/common/result.h"
+#include "core/scene/loader.h"
+#include "protocol/pose_stream.h"
+
+namespace hapticd::study {
+
+/// The settings of one run, as the daemon's config names them (`[response] max_pairs_per_tick`,
+/// `[scene] tessellation_tolerance`), plus the predictive distance, which no config key turns off.
+struct Knobs {
+  std::uint32_t max_pairs_per_tick = 0;  ///< 0: no limit
+  double tessellation_tolerance = 1e-3;  ///< the loader's default
+  bool predictive = true;
+  /// The servo rate as a multiple of the study's (1: the study's rate). A run at m times the rate
+  /// takes m ticks per truth tick and is scored at the truth's tick times. The user sets the rate
+  /// (`[servo] rate_hz`, `hapticctl study --rate`): no recommendation changes it.
+  std::uint32_t rate_multiple = 1;
+};
+
+/// The truth's setting text (its row in the tables).
+inline constexpr const char* kTruthSetting = "exact, budget unlimited, δ on (the truth)";
+
+/// One run of the sweep: its setting text (the table's), its knobs.
+struct PlannedRun {
+  std::string setting;
+  Knobs knobs;
+};
+
+/// The runs of a scene's study, the truth first: the scheduler budget (8, 4, 2, 1 pairs per tick),
+/// δ off, and, when the scene has curved implicit shapes (sphere, capsule, cylinder), the
+/// tessellation tolerance 0.003, 0.01 and 0.03 (coarser than the truth's 0.001); then the servo
+/// rate at each of `rate_multiples` times the study's.
+std::vector<PlannedRun> planRuns(const scene::SceneModel& scene,
+                                 const std::vector<std::uint32_t>& rate_multiples = {},
+                                 double rate_hz = 1000.0);
+
+/// The knobs a setting text stands for, when the config can express them (nullopt for δ off and
+/// for any text this study does not write).
+std::optional<Knobs> knobsOf(const std::string& setting);
+
+/// What to run.
+struct SceneStudyOptions {
+  double rate_hz = 1000.0;  ///< servo rate: the response's tick is 1 / rate_hz
+  /// Runs at these multiples of rate_hz too (hapticstudy: 2 and 4, for 2 and 4 kHz).
+  std::vector<std::uint32_t> rate_multiples;
+  /// At most this many seconds of the stream (0: all of it).
+  double max_seconds = 0.0;
+  /// Base load options (limits, decomposition); each run's tessellation tolerance is its own.
+  scene::LoadOptions load;
+  /// One line per run as it ends ("[3/9] budget=4 pairs/tick: ..."); may be empty.
+  std::function<void(const std::string&)> progress;
+};
+
+/// The number of ticks a run takes over `stream` at `options`.
+std::size_t ticksOf(const std::vector<proto::PoseStreamRow>& stream,
+                    const SceneStudyOptions& options);
+
+/// Measures the truth's time per tick over its first `ticks` ticks: {mean, p99.9} in ns (for the
+/// estimate before a study starts). Error when the scene does not simulate.
+Result<std::pair<double, double>> probeTickNs(const std::shared_ptr<const scene::SceneModel>& model,
+                                              const std::vector<proto::PoseStreamRow>& stream,
+                                              const SceneStudyOptions& options,
+                                              std::size_t ticks);
+
+/// Runs every planned run of `file` (already loaded as `model` at the base options) over `stream`;
+/// appends one row per run to `rows` (part `part`, method "hapticd-tick"). The proxy poses of the
+/// truth run go to `truth_proxy` when it is not null (the open-loop methods use them), with the
+/// truth's contact wrench. Error when the scene does not simulate or a tessellation reload fails.
+struct TruthTick {
+  geom::Pose proxy;
+  geom::Vec3 contact_force{0.0}, contact_torque{0.0};
+};
+Result<bool> runSceneStudy(const std::string& part,
+                           const std::filesystem::path& file,
+                           const std::shared_ptr<const scene::SceneModel>& model,
+                           const std::vector<proto::PoseStreamRow>& stream,
+                           const SceneStudyOptions& options,
+                           std::vector<Row>& rows,
+                           std::vector<TruthTick>* truth_proxy = nullptr);
+
+/// A pose stream for a scene that comes without one: the held body (or, without a probe body, a
+/// point above the scene) rests, approaches the nearest other body until it touches it, presses in
+/// (about 4 N at the body's stiffness), slides across and tilts while pressing, and backs out.
+/// `seconds` scales the whole path (about 6.5 s at 1).
+std::vector<proto::PoseStreamRow> approachStream(const scene::SceneModel& scene,
+                                                 double scale = 1.0);
+
+/// The CSV text of a pose stream (the interface format).
+std::string poseStreamCsv(const std::vector<proto::PoseStreamRow>& rows);
+
+/// The decision: of the rows whose settings the config can express (knobsOf), the one with the
+/// smallest p99 force error (then mean force error, then p99.9 tick) whose p99.9 tick fits
+/// `budget_ns`. When none fits: the one with the smallest p99.9 tick, `fits` false.
+struct Recommendation {
+  const Summary* row = nullptr;  ///< null when no row is expressible
+  Knobs knobs;
+  bool fits = false;
+};
+Recommendation recommend(const std::vector<const Summary*>& rows, double budget_ns);
+
+/// The config snippet of a recommendation: `comment` lines first (each prefixed "# "), then
+/// [response] max_pairs_per_tick and [scene] tessellation_tolerance.
+std::string configSnippet(const Knobs& knobs, const std::vector<std::string>& comment);
+
+}  // namespace hapticd::study
