@@ -413,7 +413,8 @@ void ServoLoop::updateState(const sim::TickOutput& out,
                             double t_s,
                             std::uint64_t period_index) noexcept {
   s_.X_W_proxy = out.X_W_proxy;
-  s_.contacts = out.contacts;
+  // the held set's contact points: its penalty rows and its contacts with dynamic bodies
+  s_.contacts = out.contacts + out.held_dynamic_contacts;
   s_.pairs_tested = out.pairs_tested;
   s_.pairs_skipped = out.pairs_skipped;
   s_.max_penetration_m = out.max_penetration_m;
@@ -421,7 +422,7 @@ void ServoLoop::updateState(const sim::TickOutput& out,
   s_.period_index = period_index;
   s_.peak_force_n = std::max(s_.peak_force_n, glm::length(s_.force_W_n));
   s_.peak_penetration_m = std::max(s_.peak_penetration_m, out.max_penetration_m);
-  if (out.contacts > 0)
+  if (s_.contacts > 0)
     ++s_.contact_ticks;
   if (s_.stopping && !stop_done_ && output_.atZero()) {
     stop_done_ = true;

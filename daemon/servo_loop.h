@@ -124,6 +124,8 @@ struct ServoState {
   geom::Pose X_W_proxy;
   geom::Vec3 force_W_n{0.0};  ///< force written (after the output stage)
   geom::Vec3 torque_W_nm{0.0};
+  /// The held set's contact points: penalty rows and contacts with dynamic bodies
+  /// (sim::TickOutput::contacts + held_dynamic_contacts).
   std::uint32_t contacts = 0;
   std::uint32_t pairs_tested = 0;
   std::uint32_t pairs_skipped = 0;

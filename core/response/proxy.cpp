@@ -66,6 +66,16 @@ Vec3 clampLength(const Vec3& v, double max_length) {
   return l > max_length ? v * (max_length / l) : v;
 }
 
+// the coupling's stretch that pulls the proxy, clamped (see couplingReach in proxy.h)
+Vec3 linearPull(const ProxyProblem& pb, const ProxyParams& params) {
+  return clampLength(pb.h_target_W - pb.h_W, couplingReach(params, pb.radius).linear);
+}
+
+Vec3 angularPull(const ProxyProblem& pb, const ProxyParams& params) {
+  return clampLength(geom::rotationVector(pb.q_target * glm::conjugate(pb.q_handle)),
+                     couplingReach(params, pb.radius).angular);
+}
+
 }  // namespace
 
 ProxyBasis ProxyBasis::free() {
@@ -82,6 +92,16 @@ ProxyBasis ProxyBasis::hinge(const Vec3& o_W, const Vec3& a_W, const Vec3& c_W) 
   const Vec3 v = glm::cross(a_W, c_W - o_W);  // velocity of c per unit angular rate
   b.column[0] = {v.x, v.y, v.z, a_W.x, a_W.y, a_W.z};
   return b;
+}
+
+CouplingReach couplingReach(const ProxyParams& params, double radius) {
+  CouplingReach r;
+  const double kc = params.coupling_stiffness, kr = params.rot_coupling_stiffness;
+  r.linear = std::max(params.max_force_n / kc, 2.0 * params.max_travel);
+  r.angular = params.max_torque_nm / kr;
+  if (radius > 0.0)
+    r.angular = std::max(r.angular, 2.0 * params.max_travel / radius);
+  return r;
 }
 
 void ContactRows::writeState(StateWriter& w) const {
@@ -126,9 +146,8 @@ struct RowSystem {
 // rotational spring; its force is clamped to the device limits
 void couplingSystem(const ProxyProblem& pb, const ProxyParams& params, Mat6& A0, Vec6& b0) {
   const double kc = params.coupling_stiffness, kr = params.rot_coupling_stiffness;
-  const Vec3 e_lin = clampLength(pb.h_target_W - pb.h_W, params.max_force_n / kc);
-  const Vec3 e_rot = clampLength(geom::rotationVector(pb.q_target * glm::conjugate(pb.q_handle)),
-                                 params.max_torque_nm / kr);
+  const Vec3 e_lin = linearPull(pb, params);
+  const Vec3 e_rot = angularPull(pb, params);
   {
     // handle displacement = dc + dtheta x r = dc - [r]x dtheta, r = h - c
     Vec6 jx[3];
@@ -305,7 +324,7 @@ void applyFriction(const ProxyProblem& pb,
   mud /= f_sum;
   const Vec3 nb = n_sum / N;
   const double kc = params.coupling_stiffness;
-  const Vec3 e = clampLength(pb.h_target_W - pb.h_W, params.max_force_n / kc);
+  const Vec3 e = linearPull(pb, params);
   const Vec3 e_t = e - glm::dot(e, nb) * nb;
   const double pull = kc * std::sqrt(glm::dot(e_t, e_t));  // tangential, were it not to slide
   const Vec3 dc{x[0], x[1], x[2]};

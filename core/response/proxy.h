@@ -7,8 +7,10 @@
 /// the device: the step minimises
 ///   E(x) = 1/2 |coupling error after the step|^2_K  +  sum_i 1/2 k_i (delta - gap_i(x))_+^2
 /// over the proxy's free coordinates x (6 for a free body, 1 for a body on a hinge), where the
-/// coupling pulls toward the device pose (its force clamped to the device limits, so the proxy is
-/// never pushed harder than the device can display) and each contact row i is a point of a
+/// coupling pulls toward the device pose (its stretch clamped to the device limits, so the proxy
+/// is never pushed much harder than the device can display, but to no less than two safe
+/// distances, so that the clamp never limits free motion: couplingReach) and each contact row i
+/// is a point of a
 /// manifold within the predictive distance delta of the environment (§5.2: "growing" the
 /// surface by delta). One Newton step on E with the gaps linearised (gap_i + J_i x), the set of
 /// active rows found by re-solving until it settles (rows that would pull are dropped, rows that
@@ -160,6 +162,20 @@ struct ProxyStep {
   std::uint32_t passes = 0;
   std::uint32_t active = 0;  ///< rows active at the end
 };
+
+/// How far the coupling's stretch reaches when it pulls the proxy in one step: the stretch is
+/// clamped to the device's limits (max_force_n / k_c, max_torque_nm / k_r), so that the proxy is
+/// never pushed into a surface much harder than the device can display, but never to less than
+/// two safe distances of travel (2 max_travel, and 2 max_travel / radius radians): the clamp
+/// limits how hard the proxy presses, never how far it moves in one step. Without that floor the
+/// proxy moved at most max_force_n / k_c per tick in free space (an absolute length: 16.3 scene
+/// units / 1000 at the defaults), so in a scene whose safe distance is longer than that (a scene
+/// authored in mm with the default stiffness) it crept behind the device (issue 17).
+struct CouplingReach {
+  double linear = 0.0;   ///< scene units
+  double angular = 0.0;  ///< radians
+};
+CouplingReach couplingReach(const ProxyParams& params, double radius);
 
 /// Rows the solver takes; more are ignored (ProxyStep::rows_dropped).
 inline constexpr std::size_t kMaxRows = 256;

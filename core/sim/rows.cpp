@@ -75,7 +75,7 @@ bool pairSides(const SimModel& m, const SceneState& s, const collision::Contact&
   // backstop, the held set deeper than backstop_m into it: when the dynamics cannot push it out
   // of the way (wedged against something fixed), the proxy stops there as at a fixed body
   // (docs/dynamics.md, "In the Simulation")
-  p->shift = movedByDynamics(m, s, p->env) ? m.backstop_m : 0.0;
+  p->shift = backstopShift(m, s, p->env);
   // the pair's stiffness: the environment body's felt stiffness k_f through the proxy's
   // contact spring k_p = k_f k_c / (k_c - k_f), so that k_c and k_p in series give k_f
   const double kf = m.info[p->env].stiffness;
@@ -183,6 +183,15 @@ bool movedByDynamics(const SimModel& m, const SceneState& s, std::uint32_t body)
          role(s, body) == kRoleFixed;
 }
 
+double backstopShift(const SimModel& m, const SceneState& s, std::uint32_t body) {
+  if (!movedByDynamics(m, s, body))
+    return 0.0;
+  const ResponseOptions& r = m.options.response;
+  const double delta_at_rest =
+      r.predictive ? std::min(m.max_travel_m, r.min_predictive_fraction * s.held.radius_m) : 0.0;
+  return std::max(m.backstop_m, delta_at_rest);
+}
+
 Vec3 comW(const SimModel& m, const SceneState& s, std::uint32_t body) {
   const geom::Pose& X = s.world.pose(body);
   return X.translation + X.rotation * m.info[body].com_B;
@@ -235,6 +244,25 @@ double gatherRows(const SimModel& m, SceneState& s) {
   return pen;
 }
 
+std::uint32_t heldDynamicContacts(const SimModel& m, const SceneState& s) {
+  std::uint32_t n = 0;
+  if (!m.dynamics_active)
+    return n;
+  for (const collision::Contact& c : s.world.contacts()) {
+    if (!c.answered || !(c.distance < s.delta_m))
+      continue;
+    const bool held_a = isHeld(s, c.body_a), held_b = isHeld(s, c.body_b);
+    if (held_a == held_b)
+      continue;
+    const std::uint32_t env = held_a ? c.body_b : c.body_a;
+    // deeper than the backstop, the pair's rows act: counted as rows
+    if (!movedByDynamics(m, s, env) || c.distance + backstopShift(m, s, env) < s.delta_m)
+      continue;
+    n += std::max<std::uint32_t>(c.manifold.count, 1u);
+  }
+  return n;
+}
+
 void fillContactPoints(const SimModel& m, SceneState& s, TickOutput* out) {
   // the rows the response used this tick (the held set's, within delta), as TickOutput::contacts
   // counts them; the depth without the backstop's shift
@@ -249,7 +277,7 @@ void fillContactPoints(const SimModel& m, SceneState& s, TickOutput* out) {
       break;
     }
     const std::uint32_t env = s.row_env[i];
-    const double shift = movedByDynamics(m, s, env) ? m.backstop_m : 0.0;
+    const double shift = backstopShift(m, s, env);
     ContactPoint cp;
     cp.p_W = r.p_W;
     cp.n_W = r.n_W;

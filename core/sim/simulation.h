@@ -157,8 +157,11 @@ struct TickOutput {
   /// (response::OutputStage: clamp, ramps and fades, step limit) before a device sees it. N, N m.
   Vec3 force_W_n{0.0};
   Vec3 torque_W_nm{0.0};
-  Pose X_W_proxy;                  ///< the proxy's pose
-  std::uint32_t contacts = 0;      ///< contact points used this tick
+  Pose X_W_proxy;  ///< the proxy's pose
+  /// The held set's penalty rows within delta this tick (the contact points the response used;
+  /// Simulation::contactPoints() lists them). Its contacts with bodies the dynamics move are
+  /// held_dynamic_contacts.
+  std::uint32_t contacts = 0;
   double max_penetration_m = 0.0;  ///< >= 0
   std::uint32_t pairs_tested = 0;
   std::uint32_t pairs_skipped = 0;
@@ -190,8 +193,13 @@ struct TickOutput {
   /// coupling's wrench before the output stage (torque about the handle point). N, N m, world.
   Vec3 impact_force_W_n{0.0};
   Vec3 impact_torque_W_nm{0.0};
-  /// Contact points the dynamics took in this tick (0 without dynamics).
+  /// Contact points the dynamics took in this tick (0 without dynamics): all of the scene's.
   std::uint32_t dynamics_contact_points = 0;
+  /// The held set's contact points with bodies the dynamics move (within delta at the proxy's
+  /// pose this tick, before the dynamics step), which the dynamics' impulses answer rather than
+  /// penalty rows; those deeper than the backstop, whose rows act, are in `contacts` instead. The
+  /// daemon's contact count (the record's `contacts` column, the status) is the sum of the two.
+  std::uint32_t held_dynamic_contacts = 0;
   // --- added by the scene edits: a grabbed dynamic body (ResponseOptions::grab_weight, _inertia)
   /// Its weight m g (N, world): what shifted the proxy's target this tick (felt through the
   /// coupling, so a surface the held set rests on carries it). Zero when nothing is grabbed.

@@ -208,9 +208,23 @@ double couplingError(const response::ProxyProblem& pb) {
          glm::length(geom::rotationVector(pb.q_target * glm::conjugate(pb.q_handle))) * pb.radius;
 }
 
+// a row of the held set within delta, or so near it that rounding decides (a row the step left
+// at its equilibrium is within delta by its force over its stiffness, which may be next to
+// nothing: a margin of 1e-3 safe distances keeps the decision the same in mm and in km)
+bool pressed(const SimModel& m, const SceneState& s) {
+  const double reach = s.delta_m + 1e-3 * m.max_travel_m;
+  for (const response::ContactRow& r : s.rows.rows()) {
+    if (r.gap < reach && r.first < 0)
+      return true;
+  }
+  return false;
+}
+
 // the proxy's move of one tick (§3.2, §5.2): sub-steps of at most the safe distance, each from
 // the rows seen at its start, until the proxy reaches its equilibrium with the device (a step the
-// safe distance did not cut), a sub-step brings it no nearer its target by a quarter of a safe
+// safe distance did not cut, and that ended touching what stopped it, if anything did: rows of
+// a rounded edge or of a tooth turning away may stop a step short of a surface it then does not
+// touch, and the proxy steps on), a sub-step brings it no nearer its target by a quarter of a safe
 // distance nor out of a surface (pressed or wedged, it slides no farther; pushed by a moving
 // body, it is pushed out), a sub-step is bisected back, or
 // max_substeps are taken. So in free space the proxy is at the device at the end of the tick
@@ -224,6 +238,7 @@ ProxyMove moveProxy(const SimModel& m,
   ProxyMove mv;
   const std::uint32_t most = std::max<std::uint32_t>(m.options.response.max_substeps, 1);
   double error = 0.0, moved = 0.0, pen = 0.0;
+  bool stopped_short = false;  // the last sub-step was stopped by rows, then touched nothing
   for (std::uint32_t k = 0; k < most; ++k) {
     response::ProxyProblem pb;
     *grab_weight = proxyProblem(m, s, dev, &pb);
@@ -231,10 +246,10 @@ ProxyMove moveProxy(const SimModel& m,
     const double error_before = couplingError(pb);
     // no nearer by a quarter of a safe distance, not pushed out of a surface by as much, and
     // the last sub-step hardly moved the handle or moved it away: it turns or slides on the spot
-    // (a facet flipping under a face)
+    // (a facet flipping under a face); unless the last sub-step stopped short of a surface
     const double quarter = 0.25 * m.max_travel_m;
-    if (k > 0 && !(error_before < error - quarter) && !(s.last_penetration_m < pen - quarter) &&
-        !(moved >= quarter && error_before <= error))
+    if (k > 0 && !stopped_short && !(error_before < error - quarter) &&
+        !(s.last_penetration_m < pen - quarter) && !(moved >= quarter && error_before <= error))
       break;
     error = error_before;
     pen = s.last_penetration_m;
@@ -248,7 +263,12 @@ ProxyMove moveProxy(const SimModel& m,
     mv.backed_off = mv.backed_off || one.backed_off;
     mv.rows_dropped = mv.rows_dropped || one.step.rows_dropped;
     ++mv.substeps;
-    if (!one.step.travel_limited || one.backed_off)
+    // the step's equilibrium was reached (not cut by the safe distance): done, unless rows it
+    // solved with stopped it and, moved, the held set is within delta of nothing (the rows
+    // were a linearisation of a surface the proxy has moved around: a rounded edge, a tooth
+    // turning away): then it is not at its equilibrium and steps on toward the device
+    stopped_short = one.step.active > 0 && !pressed(m, s);
+    if (one.backed_off || (!one.step.travel_limited && !stopped_short))
       break;
   }
   return mv;
@@ -339,6 +359,7 @@ void fillOutput(const SimModel& m, SceneState& s, const ProxyMove& mv, TickOutpu
   for (const response::ContactRow& r : s.rows.rows())
     active += r.gap < s.delta_m && r.first < 0 ? 1u : 0u;
   out->contacts = active;
+  out->held_dynamic_contacts = detail::heldDynamicContacts(m, s);
   out->max_penetration_m = std::max(0.0, mv.penetration_m);
   out->pairs_skipped = mv.stats.pairs_skipped;
   if (mv.stats.pairs_skipped > 0)

@@ -18,6 +18,16 @@ bool isHeld(const SceneState& s, std::uint32_t body);
 std::int32_t role(const SceneState& s, std::uint32_t body);
 /// A dynamic body the dynamics move (not held, not driven by this tick's proxy step).
 bool movedByDynamics(const SimModel& m, const SceneState& s, std::uint32_t body);
+/// How much farther than they are the rows of `body` are put (their gap is the distance plus
+/// this): for a body the dynamics move, backstop_m, and never less than the predictive distance
+/// delta of a still device (min_predictive_fraction of the held set's radius), so that its rows
+/// do not act before the held set touches it when the device is still. delta is relative to the
+/// held body's size and backstop_m derives from the device: in a scene in mm (geometry scaled by
+/// 1e3, the default options) delta exceeded backstop_m and the rows stopped the proxy short of a
+/// gear tooth that the dynamics then never touched, the hand feeling 10 N with no contact. At
+/// the sizes where backstop_m is the larger (a scene in metres) nothing changes. 0 for any other
+/// body.
+double backstopShift(const SimModel& m, const SceneState& s, std::uint32_t body);
 /// A body's centre of mass, world, at its pose in the collision world.
 Vec3 comW(const SimModel& m, const SceneState& s, std::uint32_t body);
 /// The pose in the world of primitive `prim` of `body`.
@@ -32,6 +42,10 @@ double heldRadius(const SimModel& m, const SceneState& s, const Vec3& c_W);
 /// The contact rows of the held set and the driven hinges from the world's contacts (§5.1–5.2,
 /// force shading §5.3); returns the deepest penetration (>= 0) and keeps it in the state.
 double gatherRows(const SimModel& m, SceneState& s);
+/// The held set's contact points with bodies the dynamics move, within this tick's predictive
+/// distance delta, that made no active penalty row (those are TickOutput::contacts): the
+/// dynamics' contacts with the held set (TickOutput::held_dynamic_contacts).
+std::uint32_t heldDynamicContacts(const SimModel& m, const SceneState& s);
 /// Simulation::contactPoints() from this tick's rows.
 void fillContactPoints(const SimModel& m, SceneState& s, TickOutput* out);
 

@@ -12,19 +12,11 @@
 
 #include "core/scene/loader.h"
 #include "scenes/demo_scenes.h"
+#include "tests/core/sim/demo_streams.h"
 #include "tests/core/sim/harness.h"
 
 namespace hapticd::simtest {
 namespace {
-
-std::shared_ptr<const scene::SceneModel> loadDemo(const std::string& name) {
-  auto report = scene::loadSceneFile(std::string(HAPTICD_SOURCE_DIR) + "/scenes/" + name + ".glb");
-  if (!report.ok()) {
-    ADD_FAILURE() << report.message();
-    return nullptr;
-  }
-  return std::make_shared<const scene::SceneModel>(std::move(*report.scene));
-}
 
 std::vector<Key> demoKeys(const std::string& name, double t_end = 1e9) {
   auto keys = readPoseStream(std::string(HAPTICD_SOURCE_DIR) + "/tests/streams/" + name + ".csv");

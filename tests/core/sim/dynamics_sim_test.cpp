@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "core/scene/loader.h"
+#include "tests/core/sim/demo_streams.h"
 #include "tests/core/sim/harness.h"
 
 namespace hapticd::simtest {
@@ -25,13 +26,6 @@ std::shared_ptr<const geom::Polytope> sphereShape(double r) {
     pts.push_back(r * Vec3{rr * std::cos(golden * i), y, rr * std::sin(golden * i)});
   }
   return hullShape(pts);
-}
-
-std::shared_ptr<const scene::SceneModel> loadDemo(const std::string& name) {
-  auto report = scene::loadSceneFile(std::string(HAPTICD_SOURCE_DIR) + "/scenes/" + name + ".glb");
-  if (!report.ok())
-    return nullptr;
-  return std::make_shared<const scene::SceneModel>(std::move(*report.scene));
 }
 
 std::vector<Key> demoStream(const std::string& name) {

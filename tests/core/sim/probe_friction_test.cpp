@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "core/scene/loader.h"
+#include "tests/core/sim/demo_streams.h"
 #include "tests/core/sim/harness.h"
 
 namespace hapticd::simtest {
@@ -119,9 +120,9 @@ class ProbeFrictionDemo : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(ProbeFrictionDemo, TheEnergyIntoTheHandStaysNonPositive) {
   const std::string name = GetParam();
-  auto report = scene::loadSceneFile(std::string(HAPTICD_SOURCE_DIR) + "/scenes/" + name + ".glb");
-  ASSERT_TRUE(report.ok()) << report.message();
-  scene::SceneModel sc = std::move(*report.scene);
+  auto demo = loadDemo(name);
+  ASSERT_TRUE(demo);
+  scene::SceneModel sc = *demo;
   scene::Material rough;
   rough.name = "rough";
   rough.static_friction = 0.6;

@@ -13,19 +13,11 @@
 #include <vector>
 
 #include "core/scene/loader.h"
+#include "tests/core/sim/demo_streams.h"
 #include "tests/core/sim/harness.h"
 
 namespace hapticd::simtest {
 namespace {
-
-std::shared_ptr<const scene::SceneModel> loadDemo(const std::string& name) {
-  auto report = scene::loadSceneFile(std::string(HAPTICD_SOURCE_DIR) + "/scenes/" + name + ".glb");
-  if (!report.ok()) {
-    ADD_FAILURE() << report.message();
-    return nullptr;
-  }
-  return std::make_shared<const scene::SceneModel>(std::move(*report.scene));
-}
 
 std::vector<Key> demoKeys(const std::string& name) {
   return readPoseStream(std::string(HAPTICD_SOURCE_DIR) + "/tests/streams/" + name + ".csv");
@@ -86,6 +78,14 @@ std::vector<Key> cut(std::vector<Key> keys, double t_end) {
   return keys;
 }
 
+// a contact of the held set this tick: a penalty row, a contact with a body the dynamics move, the
+// dynamics' impulses on it still spread over the hand (docs/dynamics.md), or a body attached to
+// the probe (grabbed, its weight felt; or on a hinge, which holds the proxy)
+bool touching(const sim::TickOutput& out) {
+  return out.contacts > 0 || out.held_dynamic_contacts > 0 ||
+         glm::length(out.impact_force_W_n) > 0.0 || out.attach_mode != 0;
+}
+
 struct SpeedRun {
   Figures figures;
   std::vector<Vec3> forces;  // force, then torque / s, per tick
@@ -109,8 +109,7 @@ SpeedRun replay(std::shared_ptr<const scene::SceneModel> model,
   r.figures = run.run(Path(keys), [&](const sim::TickInput& in, const sim::TickOutput& out) {
     r.forces.push_back(out.force_W_n);
     r.forces.push_back(out.torque_W_nm / s);
-    const bool contact = out.contacts > 0 || glm::length(out.impact_force_W_n) > 0.0 ||
-                         out.dynamics_contact_points > 0;
+    const bool contact = touching(out);
     const double force = glm::length(out.force_W_n);
     r.at_limit += force >= limit ? 1u : 0u;
     r.limited += out.travel_limited ? 1u : 0u;
@@ -329,6 +328,90 @@ INSTANTIATE_TEST_SUITE_P(Demo,
                                            ScaleCase{"stress", 6.0, 1e-6},
                                            ScaleCase{"decomposed", 3.0, 1e-6}),
                          scaleCaseName);
+
+struct GeometryCase {
+  const char* scene;
+  double t_end;  // of the stream; 0: all of it
+};
+
+std::string geometryCaseName(const ::testing::TestParamInfo<GeometryCase>& info) {
+  return info.param.scene;
+}
+
+class ProxyGeometryScale : public ::testing::TestWithParam<GeometryCase> {};
+
+// Each demo scene wrapped in a root node of scale 1e-3 and 1e3 (a scene authored in km or in mm,
+// its geometry only: masses, inertias and the stiffness stay as declared) and its stream scaled
+// alike, with the default options, as a user would run it: the proxy keeps up in free space, so
+// no tick holds the force at the device's limit without a contact, and nothing is NaN.
+TEST_P(ProxyGeometryScale, NoForceAtTheLimitWithoutAContact) {
+  const GeometryCase c = GetParam();
+  std::vector<Key> keys = demoKeys(c.scene);
+  ASSERT_GE(keys.size(), 2u);
+  if (c.t_end > 0.0)
+    keys = cut(keys, c.t_end);
+  for (const double s : {1e-3, 1e3}) {
+    auto model = loadDemoScaled(c.scene, s);
+    ASSERT_TRUE(model);
+    const sim::SimOptions o;
+    Runner run(make(model, o), o);
+    const double limit = o.response.max_force_n * (1.0 - 1e-9);
+    const double torque_limit = o.response.max_torque_nm * (1.0 - 1e-9);
+    std::uint64_t at_limit = 0, free_at_limit = 0, free_torque_at_limit = 0, touching_ticks = 0;
+    double free_lag = 0.0;
+    const Figures f = run.run(Path(scaledKeys(keys, 1.0, s)), [&](const sim::TickInput& in,
+                                                                  const sim::TickOutput& out) {
+      const double force = glm::length(out.force_W_n);
+      const double torque = glm::length(out.torque_W_nm);
+      at_limit += force >= limit ? 1u : 0u;
+      if (touching(out)) {
+        ++touching_ticks;
+        return;
+      }
+      free_lag =
+          std::max(free_lag, glm::length(out.X_W_proxy.translation - in.X_W_device.translation));
+      free_at_limit += force >= limit ? 1u : 0u;
+      free_torque_at_limit += torque >= torque_limit ? 1u : 0u;
+      if ((force >= limit || torque >= torque_limit) && free_at_limit + free_torque_at_limit <= 3)
+        ADD_FAILURE() << "scale " << s << ", t = " << in.t_s << " s: " << force << " N, " << torque
+                      << " N m with no contact, the proxy "
+                      << glm::length(out.X_W_proxy.translation - in.X_W_device.translation) / s
+                      << " (m / scale) from the device";
+    });
+    std::printf(
+        "  %s scaled by %g: %llu ticks, %llu touching, %llu at the force limit (%llu without a "
+        "contact, %llu at the torque limit), largest lag without contact %.3g m / scale\n",
+        c.scene, s, static_cast<unsigned long long>(f.ticks),
+        static_cast<unsigned long long>(touching_ticks), static_cast<unsigned long long>(at_limit),
+        static_cast<unsigned long long>(free_at_limit),
+        static_cast<unsigned long long>(free_torque_at_limit), free_lag / s);
+    EXPECT_EQ(free_at_limit, 0u) << "scale " << s;
+    EXPECT_EQ(free_torque_at_limit, 0u) << "scale " << s;
+    EXPECT_TRUE(f.all_finite) << "scale " << s;
+  }
+}
+
+// gears and decomposed are cut to their first 8 s and 3 s (the first sweep pushing a tooth; into
+// the groove), to keep the suite light
+INSTANTIATE_TEST_SUITE_P(Demo,
+                         ProxyGeometryScale,
+                         ::testing::Values(GeometryCase{"peg_in_hole", 0},
+                                           GeometryCase{"gears", 8.0},
+                                           GeometryCase{"dynamic", 0},
+                                           GeometryCase{"decomposed", 3.0}),
+                         geometryCaseName);
+
+// Not met yet (docs/response.md "The proxy at every scale"): stress in mm still has ~110 ticks at
+// the limit without a contact, of two kinds. Riding over the pillar tops with the device 1.3 mm
+// (scene units: 1.3 m / 1000) below them, the proxy rolls off a top's edge and is a little more
+// than delta from it for a tick; in metres that tick feels 0.8 N, in mm (1000 times the relative
+// stiffness) the limit. And a block it cannot push (its declared 50 g under gravity scaled by
+// 1000 weighs 490 N, the held set pushes with at most 10 N) holds the sweeper back by 0.9 scene
+// sizes, which it then takes ~50 ticks of max_substeps sub-steps to make up once released.
+INSTANTIATE_TEST_SUITE_P(DISABLED_Demo,
+                         ProxyGeometryScale,
+                         ::testing::Values(GeometryCase{"stress", 0}),
+                         geometryCaseName);
 
 }  // namespace
 }  // namespace hapticd::simtest
