@@ -236,20 +236,26 @@ bool crossingEdgesOnly(const Polytope& a,
                        const Vec3& n_b,
                        const Transform& X_AB,
                        double sin_tol) {
-  const double cos_tol = std::sqrt(std::max(0.0, 1.0 - sin_tol * sin_tol));
+  // a face is in the plane when its cosine is >= sqrt(1 - sin_tol^2), which is >= 1 - sin_tol:
+  // cosines below that bound are out without the square root (it was a third of this test)
+  const double below = 1.0 - sin_tol;
   const auto& ea = a.edges()[ea_i];
   const auto& eb = b.edges()[eb_i];
-  for (const std::uint32_t f : ea.face) {
-    if (glm::dot(a.faces()[f].normal, n) >= cos_tol)
-      return false;
-  }
-  for (const std::uint32_t f : eb.face) {
-    if (glm::dot(b.faces()[f].normal, -n_b) >= cos_tol)
-      return false;
-  }
+  double cos = -2.0;
+  for (const std::uint32_t f : ea.face)
+    cos = std::max(cos, glm::dot(a.faces()[f].normal, n));
+  for (const std::uint32_t f : eb.face)
+    cos = std::max(cos, glm::dot(b.faces()[f].normal, -n_b));
+  if (cos >= below && cos >= std::sqrt(std::max(0.0, 1.0 - sin_tol * sin_tol)))
+    return false;
   const bool in_plane =
       std::abs(glm::dot(ea.dir, n)) <= sin_tol && std::abs(glm::dot(eb.dir, n_b)) <= sin_tol;
-  return !in_plane || glm::length(glm::cross(ea.dir, X_AB.rotate(eb.dir))) > sin_tol;
+  if (!in_plane)
+    return true;
+  // not parallel: |ea x eb| > sin_tol, decided without the square root when clearly so
+  const Vec3 c = glm::cross(ea.dir, X_AB.rotate(eb.dir));
+  const double c2 = glm::dot(c, c);
+  return c2 > 4.0 * sin_tol * sin_tol || std::sqrt(c2) > sin_tol;
 }
 
 // The contact feature of one side, `dir` pointing from this side toward the other (A's frame):
