@@ -305,8 +305,10 @@ void oursNearDistance(benchmark::State& state, std::size_t n) {
   setNearCounters(state, s);
 }
 
-// PairQuery/NearContact/<N>: the whole pair query (closest features and the contact manifold).
-void oursNearPairQuery(benchmark::State& state, std::size_t n) {
+// PairQuery/NearContact/<N>: the whole pair query (closest features and the contact manifold),
+// its result returned by value. PairQueryInto/NearContact/<N>: the same query written into one
+// PairResult kept from query to query, with its own scratch, as a CollisionWorld calls it.
+void oursNearPairQuery(benchmark::State& state, std::size_t n, bool into) {
   Scenario& s = nearScenario(n);
   const Wrong w = countWrongAlongPath(s, [&](bool mm, const Transform& X, PairCache& c, bool& ok) {
     const auto r = collision::queryPair(mm ? *s.a_mm : *s.a, mm ? *s.b_mm : *s.b, X, c);
@@ -320,11 +322,24 @@ void oursNearPairQuery(benchmark::State& state, std::size_t n) {
   });
   std::size_t i = 0;
   PairCache warm;
-  for (auto _ : state) {
-    auto r = collision::queryPair(*s.a, *s.b, s.coherent[i], warm);
-    if (++i == s.coherent.size())
-      i = 0;
-    benchmark::DoNotOptimize(r);
+  if (into) {
+    // as a CollisionWorld calls it: one result and one scratch kept from query to query
+    collision::PairResult r;
+    collision::DepthScratch scratch;
+    scratch.reserve(std::max(s.a->faces().size(), s.b->faces().size()));
+    for (auto _ : state) {
+      collision::queryPair(*s.a, *s.b, s.coherent[i], warm, scratch, {}, r);
+      if (++i == s.coherent.size())
+        i = 0;
+      benchmark::DoNotOptimize(r);
+    }
+  } else {
+    for (auto _ : state) {
+      auto r = collision::queryPair(*s.a, *s.b, s.coherent[i], warm);
+      if (++i == s.coherent.size())
+        i = 0;
+      benchmark::DoNotOptimize(r);
+    }
   }
   setCounters(state, w, s);
   setNearCounters(state, s);
@@ -393,7 +408,8 @@ void registerAll() {
                                  n);
     const std::string near = "NearContact/" + std::to_string(n);
     benchmark::RegisterBenchmark(("Distance/" + near).c_str(), oursNearDistance, n);
-    benchmark::RegisterBenchmark(("PairQuery/" + near).c_str(), oursNearPairQuery, n);
+    benchmark::RegisterBenchmark(("PairQuery/" + near).c_str(), oursNearPairQuery, n, false);
+    benchmark::RegisterBenchmark(("PairQueryInto/" + near).c_str(), oursNearPairQuery, n, true);
     for (const PeerInfo& p : peerList()) {
       if (p.distance) {
         benchmark::RegisterBenchmark(("Peer/" + p.name + "/Distance/" + near).c_str(), peerNear,

@@ -13,6 +13,8 @@ using detail::closestOnSegment;
 using detail::closestSegments;
 
 constexpr std::uint32_t kNoIndex = std::numeric_limits<std::uint32_t>::max();
+// edgesConfirmed()'s margin in units of the walk's plane tolerance (1e-9 of the pair's size)
+constexpr double kConfirmMargin = 1e3;
 
 // One ordered view of the pair: feature 1 on p1, feature 2 on p2.
 struct View {
@@ -357,11 +359,13 @@ Outcome stepVF(const View& w, std::uint32_t v, std::uint32_t fi, const Tol& tol)
     return set2(Feature::edge(closestBoundaryEdge(*w.p2, fi, x, x)));
 
   const double D = glm::dot(f.normal, x) - f.offset;
-  // the edge of v that descends most steeply toward (D > 0) or away from (D < 0) the plane
+  // the edge of v that descends most steeply toward (D > 0) or away from (D < 0) the plane (the
+  // face's normal turned into p1's frame once, not each edge into p2's)
+  const Vec3 n1 = w.T12->rotate(f.normal);
   double steepest = 0.0;
   std::uint32_t edge = kNoIndex;
   for (const auto& ve : w.p1->vertexEdges(v)) {
-    const double c = glm::dot(w.T21->rotate(ve.out), f.normal);
+    const double c = glm::dot(ve.out, n1);
     if (c < steepest)
       steepest = c, edge = ve.edge;
   }
@@ -465,6 +469,83 @@ Outcome stepEF(const View& w, std::uint32_t ei, std::uint32_t fi, const Tol& tol
   return kDone;
 }
 
+// The closest points of an edge pair, as closestPoints() computes them (A's frame). No default
+// values: it lives on the walk's every query and is read only once set (zeroing it, and the
+// results below, cost a tenth of a near-contact pair query: PairQuery/NearContact).
+struct EdgePair {
+  double s, t;   // parameters on ea and eb
+  Vec3 c1, c2;   // the closest points
+  double dist2;  // squared distance
+  Vec3 n;        // ea.dir x eb.dir
+  double len;    // |n|
+  void set(const detail::SegmentPair& p) {
+    s = p.s, t = p.t, c1 = p.c1, c2 = p.c2, dist2 = p.dist2;
+  }
+};
+
+// The witnesses of the final feature pair (A's frame); set by closestPoints().
+struct Witness {
+  Vec3 point_a, point_b, normal;
+  double distance;
+};
+
+void edgePair(const Polytope& a,
+              std::uint32_t ea_i,
+              const Polytope& b,
+              std::uint32_t eb_i,
+              const Transform& T_ab,
+              EdgePair& out) {
+  const auto& ea = a.edges()[ea_i];
+  const auto& eb = b.edges()[eb_i];
+  out.n = glm::cross(ea.dir, T_ab.rotate(eb.dir));
+  out.len = glm::length(out.n);
+  const Vec3& ta = a.vertices()[ea.tail].p;
+  const Vec3& ha = a.vertices()[ea.head].p;
+  const Vec3 tb = T_ab.apply(b.vertices()[eb.tail].p), hb = T_ab.apply(b.vertices()[eb.head].p);
+  // (edges within 1e-3 rad of parallel: closestSegments' line solution is ill-conditioned)
+  out.set(out.len > 1e-3 ? closestSegments(ta, ha, tb, hb) : closestSegmentsExact(ta, ha, tb, hb));
+}
+
+// V-Clip's termination condition checked on the closest points themselves (Mirtich 1998,
+// Theorem 2): when the point of edge ea closest to edge eb lies in VR(eb) and the point of eb
+// closest to ea lies in VR(ea), they are the polytopes' closest points (x2 in VR(ea) puts B's
+// point outside A with A's nearest point x1, and the other way round: the slab between them
+// separates). The walk's step would end there too, after clipping each edge against the other's
+// region and two derivative tests (a square root and a division each): a warm edge-edge pair,
+// half of the near-contact path, is confirmed by eight plane tests instead. Each test must hold
+// by `margin` and the edges must cross at more than 1e-3 rad with both points inside their
+// edges; anything closer to a region's boundary, or a gap within the margin, goes through the
+// walk's step as before. A's frame; `out` holds the points for closestPoints().
+bool edgesConfirmed(const Polytope& a,
+                    std::uint32_t ea_i,
+                    const Polytope& b,
+                    std::uint32_t eb_i,
+                    const Transform& X_AB,
+                    const Transform& X_BA,
+                    double margin,
+                    EdgePair& out) {
+  const auto& ea = a.edges()[ea_i];
+  const auto& eb = b.edges()[eb_i];
+  out.n = glm::cross(ea.dir, X_AB.rotate(eb.dir));
+  out.len = glm::length(out.n);
+  if (!(out.len > 1e-3))
+    return false;
+  out.set(closestSegments(a.vertices()[ea.tail].p, a.vertices()[ea.head].p,
+                          X_AB.apply(b.vertices()[eb.tail].p),
+                          X_AB.apply(b.vertices()[eb.head].p)));
+  const EdgePair& s = out;
+  if (!(s.s > 0.0 && s.s < 1.0 && s.t > 0.0 && s.t < 1.0) || !(s.dist2 > margin * margin))
+    return false;
+  auto inRegion = [margin](const Polytope& p, std::uint32_t ei, const Vec3& x) {
+    const auto& e = p.edges()[ei];
+    const Vec3 r = x - p.vertices()[e.tail].p;
+    const double along = glm::dot(r, e.dir);
+    return along > margin && e.length - along > margin && glm::dot(r, e.fe_normal[0]) > margin &&
+           glm::dot(r, e.fe_normal[1]) > margin;
+  };
+  return inRegion(a, ea_i, s.c2) && inRegion(b, eb_i, X_BA.apply(s.c1));
+}
+
 Outcome dispatch(const View& w, Feature f1, Feature f2, const Tol& tol) {
   using FT = FeatureType;
   switch (f1.type) {
@@ -504,8 +585,10 @@ void closestPoints(const Polytope& a,
                    const Transform& T_ab,
                    Feature fa,
                    Feature fb,
-                   ClosestResult& r) {
+                   const EdgePair* known,
+                   Witness& r) {
   using FT = FeatureType;
+  r.normal = Vec3{0.0};
   auto vertA = [&](std::uint32_t i) { return a.vertices()[i].p; };
   auto vertB = [&](std::uint32_t i) { return T_ab.apply(b.vertices()[i].p); };
   auto centreLine = [&] { return T_ab.apply(b.centroid()) - a.centroid(); };
@@ -523,15 +606,13 @@ void closestPoints(const Polytope& a,
     const Vec3 t = vertA(e.tail), h = vertA(e.head);
     r.point_a = t + (h - t) * closestOnSegment(r.point_b, t, h);
   } else if (fa.type == FT::kEdge && fb.type == FT::kEdge) {
-    const auto& ea = a.edges()[fa.index];
-    const auto& eb = b.edges()[fb.index];
-    const Vec3 n = glm::cross(ea.dir, T_ab.rotate(eb.dir));
-    const double len = glm::length(n);
-    // (edges within 1e-3 rad of parallel: closestSegments' line solution is ill-conditioned)
-    const auto s =
-        len > 1e-3
-            ? closestSegments(vertA(ea.tail), vertA(ea.head), vertB(eb.tail), vertB(eb.head))
-            : closestSegmentsExact(vertA(ea.tail), vertA(ea.head), vertB(eb.tail), vertB(eb.head));
+    EdgePair computed;  // NOLINT(cppcoreguidelines-pro-type-member-init): set before it is read
+    if (known == nullptr)
+      edgePair(a, fa.index, b, fb.index, T_ab, computed);
+    const EdgePair& ep = known != nullptr ? *known : computed;
+    const EdgePair& s = ep;
+    const Vec3& n = ep.n;
+    const double len = ep.len;
     r.point_a = s.c1;
     r.point_b = s.c2;
     const bool interior = s.s > 0.0 && s.s < 1.0 && s.t > 0.0 && s.t < 1.0;
@@ -592,8 +673,10 @@ ClosestResult closestFeatures(const Polytope& a,
   const View ab{&a, &b, &X_AB, &X_BA, &ambiguous};
   const View ba{&b, &a, &X_BA, &X_AB, &ambiguous};
   const Transform I{};
-  ClosestResult r;
   Outcome o;
+  // an edge pair's closest points, when edgesConfirmed() ended the walk
+  EdgePair known;  // NOLINT(cppcoreguidelines-pro-type-member-init): set before it is read
+  bool confirmed = false;
   std::uint32_t it = 0;
   int nudges = 0;
   for (;; ++it) {
@@ -608,6 +691,12 @@ ClosestResult closestFeatures(const Polytope& a,
         break;
     }
     const bool swap = static_cast<int>(fa.type) > static_cast<int>(fb.type);
+    if (fa.type == FeatureType::kEdge && fb.type == FeatureType::kEdge &&
+        edgesConfirmed(a, fa.index, b, fb.index, X_AB, X_BA, kConfirmMargin * tol.len, known)) {
+      confirmed = true;
+      o = kDone;
+      break;
+    }
     ambiguous = false;
     o = swap ? dispatch(ba, fb, fa, tol) : dispatch(ab, fa, fb, tol);
     if (o.act == Act::kDone && ambiguous && nudges < 4) {
@@ -642,25 +731,31 @@ ClosestResult closestFeatures(const Polytope& a,
       fb = o.f;
     }
   }
-  r.iterations = it;
-  r.fa = fa;
-  r.fb = fb;
   cache.a = fa;
   cache.b = fb;
-  if (it == cap) {
-    r.end = WalkEnd::kIterationCap;
+  if (it == cap || o.act == Act::kPenetration) {
+    ClosestResult r;
+    r.iterations = it;
+    r.fa = fa;
+    r.fb = fb;
+    r.end = it == cap ? WalkEnd::kIterationCap : WalkEnd::kPenetration;
+    r.status = it == cap ? ContactStatus::kSeparated : ContactStatus::kPenetrating;
     return r;
   }
-  if (o.act == Act::kPenetration) {
-    r.end = WalkEnd::kPenetration;
-    r.status = ContactStatus::kPenetrating;
-    return r;
-  }
-  r.end = WalkEnd::kConverged;
-  closestPoints(a, b, X_AB, fa, fb, r);
-  r.status = r.distance <= options.touch_tolerance * scale ? ContactStatus::kTouching
-                                                           : ContactStatus::kSeparated;
-  return r;
+  Witness w;  // NOLINT(cppcoreguidelines-pro-type-member-init): closestPoints() sets it
+  closestPoints(a, b, X_AB, fa, fb, confirmed ? &known : nullptr, w);
+  // every field written once (a ClosestResult built with its defaults was zeroed first)
+  return ClosestResult{.status = w.distance <= options.touch_tolerance * scale
+                                     ? ContactStatus::kTouching
+                                     : ContactStatus::kSeparated,
+                       .end = WalkEnd::kConverged,
+                       .distance = w.distance,
+                       .point_a = w.point_a,
+                       .point_b = w.point_b,
+                       .normal = w.normal,
+                       .fa = fa,
+                       .fb = fb,
+                       .iterations = it};
 }
 
 }  // namespace hapticd::collision

@@ -21,12 +21,15 @@ void toWorld(const Transform& X_WA, const PairResult& r, Contact& c) {
   c.normal = X_WA.rotate(r.normal);
   c.point_a = X_WA.apply(r.point_a);
   c.point_b = X_WA.apply(r.point_b);
-  c.manifold = r.manifold;
   c.feature_a = r.fa;
   c.feature_b = r.fb;
+  // the points in use only (those beyond the count are never read)
+  c.manifold.count = r.manifold.count;
+  c.manifold.truncated = r.manifold.truncated;
   for (std::size_t i = 0; i < c.manifold.count; ++i) {
     c.manifold.points[i].point = X_WA.apply(r.manifold.points[i].point);
     c.manifold.points[i].normal = X_WA.rotate(r.manifold.points[i].normal);
+    c.manifold.points[i].depth = r.manifold.points[i].depth;
   }
 }
 
@@ -527,9 +530,10 @@ void CollisionWorld::test(PairState& s) {
   // X_AB = X_WA^-1 X_WB, translations subtracted first (far from the origin stays exact)
   const geom::Mat3 Rt = glm::transpose(X_WA.R);
   const Transform X_AB{Rt * X_WB.R, Rt * (X_WB.t - X_WA.t)};
-  const PairResult r = queryPair(*bodies_[pa.body].desc.primitives[pa.index].shape,
-                                 *bodies_[pb.body].desc.primitives[pb.index].shape, X_AB, s.cache,
-                                 depth_scratch_, options_.query);
+  PairResult& r = result_;
+  queryPair(*bodies_[pa.body].desc.primitives[pa.index].shape,
+            *bodies_[pb.body].desc.primitives[pb.index].shape, X_AB, s.cache, depth_scratch_,
+            options_.query, r);
   toWorld(X_WA, r, s.last);
   s.last.answered = true;
   s.last_tested = tick_;

@@ -265,6 +265,7 @@ class CollisionWorld {
   ReservedVector<std::uint32_t> contact_order_;  // scratch: states listed in contacts(), sorted
   ReservedVector<Contact> contacts_;
   DepthScratch depth_scratch_;  // the narrow phase's, sized for every shape added
+  PairResult result_;           // test()'s answer in A's frame, reused (no zeroing per query)
   std::uint64_t tick_ = 0;
   std::size_t reserved_pairs_ = 0;
   std::uint64_t cold_queries_ = 0;

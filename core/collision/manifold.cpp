@@ -222,6 +222,42 @@ bool mayLieInPlane(const Polytope& p, Feature f, const Vec3& dir_p, double sin_t
   return false;
 }
 
+// An edge against an edge whose manifold can only be the closest pair: neither edge has a face
+// within sin_tol of the contact plane (normal n in A's frame, n_b in B's; A's faces facing along
+// n, B's against it, as contactFeature() takes them) and the two edges do not both lie in the
+// plane parallel to each other (parallelEdges()). The same verdict as the general path below,
+// from four dot products and a cross product: crossing edges are half of a near-contact path, and
+// their closest pair's normal, the edges' common perpendicular, always passes mayLieInPlane().
+bool crossingEdgesOnly(const Polytope& a,
+                       std::uint32_t ea_i,
+                       const Vec3& n,
+                       const Polytope& b,
+                       std::uint32_t eb_i,
+                       const Vec3& n_b,
+                       const Transform& X_AB,
+                       double sin_tol) {
+  // a face is in the plane when its cosine is >= sqrt(1 - sin_tol^2), which is >= 1 - sin_tol:
+  // cosines below that bound are out without the square root (it was a third of this test)
+  const double below = 1.0 - sin_tol;
+  const auto& ea = a.edges()[ea_i];
+  const auto& eb = b.edges()[eb_i];
+  double cos = -2.0;
+  for (const std::uint32_t f : ea.face)
+    cos = std::max(cos, glm::dot(a.faces()[f].normal, n));
+  for (const std::uint32_t f : eb.face)
+    cos = std::max(cos, glm::dot(b.faces()[f].normal, -n_b));
+  if (cos >= below && cos >= std::sqrt(std::max(0.0, 1.0 - sin_tol * sin_tol)))
+    return false;
+  const bool in_plane =
+      std::abs(glm::dot(ea.dir, n)) <= sin_tol && std::abs(glm::dot(eb.dir, n_b)) <= sin_tol;
+  if (!in_plane)
+    return true;
+  // not parallel: |ea x eb| > sin_tol, decided without the square root when clearly so
+  const Vec3 c = glm::cross(ea.dir, X_AB.rotate(eb.dir));
+  const double c2 = glm::dot(c, c);
+  return c2 > 4.0 * sin_tol * sin_tol || std::sqrt(c2) > sin_tol;
+}
+
 // The contact feature of one side, `dir` pointing from this side toward the other (A's frame):
 // a face parallel to the contact plane (polygon); else, when `want_edge`, an edge lying in the
 // contact plane (segment); else the witness point.
@@ -394,8 +430,14 @@ void manifoldFromClosest(const Polytope& a,
     out.truncated = false;
   };
 
-  // a side whose contact feature can only be its witness point: the closest pair alone
+  // a side whose contact feature can only be its witness point, or crossing edges: the closest
+  // pair alone
   const Vec3 n_b = glm::transpose(X_AB.R) * n;
+  if (closest.fa.type == FeatureType::kEdge && closest.fb.type == FeatureType::kEdge &&
+      crossingEdgesOnly(a, closest.fa.index, n, b, closest.fb.index, n_b, X_AB, sin_tol)) {
+    single();
+    return;
+  }
   if (!mayLieInPlane(a, closest.fa, n, sin_tol) || !mayLieInPlane(b, closest.fb, n_b, sin_tol)) {
     single();
     return;

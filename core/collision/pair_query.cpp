@@ -144,14 +144,26 @@ PairResult queryPair(const Polytope& a,
                      PairCache& cache,
                      DepthScratch& scratch,
                      const QueryOptions& options) {
-  const double tol = options.touch_tolerance * std::max(a.radius(), b.radius());
   PairResult r;
+  queryPair(a, b, X_AB, cache, scratch, options, r);
+  return r;
+}
+
+void queryPair(const Polytope& a,
+               const Polytope& b,
+               const Transform& X_AB,
+               PairCache& cache,
+               DepthScratch& scratch,
+               const QueryOptions& options,
+               PairResult& r) {
+  const double tol = options.touch_tolerance * std::max(a.radius(), b.radius());
+  r.iterations = 0;
   if (cache.penetrating) {
     // overlapping last tick: the depth first; the walk only once they come apart
     const DepthResult d = penetrationDepth(a, b, X_AB, cache.depth, scratch);
     if (d.depth > tol) {
       penetrating(a, b, X_AB, d, r);
-      return r;
+      return;
     }
     cache.penetrating = false;
   }
@@ -161,14 +173,14 @@ PairResult queryPair(const Polytope& a,
     r.status = ContactStatus::kSeparated;
     r.distance = c.distance;
     fromWalk(a, b, X_AB, c, r);
-    return r;
+    return;
   }
   // touching, overlapping, or a walk that gave up: the separating-axis answer decides
   const DepthResult d = penetrationDepth(a, b, X_AB, cache.depth, scratch);
   if (d.depth > tol) {
     penetrating(a, b, X_AB, d, r);
     cache.penetrating = true;
-    return r;
+    return;
   }
   if (c.end == WalkEnd::kConverged) {
     // touching: the walk's exact pair, the separating axis's normal
@@ -177,7 +189,7 @@ PairResult queryPair(const Polytope& a,
     ClosestResult cn = c;
     cn.normal = d.normal;
     fromWalk(a, b, X_AB, cn, r);
-    return r;
+    return;
   }
   if (d.depth >= 0.0) {
     // overlapping by no more than the tolerance: touching
@@ -191,7 +203,7 @@ PairResult queryPair(const Polytope& a,
     r.fa = featureAt(a, Transform{}, d.support_a, d.point_a, on);
     r.fb = featureAt(b, X_AB, d.support_b, d.point_b, on);
     r.manifold = manifoldFromDepth(a, b, X_AB, d);
-    return r;
+    return;
   }
   // the walk claimed penetration (or gave up) but a separating axis exists
   bruteDistance(a, b, X_AB, r);
@@ -202,7 +214,6 @@ PairResult queryPair(const Polytope& a,
   cn.fa = r.fa, cn.fb = r.fb, cn.point_a = r.point_a, cn.point_b = r.point_b;
   cn.normal = r.normal, cn.distance = r.distance;
   manifoldFromClosest(a, b, X_AB, cn, r.manifold);
-  return r;
 }
 
 }  // namespace hapticd::collision
