@@ -94,6 +94,17 @@ Feature featureAt(const Polytope& p,
   return {};
 }
 
+// The depth: the coherent method's when the cache has a tracker.
+DepthResult depthOf(const Polytope& a,
+                    const Polytope& b,
+                    const Transform& X_AB,
+                    PairCache& cache,
+                    DepthScratch& scratch) {
+  return cache.tracker != nullptr
+             ? penetrationDepthCoherent(a, b, X_AB, *cache.tracker, cache.depth, scratch)
+             : penetrationDepth(a, b, X_AB, cache.depth, scratch);
+}
+
 // The answer of an overlapping pair from its minimal translation.
 void penetrating(const Polytope& a,
                  const Polytope& b,
@@ -148,7 +159,7 @@ PairResult queryPair(const Polytope& a,
   PairResult r;
   if (cache.penetrating) {
     // overlapping last tick: the depth first; the walk only once they come apart
-    const DepthResult d = penetrationDepth(a, b, X_AB, cache.depth, scratch);
+    const DepthResult d = depthOf(a, b, X_AB, cache, scratch);
     if (d.depth > tol) {
       penetrating(a, b, X_AB, d, r);
       return r;
@@ -164,7 +175,7 @@ PairResult queryPair(const Polytope& a,
     return r;
   }
   // touching, overlapping, or a walk that gave up: the separating-axis answer decides
-  const DepthResult d = penetrationDepth(a, b, X_AB, cache.depth, scratch);
+  const DepthResult d = depthOf(a, b, X_AB, cache, scratch);
   if (d.depth > tol) {
     penetrating(a, b, X_AB, d, r);
     cache.penetrating = true;

@@ -107,6 +107,60 @@ DepthResult penetrationDepth(const Polytope& a,
                              DepthCache& cache,
                              DepthScratch& scratch = DepthScratch::forThisThread());
 
+/// Per-pair state of the coherent exact depth (penetrationDepthCoherent): every candidate of the
+/// exact method (face of A, face of B, edge of A with its arc's crossings) with a lower bound of
+/// its depth, in a min-heap. Sized off the servo thread by reserve(); then no query allocates.
+struct DepthTracker {
+  /// One candidate: its depth is at least key - drift at the current pose.
+  struct Entry {
+    double key = 0.0;
+    std::uint32_t code = 0;  ///< kind (kCodeFaceA, kCodeFaceB, kCodeEdgeA) << 30 | index
+    std::uint32_t hint = 0;  ///< support hint (the other polytope's vertex)
+  };
+  static constexpr std::uint32_t kCodeFaceA = 0, kCodeFaceB = 1, kCodeEdgeA = 2;
+  /// Counters since construction (a full solve is a fallback when a tracked state existed).
+  struct Stats {
+    std::uint64_t queries = 0;    ///< penetrationDepthCoherent calls
+    std::uint64_t certified = 0;  ///< answered from the tracked state
+    std::uint64_t fallbacks = 0;  ///< the certificate failed: the full method ran
+    std::uint64_t cold = 0;       ///< no tracked state (first query, apart, or other polytopes)
+    std::uint64_t evaluated = 0;  ///< candidates evaluated by certified queries
+  } stats;
+
+  /// Room for the pair (a, b) (allocates; off the servo thread). A tracker too small for a pair
+  /// answers it by the full method (no allocation) and keeps no state.
+  void reserve(const Polytope& a, const Polytope& b);
+  /// Forget the tracked state (the next query solves in full).
+  void reset() { valid = false; }
+
+  // the tracked state (penetration.cpp)
+  std::vector<Entry> heap;     ///< min-heap on key
+  std::vector<Entry> popped;   ///< this query's evaluated entries
+  std::vector<double> value_a, value_b, edge_min;  ///< the full solve's record
+  std::vector<std::uint32_t> support_b;
+  const Polytope* a = nullptr;
+  const Polytope* b = nullptr;
+  Transform last;      ///< the pose of the last answer
+  double drift = 0.0;  ///< sum of the per-query bounds on the change of any depth since the full solve
+  double limit = 0.0;  ///< drift at which a full solve is forced (keys lose no precision)
+  bool valid = false;
+};
+
+/// The exact MTD (penetrationDepthExact's answer: same depth, normal, features and witnesses, up
+/// to the rounding of tied support vertices), proven from the tracked state when it can be: the
+/// candidates whose lower bound (last evaluated depth minus the pose change's Lipschitz bound
+/// since) does not exceed the best depth found are evaluated exactly, nearest first; the answer
+/// is certified when every other bound exceeds it and it is unique (docs/narrow-phase.md,
+/// "Coherent exact depth"). Else, or without a state, penetrationDepthExact runs in full and
+/// rebuilds the state. No allocation once `tracker` and `scratch` are reserved for the pair; any
+/// thread that owns them.
+DepthResult penetrationDepthCoherent(const Polytope& a,
+                                     const Polytope& b,
+                                     const Transform& X_AB,
+                                     DepthTracker& tracker,
+                                     DepthCache& cache,
+                                     DepthScratch& scratch = DepthScratch::forThisThread());
+
 /// Translation distance along unit `dir` (A's frame) that B must move so the pair stops
 /// overlapping: max over A of dot(dir, x) - min over B of dot(dir, x) (negative when already
 /// separated along dir). `hint_a`, `hint_b`: support hints, updated.
