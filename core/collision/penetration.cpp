@@ -428,7 +428,7 @@ DepthResult penetrationDepthExact(const Polytope& a,
 }
 
 void DepthTracker::reserve(const Polytope& pa, const Polytope& pb) {
-  const std::size_t n = pa.faces().size() + pb.faces().size() + pa.edges().size();
+  const std::size_t n = pb.faces().size() + pa.edges().size();
   heap.reserve(n);
   popped.reserve(n);
   if (value_a.size() < pa.faces().size())
@@ -439,6 +439,14 @@ void DepthTracker::reserve(const Polytope& pa, const Polytope& pb) {
     support_b.resize(pb.faces().size());
   if (edge_min.size() < pa.edges().size())
     edge_min.resize(pa.edges().size());
+  if (face_support_a.size() < pa.faces().size())
+    face_support_a.resize(pa.faces().size());
+  if (stamp_a.size() < pa.faces().size())
+    stamp_a.resize(pa.faces().size());
+  if (stamp_b.size() < pb.faces().size())
+    stamp_b.resize(pb.faces().size());
+  if (neg_normal_b.size() < pb.faces().size())
+    neg_normal_b.resize(pb.faces().size());
 }
 
 namespace {
@@ -513,13 +521,26 @@ bool coherentTry(const Polytope& a,
   const auto fa = a.faces();
   const auto fb = b.faces();
   const auto ea = a.edges();
-  auto neg_normal = [&](std::uint32_t k) { return -X_AB.rotate(fb[k].normal); };
+  const std::uint64_t tick = ++t.tick;
+  // B's face normals in A's frame and A's face depths, each computed once per query
+  auto neg_normal = [&](std::uint32_t k) {
+    if (t.stamp_b[k] != tick) {
+      t.stamp_b[k] = tick;
+      t.neg_normal_b[k] = -X_AB.rotate(fb[k].normal);
+    }
+    return t.neg_normal_b[k];
+  };
   CoherentBest best;
-  auto faceA = [&](std::uint32_t i, std::uint32_t& hint) {
+  auto faceA = [&](std::uint32_t i) {
+    if (t.stamp_a[i] == tick)
+      return t.value_a[i];
+    t.stamp_a[i] = tick;
     const Vec3& n = fa[i].normal;
+    std::uint32_t& hint = t.face_support_a[i];
     hint = b.support(X_BA.rotate(-n), hint);
     const double d = fa[i].offset - glm::dot(n, X_AB.apply(b.vertices()[hint].p));
     best.offer(d, n, DepthFeature::kFaceA, i, 0, hint);
+    t.value_a[i] = d;
     return d;
   };
   const std::size_t budget = t.heap.size() / 4 + 8;
@@ -536,11 +557,8 @@ bool coherentTry(const Polytope& a,
     const std::uint32_t idx = e.code & kIndexMask;
     double value = 0.0;
     switch (e.code >> 30) {
-      case DepthTracker::kCodeFaceA:
-        value = faceA(idx, e.hint);
-        break;
       case DepthTracker::kCodeFaceB: {
-        const Vec3 m = X_AB.rotate(fb[idx].normal);
+        const Vec3 m = -neg_normal(idx);
         e.hint = a.support(-m, e.hint);
         value = fb[idx].offset + glm::dot(m, X_AB.t) - glm::dot(m, a.vertices()[e.hint].p);
         best.offer(value, -m, DepthFeature::kFaceB, 0, idx, e.hint);
@@ -548,18 +566,16 @@ bool coherentTry(const Polytope& a,
       }
       default: {
         // an edge of A: both ends (faces of A) and every crossing on its arc
-        std::uint32_t s0 = e.hint;
-        const double d0 = faceA(ea[idx].face[0], s0);
-        std::uint32_t s1 = s0;
-        const double d1 = faceA(ea[idx].face[1], s1);
+        const double d0 = faceA(ea[idx].face[0]);
+        const double d1 = faceA(ea[idx].face[1]);
         double arc_min = 0.0;
         const bool bounded = edgeArc(
-            a, b, X_AB, idx, s0, s1, neg_normal,
+            a, b, X_AB, idx, t.face_support_a[ea[idx].face[0]],
+            t.face_support_a[ea[idx].face[1]], neg_normal,
             [&](double d, const Vec3& axis, std::uint32_t j) {
               best.offer(d, axis, DepthFeature::kEdgeEdge, idx, j, 0);
             },
             arc_min);
-        e.hint = s0;
         value = bounded ? std::min({d0, d1, arc_min}) : -std::numeric_limits<double>::infinity();
         break;
       }
@@ -608,16 +624,19 @@ DepthResult rebuild(const Polytope& a,
   const auto fb = b.faces();
   const auto ea = a.edges();
   t.heap.clear();
+  // the faces of A need no entries: each is an end of its edges' arcs, whose keys bound it
   for (std::uint32_t i = 0; i < fa.size(); ++i) {
-    t.heap.push_back({t.value_a[i], (DepthTracker::kCodeFaceA << 30) | i,
-                      scratch.support_of_face[i]});
+    t.face_support_a[i] = scratch.support_of_face[i];
+    t.stamp_a[i] = 0;
   }
+  std::fill(t.stamp_b.begin(), t.stamp_b.end(), 0);
+  t.tick = 0;
   for (std::uint32_t j = 0; j < fb.size(); ++j)
     t.heap.push_back({t.value_b[j], (DepthTracker::kCodeFaceB << 30) | j, t.support_b[j]});
   for (std::uint32_t i = 0; i < ea.size(); ++i) {
     const auto& f = ea[i].face;
     t.heap.push_back({std::min({t.value_a[f[0]], t.value_a[f[1]], t.edge_min[i]}),
-                      (DepthTracker::kCodeEdgeA << 30) | i, scratch.support_of_face[f[0]]});
+                      (DepthTracker::kCodeEdgeA << 30) | i, 0});
   }
   std::make_heap(t.heap.begin(), t.heap.end(), keyAfter);
   t.a = &a;
@@ -642,9 +661,11 @@ DepthResult penetrationDepthCoherent(const Polytope& a,
   const std::size_t fa = a.faces().size();
   const std::size_t fb = b.faces().size();
   const std::size_t ea = a.edges().size();
-  const bool fits = t.heap.capacity() >= fa + fb + ea && t.popped.capacity() >= fa + fb + ea &&
+  const bool fits = t.heap.capacity() >= fb + ea && t.popped.capacity() >= fb + ea &&
                     t.value_a.size() >= fa && t.value_b.size() >= fb && t.support_b.size() >= fb &&
-                    t.edge_min.size() >= ea && ea <= kIndexMask && fb <= kIndexMask;
+                    t.edge_min.size() >= ea && t.face_support_a.size() >= fa &&
+                    t.stamp_a.size() >= fa && t.stamp_b.size() >= fb &&
+                    t.neg_normal_b.size() >= fb && ea <= kIndexMask && fb <= kIndexMask;
   if (t.valid && fits && t.a == &a && t.b == &b) {
     DepthResult r;
     if (coherentTry(a, b, X_AB, t, cache, r)) {

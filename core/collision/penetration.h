@@ -108,16 +108,16 @@ DepthResult penetrationDepth(const Polytope& a,
                              DepthScratch& scratch = DepthScratch::forThisThread());
 
 /// Per-pair state of the coherent exact depth (penetrationDepthCoherent): every candidate of the
-/// exact method (face of A, face of B, edge of A with its arc's crossings) with a lower bound of
-/// its depth, in a min-heap. Sized off the servo thread by reserve(); then no query allocates.
+/// exact method (face of B; edge of A with its arc's ends, faces of A, and crossings) with a lower
+/// bound of its depth, in a min-heap. Sized off the servo thread by reserve(); then no query allocates.
 struct DepthTracker {
   /// One candidate: its depth is at least key - drift at the current pose.
   struct Entry {
     double key = 0.0;
-    std::uint32_t code = 0;  ///< kind (kCodeFaceA, kCodeFaceB, kCodeEdgeA) << 30 | index
-    std::uint32_t hint = 0;  ///< support hint (the other polytope's vertex)
+    std::uint32_t code = 0;  ///< kind (kCodeFaceB, kCodeEdgeA) << 30 | index
+    std::uint32_t hint = 0;  ///< a face of B's support hint (A's vertex)
   };
-  static constexpr std::uint32_t kCodeFaceA = 0, kCodeFaceB = 1, kCodeEdgeA = 2;
+  static constexpr std::uint32_t kCodeFaceB = 1, kCodeEdgeA = 2;
   /// Counters since construction (a full solve is a fallback when a tracked state existed).
   struct Stats {
     std::uint64_t queries = 0;    ///< penetrationDepthCoherent calls
@@ -138,6 +138,13 @@ struct DepthTracker {
   std::vector<Entry> popped;   ///< this query's evaluated entries
   std::vector<double> value_a, value_b, edge_min;  ///< the full solve's record
   std::vector<std::uint32_t> support_b;
+  /// Per face of A: B's support vertex against it (the climbs' hints) and the query that last
+  /// evaluated it (its depth is then value_a's); per face of B: minus its normal in A's frame and
+  /// the query that computed it.
+  std::vector<std::uint32_t> face_support_a;
+  std::vector<std::uint64_t> stamp_a, stamp_b;
+  std::vector<Vec3> neg_normal_b;
+  std::uint64_t tick = 0;
   const Polytope* a = nullptr;
   const Polytope* b = nullptr;
   Transform last;      ///< the pose of the last answer
