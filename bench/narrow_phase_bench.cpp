@@ -212,11 +212,13 @@ void ours(benchmark::State& state, std::size_t n, bool overlap, bool coherent) {
   const auto& poses = coherent ? s.coherent : s.incoherent;
   std::size_t i = 0;
   PairCache warm;
-  // the coherent path tracks the depth (penetrationDepthCoherent); a fresh cache per query has
+  // the coherent path tracks the depth (penetrationDepthCoherent) where tracking pays (up to
+  // 128 vertices here; Depth/Coherent/<N> gives it at every N); a fresh cache per query has
   // nothing to track
   collision::DepthTracker tracker;
   tracker.reserve(*s.a, *s.b);
-  if (overlap && coherent)
+  const bool tracked = overlap && coherent && collision::DepthTracker::pays(*s.a, *s.b);
+  if (tracked)
     warm.tracker = &tracker;
   collision::FeatureCache warm_features;
   for (auto _ : state) {
@@ -235,7 +237,7 @@ void ours(benchmark::State& state, std::size_t n, bool overlap, bool coherent) {
     }
   }
   setCounters(state, w, s);
-  if (overlap && coherent)
+  if (tracked)
     setTrackerCounters(state, tracker.stats);
 }
 

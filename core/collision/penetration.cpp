@@ -459,8 +459,8 @@ bool keyAfter(const DepthTracker::Entry& x, const DepthTracker::Entry& y) {
 
 // The magnitude of the coordinates the depths are computed from (their rounding's scale).
 double depthScale(const Polytope& a, const Polytope& b, const Transform& X_AB) {
-  return glm::length(a.centroid()) + a.radius() + glm::length(X_AB.t) +
-         glm::length(b.centroid()) + b.radius();
+  return glm::length(a.centroid()) + a.radius() + glm::length(X_AB.t) + glm::length(b.centroid()) +
+         b.radius();
 }
 
 // A bound on how much the support gap along any direction fixed in A's frame, or in B's, can
@@ -570,8 +570,8 @@ bool coherentTry(const Polytope& a,
         const double d1 = faceA(ea[idx].face[1]);
         double arc_min = 0.0;
         const bool bounded = edgeArc(
-            a, b, X_AB, idx, t.face_support_a[ea[idx].face[0]],
-            t.face_support_a[ea[idx].face[1]], neg_normal,
+            a, b, X_AB, idx, t.face_support_a[ea[idx].face[0]], t.face_support_a[ea[idx].face[1]],
+            neg_normal,
             [&](double d, const Vec3& axis, std::uint32_t j) {
               best.offer(d, axis, DepthFeature::kEdgeEdge, idx, j, 0);
             },

@@ -14,6 +14,9 @@
 ///   its answer (DepthCache), its answer certified or refused.
 /// penetrationDepth, the one the pair query calls, takes EPA's certified answer for larger hulls
 /// and the exact method otherwise or when EPA refuses.
+/// - coherent exact (penetrationDepthCoherent, DepthTracker): the exact method's answer proven
+///   from lower bounds on every candidate kept since its last evaluation, the full method only
+///   when the proof fails; the pair query uses it when PairCache::tracker is set.
 ///
 /// Memory: EPA works in fixed arrays on the stack. The exact method needs per-face scratch; the
 /// caller owns it (DepthScratch), sized before the first query for the largest polytope it will
@@ -109,7 +112,8 @@ DepthResult penetrationDepth(const Polytope& a,
 
 /// Per-pair state of the coherent exact depth (penetrationDepthCoherent): every candidate of the
 /// exact method (face of B; edge of A with its arc's ends, faces of A, and crossings) with a lower
-/// bound of its depth, in a min-heap. Sized off the servo thread by reserve(); then no query allocates.
+/// bound of its depth, in a min-heap. Sized off the servo thread by reserve(); then no query
+/// allocates.
 struct DepthTracker {
   /// One candidate: its depth is at least key - drift at the current pose.
   struct Entry {
@@ -132,10 +136,17 @@ struct DepthTracker {
   void reserve(const Polytope& a, const Polytope& b);
   /// Forget the tracked state (the next query solves in full).
   void reset() { valid = false; }
+  /// Whether tracking is expected to beat penetrationDepth's warm-started EPA for this pair: up to
+  /// 2^19 edge pairs (two 128-vertex hulls have about 1.4e5; two of 512, 2.3e6). Measured on the
+  /// benchmark path (bench/README.md): 2x faster at 128 vertices, 1.4x slower at 512, where the
+  /// per-query motion bound leaves about 60 candidates to evaluate.
+  static bool pays(const Polytope& a, const Polytope& b) {
+    return a.edges().size() * b.edges().size() <= (std::size_t{1} << 19);
+  }
 
   // the tracked state (penetration.cpp)
-  std::vector<Entry> heap;     ///< min-heap on key
-  std::vector<Entry> popped;   ///< this query's evaluated entries
+  std::vector<Entry> heap;                         ///< min-heap on key
+  std::vector<Entry> popped;                       ///< this query's evaluated entries
   std::vector<double> value_a, value_b, edge_min;  ///< the full solve's record
   std::vector<std::uint32_t> support_b;
   /// Per face of A: B's support vertex against it (the climbs' hints) and the query that last
@@ -147,8 +158,9 @@ struct DepthTracker {
   std::uint64_t tick = 0;
   const Polytope* a = nullptr;
   const Polytope* b = nullptr;
-  Transform last;      ///< the pose of the last answer
-  double drift = 0.0;  ///< sum of the per-query bounds on the change of any depth since the full solve
+  Transform last;  ///< the pose of the last answer
+  double drift =
+      0.0;  ///< sum of the per-query bounds on the change of any depth since the full solve
   double limit = 0.0;  ///< drift at which a full solve is forced (keys lose no precision)
   bool valid = false;
 };

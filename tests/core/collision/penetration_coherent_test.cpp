@@ -53,8 +53,8 @@ std::string compare(const Polytope& a,
   if (!(std::abs(c.depth - f.depth) <= 1e-12 * size)) {
     err << "depth " << c.depth << " != full " << f.depth << " (certified " << certified << ")";
   } else if (certified && (c.kind != f.kind || c.ia != f.ia || c.ib != f.ib)) {
-    err << "feature (" << static_cast<int>(c.kind) << ", " << c.ia << ", " << c.ib
-        << ") != full (" << static_cast<int>(f.kind) << ", " << f.ia << ", " << f.ib << ")";
+    err << "feature (" << static_cast<int>(c.kind) << ", " << c.ia << ", " << c.ib << ") != full ("
+        << static_cast<int>(f.kind) << ", " << f.ia << ", " << f.ib << ")";
   } else if (certified && !(glm::length(c.normal - f.normal) <= 1e-12)) {
     err << "normal differs from the full method's by " << glm::length(c.normal - f.normal);
   } else if (certified &&
@@ -145,7 +145,8 @@ TEST(PenetrationCoherent, RandomPathsEqualTheFullMethod) {
     const double unit = pair % 2 ? 1000.0 : 1.0;
     const Polytope a = hullOf(reference::randomPointSet(rng, 4 + rng() % 40, 0.02 * unit));
     const Polytope b = hullOf(reference::randomPointSet(rng, 4 + rng() % 40, 0.02 * unit));
-    runPath(a, b, 900 + static_cast<std::uint64_t>(pair), 200, fails, "random pair " + std::to_string(pair));
+    runPath(a, b, 900 + static_cast<std::uint64_t>(pair), 200, fails,
+            "random pair " + std::to_string(pair));
   }
   std::fflush(stdout);
   EXPECT_EQ(fails.total(), 0u) << fails.summary();
@@ -160,10 +161,9 @@ TEST(PenetrationCoherent, NearDegeneratePoses) {
   for (const double unit : {1.0, 1000.0}) {
     const Polytope cube = hullOf(box(0.01 * unit, 0.01 * unit, 0.01 * unit));
     const Polytope slab = hullOf(box(0.02 * unit, 0.015 * unit, 0.001 * unit));
-    const Polytope tet = hullOf(std::vector<Vec3>{Vec3{0.01, 0.0, -0.004} * unit,
-                                                  Vec3{-0.005, 0.009, -0.004} * unit,
-                                                  Vec3{-0.005, -0.009, -0.004} * unit,
-                                                  Vec3{0.0, 0.0, 0.012} * unit});
+    const Polytope tet = hullOf(
+        std::vector<Vec3>{Vec3{0.01, 0.0, -0.004} * unit, Vec3{-0.005, 0.009, -0.004} * unit,
+                          Vec3{-0.005, -0.009, -0.004} * unit, Vec3{0.0, 0.0, 0.012} * unit});
     const Polytope* shapes[3] = {&cube, &slab, &tet};
     for (int ia = 0; ia < 3; ++ia) {
       for (int ib = 0; ib < 3; ++ib) {
@@ -180,7 +180,8 @@ TEST(PenetrationCoherent, NearDegeneratePoses) {
           // every 10 steps; the centre moves along x, from deep to apart and back
           const double angle = k % 10 == 0 ? 0.0 : std::pow(10.0, -12.0 + (k % 9));
           const Vec3 axis = glm::normalize(Vec3{1.0, 0.3 * (k % 3), 0.1});
-          const double x = 0.018 * unit * (0.3 + 0.9 * std::abs(std::sin(static_cast<double>(k) * 0.05)));
+          const double x =
+              0.018 * unit * (0.3 + 0.9 * std::abs(std::sin(static_cast<double>(k) * 0.05)));
           const Transform X =
               geom::Pose{Vec3{x, 0.0005 * unit * (k % 4), 0.0}, glm::angleAxis(angle, axis)}
                   .toTransform();
