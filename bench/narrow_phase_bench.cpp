@@ -190,6 +190,16 @@ void setCounters(benchmark::State& state, const Wrong& w, const Scenario& s) {
   state.counters["max_rel_err"] = w.max_rel;
 }
 
+// The tracked depth's counters: fallbacks (the certificate failed, the full method ran) and
+// cold queries per query, candidates evaluated per certified answer.
+void setTrackerCounters(benchmark::State& state, const collision::DepthTracker::Stats& t) {
+  const double q = std::max<double>(1.0, static_cast<double>(t.queries));
+  state.counters["fallbacks"] = static_cast<double>(t.fallbacks) / q;
+  state.counters["cold"] = static_cast<double>(t.cold) / q;
+  state.counters["evaluated"] =
+      static_cast<double>(t.evaluated) / std::max<double>(1.0, static_cast<double>(t.certified));
+}
+
 // ---------------------------------------------------------------- ours
 void ours(benchmark::State& state, std::size_t n, bool overlap, bool coherent) {
   Scenario& s = scenario(n, overlap);
@@ -202,6 +212,14 @@ void ours(benchmark::State& state, std::size_t n, bool overlap, bool coherent) {
   const auto& poses = coherent ? s.coherent : s.incoherent;
   std::size_t i = 0;
   PairCache warm;
+  // the coherent path tracks the depth (penetrationDepthCoherent) where tracking pays (up to
+  // 128 vertices here; Depth/Coherent/<N> gives it at every N); a fresh cache per query has
+  // nothing to track
+  collision::DepthTracker tracker;
+  tracker.reserve(*s.a, *s.b);
+  const bool tracked = overlap && coherent && collision::DepthTracker::pays(*s.a, *s.b);
+  if (tracked)
+    warm.tracker = &tracker;
   collision::FeatureCache warm_features;
   for (auto _ : state) {
     const Transform& X = poses[i];
@@ -219,6 +237,69 @@ void ours(benchmark::State& state, std::size_t n, bool overlap, bool coherent) {
     }
   }
   setCounters(state, w, s);
+  if (tracked)
+    setTrackerCounters(state, tracker.stats);
+}
+
+// Depth/Coherent/<N>: the depth alone along the Penetration/Coherent path, tracked
+// (penetrationDepthCoherent, `tracked`) or by the untracked call the pair query made before it
+// (penetrationDepth: EPA warm-started from last tick for large hulls, the separating axes for
+// small ones). Wrong answers: the tracked depth along the whole path against the reference at
+// the check poses of the path, and every tracked answer against the full method
+// (penetrationDepthExact) on the first 2 000 poses (`differ_from_full`).
+void oursDepth(benchmark::State& state, std::size_t n, bool tracked) {
+  Scenario& s = scenario(n, true);
+  const Polytope& a = *s.a;
+  const Polytope& b = *s.b;
+  Wrong w;
+  double differ = 0.0;
+  for (const bool mm : {false, true}) {
+    const double unit = mm ? 1000.0 : 1.0;
+    const Polytope& pa = mm ? *s.a_mm : a;
+    const Polytope& pb = mm ? *s.b_mm : b;
+    collision::DepthTracker t;
+    t.reserve(pa, pb);
+    collision::DepthCache c;
+    for (std::size_t i = 0; i < s.coherent.size(); ++i) {
+      const Transform X = scaledTransform(s.coherent[i], unit);
+      const auto d = tracked ? collision::penetrationDepthCoherent(pa, pb, X, t, c)
+                             : collision::penetrationDepth(pa, pb, X, c);
+      if (i < 2000) {
+        collision::DepthCache fresh;
+        const auto f = collision::penetrationDepthExact(pa, pb, X, fresh);
+        if (!(std::abs(d.depth - f.depth) <= 1e-12 * s.size * unit))
+          differ += 1.0;
+      }
+      for (std::size_t k = 0; k < kChecks; k += 2) {  // the even check poses are on the path
+        if (k * 997 % s.coherent.size() != i)
+          continue;
+        const double err = std::abs(-d.depth / unit - s.ref[k]) / s.size;
+        if (!mm)
+          w.max_rel = std::max(w.max_rel, err);
+        if (!(err <= kWrong))
+          ++(mm ? w.mm : w.m);
+      }
+    }
+  }
+  std::size_t i = 0;
+  collision::DepthTracker tracker;
+  tracker.reserve(a, b);
+  collision::DepthCache cache;
+  for (auto _ : state) {
+    auto d = tracked ? collision::penetrationDepthCoherent(a, b, s.coherent[i], tracker, cache)
+                     : collision::penetrationDepth(a, b, s.coherent[i], cache);
+    if (++i == s.coherent.size())
+      i = 0;
+    benchmark::DoNotOptimize(d);
+  }
+  const std::size_t on_path = (kChecks + 1) / 2;  // the even check poses
+  state.counters["checked"] = static_cast<double>(on_path);
+  state.counters["wrong_m"] = w.m;
+  state.counters["wrong_mm"] = w.mm;
+  state.counters["max_rel_err"] = w.max_rel;
+  state.counters["differ_from_full"] = differ;
+  if (tracked)
+    setTrackerCounters(state, tracker.stats);
 }
 
 // The whole pair query on separated poses: closest features and the contact manifold.
@@ -406,6 +487,10 @@ void registerAll() {
     }
     benchmark::RegisterBenchmark(("PairQuery/Coherent/" + std::to_string(n)).c_str(), oursPairQuery,
                                  n);
+    benchmark::RegisterBenchmark(("Depth/Coherent/" + std::to_string(n)).c_str(), oursDepth, n,
+                                 true);
+    benchmark::RegisterBenchmark(("Depth/CoherentUntracked/" + std::to_string(n)).c_str(),
+                                 oursDepth, n, false);
     const std::string near = "NearContact/" + std::to_string(n);
     benchmark::RegisterBenchmark(("Distance/" + near).c_str(), oursNearDistance, n);
     benchmark::RegisterBenchmark(("PairQuery/" + near).c_str(), oursNearPairQuery, n, false);

@@ -94,6 +94,17 @@ Feature featureAt(const Polytope& p,
   return {};
 }
 
+// The depth: the coherent method's when the cache has a tracker.
+DepthResult depthOf(const Polytope& a,
+                    const Polytope& b,
+                    const Transform& X_AB,
+                    PairCache& cache,
+                    DepthScratch& scratch) {
+  return cache.tracker != nullptr
+             ? penetrationDepthCoherent(a, b, X_AB, *cache.tracker, cache.depth, scratch)
+             : penetrationDepth(a, b, X_AB, cache.depth, scratch);
+}
+
 // The answer of an overlapping pair from its minimal translation.
 void penetrating(const Polytope& a,
                  const Polytope& b,
@@ -160,7 +171,7 @@ void queryPair(const Polytope& a,
   r.iterations = 0;
   if (cache.penetrating) {
     // overlapping last tick: the depth first; the walk only once they come apart
-    const DepthResult d = penetrationDepth(a, b, X_AB, cache.depth, scratch);
+    const DepthResult d = depthOf(a, b, X_AB, cache, scratch);
     if (d.depth > tol) {
       penetrating(a, b, X_AB, d, r);
       return;
@@ -176,7 +187,7 @@ void queryPair(const Polytope& a,
     return;
   }
   // touching, overlapping, or a walk that gave up: the separating-axis answer decides
-  const DepthResult d = penetrationDepth(a, b, X_AB, cache.depth, scratch);
+  const DepthResult d = depthOf(a, b, X_AB, cache, scratch);
   if (d.depth > tol) {
     penetrating(a, b, X_AB, d, r);
     cache.penetrating = true;

@@ -16,6 +16,9 @@ struct PairCache {
   /// Overlapping at the last query: the next one computes the depth first and walks the
   /// features only if the pair has come apart.
   bool penetrating = false;
+  /// When set (the caller owns it, DepthTracker::reserve'd for this pair), the depth is
+  /// penetrationDepthCoherent's: last tick's candidates certify this tick's answer when they can.
+  DepthTracker* tracker = nullptr;
 };
 
 /// Result of queryPair(), in A's frame.

@@ -130,6 +130,15 @@ Vec3 faceWitness(const Polytope& p,
 
 namespace {
 
+// Where the exact method leaves every candidate's depth (the coherent method's certificate
+// data): per face of A and of B, and per edge of A the least depth over its arc's crossings.
+struct DepthRecord {
+  double* value_a = nullptr;
+  double* value_b = nullptr;
+  std::uint32_t* support_b = nullptr;  // per face of B: A's support vertex against it
+  double* edge_min = nullptr;
+};
+
 // The nearest Minkowski face plane found so far, and its support vertex hint.
 struct DepthSearch {
   DepthResult best;
@@ -156,14 +165,17 @@ void facesOfA(const Polytope& a,
               const Transform& X_BA,
               std::uint32_t& hint_b,
               std::vector<std::uint32_t>& support_of_face,
-              DepthSearch& s) {
+              DepthSearch& s,
+              DepthRecord* rec) {
   const auto fa = a.faces();
   for (const std::uint32_t i : a.faceOrder()) {
     const Vec3& n = fa[i].normal;
     hint_b = b.support(X_BA.rotate(-n), hint_b);
     support_of_face[i] = hint_b;
-    s.consider(fa[i].offset - glm::dot(n, X_AB.apply(b.vertices()[hint_b].p)), n,
-               DepthFeature::kFaceA, i, 0, hint_b);
+    const double d = fa[i].offset - glm::dot(n, X_AB.apply(b.vertices()[hint_b].p));
+    if (rec != nullptr)
+      rec->value_a[i] = d;
+    s.consider(d, n, DepthFeature::kFaceA, i, 0, hint_b);
   }
 }
 
@@ -173,99 +185,144 @@ void facesOfB(const Polytope& a,
               const Transform& X_AB,
               std::uint32_t& hint_a,
               std::vector<Vec3>& neg_normal_b,
-              DepthSearch& s) {
+              DepthSearch& s,
+              DepthRecord* rec) {
   const auto fb = b.faces();
   for (const std::uint32_t j : b.faceOrder()) {
     const Vec3 m = X_AB.rotate(fb[j].normal);
     neg_normal_b[j] = -m;
     hint_a = a.support(-m, hint_a);
-    s.consider(fb[j].offset + glm::dot(m, X_AB.t) - glm::dot(m, a.vertices()[hint_a].p), -m,
-               DepthFeature::kFaceB, 0, j, hint_a);
+    const double d = fb[j].offset + glm::dot(m, X_AB.t) - glm::dot(m, a.vertices()[hint_a].p);
+    if (rec != nullptr)
+      rec->value_b[j] = d, rec->support_b[j] = hint_a;
+    s.consider(d, -m, DepthFeature::kFaceB, 0, j, hint_a);
   }
 }
 
-// Edge pairs whose Gauss-map arcs cross. For each edge of A, its arc runs from the normal of
-// face[0] to that of face[1]; walking over B's vertex graph from the region holding the first to
-// the region holding the second crosses exactly the arcs of the edges of B it meets.
+// Edge i of A against B's Gauss map. Its arc runs from the normal of face[0] to that of face[1];
+// walking over B's vertex graph from the region holding the first (s0, B's support vertex
+// against it) to the region holding the second (s1) crosses exactly the arcs of the edges of B
+// it meets. Each crossing edge pair (a face of A - B) is offered: offer(depth, axis, j).
+// `neg_normal(k)`: minus the normal of B's face k in A's frame. Returns false when the arc has
+// no lower bound from its crossings (a degenerate crossing: the walk was lost at an arc through
+// a vertex of the map, or a parallel edge pair was met); `arc_min` is the least offered depth.
+template <class NegNormal, class Offer>
+bool edgeArc(const Polytope& a,
+             const Polytope& b,
+             const Transform& X_AB,
+             std::uint32_t i,
+             std::uint32_t s0,
+             std::uint32_t s1,
+             NegNormal&& neg_normal,
+             Offer&& offer,
+             double& arc_min) {
+  arc_min = std::numeric_limits<double>::infinity();
+  if (s0 == s1)
+    return true;  // the whole arc lies in one region: no crossing
+  const auto fa = a.faces();
+  const auto ea = a.edges();
+  const auto eb = b.edges();
+  const Vec3& na = fa[ea[i].face[0]].normal;
+  const Vec3& nb = fa[ea[i].face[1]].normal;
+  const Vec3 b_x_a = glm::cross(nb, na);
+  bool regular = true;
+  auto edgePair = [&](std::uint32_t j) {
+    const Vec3 c = neg_normal(eb[j].face[0]);
+    const Vec3 d = neg_normal(eb[j].face[1]);
+    if (!isMinkowskiFace(na, nb, b_x_a, c, d, glm::cross(d, c)))
+      return false;
+    Vec3 axis = glm::cross(ea[i].dir, X_AB.rotate(eb[j].dir));
+    const double len = glm::length(axis);
+    if (len < 1e-9) {
+      regular = false;
+      return true;  // parallel edges: covered by the face normals
+    }
+    axis /= len;
+    if (glm::dot(axis, na + nb) < 0.0)
+      axis = -axis;
+    const Vec3 pb = X_AB.apply(b.vertices()[eb[j].tail].p);
+    const double depth = glm::dot(axis, a.vertices()[ea[i].tail].p - pb);
+    arc_min = std::min(arc_min, depth);
+    offer(depth, axis, j);
+    return true;
+  };
+  std::uint32_t v = s0;
+  std::uint32_t came_by = std::numeric_limits<std::uint32_t>::max();
+  bool lost = false;
+  for (std::size_t step = 0; v != s1; ++step) {
+    bool moved = false;
+    if (step <= eb.size()) {
+      for (const auto& ve : b.vertexEdges(v)) {
+        if (ve.edge == came_by || !edgePair(ve.edge))
+          continue;
+        came_by = ve.edge;
+        v = ve.other;
+        moved = true;
+        break;
+      }
+    }
+    if (!moved) {
+      lost = true;  // a degenerate crossing (arc through a vertex of the map)
+      break;
+    }
+  }
+  if (lost) {
+    for (std::uint32_t j = 0; j < eb.size(); ++j)
+      edgePair(j);
+  }
+  return regular && !lost;
+}
+
+// Arcs that only meet at an end (a face normal of A equal to one of -B: parallel faces, e.g.
+// the edges of two opposed caps) pass the crossing test by rounding; such a "face" has no
+// area and lies in that face's plane, the face passes' answer less a rounding error, and its
+// edges' closest points are no witnesses of it. True when an edge-pair answer's axis lies within
+// 1e-12 rad of one of its arcs' ends: it gives way to the faces' answer.
+template <class NegNormal>
+bool atArcEnd(const Polytope& a,
+              const Polytope& b,
+              const DepthResult& best,
+              NegNormal&& neg_normal) {
+  const auto fa = a.faces();
+  const auto ea = a.edges();
+  const auto eb = b.edges();
+  const Vec3 ends[4] = {fa[ea[best.ia].face[0]].normal, fa[ea[best.ia].face[1]].normal,
+                        neg_normal(eb[best.ib].face[0]), neg_normal(eb[best.ib].face[1])};
+  for (const Vec3& end : ends) {
+    const Vec3 off = glm::cross(best.normal, end);
+    if (glm::dot(off, off) < 1e-24)
+      return true;
+  }
+  return false;
+}
+
+// Edge pairs whose Gauss-map arcs cross, for every edge of A (edgeArc); `rec`, when given,
+// receives each edge's least crossing depth (-infinity when the arc has no such bound).
 void edgePairs(const Polytope& a,
                const Polytope& b,
                const Transform& X_AB,
                const std::vector<std::uint32_t>& support_of_face,
                const std::vector<Vec3>& neg_normal_b,
-               DepthSearch& s) {
-  const auto fa = a.faces();
+               DepthSearch& s,
+               DepthRecord* rec) {
   const auto ea = a.edges();
-  const auto eb = b.edges();
   const DepthResult face_best = s.best;
   const std::uint32_t face_support = s.best_support;
-  auto edgePair = [&](std::uint32_t i, std::uint32_t j, const Vec3& na, const Vec3& nb,
-                      const Vec3& b_x_a) {
-    const Vec3& c = neg_normal_b[eb[j].face[0]];
-    const Vec3& d = neg_normal_b[eb[j].face[1]];
-    if (!isMinkowskiFace(na, nb, b_x_a, c, d, glm::cross(d, c)))
-      return false;
-    Vec3 axis = glm::cross(ea[i].dir, X_AB.rotate(eb[j].dir));
-    const double len = glm::length(axis);
-    if (len < 1e-9)
-      return true;  // parallel edges: covered by the face normals
-    axis /= len;
-    if (glm::dot(axis, na + nb) < 0.0)
-      axis = -axis;
-    const Vec3 pb = X_AB.apply(b.vertices()[eb[j].tail].p);
-    s.consider(glm::dot(axis, a.vertices()[ea[i].tail].p - pb), axis, DepthFeature::kEdgeEdge, i, j,
-               0);
-    return true;
-  };
+  auto neg_normal = [&](std::uint32_t k) { return neg_normal_b[k]; };
   for (std::uint32_t i = 0; i < ea.size(); ++i) {
-    const std::uint32_t s0 = support_of_face[ea[i].face[0]];
-    const std::uint32_t s1 = support_of_face[ea[i].face[1]];
-    if (s0 == s1)
-      continue;  // the whole arc lies in one region: no crossing
-    const Vec3& na = fa[ea[i].face[0]].normal;
-    const Vec3& nb = fa[ea[i].face[1]].normal;
-    const Vec3 b_x_a = glm::cross(nb, na);
-    std::uint32_t v = s0;
-    std::uint32_t came_by = std::numeric_limits<std::uint32_t>::max();
-    bool lost = false;
-    for (std::size_t step = 0; v != s1; ++step) {
-      bool moved = false;
-      if (step <= eb.size()) {
-        for (const auto& ve : b.vertexEdges(v)) {
-          if (ve.edge == came_by || !edgePair(i, ve.edge, na, nb, b_x_a))
-            continue;
-          came_by = ve.edge;
-          v = ve.other;
-          moved = true;
-          break;
-        }
-      }
-      if (!moved) {
-        lost = true;  // a degenerate crossing (arc through a vertex of the map)
-        break;
-      }
-    }
-    if (lost) {
-      for (std::uint32_t j = 0; j < eb.size(); ++j)
-        edgePair(i, j, na, nb, b_x_a);
-    }
+    double arc_min = 0.0;
+    const bool bounded = edgeArc(
+        a, b, X_AB, i, support_of_face[ea[i].face[0]], support_of_face[ea[i].face[1]], neg_normal,
+        [&](double d, const Vec3& axis, std::uint32_t j) {
+          s.consider(d, axis, DepthFeature::kEdgeEdge, i, j, 0);
+        },
+        arc_min);
+    if (rec != nullptr)
+      rec->edge_min[i] = bounded ? arc_min : -std::numeric_limits<double>::infinity();
   }
-  // Arcs that only meet at an end (a face normal of A equal to one of -B: parallel faces, e.g.
-  // the edges of two opposed caps) pass the crossing test by rounding; such a "face" has no
-  // area and lies in that face's plane, the face passes' answer less a rounding error, and its
-  // edges' closest points are no witnesses of it. An edge-pair answer whose axis lies within
-  // 1e-12 rad of one of its arcs' ends gives way to the faces' answer (checked once here, not
-  // in the loop above).
-  if (s.best.kind == DepthFeature::kEdgeEdge) {
-    const Vec3 ends[4] = {fa[ea[s.best.ia].face[0]].normal, fa[ea[s.best.ia].face[1]].normal,
-                          neg_normal_b[eb[s.best.ib].face[0]], neg_normal_b[eb[s.best.ib].face[1]]};
-    for (const Vec3& end : ends) {
-      const Vec3 off = glm::cross(s.best.normal, end);
-      if (glm::dot(off, off) < 1e-24) {
-        s.best = face_best;
-        s.best_support = face_support;
-        break;
-      }
-    }
+  if (s.best.kind == DepthFeature::kEdgeEdge && atArcEnd(a, b, s.best, neg_normal)) {
+    s.best = face_best;
+    s.best_support = face_support;
   }
 }
 
@@ -322,11 +379,15 @@ DepthScratch& DepthScratch::forThisThread() {
   return scratch;
 }
 
-DepthResult penetrationDepthExact(const Polytope& a,
-                                  const Polytope& b,
-                                  const Transform& X_AB,
-                                  DepthCache& cache,
-                                  DepthScratch& scratch) {
+namespace {
+
+// The exact method; `rec`, when given, receives every candidate's depth (DepthRecord).
+DepthResult exactSolve(const Polytope& a,
+                       const Polytope& b,
+                       const Transform& X_AB,
+                       DepthCache& cache,
+                       DepthScratch& scratch,
+                       DepthRecord* rec) {
   const Transform X_BA = X_AB.inverse();
   DepthSearch s;
   std::uint32_t hint_a = cache.support_a < a.vertices().size() ? cache.support_a : 0;
@@ -344,16 +405,284 @@ DepthResult penetrationDepthExact(const Polytope& a,
   if (neg_normal_b.size() < b.faces().size())
     neg_normal_b.resize(b.faces().size());
 
-  facesOfA(a, b, X_AB, X_BA, hint_b, support_of_face, s);
+  facesOfA(a, b, X_AB, X_BA, hint_b, support_of_face, s, rec);
   if (s.best.depth >= 0.0)
-    facesOfB(a, b, X_AB, hint_a, neg_normal_b, s);
+    facesOfB(a, b, X_AB, hint_a, neg_normal_b, s, rec);
   if (s.best.depth >= 0.0)
-    edgePairs(a, b, X_AB, support_of_face, neg_normal_b, s);
+    edgePairs(a, b, X_AB, support_of_face, neg_normal_b, s, rec);
   witnesses(a, b, X_AB, X_BA, tie_tol, s, cache);
   cache.kind = s.best.kind;
   cache.ia = s.best.ia;
   cache.ib = s.best.ib;
   return s.best;
+}
+
+}  // namespace
+
+DepthResult penetrationDepthExact(const Polytope& a,
+                                  const Polytope& b,
+                                  const Transform& X_AB,
+                                  DepthCache& cache,
+                                  DepthScratch& scratch) {
+  return exactSolve(a, b, X_AB, cache, scratch, nullptr);
+}
+
+void DepthTracker::reserve(const Polytope& pa, const Polytope& pb) {
+  const std::size_t n = pb.faces().size() + pa.edges().size();
+  heap.reserve(n);
+  popped.reserve(n);
+  if (value_a.size() < pa.faces().size())
+    value_a.resize(pa.faces().size());
+  if (value_b.size() < pb.faces().size())
+    value_b.resize(pb.faces().size());
+  if (support_b.size() < pb.faces().size())
+    support_b.resize(pb.faces().size());
+  if (edge_min.size() < pa.edges().size())
+    edge_min.resize(pa.edges().size());
+  if (face_support_a.size() < pa.faces().size())
+    face_support_a.resize(pa.faces().size());
+  if (stamp_a.size() < pa.faces().size())
+    stamp_a.resize(pa.faces().size());
+  if (stamp_b.size() < pb.faces().size())
+    stamp_b.resize(pb.faces().size());
+  if (neg_normal_b.size() < pb.faces().size())
+    neg_normal_b.resize(pb.faces().size());
+}
+
+namespace {
+
+constexpr std::uint32_t kIndexMask = (std::uint32_t{1} << 30) - 1;
+
+bool keyAfter(const DepthTracker::Entry& x, const DepthTracker::Entry& y) {
+  return x.key > y.key;  // std::*_heap with this: a min-heap on key
+}
+
+// The magnitude of the coordinates the depths are computed from (their rounding's scale).
+double depthScale(const Polytope& a, const Polytope& b, const Transform& X_AB) {
+  return glm::length(a.centroid()) + a.radius() + glm::length(X_AB.t) + glm::length(b.centroid()) +
+         b.radius();
+}
+
+// A bound on how much the support gap along any direction fixed in A's frame, or in B's, can
+// change between the relative poses X0 and X1 (docs/narrow-phase.md, "Coherent exact depth"):
+// B's centroid moves in A's frame, A's in B's, and each polytope's points turn about its
+// centroid by at most |R1 - R0| (spectral norm, = Frobenius / sqrt 2 for rotations) times its
+// radius.
+double poseDrift(const Polytope& a, const Polytope& b, const Transform& X0, const Transform& X1) {
+  const geom::Mat3 dR = X1.R - X0.R;
+  double f2 = 0.0;
+  for (int c = 0; c < 3; ++c)
+    f2 += glm::dot(dR[c], dR[c]);
+  const double rho = std::sqrt(0.5 * f2) * (1.0 + 1e-6) + 1e-15;
+  const Vec3& ca = a.centroid();
+  const Vec3& cb = b.centroid();
+  const double move_b = glm::length(X1.apply(cb) - X0.apply(cb));
+  const double move_a =
+      glm::length(glm::transpose(X1.R) * (ca - X1.t) - glm::transpose(X0.R) * (ca - X0.t));
+  return std::max(move_b + b.radius() * rho, move_a + a.radius() * rho) * (1.0 + 1e-9);
+}
+
+// The best candidate of a coherent query and the least depth of any other feature.
+struct CoherentBest {
+  DepthSearch s;
+  double second = std::numeric_limits<double>::infinity();
+  void offer(double d,
+             const Vec3& n,
+             DepthFeature kind,
+             std::uint32_t ia,
+             std::uint32_t ib,
+             std::uint32_t support) {
+    DepthResult& b = s.best;
+    if (kind == b.kind && ia == b.ia && ib == b.ib)
+      return;  // the same feature again (a face of A met as an edge's end)
+    if (d < b.depth) {
+      second = b.depth;
+      s.consider(d, n, kind, ia, ib, support);
+    } else {
+      second = std::min(second, d);
+    }
+  }
+};
+
+// The certificate: evaluate the entries whose lower bound does not exceed the best depth found
+// (plus the rounding margin), nearest first; true, with `out`, when every other bound exceeds
+// the best and the best is unique by the margin.
+bool coherentTry(const Polytope& a,
+                 const Polytope& b,
+                 const Transform& X_AB,
+                 DepthTracker& t,
+                 DepthCache& cache,
+                 DepthResult& out) {
+  t.drift += poseDrift(a, b, t.last, X_AB);
+  if (!(t.drift <= t.limit))
+    return false;
+  const double mu = 1e-10 * depthScale(a, b, X_AB);
+  const Transform X_BA = X_AB.inverse();
+  const auto fa = a.faces();
+  const auto fb = b.faces();
+  const auto ea = a.edges();
+  const std::uint64_t tick = ++t.tick;
+  // B's face normals in A's frame and A's face depths, each computed once per query
+  auto neg_normal = [&](std::uint32_t k) {
+    if (t.stamp_b[k] != tick) {
+      t.stamp_b[k] = tick;
+      t.neg_normal_b[k] = -X_AB.rotate(fb[k].normal);
+    }
+    return t.neg_normal_b[k];
+  };
+  CoherentBest best;
+  auto faceA = [&](std::uint32_t i) {
+    if (t.stamp_a[i] == tick)
+      return t.value_a[i];
+    t.stamp_a[i] = tick;
+    const Vec3& n = fa[i].normal;
+    std::uint32_t& hint = t.face_support_a[i];
+    hint = b.support(X_BA.rotate(-n), hint);
+    const double d = fa[i].offset - glm::dot(n, X_AB.apply(b.vertices()[hint].p));
+    best.offer(d, n, DepthFeature::kFaceA, i, 0, hint);
+    t.value_a[i] = d;
+    return d;
+  };
+  const std::size_t budget = t.heap.size() / 4 + 8;
+  t.popped.clear();
+  bool ok = true;
+  while (!t.heap.empty() && t.heap.front().key - t.drift <= best.s.best.depth + mu) {
+    if (t.popped.size() >= budget) {
+      ok = false;
+      break;
+    }
+    std::pop_heap(t.heap.begin(), t.heap.end(), keyAfter);
+    DepthTracker::Entry e = t.heap.back();
+    t.heap.pop_back();
+    const std::uint32_t idx = e.code & kIndexMask;
+    double value = 0.0;
+    switch (e.code >> 30) {
+      case DepthTracker::kCodeFaceB: {
+        const Vec3 m = -neg_normal(idx);
+        e.hint = a.support(-m, e.hint);
+        value = fb[idx].offset + glm::dot(m, X_AB.t) - glm::dot(m, a.vertices()[e.hint].p);
+        best.offer(value, -m, DepthFeature::kFaceB, 0, idx, e.hint);
+        break;
+      }
+      default: {
+        // an edge of A: both ends (faces of A) and every crossing on its arc
+        const double d0 = faceA(ea[idx].face[0]);
+        const double d1 = faceA(ea[idx].face[1]);
+        double arc_min = 0.0;
+        const bool bounded = edgeArc(
+            a, b, X_AB, idx, t.face_support_a[ea[idx].face[0]], t.face_support_a[ea[idx].face[1]],
+            neg_normal,
+            [&](double d, const Vec3& axis, std::uint32_t j) {
+              best.offer(d, axis, DepthFeature::kEdgeEdge, idx, j, 0);
+            },
+            arc_min);
+        value = bounded ? std::min({d0, d1, arc_min}) : -std::numeric_limits<double>::infinity();
+        break;
+      }
+    }
+    e.key = value + t.drift;
+    t.popped.push_back(e);
+  }
+  for (const DepthTracker::Entry& e : t.popped) {
+    t.heap.push_back(e);
+    std::push_heap(t.heap.begin(), t.heap.end(), keyAfter);
+  }
+  const DepthResult& r = best.s.best;
+  ok = ok && r.kind != DepthFeature::kNone && r.depth > mu && best.second > r.depth + mu &&
+       !(r.kind == DepthFeature::kEdgeEdge && atArcEnd(a, b, r, neg_normal));
+  if (!ok)
+    return false;
+  const double tie_tol = 1e-12 * std::max(a.radius(), b.radius());
+  witnesses(a, b, X_AB, X_BA, tie_tol, best.s, cache);
+  cache.kind = r.kind;
+  cache.ia = r.ia;
+  cache.ib = r.ib;
+  cache.normal = r.normal;
+  t.last = X_AB;
+  t.stats.evaluated += t.popped.size();
+  out = r;
+  return true;
+}
+
+// The full solve, recording every candidate, and the tracked state rebuilt from it.
+DepthResult rebuild(const Polytope& a,
+                    const Polytope& b,
+                    const Transform& X_AB,
+                    DepthTracker& t,
+                    DepthCache& cache,
+                    DepthScratch& scratch) {
+  DepthRecord rec{t.value_a.data(), t.value_b.data(), t.support_b.data(), t.edge_min.data()};
+  const DepthResult r = exactSolve(a, b, X_AB, cache, scratch, &rec);
+  cache.normal = r.normal;
+  const double mu = 1e-10 * depthScale(a, b, X_AB);
+  // a lower bound on the depths needs the pair overlapping (every support gap positive), and
+  // the record is whole only then (the exact method stops at a separating face of A)
+  t.valid = r.kind != DepthFeature::kNone && r.depth > mu;
+  if (!t.valid)
+    return r;
+  const auto fa = a.faces();
+  const auto fb = b.faces();
+  const auto ea = a.edges();
+  t.heap.clear();
+  // the faces of A need no entries: each is an end of its edges' arcs, whose keys bound it
+  for (std::uint32_t i = 0; i < fa.size(); ++i) {
+    t.face_support_a[i] = scratch.support_of_face[i];
+    t.stamp_a[i] = 0;
+  }
+  std::fill(t.stamp_b.begin(), t.stamp_b.end(), 0);
+  t.tick = 0;
+  for (std::uint32_t j = 0; j < fb.size(); ++j)
+    t.heap.push_back({t.value_b[j], (DepthTracker::kCodeFaceB << 30) | j, t.support_b[j]});
+  for (std::uint32_t i = 0; i < ea.size(); ++i) {
+    const auto& f = ea[i].face;
+    t.heap.push_back({std::min({t.value_a[f[0]], t.value_a[f[1]], t.edge_min[i]}),
+                      (DepthTracker::kCodeEdgeA << 30) | i, 0});
+  }
+  std::make_heap(t.heap.begin(), t.heap.end(), keyAfter);
+  t.a = &a;
+  t.b = &b;
+  t.last = X_AB;
+  t.drift = 0.0;
+  // keys are depth + drift: a drift of many sizes would round away the margin
+  t.limit = 64.0 * (a.radius() + b.radius());
+  return r;
+}
+
+}  // namespace
+
+DepthResult penetrationDepthCoherent(const Polytope& a,
+                                     const Polytope& b,
+                                     const Transform& X_AB,
+                                     DepthTracker& tracker,
+                                     DepthCache& cache,
+                                     DepthScratch& scratch) {
+  DepthTracker& t = tracker;
+  ++t.stats.queries;
+  const std::size_t fa = a.faces().size();
+  const std::size_t fb = b.faces().size();
+  const std::size_t ea = a.edges().size();
+  const bool fits = t.heap.capacity() >= fb + ea && t.popped.capacity() >= fb + ea &&
+                    t.value_a.size() >= fa && t.value_b.size() >= fb && t.support_b.size() >= fb &&
+                    t.edge_min.size() >= ea && t.face_support_a.size() >= fa &&
+                    t.stamp_a.size() >= fa && t.stamp_b.size() >= fb &&
+                    t.neg_normal_b.size() >= fb && ea <= kIndexMask && fb <= kIndexMask;
+  if (t.valid && fits && t.a == &a && t.b == &b) {
+    DepthResult r;
+    if (coherentTry(a, b, X_AB, t, cache, r)) {
+      ++t.stats.certified;
+      return r;
+    }
+    ++t.stats.fallbacks;
+  } else {
+    ++t.stats.cold;
+  }
+  if (!fits) {
+    t.valid = false;
+    DepthResult r = penetrationDepthExact(a, b, X_AB, cache, scratch);
+    cache.normal = r.normal;
+    return r;
+  }
+  return rebuild(a, b, X_AB, t, cache, scratch);
 }
 
 DepthResult penetrationDepth(const Polytope& a,

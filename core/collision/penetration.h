@@ -14,6 +14,9 @@
 ///   its answer (DepthCache), its answer certified or refused.
 /// penetrationDepth, the one the pair query calls, takes EPA's certified answer for larger hulls
 /// and the exact method otherwise or when EPA refuses.
+/// - coherent exact (penetrationDepthCoherent, DepthTracker): the exact method's answer proven
+///   from lower bounds on every candidate kept since its last evaluation, the full method only
+///   when the proof fails; the pair query uses it when PairCache::tracker is set.
 ///
 /// Memory: EPA works in fixed arrays on the stack. The exact method needs per-face scratch; the
 /// caller owns it (DepthScratch), sized before the first query for the largest polytope it will
@@ -106,6 +109,76 @@ DepthResult penetrationDepth(const Polytope& a,
                              const Transform& X_AB,
                              DepthCache& cache,
                              DepthScratch& scratch = DepthScratch::forThisThread());
+
+/// Per-pair state of the coherent exact depth (penetrationDepthCoherent): every candidate of the
+/// exact method (face of B; edge of A with its arc's ends, faces of A, and crossings) with a lower
+/// bound of its depth, in a min-heap. Sized off the servo thread by reserve(); then no query
+/// allocates.
+struct DepthTracker {
+  /// One candidate: its depth is at least key - drift at the current pose.
+  struct Entry {
+    double key = 0.0;
+    std::uint32_t code = 0;  ///< kind (kCodeFaceB, kCodeEdgeA) << 30 | index
+    std::uint32_t hint = 0;  ///< a face of B's support hint (A's vertex)
+  };
+  static constexpr std::uint32_t kCodeFaceB = 1, kCodeEdgeA = 2;
+  /// Counters since construction (a full solve is a fallback when a tracked state existed).
+  struct Stats {
+    std::uint64_t queries = 0;    ///< penetrationDepthCoherent calls
+    std::uint64_t certified = 0;  ///< answered from the tracked state
+    std::uint64_t fallbacks = 0;  ///< the certificate failed: the full method ran
+    std::uint64_t cold = 0;       ///< no tracked state (first query, apart, or other polytopes)
+    std::uint64_t evaluated = 0;  ///< candidates evaluated by certified queries
+  } stats;
+
+  /// Room for the pair (a, b) (allocates; off the servo thread). A tracker too small for a pair
+  /// answers it by the full method (no allocation) and keeps no state.
+  void reserve(const Polytope& a, const Polytope& b);
+  /// Forget the tracked state (the next query solves in full).
+  void reset() { valid = false; }
+  /// Whether tracking is expected to beat penetrationDepth's warm-started EPA for this pair: up to
+  /// 2^19 edge pairs (two 128-vertex hulls have about 1.4e5; two of 512, 2.3e6). Measured on the
+  /// benchmark path (bench/README.md): 2x faster at 128 vertices, 1.4x slower at 512, where the
+  /// per-query motion bound leaves about 60 candidates to evaluate.
+  static bool pays(const Polytope& a, const Polytope& b) {
+    return a.edges().size() * b.edges().size() <= (std::size_t{1} << 19);
+  }
+
+  // the tracked state (penetration.cpp)
+  std::vector<Entry> heap;                         ///< min-heap on key
+  std::vector<Entry> popped;                       ///< this query's evaluated entries
+  std::vector<double> value_a, value_b, edge_min;  ///< the full solve's record
+  std::vector<std::uint32_t> support_b;
+  /// Per face of A: B's support vertex against it (the climbs' hints) and the query that last
+  /// evaluated it (its depth is then value_a's); per face of B: minus its normal in A's frame and
+  /// the query that computed it.
+  std::vector<std::uint32_t> face_support_a;
+  std::vector<std::uint64_t> stamp_a, stamp_b;
+  std::vector<Vec3> neg_normal_b;
+  std::uint64_t tick = 0;
+  const Polytope* a = nullptr;
+  const Polytope* b = nullptr;
+  Transform last;  ///< the pose of the last answer
+  double drift =
+      0.0;  ///< sum of the per-query bounds on the change of any depth since the full solve
+  double limit = 0.0;  ///< drift at which a full solve is forced (keys lose no precision)
+  bool valid = false;
+};
+
+/// The exact MTD (penetrationDepthExact's answer: same depth, normal, features and witnesses, up
+/// to the rounding of tied support vertices), proven from the tracked state when it can be: the
+/// candidates whose lower bound (last evaluated depth minus the pose change's Lipschitz bound
+/// since) does not exceed the best depth found are evaluated exactly, nearest first; the answer
+/// is certified when every other bound exceeds it and it is unique (docs/narrow-phase.md,
+/// "Coherent exact depth"). Else, or without a state, penetrationDepthExact runs in full and
+/// rebuilds the state. No allocation once `tracker` and `scratch` are reserved for the pair; any
+/// thread that owns them.
+DepthResult penetrationDepthCoherent(const Polytope& a,
+                                     const Polytope& b,
+                                     const Transform& X_AB,
+                                     DepthTracker& tracker,
+                                     DepthCache& cache,
+                                     DepthScratch& scratch = DepthScratch::forThisThread());
 
 /// Translation distance along unit `dir` (A's frame) that B must move so the pair stops
 /// overlapping: max over A of dot(dir, x) - min over B of dot(dir, x) (negative when already
