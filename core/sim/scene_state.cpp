@@ -81,6 +81,7 @@ void SceneState::writeState(StateWriter& w) const {
     w.integer(b.body);
     writePose(w, b.X_WB);
   }
+  w.flag(body_poses_stale);
   w.array(active);
   w.array(edit_travel);
   writeHeld(w, held);
@@ -128,6 +129,8 @@ Result<SceneState> makeState(const SimModel& m) {
       return created.error();
     s.dynamics.emplace(std::move(*created.value()));
   }
+  // the dynamic bodies' poses are the dynamics' from the first tick on (one whole pass then)
+  s.body_poses_stale = m.dynamics_active;
   // the bodies no stage moves sleep, so that their pairs with each other and with static bodies
   // cost nothing: without dynamics every non-static body but the probe (an attached body wakes
   // while it is held); with dynamics the kinematic ones only (the dynamic bodies stay awake: the
