@@ -133,9 +133,9 @@ Result<SceneState> makeState(const SimModel& m) {
   s.body_poses_stale = m.dynamics_active;
   // the bodies no stage moves sleep, so that their pairs with each other and with static bodies
   // cost nothing: without dynamics every non-static body but the probe (an attached body wakes
-  // while it is held); with dynamics the kinematic ones only (the dynamic bodies stay awake: the
-  // dynamics read their contacts every tick and have their own whole-scene sleep); bodies on a
-  // hinge are quasi-static coordinates that the held set may turn: they stay awake
+  // while it is held); with dynamics the kinematic ones only (the dynamics wake one they move,
+  // and give the world their islands' sleep: Dynamics::syncSleep); bodies on a hinge are
+  // quasi-static coordinates that the held set may turn: they stay awake
   for (std::uint32_t id = 0; id < m.info.size(); ++id) {
     if (id == m.probe || m.info[id].kind == BodyKind::kStatic)
       continue;

@@ -12,14 +12,14 @@ namespace hapticd::dynamics::testing {
 namespace {
 
 struct Counts {
-  std::uint32_t listed_awake = 0;     // contacts listed while every box is awake
-  std::uint32_t visited_asleep = 0;   // most pairs a step looked at once the scene slept
-  std::uint32_t tested_asleep = 0;    // most pairs a step tested then
-  std::uint32_t listed_asleep = 0;    // most contacts listed then
-  std::uint32_t wake_points = 0;      // contact points the dynamics solved in the wake tick
-  std::uint32_t visited_woken = 0;    // pairs the next step looked at
-  std::uint64_t allocations = 0;      // while asleep and through the wake
-  bool others_asleep = true;          // the boxes not pushed slept on
+  std::uint32_t listed_awake = 0;    // contacts listed while every box is awake
+  std::uint32_t visited_asleep = 0;  // most pairs a step looked at once the scene slept
+  std::uint32_t tested_asleep = 0;   // most pairs a step tested then
+  std::uint32_t listed_asleep = 0;   // most contacts listed then
+  std::uint32_t wake_points = 0;     // contact points the dynamics solved in the wake tick
+  std::uint32_t visited_woken = 0;   // pairs the next step looked at
+  std::uint64_t allocations = 0;     // while asleep and through the wake
+  bool others_asleep = true;         // the boxes not pushed slept on
 };
 
 // n boxes of 2 cm resting on a floor, 6 cm apart (each its own island, no two within twice the
@@ -35,9 +35,10 @@ Counts run(int n) {
   const double half = 0.03 * side + 0.05;
   s.bodies.push_back(staticBody("floor", boxShape(Vec3{half, h, half}), at(Vec3{0, -h, 0}), 0));
   for (int i = 0; i < n; ++i) {
-    s.bodies.push_back(dynamicBody(
-        "box", boxShape(Vec3{h}),
-        at(Vec3{(i % side - 0.5 * side) * 0.06, h, (static_cast<double>(i / side) - 0.5 * side) * 0.06}), 500.0, 0));
+    s.bodies.push_back(dynamicBody("box", boxShape(Vec3{h}),
+                                   at(Vec3{(i % side - 0.5 * side) * 0.06, h,
+                                           (static_cast<double>(i / side) - 0.5 * side) * 0.06}),
+                                   500.0, 0));
   }
   Body probe = staticBody("probe", boxShape(Vec3{0.005}), at(Vec3{0, 0.2, 0}));
   probe.motion = Motion::kKinematic;
@@ -101,7 +102,7 @@ Counts run(int n) {
 
 TEST(Islands, ARestingSceneCostsTheCollisionStepNothingWhateverItsSize) {
   const Counts small = run(20), large = run(400);
-  EXPECT_GE(small.listed_awake, 20u);   // awake: every box's pair with the floor
+  EXPECT_GE(small.listed_awake, 20u);  // awake: every box's pair with the floor
   EXPECT_GE(large.listed_awake, 400u);
   for (const Counts& c : {small, large}) {
     EXPECT_EQ(c.visited_asleep, 0u);
