@@ -64,7 +64,8 @@ sim::TickInput inputAt(const std::vector<Key>& keys, double t) {
 void runTicks(benchmark::State& state,
               std::shared_ptr<const scene::SceneModel> model,
               const std::vector<Key>& keys,
-              double dynamics_sleep_time_s = sim::SimOptions{}.dynamics_sleep_time_s) {
+              double dynamics_sleep_time_s = sim::SimOptions{}.dynamics_sleep_time_s,
+              std::size_t ticks = kTicks) {
   sim::SimOptions options;
   options.dynamics_sleep_time_s = dynamics_sleep_time_s;
   auto created = sim::Simulation::create(model, options);
@@ -75,10 +76,10 @@ void runTicks(benchmark::State& state,
   // the tick as the daemon runs it: the simulation, then the one output stage
   auto sim = sim::withOutputStage(std::move(created).value(), options.response);
   sim->prepareThread();  // as the daemon does on its servo thread before the first tick
-  std::vector<sim::TickInput> inputs(kTicks);
-  for (std::size_t k = 0; k < kTicks; ++k)
+  std::vector<sim::TickInput> inputs(ticks);
+  for (std::size_t k = 0; k < ticks; ++k)
     inputs[k] = inputAt(keys, static_cast<double>(k) * 0.001);
-  std::vector<double> us(kTicks), cpu_us(kTicks);
+  std::vector<double> us(ticks), cpu_us(ticks);
   auto threadCpuNs = [] {
     timespec ts{};
     clock_gettime(CLOCK_THREAD_CPUTIME_ID, &ts);
@@ -87,9 +88,9 @@ void runTicks(benchmark::State& state,
   double checksum = 0.0;
   std::uint64_t contacts = 0, pairs = 0, dynamics_ticks = 0;
   std::vector<double> asleep_cpu_us;
-  asleep_cpu_us.reserve(kTicks);
+  asleep_cpu_us.reserve(ticks);
   for (auto _ : state) {
-    for (std::size_t k = 0; k < kTicks; ++k) {
+    for (std::size_t k = 0; k < ticks; ++k) {
       const double c0 = threadCpuNs();
       const auto t0 = std::chrono::steady_clock::now();
       const sim::TickOutput out = sim->step(inputs[k]);
@@ -130,8 +131,8 @@ void runTicks(benchmark::State& state,
   report(cpu_us, "cpu_");
   if (!asleep_cpu_us.empty())
     report(asleep_cpu_us, "asleep_cpu_");  // thread CPU time of the ticks once asleep
-  state.counters["contacts_per_tick"] = static_cast<double>(contacts) / static_cast<double>(kTicks);
-  state.counters["pairs_per_tick"] = static_cast<double>(pairs) / static_cast<double>(kTicks);
+  state.counters["contacts_per_tick"] = static_cast<double>(contacts) / static_cast<double>(ticks);
+  state.counters["pairs_per_tick"] = static_cast<double>(pairs) / static_cast<double>(ticks);
   state.counters["dynamics_ticks"] = static_cast<double>(dynamics_ticks);
 }
 
@@ -250,6 +251,53 @@ void tickStack100(benchmark::State& state) {
            state.range(0) != 0 ? 0.0 : sim::SimOptions{}.dynamics_sleep_time_s);
 }
 
+// 2 000 boxes of 2 cm (density 500) on a floor in a 50 x 40 grid 5 cm apart (no two within the box
+// margin of each other), friction 0.6, under gravity, the default sleep; the probe sphere circles
+// 20 cm above them, touching none. Once the boxes sleep, what they cost a tick is what a resting
+// scene costs the servo thread (issue 18, point 5: a scene of 2 000 resting boxes). 20 000 ticks.
+void tickBoxes2000(benchmark::State& state) {
+  scene::SceneModel s;
+  s.name = "boxes2000";
+  s.gravity_W = Vec3{0, -9.81, 0};
+  scene::Material m;
+  m.static_friction = m.dynamic_friction = 0.6;
+  s.materials.push_back(m);
+  scene::Body floor = staticBox(Vec3{0, -0.1, 0}, Vec3{1.3, 0.1, 1.05});
+  floor.primitives[0].material = 0;
+  s.bodies.push_back(floor);
+  const double h = 0.01;
+  const auto cube = box(Vec3{h});
+  for (int i = 0; i < 2000; ++i) {
+    scene::Body b;
+    b.name = "box";
+    b.motion = scene::Motion::kDynamic;
+    b.X_WB.translation =
+        Vec3{-1.225 + 0.05 * (i % 50), h, -0.975 + 0.05 * static_cast<double>(i / 50)};
+    b.primitives.push_back(scene::Primitive{cube, Pose{}, scene::ShapeSource::kCode, -1, 0});
+    const auto mp = dynamics::computeMassProperties(b.primitives, 500.0);
+    b.mass = mp.mass;
+    b.inverse_mass = 1.0 / mp.mass;
+    b.com_B = mp.com_B;
+    b.inertia_B = mp.inertia_B;
+    s.bodies.push_back(b);
+  }
+  s.length_scale = std::sqrt(2.6 * 2.6 + 2.1 * 2.1 + 0.4 * 0.4);
+  s.plan.contact_forces = true;
+  s.plan.dynamics = true;
+  s.plan.gravity = true;
+  s.plan.friction = true;
+  s.plan.static_primitives = 1;
+  s.plan.moving_primitives = 2000;
+  std::vector<Key> keys;
+  for (int k = 0; k <= 40; ++k) {
+    const double a = 2.0 * std::numbers::pi * k / 40.0;
+    keys.push_back(
+        {0.25 * k, Pose{Vec3{0.3 * std::cos(a), 0.2, 0.3 * std::sin(a)}, Quat{1, 0, 0, 0}}, 0});
+  }
+  runTicks(state, std::make_shared<const scene::SceneModel>(std::move(s)), keys,
+           sim::SimOptions{}.dynamics_sleep_time_s, 20000);
+}
+
 // The noise floor of this machine: a probe sphere moving in an empty scene (no pair, no contact):
 // whatever its tail shows is the VM, not the work.
 void tickEmpty(benchmark::State& state) {
@@ -270,6 +318,7 @@ void registerAll() {
     once(benchmark::RegisterBenchmark(("Tick/" + std::string(scene)).c_str(), tickScene, scene));
   once(benchmark::RegisterBenchmark("Tick/stack100", tickStack100)->Arg(1));
   once(benchmark::RegisterBenchmark("Tick/stack100_sleeping", tickStack100)->Arg(0));
+  once(benchmark::RegisterBenchmark("Tick/boxes2000_sleeping", tickBoxes2000));
   once(benchmark::RegisterBenchmark("Tick/code_peg_in_hole", tickCodePegInHole));
 }
 

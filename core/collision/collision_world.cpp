@@ -45,6 +45,8 @@ void CollisionWorld::reserve(std::size_t primitives, std::size_t pairs) {
   tree_pairs_.reserve(pairs);
   pair_states_.reserve(pairs);
   moved_.reserve(primitives);
+  posed_.reserve(primitives);
+  awake_.reserve(primitives);
   free_pair_states_.reserve(pairs);
   state_of_pair_.reserve(pairs);
   order_.reserve(pairs);
@@ -150,6 +152,12 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
     prim_of_box_[h] = kBodyBox | id;
   }
   applyEvents(nullptr);
+  // room for every body in the per-body lists, so that the servo thread's calls never grow them
+  for (auto* list : {&moved_, &posed_, &awake_}) {
+    if (list->capacity() < bodies_.size())
+      list->reserve(2 * bodies_.size());
+  }
+  updateAwake(id);
   return id;
 }
 
@@ -307,6 +315,11 @@ void CollisionWorld::removeBody(std::uint32_t id) {
   bodies_[id].live = false;
   bodies_[id].prims.clear();
   bodies_[id].tree.clear();
+  updateAwake(id);
+  if (bodies_[id].posed) {
+    posed_.erase(std::find(posed_.begin(), posed_.end(), id));
+    bodies_[id].posed = false;
+  }
   free_bodies_.push_back(id);
 }
 
@@ -319,6 +332,15 @@ void CollisionWorld::setPose(std::uint32_t body, const geom::Pose& X_WB) {
   if (!b.moved)
     moved_.push_back(body);
   b.moved = true;
+  if (!b.posed)
+    posed_.push_back(body);
+  b.posed = true;
+}
+
+void CollisionWorld::clearPosed() {
+  for (const std::uint32_t id : posed_)
+    bodies_[id].posed = false;
+  posed_.clear();
 }
 
 void CollisionWorld::setEnabled(std::uint32_t body, bool enabled) {
@@ -328,6 +350,64 @@ void CollisionWorld::setEnabled(std::uint32_t body, bool enabled) {
     b.moved_tick = tick_ + 1;
   }
   b.enabled = enabled;
+  updateAwake(body);
+}
+
+void CollisionWorld::setAsleep(std::uint32_t body, bool asleep) {
+  bodies_[body].asleep = asleep;
+  updateAwake(body);
+}
+
+void CollisionWorld::updateAwake(std::uint32_t id) {
+  Body& b = bodies_[id];
+  const bool want = b.live && b.enabled && !b.asleep && b.desc.kind != BodyKind::kStatic;
+  if (want == (b.awake_at != kNil))
+    return;
+  if (want) {
+    b.awake_at = static_cast<std::uint32_t>(awake_.size());
+    awake_.push_back(id);
+    return;
+  }
+  const std::uint32_t at = b.awake_at;
+  const std::uint32_t last = awake_.back();
+  awake_[at] = last;
+  bodies_[last].awake_at = at;
+  awake_.pop_back();
+  b.awake_at = kNil;
+}
+
+void CollisionWorld::linkPair(std::uint32_t si) {
+  PairState& s = pair_states_[si];
+  const std::uint32_t body[2] = {s.last.body_a, s.last.body_b};
+  for (std::size_t k = 0; k < 2; ++k) {
+    Body& b = bodies_[body[k]];
+    s.prev[k] = kNil;
+    s.next[k] = b.pairs_head;
+    if (b.pairs_head != kNil) {
+      PairState& h = pair_states_[b.pairs_head];
+      h.prev[h.last.body_a == body[k] ? 0 : 1] = si;
+    }
+    b.pairs_head = si;
+  }
+}
+
+void CollisionWorld::unlinkPair(std::uint32_t si) {
+  PairState& s = pair_states_[si];
+  const std::uint32_t body[2] = {s.last.body_a, s.last.body_b};
+  for (std::size_t k = 0; k < 2; ++k) {
+    const std::uint32_t p = s.prev[k], n = s.next[k];
+    if (p != kNil) {
+      PairState& ps = pair_states_[p];
+      ps.next[ps.last.body_a == body[k] ? 0 : 1] = n;
+    } else {
+      bodies_[body[k]].pairs_head = n;
+    }
+    if (n != kNil) {
+      PairState& ns = pair_states_[n];
+      ns.prev[ns.last.body_a == body[k] ? 0 : 1] = p;
+    }
+    s.prev[k] = s.next[k] = kNil;
+  }
 }
 
 std::uint32_t CollisionWorld::newPairState(std::uint32_t pa, std::uint32_t pb, StepStats* stats) {
@@ -344,6 +424,7 @@ std::uint32_t CollisionWorld::newPairState(std::uint32_t pa, std::uint32_t pb, S
   s.last.prim_b = prims_[pb].index;
   s.last_tested = tick_ - 1;  // never tested: as stale as one tick
   state_of_pair_.insert(pairKey(pa, pb), si);
+  linkPair(si);
   if (stats != nullptr)
     ++stats->pairs_added;
   return si;
@@ -352,6 +433,7 @@ std::uint32_t CollisionWorld::newPairState(std::uint32_t pa, std::uint32_t pb, S
 void CollisionWorld::freePairState(std::uint32_t si, StepStats* stats) {
   PairState& s = pair_states_[si];
   state_of_pair_.erase(pairKey(s.prim_a, s.prim_b));
+  unlinkPair(si);
   s.live = false;
   free_pair_states_.push_back(si);
   if (stats != nullptr)
@@ -563,19 +645,55 @@ StepStats CollisionWorld::step() {
   applyEvents(&stats);
   resolveTreePairs(&stats);
 
+  schedule(&stats);
+  return stats;
+}
+
+void CollisionWorld::schedule(StepStats* stats) {
+  // the asked pairs: those of the awake bodies, each once, grouped by body pair (the states'
+  // indices sorted, not the answers, which are large); a pair of two sleeping or static bodies
+  // is not looked at, its answer stays in its state
+  ++visit_;
+  contact_order_.clear();
+  std::uint32_t visited = 0;
+  for (const std::uint32_t bi : awake_) {
+    for (std::uint32_t si = bodies_[bi].pairs_head; si != kNil; si = nextPair(si, bi)) {
+      PairState& s = pair_states_[si];
+      if (s.visit == visit_)
+        continue;
+      s.visit = visit_;
+      ++visited;
+      if (!resting(s))
+        contact_order_.push_back(si);
+    }
+  }
+  stats->pairs_visited += visited;
+  std::sort(contact_order_.begin(), contact_order_.end(), [this](std::uint32_t i, std::uint32_t j) {
+    const Contact& x = pair_states_[i].last;
+    const Contact& y = pair_states_[j].last;
+    if (x.body_a != y.body_a)
+      return x.body_a < y.body_a;
+    if (x.body_b != y.body_b)
+      return x.body_b < y.body_b;
+    if (x.prim_a != y.prim_a)
+      return x.prim_a < y.prim_a;
+    return x.prim_b < y.prim_b;
+  });
+
   // the scheduler (§4.2): overdue pairs first (so that none waits more than ceil(P/B) ticks),
   // then pairs in contact last tick, then the rest by time since their last test
   order_.clear();
-  for (std::uint32_t si = 0; si < pair_states_.size(); ++si) {
+  for (const std::uint32_t si : contact_order_) {
     const PairState& s = pair_states_[si];
-    if (!s.live || resting(s))
-      continue;
-    if (options_.skip_unmoved_pairs && unchanged(s))
-      continue;
-    order_.push_back(si);
+    // without skip_unmoved_pairs every asked pair is tested once per tick (a relist() in the
+    // same tick tests only what it newly asks)
+    const bool stale =
+        options_.skip_unmoved_pairs ? !unchanged(s) : !s.last.answered || s.last_tested < tick_;
+    if (stale)
+      order_.push_back(si);
   }
   const auto count = static_cast<std::uint32_t>(order_.size());
-  stats.pairs_overlapping = count;
+  stats->pairs_overlapping = count;
   const std::uint32_t budget =
       options_.budget.max_pairs == 0 ? count : std::min(count, options_.budget.max_pairs);
   const std::uint64_t due = budget == 0 ? 1 : (count + budget - 1) / budget;
@@ -595,7 +713,7 @@ StepStats CollisionWorld::step() {
   const bool timed = options_.budget.max_microseconds > 0.0;
   // a time budget may reach any pair: all in order; a count budget needs only its first
   // `budget`; no budget reached: every pair is tested this tick and the order changes no answer
-  // (each pair's test reads only its own cache), so it is left in state order, unsorted
+  // (each pair's test reads only its own cache), so it is left in the listing's order
   if (!timed && budget < count) {
     std::nth_element(order_.begin(), order_.begin() + budget, order_.end(), std::greater<>());
     std::sort(order_.begin(), order_.begin() + budget, std::greater<>());
@@ -612,35 +730,16 @@ StepStats CollisionWorld::step() {
     }
     test(pair_states_[0xffffffffull - (order_[tested] & 0xffffffffull)]);
   }
-  stats.pairs_tested = tested;
-  stats.pairs_skipped = count - tested;
+  stats->pairs_tested = tested;
+  stats->pairs_skipped = count - tested;
   for (std::uint32_t i = tested; i < count; ++i) {
     const PairState& s = pair_states_[0xffffffffull - (order_[i] & 0xffffffffull)];
     const std::uint64_t age = tick_ - s.last_tested;
-    stats.worst_staleness =
-        std::max(stats.worst_staleness,
+    stats->worst_staleness =
+        std::max(stats->worst_staleness,
                  static_cast<std::uint32_t>(std::min<std::uint64_t>(age, 0xffffffffu)));
   }
 
-  // every close pair's latest answer, grouped by body pair: the states' indices sorted (not the
-  // answers, which are large), then the answers copied in that order
-  contact_order_.clear();
-  for (std::uint32_t si = 0; si < pair_states_.size(); ++si) {
-    const PairState& s = pair_states_[si];
-    if (s.live && !resting(s))
-      contact_order_.push_back(si);
-  }
-  std::sort(contact_order_.begin(), contact_order_.end(), [this](std::uint32_t i, std::uint32_t j) {
-    const Contact& x = pair_states_[i].last;
-    const Contact& y = pair_states_[j].last;
-    if (x.body_a != y.body_a)
-      return x.body_a < y.body_a;
-    if (x.body_b != y.body_b)
-      return x.body_b < y.body_b;
-    if (x.prim_a != y.prim_a)
-      return x.prim_a < y.prim_a;
-    return x.prim_b < y.prim_b;
-  });
   contacts_.clear();
   for (const std::uint32_t si : contact_order_) {
     const PairState& s = pair_states_[si];
@@ -648,6 +747,11 @@ StepStats CollisionWorld::step() {
     contacts_.back().age =
         static_cast<std::uint32_t>(std::min<std::uint64_t>(tick_ - s.last_tested, 0xffffffffu));
   }
+}
+
+StepStats CollisionWorld::relist() {
+  StepStats stats;
+  schedule(&stats);
   return stats;
 }
 

@@ -96,6 +96,10 @@ struct StepStats {
   std::uint32_t pairs_skipped = 0;      ///< overlapping pairs not tested this tick
   std::uint32_t worst_staleness = 0;    ///< ticks since the stalest skipped pair was tested
   std::uint32_t pairs_added = 0, pairs_removed = 0;  ///< broad-phase events this tick
+  /// Pair states the step looked at to schedule and list (those of the awake bodies; a pair of
+  /// two sleeping or static bodies is never looked at): what the step's bookkeeping costs,
+  /// independent of how many bodies sleep.
+  std::uint32_t pairs_visited = 0;
 };
 
 class CollisionWorld {
@@ -115,9 +119,14 @@ class CollisionWorld {
   const geom::Pose& pose(std::uint32_t body) const { return bodies_[body].X_WB; }
   BodyKind kind(std::uint32_t body) const { return bodies_[body].desc.kind; }
   /// A sleeping body is not moving and nothing about it is asked: its pairs with sleeping and
-  /// static bodies are neither tested nor listed in contacts() (pairs with an awake body are).
-  /// For bodies no stage moves (a scene without dynamics). Servo thread; no allocation.
-  void setAsleep(std::uint32_t body, bool asleep) { bodies_[body].asleep = asleep; }
+  /// static bodies are neither tested nor listed in contacts() (pairs with an awake body are),
+  /// nor looked at by step(): their answers stay where they are, and a world of any number of
+  /// sleeping bodies costs a step what its awake bodies' pairs cost (StepStats::pairs_visited).
+  /// For bodies no stage moves (a scene without dynamics) and the dynamics' sleeping islands.
+  /// Woken, its pairs are listed again, and tested again where it moved while asleep. Takes
+  /// effect at the next step() or relist(). Servo thread; no allocation.
+  void setAsleep(std::uint32_t body, bool asleep);
+  bool asleep(std::uint32_t body) const { return bodies_[body].asleep; }
   /// A disabled body is out of the scene: none of its pairs is tested or listed in contacts()
   /// (its boxes stay in the sweep and prune, so that disabling and enabling allocate nothing and
   /// cost no sort). Enabled again, its pairs are tested at the next step even when
@@ -128,6 +137,17 @@ class CollisionWorld {
 
   /// One tick: boxes, sweep and prune, scheduling, narrow phase. Servo thread.
   StepStats step();
+  /// Lists contacts() again after setAsleep() or setEnabled() changed what is asked, within the
+  /// same tick: the pairs that are now asked about and have no answer at the current poses are
+  /// tested (within the budget), the others keep theirs. Poses given since the last step() take
+  /// effect at the next step(), not here. Servo thread; no allocation.
+  StepStats relist();
+
+  /// Bodies given a pose (setPose) since the last clearPosed(), each once (in the order of their
+  /// first pose): what a reader of the poses must read again; a body not listed has the pose it
+  /// had then. Servo thread.
+  std::span<const std::uint32_t> posed() const { return posed_; }
+  void clearPosed();
 
   /// Every close primitive pair after the last step, grouped by body pair (sorted by body_a, then
   /// body_b); pairs skipped this tick carry their last answer with age > 0.
@@ -182,7 +202,11 @@ class CollisionWorld {
     bool moved = false;
     bool asleep = false;
     bool enabled = true;
+    bool posed = false;            // in posed_
     std::uint64_t moved_tick = 0;  // the step in which its last pose took effect
+    // its pair states: a doubly linked list through PairState::next / prev (kNil: none)
+    std::uint32_t pairs_head = 0xffffffffu;
+    std::uint32_t awake_at = 0xffffffffu;  // its index in awake_ (kNil: not awake)
     // piece tree (options_.piece_tree_min): empty for a body whose pieces are boxes of their own
     std::vector<TreeNode> tree;
     // node boxes in the world, refitted bottom-up when the body has moved: a leaf's is its piece's
@@ -211,6 +235,10 @@ class CollisionWorld {
     bool live = false;
     bool from_tree = false;  // found by a descent of piece trees, not by the sweep and prune
     std::uint64_t seen = 0;  // the last step whose descent found it
+    // links in the pair lists of last.body_a ([0]) and last.body_b ([1])
+    std::array<std::uint32_t, 2> next{0xffffffffu, 0xffffffffu};
+    std::array<std::uint32_t, 2> prev{0xffffffffu, 0xffffffffu};
+    std::uint64_t visit = 0;  // the listing pass (visit_) that last looked at it
   };
   // two broad-phase boxes that overlap, one of them (at least) a tree body's
   struct TreePair {
@@ -218,6 +246,7 @@ class CollisionWorld {
     bool fresh = true;             // not yet descended
   };
   static constexpr std::uint32_t kBodyBox = 0x80000000u;  // prim_of_box_ tag: a body's box
+  static constexpr std::uint32_t kNil = 0xffffffffu;
 
   Aabb primitiveBox(Prim& p);
   Transform primitiveTransform(const Prim& p) const;
@@ -231,6 +260,17 @@ class CollisionWorld {
   void dropTreePair(std::uint32_t lo, std::uint32_t hi, StepStats* stats);
   void resolveTreePairs(StepStats* stats);
   void test(PairState& s);
+  void linkPair(std::uint32_t si);
+  void unlinkPair(std::uint32_t si);
+  // the next pair state in `body`'s list after state si
+  std::uint32_t nextPair(std::uint32_t si, std::uint32_t body) const {
+    const PairState& s = pair_states_[si];
+    return s.next[s.last.body_a == body ? 0 : 1];
+  }
+  // a body that is asked about: live, enabled, neither static nor asleep (in awake_ or not)
+  void updateAwake(std::uint32_t body);
+  // lists, schedules and tests the asked pairs, and fills contacts()
+  void schedule(StepStats* stats);
   bool unchanged(const PairState& s) const {
     return s.last.answered && bodies_[prims_[s.prim_a].body].moved_tick <= s.last_tested &&
            bodies_[prims_[s.prim_b].body].moved_tick <= s.last_tested;
@@ -260,7 +300,12 @@ class CollisionWorld {
   FlatMap state_of_pair_;  // prim-pair key (prims_ indices) -> pair_states_ index
   ReservedVector<std::uint32_t> free_prims_;
   ReservedVector<std::uint32_t> free_bodies_;
-  ReservedVector<std::uint32_t> moved_;          // bodies given a pose since the last step
+  ReservedVector<std::uint32_t> moved_;  // bodies given a pose since the last step
+  ReservedVector<std::uint32_t> posed_;  // bodies given a pose since clearPosed()
+  // the awake bodies (updateAwake): every pair anything asks about has one of them (derived from
+  // the bodies' flags: not state)
+  ReservedVector<std::uint32_t> awake_;
+  std::uint64_t visit_ = 0;                      // listing passes so far (PairState::visit)
   ReservedVector<std::uint64_t> order_;          // scheduler scratch: priority << 32 | state index
   ReservedVector<std::uint32_t> contact_order_;  // scratch: states listed in contacts(), sorted
   ReservedVector<Contact> contacts_;

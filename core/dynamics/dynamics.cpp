@@ -402,6 +402,7 @@ void Dynamics::setKinematicPose(std::uint32_t body, const Pose& X_WB) {
   if (!geom::finite(X_WB.translation) || !std::isfinite(qn) || !(qn > 0.5))
     return;  // not a pose: ignored, nothing changes
   b.has_target = true;
+  target_given_ = true;
   b.target_q = glm::normalize(X_WB.rotation);
   b.target_x = X_WB.translation + glm::mat3_cast(b.target_q) * b.com_B;
 }

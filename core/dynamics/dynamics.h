@@ -301,6 +301,15 @@ class Dynamics {
   /// sleeps. A scene loaded at rest then costs the servo thread nothing from its first tick,
   /// instead of sleep_time_s of whole solves.
   bool sleepIfStill(const collision::CollisionWorld& world);
+  /// Gives the collision world the sleep of the dynamic bodies (CollisionWorld::setAsleep), so
+  /// that a sleeping island's pairs with each other and with static bodies are neither tested,
+  /// listed nor looked at by the world's step; a kinematic body the dynamics move (a target or a
+  /// velocity) is woken in the world (and stays awake). step() calls it before and after waking
+  /// islands (and relists the world's contacts when a body woke, so that what moves is seen
+  /// touching a sleeping island and a woken island's own contacts are solved in that step) and
+  /// after putting islands to sleep; call it after sleepIfStill(). Returns whether a body woke
+  /// in the world. Servo thread; no allocation.
+  bool syncSleep(collision::CollisionWorld& world) const;
 
   /// The held body's feedback of the last step (zero when the scene has no held body).
   const HeldFeedback& heldFeedback() const { return held_feedback_; }
@@ -385,7 +394,10 @@ class Dynamics {
   double ke_episode_start_ = 0.0;    // kinetic energy before a solve with restitution
   std::vector<Vec3> dv_, dw_;        // per body: scratch of the restitution impulses
   bool warm_pending_ = false;
-  bool asleep_ = false;                // every island sleeps: step() does no work
+  bool asleep_ = false;  // every island sleeps: step() does no work
+  // a kinematic target may be pending (setKinematicPose; a step consumes them all): the asleep
+  // scene's wake test walks the bodies for one only then (not state: derived)
+  bool target_given_ = false;
   std::vector<std::uint32_t> parent_;  // per body: the islands' union-find (scratch)
   std::vector<double> island_rest_;    // per root: its bodies' shortest rest (scratch)
 

@@ -456,7 +456,14 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
   ++counters_.ticks;
   step_flags_ = 0;
   tick_dt_ = dt;
+  // the world asked about what may move (a kinematic body given a target, an island woken by a
+  // wrench or an edit), the islands that touches woken, and their own pairs listed again for
+  // this step's solve
+  if (syncSleep(world))
+    world.relist();
   wakeIslands(world, held);
+  if (syncSleep(world))
+    world.relist();
   integrateForces(dt, world.options().box_margin, held);
   gatherContacts(world.contacts(), report);
   prepareJoints();
@@ -474,6 +481,7 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
     if (b.motion == scene::Motion::kKinematic || b.driven)
       b.has_target = false;
   }
+  target_given_ = false;  // every kinematic and driven body's target reached
   held_feedback_ = heldFeedbackOfTick();
   storeWarmStart();
 
@@ -491,6 +499,7 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
     world.setPose(i, Pose{b.x_W - b.R * b.com_B, b.q});
   }
   updateSleep(dt);
+  syncSleep(world);
   report.flags = step_flags_;
   return report;
 }
@@ -837,6 +846,8 @@ bool Dynamics::wakeRequested(const collision::CollisionWorld& world, const HeldI
         return true;
     }
   }
+  if (!target_given_)
+    return false;  // no target given since the last step: no walk over the bodies
   for (const BodyState& b : bodies_) {
     if (!b.enabled)
       continue;

@@ -287,10 +287,13 @@ Result<std::shared_ptr<const SimModel>> SimModel::compile(
   m->world_options.budget.max_pairs = options.max_pairs_per_tick;
   m->world_options.skip_unmoved_pairs = true;
   // the bodies whose poses are listed
+  m->pose_slot.assign(m->info.size(), -1);
   for (std::uint32_t id = 0; id < m->info.size(); ++id) {
     const BodyInfo& bi = m->info[id];
-    if (bi.kind != BodyKind::kStatic && bi.scene_index >= 0)
+    if (bi.kind != BodyKind::kStatic && bi.scene_index >= 0) {
+      m->pose_slot[id] = static_cast<std::int32_t>(m->pose_bodies.size());
       m->pose_bodies.push_back(id);
+    }
   }
   setDynamics(*m);
   setResponse(*m);

@@ -50,6 +50,8 @@ struct SimModel {
   std::vector<std::pair<std::uint32_t, std::uint32_t>> excluded_pairs;
   /// World ids of the non-static scene bodies, in index order (SceneState::body_poses).
   std::vector<std::uint32_t> pose_bodies;
+  /// Per world body: its index in pose_bodies, or -1.
+  std::vector<std::int32_t> pose_slot;
   std::uint32_t probe = 0;  ///< world id of the probe body
   /// The plan has dynamics (SceneState::dynamics exists); `dynamics_active`: a dynamic body
   /// exists too (the stage does work).

@@ -39,11 +39,16 @@ PrewarmReport prewarmState(const SimModel& m,
     s.world.step();
     ++report.collision_steps;
     report.at_rest = still >= kPrewarmStillSteps && dyn.sleepIfStill(s.world);
+    if (dyn.syncSleep(s.world) || report.at_rest)
+      s.world.relist();  // the sleeping islands' pairs no longer listed
     for (std::size_t i = 0; i < m.pose_bodies.size(); ++i) {
       const std::uint32_t id = m.pose_bodies[i];
       s.body_poses[i].X_WB =
           m.info[id].kind == collision::BodyKind::kDynamic ? dyn.pose(id) : s.world.pose(id);
     }
+    // every pose read: the swap's first tick reads those given one after this only
+    s.body_poses_stale = false;
+    s.world.clearPosed();
   }
   s.world.prewarm();
   detail::gatherRows(m, s);

@@ -81,6 +81,7 @@ void SceneState::writeState(StateWriter& w) const {
     w.integer(b.body);
     writePose(w, b.X_WB);
   }
+  w.flag(body_poses_stale);
   w.array(active);
   w.array(edit_travel);
   writeHeld(w, held);
@@ -128,11 +129,13 @@ Result<SceneState> makeState(const SimModel& m) {
       return created.error();
     s.dynamics.emplace(std::move(*created.value()));
   }
+  // the dynamic bodies' poses are the dynamics' from the first tick on (one whole pass then)
+  s.body_poses_stale = m.dynamics_active;
   // the bodies no stage moves sleep, so that their pairs with each other and with static bodies
   // cost nothing: without dynamics every non-static body but the probe (an attached body wakes
-  // while it is held); with dynamics the kinematic ones only (the dynamic bodies stay awake: the
-  // dynamics read their contacts every tick and have their own whole-scene sleep); bodies on a
-  // hinge are quasi-static coordinates that the held set may turn: they stay awake
+  // while it is held); with dynamics the kinematic ones only (the dynamics wake one they move,
+  // and give the world their islands' sleep: Dynamics::syncSleep); bodies on a hinge are
+  // quasi-static coordinates that the held set may turn: they stay awake
   for (std::uint32_t id = 0; id < m.info.size(); ++id) {
     if (id == m.probe || m.info[id].kind == BodyKind::kStatic)
       continue;

@@ -109,7 +109,10 @@ struct SceneState {
   ReservedVector<std::uint32_t> row_env;        ///< per row: the environment body's world id
   ReservedVector<ContactPoint> contact_points;  ///< Simulation::contactPoints()
   std::vector<BodyPose> body_poses;             ///< Simulation::bodyPoses()
-  std::vector<std::uint8_t> active;             ///< per world body: 1 in the scene (edits)
+  /// body_poses are to be read again for every body at the next tick (not only for those the
+  /// collision world says were given a pose: CollisionWorld::posed()).
+  bool body_poses_stale = false;
+  std::vector<std::uint8_t> active;  ///< per world body: 1 in the scene (edits)
   /// An edit changed the collision world since the last rows: the next step runs the collision
   /// step once before the proxy's, so that the proxy sees the edit.
   bool world_dirty = false;

@@ -373,12 +373,25 @@ void fillOutput(const SimModel& m, SceneState& s, const ProxyMove& mv, TickOutpu
   out->proxy_stuck = mv.step.stuck;
   out->proxy_sliding = mv.step.sliding;
   out->delta_m = s.delta_m;
-  for (std::size_t i = 0; i < m.pose_bodies.size(); ++i) {
-    const std::uint32_t id = m.pose_bodies[i];
-    s.body_poses[i].X_WB = m.dynamics_active && m.info[id].kind == BodyKind::kDynamic
-                               ? s.dynamics->pose(id)
-                               : s.world.pose(id);
+  // the poses of the bodies given one since the last tick: every pose the dynamics, an edit or
+  // the held set give a body goes to the collision world, so the others have not changed (a
+  // resting scene costs nothing here, whatever its size)
+  const auto poseOf = [&](std::uint32_t id) {
+    return m.dynamics_active && m.info[id].kind == BodyKind::kDynamic ? s.dynamics->pose(id)
+                                                                      : s.world.pose(id);
+  };
+  if (s.body_poses_stale) {
+    for (std::size_t i = 0; i < m.pose_bodies.size(); ++i)
+      s.body_poses[i].X_WB = poseOf(m.pose_bodies[i]);
+    s.body_poses_stale = false;
+  } else {
+    for (const std::uint32_t id : s.world.posed()) {
+      const std::int32_t i = id < m.pose_slot.size() ? m.pose_slot[id] : -1;
+      if (i >= 0)
+        s.body_poses[static_cast<std::size_t>(i)].X_WB = poseOf(id);
+    }
   }
+  s.world.clearPosed();
   detail::fillContactPoints(m, s, out);
 }
 

@@ -382,5 +382,129 @@ TEST(CollisionWorld, ADisabledBodyHasNoPairsAndIsTestedAgainWhenEnabled) {
   EXPECT_EQ(testing_alloc::count() - before, 0u);
 }
 
+// N boxes asleep on a floor (each on it and within the margin of its neighbours) and a probe
+// moving in free space above them: a step looks at no pair, tests none, lists none and copies
+// none, whatever N (200 or 2 000); the probe touching one box looks at its pairs only; the box
+// woken is listed again with its pairs' answers kept from before it slept (not tested again: it
+// did not move), and tested again once it moves. No allocation on the way.
+TEST(CollisionWorld, SleepingBodiesCostAStepNothingWhateverTheirNumber) {
+  struct Counts {
+    std::uint32_t listed_awake = 0;
+    std::uint32_t visited_free = 0, tested_free = 0, listed_free = 0;
+    std::uint32_t visited_touch = 0, listed_touch = 0;
+    std::uint64_t allocations = 0;
+  };
+  const auto run = [](int n) -> Counts {
+    WorldOptions o;
+    o.box_margin = 1e-3;
+    o.skip_unmoved_pairs = true;
+    CollisionWorld world(o);
+    const double h = 0.01, pitch = 0.0205;  // 0.5 mm gaps: neighbours within the margin
+    const int side = static_cast<int>(std::ceil(std::sqrt(n)));
+    world.reserve(static_cast<std::size_t>(n) + 2, 8 * static_cast<std::size_t>(n) + 64);
+    BodyDesc floor_desc;
+    floor_desc.kind = BodyKind::kStatic;
+    const double half = 0.5 * side * pitch + h;
+    floor_desc.primitives.push_back({shape({{-half, -h, -half},
+                                            {half, -h, -half},
+                                            {-half, 0, -half},
+                                            {half, 0, -half},
+                                            {-half, -h, half},
+                                            {half, -h, half},
+                                            {-half, 0, half},
+                                            {half, 0, half}}),
+                                     Transform{}});
+    world.addBody(floor_desc, Pose{Vec3{0.0}, Quat{1, 0, 0, 0}});
+    BodyDesc box_desc;
+    box_desc.kind = BodyKind::kDynamic;
+    box_desc.primitives.push_back({shape(box(h)), Transform{}});
+    std::vector<std::uint32_t> boxes;
+    for (int i = 0; i < n; ++i) {
+      const Vec3 c{(i % side - 0.5 * side) * pitch, h + 2e-4,
+                   (static_cast<double>(i / side) - 0.5 * side) * pitch};
+      boxes.push_back(world.addBody(box_desc, Pose{c, Quat{1, 0, 0, 0}}));
+    }
+    BodyDesc probe_desc;
+    probe_desc.kind = BodyKind::kProbe;
+    probe_desc.primitives.push_back({shape(box(0.005)), Transform{}});
+    const std::uint32_t probe = world.addBody(probe_desc, Pose{Vec3{0, 0.2, 0}, Quat{1, 0, 0, 0}});
+    Counts c;
+    world.step();
+    c.listed_awake = static_cast<std::uint32_t>(world.contacts().size());
+    const std::uint32_t target = boxes[static_cast<std::size_t>(n / 2)];
+    // the answers of the target's pairs before it sleeps
+    std::map<std::uint32_t, double> before;
+    for (const Contact& k : world.contacts()) {
+      if (k.body_a == target || k.body_b == target)
+        before[k.body_a + k.body_b - target] = k.distance;
+    }
+    EXPECT_GE(before.size(), 3u);  // the floor and neighbours
+    for (const std::uint32_t b : boxes)
+      world.setAsleep(b, true);
+    const std::uint64_t alloc0 = testing_alloc::count();
+    for (int k = 0; k < 100; ++k) {
+      world.setPose(probe, Pose{Vec3{0.05 * std::sin(0.05 * k), 0.2, 0.05 * std::cos(0.05 * k)},
+                                Quat{1, 0, 0, 0}});
+      const StepStats st = world.step();
+      c.visited_free = std::max(c.visited_free, st.pairs_visited);
+      c.tested_free = std::max(c.tested_free, st.pairs_tested);
+      c.listed_free = std::max(c.listed_free, static_cast<std::uint32_t>(world.contacts().size()));
+    }
+    // the probe comes down on the target box, 0.5 mm above it: its pairs only are looked at
+    const Pose X_target = world.pose(target);
+    world.setPose(probe,
+                  Pose{X_target.translation + Vec3{0, h + 0.005 + 5e-4, 0}, Quat{1, 0, 0, 0}});
+    const StepStats touch = world.step();
+    c.allocations = testing_alloc::count() - alloc0;
+    c.visited_touch = touch.pairs_visited;
+    c.listed_touch = static_cast<std::uint32_t>(world.contacts().size());
+    EXPECT_EQ(touch.pairs_tested, c.listed_touch);
+    for (const Contact& k : world.contacts()) {
+      EXPECT_TRUE(k.body_a == probe || k.body_b == probe);
+      EXPECT_TRUE(k.answered);
+    }
+    // woken (relisted in the same tick): the target's pairs are listed with the answers they
+    // had, none tested again (it did not move)
+    const std::uint64_t alloc1 = testing_alloc::count();
+    world.setAsleep(target, false);
+    const StepStats relisted = world.relist();
+    c.allocations += testing_alloc::count() - alloc1;
+    EXPECT_EQ(relisted.pairs_tested, 0u);
+    std::map<std::uint32_t, double> after;
+    for (const Contact& k : world.contacts()) {
+      if (k.body_a == target || k.body_b == target) {
+        EXPECT_TRUE(k.answered);
+        after[k.body_a + k.body_b - target] = k.distance;
+      }
+    }
+    for (const auto& [other, d] : before) {
+      EXPECT_EQ(after.count(other), 1u) << other;
+      if (after.count(other) == 1) {
+        EXPECT_EQ(after[other], d) << other;
+      }
+    }
+    EXPECT_EQ(after.size(), before.size() + 1);  // and the probe
+    // moved: every pair of it is tested again
+    const std::uint64_t alloc2 = testing_alloc::count();
+    world.setPose(target, Pose{X_target.translation + Vec3{1e-4, 0, 0}, Quat{1, 0, 0, 0}});
+    const StepStats moved = world.step();
+    c.allocations += testing_alloc::count() - alloc2;
+    EXPECT_EQ(moved.pairs_tested, after.size());
+    return c;
+  };
+  const Counts small = run(200), large = run(2000);
+  EXPECT_GT(small.listed_awake, 600u);  // awake: every box's pairs listed
+  EXPECT_GT(large.listed_awake, 6000u);
+  for (const Counts& c : {small, large}) {
+    EXPECT_EQ(c.visited_free, 0u);
+    EXPECT_EQ(c.tested_free, 0u);
+    EXPECT_EQ(c.listed_free, 0u);
+    EXPECT_EQ(c.listed_touch, 1u);  // the probe and the box under it
+    EXPECT_EQ(c.allocations, 0u);
+  }
+  EXPECT_EQ(small.visited_touch, large.visited_touch);
+  EXPECT_EQ(large.visited_touch, 1u);
+}
+
 }  // namespace
 }  // namespace hapticd::collision
