@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "scenes/glb_builder.h"
+#include "tests/client/command_dir.h"
 #include "tests/core/decomp/models.h"
 
 namespace {
@@ -23,41 +24,14 @@ namespace fs = std::filesystem;
 using hapticd::decomp::TriangleMesh;
 using hapticd::decomp::Vec3;
 
-class ImportTest : public ::testing::Test {
+class ImportTest : public hapticd::testing::CommandDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("hapticd_import_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  static std::string slurp(const std::string& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  }
-  // runs a command line (arguments single-quoted); stdout and stderr kept
-  int run(const std::string& program, const std::vector<std::string>& args) {
-    std::string cmd = "'" + program + "'";
-    for (const std::string& a : args)
-      cmd += " '" + a + "'";
-    cmd += " > '" + path("stdout") + "' 2> '" + path("stderr") + "'";
-    const int status = std::system(cmd.c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
+  ImportTest() : CommandDirTest("hapticd_import") {}
   int import(const std::vector<std::string>& args) {
     std::vector<std::string> all{"import"};
     all.insert(all.end(), args.begin(), args.end());
     return run(HAPTICCTL, all);
   }
-  std::string out() const { return slurp(path("stdout")); }
-  std::string err() const { return slurp(path("stderr")); }
-
-  fs::path dir_;
 };
 
 void writeObj(const TriangleMesh& m, const std::string& p) {

@@ -18,6 +18,7 @@
 #include "bench/study/report.h"
 #include "bench/study/scene_study.h"
 #include "daemon/config.h"
+#include "tests/client/command_dir.h"
 
 namespace {
 
@@ -120,37 +121,12 @@ TEST(StudyDecision, SnippetParsesAsTheDaemonsConfig) {
 
 // --- the built binary ---------------------------------------------------------------------------
 
-class StudyCommand : public ::testing::Test {
+class StudyCommand : public hapticd::testing::CommandDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("hapticd_study_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override {
-    std::error_code ec;
-    fs::remove_all(dir_, ec);
-  }
-  std::string path(const std::string& name) const { return (dir_ / name).string(); }
-  static std::string slurp(const std::string& p) {
-    std::ifstream in(p, std::ios::binary);
-    return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
-  }
-  int run(const std::string& program, const std::vector<std::string>& args) {
-    std::string cmd = "'" + program + "'";
-    for (const std::string& a : args)
-      cmd += " '" + a + "'";
-    cmd += " > '" + path("stdout") + "' 2> '" + path("stderr") + "'";
-    const int status = std::system(cmd.c_str());
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-  std::string out() const { return slurp(path("stdout")); }
-  std::string err() const { return slurp(path("stderr")); }
+  StudyCommand() : CommandDirTest("hapticd_study") {}
   static std::string scene(const std::string& name) {
     return std::string(HAPTICD_SOURCE_DIR) + "/scenes/" + name + ".glb";
   }
-  fs::path dir_;
 };
 
 // What the study's own table says: the expressible row with the least p99 force error (then mean
