@@ -233,6 +233,7 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
       options.max_contact_points != 0 ? options.max_contact_points : 16 * moving_prims + 64;
   d->max_points_ = cap;
   d->points_.reserve(cap);
+  d->blocks_.assign(cap, NormalBlock{});
   d->parent_.assign(d->bodies_.size(), 0);
   d->island_rest_.assign(d->bodies_.size(), 0.0);
   d->dv_.assign(d->bodies_.size(), Vec3{0.0});

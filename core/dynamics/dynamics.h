@@ -325,6 +325,7 @@ class Dynamics {
   struct BodyState;
   struct Row;
   struct ContactPoint;
+  struct NormalBlock;
   struct JointState;
   struct WarmPoint;
   struct JointRowSpec;
@@ -360,6 +361,15 @@ class Dynamics {
   void applyWarmStart();
   void solveJoint(JointState& js, double inv_dt, double& residual);
   void solveContact(ContactPoint& cp, double& residual);
+  void solveFriction(ContactPoint& cp, double& residual);
+  void solveNormal(ContactPoint& cp, double& residual);
+  void prepareBlock(std::size_t first);
+  bool solveNormalBlock(const NormalBlock& blk, double& residual);
+  static bool shareBlock(const NormalBlock& blk,
+                         const double* err,
+                         const double* old,
+                         double* lnew);
+  bool correctBlock(const NormalBlock& blk, double beta, double inv_dt);
   void applyRestitution();
   void correctPositions(double dt);
   bool measureJointErrors();
@@ -399,7 +409,8 @@ class Dynamics {
   double accel_scale_ = 0.0;  // largest |gravity| * gravity_factor
   std::vector<BodyState> bodies_;
   ReservedVector<ContactPoint> points_;
-  std::size_t max_points_ = 0;  // the capacity of points_ (options' max_contact_points)
+  std::vector<NormalBlock> blocks_;  // per point: the block of the pair it is the first point of
+  std::size_t max_points_ = 0;       // the capacity of points_ (options' max_contact_points)
   ReservedVector<WarmPoint> warm_, warm_next_;
   std::vector<JointState> joints_;
   std::vector<GeneralJoint> general_;      // every other joint: limits, cones, soft limits, drives

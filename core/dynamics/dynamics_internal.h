@@ -5,6 +5,7 @@
 /// dynamics_solver.cpp: the impulse and position solvers). Not a public interface.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <tuple>
@@ -122,7 +123,22 @@ struct Dynamics::ContactPoint {
   double ln_max = 0.0;  // largest normal impulse per solve (held_max_force_n), 0: none
   bool active = false;
   bool speculative = false;
-  bool resting = false;  // not sliding when it became active (static friction)
+  bool resting = false;    // not sliding when it became active (static friction)
+  std::uint8_t group = 0;  // the first of a primitive pair's points: how many it has (else 0)
+};
+
+// a primitive pair's normal rows solved together (Dynamics::solveNormalBlock): the points of a
+// flat contact with one normal, their rows written as the three rows of the contact's centroid
+// (the push along n there, and the turns about the two tangents) times each point's place
+// (1, u, v) in the contact plane
+struct Dynamics::NormalBlock {
+  bool ok = false;  // this episode: solved together (else point by point)
+  std::uint8_t count = 0;
+  std::array<std::uint32_t, 4> idx{};  // its points (indices into points_)
+  std::array<Vec3, 4> phi{};           // each point's (1, u, v)
+  Mat3 kc_inv{0.0};                    // inverse of the centroid rows' effective-mass matrix
+  Mat3 g_inv{0.0};                     // inverse of sum phi phi^T
+  std::array<double, 4> z{};           // four points: the distribution that is no wrench
 };
 
 struct Dynamics::JointState {

@@ -11,6 +11,7 @@
 
 namespace hapticd::dynamics {
 
+using detail::kInf;
 using detail::kMinIterations;
 using detail::skew;
 using detail::tangents;
@@ -113,10 +114,25 @@ void Dynamics::solveVelocities(double remaining) {
       if (!gj.off)
         solveGeneralJoint(gj, residual);
     }
-    for (ContactPoint& cp : points_) {
-      if (!cp.active && !cp.speculative)
-        continue;
-      solveContact(cp, residual);
+    for (std::size_t i = 0; i < points_.size();) {
+      const std::size_t group = std::max<std::size_t>(points_[i].group, 1);
+      if (blocks_[i].ok) {
+        // a flat contact's points: friction point by point, then the normals together
+        const NormalBlock& blk = blocks_[i];
+        for (std::size_t k = 0; k < blk.count; ++k)
+          solveFriction(points_[blk.idx[k]], residual);
+        if (!solveNormalBlock(blk, residual)) {
+          for (std::size_t k = 0; k < blk.count; ++k)
+            solveNormal(points_[blk.idx[k]], residual);
+        }
+      } else {
+        for (std::size_t k = i; k < i + group; ++k) {
+          ContactPoint& cp = points_[k];
+          if (cp.active || cp.speculative)
+            solveContact(cp, residual);
+        }
+      }
+      i += group;
     }
     if (it + 1 >= kMinIterations && residual < velocity_tolerance_)
       break;
@@ -179,10 +195,164 @@ void Dynamics::prepareRows(double remaining) {
                   std::max(cp.gap + options_.slop_fraction * cp.size, 0.0) / tick_dt_;
     }
   }
+  for (std::size_t i = 0; i < points_.size(); i += std::max<std::size_t>(points_[i].group, 1))
+    prepareBlock(i);
   for (JointState& js : joints_) {
     js.l_point = js.l_ang = Vec3{0.0};
     js.l1 = js.l2 = js.l_lo = js.l_hi = 0.0;
   }
+}
+
+// a primitive pair's normal rows as one block, when it has three points or more in the solve,
+// one normal, a plane's worth of them (not in a line) and no force cap (the held body's). A
+// flat contact's four normal rows span only three directions (the push at the centroid and the
+// turns about the two tangents): with them solved together the points of a symmetric contact
+// get equal impulses whatever the order, where the sequential impulses, until converged, give
+// the first point more and turn the body (a frictionless stack of small boxes then slides
+// apart: nothing takes the sideways speed that the turn gives back)
+void Dynamics::prepareBlock(std::size_t first) {
+  NormalBlock& blk = blocks_[first];
+  blk.ok = false;
+  blk.count = 0;
+  const std::size_t group = std::max<std::size_t>(points_[first].group, 1);
+  if (group < 3)
+    return;
+  for (std::size_t k = first; k < first + group; ++k) {
+    const ContactPoint& cp = points_[k];
+    if (!cp.active && !cp.speculative)
+      continue;
+    if (cp.ln_max > 0.0)
+      return;
+    blk.idx[blk.count++] = static_cast<std::uint32_t>(k);
+  }
+  if (blk.count < 3)
+    return;
+  const ContactPoint& c0 = points_[blk.idx[0]];
+  const Vec3 n = c0.n;
+  Vec3 ca{0.0}, cb{0.0};  // the centroid from each centre of mass
+  for (std::size_t k = 0; k < blk.count; ++k) {
+    const ContactPoint& cp = points_[blk.idx[k]];
+    if (glm::dot(cp.n, n) < 1.0 - 1e-12)
+      return;
+    ca += cp.ra;
+    cb += cp.rb;
+  }
+  ca /= static_cast<double>(blk.count);
+  cb /= static_cast<double>(blk.count);
+  Mat3 g{0.0};
+  for (std::size_t k = 0; k < blk.count; ++k) {
+    const ContactPoint& cp = points_[blk.idx[k]];
+    const Vec3 p = 0.5 * ((cp.ra - ca) + (cp.rb - cb));
+    blk.phi[k] = Vec3{1.0, glm::dot(p, c0.t1), glm::dot(p, c0.t2)};
+    g += glm::outerProduct(blk.phi[k], blk.phi[k]);
+  }
+  // points in a line (or one): not a plane's worth
+  const double dg = glm::determinant(g);
+  if (!(dg > 1e-9 * g[0][0] * g[1][1] * g[2][2]))
+    return;
+  // the centroid's rows: (linear part on b, angular part on a, angular part on b); a gets the
+  // opposite
+  const BodyState& A = bodies_[c0.a];
+  const BodyState& B = bodies_[c0.b];
+  const std::array<Vec3, 3> aa{glm::cross(ca, n), glm::cross(c0.t1, n), glm::cross(c0.t2, n)};
+  const std::array<Vec3, 3> ab{glm::cross(cb, n), aa[1], aa[2]};
+  Mat3 kc{0.0};
+  for (int r = 0; r < 3; ++r) {
+    for (int q = 0; q < 3; ++q) {
+      kc[q][r] = (r == 0 && q == 0 ? c0.ima + c0.imb : 0.0) +
+                 glm::dot(aa[static_cast<std::size_t>(r)],
+                          A.inv_inertia_W * aa[static_cast<std::size_t>(q)]) +
+                 glm::dot(ab[static_cast<std::size_t>(r)],
+                          B.inv_inertia_W * ab[static_cast<std::size_t>(q)]);
+    }
+  }
+  const double dk = glm::determinant(kc);
+  if (!(dk > 1e-9 * kc[0][0] * kc[1][1] * kc[2][2]))
+    return;
+  blk.kc_inv = glm::inverse(kc);
+  blk.g_inv = glm::inverse(g);
+  blk.z = {0.0, 0.0, 0.0, 0.0};
+  if (blk.count == 4) {
+    // Phi z = 0: the cofactors of the 3x4 matrix whose columns are the phis
+    for (std::size_t j = 0; j < 4; ++j) {
+      std::array<Vec3, 3> m{};
+      std::size_t c = 0;
+      for (std::size_t k = 0; k < 4; ++k) {
+        if (k != j)
+          m[c++] = blk.phi[k];
+      }
+      blk.z[j] = (j % 2 == 0 ? 1.0 : -1.0) * glm::determinant(Mat3{m[0], m[1], m[2]});
+    }
+  }
+  blk.ok = true;
+}
+
+// the block's normal rows solved together: the centroid's velocity error (the least-squares fit
+// of the points' errors, exact for a flat contact) removed by the wrench Kc^-1 err, the block's
+// total wrench then shared among its points as evenly as it can be (the least-norm share; with
+// four points, moved along the share that is no wrench when that keeps every point pushing).
+// False when some point would have to pull: the points are then solved one by one.
+bool Dynamics::solveNormalBlock(const NormalBlock& blk, double& residual) {
+  std::array<double, 4> old{}, lnew{}, err{};
+  for (std::size_t k = 0; k < blk.count; ++k) {
+    const ContactPoint& cp = points_[blk.idx[k]];
+    const BodyState& A = bodies_[cp.a];
+    const BodyState& B = bodies_[cp.b];
+    const double vn =
+        glm::dot(cp.n, B.v_W - A.v_W) + glm::dot(cp.rn.cb, B.w_W) - glm::dot(cp.rn.ca, A.w_W);
+    err[k] = cp.min_vn - vn;
+    old[k] = cp.ln;
+  }
+  if (!shareBlock(blk, err.data(), old.data(), lnew.data()))
+    return false;
+  for (std::size_t k = 0; k < blk.count; ++k) {
+    ContactPoint& cp = points_[blk.idx[k]];
+    if (cp.rn.mass > 0.0)
+      residual = std::max(residual, std::abs(lnew[k] - old[k]) / cp.rn.mass);
+    const double d = lnew[k] - old[k];
+    cp.ln = lnew[k];
+    BodyState& A = bodies_[cp.a];
+    BodyState& B = bodies_[cp.b];
+    A.v_W -= (cp.ima * d) * cp.n;
+    A.w_W -= cp.rn.ia * d;
+    B.v_W += (cp.imb * d) * cp.n;
+    B.w_W += cp.rn.ib * d;
+  }
+  return true;
+}
+
+// the block's new impulses from its points' velocity errors (target - v_n) and their impulses
+// so far; false when some point would have to pull
+bool Dynamics::shareBlock(const NormalBlock& blk,
+                          const double* err,
+                          const double* old,
+                          double* lnew) {
+  Vec3 fit{0.0}, w_old{0.0};
+  for (std::size_t k = 0; k < blk.count; ++k) {
+    fit += blk.phi[k] * err[k];
+    w_old += blk.phi[k] * old[k];
+  }
+  const Vec3 w_new = w_old + blk.kc_inv * (blk.g_inv * fit);
+  const Vec3 share = blk.g_inv * w_new;
+  double lo = -kInf, hi = kInf;
+  bool pulls = false;
+  for (std::size_t k = 0; k < blk.count; ++k) {
+    lnew[k] = glm::dot(blk.phi[k], share);
+    pulls = pulls || lnew[k] < 0.0;
+    // lnew + t z >= 0
+    if (blk.z[k] > 0.0)
+      lo = std::max(lo, -lnew[k] / blk.z[k]);
+    else if (blk.z[k] < 0.0)
+      hi = std::min(hi, -lnew[k] / blk.z[k]);
+  }
+  if (pulls) {
+    if (blk.count != 4 || !(lo <= hi))
+      return false;
+    const double t = std::clamp(0.0, lo, hi);
+    for (std::size_t k = 0; k < blk.count; ++k)
+      lnew[k] = std::max(lnew[k] + t * blk.z[k], 0.0);
+  }
+  return true;
 }
 
 // last tick's joint and contact impulses applied again (the first episode of a tick)
@@ -294,6 +464,14 @@ void Dynamics::solveJoint(JointState& js, double inv_dt, double& residual) {
 // one contact point's rows in one iteration: friction first, limited by this episode's normal
 // impulse (Coulomb, isotropic), then the normal
 void Dynamics::solveContact(ContactPoint& cp, double& residual) {
+  solveFriction(cp, residual);
+  solveNormal(cp, residual);
+}
+
+// a point's friction rows, limited by this episode's normal impulse (Coulomb, isotropic)
+void Dynamics::solveFriction(ContactPoint& cp, double& residual) {
+  if (!(cp.mu > 0.0))
+    return;
   BodyState& A = bodies_[cp.a];
   BodyState& B = bodies_[cp.b];
   // relative velocity along a row, and an impulse along it (infinite bodies have zero
@@ -307,34 +485,42 @@ void Dynamics::solveContact(ContactPoint& cp, double& residual) {
     B.v_W += (cp.imb * l) * u;
     B.w_W += r.ib * l;
   };
-  // friction first, limited by this episode's normal impulse (Coulomb, isotropic)
-  if (cp.mu > 0.0) {
-    const double o1 = cp.lt1, o2 = cp.lt2;
-    double l1 = o1 - cp.rt1.mass * rel(cp.t1, cp.rt1);
-    double l2 = o2 - cp.rt2.mass * rel(cp.t2, cp.rt2);
-    const double lim = cp.mu * cp.ln;
-    const double mag2 = l1 * l1 + l2 * l2;
-    if (mag2 > lim * lim) {
-      const double s = lim > 0.0 ? lim / std::sqrt(mag2) : 0.0;
-      l1 *= s;
-      l2 *= s;
-    }
-    cp.lt1 = l1;
-    cp.lt2 = l2;
-    push(cp.t1, cp.rt1, l1 - o1);
-    push(cp.t2, cp.rt2, l2 - o2);
-    if (cp.rt1.mass > 0.0)
-      residual = std::max(residual, std::abs(l1 - o1) / cp.rt1.mass);
-    if (cp.rt2.mass > 0.0)
-      residual = std::max(residual, std::abs(l2 - o2) / cp.rt2.mass);
+  const double o1 = cp.lt1, o2 = cp.lt2;
+  double l1 = o1 - cp.rt1.mass * rel(cp.t1, cp.rt1);
+  double l2 = o2 - cp.rt2.mass * rel(cp.t2, cp.rt2);
+  const double lim = cp.mu * cp.ln;
+  const double mag2 = l1 * l1 + l2 * l2;
+  if (mag2 > lim * lim) {
+    const double s = lim > 0.0 ? lim / std::sqrt(mag2) : 0.0;
+    l1 *= s;
+    l2 *= s;
   }
-  const double vn = rel(cp.n, cp.rn);
+  cp.lt1 = l1;
+  cp.lt2 = l2;
+  push(cp.t1, cp.rt1, l1 - o1);
+  push(cp.t2, cp.rt2, l2 - o2);
+  if (cp.rt1.mass > 0.0)
+    residual = std::max(residual, std::abs(l1 - o1) / cp.rt1.mass);
+  if (cp.rt2.mass > 0.0)
+    residual = std::max(residual, std::abs(l2 - o2) / cp.rt2.mass);
+}
+
+// a point's normal row: closing no faster than its target, never pulling
+void Dynamics::solveNormal(ContactPoint& cp, double& residual) {
+  BodyState& A = bodies_[cp.a];
+  BodyState& B = bodies_[cp.b];
+  const double vn =
+      glm::dot(cp.n, B.v_W - A.v_W) + glm::dot(cp.rn.cb, B.w_W) - glm::dot(cp.rn.ca, A.w_W);
   const double target = cp.min_vn;
   const double old = cp.ln;
   cp.ln = std::max(0.0, old + cp.rn.mass * (target - vn));
   if (cp.ln_max > 0.0)
     cp.ln = std::min(cp.ln, cp.ln_max);
-  push(cp.n, cp.rn, cp.ln - old);
+  const double d = cp.ln - old;
+  A.v_W -= (cp.ima * d) * cp.n;
+  A.w_W -= cp.rn.ia * d;
+  B.v_W += (cp.imb * d) * cp.n;
+  B.w_W += cp.rn.ib * d;
   if (cp.rn.mass > 0.0)
     residual = std::max(residual, std::abs(cp.ln - old) / cp.rn.mass);
 }
@@ -410,6 +596,9 @@ void Dynamics::correctPositions(double dt) {
   any = any || joints || general;
   if (!any)
     return;
+  // the flat contacts' blocks at the end of the tick's motion
+  for (std::size_t i = 0; i < points_.size(); i += std::max<std::size_t>(points_[i].group, 1))
+    prepareBlock(i);
   for (std::uint32_t it = 0; it < options_.position_iterations; ++it) {
     for (JointState& js : joints_) {
       if (js.off)
@@ -420,8 +609,20 @@ void Dynamics::correctPositions(double dt) {
       if (!gj.off)
         correctGeneralJoint(gj, beta, inv_dt);
     }
-    for (ContactPoint& cp : points_)
-      correctContact(cp, beta, inv_dt);
+    for (std::size_t i = 0; i < points_.size();) {
+      const std::size_t group = std::max<std::size_t>(points_[i].group, 1);
+      // a flat contact's points together (as in the velocity solve: the split impulses of a
+      // symmetric contact are then equal, and do not tilt the body), the others one by one
+      const NormalBlock& blk = blocks_[i];
+      const bool block = blk.ok && correctBlock(blk, beta, inv_dt);
+      for (std::size_t k = i; k < i + group; ++k) {
+        const bool in_block = block && std::find(blk.idx.begin(), blk.idx.begin() + blk.count, k) !=
+                                           blk.idx.begin() + blk.count;
+        if (!in_block)
+          correctContact(points_[k], beta, inv_dt);
+      }
+      i += group;
+    }
   }
   for (BodyState& b : bodies_) {
     if (b.infinite)
@@ -528,6 +729,34 @@ void Dynamics::correctJoint(JointState& js, double beta, double inv_dt) {
     if (B != nullptr)
       B->applyPseudo(J, js.rb);
   }
+}
+
+// a flat contact's split impulses together: each point's penetration beyond the slop removed at
+// beta per tick (a point within the slop: held where it is); false when a point would have to
+// pull (then they are corrected one by one)
+bool Dynamics::correctBlock(const NormalBlock& blk, double beta, double inv_dt) {
+  std::array<double, 4> old{}, lnew{}, err{};
+  bool any = false;
+  for (std::size_t k = 0; k < blk.count; ++k) {
+    const ContactPoint& cp = points_[blk.idx[k]];
+    const double excess = -cp.gap - options_.slop_fraction * cp.size;
+    any = any || excess > 0.0 || cp.lp != 0.0;
+    const double vn = glm::dot(bodies_[cp.b].pseudoAt(cp.rb) - bodies_[cp.a].pseudoAt(cp.ra), cp.n);
+    err[k] = beta * inv_dt * std::max(excess, 0.0) - vn;
+    old[k] = cp.lp;
+  }
+  if (!any)
+    return true;
+  if (!shareBlock(blk, err.data(), old.data(), lnew.data()))
+    return false;
+  for (std::size_t k = 0; k < blk.count; ++k) {
+    ContactPoint& cp = points_[blk.idx[k]];
+    const Vec3 J = cp.n * (lnew[k] - cp.lp);
+    cp.lp = lnew[k];
+    bodies_[cp.a].applyPseudo(-J, cp.ra);
+    bodies_[cp.b].applyPseudo(J, cp.rb);
+  }
+  return true;
 }
 
 // one contact point's split impulse: its penetration beyond the slop removed at beta per tick

@@ -330,6 +330,7 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
         std::swap(cand[j], cand[j - 1]);
       }
     }
+    const std::size_t first = points_.size();
     for (std::size_t k = 0; k < nc; ++k) {
       const Candidate& cd = cand[k];
       if (points_.size() == cap) {
@@ -362,6 +363,8 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
         cp.total_t = cd.lt;
       }
     }
+    if (points_.size() > first)
+      points_[first].group = static_cast<std::uint8_t>(points_.size() - first);
   }
   // the held set pushes with at most held_max_force_n, shared by its points
   if (options_.held_max_force_n > 0.0) {
