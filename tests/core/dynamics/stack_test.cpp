@@ -164,7 +164,7 @@ TEST(Stack, FourFrictionlessBoxesStand) {
 
 // frictionless stacks of small boxes, and a dropped one of 10 cm: with their points solved one by
 // one (not yet converged on the tick they met) the boxes turned a little, and through that tilt
-// traded sideways speed, which nothing takes back without friction (they drifted 4e-3 to 0.26 of
+// traded sideways speed, which nothing takes back without friction (they drifted 1.0e-3 to 0.26 of
 // the edge in 10 s). Each flat contact's normal rows are now solved together.
 TEST(Stack, FourFrictionlessSmallBoxesStand) {
   for (const double edge : {0.005, 0.02}) {
