@@ -263,6 +263,14 @@ std::uint32_t heldDynamicContacts(const SimModel& m, const SceneState& s) {
   return n;
 }
 
+bool rowsWithDynamicBody(const SimModel& m, const SceneState& s) {
+  for (const std::uint32_t env : s.row_env) {
+    if (movedByDynamics(m, s, env))
+      return true;
+  }
+  return false;
+}
+
 void fillContactPoints(const SimModel& m, SceneState& s, TickOutput* out) {
   // the rows the response used this tick (the held set's, within delta), as TickOutput::contacts
   // counts them; the depth without the backstop's shift

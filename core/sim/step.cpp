@@ -288,8 +288,17 @@ response::Wrench stepDynamics(const SimModel& m, SceneState& s, TickOutput* out)
   held.mode = dynamics::HeldMode::kKinematic;
   held.X_WB_target = s.X_W_probe;
   const dynamics::StepReport dr = dyn.step(s.world, m.options.response.tick_s, &held);
-  if ((dr.flags & dynamics::kStepAsleep) == 0)
+  if ((dr.flags & dynamics::kStepAsleep) == 0) {
     out->flags |= kTickDynamics;
+    // the step moved bodies the held set has rows with: the rows, and the depth the proxy's
+    // back-off compares a sub-step with, are stale until the world is stepped again, so the
+    // next tick starts by stepping it (beginTick), as after an edit. Otherwise a body the
+    // dynamics push into the held set (wedged, or turning into it) deepens the contact
+    // between the ticks, the proxy's first sub-step is judged to have gone deeper by itself
+    // and is bisected back, and the body sinks into the proxy tick after tick
+    if (detail::rowsWithDynamicBody(m, s))
+      s.world_dirty = true;
+  }
   if ((dr.flags & dynamics::kStepCapacityFull) != 0)
     out->flags |= kTickCapacityFull;
   out->dynamics_contact_points = dr.contact_points;

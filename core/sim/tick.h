@@ -46,6 +46,9 @@ double gatherRows(const SimModel& m, SceneState& s);
 /// distance delta, that made no active penalty row (those are TickOutput::contacts): the
 /// dynamics' contacts with the held set (TickOutput::held_dynamic_contacts).
 std::uint32_t heldDynamicContacts(const SimModel& m, const SceneState& s);
+/// Whether any of the held set's rows is with a body the dynamics move (their step leaves
+/// those rows, and the depth they give, stale until the world is stepped again).
+bool rowsWithDynamicBody(const SimModel& m, const SceneState& s);
 /// Simulation::contactPoints() from this tick's rows.
 void fillContactPoints(const SimModel& m, SceneState& s, TickOutput* out);
 

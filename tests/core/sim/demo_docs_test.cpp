@@ -110,20 +110,40 @@ TEST(StressDemo, TheSweeperRidesOverThePillarsOfItsFirstPass) {
   Runner run(make(model, o), o);
   const double ride_y = kPillarSize_m[1] + kSweeperRadius_m;  // resting on the tops
   const double field = pillarCoordinate(kGrid - 1) + 0.5 * kPillarSize_m[0];
-  double lowest = 1.0, lowest_in_gap = 1.0, worst_lag_x = 0.0;
-  std::uint32_t over_field = 0, touching = 0, over_tops = 0;
+  std::int32_t pillars = -1;
+  for (std::size_t i = 0; i < model->bodies.size(); ++i) {
+    if (model->bodies[i].name == "Field")
+      pillars = static_cast<std::int32_t>(i);
+  }
+  ASSERT_GE(pillars, 0);
+  double lowest = 1.0, lowest_in_gap = 1.0, worst_lag_x = 0.0, deepest_in_pillars = 0.0;
+  double lowest_pressed = 1.0;
+  std::uint32_t over_field = 0, touching = 0, over_tops = 0, pressed_by_block = 0;
   run.run(Path(keys), [&](const sim::TickInput& in, const sim::TickOutput& out) {
     const Vec3 p = out.X_W_proxy.translation;
     if (in.t_s < 2.0 || std::abs(p.x) > field - 0.03)
       return;  // before the pass, or near the field's edges
     ++over_field;
     touching += out.contacts > 0 ? 1u : 0u;
+    // a block the sweeper pushes may tilt and lean on it, its lower edge above the sweeper's
+    // centre, and press it down into a gap (the contact's normal points down): such ticks are
+    // counted apart; on them, too, the sweeper never goes into a pillar
+    bool block_on_it = false;
+    for (const sim::ContactPoint& cp : run.sim().contactPoints()) {
+      if (cp.body == pillars)
+        deepest_in_pillars = std::max(deepest_in_pillars, cp.depth_m);
+      else if (cp.n_W.y < 0.0)
+        block_on_it = true;
+    }
     // over a pillar's top (its centre within the top's half width of a pillar's centre) the
     // sweeper rests on it; over a gap (18 mm) it may dip towards its target, 1 mm lower
     const double from_pillar = std::remainder(p.x - pillarCoordinate(0), kPitch_m);
     if (std::abs(from_pillar) < 0.5 * kPillarSize_m[0]) {
       ++over_tops;
       lowest = std::min(lowest, p.y);
+    } else if (block_on_it) {
+      ++pressed_by_block;
+      lowest_pressed = std::min(lowest_pressed, p.y);
     } else {
       lowest_in_gap = std::min(lowest_in_gap, p.y);
     }
@@ -131,16 +151,21 @@ TEST(StressDemo, TheSweeperRidesOverThePillarsOfItsFirstPass) {
   });
   std::printf(
       "  over the field %u ticks (%u over a top), touching a pillar top %u; centre over a top "
-      "never lower than %.3f mm (resting on the tops: %.1f mm), over a gap %.3f mm; lag along "
+      "never lower than %.3f mm (resting on the tops: %.1f mm), over a gap %.3f mm (%u ticks "
+      "over a gap pressed down by a block: %.3f mm); deepest into a pillar %.4f mm; lag along "
       "the pass at most %.3f mm\n",
       over_field, over_tops, touching, 1e3 * lowest, 1e3 * ride_y, 1e3 * lowest_in_gap,
-      1e3 * worst_lag_x);
+      pressed_by_block, 1e3 * lowest_pressed, 1e3 * deepest_in_pillars, 1e3 * worst_lag_x);
   EXPECT_GT(over_field, 1000u);
   EXPECT_GT(over_tops, 200u);
   EXPECT_GT(lowest_in_gap, ride_y - 0.0015);  // the target is 1 mm below the tops
   EXPECT_GT(touching, over_field / 4);        // it rides on the tops, losing contact over the gaps
   // never ploughs into a pillar: at most the proxy's penetration at the force limit (0.33 mm)
   EXPECT_GT(lowest, ride_y - 0.0005);
+  EXPECT_LT(deepest_in_pillars, 0.0005);
+  // pressed down by a block, it rests on the gap's two pillar edges at the lowest (18 mm apart
+  // under a 15 mm radius: 3 mm below the tops' height)
+  EXPECT_GT(lowest_pressed, ride_y - 0.003);
   // and keeps up with its stream (0.78 m/s at its peak): within 2 mm along the pass, except
   // where it pushes a block (the first pass pushes four)
   EXPECT_LT(worst_lag_x, 0.002 + kBlockSide_m);
