@@ -193,9 +193,11 @@ TEST(Stack, TowersOfTenStand) {
   // (2 cm towers drifted 1.0e-3 to 1.6e-3 of the edge, dropped 10 cm ones up to 5e-3, before the
   // flat contacts' normal rows were solved together)
   for (const SizeCase& sc :
-       {SizeCase{0.02, 0.0, 0.6}, SizeCase{0.02, 0.01, 0.6}, SizeCase{0.02, 0.01, 0.0},
-        SizeCase{0.1, 0.0, 0.6}, SizeCase{0.1, 0.01, 0.6}, SizeCase{1.0, 0.0, 0.6},
-        SizeCase{1.0, 0.01, 0.6}}) {
+       {SizeCase{0.005, 0.0, 0.6}, SizeCase{0.005, 0.01, 0.6}, SizeCase{0.005, 0.0, 0.0},
+        SizeCase{0.005, 0.01, 0.0}, SizeCase{0.02, 0.0, 0.6}, SizeCase{0.02, 0.01, 0.6},
+        SizeCase{0.02, 0.01, 0.0}, SizeCase{0.1, 0.0, 0.6}, SizeCase{0.1, 0.01, 0.6},
+        SizeCase{0.1, 0.01, 0.0}, SizeCase{1.0, 0.0, 0.6}, SizeCase{1.0, 0.01, 0.6},
+        SizeCase{1.0, 0.01, 0.0}}) {
     StackCase c;
     c.edge = sc.edge;
     c.gap_fraction = sc.gap;
