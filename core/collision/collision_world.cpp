@@ -693,13 +693,12 @@ void CollisionWorld::test(std::uint32_t si) {
   // X_AB = X_WA^-1 X_WB, translations subtracted first (far from the origin stays exact)
   const geom::Mat3 Rt = glm::transpose(X_WA.R);
   const Transform X_AB{Rt * X_WB.R, Rt * (X_WB.t - X_WA.t)};
-  // a pair holds a depth tracker while it penetrates: taken for the query when one is free (or,
-  // for a pair that penetrated at its last test, from a pair not tested for two steps), given
-  // back after it unless the pair penetrates
-  if (s.tracker == kNil && tick_ >= s.track_from &&
-      (!free_trackers_.empty() || s.cache.penetrating) && trackable(s)) {
-    takeTracker(si, s.cache.penetrating);
-  }
+  // a pair holds a depth tracker while it penetrates: taken at the first test after it was
+  // found penetrating (that test's depth is its first: no tracked state to prove it from
+  // anyway), from the pool or from a pair not tested for two steps, and given back once apart
+  const bool was_penetrating = s.cache.penetrating;
+  if (s.tracker == kNil && was_penetrating && tick_ >= s.track_from && trackable(s))
+    takeTracker(si, true);
   DepthTracker* const tracker = s.tracker != kNil ? &trackers_[s.tracker] : nullptr;
   DepthTracker::Stats before;
   if (tracker != nullptr)
@@ -729,7 +728,9 @@ void CollisionWorld::test(std::uint32_t si) {
     if (!s.cache.penetrating || back_off)
       releaseTracker(s);  // apart (or touching): the next depth starts cold in any case
   } else if (r.status == ContactStatus::kPenetrating) {
-    ++depth_counters_.untracked;
+    // a pair's first penetrating test is cold (it takes a tracker at its next); a later one
+    // without a tracker is untracked (pool empty, backed off, or shapes not tracked)
+    ++(was_penetrating ? depth_counters_.untracked : depth_counters_.cold);
   }
   toWorld(X_WA, r, s.last);
   s.last.answered = true;

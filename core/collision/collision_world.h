@@ -73,9 +73,10 @@ struct WorldOptions {
   /// depth" and "In the collision world"): at most this many pairs track their penetration depth
   /// at once, each with a DepthTracker from a pool the world reserves as bodies are added (off
   /// the servo thread), sized for the largest shape of at most kMaxTrackedFaces faces it holds. A
-  /// pair takes a tracker when it may penetrate and gives it back once apart; a penetrating pair
-  /// that finds the pool empty takes one from a pair not tested for two steps, else is answered
-  /// by the untracked method (the same exact answer, slower) and counted
+  /// pair takes a tracker at its first test after one that found it penetrating and gives it
+  /// back once apart; a penetrating pair that finds the pool empty takes one from a pair not
+  /// tested for two steps, else is answered by the untracked method (the same exact answer,
+  /// slower) and counted
   /// (StepStats::depth_untracked). A pair whose certificate fails at two tests in a row (ties:
   /// parallel faces at equal depth are never certified) is answered untracked for 2, 4, ... up
   /// to 64 steps before it tries again. 0: no tracking (every depth by penetrationDepth).
@@ -116,9 +117,10 @@ struct StepStats {
   std::uint32_t pairs_visited = 0;
   /// Penetration depths of this step's pair tests (the coherent exact depth: docs/narrow-phase.md
   /// "In the collision world"): proven from the pair's tracker; its certificate failed, so the
-  /// full method ran (and rebuilt the tracker); the tracker had no state (a pair's first depth,
-  /// or one whose tracker was just taken), full method; penetrating answers of pairs without a
-  /// tracker (pool empty, shapes not tracked, DepthTracker::pays false, or depth_trackers 0).
+  /// full method ran (and rebuilt the tracker); no tracked state (a pair's first penetrating
+  /// test, which has no tracker yet, or the first with a tracker just taken), full method;
+  /// penetrating answers of pairs that penetrated before and have no tracker (pool empty, backed
+  /// off, shapes not tracked, DepthTracker::pays false, or depth_trackers 0).
   std::uint32_t depth_certified = 0;
   std::uint32_t depth_fallbacks = 0;
   std::uint32_t depth_cold = 0;

@@ -662,14 +662,18 @@ TEST(CollisionWorld, APairMadeAgainTracksAfresh) {
   st = world.step();
   EXPECT_EQ(world.contacts().size(), 0u);
   EXPECT_EQ(world.depthCounters().in_use, 0u);
-  // the same body again, where it was: a new pair, which starts cold (a tracker kept with its
-  // state would certify here at once), then is tracked
+  // the same body again, where it was: a new pair, which starts cold at its first test (no
+  // tracker yet) and at its second (a tracker just taken: one kept with its old state would
+  // certify here at once), then is tracked
   p = world.addBody(dp, poseAt(k - 1));
-  st = world.step();
-  ASSERT_EQ(world.contacts().size(), 1u);
-  EXPECT_EQ(st.depth_cold, 1u);
-  EXPECT_EQ(st.depth_certified + st.depth_fallbacks, 0u);
-  EXPECT_EQ(checkDepth(*slab, *ell, X_WS, poseAt(k - 1), world.contacts()[0]), "");
+  for (int again = 0; again < 2; ++again) {
+    st = world.step();
+    ASSERT_EQ(world.contacts().size(), 1u);
+    EXPECT_EQ(st.depth_cold, 1u) << again;
+    EXPECT_EQ(st.depth_certified + st.depth_fallbacks, 0u) << again;
+    EXPECT_EQ(checkDepth(*slab, *ell, X_WS, poseAt(k - 1), world.contacts()[0]), "");
+    world.setPose(p, poseAt(k - 1));  // tested again, unmoved
+  }
   world.setPose(p, poseAt(k));
   st = world.step();
   EXPECT_EQ(st.depth_certified, 1u);
@@ -683,11 +687,15 @@ TEST(CollisionWorld, APairMadeAgainTracksAfresh) {
   const Pose X_WC{Vec3{0.002, 0.025, -0.001}, glm::angleAxis(0.2, glm::normalize(Vec3{3, 1, 2}))};
   const std::uint32_t c = world.addBody(dc, X_WC);
   EXPECT_EQ(c, p);  // the id (and the pair's slot) reused
-  st = world.step();
-  ASSERT_EQ(world.contacts().size(), 1u);
-  EXPECT_EQ(st.depth_cold, 1u);
-  EXPECT_EQ(st.depth_certified + st.depth_fallbacks, 0u);
-  EXPECT_EQ(checkDepth(*slab, *cube, X_WS, X_WC, world.contacts()[0]), "");
+  for (int again = 0; again < 2; ++again) {
+    st = world.step();
+    ASSERT_EQ(world.contacts().size(), 1u);
+    EXPECT_EQ(st.depth_cold, 1u) << again;
+    EXPECT_EQ(st.depth_certified + st.depth_fallbacks, 0u) << again;
+    EXPECT_EQ(checkDepth(*slab, *cube, X_WS, X_WC, world.contacts()[0]), "");
+    world.setPose(c, X_WC);
+  }
+  EXPECT_EQ(world.depthCounters().in_use, 1u);
 
   // apart: the tracker goes back to the pool; in again: cold, not a fallback
   double low = 1.0;
@@ -766,7 +774,8 @@ TEST(CollisionWorld, AFullTrackerPoolLendsOnlyIdleTrackers) {
     st = world.step();
     check();
     EXPECT_EQ(st.depth_certified, 1u) << k;
-    EXPECT_EQ(st.depth_untracked, 1u) << k;
+    // the second pair's first test is cold; at every later one it wants a tracker and has none
+    EXPECT_EQ(st.depth_untracked, k == 5 ? 0u : 1u) << k;
   }
   EXPECT_EQ(world.depthCounters().stolen, 0u);
   // the first stops (its pair is no longer tested): two steps later the second takes its tracker
