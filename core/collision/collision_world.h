@@ -279,7 +279,7 @@ class CollisionWorld {
     // links in the pair lists of last.body_a ([0]) and last.body_b ([1])
     std::array<std::uint32_t, 2> next{0xffffffffu, 0xffffffffu};
     std::array<std::uint32_t, 2> prev{0xffffffffu, 0xffffffffu};
-    std::uint64_t visit = 0;  // the listing pass (visit_) that last looked at it
+    std::uint64_t visit = 0;              // the listing pass (visit_) that last looked at it
     std::uint32_t tracker = 0xffffffffu;  // its depth tracker (trackers_), kNil: none
     // the tracker's certificate failed at this many tests in a row; from two on the pair is
     // answered untracked until step track_from (a back-off that doubles, up to 64 steps)
@@ -371,7 +371,7 @@ class CollisionWorld {
   std::size_t tracker_faces_ = 0, tracker_edges_ = 0;
   std::uint64_t steal_failed_ = 0;  // tick + 1 of the last step in which no tracker could be taken
   DepthCounters depth_counters_;
-  PairResult result_;           // test()'s answer in A's frame, reused (no zeroing per query)
+  PairResult result_;  // test()'s answer in A's frame, reused (no zeroing per query)
   std::uint64_t tick_ = 0;
   std::size_t reserved_pairs_ = 0;
   std::uint64_t cold_queries_ = 0;

@@ -558,7 +558,8 @@ TEST(CollisionWorld, TrackedDepthEqualsTheColdExactMethodOnEveryTick) {
       da.primitives.push_back({a, Transform{}});
       db.kind = BodyKind::kProbe;
       db.primitives.push_back({b, Transform{}});
-      const Pose X_WA{Vec3{0.1, -0.2, 0.3} * unit, glm::angleAxis(0.4, glm::normalize(Vec3{1, 1, 0}))};
+      const Pose X_WA{Vec3{0.1, -0.2, 0.3} * unit,
+                      glm::angleAxis(0.4, glm::normalize(Vec3{1, 1, 0}))};
       world.addBody(da, X_WA);
       std::mt19937_64 rng(1800 + n);
       std::normal_distribution<double> g(0.0, 1.0);
@@ -583,8 +584,7 @@ TEST(CollisionWorld, TrackedDepthEqualsTheColdExactMethodOnEveryTick) {
         const double turn = (jump ? 5.0 : 0.1) * M_PI / 180.0;
         q = glm::normalize(glm::angleAxis(turn, glm::normalize(Vec3{g(rng), g(rng), g(rng)})) * q);
         dir = glm::normalize(dir + Vec3{g(rng), g(rng), g(rng)} * (jump ? 0.1 : 0.001));
-        const double dist =
-            0.3 * r_in + (r_out - 0.3 * r_in) * (0.5 + 0.5 * std::sin(k * 0.01));
+        const double dist = 0.3 * r_in + (r_out - 0.3 * r_in) * (0.5 + 0.5 * std::sin(k * 0.01));
         X_WB = Pose{X_WA.translation + X_WA.rotation * (dir * dist), q};
         world.setPose(probe, X_WB);
         const StepStats st = world.step();
@@ -608,9 +608,9 @@ TEST(CollisionWorld, TrackedDepthEqualsTheColdExactMethodOnEveryTick) {
           "[figures] world pair, N %zu, unit %g: %llu penetrating ticks (%llu not), %llu "
           "certified, %llu fallbacks, %llu cold, %llu untracked\n",
           n, unit, static_cast<unsigned long long>(penetrating),
-          static_cast<unsigned long long>(apart),
-          static_cast<unsigned long long>(certified), static_cast<unsigned long long>(fallbacks),
-          static_cast<unsigned long long>(cold), static_cast<unsigned long long>(untracked));
+          static_cast<unsigned long long>(apart), static_cast<unsigned long long>(certified),
+          static_cast<unsigned long long>(fallbacks), static_cast<unsigned long long>(cold),
+          static_cast<unsigned long long>(untracked));
       EXPECT_GT(penetrating, 300u);
       EXPECT_GT(apart, 50u);  // the pair came apart and back
       EXPECT_GT(certified, penetrating * 3 / 4) << "N " << n << " unit " << unit;
