@@ -87,6 +87,7 @@ void runTicks(benchmark::State& state,
   };
   double checksum = 0.0;
   std::uint64_t contacts = 0, pairs = 0, dynamics_ticks = 0;
+  std::uint64_t depth_certified = 0, depth_fallbacks = 0, depth_cold = 0, depth_untracked = 0;
   std::vector<double> asleep_cpu_us;
   asleep_cpu_us.reserve(ticks);
   for (auto _ : state) {
@@ -101,6 +102,10 @@ void runTicks(benchmark::State& state,
       checksum += out.force_W_n.y;
       contacts += out.contacts;
       pairs += out.pairs_tested;
+      depth_certified += out.depth_certified;
+      depth_fallbacks += out.depth_fallbacks;
+      depth_cold += out.depth_cold;
+      depth_untracked += out.depth_untracked;
       dynamics_ticks += (out.flags & sim::kTickDynamics) != 0 ? 1u : 0u;
       // once the dynamics have run and then stopped (the scene asleep): those ticks apart
       if ((out.flags & sim::kTickDynamics) == 0 && dynamics_ticks > 0)
@@ -134,6 +139,18 @@ void runTicks(benchmark::State& state,
   state.counters["contacts_per_tick"] = static_cast<double>(contacts) / static_cast<double>(ticks);
   state.counters["pairs_per_tick"] = static_cast<double>(pairs) / static_cast<double>(ticks);
   state.counters["dynamics_ticks"] = static_cast<double>(dynamics_ticks);
+  // the penetration depths of the run (docs/narrow-phase.md "In the collision world"): per
+  // tick, and the share of the tracked ones whose certificate failed
+  const double runs = static_cast<double>(ticks) * static_cast<double>(state.iterations());
+  state.counters["depth_certified_per_tick"] = static_cast<double>(depth_certified) / runs;
+  state.counters["depth_fallbacks_per_tick"] = static_cast<double>(depth_fallbacks) / runs;
+  state.counters["depth_cold_per_tick"] = static_cast<double>(depth_cold) / runs;
+  state.counters["depth_untracked_per_tick"] = static_cast<double>(depth_untracked) / runs;
+  state.counters["depth_fallback_rate"] =
+      depth_certified + depth_fallbacks > 0
+          ? static_cast<double>(depth_fallbacks) /
+                static_cast<double>(depth_certified + depth_fallbacks)
+          : 0.0;
 }
 
 void tickScene(benchmark::State& state, const char* name) {

@@ -118,6 +118,10 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
     p.live = true;
     const Polytope& shape = *desc.primitives[i].shape;
     depth_scratch_.reserve(shape.faces().size());
+    if (shape.faces().size() <= WorldOptions::kMaxTrackedFaces) {
+      tracker_faces_ = std::max(tracker_faces_, shape.faces().size());
+      tracker_edges_ = std::max(tracker_edges_, shape.edges().size());
+    }
     for (std::size_t h = 0; h < 6; ++h)
       p.hint[h] = shape.lookup(Vec3{h / 2 == 0, h / 2 == 1, h / 2 == 2} * (h % 2 ? 1.0 : -1.0));
     BoxFilter filter;
@@ -158,7 +162,29 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
       list->reserve(2 * bodies_.size());
   }
   updateAwake(id);
+  reserveTrackers();
   return id;
+}
+
+void CollisionWorld::reserveTrackers() {
+  if (trackers_.size() < options_.depth_trackers) {
+    const auto old = static_cast<std::uint32_t>(trackers_.size());
+    trackers_.resize(options_.depth_trackers);
+    tracker_owner_.resize(options_.depth_trackers, kNil);
+    free_trackers_.reserve(options_.depth_trackers);
+    // handed out from the back: tracker 0 first
+    for (std::uint32_t t = options_.depth_trackers; t-- > old;)
+      free_trackers_.push_back(t);
+  }
+  for (DepthTracker& t : trackers_)
+    t.reserve(tracker_faces_, tracker_edges_);
+}
+
+std::size_t CollisionWorld::depthTrackerBytes() const {
+  std::size_t bytes = 0;
+  for (const DepthTracker& t : trackers_)
+    bytes += t.reservedBytes();
+  return bytes;
 }
 
 void CollisionWorld::buildTree(Body& b) {
@@ -432,6 +458,7 @@ std::uint32_t CollisionWorld::newPairState(std::uint32_t pa, std::uint32_t pb, S
 
 void CollisionWorld::freePairState(std::uint32_t si, StepStats* stats) {
   PairState& s = pair_states_[si];
+  releaseTracker(s);  // a pair made again later starts its tracking afresh
   state_of_pair_.erase(pairKey(s.prim_a, s.prim_b));
   unlinkPair(si);
   s.live = false;
@@ -602,7 +629,61 @@ void CollisionWorld::prewarm() {
   applyEvents(nullptr);
 }
 
-void CollisionWorld::test(PairState& s) {
+bool CollisionWorld::trackable(const PairState& s) const {
+  const Prim& pa = prims_[s.prim_a];
+  const Prim& pb = prims_[s.prim_b];
+  const Polytope& a = *bodies_[pa.body].desc.primitives[pa.index].shape;
+  const Polytope& b = *bodies_[pb.body].desc.primitives[pb.index].shape;
+  return a.faces().size() <= tracker_faces_ && b.faces().size() <= tracker_faces_ &&
+         a.edges().size() <= tracker_edges_ && b.edges().size() <= tracker_edges_ &&
+         DepthTracker::pays(a, b);
+}
+
+void CollisionWorld::takeTracker(std::uint32_t si, bool steal) {
+  std::uint32_t t = kNil;
+  if (!free_trackers_.empty()) {
+    t = free_trackers_.back();
+    free_trackers_.pop_back();
+  } else if (steal && steal_failed_ != tick_ + 1) {
+    // the pool is empty: the tracker of the pair tested longest ago, if that is two steps or
+    // more (a pair tested every step keeps its own: no two pairs take turns with one tracker)
+    std::uint64_t oldest = 0;
+    for (std::uint32_t k = 0; k < tracker_owner_.size(); ++k) {
+      const std::uint64_t tested = pair_states_[tracker_owner_[k]].last_tested;
+      if (tested + 2 <= tick_ && (t == kNil || tested < oldest)) {
+        oldest = tested;
+        t = k;
+      }
+    }
+    if (t == kNil) {
+      steal_failed_ = tick_ + 1;  // none this step: do not look again until the next
+      return;
+    }
+    pair_states_[tracker_owner_[t]].tracker = kNil;
+    ++depth_counters_.stolen;
+    --depth_counters_.in_use;
+  } else {
+    return;
+  }
+  trackers_[t].reset();
+  tracker_owner_[t] = si;
+  pair_states_[si].tracker = t;
+  ++depth_counters_.taken;
+  depth_counters_.peak = std::max(depth_counters_.peak, ++depth_counters_.in_use);
+}
+
+void CollisionWorld::releaseTracker(PairState& s) {
+  if (s.tracker == kNil)
+    return;
+  trackers_[s.tracker].reset();
+  tracker_owner_[s.tracker] = kNil;
+  free_trackers_.push_back(s.tracker);
+  s.tracker = kNil;
+  --depth_counters_.in_use;
+}
+
+void CollisionWorld::test(std::uint32_t si) {
+  PairState& s = pair_states_[si];
   if (!s.last.answered)
     ++cold_queries_;
   const Prim& pa = prims_[s.prim_a];
@@ -612,10 +693,45 @@ void CollisionWorld::test(PairState& s) {
   // X_AB = X_WA^-1 X_WB, translations subtracted first (far from the origin stays exact)
   const geom::Mat3 Rt = glm::transpose(X_WA.R);
   const Transform X_AB{Rt * X_WB.R, Rt * (X_WB.t - X_WA.t)};
+  // a pair holds a depth tracker while it penetrates: taken at the first test after it was
+  // found penetrating (that test's depth is its first: no tracked state to prove it from
+  // anyway), from the pool or from a pair not tested for two steps, and given back once apart
+  const bool was_penetrating = s.cache.penetrating;
+  if (s.tracker == kNil && was_penetrating && tick_ >= s.track_from && trackable(s))
+    takeTracker(si, true);
+  DepthTracker* const tracker = s.tracker != kNil ? &trackers_[s.tracker] : nullptr;
+  DepthTracker::Stats before;
+  if (tracker != nullptr)
+    before = tracker->stats;
+  s.cache.tracker = tracker;
   PairResult& r = result_;
   queryPair(*bodies_[pa.body].desc.primitives[pa.index].shape,
             *bodies_[pb.body].desc.primitives[pb.index].shape, X_AB, s.cache, depth_scratch_,
             options_.query, r);
+  s.cache.tracker = nullptr;  // the pool's index is the state (copies of the world keep it)
+  if (tracker != nullptr) {
+    const std::uint64_t certified = tracker->stats.certified - before.certified;
+    const std::uint64_t fallbacks = tracker->stats.fallbacks - before.fallbacks;
+    depth_counters_.certified += certified;
+    depth_counters_.fallbacks += fallbacks;
+    depth_counters_.cold += tracker->stats.cold - before.cold;
+    if (certified > 0)
+      s.depth_misses = 0;
+    bool back_off = false;
+    if (fallbacks > 0 && ++s.depth_misses >= 2) {
+      // the certificate keeps failing (a tie that lasts): a full solve each step is cheaper
+      // without the tracker's attempt and rebuild; try again later
+      const std::uint32_t shift = std::min<std::uint32_t>(s.depth_misses - 1, 6);
+      s.track_from = tick_ + (std::uint64_t{1} << shift);
+      back_off = true;
+    }
+    if (!s.cache.penetrating || back_off)
+      releaseTracker(s);  // apart (or touching): the next depth starts cold in any case
+  } else if (r.status == ContactStatus::kPenetrating) {
+    // a pair's first penetrating test is cold (it takes a tracker at its next); a later one
+    // without a tracker is untracked (pool empty, backed off, or shapes not tracked)
+    ++(was_penetrating ? depth_counters_.untracked : depth_counters_.cold);
+  }
   toWorld(X_WA, r, s.last);
   s.last.answered = true;
   s.last_tested = tick_;
@@ -720,6 +836,7 @@ void CollisionWorld::schedule(StepStats* stats) {
   } else if (timed) {
     std::sort(order_.begin(), order_.end(), std::greater<>());
   }
+  const DepthCounters depth_before = depth_counters_;
   const auto start = std::chrono::steady_clock::now();
   std::uint32_t tested = 0;
   for (; tested < budget; ++tested) {
@@ -728,10 +845,17 @@ void CollisionWorld::schedule(StepStats* stats) {
                 .count() >= options_.budget.max_microseconds) {
       break;
     }
-    test(pair_states_[0xffffffffull - (order_[tested] & 0xffffffffull)]);
+    test(static_cast<std::uint32_t>(0xffffffffull - (order_[tested] & 0xffffffffull)));
   }
   stats->pairs_tested = tested;
   stats->pairs_skipped = count - tested;
+  stats->depth_certified =
+      static_cast<std::uint32_t>(depth_counters_.certified - depth_before.certified);
+  stats->depth_fallbacks =
+      static_cast<std::uint32_t>(depth_counters_.fallbacks - depth_before.fallbacks);
+  stats->depth_cold = static_cast<std::uint32_t>(depth_counters_.cold - depth_before.cold);
+  stats->depth_untracked =
+      static_cast<std::uint32_t>(depth_counters_.untracked - depth_before.untracked);
   for (std::uint32_t i = tested; i < count; ++i) {
     const PairState& s = pair_states_[0xffffffffull - (order_[i] & 0xffffffffull)];
     const std::uint64_t age = tick_ - s.last_tested;
@@ -797,6 +921,26 @@ void writePairCache(StateWriter& w, const PairCache& c) {
   w.flag(c.penetrating);
 }
 
+// A depth tracker's state between queries (not its per-query scratch, its record of the last
+// full solve, which the next rebuild rewrites, or its counters).
+void writeTracker(StateWriter& w, const DepthTracker& t) {
+  w.flag(t.valid);
+  if (!t.valid)
+    return;
+  w.f64(t.drift);
+  w.f64(t.limit);
+  w.u64(t.tick);
+  w.glm(t.last.R);
+  w.glm(t.last.t);
+  w.integer(t.heap.size());
+  for (const DepthTracker::Entry& e : t.heap) {
+    w.f64(e.key);
+    w.integer(e.code);
+    w.integer(e.hint);
+  }
+  w.array(t.face_support_a.data(), std::min(t.face_support_a.size(), t.a->faces().size()));
+}
+
 }  // namespace
 
 void CollisionWorld::writeState(StateWriter& w) const {
@@ -848,7 +992,14 @@ void CollisionWorld::writeState(StateWriter& w) const {
     w.flag(s.in_contact);
     w.flag(s.from_tree);
     w.u64(s.seen);
+    w.integer(s.tracker);
+    w.integer(s.depth_misses);
+    w.u64(s.track_from);
+    if (s.tracker != kNil)
+      writeTracker(w, trackers_[s.tracker]);
   }
+  w.array(free_trackers_);
+  w.u64(steal_failed_);
   w.integer(tree_pairs_.size());
   for (const TreePair& tp : tree_pairs_) {
     w.integer(tp.lo);

@@ -69,6 +69,21 @@ struct WorldOptions {
   /// (the leaves are compared on the same exact boxes by the same closed test). 0: every
   /// primitive is a box of its own in the sweep and prune.
   std::uint32_t piece_tree_min = 8;
+  /// The coherent exact depth (penetrationDepthCoherent, docs/narrow-phase.md "Coherent exact
+  /// depth" and "In the collision world"): at most this many pairs track their penetration depth
+  /// at once, each with a DepthTracker from a pool the world reserves as bodies are added (off
+  /// the servo thread), sized for the largest shape of at most kMaxTrackedFaces faces it holds. A
+  /// pair takes a tracker at its first test after one that found it penetrating and gives it
+  /// back once apart; a penetrating pair that finds the pool empty takes one from a pair not
+  /// tested for two steps, else is answered by the untracked method (the same exact answer,
+  /// slower) and counted
+  /// (StepStats::depth_untracked). A pair whose certificate fails at two tests in a row (ties:
+  /// parallel faces at equal depth are never certified) is answered untracked for 2, 4, ... up
+  /// to 64 steps before it tries again. 0: no tracking (every depth by penetrationDepth).
+  std::uint32_t depth_trackers = 64;
+  /// Shapes of more faces than this are not tracked (their pairs keep penetrationDepth): bounds
+  /// the pool's memory, which grows as the largest tracked shape (about 100 bytes per face).
+  static constexpr std::size_t kMaxTrackedFaces = 512;
 };
 
 /// One primitive pair's answer this tick, in world coordinates.
@@ -100,6 +115,16 @@ struct StepStats {
   /// two sleeping or static bodies is never looked at): what the step's bookkeeping costs,
   /// independent of how many bodies sleep.
   std::uint32_t pairs_visited = 0;
+  /// Penetration depths of this step's pair tests (the coherent exact depth: docs/narrow-phase.md
+  /// "In the collision world"): proven from the pair's tracker; its certificate failed, so the
+  /// full method ran (and rebuilt the tracker); no tracked state (a pair's first penetrating
+  /// test, which has no tracker yet, or the first with a tracker just taken), full method;
+  /// penetrating answers of pairs that penetrated before and have no tracker (pool empty, backed
+  /// off, shapes not tracked, DepthTracker::pays false, or depth_trackers 0).
+  std::uint32_t depth_certified = 0;
+  std::uint32_t depth_fallbacks = 0;
+  std::uint32_t depth_cold = 0;
+  std::uint32_t depth_untracked = 0;
 };
 
 class CollisionWorld {
@@ -167,6 +192,22 @@ class CollisionWorld {
   ColdCounters coldCounters() const {
     return {cold_queries_, sap_.fullSorts(), sap_.positionRebuilds()};
   }
+  /// The penetration depths since construction, as StepStats counts them per step, and the
+  /// tracker pool (WorldOptions::depth_trackers). Not state (not in writeState()): counters. Any
+  /// thread that may read the world.
+  struct DepthCounters {
+    std::uint64_t certified = 0, fallbacks = 0, cold = 0, untracked = 0;
+    std::uint64_t taken = 0;   ///< trackers taken from the pool by a pair
+    std::uint64_t stolen = 0;  ///< of them, taken from a pair not tested for two steps
+    std::uint32_t in_use = 0;  ///< trackers held by pairs now
+    std::uint32_t peak = 0;    ///< the most held at once
+  };
+  const DepthCounters& depthCounters() const { return depth_counters_; }
+  /// The tracker pool: its trackers and the bytes they have reserved (all of them, every
+  /// tracker sized for the largest tracked shape).
+  std::size_t depthTrackers() const { return trackers_.size(); }
+  std::size_t depthTrackerBytes() const;
+
   /// Makes the broad phase's lazily rebuilt tables ready (SweepAndPrune::prewarm) and applies
   /// its events, so that the next step of a few moved bodies does no whole-list pass. Off the
   /// servo thread (a scene's prewarm, after its first steps).
@@ -238,7 +279,12 @@ class CollisionWorld {
     // links in the pair lists of last.body_a ([0]) and last.body_b ([1])
     std::array<std::uint32_t, 2> next{0xffffffffu, 0xffffffffu};
     std::array<std::uint32_t, 2> prev{0xffffffffu, 0xffffffffu};
-    std::uint64_t visit = 0;  // the listing pass (visit_) that last looked at it
+    std::uint64_t visit = 0;              // the listing pass (visit_) that last looked at it
+    std::uint32_t tracker = 0xffffffffu;  // its depth tracker (trackers_), kNil: none
+    // the tracker's certificate failed at this many tests in a row; from two on the pair is
+    // answered untracked until step track_from (a back-off that doubles, up to 64 steps)
+    std::uint32_t depth_misses = 0;
+    std::uint64_t track_from = 0;
   };
   // two broad-phase boxes that overlap, one of them (at least) a tree body's
   struct TreePair {
@@ -259,7 +305,14 @@ class CollisionWorld {
   void descend(const TreePair& tp, StepStats* stats);
   void dropTreePair(std::uint32_t lo, std::uint32_t hi, StepStats* stats);
   void resolveTreePairs(StepStats* stats);
-  void test(PairState& s);
+  void test(std::uint32_t si);
+  // depth trackers: whether the pair's shapes are tracked, take one from the pool (or from a
+  // pair not tested for two steps), give it back
+  bool trackable(const PairState& s) const;
+  void takeTracker(std::uint32_t si, bool steal);
+  void releaseTracker(PairState& s);
+  // the pool's trackers made and sized for the largest tracked shape so far (addBody)
+  void reserveTrackers();
   void linkPair(std::uint32_t si);
   void unlinkPair(std::uint32_t si);
   // the next pair state in `body`'s list after state si
@@ -310,7 +363,15 @@ class CollisionWorld {
   ReservedVector<std::uint32_t> contact_order_;  // scratch: states listed in contacts(), sorted
   ReservedVector<Contact> contacts_;
   DepthScratch depth_scratch_;  // the narrow phase's, sized for every shape added
-  PairResult result_;           // test()'s answer in A's frame, reused (no zeroing per query)
+  // the depth tracker pool (WorldOptions::depth_trackers), every tracker reserved by addBody for
+  // tracker_faces_ faces and tracker_edges_ edges (the largest tracked shape's)
+  ReservedVector<DepthTracker> trackers_;
+  ReservedVector<std::uint32_t> free_trackers_;
+  ReservedVector<std::uint32_t> tracker_owner_;  // per tracker: its pair state, kNil: free
+  std::size_t tracker_faces_ = 0, tracker_edges_ = 0;
+  std::uint64_t steal_failed_ = 0;  // tick + 1 of the last step in which no tracker could be taken
+  DepthCounters depth_counters_;
+  PairResult result_;  // test()'s answer in A's frame, reused (no zeroing per query)
   std::uint64_t tick_ = 0;
   std::size_t reserved_pairs_ = 0;
   std::uint64_t cold_queries_ = 0;

@@ -427,26 +427,46 @@ DepthResult penetrationDepthExact(const Polytope& a,
   return exactSolve(a, b, X_AB, cache, scratch, nullptr);
 }
 
+namespace {
+
+// Room for faces_a faces and edges_a edges of A and faces_b faces of B (grows only).
+void reserveTracker(DepthTracker& t,
+                    std::size_t faces_a,
+                    std::size_t edges_a,
+                    std::size_t faces_b) {
+  const std::size_t n = faces_b + edges_a;
+  t.heap.reserve(n);
+  t.popped.reserve(n);
+  auto grow = [](auto& v, std::size_t size) {
+    if (v.size() < size)
+      v.resize(size);
+  };
+  grow(t.value_a, faces_a);
+  grow(t.value_b, faces_b);
+  grow(t.support_b, faces_b);
+  grow(t.edge_min, edges_a);
+  grow(t.face_support_a, faces_a);
+  grow(t.stamp_a, faces_a);
+  grow(t.stamp_b, faces_b);
+  grow(t.neg_normal_b, faces_b);
+}
+
+}  // namespace
+
 void DepthTracker::reserve(const Polytope& pa, const Polytope& pb) {
-  const std::size_t n = pb.faces().size() + pa.edges().size();
-  heap.reserve(n);
-  popped.reserve(n);
-  if (value_a.size() < pa.faces().size())
-    value_a.resize(pa.faces().size());
-  if (value_b.size() < pb.faces().size())
-    value_b.resize(pb.faces().size());
-  if (support_b.size() < pb.faces().size())
-    support_b.resize(pb.faces().size());
-  if (edge_min.size() < pa.edges().size())
-    edge_min.resize(pa.edges().size());
-  if (face_support_a.size() < pa.faces().size())
-    face_support_a.resize(pa.faces().size());
-  if (stamp_a.size() < pa.faces().size())
-    stamp_a.resize(pa.faces().size());
-  if (stamp_b.size() < pb.faces().size())
-    stamp_b.resize(pb.faces().size());
-  if (neg_normal_b.size() < pb.faces().size())
-    neg_normal_b.resize(pb.faces().size());
+  reserveTracker(*this, pa.faces().size(), pa.edges().size(), pb.faces().size());
+}
+
+void DepthTracker::reserve(std::size_t faces, std::size_t edges) {
+  reserveTracker(*this, faces, edges, faces);
+}
+
+std::size_t DepthTracker::reservedBytes() const {
+  return (heap.capacity() + popped.capacity()) * sizeof(Entry) +
+         (value_a.capacity() + value_b.capacity() + edge_min.capacity()) * sizeof(double) +
+         (support_b.capacity() + face_support_a.capacity()) * sizeof(std::uint32_t) +
+         (stamp_a.capacity() + stamp_b.capacity()) * sizeof(std::uint64_t) +
+         neg_normal_b.capacity() * sizeof(Vec3);
 }
 
 namespace {
@@ -650,6 +670,16 @@ DepthResult rebuild(const Polytope& a,
 
 }  // namespace
 
+bool DepthTracker::fits(const Polytope& pa, const Polytope& pb) const {
+  const std::size_t fa = pa.faces().size();
+  const std::size_t fb = pb.faces().size();
+  const std::size_t ea = pa.edges().size();
+  return heap.capacity() >= fb + ea && popped.capacity() >= fb + ea && value_a.size() >= fa &&
+         value_b.size() >= fb && support_b.size() >= fb && edge_min.size() >= ea &&
+         face_support_a.size() >= fa && stamp_a.size() >= fa && stamp_b.size() >= fb &&
+         neg_normal_b.size() >= fb && ea <= kIndexMask && fb <= kIndexMask;
+}
+
 DepthResult penetrationDepthCoherent(const Polytope& a,
                                      const Polytope& b,
                                      const Transform& X_AB,
@@ -658,14 +688,7 @@ DepthResult penetrationDepthCoherent(const Polytope& a,
                                      DepthScratch& scratch) {
   DepthTracker& t = tracker;
   ++t.stats.queries;
-  const std::size_t fa = a.faces().size();
-  const std::size_t fb = b.faces().size();
-  const std::size_t ea = a.edges().size();
-  const bool fits = t.heap.capacity() >= fb + ea && t.popped.capacity() >= fb + ea &&
-                    t.value_a.size() >= fa && t.value_b.size() >= fb && t.support_b.size() >= fb &&
-                    t.edge_min.size() >= ea && t.face_support_a.size() >= fa &&
-                    t.stamp_a.size() >= fa && t.stamp_b.size() >= fb &&
-                    t.neg_normal_b.size() >= fb && ea <= kIndexMask && fb <= kIndexMask;
+  const bool fits = t.fits(a, b);
   if (t.valid && fits && t.a == &a && t.b == &b) {
     DepthResult r;
     if (coherentTry(a, b, X_AB, t, cache, r)) {

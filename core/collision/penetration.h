@@ -31,6 +31,7 @@
 #include <vector>
 
 #include "core/collision/closest_features.h"
+#include "core/common/reserved_vector.h"
 
 namespace hapticd::collision {
 
@@ -134,6 +135,13 @@ struct DepthTracker {
   /// Room for the pair (a, b) (allocates; off the servo thread). A tracker too small for a pair
   /// answers it by the full method (no allocation) and keeps no state.
   void reserve(const Polytope& a, const Polytope& b);
+  /// Room for any pair whose polytopes have at most `faces` faces and `edges` edges each (a pool
+  /// of trackers shared by many pairs, CollisionWorld). Allocates; off the servo thread.
+  void reserve(std::size_t faces, std::size_t edges);
+  /// Whether the reserved room holds the pair (a, b): then a query tracks it without allocating.
+  bool fits(const Polytope& a, const Polytope& b) const;
+  /// Bytes this tracker has reserved (its vectors' capacities).
+  std::size_t reservedBytes() const;
   /// Forget the tracked state (the next query solves in full).
   void reset() { valid = false; }
   /// Whether tracking is expected to beat penetrationDepth's warm-started EPA for this pair: up to
@@ -144,9 +152,10 @@ struct DepthTracker {
     return a.edges().size() * b.edges().size() <= (std::size_t{1} << 19);
   }
 
-  // the tracked state (penetration.cpp)
-  std::vector<Entry> heap;                         ///< min-heap on key
-  std::vector<Entry> popped;                       ///< this query's evaluated entries
+  // the tracked state (penetration.cpp); the heap's and popped's room is their capacity, which
+  // a copy keeps (ReservedVector), so that a copied tracker tracks without allocating
+  ReservedVector<Entry> heap;                      ///< min-heap on key
+  ReservedVector<Entry> popped;                    ///< this query's evaluated entries
   std::vector<double> value_a, value_b, edge_min;  ///< the full solve's record
   std::vector<std::uint32_t> support_b;
   /// Per face of A: B's support vertex against it (the climbs' hints) and the query that last

@@ -165,6 +165,14 @@ struct TickOutput {
   double max_penetration_m = 0.0;  ///< >= 0
   std::uint32_t pairs_tested = 0;
   std::uint32_t pairs_skipped = 0;
+  /// The penetration depths of this tick's pair tests (collision::StepStats, docs/narrow-phase.md
+  /// "In the collision world"): proven from the pair's depth tracker; its certificate failed
+  /// (the full method ran); the tracker had no state yet (full method); penetrating pairs
+  /// without a tracker (full or EPA method).
+  std::uint32_t depth_certified = 0;
+  std::uint32_t depth_fallbacks = 0;
+  std::uint32_t depth_cold = 0;
+  std::uint32_t depth_untracked = 0;
   std::uint32_t flags = 0;  ///< TickFlags
   /// TickInput::device_ok and a finite device pose: false when the device is lost or its pose is
   /// NaN or Inf (the proxy then holds and the wrench is zero); the output stage then cuts to zero

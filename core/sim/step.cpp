@@ -408,6 +408,7 @@ void fillOutput(const SimModel& m, SceneState& s, const ProxyMove& mv, TickOutpu
 
 TickOutput step(const SimModel& m, SceneState& s, const TickInput& input) {
   TickOutput out;
+  const collision::CollisionWorld::DepthCounters depth_before = s.world.depthCounters();
   const EditsSeen edits = beginTick(m, s, input);
   detail::updateAttachment(m, s, input);
   const Device dev = trackDevice(m, s, input);
@@ -450,6 +451,12 @@ TickOutput step(const SimModel& m, SceneState& s, const TickInput& input) {
   out.grab_inertia_torque_W_nm = inertia.torque_nm;
   out.pairs_tested = mv.stats.pairs_tested + edits.pairs_tested;
   fillOutput(m, s, mv, &out);
+  // every collision step of the tick (edits, the proxy's sub-steps, the dynamics' relists)
+  const collision::CollisionWorld::DepthCounters& depth = s.world.depthCounters();
+  out.depth_certified = static_cast<std::uint32_t>(depth.certified - depth_before.certified);
+  out.depth_fallbacks = static_cast<std::uint32_t>(depth.fallbacks - depth_before.fallbacks);
+  out.depth_cold = static_cast<std::uint32_t>(depth.cold - depth_before.cold);
+  out.depth_untracked = static_cast<std::uint32_t>(depth.untracked - depth_before.untracked);
   return out;
 }
 

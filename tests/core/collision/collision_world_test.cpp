@@ -11,6 +11,7 @@
 #include <random>
 #include <thread>
 
+#include "core/collision/penetration.h"
 #include "tests/core/alloc_counter.h"
 #include "tests/reference/reference.h"
 
@@ -316,6 +317,10 @@ TEST(CollisionWorld, StepAllocatesNothingFromTheFirstStepOnANewThread) {
   });
   servo.join();
   EXPECT_GT(penetrating, 1000u);  // the depth was asked for, many times
+  // and the pairs' depth trackers answered most of it (taken from the pool on this thread)
+  const CollisionWorld::DepthCounters& d = s.world.depthCounters();
+  EXPECT_GT(d.certified, penetrating / 2);
+  EXPECT_GT(d.taken, 0u);
   EXPECT_EQ(allocations, 0u);
 }
 
@@ -504,6 +509,293 @@ TEST(CollisionWorld, SleepingBodiesCostAStepNothingWhateverTheirNumber) {
   }
   EXPECT_EQ(small.visited_touch, large.visited_touch);
   EXPECT_EQ(large.visited_touch, 1u);
+}
+
+// The depth the world's pair gives, against the cold exact method (penetrationDepthExact with a
+// fresh cache at the same relative pose): equal within 1e-12 of the pair's size, and its normal
+// an MTD direction (the depth along it is the depth). Returns the failure, or "".
+std::string checkDepth(const Polytope& a,
+                       const Polytope& b,
+                       const Pose& X_WA,
+                       const Pose& X_WB,
+                       const Contact& c) {
+  const Transform TA = X_WA.toTransform(), TB = X_WB.toTransform();
+  const geom::Mat3 Rt = glm::transpose(TA.R);
+  const Transform X_AB{Rt * TB.R, Rt * (TB.t - TA.t)};  // as the world computes it
+  DepthCache fresh;
+  DepthScratch scratch;
+  const DepthResult exact = penetrationDepthExact(a, b, X_AB, fresh, scratch);
+  const double size = std::max(a.radius(), b.radius());
+  if (!(std::abs(-c.distance - exact.depth) <= 1e-12 * size))
+    return "depth " + std::to_string(-c.distance) + " != cold exact " + std::to_string(exact.depth);
+  std::uint32_t ha = 0, hb = 0;
+  const double along = depthAlong(a, b, X_AB, Rt * c.normal, ha, hb);
+  if (!(std::abs(along - exact.depth) <= 1e-10 * size))
+    return "the depth along the normal is " + std::to_string(along);
+  return "";
+}
+
+// A world pair driven along a coherent penetrating path (B turning 0.1 degree and moving 0.1 %
+// of the size per step, a 5 degree jump every 97 steps, coming apart and back now and then), in
+// metres and millimetres, at 8 to 128 vertices and with boxes: on every tick the world's depth
+// equals the cold exact method's, and most ticks are proven from the pair's tracker.
+TEST(CollisionWorld, TrackedDepthEqualsTheColdExactMethodOnEveryTick) {
+  std::size_t failures = 0;
+  for (const double unit : {1.0, 1000.0}) {
+    const auto cube = shape(box(0.012 * unit));
+    for (const std::size_t n : {0u, 8u, 32u, 128u}) {  // 0: a cube and an 8-point hull
+      const auto a = n == 0 ? cube
+                            : shape(reference::ellipsoidPoints(n, 0.025 * unit, 0.018 * unit,
+                                                               0.012 * unit, 11 + n));
+      const auto b = shape(reference::ellipsoidPoints(n == 0 ? 8 : n, 0.025 * unit, 0.018 * unit,
+                                                      0.012 * unit, 12 + n));
+      WorldOptions o;
+      o.box_margin = 0.001 * unit;
+      CollisionWorld world(o);
+      world.reserve(4, 16);
+      BodyDesc da, db;
+      da.kind = BodyKind::kStatic;
+      da.primitives.push_back({a, Transform{}});
+      db.kind = BodyKind::kProbe;
+      db.primitives.push_back({b, Transform{}});
+      const Pose X_WA{Vec3{0.1, -0.2, 0.3} * unit,
+                      glm::angleAxis(0.4, glm::normalize(Vec3{1, 1, 0}))};
+      world.addBody(da, X_WA);
+      std::mt19937_64 rng(1800 + n);
+      std::normal_distribution<double> g(0.0, 1.0);
+      Quat q = reference::randomRotation(rng);
+      Vec3 dir = glm::normalize(Vec3{g(rng), g(rng), g(rng)});
+      // the centres' distance swings from 0.3 of the sum of the inscribed radii to the sum of
+      // the radii: overlapping most of the time, apart now and then
+      const double r_out = a->radius() + b->radius();
+      double r_in = 0.0;
+      for (const Polytope* p : {a.get(), b.get()}) {
+        double r = 1e300;
+        for (const auto& f : p->faces())
+          r = std::min(r, f.offset);
+        r_in += r;
+      }
+      Pose X_WB{X_WA.translation + dir * r_in, q};
+      const std::uint32_t probe = world.addBody(db, X_WB);
+      std::uint64_t penetrating = 0, apart = 0, certified = 0, fallbacks = 0, cold = 0,
+                    untracked = 0;
+      for (int k = 0; k < 1500; ++k) {
+        const bool jump = k % 97 == 96;
+        const double turn = (jump ? 5.0 : 0.1) * M_PI / 180.0;
+        q = glm::normalize(glm::angleAxis(turn, glm::normalize(Vec3{g(rng), g(rng), g(rng)})) * q);
+        dir = glm::normalize(dir + Vec3{g(rng), g(rng), g(rng)} * (jump ? 0.1 : 0.001));
+        const double dist = 0.3 * r_in + (r_out - 0.3 * r_in) * (0.5 + 0.5 * std::sin(k * 0.01));
+        X_WB = Pose{X_WA.translation + X_WA.rotation * (dir * dist), q};
+        world.setPose(probe, X_WB);
+        const StepStats st = world.step();
+        certified += st.depth_certified;
+        fallbacks += st.depth_fallbacks;
+        cold += st.depth_cold;
+        untracked += st.depth_untracked;
+        ASSERT_LE(world.contacts().size(), 1u);
+        if (world.contacts().empty() || world.contacts()[0].status != ContactStatus::kPenetrating) {
+          ++apart;
+          continue;
+        }
+        const Contact& c = world.contacts()[0];
+        ++penetrating;
+        const std::string err = checkDepth(*a, *b, X_WA, X_WB, c);
+        if (!err.empty() && failures++ < 10) {
+          ADD_FAILURE() << "unit " << unit << " N " << n << " tick " << k << ": " << err;
+        }
+      }
+      std::printf(
+          "[figures] world pair, N %zu, unit %g: %llu penetrating ticks (%llu not), %llu "
+          "certified, %llu fallbacks, %llu cold, %llu untracked\n",
+          n, unit, static_cast<unsigned long long>(penetrating),
+          static_cast<unsigned long long>(apart), static_cast<unsigned long long>(certified),
+          static_cast<unsigned long long>(fallbacks), static_cast<unsigned long long>(cold),
+          static_cast<unsigned long long>(untracked));
+      EXPECT_GT(penetrating, 300u);
+      EXPECT_GT(apart, 50u);  // the pair came apart and back
+      EXPECT_GT(certified, penetrating * 3 / 4) << "N " << n << " unit " << unit;
+      EXPECT_EQ(untracked, 0u);
+      // every depth was the tracker's: certified, or the full method in its place
+      EXPECT_GE(certified + fallbacks + cold, penetrating);
+    }
+  }
+  EXPECT_EQ(failures, 0u);
+}
+
+// A pair's tracker is given back when the pair ends (a body removed, the pair coming apart) and
+// reset when taken: a pair made again, with the same shapes at the same pose (where the old
+// tracked state would certify) or with another shape, starts cold; the answers stay exact.
+TEST(CollisionWorld, APairMadeAgainTracksAfresh) {
+  WorldOptions o;
+  o.box_margin = 0.001;
+  CollisionWorld world(o);
+  world.reserve(8, 32);
+  const auto slab = shape(box(0.02));
+  const auto ell = shape(reference::ellipsoidPoints(32, 0.025, 0.018, 0.012, 5));
+  const auto cube = shape(box(0.01));
+  BodyDesc ds, dp;
+  ds.kind = BodyKind::kStatic;
+  ds.primitives.push_back({slab, Transform{}});
+  dp.kind = BodyKind::kKinematic;
+  dp.primitives.push_back({ell, Transform{}});
+  const Pose X_WS{Vec3{0.0}, Quat{1, 0, 0, 0}};
+  world.addBody(ds, X_WS);
+  auto poseAt = [](int k) {
+    return Pose{Vec3{0.001 * std::sin(0.1 * k), 0.03, 0.0},
+                glm::angleAxis(0.3 + 0.002 * k, glm::normalize(Vec3{1, 2, 3}))};
+  };
+  std::uint32_t p = world.addBody(dp, poseAt(0));
+  StepStats st;
+  int k = 0;
+  for (; k < 20; ++k) {
+    world.setPose(p, poseAt(k));
+    st = world.step();
+  }
+  ASSERT_EQ(world.contacts().size(), 1u);
+  EXPECT_EQ(world.contacts()[0].status, ContactStatus::kPenetrating);
+  EXPECT_EQ(st.depth_certified, 1u);  // tracked
+  EXPECT_EQ(world.depthCounters().in_use, 1u);
+  EXPECT_EQ(checkDepth(*slab, *ell, X_WS, poseAt(k - 1), world.contacts()[0]), "");
+
+  // removed: its pair ends and gives the tracker back
+  world.removeBody(p);
+  st = world.step();
+  EXPECT_EQ(world.contacts().size(), 0u);
+  EXPECT_EQ(world.depthCounters().in_use, 0u);
+  // the same body again, where it was: a new pair, which starts cold at its first test (no
+  // tracker yet) and at its second (a tracker just taken: one kept with its old state would
+  // certify here at once), then is tracked
+  p = world.addBody(dp, poseAt(k - 1));
+  for (int again = 0; again < 2; ++again) {
+    st = world.step();
+    ASSERT_EQ(world.contacts().size(), 1u);
+    EXPECT_EQ(st.depth_cold, 1u) << again;
+    EXPECT_EQ(st.depth_certified + st.depth_fallbacks, 0u) << again;
+    EXPECT_EQ(checkDepth(*slab, *ell, X_WS, poseAt(k - 1), world.contacts()[0]), "");
+    world.setPose(p, poseAt(k - 1));  // tested again, unmoved
+  }
+  world.setPose(p, poseAt(k));
+  st = world.step();
+  EXPECT_EQ(st.depth_certified, 1u);
+  EXPECT_EQ(checkDepth(*slab, *ell, X_WS, poseAt(k), world.contacts()[0]), "");
+
+  // another shape in the same body slot: cold again, exact
+  world.removeBody(p);
+  world.step();
+  BodyDesc dc = dp;
+  dc.primitives[0].shape = cube;
+  const Pose X_WC{Vec3{0.002, 0.025, -0.001}, glm::angleAxis(0.2, glm::normalize(Vec3{3, 1, 2}))};
+  const std::uint32_t c = world.addBody(dc, X_WC);
+  EXPECT_EQ(c, p);  // the id (and the pair's slot) reused
+  for (int again = 0; again < 2; ++again) {
+    st = world.step();
+    ASSERT_EQ(world.contacts().size(), 1u);
+    EXPECT_EQ(st.depth_cold, 1u) << again;
+    EXPECT_EQ(st.depth_certified + st.depth_fallbacks, 0u) << again;
+    EXPECT_EQ(checkDepth(*slab, *cube, X_WS, X_WC, world.contacts()[0]), "");
+    world.setPose(c, X_WC);
+  }
+  EXPECT_EQ(world.depthCounters().in_use, 1u);
+
+  // apart: the tracker goes back to the pool; in again: cold, not a fallback
+  double low = 1.0;
+  for (const auto& v : cube->vertices())
+    low = std::min(low, (X_WC.rotation * v.p).y);
+  world.setPose(c, Pose{Vec3{0.0, 0.0205 - low, 0.0}, X_WC.rotation});  // 0.5 mm above
+  world.step();
+  ASSERT_EQ(world.contacts().size(), 1u);
+  EXPECT_NE(world.contacts()[0].status, ContactStatus::kPenetrating);
+  EXPECT_EQ(world.depthCounters().in_use, 0u);
+  world.setPose(c, X_WC);
+  st = world.step();
+  EXPECT_EQ(st.depth_cold, 1u);
+  EXPECT_EQ(st.depth_fallbacks, 0u);
+  EXPECT_EQ(checkDepth(*slab, *cube, X_WS, X_WC, world.contacts()[0]), "");
+}
+
+// A pool of one tracker: a penetrating pair tested every step keeps it (two pairs never take
+// turns with it: the other is answered untracked); a pair not tested for two steps (unmoved,
+// skip_unmoved_pairs) gives it up to a penetrating one. Every answer exact.
+TEST(CollisionWorld, AFullTrackerPoolLendsOnlyIdleTrackers) {
+  WorldOptions o;
+  o.box_margin = 0.001;
+  o.skip_unmoved_pairs = true;
+  o.depth_trackers = 1;
+  CollisionWorld world(o);
+  world.reserve(8, 32);
+  const auto floor = shape({{-0.1, -0.01, -0.1},
+                            {0.1, -0.01, -0.1},
+                            {-0.1, 0.0, -0.1},
+                            {0.1, 0.0, -0.1},
+                            {-0.1, -0.01, 0.1},
+                            {0.1, -0.01, 0.1},
+                            {-0.1, 0.0, 0.1},
+                            {0.1, 0.0, 0.1}});
+  const auto ell = shape(reference::ellipsoidPoints(32, 0.025, 0.018, 0.012, 7));
+  BodyDesc df, dk;
+  df.kind = BodyKind::kStatic;
+  df.primitives.push_back({floor, Transform{}});
+  dk.kind = BodyKind::kKinematic;
+  dk.primitives.push_back({ell, Transform{}});
+  const Pose X_WF{Vec3{0.0}, Quat{1, 0, 0, 0}};
+  world.addBody(df, X_WF);
+  auto poseAt = [](double x, int k) {
+    return Pose{Vec3{x + 0.001 * std::sin(0.1 * k), 0.008, 0.0},
+                glm::angleAxis(0.3 + 0.002 * k, glm::normalize(Vec3{1, 2, 3}))};
+  };
+  std::vector<Pose> at(4);
+  at[1] = poseAt(-0.05, 0);
+  const std::uint32_t k1 = world.addBody(dk, at[1]);
+  std::size_t failures = 0;
+  auto check = [&]() {
+    for (const Contact& c : world.contacts()) {
+      ASSERT_EQ(c.status, ContactStatus::kPenetrating);
+      const std::string err = checkDepth(*floor, *ell, X_WF, at[c.body_b], c);
+      if (!err.empty() && failures++ < 10)
+        ADD_FAILURE() << "body " << c.body_b << ": " << err;
+    }
+  };
+  StepStats st;
+  for (int k = 0; k < 5; ++k) {
+    at[k1] = poseAt(-0.05, k);
+    world.setPose(k1, at[k1]);
+    st = world.step();
+    check();
+  }
+  EXPECT_EQ(st.depth_certified, 1u);
+  // a second body, penetrating: no tracker free, and the first pair was tested this step
+  at[2] = poseAt(0.05, 0);
+  const std::uint32_t k2 = world.addBody(dk, at[2]);
+  for (int k = 5; k < 25; ++k) {
+    at[k1] = poseAt(-0.05, k);
+    at[k2] = poseAt(0.05, k);
+    world.setPose(k1, at[k1]);
+    world.setPose(k2, at[k2]);
+    st = world.step();
+    check();
+    EXPECT_EQ(st.depth_certified, 1u) << k;
+    // the second pair's first test is cold; at every later one it wants a tracker and has none
+    EXPECT_EQ(st.depth_untracked, k == 5 ? 0u : 1u) << k;
+  }
+  EXPECT_EQ(world.depthCounters().stolen, 0u);
+  // the first stops (its pair is no longer tested): two steps later the second takes its tracker
+  for (int k = 25; k < 30; ++k) {
+    at[k2] = poseAt(0.05, k);
+    world.setPose(k2, at[k2]);
+    st = world.step();
+    check();
+  }
+  EXPECT_EQ(world.depthCounters().stolen, 1u);
+  EXPECT_EQ(world.depthCounters().in_use, 1u);
+  EXPECT_EQ(st.depth_certified, 1u);
+  EXPECT_EQ(st.depth_untracked, 0u);
+  // the first moves again: answered untracked, exact
+  at[k1] = poseAt(-0.05, 30);
+  world.setPose(k1, at[k1]);
+  st = world.step();
+  check();
+  EXPECT_EQ(st.depth_untracked, 1u);
+  EXPECT_EQ(failures, 0u);
 }
 
 }  // namespace

@@ -6,11 +6,14 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <string>
 #include <thread>
 
 #include "core/scene/loader.h"
+#include "core/sim/model.h"
+#include "core/sim/scene_state.h"
 #include "tests/core/alloc_counter.h"
 #include "tests/core/sim/demo_streams.h"
 #include "tests/core/sim/harness.h"
@@ -91,16 +94,59 @@ TEST_P(DemoScene, AFreshThreadStepsTheStreamWithoutAllocating) {
   Runner run(std::move(created).value(), o);
   const Path path(keys);
   std::uint64_t allocations = 0, pairs_tested = 0;
+  std::uint64_t certified = 0, fallbacks = 0, cold = 0, untracked = 0;
   std::thread servo([&] {
     const std::uint64_t before = testing_alloc::count();
     run.run(path, [&](const sim::TickInput&, const sim::TickOutput& out) {
       pairs_tested += out.pairs_tested;
+      certified += out.depth_certified;
+      fallbacks += out.depth_fallbacks;
+      cold += out.depth_cold;
+      untracked += out.depth_untracked;
     });
     allocations = testing_alloc::count() - before;
   });
   servo.join();
+  // the penetration depths of the replay (docs/narrow-phase.md "In the collision world")
+  const sim::SceneState* state = run.sim().state();
+  ASSERT_NE(state, nullptr);
+  const collision::CollisionWorld::DepthCounters& d = state->world.depthCounters();
+  std::printf(
+      "[figures] %s: depths %llu certified from the pairs' trackers, %llu fallbacks (%.2g of the "
+      "tracked), %llu cold, %llu untracked; trackers taken %llu (%llu lent), at most %u at once\n",
+      name.c_str(), static_cast<unsigned long long>(certified),
+      static_cast<unsigned long long>(fallbacks),
+      certified + fallbacks > 0
+          ? static_cast<double>(fallbacks) / static_cast<double>(certified + fallbacks)
+          : 0.0,
+      static_cast<unsigned long long>(cold), static_cast<unsigned long long>(untracked),
+      static_cast<unsigned long long>(d.taken), static_cast<unsigned long long>(d.stolen), d.peak);
   EXPECT_GT(pairs_tested, 0u);  // the narrow phase ran
-  EXPECT_EQ(allocations, 0u);
+  // the depth trackers were taken and used on this thread (every stream but the decomposed one,
+  // which never penetrates, has penetrating pairs)
+  if (name != "decomposed") {
+    EXPECT_GT(certified, 0u);
+  }
+  EXPECT_EQ(allocations, 0u);  // trackers included: taken from the pool reserved at create()
+}
+
+// The collision world's pool of depth trackers (collision::WorldOptions::depth_trackers) stays
+// small beside the pair capacity the world reserves, whatever the number of pieces (the
+// decomposed scene: 600 pieces): every tracker is sized for the largest tracked shape, not one per
+// pair.
+TEST_P(DemoScene, TheDepthTrackerPoolIsSmallBesideThePairs) {
+  sim::SimOptions o;
+  auto compiled = sim::SimModel::compile(model, o);
+  ASSERT_TRUE(compiled.ok()) << compiled.error().message;
+  auto made = sim::makeState(*compiled.value());
+  ASSERT_TRUE(made.ok()) << made.error().message;
+  const collision::CollisionWorld& world = made.value().world;
+  const double pool_mib = static_cast<double>(world.depthTrackerBytes()) / (1024.0 * 1024.0);
+  std::printf("[figures] %s: %zu depth trackers, %.2f MiB (%zu reserved pairs)\n", name.c_str(),
+              world.depthTrackers(), pool_mib, world.reservedPairs());
+  EXPECT_EQ(world.depthTrackers(), collision::WorldOptions{}.depth_trackers);
+  // at most 64 trackers for shapes of 512 faces: about 4 MiB
+  EXPECT_LE(pool_mib, 4.0);
 }
 
 INSTANTIATE_TEST_SUITE_P(Scenes, DemoScene, demoStreams(), demoStreamName);
