@@ -119,6 +119,7 @@ std::shared_ptr<const scene::SceneModel> stackScene() {
   s.gravity_W = Vec3{0.0, -9.81, 0.0};
   const auto box = [](const Vec3& h) {
     std::vector<Vec3> p;
+    p.reserve(8);
     for (int i = 0; i < 8; ++i)
       p.push_back(
           Vec3{(i & 1) != 0 ? h.x : -h.x, (i & 2) != 0 ? h.y : -h.y, (i & 4) != 0 ? h.z : -h.z});
