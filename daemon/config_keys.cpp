@@ -330,6 +330,15 @@ const ConfigKey kKeys[] = {
      closed(0.0, 1e6), "s",
      "With dynamics: the scene sleeps (the dynamics skip their solve) after it has been still "
      "this long, with the held body touching no dynamic body; 0: never."},
+    {"response", "dynamics_velocity_iterations",
+     HAPTICD_FIELD(response.sim.dynamics_velocity_iterations), closed(1, 1000), "",
+     "With dynamics: sequential-impulse iterations per contact solve, at most (a solve stops "
+     "earlier once converged). More holds stacks stiffer and costs time per tick "
+     "(docs/accuracy.md, part dynamics/)."},
+    {"response", "dynamics_position_iterations",
+     HAPTICD_FIELD(response.sim.dynamics_position_iterations), closed(0, 1000), "",
+     "With dynamics: split-impulse iterations per tick that push penetrating bodies apart "
+     "without adding energy; 0: no drift correction (bodies sink into each other)."},
 
     // [scene]
     {"scene", "path", HAPTICD_FIELD(scene.path), kNoRange, "",

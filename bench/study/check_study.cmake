@@ -1,7 +1,9 @@
 # CTest check of the accuracy study (bench/CMakeLists.txt, tests study.quick and study.from_csv):
 cmake_minimum_required(VERSION 3.25)
 # runs hapticstudy into OUT, then checks that it exited 0, that every figure of results.csv is a
-# finite number, and that every part has its plot (a PNG, non-empty) and its section in tables.md.
+# finite number, and that every part has its plot (a PNG, non-empty) and its section in tables.md;
+# that the knob sweeps' parts are there (dynamics/, shaping/, decomposition/), and that the
+# dynamics' parts measured a drift and an energy difference.
 #   cmake -DSTUDY=<hapticstudy> -DOUT=<dir> [-DFROM=<folder with results.csv and measured.txt>]
 #         -P check_study.cmake
 # With FROM, the study measures nothing: it redraws from FROM's files (--from-csv).
@@ -26,14 +28,14 @@ endif()
 file(READ ${OUT}/tables.md tables)
 set(parts "")
 foreach(line IN LISTS lines)
-  # 19 fields (a quoted setting may hold commas); the last 16 are figures, each a finite number
+  # 25 fields (a quoted setting may hold commas); the last 22 are figures, each a finite number
   string(REGEX REPLACE "\"[^\"]*\"" "setting" plain "${line}")
   string(REPLACE "," ";" fields "${plain};")
   list(LENGTH fields nf)
-  if(NOT nf EQUAL 20)  # the ';' appended keeps a trailing empty field counted
-    message(FATAL_ERROR "results.csv: a row without its 19 fields: ${line}")
+  if(NOT nf EQUAL 26)  # the ';' appended keeps a trailing empty field counted
+    message(FATAL_ERROR "results.csv: a row without its 25 fields: ${line}")
   endif()
-  list(SUBLIST fields 3 16 values)
+  list(SUBLIST fields 3 22 values)
   foreach(v IN LISTS values)
     if(NOT v MATCHES "^-?[0-9]+(\\.[0-9]*)?([eE][-+]?[0-9]+)?$")
       message(FATAL_ERROR "results.csv: '${v}' is not a finite number in: ${line}")
@@ -52,6 +54,37 @@ foreach(part IN LISTS parts)
   string(FIND "${tables}" "### ${part}\n\n![" at)
   if(at EQUAL -1)
     message(FATAL_ERROR "tables.md has no section with the plot of ${part}")
+  endif()
+endforeach()
+# the knob sweeps with a truth of their own are there, and the dynamics' parts measured a drift
+# and an energy difference (a run with one velocity iteration or no drift correction moves the
+# bodies away from the truth's: a row whose drift is zero everywhere measured nothing)
+foreach(part dynamics/dynamic dynamics/stack shaping/peg_in_hole shaping/gears
+        decomposition/crescent)
+  list(FIND parts ${part} at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "results.csv has no part ${part}")
+  endif()
+endforeach()
+foreach(part dynamics/dynamic dynamics/stack)
+  set(moved FALSE)
+  foreach(line IN LISTS lines)
+    if(line MATCHES "^${part},")
+      string(REGEX REPLACE "\"[^\"]*\"" "setting" plain "${line}")
+      string(REPLACE "," ";" fields "${plain}")
+      list(GET fields 21 drift_max)
+      list(GET fields 24 energy_max)
+      if(drift_max GREATER 0 AND energy_max GREATER 0)
+        set(moved TRUE)
+      endif()
+    endif()
+  endforeach()
+  if(NOT moved)
+    message(FATAL_ERROR "${part}: no row drifted from its truth (drift or energy never measured)")
+  endif()
+  string(FIND "${tables}" "drift mean / p99 / max (mm)" at)
+  if(at EQUAL -1)
+    message(FATAL_ERROR "tables.md: the dynamics' parts have no drift column")
   endif()
 endforeach()
 list(LENGTH parts np)

@@ -97,6 +97,7 @@ int main(int argc, char** argv) {
     std::vector<Row> rows;
     runPairs(options, rows);
     runScenes(options, rows);
+    runDecomposition(options, rows);
     for (const Row& r : rows)
       summaries.push_back(summarize(r));
     const std::time_t now = std::time(nullptr);

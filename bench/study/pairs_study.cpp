@@ -181,7 +181,9 @@ void runPairs(const Options& options, std::vector<Row>& rows) {
 
     // ours, warm-started along each path (what the servo loop does) and cold
     for (const bool warm : {true, false}) {
-      Row row{part, warm ? "hapticd-exact-warm" : "hapticd-exact-cold", "", {}, {}, {}, 0, 0, 0, 0};
+      Row row{
+          part, warm ? "hapticd-exact-warm" : "hapticd-exact-cold", "", {}, {}, {}, 0, 0, 0, 0, {},
+          {}};
       for (std::size_t i = 0; i < all.size(); ++i) {
         PairCache cache;
         for (std::size_t k = 0; k < all[i].size(); ++k) {
@@ -198,7 +200,7 @@ void runPairs(const Options& options, std::vector<Row>& rows) {
 
     // ours, the depth along the direction of motion instead of the minimal one (§4.1)
     {
-      Row row{part, "hapticd-depth-along-motion", "", {}, {}, {}, 0, 0, 0, 0};
+      Row row{part, "hapticd-depth-along-motion", "", {}, {}, {}, 0, 0, 0, 0, {}, {}};
       for (std::size_t i = 0; i < all.size(); ++i) {
         PairCache cache;
         std::uint32_t ha = 0, hb = 0;
@@ -247,7 +249,7 @@ void runPairs(const Options& options, std::vector<Row>& rows) {
       std::vector<std::unique_ptr<bench::PeerMethod>> methods;
       for (const auto& m : set.methods)
         methods.push_back(bench::makePeer(m, a, b));
-      Row row{part, set.name, "", {}, {}, {}, 0, 0, 0, 0};
+      Row row{part, set.name, "", {}, {}, {}, 0, 0, 0, 0, {}, {}};
       for (std::size_t i = 0; i < all.size(); ++i) {
         for (std::size_t k = 0; k < all[i].size(); ++k) {
           const Transform& X = all[i][k];
@@ -298,7 +300,7 @@ void runPairs(const Options& options, std::vector<Row>& rows) {
       v.k = den > 0.0 ? num / den : 0.0;
       char setting[64];
       std::snprintf(setting, sizeof setting, "h=%gmm", h * 1e3);
-      Row row{part, "voxel-McNeely", setting, {}, {}, {}, 0, 0, 0, 0};
+      Row row{part, "voxel-McNeely", setting, {}, {}, {}, 0, 0, 0, 0, {}, {}};
       for (std::size_t i = 0; i < all.size(); ++i) {
         for (std::size_t k = 0; k < all[i].size(); ++k) {
           const Transform& X = all[i][k];

@@ -30,8 +30,13 @@ std::string label(const Summary& r) {
   return r.setting.empty() ? r.method : r.method + " " + r.setting;
 }
 
+// parts timed per tick: the scenes and the knob sweeps in the closed loop
 bool perTick(const std::string& part) {
-  return part.rfind("scene/", 0) == 0;
+  for (const char* prefix : {"scene/", "dynamics/", "shaping/"}) {
+    if (part.rfind(prefix, 0) == 0)
+      return true;
+  }
+  return false;
 }
 
 // The time a row is plotted and compared at: a tick's p99.9 (what must fit the tick's budget; CPU
@@ -403,6 +408,8 @@ Summary summarize(const Row& r) {
   s.force_n = stats(r.force_err_n);
   s.torque_nm = stats(r.torque_err_nm);
   s.time_ns = stats(r.time_ns);
+  s.drift_m = stats(r.drift_m);
+  s.energy_err_j = stats(r.energy_err_j);
   return s;
 }
 
@@ -410,14 +417,18 @@ bool writeCsv(const std::filesystem::path& file, const std::vector<Summary>& row
   std::ofstream out(file);
   out << "part,method,setting,configurations,truth_contacts,misses,false_contacts,no_answer,"
          "force_err_mean_n,force_err_p99_n,force_err_max_n,torque_err_mean_nm,torque_err_p99_nm,"
-         "torque_err_max_nm,time_mean_ns,time_p99_ns,time_max_ns,time_p50_ns,time_p999_ns\n";
+         "torque_err_max_nm,time_mean_ns,time_p99_ns,time_max_ns,time_p50_ns,time_p999_ns,"
+         "drift_mean_m,drift_p99_m,drift_max_m,energy_err_mean_j,energy_err_p99_j,"
+         "energy_err_max_j\n";
   for (const Summary& r : rows) {
     out << csvField(r.part) << ',' << csvField(r.method) << ',' << csvField(r.setting) << ','
         << r.configurations << ',' << r.truth_contacts << ',' << r.misses << ',' << r.false_contacts
         << ',' << r.no_answer << ',' << r.force_n.mean << ',' << r.force_n.p99 << ','
         << r.force_n.max << ',' << r.torque_nm.mean << ',' << r.torque_nm.p99 << ','
         << r.torque_nm.max << ',' << r.time_ns.mean << ',' << r.time_ns.p99 << ',' << r.time_ns.max
-        << ',' << r.time_ns.p50 << ',' << r.time_ns.p999 << '\n';
+        << ',' << r.time_ns.p50 << ',' << r.time_ns.p999 << ',' << r.drift_m.mean << ','
+        << r.drift_m.p99 << ',' << r.drift_m.max << ',' << r.energy_err_j.mean << ','
+        << r.energy_err_j.p99 << ',' << r.energy_err_j.max << '\n';
   }
   out.close();
   if (!out) {
@@ -444,9 +455,10 @@ bool readCsv(const std::filesystem::path& file, std::vector<Summary>& rows, std:
     if (line.empty())
       continue;
     const auto c = splitCsv(line);
-    if (c.size() != 19) {
+    // 19 fields before the dynamics' figures were added (a file of then reads without them)
+    if (c.size() != 25 && c.size() != 19) {
       error = file.string() + ":" + std::to_string(n) + ": " + std::to_string(c.size()) +
-              " fields, 19 expected";
+              " fields, 25 expected";
       return false;
     }
     try {
@@ -464,6 +476,10 @@ bool readCsv(const std::filesystem::path& file, std::vector<Summary>& rows, std:
       s.time_ns = {std::stod(c[14]), std::stod(c[15]), std::stod(c[16])};
       s.time_ns.p50 = std::stod(c[17]);
       s.time_ns.p999 = std::stod(c[18]);
+      if (c.size() == 25) {
+        s.drift_m = {std::stod(c[19]), std::stod(c[20]), std::stod(c[21])};
+        s.energy_err_j = {std::stod(c[22]), std::stod(c[23]), std::stod(c[24])};
+      }
       out.push_back(s);
     } catch (const std::exception&) {
       error = file.string() + ":" + std::to_string(n) + ": a figure is not a number";
@@ -487,20 +503,28 @@ std::string tables(const std::vector<Summary>& rows,
   const auto parts = byPart(rows, order);
   for (const std::string& part : order) {
     const auto& list = parts.at(part);
+    const bool dynamics = part.rfind("dynamics/", 0) == 0;
     md << "\n### " << part << "\n\n"
        << "![" << part << ": p99 force error against " << axisName(part) << "](" << plot_dir_rel
        << "/" << plotName(part) << ")\n\n"
        << reading(list, perTick(part)) << "\n\n"
        << "| method | force error mean / p99 / max (N) | torque error mean / p99 / max (N·m) | "
-          "misses | false contacts | no answer | time mean / p50 / p99 / p99.9 / max (ns) |\n"
-       << "|---|---|---|---|---|---|---|\n";
+          "misses | false contacts | no answer | time mean / p50 / p99 / p99.9 / max (ns) |"
+       << (dynamics ? " drift mean / p99 / max (mm) | energy error mean / p99 / max (mJ) |" : "")
+       << "\n|---|---|---|---|---|---|---|" << (dynamics ? "---|---|" : "") << "\n";
     for (const Summary* r : list) {
       md << "| " << label(*r) << " | " << fmt(r->force_n.mean) << " / " << fmt(r->force_n.p99)
          << " / " << fmt(r->force_n.max) << " | " << fmt(r->torque_nm.mean) << " / "
          << fmt(r->torque_nm.p99) << " / " << fmt(r->torque_nm.max) << " | " << r->misses << " of "
          << r->truth_contacts << " | " << r->false_contacts << " | " << r->no_answer << " | "
          << ns(r->time_ns.mean) << " / " << ns(r->time_ns.p50) << " / " << ns(r->time_ns.p99)
-         << " / " << ns(r->time_ns.p999) << " / " << ns(r->time_ns.max) << " |\n";
+         << " / " << ns(r->time_ns.p999) << " / " << ns(r->time_ns.max) << " |";
+      if (dynamics) {
+        md << ' ' << fmt(1e3 * r->drift_m.mean) << " / " << fmt(1e3 * r->drift_m.p99) << " / "
+           << fmt(1e3 * r->drift_m.max) << " | " << fmt(1e3 * r->energy_err_j.mean) << " / "
+           << fmt(1e3 * r->energy_err_j.p99) << " / " << fmt(1e3 * r->energy_err_j.max) << " |";
+      }
+      md << "\n";
     }
   }
   return md.str();

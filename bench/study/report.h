@@ -19,6 +19,8 @@ struct Summary {
   std::uint64_t configurations = 0, truth_contacts = 0, misses = 0, false_contacts = 0,
                 no_answer = 0;
   Stats force_n, torque_nm, time_ns;
+  /// With dynamics (Row::drift_m, Row::energy_err_j): mean, p99 and max; all zero otherwise.
+  Stats drift_m, energy_err_j;
 };
 
 Summary summarize(const Row& row);

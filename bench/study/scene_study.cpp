@@ -24,6 +24,9 @@ struct TickRecord {
   Vec3 force{0.0}, torque{0.0};  // to the device
   TruthTick truth;
   double ns = 0.0;
+  // with dynamics: the dynamic bodies' positions (by body index order) and their energy
+  std::vector<Vec3> positions;
+  double energy_j = 0.0;
 };
 
 std::string fmt(double x, const char* f = "%.3g") {
@@ -37,6 +40,13 @@ sim::SimOptions simOptions(const Knobs& k, const SceneStudyOptions& options) {
   o.response.tick_s = 1.0 / (options.rate_hz * k.rate_multiple);
   o.max_pairs_per_tick = k.max_pairs_per_tick;
   o.response.predictive = k.predictive;
+  o.dynamics_velocity_iterations = k.velocity_iterations;
+  o.dynamics_position_iterations = k.position_iterations;
+  const sim::ResponseOptions defaults;
+  o.response.max_force_step_n = k.max_force_step_n;
+  o.response.max_torque_step_nm =
+      k.max_force_step_n * defaults.max_torque_step_nm / defaults.max_force_step_n;
+  o.response.crease_angle_deg = k.crease_angle_deg;
   return o;
 }
 
@@ -55,6 +65,10 @@ Result<bool> run(const std::shared_ptr<const scene::SceneModel>& model,
   std::size_t cursor = 0;
   out.clear();
   out.reserve(ticks);
+  const scene::SceneModel& sc = *model;
+  const bool dynamics = std::any_of(sc.bodies.begin(), sc.bodies.end(), [](const scene::Body& b) {
+    return b.motion == scene::Motion::kDynamic;
+  });
   for (std::size_t k = 0; k < ticks; ++k) {
     sim::TickInput in;
     in.t_s = static_cast<double>(k) * options.response.tick_s;
@@ -67,7 +81,19 @@ Result<bool> run(const std::shared_ptr<const scene::SceneModel>& model,
     out.push_back({o.force_W_n,
                    o.torque_W_nm,
                    {o.X_W_proxy, o.contact_force_W_n, o.contact_torque_W_nm},
-                   ns});
+                   ns,
+                   {},
+                   0.0});
+    if (dynamics) {
+      // outside the timed step: the bodies' state for the drift and the energy
+      TickRecord& r = out.back();
+      for (const sim::BodyPose& b : simulation.bodyPoses()) {
+        if (b.body < sc.bodies.size() && sc.bodies[b.body].motion == scene::Motion::kDynamic)
+          r.positions.push_back(b.X_WB.translation);
+      }
+      const sim::DynamicsStatus d = simulation.dynamicsStatus();
+      r.energy_j = d.kinetic_energy_j + d.potential_energy_j;
+    }
   }
   return true;
 }
@@ -84,6 +110,13 @@ void score(Row& row,
     const bool c = glm::dot(g.truth.contact_force, g.truth.contact_force) > 0.0;
     row.add(glm::length(g.force - truth[k].force), glm::length(g.torque - truth[k].torque), g.ns, t,
             c);
+    if (!truth[k].positions.empty() && g.positions.size() == truth[k].positions.size()) {
+      double drift = 0.0;
+      for (std::size_t i = 0; i < g.positions.size(); ++i)
+        drift = std::max(drift, glm::length(g.positions[i] - truth[k].positions[i]));
+      row.drift_m.push_back(drift);
+      row.energy_err_j.push_back(std::abs(g.energy_j - truth[k].energy_j));
+    }
   }
   // the times of the ticks between
   if (m > 1) {
@@ -161,6 +194,47 @@ std::optional<Knobs> knobsOf(const std::string& setting) {
   return std::nullopt;
 }
 
+Result<bool> runSweep(const std::string& part,
+                      const std::shared_ptr<const scene::SceneModel>& model,
+                      const std::vector<proto::PoseStreamRow>& stream,
+                      const SceneStudyOptions& options,
+                      const std::vector<PlannedRun>& runs,
+                      std::vector<Row>& rows) {
+  const std::size_t ticks = ticksOf(stream, options);
+  // the ticks of each distinct setting, in the order first met
+  std::vector<std::pair<Knobs, std::vector<TickRecord>>> done;
+  std::size_t index = 0;
+  for (const PlannedRun& planned : runs) {
+    ++index;
+    Knobs k = planned.knobs;
+    k.rate_multiple = 1;
+    const auto same =
+        std::find_if(done.begin(), done.end(), [&](const auto& d) { return d.first == k; });
+    const std::vector<TickRecord>* got = nullptr;
+    if (same != done.end()) {
+      got = &same->second;
+    } else {
+      std::vector<TickRecord> ran;
+      auto r = run(model, simOptions(k, options), stream, ticks, ran);
+      if (!r.ok())
+        return Error{part + " at " + planned.setting + ": " + r.error().message};
+      done.emplace_back(k, std::move(ran));
+      got = &done.back().second;
+    }
+    Row row{part, "hapticd-tick", planned.setting, {}, {}, {}, 0, 0, 0, 0, {}, {}};
+    score(row, done.front().second, *got);
+    if (options.progress) {
+      const Stats t = stats(row.time_ns), f = stats(row.force_err_n), d = stats(row.drift_m);
+      options.progress("[" + std::to_string(index) + "/" + std::to_string(runs.size()) + "] " +
+                       planned.setting + ": p99.9 tick " + fmt(t.p999 / 1e3) +
+                       " µs, p99 force error " + fmt(f.p99) + " N" +
+                       (row.drift_m.empty() ? "" : ", largest drift " + fmt(d.max * 1e3) + " mm"));
+    }
+    rows.push_back(std::move(row));
+  }
+  return true;
+}
+
 std::size_t ticksOf(const std::vector<proto::PoseStreamRow>& stream,
                     const SceneStudyOptions& options) {
   double span = stream.empty() ? 0.0 : stream.back().t_s;
@@ -214,7 +288,7 @@ Result<bool> runSceneStudy(const std::string& part,
       return ran.error();
     if (index == 1)
       truth = got;
-    Row row{part, "hapticd-tick", planned.setting, {}, {}, {}, 0, 0, 0, 0};
+    Row row{part, "hapticd-tick", planned.setting, {}, {}, {}, 0, 0, 0, 0, {}, {}};
     score(row, truth, got, mult);
     if (options.progress) {
       const Stats t = stats(row.time_ns), f = stats(row.force_err_n);

@@ -19,6 +19,7 @@
 #include "bench/study/study.h"
 #include "core/common/result.h"
 #include "core/scene/loader.h"
+#include "core/sim/simulation.h"
 #include "protocol/pose_stream.h"
 
 namespace hapticd::study {
@@ -33,6 +34,17 @@ struct Knobs {
   /// takes m ticks per truth tick and is scored at the truth's tick times. The user sets the rate
   /// (`[servo] rate_hz`, `hapticctl study --rate`): no recommendation changes it.
   std::uint32_t rate_multiple = 1;
+  /// The dynamics solver's iterations (`[response] dynamics_velocity_iterations`,
+  /// `dynamics_position_iterations`).
+  std::uint32_t velocity_iterations = sim::SimOptions{}.dynamics_velocity_iterations;
+  std::uint32_t position_iterations = sim::SimOptions{}.dynamics_position_iterations;
+  /// The output stage's step limit F_max (`[device] max_force_step_n`, N per tick); its torque
+  /// twin (`max_torque_step_nm`) is scaled with it, in the default ratio.
+  double max_force_step_n = sim::ResponseOptions{}.max_force_step_n;
+  /// Force shading across edges bent less than this (`[response] crease_angle_deg`; 0: off).
+  double crease_angle_deg = sim::ResponseOptions{}.crease_angle_deg;
+
+  bool operator==(const Knobs&) const = default;
 };
 
 /// The truth's setting text (its row in the tables).
@@ -68,6 +80,21 @@ struct SceneStudyOptions {
   /// One line per run as it ends ("[3/9] budget=4 pairs/tick: ..."); may be empty.
   std::function<void(const std::string&)> progress;
 };
+
+/// A sweep with a truth of its own (hapticstudy's knob parts): `runs[0]` is the truth, every run
+/// (the truth's own row included) is scored against it tick by tick at the study's rate: the
+/// force and torque to the device and, for a scene with dynamic bodies, the drift of their
+/// positions and the difference of their energy (Row::drift_m, Row::energy_err_j). Runs with the
+/// same knobs as an earlier one reuse its ticks (a default that lies on two lines). Appends one
+/// row per run (part `part`, method "hapticd-tick"). The knobs' tessellation and rate are not
+/// swept here (they stay at the model's and options.rate_hz). Error when the scene does not
+/// simulate at a setting.
+Result<bool> runSweep(const std::string& part,
+                      const std::shared_ptr<const scene::SceneModel>& model,
+                      const std::vector<proto::PoseStreamRow>& stream,
+                      const SceneStudyOptions& options,
+                      const std::vector<PlannedRun>& runs,
+                      std::vector<Row>& rows);
 
 /// The number of ticks a run takes over `stream` at `options`.
 std::size_t ticksOf(const std::vector<proto::PoseStreamRow>& stream,

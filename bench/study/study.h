@@ -23,6 +23,12 @@ struct Row {
   std::uint64_t false_contacts = 0;   ///< truth free, method felt a force
   std::uint64_t no_answer = 0;        ///< the method returned no answer at all
   std::uint64_t truth_contacts = 0;   ///< configurations in contact by the truth
+  /// With dynamics (the parts "dynamics/..."), per scored tick: the largest distance between a
+  /// dynamic body's position and the truth's at the same tick (m), and the difference of the
+  /// dynamic bodies' mechanical energy (kinetic + potential in the scene's gravity) from the
+  /// truth's (J, absolute). Empty for the other parts.
+  std::vector<double> drift_m;
+  std::vector<double> energy_err_j;
 
   /// Adds one configuration: its errors, its time, whether the truth and the method were in
   /// contact.
@@ -60,6 +66,11 @@ void runPairs(const Options& options, std::vector<Row>& rows);
 /// The demo scenes replayed from their pose streams through the whole tick: scheduler budgets, δ
 /// on and off (closed loop), voxel sampling at the truth's proxy poses (open loop).
 void runScenes(const Options& options, std::vector<Row>& rows);
+
+/// A non-convex model (a crescent) touched through the convex pieces of its decomposition at
+/// several concavities, against the exact distance to its triangle mesh (open loop, a sphere
+/// probe along its walls; bench/study/decomp_study.cpp).
+void runDecomposition(const Options& options, std::vector<Row>& rows);
 
 /// "AMD EPYC ... (2 threads), compiler 12.2.0": where the figures were measured.
 std::string machine();

@@ -64,6 +64,10 @@ Result<bool> checkOptions(const SimOptions& o) {
        "[response] dynamic_backstop_fraction must be in [0, 1]"},
       {finiteNonNegative(o.dynamics_impulse_window_s), "[response] impulse_window_s must be >= 0"},
       {finiteNonNegative(o.dynamics_sleep_time_s), "[response] dynamics_sleep_time_s must be >= 0"},
+      {o.dynamics_velocity_iterations >= 1 && o.dynamics_velocity_iterations <= 1000,
+       "[response] dynamics_velocity_iterations must be in [1, 1000]"},
+      {o.dynamics_position_iterations <= 1000,
+       "[response] dynamics_position_iterations must be in [0, 1000]"},
       {finiteNonNegative(r.attach_distance_m), "[response] attach_distance_m must be >= 0"},
       {std::isfinite(r.attach_distance_fraction) && r.attach_distance_fraction >= 0.0 &&
            r.attach_distance_fraction <= 1.0,
@@ -243,6 +247,8 @@ void setDynamics(SimModel& m) {
   d.held_max_force_n = r.max_force_n;
   d.impulse_window_s = m.options.dynamics_impulse_window_s;
   d.sleep_time_s = m.options.dynamics_sleep_time_s;
+  d.velocity_iterations = m.options.dynamics_velocity_iterations;
+  d.position_iterations = m.options.dynamics_position_iterations;
   if (sc.probe_body < 0)
     d.extra_probe_body = static_cast<std::int32_t>(sc.bodies.size());
   m.backstop_m = r.dynamic_backstop_fraction * m.penetration_allowance_m;

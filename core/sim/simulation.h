@@ -126,6 +126,13 @@ struct SimOptions {
   /// With dynamics: the whole-scene sleep (DynamicsOptions::sleep_time_s): still this long (s),
   /// with the held body touching no dynamic body, the dynamics skip their solve. 0: never.
   double dynamics_sleep_time_s = 0.5;
+  /// With dynamics: sequential-impulse iterations per solve (DynamicsOptions::velocity_iterations;
+  /// a solve may stop earlier once converged). More: stiffer stacks and contacts, more time per
+  /// tick (docs/accuracy.md measures both). 1..1000.
+  std::uint32_t dynamics_velocity_iterations = 12;
+  /// With dynamics: split-impulse iterations of the drift correction per tick
+  /// (DynamicsOptions::position_iterations). 0..1000; 0 turns the correction off.
+  std::uint32_t dynamics_position_iterations = 6;
 };
 
 /// One tick's input, in scene coordinates (after the device-to-scene workspace mapping).

@@ -97,6 +97,8 @@ TEST(Config, DefaultsAreThoseOfTheSimulationAndDeviceOptions) {
   EXPECT_EQ(r.dynamic_backstop_fraction, e.dynamic_backstop_fraction);
   EXPECT_EQ(a.dynamics_impulse_window_s, b.dynamics_impulse_window_s);
   EXPECT_EQ(a.dynamics_sleep_time_s, b.dynamics_sleep_time_s);
+  EXPECT_EQ(a.dynamics_velocity_iterations, b.dynamics_velocity_iterations);
+  EXPECT_EQ(a.dynamics_position_iterations, b.dynamics_position_iterations);
   EXPECT_EQ(a.max_pairs_per_tick, b.max_pairs_per_tick);
   EXPECT_EQ(a.probe_sphere_radius_m, b.probe_sphere_radius_m);
 
@@ -179,6 +181,8 @@ TEST(Config, PrintedConfigParsesBackToTheSame) {
   c.response.sim.response.grab_inertia_filter_s = 0.03;
   c.response.sim.dynamics_impulse_window_s = 0.01;
   c.response.sim.dynamics_sleep_time_s = 0.0;
+  c.response.sim.dynamics_velocity_iterations = 40;
+  c.response.sim.dynamics_position_iterations = 0;
   c.network.shm = "/hapticd-printed";
   auto parsed = parseConfig(toToml(c), "printed.toml");
   ASSERT_TRUE(parsed) << parsed.error().message;
@@ -208,6 +212,8 @@ stiffness_n_per_m = 1200.0
 grab_weight = false
 grab_inertia_filter_s = 0.02
 impulse_window_s = 0.04
+dynamics_velocity_iterations = 30
+dynamics_position_iterations = 0
 [scene]
 path = "a.glb"
 [network]
@@ -228,6 +234,8 @@ level = "debug"
   EXPECT_TRUE(toSimOptions(c).response.grab_inertia);
   EXPECT_EQ(toSimOptions(c).response.grab_inertia_filter_s, 0.02);
   EXPECT_EQ(toSimOptions(c).dynamics_impulse_window_s, 0.04);
+  EXPECT_EQ(toSimOptions(c).dynamics_velocity_iterations, 30u);
+  EXPECT_EQ(toSimOptions(c).dynamics_position_iterations, 0u);
   EXPECT_EQ(c.scene.path, "a.glb");
   EXPECT_EQ(c.network.udp, "0.0.0.0:5000");
   EXPECT_EQ(c.log.level, LogLevel::kDebug);
@@ -290,6 +298,18 @@ INSTANTIATE_TEST_SUITE_P(
         BadCase{"[scene]\ncache_dir = \"cache\"\n",
                 "bad.toml:2: [scene] cache_dir: must be \"auto\", \"\" (no cache) or an absolute "
                 "folder (got \"cache\")"},
+        BadCase{"[response]\ndynamics_velocity_iterations = 0\n",
+                "bad.toml:2: [response] dynamics_velocity_iterations: must be in [1, 1000]"},
+        BadCase{"[response]\ndynamics_velocity_iterations = 1001\n",
+                "bad.toml:2: [response] dynamics_velocity_iterations: must be in [1, 1000]"},
+        BadCase{"[response]\ndynamics_velocity_iterations = 2.5\n",
+                "bad.toml:2: [response] dynamics_velocity_iterations: must be an integer"},
+        BadCase{"[response]\ndynamics_position_iterations = \"many\"\n",
+                "bad.toml:2: [response] dynamics_position_iterations: must be an integer"},
+        BadCase{"[response]\ndynamics_position_iterations = -1\n",
+                "bad.toml:2: [response] dynamics_position_iterations: must be in [0, 1000]"},
+        BadCase{"[response]\ndynamics_position_iterations = 5000\n",
+                "bad.toml:2: [response] dynamics_position_iterations: must be in [0, 1000]"},
         BadCase{"[response]\nhinge_attach = \"side\"\n",
                 "bad.toml:2: [response] hinge_attach: \"side\""},
         BadCase{"[device]\nusb_falcon_max_motor_command = 40000\n",

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <numbers>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "core/scene/loader.h"
@@ -339,6 +340,53 @@ TEST(SimDynamics, ImpactOnTheHeldBodyIsASpreadPulseInTheForceRecord) {
   EXPECT_NEAR(rows[0].integral_ns, expected, 0.1 * expected);
 }
 
+// [response] dynamics_velocity_iterations and dynamics_position_iterations reach the solver: three
+// 20 mm boxes stacked on a floor under gravity, each started 2 mm into the one below (far beyond
+// the slop, so the split impulses have work), 0.3 s with the defaults (12, 6), with one velocity
+// iteration, and with no drift correction; each changes where the top box ends, and without the
+// drift correction the boxes stay inside each other.
+TEST(SimDynamics, IterationOptionsReachTheSolver) {
+  const auto topY = [](std::uint32_t velocity, std::uint32_t position) {
+    scene::SceneModel s;
+    s.bodies.push_back(
+        makeBody("floor", Motion::kStatic, at(0, -0.01, 0), {boxShape(Vec3{0.2, 0.01, 0.2})}));
+    for (int i = 0; i < 3; ++i) {
+      s.bodies.push_back(makeBody("box", Motion::kDynamic, at(0.002 * i, 0.01 + 0.018 * i, 0),
+                                  {boxShape(Vec3{0.01})}));
+      s.bodies.back().mass = 0.01;
+    }
+    s.gravity_W = Vec3{0.0, -9.81, 0.0};
+    sim::SimOptions o;
+    o.dynamics_sleep_time_s = 0.0;
+    o.dynamics_velocity_iterations = velocity;
+    o.dynamics_position_iterations = position;
+    auto created = sim::Simulation::create(finish(s), o);
+    EXPECT_TRUE(created.ok()) << created.error().message;
+    auto simulation = std::move(created).value();
+    sim::TickInput in;
+    in.X_W_device = at(0.0, 0.3, 0.0);  // the probe sphere far above
+    for (int k = 0; k < 300; ++k) {
+      in.t_s = 0.001 * k;
+      (void)simulation->step(in);
+    }
+    for (const sim::BodyPose& b : simulation->bodyPoses()) {
+      if (b.body == 3)
+        return b.X_WB.translation.y;
+    }
+    return std::nan("");
+  };
+  const double defaults = topY(12, 6), one = topY(1, 6), none = topY(12, 0);
+  std::printf("  top box at y = %.9f m (12, 6), %.9f m (1, 6), %.9f m (12, 0)\n", defaults, one,
+              none);
+  ASSERT_TRUE(std::isfinite(defaults) && std::isfinite(one) && std::isfinite(none));
+  // pushed out to near its stacked height (centre at 50 mm) with the defaults; left about 4 mm
+  // deep (46 mm) without the drift correction
+  EXPECT_NEAR(defaults, 0.05, 0.001);
+  EXPECT_LT(none, 0.048);
+  EXPECT_NE(one, defaults);
+  EXPECT_EQ(topY(12, 6), defaults);  // and the same options give the same run
+}
+
 TEST(SimDynamics, BadDynamicsOptionsAreRefusedWithAMessage) {
   scene::SceneModel s;
   s.bodies.push_back(makeBody("box", Motion::kDynamic, at(0, 0, 0), {boxShape(Vec3{0.01})}));
@@ -349,6 +397,17 @@ TEST(SimDynamics, BadDynamicsOptionsAreRefusedWithAMessage) {
   ASSERT_FALSE(a.ok());
   EXPECT_NE(a.error().message.find("[response] impulse_window_s"), std::string::npos)
       << a.error().message;
+  for (const auto& [velocity, position, key] :
+       {std::tuple{0u, 6u, "[response] dynamics_velocity_iterations must be in [1, 1000]"},
+        std::tuple{1001u, 6u, "[response] dynamics_velocity_iterations must be in [1, 1000]"},
+        std::tuple{12u, 1001u, "[response] dynamics_position_iterations must be in [0, 1000]"}}) {
+    o = sim::SimOptions{};
+    o.dynamics_velocity_iterations = velocity;
+    o.dynamics_position_iterations = position;
+    auto it = sim::Simulation::create(model, o);
+    ASSERT_FALSE(it.ok()) << velocity << " / " << position;
+    EXPECT_NE(it.error().message.find(key), std::string::npos) << it.error().message;
+  }
   o = sim::SimOptions{};
   o.response.dynamic_backstop_fraction = std::nan("");
   auto b = sim::Simulation::create(model, o);
