@@ -288,9 +288,10 @@ void registerAll() {
   for (const std::size_t n : {100u, 1000u, 10000u, 100000u}) {
     const std::string name = "BroadPhase/AllMoving/" + std::to_string(n);
     iterationsFor(benchmark::RegisterBenchmark(name.c_str(), oursAllMoving, n, true), n);
-    iterationsFor(benchmark::RegisterBenchmark(("BroadPhase/AllMovingSweep/" + std::to_string(n)).c_str(),
-                                               oursAllMoving, n, false),
-                  n);
+    iterationsFor(
+        benchmark::RegisterBenchmark(("BroadPhase/AllMovingSweep/" + std::to_string(n)).c_str(),
+                                     oursAllMoving, n, false),
+        n);
     if (n < 65535) {  // btAxisSweep3 has 16-bit handles
       iterationsFor(benchmark::RegisterBenchmark(("Peer/Bullet-btAxisSweep3/" + name).c_str(),
                                                  bulletAllMoving, n, BulletKind::kAxisSweep3),

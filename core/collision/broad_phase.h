@@ -183,13 +183,13 @@ class SweepAndPrune {
   std::size_t grid_min_boxes_ = kGridMinBoxes;
 
   // grid scratch (not state): rewritten by every grid commit, grown only past its largest size
-  ReservedVector<double> width_;             // by handle: widest extent, < 0 when not on the grid
-  ReservedVector<std::uint32_t> cell_of_;    // by handle: cell of the low corner
-  ReservedVector<std::uint32_t> cell_start_; // by cell: first index into grid_ (prefix sums)
-  ReservedVector<GridBox> grid_;             // small boxes by cell
-  ReservedVector<std::uint32_t> large_;      // boxes wider than a cell (or not finite)
-  ReservedVector<std::uint64_t> found_;      // pair keys found on the grid
-  ReservedVector<std::uint8_t> seen_;        // by index into pairs_: found again
+  ReservedVector<double> width_;              // by handle: widest extent, < 0 when not on the grid
+  ReservedVector<std::uint32_t> cell_of_;     // by handle: cell of the low corner
+  ReservedVector<std::uint32_t> cell_start_;  // by cell: first index into grid_ (prefix sums)
+  ReservedVector<GridBox> grid_;              // small boxes by cell
+  ReservedVector<std::uint32_t> large_;       // boxes wider than a cell (or not finite)
+  ReservedVector<std::uint64_t> found_;       // pair keys found on the grid
+  ReservedVector<std::uint8_t> seen_;         // by index into pairs_: found again
 };
 
 }  // namespace hapticd::collision

@@ -70,12 +70,12 @@ struct Sim {
 
 // How a run moves its boxes and which paths the broad phase may take.
 struct Motion {
-  double moving = 0.05;                      // fraction of the boxes moved each frame...
-  double (*share)(int frame) = nullptr;      // ...or this fraction in this frame
-  double scale = 1.0;                        // every length times this (mm: 1e-3, km: 1e3)
+  double moving = 0.05;                  // fraction of the boxes moved each frame...
+  double (*share)(int frame) = nullptr;  // ...or this fraction in this frame
+  double scale = 1.0;                    // every length times this (mm: 1e-3, km: 1e3)
   std::size_t grid_min = static_cast<std::size_t>(-1);  // SweepAndPrune::setGridMinBoxes
-  bool points = false;                       // every box of zero size
-  bool large = false;                        // some boxes far wider than the rest
+  bool points = false;                                  // every box of zero size
+  bool large = false;                                   // some boxes far wider than the rest
 };
 
 struct Figures {
@@ -118,7 +118,8 @@ void run(const Motion& motion, std::uint64_t seed, Figures& fig) {
       it.box.lo[k] = -0.1 * side;
       it.box.hi[k] = (0.2 + u(rng)) * side;
     }
-    it.v = glm::normalize(Vec3{u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5}) * (0.01 + 0.3 * u(rng)) * s;
+    it.v =
+        glm::normalize(Vec3{u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5}) * (0.01 + 0.3 * u(rng)) * s;
     it.handle = sim.sap.add(it.box, it.filter);
     it.live = true;
     sim.items.push_back(it);
@@ -295,9 +296,9 @@ TEST(SweepAndPrune, GridAndSweepOnALatticeOfTouchingCubes) {
       for (auto& it : sim.items) {
         if (u(rng) > share)
           continue;
-        const Vec3 lo = glm::round(it.box.lo / scale) +
-                        Vec3{static_cast<double>(step(rng)), static_cast<double>(step(rng)),
-                             static_cast<double>(step(rng))};
+        const Vec3 lo = glm::round(it.box.lo / scale) + Vec3{static_cast<double>(step(rng)),
+                                                             static_cast<double>(step(rng)),
+                                                             static_cast<double>(step(rng))};
         it.box = {lo * scale, (lo + 1.0) * scale};
         sim.sap.update(it.handle, it.box);
       }
