@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cassert>
+#include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "core/common/slots.h"
 
@@ -19,6 +21,29 @@ inline std::uint64_t sortKey(double v, std::uint32_t is_max) {
   std::memcpy(&bits, &v, sizeof bits);
   bits = (bits >> 63) != 0 ? ~bits : bits | (1ull << 63);
   return (bits & ~1ull) | is_max;
+}
+
+// Widths in quarter octaves from 2^-64 to 2^65: the exponent and the two highest mantissa bits
+// of a double >= 0 (below 2^-64 in bin 0, above 2^65 in the last).
+constexpr int kWidthBins = 4 * 130;
+// the grid has at most this many cells per box (and 64): boxes far apart get wider cells
+constexpr std::size_t kCellsPerBox = 8;
+constexpr int kWidthBase = (1023 - 64) << 2;
+
+inline int widthBin(double w) {
+  if (!(w > 0.0))
+    return 0;
+  std::uint64_t bits = 0;
+  std::memcpy(&bits, &w, sizeof bits);
+  return std::clamp(static_cast<int>(bits >> 50) - kWidthBase, 0, kWidthBins - 1);
+}
+
+// the upper edge of a width bin (every width in it or below is smaller)
+inline double binTop(int bin) {
+  const std::uint64_t bits = static_cast<std::uint64_t>(bin + 1 + kWidthBase) << 50;
+  double v = 0.0;
+  std::memcpy(&v, &bits, sizeof v);
+  return v;
 }
 
 struct EndpointLess {
@@ -122,6 +147,13 @@ void SweepAndPrune::reserve(std::size_t boxes, std::size_t pairs) {
   events_.reserve(pairs);
   taken_.reserve(pairs);
   index_.reserve(pairs);
+  width_.reserve(boxes);
+  cell_of_.reserve(boxes);
+  cell_start_.reserve(kCellsPerBox * boxes + 65);
+  grid_.reserve(boxes);
+  large_.reserve(boxes);
+  found_.reserve(pairs);
+  seen_.reserve(pairs);
 }
 
 void SweepAndPrune::rebuildPositions() {
@@ -221,7 +253,7 @@ void SweepAndPrune::remove(std::uint32_t h) {
   if (h >= boxes_.size() || !boxes_[h].live)
     return;
   commit();
-  if (!positions_valid_)
+  if (!positions_valid_ && !lists_stale_)
     rebuildPositions();
   for (std::size_t i = pairs_.size(); i-- > 0;) {
     if (i < pairs_.size() && (pairs_[i].lo == h || pairs_[i].hi == h)) {
@@ -326,10 +358,305 @@ void SweepAndPrune::update(std::uint32_t h, const Aabb& box) {
 }
 
 void SweepAndPrune::commit() {
-  if (!dirty_.empty())
+  const bool many = !dirty_.empty() && dirty_.size() * 3 >= live_;
+  if (lists_stale_ && !dirty_.empty()) {
+    // the lists hold an older order than the last pairs: only a recomputation is right
+    gridCommit(true);
+    clearDirty();
+    if (!many)
+      resortLists();
+  } else if (many && live_ >= grid_min_boxes_ && gridCommit(false)) {
+    clearDirty();
+    lists_stale_ = true;
+  } else if (!dirty_.empty()) {
     applyMoves();
-  if (!added_.empty())
+  }
+  if (!added_.empty()) {
+    if (lists_stale_)
+      resortLists();
     insertAdded();
+  }
+}
+
+void SweepAndPrune::clearDirty() {
+  for (const std::uint32_t h : dirty_)
+    boxes_[h].dirty = false;
+  dirty_.clear();
+}
+
+void SweepAndPrune::resortLists() {
+  const EndpointLess less;
+  for (int k = 0; k < 3; ++k) {
+    auto& axis = axes_[k];
+    for (Endpoint& e : axis)
+      e.key = key_[k][e.data];
+    // insertion sort while the order is nearly right (a frame or two of motion), a full sort when
+    // it turns out not to be
+    Endpoint* a = axis.data();
+    const std::size_t n = axis.size();
+    std::size_t budget = 8 * n + 64;
+    for (std::size_t i = 1; i < n && budget != 0; ++i) {
+      const Endpoint e = a[i];
+      std::size_t j = i;
+      for (; j > 0 && e.key < a[j - 1].key && budget != 0; --j, --budget)
+        a[j] = a[j - 1];
+      a[j] = e;
+    }
+    if (budget == 0)
+      std::sort(axis.begin(), axis.end(), less);
+  }
+  lists_stale_ = false;
+  positions_valid_ = false;
+}
+
+bool SweepAndPrune::gridCommit(bool forced) {
+  // 1. each box's widest extent; the cell is the smallest quarter-octave edge that at most 1/64
+  //    of the boxes exceed (those are tested against the cells they cover)
+  const std::size_t nb = boxes_.size();
+  width_.resize(nb);
+  cell_of_.resize(nb);
+  std::uint32_t hist[kWidthBins] = {};
+  std::size_t n = 0;
+  constexpr double kInf = std::numeric_limits<double>::infinity();
+  for (std::uint32_t h = 0; h < nb; ++h) {
+    const Box& b = boxes_[h];
+    if (!b.live || b.added) {
+      width_[h] = -1.0;
+      continue;
+    }
+    const geom::Vec3 d = b.box.hi - b.box.lo;
+    const bool finite = std::isfinite(b.box.lo.x + b.box.lo.y + b.box.lo.z + d.x + d.y + d.z);
+    const double w = finite ? std::max({d.x, d.y, d.z, 0.0}) : kInf;
+    width_[h] = w;
+    ++hist[widthBin(w)];
+    ++n;
+  }
+  const std::size_t max_large = n / 64;
+  std::size_t above = 0;
+  int bin = kWidthBins - 1;
+  while (bin > 0 && above + hist[bin] <= max_large)
+    above += hist[bin--];
+  const double cell = binTop(bin);
+
+  // 2. the grid over the small boxes' low corners; a cell a little wider than any small box, so
+  //    that two small boxes that overlap have low corners in neighbouring cells despite rounding
+  double lo_W[3] = {kInf, kInf, kInf};
+  double top_W[3] = {-kInf, -kInf, -kInf};
+  std::size_t n_small = 0;
+  large_.clear();
+  for (std::uint32_t h = 0; h < nb; ++h) {
+    const double w = width_[h];
+    if (w < 0.0)
+      continue;
+    if (w > cell) {
+      large_.push_back(h);
+      continue;
+    }
+    ++n_small;
+    for (int k = 0; k < 3; ++k) {
+      lo_W[k] = std::min(lo_W[k], boxes_[h].box.lo[k]);
+      top_W[k] = std::max(top_W[k], boxes_[h].box.lo[k]);
+    }
+  }
+  if (!forced && large_.size() * large_.size() > 16 * n + 64)
+    return false;
+  double size = cell * (1.0 + 0x1p-20);
+  const double max_cells = static_cast<double>(kCellsPerBox * n_small + 64);
+  int dims[3] = {0, 0, 0};
+  if (n_small != 0) {
+    // sparse boxes (or points): cells wider, as far as to keep the grid's size
+    for (;;) {
+      double count = 1.0;
+      for (int k = 0; k < 3; ++k)
+        count *= std::floor((top_W[k] - lo_W[k]) / size) + 1.0;
+      if (count <= max_cells)
+        break;
+      size *= std::max(std::cbrt(count / max_cells), 1.0 + 0x1p-10);
+    }
+    for (int k = 0; k < 3; ++k)
+      dims[k] = static_cast<int>(std::floor((top_W[k] - lo_W[k]) / size)) + 1;
+  }
+  const double inv = 1.0 / size;
+  const std::size_t cells = static_cast<std::size_t>(dims[0]) * static_cast<std::size_t>(dims[1]) *
+                            static_cast<std::size_t>(dims[2]);
+
+  // 3. small boxes sorted by cell (a counting sort), their keys side by side
+  cell_start_.assign(cells + 1, 0);
+  for (std::uint32_t h = 0; h < nb; ++h) {
+    const double w = width_[h];
+    if (w < 0.0 || w > cell)
+      continue;
+    int i[3];
+    for (int k = 0; k < 3; ++k)
+      i[k] = std::min(static_cast<int>((boxes_[h].box.lo[k] - lo_W[k]) * inv), dims[k] - 1);
+    const std::uint32_t c = static_cast<std::uint32_t>((i[2] * dims[1] + i[1]) * dims[0] + i[0]);
+    cell_of_[h] = c;
+    ++cell_start_[c + 1];
+  }
+  if (!forced) {
+    // most boxes in a few cells (a dense cluster): the sweep does better
+    std::size_t crowd = 0;
+    for (std::size_t c = 1; c <= cells; ++c)
+      crowd += static_cast<std::size_t>(cell_start_[c]) * cell_start_[c];
+    if (crowd > 32 * n_small + 64)
+      return false;
+  }
+  for (std::size_t c = 1; c <= cells; ++c)
+    cell_start_[c] += cell_start_[c - 1];
+  grid_.resize(n_small);
+  for (std::uint32_t h = 0; h < nb; ++h) {
+    const double w = width_[h];
+    if (w < 0.0 || w > cell)
+      continue;
+    GridBox& g = grid_[cell_start_[cell_of_[h]]++];
+    for (int k = 0; k < 3; ++k) {
+      g.lo[k] = key_[k][h << 1];
+      g.hi[k] = key_[k][h << 1 | 1];
+    }
+    g.handle = h;
+  }
+  for (std::size_t c = cells; c > 0; --c)
+    cell_start_[c] = cell_start_[c - 1];
+  if (cells != 0)
+    cell_start_[0] = 0;
+
+  // 4. each small box against the rest of its cell and the 13 cells after it (the other 13
+  //    neighbours find it): (x+1, y, z), (x-1..x+1, y+1, z), (x-1..x+1, y-1..y+1, z+1)
+  found_.clear();
+  const std::uint32_t* start = cell_start_.data();
+  const GridBox* g = grid_.data();
+  auto test = [this](const GridBox& a, const GridBox& b) {
+    if (a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] &&
+        a.lo[2] <= b.hi[2] && b.lo[2] <= a.hi[2] && admissible(a.handle, b.handle)) {
+      found_.push_back(key(a.handle, b.handle));
+    }
+  };
+  const int dx = dims[0], dy = dims[1], dz = dims[2];
+  for (int z = 0; z < dz; ++z) {
+    for (int y = 0; y < dy; ++y) {
+      const int row = (z * dy + y) * dx;
+      for (int x = 0; x < dx; ++x) {
+        const std::uint32_t b = start[row + x], e = start[row + x + 1];
+        if (b == e)
+          continue;
+        std::uint32_t rb[5], re[5];
+        int nr = 0;
+        if (x + 1 < dx) {
+          rb[nr] = e;
+          re[nr++] = start[row + x + 2];
+        }
+        const int x0 = std::max(x - 1, 0), x1 = std::min(x + 1, dx - 1);
+        auto span = [&](int yy, int zz) {
+          if (yy < 0 || yy >= dy || zz >= dz)
+            return;
+          const int r = (zz * dy + yy) * dx;
+          rb[nr] = start[r + x0];
+          re[nr++] = start[r + x1 + 1];
+        };
+        span(y + 1, z);
+        span(y - 1, z + 1);
+        span(y, z + 1);
+        span(y + 1, z + 1);
+        for (std::uint32_t i = b; i < e; ++i) {
+          const GridBox& a = g[i];
+          for (std::uint32_t j = i + 1; j < e; ++j)
+            test(a, g[j]);
+          for (int r = 0; r < nr; ++r) {
+            for (std::uint32_t j = rb[r]; j < re[r]; ++j)
+              test(a, g[j]);
+          }
+        }
+      }
+    }
+  }
+  if (!gridLarge(lo_W, inv, dims, forced))
+    return false;
+  applyFound();
+  ++grid_commits_;
+  return true;
+}
+
+bool SweepAndPrune::gridLarge(const double* lo_W, double inv, const int* dims, bool forced) {
+  // a large box against the small boxes whose low corners lie in the cells from one below its
+  // own low corner's to one above its high corner's (or all of them), then against each other
+  const std::size_t n_small = grid_.size();
+  std::size_t work = 0;
+  auto keys = [this](std::uint32_t h) {
+    GridBox a{};
+    for (int k = 0; k < 3; ++k) {
+      a.lo[k] = key_[k][h << 1];
+      a.hi[k] = key_[k][h << 1 | 1];
+    }
+    a.handle = h;
+    return a;
+  };
+  auto test = [this](const GridBox& a, const GridBox& b) {
+    if (a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] &&
+        a.lo[2] <= b.hi[2] && b.lo[2] <= a.hi[2] && admissible(a.handle, b.handle)) {
+      found_.push_back(key(a.handle, b.handle));
+    }
+  };
+  for (const std::uint32_t h : large_) {
+    const GridBox a = keys(h);
+    int lo[3] = {0, 0, 0}, hi[3] = {-1, -1, -1};
+    double covered = 0.0;
+    if (std::isfinite(width_[h]) && n_small != 0) {
+      covered = 1.0;
+      for (int k = 0; k < 3; ++k) {
+        const double d = dims[k];
+        const double l = std::clamp((boxes_[h].box.lo[k] - lo_W[k]) * inv, -4.0, d + 4.0);
+        const double t = std::clamp((boxes_[h].box.hi[k] - lo_W[k]) * inv, -4.0, d + 4.0);
+        lo[k] = std::max(static_cast<int>(std::floor(l)) - 1, 0);
+        hi[k] = std::min(static_cast<int>(std::floor(t)) + 1, dims[k] - 1);
+        covered *= std::max(hi[k] - lo[k] + 1, 0);
+      }
+    }
+    if (!std::isfinite(width_[h]) || covered > static_cast<double>(n_small)) {
+      work += n_small;
+      for (std::size_t j = 0; j < n_small; ++j)
+        test(a, grid_[j]);
+      continue;
+    }
+    work += static_cast<std::size_t>(covered);
+    for (int z = lo[2]; z <= hi[2]; ++z) {
+      for (int y = lo[1]; y <= hi[1]; ++y) {
+        const int row = (z * dims[1] + y) * dims[0];
+        const std::uint32_t* start = cell_start_.data() + row;
+        for (std::uint32_t j = start[lo[0]]; j < start[hi[0] + 1]; ++j)
+          test(a, grid_[j]);
+      }
+    }
+  }
+  if (!forced && work > 16 * (n_small + large_.size()) + 64)
+    return false;
+  for (std::size_t i = 0; i < large_.size(); ++i) {
+    const GridBox a = keys(large_[i]);
+    for (std::size_t j = i + 1; j < large_.size(); ++j)
+      test(a, keys(large_[j]));
+  }
+  return true;
+}
+
+void SweepAndPrune::applyFound() {
+  // the pairs found again are kept; the others removed, then the new ones added
+  seen_.assign(pairs_.size(), 0);
+  std::size_t fresh = 0;
+  for (const std::uint64_t k : found_) {
+    const std::uint32_t i = index_.find(k);
+    if (i == FlatMap::kNone)
+      found_[fresh++] = k;
+    else
+      seen_[i] = 1;
+  }
+  // downwards: a removal moves the last pair, already seen, into the hole
+  for (std::size_t i = pairs_.size(); i-- > 0;) {
+    if (seen_[i] == 0)
+      removePair(pairs_[i].lo, pairs_[i].hi);
+  }
+  for (std::size_t f = 0; f < fresh; ++f) {
+    addPair(static_cast<std::uint32_t>(found_[f] >> 32),
+            static_cast<std::uint32_t>(found_[f] & 0xffffffffu));
+  }
 }
 
 void SweepAndPrune::applyMoves() {
@@ -357,13 +684,13 @@ void SweepAndPrune::applyMoves() {
       }
     }
   }
-  for (const std::uint32_t h : dirty_)
-    boxes_[h].dirty = false;
-  dirty_.clear();
+  clearDirty();
 }
 
 void SweepAndPrune::prewarm() {
   commit();
+  if (lists_stale_)
+    resortLists();
   if (!positions_valid_)
     rebuildPositions();
 }
@@ -395,6 +722,7 @@ void SweepAndPrune::writeState(StateWriter& w) const {
     w.array(pos_[k]);
   }
   w.flag(positions_valid_);
+  w.flag(lists_stale_);
   for (const auto* list : {&free_, &pair_count_, &dirty_, &added_})
     w.array(*list);
   w.integer(pairs_.size());

@@ -1,5 +1,6 @@
 // Sweep and prune against an O(N^2) brute force on random moving boxes: teleports, boxes added and
-// removed mid-run, equal endpoints, zero extents, both update paths, filters, events.
+// removed mid-run, equal endpoints, zero extents, all three update paths (per endpoint, the
+// insertion-sort pass, the grid) and switches between them, mm and km, filters, events.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -67,25 +68,42 @@ struct Sim {
   }
 };
 
-// `moving_share`: fraction of boxes moved each frame (small: the per-endpoint path; large: re-sort)
-void run(double moving_share,
-         std::uint64_t seed,
-         std::size_t& frames_checked,
-         std::size_t& max_pairs) {
+// How a run moves its boxes and which paths the broad phase may take.
+struct Motion {
+  double moving = 0.05;                  // fraction of the boxes moved each frame...
+  double (*share)(int frame) = nullptr;  // ...or this fraction in this frame
+  double scale = 1.0;                    // every length times this (mm: 1e-3, km: 1e3)
+  std::size_t grid_min = static_cast<std::size_t>(-1);  // SweepAndPrune::setGridMinBoxes
+  bool points = false;                                  // every box of zero size
+  bool large = false;                                   // some boxes far wider than the rest
+};
+
+struct Figures {
+  std::size_t frames = 0, max_pairs = 0;
+  std::uint64_t grid_commits = 0, swaps = 0;
+};
+
+// `moving_share`: fraction of boxes moved each frame (small: the per-endpoint path; large: re-sort
+// or, from motion.grid_min boxes, the grid)
+void run(const Motion& motion, std::uint64_t seed, Figures& fig) {
   std::mt19937_64 rng(seed);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   const std::size_t n = 300;
-  const double side = std::cbrt(70.0 * n);
+  const double s = motion.scale;
+  const double side = std::cbrt(70.0 * n) * s;
   Sim sim;
+  sim.sap.setGridMinBoxes(motion.grid_min);
   auto randomBox = [&](Sim::Item& it) {
     const Vec3 c{u(rng) * side, u(rng) * side, u(rng) * side};
-    Vec3 h{0.5 + u(rng), 0.5 + u(rng), 0.5 + u(rng)};
+    Vec3 h = Vec3{0.5 + u(rng), 0.5 + u(rng), 0.5 + u(rng)} * s;
     if (u(rng) < 0.1)
       h[static_cast<int>(u(rng) * 3)] = 0.0;  // zero extent on an axis
+    if (motion.points)
+      h = Vec3{0.0};
     it.box = {c - h, c + h};
-    if (u(rng) < 0.1) {  // snap to a grid: many exactly equal endpoints
-      it.box.lo = glm::floor(it.box.lo);
-      it.box.hi = glm::max(it.box.lo, glm::floor(it.box.hi));
+    if (u(rng) < 0.1) {  // snap to a grid: many exactly equal endpoints, faces touching
+      it.box.lo = glm::floor(it.box.lo / s) * s;
+      it.box.hi = glm::max(it.box.lo, glm::floor(it.box.hi / s) * s);
     }
   };
   for (std::size_t i = 0; i < n; ++i) {
@@ -95,7 +113,22 @@ void run(double moving_share,
     it.filter.is_static = u(rng) < 0.3;
     it.filter.group = u(rng) < 0.1 ? 2u : 1u;
     it.filter.mask = u(rng) < 0.1 ? ~2u : ~0u;
-    it.v = glm::normalize(Vec3{u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5}) * (0.01 + 0.3 * u(rng));
+    if (motion.large && i % 50 == 7) {  // a slab across the scene, 20-60 times a box
+      const int k = static_cast<int>(i / 50) % 3;
+      it.box.lo[k] = -0.1 * side;
+      it.box.hi[k] = (0.2 + u(rng)) * side;
+    }
+    it.v =
+        glm::normalize(Vec3{u(rng) - 0.5, u(rng) - 0.5, u(rng) - 0.5}) * (0.01 + 0.3 * u(rng)) * s;
+    it.handle = sim.sap.add(it.box, it.filter);
+    it.live = true;
+    sim.items.push_back(it);
+  }
+  if (motion.large) {  // a floor of infinite extent, static
+    Sim::Item it;
+    it.box = {Vec3{-INFINITY, -INFINITY, 0.0}, Vec3{INFINITY, INFINITY, 0.3 * side}};
+    it.filter.body = 1000;
+    it.filter.is_static = true;
     it.handle = sim.sap.add(it.box, it.filter);
     it.live = true;
     sim.items.push_back(it);
@@ -103,8 +136,9 @@ void run(double moving_share,
   sim.sap.commit();
   sim.replay();
   for (int frame = 0; frame < 300; ++frame) {
+    const double share = motion.share != nullptr ? motion.share(frame) : motion.moving;
     for (auto& it : sim.items) {
-      if (!it.live || it.filter.is_static || u(rng) > moving_share)
+      if (!it.live || it.filter.is_static || u(rng) > share)
         continue;
       if (u(rng) < 0.01) {
         randomBox(it);  // teleport
@@ -136,21 +170,30 @@ void run(double moving_share,
     const PairSet ref = sim.brute();
     ASSERT_EQ(sim.ours(), ref) << "frame " << frame;
     ASSERT_EQ(sim.replayed, ref) << "events, frame " << frame;
-    ++frames_checked;
-    max_pairs = std::max(max_pairs, ref.size());
+    ++fig.frames;
+    fig.max_pairs = std::max(fig.max_pairs, ref.size());
   }
+  fig.grid_commits += sim.sap.gridCommits();
+  fig.swaps += sim.sap.swaps();
 }
 
-// run() over three seeds from first_seed with `moving` of the boxes moving, and its figures
-void runSeeds(double moving, std::uint64_t first_seed, const char* what) {
-  std::size_t frames = 0, pairs = 0;
+// run() over three seeds from first_seed, and its figures
+Figures runSeeds(const Motion& motion, std::uint64_t first_seed, const char* what) {
+  Figures fig;
   for (std::uint64_t seed = first_seed; seed < first_seed + 3; ++seed) {
-    run(moving, seed, frames, pairs);
+    run(motion, seed, fig);
     if (::testing::Test::HasFatalFailure())
-      return;
+      return fig;
   }
-  std::printf("[figures] %s: %zu frames equal to brute force, up to %zu pairs\n", what, frames,
-              pairs);
+  std::printf("[figures] %s: %zu frames equal to brute force, up to %zu pairs, %llu on the grid\n",
+              what, fig.frames, fig.max_pairs, static_cast<unsigned long long>(fig.grid_commits));
+  return fig;
+}
+
+Figures runSeeds(double moving, std::uint64_t first_seed, const char* what) {
+  Motion motion;
+  motion.moving = moving;
+  return runSeeds(motion, first_seed, what);
 }
 
 TEST(SweepAndPrune, EqualsBruteForceFewMoving) {
@@ -158,7 +201,118 @@ TEST(SweepAndPrune, EqualsBruteForceFewMoving) {
 }
 
 TEST(SweepAndPrune, EqualsBruteForceAllMoving) {
-  runSeeds(1.0, 4, "all moving");
+  const Figures fig = runSeeds(1.0, 4, "all moving");
+  EXPECT_EQ(fig.grid_commits, 0u);  // the insertion-sort pass, with transitions
+}
+
+// the grid path (every commit that moves a third of the boxes or more)
+TEST(SweepAndPrune, GridEqualsBruteForceAllMoving) {
+  Motion motion;
+  motion.moving = 1.0;
+  motion.grid_min = 0;
+  const Figures fig = runSeeds(motion, 7, "all moving, grid");
+  EXPECT_GE(fig.grid_commits, 3u * 250);
+}
+
+TEST(SweepAndPrune, GridEqualsBruteForceHalfMoving) {
+  Motion motion;
+  motion.moving = 0.5;
+  motion.grid_min = 0;
+  const Figures fig = runSeeds(motion, 10, "half moving, grid");
+  EXPECT_GE(fig.grid_commits, 3u * 250);
+}
+
+// all, some, one and no box moving in turn: the grid, then the forced recomputation that
+// re-sorts the lists, then the per-endpoint path, and back
+double switching(int frame) {
+  constexpr double kShares[] = {1.0, 1.0, 0.01, 0.0, 0.05, 1.0, 0.5, 0.2, 1.0, 0.003, 0.003, 0.7};
+  return kShares[frame % 12];
+}
+
+TEST(SweepAndPrune, SwitchingBetweenGridAndSweepKeepsThePairs) {
+  Motion motion;
+  motion.share = switching;
+  motion.grid_min = 0;
+  const Figures fig = runSeeds(motion, 13, "switching");
+  EXPECT_GE(fig.grid_commits, 3u * 100);
+  EXPECT_GT(fig.swaps, 0u);
+}
+
+TEST(SweepAndPrune, GridInMillimetresAndKilometres) {
+  Motion motion;
+  motion.share = switching;
+  motion.grid_min = 0;
+  for (const double scale : {1e-3, 1e3}) {
+    motion.scale = scale;
+    const Figures fig = runSeeds(motion, 16, scale < 1.0 ? "switching, mm" : "switching, km");
+    EXPECT_GE(fig.grid_commits, 3u * 100);
+  }
+}
+
+// zero-size boxes everywhere: the width histogram gives no cell size, the grid's extent does
+TEST(SweepAndPrune, GridOfPointBoxes) {
+  Motion motion;
+  motion.share = switching;
+  motion.grid_min = 0;
+  motion.points = true;
+  const Figures fig = runSeeds(motion, 19, "switching, points");
+  EXPECT_GE(fig.grid_commits, 3u * 100);
+}
+
+// slabs across the scene and a floor of infinite extent among the boxes: the boxes wider than a
+// cell, tested against the cells they cover (or all boxes)
+TEST(SweepAndPrune, GridWithLargeBoxes) {
+  Motion motion;
+  motion.share = switching;
+  motion.grid_min = 0;
+  motion.large = true;
+  const Figures fig = runSeeds(motion, 22, "switching, large boxes");
+  EXPECT_GE(fig.grid_commits, 3u * 50);
+}
+
+// exactly touching faces: unit cubes on an integer lattice, moved by whole units, so that every
+// neighbour touches at a face, an edge or a corner or is a unit apart
+TEST(SweepAndPrune, GridAndSweepOnALatticeOfTouchingCubes) {
+  for (const double scale : {1e-3, 1.0, 1e3}) {
+    std::mt19937_64 rng(25);
+    std::uniform_int_distribution<int> cell(0, 11), step(-1, 1);
+    Sim sim;
+    sim.sap.setGridMinBoxes(0);
+    for (std::uint32_t i = 0; i < 400; ++i) {
+      Sim::Item it;
+      const Vec3 lo{static_cast<double>(cell(rng)), static_cast<double>(cell(rng)),
+                    static_cast<double>(cell(rng))};
+      it.box = {lo * scale, (lo + 1.0) * scale};
+      it.filter.body = i;
+      it.handle = sim.sap.add(it.box, it.filter);
+      it.live = true;
+      sim.items.push_back(it);
+    }
+    sim.sap.commit();
+    sim.replay();
+    for (int frame = 0; frame < 60; ++frame) {
+      const double share = switching(frame);
+      std::uniform_real_distribution<double> u(0.0, 1.0);
+      for (auto& it : sim.items) {
+        if (u(rng) > share)
+          continue;
+        const Vec3 lo = glm::round(it.box.lo / scale) + Vec3{static_cast<double>(step(rng)),
+                                                             static_cast<double>(step(rng)),
+                                                             static_cast<double>(step(rng))};
+        it.box = {lo * scale, (lo + 1.0) * scale};
+        sim.sap.update(it.handle, it.box);
+      }
+      sim.sap.commit();
+      sim.replay();
+      if (::testing::Test::HasFatalFailure())
+        return;
+      const PairSet ref = sim.brute();
+      ASSERT_EQ(sim.ours(), ref) << "scale " << scale << ", frame " << frame;
+      ASSERT_EQ(sim.replayed, ref) << "events, scale " << scale << ", frame " << frame;
+      ASSERT_GT(ref.size(), 100u);  // touching neighbours are pairs
+    }
+    EXPECT_GE(sim.sap.gridCommits(), 20u);
+  }
 }
 
 TEST(SweepAndPrune, TouchingBoxesOverlap) {
@@ -186,6 +340,7 @@ TEST(SweepAndPrune, UpdateAllocatesNothingAfterWarmUp) {
   std::uniform_real_distribution<double> u(0.0, 1.0);
   SweepAndPrune sap;
   sap.reserve(2000, 20000);
+  ASSERT_GE(2000u, sap.gridMinBoxes());  // both paths: the grid and the per-endpoint moves
   std::vector<std::uint32_t> handles;
   std::vector<Aabb> boxes;
   for (int i = 0; i < 2000; ++i) {
@@ -215,6 +370,7 @@ TEST(SweepAndPrune, UpdateAllocatesNothingAfterWarmUp) {
   for (int f = 0; f < 200; ++f)
     frame(f % 2 ? 1.0 : 0.01);
   EXPECT_EQ(testing_alloc::count() - before, 0u);
+  EXPECT_GE(sap.gridCommits(), 100u);
 }
 
 }  // namespace
