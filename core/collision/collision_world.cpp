@@ -107,6 +107,11 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
   b.X_WB = X_WB;
   b.T_WB = X_WB.toTransform();
   b.live = true;
+  b.radius = 0.0;
+  for (const PrimitiveDesc& pd : desc.primitives) {
+    for (const auto& v : pd.shape->vertices())
+      b.radius = std::max(b.radius, glm::length(pd.X_BP.apply(v.p)));
+  }
   const bool tree =
       options_.piece_tree_min > 0 && desc.primitives.size() >= options_.piece_tree_min;
   std::uint32_t groups = 0, masks = 0;  // a tree body's box: any of its pieces' filters
@@ -682,6 +687,72 @@ void CollisionWorld::releaseTracker(PairState& s) {
   --depth_counters_.in_use;
 }
 
+namespace {
+
+// how far a turn from q0 to q1 moves a point at distance 1 from the axis's origin: the chord
+// 2 sin(angle / 2), twice the length of the vector part of q1 q0^-1
+double chord(const geom::Quat& q1, const geom::Quat& q0) {
+  const geom::Quat d = q1 * glm::conjugate(q0);
+  return 2.0 * std::sqrt(d.x * d.x + d.y * d.y + d.z * d.z);
+}
+
+}  // namespace
+
+double CollisionWorld::farLimit(const PairState& s) const {
+  const bool with_static = bodies_[prims_[s.prim_a].body].desc.kind == BodyKind::kStatic ||
+                           bodies_[prims_[s.prim_b].body].desc.kind == BodyKind::kStatic;
+  return std::max(options_.box_margin, with_static && options_.far_distance_static > 0.0
+                                           ? options_.far_distance_static
+                                           : options_.far_distance);
+}
+
+bool CollisionWorld::far(const PairState& s) const {
+  if (options_.far_distance <= 0.0 || !(s.sep_d > 0.0))
+    return false;
+  const Body& a = bodies_[prims_[s.prim_a].body];
+  const Body& b = bodies_[prims_[s.prim_b].body];
+  // the plane separated the two by sep_d; since, a point of a body has moved by its origin's
+  // translation plus at most its turn's chord times the body's radius, so the two are at least
+  // sep_d less what moved toward each other along sep_n apart. The pad covers the rounding of
+  // the plane many times over.
+  const Vec3 moved = (b.X_WB.translation - s.X_WB_test.translation) -
+                     (a.X_WB.translation - s.X_WA_test.translation);
+  const Vec3 t = glm::abs(s.X_WA_test.translation) + glm::abs(s.X_WB_test.translation);
+  const double pad = 1e-9 * (std::max({t.x, t.y, t.z}) + a.radius + b.radius);
+  const double nearest = s.sep_d + glm::dot(s.sep_n, moved) -
+                         chord(a.X_WB.rotation, s.X_WA_test.rotation) * a.radius -
+                         chord(b.X_WB.rotation, s.X_WB_test.rotation) * b.radius - pad;
+  return nearest > farLimit(s);
+}
+
+bool CollisionWorld::farByBoxes(PairState& s) {
+  if (options_.far_distance <= 0.0)
+    return false;
+  // the pieces' boxes (each grown by the margin) hold them: a gap between the boxes on an axis,
+  // plus the two margins, is a separating plane's
+  const Aabb A = pieceBox(s.prim_a);
+  const Aabb B = pieceBox(s.prim_b);
+  double best = 0.0;
+  Vec3 n{0.0};
+  for (int k = 0; k < 3; ++k) {
+    const double below = A.lo[k] - B.hi[k], above = B.lo[k] - A.hi[k];
+    if (below > best)
+      best = below, n = Vec3{0.0}, n[k] = -1.0;
+    if (above > best)
+      best = above, n = Vec3{0.0}, n[k] = 1.0;
+  }
+  if (!(best > 0.0))
+    return false;
+  s.sep_n = n;
+  s.sep_d = best + 2.0 * options_.box_margin;
+  s.X_WA_test = bodies_[prims_[s.prim_a].body].X_WB;
+  s.X_WB_test = bodies_[prims_[s.prim_b].body].X_WB;
+  if (far(s))
+    return true;
+  s.sep_d = 0.0;
+  return false;
+}
+
 void CollisionWorld::test(std::uint32_t si) {
   PairState& s = pair_states_[si];
   if (!s.last.answered)
@@ -735,6 +806,13 @@ void CollisionWorld::test(std::uint32_t si) {
   toWorld(X_WA, r, s.last);
   s.last.answered = true;
   s.last_tested = tick_;
+  // the plane through the closest points, normal to them, separates the two by their distance
+  const Vec3 ab = s.last.point_b - s.last.point_a;
+  const double d = glm::length(ab);
+  s.sep_d = r.status == ContactStatus::kSeparated && d > 0.0 ? d : 0.0;
+  s.sep_n = s.sep_d > 0.0 ? ab / d : Vec3{0.0};
+  s.X_WA_test = bodies_[pa.body].X_WB;
+  s.X_WB_test = bodies_[pb.body].X_WB;
   s.in_contact = r.distance <= options_.box_margin;
 }
 
@@ -779,8 +857,13 @@ void CollisionWorld::schedule(StepStats* stats) {
         continue;
       s.visit = visit_;
       ++visited;
-      if (!resting(s))
-        contact_order_.push_back(si);
+      if (resting(s))
+        continue;
+      if (far(s) || (!s.last.answered && farByBoxes(s))) {
+        ++stats->pairs_far;
+        continue;
+      }
+      contact_order_.push_back(si);
     }
   }
   stats->pairs_visited += visited;
@@ -948,6 +1031,8 @@ void CollisionWorld::writeState(StateWriter& w) const {
   w.integer(options_.budget.max_pairs);
   w.f64(options_.budget.max_microseconds);
   w.flag(options_.skip_unmoved_pairs);
+  w.f64(options_.far_distance);
+  w.f64(options_.far_distance_static);
   sap_.writeState(w);
   w.integer(bodies_.size());
   for (const Body& b : bodies_) {
@@ -967,6 +1052,7 @@ void CollisionWorld::writeState(StateWriter& w) const {
     for (const bool f : {b.live, b.moved, b.asleep, b.enabled})
       w.flag(f);
     w.u64(b.moved_tick);
+    w.f64(b.radius);
     w.integer(b.tree.size());
     if (!b.tree.empty())
       w.integer(b.box);
@@ -997,6 +1083,12 @@ void CollisionWorld::writeState(StateWriter& w) const {
     w.u64(s.track_from);
     if (s.tracker != kNil)
       writeTracker(w, trackers_[s.tracker]);
+    w.glm(s.sep_n);
+    w.f64(s.sep_d);
+    for (const geom::Pose* X : {&s.X_WA_test, &s.X_WB_test}) {
+      w.glm(X->translation);
+      w.glm(X->rotation);
+    }
   }
   w.array(free_trackers_);
   w.u64(steal_failed_);

@@ -84,6 +84,16 @@ struct WorldOptions {
   /// Shapes of more faces than this are not tracked (their pairs keep penetrationDepth): bounds
   /// the pool's memory, which grows as the largest tracked shape (about 100 bytes per face).
   static constexpr std::size_t kMaxTrackedFaces = 512;
+  /// Pairs certainly farther apart than this (scene units; never less than box_margin) are
+  /// neither tested nor listed in contacts(): at their last test their closest points were
+  /// farther apart than this by more than their two bodies can have moved toward each other
+  /// since (along the closest points' direction, plus each body's turn times its radius). For
+  /// readers of the contacts that need no answer beyond a known distance (the proxy's rows, its
+  /// attach distance), when the boxes' margin finds many pairs farther than that. 0: every pair
+  /// whose boxes overlap is tested and listed.
+  double far_distance = 0.0;
+  /// The same for a pair with a static body; 0: far_distance.
+  double far_distance_static = 0.0;
 };
 
 /// One primitive pair's answer this tick, in world coordinates.
@@ -125,6 +135,9 @@ struct StepStats {
   std::uint32_t depth_fallbacks = 0;
   std::uint32_t depth_cold = 0;
   std::uint32_t depth_untracked = 0;
+  /// Overlapping pairs neither tested nor listed this step: certainly farther apart than
+  /// WorldOptions::far_distance (not pairs_skipped: nothing is missed).
+  std::uint32_t pairs_far = 0;
 };
 
 class CollisionWorld {
@@ -256,6 +269,7 @@ class CollisionWorld {
     std::vector<WorldNode> tree_W;
     std::uint64_t refit_at = 0;  // tick + 1 of the last refit (0: never)
     std::uint32_t box = 0;       // the body's broad-phase handle (a tree body)
+    double radius = 0.0;         // the farthest of its vertices from its origin (far())
   };
   struct Prim {
     std::uint32_t body = 0, index = 0;    // body and index within it
@@ -285,6 +299,13 @@ class CollisionWorld {
     // answered untracked until step track_from (a back-off that doubles, up to 64 steps)
     std::uint32_t depth_misses = 0;
     std::uint64_t track_from = 0;
+    std::uint64_t visit = 0;  // the listing pass (visit_) that last looked at it
+    // far(): a plane that separated the two by sep_d along sep_n (unit, from a toward b) when
+    // its bodies were at X_WA_test, X_WB_test (from its last test, or from the boxes of a pair
+    // not yet tested); sep_d <= 0: none
+    Vec3 sep_n{0.0};
+    double sep_d = 0.0;
+    geom::Pose X_WA_test, X_WB_test;
   };
   // two broad-phase boxes that overlap, one of them (at least) a tree body's
   struct TreePair {
@@ -328,6 +349,12 @@ class CollisionWorld {
     return s.last.answered && bodies_[prims_[s.prim_a].body].moved_tick <= s.last_tested &&
            bodies_[prims_[s.prim_b].body].moved_tick <= s.last_tested;
   }
+  // a pair certainly farther apart than WorldOptions::far_distance
+  bool far(const PairState& s) const;
+  double farLimit(const PairState& s) const;
+  // a pair not yet tested whose pieces' boxes are farther apart than far_distance on one axis:
+  // that axis as its separating plane (far() then holds)
+  bool farByBoxes(PairState& s);
   // a pair nothing asks about: both sides asleep or static, or either side disabled
   bool resting(const PairState& s) const {
     const Body& a = bodies_[prims_[s.prim_a].body];

@@ -292,6 +292,14 @@ Result<std::shared_ptr<const SimModel>> SimModel::compile(
   m->world_options.box_margin = 2.0 * m->max_travel_m;
   m->world_options.budget.max_pairs = options.max_pairs_per_tick;
   m->world_options.skip_unmoved_pairs = true;
+  // the margin finds pairs up to four safe distances apart, which for a probe of many small
+  // pieces is many times the pairs the proxy reads: without dynamics (which read every listed
+  // pair) the world answers only pairs that may be nearer than what the rows (two safe distances,
+  // three when both sides move, rows.cpp gatherRows) and the attach distance read
+  if (!m->scene->plan.dynamics) {
+    m->world_options.far_distance = std::max(3.0 * m->max_travel_m, m->attach_distance_m);
+    m->world_options.far_distance_static = 2.0 * m->max_travel_m;
+  }
   // the bodies whose poses are listed
   m->pose_slot.assign(m->info.size(), -1);
   for (std::uint32_t id = 0; id < m->info.size(); ++id) {

@@ -174,6 +174,72 @@ TEST(CollisionWorld, ContactsEqualDirectPairQueries) {
   EXPECT_GT(max_pairs, 3u);
 }
 
+// WorldOptions::far_distance: a pair is left untested and unlisted only when it is certainly
+// farther than the limit (static pairs' and moving pairs' limits apart); every pair within its
+// limit is listed with this step's answer, and most of the far pairs are not tested.
+TEST(CollisionWorld, FarPairsAreNeitherTestedNorListedAndNoNearPairIsMissed) {
+  WorldOptions o;
+  o.box_margin = 0.004;  // boxes overlap up to 8 mm apart
+  o.far_distance = 0.006;
+  o.far_distance_static = 0.005;
+  Scene s(o);
+  std::vector<std::uint32_t> live;
+  for (std::uint32_t b = 0; b < s.descs.size(); ++b)
+    live.push_back(b);
+  // a kinematic body that moves and turns too (a pair of two moving bodies)
+  BodyDesc d;
+  d.kind = BodyKind::kKinematic;
+  d.primitives.push_back({shape(box(0.008)), Transform{}});
+  const std::uint32_t kin = s.add(d, Pose{Vec3{0.05, 0.04, 0.05}, Quat{1, 0, 0, 0}});
+  live.push_back(kin);
+  std::size_t near = 0, found = 0, tested = 0, far = 0;
+  for (int k = 0; k < 400; ++k) {
+    const double t = k * 0.01;
+    s.move(Pose{Vec3{0.06 + 0.05 * std::sin(t), 0.012 + 0.01 * std::cos(1.3 * t),
+                     0.06 + 0.05 * std::cos(t)},
+                glm::angleAxis(0.5 * t, glm::normalize(Vec3{1, 2, 3}))});
+    if (k % 2 == 0) {
+      const Pose X{Vec3{0.06 + 0.04 * std::cos(0.8 * t), 0.035, 0.06 + 0.03 * std::sin(1.1 * t)},
+                   glm::angleAxis(0.7 * t, Vec3{0.0, 1.0, 0.0})};
+      s.world.setPose(kin, X);
+      s.poses[kin] = X;
+    }
+    const StepStats st = s.world.step();
+    EXPECT_EQ(st.pairs_skipped, 0u);
+    tested += st.pairs_tested;
+    far += st.pairs_far;
+    const auto want = expected(s, live, o.box_margin);
+    found += want.size();
+    std::map<std::tuple<std::uint32_t, std::uint32_t, std::uint32_t, std::uint32_t>, double> got;
+    for (const Contact& c : s.world.contacts()) {
+      ASSERT_EQ(c.age, 0u) << "step " << k;  // nothing moved without a test of what it nears
+      got[{c.body_a, c.body_b, c.prim_a, c.prim_b}] = c.distance;
+    }
+    for (const auto& [key, distance] : want) {
+      const bool with_static = s.descs[std::get<0>(key)].kind == BodyKind::kStatic ||
+                               s.descs[std::get<1>(key)].kind == BodyKind::kStatic;
+      const double limit = with_static ? o.far_distance_static : o.far_distance;
+      const auto it = got.find(key);
+      if (distance <= limit) {
+        ++near;
+        ASSERT_NE(it, got.end()) << "step " << k << ": a pair " << distance << " apart missed";
+      }
+      if (it != got.end()) {
+        ASSERT_NEAR(it->second, distance, 1e-12) << "step " << k;
+      }
+    }
+    for (const auto& [key, distance] : got)
+      ASSERT_TRUE(want.count(key)) << "step " << k;
+  }
+  std::printf(
+      "[figures] world: %zu overlapping box pairs over 400 steps, %zu within the far distance, "
+      "%zu tested, %zu left as far\n",
+      found, near, tested, far);
+  EXPECT_GT(near, 100u);
+  EXPECT_GT(far, 0u);
+  EXPECT_LT(5 * tested, 3 * found);  // 3 508 of 6 723 measured
+}
+
 TEST(CollisionWorld, SchedulerTestsEveryPairWithinCeilPOverB) {
   for (const std::uint32_t budget : {1u, 2u, 3u, 5u}) {
     WorldOptions o;
