@@ -299,7 +299,6 @@ class CollisionWorld {
     // answered untracked until step track_from (a back-off that doubles, up to 64 steps)
     std::uint32_t depth_misses = 0;
     std::uint64_t track_from = 0;
-    std::uint64_t visit = 0;  // the listing pass (visit_) that last looked at it
     // far(): a plane that separated the two by sep_d along sep_n (unit, from a toward b) when
     // its bodies were at X_WA_test, X_WB_test (from its last test, or from the boxes of a pair
     // not yet tested); sep_d <= 0: none
