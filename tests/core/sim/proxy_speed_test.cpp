@@ -7,8 +7,8 @@
 
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <cstdio>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -301,7 +301,8 @@ TEST_P(ProxyScale, MillimetresAndKilometresGiveTheSameForces) {
     EXPECT_LE(runs[i].deepest_fixed, 1e-3 * scales[i]);
   }
   ASSERT_EQ(runs[0].forces.size(), runs[1].forces.size());
-  const std::size_t exact_ticks = std::min(runs[0].first_dynamic_touch, runs[1].first_dynamic_touch);
+  const std::size_t exact_ticks =
+      std::min(runs[0].first_dynamic_touch, runs[1].first_dynamic_touch);
   double worst = 0.0, largest = 0.0, mean[2] = {0.0, 0.0}, peak[2] = {0.0, 0.0};
   for (std::size_t i = 0; i < runs[0].forces.size(); ++i) {
     if (i / 2 < exact_ticks) {
