@@ -29,6 +29,7 @@
 #include "core/collision/pair_query.h"
 #include "core/decomp/decompose.h"
 #include "core/geometry/polytope.h"
+#include "core/geometry/sphere_points.h"
 
 namespace hapticd::study {
 namespace {
@@ -222,17 +223,6 @@ std::vector<Vec3> probePath(int per_wall) {
   return out;
 }
 
-std::vector<Vec3> spherePoints(double radius, int n) {
-  std::vector<Vec3> pts;
-  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < n; ++i) {
-    const double y = 1.0 - 2.0 * (i + 0.5) / n;
-    const double r = std::sqrt(std::max(0.0, 1.0 - y * y));
-    pts.push_back(radius * Vec3{r * std::cos(golden * i), y, r * std::sin(golden * i)});
-  }
-  return pts;
-}
-
 }  // namespace
 
 void runDecomposition(const Options& options, std::vector<Row>& rows) {
@@ -254,7 +244,7 @@ void runDecomposition(const Options& options, std::vector<Row>& rows) {
               truth_contact.back(), truth_contact.back());
   }
   rows.push_back(std::move(exact));
-  auto probe = geom::Polytope::fromPoints(spherePoints(kProbeRadius, 128));
+  auto probe = geom::Polytope::fromPoints(geom::spiralSpherePoints(kProbeRadius, 128));
   if (!probe.ok()) {
     std::fprintf(stderr, "study: %s: probe hull: %s\n", part.c_str(),
                  probe.error().message.c_str());

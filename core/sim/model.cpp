@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "core/dynamics/scene_world.h"
+#include "core/geometry/sphere_points.h"
 
 namespace hapticd::sim {
 namespace {
@@ -81,19 +82,6 @@ Result<bool> checkOptions(const SimOptions& o) {
   return true;
 }
 
-// Points on a sphere (golden-angle spiral), for the probe sphere's hull.
-std::vector<Vec3> spherePoints(double radius, int n) {
-  std::vector<Vec3> pts;
-  const double golden = std::numbers::pi * (3.0 - std::sqrt(5.0));
-  for (int i = 0; i < n; ++i) {
-    const double y = 1.0 - 2.0 * (i + 0.5) / n;
-    const double r = std::sqrt(std::max(0.0, 1.0 - y * y));
-    const double a = golden * i;
-    pts.push_back(radius * Vec3{r * std::cos(a), y, r * std::sin(a)});
-  }
-  return pts;
-}
-
 // the world body's pose at the start: the scene's, the probe sphere at the origin
 geom::Pose initialPose(const scene::SceneModel& sc, std::uint32_t body) {
   return body < sc.bodies.size() ? sc.bodies[body].X_WB : geom::Pose{};
@@ -126,7 +114,8 @@ Result<bool> addBodies(SimModel& m, double crease) {
     m.info.push_back(std::move(info));
   }
   if (sc.probe_body < 0) {
-    auto hull = geom::Polytope::fromPoints(spherePoints(m.options.probe_sphere_radius_m, 64));
+    auto hull =
+        geom::Polytope::fromPoints(geom::spiralSpherePoints(m.options.probe_sphere_radius_m, 64));
     if (!hull.ok())
       return Error{"probe sphere: " + hull.error().message};
     m.probe_sphere = std::make_shared<const geom::Polytope>(std::move(hull).value());
