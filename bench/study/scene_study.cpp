@@ -355,16 +355,22 @@ std::vector<proto::PoseStreamRow> approachStream(const scene::SceneModel& scene,
   double r = 0.01;  // the config's default probe sphere
   Vec3 dir(0.0, -1.0, 0.0);
   double contact = 0.0, stiffness = 600.0;
-  Vec3 lo(std::numeric_limits<double>::infinity()), hi(-std::numeric_limits<double>::infinity());
+  // the scene's highest point (y up): a probe sphere coming straight down onto it touches it
+  // first, whatever the shape (the middle of the bounding box may be empty: an arch, a dragon)
+  Vec3 top(0.0);
+  bool any = false;
   for (const scene::Body& b : scene.bodies) {
+    if (!b.active)
+      continue;
     for (const Placed& p : placed(b, b.X_WB)) {
       for (const auto& v : p.shape->vertices()) {
-        lo = glm::min(lo, p.X_WP.apply(v.p));
-        hi = glm::max(hi, p.X_WP.apply(v.p));
+        const Vec3 w = p.X_WP.apply(v.p);
+        if (!any || w.y > top.y)
+          top = w;
+        any = true;
       }
     }
   }
-  const bool any = lo.x <= hi.x;
   if (scene.probe_body >= 0) {
     const scene::Body& held = scene.bodies[static_cast<std::size_t>(scene.probe_body)];
     X0 = held.X_WB;
@@ -414,8 +420,8 @@ std::vector<proto::PoseStreamRow> approachStream(const scene::SceneModel& scene,
       contact = 2.0 * r;
     }
   } else if (any) {
-    // a probe sphere from above the scene, down onto the top of its bounding box
-    X0.translation = Vec3(0.5 * (lo.x + hi.x), hi.y + 3.0 * r, 0.5 * (lo.z + hi.z));
+    // a probe sphere from above the scene, straight down onto its highest point (touching at 2r)
+    X0.translation = top + Vec3(0.0, 3.0 * r, 0.0);
     contact = 2.0 * r;
   }
   // about 4 N into the surface, at most a quarter of the held body's size

@@ -123,8 +123,8 @@ Result<bool> runSceneStudy(const std::string& part,
                            std::vector<Row>& rows,
                            std::vector<TruthTick>* truth_proxy = nullptr);
 
-/// A pose stream for a scene that comes without one: the held body (or, without a probe body, a
-/// point above the scene) rests, approaches the nearest other body until it touches it, presses in
+/// A pose stream for a scene that comes without one: the held body (or, without a probe body, the
+/// config's probe sphere above the scene's highest point) rests, approaches the nearest other body until it touches it, presses in
 /// (about 4 N at the body's stiffness), slides across and tilts while pressing, and backs out.
 /// `seconds` scales the whole path (about 6.5 s at 1).
 std::vector<proto::PoseStreamRow> approachStream(const scene::SceneModel& scene,

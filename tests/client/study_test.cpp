@@ -12,11 +12,15 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <memory>
+#include <utility>
 #include <string>
 #include <vector>
 
 #include "bench/study/report.h"
 #include "bench/study/scene_study.h"
+#include "core/geometry/polytope.h"
+#include "core/scene/scene.h"
 #include "daemon/config.h"
 #include "tests/client/command_dir.h"
 
@@ -117,6 +121,58 @@ TEST(StudyDecision, SnippetParsesAsTheDaemonsConfig) {
   EXPECT_EQ(hapticd::daemon::toSimOptions(parsed.value().config).max_pairs_per_tick, 4u);
   EXPECT_DOUBLE_EQ(
       hapticd::daemon::toLoadOptions(parsed.value().config).limits.tessellation_tolerance, 0.003);
+}
+
+// --- the generated approach stream ----------------------------------------------------------------
+
+std::shared_ptr<const hapticd::geom::Polytope> box(const hapticd::geom::Vec3& lo, const hapticd::geom::Vec3& hi) {
+  std::vector<hapticd::geom::Vec3> corners;
+  for (int i = 0; i < 8; ++i)
+    corners.emplace_back((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y,
+                         (i & 4) != 0 ? hi.z : lo.z);
+  return std::make_shared<const hapticd::geom::Polytope>(
+      hapticd::geom::Polytope::fromPoints(corners).value());
+}
+
+// Distance from p to the axis-aligned box [lo, hi] (0 inside).
+double distanceToBox(const hapticd::geom::Vec3& p, const hapticd::geom::Vec3& lo, const hapticd::geom::Vec3& hi) {
+  return glm::length(glm::max(glm::max(lo - p, p - hi), hapticd::geom::Vec3(0.0)));
+}
+
+// A scene without a probe body whose bounding box is empty above its middle (an L: a tall post at
+// one end of a low slab, as a dragon's back or an arch leaves the middle empty): the config's
+// probe sphere (radius 0.01 m) must come down onto the scene's highest point and press into it,
+// not into the empty middle of the bounding box (where the stream once pressed into nothing and
+// the study compared forces that were all zero).
+TEST(StudyApproach, WithoutAProbeBodyTheSphereComesDownOntoTheHighestPoint) {
+  using hapticd::geom::Vec3;
+  const Vec3 post_lo(0.0, 0.0, 0.0), post_hi(0.1, 0.5, 0.1);
+  const Vec3 slab_lo(0.0, 0.0, 0.0), slab_hi(1.0, 0.1, 0.1);
+  hapticd::scene::SceneModel model;
+  model.name = "L";
+  hapticd::scene::Body body;
+  body.name = "L";
+  for (const auto& [lo, hi] : {std::pair{post_lo, post_hi}, std::pair{slab_lo, slab_hi}}) {
+    hapticd::scene::Primitive p;
+    p.shape = box(lo, hi);
+    body.primitives.push_back(p);
+  }
+  model.bodies.push_back(body);
+  ASSERT_LT(model.probe_body, 0);
+  const auto rows = hapticd::study::approachStream(model, 0.5);
+  ASSERT_FALSE(rows.empty());
+  const double r = 0.01;  // the config's default probe sphere
+  const auto gap = [&](const Vec3& c) {
+    return std::min(distanceToBox(c, post_lo, post_hi), distanceToBox(c, slab_lo, slab_hi)) - r;
+  };
+  EXPECT_GT(gap(rows.front().X_WD.translation), 0.0) << "the stream starts clear of the scene";
+  EXPECT_GT(gap(rows.back().X_WD.translation), 0.0) << "and ends clear of it";
+  double deepest = 0.0;
+  for (const auto& row : rows)
+    deepest = std::min(deepest, gap(row.X_WD.translation));
+  // it presses in by about 4 N at 600 N/m, at most a quarter of the sphere's radius
+  EXPECT_LT(deepest, -0.2 * r) << "the sphere never pressed into the scene";
+  EXPECT_GE(deepest, -0.25 * r - 1e-9);
 }
 
 // --- the built binary ---------------------------------------------------------------------------
