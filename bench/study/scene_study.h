@@ -124,9 +124,9 @@ Result<bool> runSceneStudy(const std::string& part,
                            std::vector<TruthTick>* truth_proxy = nullptr);
 
 /// A pose stream for a scene that comes without one: the held body (or, without a probe body, the
-/// config's probe sphere above the scene's highest point) rests, approaches the nearest other body until it touches it, presses in
-/// (about 4 N at the body's stiffness), slides across and tilts while pressing, and backs out.
-/// `seconds` scales the whole path (about 6.5 s at 1).
+/// config's probe sphere above the scene's highest point) rests, approaches the nearest other body
+/// until it touches it, presses in (about 4 N at the body's stiffness), slides across and tilts
+/// while pressing, and backs out. `seconds` scales the whole path (about 6.5 s at 1).
 std::vector<proto::PoseStreamRow> approachStream(const scene::SceneModel& scene,
                                                  double scale = 1.0);
 

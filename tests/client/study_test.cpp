@@ -13,8 +13,8 @@
 #include <fstream>
 #include <limits>
 #include <memory>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench/study/report.h"
@@ -123,9 +123,11 @@ TEST(StudyDecision, SnippetParsesAsTheDaemonsConfig) {
       hapticd::daemon::toLoadOptions(parsed.value().config).limits.tessellation_tolerance, 0.003);
 }
 
-// --- the generated approach stream ----------------------------------------------------------------
+// --- the generated approach stream
+// ----------------------------------------------------------------
 
-std::shared_ptr<const hapticd::geom::Polytope> box(const hapticd::geom::Vec3& lo, const hapticd::geom::Vec3& hi) {
+std::shared_ptr<const hapticd::geom::Polytope> box(const hapticd::geom::Vec3& lo,
+                                                   const hapticd::geom::Vec3& hi) {
   std::vector<hapticd::geom::Vec3> corners;
   for (int i = 0; i < 8; ++i)
     corners.emplace_back((i & 1) != 0 ? hi.x : lo.x, (i & 2) != 0 ? hi.y : lo.y,
@@ -135,7 +137,9 @@ std::shared_ptr<const hapticd::geom::Polytope> box(const hapticd::geom::Vec3& lo
 }
 
 // Distance from p to the axis-aligned box [lo, hi] (0 inside).
-double distanceToBox(const hapticd::geom::Vec3& p, const hapticd::geom::Vec3& lo, const hapticd::geom::Vec3& hi) {
+double distanceToBox(const hapticd::geom::Vec3& p,
+                     const hapticd::geom::Vec3& lo,
+                     const hapticd::geom::Vec3& hi) {
   return glm::length(glm::max(glm::max(lo - p, p - hi), hapticd::geom::Vec3(0.0)));
 }
 
