@@ -239,6 +239,7 @@ ProxyMove moveProxy(const SimModel& m,
   const std::uint32_t most = std::max<std::uint32_t>(m.options.response.max_substeps, 1);
   double error = 0.0, moved = 0.0, pen = 0.0;
   bool stopped_short = false;  // the last sub-step was stopped by rows, then touched nothing
+  Vec3 last_dc{0.0}, last_dtheta{0.0};  // the last sub-step's move
   for (std::uint32_t k = 0; k < most; ++k) {
     response::ProxyProblem pb;
     *grab_weight = proxyProblem(m, s, dev, &pb);
@@ -255,6 +256,17 @@ ProxyMove moveProxy(const SimModel& m,
     pen = s.last_penetration_m;
     const ProxyMove one = moveProxyOnce(m, s, pb, k == 0 ? pusher_travel : 0.0);
     moved = glm::length(one.step.dc_W);
+    // this sub-step undid the last one (the proxy is back where it was two sub-steps ago, within
+    // a quarter of a safe distance, turned back as well): a cycle of two, one sub-step toward
+    // the device into a surface, the next pushed out of it (a probe on a sharp edge between two
+    // pieces whose rows alternate). Each of the pair makes progress by the test above (the
+    // coupling error, then the penetration), so without this the tick ran all max_substeps, the
+    // proxy where it started (an imported dragon: 64 sub-steps a tick, ticks of 0.4 to 10 ms)
+    const bool undone = k > 0 && moved >= quarter &&
+                        glm::length(one.step.dc_W + last_dc) < quarter &&
+                        glm::length(one.step.dtheta_W + last_dtheta) * pb.radius < quarter;
+    last_dc = one.step.dc_W;
+    last_dtheta = one.step.dtheta_W;
     s.proxy_sliding = one.step.sliding;
     mv.step = one.step;
     mv.stats.pairs_tested += one.stats.pairs_tested;
@@ -268,7 +280,7 @@ ProxyMove moveProxy(const SimModel& m,
     // were a linearisation of a surface the proxy has moved around: a rounded edge, a tooth
     // turning away): then it is not at its equilibrium and steps on toward the device
     stopped_short = one.step.active > 0 && !pressed(m, s);
-    if (one.backed_off || (!one.step.travel_limited && !stopped_short))
+    if (one.backed_off || (!one.step.travel_limited && !stopped_short) || undone)
       break;
   }
   return mv;

@@ -8,6 +8,7 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -20,9 +21,12 @@
 #include "bench/study/report.h"
 #include "bench/study/scene_study.h"
 #include "core/geometry/polytope.h"
+#include "core/scene/loader.h"
 #include "core/scene/scene.h"
+#include "core/sim/simulation.h"
 #include "daemon/config.h"
 #include "tests/client/command_dir.h"
+#include "tests/core/decomp/models.h"
 
 namespace {
 
@@ -314,6 +318,65 @@ TEST_F(StudyCommand, ARunLongerThanItsTimeLimitSaysSoBeforeItStarts) {
   EXPECT_EQ(err().find("[1/"), std::string::npos) << err();
   EXPECT_FALSE(fs::exists(fs::path(out_dir) / "results.csv"));
   EXPECT_TRUE(out().empty());
+}
+
+// A real model made by others (the Stanford dragon of ../shared/meshes, skipped where absent),
+// imported as a user would, under the study's generated approach: the config's probe sphere comes
+// down onto the dragon's back, presses and slides where two pieces meet. There the proxy once
+// fell into a cycle of two sub-steps (one toward the device into a piece, the next pushed out of
+// it, each counted as progress), so every tick of the slide ran all max_substeps (64), the proxy
+// where it started: ticks of 0.4 to 10 ms. Every tick must end before max_substeps, with the
+// proxy still pressing the dragon.
+TEST_F(StudyCommand, OnAnImportedDragonTheProxyNeverRunsOutOfSubSteps) {
+  const auto mesh = hapticd::decomp::models::sharedMesh("dragon_lowres.obj");
+  if (!mesh)
+    GTEST_SKIP() << "shared/meshes/dragon_lowres.obj is not here (set HAPTICD_MESHES_DIR)";
+  {
+    std::ofstream f(path("dragon.obj"));
+    f.precision(17);
+    for (const auto& v : mesh->positions)
+      f << "v " << v.x << ' ' << v.y << ' ' << v.z << '\n';
+    for (const auto& t : mesh->triangles)
+      f << "f " << t[0] + 1 << ' ' << t[1] + 1 << ' ' << t[2] + 1 << '\n';
+  }
+  ASSERT_EQ(run(HAPTICCTL, {"import", path("dragon.obj"), "-o", path("dragon.glb")}), 0) << err();
+  auto report = hapticd::scene::loadSceneFile(path("dragon.glb"));
+  ASSERT_TRUE(report.ok()) << report.message();
+  const auto model = std::make_shared<const hapticd::scene::SceneModel>(std::move(*report.scene));
+  const auto stream = hapticd::study::approachStream(*model, 0.5);
+  ASSERT_GE(stream.size(), 2u);
+  const hapticd::sim::SimOptions options;
+  auto sim = hapticd::sim::Simulation::create(model, options);
+  ASSERT_TRUE(sim.ok()) << sim.error().message;
+  const double dt = options.response.tick_s;
+  const double end = stream.back().t_s;
+  std::size_t row = 0, ticks = 0, touching = 0, most = 0, worst_tick = 0;
+  for (std::size_t k = 0;; ++k) {
+    const double t = static_cast<double>(k) * dt;
+    if (t > end)
+      break;
+    while (row + 2 < stream.size() && stream[row + 1].t_s <= t)
+      ++row;
+    const auto& a = stream[row];
+    const auto& b = stream[row + 1];
+    const double u = std::clamp((t - a.t_s) / (b.t_s - a.t_s), 0.0, 1.0);
+    hapticd::sim::TickInput in;
+    in.t_s = t;
+    in.X_W_device.translation = glm::mix(a.X_WD.translation, b.X_WD.translation, u);
+    in.X_W_device.rotation = glm::slerp(a.X_WD.rotation, b.X_WD.rotation, u);
+    const auto out = sim.value()->step(in);
+    ++ticks;
+    if (out.contacts > 0)
+      ++touching;
+    if (out.proxy_substeps > most) {
+      most = out.proxy_substeps;
+      worst_tick = k;
+    }
+  }
+  EXPECT_GT(ticks, 3000u);
+  EXPECT_GT(touching, 1000u) << "the probe presses the dragon for over a second";
+  EXPECT_LT(most, options.response.max_substeps)
+      << "tick " << worst_tick << " ran all " << most << " sub-steps";
 }
 
 }  // namespace
