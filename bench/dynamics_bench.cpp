@@ -88,7 +88,7 @@ void BM_Stack100(benchmark::State& state) {
   dyn_ns.reserve(1 << 20);
   dyn_cpu_ns.reserve(1 << 20);
   world_ns.reserve(1 << 20);
-  std::uint64_t points = 0;
+  std::uint64_t points = 0, iterations = 0, tois = 0;
   for (auto _ : state) {
     const auto t0 = std::chrono::steady_clock::now();
     world->step();
@@ -99,6 +99,8 @@ void BM_Stack100(benchmark::State& state) {
     const auto t2 = std::chrono::steady_clock::now();
     benchmark::DoNotOptimize(r);
     points += r.contact_points;
+    iterations += r.velocity_iterations;
+    tois += r.toi_substeps;
     if (dyn_ns.size() < dyn_ns.capacity()) {
       world_ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
       dyn_ns.push_back(std::chrono::duration<double, std::nano>(t2 - t1).count());
@@ -114,7 +116,13 @@ void BM_Stack100(benchmark::State& state) {
   state.counters["cpu_p99.9_ns"] = quantile(dyn_cpu_ns, 0.999);
   // the collision step before it (not the dynamics' work, for scale)
   state.counters["world_p50_ns"] = quantile(world_ns, 0.5);
-  state.counters["points"] = static_cast<double>(points) / static_cast<double>(state.iterations());
+  const auto per_tick = [&](std::uint64_t n) {
+    return static_cast<double>(n) / static_cast<double>(state.iterations());
+  };
+  state.counters["points"] = per_tick(points);
+  // the solver's work per tick: velocity iterations (all solves) and times of impact
+  state.counters["iterations"] = per_tick(iterations);
+  state.counters["toi_substeps"] = per_tick(tois);
   // the stack must still stand, or the figures mean nothing
   double top = 0.0;
   for (std::uint32_t b = 4; b < dyn->bodyCount(); b += 4)

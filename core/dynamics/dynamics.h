@@ -180,11 +180,12 @@ enum StepFlags : std::uint32_t {
 
 /// Figures of one step.
 struct StepReport {
-  std::uint32_t contact_points = 0;  ///< manifold points taken into the solver
-  std::uint32_t active_points = 0;   ///< of them, touching by the end of the tick
-  std::uint32_t impulse_points = 0;  ///< of them, given a normal impulse this tick
-  std::uint32_t toi_substeps = 0;    ///< times of impact advanced to (0: none this tick)
-  std::uint32_t flags = 0;           ///< StepFlags
+  std::uint32_t contact_points = 0;       ///< manifold points taken into the solver
+  std::uint32_t active_points = 0;        ///< of them, touching by the end of the tick
+  std::uint32_t impulse_points = 0;       ///< of them, given a normal impulse this tick
+  std::uint32_t toi_substeps = 0;         ///< times of impact advanced to (0: none this tick)
+  std::uint32_t velocity_iterations = 0;  ///< sequential-impulse iterations run, all solves
+  std::uint32_t flags = 0;                ///< StepFlags
 };
 
 /// Counters since create().
@@ -389,10 +390,11 @@ class Dynamics {
 
   std::uint32_t step_flags_ = 0;
   double tick_dt_ = 0.001;
-  double min_size_ = 1.0;            // smallest dynamic body's size
-  double velocity_tolerance_ = 0.0;  // this tick's convergence tolerance of the solves
-  double ke_episode_start_ = 0.0;    // kinetic energy before a solve with restitution
-  std::vector<Vec3> dv_, dw_;        // per body: scratch of the restitution impulses
+  double min_size_ = 1.0;             // smallest dynamic body's size
+  double velocity_tolerance_ = 0.0;   // this tick's convergence tolerance of the solves
+  double ke_episode_start_ = 0.0;     // kinetic energy before a solve with restitution
+  std::uint32_t iterations_run_ = 0;  // this tick's velocity iterations, all solves
+  std::vector<Vec3> dv_, dw_;         // per body: scratch of the restitution impulses
   bool warm_pending_ = false;
   bool asleep_ = false;  // every island sleeps: step() does no work
   // a kinematic target may be pending (setKinematicPose; a step consumes them all): the asleep

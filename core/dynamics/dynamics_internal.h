@@ -93,15 +93,18 @@ struct Dynamics::BodyState {
 
 // one constraint row of a contact point along a unit direction u: the angular parts and the
 // effective mass
-// one constraint row of a contact point along a unit direction u: the angular parts and the
-// effective mass
+// (no default values: prepareRows writes them before any solve reads them, and a point made in
+// gatherContacts is then not zeroed here)
 struct Dynamics::Row {
-  Vec3 ca{0.0}, cb{0.0};  // ra x u, rb x u
-  Vec3 ia{0.0}, ib{0.0};  // inverse world inertia times those
-  double mass = 0.0;
+  Vec3 ca, cb;  // ra x u, rb x u
+  Vec3 ia, ib;  // inverse world inertia times those
+  double mass;
 };
 
 struct Dynamics::ContactPoint {
+  // user-provided, so that points_.emplace_back() does not zero the whole point first (its rows
+  // are written by prepareRows before they are read)
+  ContactPoint() {}  // NOLINT(modernize-use-equals-default)
   std::uint32_t a = 0, b = 0;
   std::uint32_t prim_a = 0, prim_b = 0;
   Vec3 ra_B{0.0}, rb_B{0.0};  // from each centre of mass, body frames

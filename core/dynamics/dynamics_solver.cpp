@@ -134,6 +134,7 @@ void Dynamics::solveVelocities(double remaining) {
       }
       i += group;
     }
+    ++iterations_run_;
     if (it + 1 >= kMinIterations && residual < velocity_tolerance_)
       break;
   }
@@ -256,14 +257,18 @@ void Dynamics::prepareBlock(std::size_t first) {
   const BodyState& B = bodies_[c0.b];
   const std::array<Vec3, 3> aa{glm::cross(ca, n), glm::cross(c0.t1, n), glm::cross(c0.t2, n)};
   const std::array<Vec3, 3> ab{glm::cross(cb, n), aa[1], aa[2]};
+  // the inverse inertias times the angular parts, once per column
+  std::array<Vec3, 3> ia{}, ib{};
+  for (std::size_t q = 0; q < 3; ++q) {
+    ia[q] = A.inv_inertia_W * aa[q];
+    ib[q] = B.inv_inertia_W * ab[q];
+  }
   Mat3 kc{0.0};
-  for (int r = 0; r < 3; ++r) {
-    for (int q = 0; q < 3; ++q) {
-      kc[q][r] = (r == 0 && q == 0 ? c0.ima + c0.imb : 0.0) +
-                 glm::dot(aa[static_cast<std::size_t>(r)],
-                          A.inv_inertia_W * aa[static_cast<std::size_t>(q)]) +
-                 glm::dot(ab[static_cast<std::size_t>(r)],
-                          B.inv_inertia_W * ab[static_cast<std::size_t>(q)]);
+  for (std::size_t r = 0; r < 3; ++r) {
+    for (std::size_t q = 0; q < 3; ++q) {
+      kc[static_cast<int>(q)][static_cast<int>(r)] = (r == 0 && q == 0 ? c0.ima + c0.imb : 0.0) +
+                                                     glm::dot(aa[r], ia[q]) +
+                                                     glm::dot(ab[r], ib[q]);
     }
   }
   const double dk = glm::determinant(kc);

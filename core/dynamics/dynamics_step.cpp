@@ -21,17 +21,19 @@ namespace {
 constexpr std::size_t kNoSlot = ~std::size_t{0};
 
 // one primitive pair's point this tick: fresh from the collision manifold or kept from last tick
+// (no default values: a contact's array of them is not zeroed on every tick, each candidate
+// is written whole when it is made)
 struct Candidate {
-  Vec3 n{0.0};
-  double gap = 0.0;
-  Vec3 sa_B{0.0}, sb_B{0.0};  // on each surface, body frames (from the centres of mass)
-  bool warm = false;          // last tick's impulses found
+  Vec3 n;
+  double gap;
+  Vec3 sa_B, sb_B;  // on each surface, body frames (from the centres of mass)
+  bool warm;        // last tick's impulses found
   // its place in the solve order: last tick's nearest point of the pair (kNoSlot: none), then
   // its distance from it and its place on a's surface, in grains of 1e-9 of the size
-  std::size_t slot = kNoSlot;
-  std::array<double, 4> order{};
-  double ln = 0.0;
-  Vec3 lt{0.0};
+  std::size_t slot;
+  std::array<double, 4> order;
+  double ln;
+  Vec3 lt;
 };
 
 // the Simulation's own probe sphere (extra_probe_body): frictionless, inelastic (built before
@@ -247,6 +249,11 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
       cd.gap = gap;
       cd.sa_B = glm::transpose(A.R) * (p - n * (0.5 * gap) - A.x_W);
       cd.sb_B = glm::transpose(B.R) * (p + n * (0.5 * gap) - B.x_W);
+      cd.warm = false;
+      cd.slot = kNoSlot;
+      cd.order = {};
+      cd.ln = 0.0;
+      cd.lt = Vec3{0.0};
     }
     if (nc == 0)
       continue;
@@ -344,7 +351,13 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
       cp.prim_a = c.prim_a;
       cp.prim_b = c.prim_b;
       cp.n = cd.n;
-      tangents(cp.n, &cp.t1, &cp.t2);
+      // a flat contact's points share their normal: its tangents once
+      if (points_.size() > first + 1 && points_[points_.size() - 2].n == cp.n) {
+        cp.t1 = points_[points_.size() - 2].t1;
+        cp.t2 = points_[points_.size() - 2].t2;
+      } else {
+        tangents(cp.n, &cp.t1, &cp.t2);
+      }
       // impulses act midway between the two surface points
       const Vec3 mid = 0.5 * (A.x_W + A.R * cd.sa_B + B.x_W + B.R * cd.sb_B);
       cp.ra = mid - A.x_W;
@@ -407,13 +420,13 @@ void Dynamics::advance(double h) {
     // frame the kinetic energy is a sum of three terms, each of whose flows is an exact rotation
     // about one principal axis; composed symmetrically (Strang) they give a symplectic,
     // time-reversible step that keeps L exactly and the energy within a bounded error
-    const Vec3 L = b.R * (b.inertia_B * (glm::transpose(b.R) * b.w_W));
     if (b.isotropic) {
       // a sphere-like body turns about its constant w: exact
       b.q = glm::normalize(geom::quatFromRotationVector(b.w_W * h) * b.q);
       b.updateInertia();
       continue;
     }
+    const Vec3 L = b.R * (b.inertia_B * (glm::transpose(b.R) * b.w_W));
     Quat q_WP = b.q * b.q_BP;
     Vec3 L_P = glm::conjugate(q_WP) * L;
     const auto turn = [&](int i, double hh) {
@@ -565,6 +578,7 @@ void Dynamics::solveThroughImpacts(double dt, StepReport& report) {
     cp.size = size;
   }
   warm_pending_ = true;
+  iterations_run_ = 0;
   bool any_active = !joints_.empty() || !general_.empty();
   for (ContactPoint& cp : points_) {
     cp.active = false;
@@ -619,6 +633,7 @@ void Dynamics::solveThroughImpacts(double dt, StepReport& report) {
     solveVelocities(dt - t);
   }
   advance(dt - t);
+  report.velocity_iterations = iterations_run_;
 }
 
 // held body feedback: what the contacts and joints gave it this tick
@@ -863,7 +878,8 @@ bool Dynamics::wakeRequested(const collision::CollisionWorld& world, const HeldI
 // with its impulses where it pushed; sorted by primitive pair
 void Dynamics::storeWarmStart() {
   warm_next_.clear();
-  for (const ContactPoint& cp : points_) {
+  for (std::size_t i = 0; i < points_.size(); ++i) {
+    const ContactPoint& cp = points_[i];
     WarmPoint& w = warm_next_.emplace_back();
     w.a = cp.a;
     w.b = cp.b;
@@ -871,8 +887,15 @@ void Dynamics::storeWarmStart() {
     w.prim_b = cp.prim_b;
     w.sa_B = cp.sa_B;
     w.sb_B = cp.sb_B;
-    w.na_B = glm::transpose(bodies_[cp.a].R) * cp.n;
-    w.nb_B = glm::transpose(bodies_[cp.b].R) * cp.n;
+    // a pair's points usually share their normal: it is turned into the bodies' frames once
+    const ContactPoint* prev = i > 0 ? &points_[i - 1] : nullptr;
+    if (prev != nullptr && prev->a == cp.a && prev->b == cp.b && prev->n == cp.n) {
+      w.na_B = warm_next_[i - 1].na_B;
+      w.nb_B = warm_next_[i - 1].nb_B;
+    } else {
+      w.na_B = glm::transpose(bodies_[cp.a].R) * cp.n;
+      w.nb_B = glm::transpose(bodies_[cp.b].R) * cp.n;
+    }
     const bool pushed = cp.active && cp.total_n > 0.0;
     w.ln = pushed ? cp.total_n : 0.0;
     w.lt = pushed ? cp.total_t : Vec3{0.0};

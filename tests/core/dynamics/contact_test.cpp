@@ -315,6 +315,38 @@ TEST(TimeOfImpact, CapIsFlaggedAndTheRestHeldApart) {
   EXPECT_NEAR(rig2.dyn->linearVelocity(2).y, 0.5 * v, 1e-9);
 }
 
+// StepReport::velocity_iterations counts the sequential-impulse iterations every solve of the
+// tick ran: none without a contact, all of them when the solve may not stop early, and fewer
+// (never below the minimum of two) once a resting contact has converged
+TEST(Iterations, TheReportCountsTheIterationsOfEverySolve) {
+  const double h = 0.05;
+  const auto resting = [&](double tolerance) {
+    SceneModel s = floorScene(0.5, 0.0);
+    s.bodies.push_back(dynamicBody("cube", boxShape(Vec3{h}), at(Vec3{0, h, 0}), 1000.0, 0));
+    DynamicsOptions o;
+    o.velocity_tolerance_fraction = tolerance;
+    return Rig(std::move(s), o);
+  };
+  Rig strict = resting(0.0);  // never early
+  Rig early = resting(DynamicsOptions{}.velocity_tolerance_fraction);
+  for (int k = 0; k < 300; ++k) {
+    const StepReport a = strict.tick(kDt);
+    const StepReport b = early.tick(kDt);
+    ASSERT_GT(a.contact_points, 0u);
+    EXPECT_EQ(a.velocity_iterations, 12u * (a.toi_substeps + 1)) << "tick " << k;
+    EXPECT_GE(b.velocity_iterations, 2u) << "tick " << k;
+    EXPECT_LE(b.velocity_iterations, 12u * (b.toi_substeps + 1)) << "tick " << k;
+  }
+  // resting, the default tolerance stops the solve at its minimum
+  EXPECT_EQ(early.tick(kDt).velocity_iterations, 2u);
+  // in free fall, far from the floor: no contact, no solve
+  SceneModel s = floorScene(0.5, 0.0);
+  s.bodies.push_back(dynamicBody("cube", boxShape(Vec3{h}), at(Vec3{0, 1.0, 0}), 1000.0, 0));
+  Rig falling(std::move(s));
+  const StepReport r = falling.tick(kDt);
+  EXPECT_EQ(r.velocity_iterations, 0u);
+}
+
 // a kinematic platform moved by a client (setKinematicPose) lifts a box resting on it
 TEST(Kinematic, PlatformLiftsABox) {
   SceneModel s;
