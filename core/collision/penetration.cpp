@@ -175,17 +175,21 @@ struct DepthSearch {
   explicit DepthSearch(double tie_step) : step(tie_step) {
     best.depth = std::numeric_limits<double>::infinity();
   }
+  double above = std::numeric_limits<double>::infinity();  // depths beyond: a higher cell
   void consider(double d,
                 const Vec3& n,
                 DepthFeature kind,
                 std::uint32_t ia,
                 std::uint32_t ib,
                 std::uint32_t support) {
+    if (d > above)
+      return;  // two steps above the best: certainly a higher cell (division is monotone)
     const double cell = std::floor(d / step);
     if (cell < best_cell || (cell == best_cell && rankBefore(kind, ia, ib, best))) {
       best.depth = d, best.normal = n, best.kind = kind, best.ia = ia, best.ib = ib;
       best_support = support;
       best_cell = cell;
+      above = d + 2.0 * step;
     }
   }
 };
@@ -329,6 +333,28 @@ bool atArcEnd(const Polytope& a,
   return false;
 }
 
+// A lower bound of the depths an irregular arc (edgeArc false) can give: the support gap along
+// a great-circle arc on which the pair overlaps is concave between the points where B's support
+// changes, so its least value is at an end (a face of A: the caller's), at a crossing (offered:
+// arc_min), or at a face point of -B on the arc; a crossing the walk missed by rounding lies at
+// one of these. `depth_b(k)`: face k of B's depth (or a lower bound of it). The faces of -B
+// within 1e-8 rad of the arc's great circle are taken (more is only lower: still a bound).
+template <class NegNormal, class DepthB>
+double irregularArcMin(const Polytope& a,
+                       const Polytope& b,
+                       std::uint32_t i,
+                       double arc_min,
+                       NegNormal&& neg_normal,
+                       DepthB&& depth_b) {
+  const Vec3& dir = a.edges()[i].dir;
+  double m = arc_min;
+  for (std::uint32_t k = 0; k < b.faces().size(); ++k) {
+    if (std::abs(glm::dot(neg_normal(k), dir)) <= 1e-8)
+      m = std::min(m, depth_b(k));
+  }
+  return m;
+}
+
 // Edge pairs whose Gauss-map arcs cross, for every edge of A (edgeArc); `rec`, when given,
 // receives each edge's least crossing depth (-infinity when the arc has no such bound).
 void edgePairs(const Polytope& a,
@@ -349,8 +375,12 @@ void edgePairs(const Polytope& a,
           s.consider(d, axis, DepthFeature::kEdgeEdge, i, j, 0);
         },
         arc_min);
-    if (rec != nullptr)
-      rec->edge_min[i] = bounded ? arc_min : -std::numeric_limits<double>::infinity();
+    if (rec != nullptr) {
+      rec->edge_min[i] =
+          bounded ? arc_min
+                  : irregularArcMin(a, b, i, arc_min, neg_normal,
+                                    [&](std::uint32_t k) { return rec->value_b[k]; });
+    }
   }
   if (s.best.kind == DepthFeature::kEdgeEdge && atArcEnd(a, b, s.best, neg_normal)) {
     s = face_best;
@@ -651,7 +681,14 @@ bool coherentTry(const Polytope& a,
               best.offer(d, axis, DepthFeature::kEdgeEdge, idx, j, 0);
             },
             arc_min);
-        value = bounded ? std::min({d0, d1, arc_min}) : -std::numeric_limits<double>::infinity();
+        if (!bounded) {
+          arc_min = irregularArcMin(a, b, idx, arc_min, neg_normal, [&](std::uint32_t k) {
+            const Vec3 m = -neg_normal(k);
+            const std::uint32_t v = a.support(-m, t.support_b[k]);
+            return fb[k].offset + glm::dot(m, X_AB.t) - glm::dot(m, a.vertices()[v].p);
+          });
+        }
+        value = std::min({d0, d1, arc_min});
         break;
       }
     }
