@@ -175,13 +175,13 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
 std::uint32_t CollisionWorld::trackerPoolSize() const {
   if (options_.depth_trackers != WorldOptions::kAutoTrackers)
     return options_.depth_trackers;
-  const std::size_t per = std::max<std::size_t>(
-      1, DepthTracker::bytesFor(tracker_faces_, tracker_edges_));
-  const std::size_t want = std::min<std::size_t>(
-      std::size_t{options_.depth_trackers_per_primitive} * tracked_prims_,
-      options_.depth_tracker_bytes / per);
-  return static_cast<std::uint32_t>(std::min<std::size_t>(
-      std::max<std::size_t>(want, WorldOptions::kMinAutoTrackers), kNil - 1));
+  const std::size_t per =
+      std::max<std::size_t>(1, DepthTracker::bytesFor(tracker_faces_, tracker_edges_));
+  const std::size_t want =
+      std::min<std::size_t>(std::size_t{options_.depth_trackers_per_primitive} * tracked_prims_,
+                            options_.depth_tracker_bytes / per);
+  return static_cast<std::uint32_t>(
+      std::min<std::size_t>(std::max<std::size_t>(want, WorldOptions::kMinAutoTrackers), kNil - 1));
 }
 
 void CollisionWorld::reserveTrackers() {

@@ -410,7 +410,7 @@ class CollisionWorld {
   ReservedVector<std::uint32_t> free_trackers_;
   ReservedVector<std::uint32_t> tracker_owner_;  // per tracker: its pair state, kNil: free
   std::size_t tracker_faces_ = 0, tracker_edges_ = 0;
-  std::size_t tracked_prims_ = 0;  // primitives added of at most kMaxTrackedFaces faces
+  std::size_t tracked_prims_ = 0;   // primitives added of at most kMaxTrackedFaces faces
   std::uint64_t steal_failed_ = 0;  // tick + 1 of the last step in which no tracker could be taken
   DepthCounters depth_counters_;
   PairResult result_;  // test()'s answer in A's frame, reused (no zeroing per query)

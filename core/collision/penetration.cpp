@@ -377,9 +377,9 @@ void edgePairs(const Polytope& a,
         arc_min);
     if (rec != nullptr) {
       rec->edge_min[i] =
-          bounded ? arc_min
-                  : irregularArcMin(a, b, i, arc_min, neg_normal,
-                                    [&](std::uint32_t k) { return rec->value_b[k]; });
+          bounded ? arc_min : irregularArcMin(a, b, i, arc_min, neg_normal, [&](std::uint32_t k) {
+            return rec->value_b[k];
+          });
     }
   }
   if (s.best.kind == DepthFeature::kEdgeEdge && atArcEnd(a, b, s.best, neg_normal)) {
@@ -599,9 +599,7 @@ struct CoherentBest {
   // query's value, puts them in the same cells: no evaluated candidate below the winner's
   // next cell plus the guard lies near a cell's edge (an unevaluated one lies beyond the
   // certificate's margin, many cells up).
-  bool cellsCertain() const {
-    return !(edge_min / s.step < s.best_cell + 1.0 + kTieGuard);
-  }
+  bool cellsCertain() const { return !(edge_min / s.step < s.best_cell + 1.0 + kTieGuard); }
   // Whether the answer is the least depth by `margin` (many cells): then no cell matters.
   bool unique(double margin) const {
     const DepthResult& r = s.best;

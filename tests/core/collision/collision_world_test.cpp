@@ -837,8 +837,7 @@ TEST(CollisionWorld, AStackOfTiedBoxesIsTrackedAndCertified) {
         ++penetrating;
         const bool floor_pair = c.body_a == 0;
         const Polytope& a = floor_pair ? *floor_m : *cube;
-        const Pose X_WA = floor_pair ? Pose{Vec3{0.0}, Quat{1, 0, 0, 0}}
-                                     : poses[c.body_a - ids[0]];
+        const Pose X_WA = floor_pair ? Pose{Vec3{0.0}, Quat{1, 0, 0, 0}} : poses[c.body_a - ids[0]];
         const std::string err = checkDepth(a, *cube, X_WA, poses[c.body_b - ids[0]], c);
         if (!err.empty() && failures++ < 10)
           ADD_FAILURE() << "unit " << unit << " tick " << k << " pair " << c.body_a << ","
@@ -879,11 +878,11 @@ TEST(CollisionWorld, TheAutomaticTrackerPoolFollowsTheScene) {
     for (int i = 0; i < 200; ++i) {
       world.addBody(d, Pose{Vec3{0.03 * i, 0.0, 0.0}, Quat{1, 0, 0, 0}});
       const std::size_t want = std::max<std::size_t>(
-          WorldOptions::kMinAutoTrackers, std::min<std::size_t>(2 * static_cast<std::size_t>(i + 1), budget / per));
+          WorldOptions::kMinAutoTrackers,
+          std::min<std::size_t>(2 * static_cast<std::size_t>(i + 1), budget / per));
       ASSERT_EQ(world.depthTrackers(), want) << "budget " << budget << " bodies " << i + 1;
     }
-    EXPECT_LE(world.depthTrackerBytes(),
-              std::max(budget, WorldOptions::kMinAutoTrackers * per));
+    EXPECT_LE(world.depthTrackerBytes(), std::max(budget, WorldOptions::kMinAutoTrackers * per));
   }
   WorldOptions fixed;
   fixed.depth_trackers = 5;

@@ -249,7 +249,8 @@ TEST(PenetrationCoherent, TiedStacksAreCertifiedAndEqualTheFullMethod) {
             const double overlap = 0.05 * unit * (1e-6 + 1e-3 * (0.5 + 0.5 * std::sin(t * 0.07)));
             const Vec3 side{0.004 * unit * std::sin(t * 0.031), 0.003 * unit * std::cos(t * 0.023),
                             0.0};
-            const Transform X = geom::Pose{side + Vec3{0.0, 0.0, ha + hb - overlap}, q}.toTransform();
+            const Transform X =
+                geom::Pose{side + Vec3{0.0, 0.0, ha + hb - overlap}, q}.toTransform();
             const std::uint64_t before = tracker.stats.certified;
             const DepthResult c = penetrationDepthCoherent(a, b, X, tracker, cache, scratch);
             DepthCache fresh;
