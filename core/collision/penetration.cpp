@@ -338,7 +338,7 @@ bool atArcEnd(const Polytope& a,
 // changes, so its least value is at an end (a face of A: the caller's), at a crossing (offered:
 // arc_min), or at a face point of -B on the arc; a crossing the walk missed by rounding lies at
 // one of these. `depth_b(k)`: face k of B's depth (or a lower bound of it). The faces of -B
-// within 1e-8 rad of the arc's great circle are taken (more is only lower: still a bound).
+// within 1e-8 rad of the arc are taken (more is only lower: still a bound).
 template <class NegNormal, class DepthB>
 double irregularArcMin(const Polytope& a,
                        const Polytope& b,
@@ -346,10 +346,15 @@ double irregularArcMin(const Polytope& a,
                        double arc_min,
                        NegNormal&& neg_normal,
                        DepthB&& depth_b) {
-  const Vec3& dir = a.edges()[i].dir;
+  const auto& e = a.edges()[i];
+  const Vec3& na = a.faces()[e.face[0]].normal;
+  const Vec3& nb = a.faces()[e.face[1]].normal;
+  const Vec3 pole = glm::normalize(glm::cross(na, nb));  // the arc runs na -> nb about it
   double m = arc_min;
   for (std::uint32_t k = 0; k < b.faces().size(); ++k) {
-    if (std::abs(glm::dot(neg_normal(k), dir)) <= 1e-8)
+    const Vec3 c = neg_normal(k);
+    if (std::abs(glm::dot(c, pole)) <= 1e-8 && glm::dot(glm::cross(na, c), pole) >= -1e-8 &&
+        glm::dot(glm::cross(c, nb), pole) >= -1e-8)
       m = std::min(m, depth_b(k));
   }
   return m;
