@@ -59,7 +59,7 @@ void clipWitness(const WitnessPolygon& in,
 // face, so a unique support vertex s projects into the face; only ties (a face or an edge of Q
 // parallel to the face within tol, where the climb returns any of its vertices) need a search:
 // the tied feature is clipped against the face's side planes and the mean of what is left taken.
-// Falls back to s if the search finds nothing.
+// If the search finds nothing, s's point moved into the face along its plane.
 Vec3 faceWitness(const Polytope& p,
                  std::uint32_t f,
                  const Polytope& q,
@@ -110,15 +110,35 @@ Vec3 faceWitness(const Polytope& p,
       break;
     }
   }
+  // nothing tied projects into the face: the answer is a tie-grid pick within a grid step of
+  // the least depth (a nearly parallel face of Q), so move s's point into the face, along the
+  // face plane, by projecting onto its side planes in turn (the face plane's distance to Q's
+  // surface there is the near-parallel tilt times the move)
+  auto intoFace = [&] {
+    Vec3 x = q0;
+    for (int pass = 0; pass < 8; ++pass) {
+      bool moved = false;
+      for (const auto& fe : sides) {
+        const double out = glm::dot(x - p.vertices()[fe.vertex].p, fe.side);
+        if (out < 0.0) {
+          x -= fe.side * out;
+          moved = true;
+        }
+      }
+      if (!moved)
+        break;
+    }
+    return x;
+  };
   if (poly.n < 2)
-    return q0;
+    return intoFace();
   for (const auto& fe : sides) {
     clipWitness(poly, p.vertices()[fe.vertex].p, fe.side, tol, scratch);
     poly.n = scratch.n;
     std::copy(scratch.p.begin(), scratch.p.begin() + static_cast<std::ptrdiff_t>(scratch.n),
               poly.p.begin());
     if (poly.n == 0)
-      return q0;
+      return intoFace();
   }
   Vec3 mean{0.0};
   for (std::size_t k = 0; k < poly.n; ++k)
