@@ -25,6 +25,7 @@
 #include "core/scene/scene.h"
 #include "core/sim/simulation.h"
 #include "daemon/config.h"
+#include "protocol/pose_stream.h"
 #include "tests/client/command_dir.h"
 #include "tests/core/decomp/models.h"
 
@@ -350,20 +351,14 @@ TEST_F(StudyCommand, OnAnImportedDragonTheProxyNeverRunsOutOfSubSteps) {
   ASSERT_TRUE(sim.ok()) << sim.error().message;
   const double dt = options.response.tick_s;
   const double end = stream.back().t_s;
-  std::size_t row = 0, ticks = 0, touching = 0, most = 0, worst_tick = 0;
+  std::size_t cursor = 0, ticks = 0, touching = 0, most = 0, worst_tick = 0;
   for (std::size_t k = 0;; ++k) {
     const double t = static_cast<double>(k) * dt;
     if (t > end)
       break;
-    while (row + 2 < stream.size() && stream[row + 1].t_s <= t)
-      ++row;
-    const auto& a = stream[row];
-    const auto& b = stream[row + 1];
-    const double u = std::clamp((t - a.t_s) / (b.t_s - a.t_s), 0.0, 1.0);
     hapticd::sim::TickInput in;
     in.t_s = t;
-    in.X_W_device.translation = glm::mix(a.X_WD.translation, b.X_WD.translation, u);
-    in.X_W_device.rotation = glm::slerp(a.X_WD.rotation, b.X_WD.rotation, u);
+    in.X_W_device = hapticd::proto::samplePoseStream(stream, t, cursor).X_WD;
     const auto out = sim.value()->step(in);
     ++ticks;
     if (out.contacts > 0)
