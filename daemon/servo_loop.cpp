@@ -85,7 +85,7 @@ ServoLoop::ServoLoop(const ServoOptions& options,
       clock_(clock),
       device_(device),
       period_ns_(std::max<std::int64_t>(1, std::llround(1e9 / options.rate_hz))),
-      period_s_(static_cast<double>(period_ns_) * 1e-9),
+      period_s_(static_cast<double>(period_ns_) / 1e9),
       commands_(options.command_capacity),
       edits_(options.edit_capacity),
       events_(options.log_capacity),
@@ -465,8 +465,13 @@ void ServoLoop::pushRecords(double t_s, std::int64_t tick_ns) noexcept {
 
 void ServoLoop::tick(std::uint64_t period_index, std::int64_t& tick_ns) noexcept {
   const std::int64_t t0 = realNowNs();
-  const double t_s = static_cast<double>(period_index) * period_s_;
-  takeInputs(static_cast<std::uint64_t>(period_index) * static_cast<std::uint64_t>(period_ns_));
+  // the tick's time is whole nanoseconds; its seconds are their correctly rounded quotient, the
+  // double a pose stream's decimal time parses to (k * period_s rounds up past it at k = 9 of
+  // 1 ms, and a replay then ended one tick before its last row)
+  const std::uint64_t t_ns =
+      static_cast<std::uint64_t>(period_index) * static_cast<std::uint64_t>(period_ns_);
+  const double t_s = static_cast<double>(t_ns) / 1e9;
+  takeInputs(t_ns);
 
   device::DeviceSample sample;
   const device::DeviceStatus status = readDevice(t_s, sample);

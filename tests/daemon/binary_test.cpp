@@ -322,18 +322,14 @@ TEST_P(ReplayTest, FourKilohertzReplayCompletesTheStreamWithinTheLimits) {
   auto rows = hapticd::proto::parsePoseStream(text.value(), stream, 1e-3,
                                               hapticd::proto::PoseStreamDialect::kStrict);
   ASSERT_TRUE(rows);
-  // the ticks the daemon plays: k = 0, 1, ... while its time k T (T = 250 000 ns * 1e-9 s, the
-  // servo loop's period_s) is not past the last row, one per 0.25 ms of the stream and one at
-  // t = 0. For stress this leaves its last row unplayed: 79 600 T rounds to 19.900000000000002 s,
-  // past the row at 19.9 s (at 1 kHz too: 19 900 T; the replay ends one tick early wherever
-  // k T rounds up past the stream's end, a defect of the loop's time, not of the rate), so the
-  // stream is asserted played to within one period of its end
+  // the ticks the daemon plays: k = 0, 1, ... at t = k * 0.25 ms while not past the last row,
+  // the last one exactly at it (the demo streams end on the 0.25 ms grid). Before the loop took
+  // its time as whole nanoseconds it took k * T, which rounds up past the row at 19.9 s at
+  // k = 79 600, and stress ended one tick before its last row
   const double t_end = rows.value().back().t_s;
-  const double period_s = 250000.0 * 1e-9;
-  long long ticks = 0;
-  while (static_cast<double>(ticks) * period_s <= t_end)
-    ++ticks;
-  EXPECT_GE(static_cast<double>(ticks - 1) * period_s, t_end - period_s);
+  const long long t_end_ns = std::llround(t_end * 1e9);
+  ASSERT_EQ(t_end_ns % 250000, 0) << t_end;
+  const long long ticks = t_end_ns / 250000 + 1;
   ASSERT_EQ(run({"--scene", kSource + "/scenes/" + scene + ".glb", "--device", "replay:" + stream,
                  "--clock", "virtual", "--rate", "4000", "--record", path("r.csv"), "--status-file",
                  path("status.json")}),
@@ -360,6 +356,7 @@ TEST_P(ReplayTest, FourKilohertzReplayCompletesTheStreamWithinTheLimits) {
   std::getline(in, line);  // header
   long long n = 0;
   double prev_f[3] = {0.0, 0.0, 0.0}, max_f = 0.0, max_t = 0.0, max_step = 0.0, max_pen = 0.0;
+  double last_t = -1.0;
   bool finite = true;
   while (std::getline(in, line)) {
     std::vector<double> v;
@@ -381,9 +378,11 @@ TEST_P(ReplayTest, FourKilohertzReplayCompletesTheStreamWithinTheLimits) {
     prev_f[1] = v[17];
     prev_f[2] = v[18];
     max_pen = std::max(max_pen, v[23]);
+    last_t = v[1];
     ++n;
   }
   EXPECT_EQ(n, ticks);
+  EXPECT_NEAR(last_t, t_end, 1e-9) << "the last tick plays the last row";
   EXPECT_TRUE(finite);
   EXPECT_LE(max_f, 10.0 * (1.0 + 1e-12));   // [device] max_force_n
   EXPECT_LE(max_t, 1.0 * (1.0 + 1e-12));    // max_torque_nm

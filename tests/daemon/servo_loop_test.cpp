@@ -7,10 +7,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <thread>
 #include <vector>
 
+#include "daemon/device/replay_device.h"
+#include "protocol/pose_stream.h"
 #include "tests/daemon/fakes.h"
 
 namespace hapticd::daemon {
@@ -194,6 +197,36 @@ TEST(ServoLoop, EndOfStreamEndsTheLoop) {
   EXPECT_EQ(device.last_force, geom::Vec3(0.0));
 }
 
+// A replay plays every row of its stream: rows at decimal times (t = i ms, written "%.3f") end
+// on the tick at the last row, at 1 and 4 kHz. The loop's time k * T once rounded up past such a
+// row (9 * 0.001 > 0.009) and the replay ended one tick before its last row.
+TEST(ServoLoop, AReplayPlaysTheLastRowOfItsStream) {
+  for (const int rows : {10, 2001}) {
+    std::string text = "t,px,py,pz,qx,qy,qz,qw,buttons\n";
+    for (int i = 0; i < rows; ++i) {
+      char line[96];
+      std::snprintf(line, sizeof line, "%.3f,0,0,%.6f,0,0,0,1,0\n", i * 1e-3, 0.05 - i * 1e-6);
+      text += line;
+    }
+    for (const double rate_hz : {1000.0, 4000.0}) {
+      auto parsed =
+          proto::parsePoseStream(text, "rows.csv", 1e-3, proto::PoseStreamDialect::kStrict);
+      ASSERT_TRUE(parsed.ok());
+      device::ReplayDevice device("replay:rows.csv", std::move(parsed).value(),
+                                  device::DeviceOptions{});
+      VirtualClock clock;
+      ServoOptions options;
+      options.rate_hz = rate_hz;
+      ServoLoop loop(options, clock, device, fakeScene());
+      EXPECT_EQ(loop.run(), ServoExit::kEndOfStream);
+      const auto per_row = static_cast<std::uint64_t>(rate_hz / 1000.0);
+      EXPECT_EQ(loop.state().tick, static_cast<std::uint64_t>(rows - 1) * per_row + 1)
+          << rows << " rows at " << rate_hz << " Hz";
+      EXPECT_EQ(loop.state().t_s, device.rows().back().t_s);
+    }
+  }
+}
+
 TEST(ServoLoop, NonFiniteForceIsZeroedAndLatched) {
   VirtualClock clock;
   FakeDevice device;
@@ -257,7 +290,8 @@ TEST(ServoLoop, ScenesArePreparedOnTheServoThreadBeforeTheirFirstStep) {
 
 TEST(ServoLoop, StateReadFromAnotherThreadIsAlwaysOneWholeTick) {
   // on the virtual clock no period is skipped: every snapshot must have tick == period_index + 1
-  // and t == period_index * period, whatever moment the reader catches
+  // and t == period_index * period (whole nanoseconds, in seconds), whatever moment the reader
+  // catches
   VirtualClock clock;
   FakeDevice device;
   ServoOptions options;
@@ -269,7 +303,7 @@ TEST(ServoLoop, StateReadFromAnotherThreadIsAlwaysOneWholeTick) {
     const ServoState st = loop.state();
     if (st.tick > 0) {
       ASSERT_EQ(st.tick, st.period_index + 1);
-      ASSERT_EQ(st.t_s, static_cast<double>(st.period_index) * 0.001);
+      ASSERT_EQ(st.t_s, static_cast<double>(st.period_index * 1'000'000) / 1e9);
       ASSERT_EQ(st.X_W_device.translation.x, 0.001 * st.t_s);  // the fake device's path
       ASSERT_GE(st.tick, last_tick);
       last_tick = st.tick;
