@@ -52,6 +52,25 @@ void CollisionWorld::reserve(std::size_t primitives, std::size_t pairs) {
   order_.reserve(pairs);
   contact_order_.reserve(pairs);
   contacts_.reserve(pairs);
+  for (const Body& b : bodies_) {
+    if (b.live && !b.tree.empty()) {
+      reserveFronts();
+      break;
+    }
+  }
+}
+
+void CollisionWorld::reserveFronts() {
+  // a front holds the overlapping leaf pairs (at most the close pairs) and about as many node
+  // pairs found apart around them; a front that does not fit is not kept (the next descent
+  // starts at the roots, as without fronts)
+  if (!options_.descent_fronts)
+    return;
+  const std::size_t need = 2 * reserved_pairs_;
+  if (front_.capacity() < need) {
+    front_.reserve(need);
+    front_next_.reserve(need);
+  }
 }
 
 Transform CollisionWorld::primitiveTransform(const Prim& p) const {
@@ -272,6 +291,13 @@ void CollisionWorld::buildTree(Body& b) {
     b.tree_W[i].right = b.tree[i].right;
     b.tree_W[i].prim = b.tree[i].prim;
   }
+  for (std::size_t i = 0; i < b.tree.size(); ++i) {
+    if (b.tree[i].prim == 0xffffffffu) {
+      b.tree_W[b.tree[i].left].parent = static_cast<std::uint32_t>(i);
+      b.tree_W[b.tree[i].right].parent = static_cast<std::uint32_t>(i);
+    }
+  }
+  reserveFronts();
   b.refit_at = 0;
   // the descent's stack holds at most the two trees' depths plus one pairs
   const std::size_t need = 2 * depth + 8;
@@ -529,7 +555,7 @@ void CollisionWorld::dropTreePair(std::uint32_t lo, std::uint32_t hi, StepStats*
   }
 }
 
-void CollisionWorld::descend(const TreePair& tp, StepStats* stats) {
+void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
   // each side as an array of world nodes: a tree body's own, or a lone piece as one leaf
   WorldNode lone[2];
   const WorldNode* side[2] = {nullptr, nullptr};
@@ -555,51 +581,130 @@ void CollisionWorld::descend(const TreePair& tp, StepStats* stats) {
     *group = b.desc.group & d.group;
     *mask = b.desc.mask & d.mask;
   };
-  constexpr std::uint32_t kInner = 0xffffffffu;
-  descent_.clear();
-  descent_.push_back({0, 0});
-  while (!descent_.empty()) {
-    const NodePair np = descent_.back();
-    descent_.pop_back();
-    const WorldNode& na = x[np.a];
-    const WorldNode& nb = y[np.b];
-    const Aabb& A = na.box;
-    const Aabb& B = nb.box;
-    if (A.lo.x > B.hi.x || B.lo.x > A.hi.x || A.lo.y > B.hi.y || B.lo.y > A.hi.y ||
-        A.lo.z > B.hi.z || B.lo.z > A.hi.z) {
-      continue;
+  auto apart = [](const Aabb& A, const Aabb& B) {
+    return A.lo.x > B.hi.x || B.lo.x > A.hi.x || A.lo.y > B.hi.y || B.lo.y > A.hi.y ||
+           A.lo.z > B.hi.z || B.lo.z > A.hi.z;
+  };
+  // The front: the node pairs where this descent stops, depth first, so that the two halves of
+  // an opened pair are neighbours once their own halves have folded back into them. Two halves
+  // both apart whose opened pair is apart too fold into it, so the front stays as small as the
+  // overlap of the trees and does not keep the finest pairs of where the bodies once were. Each
+  // front's pairs cover every leaf pair once (an opening splits a pair's leaf pairs in two), so
+  // a descent from last step's front finds exactly the overlapping leaf pairs a descent from
+  // the roots finds.
+  const std::size_t begin = front_next_.size();
+  bool keep = options_.descent_fronts;
+  auto emit = [&](const NodePair& e) {
+    if (!keep)
+      return;
+    if (front_next_.size() == front_next_.capacity()) {
+      keep = false;
+      return;
     }
-    const bool la = na.prim != kInner, lb = nb.prim != kInner;
-    if (la && lb) {
-      // two pieces: the pair the sweep and prune would make of their exact boxes
-      const std::uint32_t pa = na.prim, pb = nb.prim;
-      std::uint32_t ga = 0, ma = 0, gb = 0, mb = 0;
-      filter(pa, &ga, &ma);
-      filter(pb, &gb, &mb);
-      if ((ga & mb) == 0 || (gb & ma) == 0)
-        continue;
-      const Aabb& ea = tree[0] ? pieceBox(pa) : A;
-      const Aabb& eb = tree[1] ? pieceBox(pb) : B;
-      if (!SweepAndPrune::overlap(ea, eb))
-        continue;
-      std::uint32_t si = state_of_pair_.find(pairKey(pa, pb));
-      if (si == FlatMap::kNone) {
-        si = newPairState(pa, pb, stats);
-        pair_states_[si].from_tree = true;
+    front_next_.push_back(e);
+    while (front_next_.size() >= begin + 2) {
+      const NodePair& u = front_next_[front_next_.size() - 2];
+      const NodePair& v = front_next_.back();
+      if (!u.apart || !v.apart || v.depth == 0 || u.depth != v.depth || u.sides != v.sides)
+        break;
+      NodePair up = v;
+      up.depth = v.depth - 1;
+      up.sides = v.sides & ((std::uint64_t{1} << up.depth) - 1);
+      if (((v.sides >> up.depth) & 1u) != 0) {
+        if (u.a != v.a || u.b == v.b || y[u.b].parent != y[v.b].parent)
+          break;
+        up.b = y[v.b].parent;
+      } else {
+        if (u.b != v.b || u.a == v.a || x[u.a].parent != x[v.a].parent)
+          break;
+        up.a = x[v.a].parent;
       }
-      pair_states_[si].seen = tick_;
-      continue;
+      if (!apart(x[up.a].box, y[up.b].box))
+        break;
+      front_next_.pop_back();
+      front_next_.back() = up;
     }
-    // open the larger node (a leaf never)
-    const double size_a = (A.hi.x - A.lo.x) + (A.hi.y - A.lo.y) + (A.hi.z - A.lo.z);
-    const double size_b = (B.hi.x - B.lo.x) + (B.hi.y - B.lo.y) + (B.hi.z - B.lo.z);
-    if (lb || (!la && size_a >= size_b)) {
-      descent_.push_back({na.right, np.b});
-      descent_.push_back({na.left, np.b});
-    } else {
-      descent_.push_back({np.a, nb.right});
-      descent_.push_back({np.a, nb.left});
+  };
+  constexpr std::uint32_t kInner = 0xffffffffu;
+  const NodePair roots{};
+  const bool from_front = options_.descent_fronts && !tp.fresh && tp.front_size > 0;
+  std::uint32_t visited = 0;
+  const NodePair* const starts = from_front ? front_.data() + tp.front_begin : &roots;
+  const std::uint32_t n_starts = from_front ? tp.front_size : 1;
+  for (std::uint32_t k = 0; k < n_starts; ++k) {
+    descent_.clear();
+    descent_.push_back(starts[k]);
+    while (!descent_.empty()) {
+      NodePair np = descent_.back();
+      descent_.pop_back();
+      const WorldNode& na = x[np.a];
+      const WorldNode& nb = y[np.b];
+      const Aabb& A = na.box;
+      const Aabb& B = nb.box;
+      ++visited;
+      np.apart = apart(A, B);
+      if (np.apart) {
+        emit(np);
+        continue;
+      }
+      const bool la = na.prim != kInner, lb = nb.prim != kInner;
+      if (la && lb) {
+        // two pieces: the pair the sweep and prune would make of their exact boxes
+        const std::uint32_t pa = na.prim, pb = nb.prim;
+        const std::uint32_t hint = np.state;
+        np.state = kNil;
+        std::uint32_t ga = 0, ma = 0, gb = 0, mb = 0;
+        filter(pa, &ga, &ma);
+        filter(pb, &gb, &mb);
+        if ((ga & mb) != 0 && (gb & ma) != 0 &&
+            SweepAndPrune::overlap(tree[0] ? pieceBox(pa) : A, tree[1] ? pieceBox(pb) : B)) {
+          std::uint32_t si = hint;
+          if (si >= pair_states_.size() || !pair_states_[si].live ||
+              pairKey(pair_states_[si].prim_a, pair_states_[si].prim_b) != pairKey(pa, pb)) {
+            si = state_of_pair_.find(pairKey(pa, pb));
+          }
+          if (si == FlatMap::kNone) {
+            si = newPairState(pa, pb, stats);
+            pair_states_[si].from_tree = true;
+          }
+          pair_states_[si].seen = tick_;
+          np.state = si;
+        }
+        emit(np);
+        continue;
+      }
+      // open the larger node (a leaf never); the first half is taken (and written) first
+      const double size_a = (A.hi.x - A.lo.x) + (A.hi.y - A.lo.y) + (A.hi.z - A.lo.z);
+      const double size_b = (B.hi.x - B.lo.x) + (B.hi.y - B.lo.y) + (B.hi.z - B.lo.z);
+      const bool open_b = !(lb || (!la && size_a >= size_b));
+      if (np.depth >= kMaxFrontDepth) {
+        keep = false;  // deeper than a front entry records: the descent goes on, unkept
+        np.depth = kMaxFrontDepth;
+      }
+      np.state = kNil;
+      NodePair first = np, second = np;
+      first.depth = second.depth = static_cast<std::uint8_t>(np.depth + 1);
+      if (np.depth < kMaxFrontDepth && open_b)
+        first.sides = second.sides = np.sides | (std::uint64_t{1} << np.depth);
+      if (open_b) {
+        first.b = nb.left;
+        second.b = nb.right;
+      } else {
+        first.a = na.left;
+        second.a = na.right;
+      }
+      descent_.push_back(second);
+      descent_.push_back(first);
     }
+  }
+  if (stats != nullptr)
+    stats->node_pairs_visited += visited;
+  if (keep) {
+    tp.front_begin = static_cast<std::uint32_t>(begin);
+    tp.front_size = static_cast<std::uint32_t>(front_next_.size() - begin);
+  } else {
+    front_next_.resize(begin);
+    tp.front_size = 0;
   }
 }
 
@@ -610,13 +715,29 @@ void CollisionWorld::resolveTreePairs(StepStats* stats) {
     const std::uint32_t t = prim_of_box_[h];
     return (t & kBodyBox) != 0 ? (t & ~kBodyBox) : prims_[t].body;
   };
+  auto due = [&](const TreePair& tp) {
+    return tp.fresh || bodies_[bodyOf(tp.lo)].moved_tick == tick_ ||
+           bodies_[bodyOf(tp.hi)].moved_tick == tick_;
+  };
+  if (std::none_of(tree_pairs_.begin(), tree_pairs_.end(), due))
+    return;
+  // the fronts are written anew, the undescended ones copied
+  front_next_.clear();
   for (TreePair& tp : tree_pairs_) {
-    if (tp.fresh || bodies_[bodyOf(tp.lo)].moved_tick == tick_ ||
-        bodies_[bodyOf(tp.hi)].moved_tick == tick_) {
+    if (due(tp)) {
       descend(tp, stats);
       tp.fresh = false;
+    } else if (tp.front_size > 0) {
+      if (front_next_.size() + tp.front_size <= front_next_.capacity()) {
+        const auto from = front_.begin() + tp.front_begin;
+        tp.front_begin = static_cast<std::uint32_t>(front_next_.size());
+        front_next_.insert(front_next_.end(), from, from + tp.front_size);
+      } else {
+        tp.front_size = 0;
+      }
     }
   }
+  front_.swap(front_next_);
   // a piece pair of a descended tree pair that the descent did not find again: its boxes parted
   for (std::uint32_t si = 0; si < pair_states_.size(); ++si) {
     const PairState& s = pair_states_[si];
@@ -1097,6 +1218,16 @@ void CollisionWorld::writeState(StateWriter& w) const {
     w.integer(tp.lo);
     w.integer(tp.hi);
     w.flag(tp.fresh);
+    w.integer(tp.front_size);
+    for (std::uint32_t k = 0; k < tp.front_size; ++k) {
+      const NodePair& e = front_[tp.front_begin + k];
+      w.integer(e.a);
+      w.integer(e.b);
+      w.u64(e.sides);
+      w.integer(e.depth);
+      w.flag(e.apart);
+      w.integer(e.state);
+    }
   }
   for (const auto* list : {&prim_of_box_, &free_pair_states_, &free_prims_, &free_bodies_, &moved_})
     w.array(*list);

@@ -69,6 +69,11 @@ struct WorldOptions {
   /// (the leaves are compared on the same exact boxes by the same closed test). 0: every
   /// primitive is a box of its own in the sweep and prune.
   std::uint32_t piece_tree_min = 8;
+  /// A descent of two trees starts from where the last one stopped (its front: the node pairs
+  /// found apart and the overlapping leaf pairs), not from the roots, when the front fits in
+  /// what reserve() set aside; the same piece pairs either way (StepStats::node_pairs_visited
+  /// counts the difference). false: every descent from the roots.
+  bool descent_fronts = true;
   /// The coherent exact depth (penetrationDepthCoherent, docs/narrow-phase.md "Coherent exact
   /// depth" and "In the collision world"): at most this many pairs track their penetration depth
   /// at once, each with a DepthTracker from a pool the world reserves as bodies are added (off
@@ -85,9 +90,10 @@ struct WorldOptions {
   /// the pool's memory, which grows as the largest tracked shape (about 100 bytes per face).
   static constexpr std::size_t kMaxTrackedFaces = 512;
   /// Pairs certainly farther apart than this (scene units; never less than box_margin) are
-  /// neither tested nor listed in contacts(): at their last test their closest points were
-  /// farther apart than this by more than their two bodies can have moved toward each other
-  /// since (along the closest points' direction, plus each body's turn times its radius). For
+  /// neither tested nor listed in contacts(): at their last test their closest points (or, for
+  /// a pair not yet tested, their pieces' boxes along one axis) were farther apart than this by
+  /// more than their two bodies can have moved toward each other since (along that direction,
+  /// plus each body's turn times its radius). For
   /// readers of the contacts that need no answer beyond a known distance (the proxy's rows, its
   /// attach distance), when the boxes' margin finds many pairs farther than that. 0: every pair
   /// whose boxes overlap is tested and listed.
@@ -138,6 +144,9 @@ struct StepStats {
   /// Overlapping pairs neither tested nor listed this step: certainly farther apart than
   /// WorldOptions::far_distance (not pairs_skipped: nothing is missed).
   std::uint32_t pairs_far = 0;
+  /// Node pairs of two piece trees the descents looked at this step (WorldOptions::
+  /// descent_fronts).
+  std::uint32_t node_pairs_visited = 0;
 };
 
 class CollisionWorld {
@@ -245,7 +254,8 @@ class CollisionWorld {
   struct WorldNode {
     Aabb box;
     std::uint32_t left = 0, right = 0;
-    std::uint32_t prim = 0xffffffffu;  // leaf: its piece
+    std::uint32_t prim = 0xffffffffu;    // leaf: its piece
+    std::uint32_t parent = 0xffffffffu;  // the root: none
   };
   struct Body {
     BodyDesc desc;
@@ -282,18 +292,18 @@ class CollisionWorld {
     std::uint64_t box_at = 0;
   };
   struct PairState {
+    // what the descent, the schedule and far() read of every pair each step first, together (a
+    // pair state is many cache lines long; the query's cache and the last answer after them)
     std::uint32_t prim_a = 0, prim_b = 0;  // prims_ indices, ordered by body
-    PairCache cache;
-    Contact last;
-    std::uint64_t last_tested = 0;  // tick of the last test (the tick before it appeared, if none)
     bool in_contact = false;
     bool live = false;
     bool from_tree = false;  // found by a descent of piece trees, not by the sweep and prune
     std::uint64_t seen = 0;  // the last step whose descent found it
+    std::uint64_t last_tested = 0;  // tick of the last test (the tick before it appeared, if none)
+    std::uint64_t visit = 0;        // the listing pass (visit_) that last looked at it
     // links in the pair lists of last.body_a ([0]) and last.body_b ([1])
     std::array<std::uint32_t, 2> next{0xffffffffu, 0xffffffffu};
     std::array<std::uint32_t, 2> prev{0xffffffffu, 0xffffffffu};
-    std::uint64_t visit = 0;              // the listing pass (visit_) that last looked at it
     std::uint32_t tracker = 0xffffffffu;  // its depth tracker (trackers_), kNil: none
     // the tracker's certificate failed at this many tests in a row; from two on the pair is
     // answered untracked until step track_from (a back-off that doubles, up to 64 steps)
@@ -305,11 +315,17 @@ class CollisionWorld {
     Vec3 sep_n{0.0};
     double sep_d = 0.0;
     geom::Pose X_WA_test, X_WB_test;
+    PairCache cache;
+    Contact last;
   };
   // two broad-phase boxes that overlap, one of them (at least) a tree body's
   struct TreePair {
     std::uint32_t lo = 0, hi = 0;  // broad-phase handles
     bool fresh = true;             // not yet descended
+    // its last descent's front, front_[front_begin, front_begin + front_size): the node pairs
+    // where the descent stopped, depth first; the next descent starts there instead of at the
+    // roots. front_size 0: none kept (it did not fit), the next descent starts at the roots
+    std::uint32_t front_begin = 0, front_size = 0;
   };
   static constexpr std::uint32_t kBodyBox = 0x80000000u;  // prim_of_box_ tag: a body's box
   static constexpr std::uint32_t kNil = 0xffffffffu;
@@ -322,7 +338,7 @@ class CollisionWorld {
   void buildTree(Body& b);
   void refit(std::uint32_t body);
   const Aabb& pieceBox(std::uint32_t prim);
-  void descend(const TreePair& tp, StepStats* stats);
+  void descend(TreePair& tp, StepStats* stats);
   void dropTreePair(std::uint32_t lo, std::uint32_t hi, StepStats* stats);
   void resolveTreePairs(StepStats* stats);
   void test(std::uint32_t si);
@@ -370,10 +386,23 @@ class CollisionWorld {
   ReservedVector<Prim> prims_;
   ReservedVector<std::uint32_t> prim_of_box_;  // handle -> prims_ index, or kBodyBox | body
   ReservedVector<TreePair> tree_pairs_;
+  // a node of each side, reached from the two roots by `depth` openings of one side's node; bit
+  // k of `sides` says which the k-th opened (1: b's). In a front: `apart`, the two boxes do not
+  // overlap (else they are two overlapping leaves), and `state`, two leaves' pair state when
+  // they had one (a hint, checked before use: spares the lookup in state_of_pair_)
   struct NodePair {
     std::uint32_t a = 0, b = 0;
+    std::uint32_t state = 0xffffffffu;
+    std::uint8_t depth = 0;
+    bool apart = false;
+    std::uint64_t sides = 0;
   };
+  static constexpr std::uint32_t kMaxFrontDepth = 64;  // openings a front entry can record
   ReservedVector<NodePair> descent_;  // scratch: the descent's stack, sized by addBody
+  // the tree pairs' fronts (TreePair::front_begin), and the next step's being written; sized by
+  // reserve() once a body has a tree
+  ReservedVector<NodePair> front_, front_next_;
+  void reserveFronts();
   ReservedVector<PairState> pair_states_;
   ReservedVector<std::uint32_t> free_pair_states_;
   FlatMap state_of_pair_;  // prim-pair key (prims_ indices) -> pair_states_ index
