@@ -297,8 +297,8 @@ class CollisionWorld {
     std::uint32_t prim_a = 0, prim_b = 0;  // prims_ indices, ordered by body
     bool in_contact = false;
     bool live = false;
-    bool from_tree = false;  // found by a descent of piece trees, not by the sweep and prune
-    std::uint64_t seen = 0;  // the last step whose descent found it
+    bool from_tree = false;         // found by a descent of piece trees, not by the sweep and prune
+    std::uint64_t seen = 0;         // the last step whose descent found it
     std::uint64_t last_tested = 0;  // tick of the last test (the tick before it appeared, if none)
     std::uint64_t visit = 0;        // the listing pass (visit_) that last looked at it
     // links in the pair lists of last.body_a ([0]) and last.body_b ([1])
