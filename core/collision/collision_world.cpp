@@ -840,9 +840,13 @@ bool CollisionWorld::far(const PairState& s) const {
                      (a.X_WB.translation - s.X_WA_test.translation);
   const Vec3 t = glm::abs(s.X_WA_test.translation) + glm::abs(s.X_WB_test.translation);
   const double pad = 1e-9 * (std::max({t.x, t.y, t.z}) + a.radius + b.radius);
+  // a body not turned since (a static one: always) moved no point by a chord
+  auto turned = [](const geom::Quat& q1, const geom::Quat& q0, double radius) {
+    return q1 == q0 ? 0.0 : chord(q1, q0) * radius;
+  };
   const double nearest = s.sep_d + glm::dot(s.sep_n, moved) -
-                         chord(a.X_WB.rotation, s.X_WA_test.rotation) * a.radius -
-                         chord(b.X_WB.rotation, s.X_WB_test.rotation) * b.radius - pad;
+                         turned(a.X_WB.rotation, s.X_WA_test.rotation, a.radius) -
+                         turned(b.X_WB.rotation, s.X_WB_test.rotation, b.radius) - pad;
   return nearest > farLimit(s);
 }
 
