@@ -164,7 +164,8 @@ bool knownToDrift(int boxes, const SizeCase& sc) {
 // to 0.26 of the edge in 10 s, 2 cm towers 1.0e-3 to 1.6e-3 and dropped 10 cm ones 5e-3: with
 // their points solved one by one the boxes turned a little and traded sideways speed through the
 // tilt, which nothing takes back without friction.) One case is not met over a minute and runs
-// 5 s here, as before; the minute is Stack.DISABLED_AFrictionlessDroppedTowerOfTwoCentimetreBoxesStandsForAMinute.
+// 5 s here, as before; the minute is
+// Stack.DISABLED_AFrictionlessDroppedTowerOfTwoCentimetreBoxesStandsForAMinute.
 TEST(Stack, EveryStackAndTowerStandsForAMinute) {
   for (const int boxes : {4, 10}) {
     for (const double edge : {0.005, 0.02, 0.1, 1.0}) {
