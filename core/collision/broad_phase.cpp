@@ -46,6 +46,23 @@ inline double binTop(int bin) {
   return v;
 }
 
+// two boxes' sort keys overlap on every axis (closed intervals), computed without a branch per
+// axis
+template <class G>
+inline bool overlapKeys(const G& a, const G& b) {
+  return static_cast<bool>(
+      static_cast<int>(a.lo[0] <= b.hi[0]) & static_cast<int>(b.lo[0] <= a.hi[0]) &
+      static_cast<int>(a.lo[1] <= b.hi[1]) & static_cast<int>(b.lo[1] <= a.hi[1]) &
+      static_cast<int>(a.lo[2] <= b.hi[2]) & static_cast<int>(b.lo[2] <= a.hi[2]));
+}
+
+// admissible() on the grid's copies of two filters of different boxes
+template <class T>
+inline bool admissibleTags(const T& a, const T& b) {
+  return a.body != b.body && !(a.is_static && b.is_static) && (a.group & b.mask) != 0 &&
+         (b.group & a.mask) != 0;
+}
+
 struct EndpointLess {
   template <class E>
   bool operator()(const E& x, const E& y) const {
@@ -151,6 +168,7 @@ void SweepAndPrune::reserve(std::size_t boxes, std::size_t pairs) {
   cell_of_.reserve(boxes);
   cell_start_.reserve(kCellsPerBox * boxes + 65);
   grid_.reserve(boxes);
+  grid_tag_.reserve(boxes);
   large_.reserve(boxes);
   found_.reserve(pairs);
   seen_.reserve(pairs);
@@ -504,16 +522,19 @@ bool SweepAndPrune::gridCommit(bool forced) {
   for (std::size_t c = 1; c <= cells; ++c)
     cell_start_[c] += cell_start_[c - 1];
   grid_.resize(n_small);
+  grid_tag_.resize(n_small);
   for (std::uint32_t h = 0; h < nb; ++h) {
     const double w = width_[h];
     if (w < 0.0 || w > cell)
       continue;
-    GridBox& g = grid_[cell_start_[cell_of_[h]]++];
+    const std::uint32_t at = cell_start_[cell_of_[h]]++;
+    GridBox& g = grid_[at];
     for (int k = 0; k < 3; ++k) {
       g.lo[k] = key_[k][h << 1];
       g.hi[k] = key_[k][h << 1 | 1];
     }
-    g.handle = h;
+    const BoxFilter& f = boxes_[h].filter;
+    grid_tag_[at] = {h, f.body, f.group, f.mask, f.is_static};
   }
   for (std::size_t c = cells; c > 0; --c)
     cell_start_[c] = cell_start_[c - 1];
@@ -525,11 +546,12 @@ bool SweepAndPrune::gridCommit(bool forced) {
   found_.clear();
   const std::uint32_t* start = cell_start_.data();
   const GridBox* g = grid_.data();
-  auto test = [this](const GridBox& a, const GridBox& b) {
-    if (a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] &&
-        a.lo[2] <= b.hi[2] && b.lo[2] <= a.hi[2] && admissible(a.handle, b.handle)) {
-      found_.push_back(key(a.handle, b.handle));
-    }
+  const GridTag* tag = grid_tag_.data();
+  // the overlap test without a branch per axis (its outcome is random; a hit is rare), the
+  // filters read only on a hit
+  auto test = [this, g, tag](std::uint32_t i, std::uint32_t j) {
+    if (overlapKeys(g[i], g[j]) && admissibleTags(tag[i], tag[j]))
+      found_.push_back(key(tag[i].handle, tag[j].handle));
   };
   const int dx = dims[0], dy = dims[1], dz = dims[2];
   for (int z = 0; z < dz; ++z) {
@@ -539,32 +561,33 @@ bool SweepAndPrune::gridCommit(bool forced) {
         const std::uint32_t b = start[row + x], e = start[row + x + 1];
         if (b == e)
           continue;
-        std::uint32_t rb[5], re[5];
-        int nr = 0;
-        if (x + 1 < dx) {
-          rb[nr] = e;
-          re[nr++] = start[row + x + 2];
-        }
+        // the rest of the cell and the cell (x+1, y, z) are one run of grid_
+        const std::uint32_t run_end = x + 1 < dx ? start[row + x + 2] : e;
+        // the four runs of three cells (empty outside the grid)
+        std::uint32_t rb[4] = {0, 0, 0, 0}, re[4] = {0, 0, 0, 0};
         const int x0 = std::max(x - 1, 0), x1 = std::min(x + 1, dx - 1);
-        auto span = [&](int yy, int zz) {
+        auto span = [&](int s, int yy, int zz) {
           if (yy < 0 || yy >= dy || zz >= dz)
             return;
           const int r = (zz * dy + yy) * dx;
-          rb[nr] = start[r + x0];
-          re[nr++] = start[r + x1 + 1];
+          rb[s] = start[r + x0];
+          re[s] = start[r + x1 + 1];
         };
-        span(y + 1, z);
-        span(y - 1, z + 1);
-        span(y, z + 1);
-        span(y + 1, z + 1);
+        span(0, y + 1, z);
+        span(1, y - 1, z + 1);
+        span(2, y, z + 1);
+        span(3, y + 1, z + 1);
         for (std::uint32_t i = b; i < e; ++i) {
-          const GridBox& a = g[i];
-          for (std::uint32_t j = i + 1; j < e; ++j)
-            test(a, g[j]);
-          for (int r = 0; r < nr; ++r) {
-            for (std::uint32_t j = rb[r]; j < re[r]; ++j)
-              test(a, g[j]);
-          }
+          for (std::uint32_t j = i + 1; j < run_end; ++j)
+            test(i, j);
+          for (std::uint32_t j = rb[0]; j < re[0]; ++j)
+            test(i, j);
+          for (std::uint32_t j = rb[1]; j < re[1]; ++j)
+            test(i, j);
+          for (std::uint32_t j = rb[2]; j < re[2]; ++j)
+            test(i, j);
+          for (std::uint32_t j = rb[3]; j < re[3]; ++j)
+            test(i, j);
         }
       }
     }
@@ -587,14 +610,11 @@ bool SweepAndPrune::gridLarge(const double* lo_W, double inv, const int* dims, b
       a.lo[k] = key_[k][h << 1];
       a.hi[k] = key_[k][h << 1 | 1];
     }
-    a.handle = h;
     return a;
   };
-  auto test = [this](const GridBox& a, const GridBox& b) {
-    if (a.lo[0] <= b.hi[0] && b.lo[0] <= a.hi[0] && a.lo[1] <= b.hi[1] && b.lo[1] <= a.hi[1] &&
-        a.lo[2] <= b.hi[2] && b.lo[2] <= a.hi[2] && admissible(a.handle, b.handle)) {
-      found_.push_back(key(a.handle, b.handle));
-    }
+  auto test = [this](const GridBox& a, std::uint32_t ha, const GridBox& b, std::uint32_t hb) {
+    if (overlapKeys(a, b) && admissible(ha, hb))
+      found_.push_back(key(ha, hb));
   };
   for (const std::uint32_t h : large_) {
     const GridBox a = keys(h);
@@ -614,7 +634,7 @@ bool SweepAndPrune::gridLarge(const double* lo_W, double inv, const int* dims, b
     if (!std::isfinite(width_[h]) || covered > static_cast<double>(n_small)) {
       work += n_small;
       for (std::size_t j = 0; j < n_small; ++j)
-        test(a, grid_[j]);
+        test(a, h, grid_[j], grid_tag_[j].handle);
       continue;
     }
     work += static_cast<std::size_t>(covered);
@@ -623,7 +643,7 @@ bool SweepAndPrune::gridLarge(const double* lo_W, double inv, const int* dims, b
         const int row = (z * dims[1] + y) * dims[0];
         const std::uint32_t* start = cell_start_.data() + row;
         for (std::uint32_t j = start[lo[0]]; j < start[hi[0] + 1]; ++j)
-          test(a, grid_[j]);
+          test(a, h, grid_[j], grid_tag_[j].handle);
       }
     }
   }
@@ -632,7 +652,7 @@ bool SweepAndPrune::gridLarge(const double* lo_W, double inv, const int* dims, b
   for (std::size_t i = 0; i < large_.size(); ++i) {
     const GridBox a = keys(large_[i]);
     for (std::size_t j = i + 1; j < large_.size(); ++j)
-      test(a, keys(large_[j]));
+      test(a, large_[i], keys(large_[j]), large_[j]);
   }
   return true;
 }

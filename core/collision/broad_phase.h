@@ -137,11 +137,19 @@ class SweepAndPrune {
     bool added = false;  // added since the last commit
   };
 
-  // a box on the grid: its sort keys (the lists' overlap test, exactly) and handle
+  // a box on the grid: its sort keys (the lists' overlap test, exactly); read for every test
   struct GridBox {
     std::uint64_t lo[3];
     std::uint64_t hi[3];
+  };
+  // beside it, in the same order: who it is, read only when two boxes overlap (a copy of the
+  // filter, so that a hit does not read boxes_ at random)
+  struct GridTag {
     std::uint32_t handle;
+    std::uint32_t body;
+    std::uint32_t group;
+    std::uint32_t mask;
+    bool is_static;
   };
 
   bool admissible(std::uint32_t a, std::uint32_t b) const;
@@ -187,6 +195,7 @@ class SweepAndPrune {
   ReservedVector<std::uint32_t> cell_of_;     // by handle: cell of the low corner
   ReservedVector<std::uint32_t> cell_start_;  // by cell: first index into grid_ (prefix sums)
   ReservedVector<GridBox> grid_;              // small boxes by cell
+  ReservedVector<GridTag> grid_tag_;          // their handles and filters, in the same order
   ReservedVector<std::uint32_t> large_;       // boxes wider than a cell (or not finite)
   ReservedVector<std::uint64_t> found_;       // pair keys found on the grid
   ReservedVector<std::uint8_t> seen_;         // by index into pairs_: found again
