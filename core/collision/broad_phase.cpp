@@ -172,6 +172,21 @@ void SweepAndPrune::reserve(std::size_t boxes, std::size_t pairs) {
   large_.reserve(boxes);
   found_.reserve(pairs);
   seen_.reserve(pairs);
+  // the grid's scratch is written for the first time by the first commit that moves most boxes:
+  // write it here, so that its pages are resident before then (without mlockall, a first grid
+  // commit among 100 000 boxes spent 30 ms of its 40 in page faults on this machine)
+  auto touch = [](auto& v) {
+    v.resize(v.capacity());
+    v.clear();
+  };
+  touch(width_);
+  touch(cell_of_);
+  touch(cell_start_);
+  touch(grid_);
+  touch(grid_tag_);
+  touch(large_);
+  touch(found_);
+  touch(seen_);
 }
 
 void SweepAndPrune::rebuildPositions() {
