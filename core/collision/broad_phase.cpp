@@ -169,6 +169,7 @@ void SweepAndPrune::reserve(std::size_t boxes, std::size_t pairs) {
   cell_start_.reserve(kCellsPerBox * boxes + 65);
   grid_.reserve(boxes);
   grid_tag_.reserve(boxes);
+  occupied_.reserve(boxes + 1);
   large_.reserve(boxes);
   found_.reserve(pairs);
   seen_.reserve(pairs);
@@ -185,6 +186,7 @@ void SweepAndPrune::reserve(std::size_t boxes, std::size_t pairs) {
   touch(grid_);
   touch(grid_tag_);
   touch(large_);
+  touch(occupied_);
   touch(found_);
   touch(seen_);
 }
@@ -534,8 +536,16 @@ bool SweepAndPrune::gridCommit(bool forced) {
     if (crowd > 32 * n_small + 64)
       return false;
   }
-  for (std::size_t c = 1; c <= cells; ++c)
+  // prefix sums, and the list of the cells that hold a box (in order; written without a branch,
+  // since whether a cell is empty is random)
+  occupied_.resize(n_small + 1);
+  std::uint32_t* occupied = occupied_.data();
+  std::size_t n_occupied = 0;
+  for (std::size_t c = 1; c <= cells; ++c) {
+    occupied[n_occupied] = static_cast<std::uint32_t>(c - 1);
+    n_occupied += static_cast<std::size_t>(cell_start_[c] != 0);
     cell_start_[c] += cell_start_[c - 1];
+  }
   grid_.resize(n_small);
   grid_tag_.resize(n_small);
   for (std::uint32_t h = 0; h < nb; ++h) {
@@ -569,41 +579,50 @@ bool SweepAndPrune::gridCommit(bool forced) {
       found_.push_back(key(tag[i].handle, tag[j].handle));
   };
   const int dx = dims[0], dy = dims[1], dz = dims[2];
-  for (int z = 0; z < dz; ++z) {
-    for (int y = 0; y < dy; ++y) {
-      const int row = (z * dy + y) * dx;
-      for (int x = 0; x < dx; ++x) {
-        const std::uint32_t b = start[row + x], e = start[row + x + 1];
-        if (b == e)
-          continue;
-        // the rest of the cell and the cell (x+1, y, z) are one run of grid_
-        const std::uint32_t run_end = x + 1 < dx ? start[row + x + 2] : e;
-        // the four runs of three cells (empty outside the grid)
-        std::uint32_t rb[4] = {0, 0, 0, 0}, re[4] = {0, 0, 0, 0};
-        const int x0 = std::max(x - 1, 0), x1 = std::min(x + 1, dx - 1);
-        auto span = [&](int s, int yy, int zz) {
-          if (yy < 0 || yy >= dy || zz >= dz)
-            return;
-          const int r = (zz * dy + yy) * dx;
-          rb[s] = start[r + x0];
-          re[s] = start[r + x1 + 1];
-        };
-        span(0, y + 1, z);
-        span(1, y - 1, z + 1);
-        span(2, y, z + 1);
-        span(3, y + 1, z + 1);
-        for (std::uint32_t i = b; i < e; ++i) {
-          for (std::uint32_t j = i + 1; j < run_end; ++j)
-            test(i, j);
-          for (std::uint32_t j = rb[0]; j < re[0]; ++j)
-            test(i, j);
-          for (std::uint32_t j = rb[1]; j < re[1]; ++j)
-            test(i, j);
-          for (std::uint32_t j = rb[2]; j < re[2]; ++j)
-            test(i, j);
-          for (std::uint32_t j = rb[3]; j < re[3]; ++j)
-            test(i, j);
+  {
+    // the occupied cells only, their coordinates carried from one to the next
+    int x = 0, y = 0, z = 0;
+    std::uint32_t at = 0;
+    for (std::size_t o = 0; o < n_occupied; ++o) {
+      const std::uint32_t c = occupied[o];
+      x += static_cast<int>(c - at);
+      at = c;
+      while (x >= dx) {
+        x -= dx;
+        if (++y == dy) {
+          y = 0;
+          ++z;
         }
+      }
+      const int row = static_cast<int>(c) - x;
+      const std::uint32_t b = start[c], e = start[c + 1];
+      // the rest of the cell and the cell (x+1, y, z) are one run of grid_
+      const std::uint32_t run_end = x + 1 < dx ? start[row + x + 2] : e;
+      // the four runs of three cells (empty outside the grid)
+      std::uint32_t rb[4] = {0, 0, 0, 0}, re[4] = {0, 0, 0, 0};
+      const int x0 = std::max(x - 1, 0), x1 = std::min(x + 1, dx - 1);
+      auto span = [&](int s, int yy, int zz) {
+        if (yy < 0 || yy >= dy || zz >= dz)
+          return;
+        const int r = (zz * dy + yy) * dx;
+        rb[s] = start[r + x0];
+        re[s] = start[r + x1 + 1];
+      };
+      span(0, y + 1, z);
+      span(1, y - 1, z + 1);
+      span(2, y, z + 1);
+      span(3, y + 1, z + 1);
+      for (std::uint32_t i = b; i < e; ++i) {
+        for (std::uint32_t j = i + 1; j < run_end; ++j)
+          test(i, j);
+        for (std::uint32_t j = rb[0]; j < re[0]; ++j)
+          test(i, j);
+        for (std::uint32_t j = rb[1]; j < re[1]; ++j)
+          test(i, j);
+        for (std::uint32_t j = rb[2]; j < re[2]; ++j)
+          test(i, j);
+        for (std::uint32_t j = rb[3]; j < re[3]; ++j)
+          test(i, j);
       }
     }
   }
