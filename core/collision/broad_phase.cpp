@@ -170,6 +170,7 @@ void SweepAndPrune::reserve(std::size_t boxes, std::size_t pairs) {
   grid_.reserve(boxes);
   grid_tag_.reserve(boxes);
   occupied_.reserve(boxes + 1);
+  cand_.reserve(boxes + 4);
   large_.reserve(boxes);
   found_.reserve(pairs);
   seen_.reserve(pairs);
@@ -187,6 +188,7 @@ void SweepAndPrune::reserve(std::size_t boxes, std::size_t pairs) {
   touch(grid_tag_);
   touch(large_);
   touch(occupied_);
+  touch(cand_);
   touch(found_);
   touch(seen_);
 }
@@ -478,6 +480,7 @@ bool SweepAndPrune::gridCommit(bool forced) {
   double lo_W[3] = {kInf, kInf, kInf};
   double top_W[3] = {-kInf, -kInf, -kInf};
   std::size_t n_small = 0;
+  double max_small = 0.0;
   large_.clear();
   for (std::uint32_t h = 0; h < nb; ++h) {
     const double w = width_[h];
@@ -488,6 +491,7 @@ bool SweepAndPrune::gridCommit(bool forced) {
       continue;
     }
     ++n_small;
+    max_small = std::max(max_small, w);
     for (int k = 0; k < 3; ++k) {
       lo_W[k] = std::min(lo_W[k], boxes_[h].box.lo[k]);
       top_W[k] = std::max(top_W[k], boxes_[h].box.lo[k]);
@@ -495,7 +499,9 @@ bool SweepAndPrune::gridCommit(bool forced) {
   }
   if (!forced && large_.size() * large_.size() > 16 * n + 64)
     return false;
-  double size = cell * (1.0 + 0x1p-20);
+  // the cell as wide as the widest small box (not the top of its quarter octave: up to 19 %
+  // more per axis, 68 % more boxes tested)
+  double size = (max_small > 0.0 ? max_small : cell) * (1.0 + 0x1p-20);
   const double max_cells = static_cast<double>(kCellsPerBox * n_small + 64);
   int dims[3] = {0, 0, 0};
   if (n_small != 0) {
@@ -579,6 +585,10 @@ bool SweepAndPrune::gridCommit(bool forced) {
       found_.push_back(key(tag[i].handle, tag[j].handle));
   };
   const int dx = dims[0], dy = dims[1], dz = dims[2];
+  // a cell's candidates are distinct boxes of other cells: fewer than n_small, and four more
+  // written past the last
+  cand_.resize(n_small + 4);
+  std::uint32_t* cand = cand_.data();
   {
     // the occupied cells only, their coordinates carried from one to the next
     int x = 0, y = 0, z = 0;
@@ -612,17 +622,25 @@ bool SweepAndPrune::gridCommit(bool forced) {
       span(1, y - 1, z + 1);
       span(2, y, z + 1);
       span(3, y + 1, z + 1);
+      // the cell x+1 and the four runs gathered into one list of candidates: four indices copied
+      // per run without a branch (a run holds one or two boxes mostly), the rest one by one
+      std::uint32_t n_cand = 0;
+      auto gather = [&](std::uint32_t from, std::uint32_t to) {
+        const std::uint32_t count = to - from;
+        for (std::uint32_t t = 0; t < 4; ++t)
+          cand[n_cand + t] = from + t;
+        for (std::uint32_t t = 4; t < count; ++t)
+          cand[n_cand + t] = from + t;
+        n_cand += count;
+      };
+      gather(e, run_end);
+      for (int r = 0; r < 4; ++r)
+        gather(rb[r], re[r]);
       for (std::uint32_t i = b; i < e; ++i) {
-        for (std::uint32_t j = i + 1; j < run_end; ++j)
+        for (std::uint32_t j = i + 1; j < e; ++j)
           test(i, j);
-        for (std::uint32_t j = rb[0]; j < re[0]; ++j)
-          test(i, j);
-        for (std::uint32_t j = rb[1]; j < re[1]; ++j)
-          test(i, j);
-        for (std::uint32_t j = rb[2]; j < re[2]; ++j)
-          test(i, j);
-        for (std::uint32_t j = rb[3]; j < re[3]; ++j)
-          test(i, j);
+        for (std::uint32_t k = 0; k < n_cand; ++k)
+          test(i, cand[k]);
       }
     }
   }

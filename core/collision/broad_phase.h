@@ -198,6 +198,7 @@ class SweepAndPrune {
   ReservedVector<GridTag> grid_tag_;          // their handles and filters, in the same order
   ReservedVector<std::uint32_t> large_;       // boxes wider than a cell (or not finite)
   ReservedVector<std::uint32_t> occupied_;    // cells that hold a small box, in order
+  ReservedVector<std::uint32_t> cand_;        // one cell's candidates (indices into grid_)
   ReservedVector<std::uint64_t> found_;       // pair keys found on the grid
   ReservedVector<std::uint8_t> seen_;         // by index into pairs_: found again
 };
