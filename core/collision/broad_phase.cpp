@@ -447,8 +447,8 @@ void SweepAndPrune::resortLists() {
 }
 
 bool SweepAndPrune::gridCommit(bool forced) {
-  // 1. each box's widest extent; the cell is the smallest quarter-octave edge that at most 1/64
-  //    of the boxes exceed (those are tested against the cells they cover)
+  // 1. each box's widest extent; boxes wider than the smallest quarter-octave edge that at most
+  //    1/64 of the boxes exceed are large (tested against the cells they cover)
   const std::size_t nb = boxes_.size();
   width_.resize(nb);
   cell_of_.resize(nb);
@@ -473,7 +473,7 @@ bool SweepAndPrune::gridCommit(bool forced) {
   int bin = kWidthBins - 1;
   while (bin > 0 && above + hist[bin] <= max_large)
     above += hist[bin--];
-  const double cell = binTop(bin);
+  const double small_limit = binTop(bin);
 
   // 2. the grid over the small boxes' low corners; a cell a little wider than any small box, so
   //    that two small boxes that overlap have low corners in neighbouring cells despite rounding
@@ -486,7 +486,7 @@ bool SweepAndPrune::gridCommit(bool forced) {
     const double w = width_[h];
     if (w < 0.0)
       continue;
-    if (w > cell) {
+    if (w > small_limit) {
       large_.push_back(h);
       continue;
     }
@@ -499,9 +499,9 @@ bool SweepAndPrune::gridCommit(bool forced) {
   }
   if (!forced && large_.size() * large_.size() > 16 * n + 64)
     return false;
-  // the cell as wide as the widest small box (not the top of its quarter octave: up to 19 %
-  // more per axis, 68 % more boxes tested)
-  double size = (max_small > 0.0 ? max_small : cell) * (1.0 + 0x1p-20);
+  // the cell as wide as the widest small box (not small_limit, the top of its quarter octave:
+  // up to 19 % more per axis, 68 % more boxes tested)
+  double size = (max_small > 0.0 ? max_small : small_limit) * (1.0 + 0x1p-20);
   const double max_cells = static_cast<double>(kCellsPerBox * n_small + 64);
   int dims[3] = {0, 0, 0};
   if (n_small != 0) {
@@ -525,7 +525,7 @@ bool SweepAndPrune::gridCommit(bool forced) {
   cell_start_.assign(cells + 1, 0);
   for (std::uint32_t h = 0; h < nb; ++h) {
     const double w = width_[h];
-    if (w < 0.0 || w > cell)
+    if (w < 0.0 || w > small_limit)
       continue;
     int i[3];
     for (int k = 0; k < 3; ++k)
@@ -556,7 +556,7 @@ bool SweepAndPrune::gridCommit(bool forced) {
   grid_tag_.resize(n_small);
   for (std::uint32_t h = 0; h < nb; ++h) {
     const double w = width_[h];
-    if (w < 0.0 || w > cell)
+    if (w < 0.0 || w > small_limit)
       continue;
     const std::uint32_t at = cell_start_[cell_of_[h]]++;
     GridBox& g = grid_[at];

@@ -95,7 +95,9 @@ class SweepAndPrune {
   /// Boxes moved since the last commit().
   std::size_t pending() const { return dirty_.size(); }
 
-  /// Reserves room for `boxes` boxes and `pairs` pairs (so that update() never allocates).
+  /// Reserves room for `boxes` boxes and `pairs` pairs (so that update() never allocates), and
+  /// writes the grid's scratch once (so that the first grid commit faults no fresh pages). Not
+  /// on the servo thread.
   void reserve(std::size_t boxes, std::size_t pairs);
 
   /// Endpoint swaps done by update() since construction (a measure of coherence).
