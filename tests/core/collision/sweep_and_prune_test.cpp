@@ -400,15 +400,15 @@ long minorFaults() {
 TEST(SweepAndPrune, FirstGridCommitAfterReserveFaultsFewPages) {
   if (kAsan)
     GTEST_SKIP() << "AddressSanitizer faults its own shadow pages";
-  constexpr int kBoxes = 20000;
+  constexpr std::size_t kBoxes = 20000;
   std::mt19937_64 rng(9);
   std::uniform_real_distribution<double> u(0.0, 1.0);
-  const double side = std::cbrt(70.0 * kBoxes);
+  const double side = std::cbrt(70.0 * static_cast<double>(kBoxes));
   SweepAndPrune sap;
   sap.reserve(kBoxes, 8 * kBoxes);
   std::vector<std::uint32_t> handles;
   std::vector<Aabb> boxes;
-  for (int i = 0; i < kBoxes; ++i) {
+  for (std::size_t i = 0; i < kBoxes; ++i) {
     const Vec3 c{u(rng) * side, u(rng) * side, u(rng) * side};
     boxes.push_back({c - 1.0, c + 1.0});
     BoxFilter f;
