@@ -95,7 +95,9 @@ class SweepAndPrune {
   /// Boxes moved since the last commit().
   std::size_t pending() const { return dirty_.size(); }
 
-  /// Reserves room for `boxes` boxes and `pairs` pairs (so that update() never allocates).
+  /// Reserves room for `boxes` boxes and `pairs` pairs (so that update() never allocates), and
+  /// writes the grid's scratch once (so that the first grid commit faults no fresh pages). Not
+  /// on the servo thread.
   void reserve(std::size_t boxes, std::size_t pairs);
 
   /// Endpoint swaps done by update() since construction (a measure of coherence).
@@ -137,11 +139,19 @@ class SweepAndPrune {
     bool added = false;  // added since the last commit
   };
 
-  // a box on the grid: its sort keys (the lists' overlap test, exactly) and handle
+  // a box on the grid: its sort keys (the lists' overlap test, exactly); read for every test
   struct GridBox {
     std::uint64_t lo[3];
     std::uint64_t hi[3];
+  };
+  // beside it, in the same order: who it is, read only when two boxes overlap (a copy of the
+  // filter, so that a hit does not read boxes_ at random)
+  struct GridTag {
     std::uint32_t handle;
+    std::uint32_t body;
+    std::uint32_t group;
+    std::uint32_t mask;
+    bool is_static;
   };
 
   bool admissible(std::uint32_t a, std::uint32_t b) const;
@@ -187,7 +197,10 @@ class SweepAndPrune {
   ReservedVector<std::uint32_t> cell_of_;     // by handle: cell of the low corner
   ReservedVector<std::uint32_t> cell_start_;  // by cell: first index into grid_ (prefix sums)
   ReservedVector<GridBox> grid_;              // small boxes by cell
+  ReservedVector<GridTag> grid_tag_;          // their handles and filters, in the same order
   ReservedVector<std::uint32_t> large_;       // boxes wider than a cell (or not finite)
+  ReservedVector<std::uint32_t> occupied_;    // cells that hold a small box, in order
+  ReservedVector<std::uint32_t> cand_;        // one cell's candidates (indices into grid_)
   ReservedVector<std::uint64_t> found_;       // pair keys found on the grid
   ReservedVector<std::uint8_t> seen_;         // by index into pairs_: found again
 };
