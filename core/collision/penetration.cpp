@@ -59,13 +59,17 @@ void clipWitness(const WitnessPolygon& in,
 // face, so a unique support vertex s projects into the face; only ties (a face or an edge of Q
 // parallel to the face within tol, where the climb returns any of its vertices) need a search:
 // the tied feature is clipped against the face's side planes and the mean of what is left taken.
-// If the search finds nothing, s's point moved into the face along its plane.
+// `held` tells whether the face holds the witness so found; if not (the face is a tie-grid pick
+// that does not hold the origin's projection, see witnesses()), s's point moved into the face
+// along its plane.
 Vec3 faceWitness(const Polytope& p,
                  std::uint32_t f,
                  const Polytope& q,
                  const Transform& T_PQ,
                  std::uint32_t s,
-                 double tol) {
+                 double tol,
+                 bool& held) {
+  held = true;
   const auto sides = p.faceEdges(f);
   const Vec3 q0 = T_PQ.apply(q.vertices()[s].p);
   bool inside = true;
@@ -110,11 +114,11 @@ Vec3 faceWitness(const Polytope& p,
       break;
     }
   }
-  // nothing tied projects into the face: the answer is a tie-grid pick within a grid step of
-  // the least depth (a nearly parallel face of Q), so move s's point into the face, along the
-  // face plane, by projecting onto its side planes in turn (the face plane's distance to Q's
-  // surface there is the near-parallel tilt times the move)
+  // nothing tied projects into the face (a tie-grid pick within a grid step of the least
+  // depth): s's point moved into the face along its plane, by projecting onto its side planes
+  // in turn (off Q's surface by the tilt of Q's nearly parallel face times the move)
   auto intoFace = [&] {
+    held = false;
     Vec3 x = q0;
     for (int pass = 0; pass < 8; ++pass) {
       bool moved = false;
@@ -412,7 +416,35 @@ void edgePairs(const Polytope& a,
   }
 }
 
-// The witness points of the answer and the support hints it leaves in the cache.
+// The witness points of `best` from the touching features of A and of B moved out of A by its
+// depth along its normal (plus `margin`): B then touches A (the plane of best's feature supports
+// A - B, and the point depth * normal lies within a grid step of A - B), and the closest points
+// of the two are witnesses whatever feature of A - B holds them. False when the walk does not
+// end separated or touching (then the caller keeps its own witness).
+bool touchingWitnesses(const Polytope& a,
+                       const Polytope& b,
+                       const Transform& X_AB,
+                       double margin,
+                       DepthResult& best) {
+  Transform X_out = X_AB;
+  const Vec3 out = best.normal * (best.depth + margin);
+  X_out.t += out;
+  FeatureCache fc;
+  const ClosestResult c = closestFeatures(a, b, X_out, fc);
+  if (c.end != WalkEnd::kConverged || c.status == ContactStatus::kPenetrating)
+    return false;
+  best.point_a = c.point_a;
+  best.point_b = c.point_b - out;
+  return true;
+}
+
+// The witness points of the answer and the support hints it leaves in the cache. The answer is
+// the tie grid's pick, whose depth may exceed the least by up to a grid step; next to nearly
+// parallel faces (a face of A - B a sliver between them) such a pick's own feature need not hold
+// the origin's projection, and its own witness can lie far off (an edge pair's closest points
+// clamped at a segment's end, thousandths of the size from alignment). Then the witnesses come
+// from the touching features (touchingWitnesses), which do not depend on which tied candidate
+// was picked.
 void witnesses(const Polytope& a,
                const Polytope& b,
                const Transform& X_AB,
@@ -421,15 +453,16 @@ void witnesses(const Polytope& a,
                DepthSearch& s,
                DepthCache& cache) {
   DepthResult& best = s.best;
+  bool held = true;
   switch (best.kind) {
     case DepthFeature::kFaceA:
-      best.point_b = faceWitness(a, best.ia, b, X_AB, s.best_support, tie_tol);
+      best.point_b = faceWitness(a, best.ia, b, X_AB, s.best_support, tie_tol, held);
       best.point_a = best.point_b + best.normal * best.depth;
       cache.support_b = best.support_b = s.best_support;
       best.support_a = a.faceEdges(best.ia)[0].vertex;
       break;
     case DepthFeature::kFaceB:
-      best.point_a = X_AB.apply(faceWitness(b, best.ib, a, X_BA, s.best_support, tie_tol));
+      best.point_a = X_AB.apply(faceWitness(b, best.ib, a, X_BA, s.best_support, tie_tol, held));
       best.point_b = best.point_a - best.normal * best.depth;
       cache.support_a = best.support_a = s.best_support;
       best.support_b = b.faceEdges(best.ib)[0].vertex;
@@ -444,11 +477,16 @@ void witnesses(const Polytope& a,
       best.point_b = seg.c2;
       best.support_a = e1.tail;
       best.support_b = e2.tail;
+      // the lines' closest points differ by depth * normal; clamped to the segments they do
+      // only when the edge pair's face of A - B holds the origin's projection
+      held = glm::length(seg.c1 - seg.c2 - best.normal * best.depth) <= tie_tol;
       break;
     }
     case DepthFeature::kNone:
       break;
   }
+  if (!held)
+    touchingWitnesses(a, b, X_AB, 4.0 * s.step, best);
 }
 
 }  // namespace
