@@ -308,10 +308,11 @@ void oursDepth(benchmark::State& state, std::size_t n, bool tracked) {
 // the overlap breathing between 1e-6 and 1e-3 of the size, B swaying sideways and tilting by up
 // to 1e-6 rad (the solver's jitter). The depth tracked (penetrationDepthCoherent) against
 // untracked (penetrationDepth, warm-started: what CollisionWorld does for a pair
-// DepthTracker::pays rejects); DepthTracker::pays is set where these cross.
+// DepthTracker::pays rejects): where these cross is where a pair should stop being tracked.
 void oursDepthResting(benchmark::State& state, int k, bool tracked) {
-  const Polytope a = Polytope::fromPoints(hapticd::testing::prism(k, 0.025, 0.025)).value();
-  const Polytope b = a;
+  const auto corners = hapticd::testing::prism(k, 0.025, 0.025);
+  const Polytope a = Polytope::fromPoints(corners).value();
+  const Polytope b = Polytope::fromPoints(corners).value();
   std::vector<Transform> path(4096);
   for (std::size_t i = 0; i < path.size(); ++i) {
     const double t = static_cast<double>(i);
