@@ -14,6 +14,7 @@
 
 #include "bench/peers.h"
 #include "core/collision/pair_query.h"
+#include "tests/core/geometry_helpers.h"
 #include "tests/reference/reference.h"
 
 namespace hapticd::bench {
@@ -302,6 +303,60 @@ void oursDepth(benchmark::State& state, std::size_t n, bool tracked) {
     setTrackerCounters(state, tracker.stats);
 }
 
+// Depth/Resting/<k>, Depth/RestingUntracked/<k>: a resting contact, as a solver keeps a stack:
+// two prisms over k-gons (k = 4: boxes) of 50 mm, B on A turned 30 degrees about the vertical,
+// the overlap breathing between 1e-6 and 1e-3 of the size, B swaying sideways and tilting by up
+// to 1e-6 rad (the solver's jitter). The depth tracked (penetrationDepthCoherent) against
+// untracked (penetrationDepth, warm-started: what CollisionWorld does for a pair
+// DepthTracker::pays rejects): where these cross is where a pair should stop being tracked.
+void oursDepthResting(benchmark::State& state, int k, bool tracked) {
+  const auto corners = hapticd::testing::prism(k, 0.025, 0.025);
+  const Polytope a = Polytope::fromPoints(corners).value();
+  const Polytope b = Polytope::fromPoints(corners).value();
+  std::vector<Transform> path(4096);
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    const double t = static_cast<double>(i);
+    const double overlap = 0.025 * (1e-6 + 1e-3 * (0.5 + 0.5 * std::sin(t * 0.07)));
+    const Vec3 side{0.004 * std::sin(t * 0.031), 0.003 * std::cos(t * 0.023), 0.0};
+    const geom::Quat wobble = glm::angleAxis(1e-6 * std::sin(t * 0.05),
+                                             glm::normalize(Vec3{std::cos(t * 0.011), 1.0, 0.0}));
+    const geom::Quat yaw = glm::angleAxis(30.0 * M_PI / 180.0, Vec3{0.0, 0.0, 1.0});
+    path[i] = Pose{side + Vec3{0.0, 0.0, 0.05 - overlap}, wobble * yaw}.toTransform();
+  }
+  // every answer against the full method's (depth to 1e-12 of the size)
+  double differ = 0.0;
+  {
+    collision::DepthTracker t;
+    t.reserve(a, b);
+    collision::DepthCache c;
+    for (const Transform& X : path) {
+      const auto d = tracked ? collision::penetrationDepthCoherent(a, b, X, t, c)
+                             : collision::penetrationDepth(a, b, X, c);
+      collision::DepthCache fresh;
+      const auto f = collision::penetrationDepthExact(a, b, X, fresh);
+      if (!(std::abs(d.depth - f.depth) <= 1e-12 * a.radius()))
+        differ += 1.0;
+    }
+  }
+  std::size_t i = 0;
+  collision::DepthTracker tracker;
+  tracker.reserve(a, b);
+  collision::DepthCache cache;
+  collision::DepthScratch scratch;
+  scratch.reserve(a.faces().size());
+  for (auto _ : state) {
+    auto d = tracked ? collision::penetrationDepthCoherent(a, b, path[i], tracker, cache, scratch)
+                     : collision::penetrationDepth(a, b, path[i], cache, scratch);
+    if (++i == path.size())
+      i = 0;
+    benchmark::DoNotOptimize(d);
+  }
+  state.counters["edges"] = static_cast<double>(a.edges().size());
+  state.counters["differ_from_full"] = differ;
+  if (tracked)
+    setTrackerCounters(state, tracker.stats);
+}
+
 // The whole pair query on separated poses: closest features and the contact manifold.
 void oursPairQuery(benchmark::State& state, std::size_t n) {
   Scenario& s = scenario(n, false);
@@ -471,6 +526,12 @@ void peer(benchmark::State& state,
 }
 
 void registerAll() {
+  for (const int k : {4, 6, 8, 12, 16, 24, 32}) {
+    benchmark::RegisterBenchmark(("Depth/Resting/" + std::to_string(k)).c_str(), oursDepthResting,
+                                 k, true);
+    benchmark::RegisterBenchmark(("Depth/RestingUntracked/" + std::to_string(k)).c_str(),
+                                 oursDepthResting, k, false);
+  }
   for (const std::size_t n : {8u, 32u, 128u, 512u}) {
     for (const bool overlap : {false, true}) {
       for (const bool coherent : {true, false}) {

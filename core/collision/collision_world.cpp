@@ -145,6 +145,7 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
     if (shape.faces().size() <= WorldOptions::kMaxTrackedFaces) {
       tracker_faces_ = std::max(tracker_faces_, shape.faces().size());
       tracker_edges_ = std::max(tracker_edges_, shape.edges().size());
+      ++tracked_prims_;
     }
     for (std::size_t h = 0; h < 6; ++h)
       p.hint[h] = shape.lookup(Vec3{h / 2 == 0, h / 2 == 1, h / 2 == 2} * (h % 2 ? 1.0 : -1.0));
@@ -190,14 +191,27 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
   return id;
 }
 
+std::uint32_t CollisionWorld::trackerPoolSize() const {
+  if (options_.depth_trackers != WorldOptions::kAutoTrackers)
+    return options_.depth_trackers;
+  const std::size_t per =
+      std::max<std::size_t>(1, DepthTracker::bytesFor(tracker_faces_, tracker_edges_));
+  const std::size_t want =
+      std::min<std::size_t>(std::size_t{options_.depth_trackers_per_primitive} * tracked_prims_,
+                            options_.depth_tracker_bytes / per);
+  return static_cast<std::uint32_t>(
+      std::min<std::size_t>(std::max<std::size_t>(want, WorldOptions::kMinAutoTrackers), kNil - 1));
+}
+
 void CollisionWorld::reserveTrackers() {
-  if (trackers_.size() < options_.depth_trackers) {
+  const std::uint32_t n = trackerPoolSize();
+  if (trackers_.size() < n) {
     const auto old = static_cast<std::uint32_t>(trackers_.size());
-    trackers_.resize(options_.depth_trackers);
-    tracker_owner_.resize(options_.depth_trackers, kNil);
-    free_trackers_.reserve(options_.depth_trackers);
-    // handed out from the back: tracker 0 first
-    for (std::uint32_t t = options_.depth_trackers; t-- > old;)
+    trackers_.resize(n);
+    tracker_owner_.resize(n, kNil);
+    free_trackers_.reserve(n);
+    // handed out from the back: the lowest new tracker first
+    for (std::uint32_t t = n; t-- > old;)
       free_trackers_.push_back(t);
   }
   for (DepthTracker& t : trackers_)

@@ -82,10 +82,23 @@ struct WorldOptions {
   /// back once apart; a penetrating pair that finds the pool empty takes one from a pair not
   /// tested for two steps, else is answered by the untracked method (the same exact answer,
   /// slower) and counted
-  /// (StepStats::depth_untracked). A pair whose certificate fails at two tests in a row (ties:
-  /// parallel faces at equal depth are never certified) is answered untracked for 2, 4, ... up
-  /// to 64 steps before it tries again. 0: no tracking (every depth by penetrationDepth).
-  std::uint32_t depth_trackers = 64;
+  /// (StepStats::depth_untracked). A pair whose certificate fails at two tests in a row (a
+  /// degenerate pose that lasts) is answered untracked for 2, 4, ... up to 64 steps before it
+  /// tries again. kAutoTrackers (the default): the pool grows with the scene as bodies are
+  /// added, to depth_trackers_per_primitive trackers per tracked primitive (a resting stack of
+  /// n boxes has n penetrating pairs; a pile, up to about 3 per box, of which not all at once),
+  /// at least kMinAutoTrackers and at most what depth_tracker_bytes holds (whichever is more);
+  /// it never shrinks. 0: no tracking (every depth by penetrationDepth). Any other number: a
+  /// pool of exactly that many.
+  std::uint32_t depth_trackers = kAutoTrackers;
+  static constexpr std::uint32_t kAutoTrackers = 0xffffffffu;
+  static constexpr std::uint32_t kMinAutoTrackers = 64;
+  /// The automatic pool's trackers per primitive of at most kMaxTrackedFaces faces.
+  std::uint32_t depth_trackers_per_primitive = 2;
+  /// The automatic pool's memory bound (bytes; DepthTracker::bytesFor the largest tracked
+  /// shape, times the trackers): 4 MiB holds 64 trackers for shapes of 512 faces, about 4 000
+  /// for boxes.
+  std::size_t depth_tracker_bytes = std::size_t{4} << 20;
   /// Shapes of more faces than this are not tracked (their pairs keep penetrationDepth): bounds
   /// the pool's memory, which grows as the largest tracked shape (about 100 bytes per face).
   static constexpr std::size_t kMaxTrackedFaces = 512;
@@ -349,6 +362,8 @@ class CollisionWorld {
   void releaseTracker(PairState& s);
   // the pool's trackers made and sized for the largest tracked shape so far (addBody)
   void reserveTrackers();
+  // the pool's size by WorldOptions::depth_trackers (and the scene so far, when automatic)
+  std::uint32_t trackerPoolSize() const;
   void linkPair(std::uint32_t si);
   void unlinkPair(std::uint32_t si);
   // the next pair state in `body`'s list after state si
@@ -424,6 +439,7 @@ class CollisionWorld {
   ReservedVector<std::uint32_t> free_trackers_;
   ReservedVector<std::uint32_t> tracker_owner_;  // per tracker: its pair state, kNil: free
   std::size_t tracker_faces_ = 0, tracker_edges_ = 0;
+  std::size_t tracked_prims_ = 0;   // primitives added of at most kMaxTrackedFaces faces
   std::uint64_t steal_failed_ = 0;  // tick + 1 of the last step in which no tracker could be taken
   DepthCounters depth_counters_;
   PairResult result_;  // test()'s answer in A's frame, reused (no zeroing per query)

@@ -59,13 +59,17 @@ void clipWitness(const WitnessPolygon& in,
 // face, so a unique support vertex s projects into the face; only ties (a face or an edge of Q
 // parallel to the face within tol, where the climb returns any of its vertices) need a search:
 // the tied feature is clipped against the face's side planes and the mean of what is left taken.
-// Falls back to s if the search finds nothing.
+// `held` tells whether the face holds the witness so found; if not (the face is a tie-grid pick
+// that does not hold the origin's projection, see witnesses()), s's point moved into the face
+// along its plane.
 Vec3 faceWitness(const Polytope& p,
                  std::uint32_t f,
                  const Polytope& q,
                  const Transform& T_PQ,
                  std::uint32_t s,
-                 double tol) {
+                 double tol,
+                 bool& held) {
+  held = true;
   const auto sides = p.faceEdges(f);
   const Vec3 q0 = T_PQ.apply(q.vertices()[s].p);
   bool inside = true;
@@ -110,15 +114,35 @@ Vec3 faceWitness(const Polytope& p,
       break;
     }
   }
+  // nothing tied projects into the face (a tie-grid pick within a grid step of the least
+  // depth): s's point moved into the face along its plane, by projecting onto its side planes
+  // in turn (off Q's surface by the tilt of Q's nearly parallel face times the move)
+  auto intoFace = [&] {
+    held = false;
+    Vec3 x = q0;
+    for (int pass = 0; pass < 8; ++pass) {
+      bool moved = false;
+      for (const auto& fe : sides) {
+        const double out = glm::dot(x - p.vertices()[fe.vertex].p, fe.side);
+        if (out < 0.0) {
+          x -= fe.side * out;
+          moved = true;
+        }
+      }
+      if (!moved)
+        break;
+    }
+    return x;
+  };
   if (poly.n < 2)
-    return q0;
+    return intoFace();
   for (const auto& fe : sides) {
     clipWitness(poly, p.vertices()[fe.vertex].p, fe.side, tol, scratch);
     poly.n = scratch.n;
     std::copy(scratch.p.begin(), scratch.p.begin() + static_cast<std::ptrdiff_t>(scratch.n),
               poly.p.begin());
     if (poly.n == 0)
-      return q0;
+      return intoFace();
   }
   Vec3 mean{0.0};
   for (std::size_t k = 0; k < poly.n; ++k)
@@ -139,20 +163,68 @@ struct DepthRecord {
   double* edge_min = nullptr;
 };
 
-// The nearest Minkowski face plane found so far, and its support vertex hint.
+// Ties between candidates (parallel faces of a resting stack give A's face and B's face at one
+// depth) are broken on a grid, so that the coherent method can prove the full method's choice
+// (docs/narrow-phase.md, "Ties"): a candidate's depth d falls in the cell floor(d / step) of
+// step kTieStep times the depths' scale, and the answer is the candidate of the lowest cell,
+// the first of that cell in the order face of A, face of B, edge pair (then by index). Its depth
+// exceeds the least by less than the step.
+constexpr double kTieStep = 1e-12;
+// A depth within this fraction of a step from a cell's edge could fall in the next cell when
+// computed from another tied support vertex (rounding: a few 1e-15 of the scale).
+constexpr double kTieGuard = 0.02;
+
+// The magnitude of the coordinates the depths are computed from (their rounding's scale).
+double depthScale(const Polytope& a, const Polytope& b, const Transform& X_AB) {
+  return glm::length(a.centroid()) + a.radius() + glm::length(X_AB.t) + glm::length(b.centroid()) +
+         b.radius();
+}
+
+// Whether candidate (kind, ia, ib) comes before `r`'s within a cell.
+inline bool rankBefore(DepthFeature kind,
+                       std::uint32_t ia,
+                       std::uint32_t ib,
+                       const DepthResult& r) {
+  if (kind != r.kind)
+    return kind < r.kind;
+  return ia != r.ia ? ia < r.ia : ib < r.ib;
+}
+
+// The nearest Minkowski face plane found so far (by the tie grid), and its support vertex hint.
 struct DepthSearch {
   DepthResult best;
   std::uint32_t best_support = 0;
-  DepthSearch() { best.depth = std::numeric_limits<double>::infinity(); }
+  double step = 0.0;  // the tie grid's step
+  double best_cell = std::numeric_limits<double>::infinity();
+  explicit DepthSearch(double tie_step) : step(tie_step) {
+    best.depth = std::numeric_limits<double>::infinity();
+  }
+  double above = std::numeric_limits<double>::infinity();  // depths beyond: a higher cell
+  // Inlined into the edge walks, so kept to the test that rejects nearly every candidate; the
+  // grid's arithmetic is out of line (inlined, it made the walks' crossing test a call per
+  // edge pair: the exact method on boxes 34 % slower in Tick/stack100).
   void consider(double d,
                 const Vec3& n,
                 DepthFeature kind,
                 std::uint32_t ia,
                 std::uint32_t ib,
                 std::uint32_t support) {
-    if (d < best.depth) {
+    if (d > above)
+      return;  // two steps above the best: certainly a higher cell (division is monotone)
+    place(d, n, kind, ia, ib, support);
+  }
+  [[gnu::noinline]] void place(double d,
+                               const Vec3& n,
+                               DepthFeature kind,
+                               std::uint32_t ia,
+                               std::uint32_t ib,
+                               std::uint32_t support) {
+    const double cell = std::floor(d / step);
+    if (cell < best_cell || (cell == best_cell && rankBefore(kind, ia, ib, best))) {
       best.depth = d, best.normal = n, best.kind = kind, best.ia = ia, best.ib = ib;
       best_support = support;
+      best_cell = cell;
+      above = d + 2.0 * step;
     }
   }
 };
@@ -296,6 +368,33 @@ bool atArcEnd(const Polytope& a,
   return false;
 }
 
+// A lower bound of the depths an irregular arc (edgeArc false) can give: the support gap along
+// a great-circle arc on which the pair overlaps is concave between the points where B's support
+// changes, so its least value is at an end (a face of A: the caller's), at a crossing (offered:
+// arc_min), or at a face point of -B on the arc; a crossing the walk missed by rounding lies at
+// one of these. `depth_b(k)`: face k of B's depth (or a lower bound of it). The faces of -B
+// within 1e-8 rad of the arc are taken (more is only lower: still a bound).
+template <class NegNormal, class DepthB>
+double irregularArcMin(const Polytope& a,
+                       const Polytope& b,
+                       std::uint32_t i,
+                       double arc_min,
+                       NegNormal&& neg_normal,
+                       DepthB&& depth_b) {
+  const auto& e = a.edges()[i];
+  const Vec3& na = a.faces()[e.face[0]].normal;
+  const Vec3& nb = a.faces()[e.face[1]].normal;
+  const Vec3 pole = glm::normalize(glm::cross(na, nb));  // the arc runs na -> nb about it
+  double m = arc_min;
+  for (std::uint32_t k = 0; k < b.faces().size(); ++k) {
+    const Vec3 c = neg_normal(k);
+    if (std::abs(glm::dot(c, pole)) <= 1e-8 && glm::dot(glm::cross(na, c), pole) >= -1e-8 &&
+        glm::dot(glm::cross(c, nb), pole) >= -1e-8)
+      m = std::min(m, depth_b(k));
+  }
+  return m;
+}
+
 // Edge pairs whose Gauss-map arcs cross, for every edge of A (edgeArc); `rec`, when given,
 // receives each edge's least crossing depth (-infinity when the arc has no such bound).
 void edgePairs(const Polytope& a,
@@ -306,8 +405,7 @@ void edgePairs(const Polytope& a,
                DepthSearch& s,
                DepthRecord* rec) {
   const auto ea = a.edges();
-  const DepthResult face_best = s.best;
-  const std::uint32_t face_support = s.best_support;
+  const DepthSearch face_best = s;
   auto neg_normal = [&](std::uint32_t k) { return neg_normal_b[k]; };
   for (std::uint32_t i = 0; i < ea.size(); ++i) {
     double arc_min = 0.0;
@@ -317,16 +415,47 @@ void edgePairs(const Polytope& a,
           s.consider(d, axis, DepthFeature::kEdgeEdge, i, j, 0);
         },
         arc_min);
-    if (rec != nullptr)
-      rec->edge_min[i] = bounded ? arc_min : -std::numeric_limits<double>::infinity();
+    if (rec != nullptr) {
+      rec->edge_min[i] =
+          bounded ? arc_min : irregularArcMin(a, b, i, arc_min, neg_normal, [&](std::uint32_t k) {
+            return rec->value_b[k];
+          });
+    }
   }
   if (s.best.kind == DepthFeature::kEdgeEdge && atArcEnd(a, b, s.best, neg_normal)) {
-    s.best = face_best;
-    s.best_support = face_support;
+    s = face_best;
   }
 }
 
-// The witness points of the answer and the support hints it leaves in the cache.
+// The witness points of `best` from the touching features of A and of B moved out of A by its
+// depth along its normal (plus `margin`): B then touches A (the plane of best's feature supports
+// A - B, and the point depth * normal lies within a grid step of A - B), and the closest points
+// of the two are witnesses whatever feature of A - B holds them. False when the walk does not
+// end separated or touching (then the caller keeps its own witness).
+bool touchingWitnesses(const Polytope& a,
+                       const Polytope& b,
+                       const Transform& X_AB,
+                       double margin,
+                       DepthResult& best) {
+  Transform X_out = X_AB;
+  const Vec3 out = best.normal * (best.depth + margin);
+  X_out.t += out;
+  FeatureCache fc;
+  const ClosestResult c = closestFeatures(a, b, X_out, fc);
+  if (c.end != WalkEnd::kConverged || c.status == ContactStatus::kPenetrating)
+    return false;
+  best.point_a = c.point_a;
+  best.point_b = c.point_b - out;
+  return true;
+}
+
+// The witness points of the answer and the support hints it leaves in the cache. The answer is
+// the tie grid's pick, whose depth may exceed the least by up to a grid step; next to nearly
+// parallel faces (a face of A - B a sliver between them) such a pick's own feature need not hold
+// the origin's projection, and its own witness can lie far off (an edge pair's closest points
+// clamped at a segment's end, thousandths of the size from alignment). Then the witnesses come
+// from the touching features (touchingWitnesses), which do not depend on which tied candidate
+// was picked.
 void witnesses(const Polytope& a,
                const Polytope& b,
                const Transform& X_AB,
@@ -335,15 +464,16 @@ void witnesses(const Polytope& a,
                DepthSearch& s,
                DepthCache& cache) {
   DepthResult& best = s.best;
+  bool held = true;
   switch (best.kind) {
     case DepthFeature::kFaceA:
-      best.point_b = faceWitness(a, best.ia, b, X_AB, s.best_support, tie_tol);
+      best.point_b = faceWitness(a, best.ia, b, X_AB, s.best_support, tie_tol, held);
       best.point_a = best.point_b + best.normal * best.depth;
       cache.support_b = best.support_b = s.best_support;
       best.support_a = a.faceEdges(best.ia)[0].vertex;
       break;
     case DepthFeature::kFaceB:
-      best.point_a = X_AB.apply(faceWitness(b, best.ib, a, X_BA, s.best_support, tie_tol));
+      best.point_a = X_AB.apply(faceWitness(b, best.ib, a, X_BA, s.best_support, tie_tol, held));
       best.point_b = best.point_a - best.normal * best.depth;
       cache.support_a = best.support_a = s.best_support;
       best.support_b = b.faceEdges(best.ib)[0].vertex;
@@ -358,11 +488,16 @@ void witnesses(const Polytope& a,
       best.point_b = seg.c2;
       best.support_a = e1.tail;
       best.support_b = e2.tail;
+      // the lines' closest points differ by depth * normal; clamped to the segments they do
+      // only when the edge pair's face of A - B holds the origin's projection
+      held = glm::length(seg.c1 - seg.c2 - best.normal * best.depth) <= tie_tol;
       break;
     }
     case DepthFeature::kNone:
       break;
   }
+  if (!held)
+    touchingWitnesses(a, b, X_AB, 4.0 * s.step, best);
 }
 
 }  // namespace
@@ -389,7 +524,7 @@ DepthResult exactSolve(const Polytope& a,
                        DepthScratch& scratch,
                        DepthRecord* rec) {
   const Transform X_BA = X_AB.inverse();
-  DepthSearch s;
+  DepthSearch s(kTieStep * depthScale(a, b, X_AB));
   std::uint32_t hint_a = cache.support_a < a.vertices().size() ? cache.support_a : 0;
   std::uint32_t hint_b = cache.support_b < b.vertices().size() ? cache.support_b : 0;
   // support heights within this count as tied (parallel features), as the closest-feature
@@ -461,6 +596,13 @@ void DepthTracker::reserve(std::size_t faces, std::size_t edges) {
   reserveTracker(*this, faces, edges, faces);
 }
 
+std::size_t DepthTracker::bytesFor(std::size_t faces, std::size_t edges) {
+  // as reserveTracker(faces, edges, faces)
+  return 2 * (faces + edges) * sizeof(Entry) + (2 * faces + edges) * sizeof(double) +
+         2 * faces * sizeof(std::uint32_t) + 2 * faces * sizeof(std::uint64_t) +
+         faces * sizeof(Vec3);
+}
+
 std::size_t DepthTracker::reservedBytes() const {
   return (heap.capacity() + popped.capacity()) * sizeof(Entry) +
          (value_a.capacity() + value_b.capacity() + edge_min.capacity()) * sizeof(double) +
@@ -475,12 +617,6 @@ constexpr std::uint32_t kIndexMask = (std::uint32_t{1} << 30) - 1;
 
 bool keyAfter(const DepthTracker::Entry& x, const DepthTracker::Entry& y) {
   return x.key > y.key;  // std::*_heap with this: a min-heap on key
-}
-
-// The magnitude of the coordinates the depths are computed from (their rounding's scale).
-double depthScale(const Polytope& a, const Polytope& b, const Transform& X_AB) {
-  return glm::length(a.centroid()) + a.radius() + glm::length(X_AB.t) + glm::length(b.centroid()) +
-         b.radius();
 }
 
 // A bound on how much the support gap along any direction fixed in A's frame, or in B's, can
@@ -502,25 +638,58 @@ double poseDrift(const Polytope& a, const Polytope& b, const Transform& X0, cons
   return std::max(move_b + b.radius() * rho, move_a + a.radius() * rho) * (1.0 + 1e-9);
 }
 
-// The best candidate of a coherent query and the least depth of any other feature.
+// The best candidate of a coherent query (the full method's tie grid) and the least depth of
+// the evaluated candidates that lie within the guard of a cell's edge.
 struct CoherentBest {
   DepthSearch s;
-  double second = std::numeric_limits<double>::infinity();
+  double edge_min = std::numeric_limits<double>::infinity();
+  // the least depth and its feature, and the least depth of any other feature
+  double min1 = std::numeric_limits<double>::infinity();
+  double min2 = std::numeric_limits<double>::infinity();
+  DepthFeature kind1 = DepthFeature::kNone;
+  std::uint32_t ia1 = 0, ib1 = 0;
+  explicit CoherentBest(double tie_step) : s(tie_step) {}
+  // (inlined into the edge walks: the common case, a candidate above the best's tie band and
+  // above the second least depth, changes nothing and returns at once)
   void offer(double d,
              const Vec3& n,
              DepthFeature kind,
              std::uint32_t ia,
              std::uint32_t ib,
              std::uint32_t support) {
-    DepthResult& b = s.best;
-    if (kind == b.kind && ia == b.ia && ib == b.ib)
-      return;  // the same feature again (a face of A met as an edge's end)
-    if (d < b.depth) {
-      second = b.depth;
-      s.consider(d, n, kind, ia, ib, support);
+    if (d > s.above && d >= min2)
+      return;
+    record(d, n, kind, ia, ib, support);
+  }
+  [[gnu::noinline]] void record(double d,
+                                const Vec3& n,
+                                DepthFeature kind,
+                                std::uint32_t ia,
+                                std::uint32_t ib,
+                                std::uint32_t support) {
+    s.consider(d, n, kind, ia, ib, support);
+    if (kind == kind1 && ia == ia1 && ib == ib1) {
+      // the same feature again (an edge pair met twice by a lost walk's sweep)
+    } else if (d < min1) {
+      min2 = min1;
+      min1 = d, kind1 = kind, ia1 = ia, ib1 = ib;
     } else {
-      second = std::min(second, d);
+      min2 = std::min(min2, d);
     }
+    const double x = d / s.step;
+    const double f = x - std::floor(x);
+    if (!(f >= kTieGuard && f <= 1.0 - kTieGuard))
+      edge_min = std::min(edge_min, d);
+  }
+  // Whether the full method, computing each candidate's depth to within the guard of this
+  // query's value, puts them in the same cells: no evaluated candidate below the winner's
+  // next cell plus the guard lies near a cell's edge (an unevaluated one lies beyond the
+  // certificate's margin, many cells up).
+  bool cellsCertain() const { return !(edge_min / s.step < s.best_cell + 1.0 + kTieGuard); }
+  // Whether the answer is the least depth by `margin` (many cells): then no cell matters.
+  bool unique(double margin) const {
+    const DepthResult& r = s.best;
+    return r.kind == kind1 && r.ia == ia1 && r.ib == ib1 && min2 > min1 + margin;
   }
 };
 
@@ -550,7 +719,7 @@ bool coherentTry(const Polytope& a,
     }
     return t.neg_normal_b[k];
   };
-  CoherentBest best;
+  CoherentBest best(kTieStep * depthScale(a, b, X_AB));
   auto faceA = [&](std::uint32_t i) {
     if (t.stamp_a[i] == tick)
       return t.value_a[i];
@@ -596,7 +765,14 @@ bool coherentTry(const Polytope& a,
               best.offer(d, axis, DepthFeature::kEdgeEdge, idx, j, 0);
             },
             arc_min);
-        value = bounded ? std::min({d0, d1, arc_min}) : -std::numeric_limits<double>::infinity();
+        if (!bounded) {
+          arc_min = irregularArcMin(a, b, idx, arc_min, neg_normal, [&](std::uint32_t k) {
+            const Vec3 m = -neg_normal(k);
+            const std::uint32_t v = a.support(-m, t.support_b[k]);
+            return fb[k].offset + glm::dot(m, X_AB.t) - glm::dot(m, a.vertices()[v].p);
+          });
+        }
+        value = std::min({d0, d1, arc_min});
         break;
       }
     }
@@ -608,7 +784,10 @@ bool coherentTry(const Polytope& a,
     std::push_heap(t.heap.begin(), t.heap.end(), keyAfter);
   }
   const DepthResult& r = best.s.best;
-  ok = ok && r.kind != DepthFeature::kNone && r.depth > mu && best.second > r.depth + mu &&
+  // the answer is unique by the margin, or (ties) every candidate within the margin of the best
+  // was evaluated and the tie grid's cells are certain: the full method picks the same feature
+  ok = ok && r.kind != DepthFeature::kNone && r.depth > mu &&
+       (best.unique(mu) || best.cellsCertain()) &&
        !(r.kind == DepthFeature::kEdgeEdge && atArcEnd(a, b, r, neg_normal));
   if (!ok)
     return false;

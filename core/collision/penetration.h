@@ -142,6 +142,8 @@ struct DepthTracker {
   bool fits(const Polytope& a, const Polytope& b) const;
   /// Bytes this tracker has reserved (its vectors' capacities).
   std::size_t reservedBytes() const;
+  /// Bytes a tracker reserved by reserve(faces, edges) holds.
+  static std::size_t bytesFor(std::size_t faces, std::size_t edges);
   /// Forget the tracked state (the next query solves in full).
   void reset() { valid = false; }
   /// Whether tracking is expected to beat penetrationDepth's warm-started EPA for this pair: up to

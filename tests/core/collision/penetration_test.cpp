@@ -10,6 +10,7 @@
 #include <random>
 #include <sstream>
 
+#include "core/collision/segment.h"
 #include "tests/core/collision/pair_checks.h"
 #include "tests/reference/reference.h"
 
@@ -134,6 +135,53 @@ TEST(Penetration, RandomOverlapsAgainstBruteForce) {
   combined.print("penetrationDepth, random small pairs");
   EXPECT_EQ(fails.total(), 0u) << fails.summary();
   EXPECT_GT(epa.pairs, kPairs / 2) << "EPA certifies too few answers";
+}
+
+// Nearly parallel caps (prisms turned by 1e-9 rad, a cap of A against one of B): the faces of
+// A - B between the two caps' normals are slivers whose depths differ by less than the tie grid's
+// step (1e-12 of the size), so the grid may pick one that does not hold the origin's projection,
+// and which one depends on the last bits of the depths (clang -O1 picked another than g++ -O2 on
+// such a pair). B steps down by a tenth of a step at a time, moving the cell edges across the
+// slivers' depths. Every answer passes checkDepth (witnesses aligned with depth * normal to 1e-9 of
+// the size and on their hulls), and the sweep meets picks whose own edge pair does not hold the
+// witness (its segments' closest points miss depth * normal), so the case is exercised.
+TEST(Penetration, TiePicksNextToParallelFacesHaveWitnessesOnTheHulls) {
+  DepthFigures fig;
+  Failures fails;
+  std::size_t sliver_picks = 0;
+  const geom::Quat tilt = glm::angleAxis(1e-9, glm::normalize(Vec3{0.39893, 0.91641, 1.0}));
+  for (const double unit : {1.0, 1000.0}) {
+    for (const int ka : {4, 8, 12}) {
+      for (const int kb : {3, 5, 7}) {
+        const Polytope a = hullOf(prism(ka, 0.93737 * unit, 1.03267 * unit));
+        const Polytope b = hullOf(prism(kb, 0.62696 * unit, 0.38407 * unit));
+        for (int k = 0; k < 400; ++k) {
+          const double dz = 1e-13 * unit * static_cast<double>(k);
+          const Vec3 t = Vec3{0.16581, 0.85251, 1.22916 - dz} * unit +
+                         Vec3{1e-3 * std::sin(k * 0.37), 1e-3 * std::cos(k * 0.23), 0.0} * unit;
+          const Transform X = geom::Pose{t, tilt}.toTransform();
+          DepthCache cache;
+          const DepthResult d = penetrationDepthExact(a, b, X, cache);
+          const auto ref = reference::bruteForce(a, b, X);
+          fails.add(label("unit ", unit, " prisms ", ka, ",", kb, " step ", k, ": "),
+                    checkDepth(a, b, X, d, -ref.signed_distance, fig, false));
+          if (d.kind == DepthFeature::kEdgeEdge) {
+            const auto& e1 = a.edges()[d.ia];
+            const auto& e2 = b.edges()[d.ib];
+            const auto seg = detail::closestSegments(
+                a.vertices()[e1.tail].p, a.vertices()[e1.head].p, X.apply(b.vertices()[e2.tail].p),
+                X.apply(b.vertices()[e2.head].p));
+            if (glm::length(seg.c1 - seg.c2 - d.normal * d.depth) > kDistTol * pairSize(a, b))
+              ++sliver_picks;
+          }
+        }
+      }
+    }
+  }
+  fig.print("penetrationDepthExact, tie picks next to parallel caps");
+  std::printf("[figures] tie picks whose edge pair does not hold the witness: %zu\n", sliver_picks);
+  EXPECT_EQ(fails.total(), 0u) << fails.summary();
+  EXPECT_GT(sliver_picks, 0u);
 }
 
 // A separated pair: the depth is minus a separating gap along the normal, never more than the
