@@ -149,7 +149,9 @@ struct DepthTracker {
   /// Whether tracking is expected to beat penetrationDepth's warm-started EPA for this pair: up to
   /// 2^19 edge pairs (two 128-vertex hulls have about 1.4e5; two of 512, 2.3e6). Measured on the
   /// benchmark path (bench/README.md): 2x faster at 128 vertices, 1.4x slower at 512, where the
-  /// per-query motion bound leaves about 60 candidates to evaluate.
+  /// per-query motion bound leaves about 60 candidates to evaluate. No lower bound: resting boxes
+  /// track cheaper than the full method (Depth/Resting/4); resting prisms of 24 sides and more do
+  /// not (k + 1 near-tied cap candidates), which this rule does not see (docs/narrow-phase.md).
   static bool pays(const Polytope& a, const Polytope& b) {
     return a.edges().size() * b.edges().size() <= (std::size_t{1} << 19);
   }
