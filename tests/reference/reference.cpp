@@ -432,6 +432,20 @@ double bruteDepthAlong(const Polytope& a,
   return static_cast<double>(hiA - loB);
 }
 
+bool depthAgreesWithFull(const Polytope& a,
+                         const Polytope& b,
+                         const Transform& X_AB,
+                         double depth,
+                         const Vec3& normal,
+                         double full_depth,
+                         double tol) {
+  const Real len = std::sqrt(norm2(toR3(normal)));
+  if (!(std::abs(len - 1) <= 1e-12L))
+    return false;
+  const Real along = bruteDepthAlong(a, b, X_AB, normal);
+  return std::abs(along - depth) <= tol && depth <= full_depth + tol;
+}
+
 std::vector<Vec3> ellipsoidPoints(std::size_t n,
                                   double ax,
                                   double ay,

@@ -49,6 +49,27 @@ double bruteDepthAlong(const Polytope& a,
                        const Transform& X_AB,
                        const Vec3& dir);
 
+/// Whether a penetration depth answer (B moved by `depth` along `normal`, A's frame) is as good as
+/// the full method's (penetrationDepthExact's depth `full_depth`, the pair overlapping), to `tol`
+/// (a length, for rounding): `normal` is unit, `depth` is the pair's overlap along it
+/// (bruteDepthAlong, within tol), and it is not deeper than the full method's (within tol).
+/// Comparing the depths alone (|depth - full_depth| <= tol) asks more than the full method gives:
+/// its tie grid lets its own answer exceed the least overlap over all directions by up to a grid
+/// step, 1e-12 of the coordinates' magnitude (docs/narrow-phase.md, "Ties"; on two resting
+/// 50 mm prisms about 3.4 times 1e-12 of their radius), so a minimal answer can differ from it by
+/// more than tol. This one still refuses every answer that is not a minimal translation: the
+/// overlap along any unit direction is at least the least one, so a depth equal to its normal's
+/// overlap is at least the least less tol, and one deeper than the full method's is above the
+/// least; a depth that does not separate along its normal (too shallow) or that is not its
+/// normal's overlap at all is refused by the first test.
+bool depthAgreesWithFull(const Polytope& a,
+                         const Polytope& b,
+                         const Transform& X_AB,
+                         double depth,
+                         const Vec3& normal,
+                         double full_depth,
+                         double tol);
+
 /// n points on the ellipsoid with semi-axes (ax, ay, az), seeded (the benchmark's hulls).
 std::vector<Vec3> ellipsoidPoints(std::size_t n,
                                   double ax,

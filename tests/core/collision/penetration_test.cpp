@@ -184,6 +184,64 @@ TEST(Penetration, TiePicksNextToParallelFacesHaveWitnessesOnTheHulls) {
   EXPECT_GT(sliver_picks, 0u);
 }
 
+// Two prisms over 32-gons (circumradius and half-height 25 mm) resting cap on cap, B turned 30
+// degrees about the vertical and tilted by 2.0e-7 rad: pose 3397 of the path of the benchmark
+// `Depth/RestingUntracked/32` (its transform's bits), in metres and in millimetres. The faces of
+// A - B between the two caps' normals are slivers; the least depth is an edge pair's, 2.9e-9 rad
+// off A's cap normal. The full method's tie grid puts that edge pair and A's top cap in one cell
+// and picks the cap (first in its cell), 1.1e-12 of the size above the least (0.32 of a grid
+// step): a correct answer by its rule. The untracked depth (warm or cold EPA) is the least. The
+// benchmark counted this as a differing answer (`differ_from_full` = 1) when it asked
+// |depth - full| <= 1e-12 of the size; reference::depthAgreesWithFull accepts both answers and
+// still refuses the untracked answer made wrong: deeper or shallower than its normal's overlap by
+// 2e-12 of the size, or along a normal turned by 1e-7 rad with that normal's overlap.
+TEST(Penetration, UntrackedDepthOnRestingPrismsIsTheLeastOneBelowTheTieGridsPick) {
+  const geom::Mat3 R{0x1.bb67ae8584c84p-1,  0x1.0000000000025p-1,   -0x1.f169e1cf17945p-25,
+                     -0x1.ffffffffffeffp-2, 0x1.bb67ae8584c31p-1,   0x1.a0e5758c64787p-23,
+                     0x1.3c243094c5f06p-23, -0x1.2addb93eee67dp-23, 0x1.fffffffffff47p-1};
+  const Vec3 t{-0x1.059cfc97b5c91p-8, -0x1.68cfd5bdd6509p-9, 0x1.9994f8f473ca9p-5};
+  for (const double unit : {1.0, 1000.0}) {
+    SCOPED_TRACE(label("unit ", unit));
+    const Polytope a = hullOf(prism(32, 0.025 * unit, 0.025 * unit));
+    const Polytope b = hullOf(prism(32, 0.025 * unit, 0.025 * unit));
+    const Transform X{R, t * unit};
+    const double size = pairSize(a, b);
+    const double tol = 1e-12 * size;
+    Vec3 least_normal{0.0};
+    const double least = reference::bruteMinkowskiDepth(a, b, X, &least_normal);
+    DepthCache cold_u, cold_f;
+    const DepthResult u = penetrationDepth(a, b, X, cold_u);
+    const DepthResult f = penetrationDepthExact(a, b, X, cold_f);
+    // the case: the full method picks A's cap, more than tol above the least, within its grid
+    // step (1e-12 of the coordinates' magnitude, as depthScale in penetration.cpp)
+    ASSERT_EQ(f.kind, DepthFeature::kFaceA);
+    ASSERT_GT(f.depth - least, tol);
+    const double step = 1e-12 * (glm::length(a.centroid()) + a.radius() + glm::length(X.t) +
+                                 glm::length(b.centroid()) + b.radius());
+    EXPECT_LT(f.depth - least, step);
+    EXPECT_NEAR(reference::bruteDepthAlong(a, b, X, f.normal), f.depth, tol);
+    // the untracked answer is the least, along the least's direction
+    EXPECT_NEAR(u.depth, least, tol);
+    EXPECT_LT(angle(u.normal, least_normal), 1e-12);
+    EXPECT_GT(angle(u.normal, f.normal), 1e-9);
+    EXPECT_NEAR(reference::bruteDepthAlong(a, b, X, u.normal), u.depth, tol);
+    // both agree with the full method by the benchmark's criterion, though their depths differ by
+    // more than tol
+    EXPECT_GT(f.depth - u.depth, tol);
+    EXPECT_TRUE(reference::depthAgreesWithFull(a, b, X, u.depth, u.normal, f.depth, tol));
+    EXPECT_TRUE(reference::depthAgreesWithFull(a, b, X, f.depth, f.normal, f.depth, tol));
+    // wrong answers are refused: a depth off its normal's overlap either way, and a supporting
+    // depth along a direction that is not the least one
+    EXPECT_FALSE(
+        reference::depthAgreesWithFull(a, b, X, u.depth + 2.0 * tol, u.normal, f.depth, tol));
+    EXPECT_FALSE(
+        reference::depthAgreesWithFull(a, b, X, u.depth - 2.0 * tol, u.normal, f.depth, tol));
+    const Vec3 turned = glm::angleAxis(1e-7, Vec3{1.0, 0.0, 0.0}) * u.normal;
+    const double turned_depth = reference::bruteDepthAlong(a, b, X, turned);
+    EXPECT_FALSE(reference::depthAgreesWithFull(a, b, X, turned_depth, turned, f.depth, tol));
+  }
+}
+
 // A separated pair: the depth is minus a separating gap along the normal, never more than the
 // distance.
 TEST(Penetration, SeparatedPairsGiveASeparatingAxis) {
