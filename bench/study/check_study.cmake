@@ -2,8 +2,9 @@
 cmake_minimum_required(VERSION 3.25)
 # runs hapticstudy into OUT, then checks that it exited 0, that every figure of results.csv is a
 # finite number, and that every part has its plot (a PNG, non-empty) and its section in tables.md;
-# that the knob sweeps' parts are there (dynamics/, shaping/, decomposition/), and that the
-# dynamics' parts measured a drift and an energy difference.
+# that the knob sweeps' parts are there (dynamics/, shaping/, decomposition/), that the
+# dynamics' parts measured a drift and an energy difference, that every demo scene has its rows of
+# the methods inside the closed loop, and that the crescent's closed loop touched it.
 #   cmake -DSTUDY=<hapticstudy> -DOUT=<dir> [-DFROM=<folder with results.csv and measured.txt>]
 #         -P check_study.cmake
 # With FROM, the study measures nothing: it redraws from FROM's files (--from-csv).
@@ -59,8 +60,8 @@ endforeach()
 # the knob sweeps with a truth of their own are there, and the dynamics' parts measured a drift
 # and an energy difference (a run with one velocity iteration or no drift correction moves the
 # bodies away from the truth's: a row whose drift is zero everywhere measured nothing)
-foreach(part dynamics/dynamic dynamics/stack shaping/peg_in_hole shaping/gears
-        decomposition/crescent)
+foreach(part dynamics/dynamic dynamics/stack shaping/peg_in_hole shaping/gears shaping/stress
+        decomposition/crescent decomposition/crescent-tick)
   list(FIND parts ${part} at)
   if(at EQUAL -1)
     message(FATAL_ERROR "results.csv has no part ${part}")
@@ -87,5 +88,35 @@ foreach(part dynamics/dynamic dynamics/stack)
     message(FATAL_ERROR "tables.md: the dynamics' parts have no drift column")
   endif()
 endforeach()
+# the methods inside the closed loop: on every demo scene the depth along the motion and the three
+# peer sets, each a row "closed loop"; the crescent's tick touched the mesh (its truth has contacts)
+foreach(part scene/peg_in_hole scene/gears scene/dynamic scene/stress)
+  foreach(method hapticd-depth-along-motion FCL-libccd Bullet-btGjkPairDetector
+          Bullet-btGjkEpaSolver2)
+    set(found FALSE)
+    foreach(line IN LISTS lines)
+      if(line MATCHES "^${part},${method},closed loop,")
+        set(found TRUE)
+      endif()
+    endforeach()
+    if(NOT found)
+      message(FATAL_ERROR "results.csv: ${part} has no closed-loop row of ${method}")
+    endif()
+  endforeach()
+endforeach()
+set(touched FALSE)
+foreach(line IN LISTS lines)
+  if(line MATCHES "^decomposition/crescent-tick,exact mesh,")
+    string(REGEX REPLACE "\"[^\"]*\"" "setting" plain "${line}")
+    string(REPLACE "," ";" fields "${plain}")
+    list(GET fields 4 contacts)
+    if(contacts GREATER 0)
+      set(touched TRUE)
+    endif()
+  endif()
+endforeach()
+if(NOT touched)
+  message(FATAL_ERROR "decomposition/crescent-tick: the truth's tick never touched the crescent")
+endif()
 list(LENGTH parts np)
 message(STATUS "study: ${n} rows, ${np} parts, every figure finite, every plot written")

@@ -21,10 +21,13 @@
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
 #include <memory>
 #include <numbers>
+#include <string>
 #include <vector>
 
+#include "bench/study/scene_study.h"
 #include "bench/study/study.h"
 #include "core/collision/pair_query.h"
 #include "core/decomp/decompose.h"
@@ -223,7 +226,196 @@ std::vector<Vec3> probePath(int per_wall) {
   return out;
 }
 
+// --- the same in the closed loop: the tick on the crescent decomposed at each concavity ---------
+
+// The crescent as a scene: one static body of the pieces (each its hull, in the body's frame,
+// which is the mesh's), the hand the configured probe sphere (SimOptions::probe_sphere_radius_m).
+std::shared_ptr<const scene::SceneModel> crescentScene(const std::vector<Piece>& pieces,
+                                                       const std::string& name) {
+  scene::SceneModel s;
+  s.name = name;
+  scene::Body body;
+  body.name = "crescent";
+  for (const Piece& p : pieces) {
+    if (p.hull)
+      body.primitives.push_back(
+          scene::Primitive{p.hull, geom::Pose{}, scene::ShapeSource::kCode, -1, -1});
+  }
+  s.plan.static_primitives = static_cast<std::uint32_t>(body.primitives.size());
+  s.bodies.push_back(std::move(body));
+  s.length_scale = 2.0 * std::sqrt(2.0 * kOuter * kOuter + kHalfThick * kHalfThick);
+  s.plan.contact_forces = true;
+  return std::make_shared<const scene::SceneModel>(std::move(s));
+}
+
+// The hand's path: from the hollow's centre to the inner (concave) wall, along it from one end to
+// the other (from 1 mm into it to 0.5 mm off it, three times, up and down the thickness), and
+// back; `seconds` in all (10 s; the quick run 3 s).
+std::vector<proto::PoseStreamRow> innerWallStream(double seconds) {
+  const auto wall = [](double u) {
+    const double a = -0.95 * kHalfAngle + 1.9 * kHalfAngle * u;
+    const double gap = -0.00025 + 0.00075 * std::sin(6.0 * std::numbers::pi * u);
+    const double r = kInner - kProbeRadius - gap;
+    const double z = 0.5 * kHalfThick * std::sin(4.0 * std::numbers::pi * u);
+    return Vec3{r * std::cos(a), r * std::sin(a), z};
+  };
+  std::vector<proto::PoseStreamRow> rows;
+  constexpr int kRows = 1000;
+  for (int i = 0; i <= kRows; ++i) {
+    const double f = static_cast<double>(i) / kRows;  // fraction of the whole path
+    Vec3 x{0.0};
+    if (f < 0.1) {  // out to the wall's first point
+      const double w = 0.5 - 0.5 * std::cos(std::numbers::pi * f / 0.1);
+      x = w * wall(0.0);
+    } else if (f < 0.9) {
+      x = wall((f - 0.1) / 0.8);
+    } else {  // back to the centre
+      const double w = 0.5 - 0.5 * std::cos(std::numbers::pi * (f - 0.9) / 0.1);
+      x = (1.0 - w) * wall(1.0);
+    }
+    rows.push_back({f * seconds, geom::Pose{x, geom::Quat{1.0, 0.0, 0.0, 0.0}}, 0});
+  }
+  return rows;
+}
+
+// The truth inside the loop: every pair of the probe and a piece answered from the crescent's own
+// triangle mesh. The probe's centre c (its frame's origin) is at signed distance d from the mesh,
+// its closest point q, n the unit direction from q toward c (out of the mesh); the probe hull's
+// extent toward the mesh, h = max over its vertices of dot(-n, v), makes the gap d - h (exact
+// where the mesh is flat within the contact, as the sphere's own answer would be against a
+// plane). One contact in all: the pair of the piece nearest to q (the deepest when q is inside
+// several; the first of equals) answers; every other piece pair answers as far apart.
+class MeshTruth final : public LoopQuery {
+ public:
+  MeshTruth(const decomp::TriangleMesh* mesh, const std::vector<Piece>* pieces)
+      : mesh_(mesh), pieces_(pieces) {
+    for (std::size_t i = 0; i < pieces->size(); ++i)
+      index_[(*pieces)[i].hull.get()] = i;
+  }
+
+  void query(const geom::Polytope& a,
+             const geom::Polytope& b,
+             const geom::Transform& X_AB,
+             const geom::Transform* /*X_AB_last*/,
+             collision::PairCache& cache,
+             collision::PairResult& out) override {
+    const auto ia = index_.find(&a), ib = index_.find(&b);
+    const bool piece_a = ia != index_.end();
+    const geom::Polytope& probe = piece_a ? b : a;
+    const std::size_t piece = piece_a ? ia->second : ib->second;
+    // the probe's pose in the mesh's frame (a piece's frame is the body's, the mesh's)
+    const geom::Transform X_MP = piece_a ? X_AB : X_AB.inverse();
+    const Vec3 c = X_MP.t;
+    if (!(c == centre_)) {
+      centre_ = c;
+      answer_ = meshAnswer(*mesh_, c);
+      q_ = c - answer_.d * answer_.n;
+      owner_ = 0;
+      double best = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < pieces_->size(); ++i) {
+        const double d = pieceAnswer((*pieces_)[i], q_).d;
+        if (d < best)
+          best = d, owner_ = i;
+      }
+    }
+    out.fa = collision::Feature{};
+    out.fb = collision::Feature{};
+    out.manifold.count = 0;
+    out.manifold.truncated = false;
+    out.iterations = 0;
+    if (piece != owner_ || !(answer_.d < std::numeric_limits<double>::infinity())) {
+      out.status = collision::ContactStatus::kSeparated;
+      out.distance = std::numeric_limits<double>::max();
+      out.normal = Vec3{1.0, 0.0, 0.0};
+      out.point_a = out.point_b = Vec3{0.0};
+      cache.penetrating = false;
+      return;
+    }
+    // the probe's vertex farthest toward the mesh, in the mesh's frame
+    const Vec3 toward = glm::transpose(X_MP.R) * -answer_.n;
+    double h = -std::numeric_limits<double>::infinity();
+    for (const auto& v : probe.vertices())
+      h = std::max(h, glm::dot(toward, v.p));
+    const double gap = answer_.d - h;
+    out.distance = gap;
+    out.status =
+        gap > 0.0 ? collision::ContactStatus::kSeparated : collision::ContactStatus::kPenetrating;
+    cache.penetrating = gap <= 0.0;
+    // Both witnesses at q, so the contact row acts at q, on the line through the probe's centre
+    // (no torque about it, as for a sphere), and the world reads no separating plane from them:
+    // a plane through q would not separate a concave wall, so this pair is never left untested
+    // as certainly far (WorldOptions::far_distance). a's frame: the mesh's when a is the piece,
+    // else the probe's.
+    if (piece_a) {
+      out.normal = answer_.n;
+      out.point_a = out.point_b = q_;
+    } else {
+      const geom::Transform X_PM = X_AB;  // the mesh in the probe's frame
+      out.normal = X_PM.rotate(-answer_.n);
+      out.point_a = out.point_b = X_PM.apply(q_);
+    }
+  }
+
+ private:
+  const decomp::TriangleMesh* mesh_;
+  const std::vector<Piece>* pieces_;
+  std::map<const geom::Polytope*, std::size_t> index_;
+  Vec3 centre_{std::numeric_limits<double>::quiet_NaN()};
+  Answer answer_;
+  Vec3 q_{0.0};
+  std::size_t owner_ = 0;
+};
+
 }  // namespace
+
+void runDecompositionLoop(const Options& options, std::vector<Row>& rows) {
+  const std::string part = "decomposition/crescent-tick";
+  const decomp::TriangleMesh mesh = crescent();
+  const std::vector<double> concavities = options.quick
+                                              ? std::vector<double>{0.04, 0.01}
+                                              : std::vector<double>{0.08, 0.04, 0.02, 0.01, 0.005};
+  // each concavity's pieces; the truth runs on the finest's (their pairs hold the mesh within
+  // its concavity, so the probe near the mesh is near one of them)
+  std::vector<std::vector<Piece>> decompositions;
+  std::vector<PlannedRun> runs(1);
+  for (const double c : concavities) {
+    decomp::DecompOptions o;
+    o.concavity = c;
+    auto result = decomp::decompose(mesh, o);
+    if (!result.ok()) {
+      std::fprintf(stderr, "study: %s: concavity %g: %s\n", part.c_str(), c,
+                   result.error().message.c_str());
+      return;
+    }
+    std::vector<Piece> pieces;
+    for (auto& p : result.value().pieces)
+      pieces.push_back(makePiece(std::move(p)));
+    char setting[96];
+    std::snprintf(setting, sizeof setting, "concavity=%g%s", c, c == 0.01 ? " (default)" : "");
+    PlannedRun run;
+    run.setting = setting;
+    run.model = crescentScene(pieces, std::string("crescent ") + setting);
+    runs.push_back(std::move(run));
+    decompositions.push_back(std::move(pieces));
+  }
+  const std::vector<Piece>& finest = decompositions.back();
+  runs[0].setting = "pairs answered from it (the truth)";
+  runs[0].model = runs.back().model;
+  runs[0].method = {"exact mesh", [&mesh, &finest]() -> std::unique_ptr<LoopQuery> {
+                      return std::make_unique<MeshTruth>(&mesh, &finest);
+                    }};
+  SceneStudyOptions so;
+  const double seconds = options.quick ? 3.0 : 10.0;
+  const std::vector<proto::PoseStreamRow> stream = innerWallStream(seconds);
+  so.progress = [&](const std::string& line) {
+    std::fprintf(stderr, "study: %s %s\n", part.c_str(), line.c_str());
+  };
+  // the scenes' own SimOptions: the probe sphere of the open-loop part's radius
+  so.probe_sphere_radius_m = kProbeRadius;
+  auto ran = runSweep(part, runs.back().model, stream, so, runs, rows);
+  if (!ran.ok())
+    std::fprintf(stderr, "study: %s: %s\n", part.c_str(), ran.error().message.c_str());
+}
 
 void runDecomposition(const Options& options, std::vector<Row>& rows) {
   const std::string part = "decomposition/crescent";

@@ -98,6 +98,7 @@ int main(int argc, char** argv) {
     runPairs(options, rows);
     runScenes(options, rows);
     runDecomposition(options, rows);
+    runDecompositionLoop(options, rows);
     for (const Row& r : rows)
       summaries.push_back(summarize(r));
     const std::time_t now = std::time(nullptr);

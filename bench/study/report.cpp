@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
@@ -36,7 +37,9 @@ bool perTick(const std::string& part) {
     if (part.rfind(prefix, 0) == 0)
       return true;
   }
-  return false;
+  const std::string tick = "-tick";  // decomposition/crescent-tick: the concavity in the loop
+  return part.size() > tick.size() &&
+         part.compare(part.size() - tick.size(), tick.size(), tick) == 0;
 }
 
 // The time a row is plotted and compared at: a tick's p99.9 (what must fit the tick's budget; CPU
@@ -364,8 +367,11 @@ void plotPart(std::ostream& gp,
        << " left font 'Sans,8' front noenhanced\n";
 
   // the data as datablocks: one per family, then the Pareto front
+  // a gnuplot datablock's name: letters, digits and '_' only
   std::string name = plotName(part);
   name = name.substr(0, name.size() - 4);
+  std::replace_if(
+      name.begin(), name.end(), [](unsigned char c) { return std::isalnum(c) == 0; }, '_');
   for (std::size_t i = 0; i < fams.size(); ++i) {
     gp << "$" << name << "_" << i << " << EOD\n";
     for (const Summary* r : fams[i].points)

@@ -27,6 +27,7 @@ struct TickRecord {
   // with dynamics: the dynamic bodies' positions (by body index order) and their energy
   std::vector<Vec3> positions;
   double energy_j = 0.0;
+  bool unanswered = false;  // a closed-loop method left a pair query unanswered this tick
 };
 
 std::string fmt(double x, const char* f = "%.3g") {
@@ -39,6 +40,7 @@ sim::SimOptions simOptions(const Knobs& k, const SceneStudyOptions& options) {
   sim::SimOptions o;
   o.response.tick_s = 1.0 / (options.rate_hz * k.rate_multiple);
   o.max_pairs_per_tick = k.max_pairs_per_tick;
+  o.probe_sphere_radius_m = options.probe_sphere_radius_m;
   o.response.predictive = k.predictive;
   o.dynamics_velocity_iterations = k.velocity_iterations;
   o.dynamics_position_iterations = k.position_iterations;
@@ -69,12 +71,14 @@ Result<bool> run(const std::shared_ptr<const scene::SceneModel>& model,
   const bool dynamics = std::any_of(sc.bodies.begin(), sc.bodies.end(), [](const scene::Body& b) {
     return b.motion == scene::Motion::kDynamic;
   });
+  const auto* loop = dynamic_cast<const LoopQuery*>(options.query_method);
   for (std::size_t k = 0; k < ticks; ++k) {
     sim::TickInput in;
     in.t_s = static_cast<double>(k) * options.response.tick_s;
     const proto::PoseStreamRow s = proto::samplePoseStream(stream, in.t_s, cursor);
     in.X_W_device = s.X_WD;
     in.buttons = s.buttons;
+    const std::uint64_t unanswered = loop != nullptr ? loop->unanswered : 0;
     const double t0 = threadNowNs();
     const sim::TickOutput o = simulation.step(in);
     const double ns = std::max(0.0, threadNowNs() - t0 - overhead);
@@ -83,7 +87,8 @@ Result<bool> run(const std::shared_ptr<const scene::SceneModel>& model,
                    {o.X_W_proxy, o.contact_force_W_n, o.contact_torque_W_nm},
                    ns,
                    {},
-                   0.0});
+                   0.0,
+                   loop != nullptr && loop->unanswered != unanswered});
     if (dynamics) {
       // outside the timed step: the bodies' state for the drift and the energy
       TickRecord& r = out.back();
@@ -110,6 +115,8 @@ void score(Row& row,
     const bool c = glm::dot(g.truth.contact_force, g.truth.contact_force) > 0.0;
     row.add(glm::length(g.force - truth[k].force), glm::length(g.torque - truth[k].torque), g.ns, t,
             c);
+    if (g.unanswered)
+      ++row.no_answer;
     if (!truth[k].positions.empty() && g.positions.size() == truth[k].positions.size()) {
       double drift = 0.0;
       for (std::size_t i = 0; i < g.positions.size(); ++i)
@@ -202,26 +209,44 @@ Result<bool> runSweep(const std::string& part,
                       std::vector<Row>& rows) {
   const std::size_t ticks = ticksOf(stream, options);
   // the ticks of each distinct setting, in the order first met
-  std::vector<std::pair<Knobs, std::vector<TickRecord>>> done;
+  std::vector<std::pair<std::optional<Knobs>, std::vector<TickRecord>>> done;
   std::size_t index = 0;
   for (const PlannedRun& planned : runs) {
     ++index;
     Knobs k = planned.knobs;
     k.rate_multiple = 1;
-    const auto same =
-        std::find_if(done.begin(), done.end(), [&](const auto& d) { return d.first == k; });
+    // a run of another scene or method is its own; runs of the same knobs share their ticks
+    const bool own = planned.model != nullptr || planned.method.make != nullptr;
+    const auto same = own ? done.end() : std::find_if(done.begin(), done.end(), [&](const auto& d) {
+      return d.first.has_value() && *d.first == k;
+    });
     const std::vector<TickRecord>* got = nullptr;
     if (same != done.end()) {
       got = &same->second;
     } else {
       std::vector<TickRecord> ran;
-      auto r = run(model, simOptions(k, options), stream, ticks, ran);
+      sim::SimOptions so = simOptions(k, options);
+      const std::unique_ptr<LoopQuery> query =
+          planned.method.make ? planned.method.make() : nullptr;
+      so.query_method = query.get();
+      auto r = run(planned.model ? planned.model : model, so, stream, ticks, ran);
       if (!r.ok())
         return Error{part + " at " + planned.setting + ": " + r.error().message};
-      done.emplace_back(k, std::move(ran));
+      done.emplace_back(own ? std::nullopt : std::optional<Knobs>(k), std::move(ran));
       got = &done.back().second;
     }
-    Row row{part, "hapticd-tick", planned.setting, {}, {}, {}, 0, 0, 0, 0, {}, {}};
+    Row row{part,
+            planned.method.make ? planned.method.name : "hapticd-tick",
+            planned.setting,
+            {},
+            {},
+            {},
+            0,
+            0,
+            0,
+            0,
+            {},
+            {}};
     score(row, done.front().second, *got);
     if (options.progress) {
       const Stats t = stats(row.time_ns), f = stats(row.force_err_n), d = stats(row.drift_m);
@@ -292,9 +317,32 @@ Result<bool> runSceneStudy(const std::string& part,
     score(row, truth, got, mult);
     if (options.progress) {
       const Stats t = stats(row.time_ns), f = stats(row.force_err_n);
-      options.progress("[" + std::to_string(index) + "/" + std::to_string(runs.size()) + "] " +
+      options.progress("[" + std::to_string(index) + "/" +
+                       std::to_string(runs.size() + options.loop_methods.size()) + "] " +
                        planned.setting + ": " + std::to_string(got.size()) + " ticks, p99.9 tick " +
                        fmt(t.p999 / 1e3) + " µs, p99 force error " + fmt(f.p99) + " N");
+    }
+    rows.push_back(std::move(row));
+  }
+  // the methods inside the closed loop, at the default settings
+  for (const LoopMethod& method : options.loop_methods) {
+    ++index;
+    const std::unique_ptr<LoopQuery> query = method.make();
+    sim::SimOptions so = simOptions(Knobs{}, options);
+    so.query_method = query.get();
+    std::vector<TickRecord> got;
+    auto ran = run(model, so, stream, ticks, got);
+    if (!ran.ok())
+      return Error{part + " with " + method.name + ": " + ran.error().message};
+    Row row{part, method.name, "closed loop", {}, {}, {}, 0, 0, 0, 0, {}, {}};
+    score(row, truth, got);
+    if (options.progress) {
+      const Stats t = stats(row.time_ns), f = stats(row.force_err_n);
+      options.progress("[" + std::to_string(index) + "/" +
+                       std::to_string(runs.size() + options.loop_methods.size()) + "] " +
+                       method.name + " (closed loop): p99.9 tick " + fmt(t.p999 / 1e3) +
+                       " µs, p99 force error " + fmt(f.p99) + " N, ticks with a query unanswered " +
+                       std::to_string(row.no_answer));
     }
     rows.push_back(std::move(row));
   }

@@ -13,10 +13,12 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "bench/study/report.h"
 #include "bench/study/study.h"
+#include "core/collision/collision_world.h"
 #include "core/common/result.h"
 #include "core/scene/loader.h"
 #include "core/sim/simulation.h"
@@ -50,10 +52,33 @@ struct Knobs {
 /// The truth's setting text (its row in the tables).
 inline constexpr const char* kTruthSetting = "exact, budget unlimited, δ on (the truth)";
 
+/// A method answering the tick's pair queries inside the closed loop in place of its own
+/// (bench/study/loop_methods.h has hapticstudy's), counting the queries it could not answer
+/// (answered as far apart: no force).
+class LoopQuery : public collision::PairQueryMethod {
+ public:
+  std::uint64_t unanswered = 0;
+};
+
+/// A closed-loop method: its name (the method family of its row) and a new instance per run.
+struct LoopMethod {
+  std::string name;
+  std::function<std::unique_ptr<LoopQuery>()> make;
+};
+
 /// One run of the sweep: its setting text (the table's), its knobs.
 struct PlannedRun {
+  PlannedRun() = default;
+  PlannedRun(std::string setting_text, const Knobs& run_knobs)
+      : setting(std::move(setting_text)), knobs(run_knobs) {}
+
   std::string setting;
   Knobs knobs;
+  /// runSweep only: this run's scene instead of the sweep's (null: the sweep's).
+  std::shared_ptr<const scene::SceneModel> model;
+  /// runSweep only: another method answers every pair query of this run (its row's method is the
+  /// method's name; empty `make`: the tick's own, row method "hapticd-tick").
+  LoopMethod method;
 };
 
 /// The runs of a scene's study, the truth first: the scheduler budget (8, 4, 2, 1 pairs per tick),
@@ -75,10 +100,16 @@ struct SceneStudyOptions {
   std::vector<std::uint32_t> rate_multiples;
   /// At most this many seconds of the stream (0: all of it).
   double max_seconds = 0.0;
+  /// The probe sphere's radius for a scene without a probe body (SimOptions).
+  double probe_sphere_radius_m = sim::SimOptions{}.probe_sphere_radius_m;
   /// Base load options (limits, decomposition); each run's tessellation tolerance is its own.
   scene::LoadOptions load;
   /// One line per run as it ends ("[3/9] budget=4 pairs/tick: ..."); may be empty.
   std::function<void(const std::string&)> progress;
+  /// After the planned runs (runSceneStudy): one run per method at the default settings, every
+  /// pair query the method's, scored against the truth like the others (row method: its name,
+  /// setting "closed loop"; `no_answer`: the ticks in which it left a query unanswered).
+  std::vector<LoopMethod> loop_methods;
 };
 
 /// A sweep with a truth of its own (hapticstudy's knob parts): `runs[0]` is the truth, every run

@@ -10,8 +10,11 @@
 // - Knob sweeps with a truth of their own (runSweep): the dynamics solver's iterations on the
 //   dynamic demo and on a stack of boxes (parts dynamics/...: the truth at 100 velocity and 50
 //   split-impulse iterations; drift and energy beside the force), and the output stage's step
-//   limit F_max and force shading's crease angle on peg_in_hole and gears (parts shaping/...: the
-//   truth without a step limit, shading at its default).
+//   limit F_max and force shading's crease angle on peg_in_hole, gears and stress (parts
+//   shaping/...: the truth without a step limit, shading at its default).
+// - Methods inside the closed loop (loop_methods.h): the paper's depth along the motion and three
+//   peer libraries answer every pair query of the tick in place of its own, at the default
+//   settings, each a row "closed loop" of the scene's part.
 // - Open loop: voxel sampling (McNeely et al. 1999) at the truth run's proxy poses: the static
 //   bodies as a voxel map, the held body as a point shell, its force against the truth's contact
 //   wrench at the same pose (the force the coupling balances), its stiffness fitted by least
@@ -23,6 +26,7 @@
 #include <memory>
 #include <numbers>
 
+#include "bench/study/loop_methods.h"
 #include "bench/study/scene_study.h"
 #include "bench/study/study.h"
 #include "core/dynamics/dynamics.h"
@@ -224,6 +228,7 @@ void runScenes(const Options& options, std::vector<Row>& rows) {
     SceneStudyOptions so;
     so.max_seconds = options.quick ? 3.0 : 0.0;  // quick: the first 3 s of each stream
     so.rate_multiples = {2, 4};                  // 2 and 4 kHz beside the truth's 1 kHz
+    so.loop_methods = loopMethods();             // the depth along the motion, the peers
     so.progress = [&](const std::string& line) {
       std::fprintf(stderr, "study: %s %s\n", part.c_str(), line.c_str());
     };
@@ -235,7 +240,9 @@ void runScenes(const Options& options, std::vector<Row>& rows) {
     }
     if (std::string(name) == "dynamic")
       sweep("dynamics/dynamic", model, stream, so, iterationRuns(options.quick), rows);
-    if (std::string(name) == "peg_in_hole" || std::string(name) == "gears")
+    // stress: force shading over its tessellated spheres, capsules and cylinders
+    if (std::string(name) == "peg_in_hole" || std::string(name) == "gears" ||
+        std::string(name) == "stress")
       sweep(std::string("shaping/") + name, model, stream, so, shapingRuns(options.quick), rows);
 
     // voxel sampling at the truth's proxy poses

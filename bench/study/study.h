@@ -72,6 +72,11 @@ void runScenes(const Options& options, std::vector<Row>& rows);
 /// probe along its walls; bench/study/decomp_study.cpp).
 void runDecomposition(const Options& options, std::vector<Row>& rows);
 
+/// The same crescent in the closed loop (part decomposition/crescent-tick): the tick with the
+/// probe sphere along its concave inner wall, the crescent decomposed at each concavity, against
+/// the tick whose pairs are answered from the crescent's own mesh.
+void runDecompositionLoop(const Options& options, std::vector<Row>& rows);
+
 /// "AMD EPYC ... (2 threads), compiler 12.2.0": where the figures were measured.
 std::string machine();
 

@@ -907,7 +907,8 @@ void CollisionWorld::test(std::uint32_t si) {
   // found penetrating (that test's depth is its first: no tracked state to prove it from
   // anyway), from the pool or from a pair not tested for two steps, and given back once apart
   const bool was_penetrating = s.cache.penetrating;
-  if (s.tracker == kNil && was_penetrating && tick_ >= s.track_from && trackable(s))
+  if (s.tracker == kNil && was_penetrating && tick_ >= s.track_from &&
+      options_.query_method == nullptr && trackable(s))
     takeTracker(si, true);
   DepthTracker* const tracker = s.tracker != kNil ? &trackers_[s.tracker] : nullptr;
   DepthTracker::Stats before;
@@ -915,9 +916,24 @@ void CollisionWorld::test(std::uint32_t si) {
     before = tracker->stats;
   s.cache.tracker = tracker;
   PairResult& r = result_;
-  queryPair(*bodies_[pa.body].desc.primitives[pa.index].shape,
-            *bodies_[pb.body].desc.primitives[pb.index].shape, X_AB, s.cache, depth_scratch_,
-            options_.query, r);
+  const Polytope& shape_a = *bodies_[pa.body].desc.primitives[pa.index].shape;
+  const Polytope& shape_b = *bodies_[pb.body].desc.primitives[pb.index].shape;
+  if (options_.query_method != nullptr) {
+    // the pair's pose at its last test, from its bodies' poses then
+    Transform last;
+    if (s.last.answered) {
+      const Transform A =
+          s.X_WA_test.toTransform() * bodies_[pa.body].desc.primitives[pa.index].X_BP;
+      const Transform B =
+          s.X_WB_test.toTransform() * bodies_[pb.body].desc.primitives[pb.index].X_BP;
+      const geom::Mat3 At = glm::transpose(A.R);
+      last = Transform{At * B.R, At * (B.t - A.t)};
+    }
+    options_.query_method->query(shape_a, shape_b, X_AB, s.last.answered ? &last : nullptr, s.cache,
+                                 r);
+  } else {
+    queryPair(shape_a, shape_b, X_AB, s.cache, depth_scratch_, options_.query, r);
+  }
   s.cache.tracker = nullptr;  // the pool's index is the state (copies of the world keep it)
   if (tracker != nullptr) {
     const std::uint64_t certified = tracker->stats.certified - before.certified;

@@ -53,6 +53,24 @@ struct SchedulerBudget {
   double max_microseconds = 0.0;
 };
 
+/// Another method answering the pair queries in place of queryPair, for studies that run a
+/// method inside the closed loop (hapticstudy: the depth along the motion, the peer libraries;
+/// docs/accuracy.md). The daemon never sets one. Called on the thread that steps the world; it
+/// may allocate (a study's tick is not the servo thread).
+class PairQueryMethod {
+ public:
+  virtual ~PairQueryMethod() = default;
+  /// Sets every field of `out` as queryPair does, for B at X_AB in A's frame (the manifold may
+  /// be empty: the response then makes one row of the witnesses' midpoint and the normal).
+  /// `X_AB_last`: the pair's pose at its previous test, null at its first. `cache`: the pair's.
+  virtual void query(const Polytope& a,
+                     const Polytope& b,
+                     const Transform& X_AB,
+                     const Transform* X_AB_last,
+                     PairCache& cache,
+                     PairResult& out) = 0;
+};
+
 struct WorldOptions {
   /// Boxes grow by this much (scene units) on every side, so that pairs closer than it are found
   /// (the predictive distance δ of §5.2 belongs here).
@@ -113,6 +131,8 @@ struct WorldOptions {
   double far_distance = 0.0;
   /// The same for a pair with a static body; 0: far_distance.
   double far_distance_static = 0.0;
+  /// Not null: every pair query is this method's (no depth tracking); studies only.
+  PairQueryMethod* query_method = nullptr;
 };
 
 /// One primitive pair's answer this tick, in world coordinates.

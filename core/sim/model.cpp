@@ -281,6 +281,7 @@ Result<std::shared_ptr<const SimModel>> SimModel::compile(
   m->world_options.box_margin = 2.0 * m->max_travel_m;
   m->world_options.budget.max_pairs = options.max_pairs_per_tick;
   m->world_options.skip_unmoved_pairs = true;
+  m->world_options.query_method = options.query_method;
   // the margin finds pairs up to four safe distances apart, which for a probe of many small
   // pieces is many times the pairs the proxy reads: without dynamics (which read every listed
   // pair) the world answers only pairs that may be nearer than what the rows (two safe distances,

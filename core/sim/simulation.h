@@ -21,6 +21,10 @@
 #include "core/geometry/pose.h"
 #include "core/scene/scene.h"
 
+namespace hapticd::collision {
+class PairQueryMethod;
+}  // namespace hapticd::collision
+
 namespace hapticd::sim {
 
 using geom::Pose;
@@ -133,6 +137,9 @@ struct SimOptions {
   /// With dynamics: split-impulse iterations of the drift correction per tick
   /// (DynamicsOptions::position_iterations). 0..1000; 0 turns the correction off.
   std::uint32_t dynamics_position_iterations = 6;
+  /// Not null: another method answers every pair query (collision::WorldOptions::query_method):
+  /// hapticstudy's methods inside the closed loop. Never set by the daemon. Not owned.
+  collision::PairQueryMethod* query_method = nullptr;
 };
 
 /// One tick's input, in scene coordinates (after the device-to-scene workspace mapping).

@@ -10,8 +10,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [56.2341:1.77828e+06]
-set yrange [5.29327e-17:60.3468]
+set xrange [84.3512:1.77828e+06]
+set yrange [5.29327e-17:60.3467]
 set xlabel 'median time per query (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: pairs/8" noenhanced
@@ -22,44 +22,44 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 1.67388e-16 to graph 1, first 1.67388e-16 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 1.67388e-16 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "2mm" at graph 0.262663, graph 0.912978 left font 'Sans,8' front noenhanced
-set label "1mm" at graph 0.441116, graph 0.912643 left font 'Sans,8' front noenhanced
-set label "0.5mm" at graph 0.569327, graph 0.913303 left font 'Sans,8' front noenhanced
-set label "0.25mm" at graph 0.704758, graph 0.915836 left font 'Sans,8' front noenhanced
+set label "2mm" at graph 0.262848, graph 0.912978 left font 'Sans,8' front noenhanced
+set label "1mm" at graph 0.441741, graph 0.912643 left font 'Sans,8' front noenhanced
+set label "0.5mm" at graph 0.575536, graph 0.913303 left font 'Sans,8' front noenhanced
+set label "0.25mm" at graph 0.711695, graph 0.915836 left font 'Sans,8' front noenhanced
 $pairs_8_0 << EOD
-861 1.67388e-16
+1412 1.67388e-16
 EOD
 $pairs_8_1 << EOD
-1041 1.67388e-16
+1662 1.67388e-16
 EOD
 $pairs_8_2 << EOD
-100 15.1584
+150 15.1584
 EOD
 $pairs_8_3 << EOD
-1072 0.037277
+1633 0.037277
 EOD
 $pairs_8_4 << EOD
-471 0.976496
+561 0.976496
 EOD
 $pairs_8_5 << EOD
-1642 0.976496
+2063 0.976496
 EOD
 $pairs_8_6 << EOD
-2073 5.02164e-15
+2744 5.02164e-15
 EOD
 $pairs_8_7 << EOD
-1571 5.49364e-15
+1993 5.49364e-15
 EOD
 $pairs_8_8 << EOD
-1312 1.61924
-4819 1.5968
-18193 1.64122
-74019 1.8235
+1743 1.61924
+6111 1.5968
+23154 1.64122
+89819 1.8235
 EOD
 $pairs_8_front << EOD
-100 15.1584
-471 0.976496
-861 1.67388e-16
+150 15.1584
+561 0.976496
+1412 1.67388e-16
 EOD
 plot $pairs_8_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $pairs_8_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-exact-warm" noenhanced, \
@@ -82,8 +82,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [106.283:1.77828e+06]
-set yrange [6.29794e-17:75.9909]
+set xrange [101.221:1.77828e+06]
+set yrange [6.29794e-17:75.9911]
 set xlabel 'median time per query (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: pairs/32" noenhanced
@@ -92,45 +92,45 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set label "2mm" at graph 0.364059, graph 0.903153 left font 'Sans,8' front noenhanced
-set label "1mm" at graph 0.500894, graph 0.906912 left font 'Sans,8' front noenhanced
-set label "0.5mm" at graph 0.639018, graph 0.90828 left font 'Sans,8' front noenhanced
-set label "0.25mm" at graph 0.700408, graph 0.90844 left font 'Sans,8' front noenhanced
+set label "2mm" at graph 0.367323, graph 0.903153 left font 'Sans,8' front noenhanced
+set label "1mm" at graph 0.50346, graph 0.906912 left font 'Sans,8' front noenhanced
+set label "0.5mm" at graph 0.639659, graph 0.90828 left font 'Sans,8' front noenhanced
+set label "0.25mm" at graph 0.698196, graph 0.90844 left font 'Sans,8' front noenhanced
 $pairs_32_0 << EOD
-1703 5.97475e-15
+1633 5.97475e-15
 EOD
 $pairs_32_1 << EOD
-1513 5.97475e-15
+1453 5.97475e-15
 EOD
 $pairs_32_2 << EOD
-189 19.0881
+180 19.0881
 EOD
 $pairs_32_3 << EOD
-1993 0.0373738
+1923 0.0373738
 EOD
 $pairs_32_4 << EOD
-981 0.355001
+952 0.355001
 EOD
 $pairs_32_5 << EOD
-2644 0.324079
+2655 0.324079
 EOD
 $pairs_32_6 << EOD
-3516 8.90573e-15
+3497 8.90573e-15
 EOD
 $pairs_32_7 << EOD
-2614 9.62266e-15
+2624 9.62266e-15
 EOD
 $pairs_32_8 << EOD
-3275 1.34775
-12392 1.57608
-47480 1.66848
-192685 1.67964
+3276 1.34775
+12394 1.57608
+46918 1.66848
+186473 1.67964
 EOD
 $pairs_32_front << EOD
-189 19.0881
-981 0.355001
-1513 5.97475e-15
-1703 5.97475e-15
+180 19.0881
+952 0.355001
+1453 5.97475e-15
+1633 5.97475e-15
 EOD
 plot $pairs_32_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $pairs_32_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-exact-warm" noenhanced, \
@@ -153,8 +153,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [242.369:1.77828e+06]
-set yrange [6.37184e-17:77.7992]
+set xrange [219.875:1.77828e+06]
+set yrange [6.37184e-17:77.7993]
 set xlabel 'median time per query (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: pairs/128" noenhanced
@@ -163,43 +163,43 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set label "2mm" at graph 0.343907, graph 0.895944 left font 'Sans,8' front noenhanced
-set label "1mm" at graph 0.484669, graph 0.899083 left font 'Sans,8' front noenhanced
-set label "0.5mm" at graph 0.632378, graph 0.902287 left font 'Sans,8' front noenhanced
-set label "0.25mm" at graph 0.785567, graph 0.903916 left font 'Sans,8' front noenhanced
+set label "2mm" at graph 0.340158, graph 0.895944 left font 'Sans,8' front noenhanced
+set label "1mm" at graph 0.482693, graph 0.899083 left font 'Sans,8' front noenhanced
+set label "0.5mm" at graph 0.632172, graph 0.902287 left font 'Sans,8' front noenhanced
+set label "0.25mm" at graph 0.699253, graph 0.903916 left font 'Sans,8' front noenhanced
 $pairs_128_0 << EOD
-3045 6.14985e-15
+2725 6.14985e-15
 EOD
 $pairs_128_1 << EOD
-2735 6.04486e-15
+2425 6.04486e-15
 EOD
 $pairs_128_2 << EOD
-431 19.5423
+391 19.5423
 EOD
 $pairs_128_3 << EOD
-5820 0.0339337
+5910 0.0339337
 EOD
 $pairs_128_4 << EOD
-3656 0.540271
+3877 0.540271
 EOD
 $pairs_128_5 << EOD
-3396 0.570367
+3126 0.570367
 EOD
 $pairs_128_6 << EOD
-9397 0.00433206
+8696 0.00433206
 EOD
 $pairs_128_7 << EOD
-7013 1.38057e-14
+6382 1.38057e-14
 EOD
 $pairs_128_8 << EOD
-4668 1.02081
-16340 1.16336
-60845 1.32942
-237892 1.42276
+4229 1.02081
+15249 1.16336
+58530 1.32942
+225155 1.42276
 EOD
 $pairs_128_front << EOD
-431 19.5423
-2735 6.04486e-15
+391 19.5423
+2425 6.04486e-15
 EOD
 plot $pairs_128_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $pairs_128_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-exact-warm" noenhanced, \
@@ -222,8 +222,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [16310.7:1.77828e+06]
-set yrange [5.13112e-05:40.5418]
+set xrange [14474.1:1.77828e+06]
+set yrange [5.13112e-05:46.5642]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: scene/peg_in_hole" noenhanced
@@ -234,47 +234,62 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.00016226 to graph 1, first 0.00016226 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.00016226 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.386287, graph 0.108161 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.409008, graph 0.0847789 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.355033, graph 0.0847789 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.30727, graph 0.0847789 left font 'Sans,8' front noenhanced
-set label "2 kHz" at graph 0.478183, graph 0.335236 left font 'Sans,8' front noenhanced
-set label "4 kHz" at graph 0.429794, graph 0.39742 left font 'Sans,8' front noenhanced
-set label "3.32mm" at graph 0.134268, graph 0.880961 left font 'Sans,8' front noenhanced
-set label "1.66mm" at graph 0.239042, graph 0.898265 left font 'Sans,8' front noenhanced
-set label "0.829mm" at graph 0.389964, graph 0.89156 left font 'Sans,8' front noenhanced
+set label "8" at graph 0.170108, graph 0.107305 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.130945, graph 0.083923 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.150697, graph 0.107305 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.15341, graph 0.0605411 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.177378, graph 0.331852 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.181489, graph 0.393407 left font 'Sans,8' front noenhanced
+set label "3.32mm" at graph 0.131221, graph 0.872067 left font 'Sans,8' front noenhanced
+set label "1.66mm" at graph 0.170777, graph 0.912578 left font 'Sans,8' front noenhanced
+set label "0.829mm" at graph 0.328279, graph 0.882559 left font 'Sans,8' front noenhanced
 $scene_peg_in_hole_0 << EOD
-77548 0.00016226
+30889 0.00016226
 EOD
 $scene_peg_in_hole_1 << EOD
-102246 0.00016226
-105260 0.00016226
-95421 0.00016226
-76265 0.00016226
+33603 0.00016226
+30136 0.00016226
+30607 0.00016226
+31009 0.00016226
 EOD
 $scene_peg_in_hole_2 << EOD
-112384 0.026241
+34003 0.026241
 EOD
 $scene_peg_in_hole_3 << EOD
-145616 0.00486781
-116042 0.0113258
+32139 0.00486781
+32781 0.0113258
 EOD
 $scene_peg_in_hole_4 << EOD
-29005 8.05094
-47419 10.1836
-96263 9.29728
+50837 11.6964
+EOD
+$scene_peg_in_hole_5 << EOD
+39895 0.00016226
+EOD
+$scene_peg_in_hole_6 << EOD
+38203 0.00016226
+EOD
+$scene_peg_in_hole_7 << EOD
+34404 0.00016226
+EOD
+$scene_peg_in_hole_8 << EOD
+25739 8.05094
+37982 10.1836
+66424 9.29728
 EOD
 $scene_peg_in_hole_front << EOD
-29005 8.05094
-76265 0.00016226
-77548 0.00016226
+25739 8.05094
+30136 0.00016226
 EOD
 plot $scene_peg_in_hole_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_peg_in_hole_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
   $scene_peg_in_hole_1 using 1:2 with linespoints lw 1.5 pt 5 ps 1.6 lc rgb '#d62728' title "hapticd-tick, budget swept" noenhanced, \
   $scene_peg_in_hole_2 using 1:2 with points pt 9 ps 1.6 lc rgb '#2ca02c' title "hapticd-tick δ off" noenhanced, \
   $scene_peg_in_hole_3 using 1:2 with linespoints lw 1.5 pt 11 ps 1.6 lc rgb '#9467bd' title "hapticd-tick, servo rate swept" noenhanced, \
-  $scene_peg_in_hole_4 using 1:2 with linespoints lw 1.5 pt 13 ps 1.6 lc rgb '#ff7f0e' title "voxel-McNeely, h swept" noenhanced
+  $scene_peg_in_hole_4 using 1:2 with points pt 13 ps 1.6 lc rgb '#ff7f0e' title "hapticd-depth-along-motion closed loop" noenhanced, \
+  $scene_peg_in_hole_5 using 1:2 with points pt 4 ps 1.6 lc rgb '#8c564b' title "FCL-libccd closed loop" noenhanced, \
+  $scene_peg_in_hole_6 using 1:2 with points pt 6 ps 1.6 lc rgb '#e377c2' title "Bullet-btGjkPairDetector closed loop" noenhanced, \
+  $scene_peg_in_hole_7 using 1:2 with points pt 8 ps 1.6 lc rgb '#17becf' title "Bullet-btGjkEpaSolver2 closed loop" noenhanced, \
+  $scene_peg_in_hole_8 using 1:2 with linespoints lw 1.5 pt 10 ps 1.6 lc rgb '#7f7f7f' title "voxel-McNeely, h swept" noenhanced
 reset
 set terminal pngcairo size 1100,660 font 'Sans,10'
 set output "docs/accuracy/shaping_peg_in_hole.png"
@@ -286,7 +301,7 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [50499.4:1.77828e+06]
+set xrange [16851.7:1.77828e+06]
 set yrange [0.0105409:3.98107]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
@@ -298,31 +313,31 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.0333333 to graph 1, first 0.0333333 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.0333333 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "0.1 N/tick" at graph 0.119948, graph 0.217397 left font 'Sans,8' front noenhanced
-set label "0.25 N/tick" at graph 0.16834, graph 0.170633 left font 'Sans,8' front noenhanced
-set label "0.5 N/tick (default)" at graph 0.275628, graph 0.213656 left font 'Sans,8' front noenhanced
-set label "2 N/tick" at graph 0.305452, graph 0.174374 left font 'Sans,8' front noenhanced
-set label "0° (shading off)" at graph 0.0415815, graph 0.157539 left font 'Sans,8' front noenhanced
-set label "20°" at graph 0.22118, graph 0.213656 left font 'Sans,8' front noenhanced
-set label "60°" at graph 0.256183, graph 0.157539 left font 'Sans,8' front noenhanced
-set label "85°" at graph 0.130513, graph 0.230491 left font 'Sans,8' front noenhanced
+set label "0.1 N/tick" at graph 0.0787864, graph 0.217397 left font 'Sans,8' front noenhanced
+set label "0.25 N/tick" at graph 0.0787641, graph 0.170633 left font 'Sans,8' front noenhanced
+set label "0.5 N/tick (default)" at graph 0.164258, graph 0.194015 left font 'Sans,8' front noenhanced
+set label "2 N/tick" at graph 0.162386, graph 0.230491 left font 'Sans,8' front noenhanced
+set label "0° (shading off)" at graph 0.135263, graph 0.157539 left font 'Sans,8' front noenhanced
+set label "20°" at graph 0.100074, graph 0.230491 left font 'Sans,8' front noenhanced
+set label "60°" at graph 0.0874167, graph 0.157539 left font 'Sans,8' front noenhanced
+set label "85°" at graph 0.0723174, graph 0.194015 left font 'Sans,8' front noenhanced
 $shaping_peg_in_hole_0 << EOD
-89802 0.0333333
+34195 0.0333333
 EOD
 $shaping_peg_in_hole_1 << EOD
-92365 0.0333333
-111693 0.0333333
-130096 0.0333333
-144675 0.0333333
+30647 0.0333333
+31360 0.0333333
+34323 0.0333333
+34025 0.0333333
 EOD
 $shaping_peg_in_hole_2 << EOD
-111241 0.0333333
-107164 0.0333333
-120679 0.0333333
-96473 0.0333333
+29986 0.0333333
+34104 0.0333333
+32151 0.0333333
+29967 0.0333333
 EOD
 $shaping_peg_in_hole_front << EOD
-89802 0.0333333
+29967 0.0333333
 EOD
 plot $shaping_peg_in_hole_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $shaping_peg_in_hole_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick no step limit, shading 40° (the truth)" noenhanced, \
@@ -339,8 +354,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [69203.4:1.77828e+06]
-set yrange [2.28228e-05:0.0300148]
+set xrange [27505.2:1.77828e+06]
+set yrange [3.06831e-05:0.168927]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: scene/gears" noenhanced
@@ -349,41 +364,57 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 7.21721e-05 to graph 1, first 7.21721e-05 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 7.21721e-05 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.311251, graph 0.633903 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.250555, graph 0.701116 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.205942, graph 0.735025 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.188891, graph 0.807629 left font 'Sans,8' front noenhanced
-set label "2 kHz" at graph 0.27507, graph 0.726681 left font 'Sans,8' front noenhanced
-set label "4 kHz" at graph 0.316115, graph 0.6872 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 9.70283e-05 to graph 1, first 9.70283e-05 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 9.70283e-05 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "8" at graph 0.199112, graph 0.133661 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.180406, graph 0.569356 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.153595, graph 0.604816 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.116589, graph 0.582187 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.209437, graph 0.528529 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.210618, graph 0.560637 left font 'Sans,8' front noenhanced
 $scene_gears_0 << EOD
-207203 7.21721e-05
+60924 9.70283e-05
 EOD
 $scene_gears_1 << EOD
-183079 0.00216516
-150337 0.00350854
-130067 0.00447598
-123063 0.00753937
+60114 9.70283e-05
+55604 0.00413759
+53271 0.00459122
+48912 0.00462107
 EOD
 $scene_gears_2 << EOD
-175134 7.21721e-05
+58330 9.70283e-05
 EOD
 $scene_gears_3 << EOD
-183188 0.00356399
-209298 0.00375535
+62758 0.00291085
+63068 0.00383823
+EOD
+$scene_gears_4 << EOD
+71315 0.0424326
+EOD
+$scene_gears_5 << EOD
+99979 0.0110428
+EOD
+$scene_gears_6 << EOD
+91361 0.00830454
+EOD
+$scene_gears_7 << EOD
+79901 0.00700686
 EOD
 $scene_gears_front << EOD
-123063 0.00753937
-130067 0.00447598
-150337 0.00350854
-175134 7.21721e-05
+48912 0.00462107
+53271 0.00459122
+55604 0.00413759
+58330 9.70283e-05
 EOD
 plot $scene_gears_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_gears_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
   $scene_gears_1 using 1:2 with linespoints lw 1.5 pt 5 ps 1.6 lc rgb '#d62728' title "hapticd-tick, budget swept" noenhanced, \
   $scene_gears_2 using 1:2 with points pt 9 ps 1.6 lc rgb '#2ca02c' title "hapticd-tick δ off" noenhanced, \
-  $scene_gears_3 using 1:2 with linespoints lw 1.5 pt 11 ps 1.6 lc rgb '#9467bd' title "hapticd-tick, servo rate swept" noenhanced
+  $scene_gears_3 using 1:2 with linespoints lw 1.5 pt 11 ps 1.6 lc rgb '#9467bd' title "hapticd-tick, servo rate swept" noenhanced, \
+  $scene_gears_4 using 1:2 with points pt 13 ps 1.6 lc rgb '#ff7f0e' title "hapticd-depth-along-motion closed loop" noenhanced, \
+  $scene_gears_5 using 1:2 with points pt 4 ps 1.6 lc rgb '#8c564b' title "FCL-libccd closed loop" noenhanced, \
+  $scene_gears_6 using 1:2 with points pt 6 ps 1.6 lc rgb '#e377c2' title "Bullet-btGjkPairDetector closed loop" noenhanced, \
+  $scene_gears_7 using 1:2 with points pt 8 ps 1.6 lc rgb '#17becf' title "Bullet-btGjkEpaSolver2 closed loop" noenhanced
 reset
 set terminal pngcairo size 1100,660 font 'Sans,10'
 set output "docs/accuracy/shaping_gears.png"
@@ -395,7 +426,7 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [110147:1.77828e+06]
+set xrange [32344.7:1.77828e+06]
 set yrange [0.0105409:3.98107]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
@@ -407,31 +438,31 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.0333333 to graph 1, first 0.0333333 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.0333333 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "0.1 N/tick" at graph 0.0965537, graph 0.194015 left font 'Sans,8' front noenhanced
-set label "0.25 N/tick" at graph 0.164609, graph 0.217397 left font 'Sans,8' front noenhanced
-set label "0.5 N/tick (default)" at graph 0.0704152, graph 0.157539 left font 'Sans,8' front noenhanced
-set label "2 N/tick" at graph 0.122169, graph 0.230491 left font 'Sans,8' front noenhanced
-set label "0° (shading off)" at graph 0.218463, graph 0.174374 left font 'Sans,8' front noenhanced
-set label "20°" at graph 0.218519, graph 0.230491 left font 'Sans,8' front noenhanced
-set label "60°" at graph 0.285177, graph 0.213656 left font 'Sans,8' front noenhanced
-set label "85°" at graph 0.160473, graph 0.174374 left font 'Sans,8' front noenhanced
+set label "0.1 N/tick" at graph 0.131094, graph 0.217397 left font 'Sans,8' front noenhanced
+set label "0.25 N/tick" at graph 0.0980407, graph 0.170633 left font 'Sans,8' front noenhanced
+set label "0.5 N/tick (default)" at graph 0.200435, graph 0.194015 left font 'Sans,8' front noenhanced
+set label "2 N/tick" at graph 0.0676831, graph 0.230491 left font 'Sans,8' front noenhanced
+set label "0° (shading off)" at graph 0.155232, graph 0.157539 left font 'Sans,8' front noenhanced
+set label "20°" at graph 0.170289, graph 0.230491 left font 'Sans,8' front noenhanced
+set label "60°" at graph 0.105301, graph 0.157539 left font 'Sans,8' front noenhanced
+set label "85°" at graph 0.0975839, graph 0.194015 left font 'Sans,8' front noenhanced
 $shaping_gears_0 << EOD
-218234 0.0333333
+59393 0.0333333
 EOD
 $shaping_gears_1 << EOD
-196062 0.0333333
-202636 0.0333333
-240227 0.0333333
-199240 0.0333333
+66715 0.0333333
+59612 0.0333333
+68939 0.0333333
+61064 0.0333333
 EOD
 $shaping_gears_2 << EOD
-196744 0.0333333
-195872 0.0333333
-236861 0.0333333
-197574 0.0333333
+57518 0.0333333
+61095 0.0333333
+60564 0.0333333
+58720 0.0333333
 EOD
 $shaping_gears_front << EOD
-195872 0.0333333
+57518 0.0333333
 EOD
 plot $shaping_gears_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $shaping_gears_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick no step limit, shading 40° (the truth)" noenhanced, \
@@ -448,8 +479,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [12773:1.77828e+06]
-set yrange [0.000491216:39.8107]
+set xrange [13589:1.77828e+06]
+set yrange [6.31029e-06:39.8107]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: scene/dynamic" noenhanced
@@ -458,48 +489,64 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 0.00155336 to graph 1, first 0.00155336 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 0.00155336 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.470132, graph 0.402777 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.461181, graph 0.506614 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.402724, graph 0.470244 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.399782, graph 0.877769 left font 'Sans,8' front noenhanced
-set label "2 kHz" at graph 0.397849, graph 0.786021 left font 'Sans,8' front noenhanced
-set label "4 kHz" at graph 0.481898, graph 0.747605 left font 'Sans,8' front noenhanced
-set label "7.63mm" at graph 0.0455461, graph 0.407911 left font 'Sans,8' front noenhanced
-set label "3.82mm" at graph 0.161938, graph 0.407911 left font 'Sans,8' front noenhanced
-set label "1.91mm" at graph 0.331518, graph 0.407911 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 1.99549e-05 to graph 1, first 1.99549e-05 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 1.99549e-05 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "8" at graph 0.261548, graph 0.290755 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.245551, graph 0.624445 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.261373, graph 0.483738 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.332113, graph 0.911764 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.231453, graph 0.822103 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.151009, graph 0.813247 left font 'Sans,8' front noenhanced
+set label "7.63mm" at graph 0.0470277, graph 0.56134 left font 'Sans,8' front noenhanced
+set label "3.82mm" at graph 0.186711, graph 0.56134 left font 'Sans,8' front noenhanced
+set label "1.91mm" at graph 0.282172, graph 0.56134 left font 'Sans,8' front noenhanced
 $scene_dynamic_0 << EOD
-114457 0.00155336
+43512 1.99549e-05
 EOD
 $scene_dynamic_1 << EOD
-122833 0.0466008
-117524 0.150696
-88067 0.0999017
-86797 10
+45956 0.000598647
+42509 0.111235
+45917 0.0122869
+64821 10
 EOD
 $scene_dynamic_2 << EOD
-51457 0.18261
+47320 0.323968
 EOD
 $scene_dynamic_3 << EOD
-85973 3.54516
-130178 2.29649
+39686 2.45645
+38221 2.13841
 EOD
 $scene_dynamic_4 << EOD
-22714 0.0493849
-26831 0.0493849
-61968 0.0493849
+112302 10
+EOD
+$scene_dynamic_5 << EOD
+82856 4.6067
+EOD
+$scene_dynamic_6 << EOD
+84560 1.05185
+EOD
+$scene_dynamic_7 << EOD
+63860 1.01392
+EOD
+$scene_dynamic_8 << EOD
+24165 0.0414129
+31910 0.0414129
+50816 0.0414129
 EOD
 $scene_dynamic_front << EOD
-22714 0.0493849
-114457 0.00155336
+24165 0.0414129
+43512 1.99549e-05
 EOD
 plot $scene_dynamic_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_dynamic_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
   $scene_dynamic_1 using 1:2 with linespoints lw 1.5 pt 5 ps 1.6 lc rgb '#d62728' title "hapticd-tick, budget swept" noenhanced, \
   $scene_dynamic_2 using 1:2 with points pt 9 ps 1.6 lc rgb '#2ca02c' title "hapticd-tick δ off" noenhanced, \
   $scene_dynamic_3 using 1:2 with linespoints lw 1.5 pt 11 ps 1.6 lc rgb '#9467bd' title "hapticd-tick, servo rate swept" noenhanced, \
-  $scene_dynamic_4 using 1:2 with linespoints lw 1.5 pt 13 ps 1.6 lc rgb '#ff7f0e' title "voxel-McNeely, h swept" noenhanced
+  $scene_dynamic_4 using 1:2 with points pt 13 ps 1.6 lc rgb '#ff7f0e' title "hapticd-depth-along-motion closed loop" noenhanced, \
+  $scene_dynamic_5 using 1:2 with points pt 4 ps 1.6 lc rgb '#8c564b' title "FCL-libccd closed loop" noenhanced, \
+  $scene_dynamic_6 using 1:2 with points pt 6 ps 1.6 lc rgb '#e377c2' title "Bullet-btGjkPairDetector closed loop" noenhanced, \
+  $scene_dynamic_7 using 1:2 with points pt 8 ps 1.6 lc rgb '#17becf' title "Bullet-btGjkEpaSolver2 closed loop" noenhanced, \
+  $scene_dynamic_8 using 1:2 with linespoints lw 1.5 pt 10 ps 1.6 lc rgb '#7f7f7f' title "voxel-McNeely, h swept" noenhanced
 reset
 set terminal pngcairo size 1100,660 font 'Sans,10'
 set output "docs/accuracy/dynamics_dynamic.png"
@@ -511,8 +558,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [60285.2:1.77828e+06]
-set yrange [0.00336169:19.5885]
+set xrange [23527.8:1.77828e+06]
+set yrange [0.0537575:26.945]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: dynamics/dynamic" noenhanced
@@ -521,33 +568,36 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 0.0106306 to graph 1, first 0.0106306 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 0.0106306 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "1" at graph 0.274007, graph 0.840656 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.279662, graph 0.749373 left font 'Sans,8' front noenhanced
-set label "12 (default)" at graph 0.158786, graph 0.529262 left font 'Sans,8' front noenhanced
-set label "32" at graph 0.305474, graph 0.583721 left font 'Sans,8' front noenhanced
-set label "0" at graph 0.3009, graph 0.797608 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.334431, graph 0.828399 left font 'Sans,8' front noenhanced
-set label "6 (default)" at graph 0.300935, graph 0.529262 left font 'Sans,8' front noenhanced
-set label "18" at graph 0.280572, graph 0.501688 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 0.169996 to graph 1, first 0.169996 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 0.169996 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "1" at graph 0.167069, graph 0.732256 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.111603, graph 0.75964 left font 'Sans,8' front noenhanced
+set label "12 (default)" at graph 0.0155962, graph 0.736944 left font 'Sans,8' front noenhanced
+set label "32" at graph 0.197004, graph 0.735529 left font 'Sans,8' front noenhanced
+set label "0" at graph 0.182375, graph 0.771703 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.146022, graph 0.801163 left font 'Sans,8' front noenhanced
+set label "6 (default)" at graph 0.157745, graph 0.700468 left font 'Sans,8' front noenhanced
+set label "18" at graph 0.123787, graph 0.70625 left font 'Sans,8' front noenhanced
 $dynamics_dynamic_0 << EOD
-107204 0.0106306
+56738 0.169996
 EOD
 $dynamics_dynamic_1 << EOD
-163880 4.92042
-149365 2.22987
-160515 0.330724
-163000 0.530304
+46097 5.09988
+41839 6.04639
+44275 5.25069
+52469 5.2047
 EOD
 $dynamics_dynamic_2 << EOD
-160496 3.38772
-179783 4.42433
-160515 0.330724
-161127 0.318918
+49252 6.51731
+45205 6.76829
+44275 5.25069
+46036 5.44289
 EOD
 $dynamics_dynamic_front << EOD
-107204 0.0106306
+41839 6.04639
+44275 5.25069
+46097 5.09988
+56738 0.169996
 EOD
 plot $dynamics_dynamic_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $dynamics_dynamic_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick iterations 100/50 (the truth)" noenhanced, \
@@ -564,8 +614,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [54633.7:1.77828e+06]
-set yrange [0.017547:38.9293]
+set xrange [42086.2:5.50457e+06]
+set yrange [0.0224651:39.8828]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: scene/stress" noenhanced
@@ -574,45 +624,57 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 0.0554886 to graph 1, first 0.0554886 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 0.0554886 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.693936, graph 0.799153 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.635591, graph 0.658362 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.544403, graph 0.692949 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.502291, graph 0.63972 left font 'Sans,8' front noenhanced
-set label "0.003" at graph 0.589142, graph 0.81014 left font 'Sans,8' front noenhanced
-set label "0.01" at graph 0.736578, graph 0.815815 left font 'Sans,8' front noenhanced
-set label "0.03" at graph 0.667238, graph 0.844067 left font 'Sans,8' front noenhanced
-set label "2 kHz" at graph 0.522825, graph 0.592873 left font 'Sans,8' front noenhanced
-set label "4 kHz" at graph 0.622755, graph 0.590878 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 0.071041 to graph 1, first 0.071041 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 0.071041 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "8" at graph 0.432795, graph 0.80994 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.334945, graph 0.770544 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.244063, graph 0.712077 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.182533, graph 0.712077 left font 'Sans,8' front noenhanced
+set label "0.003" at graph 0.27063, graph 0.60848 left font 'Sans,8' front noenhanced
+set label "0.01" at graph 0.297202, graph 0.640787 left font 'Sans,8' front noenhanced
+set label "0.03" at graph 0.372552, graph 0.781749 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.27305, graph 0.701156 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.256535, graph 0.679174 left font 'Sans,8' front noenhanced
 $scene_stress_0 << EOD
-430940 0.0554886
+310275 0.071041
 EOD
 $scene_stress_1 << EOD
-660034 8.28375
-480083 2.79982
-349455 3.65479
-301783 2.42524
+327867 9.62117
+203512 7.16504
+130686 4.6264
+113754 4.6264
 EOD
 $scene_stress_2 << EOD
-661838 6.44246
+319211 3.66043
 EOD
 $scene_stress_3 << EOD
-408377 9.01556
-682439 9.41849
-597978 9.77861
+212029 2.13123
+228111 3.14356
+244449 7.79162
 EOD
 $scene_stress_4 << EOD
-324156 1.69044
-459094 1.66466
+214544 4.26342
+197953 3.61686
 EOD
 $scene_stress_5 << EOD
-97154 1.94852
+427937 10.0181
+EOD
+$scene_stress_6 << EOD
+619147 4.97064
+EOD
+$scene_stress_7 << EOD
+3.09545e+06 7.69927
+EOD
+$scene_stress_8 << EOD
+2.7447e+06 8.03709
+EOD
+$scene_stress_9 << EOD
+74841 3.07314
 EOD
 $scene_stress_front << EOD
-97154 1.94852
-324156 1.69044
-430940 0.0554886
+74841 3.07314
+212029 2.13123
+310275 0.071041
 EOD
 plot $scene_stress_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_stress_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
@@ -620,7 +682,65 @@ plot $scene_stress_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title '
   $scene_stress_2 using 1:2 with points pt 9 ps 1.6 lc rgb '#2ca02c' title "hapticd-tick δ off" noenhanced, \
   $scene_stress_3 using 1:2 with linespoints lw 1.5 pt 11 ps 1.6 lc rgb '#9467bd' title "hapticd-tick, tessellation swept" noenhanced, \
   $scene_stress_4 using 1:2 with linespoints lw 1.5 pt 13 ps 1.6 lc rgb '#ff7f0e' title "hapticd-tick, servo rate swept" noenhanced, \
-  $scene_stress_5 using 1:2 with points pt 4 ps 1.6 lc rgb '#8c564b' title "voxel-McNeely, h swept" noenhanced
+  $scene_stress_5 using 1:2 with points pt 4 ps 1.6 lc rgb '#8c564b' title "hapticd-depth-along-motion closed loop" noenhanced, \
+  $scene_stress_6 using 1:2 with points pt 6 ps 1.6 lc rgb '#e377c2' title "FCL-libccd closed loop" noenhanced, \
+  $scene_stress_7 using 1:2 with points pt 8 ps 1.6 lc rgb '#17becf' title "Bullet-btGjkPairDetector closed loop" noenhanced, \
+  $scene_stress_8 using 1:2 with points pt 10 ps 1.6 lc rgb '#7f7f7f' title "Bullet-btGjkEpaSolver2 closed loop" noenhanced, \
+  $scene_stress_9 using 1:2 with points pt 12 ps 1.6 lc rgb '#bcbd22' title "voxel-McNeely, h swept" noenhanced
+reset
+set terminal pngcairo size 1100,660 font 'Sans,10'
+set output "docs/accuracy/shaping_stress.png"
+set lmargin at screen 0.08
+set rmargin at screen 0.63
+set bmargin at screen 0.1
+set tmargin at screen 0.91
+set logscale xy
+set grid xtics ytics mxtics mytics lc rgb '#dddddd'
+set format x '10^{%L}'
+set format y '10^{%L}'
+set xrange [134243:1.77828e+06]
+set yrange [1.13101e-10:10.6714]
+set xlabel 'p99.9 time per tick (ns)'
+set ylabel 'p99 force error (N)'
+set title "What accuracy costs in time: shaping/stress" noenhanced
+set key at screen 0.65, screen 0.91 left top Left reverse font 'Sans,9' spacing 1.2
+set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
+set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
+set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
+set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
+set arrow from graph 0, first 3.57657e-10 to graph 1, first 3.57657e-10 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 3.57657e-10 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "0.1 N/tick" at graph 0.116908, graph 0.945329 left font 'Sans,8' front noenhanced
+set label "0.25 N/tick" at graph 0.260732, graph 0.93339 left font 'Sans,8' front noenhanced
+set label "0.5 N/tick (default)" at graph 0.252653, graph 0.0455591 left font 'Sans,8' front noenhanced
+set label "2 N/tick" at graph 0.143876, graph 0.0652 left font 'Sans,8' front noenhanced
+set label "0° (shading off)" at graph 0.0426294, graph 0.180152 left font 'Sans,8' front noenhanced
+set label "20°" at graph 0.192548, graph 0.0259183 left font 'Sans,8' front noenhanced
+set label "60°" at graph 0.249559, graph 0.082035 left font 'Sans,8' front noenhanced
+set label "85°" at graph 0.173852, graph 0.082035 left font 'Sans,8' front noenhanced
+$shaping_stress_0 << EOD
+239511 3.57657e-10
+EOD
+$shaping_stress_1 << EOD
+241736 2.68053
+255551 1.98239
+250272 3.57657e-10
+245183 3.57657e-10
+EOD
+$shaping_stress_2 << EOD
+238721 1.07297e-08
+250953 3.57657e-10
+248279 3.57657e-10
+240142 3.57657e-10
+EOD
+$shaping_stress_front << EOD
+238721 1.07297e-08
+239511 3.57657e-10
+EOD
+plot $shaping_stress_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
+  $shaping_stress_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick no step limit, shading 40° (the truth)" noenhanced, \
+  $shaping_stress_1 using 1:2 with linespoints lw 1.5 pt 5 ps 1.6 lc rgb '#d62728' title "hapticd-tick, F_max swept" noenhanced, \
+  $shaping_stress_2 using 1:2 with linespoints lw 1.5 pt 9 ps 1.6 lc rgb '#2ca02c' title "hapticd-tick, crease angle swept" noenhanced
 reset
 set terminal pngcairo size 1100,660 font 'Sans,10'
 set output "docs/accuracy/dynamics_stack.png"
@@ -632,8 +752,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [40346.3:1.77828e+06]
-set yrange [0.00100627:1.09577]
+set xrange [20598:1.77828e+06]
+set yrange [0.00093633:0.881178]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: dynamics/stack" noenhanced
@@ -642,35 +762,36 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 0.0031821 to graph 1, first 0.0031821 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 0.0031821 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "1" at graph 0.16362, graph 0.736332 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.196036, graph 0.781241 left font 'Sans,8' front noenhanced
-set label "12 (default)" at graph 0.259369, graph 0.802437 left font 'Sans,8' front noenhanced
-set label "32" at graph 0.257262, graph 0.65101 left font 'Sans,8' front noenhanced
-set label "0" at graph 0.210312, graph 0.802437 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.243104, graph 0.825819 left font 'Sans,8' front noenhanced
-set label "6 (default)" at graph 0.259369, graph 0.838913 left font 'Sans,8' front noenhanced
-set label "18" at graph 0.232152, graph 0.779055 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 0.00296094 to graph 1, first 0.00296094 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 0.00296094 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "1" at graph 0.148818, graph 0.821609 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.107633, graph 0.79728 left font 'Sans,8' front noenhanced
+set label "12 (default)" at graph 0.201568, graph 0.797137 left font 'Sans,8' front noenhanced
+set label "32" at graph 0.240972, graph 0.664884 left font 'Sans,8' front noenhanced
+set label "0" at graph 0.167394, graph 0.820519 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.171497, graph 0.773755 left font 'Sans,8' front noenhanced
+set label "6 (default)" at graph 0.201568, graph 0.833612 left font 'Sans,8' front noenhanced
+set label "18" at graph 0.131869, graph 0.777496 left font 'Sans,8' front noenhanced
 $dynamics_stack_0 << EOD
-161566 0.0031821
+116279 0.00296094
 EOD
 $dynamics_stack_1 << EOD
-71747 0.173364
-81115 0.237328
-103094 0.275246
-102275 0.0954629
+40885 0.221342
+36629 0.219912
+48050 0.219696
+57278 0.0888281
 EOD
 $dynamics_stack_2 << EOD
-97035 0.275246
-103197 0.275246
-103094 0.275246
-100882 0.275246
+44415 0.219696
+45235 0.219696
+48050 0.219696
+42340 0.219696
 EOD
 $dynamics_stack_front << EOD
-71747 0.173364
-102275 0.0954629
-161566 0.0031821
+36629 0.219912
+42340 0.219696
+57278 0.0888281
+116279 0.00296094
 EOD
 plot $dynamics_stack_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $dynamics_stack_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick iterations 100/50 (the truth)" noenhanced, \
@@ -687,8 +808,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [1774.75:1.77828e+06]
-set yrange [0.00169535:8.08252]
+set xrange [1796.68:1.77828e+06]
+set yrange [0.00169535:8.08253]
 set xlabel 'median time per query (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: decomposition/crescent" noenhanced
@@ -699,29 +820,73 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.00536117 to graph 1, first 0.00536117 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.00536117 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "0.08" at graph 0.0948796, graph 0.836881 left font 'Sans,8' front noenhanced
-set label "0.04" at graph 0.135444, graph 0.816554 left font 'Sans,8' front noenhanced
-set label "0.02" at graph 0.148045, graph 0.689265 left font 'Sans,8' front noenhanced
-set label "0.01 (default)" at graph 0.196994, graph 0.65387 left font 'Sans,8' front noenhanced
-set label "0.005" at graph 0.201036, graph 0.537511 left font 'Sans,8' front noenhanced
+set label "0.08" at graph 0.095028, graph 0.836881 left font 'Sans,8' front noenhanced
+set label "0.04" at graph 0.0997459, graph 0.793172 left font 'Sans,8' front noenhanced
+set label "0.02" at graph 0.143356, graph 0.689265 left font 'Sans,8' front noenhanced
+set label "0.01 (default)" at graph 0.19305, graph 0.65387 left font 'Sans,8' front noenhanced
+set label "0.005" at graph 0.204388, graph 0.537511 left font 'Sans,8' front noenhanced
 $decomposition_crescent_0 << EOD
-6781 0.00536117
+6682 0.00536117
 EOD
 $decomposition_crescent_1 << EOD
-3156 2.03024
-4177 1.70915
-4557 0.581535
-6391 0.430905
-6572 0.160835
+3195 2.03024
+4099 1.70915
+4459 0.581535
+6282 0.430905
+6793 0.160835
 EOD
 $decomposition_crescent_front << EOD
-3156 2.03024
-4177 1.70915
-4557 0.581535
-6391 0.430905
-6572 0.160835
-6781 0.00536117
+3195 2.03024
+4099 1.70915
+4459 0.581535
+6282 0.430905
+6682 0.00536117
 EOD
 plot $decomposition_crescent_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $decomposition_crescent_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "exact mesh brute force (the truth)" noenhanced, \
   $decomposition_crescent_1 using 1:2 with linespoints lw 1.5 pt 5 ps 1.6 lc rgb '#d62728' title "decomposition, concavity swept" noenhanced
+reset
+set terminal pngcairo size 1100,660 font 'Sans,10'
+set output "docs/accuracy/decomposition_crescent-tick.png"
+set lmargin at screen 0.08
+set rmargin at screen 0.63
+set bmargin at screen 0.1
+set tmargin at screen 0.91
+set logscale xy
+set grid xtics ytics mxtics mytics lc rgb '#dddddd'
+set format x '10^{%L}'
+set format y '10^{%L}'
+set xrange [12908:1.77828e+06]
+set yrange [0.000898423:7.87695]
+set xlabel 'p99.9 time per tick (ns)'
+set ylabel 'p99 force error (N)'
+set title "What accuracy costs in time: decomposition/crescent-tick" noenhanced
+set key at screen 0.65, screen 0.91 left top Left reverse font 'Sans,9' spacing 1.2
+set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
+set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
+set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
+set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
+set arrow from graph 0, first 0.00284106 to graph 1, first 0.00284106 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 0.00284106 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "0.08" at graph 0.158056, graph 0.847827 left font 'Sans,8' front noenhanced
+set label "0.04" at graph 0.138465, graph 0.821512 left font 'Sans,8' front noenhanced
+set label "0.02" at graph 0.158216, graph 0.705893 left font 'Sans,8' front noenhanced
+set label "0.01 (default)" at graph 0.140984, graph 0.671165 left font 'Sans,8' front noenhanced
+set label "0.005" at graph 0.12844, graph 0.501441 left font 'Sans,8' front noenhanced
+$decomposition_crescent_tick_0 << EOD
+53291 0.00284106
+EOD
+$decomposition_crescent_tick_1 << EOD
+26559 1.9786
+24116 1.55812
+26580 0.54542
+24417 0.397924
+22954 0.0852319
+EOD
+$decomposition_crescent_tick_front << EOD
+22954 0.0852319
+53291 0.00284106
+EOD
+plot $decomposition_crescent_tick_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
+  $decomposition_crescent_tick_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "exact mesh pairs answered from it (the truth)" noenhanced, \
+  $decomposition_crescent_tick_1 using 1:2 with linespoints lw 1.5 pt 5 ps 1.6 lc rgb '#d62728' title "hapticd-tick, concavity swept" noenhanced

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -172,6 +173,72 @@ TEST(CollisionWorld, ContactsEqualDirectPairQueries) {
   std::printf("[figures] world: %zu contacts checked over 400 steps, up to %zu close pairs\n",
               checked, max_pairs);
   EXPECT_GT(max_pairs, 3u);
+}
+
+// WorldOptions::query_method: another method answers every pair query (a study's method inside
+// the closed loop), seeing the pair's pose at its previous test (null at its first); its answers
+// are the contacts' and no depth is tracked.
+TEST(CollisionWorld, AQueryMethodAnswersEveryPairAndSeesThePairsLastPose) {
+  // the tick's own answer, its distance marked with what the method was given: 0 at a pair's
+  // first test, 1 + how far B moved in A's frame since its last
+  struct Marking final : PairQueryMethod {
+    std::size_t calls = 0;
+    void query(const Polytope& a,
+               const Polytope& b,
+               const Transform& X_AB,
+               const Transform* X_AB_last,
+               PairCache& cache,
+               PairResult& out) override {
+      ++calls;
+      out = queryPair(a, b, X_AB, cache);
+      if (X_AB_last != nullptr)
+        out.distance += 1.0 + glm::length(X_AB.t - X_AB_last->t);
+    }
+  } marking;
+  WorldOptions o;
+  o.box_margin = 0.002;
+  o.query_method = &marking;
+  Scene s(o);
+  using Key = std::array<std::uint32_t, 4>;
+  std::map<Key, Transform> last;  // each listed pair's pose at its last test
+  std::size_t marked = 0, first = 0, tested = 0;
+  for (int k = 0; k < 300; ++k) {
+    const double t = k * 0.01;
+    s.move(Pose{Vec3{0.06 + 0.05 * std::sin(t), 0.012 + 0.01 * std::cos(1.3 * t),
+                     0.06 + 0.05 * std::cos(t)},
+                glm::angleAxis(0.5 * t, glm::normalize(Vec3{1, 2, 3}))});
+    const std::size_t calls = marking.calls;
+    const StepStats st = s.world.step();
+    ASSERT_EQ(marking.calls - calls, st.pairs_tested) << "step " << k;
+    EXPECT_EQ(st.depth_certified + st.depth_fallbacks, 0u);
+    tested += st.pairs_tested;
+    std::map<Key, Transform> now;
+    for (const Contact& c : s.world.contacts()) {
+      ASSERT_EQ(c.age, 0u);
+      const Key key{c.body_a, c.body_b, c.prim_a, c.prim_b};
+      const Transform A = primitiveWorld(s, c.body_a, c.prim_a);
+      const Transform B = primitiveWorld(s, c.body_b, c.prim_b);
+      const Transform X_AB = A.inverse() * B;
+      PairCache cold;
+      double want = queryPair(*s.descs[c.body_a].primitives[c.prim_a].shape,
+                              *s.descs[c.body_b].primitives[c.prim_b].shape, X_AB, cold)
+                        .distance;
+      const auto it = last.find(key);
+      if (it != last.end()) {
+        want += 1.0 + glm::length(X_AB.t - it->second.t);
+        ++marked;
+      } else {
+        ++first;
+      }
+      ASSERT_NEAR(c.distance, want, 1e-9) << "step " << k;
+      now[key] = X_AB;
+    }
+    last = std::move(now);
+  }
+  std::printf("[figures] query method: %zu tests, %zu first, %zu with the last pose\n", tested,
+              first, marked);
+  EXPECT_GT(first, 3u);
+  EXPECT_GT(marked, 100u);
 }
 
 // WorldOptions::far_distance: a pair is left untested and unlisted only when it is certainly
