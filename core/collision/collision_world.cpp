@@ -125,6 +125,7 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
   b.desc = desc;
   b.X_WB = X_WB;
   b.T_WB = X_WB.toTransform();
+  b.X_stepped = X_WB;
   b.live = true;
   b.radius = 0.0;
   for (const PrimitiveDesc& pd : desc.primitives) {
@@ -841,11 +842,22 @@ double CollisionWorld::farLimit(const PairState& s) const {
                                            : options_.far_distance);
 }
 
-bool CollisionWorld::far(const PairState& s) const {
+bool CollisionWorld::far(PairState& s, bool* kept) const {
   if (options_.far_distance <= 0.0 || !(s.sep_d > 0.0))
     return false;
   const Body& a = bodies_[prims_[s.prim_a].body];
   const Body& b = bodies_[prims_[s.prim_b].body];
+  // found far by a margin M when the two bodies' travels summed to T: no point of either has
+  // moved more than their growth since, so the bound below has lost at most that much (each
+  // body's translation along the normal at most its translation's length, each chord term at
+  // most the chord of its turn since, by the triangle inequality of chords): while it is under
+  // M / 2 the pair is far, as the bound would find it
+  const double travel = a.travel + b.travel;
+  if (travel < s.far_travel) {
+    if (kept != nullptr)
+      *kept = true;
+    return true;
+  }
   // the plane separated the two by sep_d; since, a point of a body has moved by its origin's
   // translation plus at most its turn's chord times the body's radius, so the two are at least
   // sep_d less what moved toward each other along sep_n apart. The pad covers the rounding of
@@ -861,7 +873,11 @@ bool CollisionWorld::far(const PairState& s) const {
   const double nearest = s.sep_d + glm::dot(s.sep_n, moved) -
                          turned(a.X_WB.rotation, s.X_WA_test.rotation, a.radius) -
                          turned(b.X_WB.rotation, s.X_WB_test.rotation, b.radius) - pad;
-  return nearest > farLimit(s);
+  const double margin = nearest - farLimit(s);
+  s.far_travel = options_.far_by_travel && 0.5 * margin > pad
+                     ? travel + 0.5 * margin
+                     : -std::numeric_limits<double>::infinity();
+  return margin > 0.0;
 }
 
 bool CollisionWorld::farByBoxes(PairState& s) {
@@ -884,6 +900,7 @@ bool CollisionWorld::farByBoxes(PairState& s) {
     return false;
   s.sep_n = n;
   s.sep_d = best + 2.0 * options_.box_margin;
+  s.far_travel = -std::numeric_limits<double>::infinity();  // a new plane
   s.X_WA_test = bodies_[prims_[s.prim_a].body].X_WB;
   s.X_WB_test = bodies_[prims_[s.prim_b].body].X_WB;
   if (far(s))
@@ -965,6 +982,7 @@ void CollisionWorld::test(std::uint32_t si) {
   const Vec3 ab = s.last.point_b - s.last.point_a;
   const double d = glm::length(ab);
   s.sep_d = r.status == ContactStatus::kSeparated && d > 0.0 ? d : 0.0;
+  s.far_travel = -std::numeric_limits<double>::infinity();  // a new plane
   s.sep_n = s.sep_d > 0.0 ? ab / d : Vec3{0.0};
   s.X_WA_test = bodies_[pa.body].X_WB;
   s.X_WB_test = bodies_[pb.body].X_WB;
@@ -981,6 +999,12 @@ StepStats CollisionWorld::step() {
       continue;
     b.moved = false;
     b.moved_tick = tick_;
+    // the bound of how far its points have moved grows by this step's motion (far())
+    b.travel += glm::length(b.X_WB.translation - b.X_stepped.translation) +
+                (b.X_WB.rotation == b.X_stepped.rotation
+                     ? 0.0
+                     : chord(b.X_WB.rotation, b.X_stepped.rotation) * b.radius);
+    b.X_stepped = b.X_WB;
     if (!b.tree.empty()) {
       refit(bi);
       sap_.update(b.box, b.tree_W[0].box);  // one box; its pieces' only where the descent asks
@@ -1014,8 +1038,10 @@ void CollisionWorld::schedule(StepStats* stats) {
       ++visited;
       if (resting(s))
         continue;
-      if (far(s) || (!s.last.answered && farByBoxes(s))) {
+      bool kept = false;
+      if (far(s, &kept) || (!s.last.answered && farByBoxes(s))) {
         ++stats->pairs_far;
+        stats->pairs_far_kept += kept ? 1u : 0u;
         continue;
       }
       contact_order_.push_back(si);

@@ -13,6 +13,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <span>
 #include <vector>
@@ -92,6 +93,12 @@ struct WorldOptions {
   /// what reserve() set aside; the same piece pairs either way (StepStats::node_pairs_visited
   /// counts the difference). false: every descent from the roots.
   bool descent_fronts = true;
+  /// A pair found farther than far_distance by a margin M stays far, its separating plane not
+  /// evaluated again, while its two bodies have moved less than M / 2 in all since (each body
+  /// keeps the sum over steps of its origin's translation plus its turn's chord times its
+  /// radius); the same pairs are far either way (the plane's bound loses at most what they
+  /// moved). false: the plane evaluated every step.
+  bool far_by_travel = true;
   /// The coherent exact depth (penetrationDepthCoherent, docs/narrow-phase.md "Coherent exact
   /// depth" and "In the collision world"): at most this many pairs track their penetration depth
   /// at once, each with a DepthTracker from a pool the world reserves as bodies are added (off
@@ -177,6 +184,10 @@ struct StepStats {
   /// Overlapping pairs neither tested nor listed this step: certainly farther apart than
   /// WorldOptions::far_distance (not pairs_skipped: nothing is missed).
   std::uint32_t pairs_far = 0;
+  /// Of those, the pairs known far without evaluating their separating plane again: their
+  /// bodies have moved less than half the margin they were found far by (WorldOptions::
+  /// far_by_travel).
+  std::uint32_t pairs_far_kept = 0;
   /// Node pairs of two piece trees the descents looked at this step (WorldOptions::
   /// descent_fronts).
   std::uint32_t node_pairs_visited = 0;
@@ -313,6 +324,11 @@ class CollisionWorld {
     std::uint64_t refit_at = 0;  // tick + 1 of the last refit (0: never)
     std::uint32_t box = 0;       // the body's broad-phase handle (a tree body)
     double radius = 0.0;         // the farthest of its vertices from its origin (far())
+    // how far any point of it can have moved since it was added: the sum over steps of its
+    // origin's translation plus its turn's chord times its radius (a bound that only grows;
+    // far() compares its growth with a pair's margin); its pose at the last step
+    double travel = 0.0;
+    geom::Pose X_stepped;
   };
   struct Prim {
     std::uint32_t body = 0, index = 0;    // body and index within it
@@ -347,6 +363,9 @@ class CollisionWorld {
     // not yet tested); sep_d <= 0: none
     Vec3 sep_n{0.0};
     double sep_d = 0.0;
+    // far() found the pair far by a margin M while its bodies' travels summed to T: it stays far
+    // while they sum to less than T + M / 2 (-inf: not known far)
+    double far_travel = -std::numeric_limits<double>::infinity();
     geom::Pose X_WA_test, X_WB_test;
     PairCache cache;
     Contact last;
@@ -400,7 +419,7 @@ class CollisionWorld {
            bodies_[prims_[s.prim_b].body].moved_tick <= s.last_tested;
   }
   // a pair certainly farther apart than WorldOptions::far_distance
-  bool far(const PairState& s) const;
+  bool far(PairState& s, bool* kept = nullptr) const;
   double farLimit(const PairState& s) const;
   // a pair not yet tested whose pieces' boxes are farther apart than far_distance on one axis:
   // that axis as its separating plane (far() then holds)
