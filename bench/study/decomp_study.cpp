@@ -226,6 +226,35 @@ std::vector<Vec3> probePath(int per_wall) {
   return out;
 }
 
+// The crescent's pieces at concavity c, and the concavity reached (false, said on stderr: it
+// failed).
+bool decomposeAt(const decomp::TriangleMesh& mesh,
+                 double c,
+                 const std::string& part,
+                 std::vector<Piece>& pieces,
+                 double& reached) {
+  decomp::DecompOptions o;
+  o.concavity = c;
+  auto result = decomp::decompose(mesh, o);
+  if (!result.ok()) {
+    std::fprintf(stderr, "study: %s: concavity %g: %s\n", part.c_str(), c,
+                 result.error().message.c_str());
+    return false;
+  }
+  reached = result.value().report.concavity;
+  pieces.clear();
+  for (auto& p : result.value().pieces)
+    pieces.push_back(makePiece(std::move(p)));
+  return true;
+}
+
+// The setting text of concavity c.
+std::string concavitySetting(double c) {
+  char setting[96];
+  std::snprintf(setting, sizeof setting, "concavity=%g%s", c, c == 0.01 ? " (default)" : "");
+  return setting;
+}
+
 // --- the same in the closed loop: the tick on the crescent decomposed at each concavity ---------
 
 // The crescent as a scene: one static body of the pieces (each its hull, in the body's frame,
@@ -318,19 +347,9 @@ class MeshTruth final : public LoopQuery {
           best = d, owner_ = i;
       }
     }
-    out.fa = collision::Feature{};
-    out.fb = collision::Feature{};
-    out.manifold.count = 0;
-    out.manifold.truncated = false;
-    out.iterations = 0;
-    if (piece != owner_ || !(answer_.d < std::numeric_limits<double>::infinity())) {
-      out.status = collision::ContactStatus::kSeparated;
-      out.distance = std::numeric_limits<double>::max();
-      out.normal = Vec3{1.0, 0.0, 0.0};
-      out.point_a = out.point_b = Vec3{0.0};
-      cache.penetrating = false;
+    farApart(out, cache);
+    if (piece != owner_ || !(answer_.d < std::numeric_limits<double>::infinity()))
       return;
-    }
     // the probe's vertex farthest toward the mesh, in the mesh's frame
     const Vec3 toward = glm::transpose(X_MP.R) * -answer_.n;
     double h = -std::numeric_limits<double>::infinity();
@@ -379,22 +398,13 @@ void runDecompositionLoop(const Options& options, std::vector<Row>& rows) {
   std::vector<std::vector<Piece>> decompositions;
   std::vector<PlannedRun> runs(1);
   for (const double c : concavities) {
-    decomp::DecompOptions o;
-    o.concavity = c;
-    auto result = decomp::decompose(mesh, o);
-    if (!result.ok()) {
-      std::fprintf(stderr, "study: %s: concavity %g: %s\n", part.c_str(), c,
-                   result.error().message.c_str());
-      return;
-    }
     std::vector<Piece> pieces;
-    for (auto& p : result.value().pieces)
-      pieces.push_back(makePiece(std::move(p)));
-    char setting[96];
-    std::snprintf(setting, sizeof setting, "concavity=%g%s", c, c == 0.01 ? " (default)" : "");
+    double reached = 0.0;
+    if (!decomposeAt(mesh, c, part, pieces, reached))
+      return;
     PlannedRun run;
-    run.setting = setting;
-    run.model = crescentScene(pieces, std::string("crescent ") + setting);
+    run.setting = concavitySetting(c);
+    run.model = crescentScene(pieces, "crescent " + run.setting);
     runs.push_back(std::move(run));
     decompositions.push_back(std::move(pieces));
   }
@@ -446,20 +456,11 @@ void runDecomposition(const Options& options, std::vector<Row>& rows) {
                                               ? std::vector<double>{0.04, 0.01}
                                               : std::vector<double>{0.08, 0.04, 0.02, 0.01, 0.005};
   for (const double c : concavities) {
-    decomp::DecompOptions o;
-    o.concavity = c;
-    auto result = decomp::decompose(mesh, o);
-    if (!result.ok()) {
-      std::fprintf(stderr, "study: %s: concavity %g: %s\n", part.c_str(), c,
-                   result.error().message.c_str());
-      continue;
-    }
     std::vector<Piece> pieces;
-    for (auto& p : result.value().pieces)
-      pieces.push_back(makePiece(std::move(p)));
-    char setting[96];
-    std::snprintf(setting, sizeof setting, "concavity=%g%s", c, c == 0.01 ? " (default)" : "");
-    Row row{part, "decomposition", setting, {}, {}, {}, 0, 0, 0, 0, {}, {}};
+    double reached = 0.0;
+    if (!decomposeAt(mesh, c, part, pieces, reached))
+      continue;
+    Row row{part, "decomposition", concavitySetting(c), {}, {}, {}, 0, 0, 0, 0, {}, {}};
     std::size_t narrow_contacts = 0;  // the timed queries' answers, used (and printed)
     for (std::size_t k = 0; k < path.size(); ++k) {
       const Vec3& p = path[k];
@@ -490,8 +491,7 @@ void runDecomposition(const Options& options, std::vector<Row>& rows) {
     std::fprintf(stderr,
                  "study: %s concavity %g: %zu pieces (reached %.3g of the diagonal); the narrow "
                  "phase within delta at %zu of %zu configurations\n",
-                 part.c_str(), c, pieces.size(), result.value().report.concavity, narrow_contacts,
-                 path.size());
+                 part.c_str(), c, pieces.size(), reached, narrow_contacts, path.size());
     rows.push_back(std::move(row));
   }
 }

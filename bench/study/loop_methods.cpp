@@ -86,18 +86,9 @@ class PeerLoop final : public LoopQuery {
       }
       p.ok = false;
     }
-    out.fa = collision::Feature{};
-    out.fb = collision::Feature{};
-    out.manifold.count = 0;
-    out.manifold.truncated = false;
-    out.iterations = 0;
+    farApart(out, cache);
     if (!p.ok) {
       ++unanswered;
-      out.status = collision::ContactStatus::kSeparated;
-      out.distance = std::numeric_limits<double>::max();
-      out.normal = Vec3{1.0, 0.0, 0.0};
-      out.point_a = out.point_b = Vec3{0.0};
-      cache.penetrating = false;
       return;
     }
     out.status = p.distance > 0.0 ? collision::ContactStatus::kSeparated

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <optional>
 #include <string>
@@ -58,6 +59,20 @@ inline constexpr const char* kTruthSetting = "exact, budget unlimited, δ on (th
 class LoopQuery : public collision::PairQueryMethod {
  public:
   std::uint64_t unanswered = 0;
+
+ protected:
+  /// `out` as far apart, with no plane (no force; the pair is asked again next step).
+  static void farApart(collision::PairResult& out, collision::PairCache& cache) {
+    out.status = collision::ContactStatus::kSeparated;
+    out.distance = std::numeric_limits<double>::max();
+    out.normal = geom::Vec3{1.0, 0.0, 0.0};
+    out.point_a = out.point_b = geom::Vec3{0.0};
+    out.fa = out.fb = collision::Feature{};
+    out.manifold.count = 0;
+    out.manifold.truncated = false;
+    out.iterations = 0;
+    cache.penetrating = false;
+  }
 };
 
 /// A closed-loop method: its name (the method family of its row) and a new instance per run.
