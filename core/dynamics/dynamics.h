@@ -371,6 +371,7 @@ class Dynamics {
                          const double* old,
                          double* lnew);
   bool correctBlock(const NormalBlock& blk, double beta, double inv_dt);
+  static bool levels(const ContactPoint& cp);
   void applyRestitution();
   void correctPositions(double dt);
   bool measureJointErrors();

@@ -594,7 +594,9 @@ void Dynamics::correctPositions(double dt) {
   bool any = false;
   for (ContactPoint& cp : points_) {
     cp.lp = 0.0;
-    any = any || cp.gap < -options_.slop_fraction * cp.size;
+    // a point beyond the slop, or one that a frictionless flat contact may have to level
+    // (correctBlock)
+    any = any || cp.gap < -options_.slop_fraction * cp.size || levels(cp);
   }
   const bool joints = measureJointErrors();
   const bool general = measureGeneralErrors();
@@ -736,18 +738,44 @@ void Dynamics::correctJoint(JointState& js, double beta, double inv_dt) {
   }
 }
 
+// a point of a resting frictionless contact that penetrates: its flat contact is levelled by the
+// split impulses (correctBlock)
+bool Dynamics::levels(const ContactPoint& cp) {
+  return cp.active && !cp.speculative && cp.resting && cp.mu_s == 0.0 && cp.mu_d == 0.0 &&
+         cp.gap < 0.0;
+}
+
 // a flat contact's split impulses together: each point's penetration beyond the slop removed at
 // beta per tick (a point within the slop: held where it is); false when a point would have to
-// pull (then they are corrected one by one)
+// pull (then they are corrected one by one).
+// A resting frictionless flat contact is also levelled: every point deeper than the shallowest
+// is pushed out to its depth within the tick, so that no tilt of the body on its support is
+// left for the next tick. Without friction a tilt of the support's face pushes the body on it
+// sideways; the velocity solve, warm-started and stopped after a few iterations, lags behind
+// the load's pressure centre when the bodies above slide (its share of the load follows them
+// late), so it leaves each tick a turn towards the way they slide, and corrected at beta per
+// tick that turn stood as a tilt proportional to the sliding speed: a force along the sliding,
+// which grew a shear of a frictionless tower from rounding (e-folding 1.6 s for ten 2 cm boxes).
 bool Dynamics::correctBlock(const NormalBlock& blk, double beta, double inv_dt) {
   std::array<double, 4> old{}, lnew{}, err{};
   bool any = false;
+  bool level = true;
+  double shallowest = kInf;
+  for (std::size_t k = 0; k < blk.count; ++k) {
+    const ContactPoint& cp = points_[blk.idx[k]];
+    level = level && levels(cp);
+    shallowest = std::min(shallowest, -cp.gap);
+  }
   for (std::size_t k = 0; k < blk.count; ++k) {
     const ContactPoint& cp = points_[blk.idx[k]];
     const double excess = -cp.gap - options_.slop_fraction * cp.size;
-    any = any || excess > 0.0 || cp.lp != 0.0;
+    // the pseudo-velocity along n that the point is to reach
+    double target = beta * inv_dt * std::max(excess, 0.0);
+    if (level)
+      target = std::max(target, (-cp.gap - shallowest) * inv_dt);
+    any = any || target > 0.0 || cp.lp != 0.0;
     const double vn = glm::dot(bodies_[cp.b].pseudoAt(cp.rb) - bodies_[cp.a].pseudoAt(cp.ra), cp.n);
-    err[k] = beta * inv_dt * std::max(excess, 0.0) - vn;
+    err[k] = target - vn;
     old[k] = cp.lp;
   }
   if (!any)
