@@ -10,8 +10,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [84.3512:1.77828e+06]
-set yrange [5.29327e-17:60.3467]
+set xrange [56.2341:1.77828e+06]
+set yrange [5.29327e-17:60.3468]
 set xlabel 'median time per query (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: pairs/8" noenhanced
@@ -22,44 +22,44 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 1.67388e-16 to graph 1, first 1.67388e-16 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 1.67388e-16 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "2mm" at graph 0.262848, graph 0.912978 left font 'Sans,8' front noenhanced
-set label "1mm" at graph 0.441741, graph 0.912643 left font 'Sans,8' front noenhanced
-set label "0.5mm" at graph 0.575536, graph 0.913303 left font 'Sans,8' front noenhanced
-set label "0.25mm" at graph 0.711695, graph 0.915836 left font 'Sans,8' front noenhanced
+set label "2mm" at graph 0.26118, graph 0.912978 left font 'Sans,8' front noenhanced
+set label "1mm" at graph 0.439521, graph 0.912643 left font 'Sans,8' front noenhanced
+set label "0.5mm" at graph 0.567024, graph 0.913303 left font 'Sans,8' front noenhanced
+set label "0.25mm" at graph 0.698652, graph 0.915836 left font 'Sans,8' front noenhanced
 $pairs_8_0 << EOD
-1412 1.67388e-16
+932 1.67388e-16
 EOD
 $pairs_8_1 << EOD
-1662 1.67388e-16
+1122 1.67388e-16
 EOD
 $pairs_8_2 << EOD
-150 15.1584
+100 15.1584
 EOD
 $pairs_8_3 << EOD
-1633 0.037277
+1051 0.037277
 EOD
 $pairs_8_4 << EOD
-561 0.976496
+470 0.976496
 EOD
 $pairs_8_5 << EOD
-2063 0.976496
+1603 0.976496
 EOD
 $pairs_8_6 << EOD
-2744 5.02164e-15
+2064 5.02164e-15
 EOD
 $pairs_8_7 << EOD
-1993 5.49364e-15
+1554 5.49364e-15
 EOD
 $pairs_8_8 << EOD
-1743 1.61924
-6111 1.5968
-23154 1.64122
-89819 1.8235
+1292 1.61924
+4740 1.5968
+17764 1.64122
+69481 1.8235
 EOD
 $pairs_8_front << EOD
-150 15.1584
-561 0.976496
-1412 1.67388e-16
+100 15.1584
+470 0.976496
+932 1.67388e-16
 EOD
 plot $pairs_8_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $pairs_8_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-exact-warm" noenhanced, \
@@ -82,8 +82,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [101.221:1.77828e+06]
-set yrange [6.29794e-17:75.9911]
+set xrange [106.845:1.77828e+06]
+set yrange [6.29794e-17:75.9909]
 set xlabel 'median time per query (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: pairs/32" noenhanced
@@ -92,45 +92,45 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set label "2mm" at graph 0.367323, graph 0.903153 left font 'Sans,8' front noenhanced
-set label "1mm" at graph 0.50346, graph 0.906912 left font 'Sans,8' front noenhanced
-set label "0.5mm" at graph 0.639659, graph 0.90828 left font 'Sans,8' front noenhanced
-set label "0.25mm" at graph 0.698196, graph 0.90844 left font 'Sans,8' front noenhanced
+set label "2mm" at graph 0.364396, graph 0.903153 left font 'Sans,8' front noenhanced
+set label "1mm" at graph 0.501543, graph 0.906912 left font 'Sans,8' front noenhanced
+set label "0.5mm" at graph 0.63862, graph 0.90828 left font 'Sans,8' front noenhanced
+set label "0.25mm" at graph 0.697864, graph 0.90844 left font 'Sans,8' front noenhanced
 $pairs_32_0 << EOD
-1633 5.97475e-15
+1653 5.97475e-15
 EOD
 $pairs_32_1 << EOD
-1453 5.97475e-15
+1473 5.97475e-15
 EOD
 $pairs_32_2 << EOD
-180 19.0881
+190 19.0881
 EOD
 $pairs_32_3 << EOD
-1923 0.0373738
+1893 0.0373738
 EOD
 $pairs_32_4 << EOD
-952 0.355001
+961 0.355001
 EOD
 $pairs_32_5 << EOD
-2655 0.324079
+2665 0.324079
 EOD
 $pairs_32_6 << EOD
-3497 8.90573e-15
+3557 8.90573e-15
 EOD
 $pairs_32_7 << EOD
-2624 9.62266e-15
+2665 9.62266e-15
 EOD
 $pairs_32_8 << EOD
-3276 1.34775
-12394 1.57608
-46918 1.66848
-186473 1.67964
+3297 1.34775
+12504 1.57608
+47390 1.66848
+188205 1.67964
 EOD
 $pairs_32_front << EOD
-180 19.0881
-952 0.355001
-1453 5.97475e-15
-1633 5.97475e-15
+190 19.0881
+961 0.355001
+1473 5.97475e-15
+1653 5.97475e-15
 EOD
 plot $pairs_32_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $pairs_32_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-exact-warm" noenhanced, \
@@ -153,8 +153,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [219.875:1.77828e+06]
-set yrange [6.37184e-17:77.7993]
+set xrange [225.499:1.77828e+06]
+set yrange [6.37184e-17:77.7992]
 set xlabel 'median time per query (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: pairs/128" noenhanced
@@ -163,43 +163,43 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set label "2mm" at graph 0.340158, graph 0.895944 left font 'Sans,8' front noenhanced
-set label "1mm" at graph 0.482693, graph 0.899083 left font 'Sans,8' front noenhanced
-set label "0.5mm" at graph 0.632172, graph 0.902287 left font 'Sans,8' front noenhanced
-set label "0.25mm" at graph 0.699253, graph 0.903916 left font 'Sans,8' front noenhanced
+set label "2mm" at graph 0.339812, graph 0.895944 left font 'Sans,8' front noenhanced
+set label "1mm" at graph 0.481416, graph 0.899083 left font 'Sans,8' front noenhanced
+set label "0.5mm" at graph 0.628733, graph 0.902287 left font 'Sans,8' front noenhanced
+set label "0.25mm" at graph 0.69792, graph 0.903916 left font 'Sans,8' front noenhanced
 $pairs_128_0 << EOD
-2725 6.14985e-15
+2755 6.14985e-15
 EOD
 $pairs_128_1 << EOD
-2425 6.04486e-15
+2455 6.04486e-15
 EOD
 $pairs_128_2 << EOD
-391 19.5423
+401 19.5423
 EOD
 $pairs_128_3 << EOD
-5910 0.0339337
+5160 0.0339337
 EOD
 $pairs_128_4 << EOD
-3877 0.540271
+3336 0.540271
 EOD
 $pairs_128_5 << EOD
-3126 0.570367
+3166 0.570367
 EOD
 $pairs_128_6 << EOD
-8696 0.00433206
+8937 0.00433206
 EOD
 $pairs_128_7 << EOD
-6382 1.38057e-14
+6472 1.38057e-14
 EOD
 $pairs_128_8 << EOD
-4229 1.02081
-15249 1.16336
-58530 1.32942
-225155 1.42276
+4288 1.02081
+15278 1.16336
+57298 1.32942
+223772 1.42276
 EOD
 $pairs_128_front << EOD
-391 19.5423
-2425 6.04486e-15
+401 19.5423
+2455 6.04486e-15
 EOD
 plot $pairs_128_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $pairs_128_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-exact-warm" noenhanced, \
@@ -222,8 +222,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [14474.1:1.77828e+06]
-set yrange [5.13112e-05:46.5642]
+set xrange [11561.2:1.77828e+06]
+set yrange [5.13112e-05:46.5641]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: scene/peg_in_hole" noenhanced
@@ -234,51 +234,52 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.00016226 to graph 1, first 0.00016226 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.00016226 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.170108, graph 0.107305 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.130945, graph 0.083923 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.150697, graph 0.107305 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.15341, graph 0.0605411 left font 'Sans,8' front noenhanced
-set label "2 kHz" at graph 0.177378, graph 0.331852 left font 'Sans,8' front noenhanced
-set label "4 kHz" at graph 0.181489, graph 0.393407 left font 'Sans,8' front noenhanced
-set label "3.32mm" at graph 0.131221, graph 0.872067 left font 'Sans,8' front noenhanced
-set label "1.66mm" at graph 0.170777, graph 0.912578 left font 'Sans,8' front noenhanced
-set label "0.829mm" at graph 0.328279, graph 0.882559 left font 'Sans,8' front noenhanced
+set label "8" at graph 0.155122, graph 0.107305 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.1542, graph 0.0605411 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.121927, graph 0.083923 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.177473, graph 0.103564 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.165093, graph 0.331852 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.167222, graph 0.393407 left font 'Sans,8' front noenhanced
+set label "3.32mm" at graph 0.125882, graph 0.872067 left font 'Sans,8' front noenhanced
+set label "1.66mm" at graph 0.165588, graph 0.912579 left font 'Sans,8' front noenhanced
+set label "0.829mm" at graph 0.373517, graph 0.882559 left font 'Sans,8' front noenhanced
 $scene_peg_in_hole_0 << EOD
-30889 0.00016226
+26891 0.00016226
 EOD
 $scene_peg_in_hole_1 << EOD
-33603 0.00016226
-30136 0.00016226
-30607 0.00016226
-31009 0.00016226
+25888 0.00016226
+25768 0.00016226
+23804 0.00016226
+26881 0.00016226
 EOD
 $scene_peg_in_hole_2 << EOD
-34003 0.026241
+25038 0.026241
 EOD
 $scene_peg_in_hole_3 << EOD
-32139 0.00486781
-32781 0.0113258
+25047 0.00486781
+25317 0.0113258
 EOD
 $scene_peg_in_hole_4 << EOD
-50837 11.6964
+43151 11.6964
 EOD
 $scene_peg_in_hole_5 << EOD
-39895 0.00016226
+33423 0.00016226
 EOD
 $scene_peg_in_hole_6 << EOD
-38203 0.00016226
+31971 0.00016226
 EOD
 $scene_peg_in_hole_7 << EOD
-34404 0.00016226
+28123 0.00016226
 EOD
 $scene_peg_in_hole_8 << EOD
-25739 8.05094
-37982 10.1836
-66424 9.29728
+20559 8.05094
+30918 10.1836
+71545 9.29728
 EOD
 $scene_peg_in_hole_front << EOD
-25739 8.05094
-30136 0.00016226
+20559 8.05094
+23804 0.00016226
+25768 0.00016226
 EOD
 plot $scene_peg_in_hole_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_peg_in_hole_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
@@ -301,7 +302,7 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [16851.7:1.77828e+06]
+set xrange [13623.3:1.77828e+06]
 set yrange [0.0105409:3.98107]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
@@ -313,31 +314,32 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.0333333 to graph 1, first 0.0333333 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.0333333 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "0.1 N/tick" at graph 0.0787864, graph 0.217397 left font 'Sans,8' front noenhanced
-set label "0.25 N/tick" at graph 0.0787641, graph 0.170633 left font 'Sans,8' front noenhanced
-set label "0.5 N/tick (default)" at graph 0.164258, graph 0.194015 left font 'Sans,8' front noenhanced
-set label "2 N/tick" at graph 0.162386, graph 0.230491 left font 'Sans,8' front noenhanced
-set label "0° (shading off)" at graph 0.135263, graph 0.157539 left font 'Sans,8' front noenhanced
-set label "20°" at graph 0.100074, graph 0.230491 left font 'Sans,8' front noenhanced
-set label "60°" at graph 0.0874167, graph 0.157539 left font 'Sans,8' front noenhanced
-set label "85°" at graph 0.0723174, graph 0.194015 left font 'Sans,8' front noenhanced
+set label "0.1 N/tick" at graph 0.0103638, graph 0.194015 left font 'Sans,8' front noenhanced
+set label "0.25 N/tick" at graph 0.0747732, graph 0.217397 left font 'Sans,8' front noenhanced
+set label "0.5 N/tick (default)" at graph 0.0189896, graph 0.170633 left font 'Sans,8' front noenhanced
+set label "2 N/tick" at graph 0.1424, graph 0.194015 left font 'Sans,8' front noenhanced
+set label "0° (shading off)" at graph 0.140085, graph 0.230491 left font 'Sans,8' front noenhanced
+set label "20°" at graph 0.174338, graph 0.157539 left font 'Sans,8' front noenhanced
+set label "60°" at graph 0.080932, graph 0.230491 left font 'Sans,8' front noenhanced
+set label "85°" at graph 0.078632, graph 0.157539 left font 'Sans,8' front noenhanced
 $shaping_peg_in_hole_0 << EOD
-34195 0.0333333
+24617 0.0333333
 EOD
 $shaping_peg_in_hole_1 << EOD
-30647 0.0333333
-31360 0.0333333
-34323 0.0333333
-34025 0.0333333
+24576 0.0333333
+25579 0.0333333
+24226 0.0333333
+25768 0.0333333
 EOD
 $shaping_peg_in_hole_2 << EOD
-29986 0.0333333
-34104 0.0333333
-32151 0.0333333
-29967 0.0333333
+25479 0.0333333
+30106 0.0333333
+25937 0.0333333
+25648 0.0333333
 EOD
 $shaping_peg_in_hole_front << EOD
-29967 0.0333333
+24226 0.0333333
+24617 0.0333333
 EOD
 plot $shaping_peg_in_hole_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $shaping_peg_in_hole_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick no step limit, shading 40° (the truth)" noenhanced, \
@@ -354,8 +356,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [27505.2:1.77828e+06]
-set yrange [3.06831e-05:0.168927]
+set xrange [25100.1:1.77828e+06]
+set yrange [3.0683e-05:0.168927]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: scene/gears" noenhanced
@@ -364,47 +366,46 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 9.70283e-05 to graph 1, first 9.70283e-05 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 9.70283e-05 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.199112, graph 0.133661 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.180406, graph 0.569356 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.153595, graph 0.604816 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.116589, graph 0.582187 left font 'Sans,8' front noenhanced
-set label "2 kHz" at graph 0.209437, graph 0.528529 left font 'Sans,8' front noenhanced
-set label "4 kHz" at graph 0.210618, graph 0.560637 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 9.70282e-05 to graph 1, first 9.70282e-05 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 9.70282e-05 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "8" at graph 0.160634, graph 0.133661 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.160505, graph 0.569357 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.113624, graph 0.581434 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.136436, graph 0.605569 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.235307, graph 0.528529 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.217807, graph 0.560637 left font 'Sans,8' front noenhanced
 $scene_gears_0 << EOD
-60924 9.70283e-05
+59852 9.70282e-05
 EOD
 $scene_gears_1 << EOD
-60114 9.70283e-05
-55604 0.00413759
-53271 0.00459122
-48912 0.00462107
+54533 9.70282e-05
+54503 0.00413759
+44635 0.00459122
+45846 0.00462107
 EOD
 $scene_gears_2 << EOD
-58330 9.70283e-05
+56027 9.70282e-05
 EOD
 $scene_gears_3 << EOD
-62758 0.00291085
-63068 0.00383823
+65112 0.00291085
+60434 0.00383823
 EOD
 $scene_gears_4 << EOD
-71315 0.0424326
+75072 0.0424326
 EOD
 $scene_gears_5 << EOD
-99979 0.0110428
+95530 0.0110428
 EOD
 $scene_gears_6 << EOD
-91361 0.00830454
+99768 0.00830454
 EOD
 $scene_gears_7 << EOD
-79901 0.00700686
+77737 0.00700686
 EOD
 $scene_gears_front << EOD
-48912 0.00462107
-53271 0.00459122
-55604 0.00413759
-58330 9.70283e-05
+44635 0.00459122
+54503 0.00413759
+54533 9.70282e-05
 EOD
 plot $scene_gears_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_gears_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
@@ -426,7 +427,7 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [32344.7:1.77828e+06]
+set xrange [28891.4:1.77828e+06]
 set yrange [0.0105409:3.98107]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
@@ -438,31 +439,31 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.0333333 to graph 1, first 0.0333333 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.0333333 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "0.1 N/tick" at graph 0.131094, graph 0.217397 left font 'Sans,8' front noenhanced
-set label "0.25 N/tick" at graph 0.0980407, graph 0.170633 left font 'Sans,8' front noenhanced
-set label "0.5 N/tick (default)" at graph 0.200435, graph 0.194015 left font 'Sans,8' front noenhanced
-set label "2 N/tick" at graph 0.0676831, graph 0.230491 left font 'Sans,8' front noenhanced
-set label "0° (shading off)" at graph 0.155232, graph 0.157539 left font 'Sans,8' front noenhanced
-set label "20°" at graph 0.170289, graph 0.230491 left font 'Sans,8' front noenhanced
-set label "60°" at graph 0.105301, graph 0.157539 left font 'Sans,8' front noenhanced
-set label "85°" at graph 0.0975839, graph 0.194015 left font 'Sans,8' front noenhanced
+set label "0.1 N/tick" at graph 0.0297828, graph 0.194015 left font 'Sans,8' front noenhanced
+set label "0.25 N/tick" at graph 0.0871134, graph 0.217397 left font 'Sans,8' front noenhanced
+set label "0.5 N/tick (default)" at graph 0.0405513, graph 0.170633 left font 'Sans,8' front noenhanced
+set label "2 N/tick" at graph 0.187791, graph 0.194015 left font 'Sans,8' front noenhanced
+set label "0° (shading off)" at graph 0.173962, graph 0.230491 left font 'Sans,8' front noenhanced
+set label "20°" at graph 0.163386, graph 0.157539 left font 'Sans,8' front noenhanced
+set label "60°" at graph 0.106403, graph 0.230491 left font 'Sans,8' front noenhanced
+set label "85°" at graph 0.095158, graph 0.157539 left font 'Sans,8' front noenhanced
 $shaping_gears_0 << EOD
-59393 0.0333333
+57168 0.0333333
 EOD
 $shaping_gears_1 << EOD
-66715 0.0333333
-59612 0.0333333
-68939 0.0333333
-61064 0.0333333
+51547 0.0333333
+51788 0.0333333
+51377 0.0333333
+59713 0.0333333
 EOD
 $shaping_gears_2 << EOD
-57518 0.0333333
-61095 0.0333333
-60564 0.0333333
-58720 0.0333333
+56406 0.0333333
+54001 0.0333333
+55313 0.0333333
+52809 0.0333333
 EOD
 $shaping_gears_front << EOD
-57518 0.0333333
+51377 0.0333333
 EOD
 plot $shaping_gears_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $shaping_gears_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick no step limit, shading 40° (the truth)" noenhanced, \
@@ -479,7 +480,7 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [13589:1.77828e+06]
+set xrange [10822.8:1.77828e+06]
 set yrange [6.31029e-06:39.8107]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
@@ -491,51 +492,52 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 1.99549e-05 to graph 1, first 1.99549e-05 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 1.99549e-05 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.261548, graph 0.290755 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.245551, graph 0.624445 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.261373, graph 0.483738 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.332113, graph 0.911764 left font 'Sans,8' front noenhanced
-set label "2 kHz" at graph 0.231453, graph 0.822103 left font 'Sans,8' front noenhanced
-set label "4 kHz" at graph 0.151009, graph 0.813247 left font 'Sans,8' front noenhanced
-set label "7.63mm" at graph 0.0470277, graph 0.56134 left font 'Sans,8' front noenhanced
-set label "3.82mm" at graph 0.186711, graph 0.56134 left font 'Sans,8' front noenhanced
-set label "1.91mm" at graph 0.282172, graph 0.56134 left font 'Sans,8' front noenhanced
+set label "8" at graph 0.240143, graph 0.290755 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.260019, graph 0.624445 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.263706, graph 0.483738 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.32046, graph 0.911764 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.159446, graph 0.822103 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.242616, graph 0.813247 left font 'Sans,8' front noenhanced
+set label "7.63mm" at graph 0.0417588, graph 0.56134 left font 'Sans,8' front noenhanced
+set label "3.82mm" at graph 0.152233, graph 0.56134 left font 'Sans,8' front noenhanced
+set label "1.91mm" at graph 0.258473, graph 0.56134 left font 'Sans,8' front noenhanced
 $scene_dynamic_0 << EOD
-43512 1.99549e-05
+36269 1.99549e-05
 EOD
 $scene_dynamic_1 << EOD
-45956 0.000598647
-42509 0.111235
-45917 0.0122869
-64821 10
+34736 0.000598647
+38443 0.111235
+39173 0.0122869
+52328 10
 EOD
 $scene_dynamic_2 << EOD
-47320 0.323968
+37291 0.323968
 EOD
 $scene_dynamic_3 << EOD
-39686 2.45645
-38221 2.13841
+33352 2.45645
+35177 2.13841
 EOD
 $scene_dynamic_4 << EOD
-112302 10
+90742 10
 EOD
 $scene_dynamic_5 << EOD
-82856 4.6067
+76333 4.6067
 EOD
 $scene_dynamic_6 << EOD
-84560 1.05185
+81233 1.05185
 EOD
 $scene_dynamic_7 << EOD
-63860 1.01392
+60844 1.01392
 EOD
 $scene_dynamic_8 << EOD
-24165 0.0414129
-31910 0.0414129
-50816 0.0414129
+19246 0.0414129
+22182 0.0414129
+38141 0.0414129
 EOD
 $scene_dynamic_front << EOD
-24165 0.0414129
-43512 1.99549e-05
+19246 0.0414129
+34736 0.000598647
+36269 1.99549e-05
 EOD
 plot $scene_dynamic_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_dynamic_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
@@ -558,7 +560,7 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [23527.8:1.77828e+06]
+set xrange [18046.1:1.77828e+06]
 set yrange [0.0537575:26.945]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
@@ -570,34 +572,35 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.169996 to graph 1, first 0.169996 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.169996 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "1" at graph 0.167069, graph 0.732256 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.111603, graph 0.75964 left font 'Sans,8' front noenhanced
-set label "12 (default)" at graph 0.0155962, graph 0.736944 left font 'Sans,8' front noenhanced
-set label "32" at graph 0.197004, graph 0.735529 left font 'Sans,8' front noenhanced
-set label "0" at graph 0.182375, graph 0.771703 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.146022, graph 0.801163 left font 'Sans,8' front noenhanced
-set label "6 (default)" at graph 0.157745, graph 0.700468 left font 'Sans,8' front noenhanced
-set label "18" at graph 0.123787, graph 0.70625 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.192498, graph 0.732256 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.103913, graph 0.75964 left font 'Sans,8' front noenhanced
+set label "12 (default)" at graph 0.0126388, graph 0.736944 left font 'Sans,8' front noenhanced
+set label "32" at graph 0.1568, graph 0.712147 left font 'Sans,8' front noenhanced
+set label "0" at graph 0.163271, graph 0.771703 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.133126, graph 0.801163 left font 'Sans,8' front noenhanced
+set label "6 (default)" at graph 0.0225561, graph 0.700468 left font 'Sans,8' front noenhanced
+set label "18" at graph 0.160103, graph 0.762367 left font 'Sans,8' front noenhanced
 $dynamics_dynamic_0 << EOD
-56738 0.169996
+53632 0.169996
 EOD
 $dynamics_dynamic_1 << EOD
-46097 5.09988
-41839 6.04639
-44275 5.25069
-52469 5.2047
+41408 5.09988
+32091 6.04639
+34826 5.25069
+38793 5.2047
 EOD
 $dynamics_dynamic_2 << EOD
-49252 6.51731
-45205 6.76829
-44275 5.25069
-46036 5.44289
+36209 6.51731
+34015 6.76829
+34826 5.25069
+35958 5.44289
 EOD
 $dynamics_dynamic_front << EOD
-41839 6.04639
-44275 5.25069
-46097 5.09988
-56738 0.169996
+32091 6.04639
+34826 5.25069
+38793 5.2047
+41408 5.09988
+53632 0.169996
 EOD
 plot $dynamics_dynamic_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $dynamics_dynamic_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick iterations 100/50 (the truth)" noenhanced, \
@@ -614,8 +617,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [42086.2:5.50457e+06]
-set yrange [0.0224651:39.8828]
+set xrange [47274.9:6.24659e+06]
+set yrange [0.0232081:39.8861]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: scene/stress" noenhanced
@@ -624,57 +627,57 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 0.071041 to graph 1, first 0.071041 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 0.071041 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.432795, graph 0.80994 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.334945, graph 0.770544 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.244063, graph 0.712077 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.182533, graph 0.712077 left font 'Sans,8' front noenhanced
-set label "0.003" at graph 0.27063, graph 0.60848 left font 'Sans,8' front noenhanced
-set label "0.01" at graph 0.297202, graph 0.640787 left font 'Sans,8' front noenhanced
-set label "0.03" at graph 0.372552, graph 0.781749 left font 'Sans,8' front noenhanced
-set label "2 kHz" at graph 0.27305, graph 0.701156 left font 'Sans,8' front noenhanced
-set label "4 kHz" at graph 0.256535, graph 0.679174 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 0.0733904 to graph 1, first 0.0733904 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 0.0733904 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "8" at graph 0.307589, graph 0.734186 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.322704, graph 0.671455 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.22389, graph 0.710905 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.171296, graph 0.711133 left font 'Sans,8' front noenhanced
+set label "0.003" at graph 0.255134, graph 0.611131 left font 'Sans,8' front noenhanced
+set label "0.01" at graph 0.275371, graph 0.64569 left font 'Sans,8' front noenhanced
+set label "0.03" at graph 0.344967, graph 0.780787 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.256398, graph 0.732459 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.239626, graph 0.68242 left font 'Sans,8' front noenhanced
 $scene_stress_0 << EOD
-310275 0.071041
+248488 0.0733904
 EOD
 $scene_stress_1 << EOD
-327867 9.62117
-203512 7.16504
-130686 4.6264
-113754 4.6264
+235834 5.50635
+216047 3.45079
+133341 4.62965
+103136 4.63752
 EOD
 $scene_stress_2 << EOD
-319211 3.66043
+310776 3.68725
 EOD
 $scene_stress_3 << EOD
-212029 2.13123
-228111 3.14356
-244449 7.79162
+221558 2.20171
+233011 2.84817
+240863 7.79162
 EOD
 $scene_stress_4 << EOD
-214544 4.26342
-197953 3.61686
+222930 4.1426
+205397 3.74449
 EOD
 $scene_stress_5 << EOD
-427937 10.0181
+437345 10.0189
 EOD
 $scene_stress_6 << EOD
-619147 4.97064
+649975 6.20385
 EOD
 $scene_stress_7 << EOD
-3.09545e+06 7.69927
+3.51271e+06 7.89814
 EOD
 $scene_stress_8 << EOD
-2.7447e+06 8.03709
+2.70204e+06 8.02034
 EOD
 $scene_stress_9 << EOD
-74841 3.07314
+84068 3.049
 EOD
 $scene_stress_front << EOD
-74841 3.07314
-212029 2.13123
-310275 0.071041
+84068 3.049
+221558 2.20171
+248488 0.0733904
 EOD
 plot $scene_stress_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_stress_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
@@ -698,8 +701,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [134243:1.77828e+06]
-set yrange [1.13101e-10:10.6714]
+set xrange [137133:1.77828e+06]
+set yrange [2.2981e-12:10.7748]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: shaping/stress" noenhanced
@@ -708,34 +711,33 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 3.57657e-10 to graph 1, first 3.57657e-10 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 3.57657e-10 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "0.1 N/tick" at graph 0.116908, graph 0.945329 left font 'Sans,8' front noenhanced
-set label "0.25 N/tick" at graph 0.260732, graph 0.93339 left font 'Sans,8' front noenhanced
-set label "0.5 N/tick (default)" at graph 0.252653, graph 0.0455591 left font 'Sans,8' front noenhanced
-set label "2 N/tick" at graph 0.143876, graph 0.0652 left font 'Sans,8' front noenhanced
-set label "0° (shading off)" at graph 0.0426294, graph 0.180152 left font 'Sans,8' front noenhanced
-set label "20°" at graph 0.192548, graph 0.0259183 left font 'Sans,8' front noenhanced
-set label "60°" at graph 0.249559, graph 0.082035 left font 'Sans,8' front noenhanced
-set label "85°" at graph 0.173852, graph 0.082035 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 7.26724e-12 to graph 1, first 7.26724e-12 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 7.26724e-12 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "0.1 N/tick" at graph 0.238931, graph 0.972289 left font 'Sans,8' front noenhanced
+set label "0.25 N/tick" at graph 0.247529, graph 0.940777 left font 'Sans,8' front noenhanced
+set label "0.5 N/tick (default)" at graph 0.0165815, graph 0.0394601 left font 'Sans,8' front noenhanced
+set label "2 N/tick" at graph 0.246095, graph 0.0394601 left font 'Sans,8' front noenhanced
+set label "0° (shading off)" at graph 0.246517, graph 0.156035 left font 'Sans,8' front noenhanced
+set label "20°" at graph 0.240153, graph 0.0759359 left font 'Sans,8' front noenhanced
+set label "60°" at graph 0.175803, graph 0.0759359 left font 'Sans,8' front noenhanced
+set label "85°" at graph 0.175652, graph 0.0198192 left font 'Sans,8' front noenhanced
 $shaping_stress_0 << EOD
-239511 3.57657e-10
+243861 7.26724e-12
 EOD
 $shaping_stress_1 << EOD
-241736 2.68053
-255551 1.98239
-250272 3.57657e-10
-245183 3.57657e-10
+246605 2.7065
+251033 1.91422
+245021 7.26724e-12
+250112 7.26724e-12
 EOD
 $shaping_stress_2 << EOD
-238721 1.07297e-08
-250953 3.57657e-10
-248279 3.57657e-10
-240142 3.57657e-10
+250383 2.18017e-10
+246333 7.26724e-12
+245363 7.26724e-12
+244231 7.26724e-12
 EOD
 $shaping_stress_front << EOD
-238721 1.07297e-08
-239511 3.57657e-10
+243861 7.26724e-12
 EOD
 plot $shaping_stress_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $shaping_stress_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick no step limit, shading 40° (the truth)" noenhanced, \
@@ -752,8 +754,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [20598:1.77828e+06]
-set yrange [0.00093633:0.881178]
+set xrange [20237.5:1.77828e+06]
+set yrange [0.00093633:0.881177]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: dynamics/stack" noenhanced
@@ -764,34 +766,34 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.00296094 to graph 1, first 0.00296094 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.00296094 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "1" at graph 0.148818, graph 0.821609 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.107633, graph 0.79728 left font 'Sans,8' front noenhanced
-set label "12 (default)" at graph 0.201568, graph 0.797137 left font 'Sans,8' front noenhanced
-set label "32" at graph 0.240972, graph 0.664884 left font 'Sans,8' front noenhanced
-set label "0" at graph 0.167394, graph 0.820519 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.171497, graph 0.773755 left font 'Sans,8' front noenhanced
-set label "6 (default)" at graph 0.201568, graph 0.833612 left font 'Sans,8' front noenhanced
-set label "18" at graph 0.131869, graph 0.777496 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.141537, graph 0.798227 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.107124, graph 0.79728 left font 'Sans,8' front noenhanced
+set label "12 (default)" at graph 0.115302, graph 0.820519 left font 'Sans,8' front noenhanced
+set label "32" at graph 0.25185, graph 0.664884 left font 'Sans,8' front noenhanced
+set label "0" at graph 0.198525, graph 0.773755 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.156614, graph 0.773755 left font 'Sans,8' front noenhanced
+set label "6 (default)" at graph 0.0541446, graph 0.760661 left font 'Sans,8' front noenhanced
+set label "18" at graph 0.235529, graph 0.797137 left font 'Sans,8' front noenhanced
 $dynamics_stack_0 << EOD
-116279 0.00296094
+115668 0.00296094
 EOD
 $dynamics_stack_1 << EOD
-40885 0.221342
-36629 0.219912
-48050 0.219696
-57278 0.0888281
+36207 0.221342
+35988 0.219912
+44254 0.219696
+59323 0.0888281
 EOD
 $dynamics_stack_2 << EOD
-44415 0.219696
-45235 0.219696
-48050 0.219696
-42340 0.219696
+50315 0.219696
+41709 0.219696
+44254 0.219696
+55144 0.219696
 EOD
 $dynamics_stack_front << EOD
-36629 0.219912
-42340 0.219696
-57278 0.0888281
-116279 0.00296094
+35988 0.219912
+41709 0.219696
+59323 0.0888281
+115668 0.00296094
 EOD
 plot $dynamics_stack_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $dynamics_stack_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick iterations 100/50 (the truth)" noenhanced, \
@@ -808,8 +810,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [1796.68:1.77828e+06]
-set yrange [0.00169535:8.08253]
+set xrange [1780.37:1.77828e+06]
+set yrange [0.00169535:8.08252]
 set xlabel 'median time per query (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: decomposition/crescent" noenhanced
@@ -820,27 +822,28 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.00536117 to graph 1, first 0.00536117 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.00536117 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "0.08" at graph 0.095028, graph 0.836881 left font 'Sans,8' front noenhanced
-set label "0.04" at graph 0.0997459, graph 0.793172 left font 'Sans,8' front noenhanced
-set label "0.02" at graph 0.143356, graph 0.689265 left font 'Sans,8' front noenhanced
-set label "0.01 (default)" at graph 0.19305, graph 0.65387 left font 'Sans,8' front noenhanced
-set label "0.005" at graph 0.204388, graph 0.537511 left font 'Sans,8' front noenhanced
+set label "0.08" at graph 0.0949178, graph 0.836881 left font 'Sans,8' front noenhanced
+set label "0.04" at graph 0.101543, graph 0.793172 left font 'Sans,8' front noenhanced
+set label "0.02" at graph 0.144794, graph 0.689265 left font 'Sans,8' front noenhanced
+set label "0.01 (default)" at graph 0.19482, graph 0.65387 left font 'Sans,8' front noenhanced
+set label "0.005" at graph 0.197996, graph 0.537511 left font 'Sans,8' front noenhanced
 $decomposition_crescent_0 << EOD
-6682 0.00536117
+6753 0.00536117
 EOD
 $decomposition_crescent_1 << EOD
-3195 2.03024
-4099 1.70915
-4459 0.581535
-6282 0.430905
-6793 0.160835
+3166 2.03024
+4117 1.70915
+4468 0.581535
+6312 0.430905
+6452 0.160835
 EOD
 $decomposition_crescent_front << EOD
-3195 2.03024
-4099 1.70915
-4459 0.581535
-6282 0.430905
-6682 0.00536117
+3166 2.03024
+4117 1.70915
+4468 0.581535
+6312 0.430905
+6452 0.160835
+6753 0.00536117
 EOD
 plot $decomposition_crescent_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $decomposition_crescent_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "exact mesh brute force (the truth)" noenhanced, \
@@ -856,8 +859,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [12908:1.77828e+06]
-set yrange [0.000898423:7.87695]
+set xrange [13385.4:1.77828e+06]
+set yrange [0.000898423:7.87693]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: decomposition/crescent-tick" noenhanced
@@ -868,24 +871,24 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.00284106 to graph 1, first 0.00284106 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.00284106 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "0.08" at graph 0.158056, graph 0.847827 left font 'Sans,8' front noenhanced
-set label "0.04" at graph 0.138465, graph 0.821512 left font 'Sans,8' front noenhanced
-set label "0.02" at graph 0.158216, graph 0.705893 left font 'Sans,8' front noenhanced
-set label "0.01 (default)" at graph 0.140984, graph 0.671165 left font 'Sans,8' front noenhanced
-set label "0.005" at graph 0.12844, graph 0.501441 left font 'Sans,8' front noenhanced
+set label "0.08" at graph 0.133921, graph 0.847827 left font 'Sans,8' front noenhanced
+set label "0.04" at graph 0.13291, graph 0.821512 left font 'Sans,8' front noenhanced
+set label "0.02" at graph 0.143545, graph 0.705893 left font 'Sans,8' front noenhanced
+set label "0.01 (default)" at graph 0.136509, graph 0.671165 left font 'Sans,8' front noenhanced
+set label "0.005" at graph 0.129308, graph 0.501441 left font 'Sans,8' front noenhanced
 $decomposition_crescent_tick_0 << EOD
-53291 0.00284106
+50235 0.00284106
 EOD
 $decomposition_crescent_tick_1 << EOD
-26559 1.9786
-24116 1.55812
-26580 0.54542
-24417 0.397924
-22954 0.0852319
+24346 1.9786
+24226 1.55812
+25519 0.54542
+24656 0.397924
+23803 0.0852319
 EOD
 $decomposition_crescent_tick_front << EOD
-22954 0.0852319
-53291 0.00284106
+23803 0.0852319
+50235 0.00284106
 EOD
 plot $decomposition_crescent_tick_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $decomposition_crescent_tick_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "exact mesh pairs answered from it (the truth)" noenhanced, \
