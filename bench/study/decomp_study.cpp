@@ -330,6 +330,10 @@ class MeshTruth final : public LoopQuery {
              collision::PairResult& out) override {
     const auto ia = index_.find(&a), ib = index_.find(&b);
     const bool piece_a = ia != index_.end();
+    if (piece_a == (ib != index_.end())) {  // not a probe and a piece: nothing of the mesh's
+      farApart(out, cache);
+      return;
+    }
     const geom::Polytope& probe = piece_a ? b : a;
     const std::size_t piece = piece_a ? ia->second : ib->second;
     // the probe's pose in the mesh's frame (a piece's frame is the body's, the mesh's)
