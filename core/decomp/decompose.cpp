@@ -782,6 +782,11 @@ Result<Context> prepare(const TriangleMesh& mesh,
                        fixed(ctx.mesh.decimation_cell / ctx.mesh.diagonal, 5) +
                        " of the diagonal; concavity is measured against the decimated mesh)");
   ctx.bvh = std::make_unique<TriangleBvh>(ctx.mesh.positions, ctx.mesh.triangles);
+  // a self-crossing surface (closed bodies exported together, touching or through each other):
+  // inside is what the winding number says, not the closest feature's side (a point of one body
+  // whose closest face is another's coincident face would be called outside)
+  if (counts.self_intersections > 0)
+    ctx.bvh->dropPseudonormals();
   ctx.view.bvh = ctx.bvh.get();
   ctx.c_abs = options.concavity * ctx.mesh.diagonal;
   // on a plane within 1e-9 of the diagonal, or within the rounding of float32 inputs (STL, glTF)
@@ -824,9 +829,30 @@ void finish(Run& run, DecompResult& result) {
   if (r.time_limit_hit)
     r.warnings.push_back("time limit of " + fixed(run.options.time_limit_s, 1) +
                          " s reached: the best result so far is returned");
-  if (r.max_pieces_hit && r.concavity > r.concavity_target)
-    r.warnings.push_back("max_pieces (" + std::to_string(run.options.max_pieces) +
-                         ") reached before the target concavity");
+  // the target missed: which limit, or none, and what is left (a warning that names its cause)
+  if (r.concavity > r.concavity_target && !r.time_limit_hit) {
+    std::size_t over = 0;
+    for (const Part& p : run.leaves)
+      over += p.concavity > ctx.c_abs ? 1 : 0;
+    const std::string reached = "target concavity " + fixed(r.concavity_target, 4) +
+                                " not reached (" + fixed(r.concavity, 4) + ")";
+    if (r.max_pieces_hit) {
+      r.warnings.push_back(
+          "max_pieces (" + std::to_string(run.options.max_pieces) +
+          ") reached before the target concavity: " + reached + "; " +
+          std::to_string(kMergeRounds) + " rounds of merging made no room for the cuts left, " +
+          std::to_string(r.pieces) + " pieces after the last merge, " + std::to_string(over) +
+          " of them above the target");
+    } else if (over > 0) {
+      r.warnings.push_back(reached + ": " + std::to_string(over) +
+                           (over == 1 ? " part" : " parts") +
+                           " could not be cut further (no plane lowers the concavity)");
+    } else {
+      r.warnings.push_back(reached +
+                           ": every part is within it by its own estimate, the union's "
+                           "measure is not (where two parts meet)");
+    }
+  }
 }
 
 }  // namespace
