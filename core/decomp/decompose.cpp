@@ -837,12 +837,12 @@ void finish(Run& run, DecompResult& result) {
     const std::string reached = "target concavity " + fixed(r.concavity_target, 4) +
                                 " not reached (" + fixed(r.concavity, 4) + ")";
     if (r.max_pieces_hit) {
-      r.warnings.push_back(
-          "max_pieces (" + std::to_string(run.options.max_pieces) +
-          ") reached before the target concavity: " + reached + "; " +
-          std::to_string(kMergeRounds) + " rounds of merging made no room for the cuts left, " +
-          std::to_string(r.pieces) + " pieces after the last merge, " + std::to_string(over) +
-          " of them above the target");
+      r.warnings.push_back("max_pieces (" + std::to_string(run.options.max_pieces) +
+                           ") reached before the target concavity: " + reached + "; " +
+                           std::to_string(kMergeRounds) +
+                           " rounds of merging made no room for the cuts left, " +
+                           std::to_string(r.pieces) + " pieces after the last merge, " +
+                           std::to_string(over) + " of them above the target");
     } else if (over > 0) {
       r.warnings.push_back(reached + ": " + std::to_string(over) +
                            (over == 1 ? " part" : " parts") +
