@@ -53,17 +53,25 @@ constexpr std::size_t kMaxCandidates = 2 * Manifold::kMaxPoints;
 // the four of `n` candidates that support best (the collision manifold's rule, manifold.cpp:
 // the deepest, the farthest from it, the largest triangle, the point farthest outside it),
 // moved to the front; returns 4
-std::size_t reduceCandidates(Candidate* c, std::size_t n, const auto& A) {
+std::size_t reduceCandidates(Candidate* c, std::size_t n, const auto& A, double size) {
   const auto at = [&](std::size_t i) { return A.R * c[i].sa_B; };
+  // ties (equally deep points of a body resting flat, equally far corners of a symmetric
+  // contact) are rounding's: within them a point that continues one of last tick's wins, so
+  // that the kept four do not swap for a new, cold one from one tick to the next
+  const auto continues = [&](std::size_t i) { return c[i].slot != kNoSlot; };
+  const auto better = [&](double v, double best, std::size_t i, std::size_t b, double tol) {
+    return v > best + tol || (v >= best - tol && continues(i) && !continues(b));
+  };
+  const double tl = 1e-9 * size, ta = 1e-9 * size * size;
   std::array<std::size_t, 4> pick{};
   for (std::size_t i = 1; i < n; ++i) {
-    if (c[i].gap < c[pick[0]].gap)
+    if (better(-c[i].gap, -c[pick[0]].gap, i, pick[0], tl))
       pick[0] = i;
   }
   double best = -1.0;
   for (std::size_t i = 0; i < n; ++i) {
     const Vec3 d = at(i) - at(pick[0]);
-    if (glm::dot(d, d) > best)
+    if (best < 0.0 || better(glm::dot(d, d), best, i, pick[1], ta))
       best = glm::dot(d, d), pick[1] = i;
   }
   const Vec3 nrm = c[pick[0]].n;
@@ -71,7 +79,7 @@ std::size_t reduceCandidates(Candidate* c, std::size_t n, const auto& A) {
   double sign = 1.0;
   for (std::size_t i = 0; i < n; ++i) {
     const double area = glm::dot(glm::cross(at(pick[1]) - at(pick[0]), at(i) - at(pick[0])), nrm);
-    if (std::abs(area) > best)
+    if (best < 0.0 || better(std::abs(area), best, i, pick[2], ta))
       best = std::abs(area), pick[2] = i, sign = area >= 0.0 ? 1.0 : -1.0;
   }
   best = -1.0;
@@ -84,7 +92,7 @@ std::size_t reduceCandidates(Candidate* c, std::size_t n, const auto& A) {
       const Vec3 p0 = at(pick[k]), p1 = at(pick[(k + 1) % 3]);
       out = std::max(out, -sign * glm::dot(glm::cross(p1 - p0, at(i) - p0), nrm));
     }
-    if (out > best)
+    if (best < 0.0 || better(out, best, i, pick[3], ta))
       best = out, pick[3] = i;
   }
   std::array<Candidate, 4> kept;
@@ -328,7 +336,7 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
       cd.order = {0.0, grains(cd.sa_B.x), grains(cd.sa_B.y), grains(cd.sa_B.z)};
     }
     if (nc > Manifold::kMaxPoints)
-      nc = reduceCandidates(cand.data(), nc, A);
+      nc = reduceCandidates(cand.data(), nc, A, size);
     // insertion sort (at most Manifold::kMaxPoints; std::stable_sort may allocate)
     for (std::size_t k = 1; k < nc; ++k) {
       for (std::size_t j = k; j > 0 && std::tie(cand[j].slot, cand[j].order) <
