@@ -17,6 +17,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <iostream>
+#include <limits>
 #include <optional>
 
 #include "core/decomp/quickhull.h"
@@ -93,9 +94,26 @@ Result<TriangleMesh> readGltfTriangles(const std::string& path) {
     std::memcpy(&i, data.data() + at, size);  // little-endian host
     return i;
   };
+  // every index that the walk follows is checked: tinygltf parses references without checking them
+  auto bad = [&](const tinygltf::Accessor& a) {
+    if (a.bufferView < 0)
+      return false;  // read as absent below
+    const auto v = static_cast<std::size_t>(a.bufferView);
+    return v >= model.bufferViews.size() || model.bufferViews[v].buffer < 0 ||
+           static_cast<std::size_t>(model.bufferViews[v].buffer) >= model.buffers.size();
+  };
+  auto accessor = [&](int i) -> const tinygltf::Accessor* {
+    if (i < 0 || static_cast<std::size_t>(i) >= model.accessors.size() ||
+        bad(model.accessors[static_cast<std::size_t>(i)]))
+      return nullptr;
+    return &model.accessors[static_cast<std::size_t>(i)];
+  };
   std::vector<std::pair<int, glm::dmat4>> stack;
+  // a node reached twice is in a cycle of children or has two parents (glTF: nodes form disjoint
+  // strict trees); following it again would not end
+  std::vector<bool> reached(model.nodes.size(), false);
   const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
-  if (!model.scenes.empty())
+  if (static_cast<std::size_t>(scene) < model.scenes.size())
     for (int n : model.scenes[static_cast<std::size_t>(scene)].nodes)
       stack.push_back({n, glm::dmat4(1.0)});
   while (!stack.empty()) {
@@ -103,18 +121,33 @@ Result<TriangleMesh> readGltfTriangles(const std::string& path) {
     stack.pop_back();
     if (ni < 0 || static_cast<std::size_t>(ni) >= model.nodes.size())
       continue;
+    if (reached[static_cast<std::size_t>(ni)])
+      return Error{path + ": node " + std::to_string(ni) +
+                   " is reached twice from the scene (a cycle of node children, or a node with "
+                   "two parents)"};
+    reached[static_cast<std::size_t>(ni)] = true;
     const tinygltf::Node& node = model.nodes[static_cast<std::size_t>(ni)];
     const glm::dmat4 world = parent * localMatrix(node);
     for (int c : node.children)
       stack.push_back({c, world});
     if (node.mesh < 0)
       continue;
+    if (static_cast<std::size_t>(node.mesh) >= model.meshes.size())
+      return Error{path + ": node " + std::to_string(ni) + ": mesh " + std::to_string(node.mesh) +
+                   " does not exist"};
     for (const tinygltf::Primitive& prim :
          model.meshes[static_cast<std::size_t>(node.mesh)].primitives) {
       const auto pos = prim.attributes.find("POSITION");
-      if ((prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) || pos == prim.attributes.end())
+      const int mode = prim.mode == -1 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+      if ((mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+           mode != TINYGLTF_MODE_TRIANGLE_FAN) ||
+          pos == prim.attributes.end())
         continue;
-      const tinygltf::Accessor& pa = model.accessors[static_cast<std::size_t>(pos->second)];
+      const tinygltf::Accessor* pa_ptr = accessor(pos->second);
+      if (pa_ptr == nullptr)
+        return Error{path + ": mesh " + std::to_string(node.mesh) +
+                     ": POSITION names no usable accessor"};
+      const tinygltf::Accessor& pa = *pa_ptr;
       const auto base = static_cast<std::uint32_t>(mesh.positions.size());
       for (std::size_t k = 0; k < pa.count; ++k) {
         const auto p = readFloat3(pa, k);
@@ -125,20 +158,34 @@ Result<TriangleMesh> readGltfTriangles(const std::string& path) {
       }
       std::vector<std::uint32_t> idx;
       if (prim.indices >= 0) {
-        const tinygltf::Accessor& ia = model.accessors[static_cast<std::size_t>(prim.indices)];
-        for (std::size_t k = 0; k < ia.count; ++k) {
-          const auto i = readIndex(ia, k);
+        const tinygltf::Accessor* ia = accessor(prim.indices);
+        if (ia == nullptr)
+          return Error{path + ": mesh " + std::to_string(node.mesh) +
+                       ": indices name no usable accessor"};
+        for (std::size_t k = 0; k < ia->count; ++k) {
+          const auto i = readIndex(*ia, k);
           if (!i)
             return Error{path + ": mesh " + std::to_string(node.mesh) +
                          ": indices outside their buffer"};
-          idx.push_back(*i);
+          // an index past this primitive's vertices is the repair's bad index, not a vertex of
+          // the next primitive
+          idx.push_back(*i < pa.count ? base + *i : std::numeric_limits<std::uint32_t>::max());
         }
       } else {
         for (std::uint32_t k = 0; k < pa.count; ++k)
-          idx.push_back(k);
+          idx.push_back(base + k);
       }
-      for (std::size_t k = 0; k + 2 < idx.size(); k += 3)
-        mesh.triangles.push_back({base + idx[k], base + idx[k + 1], base + idx[k + 2]});
+      // glTF 2.0 §3.7.2.1: strips and fans as their triangles, in the order that keeps the
+      // winding of the first
+      if (mode == TINYGLTF_MODE_TRIANGLES)
+        for (std::size_t k = 0; k + 2 < idx.size(); k += 3)
+          mesh.triangles.push_back({idx[k], idx[k + 1], idx[k + 2]});
+      else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
+        for (std::size_t k = 0; k + 2 < idx.size(); ++k)
+          mesh.triangles.push_back({idx[k], idx[k + 1 + k % 2], idx[k + 2 - k % 2]});
+      else
+        for (std::size_t k = 1; k + 1 < idx.size(); ++k)
+          mesh.triangles.push_back({idx[k], idx[k + 1], idx[0]});
     }
   }
   return mesh;
