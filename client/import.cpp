@@ -1,5 +1,9 @@
 #include "client/import.h"
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <tiny_gltf.h>
@@ -7,7 +11,9 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <assimp/Importer.hpp>
+#include <csignal>
 #include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -212,6 +218,120 @@ Result<TriangleMesh> readWithAssimp(const std::string& path) {
             {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
     }
   }
+  return mesh;
+}
+
+// readWithAssimp in a child process, the mesh sent back through a pipe. Debian's assimp (5.2.5)
+// dies on some malformed files (a segfault on a binary PLY whose header is cut short, an assertion
+// on a binary PLY whose data starts with a newline byte) and grows without bound on an OFF whose
+// header counts more vertices than it holds: the child runs under an address-space limit, and its
+// death becomes an error that names the file. Called before any thread is started.
+Result<TriangleMesh> readWithAssimpIsolated(const std::string& path) {
+  int fds[2];
+  if (::pipe(fds) != 0)
+    return readWithAssimp(path);
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    return readWithAssimp(path);
+  }
+  if (pid == 0) {
+    ::close(fds[0]);
+    // half the machine's memory: no model file within reach needs more to be read
+    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+    if (pages > 0 && page > 0) {
+      rlimit lim{};
+      lim.rlim_cur = lim.rlim_max = static_cast<rlim_t>(pages) * static_cast<rlim_t>(page) / 2;
+      ::setrlimit(RLIMIT_AS, &lim);
+    }
+    std::vector<std::uint8_t> out;
+    auto put = [&](const void* data, std::size_t n) {
+      const auto* b = static_cast<const std::uint8_t*>(data);
+      out.insert(out.end(), b, b + n);
+    };
+    try {
+      const Result<TriangleMesh> r = readWithAssimp(path);
+      const std::uint8_t ok = r.ok() ? 1 : 0;
+      put(&ok, 1);
+      if (r.ok()) {
+        const std::uint64_t nv = r.value().positions.size(), nt = r.value().triangles.size();
+        put(&nv, 8);
+        put(r.value().positions.data(), nv * sizeof(Vec3));
+        put(&nt, 8);
+        put(r.value().triangles.data(), nt * sizeof(decomp::Triangle));
+      } else {
+        const std::string& m = r.error().message;
+        const std::uint64_t n = m.size();
+        put(&n, 8);
+        put(m.data(), n);
+      }
+    } catch (const std::exception& e) {
+      out.clear();
+      const std::uint8_t ok = 0;
+      const std::string m = path + ": " + e.what();
+      const std::uint64_t n = m.size();
+      put(&ok, 1);
+      put(&n, 8);
+      put(m.data(), n);
+    }
+    for (std::size_t at = 0; at < out.size();) {
+      const ssize_t w = ::write(fds[1], out.data() + at, out.size() - at);
+      if (w <= 0)
+        ::_exit(3);
+      at += static_cast<std::size_t>(w);
+    }
+    ::_exit(0);
+  }
+  ::close(fds[1]);
+  std::vector<std::uint8_t> in;
+  std::uint8_t buf[65536];
+  while (true) {
+    const ssize_t n = ::read(fds[0], buf, sizeof buf);
+    if (n < 0 && errno == EINTR)
+      continue;
+    if (n <= 0)
+      break;
+    in.insert(in.end(), buf, buf + n);
+  }
+  ::close(fds[0]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  const std::string ext = lower(fs::path(path).extension().string());
+  if (WIFSIGNALED(status))
+    return Error{path + ": the " + ext + " reader (assimp) died on this file (" +
+                 ::strsignal(WTERMSIG(status)) + "): the file is malformed or beyond the reader"};
+  std::size_t at = 0;
+  auto get = [&](void* data, std::size_t n) {
+    if (at + n > in.size())
+      return false;
+    std::memcpy(data, in.data() + at, n);
+    at += n;
+    return true;
+  };
+  std::uint8_t ok = 0;
+  std::uint64_t n = 0;
+  if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0) || !get(&ok, 1) || !get(&n, 8))
+    return Error{path + ": the " + ext + " reader (assimp) ended without a result"};
+  if (ok == 0) {
+    std::string m(n <= in.size() - at ? n : 0, '\0');
+    get(m.data(), m.size());
+    if (m.find("bad_alloc") != std::string::npos)
+      m = path + ": reading it needs more memory than allowed (a count in the file is larger "
+                 "than the file holds?)";
+    return Error{m};
+  }
+  TriangleMesh mesh;
+  std::uint64_t nt = 0;
+  if (n > (in.size() - at) / sizeof(Vec3))
+    return Error{path + ": the " + ext + " reader (assimp) ended without a result"};
+  mesh.positions.resize(n);
+  get(mesh.positions.data(), n * sizeof(Vec3));
+  if (!get(&nt, 8) || nt > (in.size() - at) / sizeof(decomp::Triangle))
+    return Error{path + ": the " + ext + " reader (assimp) ended without a result"};
+  mesh.triangles.resize(nt);
+  get(mesh.triangles.data(), nt * sizeof(decomp::Triangle));
   return mesh;
 }
 
@@ -496,7 +616,7 @@ Result<TriangleMesh> readModel(const std::string& path) {
   if (ext == ".gltf" || ext == ".glb")
     mesh = readGltfTriangles(path);
   else if (ext == ".obj" || ext == ".stl" || ext == ".ply" || ext == ".off")
-    mesh = readWithAssimp(path);
+    mesh = readWithAssimpIsolated(path);
   else
     return Error{path + ": unsupported format '" + ext +
                  "' (give .obj, .stl, .ply, .off, .gltf or .glb)"};

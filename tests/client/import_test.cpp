@@ -405,3 +405,50 @@ TEST_F(ImportTest, GltfIndexPastItsPrimitiveIsABadIndex) {
 }
 
 }  // namespace
+
+namespace {
+
+// files on which Debian's assimp 5.2.5 dies (a segfault, an assertion) or that ask it for more
+// memory than the machine has: the import exits 1 naming the file, never by a signal
+TEST_F(ImportTest, AReaderThatDiesOnAFileIsAnErrorNotACrash) {
+  {
+    // a binary PLY whose third property line is cut short, binary bytes where its type should be
+    std::ofstream f(path("cut.ply"), std::ios::binary);
+    f << "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+         "property float y\nproperty ";
+    const char tail[] = {0, 0, 0, 9, 7, 0, 0, 0, 3, 0, 0, 0, 3, 3, 0, 0, 0, 7, 0, 0, 0};
+    f.write(tail, sizeof tail);
+  }
+  {
+    // a valid binary PLY tetrahedron whose data starts with the byte 0x0a (x = 0.01f)
+    std::ofstream f(path("nl.ply"), std::ios::binary);
+    f << "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
+         "property float y\nproperty float z\nelement face 4\n"
+         "property list uchar int vertex_indices\nend_header\n";
+    const float v[4][3] = {{0.01f, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    f.write(reinterpret_cast<const char*>(v), sizeof v);
+    const std::int32_t t[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    for (const auto& tri : t) {
+      const char three = 3;
+      f.write(&three, 1);
+      f.write(reinterpret_cast<const char*>(tri), sizeof tri);
+    }
+  }
+  for (const std::string file : {"cut.ply", "nl.ply"}) {
+    const int rc = import({path(file), "-o", path("x.glb"), "--json"});
+    ASSERT_TRUE(rc == 0 || rc == 1) << file << ": exit " << rc << ": " << err();
+    if (rc == 1) {
+      EXPECT_NE(err().find(path(file)), std::string::npos) << err();
+      EXPECT_FALSE(fs::exists(path("x.glb")));
+    } else {
+      EXPECT_EQ(nlohmann::json::parse(out())["repairs"]["input_triangles"], 4) << file;
+    }
+  }
+  // an OFF whose header counts 10^12 vertices: refused at once, saying why
+  std::ofstream(path("huge.off")) << "OFF\n1000000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  EXPECT_EQ(run("timeout", {"60", HAPTICCTL, "import", path("huge.off"), "-o", path("x.glb")}), 1)
+      << err();
+  EXPECT_NE(err().find("more memory than allowed"), std::string::npos) << err();
+}
+
+}  // namespace
