@@ -1,5 +1,9 @@
 #include "client/import.h"
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
 #include <tiny_gltf.h>
@@ -7,7 +11,9 @@
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <assimp/Importer.hpp>
+#include <csignal>
 #include <cctype>
+#include <cerrno>
 #include <chrono>
 #include <cmath>
 #include <cstring>
@@ -17,6 +23,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <iostream>
+#include <limits>
 #include <optional>
 
 #include "core/decomp/quickhull.h"
@@ -93,9 +100,26 @@ Result<TriangleMesh> readGltfTriangles(const std::string& path) {
     std::memcpy(&i, data.data() + at, size);  // little-endian host
     return i;
   };
+  // every index that the walk follows is checked: tinygltf parses references without checking them
+  auto bad = [&](const tinygltf::Accessor& a) {
+    if (a.bufferView < 0)
+      return false;  // read as absent below
+    const auto v = static_cast<std::size_t>(a.bufferView);
+    return v >= model.bufferViews.size() || model.bufferViews[v].buffer < 0 ||
+           static_cast<std::size_t>(model.bufferViews[v].buffer) >= model.buffers.size();
+  };
+  auto accessor = [&](int i) -> const tinygltf::Accessor* {
+    if (i < 0 || static_cast<std::size_t>(i) >= model.accessors.size() ||
+        bad(model.accessors[static_cast<std::size_t>(i)]))
+      return nullptr;
+    return &model.accessors[static_cast<std::size_t>(i)];
+  };
   std::vector<std::pair<int, glm::dmat4>> stack;
+  // a node reached twice is in a cycle of children or has two parents (glTF: nodes form disjoint
+  // strict trees); following it again would not end
+  std::vector<bool> reached(model.nodes.size(), false);
   const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
-  if (!model.scenes.empty())
+  if (static_cast<std::size_t>(scene) < model.scenes.size())
     for (int n : model.scenes[static_cast<std::size_t>(scene)].nodes)
       stack.push_back({n, glm::dmat4(1.0)});
   while (!stack.empty()) {
@@ -103,18 +127,33 @@ Result<TriangleMesh> readGltfTriangles(const std::string& path) {
     stack.pop_back();
     if (ni < 0 || static_cast<std::size_t>(ni) >= model.nodes.size())
       continue;
+    if (reached[static_cast<std::size_t>(ni)])
+      return Error{path + ": node " + std::to_string(ni) +
+                   " is reached twice from the scene (a cycle of node children, or a node with "
+                   "two parents)"};
+    reached[static_cast<std::size_t>(ni)] = true;
     const tinygltf::Node& node = model.nodes[static_cast<std::size_t>(ni)];
     const glm::dmat4 world = parent * localMatrix(node);
     for (int c : node.children)
       stack.push_back({c, world});
     if (node.mesh < 0)
       continue;
+    if (static_cast<std::size_t>(node.mesh) >= model.meshes.size())
+      return Error{path + ": node " + std::to_string(ni) + ": mesh " + std::to_string(node.mesh) +
+                   " does not exist"};
     for (const tinygltf::Primitive& prim :
          model.meshes[static_cast<std::size_t>(node.mesh)].primitives) {
       const auto pos = prim.attributes.find("POSITION");
-      if ((prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) || pos == prim.attributes.end())
+      const int mode = prim.mode == -1 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
+      if ((mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+           mode != TINYGLTF_MODE_TRIANGLE_FAN) ||
+          pos == prim.attributes.end())
         continue;
-      const tinygltf::Accessor& pa = model.accessors[static_cast<std::size_t>(pos->second)];
+      const tinygltf::Accessor* pa_ptr = accessor(pos->second);
+      if (pa_ptr == nullptr)
+        return Error{path + ": mesh " + std::to_string(node.mesh) +
+                     ": POSITION names no usable accessor"};
+      const tinygltf::Accessor& pa = *pa_ptr;
       const auto base = static_cast<std::uint32_t>(mesh.positions.size());
       for (std::size_t k = 0; k < pa.count; ++k) {
         const auto p = readFloat3(pa, k);
@@ -125,20 +164,34 @@ Result<TriangleMesh> readGltfTriangles(const std::string& path) {
       }
       std::vector<std::uint32_t> idx;
       if (prim.indices >= 0) {
-        const tinygltf::Accessor& ia = model.accessors[static_cast<std::size_t>(prim.indices)];
-        for (std::size_t k = 0; k < ia.count; ++k) {
-          const auto i = readIndex(ia, k);
+        const tinygltf::Accessor* ia = accessor(prim.indices);
+        if (ia == nullptr)
+          return Error{path + ": mesh " + std::to_string(node.mesh) +
+                       ": indices name no usable accessor"};
+        for (std::size_t k = 0; k < ia->count; ++k) {
+          const auto i = readIndex(*ia, k);
           if (!i)
             return Error{path + ": mesh " + std::to_string(node.mesh) +
                          ": indices outside their buffer"};
-          idx.push_back(*i);
+          // an index past this primitive's vertices is the repair's bad index, not a vertex of
+          // the next primitive
+          idx.push_back(*i < pa.count ? base + *i : std::numeric_limits<std::uint32_t>::max());
         }
       } else {
         for (std::uint32_t k = 0; k < pa.count; ++k)
-          idx.push_back(k);
+          idx.push_back(base + k);
       }
-      for (std::size_t k = 0; k + 2 < idx.size(); k += 3)
-        mesh.triangles.push_back({base + idx[k], base + idx[k + 1], base + idx[k + 2]});
+      // glTF 2.0 §3.7.2.1: strips and fans as their triangles, in the order that keeps the
+      // winding of the first
+      if (mode == TINYGLTF_MODE_TRIANGLES)
+        for (std::size_t k = 0; k + 2 < idx.size(); k += 3)
+          mesh.triangles.push_back({idx[k], idx[k + 1], idx[k + 2]});
+      else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
+        for (std::size_t k = 0; k + 2 < idx.size(); ++k)
+          mesh.triangles.push_back({idx[k], idx[k + 1 + k % 2], idx[k + 2 - k % 2]});
+      else
+        for (std::size_t k = 1; k + 1 < idx.size(); ++k)
+          mesh.triangles.push_back({idx[k], idx[k + 1], idx[0]});
     }
   }
   return mesh;
@@ -165,6 +218,120 @@ Result<TriangleMesh> readWithAssimp(const std::string& path) {
             {base + face.mIndices[0], base + face.mIndices[1], base + face.mIndices[2]});
     }
   }
+  return mesh;
+}
+
+// readWithAssimp in a child process, the mesh sent back through a pipe. Debian's assimp (5.2.5)
+// dies on some malformed files (a segfault on a binary PLY whose header is cut short, an assertion
+// on a binary PLY whose data starts with a newline byte) and grows without bound on an OFF whose
+// header counts more vertices than it holds: the child runs under an address-space limit, and its
+// death becomes an error that names the file. Called before any thread is started.
+Result<TriangleMesh> readWithAssimpIsolated(const std::string& path) {
+  int fds[2];
+  if (::pipe(fds) != 0)
+    return readWithAssimp(path);
+  const pid_t pid = ::fork();
+  if (pid < 0) {
+    ::close(fds[0]);
+    ::close(fds[1]);
+    return readWithAssimp(path);
+  }
+  if (pid == 0) {
+    ::close(fds[0]);
+    // half the machine's memory: no model file within reach needs more to be read
+    const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
+    if (pages > 0 && page > 0) {
+      rlimit lim{};
+      lim.rlim_cur = lim.rlim_max = static_cast<rlim_t>(pages) * static_cast<rlim_t>(page) / 2;
+      ::setrlimit(RLIMIT_AS, &lim);
+    }
+    std::vector<std::uint8_t> out;
+    auto put = [&](const void* data, std::size_t n) {
+      const auto* b = static_cast<const std::uint8_t*>(data);
+      out.insert(out.end(), b, b + n);
+    };
+    try {
+      const Result<TriangleMesh> r = readWithAssimp(path);
+      const std::uint8_t ok = r.ok() ? 1 : 0;
+      put(&ok, 1);
+      if (r.ok()) {
+        const std::uint64_t nv = r.value().positions.size(), nt = r.value().triangles.size();
+        put(&nv, 8);
+        put(r.value().positions.data(), nv * sizeof(Vec3));
+        put(&nt, 8);
+        put(r.value().triangles.data(), nt * sizeof(decomp::Triangle));
+      } else {
+        const std::string& m = r.error().message;
+        const std::uint64_t n = m.size();
+        put(&n, 8);
+        put(m.data(), n);
+      }
+    } catch (const std::exception& e) {
+      out.clear();
+      const std::uint8_t ok = 0;
+      const std::string m = path + ": " + e.what();
+      const std::uint64_t n = m.size();
+      put(&ok, 1);
+      put(&n, 8);
+      put(m.data(), n);
+    }
+    for (std::size_t at = 0; at < out.size();) {
+      const ssize_t w = ::write(fds[1], out.data() + at, out.size() - at);
+      if (w <= 0)
+        ::_exit(3);
+      at += static_cast<std::size_t>(w);
+    }
+    ::_exit(0);
+  }
+  ::close(fds[1]);
+  std::vector<std::uint8_t> in;
+  std::uint8_t buf[65536];
+  while (true) {
+    const ssize_t n = ::read(fds[0], buf, sizeof buf);
+    if (n < 0 && errno == EINTR)
+      continue;
+    if (n <= 0)
+      break;
+    in.insert(in.end(), buf, buf + n);
+  }
+  ::close(fds[0]);
+  int status = 0;
+  while (::waitpid(pid, &status, 0) < 0 && errno == EINTR) {
+  }
+  const std::string ext = lower(fs::path(path).extension().string());
+  if (WIFSIGNALED(status))
+    return Error{path + ": the " + ext + " reader (assimp) died on this file (" +
+                 ::strsignal(WTERMSIG(status)) + "): the file is malformed or beyond the reader"};
+  std::size_t at = 0;
+  auto get = [&](void* data, std::size_t n) {
+    if (at + n > in.size())
+      return false;
+    std::memcpy(data, in.data() + at, n);
+    at += n;
+    return true;
+  };
+  std::uint8_t ok = 0;
+  std::uint64_t n = 0;
+  if (!(WIFEXITED(status) && WEXITSTATUS(status) == 0) || !get(&ok, 1) || !get(&n, 8))
+    return Error{path + ": the " + ext + " reader (assimp) ended without a result"};
+  if (ok == 0) {
+    std::string m(n <= in.size() - at ? n : 0, '\0');
+    get(m.data(), m.size());
+    if (m.find("bad_alloc") != std::string::npos)
+      m = path + ": reading it needs more memory than allowed (a count in the file is larger "
+                 "than the file holds?)";
+    return Error{m};
+  }
+  TriangleMesh mesh;
+  std::uint64_t nt = 0;
+  if (n > (in.size() - at) / sizeof(Vec3))
+    return Error{path + ": the " + ext + " reader (assimp) ended without a result"};
+  mesh.positions.resize(n);
+  get(mesh.positions.data(), n * sizeof(Vec3));
+  if (!get(&nt, 8) || nt > (in.size() - at) / sizeof(decomp::Triangle))
+    return Error{path + ": the " + ext + " reader (assimp) ended without a result"};
+  mesh.triangles.resize(nt);
+  get(mesh.triangles.data(), nt * sizeof(decomp::Triangle));
   return mesh;
 }
 
@@ -449,7 +616,7 @@ Result<TriangleMesh> readModel(const std::string& path) {
   if (ext == ".gltf" || ext == ".glb")
     mesh = readGltfTriangles(path);
   else if (ext == ".obj" || ext == ".stl" || ext == ".ply" || ext == ".off")
-    mesh = readWithAssimp(path);
+    mesh = readWithAssimpIsolated(path);
   else
     return Error{path + ": unsupported format '" + ext +
                  "' (give .obj, .stl, .ply, .off, .gltf or .glb)"};

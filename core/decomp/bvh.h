@@ -47,10 +47,9 @@ class TriangleBvh {
   /// the closest feature's angle-weighted pseudonormal (Bærentzen and Aanæs, IEEE TVCG 11(3) 2005);
   /// otherwise the rays.
   bool inside(const Vec3& p, const Closest& closest) const;
-  /// Inside tests by the winding number alone, also on a closed manifold surface: for a surface
-  /// that crosses or touches itself (closed bodies exported together, one through or against
-  /// another) the closest feature's side is not the solid's side.
-  void dropPseudonormals() { normals_.clear(); }
+  /// Decide every point by the winding number: the pseudonormal side is wrong where closed parts
+  /// touch or overlap (a point inside one part whose closest feature is another part's face).
+  void useWindingNumberOnly() { normals_.clear(); }
   /// Pairs of triangles that cross (an edge of one through the other), sharing no vertex; counting
   /// stops after `max_pairs_tested` box-overlapping pairs (then *capped is set).
   std::size_t countCrossingPairs(std::size_t max_pairs_tested, bool* capped) const;

@@ -782,11 +782,10 @@ Result<Context> prepare(const TriangleMesh& mesh,
                        fixed(ctx.mesh.decimation_cell / ctx.mesh.diagonal, 5) +
                        " of the diagonal; concavity is measured against the decimated mesh)");
   ctx.bvh = std::make_unique<TriangleBvh>(ctx.mesh.positions, ctx.mesh.triangles);
-  // a self-crossing surface (closed bodies exported together, touching or through each other):
-  // inside is what the winding number says, not the closest feature's side (a point of one body
-  // whose closest face is another's coincident face would be called outside)
+  // crossing triangles: parts that touch or overlap, where the closest feature's side is not the
+  // solid's (docs/decomposition.md: overlapping parts are one solid by the winding number)
   if (counts.self_intersections > 0)
-    ctx.bvh->dropPseudonormals();
+    ctx.bvh->useWindingNumberOnly();
   ctx.view.bvh = ctx.bvh.get();
   ctx.c_abs = options.concavity * ctx.mesh.diagonal;
   // on a plane within 1e-9 of the diagonal, or within the rounding of float32 inputs (STL, glTF)
@@ -935,7 +934,7 @@ std::string contentHash(const TriangleMesh& mesh, const DecompOptions& options) 
     std::memcpy(&bits, &x, sizeof bits);
     putU64(bits);
   };
-  static constexpr char kTag[] = "hapticd-decomp algorithm 2";
+  static constexpr char kTag[] = "hapticd-decomp algorithm 3";
   h.update(kTag, sizeof kTag - 1);
   putU64(mesh.positions.size());
   for (const Vec3& p : mesh.positions)

@@ -282,3 +282,173 @@ TEST_F(ImportTest, RoundTripThroughTheDaemonTouchesTheModel) {
 }
 
 }  // namespace
+
+namespace {
+
+std::string base64(const std::vector<std::uint8_t>& in) {
+  static constexpr char kAlphabet[] =
+      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+  std::string s;
+  for (std::size_t i = 0; i < in.size(); i += 3) {
+    const std::uint32_t n = (std::uint32_t{in[i]} << 16) |
+                            (i + 1 < in.size() ? std::uint32_t{in[i + 1]} << 8 : 0u) |
+                            (i + 2 < in.size() ? std::uint32_t{in[i + 2]} : 0u);
+    s += kAlphabet[(n >> 18) & 63];
+    s += kAlphabet[(n >> 12) & 63];
+    s += i + 1 < in.size() ? kAlphabet[(n >> 6) & 63] : '=';
+    s += i + 2 < in.size() ? kAlphabet[n & 63] : '=';
+  }
+  return s;
+}
+
+// a .gltf (buffer as a data URI) whose one mesh has a primitive per (mode, indices) over the
+// same float positions, on the nodes given
+void writeGltf(const std::vector<Vec3>& positions,
+               const std::vector<std::pair<int, std::vector<std::uint32_t>>>& primitives,
+               const nlohmann::json& nodes,
+               const std::string& p) {
+  std::vector<std::uint8_t> bin;
+  auto put = [&](const void* data, std::size_t n) {
+    const auto* b = static_cast<const std::uint8_t*>(data);
+    bin.insert(bin.end(), b, b + n);
+  };
+  for (const Vec3& v : positions) {
+    const float f[3] = {static_cast<float>(v.x), static_cast<float>(v.y), static_cast<float>(v.z)};
+    put(f, sizeof f);
+  }
+  nlohmann::json views = nlohmann::json::array(), accessors = nlohmann::json::array(),
+                 prims = nlohmann::json::array();
+  views.push_back({{"buffer", 0}, {"byteOffset", 0}, {"byteLength", bin.size()}});
+  accessors.push_back({{"bufferView", 0},
+                       {"componentType", 5126},
+                       {"count", positions.size()},
+                       {"type", "VEC3"},
+                       {"min", {0.0, 0.0, 0.0}},
+                       {"max", {1.0, 1.0, 1.0}}});
+  for (const auto& [mode, indices] : primitives) {
+    const std::size_t at = bin.size();
+    put(indices.data(), indices.size() * 4);
+    views.push_back({{"buffer", 0}, {"byteOffset", at}, {"byteLength", indices.size() * 4}});
+    accessors.push_back({{"bufferView", views.size() - 1},
+                         {"componentType", 5125},
+                         {"count", indices.size()},
+                         {"type", "SCALAR"}});
+    prims.push_back({{"attributes", {{"POSITION", 0}}},
+                     {"indices", accessors.size() - 1},
+                     {"mode", mode}});
+  }
+  const nlohmann::json doc = {
+      {"asset", {{"version", "2.0"}}},
+      {"scene", 0},
+      {"scenes", {{{"nodes", {0}}}}},
+      {"nodes", nodes},
+      {"meshes", {{{"primitives", prims}}}},
+      {"accessors", accessors},
+      {"bufferViews", views},
+      {"buffers",
+       {{{"byteLength", bin.size()},
+         {"uri", "data:application/octet-stream;base64," + base64(bin)}}}}};
+  std::ofstream(p) << doc.dump();
+}
+
+// the unit cube's corners: bottom ring 0-3 (counter-clockwise seen from +z), top ring 4-7 above it
+const std::vector<Vec3> kCube{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                              {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+
+// glTF's TRIANGLE_STRIP (5) and TRIANGLE_FAN (6) are triangles too (Khronos' asset generator and
+// trimesh's test models have them): the cube as a strip round its sides and a fan on each cap,
+// wound outward, reads as one closed, consistently wound cube (before: "the file has no triangles")
+TEST_F(ImportTest, GltfStripsAndFansAreTriangles) {
+  writeGltf(kCube,
+            {{5, {4, 0, 5, 1, 6, 2, 7, 3, 4, 0}},  // sides: 8 triangles
+             {6, {4, 5, 6, 7}},                     // top: 2
+             {6, {0, 3, 2, 1}}},                    // bottom: 2
+            nlohmann::json::array({{{"mesh", 0}}}), path("cube.gltf"));
+  ASSERT_EQ(import({path("cube.gltf"), "-o", path("out.glb"), "--json"}), 0) << err();
+  const auto j = nlohmann::json::parse(out());
+  EXPECT_EQ(j["repairs"]["input_triangles"], 12);
+  EXPECT_EQ(j["repairs"]["degenerate_triangles"], 0);
+  EXPECT_EQ(j["repairs"]["boundary_edges"], 0);
+  EXPECT_EQ(j["repairs"]["flipped_triangles"], 0);    // the strip's odd triangles keep the winding
+  EXPECT_EQ(j["repairs"]["inverted_components"], 0);  // and it is outward
+  EXPECT_TRUE(j["closed"].get<bool>());
+  EXPECT_EQ(j["pieces"], 1);
+  EXPECT_NEAR(j["volume_ratio"].get<double>(), 1.0, 1e-6);
+}
+
+// a node that is its own ancestor (assimp's glTF2/RecursiveNodes) is refused at once; before, the
+// walk went round the cycle for ever. `timeout` turns a hang into exit 124.
+TEST_F(ImportTest, GltfNodeCycleIsRefusedNotFollowed) {
+  writeGltf(kCube, {{4, {0, 1, 2, 0, 2, 3}}},
+            nlohmann::json::array({{{"children", {1}}}, {{"children", {0}}, {"mesh", 0}}}),
+            path("cycle.gltf"));
+  EXPECT_EQ(run("timeout", {"60", HAPTICCTL, "import", path("cycle.gltf"), "-o", path("x.glb")}),
+            1)
+      << err();
+  EXPECT_NE(err().find("node 0 is reached twice"), std::string::npos) << err();
+  EXPECT_FALSE(fs::exists(path("x.glb")));
+}
+
+// an index past its primitive's vertices is a bad index of that triangle (dropped and counted by
+// the repair), not a vertex of whatever primitive comes next
+TEST_F(ImportTest, GltfIndexPastItsPrimitiveIsABadIndex) {
+  writeGltf(kCube,
+            {{4, {0, 1, 9}},  // 9: no such vertex (8 in the accessor)
+             {4, {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
+                  1, 2, 6, 1, 6, 5, 2, 3, 7, 2, 7, 6, 3, 0, 4, 3, 4, 7}}},  // the cube, outward
+            nlohmann::json::array({{{"mesh", 0}}}), path("cube.gltf"));
+  ASSERT_EQ(import({path("cube.gltf"), "-o", path("out.glb"), "--json"}), 0) << err();
+  const auto j = nlohmann::json::parse(out());
+  EXPECT_EQ(j["repairs"]["input_triangles"], 13);
+  EXPECT_EQ(j["repairs"]["bad_index_triangles"], 1);
+  EXPECT_TRUE(j["closed"].get<bool>());
+}
+
+}  // namespace
+
+namespace {
+
+// files on which Debian's assimp 5.2.5 dies (a segfault, an assertion) or that ask it for more
+// memory than the machine has: the import exits 1 naming the file, never by a signal
+TEST_F(ImportTest, AReaderThatDiesOnAFileIsAnErrorNotACrash) {
+  {
+    // a binary PLY whose third property line is cut short, binary bytes where its type should be
+    std::ofstream f(path("cut.ply"), std::ios::binary);
+    f << "ply\nformat binary_little_endian 1.0\nelement vertex 3\nproperty float x\n"
+         "property float y\nproperty ";
+    const char tail[] = {0, 0, 0, 9, 7, 0, 0, 0, 3, 0, 0, 0, 3, 3, 0, 0, 0, 7, 0, 0, 0};
+    f.write(tail, sizeof tail);
+  }
+  {
+    // a valid binary PLY tetrahedron whose data starts with the byte 0x0a (x = 0.01f)
+    std::ofstream f(path("nl.ply"), std::ios::binary);
+    f << "ply\nformat binary_little_endian 1.0\nelement vertex 4\nproperty float x\n"
+         "property float y\nproperty float z\nelement face 4\n"
+         "property list uchar int vertex_indices\nend_header\n";
+    const float v[4][3] = {{0.01f, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    f.write(reinterpret_cast<const char*>(v), sizeof v);
+    const std::int32_t t[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+    for (const auto& tri : t) {
+      const char three = 3;
+      f.write(&three, 1);
+      f.write(reinterpret_cast<const char*>(tri), sizeof tri);
+    }
+  }
+  for (const std::string file : {"cut.ply", "nl.ply"}) {
+    const int rc = import({path(file), "-o", path("x.glb"), "--json"});
+    ASSERT_TRUE(rc == 0 || rc == 1) << file << ": exit " << rc << ": " << err();
+    if (rc == 1) {
+      EXPECT_NE(err().find(path(file)), std::string::npos) << err();
+      EXPECT_FALSE(fs::exists(path("x.glb")));
+    } else {
+      EXPECT_EQ(nlohmann::json::parse(out())["repairs"]["input_triangles"], 4) << file;
+    }
+  }
+  // an OFF whose header counts 10^12 vertices: refused at once, saying why
+  std::ofstream(path("huge.off")) << "OFF\n1000000000000 1 0\n0 0 0\n1 0 0\n0 1 0\n3 0 1 2\n";
+  EXPECT_EQ(run("timeout", {"60", HAPTICCTL, "import", path("huge.off"), "-o", path("x.glb")}), 1)
+      << err();
+  EXPECT_NE(err().find("more memory than allowed"), std::string::npos) << err();
+}
+
+}  // namespace

@@ -12,6 +12,7 @@
 #include <numbers>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "core/decomp/quickhull.h"
 #include "core/geometry/polytope.h"
@@ -148,20 +149,19 @@ TEST(Decompose, LBlockIsTwoExactPieces) {
   expectCovers(m, r, 4000, 400);
 }
 
-// closed bodies exported together, touching: a 20 x 20 x 19 slab with four triangular prisms
-// standing on its top face, an X-shaped groove 1 wide between them (an assembly as CAD exports
-// it). Each body is closed and manifold, their faces coincide where they touch: the closest
-// feature's side is not the solid's there (a point inside the slab below a prism is closest to
-// the prism's bottom face, which faces down), so inside is the winding number's (it was: 64
-// pieces at concavity 0.20, half the groove's span taken for outside)
-TEST(Decompose, TouchingClosedBodiesAreOneSolid) {
+// five closed bodies whose faces touch, as CAD exports of assemblies have them: a 20 x 20 x 19 slab
+// and four triangular prisms 1 high standing on it, leaving an X-shaped groove 1 wide. Each body
+// is closed and manifold, so the inside test took the closest face's side, and inside the slab
+// under a prism that face is the prism's bottom, facing down: the measure saw a hole in the slab
+// (concavity 0.204, the 64-piece cap; 0.0092 with the prisms lifted 0.2 off the slab)
+TriangleMesh xGrooveAssembly() {
   TriangleMesh m;
-  const auto prism = [&](const std::vector<std::array<double, 2>>& poly, double z0, double z1) {
-    const std::uint32_t b = static_cast<std::uint32_t>(m.positions.size());
-    const std::uint32_t n = static_cast<std::uint32_t>(poly.size());
-    for (const double z : {z0, z1})
-      for (const auto& q : poly)
-        m.positions.push_back({q[0], q[1], z});
+  auto prism = [&](const std::vector<std::array<double, 2>>& poly, double z0, double z1) {
+    const auto b = static_cast<std::uint32_t>(m.positions.size());
+    const auto n = static_cast<std::uint32_t>(poly.size());
+    for (double z : {z0, z1})
+      for (const auto& [x, y] : poly)
+        m.positions.push_back({x, y, z});
     for (std::uint32_t i = 1; i + 1 < n; ++i) {
       m.triangles.push_back({b, b + i + 1, b + i});
       m.triangles.push_back({b + n, b + n + i, b + n + i + 1});
@@ -172,18 +172,24 @@ TEST(Decompose, TouchingClosedBodiesAreOneSolid) {
       m.triangles.push_back({b + i, b + n + j, b + n + i});
     }
   };
+  const double a = 0.5 * std::numbers::sqrt2, c = 10.0;
   prism({{0, 0}, {20, 0}, {20, 20}, {0, 20}}, 0, 19);
-  const double a = 0.5 * std::numbers::sqrt2, c = 10;
   prism({{a, 0}, {20 - a, 0}, {c, c - a}}, 19, 20);
   prism({{20, a}, {20, 20 - a}, {c + a, c}}, 19, 20);
   prism({{20 - a, 20}, {a, 20}, {c, c + a}}, 19, 20);
   prism({{0, 20 - a}, {0, a}, {c - a, c}}, 19, 20);
+  return m;
+}
+
+TEST(Decompose, TouchingClosedBodiesAreOneSolid) {
+  const TriangleMesh m = xGrooveAssembly();
   const DecompResult r = run(m, 0.01);
+  EXPECT_EQ(r.report.repairs.components, 5u);
   EXPECT_GT(r.report.repairs.self_intersections, 0u);  // the touching faces count as crossings
   EXPECT_LE(r.report.concavity, 0.01);
   EXPECT_FALSE(r.report.max_pieces_hit);
-  EXPECT_LE(r.pieces.size(), 16u);
-  expectCovers(m, r, 4000, 200);
+  EXPECT_LT(r.pieces.size(), 20u);
+  expectCovers(m, r, 3000, 100);
 }
 
 TEST(Decompose, TorusWithinConcavity) {
