@@ -1,21 +1,20 @@
 #include "client/import.h"
 
-#include <sys/resource.h>
-#include <sys/wait.h>
-#include <unistd.h>
-
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <sys/resource.h>
+#include <sys/wait.h>
 #include <tiny_gltf.h>
+#include <unistd.h>
 
 #include <CLI/CLI.hpp>
 #include <algorithm>
 #include <assimp/Importer.hpp>
-#include <csignal>
 #include <cctype>
 #include <cerrno>
 #include <chrono>
 #include <cmath>
+#include <csignal>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -318,8 +317,9 @@ Result<TriangleMesh> readWithAssimpIsolated(const std::string& path) {
     std::string m(n <= in.size() - at ? n : 0, '\0');
     get(m.data(), m.size());
     if (m.find("bad_alloc") != std::string::npos)
-      m = path + ": reading it needs more memory than allowed (a count in the file is larger "
-                 "than the file holds?)";
+      m = path +
+          ": reading it needs more memory than allowed (a count in the file is larger "
+          "than the file holds?)";
     return Error{m};
   }
   TriangleMesh mesh;

@@ -333,21 +333,19 @@ void writeGltf(const std::vector<Vec3>& positions,
                          {"componentType", 5125},
                          {"count", indices.size()},
                          {"type", "SCALAR"}});
-    prims.push_back({{"attributes", {{"POSITION", 0}}},
-                     {"indices", accessors.size() - 1},
-                     {"mode", mode}});
+    prims.push_back(
+        {{"attributes", {{"POSITION", 0}}}, {"indices", accessors.size() - 1}, {"mode", mode}});
   }
-  const nlohmann::json doc = {
-      {"asset", {{"version", "2.0"}}},
-      {"scene", 0},
-      {"scenes", {{{"nodes", {0}}}}},
-      {"nodes", nodes},
-      {"meshes", {{{"primitives", prims}}}},
-      {"accessors", accessors},
-      {"bufferViews", views},
-      {"buffers",
-       {{{"byteLength", bin.size()},
-         {"uri", "data:application/octet-stream;base64," + base64(bin)}}}}};
+  const nlohmann::json doc = {{"asset", {{"version", "2.0"}}},
+                              {"scene", 0},
+                              {"scenes", {{{"nodes", {0}}}}},
+                              {"nodes", nodes},
+                              {"meshes", {{{"primitives", prims}}}},
+                              {"accessors", accessors},
+                              {"bufferViews", views},
+                              {"buffers",
+                               {{{"byteLength", bin.size()},
+                                 {"uri", "data:application/octet-stream;base64," + base64(bin)}}}}};
   std::ofstream(p) << doc.dump();
 }
 
@@ -361,8 +359,8 @@ const std::vector<Vec3> kCube{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
 TEST_F(ImportTest, GltfStripsAndFansAreTriangles) {
   writeGltf(kCube,
             {{5, {4, 0, 5, 1, 6, 2, 7, 3, 4, 0}},  // sides: 8 triangles
-             {6, {4, 5, 6, 7}},                     // top: 2
-             {6, {0, 3, 2, 1}}},                    // bottom: 2
+             {6, {4, 5, 6, 7}},                    // top: 2
+             {6, {0, 3, 2, 1}}},                   // bottom: 2
             nlohmann::json::array({{{"mesh", 0}}}), path("cube.gltf"));
   ASSERT_EQ(import({path("cube.gltf"), "-o", path("out.glb"), "--json"}), 0) << err();
   const auto j = nlohmann::json::parse(out());
@@ -382,8 +380,7 @@ TEST_F(ImportTest, GltfNodeCycleIsRefusedNotFollowed) {
   writeGltf(kCube, {{4, {0, 1, 2, 0, 2, 3}}},
             nlohmann::json::array({{{"children", {1}}}, {{"children", {0}}, {"mesh", 0}}}),
             path("cycle.gltf"));
-  EXPECT_EQ(run("timeout", {"60", HAPTICCTL, "import", path("cycle.gltf"), "-o", path("x.glb")}),
-            1)
+  EXPECT_EQ(run("timeout", {"60", HAPTICCTL, "import", path("cycle.gltf"), "-o", path("x.glb")}), 1)
       << err();
   EXPECT_NE(err().find("node 0 is reached twice"), std::string::npos) << err();
   EXPECT_FALSE(fs::exists(path("x.glb")));

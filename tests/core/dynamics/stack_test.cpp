@@ -290,7 +290,8 @@ namespace {
 // 12 iterations, then kicked the stack (a tower of six 5 mm boxes turned by 22.5 degrees each,
 // friction 0.5, drifted 1.9e-2 of the edge and turned at 0.3 rad/s at 2.13 s; turned 45 degrees
 // without friction it was thrown apart). Six boxes each turned `step_deg` more than the one below
-// (45: every other one turned), placed touching, settled 2 s, then 20 s (3.3 s in sanitizer builds).
+// (45: every other one turned), placed touching, settled 2 s, then 20 s (3.3 s in sanitizer
+// builds).
 TEST(Stack, TwistedBoxesStand) {
   for (const double step_deg : {22.5, 45.0}) {
     for (const double edge : {0.005, 0.02, 0.1}) {
@@ -304,8 +305,8 @@ TEST(Stack, TwistedBoxesStand) {
         for (int i = 0; i < 6; ++i) {
           const double turn = step_deg == 45.0 ? (i % 2) * 45.0 : i * step_deg;
           const Quat q = glm::angleAxis(turn * std::numbers::pi / 180.0, Vec3{0, 1, 0});
-          s.bodies.push_back(dynamicBody("box", boxShape(Vec3{h}),
-                                         at(Vec3{0, h + edge * i, 0}, q), 500.0, 0));
+          s.bodies.push_back(
+              dynamicBody("box", boxShape(Vec3{h}), at(Vec3{0, h + edge * i, 0}, q), 500.0, 0));
         }
         Rig rig(std::move(s), awake());
         const int settle = 2000;
