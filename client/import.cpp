@@ -225,6 +225,18 @@ Result<TriangleMesh> readWithAssimp(const std::string& path) {
 // on a binary PLY whose data starts with a newline byte) and grows without bound on an OFF whose
 // header counts more vertices than it holds: the child runs under an address-space limit, and its
 // death becomes an error that names the file. Called before any thread is started.
+#if defined(__SANITIZE_ADDRESS__)
+constexpr bool kAddressSanitizer = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer)
+constexpr bool kAddressSanitizer = true;
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+#else
+constexpr bool kAddressSanitizer = false;
+#endif
+
 Result<TriangleMesh> readWithAssimpIsolated(const std::string& path) {
   int fds[2];
   if (::pipe(fds) != 0)
@@ -237,9 +249,10 @@ Result<TriangleMesh> readWithAssimpIsolated(const std::string& path) {
   }
   if (pid == 0) {
     ::close(fds[0]);
-    // half the machine's memory: no model file within reach needs more to be read
+    // half the machine's memory: no model file within reach needs more to be read (not under
+    // AddressSanitizer, whose shadow memory alone is terabytes of address space)
     const long pages = ::sysconf(_SC_PHYS_PAGES), page = ::sysconf(_SC_PAGESIZE);
-    if (pages > 0 && page > 0) {
+    if (pages > 0 && page > 0 && !kAddressSanitizer) {
       rlimit lim{};
       lim.rlim_cur = lim.rlim_max = static_cast<rlim_t>(pages) * static_cast<rlim_t>(page) / 2;
       ::setrlimit(RLIMIT_AS, &lim);
