@@ -355,6 +355,7 @@ struct Parsed {
   decomp::DecompOptions decomp;
   std::optional<double> mass_kg, density;
   std::vector<double> at;
+  std::vector<double> gravity;  // empty: the default (see ImportOptions::gravity)
 };
 
 std::optional<double> number(const std::string& s) {
@@ -413,6 +414,16 @@ Result<Parsed> parse(const ImportOptions& o) {
     p.density = number(o.density);
     if (!p.density || !(*p.density > 0.0))
       return Error{"--density must be kg/m3 > 0, got '" + o.density + "'"};
+  }
+  if (!o.gravity.empty()) {
+    if (o.gravity.size() != 3)
+      return Error{"--gravity needs X Y Z (m/s2)"};
+    for (const std::string& g : o.gravity) {
+      const auto v = number(g);
+      if (!v)
+        return Error{"--gravity: '" + g + "' is not a number"};
+      p.gravity.push_back(*v);
+    }
   }
   if (!o.at.empty() && o.add.empty())
     return Error{"--at needs --add SCENE.glb"};
@@ -661,6 +672,10 @@ CLI::App* defineImport(CLI::App& app, ImportOptions& o) {
                   "append the model to this scene (.glb); -o may name the same file");
   sub->add_option("--at", o.at, "with --add: X Y Z [QX QY QZ QW], the model's pose in the scene")
       ->expected(3, 7);
+  sub->add_option("--gravity", o.gravity,
+                  "X Y Z m/s2, the scene's gravity (default: 0 -9.81 0 when the scene has a "
+                  "dynamic body and declares none; 0 0 0 for none)")
+      ->expected(3);
   sub->allow_extras();
   return sub;
 }
@@ -714,24 +729,86 @@ int runImport(const ImportOptions& o, std::ostream& out, std::ostream& err) {
     volume_m3 += decomp::meshVolume(piece.vertices, piece.triangles);
   volume_m3 *= p.scale * p.scale * p.scale;
   const double mass_kg = p.mass_kg ? *p.mass_kg : p.density ? *p.density * volume_m3 : 0.0;
-  const std::string name = fs::path(o.model).stem().string();
-  std::vector<std::uint8_t> glb = buildScene(name, visual, r, o, p, mass_kg);
+  // the scene appended to, read first: the new body's name must differ from its nodes' (a model
+  // added three times is three bodies, `box`, `box_2`, `box_3`, as --record-bodies names them)
+  std::optional<std::pair<Json, std::vector<std::uint8_t>>> base;
   if (!o.add.empty()) {
     auto base_bytes = readFile(o.add);
     if (!base_bytes) {
       err << "hapticctl import: --add " << base_bytes.error().message << '\n';
       return 1;
     }
-    auto base = splitGlb(base_bytes.value(), o.add);
-    auto mine = splitGlb(glb, "the new model");
-    if (!base || !mine) {
-      err << "hapticctl import: " << (base ? mine.error().message : base.error().message) << '\n';
+    auto split = splitGlb(base_bytes.value(), o.add);
+    if (!split) {
+      err << "hapticctl import: " << split.error().message << '\n';
       return 1;
     }
-    auto [doc, bin] = std::move(base).value();
-    mergeInto(doc, bin, mine.value().first, mine.value().second);
-    glb = scene::packGlb(doc.dump(), bin);
+    base = std::move(split).value();
   }
+  std::string name = fs::path(o.model).stem().string();
+  if (base) {
+    const auto taken = [&](const std::string& n) {
+      if (!base->first.contains("nodes") || !base->first["nodes"].is_array())
+        return false;
+      for (const Json& node : base->first["nodes"]) {
+        const std::string have = node.is_object() ? node.value("name", std::string{}) : "";
+        if (have == n || have.rfind(n + "_", 0) == 0)
+          return true;
+      }
+      return false;
+    };
+    const std::string stem = name;
+    for (int k = 2; taken(name); ++k)
+      name = stem + "_" + std::to_string(k);
+  }
+  std::vector<std::uint8_t> glb = buildScene(name, visual, r, o, p, mass_kg);
+  auto mine = splitGlb(glb, "the new model");
+  if (!mine) {
+    err << "hapticctl import: " << mine.error().message << '\n';
+    return 1;
+  }
+  auto [doc, bin] = base ? std::move(*base) : std::move(mine).value();
+  if (base)
+    mergeInto(doc, bin, mine.value().first, mine.value().second);
+  // the scene's gravity: as given, else standard gravity along -Y for a scene with a dynamic body
+  // and none declared (a dropped or stacked body should fall, as in every engine)
+  std::string gravity_said;
+  {
+    Json& scenes = doc["scenes"];
+    const std::size_t si = doc.contains("scene") && doc["scene"].is_number_unsigned()
+                               ? doc["scene"].get<std::size_t>()
+                               : 0;
+    if (scenes.is_array() && si < scenes.size()) {
+      Json& sc = scenes[si];
+      const bool declared =
+          (sc.contains("extras") && sc["extras"].is_object() && sc["extras"].contains("haptic") &&
+           sc["extras"]["haptic"].is_object() && sc["extras"]["haptic"].contains("gravity")) ||
+          (doc.contains("asset") && doc["asset"].contains("extras") &&
+           doc["asset"]["extras"].is_object() && doc["asset"]["extras"].contains("haptic") &&
+           doc["asset"]["extras"]["haptic"].is_object() &&
+           doc["asset"]["extras"]["haptic"].contains("gravity"));
+      std::vector<double> g = p.gravity;
+      if (g.empty() && o.role == "dynamic" && !declared) {
+        g = {0.0, -9.81, 0.0};
+        gravity_said =
+            "gravity 0 -9.81 0 m/s2 (a dynamic body and none declared: --gravity to change)";
+      } else if (!g.empty()) {
+        gravity_said = "gravity " + scenes::jsonVec({g[0], g[1], g[2]}).dump() + " m/s2";
+      }
+      if (!g.empty()) {
+        if (!sc.contains("extras") || !sc["extras"].is_object())
+          sc["extras"] = Json::object();
+        if (!sc["extras"].contains("haptic") || !sc["extras"]["haptic"].is_object())
+          sc["extras"]["haptic"] = Json::object();
+        sc["extras"]["haptic"]["gravity"] = scenes::jsonVec({g[0], g[1], g[2]});
+        if (doc.contains("asset") && doc["asset"].contains("extras") &&
+            doc["asset"]["extras"].is_object() && doc["asset"]["extras"].contains("haptic") &&
+            doc["asset"]["extras"]["haptic"].is_object())
+          doc["asset"]["extras"]["haptic"].erase("gravity");  // the two must agree: one place
+      }
+    }
+  }
+  glb = scene::packGlb(doc.dump(), bin);
   std::ofstream file(o.output, std::ios::binary | std::ios::trunc);
   file.write(reinterpret_cast<const char*>(glb.data()), static_cast<std::streamsize>(glb.size()));
   if (!file) {
@@ -745,13 +822,20 @@ int runImport(const ImportOptions& o, std::ostream& out, std::ostream& err) {
     j["units"] = p.units;
     j["units_assumed"] = p.units_assumed;
     j["role"] = o.role;
+    j["body"] = name;
+    if (!gravity_said.empty())
+      j["gravity"] = doc["scenes"][doc.contains("scene") && doc["scene"].is_number_unsigned()
+                                       ? doc["scene"].get<std::size_t>()
+                                       : 0]["extras"]["haptic"]["gravity"];
     if (o.role == "dynamic")
       j["mass_kg"] = mass_kg > 0.0 ? Json(mass_kg) : Json(1000.0 * volume_m3);
     out << j.dump() << '\n';
   } else {
     out << "wrote " << o.output << " (" << o.role << " body '" << name << "', units " << p.units
-        << (p.units_assumed ? " assumed" : "") << ")\n"
-        << decomp::describe(r.report);
+        << (p.units_assumed ? " assumed" : "") << ")\n";
+    if (!gravity_said.empty())
+      out << gravity_said << '\n';
+    out << decomp::describe(r.report);
   }
   return 0;
 }

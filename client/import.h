@@ -34,6 +34,9 @@ struct ImportOptions {
   bool json = false;
   std::string add;              ///< an existing scene to append to
   std::vector<std::string> at;  ///< X Y Z [QX QY QZ QW]
+  /// X Y Z, m/s², the scene's gravity; empty: a scene with a dynamic body and no gravity declared
+  /// gets 0 -9.81 0 (glTF's +Y up), and says so
+  std::vector<std::string> gravity;
 };
 
 /// Registers the subcommand on `app`; its values land in `o`.

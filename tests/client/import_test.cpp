@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <cstring>
@@ -231,6 +232,48 @@ TEST_F(ImportTest, AddAppendsTheModelToAScene) {
       EXPECT_EQ(body["primitives"], 2);
     }
   }
+}
+
+// a stack built by import as a user would: one file added three times is three bodies with their
+// own names (--record-bodies tells them apart), and a scene with a dynamic body gets standard
+// gravity unless it declares one or --gravity says otherwise
+TEST_F(ImportTest, AddingOneModelThriceNamesThreeBodiesAndDynamicBodiesFall) {
+  writeObj(hapticd::decomp::models::box({0, 0, 0}, {0.1, 0.1, 0.1}), path("box.obj"));
+  ASSERT_EQ(import({path("box.obj"), "-o", path("s.glb")}), 0) << err();
+  EXPECT_EQ(out().find("gravity"), std::string::npos) << out();  // static only: none written
+  ASSERT_EQ(import({path("box.obj"), "-o", path("s.glb"), "--add", path("s.glb"), "--at", "0",
+                    "0.1", "0", "--role", "dynamic", "--json"}),
+            0)
+      << err();
+  auto j = nlohmann::json::parse(out());
+  EXPECT_EQ(j["body"], "box_2");
+  ASSERT_TRUE(j.contains("gravity"));
+  EXPECT_EQ(j["gravity"], nlohmann::json::parse("[0,-9.81,0]"));
+  ASSERT_EQ(import({path("box.obj"), "-o", path("s.glb"), "--add", path("s.glb"), "--at", "0",
+                    "0.2", "0", "--role", "dynamic", "--json"}),
+            0)
+      << err();
+  j = nlohmann::json::parse(out());
+  EXPECT_EQ(j["body"], "box_3");
+  EXPECT_FALSE(j.contains("gravity"));  // declared already: left as it is
+  ASSERT_EQ(run(HAPTICCTL, {"check", path("s.glb"), "--json"}), 0) << err();
+  auto c = nlohmann::json::parse(out());
+  std::vector<std::string> names;
+  for (const auto& body : c["bodies"])
+    names.push_back(body["name"]);
+  std::sort(names.begin(), names.end());
+  EXPECT_EQ(names, (std::vector<std::string>{"box", "box_2", "box_3"}));
+  EXPECT_EQ(c["plan"]["gravity"], true);
+  // --gravity 0 0 0: a dynamic body that floats, as asked
+  ASSERT_EQ(import({path("box.obj"), "-o", path("f.glb"), "--role", "dynamic", "--gravity", "0",
+                    "0", "0"}),
+            0)
+      << err();
+  ASSERT_EQ(run(HAPTICCTL, {"check", path("f.glb"), "--json"}), 0) << err();
+  c = nlohmann::json::parse(out());
+  EXPECT_EQ(c["plan"]["gravity"], false);
+  EXPECT_EQ(import({path("box.obj"), "-o", path("f.glb"), "--gravity", "0", "x", "0"}), 2);
+  EXPECT_NE(err().find("--gravity"), std::string::npos) << err();
 }
 
 // the probe sphere (config default: radius 10 mm) comes down onto the block's top face (z = 0.1)
