@@ -24,6 +24,7 @@
 #include <iostream>
 #include <limits>
 #include <optional>
+#include <sstream>
 
 #include "core/decomp/quickhull.h"
 #include "core/scene/glb.h"
@@ -631,21 +632,127 @@ Json reportJson(const decomp::DecompReport& r) {
 
 }  // namespace
 
+namespace {
+
+// the first bytes of a file (at most n)
+std::string headOf(const std::string& path, std::size_t n) {
+  std::ifstream f(path, std::ios::binary);
+  std::string head(n, '\0');
+  f.read(head.data(), static_cast<std::streamsize>(n));
+  head.resize(static_cast<std::size_t>(std::max<std::streamsize>(f.gcount(), 0)));
+  return head;
+}
+
+// what the readers would misread, or refuse in their own words: said plainly before them
+std::optional<Error> sniff(const std::string& path, const std::string& ext) {
+  const std::string head = headOf(path, 65536);
+  const bool text_format = ext == ".obj" || ext == ".off" || ext == ".gltf" || ext == ".ply";
+  if (text_format && head.size() >= 2 &&
+      ((head[0] == '\xFE' && head[1] == '\xFF') || (head[0] == '\xFF' && head[1] == '\xFE')))
+    return Error{path + ": UTF-16 text: save the file as UTF-8 (or ASCII)"};
+  if (ext == ".ply") {
+    // a PLY whose triangles are strips (element tristrips, Stanford's scans) and no faces: the
+    // reader (assimp 5.2) keeps one triangle of it, silently
+    const std::size_t end = head.find("end_header");
+    const std::string header = lower(head.substr(0, end));
+    std::istringstream lines(header);
+    std::string line;
+    bool strips = false, faces = false;
+    while (std::getline(lines, line)) {
+      std::istringstream words(line);
+      std::string w, element;
+      long long count = 0;
+      if (words >> w >> element >> count && w == "element") {
+        strips = strips || (element == "tristrips" && count > 0);
+        faces = faces || (element == "face" && count > 0);
+      }
+    }
+    if (strips && !faces)
+      return Error{path +
+                   ": PLY triangle strips (element tristrips) are not read: save the model with "
+                   "faces (element face), e.g. from MeshLab or Blender"};
+  }
+  if (ext == ".glb" && head.size() >= 8 && head.compare(0, 4, "glTF") == 0 &&
+      static_cast<unsigned char>(head[4]) == 1 && head[5] == 0 && head[6] == 0 && head[7] == 0)
+    return Error{path + ": glTF 1.0 is not read: convert it to glTF 2.0 (e.g. with Blender)"};
+  if (ext == ".gltf") {
+    const Json doc =
+        Json::parse(head.size() < 65536 ? head : headOf(path, 1u << 30), nullptr, false);
+    const bool v1 = doc.is_object() &&
+                    ((doc.contains("asset") && doc["asset"].is_object() &&
+                      doc["asset"].contains("version") && doc["asset"]["version"].is_string() &&
+                      doc["asset"]["version"].get<std::string>().rfind("1", 0) == 0) ||
+                     (doc.contains("scene") && doc["scene"].is_string()));
+    if (v1)
+      return Error{path + ": glTF 1.0 is not read: convert it to glTF 2.0 (e.g. with Blender)"};
+  }
+  return std::nullopt;
+}
+
+// Wavefront OBJ's v and f lines alone (f with v, v/vt, v//vn, v/vt/vn, negative indices,
+// polygons fanned): for files whose faces the full reader drops (faces naming texture
+// coordinates that the file does not have)
+TriangleMesh readObjPositions(const std::string& path) {
+  TriangleMesh mesh;
+  std::ifstream f(path);
+  std::string line;
+  constexpr std::uint32_t kBad = std::numeric_limits<std::uint32_t>::max();
+  while (std::getline(f, line)) {
+    std::istringstream words(line);
+    std::string w;
+    if (!(words >> w))
+      continue;
+    if (w == "v") {
+      Vec3 v{std::numeric_limits<double>::quiet_NaN()};
+      words >> v.x >> v.y >> v.z;
+      mesh.positions.push_back(v);
+    } else if (w == "f") {
+      std::vector<std::uint32_t> poly;
+      std::string t;
+      while (words >> t) {
+        char* end = nullptr;
+        const long long i = std::strtoll(t.c_str(), &end, 10);
+        const long long n = static_cast<long long>(mesh.positions.size());
+        const long long at = i > 0 ? i - 1 : i < 0 ? n + i : -1;
+        poly.push_back(end != t.c_str() && at >= 0 && at < n ? static_cast<std::uint32_t>(at)
+                                                             : kBad);
+      }
+      for (std::size_t k = 1; k + 1 < poly.size(); ++k)
+        mesh.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+    }
+  }
+  return mesh;
+}
+
+}  // namespace
+
 Result<TriangleMesh> readModel(const std::string& path) {
   std::error_code ec;
   if (!fs::is_regular_file(path, ec))
     return Error{path + ": no such file"};
   const std::string ext = lower(fs::path(path).extension().string());
-  Result<TriangleMesh> mesh = Error{""};
-  if (ext == ".gltf" || ext == ".glb")
-    mesh = readGltfTriangles(path);
-  else if (ext == ".obj" || ext == ".stl" || ext == ".ply" || ext == ".off")
-    mesh = readWithAssimpIsolated(path);
-  else
+  const bool mesh_format = ext == ".obj" || ext == ".stl" || ext == ".ply" || ext == ".off";
+  if (!mesh_format && ext != ".gltf" && ext != ".glb")
     return Error{path + ": unsupported format '" + ext +
                  "' (give .obj, .stl, .ply, .off, .gltf or .glb)"};
-  if (mesh.ok() && mesh.value().triangles.empty())
-    return Error{path + ": the file has no triangles"};
+  if (std::optional<Error> refused = sniff(path, ext))
+    return *refused;
+  Result<TriangleMesh> mesh = mesh_format ? readWithAssimpIsolated(path) : readGltfTriangles(path);
+  // the reader kept no face (assimp says "No meshes remaining" or "all meshes are orphaned"):
+  // an OBJ is read again by its v and f lines alone
+  const bool none = mesh.ok()
+                        ? mesh.value().triangles.empty()
+                        : mesh.error().message.find("No meshes") != std::string::npos ||
+                              mesh.error().message.find("No output meshes") != std::string::npos ||
+                              mesh.error().message.find("orphaned") != std::string::npos;
+  if (none && ext == ".obj") {
+    TriangleMesh plain = readObjPositions(path);
+    if (!plain.triangles.empty())
+      return plain;
+  }
+  if (none)
+    return Error{path + ": the file has no triangles (only points or lines, or faces the reader " +
+                 "could not use)"};
   return mesh;
 }
 

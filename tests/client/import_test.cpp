@@ -276,6 +276,57 @@ TEST_F(ImportTest, AddingOneModelThriceNamesThreeBodiesAndDynamicBodiesFall) {
   EXPECT_NE(err().find("--gravity"), std::string::npos) << err();
 }
 
+// what the readers would misread or refuse in their own words is said plainly (found on others'
+// files): an OBJ whose faces name texture coordinates it does not have is read by its v and f
+// lines; UTF-16 text, PLY triangle strips (read as one triangle before) and glTF 1.0 are refused
+// naming what to do
+TEST_F(ImportTest, FilesTheReadersWouldMisreadAreReadOrRefusedSayingWhy) {
+  const TriangleMesh cube = hapticd::decomp::models::box({0, 0, 0}, {1, 1, 1});
+  {
+    std::ofstream f(path("novt.obj"));
+    for (const Vec3& v : cube.positions)
+      f << "v " << v.x << ' ' << v.y << ' ' << v.z << '\n';
+    f << "vn 0 0 1\n";
+    for (const auto& t : cube.triangles)
+      f << "f " << t[0] + 1 << "/1/1 " << t[1] + 1 << "/1/1 " << t[2] + 1 << "/1/1\n";
+  }
+  ASSERT_EQ(import({path("novt.obj"), "-o", path("x.glb"), "--json"}), 0) << err();
+  EXPECT_EQ(nlohmann::json::parse(out())["repairs"]["input_triangles"], 12);
+  {
+    std::ofstream f(path("utf16.obj"), std::ios::binary);
+    const std::string text =
+        "v 0 0 0\nv 1 0 0\nv 0 1 0\nv 0 0 1\nf 1 3 2\nf 1 2 4\nf 1 4 3\nf 2 3 4\n";
+    f << '\xFE' << '\xFF';
+    for (char c : text)
+      f << '\0' << c;
+  }
+  {
+    std::ofstream f(path("strips.ply"));
+    f << "ply\nformat ascii 1.0\nelement vertex 4\nproperty float x\nproperty float y\n"
+         "property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
+         "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n6 0 1 2 3 0 1\n";
+  }
+  std::ofstream(path("v1.gltf")) << R"({"asset":{"version":"1.0"},"scene":"defaultScene",)"
+                                 << R"("scenes":{"defaultScene":{"nodes":[]}}})";
+  {
+    std::ofstream f(path("v1.glb"), std::ios::binary);
+    const std::uint32_t header[3] = {0x46546C67u, 1u, 20u};  // "glTF", version 1
+    f.write(reinterpret_cast<const char*>(header), sizeof header);
+    f << "\0\0\0\0\0\0\0\0";
+  }
+  const std::pair<const char*, const char*> refused[] = {{"utf16.obj", "UTF-16"},
+                                                         {"strips.ply", "tristrips"},
+                                                         {"v1.gltf", "glTF 1.0"},
+                                                         {"v1.glb", "glTF 1.0"}};
+  for (const auto& [file, why] : refused) {
+    fs::remove(path("x.glb"));
+    EXPECT_EQ(import({path(file), "-o", path("x.glb")}), 1) << file << ": " << out();
+    EXPECT_NE(err().find(path(file)), std::string::npos) << err();
+    EXPECT_NE(err().find(why), std::string::npos) << file << ": " << err();
+    EXPECT_FALSE(fs::exists(path("x.glb"))) << file;
+  }
+}
+
 // the probe sphere (config default: radius 10 mm) comes down onto the block's top face (z = 0.1)
 // and presses 5 mm past it, then leaves
 TEST_F(ImportTest, RoundTripThroughTheDaemonTouchesTheModel) {
