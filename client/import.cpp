@@ -603,7 +603,7 @@ Json reportJson(const decomp::DecompReport& r) {
           {"concavity", r.concavity},
           {"concavity_bound", r.concavity_bound},
           {"concavity_target", r.concavity_target},
-          {"volume_ratio", r.closed ? Json(r.volume_ratio) : Json(nullptr)},
+          {"volume_ratio", r.closed && r.volume_ratio > 0.0 ? Json(r.volume_ratio) : Json(nullptr)},
           {"closed", r.closed},
           {"seconds", r.seconds},
           {"cuts", r.cuts},

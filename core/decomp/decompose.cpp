@@ -819,7 +819,10 @@ void finish(Run& run, DecompResult& result) {
       unionExcess(ctx, hulls, kLeafTolerance * ctx.c_abs, kLeafResolution * ctx.c_abs, 0.0);
   r.concavity = std::max(boundary, coverage) / ctx.mesh.diagonal;
   r.concavity_bound = std::max(bound, coverage) / ctx.mesh.diagonal;
-  if (ctx.mesh.closed && ctx.mesh.volume > 0.0) {
+  // (a model with next to no volume, a flat part or a soup of triangles closed by the hole
+  // filling into flat shells, has no meaningful ratio: left 0, said as such)
+  const double d3 = ctx.mesh.diagonal * ctx.mesh.diagonal * ctx.mesh.diagonal;
+  if (ctx.mesh.closed && ctx.mesh.volume > 1e-9 * d3) {
     double v = 0.0;
     for (const HullMesh& h : hulls)
       v += meshVolume(h.vertices, h.triangles);
@@ -961,8 +964,10 @@ std::string describe(const DecompReport& r) {
   std::string s = std::to_string(r.pieces) + " pieces, concavity " + fixed(r.concavity, 4) +
                   " of the diagonal (target " + fixed(r.concavity_target, 4) + ", diagonal " +
                   fixed(r.diagonal, 6) + ")";
-  s += r.closed ? ", volume of the pieces " + fixed(r.volume_ratio, 3) + " x the model's"
-                : ", open model (no volume ratio)";
+  s += !r.closed ? ", open model (no volume ratio)"
+       : r.volume_ratio > 0.0
+           ? ", volume of the pieces " + fixed(r.volume_ratio, 3) + " x the model's"
+           : ", flat model (no volume to compare)";
   s += ", " + fixed(r.seconds, 2) + " s, " + std::to_string(r.cuts) + " cuts, " +
        std::to_string(r.merges) + " merges\n";
   const RepairCounts& c = r.repairs;

@@ -112,8 +112,9 @@ struct DecompReport {
   double concavity_bound = 0.0;
   double concavity_target = 0.0;  ///< the option
   double diagonal = 0.0;          ///< bounding-box diagonal, input units
-  double volume_ratio = 0.0;      ///< sum of piece volumes / model volume; 0 for open models
-  bool closed = false;            ///< closed after repair (holes filled, no non-manifold edge)
+  double volume_ratio = 0.0;  ///< sum of piece volumes / model volume; 0 for open or flat models
+                              ///< (volume under 1e-9 of the diagonal cubed)
+  bool closed = false;        ///< closed after repair (holes filled, no non-manifold edge)
   double seconds = 0.0;
   std::size_t cuts = 0;    ///< planes cut
   std::size_t merges = 0;  ///< pairs merged
