@@ -14,6 +14,12 @@ ShadingTable::ShadingTable(const Polytope& shape, double crease_angle_rad) {
   const auto faces = shape.faces();
   first_.resize(faces.size());
   any_smooth_.assign(faces.size(), 0);
+  edge_smooth_.assign(shape.edges().size(), 0);
+  for (std::size_t e = 0; e < shape.edges().size(); ++e) {
+    const auto& edge = shape.edges()[e];
+    edge_smooth_[e] =
+        glm::dot(faces[edge.face[0]].normal, faces[edge.face[1]].normal) > cos_crease ? 1 : 0;
+  }
   for (std::uint32_t f = 0; f < faces.size(); ++f) {
     first_[f] = static_cast<std::uint32_t>(face_edges_.size());
     Vec3 centroid{0.0};
@@ -42,6 +48,15 @@ Vec3 ShadingTable::shadedNormal(const Polytope& shape,
                                 const Vec3& x_P,
                                 const Vec3& n_P,
                                 Feature feature) const {
+  // on a crease, or a vertex of one, the contact's normal stays its own
+  if (feature.type == geom::FeatureType::kEdge && !edge_smooth_[feature.index])
+    return n_P;
+  if (feature.type == geom::FeatureType::kVertex) {
+    for (const auto& ve : shape.vertexEdges(feature.index)) {
+      if (!edge_smooth_[ve.edge])
+        return n_P;
+    }
+  }
   const std::uint32_t f = bestFace(shape, n_P, feature);
   if (!any_smooth_[f])
     return n_P;

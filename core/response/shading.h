@@ -31,7 +31,10 @@ class ShadingTable {
 
   /// The shaded outward normal at x_P (the shape's frame) for a contact whose geometric outward
   /// normal is n_P and whose feature on this shape is `feature` (Feature{} if unknown). Returns
-  /// n_P unchanged when no smooth edge is near.
+  /// n_P unchanged when no smooth edge is near, and when the feature is a crease edge or a
+  /// vertex on one: there n_P (between the faces) is the true one, and a face's normal in its
+  /// place tells the proxy that the crease is a face (issue 16: a piece's edge read as the face
+  /// under it, 46 degrees off, held the probe under a seam of two pieces of a wall).
   geom::Vec3 shadedNormal(const Polytope& shape,
                           const geom::Vec3& x_P,
                           const geom::Vec3& n_P,
@@ -54,6 +57,7 @@ class ShadingTable {
   std::vector<EdgeInfo> face_edges_;      // parallel to Polytope's face-edge array
   std::vector<std::uint32_t> first_;      // per face: its first entry in face_edges_
   std::vector<std::uint8_t> any_smooth_;  // per face
+  std::vector<std::uint8_t> edge_smooth_;  // per edge of the shape: its faces bend less than the crease
   std::uint32_t smooth_edges_ = 0;
 };
 

@@ -225,6 +225,7 @@ double gatherRows(const SimModel& m, SceneState& s) {
   s.rows.clear();
   s.row_env.clear();
   double pen = 0.0;
+  s.deepest_normal_W = Vec3{0.0};
   response::FaceContact fc;
   for (const collision::Contact& c : s.world.contacts()) {
     if (!c.answered)
@@ -232,7 +233,11 @@ double gatherRows(const SimModel& m, SceneState& s) {
     PairSides p;
     if (!pairSides(m, s, c, &p))
       continue;
-    pen = std::max(pen, -c.distance);
+    if (-c.distance > pen) {
+      pen = -c.distance;
+      // out of the environment toward the held set (normals run from a to b)
+      s.deepest_normal_W = p.row_first < 0 ? (p.held_is_a ? -1.0 : 1.0) * c.normal : Vec3{0.0};
+    }
     // a pair farther than the largest delta plus what one step can close (one safe distance
     // per moving side) cannot act next tick: no rows
     const double sides = p.row_second >= 0 ? 2.0 : 1.0;

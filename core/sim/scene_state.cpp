@@ -64,6 +64,7 @@ void SceneState::writeState(StateWriter& w) const {
   writePose(w, X_W_probe);
   w.f64(delta_m);
   w.f64(last_penetration_m);
+  w.glm(deepest_normal_W);
   w.flag(proxy_sliding);
   for (const bool f : {first_step, world_dirty, kinematic_target_pending})
     w.flag(f);

@@ -103,6 +103,9 @@ struct SceneState {
   geom::Pose X_W_probe;             ///< the proxy: the probe body's pose
   double delta_m = 0.0;             ///< this tick's predictive distance
   double last_penetration_m = 0.0;  ///< of the rows at the current proxy pose
+  /// The deepest pair's normal at the current proxy pose, out of its environment side, when that
+  /// pair is the held set's (else zero): the direction a sub-step too deep is pushed back along
+  Vec3 deepest_normal_W{0.0};
   bool proxy_sliding = false;       ///< the proxy slid with friction in its last step
   bool first_step = true;
   response::ContactRows rows;

@@ -147,9 +147,14 @@ Vec3 proxyProblem(const SimModel& m, SceneState& s, const Device& dev, response:
 }
 
 // one sub-step of the proxy, the collision step at the new pose and its rows; a step that went
-// too deep (a contact the linearisation missed) is bisected back, only when this step made it
-// deeper by a jump, a twentieth of the allowance or more (a proxy pressed into several surfaces
-// at once may rest deeper, and creeps there slowly)
+// too deep (deeper than the allowance and deeper than it began, by more than rounding: 1e-6 of
+// the allowance) is pushed back out along the deepest pair's normal, or else bisected back,
+// three halvings and then undone (docs/response.md "A sub-step too deep"). A proxy already
+// deeper (pushed there by a body) may move at that depth or out, never in. Until 2026-12-04 a
+// step was too deep only when it went deeper by a twentieth of the allowance, and the third
+// halving was kept whatever its depth: where the rows misled every step (a shaded normal tilted
+// from its face, an edge's normal replaced by a face's, a tilted facet of the probe sphere) the
+// proxy crept in by just less than that each tick, without bound (issue 16: 3.86 mm)
 struct ProxyMove {
   response::ProxyStep step;
   collision::StepStats stats;
@@ -177,22 +182,59 @@ ProxyMove moveProxyOnce(const SimModel& m,
   mv.stats = s.world.step();
   mv.penetration_m = detail::gatherRows(m, s);
   const double allowance = m.penetration_allowance_m;
-  for (int k = 0;
-       k < 3 && mv.penetration_m > allowance && mv.penetration_m - pen_before > 0.05 * allowance;
-       ++k) {
+  const auto tooDeep = [&](double pen) {
+    return pen > allowance && pen - pen_before > 1e-6 * allowance;
+  };
+  // first pushed back out of the deepest pair along its normal by what it went too deep, up to
+  // three times (the depth the rows read of a face against a face is its clipped points' along
+  // the face's normal, a little more than the pair's along its own), at most a safe distance in
+  // all, as a proxy pressed on a surface slides along it: a step the rows misled a little (a
+  // shaded normal, a tilted facet, an edge read as a face) keeps its motion along the surface,
+  // without going in. Only a freely held or grabbed set, and only when that leaves it no longer
+  // too deep; the sub-steps then go on (their own rules stop them)
+  const HeldSet& h = s.held;
+  if (tooDeep(mv.penetration_m) && (h.mode == AttachMode::kFree || h.mode == AttachMode::kGrab)) {
+    const geom::Pose probe_stepped = s.X_W_probe;
+    Vec3 pushed{0.0};
+    double pen = mv.penetration_m;
+    for (int k = 0; k < 3 && tooDeep(pen); ++k) {
+      const Vec3 n_deep = s.deepest_normal_W;
+      const double excess = pen - std::max(allowance, pen_before);
+      const double push = excess + 1e-3 * allowance;
+      if (!(glm::dot(n_deep, n_deep) > 0.5) || glm::length(pushed) + push > m.max_travel_m)
+        break;
+      response::ProxyStep out;  // a translation of the held set, nothing else
+      out.dc_W = push * n_deep;
+      detail::applyStep(m, s, out);
+      pushed += out.dc_W;
+      const collision::StepStats again = s.world.step();
+      mv.stats.pairs_tested += again.pairs_tested;
+      mv.stats.pairs_skipped = again.pairs_skipped;
+      pen = detail::gatherRows(m, s);
+    }
+    if (!tooDeep(pen)) {
+      mv.penetration_m = pen;
+      mv.step.dc_W += pushed;
+      return mv;
+    }
+    s.X_W_probe = probe_stepped;  // the halvings below start again from probe_before
+  }
+  for (int k = 0; k < 4 && tooDeep(mv.penetration_m); ++k) {
     mv.backed_off = true;
     s.X_W_probe = probe_before;
     if (s.held.attached != kNoBody)
       s.world.setPose(s.held.attached, attached_before);
     for (std::uint32_t d = 0; d < s.driven.count; ++d)
       s.world.setPose(s.driven.ids[d], s.driven.before[d]);
+    // halve it three times; the fourth time undo it
+    const double f = k < 3 ? 0.5 : 0.0;
     for (double& angle : mv.step.driven_angle)
-      angle *= 0.5;
+      angle *= f;
     s.world.setPose(m.probe, s.X_W_probe);
     for (double& x : mv.step.x)
-      x *= 0.5;
-    mv.step.dc_W *= 0.5;
-    mv.step.dtheta_W *= 0.5;
+      x *= f;
+    mv.step.dc_W *= f;
+    mv.step.dtheta_W *= f;
     detail::applyStep(m, s, mv.step);
     const collision::StepStats again = s.world.step();
     mv.stats.pairs_tested += again.pairs_tested;

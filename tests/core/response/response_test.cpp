@@ -405,6 +405,43 @@ TEST(ForceShading, NormalsAreContinuousAcrossSmoothEdgesAndCreasesStaySharp) {
   EXPECT_EQ(sharp.smoothEdges(), 0u);
 }
 
+// A contact on a crease keeps its own normal (issue 16): the rim of a 32-gon prism, a side facet
+// (smoothed to its neighbours) against the cap (90 degrees: a crease). Until 2026-12-04 a rim
+// edge's normal became the side facet's shaded normal, here 39 degrees off; on an imported
+// model's piece that read an edge as the face under it and held the probe under a seam.
+TEST(ForceShading, AContactOnACreaseKeepsItsOwnNormal) {
+  const auto cyl = geom::Polytope::fromPoints(prism(32, 0.02, 0.01)).value();
+  const ShadingTable table(cyl, 40.0 * kPi / 180.0);
+  std::uint32_t rim = 0, side = 0;
+  bool have_rim = false, have_side = false;
+  for (std::uint32_t e = 0; e < cyl.edges().size(); ++e) {
+    const auto& edge = cyl.edges()[e];
+    const double z0 = cyl.faces()[edge.face[0]].normal.z, z1 = cyl.faces()[edge.face[1]].normal.z;
+    const bool cap0 = std::abs(z0) > 0.99, cap1 = std::abs(z1) > 0.99;
+    if (cap0 != cap1 && !have_rim && z0 + z1 > 0.5)
+      rim = e, have_rim = true;  // a top rim edge: a side facet and the top cap
+    if (!cap0 && !cap1 && !have_side)
+      side = e, have_side = true;  // a side edge: two side facets, smoothed
+  }
+  ASSERT_TRUE(have_rim && have_side);
+  // the rim edge's middle, and a normal between the side facet's and the cap's, nearer the side
+  const auto& er = cyl.edges()[rim];
+  const Vec3 mid = 0.5 * (cyl.vertices()[er.tail].p + cyl.vertices()[er.head].p);
+  const Vec3 radial = glm::normalize(Vec3{mid.x, mid.y, 0.0});
+  const Vec3 n = glm::normalize(radial + Vec3{0.0, 0.0, 0.8});
+  const Vec3 on_edge = table.shadedNormal(cyl, mid, n, geom::Feature::edge(rim));
+  EXPECT_LT(glm::length(on_edge - n), 1e-12);
+  const Vec3 at_vertex = table.shadedNormal(cyl, cyl.vertices()[er.tail].p, n,
+                                            geom::Feature::vertex(er.tail));
+  EXPECT_LT(glm::length(at_vertex - n), 1e-12);
+  // a smooth edge is still shaded: on a side edge, half way between its two facets' normals
+  const auto& es = cyl.edges()[side];
+  const Vec3 ms = 0.5 * (cyl.vertices()[es.tail].p + cyl.vertices()[es.head].p);
+  const Vec3 n0 = cyl.faces()[es.face[0]].normal, n1 = cyl.faces()[es.face[1]].normal;
+  const Vec3 shaded = table.shadedNormal(cyl, ms, n0, geom::Feature::edge(side));
+  EXPECT_LT(glm::length(shaded - glm::normalize(n0 + n1)), 1e-9);
+}
+
 TEST(FaceContact, ClipsTheHeldFaceToTheEnvironmentsFace) {
   auto square = [](double h, double t) {
     std::vector<Vec3> p;
