@@ -57,7 +57,8 @@ class ShadingTable {
   std::vector<EdgeInfo> face_edges_;      // parallel to Polytope's face-edge array
   std::vector<std::uint32_t> first_;      // per face: its first entry in face_edges_
   std::vector<std::uint8_t> any_smooth_;  // per face
-  std::vector<std::uint8_t> edge_smooth_;  // per edge of the shape: its faces bend less than the crease
+  std::vector<std::uint8_t>
+      edge_smooth_;  // per edge of the shape: its faces bend less than the crease
   std::uint32_t smooth_edges_ = 0;
 };
 

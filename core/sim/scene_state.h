@@ -106,7 +106,7 @@ struct SceneState {
   /// The deepest pair's normal at the current proxy pose, out of its environment side, when that
   /// pair is the held set's (else zero): the direction a sub-step too deep is pushed back along
   Vec3 deepest_normal_W{0.0};
-  bool proxy_sliding = false;       ///< the proxy slid with friction in its last step
+  bool proxy_sliding = false;  ///< the proxy slid with friction in its last step
   bool first_step = true;
   response::ContactRows rows;
   ReservedVector<std::uint32_t> row_env;        ///< per row: the environment body's world id

@@ -431,8 +431,8 @@ TEST(ForceShading, AContactOnACreaseKeepsItsOwnNormal) {
   const Vec3 n = glm::normalize(radial + Vec3{0.0, 0.0, 0.8});
   const Vec3 on_edge = table.shadedNormal(cyl, mid, n, geom::Feature::edge(rim));
   EXPECT_LT(glm::length(on_edge - n), 1e-12);
-  const Vec3 at_vertex = table.shadedNormal(cyl, cyl.vertices()[er.tail].p, n,
-                                            geom::Feature::vertex(er.tail));
+  const Vec3 at_vertex =
+      table.shadedNormal(cyl, cyl.vertices()[er.tail].p, n, geom::Feature::vertex(er.tail));
   EXPECT_LT(glm::length(at_vertex - n), 1e-12);
   // a smooth edge is still shaded: on a side edge, half way between its two facets' normals
   const auto& es = cyl.edges()[side];

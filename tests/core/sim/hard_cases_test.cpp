@@ -332,7 +332,6 @@ TEST(HardCases, ReplayIsBitwiseIdentical) {
   EXPECT_EQ(h[0], h[1]);
 }
 
-
 // A coarse convex piece, as `hapticctl import` makes of a curved model (a UV sphere of 8 segments
 // and 4 rings, rings turned by half a segment: faces 30 to 45 degrees apart, some smoothed by the
 // force shading, some creases), pressed by the config's 10 mm probe sphere with the device driven
