@@ -874,9 +874,14 @@ int runImport(const ImportOptions& o, std::ostream& out, std::ostream& err) {
     err << "hapticctl import: " << mine.error().message << '\n';
     return 1;
   }
-  auto [doc, bin] = base ? std::move(*base) : std::move(mine).value();
-  if (base)
-    mergeInto(doc, bin, mine.value().first, mine.value().second);
+  std::pair<Json, std::vector<std::uint8_t>> scene_parts;
+  if (base) {
+    scene_parts = std::move(*base);
+    mergeInto(scene_parts.first, scene_parts.second, mine.value().first, mine.value().second);
+  } else {
+    scene_parts = std::move(mine).value();
+  }
+  auto& [doc, bin] = scene_parts;
   // the scene's gravity: as given, else standard gravity along -Y for a scene with a dynamic body
   // and none declared (a dropped or stacked body should fall, as in every engine)
   std::string gravity_said;
