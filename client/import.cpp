@@ -26,6 +26,7 @@
 #include <optional>
 #include <sstream>
 
+#include "core/common/sanitizers.h"
 #include "core/decomp/quickhull.h"
 #include "core/scene/glb.h"
 #include "scenes/glb_builder.h"
@@ -226,17 +227,6 @@ Result<TriangleMesh> readWithAssimp(const std::string& path) {
 // on a binary PLY whose data starts with a newline byte) and grows without bound on an OFF whose
 // header counts more vertices than it holds: the child runs under an address-space limit, and its
 // death becomes an error that names the file. Called before any thread is started.
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
 
 Result<TriangleMesh> readWithAssimpIsolated(const std::string& path) {
   int fds[2];

@@ -10,22 +10,11 @@
 #include <cstring>
 #include <utility>
 
+#include "core/common/sanitizers.h"
 #include "daemon/enum_names.h"
 
 namespace hapticd::daemon {
 namespace {
-
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
 
 std::string errnoText(int err) {
   return std::string(std::strerror(err)) + " (errno " + std::to_string(err) + ")";

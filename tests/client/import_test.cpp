@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include "core/common/sanitizers.h"
 #include "scenes/glb_builder.h"
 #include "tests/client/command_dir.h"
 #include "tests/core/decomp/models.h"
@@ -501,17 +502,6 @@ namespace {
 
 // files on which Debian's assimp 5.2.5 dies (a segfault, an assertion) or that ask it for more
 // memory than the machine has: the import exits 1 naming the file, never by a signal
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAddressSanitizer = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAddressSanitizer = true;
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
-#else
-constexpr bool kAddressSanitizer = false;
-#endif
 
 TEST_F(ImportTest, AReaderThatDiesOnAFileIsAnErrorNotACrash) {
   {
@@ -553,7 +543,7 @@ TEST_F(ImportTest, AReaderThatDiesOnAFileIsAnErrorNotACrash) {
       << err();
   // (under AddressSanitizer the child has no address-space limit, its shadow memory being
   // terabytes: the sanitizer's allocator kills it instead, and the error only names the file)
-  if (kAddressSanitizer)
+  if (hapticd::kAddressSanitizer)
     EXPECT_NE(err().find(path("huge.off")), std::string::npos) << err();
   else
     EXPECT_NE(err().find("more memory than allowed"), std::string::npos) << err();

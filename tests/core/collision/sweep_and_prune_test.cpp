@@ -10,6 +10,7 @@
 #include <set>
 
 #include "core/collision/broad_phase.h"
+#include "core/common/sanitizers.h"
 #include "tests/core/alloc_counter.h"
 
 namespace hapticd::collision {
@@ -375,17 +376,7 @@ TEST(SweepAndPrune, UpdateAllocatesNothingAfterWarmUp) {
   EXPECT_GE(sap.gridCommits(), 100u);
 }
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr bool kAsan = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr bool kAsan = true;
-#else
-constexpr bool kAsan = false;
-#endif
-#else
-constexpr bool kAsan = false;
-#endif
+constexpr bool kAsan = hapticd::kAddressSanitizer;
 
 long minorFaults() {
   rusage r{};

@@ -9,6 +9,7 @@
 #include <tuple>
 #include <vector>
 
+#include "core/common/sanitizers.h"
 #include "core/scene/loader.h"
 #include "tests/core/sim/demo_streams.h"
 #include "tests/core/sim/harness.h"
@@ -158,17 +159,7 @@ DemoRun runDynamicDemo(int loops) {
   return r;
 }
 
-#if defined(__SANITIZE_ADDRESS__)
-constexpr double kDemoSeconds = 60.0;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer)
-constexpr double kDemoSeconds = 60.0;
-#else
-constexpr double kDemoSeconds = 600.0;
-#endif
-#else
-constexpr double kDemoSeconds = 600.0;
-#endif
+constexpr double kDemoSeconds = hapticd::kAddressSanitizer ? 60.0 : 600.0;
 
 // 10 minutes simulated (the 19.5 s stream looped): no NaN, no body through the floor, the energy
 // bounded. Bound: the stick's points move at most as fast as its stream moves them (the proxy
