@@ -875,20 +875,24 @@ int runImport(const ImportOptions& o, std::ostream& out, std::ostream& err) {
   // the scene's gravity: as given, else standard gravity along -Y for a scene with a dynamic body
   // and none declared (a dropped or stacked body should fall, as in every engine)
   std::string gravity_said;
+  Json gravity_written;  // null: left as the scene had it
   {
+    // `extras.haptic` of a scene or of the asset, when it is an object
+    const auto haptic = [](Json& holder) -> Json* {
+      if (!holder.is_object() || !holder.contains("extras") || !holder["extras"].is_object() ||
+          !holder["extras"].contains("haptic") || !holder["extras"]["haptic"].is_object())
+        return nullptr;
+      return &holder["extras"]["haptic"];
+    };
     Json& scenes = doc["scenes"];
     const std::size_t si = doc.contains("scene") && doc["scene"].is_number_unsigned()
                                ? doc["scene"].get<std::size_t>()
                                : 0;
     if (scenes.is_array() && si < scenes.size()) {
       Json& sc = scenes[si];
-      const bool declared =
-          (sc.contains("extras") && sc["extras"].is_object() && sc["extras"].contains("haptic") &&
-           sc["extras"]["haptic"].is_object() && sc["extras"]["haptic"].contains("gravity")) ||
-          (doc.contains("asset") && doc["asset"].contains("extras") &&
-           doc["asset"]["extras"].is_object() && doc["asset"]["extras"].contains("haptic") &&
-           doc["asset"]["extras"]["haptic"].is_object() &&
-           doc["asset"]["extras"]["haptic"].contains("gravity"));
+      Json* asset = doc.contains("asset") ? haptic(doc["asset"]) : nullptr;
+      const bool declared = (haptic(sc) != nullptr && haptic(sc)->contains("gravity")) ||
+                            (asset != nullptr && asset->contains("gravity"));
       std::vector<double> g = p.gravity;
       if (g.empty() && o.role == "dynamic" && !declared) {
         g = {0.0, -9.81, 0.0};
@@ -898,15 +902,15 @@ int runImport(const ImportOptions& o, std::ostream& out, std::ostream& err) {
         gravity_said = "gravity " + scenes::jsonVec({g[0], g[1], g[2]}).dump() + " m/s2";
       }
       if (!g.empty()) {
-        if (!sc.contains("extras") || !sc["extras"].is_object())
-          sc["extras"] = Json::object();
-        if (!sc["extras"].contains("haptic") || !sc["extras"]["haptic"].is_object())
+        gravity_written = scenes::jsonVec({g[0], g[1], g[2]});
+        if (haptic(sc) == nullptr) {
+          if (!sc.contains("extras") || !sc["extras"].is_object())
+            sc["extras"] = Json::object();
           sc["extras"]["haptic"] = Json::object();
-        sc["extras"]["haptic"]["gravity"] = scenes::jsonVec({g[0], g[1], g[2]});
-        if (doc.contains("asset") && doc["asset"].contains("extras") &&
-            doc["asset"]["extras"].is_object() && doc["asset"]["extras"].contains("haptic") &&
-            doc["asset"]["extras"]["haptic"].is_object())
-          doc["asset"]["extras"]["haptic"].erase("gravity");  // the two must agree: one place
+        }
+        (*haptic(sc))["gravity"] = gravity_written;
+        if (asset != nullptr)
+          asset->erase("gravity");  // the two must agree: one place
       }
     }
   }
@@ -925,10 +929,8 @@ int runImport(const ImportOptions& o, std::ostream& out, std::ostream& err) {
     j["units_assumed"] = p.units_assumed;
     j["role"] = o.role;
     j["body"] = name;
-    if (!gravity_said.empty())
-      j["gravity"] = doc["scenes"][doc.contains("scene") && doc["scene"].is_number_unsigned()
-                                       ? doc["scene"].get<std::size_t>()
-                                       : 0]["extras"]["haptic"]["gravity"];
+    if (!gravity_written.is_null())
+      j["gravity"] = gravity_written;
     if (o.role == "dynamic")
       j["mass_kg"] = mass_kg > 0.0 ? Json(mass_kg) : Json(1000.0 * volume_m3);
     out << j.dump() << '\n';
