@@ -339,6 +339,17 @@ const ConfigKey kKeys[] = {
      HAPTICD_FIELD(response.sim.dynamics_position_iterations), closed(0, 1000), "",
      "With dynamics: split-impulse iterations per tick that push penetrating bodies apart "
      "without adding energy; 0: no drift correction (bodies sink into each other)."},
+    {"response", "dynamics_velocity_iterations_max",
+     HAPTICD_FIELD(response.sim.dynamics_velocity_iterations_max), closed(0, 1000), "",
+     "With dynamics: a contact solve not converged after dynamics_velocity_iterations goes on "
+     "while its error still falls and would still move the smallest body by more than 1e-7 of "
+     "its size in a tick, up to this many iterations (settling towers; docs/dynamics.md); at "
+     "most dynamics_velocity_iterations: never beyond it."},
+    {"response", "dynamics_position_iterations_max",
+     HAPTICD_FIELD(response.sim.dynamics_position_iterations_max), closed(0, 1000), "",
+     "With dynamics: the split impulses go on beyond dynamics_position_iterations while a "
+     "resting frictionless contact's levelling still converges, up to this many (frictionless "
+     "stacks; docs/dynamics.md); at most dynamics_position_iterations: never beyond it."},
 
     // [scene]
     {"scene", "path", HAPTICD_FIELD(scene.path), kNoRange, "",

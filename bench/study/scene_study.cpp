@@ -44,6 +44,8 @@ sim::SimOptions simOptions(const Knobs& k, const SceneStudyOptions& options) {
   o.response.predictive = k.predictive;
   o.dynamics_velocity_iterations = k.velocity_iterations;
   o.dynamics_position_iterations = k.position_iterations;
+  o.dynamics_velocity_iterations_max = k.velocity_iterations_max;
+  o.dynamics_position_iterations_max = k.position_iterations_max;
   const sim::ResponseOptions defaults;
   o.response.max_force_step_n = k.max_force_step_n;
   o.response.max_torque_step_nm =

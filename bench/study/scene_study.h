@@ -41,6 +41,10 @@ struct Knobs {
   /// `dynamics_position_iterations`).
   std::uint32_t velocity_iterations = sim::SimOptions{}.dynamics_velocity_iterations;
   std::uint32_t position_iterations = sim::SimOptions{}.dynamics_position_iterations;
+  /// The settling iterations beyond them (`dynamics_velocity_iterations_max`,
+  /// `dynamics_position_iterations_max`; at most the counts above: none).
+  std::uint32_t velocity_iterations_max = sim::SimOptions{}.dynamics_velocity_iterations_max;
+  std::uint32_t position_iterations_max = sim::SimOptions{}.dynamics_position_iterations_max;
   /// The output stage's step limit F_max (`[device] max_force_step_n`, N per tick); its torque
   /// twin (`max_torque_step_nm`) is scaled with it, in the default ratio.
   double max_force_step_n = sim::ResponseOptions{}.max_force_step_n;

@@ -52,15 +52,23 @@ std::string fmt(double x, const char* f = "%g") {
 
 // The dynamics solver's iterations: the truth at 100 velocity and 50 split-impulse iterations,
 // then the velocity iterations swept at the default split-impulse count and the split-impulse
-// iterations at the default velocity count (the default run lies on both lines, run once).
-// Quick: the extremes and the default only.
+// iterations at the default velocity count, each a fixed count (no settling iterations beyond
+// it: what the count alone costs and buys), and the defaults with and without their settling
+// iterations (the default run lies on both lines, run once). Quick: the extremes and the default
+// only.
 std::vector<PlannedRun> iterationRuns(bool quick) {
   const Knobs defaults;
   std::vector<PlannedRun> runs;
   Knobs truth;
   truth.velocity_iterations = 100;
   truth.position_iterations = 50;
+  truth.velocity_iterations_max = 0;
+  truth.position_iterations_max = 0;
   runs.push_back({"iterations 100/50 (the truth)", truth});
+  Knobs fixed;
+  fixed.velocity_iterations_max = 0;
+  fixed.position_iterations_max = 0;
+  runs.push_back({"no settling iterations (12/6 fixed)", fixed});
   const std::vector<std::uint32_t> velocity =
       quick ? std::vector<std::uint32_t>{1u, defaults.velocity_iterations}
             : std::vector<std::uint32_t>{1u, 4u, defaults.velocity_iterations, 32u};
@@ -70,15 +78,19 @@ std::vector<PlannedRun> iterationRuns(bool quick) {
   for (const std::uint32_t v : velocity) {
     Knobs k;
     k.velocity_iterations = v;
+    if (v != defaults.velocity_iterations)
+      k.velocity_iterations_max = k.position_iterations_max = 0;
     runs.push_back({"velocity iterations=" + std::to_string(v) +
-                        (v == defaults.velocity_iterations ? " (default)" : ""),
+                        (v == defaults.velocity_iterations ? " (default)" : " (no settling)"),
                     k});
   }
   for (const std::uint32_t p : position) {
     Knobs k;
     k.position_iterations = p;
+    if (p != defaults.position_iterations)
+      k.velocity_iterations_max = k.position_iterations_max = 0;
     runs.push_back({"split-impulse iterations=" + std::to_string(p) +
-                        (p == defaults.position_iterations ? " (default)" : ""),
+                        (p == defaults.position_iterations ? " (default)" : " (no settling)"),
                     k});
   }
   return runs;

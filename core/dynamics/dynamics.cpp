@@ -157,9 +157,13 @@ namespace {
 
 Result<bool> checkOptions(const DynamicsOptions& options) {
   if (options.velocity_iterations == 0 || options.velocity_iterations > 1000 ||
-      options.position_iterations > 1000 || options.max_toi_substeps > 1000) {
+      options.position_iterations > 1000 || options.max_toi_substeps > 1000 ||
+      options.velocity_iterations_max > 1000 || options.position_iterations_max > 1000) {
     return Error{"dynamics: iteration counts must be 1..1000 (velocity) and 0..1000"};
   }
+  if (!(options.settle_tolerance_fraction >= 0.0) ||
+      !std::isfinite(options.settle_tolerance_fraction))
+    return Error{"dynamics: settle_tolerance_fraction must be >= 0"};
   if (!(options.slop_fraction >= 0.0 && options.slop_fraction < 0.5) ||
       !(options.position_correction >= 0.0 && options.position_correction <= 1.0) ||
       !(options.restitution_threshold_ticks >= 0.0) ||

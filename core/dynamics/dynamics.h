@@ -79,6 +79,23 @@ struct DynamicsOptions {
   double velocity_tolerance_fraction = 1e-7;
   /// Split-impulse iterations of the drift correction at the end of the tick.
   std::uint32_t position_iterations = 6;
+  /// Settling. A solve that has not converged after velocity_iterations goes on while its
+  /// residual still falls and would still move a body by more than settle_tolerance_fraction
+  /// of the smallest body's size in a tick, up to this many iterations (the first ticks of an
+  /// offset or mass-graded tower, whose load crosses many contacts: the error left is of order
+  /// g dt, which is a large part of a small body's size). At most velocity_iterations: none.
+  std::uint32_t velocity_iterations_max = 100;
+  /// Likewise the split impulses: beyond position_iterations while the levelling of a resting
+  /// frictionless flat contact still changes (its largest correction falls), up to this many.
+  /// A frictionless stack has nothing else that holds its boxes over each other: a levelling
+  /// left unconverged each tick grows a shear from rounding. At most position_iterations: none.
+  std::uint32_t position_iterations_max = 30;
+  /// The settling iterations' tolerance (above), a fraction of the smallest body's size per tick.
+  double settle_tolerance_fraction = 1e-7;
+  /// The settling iterations of a tick (both kinds, all solves) solve at most this many rows
+  /// (contact points and joints, once per iteration) beyond the fixed counts: a bound on the
+  /// tick's extra work whatever the scene's size.
+  std::uint32_t settle_row_budget = 4096;
   /// Time-of-impact substeps per tick beyond the first solve (§6.1); when the cap is hit the
   /// remaining approaching contacts are solved speculatively and kStepToiCapped is set.
   std::uint32_t max_toi_substeps = 8;
@@ -395,6 +412,8 @@ class Dynamics {
   double velocity_tolerance_ = 0.0;   // this tick's convergence tolerance of the solves
   double ke_episode_start_ = 0.0;     // kinetic energy before a solve with restitution
   std::uint32_t iterations_run_ = 0;  // this tick's velocity iterations, all solves
+  std::uint32_t settle_rows_ = 0;     // this tick's rows solved by settling iterations
+  double level_residual_ = 0.0;       // largest levelling correction of a position iteration
   std::vector<Vec3> dv_, dw_;         // per body: scratch of the restitution impulses
   bool warm_pending_ = false;
   bool asleep_ = false;  // every island sleeps: step() does no work

@@ -101,7 +101,20 @@ void Dynamics::solveVelocities(double remaining) {
     bounces = bounces || (cp.bounce > 0.0 && cp.active);
   if (bounces)
     ke_episode_start_ = kineticEnergy();
-  for (std::uint32_t it = 0; it < options_.velocity_iterations; ++it) {
+  // settling iterations (DynamicsOptions::velocity_iterations_max): beyond the fixed count while
+  // the residual falls and still moves a body by more than the settle tolerance in a tick, within
+  // the tick's row budget
+  const std::uint32_t cap =
+      std::max(options_.velocity_iterations, options_.velocity_iterations_max);
+  const double settle = options_.settle_tolerance_fraction * min_size_ / tick_dt_;
+  const auto rows = static_cast<std::uint32_t>(points_.size() + joints_.size() + general_.size());
+  double last = kInf;
+  for (std::uint32_t it = 0; it < cap; ++it) {
+    if (it >= options_.velocity_iterations) {
+      if (!(last > settle) || settle_rows_ + rows > options_.settle_row_budget)
+        break;
+      settle_rows_ += rows;
+    }
     // the largest velocity error any row corrected in this iteration: below the tolerance the
     // episode has converged and stops early
     double residual = 0.0;
@@ -137,6 +150,8 @@ void Dynamics::solveVelocities(double remaining) {
     ++iterations_run_;
     if (it + 1 >= kMinIterations && residual < velocity_tolerance_)
       break;
+    // settling goes on only while the residual falls
+    last = it + 1 < options_.velocity_iterations || residual < last ? residual : 0.0;
   }
   applyRestitution();
   for (ContactPoint& cp : points_) {
@@ -606,7 +621,24 @@ void Dynamics::correctPositions(double dt) {
   // the flat contacts' blocks at the end of the tick's motion
   for (std::size_t i = 0; i < points_.size(); i += std::max<std::size_t>(points_[i].group, 1))
     prepareBlock(i);
-  for (std::uint32_t it = 0; it < options_.position_iterations; ++it) {
+  // settling iterations (DynamicsOptions::position_iterations_max): beyond the fixed count while
+  // a levelling still changes less and less, within the tick's row budget
+  const std::uint32_t cap =
+      std::max(options_.position_iterations, options_.position_iterations_max);
+  const auto rows = static_cast<std::uint32_t>(points_.size() + joints_.size() + general_.size());
+  double last = kInf;
+  level_residual_ = 0.0;
+  for (std::uint32_t it = 0; it < cap; ++it) {
+    if (it >= options_.position_iterations) {
+      // the levelling converged (or none left), or it stopped falling
+      if (!(level_residual_ > 0.0 && level_residual_ < last) ||
+          settle_rows_ + rows > options_.settle_row_budget)
+        break;
+      settle_rows_ += rows;
+    }
+    if (it > 0)
+      last = level_residual_;
+    level_residual_ = 0.0;
     for (JointState& js : joints_) {
       if (js.off)
         continue;
@@ -784,6 +816,8 @@ bool Dynamics::correctBlock(const NormalBlock& blk, double beta, double inv_dt) 
     return false;
   for (std::size_t k = 0; k < blk.count; ++k) {
     ContactPoint& cp = points_[blk.idx[k]];
+    if (level && cp.rn.mass > 0.0)
+      level_residual_ = std::max(level_residual_, std::abs(lnew[k] - cp.lp) / cp.rn.mass);
     const Vec3 J = cp.n * (lnew[k] - cp.lp);
     cp.lp = lnew[k];
     bodies_[cp.a].applyPseudo(-J, cp.ra);

@@ -587,6 +587,7 @@ void Dynamics::solveThroughImpacts(double dt, StepReport& report) {
   }
   warm_pending_ = true;
   iterations_run_ = 0;
+  settle_rows_ = 0;
   bool any_active = !joints_.empty() || !general_.empty();
   for (ContactPoint& cp : points_) {
     cp.active = false;

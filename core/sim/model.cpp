@@ -69,6 +69,10 @@ Result<bool> checkOptions(const SimOptions& o) {
        "[response] dynamics_velocity_iterations must be in [1, 1000]"},
       {o.dynamics_position_iterations <= 1000,
        "[response] dynamics_position_iterations must be in [0, 1000]"},
+      {o.dynamics_velocity_iterations_max <= 1000,
+       "[response] dynamics_velocity_iterations_max must be in [0, 1000]"},
+      {o.dynamics_position_iterations_max <= 1000,
+       "[response] dynamics_position_iterations_max must be in [0, 1000]"},
       {finiteNonNegative(r.attach_distance_m), "[response] attach_distance_m must be >= 0"},
       {std::isfinite(r.attach_distance_fraction) && r.attach_distance_fraction >= 0.0 &&
            r.attach_distance_fraction <= 1.0,
@@ -238,6 +242,8 @@ void setDynamics(SimModel& m) {
   d.sleep_time_s = m.options.dynamics_sleep_time_s;
   d.velocity_iterations = m.options.dynamics_velocity_iterations;
   d.position_iterations = m.options.dynamics_position_iterations;
+  d.velocity_iterations_max = m.options.dynamics_velocity_iterations_max;
+  d.position_iterations_max = m.options.dynamics_position_iterations_max;
   if (sc.probe_body < 0)
     d.extra_probe_body = static_cast<std::int32_t>(sc.bodies.size());
   m.backstop_m = r.dynamic_backstop_fraction * m.penetration_allowance_m;

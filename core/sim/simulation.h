@@ -137,6 +137,16 @@ struct SimOptions {
   /// With dynamics: split-impulse iterations of the drift correction per tick
   /// (DynamicsOptions::position_iterations). 0..1000; 0 turns the correction off.
   std::uint32_t dynamics_position_iterations = 6;
+  /// With dynamics: a solve not converged after dynamics_velocity_iterations goes on while its
+  /// error falls and still matters at the smallest body's size, up to this many iterations
+  /// (DynamicsOptions::velocity_iterations_max: settling towers). 0..1000; at most
+  /// dynamics_velocity_iterations: never beyond it.
+  std::uint32_t dynamics_velocity_iterations_max = 100;
+  /// With dynamics: the split impulses go on beyond dynamics_position_iterations while a resting
+  /// frictionless contact's levelling still converges, up to this many
+  /// (DynamicsOptions::position_iterations_max). 0..1000; at most dynamics_position_iterations:
+  /// never beyond it.
+  std::uint32_t dynamics_position_iterations_max = 30;
   /// Not null: another method answers every pair query (collision::WorldOptions::query_method):
   /// hapticstudy's methods inside the closed loop. Never set by the daemon. Not owned.
   collision::PairQueryMethod* query_method = nullptr;
