@@ -4,7 +4,6 @@
 #include <assimp/scene.h>
 #include <sys/resource.h>
 #include <sys/wait.h>
-#include <tiny_gltf.h>
 #include <unistd.h>
 
 #include <CLI/CLI.hpp>
@@ -18,9 +17,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <glm/gtc/matrix_transform.hpp>
 #include <glm/gtc/quaternion.hpp>
-#include <glm/gtc/type_ptr.hpp>
 #include <iostream>
 #include <limits>
 #include <optional>
@@ -29,6 +26,7 @@
 #include "core/common/sanitizers.h"
 #include "core/decomp/quickhull.h"
 #include "core/scene/glb.h"
+#include "core/scene/triangles.h"
 #include "scenes/glb_builder.h"
 
 namespace hapticd::client {
@@ -45,156 +43,28 @@ std::string lower(std::string s) {
   return s;
 }
 
-// the glTF reader: the default scene's mesh nodes, TRIANGLES primitives, in world coordinates.
-// One function, so that a shared reader of core/scene can replace it.
+// the glTF reader: the scene loader's own (core/scene/triangles.h), so that what `hapticctl check`
+// reads (quantized, sparse, Draco, meshopt geometry, external and data-URI buffers) imports
+// alike, refused in the loader's words. Its limits are for scenes the daemon serves; a model to
+// decompose may be larger (as from the other formats, which have none).
 Result<TriangleMesh> readGltfTriangles(const std::string& path) {
-  tinygltf::TinyGLTF loader;
-  tinygltf::Model model;
-  std::string err, warn;
-  const bool glb = lower(fs::path(path).extension().string()) == ".glb";
-  const bool ok = glb ? loader.LoadBinaryFromFile(&model, &err, &warn, path)
-                      : loader.LoadASCIIFromFile(&model, &err, &warn, path);
-  if (!ok)
-    return Error{path + ": not a readable glTF file: " + (err.empty() ? warn : err)};
-  TriangleMesh mesh;
-  auto localMatrix = [](const tinygltf::Node& n) {
-    if (n.matrix.size() == 16)
-      return glm::make_mat4(n.matrix.data());
-    glm::dmat4 m(1.0);
-    if (n.translation.size() == 3)
-      m = glm::translate(m, Vec3{n.translation[0], n.translation[1], n.translation[2]});
-    if (n.rotation.size() == 4)
-      m = m * glm::mat4_cast(glm::normalize(
-                  glm::dquat(n.rotation[3], n.rotation[0], n.rotation[1], n.rotation[2])));
-    if (n.scale.size() == 3)
-      m = glm::scale(m, Vec3{n.scale[0], n.scale[1], n.scale[2]});
-    return m;
-  };
-  // a float VEC3 accessor, or an index accessor, element k
-  auto readFloat3 = [&](const tinygltf::Accessor& a, std::size_t k) -> std::optional<Vec3> {
-    if (a.bufferView < 0 || a.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT ||
-        a.type != TINYGLTF_TYPE_VEC3)
-      return std::nullopt;
-    const tinygltf::BufferView& v = model.bufferViews[static_cast<std::size_t>(a.bufferView)];
-    const std::size_t stride = v.byteStride > 0 ? v.byteStride : 12;
-    const std::size_t at = v.byteOffset + a.byteOffset + k * stride;
-    const auto& data = model.buffers[static_cast<std::size_t>(v.buffer)].data;
-    if (at + 12 > data.size())
-      return std::nullopt;
-    float f[3];
-    std::memcpy(f, data.data() + at, 12);
-    return Vec3{f[0], f[1], f[2]};
-  };
-  auto readIndex = [&](const tinygltf::Accessor& a, std::size_t k) -> std::optional<std::uint32_t> {
-    if (a.bufferView < 0)
-      return std::nullopt;
-    const tinygltf::BufferView& v = model.bufferViews[static_cast<std::size_t>(a.bufferView)];
-    const std::size_t size = a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE    ? 1
-                             : a.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT ? 2
-                                                                                         : 4;
-    const std::size_t at =
-        v.byteOffset + a.byteOffset + k * (v.byteStride > 0 ? v.byteStride : size);
-    const auto& data = model.buffers[static_cast<std::size_t>(v.buffer)].data;
-    if (at + size > data.size())
-      return std::nullopt;
-    std::uint32_t i = 0;
-    std::memcpy(&i, data.data() + at, size);  // little-endian host
-    return i;
-  };
-  // every index that the walk follows is checked: tinygltf parses references without checking them
-  auto bad = [&](const tinygltf::Accessor& a) {
-    if (a.bufferView < 0)
-      return false;  // read as absent below
-    const auto v = static_cast<std::size_t>(a.bufferView);
-    return v >= model.bufferViews.size() || model.bufferViews[v].buffer < 0 ||
-           static_cast<std::size_t>(model.bufferViews[v].buffer) >= model.buffers.size();
-  };
-  auto accessor = [&](int i) -> const tinygltf::Accessor* {
-    if (i < 0 || static_cast<std::size_t>(i) >= model.accessors.size() ||
-        bad(model.accessors[static_cast<std::size_t>(i)]))
-      return nullptr;
-    return &model.accessors[static_cast<std::size_t>(i)];
-  };
-  std::vector<std::pair<int, glm::dmat4>> stack;
-  // a node reached twice is in a cycle of children or has two parents (glTF: nodes form disjoint
-  // strict trees); following it again would not end
-  std::vector<bool> reached(model.nodes.size(), false);
-  const int scene = model.defaultScene >= 0 ? model.defaultScene : 0;
-  if (static_cast<std::size_t>(scene) < model.scenes.size())
-    for (int n : model.scenes[static_cast<std::size_t>(scene)].nodes)
-      stack.push_back({n, glm::dmat4(1.0)});
-  while (!stack.empty()) {
-    const auto [ni, parent] = stack.back();
-    stack.pop_back();
-    if (ni < 0 || static_cast<std::size_t>(ni) >= model.nodes.size())
-      continue;
-    if (reached[static_cast<std::size_t>(ni)])
-      return Error{path + ": node " + std::to_string(ni) +
-                   " is reached twice from the scene (a cycle of node children, or a node with "
-                   "two parents)"};
-    reached[static_cast<std::size_t>(ni)] = true;
-    const tinygltf::Node& node = model.nodes[static_cast<std::size_t>(ni)];
-    const glm::dmat4 world = parent * localMatrix(node);
-    for (int c : node.children)
-      stack.push_back({c, world});
-    if (node.mesh < 0)
-      continue;
-    if (static_cast<std::size_t>(node.mesh) >= model.meshes.size())
-      return Error{path + ": node " + std::to_string(ni) + ": mesh " + std::to_string(node.mesh) +
-                   " does not exist"};
-    for (const tinygltf::Primitive& prim :
-         model.meshes[static_cast<std::size_t>(node.mesh)].primitives) {
-      const auto pos = prim.attributes.find("POSITION");
-      const int mode = prim.mode == -1 ? TINYGLTF_MODE_TRIANGLES : prim.mode;
-      if ((mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
-           mode != TINYGLTF_MODE_TRIANGLE_FAN) ||
-          pos == prim.attributes.end())
-        continue;
-      const tinygltf::Accessor* pa_ptr = accessor(pos->second);
-      if (pa_ptr == nullptr)
-        return Error{path + ": mesh " + std::to_string(node.mesh) +
-                     ": POSITION names no usable accessor"};
-      const tinygltf::Accessor& pa = *pa_ptr;
-      const auto base = static_cast<std::uint32_t>(mesh.positions.size());
-      for (std::size_t k = 0; k < pa.count; ++k) {
-        const auto p = readFloat3(pa, k);
-        if (!p)
-          return Error{path + ": mesh " + std::to_string(node.mesh) +
-                       ": POSITION must be FLOAT VEC3 inside its buffer"};
-        mesh.positions.push_back(Vec3(world * glm::dvec4(*p, 1.0)));
-      }
-      std::vector<std::uint32_t> idx;
-      if (prim.indices >= 0) {
-        const tinygltf::Accessor* ia = accessor(prim.indices);
-        if (ia == nullptr)
-          return Error{path + ": mesh " + std::to_string(node.mesh) +
-                       ": indices name no usable accessor"};
-        for (std::size_t k = 0; k < ia->count; ++k) {
-          const auto i = readIndex(*ia, k);
-          if (!i)
-            return Error{path + ": mesh " + std::to_string(node.mesh) +
-                         ": indices outside their buffer"};
-          // an index past this primitive's vertices is the repair's bad index, not a vertex of
-          // the next primitive
-          idx.push_back(*i < pa.count ? base + *i : std::numeric_limits<std::uint32_t>::max());
-        }
-      } else {
-        for (std::uint32_t k = 0; k < pa.count; ++k)
-          idx.push_back(base + k);
-      }
-      // glTF 2.0 §3.7.2.1: strips and fans as their triangles, in the order that keeps the
-      // winding of the first
-      if (mode == TINYGLTF_MODE_TRIANGLES)
-        for (std::size_t k = 0; k + 2 < idx.size(); k += 3)
-          mesh.triangles.push_back({idx[k], idx[k + 1], idx[k + 2]});
-      else if (mode == TINYGLTF_MODE_TRIANGLE_STRIP)
-        for (std::size_t k = 0; k + 2 < idx.size(); ++k)
-          mesh.triangles.push_back({idx[k], idx[k + 1 + k % 2], idx[k + 2 - k % 2]});
-      else
-        for (std::size_t k = 1; k + 1 < idx.size(); ++k)
-          mesh.triangles.push_back({idx[k], idx[k + 1], idx[0]});
-    }
+  scene::TrianglesOptions options;
+  options.keep_bad_indices = true;  // dropped and counted by the repair
+  scene::SceneLimits& limits = options.load.limits;
+  limits.max_file_bytes = 2ull << 30;
+  limits.max_nodes = 1u << 20;
+  limits.max_hull_input_points = 1u << 26;
+  limits.max_total_hull_input_points = 1ull << 26;
+  scene::TrianglesReport read = scene::readSceneTrianglesFile(path, options);
+  if (!read.ok()) {
+    std::string m = read.message();
+    if (!m.empty() && m.back() == '\n')
+      m.pop_back();
+    return Error{path + ": " + m};
   }
+  TriangleMesh mesh;
+  mesh.positions = std::move(read.triangles->positions);
+  mesh.triangles = std::move(read.triangles->triangles);
   return mesh;
 }
 

@@ -16,7 +16,7 @@ PACKAGES=(
   libgtest-dev libgmock-dev           # tests
   libbenchmark-dev                    # hapticbench
   libccd-dev libfcl-dev libbullet-dev # peers compared in hapticbench
-  libtinygltf-dev                     # hapticctl import; tests: an independent glTF reader
+  libtinygltf-dev                     # tests: an independent glTF reader
   libdraco-dev libmeshoptimizer-dev   # scenes: Draco and meshopt compressed geometry (core/scene)
   libassimp-dev                       # hapticctl import: .obj .stl .ply .off
   libbullet-extras-dev                # hapticbench: the HACD decomposition peer

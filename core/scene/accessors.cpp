@@ -2,6 +2,7 @@
 
 #include <cmath>
 #include <cstring>
+#include <limits>
 
 #include "core/scene/glb.h"
 #include "core/scene/uri.h"
@@ -68,6 +69,35 @@ bool positionTypeAllowed(const AccessorDef& a) {
     return !a.normalized;
   return a.component_type == kComponentByte || a.component_type == kComponentUnsignedByte ||
          a.component_type == kComponentShort || a.component_type == kComponentUnsignedShort;
+}
+
+/// Triangles from a primitive's vertex list by its mode (4 list, 5 strip, 6 fan), offset by
+/// `first` (`bad` stays itself); false when a list is not a whole number of triangles.
+bool triangulate(std::int32_t mode,
+                 const std::vector<std::uint32_t>& v,
+                 std::uint32_t first,
+                 std::optional<std::uint32_t> bad,
+                 std::vector<std::uint32_t>* out) {
+  const auto at = [&](std::uint32_t i) { return bad && i == *bad ? i : first + i; };
+  const auto put = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
+    out->insert(out->end(), {at(a), at(b), at(c)});
+  };
+  if (mode == 4) {
+    if (v.size() % 3 != 0)
+      return false;
+    for (std::size_t i = 0; i < v.size(); i += 3)
+      put(v[i], v[i + 1], v[i + 2]);
+  } else {
+    for (std::size_t i = 2; i < v.size(); ++i) {
+      if (mode == 6)
+        put(v[0], v[i - 1], v[i]);
+      else if (i % 2 == 0)
+        put(v[i - 2], v[i - 1], v[i]);
+      else
+        put(v[i - 1], v[i - 2], v[i]);
+    }
+  }
+  return true;
 }
 
 }  // namespace
@@ -340,6 +370,59 @@ bool AccessorReader::readDraco(const MeshPrimitiveDef& prim,
       return false;
     }
     triangles->push_back(v);
+  }
+  return true;
+}
+
+bool readPrimitivePoints(AccessorReader& reader,
+                         const MeshPrimitiveDef& prim,
+                         const std::string& use,
+                         bool triangles,
+                         std::vector<Vec3>* points,
+                         PrimitiveReading* reading) {
+  reading->first = points->size();
+  reading->draco.clear();
+  const bool read = prim.draco
+                        ? reader.readDraco(prim, use, points, triangles ? &reading->draco : nullptr)
+                        : reader.readPositions(static_cast<std::size_t>(prim.position),
+                                               use + " POSITION", points);
+  reading->count = points->size() - reading->first;
+  return read;
+}
+
+bool readPrimitiveTriangles(AccessorReader& reader,
+                            const MeshPrimitiveDef& prim,
+                            const std::string& use,
+                            const PrimitiveReading& reading,
+                            std::optional<std::uint32_t> bad_index,
+                            Problems* problems,
+                            std::vector<std::uint32_t>* out) {
+  std::vector<std::uint32_t> local;
+  if (prim.draco) {
+    local = reading.draco;
+  } else if (prim.indices >= 0) {
+    // with bad_index, every index is read and those past the vertices are marked afterwards
+    const std::size_t bound = bad_index ? std::numeric_limits<std::size_t>::max() : reading.count;
+    if (!reader.readIndices(static_cast<std::size_t>(prim.indices), bound, use, &local))
+      return false;
+    if (bad_index) {
+      for (std::uint32_t& i : local)
+        i = i < reading.count ? i : *bad_index;
+    }
+  } else {
+    for (std::size_t v = 0; v < reading.count; ++v)
+      local.push_back(static_cast<std::uint32_t>(v));
+  }
+  if (!triangulate(prim.mode, local, static_cast<std::uint32_t>(reading.first), bad_index, out)) {
+    if (prim.indices >= 0 && !prim.draco) {
+      problems->add("accessor " + std::to_string(prim.indices),
+                    use + ": " + std::to_string(local.size()) +
+                        " indices is not a whole number of triangles");
+    } else {
+      problems->add(use, "has " + std::to_string(reading.count) +
+                             " vertices and no indices: not a whole number of triangles");
+    }
+    return false;
   }
   return true;
 }

@@ -69,4 +69,33 @@ class AccessorReader {
   std::map<std::size_t, std::vector<std::uint8_t>> meshopt_;  // decoded views
 };
 
+/// A mesh primitive read in two steps, so that a caller may check the vertex count between them
+/// (the loader's collider meshes and readSceneTriangles share them): its vertices, then its
+/// triangles. Draco, meshopt, quantized and sparse data alike.
+struct PrimitiveReading {
+  std::size_t first = 0;             ///< where the primitive's vertices start in the points
+  std::size_t count = 0;             ///< how many it has
+  std::vector<std::uint32_t> draco;  ///< a Draco primitive's triangle list (when wanted)
+};
+/// Appends the vertices of `prim` (which has a POSITION) to `points`, as stored (not placed);
+/// `triangles`: keep a Draco stream's triangle list for the second step. `use` names the primitive
+/// in problems ("mesh 2 'Bunny' primitive 0").
+bool readPrimitivePoints(AccessorReader& reader,
+                         const MeshPrimitiveDef& prim,
+                         const std::string& use,
+                         bool triangles,
+                         std::vector<Vec3>* points,
+                         PrimitiveReading* reading);
+/// Appends the triangles of a primitive whose points were read (mode 4 list, 5 strip, 6 fan: the
+/// caller checks the mode) to `out`, three indices each into the points; a list that is not a
+/// whole number of triangles is a problem. `bad_index` set: an index past the primitive's
+/// vertices becomes that value (for a caller that repairs such triangles) instead of a problem.
+bool readPrimitiveTriangles(AccessorReader& reader,
+                            const MeshPrimitiveDef& prim,
+                            const std::string& use,
+                            const PrimitiveReading& reading,
+                            std::optional<std::uint32_t> bad_index,
+                            Problems* problems,
+                            std::vector<std::uint32_t>* out);
+
 }  // namespace hapticd::scene::detail

@@ -34,33 +34,6 @@ bool cached(std::optional<T>* slot, Make make, Problems* problems, const std::st
   return true;
 }
 
-/// Triangles from a primitive's vertex list by its mode (4 list, 5 strip, 6 fan), offset by
-/// `first`; false when a list is not a whole number of triangles.
-bool triangulate(std::int32_t mode,
-                 const std::vector<std::uint32_t>& v,
-                 std::uint32_t first,
-                 std::vector<std::uint32_t>* out) {
-  const auto put = [&](std::uint32_t a, std::uint32_t b, std::uint32_t c) {
-    out->insert(out->end(), {first + a, first + b, first + c});
-  };
-  if (mode == 4) {
-    if (v.size() % 3 != 0)
-      return false;
-    for (std::size_t i = 0; i < v.size(); i += 3)
-      put(v[i], v[i + 1], v[i + 2]);
-  } else {
-    for (std::size_t i = 2; i < v.size(); ++i) {
-      if (mode == 6)
-        put(v[0], v[i - 1], v[i]);
-      else if (i % 2 == 0)
-        put(v[i - 2], v[i - 1], v[i]);
-      else
-        put(v[i - 1], v[i - 2], v[i]);
-    }
-  }
-  return true;
-}
-
 }  // namespace
 
 bool Builder::withinTotalHullPoints(std::uint32_t node, std::uint64_t more) {
@@ -91,46 +64,23 @@ bool Builder::primitiveGeometry(std::uint32_t node,
     return false;
   }
   std::vector<Vec3>& points = in->points_C;
-  const std::size_t first = points.size();
   if (!withinTotalHullPoints(node, doc_.accessors[static_cast<std::size_t>(prim.position)].count))
     return false;
-  std::vector<std::uint32_t> local;
-  const bool read = prim.draco ? reader_.readDraco(prim, use, &points, triangles ? &local : nullptr)
-                               : reader_.readPositions(static_cast<std::size_t>(prim.position),
-                                                       use + " POSITION", &points);
-  if (!read)
+  PrimitiveReading reading;
+  if (!readPrimitivePoints(reader_, prim, use, triangles, &points, &reading))
     return false;
-  const std::size_t count = points.size() - first;
-  hull_points_ += count;
+  hull_points_ += reading.count;
   if (points.size() > options_.limits.max_hull_input_points) {
     p_->add(where(node), "collider mesh has " + std::to_string(points.size()) +
                              " vertices, more than max_hull_input_points (" +
                              std::to_string(options_.limits.max_hull_input_points) + ")");
     return false;
   }
-  for (std::size_t v = first; v < points.size(); ++v)
+  for (std::size_t v = reading.first; v < points.size(); ++v)
     points[v] = Vec3(X * glm::dvec4(points[v], 1.0));
   if (!triangles)
     return true;  // a hull needs only the vertices
-  if (!prim.draco && prim.indices >= 0) {
-    if (!reader_.readIndices(static_cast<std::size_t>(prim.indices), count, use, &local))
-      return false;
-  } else if (!prim.draco) {
-    for (std::size_t v = 0; v < count; ++v)
-      local.push_back(static_cast<std::uint32_t>(v));
-  }
-  if (!triangulate(prim.mode, local, static_cast<std::uint32_t>(first), &in->triangles)) {
-    if (prim.indices >= 0 && !prim.draco) {
-      p_->add("accessor " + std::to_string(prim.indices),
-              use + ": " + std::to_string(local.size()) +
-                  " indices is not a whole number of triangles");
-    } else {
-      p_->add(use, "has " + std::to_string(count) +
-                       " vertices and no indices: not a whole number of triangles");
-    }
-    return false;
-  }
-  return true;
+  return readPrimitiveTriangles(reader_, prim, use, reading, std::nullopt, p_, &in->triangles);
 }
 
 bool Builder::meshGeometry(std::uint32_t node, bool triangles, HullInput* in) {
