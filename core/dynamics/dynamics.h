@@ -91,7 +91,7 @@ struct DynamicsOptions {
   /// left unconverged each tick grows a shear from rounding. At most position_iterations: none.
   std::uint32_t position_iterations_max = 30;
   /// The settling iterations' tolerance (above), a fraction of the smallest body's size per tick.
-  double settle_tolerance_fraction = 1e-7;
+  double settle_tolerance_fraction = 1e-6;
   /// The settling iterations of a tick (both kinds, all solves) solve at most this many rows
   /// (contact points and joints, once per iteration) beyond the fixed counts: a bound on the
   /// tick's extra work whatever the scene's size.
