@@ -22,44 +22,44 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 1.67388e-16 to graph 1, first 1.67388e-16 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 1.67388e-16 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "2mm" at graph 0.26118, graph 0.912978 left font 'Sans,8' front noenhanced
-set label "1mm" at graph 0.439521, graph 0.912643 left font 'Sans,8' front noenhanced
-set label "0.5mm" at graph 0.567024, graph 0.913303 left font 'Sans,8' front noenhanced
-set label "0.25mm" at graph 0.698652, graph 0.915836 left font 'Sans,8' front noenhanced
+set label "2mm" at graph 0.264989, graph 0.912978 left font 'Sans,8' front noenhanced
+set label "1mm" at graph 0.444501, graph 0.912643 left font 'Sans,8' front noenhanced
+set label "0.5mm" at graph 0.572062, graph 0.913303 left font 'Sans,8' front noenhanced
+set label "0.25mm" at graph 0.70286, graph 0.915836 left font 'Sans,8' front noenhanced
 $pairs_8_0 << EOD
-932 1.67388e-16
+963 1.67388e-16
 EOD
 $pairs_8_1 << EOD
-1122 1.67388e-16
+1153 1.67388e-16
 EOD
 $pairs_8_2 << EOD
 100 15.1584
 EOD
 $pairs_8_3 << EOD
-1051 0.037277
+1094 0.037277
 EOD
 $pairs_8_4 << EOD
-470 0.976496
+482 0.976496
 EOD
 $pairs_8_5 << EOD
-1603 0.976496
+1674 0.976496
 EOD
 $pairs_8_6 << EOD
-2064 5.02164e-15
+2135 5.02164e-15
 EOD
 $pairs_8_7 << EOD
-1554 5.49364e-15
+1624 5.49364e-15
 EOD
 $pairs_8_8 << EOD
-1292 1.61924
-4740 1.5968
-17764 1.64122
-69481 1.8235
+1344 1.61924
+4991 1.5968
+18716 1.64122
+72578 1.8235
 EOD
 $pairs_8_front << EOD
 100 15.1584
-470 0.976496
-932 1.67388e-16
+482 0.976496
+963 1.67388e-16
 EOD
 plot $pairs_8_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $pairs_8_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-exact-warm" noenhanced, \
@@ -82,7 +82,7 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [106.845:1.77828e+06]
+set xrange [107.97:1.77828e+06]
 set yrange [6.29794e-17:75.9909]
 set xlabel 'median time per query (ns)'
 set ylabel 'p99 force error (N)'
@@ -92,45 +92,45 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set label "2mm" at graph 0.364396, graph 0.903153 left font 'Sans,8' front noenhanced
-set label "1mm" at graph 0.501543, graph 0.906912 left font 'Sans,8' front noenhanced
-set label "0.5mm" at graph 0.63862, graph 0.90828 left font 'Sans,8' front noenhanced
-set label "0.25mm" at graph 0.697864, graph 0.90844 left font 'Sans,8' front noenhanced
+set label "2mm" at graph 0.370964, graph 0.903153 left font 'Sans,8' front noenhanced
+set label "1mm" at graph 0.508474, graph 0.906912 left font 'Sans,8' front noenhanced
+set label "0.5mm" at graph 0.644657, graph 0.90828 left font 'Sans,8' front noenhanced
+set label "0.25mm" at graph 0.706549, graph 0.90844 left font 'Sans,8' front noenhanced
 $pairs_32_0 << EOD
-1653 5.97475e-15
+1725 5.97475e-15
 EOD
 $pairs_32_1 << EOD
-1473 5.97475e-15
+1514 5.97475e-15
 EOD
 $pairs_32_2 << EOD
-190 19.0881
+192 19.0881
 EOD
 $pairs_32_3 << EOD
-1893 0.0373738
+2055 0.0373738
 EOD
 $pairs_32_4 << EOD
-961 0.355001
+1004 0.355001
 EOD
 $pairs_32_5 << EOD
-2665 0.324079
+2836 0.324079
 EOD
 $pairs_32_6 << EOD
-3557 8.90573e-15
+3808 8.90573e-15
 EOD
 $pairs_32_7 << EOD
-2665 9.62266e-15
+2856 9.62266e-15
 EOD
 $pairs_32_8 << EOD
-3297 1.34775
-12504 1.57608
-47390 1.66848
-188205 1.67964
+3538 1.34775
+13446 1.57608
+50447 1.66848
+205261 1.67964
 EOD
 $pairs_32_front << EOD
-190 19.0881
-961 0.355001
-1473 5.97475e-15
-1653 5.97475e-15
+192 19.0881
+1004 0.355001
+1514 5.97475e-15
+1725 5.97475e-15
 EOD
 plot $pairs_32_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $pairs_32_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-exact-warm" noenhanced, \
@@ -153,7 +153,7 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [225.499:1.77828e+06]
+set xrange [282.295:1.77828e+06]
 set yrange [6.37184e-17:77.7992]
 set xlabel 'median time per query (ns)'
 set ylabel 'p99 force error (N)'
@@ -163,43 +163,43 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set label "2mm" at graph 0.339812, graph 0.895944 left font 'Sans,8' front noenhanced
-set label "1mm" at graph 0.481416, graph 0.899083 left font 'Sans,8' front noenhanced
-set label "0.5mm" at graph 0.628733, graph 0.902287 left font 'Sans,8' front noenhanced
-set label "0.25mm" at graph 0.69792, graph 0.903916 left font 'Sans,8' front noenhanced
+set label "2mm" at graph 0.352893, graph 0.895944 left font 'Sans,8' front noenhanced
+set label "1mm" at graph 0.49864, graph 0.899083 left font 'Sans,8' front noenhanced
+set label "0.5mm" at graph 0.646728, graph 0.902287 left font 'Sans,8' front noenhanced
+set label "0.25mm" at graph 0.812713, graph 0.903916 left font 'Sans,8' front noenhanced
 $pairs_128_0 << EOD
-2755 6.14985e-15
+3868 6.14985e-15
 EOD
 $pairs_128_1 << EOD
-2455 6.04486e-15
+3408 6.04486e-15
 EOD
 $pairs_128_2 << EOD
-401 19.5423
+502 19.5423
 EOD
 $pairs_128_3 << EOD
-5160 0.0339337
+7746 0.0339337
 EOD
 $pairs_128_4 << EOD
-3336 0.540271
+3868 0.540271
 EOD
 $pairs_128_5 << EOD
-3166 0.570367
+4871 0.570367
 EOD
 $pairs_128_6 << EOD
-8937 0.00433206
+11593 0.00433206
 EOD
 $pairs_128_7 << EOD
-6472 1.38057e-14
+8507 1.38057e-14
 EOD
 $pairs_128_8 << EOD
-4288 1.02081
-15278 1.16336
-57298 1.32942
-223772 1.42276
+5591 1.02081
+20009 1.16336
+73090 1.32942
+312235 1.42276
 EOD
 $pairs_128_front << EOD
-401 19.5423
-2455 6.04486e-15
+502 19.5423
+3408 6.04486e-15
 EOD
 plot $pairs_128_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $pairs_128_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-exact-warm" noenhanced, \
@@ -222,8 +222,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [11561.2:1.77828e+06]
-set yrange [5.13112e-05:46.5641]
+set xrange [29967.7:1.77828e+06]
+set yrange [4.05092e-19:38.6461]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: scene/peg_in_hole" noenhanced
@@ -232,54 +232,54 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 0.00016226 to graph 1, first 0.00016226 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 0.00016226 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.155122, graph 0.107305 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.1542, graph 0.0605411 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.121927, graph 0.083923 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.177473, graph 0.103564 left font 'Sans,8' front noenhanced
-set label "2 kHz" at graph 0.165093, graph 0.331852 left font 'Sans,8' front noenhanced
-set label "4 kHz" at graph 0.167222, graph 0.393407 left font 'Sans,8' front noenhanced
-set label "3.32mm" at graph 0.125882, graph 0.872067 left font 'Sans,8' front noenhanced
-set label "1.66mm" at graph 0.165588, graph 0.912579 left font 'Sans,8' front noenhanced
-set label "0.829mm" at graph 0.373517, graph 0.882559 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 1.28101e-18 to graph 1, first 1.28101e-18 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 1.28101e-18 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "8" at graph 0.170922, graph 0.0250256 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.186589, graph 0.0484076 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.172395, graph 0.661427 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.20558, graph 0.867265 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.110831, graph 0.8048 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.191384, graph 0.823162 left font 'Sans,8' front noenhanced
+set label "3.32mm" at graph 0.152547, graph 0.961102 left font 'Sans,8' front noenhanced
+set label "1.66mm" at graph 0.236407, graph 0.969969 left font 'Sans,8' front noenhanced
+set label "0.829mm" at graph 0.363402, graph 0.968532 left font 'Sans,8' front noenhanced
 $scene_peg_in_hole_0 << EOD
-26891 0.00016226
+68069 1.28101e-18
 EOD
 $scene_peg_in_hole_1 << EOD
-25888 0.00016226
-25768 0.00016226
-23804 0.00016226
-26881 0.00016226
+65745 1.28101e-18
+65514 1.28101e-18
+57790 6.64617e-06
+66176 0.0861223
 EOD
 $scene_peg_in_hole_2 << EOD
-25038 0.026241
+61978 0.0262429
 EOD
 $scene_peg_in_hole_3 << EOD
-25047 0.00486781
-25317 0.0113258
+60485 0.00486519
+62449 0.0113228
 EOD
 $scene_peg_in_hole_4 << EOD
-43151 11.6964
+88408 0.85526
 EOD
 $scene_peg_in_hole_5 << EOD
-33423 0.00016226
+80853 1.83373e-15
 EOD
 $scene_peg_in_hole_6 << EOD
-31971 0.00016226
+75784 5.79561e-16
 EOD
 $scene_peg_in_hole_7 << EOD
-28123 0.00016226
+68740 3.84304e-17
 EOD
 $scene_peg_in_hole_8 << EOD
-20559 8.05094
-30918 10.1836
-71545 9.29728
+53291 6.45556
+75053 9.70746
+126059 9.08618
 EOD
 $scene_peg_in_hole_front << EOD
-20559 8.05094
-23804 0.00016226
-25768 0.00016226
+53291 6.45556
+57790 6.64617e-06
+65514 1.28101e-18
 EOD
 plot $scene_peg_in_hole_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_peg_in_hole_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
@@ -302,7 +302,7 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [13623.3:1.77828e+06]
+set xrange [32520.2:1.77828e+06]
 set yrange [0.0105409:3.98107]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
@@ -314,32 +314,31 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.0333333 to graph 1, first 0.0333333 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.0333333 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "0.1 N/tick" at graph 0.0103638, graph 0.194015 left font 'Sans,8' front noenhanced
-set label "0.25 N/tick" at graph 0.0747732, graph 0.217397 left font 'Sans,8' front noenhanced
-set label "0.5 N/tick (default)" at graph 0.0189896, graph 0.170633 left font 'Sans,8' front noenhanced
-set label "2 N/tick" at graph 0.1424, graph 0.194015 left font 'Sans,8' front noenhanced
-set label "0° (shading off)" at graph 0.140085, graph 0.230491 left font 'Sans,8' front noenhanced
-set label "20°" at graph 0.174338, graph 0.157539 left font 'Sans,8' front noenhanced
-set label "60°" at graph 0.080932, graph 0.230491 left font 'Sans,8' front noenhanced
-set label "85°" at graph 0.078632, graph 0.157539 left font 'Sans,8' front noenhanced
+set label "0.1 N/tick" at graph 0.114714, graph 0.217397 left font 'Sans,8' front noenhanced
+set label "0.25 N/tick" at graph 0.106743, graph 0.170633 left font 'Sans,8' front noenhanced
+set label "0.5 N/tick (default)" at graph 0.174389, graph 0.230491 left font 'Sans,8' front noenhanced
+set label "2 N/tick" at graph 0.178682, graph 0.157539 left font 'Sans,8' front noenhanced
+set label "0° (shading off)" at graph 0.159768, graph 0.174374 left font 'Sans,8' front noenhanced
+set label "20°" at graph 0.0926165, graph 0.194015 left font 'Sans,8' front noenhanced
+set label "60°" at graph 0.0989443, graph 0.230491 left font 'Sans,8' front noenhanced
+set label "85°" at graph 0.195355, graph 0.194015 left font 'Sans,8' front noenhanced
 $shaping_peg_in_hole_0 << EOD
-24617 0.0333333
+67577 0.0333333
 EOD
 $shaping_peg_in_hole_1 << EOD
-24576 0.0333333
-25579 0.0333333
-24226 0.0333333
-25768 0.0333333
+62760 0.0333333
+62008 0.0333333
+62389 0.0333333
+63470 0.0333333
 EOD
 $shaping_peg_in_hole_2 << EOD
-25479 0.0333333
-30106 0.0333333
-25937 0.0333333
-25648 0.0333333
+59234 0.0333333
+57830 0.0333333
+59313 0.0333333
+67849 0.0333333
 EOD
 $shaping_peg_in_hole_front << EOD
-24226 0.0333333
-24617 0.0333333
+57830 0.0333333
 EOD
 plot $shaping_peg_in_hole_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $shaping_peg_in_hole_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick no step limit, shading 40° (the truth)" noenhanced, \
@@ -356,8 +355,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [25100.1:1.77828e+06]
-set yrange [3.0683e-05:0.168927]
+set xrange [53366.8:1.77828e+06]
+set yrange [3.47198e-05:0.23781]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: scene/gears" noenhanced
@@ -366,46 +365,44 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 9.70282e-05 to graph 1, first 9.70282e-05 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 9.70282e-05 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.160634, graph 0.133661 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.160505, graph 0.569357 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.113624, graph 0.581434 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.136436, graph 0.605569 left font 'Sans,8' front noenhanced
-set label "2 kHz" at graph 0.235307, graph 0.528529 left font 'Sans,8' front noenhanced
-set label "4 kHz" at graph 0.217807, graph 0.560637 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 0.000109794 to graph 1, first 0.000109794 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 0.000109794 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "8" at graph 0.191094, graph 0.130356 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.201442, graph 0.515459 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.168908, graph 0.530972 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.189217, graph 0.565235 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.203145, graph 0.482963 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.228811, graph 0.545431 left font 'Sans,8' front noenhanced
 $scene_gears_0 << EOD
-59852 9.70282e-05
+116250 0.000109794
 EOD
 $scene_gears_1 << EOD
-54533 9.70282e-05
-54503 0.00413759
-44635 0.00459122
-45846 0.00462107
+112454 0.000109794
+103847 0.00329381
+104038 0.00377749
+99490 0.0051124
 EOD
 $scene_gears_2 << EOD
-56027 9.70282e-05
+94901 0.000109794
 EOD
 $scene_gears_3 << EOD
-65112 0.00291085
-60434 0.00383823
+104469 0.00341166
+114306 0.00429202
 EOD
 $scene_gears_4 << EOD
-75072 0.0424326
+108365 0.0597352
 EOD
 $scene_gears_5 << EOD
-95530 0.0110428
+156106 0.0100874
 EOD
 $scene_gears_6 << EOD
-99768 0.00830454
+149675 0.00790289
 EOD
 $scene_gears_7 << EOD
-77737 0.00700686
+134986 0.00580962
 EOD
 $scene_gears_front << EOD
-44635 0.00459122
-54503 0.00413759
-54533 9.70282e-05
+94901 0.000109794
 EOD
 plot $scene_gears_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_gears_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
@@ -427,7 +424,7 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [28891.4:1.77828e+06]
+set xrange [54245.1:1.77828e+06]
 set yrange [0.0105409:3.98107]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
@@ -439,31 +436,31 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.0333333 to graph 1, first 0.0333333 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.0333333 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "0.1 N/tick" at graph 0.0297828, graph 0.194015 left font 'Sans,8' front noenhanced
-set label "0.25 N/tick" at graph 0.0871134, graph 0.217397 left font 'Sans,8' front noenhanced
-set label "0.5 N/tick (default)" at graph 0.0405513, graph 0.170633 left font 'Sans,8' front noenhanced
-set label "2 N/tick" at graph 0.187791, graph 0.194015 left font 'Sans,8' front noenhanced
-set label "0° (shading off)" at graph 0.173962, graph 0.230491 left font 'Sans,8' front noenhanced
-set label "20°" at graph 0.163386, graph 0.157539 left font 'Sans,8' front noenhanced
-set label "60°" at graph 0.106403, graph 0.230491 left font 'Sans,8' front noenhanced
-set label "85°" at graph 0.095158, graph 0.157539 left font 'Sans,8' front noenhanced
+set label "0.1 N/tick" at graph 0.120725, graph 0.217397 left font 'Sans,8' front noenhanced
+set label "0.25 N/tick" at graph 0.208981, graph 0.194015 left font 'Sans,8' front noenhanced
+set label "0.5 N/tick (default)" at graph 0.0857417, graph 0.170633 left font 'Sans,8' front noenhanced
+set label "2 N/tick" at graph 0.197318, graph 0.230491 left font 'Sans,8' front noenhanced
+set label "0° (shading off)" at graph 0.182266, graph 0.157539 left font 'Sans,8' front noenhanced
+set label "20°" at graph 0.115404, graph 0.194015 left font 'Sans,8' front noenhanced
+set label "60°" at graph 0.118433, graph 0.230491 left font 'Sans,8' front noenhanced
+set label "85°" at graph 0.137293, graph 0.157539 left font 'Sans,8' front noenhanced
 $shaping_gears_0 << EOD
-57168 0.0333333
+96463 0.0333333
 EOD
 $shaping_gears_1 << EOD
-51547 0.0333333
-51788 0.0333333
-51377 0.0333333
-59713 0.0333333
+98286 0.0333333
+108035 0.0333333
+103425 0.0333333
+103726 0.0333333
 EOD
 $shaping_gears_2 << EOD
-56406 0.0333333
-54001 0.0333333
-55313 0.0333333
-52809 0.0333333
+98418 0.0333333
+97036 0.0333333
+98067 0.0333333
+104739 0.0333333
 EOD
 $shaping_gears_front << EOD
-51377 0.0333333
+96463 0.0333333
 EOD
 plot $shaping_gears_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $shaping_gears_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick no step limit, shading 40° (the truth)" noenhanced, \
@@ -480,8 +477,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [10822.8:1.77828e+06]
-set yrange [6.31029e-06:39.8107]
+set xrange [20941.6:1.77828e+06]
+set yrange [9.81645e-05:39.8107]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: scene/dynamic" noenhanced
@@ -490,54 +487,54 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 1.99549e-05 to graph 1, first 1.99549e-05 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 1.99549e-05 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.240143, graph 0.290755 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.260019, graph 0.624445 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.263706, graph 0.483738 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.32046, graph 0.911764 left font 'Sans,8' front noenhanced
-set label "2 kHz" at graph 0.159446, graph 0.822103 left font 'Sans,8' front noenhanced
-set label "4 kHz" at graph 0.242616, graph 0.813247 left font 'Sans,8' front noenhanced
-set label "7.63mm" at graph 0.0417588, graph 0.56134 left font 'Sans,8' front noenhanced
-set label "3.82mm" at graph 0.152233, graph 0.56134 left font 'Sans,8' front noenhanced
-set label "1.91mm" at graph 0.258473, graph 0.56134 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 0.000310424 to graph 1, first 0.000310424 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 0.000310424 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "8" at graph 0.288273, graph 0.825086 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.269525, graph 0.575553 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.263686, graph 0.352551 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.321155, graph 0.893011 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.265193, graph 0.700781 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.252815, graph 0.744218 left font 'Sans,8' front noenhanced
+set label "7.63mm" at graph 0.0585271, graph 0.470904 left font 'Sans,8' front noenhanced
+set label "3.82mm" at graph 0.198691, graph 0.470904 left font 'Sans,8' front noenhanced
+set label "1.91mm" at graph 0.296103, graph 0.470904 left font 'Sans,8' front noenhanced
 $scene_dynamic_0 << EOD
-36269 1.99549e-05
+71174 0.000310424
 EOD
 $scene_dynamic_1 << EOD
-34736 0.000598647
-38443 0.111235
-39173 0.0122869
-52328 10
+71576 4.15982
+65857 0.165836
+64171 0.00931271
+95932 10
 EOD
 $scene_dynamic_2 << EOD
-37291 0.323968
+66937 0.0969043
 EOD
 $scene_dynamic_3 << EOD
-33352 2.45645
-35177 2.13841
+64602 0.835535
+61146 1.46407
 EOD
 $scene_dynamic_4 << EOD
-90742 10
+100020 10
 EOD
 $scene_dynamic_5 << EOD
-76333 4.6067
+123364 2.9978
 EOD
 $scene_dynamic_6 << EOD
-81233 1.05185
+163280 1.07104
 EOD
 $scene_dynamic_7 << EOD
-60844 1.01392
+95620 0.944417
 EOD
 $scene_dynamic_8 << EOD
-19246 0.0414129
-22182 0.0414129
-38141 0.0414129
+37240 0.0429345
+48080 0.0429345
+74109 0.0429345
 EOD
 $scene_dynamic_front << EOD
-19246 0.0414129
-34736 0.000598647
-36269 1.99549e-05
+37240 0.0429345
+64171 0.00931271
+71174 0.000310424
 EOD
 plot $scene_dynamic_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_dynamic_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
@@ -560,7 +557,7 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [18046.1:1.77828e+06]
+set xrange [28473.6:1.77828e+06]
 set yrange [0.0537575:26.945]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
@@ -572,40 +569,43 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.169996 to graph 1, first 0.169996 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.169996 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "1" at graph 0.192498, graph 0.732256 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.103913, graph 0.75964 left font 'Sans,8' front noenhanced
-set label "12 (default)" at graph 0.0126388, graph 0.736944 left font 'Sans,8' front noenhanced
-set label "32" at graph 0.1568, graph 0.712147 left font 'Sans,8' front noenhanced
-set label "0" at graph 0.163271, graph 0.771703 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.133126, graph 0.801163 left font 'Sans,8' front noenhanced
-set label "6 (default)" at graph 0.0225561, graph 0.700468 left font 'Sans,8' front noenhanced
-set label "18" at graph 0.160103, graph 0.762367 left font 'Sans,8' front noenhanced
+set label "1 (no settling)" at graph 0.214305, graph 0.732256 left font 'Sans,8' front noenhanced
+set label "4 (no settling)" at graph 0.0256812, graph 0.75964 left font 'Sans,8' front noenhanced
+set label "12 (default)" at graph 0.00865399, graph 0.735886 left font 'Sans,8' front noenhanced
+set label "32 (no settling)" at graph 0.193036, graph 0.699053 left font 'Sans,8' front noenhanced
+set label "0 (no settling)" at graph 0.0343262, graph 0.791344 left font 'Sans,8' front noenhanced
+set label "2 (no settling)" at graph 0.217991, graph 0.777781 left font 'Sans,8' front noenhanced
+set label "6 (default)" at graph 0.0185713, graph 0.69941 left font 'Sans,8' front noenhanced
+set label "18 (no settling)" at graph 0.199528, graph 0.762367 left font 'Sans,8' front noenhanced
 $dynamics_dynamic_0 << EOD
-53632 0.169996
+78670 0.169996
 EOD
 $dynamics_dynamic_1 << EOD
-41408 5.09988
-32091 6.04639
-34826 5.25069
-38793 5.2047
+61727 5.25069
 EOD
 $dynamics_dynamic_2 << EOD
-36209 6.51731
-34015 6.76829
-34826 5.25069
-35958 5.44289
+65836 5.09988
+61438 6.04639
+50634 5.21626
+60294 5.2047
+EOD
+$dynamics_dynamic_3 << EOD
+63240 6.51731
+66847 6.76829
+50634 5.21626
+62359 5.44289
 EOD
 $dynamics_dynamic_front << EOD
-32091 6.04639
-34826 5.25069
-38793 5.2047
-41408 5.09988
-53632 0.169996
+50634 5.21626
+60294 5.2047
+65836 5.09988
+78670 0.169996
 EOD
 plot $dynamics_dynamic_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $dynamics_dynamic_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick iterations 100/50 (the truth)" noenhanced, \
-  $dynamics_dynamic_1 using 1:2 with linespoints lw 1.5 pt 5 ps 1.6 lc rgb '#d62728' title "hapticd-tick, velocity iterations swept" noenhanced, \
-  $dynamics_dynamic_2 using 1:2 with linespoints lw 1.5 pt 9 ps 1.6 lc rgb '#2ca02c' title "hapticd-tick, split-impulse iterations swept" noenhanced
+  $dynamics_dynamic_1 using 1:2 with points pt 5 ps 1.6 lc rgb '#d62728' title "hapticd-tick no settling iterations (12/6 fixed)" noenhanced, \
+  $dynamics_dynamic_2 using 1:2 with linespoints lw 1.5 pt 9 ps 1.6 lc rgb '#2ca02c' title "hapticd-tick, velocity iterations swept" noenhanced, \
+  $dynamics_dynamic_3 using 1:2 with linespoints lw 1.5 pt 11 ps 1.6 lc rgb '#9467bd' title "hapticd-tick, split-impulse iterations swept" noenhanced
 reset
 set terminal pngcairo size 1100,660 font 'Sans,10'
 set output "docs/accuracy/scene_stress.png"
@@ -617,8 +617,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [47274.9:6.24659e+06]
-set yrange [0.0232081:39.8861]
+set xrange [85751.4:8.54043e+06]
+set yrange [0.0365179:54.3477]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: scene/stress" noenhanced
@@ -627,57 +627,56 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 0.0733904 to graph 1, first 0.0733904 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 0.0733904 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "8" at graph 0.307589, graph 0.734186 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.322704, graph 0.671455 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.22389, graph 0.710905 left font 'Sans,8' front noenhanced
-set label "1" at graph 0.171296, graph 0.711133 left font 'Sans,8' front noenhanced
-set label "0.003" at graph 0.255134, graph 0.611131 left font 'Sans,8' front noenhanced
-set label "0.01" at graph 0.275371, graph 0.64569 left font 'Sans,8' front noenhanced
-set label "0.03" at graph 0.344967, graph 0.780787 left font 'Sans,8' front noenhanced
-set label "2 kHz" at graph 0.256398, graph 0.732459 left font 'Sans,8' front noenhanced
-set label "4 kHz" at graph 0.239626, graph 0.68242 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 0.11548 to graph 1, first 0.11548 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 0.11548 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "8" at graph 0.373596, graph 0.764417 left font 'Sans,8' front noenhanced
+set label "4" at graph 0.338679, graph 0.70503 left font 'Sans,8' front noenhanced
+set label "2" at graph 0.268944, graph 0.759709 left font 'Sans,8' front noenhanced
+set label "1" at graph 0.185428, graph 0.721114 left font 'Sans,8' front noenhanced
+set label "0.003" at graph 0.326769, graph 0.654277 left font 'Sans,8' front noenhanced
+set label "0.01" at graph 0.338011, graph 0.676964 left font 'Sans,8' front noenhanced
+set label "0.03" at graph 0.264078, graph 0.696057 left font 'Sans,8' front noenhanced
+set label "2 kHz" at graph 0.340264, graph 0.741866 left font 'Sans,8' front noenhanced
+set label "4 kHz" at graph 0.237124, graph 0.72187 left font 'Sans,8' front noenhanced
 $scene_stress_0 << EOD
-248488 0.0733904
+425077 0.11548
 EOD
 $scene_stress_1 << EOD
-235834 5.50635
-216047 3.45079
-133341 4.62965
-103136 4.63752
+453581 9.72194
+386263 6.29994
+280243 9.39322
+190832 7.08545
 EOD
 $scene_stress_2 << EOD
-310776 3.68725
+489841 6.91989
 EOD
 $scene_stress_3 << EOD
-221558 2.20171
-233011 2.84817
-240863 7.79162
+365666 4.34826
+388017 5.92388
+365865 5.90024
 EOD
 $scene_stress_4 << EOD
-222930 4.1426
-205397 3.74449
+389089 8.24531
+338282 7.1247
 EOD
 $scene_stress_5 << EOD
-437345 10.0189
+451948 13.6515
 EOD
 $scene_stress_6 << EOD
-649975 6.20385
+1.00224e+06 4.28113
 EOD
 $scene_stress_7 << EOD
-3.51271e+06 7.89814
+4.80264e+06 7.10861
 EOD
 $scene_stress_8 << EOD
-2.70204e+06 8.02034
+4.03461e+06 7.74468
 EOD
 $scene_stress_9 << EOD
-84068 3.049
+152490 3.46439
 EOD
 $scene_stress_front << EOD
-84068 3.049
-221558 2.20171
-248488 0.0733904
+152490 3.46439
+425077 0.11548
 EOD
 plot $scene_stress_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $scene_stress_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick exact, budget unlimited, δ on (the truth)" noenhanced, \
@@ -701,8 +700,8 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [137133:1.77828e+06]
-set yrange [2.2981e-12:10.7748]
+set xrange [140585:1.77828e+06]
+set yrange [0.00520613:15.3874]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
 set title "What accuracy costs in time: shaping/stress" noenhanced
@@ -711,33 +710,34 @@ set arrow from 1e+06, graph 0 to 1e+06, graph 1 nohead dt 3 lw 1.5 lc rgb '#b000
 set label "1 kHz tick" at 1e+06, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b00000' back
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
-set arrow from graph 0, first 7.26724e-12 to graph 1, first 7.26724e-12 nohead dt 2 lc rgb '#999999' back
-set label 'no error (exact)' at graph 0.99, first 7.26724e-12 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "0.1 N/tick" at graph 0.238931, graph 0.972289 left font 'Sans,8' front noenhanced
-set label "0.25 N/tick" at graph 0.247529, graph 0.940777 left font 'Sans,8' front noenhanced
-set label "0.5 N/tick (default)" at graph 0.0165815, graph 0.0394601 left font 'Sans,8' front noenhanced
-set label "2 N/tick" at graph 0.246095, graph 0.0394601 left font 'Sans,8' front noenhanced
-set label "0° (shading off)" at graph 0.246517, graph 0.156035 left font 'Sans,8' front noenhanced
-set label "20°" at graph 0.240153, graph 0.0759359 left font 'Sans,8' front noenhanced
-set label "60°" at graph 0.175803, graph 0.0759359 left font 'Sans,8' front noenhanced
-set label "85°" at graph 0.175652, graph 0.0198192 left font 'Sans,8' front noenhanced
+set arrow from graph 0, first 0.0164632 to graph 1, first 0.0164632 nohead dt 2 lc rgb '#999999' back
+set label 'no error (exact)' at graph 0.99, first 0.0164632 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
+set label "0.1 N/tick" at graph 0.452041, graph 0.827122 left font 'Sans,8' front noenhanced
+set label "0.25 N/tick" at graph 0.45452, graph 0.803889 left font 'Sans,8' front noenhanced
+set label "0.5 N/tick (default)" at graph 0.480496, graph 0.63889 left font 'Sans,8' front noenhanced
+set label "2 N/tick" at graph 0.41056, graph 0.167447 left font 'Sans,8' front noenhanced
+set label "0° (shading off)" at graph 0.424573, graph 0.569669 left font 'Sans,8' front noenhanced
+set label "20°" at graph 0.37909, graph 0.144065 left font 'Sans,8' front noenhanced
+set label "60°" at graph 0.427989, graph 0.120683 left font 'Sans,8' front noenhanced
+set label "85°" at graph 0.388283, graph 0.107589 left font 'Sans,8' front noenhanced
 $shaping_stress_0 << EOD
-243861 7.26724e-12
+445688 0.0164632
 EOD
 $shaping_stress_1 << EOD
-246605 2.7065
-251033 1.91422
-245021 7.26724e-12
-250112 7.26724e-12
+429898 3.86515
+432611 3.2102
+462088 0.858772
+440676 0.0164632
 EOD
 $shaping_stress_2 << EOD
-250383 2.18017e-10
-246333 7.26724e-12
-245363 7.26724e-12
-244231 7.26724e-12
+400953 0.493897
+418976 0.0164632
+437994 0.0164632
+428865 0.0164632
 EOD
 $shaping_stress_front << EOD
-243861 7.26724e-12
+400953 0.493897
+418976 0.0164632
 EOD
 plot $shaping_stress_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $shaping_stress_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick no step limit, shading 40° (the truth)" noenhanced, \
@@ -754,7 +754,7 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [20237.5:1.77828e+06]
+set xrange [48205.6:1.77828e+06]
 set yrange [0.00093633:0.881177]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
@@ -766,39 +766,43 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.00296094 to graph 1, first 0.00296094 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.00296094 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "1" at graph 0.141537, graph 0.798227 left font 'Sans,8' front noenhanced
-set label "4" at graph 0.107124, graph 0.79728 left font 'Sans,8' front noenhanced
-set label "12 (default)" at graph 0.115302, graph 0.820519 left font 'Sans,8' front noenhanced
-set label "32" at graph 0.25185, graph 0.664884 left font 'Sans,8' front noenhanced
-set label "0" at graph 0.198525, graph 0.773755 left font 'Sans,8' front noenhanced
-set label "2" at graph 0.156614, graph 0.773755 left font 'Sans,8' front noenhanced
-set label "6 (default)" at graph 0.0541446, graph 0.760661 left font 'Sans,8' front noenhanced
-set label "18" at graph 0.235529, graph 0.797137 left font 'Sans,8' front noenhanced
+set label "1 (no settling)" at graph 0.148464, graph 0.821609 left font 'Sans,8' front noenhanced
+set label "4 (no settling)" at graph 0.121832, graph 0.773898 left font 'Sans,8' front noenhanced
+set label "12 (default)" at graph 0.256533, graph 0.709955 left font 'Sans,8' front noenhanced
+set label "32 (no settling)" at graph 0.280554, graph 0.664884 left font 'Sans,8' front noenhanced
+set label "0 (no settling)" at graph 0.248833, graph 0.797137 left font 'Sans,8' front noenhanced
+set label "2 (no settling)" at graph 0.000872751, graph 0.816778 left font 'Sans,8' front noenhanced
+set label "6 (default)" at graph 0.124301, graph 0.709955 left font 'Sans,8' front noenhanced
+set label "18 (no settling)" at graph 0.254333, graph 0.760661 left font 'Sans,8' front noenhanced
 $dynamics_stack_0 << EOD
-115668 0.00296094
+192817 0.00296094
 EOD
 $dynamics_stack_1 << EOD
-36207 0.221342
-35988 0.219912
-44254 0.219696
-59323 0.0888281
+110781 0.219696
 EOD
 $dynamics_stack_2 << EOD
-50315 0.219696
-41709 0.219696
-44254 0.219696
-55144 0.219696
+107714 0.221342
+97846 0.219912
+116662 0.120942
+127224 0.0888281
+EOD
+$dynamics_stack_3 << EOD
+113466 0.219696
+85723 0.219696
+116662 0.120942
+115740 0.219696
 EOD
 $dynamics_stack_front << EOD
-35988 0.219912
-41709 0.219696
-59323 0.0888281
-115668 0.00296094
+85723 0.219696
+116662 0.120942
+127224 0.0888281
+192817 0.00296094
 EOD
 plot $dynamics_stack_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $dynamics_stack_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "hapticd-tick iterations 100/50 (the truth)" noenhanced, \
-  $dynamics_stack_1 using 1:2 with linespoints lw 1.5 pt 5 ps 1.6 lc rgb '#d62728' title "hapticd-tick, velocity iterations swept" noenhanced, \
-  $dynamics_stack_2 using 1:2 with linespoints lw 1.5 pt 9 ps 1.6 lc rgb '#2ca02c' title "hapticd-tick, split-impulse iterations swept" noenhanced
+  $dynamics_stack_1 using 1:2 with points pt 5 ps 1.6 lc rgb '#d62728' title "hapticd-tick no settling iterations (12/6 fixed)" noenhanced, \
+  $dynamics_stack_2 using 1:2 with linespoints lw 1.5 pt 9 ps 1.6 lc rgb '#2ca02c' title "hapticd-tick, velocity iterations swept" noenhanced, \
+  $dynamics_stack_3 using 1:2 with linespoints lw 1.5 pt 11 ps 1.6 lc rgb '#9467bd' title "hapticd-tick, split-impulse iterations swept" noenhanced
 reset
 set terminal pngcairo size 1100,660 font 'Sans,10'
 set output "docs/accuracy/decomposition_crescent.png"
@@ -810,7 +814,7 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [1780.37:1.77828e+06]
+set xrange [2399.51:1.77828e+06]
 set yrange [0.00169535:8.08252]
 set xlabel 'median time per query (ns)'
 set ylabel 'p99 force error (N)'
@@ -822,28 +826,28 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.00536117 to graph 1, first 0.00536117 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.00536117 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "0.08" at graph 0.0949178, graph 0.836881 left font 'Sans,8' front noenhanced
-set label "0.04" at graph 0.101543, graph 0.793172 left font 'Sans,8' front noenhanced
-set label "0.02" at graph 0.144794, graph 0.689265 left font 'Sans,8' front noenhanced
-set label "0.01 (default)" at graph 0.19482, graph 0.65387 left font 'Sans,8' front noenhanced
-set label "0.005" at graph 0.197996, graph 0.537511 left font 'Sans,8' front noenhanced
+set label "0.08" at graph 0.098682, graph 0.836881 left font 'Sans,8' front noenhanced
+set label "0.04" at graph 0.0954162, graph 0.793172 left font 'Sans,8' front noenhanced
+set label "0.02" at graph 0.143822, graph 0.689265 left font 'Sans,8' front noenhanced
+set label "0.01 (default)" at graph 0.196905, graph 0.65387 left font 'Sans,8' front noenhanced
+set label "0.005" at graph 0.198563, graph 0.537511 left font 'Sans,8' front noenhanced
 $decomposition_crescent_0 << EOD
-6753 0.00536117
+10601 0.00536117
 EOD
 $decomposition_crescent_1 << EOD
-3166 2.03024
-4117 1.70915
-4468 0.581535
-6312 0.430905
-6452 0.160835
+4267 2.03024
+5139 1.70915
+5750 0.581535
+8166 0.430905
+8256 0.160835
 EOD
 $decomposition_crescent_front << EOD
-3166 2.03024
-4117 1.70915
-4468 0.581535
-6312 0.430905
-6452 0.160835
-6753 0.00536117
+4267 2.03024
+5139 1.70915
+5750 0.581535
+8166 0.430905
+8256 0.160835
+10601 0.00536117
 EOD
 plot $decomposition_crescent_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $decomposition_crescent_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "exact mesh brute force (the truth)" noenhanced, \
@@ -859,7 +863,7 @@ set logscale xy
 set grid xtics ytics mxtics mytics lc rgb '#dddddd'
 set format x '10^{%L}'
 set format y '10^{%L}'
-set xrange [13385.4:1.77828e+06]
+set xrange [27849.4:1.77828e+06]
 set yrange [0.000898423:7.87693]
 set xlabel 'p99.9 time per tick (ns)'
 set ylabel 'p99 force error (N)'
@@ -871,24 +875,26 @@ set arrow from 250000, graph 0 to 250000, graph 1 nohead dt 3 lw 1.5 lc rgb '#b0
 set label "4 kHz tick" at 250000, graph 0.97 right rotate by 90 offset -1.3,0 font 'Sans,8' tc rgb '#b00000'
 set arrow from graph 0, first 0.00284106 to graph 1, first 0.00284106 nohead dt 2 lc rgb '#999999' back
 set label 'no error (exact)' at graph 0.99, first 0.00284106 right offset 0,0.7 font 'Sans,8' tc rgb '#666666'
-set label "0.08" at graph 0.133921, graph 0.847827 left font 'Sans,8' front noenhanced
-set label "0.04" at graph 0.13291, graph 0.821512 left font 'Sans,8' front noenhanced
-set label "0.02" at graph 0.143545, graph 0.705893 left font 'Sans,8' front noenhanced
-set label "0.01 (default)" at graph 0.136509, graph 0.671165 left font 'Sans,8' front noenhanced
-set label "0.005" at graph 0.129308, graph 0.501441 left font 'Sans,8' front noenhanced
+set label "0.08" at graph 0.163453, graph 0.847827 left font 'Sans,8' front noenhanced
+set label "0.04" at graph 0.152097, graph 0.821512 left font 'Sans,8' front noenhanced
+set label "0.02" at graph 0.15006, graph 0.705893 left font 'Sans,8' front noenhanced
+set label "0.01 (default)" at graph 0.152338, graph 0.671165 left font 'Sans,8' front noenhanced
+set label "0.005" at graph 0.15301, graph 0.501441 left font 'Sans,8' front noenhanced
 $decomposition_crescent_tick_0 << EOD
-50235 0.00284106
+97266 0.00284106
 EOD
 $decomposition_crescent_tick_1 << EOD
-24346 1.9786
-24226 1.55812
-25519 0.54542
-24656 0.397924
-23803 0.0852319
+52359 1.9786
+49945 1.55812
+49524 0.54542
+49995 0.397924
+50135 0.0852319
 EOD
 $decomposition_crescent_tick_front << EOD
-23803 0.0852319
-50235 0.00284106
+49524 0.54542
+49995 0.397924
+50135 0.0852319
+97266 0.00284106
 EOD
 plot $decomposition_crescent_tick_front using 1:2 with lines dt 2 lw 2 lc rgb '#888888' title 'Pareto front', \
   $decomposition_crescent_tick_0 using 1:2 with points pt 7 ps 1.6 lc rgb '#1f77b4' title "exact mesh pairs answered from it (the truth)" noenhanced, \
