@@ -6,6 +6,7 @@
 #include <cstdlib>
 
 #include "core/scene/builder.h"
+#include "core/scene/scene_file.h"
 #include "core/scene/uri.h"
 
 namespace hapticd::scene {
@@ -60,7 +61,9 @@ LoadReport loadImpl(std::span<const std::uint8_t> bytes,
 
 }  // namespace
 
-std::string LoadReport::message() const {
+namespace detail {
+
+std::string problemLines(std::span<const Problem> problems) {
   std::string out;
   for (const Problem& p : problems) {
     out += p.where;
@@ -69,6 +72,23 @@ std::string LoadReport::message() const {
     out += '\n';
   }
   return out;
+}
+
+Result<SceneFile> readSceneFile(const std::filesystem::path& path, const LoadOptions& options) {
+  auto bytes = readFileLimited(path.string(), options.limits.max_file_bytes);
+  if (!bytes)
+    return bytes.error();
+  SceneFile file{std::move(bytes).value(), options};
+  // external URIs resolve beside the file unless a folder is given
+  if (!file.options.allowed_uri_dir)
+    file.options.allowed_uri_dir = std::filesystem::absolute(path).parent_path();
+  return file;
+}
+
+}  // namespace detail
+
+std::string LoadReport::message() const {
+  return detail::problemLines(problems);
 }
 
 LoadReport loadScene(std::span<const std::uint8_t> bytes,
@@ -84,17 +104,13 @@ LoadReport loadScene(std::span<const std::uint8_t> bytes,
 }
 
 LoadReport loadSceneFile(const std::filesystem::path& path, const LoadOptions& options) {
-  auto bytes = detail::readFileLimited(path.string(), options.limits.max_file_bytes);
-  if (!bytes) {
+  auto file = detail::readSceneFile(path, options);
+  if (!file) {
     LoadReport report;
-    report.problems.push_back({"file", bytes.error().message});
+    report.problems.push_back({"file", file.error().message});
     return report;
   }
-  // external URIs resolve beside the file unless a folder is given
-  LoadOptions beside = options;
-  if (!beside.allowed_uri_dir)
-    beside.allowed_uri_dir = std::filesystem::absolute(path).parent_path();
-  return loadScene(bytes.value(), path.filename().string(), beside);
+  return loadScene(file.value().bytes, path.filename().string(), file.value().options);
 }
 
 std::filesystem::path decompositionCacheDir(const std::string& setting) {

@@ -6,7 +6,7 @@
 #include <limits>
 
 #include "core/scene/accessors.h"
-#include "core/scene/uri.h"
+#include "core/scene/scene_file.h"
 
 namespace hapticd::scene {
 namespace {
@@ -109,14 +109,7 @@ TrianglesReport readImpl(std::span<const std::uint8_t> bytes, const TrianglesOpt
 }  // namespace
 
 std::string TrianglesReport::message() const {
-  std::string out;
-  for (const Problem& p : problems) {
-    out += p.where;
-    out += ": ";
-    out += p.what;
-    out += '\n';
-  }
-  return out;
+  return detail::problemLines(problems);
 }
 
 TrianglesReport readSceneTriangles(std::span<const std::uint8_t> bytes,
@@ -133,16 +126,15 @@ TrianglesReport readSceneTriangles(std::span<const std::uint8_t> bytes,
 
 TrianglesReport readSceneTrianglesFile(const std::filesystem::path& path,
                                        const TrianglesOptions& options) {
-  auto bytes = detail::readFileLimited(path.string(), options.load.limits.max_file_bytes);
-  if (!bytes) {
+  auto file = detail::readSceneFile(path, options.load);
+  if (!file) {
     TrianglesReport report;
-    report.problems.push_back({"file", bytes.error().message});
+    report.problems.push_back({"file", file.error().message});
     return report;
   }
   TrianglesOptions beside = options;
-  if (!beside.load.allowed_uri_dir)
-    beside.load.allowed_uri_dir = std::filesystem::absolute(path).parent_path();
-  return readSceneTriangles(bytes.value(), beside);
+  beside.load = file.value().options;
+  return readSceneTriangles(file.value().bytes, beside);
 }
 
 }  // namespace hapticd::scene
