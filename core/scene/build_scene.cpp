@@ -19,9 +19,9 @@ bool finite(const glm::dmat4& m) {
 
 }  // namespace
 
-bool Builder::computeWorld() {
-  const std::size_t n = doc_.nodes.size();
-  world_.assign(n, glm::dmat4(1.0));
+std::vector<glm::dmat4> worldTransforms(const Document& doc, Problems* problems) {
+  const std::size_t n = doc.nodes.size();
+  std::vector<glm::dmat4> world(n, glm::dmat4(1.0));
   std::vector<std::uint8_t> done(n, 0);
   std::vector<std::size_t> chain;
   for (std::size_t i = 0; i < n; ++i) {
@@ -29,21 +29,26 @@ bool Builder::computeWorld() {
     std::size_t k = i;
     while (!done[k]) {
       chain.push_back(k);
-      if (doc_.nodes[k].parent < 0)
+      if (doc.nodes[k].parent < 0)
         break;
-      k = static_cast<std::size_t>(doc_.nodes[k].parent);
+      k = static_cast<std::size_t>(doc.nodes[k].parent);
     }
     for (auto it = chain.rbegin(); it != chain.rend(); ++it) {
-      const NodeDef& node = doc_.nodes[*it];
-      world_[*it] = node.parent < 0 ? node.local()
-                                    : world_[static_cast<std::size_t>(node.parent)] * node.local();
+      const NodeDef& node = doc.nodes[*it];
+      world[*it] = node.parent < 0 ? node.local()
+                                   : world[static_cast<std::size_t>(node.parent)] * node.local();
       done[*it] = 1;
     }
   }
   for (std::size_t i = 0; i < n; ++i) {
-    if (!finite(world_[i]))
-      p_->add(where(i), "world transform is not finite (values too large)");
+    if (!finite(world[i]))
+      problems->add(nodeWhere(doc, i), "world transform is not finite (values too large)");
   }
+  return world;
+}
+
+bool Builder::computeWorld() {
+  world_ = worldTransforms(doc_, p_);
   return !p_->any();
 }
 

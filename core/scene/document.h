@@ -193,6 +193,9 @@ struct Document {
 /// "node 3 'Peg'" (or "node 3" when unnamed); the same for meshes.
 std::string nodeWhere(const Document& doc, std::size_t node);
 std::string meshWhere(const Document& doc, std::size_t mesh);
+/// Every node's world transform (its parents' times its own, whether in the scene or not); a
+/// transform that is not finite is a problem at its node (the loader's and readSceneTriangles').
+std::vector<glm::dmat4> worldTransforms(const Document& doc, Problems* problems);
 
 /// The whole first pass: splits the container, parses the JSON once (syntax, depth, number
 /// range) and validates it into `doc`. False when any problem was found. `doc->bin` views `bytes`.

@@ -2,24 +2,13 @@
 // scene's mesh nodes that reads each triangle primitive as the loader's colliders do.
 #include "core/scene/triangles.h"
 
-#include <cmath>
-#include <limits>
+#include <algorithm>
 
 #include "core/scene/accessors.h"
 #include "core/scene/scene_file.h"
 
 namespace hapticd::scene {
 namespace {
-
-bool finite(const glm::dmat4& m) {
-  for (int c = 0; c < 4; ++c) {
-    for (int r = 0; r < 4; ++r) {
-      if (!std::isfinite(m[c][r]))
-        return false;
-    }
-  }
-  return true;
-}
 
 TrianglesReport readImpl(std::span<const std::uint8_t> bytes, const TrianglesOptions& options) {
   detail::Problems problems;
@@ -45,27 +34,20 @@ TrianglesReport readImpl(std::span<const std::uint8_t> bytes, const TrianglesOpt
       std::min<std::uint64_t>(load.limits.max_total_hull_input_points, kBadIndex - 1);
   SceneTriangles out;
   std::vector<std::uint32_t> flat;
+  // the nodes' world transforms as the loader computes them (a non-finite one refused as there)
+  const std::vector<glm::dmat4> worlds = detail::worldTransforms(doc, &problems);
+  if (problems.any())
+    return finish();
   // the scene's nodes, parents first, children in document order (validation refused cycles and
   // nodes with two parents, so each is reached once)
-  struct Item {
-    std::uint32_t node;
-    glm::dmat4 parent;
-  };
-  std::vector<Item> stack;
-  for (auto it = doc.scene_roots.rbegin(); it != doc.scene_roots.rend(); ++it)
-    stack.push_back({*it, glm::dmat4(1.0)});
+  std::vector<std::uint32_t> stack(doc.scene_roots.rbegin(), doc.scene_roots.rend());
   while (!stack.empty() && !problems.full()) {
-    const Item item = stack.back();
+    const std::uint32_t node = stack.back();
     stack.pop_back();
-    const detail::NodeDef& def = doc.nodes[item.node];
-    const glm::dmat4 world = item.parent * def.local();
-    if (!finite(world)) {
-      problems.add(detail::nodeWhere(doc, item.node),
-                   "world transform is not finite (values too large)");
-      continue;
-    }
+    const detail::NodeDef& def = doc.nodes[node];
+    const glm::dmat4& world = worlds[node];
     for (auto it = def.children.rbegin(); it != def.children.rend(); ++it)
-      stack.push_back({*it, world});
+      stack.push_back(*it);
     if (def.mesh < 0)
       continue;
     const auto mi = static_cast<std::size_t>(def.mesh);
@@ -82,7 +64,7 @@ TrianglesReport readImpl(std::span<const std::uint8_t> bytes, const TrianglesOpt
       }
       const std::uint64_t count = doc.accessors[static_cast<std::size_t>(prim.position)].count;
       if (out.positions.size() + count > max_total) {
-        problems.add(detail::nodeWhere(doc, item.node),
+        problems.add(detail::nodeWhere(doc, node),
                      "the scene's meshes have more than " + std::to_string(max_total) +
                          " vertices in all (max_total_hull_input_points)");
         return finish();
