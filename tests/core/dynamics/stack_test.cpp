@@ -58,6 +58,49 @@ std::vector<Vec3> pyramid(int base, double edge, double gap) {
   return c;
 }
 
+// Runs `rig` for `ticks`, the dynamic bodies 1..n cubes of half edge `half[b - 1]` whose centres
+// rest at height `rest_y[b - 1]`: their rest poses taken at tick `settle`, then the worst corner
+// drift (of `edge`), spin and horizontal momentum after it, and the lowest centre at the end
+StackResult watchStack(Rig& rig,
+                       const std::vector<double>& half,
+                       const std::vector<double>& rest_y,
+                       double edge,
+                       int settle,
+                       int ticks) {
+  const std::size_t nb = half.size();
+  std::vector<geom::Transform> rest(nb + 1);
+  double mass = 0.0;
+  for (std::uint32_t b = 1; b <= nb; ++b)
+    mass += rig.scene->bodies[b].mass;
+  StackResult r;
+  r.lowest = 1e300;
+  for (int k = 0; k < ticks; ++k) {
+    rig.tick(kDt);
+    if (k + 1 < settle)
+      continue;
+    Vec3 p{0.0};
+    for (std::uint32_t b = 1; b <= nb; ++b) {
+      const geom::Transform X = rig.dyn->pose(b).toTransform();
+      if (k + 1 == settle) {
+        rest[b] = X;
+        continue;
+      }
+      p += rig.scene->bodies[b].mass * rig.dyn->linearVelocity(b);
+      const double h = half[b - 1];
+      for (int q = 0; q < 8; ++q) {
+        const Vec3 corner{q & 1 ? h : -h, q & 2 ? h : -h, q & 4 ? h : -h};
+        r.drift = std::max(r.drift, glm::length(X.apply(corner) - rest[b].apply(corner)) / edge);
+      }
+      r.spin = std::max(r.spin, glm::length(rig.dyn->angularVelocity(b)));
+    }
+    r.momentum = std::max(r.momentum, std::hypot(p.x, p.z) / (mass * edge));
+  }
+  for (std::uint32_t b = 1; b <= nb; ++b)
+    r.lowest = std::min(r.lowest, rig.dyn->pose(b).translation.y / rest_y[b - 1]);
+  r.ticks_asleep = rig.dyn->counters().ticks_asleep;
+  return r;
+}
+
 // `centres_m`: where the boxes start; `rest_m`: where they rest (no gaps)
 StackResult runStack(const StackCase& c,
                      const std::vector<Vec3>& centres_m,
@@ -73,40 +116,12 @@ StackResult runStack(const StackCase& c,
   for (const Vec3& x : centres_m)
     s.bodies.push_back(dynamicBody("box", boxShape(Vec3{h}), at(x * u), 500.0 / (u * u * u), 0));
   Rig rig(std::move(s), c.options);
-  const std::size_t nb = centres_m.size();
-  std::vector<geom::Transform> rest(nb + 1);
-  double mass = 0.0;
-  for (std::uint32_t b = 1; b <= nb; ++b)
-    mass += rig.scene->bodies[b].mass;
-  StackResult r;
-  r.lowest = 1e300;
-  const int n = static_cast<int>((c.settle_s + c.seconds) / kDt);
-  const int settle = static_cast<int>(c.settle_s / kDt);
-  for (int k = 0; k < n; ++k) {
-    rig.tick(kDt);
-    if (k + 1 < settle)
-      continue;
-    Vec3 p{0.0};
-    for (std::uint32_t b = 1; b <= nb; ++b) {
-      const geom::Transform X = rig.dyn->pose(b).toTransform();
-      if (k + 1 == settle) {
-        rest[b] = X;
-        continue;
-      }
-      p += rig.scene->bodies[b].mass * rig.dyn->linearVelocity(b);
-      for (int q = 0; q < 8; ++q) {
-        const Vec3 corner{q & 1 ? h : -h, q & 2 ? h : -h, q & 4 ? h : -h};
-        r.drift = std::max(r.drift, glm::length(X.apply(corner) - rest[b].apply(corner)) / edge);
-      }
-      r.spin = std::max(r.spin, glm::length(rig.dyn->angularVelocity(b)));
-    }
-    r.momentum = std::max(r.momentum, std::hypot(p.x, p.z) / (mass * edge));
-  }
-  for (std::uint32_t b = 1; b <= nb; ++b) {
-    r.lowest = std::min(r.lowest, rig.dyn->pose(b).translation.y / (rest_m[b - 1].y * u));
-  }
-  r.ticks_asleep = rig.dyn->counters().ticks_asleep;
-  return r;
+  std::vector<double> rest_y;
+  for (const Vec3& x : rest_m)
+    rest_y.push_back(x.y * u);
+  return watchStack(rig, std::vector<double>(centres_m.size(), h), rest_y, edge,
+                    static_cast<int>(c.settle_s / kDt),
+                    static_cast<int>((c.settle_s + c.seconds) / kDt));
 }
 
 DynamicsOptions awake() {
@@ -382,37 +397,16 @@ void expectTowerStands(const TowerCase& tc) {
                                    b.density, 0));
   }
   Rig rig(std::move(s), awake());
-  const std::size_t nb = tc.boxes.size();
-  double mass = 0.0;
-  for (std::uint32_t b = 1; b <= nb; ++b)
-    mass += rig.scene->bodies[b].mass;
-  const int settle = 2000;
-  const int n = settle + static_cast<int>(kLongRunS / 3.0 / kDt);  // 20 s (3.3 s)
-  std::vector<geom::Transform> rest(nb + 1);
-  double drift = 0.0, spin = 0.0, momentum = 0.0, lowest = 1e300;
-  for (int k = 0; k < n; ++k) {
-    rig.tick(kDt);
-    if (k + 1 < settle)
-      continue;
-    Vec3 p{0.0};
-    for (std::uint32_t b = 1; b <= nb; ++b) {
-      const geom::Transform X = rig.dyn->pose(b).toTransform();
-      if (k + 1 == settle) {
-        rest[b] = X;
-        continue;
-      }
-      const double h = 0.5 * tc.boxes[b - 1].size * e;
-      for (int c = 0; c < 8; ++c) {
-        const Vec3 corner{c & 1 ? h : -h, c & 2 ? h : -h, c & 4 ? h : -h};
-        drift = std::max(drift, glm::length(X.apply(corner) - rest[b].apply(corner)) / e);
-      }
-      spin = std::max(spin, glm::length(rig.dyn->angularVelocity(b)));
-      p += rig.scene->bodies[b].mass * rig.dyn->linearVelocity(b);
-    }
-    momentum = std::max(momentum, std::hypot(p.x, p.z) / (mass * e));
+  std::vector<double> half, rest_y;
+  for (const TowerBox& b : tc.boxes) {
+    half.push_back(0.5 * b.size * e);
+    rest_y.push_back(b.y * e);
   }
-  for (std::uint32_t b = 1; b <= nb; ++b)
-    lowest = std::min(lowest, rig.dyn->pose(b).translation.y / (tc.boxes[b - 1].y * e));
+  const int settle = 2000;
+  const StackResult r =
+      watchStack(rig, half, rest_y, e, settle,
+                 settle + static_cast<int>(kLongRunS / 3.0 / kDt));  // 20 s (3.3 s)
+  const double drift = r.drift, spin = r.spin, momentum = r.momentum, lowest = r.lowest;
   std::printf("%s, %g mm, mu %g: drift %.3g edges, spin %.3g rad/s, momentum %.3g\n", tc.name,
               e * 1e3, tc.mu, drift, spin, momentum);
   EXPECT_LT(drift, 1e-3) << tc.name << ", " << e << " m, mu " << tc.mu;
