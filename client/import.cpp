@@ -23,6 +23,7 @@
 #include <optional>
 #include <sstream>
 
+#include "client/ply.h"
 #include "core/common/sanitizers.h"
 #include "core/decomp/quickhull.h"
 #include "core/scene/glb.h"
@@ -94,7 +95,8 @@ Result<TriangleMesh> readWithAssimp(const std::string& path) {
 
 // readWithAssimp in a child process, the mesh sent back through a pipe. Debian's assimp (5.2.5)
 // dies on some malformed files (a segfault on a binary PLY whose header is cut short, an assertion
-// on a binary PLY whose data starts with a newline byte) and grows without bound on an OFF whose
+// on a binary PLY whose data starts with a newline byte: PLY is now read by client/ply.h, but the
+// other formats' readers are no safer) and grows without bound on an OFF whose
 // header counts more vertices than it holds: the child runs under an address-space limit, and its
 // death becomes an error that names the file. Called before any thread is started.
 
@@ -510,28 +512,6 @@ std::optional<Error> sniff(const std::string& path, const std::string& ext) {
   if (text_format && head.size() >= 2 &&
       ((head[0] == '\xFE' && head[1] == '\xFF') || (head[0] == '\xFF' && head[1] == '\xFE')))
     return Error{path + ": UTF-16 text: save the file as UTF-8 (or ASCII)"};
-  if (ext == ".ply") {
-    // a PLY whose triangles are strips (element tristrips, Stanford's scans) and no faces: the
-    // reader (assimp 5.2) keeps one triangle of it, silently
-    const std::size_t end = head.find("end_header");
-    const std::string header = lower(head.substr(0, end));
-    std::istringstream lines(header);
-    std::string line;
-    bool strips = false, faces = false;
-    while (std::getline(lines, line)) {
-      std::istringstream words(line);
-      std::string w, element;
-      long long count = 0;
-      if (words >> w >> element >> count && w == "element") {
-        strips = strips || (element == "tristrips" && count > 0);
-        faces = faces || (element == "face" && count > 0);
-      }
-    }
-    if (strips && !faces)
-      return Error{path +
-                   ": PLY triangle strips (element tristrips) are not read: save the model with "
-                   "faces (element face), e.g. from MeshLab or Blender"};
-  }
   if (ext == ".glb" && head.size() >= 8 && head.compare(0, 4, "glTF") == 0 &&
       static_cast<unsigned char>(head[4]) == 1 && head[5] == 0 && head[6] == 0 && head[7] == 0)
     return Error{path + ": glTF 1.0 is not read: convert it to glTF 2.0 (e.g. with Blender)"};
@@ -597,7 +577,9 @@ Result<TriangleMesh> readModel(const std::string& path) {
                  "' (give .obj, .stl, .ply, .off, .gltf or .glb)"};
   if (std::optional<Error> refused = sniff(path, ext))
     return *refused;
-  Result<TriangleMesh> mesh = mesh_format ? readWithAssimpIsolated(path) : readGltfTriangles(path);
+  Result<TriangleMesh> mesh = ext == ".ply" ? readPly(path)
+                              : mesh_format ? readWithAssimpIsolated(path)
+                                            : readGltfTriangles(path);
   // the reader kept no face (assimp says "No meshes remaining" or "all meshes are orphaned"):
   // an OBJ is read again by its v and f lines alone
   const bool none = mesh.ok()

@@ -1,12 +1,12 @@
 #pragma once
 /// \file
 /// `hapticctl import MODEL -o SCENE.glb`: reads a polygonal model (.obj, .stl ASCII or binary,
-/// .ply, .off through assimp; .gltf/.glb mesh nodes in world coordinates through the scene
-/// loader's reader, core/scene/triangles.h), decomposes it into convex pieces (core/decomp,
-/// docs/decomposition.md) and writes a glTF 2.0 scene that keeps the visual mesh and adds one
-/// KHR_physics_rigid_bodies `convexHull: true` collider per piece; `--add` appends the model to
-/// an existing scene. Exit 0 written, 1 unreadable or unusable input, 2 bad arguments. Main
-/// thread of hapticctl.
+/// .off through assimp; .ply by its own reader, client/ply.h; .gltf/.glb mesh nodes in world
+/// coordinates through the scene loader's reader, core/scene/triangles.h), decomposes it into
+/// convex pieces (core/decomp, docs/decomposition.md) and writes a glTF 2.0 scene that keeps the
+/// visual mesh and adds one KHR_physics_rigid_bodies `convexHull: true` collider per piece; `--add`
+/// appends the model to an existing scene. Exit 0 written, 1 unreadable or unusable input, 2 bad
+/// arguments. Main thread of hapticctl.
 
 #include <iosfwd>
 #include <string>

@@ -282,8 +282,8 @@ TEST_F(ImportTest, AddingOneModelThriceNamesThreeBodiesAndDynamicBodiesFall) {
 
 // what the readers would misread or refuse in their own words is said plainly (found on others'
 // files): an OBJ whose faces name texture coordinates it does not have is read by its v and f
-// lines; UTF-16 text, PLY triangle strips (read as one triangle before) and glTF 1.0 are refused
-// naming what to do
+// lines; a PLY of triangle strips (assimp read it as one triangle) is read by our own PLY reader;
+// UTF-16 text and glTF 1.0 are refused naming what to do
 TEST_F(ImportTest, FilesTheReadersWouldMisreadAreReadOrRefusedSayingWhy) {
   const TriangleMesh cube = hapticd::decomp::models::box({0, 0, 0}, {1, 1, 1});
   {
@@ -310,6 +310,12 @@ TEST_F(ImportTest, FilesTheReadersWouldMisreadAreReadOrRefusedSayingWhy) {
          "property float z\nelement tristrips 1\nproperty list int int vertex_indices\n"
          "end_header\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n6 0 1 2 3 0 1\n";
   }
+  ASSERT_EQ(import({path("strips.ply"), "-o", path("x.glb"), "--json"}), 0) << err();
+  {
+    const nlohmann::json j = nlohmann::json::parse(out());
+    EXPECT_EQ(j["repairs"]["input_triangles"], 4) << j.dump();
+    EXPECT_TRUE(j["closed"].get<bool>()) << j.dump();
+  }
   std::ofstream(path("v1.gltf")) << R"({"asset":{"version":"1.0"},"scene":"defaultScene",)"
                                  << R"("scenes":{"defaultScene":{"nodes":[]}}})";
   {
@@ -318,10 +324,8 @@ TEST_F(ImportTest, FilesTheReadersWouldMisreadAreReadOrRefusedSayingWhy) {
     f.write(reinterpret_cast<const char*>(header), sizeof header);
     f << "\0\0\0\0\0\0\0\0";
   }
-  const std::pair<const char*, const char*> refused[] = {{"utf16.obj", "UTF-16"},
-                                                         {"strips.ply", "tristrips"},
-                                                         {"v1.gltf", "glTF 1.0"},
-                                                         {"v1.glb", "glTF 1.0"}};
+  const std::pair<const char*, const char*> refused[] = {
+      {"utf16.obj", "UTF-16"}, {"v1.gltf", "glTF 1.0"}, {"v1.glb", "glTF 1.0"}};
   for (const auto& [file, why] : refused) {
     fs::remove(path("x.glb"));
     EXPECT_EQ(import({path(file), "-o", path("x.glb")}), 1) << file << ": " << out();
