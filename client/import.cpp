@@ -24,6 +24,7 @@
 #include <sstream>
 
 #include "client/ply.h"
+#include "client/polygon.h"
 #include "core/common/sanitizers.h"
 #include "core/decomp/quickhull.h"
 #include "core/scene/glb.h"
@@ -529,9 +530,9 @@ std::optional<Error> sniff(const std::string& path, const std::string& ext) {
   return std::nullopt;
 }
 
-// Wavefront OBJ's v and f lines alone (f with v, v/vt, v//vn, v/vt/vn, negative indices,
-// polygons fanned): for files whose faces the full reader drops (faces naming texture
-// coordinates that the file does not have)
+// Wavefront OBJ's v and f lines alone (f with v, v/vt, v//vn, v/vt/vn, negative indices;
+// polygons ear-clipped where a fan would fold, client/polygon.h): for files whose faces the full
+// reader drops (faces naming texture coordinates that the file does not have)
 TriangleMesh readObjPositions(const std::string& path) {
   TriangleMesh mesh;
   std::ifstream f(path);
@@ -557,8 +558,7 @@ TriangleMesh readObjPositions(const std::string& path) {
         poly.push_back(end != t.c_str() && at >= 0 && at < n ? static_cast<std::uint32_t>(at)
                                                              : kBad);
       }
-      for (std::size_t k = 1; k + 1 < poly.size(); ++k)
-        mesh.triangles.push_back({poly[0], poly[k], poly[k + 1]});
+      triangulatePolygon(mesh.positions, poly, mesh.triangles);
     }
   }
   return mesh;

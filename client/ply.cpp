@@ -14,6 +14,8 @@
 #include <sstream>
 #include <vector>
 
+#include "client/polygon.h"
+
 namespace hapticd::client {
 namespace {
 
@@ -54,9 +56,9 @@ std::optional<Type> typeNamed(const std::string& name) {
 
 struct Property {
   std::string name;
-  Type type;              // of the value, or of a list's items
+  Type type;  // of the value, or of a list's items
   bool list = false;
-  Type count;             // a list's count
+  Type count;  // a list's count
 };
 
 struct Element {
@@ -350,8 +352,7 @@ Result<TriangleMesh> parsePly(std::string_view bytes, const std::string& name) {
               poly.push_back(is_strips && *x == -1.0 ? kBad - 1 : indexOf(*x));
           }
           if (keep && is_face) {
-            for (std::size_t j = 1; j + 1 < poly.size(); ++j)
-              mesh.triangles.push_back({poly[0], poly[j], poly[j + 1]});
+            triangulatePolygon(mesh.positions, poly, mesh.triangles);
           } else if (keep) {
             // runs between restarts (-1, read as kBad - 1); the odd triangles of a run turned
             // back; the strips' joining triangles (a vertex twice) are no surface
@@ -373,8 +374,8 @@ Result<TriangleMesh> parsePly(std::string_view bytes, const std::string& name) {
           }
           continue;
         }
-        const int c = static_cast<int>(std::find(xyz.begin(), xyz.end(), static_cast<int>(i)) -
-                                       xyz.begin());
+        const int c =
+            static_cast<int>(std::find(xyz.begin(), xyz.end(), static_cast<int>(i)) - xyz.begin());
         if (is_vertex && c < 3) {
           const std::optional<double> x = values.real(p.type);
           if (!x)

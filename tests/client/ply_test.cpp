@@ -114,10 +114,10 @@ TEST(Ply, TheThreeEncodingsGiveTheSameFannedCube) {
     ASSERT_EQ(m.triangles.size(), 12u);
     for (std::size_t f = 0; f < 6; ++f) {
       const auto& q = kQuad[f];
-      EXPECT_EQ(m.triangles[2 * f], (Triangle{std::uint32_t(q[0]), std::uint32_t(q[1]),
-                                              std::uint32_t(q[2])}));
-      EXPECT_EQ(m.triangles[2 * f + 1], (Triangle{std::uint32_t(q[0]), std::uint32_t(q[2]),
-                                                  std::uint32_t(q[3])}));
+      EXPECT_EQ(m.triangles[2 * f],
+                (Triangle{std::uint32_t(q[0]), std::uint32_t(q[1]), std::uint32_t(q[2])}));
+      EXPECT_EQ(m.triangles[2 * f + 1],
+                (Triangle{std::uint32_t(q[0]), std::uint32_t(q[2]), std::uint32_t(q[3])}));
     }
     EXPECT_DOUBLE_EQ(volume(m), 1.0);
   }
@@ -161,8 +161,8 @@ TEST(Ply, TriangleStripsUnrollWithTheirWinding) {
       "13 0 1 2 3 0 1 -1 4 5 6 7 7 7\n";
   const auto r = parsePly(s, "strips.ply");
   ASSERT_TRUE(r.ok()) << r.error().message;
-  const std::vector<Triangle> want = {{0, 1, 2}, {2, 1, 3}, {2, 3, 0}, {0, 3, 1},
-                                      {4, 5, 6}, {6, 5, 7}};
+  const std::vector<Triangle> want = {{0, 1, 2}, {2, 1, 3}, {2, 3, 0},
+                                      {0, 3, 1}, {4, 5, 6}, {6, 5, 7}};
   EXPECT_EQ(r.value().triangles, want);
   TriangleMesh tetra = r.value();
   tetra.triangles.resize(4);
@@ -176,6 +176,35 @@ TEST(Ply, TriangleStripsUnrollWithTheirWinding) {
         for (std::size_t j = 0; j < 3; ++j)
           opposed += a[i] == b[(j + 1) % 3] && a[(i + 1) % 3] == b[j] ? 1 : 0;
   EXPECT_EQ(opposed, 12);
+}
+
+// an L-shaped face listed from a corner whose fan folds over the notch: ear-clipped, every
+// triangle turning as the face does and their areas adding up to the face's (no part twice)
+TEST(Ply, ANonConvexFaceIsNotFolded) {
+  const char* corners = "0 0 0\n2 0 0\n2 1 0\n1 1 0\n1 2 0\n0 2 0\n";
+  for (int first = 0; first < 6; ++first) {
+    std::string s =
+        "ply\nformat ascii 1.0\nelement vertex 6\nproperty float x\nproperty float y\n"
+        "property float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n";
+    s += corners;
+    s += "6";
+    for (int k = 0; k < 6; ++k)
+      s += " " + std::to_string((first + k) % 6);
+    s += "\n";
+    const auto r = parsePly(s, "l.ply");
+    ASSERT_TRUE(r.ok()) << r.error().message;
+    const TriangleMesh& m = r.value();
+    ASSERT_EQ(m.triangles.size(), 4u) << first;
+    double area = 0.0;
+    for (const Triangle& t : m.triangles) {
+      const double z =
+          glm::cross(m.positions[t[1]] - m.positions[t[0]], m.positions[t[2]] - m.positions[t[0]])
+              .z;
+      EXPECT_GT(z, 0.0) << "folded triangle, listed from corner " << first;
+      area += 0.5 * std::abs(z);
+    }
+    EXPECT_DOUBLE_EQ(area, 3.0) << first;
+  }
 }
 
 // what other readers accept: a header line of free text (Blender 2.4 wrote one without the comment
@@ -252,8 +281,7 @@ TEST(Ply, BadFilesAreRefusedSayingWhatAndWhere) {
       {header.substr(0, header.find("element vertex 3")) + "element vertex 4000000000\n" +
            header.substr(header.find("property float x")) + whole.substr(header.size()),
        "more than the file holds"},
-      {header + whole.substr(header.size(), 36) + std::string("\xff") +
-           std::string(4, '\0'),
+      {header + whole.substr(header.size(), 36) + std::string("\xff") + std::string(4, '\0'),
        "element face, 1 of 1"},
   };
   for (const Case& c : cases) {
