@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <array>
 #include <cstdio>
 #include <memory>
@@ -14,7 +15,9 @@
 #include <string>
 #include <vector>
 
+#include "core/decomp/bvh.h"
 #include "core/decomp/quickhull.h"
+#include "core/decomp/repair.h"
 #include "core/geometry/polytope.h"
 #include "tests/core/decomp/checks.h"
 #include "tests/core/decomp/models.h"
@@ -123,6 +126,34 @@ TEST(Repair, NothingUsableIsAClearError) {
   r = decompose(flat);
   ASSERT_FALSE(r.ok());
   EXPECT_NE(r.error().message.find("no usable triangle"), std::string::npos) << r.error().message;
+}
+
+// A flat triangle's hole is filled by a fan about its centre, which closes it into a shell of no
+// volume: every edge folds flat (its two faces opposite), so the pseudonormal side of the closest
+// feature is noise. It called 17 % of the points 1e-6 of the diagonal off the plane inside
+// (beside a vertex), so a hull over the gap between two triangles was measured as no excess there.
+TEST(TriangleBvh, AFlatPartClosedByTheRepairHasNoInside) {
+  TriangleMesh m;
+  m.positions = {{1, 1, 0}, {-1, 1, 0}, {0, -1, 0}, {3, 3, 0}, {2, 3, 0}, {0, 2, 0}};
+  m.triangles = {{0, 1, 2}, {3, 4, 5}};
+  RepairCounts counts;
+  const auto repaired = repairMesh(m, {}, counts);
+  ASSERT_TRUE(repaired.ok());
+  ASSERT_TRUE(repaired.value().closed);
+  EXPECT_EQ(counts.holes_filled, 2u);
+  const RepairedMesh& r = repaired.value();
+  const TriangleBvh bvh(r.positions, r.triangles);
+  const TriangleMesh shell{r.positions, r.triangles};
+  std::size_t points = 0, inside = 0;
+  for (double z : {-1e-2, -1e-6, 1e-6, 1e-2})
+    for (int i = 0; i <= 100; ++i)
+      for (int j = 0; j <= 100; ++j) {
+        const Vec3 p{-1.5 + 0.05 * i, -1.5 + 0.05 * j, z * r.diagonal};
+        ASSERT_LT(checks::windingNumber(shell, p), 0.5);  // the independent answer: no solid
+        inside += bvh.inside(p, bvh.closest(p)) ? 1u : 0u;
+        ++points;
+      }
+  EXPECT_EQ(inside, 0u) << "of " << points;
 }
 
 TEST(Decompose, BadOptionsAreErrors) {
