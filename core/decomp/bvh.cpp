@@ -9,6 +9,9 @@ namespace hapticd::decomp {
 namespace {
 
 constexpr std::uint32_t kLeafSize = 4;
+// an edge whose two faces' unit normals sum to less than this (a dihedral angle under 0.06
+// degrees) folds the surface flat onto itself: no pseudonormal side there
+constexpr double kFoldedEdge = 1e-3;
 
 double boxDistanceSq(const Vec3& p, const Vec3& lo, const Vec3& hi) {
   const Vec3 d = glm::max(glm::max(lo - p, p - hi), Vec3{0.0});
@@ -155,6 +158,11 @@ void TriangleBvh::pseudonormals(std::span<const Vec3> positions,
       if (o < 0)
         return;  // an open edge
       normals[i][4 + k] = face[t] + face[static_cast<std::size_t>(o)];
+      // a fold flat onto itself (a flat part closed by the hole filling into a shell of no
+      // volume): the edge's pseudonormal vanishes and its vertices' are rounding noise, so their
+      // side says nothing
+      if (glm::length(normals[i][4 + k]) < kFoldedEdge)
+        return;
     }
   }
   normals_ = std::move(normals);

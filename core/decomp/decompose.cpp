@@ -284,7 +284,7 @@ double searchExcess(const Context& ctx,
                     int kind,
                     double bound) {
   if (!hull.valid())
-    return 0.0;  // flat (an open sheet): no excess
+    return 0.0;  // no points (hullOf gives a flat half the slab its piece would be)
   ExcessOptions o =
       excessOptions(ctx, kSearchTolerance, kSearchResolution, kSearchEvaluations, bound);
   if (kind == 0) {
@@ -303,13 +303,16 @@ struct Trial {
   bool valid = false;
 };
 
+// (a half's hull as its piece's would be, by hullOf: a flat half, an open sheet closed into a shell
+// of no volume, has no hull at the search's tolerance, and scored as "no excess" every cut of a
+// flat part tied at 0, so the first candidate was taken whatever it did)
 Trial cutTrial(const Context& ctx, const Part& part, const Plane& plane) {
   Trial t;
   std::array<std::vector<Vec3>, 2> side;
   if (!sidePoints(ctx, part, plane, side))
     return t;
   for (const auto& pts : side)
-    t.hulls.push_back(quickHull(pts, kHullTolerance * ctx.c_abs, kSearchHullVertices));
+    t.hulls.push_back(hullOf(ctx, pts, kHullTolerance * ctx.c_abs, kSearchHullVertices));
   t.valid = true;
   return t;
 }
@@ -332,9 +335,9 @@ Trial crossTrial(const Context& ctx, const Part& part, const Plane& a, const Pla
     if (sidePoints(ctx, h, b, side)) {
       ++split;
       for (const auto& pts : side)
-        t.hulls.push_back(quickHull(pts, kHullTolerance * ctx.c_abs, kSearchHullVertices));
+        t.hulls.push_back(hullOf(ctx, pts, kHullTolerance * ctx.c_abs, kSearchHullVertices));
     } else {
-      t.hulls.push_back(quickHull(h.sample, kHullTolerance * ctx.c_abs, kSearchHullVertices));
+      t.hulls.push_back(hullOf(ctx, h.sample, kHullTolerance * ctx.c_abs, kSearchHullVertices));
     }
   }
   t.valid = split > 0;
@@ -937,7 +940,7 @@ std::string contentHash(const TriangleMesh& mesh, const DecompOptions& options) 
     std::memcpy(&bits, &x, sizeof bits);
     putU64(bits);
   };
-  static constexpr char kTag[] = "hapticd-decomp algorithm 3";
+  static constexpr char kTag[] = "hapticd-decomp algorithm 4";
   h.update(kTag, sizeof kTag - 1);
   putU64(mesh.positions.size());
   for (const Vec3& p : mesh.positions)
