@@ -105,11 +105,11 @@ struct Dynamics::ContactPoint {
   // user-provided, so that points_.emplace_back() does not zero the whole point first (its rows
   // are written by prepareRows before they are read)
   ContactPoint() {}  // NOLINT(modernize-use-equals-default)
+  // (its primitive pair and its points on the two surfaces are in warm_next_, at the same index:
+  // the next tick's warm start is written there as the point is made)
   std::uint32_t a = 0, b = 0;
-  std::uint32_t prim_a = 0, prim_b = 0;
   Vec3 ra_B{0.0}, rb_B{0.0};  // from each centre of mass, body frames
   Vec3 ra{0.0}, rb{0.0};      // world, current
-  Vec3 sa_B{0.0}, sb_B{0.0};  // the point on each surface (body frames, from the centres of mass)
   Vec3 n{0.0}, t1{0.0}, t2{0.0};
   double gap = 0.0;     // > 0 apart, < 0 penetrating (tracked through the tick)
   double size = 0.0;    // the smaller body's size
@@ -128,6 +128,12 @@ struct Dynamics::ContactPoint {
   bool speculative = false;
   bool resting = false;    // not sliding when it became active (static friction)
   std::uint8_t group = 0;  // the first of a primitive pair's points: how many it has (else 0)
+};
+
+// the velocities of a contact's two bodies while its rows are solved (a flat contact's rows in an
+// iteration: in registers instead of the bodies' states)
+struct Dynamics::PairVelocity {
+  Vec3 va, wa, vb, wb;
 };
 
 // a primitive pair's normal rows solved together (Dynamics::solveNormalBlock): the points of a
