@@ -365,18 +365,15 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
       ContactPoint& cp = points_.emplace_back();
       // the next tick's warm point: its pair and surface points now, its normal in the bodies'
       // frames and its impulses at the end of the tick (storeWarmStart)
-      WarmPoint& wn = warm_next_.emplace_back();
-      wn.a = c.body_a;
-      wn.b = c.body_b;
-      wn.prim_a = c.prim_a;
-      wn.prim_b = c.prim_b;
-      wn.sa_B = cd.sa_B;
-      wn.sb_B = cd.sb_B;
+      // (made whole: a default-made one is zeroed first by a string store, slow to start)
+      warm_next_.push_back(WarmPoint{c.body_a, c.body_b, c.prim_a, c.prim_b, cd.sa_B, cd.sb_B,
+                                     Vec3{0.0}, Vec3{0.0}, 0.0, Vec3{0.0}});
       cp.a = c.body_a;
       cp.b = c.body_b;
       cp.n = cd.n;
       // a flat contact's points share their normal: its tangents once
-      if (points_.size() > first + 1 && points_[points_.size() - 2].n == cp.n) {
+      // (compared with the candidate's: the point's was just stored and is not read back)
+      if (points_.size() > first + 1 && points_[points_.size() - 2].n == cd.n) {
         cp.t1 = points_[points_.size() - 2].t1;
         cp.t2 = points_[points_.size() - 2].t2;
       } else {
