@@ -107,7 +107,7 @@ struct Dynamics::ContactPoint {
   ContactPoint() {}  // NOLINT(modernize-use-equals-default)
   // (its primitive pair and its points on the two surfaces are in warm_next_, at the same index:
   // the next tick's warm start is written there as the point is made)
-  // what the velocity iterations read, first and together (about 7 of its 10 cache lines)
+  // what the velocity iterations read, first and together (464 bytes of 656)
   std::uint32_t a = 0, b = 0;
   bool active = false;
   bool speculative = false;
