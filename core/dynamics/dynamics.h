@@ -344,6 +344,7 @@ class Dynamics {
   struct Row;
   struct ContactPoint;
   struct NormalBlock;
+  struct PairVelocity;
   struct JointState;
   struct WarmPoint;
   struct JointRowSpec;
@@ -371,18 +372,21 @@ class Dynamics {
   std::uint32_t findRoot(std::uint32_t i);
   bool wakeRequested(const collision::CollisionWorld& world, const HeldInput* held) const;
   bool heldTouchesDynamic(const collision::CollisionWorld& world) const;
-  void storeWarmStart();
+  void storeWarmStart(StepReport& report);
   // the solvers (dynamics_solver.cpp)
   void prepareJoints();
   void solveVelocities(double remaining);
-  void prepareRows(double remaining);
-  void applyWarmStart();
+  bool prepareRows(double remaining, bool warm);
+  void prepareRow(ContactPoint& cp, double remaining);
+  void applyJointWarmStart();
+  void warmStartPoint(ContactPoint& cp);
   void solveJoint(JointState& js, double inv_dt, double& residual);
   void solveContact(ContactPoint& cp, double& residual);
-  void solveFriction(ContactPoint& cp, double& residual);
-  void solveNormal(ContactPoint& cp, double& residual);
+  void solveBlock(const NormalBlock& blk, double& residual);
+  static void solveFriction(ContactPoint& cp, PairVelocity& v, double& residual);
+  static void solveNormal(ContactPoint& cp, PairVelocity& v, double& residual);
   void prepareBlock(std::size_t first);
-  bool solveNormalBlock(const NormalBlock& blk, double& residual);
+  bool solveNormalBlock(const NormalBlock& blk, PairVelocity& v, double& residual);
   static bool shareBlock(const NormalBlock& blk,
                          const double* err,
                          const double* old,

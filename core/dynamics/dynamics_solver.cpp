@@ -89,16 +89,18 @@ void Dynamics::prepareJoints() {
 
 // one episode of sequential impulses over the joints and the active contact points
 void Dynamics::solveVelocities(double remaining) {
-  prepareRows(remaining);
-  // warm start (the first episode of a tick): last tick's impulses, applied again
-  if (warm_pending_) {
-    warm_pending_ = false;
-    applyWarmStart();
+  for (JointState& js : joints_) {
+    js.l_point = js.l_ang = Vec3{0.0};
+    js.l1 = js.l2 = js.l_lo = js.l_hi = 0.0;
   }
+  // warm start (the first episode of a tick): last tick's impulses, applied again, the joints'
+  // first, then the contact points' in their order as their rows are made
+  const bool warm = warm_pending_;
+  warm_pending_ = false;
+  if (warm)
+    applyJointWarmStart();
+  const bool bounces = prepareRows(remaining, warm);
   const double inv_dt = 1.0 / tick_dt_;
-  bool bounces = false;
-  for (const ContactPoint& cp : points_)
-    bounces = bounces || (cp.bounce > 0.0 && cp.active);
   if (bounces)
     ke_episode_start_ = kineticEnergy();
   // settling iterations (DynamicsOptions::velocity_iterations_max): beyond the fixed count while
@@ -130,14 +132,7 @@ void Dynamics::solveVelocities(double remaining) {
     for (std::size_t i = 0; i < points_.size();) {
       const std::size_t group = std::max<std::size_t>(points_[i].group, 1);
       if (blocks_[i].ok) {
-        // a flat contact's points: friction point by point, then the normals together
-        const NormalBlock& blk = blocks_[i];
-        for (std::size_t k = 0; k < blk.count; ++k)
-          solveFriction(points_[blk.idx[k]], residual);
-        if (!solveNormalBlock(blk, residual)) {
-          for (std::size_t k = 0; k < blk.count; ++k)
-            solveNormal(points_[blk.idx[k]], residual);
-        }
+        solveBlock(blocks_[i], residual);
       } else {
         for (std::size_t k = i; k < i + group; ++k) {
           ContactPoint& cp = points_[k];
@@ -153,7 +148,8 @@ void Dynamics::solveVelocities(double remaining) {
     // settling goes on only while the residual falls
     last = it + 1 < options_.velocity_iterations || residual < last ? residual : 0.0;
   }
-  applyRestitution();
+  if (bounces)
+    applyRestitution();
   for (ContactPoint& cp : points_) {
     if (!cp.active && !cp.speculative)
       continue;
@@ -169,53 +165,67 @@ void Dynamics::solveVelocities(double remaining) {
   }
 }
 
-// the rows of every active point at the current orientations, this episode's impulses zero
-void Dynamics::prepareRows(double remaining) {
-  for (ContactPoint& cp : points_) {
-    if (!cp.active && !cp.speculative)
-      continue;
-    BodyState& A = bodies_[cp.a];
-    BodyState& B = bodies_[cp.b];
-    cp.ra = A.R * cp.ra_B;
-    cp.rb = B.R * cp.rb_B;
-    cp.ima = A.invMass();
-    cp.imb = B.invMass();
-    const auto row = [&](const Vec3& u, Row& r) {
-      r.ca = glm::cross(cp.ra, u);
-      r.cb = glm::cross(cp.rb, u);
-      r.ia = A.inv_inertia_W * r.ca;
-      r.ib = B.inv_inertia_W * r.cb;
-      const double k = cp.ima + cp.imb + glm::dot(r.ca, r.ia) + glm::dot(r.cb, r.ib);
-      r.mass = k > 0.0 ? 1.0 / k : 0.0;
-    };
-    row(cp.n, cp.rn);
-    row(cp.t1, cp.rt1);
-    row(cp.t2, cp.rt2);
-    cp.mass_n = cp.rn.mass;
-    cp.ln = cp.lt1 = cp.lt2 = 0.0;
-    // a frictionless resting point may close toward the slop, position_correction of the way
-    // per tick (a speculative one down to touching): every such point of a body settles at the
-    // same depth, so a box rests flat on its support instead of keeping whatever tilt its first
-    // impact gave it, which without friction would make it slide for ever (the split impulses
-    // push out what is deeper, at the same rate; Box2D v3's soft step closes to its linear
-    // slop the same way)
-    if (cp.speculative) {
-      cp.min_vn = -std::max(cp.gap, 0.0) / remaining;
-    } else if (cp.bounce > 0.0 || !cp.resting || cp.mu_s > 0.0 || cp.mu_d > 0.0) {
-      // an impact: its whole compression impulse, for the restitution; a sliding contact (a
-      // gear's teeth) is no resting support; with friction a tilt within the slop is held by
-      // static friction (and the closing made tall towers with friction creep)
-      cp.min_vn = 0.0;
-    } else {
-      cp.min_vn = -options_.position_correction *
-                  std::max(cp.gap + options_.slop_fraction * cp.size, 0.0) / tick_dt_;
+// the rows of every active point at the current orientations, this episode's impulses zero;
+// with `warm` (the first episode of a tick) each point's warm start applied once its rows are
+// made (the joints' were applied before: the same order of the impulses as applied after all
+// rows); each primitive pair's block once its points' rows are made: one pass over the points.
+// True when an active point strikes (its restitution is to be applied)
+bool Dynamics::prepareRows(double remaining, bool warm) {
+  bool bounces = false;
+  for (std::size_t first = 0; first < points_.size();) {
+    const std::size_t group = std::max<std::size_t>(points_[first].group, 1);
+    for (std::size_t k = first; k < first + group; ++k) {
+      ContactPoint& cp = points_[k];
+      if (cp.active || cp.speculative) {
+        prepareRow(cp, remaining);
+        bounces = bounces || (cp.bounce > 0.0 && cp.active);
+      }
+      if (warm)
+        warmStartPoint(cp);
     }
+    prepareBlock(first);
+    first += group;
   }
-  for (std::size_t i = 0; i < points_.size(); i += std::max<std::size_t>(points_[i].group, 1))
-    prepareBlock(i);
-  for (JointState& js : joints_) {
-    js.l_point = js.l_ang = Vec3{0.0};
-    js.l1 = js.l2 = js.l_lo = js.l_hi = 0.0;
+  return bounces;
+}
+
+// one active point's rows (prepareRows)
+void Dynamics::prepareRow(ContactPoint& cp, double remaining) {
+  BodyState& A = bodies_[cp.a];
+  BodyState& B = bodies_[cp.b];
+  cp.ra = A.R * cp.ra_B;
+  cp.rb = B.R * cp.rb_B;
+  cp.ima = A.invMass();
+  cp.imb = B.invMass();
+  const auto row = [&](const Vec3& u, Row& r) {
+    r.ca = glm::cross(cp.ra, u);
+    r.cb = glm::cross(cp.rb, u);
+    r.ia = A.inv_inertia_W * r.ca;
+    r.ib = B.inv_inertia_W * r.cb;
+    const double k = cp.ima + cp.imb + glm::dot(r.ca, r.ia) + glm::dot(r.cb, r.ib);
+    r.mass = k > 0.0 ? 1.0 / k : 0.0;
+  };
+  row(cp.n, cp.rn);
+  row(cp.t1, cp.rt1);
+  row(cp.t2, cp.rt2);
+  cp.mass_n = cp.rn.mass;
+  cp.ln = cp.lt1 = cp.lt2 = 0.0;
+  // a frictionless resting point may close toward the slop, position_correction of the way
+  // per tick (a speculative one down to touching): every such point of a body settles at the
+  // same depth, so a box rests flat on its support instead of keeping whatever tilt its first
+  // impact gave it, which without friction would make it slide for ever (the split impulses
+  // push out what is deeper, at the same rate; Box2D v3's soft step closes to its linear
+  // slop the same way)
+  if (cp.speculative) {
+    cp.min_vn = -std::max(cp.gap, 0.0) / remaining;
+  } else if (cp.bounce > 0.0 || !cp.resting || cp.mu_s > 0.0 || cp.mu_d > 0.0) {
+    // an impact: its whole compression impulse, for the restitution; a sliding contact (a
+    // gear's teeth) is no resting support; with friction a tilt within the slop is held by
+    // static friction (and the closing made tall towers with friction creep)
+    cp.min_vn = 0.0;
+  } else {
+    cp.min_vn = -options_.position_correction *
+                std::max(cp.gap + options_.slop_fraction * cp.size, 0.0) / tick_dt_;
   }
 }
 
@@ -312,14 +322,12 @@ void Dynamics::prepareBlock(std::size_t first) {
 // total wrench then shared among its points as evenly as it can be (the least-norm share; with
 // four points, moved along the share that is no wrench when that keeps every point pushing).
 // False when some point would have to pull: the points are then solved one by one.
-bool Dynamics::solveNormalBlock(const NormalBlock& blk, double& residual) {
+bool Dynamics::solveNormalBlock(const NormalBlock& blk, PairVelocity& v, double& residual) {
   std::array<double, 4> old{}, lnew{}, err{};
   for (std::size_t k = 0; k < blk.count; ++k) {
     const ContactPoint& cp = points_[blk.idx[k]];
-    const BodyState& A = bodies_[cp.a];
-    const BodyState& B = bodies_[cp.b];
     const double vn =
-        glm::dot(cp.n, B.v_W - A.v_W) + glm::dot(cp.rn.cb, B.w_W) - glm::dot(cp.rn.ca, A.w_W);
+        glm::dot(cp.n, v.vb - v.va) + glm::dot(cp.rn.cb, v.wb) - glm::dot(cp.rn.ca, v.wa);
     err[k] = cp.min_vn - vn;
     old[k] = cp.ln;
   }
@@ -331,12 +339,10 @@ bool Dynamics::solveNormalBlock(const NormalBlock& blk, double& residual) {
       residual = std::max(residual, std::abs(lnew[k] - old[k]) / cp.rn.mass);
     const double d = lnew[k] - old[k];
     cp.ln = lnew[k];
-    BodyState& A = bodies_[cp.a];
-    BodyState& B = bodies_[cp.b];
-    A.v_W -= (cp.ima * d) * cp.n;
-    A.w_W -= cp.rn.ia * d;
-    B.v_W += (cp.imb * d) * cp.n;
-    B.w_W += cp.rn.ib * d;
+    v.va -= (cp.ima * d) * cp.n;
+    v.wa -= cp.rn.ia * d;
+    v.vb += (cp.imb * d) * cp.n;
+    v.wb += cp.rn.ib * d;
   }
   return true;
 }
@@ -375,8 +381,8 @@ bool Dynamics::shareBlock(const NormalBlock& blk,
   return true;
 }
 
-// last tick's joint and contact impulses applied again (the first episode of a tick)
-void Dynamics::applyWarmStart() {
+// last tick's joint impulses applied again (the first episode of a tick)
+void Dynamics::applyJointWarmStart() {
   for (JointState& js : joints_) {
     if (js.off)
       continue;
@@ -401,21 +407,24 @@ void Dynamics::applyWarmStart() {
     js.total_L += L;
   }
   warmStartGeneralJoints();
-  for (ContactPoint& cp : points_) {
-    if (!cp.active || cp.total_n <= 0.0) {
-      cp.total_n = 0.0;
-      cp.total_t = Vec3{0.0};
-      continue;
-    }
-    cp.ln = cp.total_n;
-    cp.lt1 = glm::dot(cp.total_t, cp.t1);
-    cp.lt2 = glm::dot(cp.total_t, cp.t2);
-    const Vec3 J = cp.n * cp.ln + cp.t1 * cp.lt1 + cp.t2 * cp.lt2;
-    bodies_[cp.a].applyImpulse(-J, cp.ra);
-    bodies_[cp.b].applyImpulse(J, cp.rb);
+}
+
+// last tick's impulses of a contact point applied again (the first episode of a tick; its rows
+// made)
+void Dynamics::warmStartPoint(ContactPoint& cp) {
+  if (!cp.active || cp.total_n <= 0.0) {
     cp.total_n = 0.0;
     cp.total_t = Vec3{0.0};
+    return;
   }
+  cp.ln = cp.total_n;
+  cp.lt1 = glm::dot(cp.total_t, cp.t1);
+  cp.lt2 = glm::dot(cp.total_t, cp.t2);
+  const Vec3 J = cp.n * cp.ln + cp.t1 * cp.lt1 + cp.t2 * cp.lt2;
+  bodies_[cp.a].applyImpulse(-J, cp.ra);
+  bodies_[cp.b].applyImpulse(J, cp.rb);
+  cp.total_n = 0.0;
+  cp.total_t = Vec3{0.0};
 }
 
 // one joint's rows in one iteration: angular (fixed: all three; hinge: across the axis, and its
@@ -484,26 +493,48 @@ void Dynamics::solveJoint(JointState& js, double inv_dt, double& residual) {
 // one contact point's rows in one iteration: friction first, limited by this episode's normal
 // impulse (Coulomb, isotropic), then the normal
 void Dynamics::solveContact(ContactPoint& cp, double& residual) {
-  solveFriction(cp, residual);
-  solveNormal(cp, residual);
-}
-
-// a point's friction rows, limited by this episode's normal impulse (Coulomb, isotropic)
-void Dynamics::solveFriction(ContactPoint& cp, double& residual) {
-  if (!(cp.mu > 0.0))
-    return;
   BodyState& A = bodies_[cp.a];
   BodyState& B = bodies_[cp.b];
+  PairVelocity v{A.v_W, A.w_W, B.v_W, B.w_W};
+  solveFriction(cp, v, residual);
+  solveNormal(cp, v, residual);
+  A.v_W = v.va, A.w_W = v.wa;
+  B.v_W = v.vb, B.w_W = v.wb;
+}
+
+// a flat contact's rows in one iteration: friction point by point, then the normals together
+// (one by one when a point would have to pull); its two bodies' velocities (the same for every
+// point of the pair) held in registers meanwhile, not stored and loaded again between the rows
+void Dynamics::solveBlock(const NormalBlock& blk, double& residual) {
+  const ContactPoint& c0 = points_[blk.idx[0]];
+  BodyState& A = bodies_[c0.a];
+  BodyState& B = bodies_[c0.b];
+  PairVelocity v{A.v_W, A.w_W, B.v_W, B.w_W};
+  for (std::size_t k = 0; k < blk.count; ++k)
+    solveFriction(points_[blk.idx[k]], v, residual);
+  if (!solveNormalBlock(blk, v, residual)) {
+    for (std::size_t k = 0; k < blk.count; ++k)
+      solveNormal(points_[blk.idx[k]], v, residual);
+  }
+  A.v_W = v.va, A.w_W = v.wa;
+  B.v_W = v.vb, B.w_W = v.wb;
+}
+
+// a point's friction rows, limited by this episode's normal impulse (Coulomb, isotropic), on its
+// two bodies' velocities v
+void Dynamics::solveFriction(ContactPoint& cp, PairVelocity& v, double& residual) {
+  if (!(cp.mu > 0.0))
+    return;
   // relative velocity along a row, and an impulse along it (infinite bodies have zero
   // coefficients, so their velocities stay)
   const auto rel = [&](const Vec3& u, const Row& r) {
-    return glm::dot(u, B.v_W - A.v_W) + glm::dot(r.cb, B.w_W) - glm::dot(r.ca, A.w_W);
+    return glm::dot(u, v.vb - v.va) + glm::dot(r.cb, v.wb) - glm::dot(r.ca, v.wa);
   };
   const auto push = [&](const Vec3& u, const Row& r, double l) {
-    A.v_W -= (cp.ima * l) * u;
-    A.w_W -= r.ia * l;
-    B.v_W += (cp.imb * l) * u;
-    B.w_W += r.ib * l;
+    v.va -= (cp.ima * l) * u;
+    v.wa -= r.ia * l;
+    v.vb += (cp.imb * l) * u;
+    v.wb += r.ib * l;
   };
   const double o1 = cp.lt1, o2 = cp.lt2;
   double l1 = o1 - cp.rt1.mass * rel(cp.t1, cp.rt1);
@@ -525,22 +556,21 @@ void Dynamics::solveFriction(ContactPoint& cp, double& residual) {
     residual = std::max(residual, std::abs(l2 - o2) / cp.rt2.mass);
 }
 
-// a point's normal row: closing no faster than its target, never pulling
-void Dynamics::solveNormal(ContactPoint& cp, double& residual) {
-  BodyState& A = bodies_[cp.a];
-  BodyState& B = bodies_[cp.b];
+// a point's normal row: closing no faster than its target, never pulling (on its two bodies'
+// velocities v)
+void Dynamics::solveNormal(ContactPoint& cp, PairVelocity& v, double& residual) {
   const double vn =
-      glm::dot(cp.n, B.v_W - A.v_W) + glm::dot(cp.rn.cb, B.w_W) - glm::dot(cp.rn.ca, A.w_W);
+      glm::dot(cp.n, v.vb - v.va) + glm::dot(cp.rn.cb, v.wb) - glm::dot(cp.rn.ca, v.wa);
   const double target = cp.min_vn;
   const double old = cp.ln;
   cp.ln = std::max(0.0, old + cp.rn.mass * (target - vn));
   if (cp.ln_max > 0.0)
     cp.ln = std::min(cp.ln, cp.ln_max);
   const double d = cp.ln - old;
-  A.v_W -= (cp.ima * d) * cp.n;
-  A.w_W -= cp.rn.ia * d;
-  B.v_W += (cp.imb * d) * cp.n;
-  B.w_W += cp.rn.ib * d;
+  v.va -= (cp.ima * d) * cp.n;
+  v.wa -= cp.rn.ia * d;
+  v.vb += (cp.imb * d) * cp.n;
+  v.wb += cp.rn.ib * d;
   if (cp.rn.mass > 0.0)
     residual = std::max(residual, std::abs(cp.ln - old) / cp.rn.mass);
 }

@@ -187,7 +187,12 @@ void Dynamics::integrateForces(double dt, double margin, const HeldInput* held) 
 
 void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, StepReport& report) {
   points_.clear();
+  warm_next_.clear();
   const std::size_t cap = max_points_;
+  // where the last contact's warm points ended: the contacts and warm_ are both sorted by pair,
+  // so the next pair's usually begin there (checked; else a search)
+  std::size_t warm_cursor = 0;
+  const auto warmLess = [](const WarmPoint& x, const WarmPoint& y) { return x.key() < y.key(); };
   for (const collision::Contact& c : contacts) {
     if (!c.answered || c.body_a >= bodies_.size() || c.body_b >= bodies_.size())
       continue;
@@ -220,13 +225,17 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
 
     // last tick's points of this primitive pair (warm_ is sorted by pair)
     const WarmPoint probe{c.body_a, c.body_b, c.prim_a, c.prim_b};
-    const auto lo =
-        std::lower_bound(warm_.begin(), warm_.end(), probe,
-                         [](const WarmPoint& x, const WarmPoint& y) { return x.key() < y.key(); });
-    std::size_t warm_end = static_cast<std::size_t>(lo - warm_.begin());
+    std::size_t warm_end = warm_cursor;
+    const bool at_cursor = (warm_end == 0 || warmLess(warm_[warm_end - 1], probe)) &&
+                           (warm_end == warm_.size() || !warmLess(warm_[warm_end], probe));
+    if (!at_cursor) {
+      warm_end = static_cast<std::size_t>(
+          std::lower_bound(warm_.begin(), warm_.end(), probe, warmLess) - warm_.begin());
+    }
     const std::size_t warm_begin = warm_end;
     while (warm_end < warm_.size() && warm_[warm_end].key() == probe.key())
       ++warm_end;
+    warm_cursor = warm_end;
 
     // this tick's candidates: the manifold's points, then last tick's that are still in contact
     // and were not found again (persistent points: a resting box keeps its four corners even on
@@ -354,13 +363,17 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
         continue;
       }
       ContactPoint& cp = points_.emplace_back();
+      // the next tick's warm point: its pair and surface points now, its normal in the bodies'
+      // frames and its impulses at the end of the tick (storeWarmStart)
+      // (made whole: a default-made one is zeroed first by a string store, slow to start)
+      warm_next_.push_back(WarmPoint{c.body_a, c.body_b, c.prim_a, c.prim_b, cd.sa_B, cd.sb_B,
+                                     Vec3{0.0}, Vec3{0.0}, 0.0, Vec3{0.0}});
       cp.a = c.body_a;
       cp.b = c.body_b;
-      cp.prim_a = c.prim_a;
-      cp.prim_b = c.prim_b;
       cp.n = cd.n;
       // a flat contact's points share their normal: its tangents once
-      if (points_.size() > first + 1 && points_[points_.size() - 2].n == cp.n) {
+      // (compared with the candidate's: the point's was just stored and is not read back)
+      if (points_.size() > first + 1 && points_[points_.size() - 2].n == cd.n) {
         cp.t1 = points_[points_.size() - 2].t1;
         cp.t2 = points_[points_.size() - 2].t2;
       } else {
@@ -372,8 +385,6 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
       cp.rb = mid - B.x_W;
       cp.ra_B = glm::transpose(A.R) * cp.ra;
       cp.rb_B = glm::transpose(B.R) * cp.rb;
-      cp.sa_B = cd.sa_B;
-      cp.sb_B = cd.sb_B;
       cp.gap = cd.gap;
       cp.size = size;
       cp.e = e;
@@ -504,15 +515,9 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
   }
   target_given_ = false;  // every kinematic and driven body's target reached
   held_feedback_ = heldFeedbackOfTick();
-  storeWarmStart();
+  storeWarmStart(report);
 
   // poses back to the collision world
-  std::uint32_t active_points = 0;
-  for (const ContactPoint& cp : points_)
-    active_points += cp.active && cp.gap <= touchTolerance(cp);
-  report.active_points = active_points;
-  for (const ContactPoint& cp : points_)
-    report.impulse_points += cp.total_n > 0.0;
   for (std::uint32_t i = 0; i < bodies_.size(); ++i) {
     const BodyState& b = bodies_[i];
     if (b.motion == scene::Motion::kStatic || !b.enabled || b.asleep)
@@ -581,20 +586,22 @@ void Dynamics::solveThroughImpacts(double dt, StepReport& report) {
   const double v_gravity = options_.restitution_threshold_ticks * accel_scale_ * dt;
   velocity_tolerance_ = options_.velocity_tolerance_fraction *
                         std::max(v_gravity, options_.restitution_threshold_fraction * min_size_);
-  for (ContactPoint& cp : points_) {
-    const double size = std::isfinite(cp.size) ? cp.size : scene_->length_scale;
-    cp.size = size;
-  }
   warm_pending_ = true;
   iterations_run_ = 0;
   settle_rows_ = 0;
   bool any_active = !joints_.empty() || !general_.empty();
+  // the points not yet in the solves (none: no time of impact to look for)
+  std::size_t inactive = 0;
   for (ContactPoint& cp : points_) {
+    if (!std::isfinite(cp.size))
+      cp.size = scene_->length_scale;
     cp.active = false;
     cp.speculative = false;
     if (cp.gap <= touchTolerance(cp)) {
       activate(cp);
       any_active = true;
+    } else {
+      ++inactive;
     }
   }
   if (any_active) {
@@ -606,7 +613,7 @@ void Dynamics::solveThroughImpacts(double dt, StepReport& report) {
   warm_pending_ = false;
 
   double t = 0.0;
-  for (;;) {
+  while (inactive > 0) {
     const double remaining = dt - t;
     double earliest = remaining;
     for (const ContactPoint& cp : points_) {
@@ -636,8 +643,10 @@ void Dynamics::solveThroughImpacts(double dt, StepReport& report) {
     t += earliest;
     ++report.toi_substeps;
     for (ContactPoint& cp : points_) {
-      if (!cp.active && cp.gap <= touchTolerance(cp))
+      if (!cp.active && cp.gap <= touchTolerance(cp)) {
         activate(cp);
+        --inactive;
+      }
     }
     solveVelocities(dt - t);
   }
@@ -884,18 +893,15 @@ bool Dynamics::wakeRequested(const collision::CollisionWorld& world, const HeldI
 }
 
 // every point of the tick is kept for the next (gatherContacts drops those that came apart),
-// with its impulses where it pushed; sorted by primitive pair
-void Dynamics::storeWarmStart() {
-  warm_next_.clear();
+// with its impulses where it pushed; sorted by primitive pair. gatherContacts wrote each point's
+// pair and surface points (warm_next_[i] is points_[i]'s); here its normal in the bodies' frames
+// at the end of the tick and its impulses. The report's count of the points that touch and of
+// those that pushed, in the same pass.
+void Dynamics::storeWarmStart(StepReport& report) {
+  std::uint32_t active_points = 0, impulse_points = 0;
   for (std::size_t i = 0; i < points_.size(); ++i) {
     const ContactPoint& cp = points_[i];
-    WarmPoint& w = warm_next_.emplace_back();
-    w.a = cp.a;
-    w.b = cp.b;
-    w.prim_a = cp.prim_a;
-    w.prim_b = cp.prim_b;
-    w.sa_B = cp.sa_B;
-    w.sb_B = cp.sb_B;
+    WarmPoint& w = warm_next_[i];
     // a pair's points usually share their normal: it is turned into the bodies' frames once
     const ContactPoint* prev = i > 0 ? &points_[i - 1] : nullptr;
     if (prev != nullptr && prev->a == cp.a && prev->b == cp.b && prev->n == cp.n) {
@@ -908,7 +914,11 @@ void Dynamics::storeWarmStart() {
     const bool pushed = cp.active && cp.total_n > 0.0;
     w.ln = pushed ? cp.total_n : 0.0;
     w.lt = pushed ? cp.total_t : Vec3{0.0};
+    active_points += cp.active && cp.gap <= touchTolerance(cp) ? 1u : 0u;
+    impulse_points += cp.total_n > 0.0 ? 1u : 0u;
   }
+  report.active_points = active_points;
+  report.impulse_points += impulse_points;
   // the contacts come sorted by body pair: usually already in order (no sort then)
   const auto less = [](const WarmPoint& x, const WarmPoint& y) { return x.key() < y.key(); };
   if (!std::is_sorted(warm_next_.begin(), warm_next_.end(), less))
