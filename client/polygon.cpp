@@ -33,8 +33,9 @@ void triangulatePolygon(std::span<const Vec3> positions,
   const std::size_t n = poly.size();
   if (n < 3)
     return;
-  if (n == 3 || n > kMaxEarClipped || std::any_of(poly.begin(), poly.end(),
-                            [&](std::uint32_t i) { return i >= positions.size(); })) {
+  if (n == 3 || n > kMaxEarClipped || std::any_of(poly.begin(), poly.end(), [&](std::uint32_t i) {
+        return i >= positions.size();
+      })) {
     fan(poly, out);
     return;
   }

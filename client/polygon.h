@@ -18,8 +18,8 @@ namespace hapticd::client {
 /// corner; a non-convex one ear-clipped in the plane of its Newell normal (an ear is a strictly
 /// convex corner whose triangle holds no other corner, on its edges included). What ears cannot
 /// finish (a polygon that crosses itself or is far from planar) is fanned; so is a polygon of more
-/// than 256 corners, and one with an index outside `positions` (the decomposition's repair drops those triangles and counts
-/// them).
+/// than 256 corners, and one with an index outside `positions` (the decomposition's repair drops
+/// those triangles and counts them).
 void triangulatePolygon(std::span<const decomp::Vec3> positions,
                         std::span<const std::uint32_t> poly,
                         std::vector<decomp::Triangle>& out);
