@@ -120,8 +120,11 @@ int waitExit(pid_t pid, double limit_s) {
   const auto until = std::chrono::steady_clock::now() + std::chrono::duration<double>(limit_s);
   int status = 0;
   while (std::chrono::steady_clock::now() < until) {
-    if (waitpid(pid, &status, WNOHANG) == pid)
+    const pid_t r = waitpid(pid, &status, WNOHANG);
+    if (r == pid)
       return WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+    if (r < 0)
+      return -1;  // reaped before (running() saw it end): nothing to wait for, nor to kill
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   }
   kill(pid, SIGKILL);
@@ -131,7 +134,10 @@ int waitExit(pid_t pid, double limit_s) {
 
 bool running(pid_t pid) {
   int status = 0;
-  return waitpid(pid, &status, WNOHANG) != pid;
+  // 0: still running; the pid: it ended and is reaped now; -1 (ECHILD): reaped by an earlier
+  // call, so not running either (it was counted as running, and a test that saw a daemon refused
+  // then read the status of a process that no longer existed)
+  return waitpid(pid, &status, WNOHANG) == 0;
 }
 
 bool receiveUntil(proto::Client& c,

@@ -73,7 +73,7 @@ pid_t spawn(const std::vector<std::string>& argv,
 /// The child's exit code (128 + signal when killed by one), or -1 after killing a child that did
 /// not end within limit_s (a hang).
 int waitExit(pid_t pid, double limit_s);
-/// True while the child runs (it has not exited; reaped here when it has).
+/// True while the child runs (it has not exited; reaped here when it has, and false from then on).
 bool running(pid_t pid);
 
 /// Receives states until `pred` holds (true) or limit_s passes (false, a bound, not a timing);
