@@ -192,21 +192,16 @@ class Values {
           std::memcpy(&x, b.data(), 8);
           return x;
         }
-      case Kind::kUint: {
-        std::uint64_t u = 0;
-        for (int k = t.size - 1; k >= 0; --k)
-          u = (u << 8) | b[static_cast<std::size_t>(k)];
-        return static_cast<double>(u);
-      }
+      case Kind::kUint:
       case Kind::kInt: {
-        std::uint64_t u = 0;
+        std::uint64_t u =
+            0;  // the bytes (now the host's order, little-endian) as an unsigned number
         for (int k = t.size - 1; k >= 0; --k)
           u = (u << 8) | b[static_cast<std::size_t>(k)];
         const unsigned bits = 8u * t.size;
-        const std::int64_t s = bits < 64 && (u >> (bits - 1)) != 0
-                                   ? static_cast<std::int64_t>(u) - (std::int64_t{1} << bits)
-                                   : static_cast<std::int64_t>(u);
-        return static_cast<double>(s);
+        if (t.kind == Kind::kUint || (u >> (bits - 1)) == 0)
+          return static_cast<double>(u);
+        return static_cast<double>(static_cast<std::int64_t>(u) - (std::int64_t{1} << bits));
       }
     }
     return std::nullopt;
