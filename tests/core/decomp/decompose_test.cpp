@@ -4,12 +4,12 @@
 // input defect counted and handled; the triangle limit; determinism across threads and processes.
 #include "core/decomp/decompose.h"
 
-#include <glm/gtc/quaternion.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <glm/gtc/quaternion.hpp>
 #include <memory>
 #include <numbers>
 #include <random>
