@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 #include <numeric>
+#include <utility>
 
 namespace hapticd::decomp {
 namespace {
@@ -54,6 +55,33 @@ int rayCrossing(const Vec3& p, const Vec3& d, const Vec3& a, const Vec3& b, cons
   if (t <= 0.0)
     return 0;
   return det < 0.0 ? 1 : -1;  // det = -dot(d, e1 x e2)
+}
+
+// every undirected edge used as often from a to b as from b to a (a 2-cycle: its boundary is zero)
+bool balancedEdges(std::span<const Triangle> triangles) {
+  if (triangles.empty())
+    return false;
+  // directed edge (min, max) with +1 when it runs min -> max
+  std::vector<std::pair<std::uint64_t, int>> edges;
+  edges.reserve(3 * triangles.size());
+  for (const Triangle& t : triangles)
+    for (std::size_t k = 0; k < 3; ++k) {
+      const std::uint32_t a = t[k], b = t[(k + 1) % 3];
+      const std::uint64_t key = (std::uint64_t{std::min(a, b)} << 32) | std::max(a, b);
+      edges.emplace_back(key, a < b ? 1 : -1);
+    }
+  std::sort(edges.begin(), edges.end(),
+            [](const auto& x, const auto& y) { return x.first < y.first; });
+  for (std::size_t i = 0; i < edges.size();) {
+    int sum = 0;
+    std::size_t j = i;
+    for (; j < edges.size() && edges[j].first == edges[i].first; ++j)
+      sum += edges[j].second;
+    if (sum != 0)
+      return false;
+    i = j;
+  }
+  return true;
 }
 
 // segment pq through triangle abc (not touching at an end)
@@ -189,6 +217,7 @@ TriangleBvh::TriangleBvh(std::span<const Vec3> positions, std::span<const Triang
     build(0, 0, static_cast<std::uint32_t>(tris_.size()), centroids);
   pseudonormals(positions, triangles);
   buildDipoles();
+  cycle_ = balancedEdges(triangles);
 }
 
 void TriangleBvh::build(std::uint32_t index,

@@ -34,6 +34,12 @@ class TriangleBvh {
   /// Inside the solid: a positive crossing count on at least two of three fixed rays (robust to a
   /// ray grazing an edge and to a hole on one of them).
   bool insideByRays(const Vec3& p) const;
+  /// The surface is a cycle: every edge is crossed as often in one direction as in the other (a
+  /// closed, consistently wound surface, possibly self-intersecting or with non-manifold edges of
+  /// balanced orientation). Its winding number is then an integer off the surface, equal to the
+  /// exits minus entries along any ray, and inside(p) counts crossings along rays instead of
+  /// summing solid angles.
+  bool isCycle() const { return cycle_; }
   /// The generalized winding number (Jacobson, Kavan, Sorkine-Hornung, "Robust inside-outside
   /// segmentation using generalized winding numbers", SIGGRAPH 2013): the surface's solid angle
   /// seen from p over 4π, exact for near triangles, far subtrees as one dipole (Barill, Dickson,
@@ -41,8 +47,8 @@ class TriangleBvh {
   /// order, accuracy parameter 2). 1 inside a closed outward surface, 0 outside; a hole lowers it
   /// only near the hole.
   double windingNumber(const Vec3& p) const;
-  /// Inside the solid: the winding number is at least 1/2.
-  bool inside(const Vec3& p) const { return windingNumber(p) >= 0.5; }
+  /// Inside the solid: the winding number is at least 1/2; on a cycle (isCycle()), by the rays.
+  bool inside(const Vec3& p) const { return cycle_ ? insideByRays(p) : windingNumber(p) >= 0.5; }
   /// The same from p's closest point: on a closed, consistently wound, manifold surface the side of
   /// the closest feature's angle-weighted pseudonormal (Bærentzen and Aanæs, IEEE TVCG 11(3) 2005);
   /// otherwise the rays.
@@ -87,6 +93,7 @@ class TriangleBvh {
     double radius = 0.0;
   };
   std::vector<Dipole> dipoles_;
+  bool cycle_ = false;
   void buildDipoles();
 };
 

@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdio>
+#include <glm/gtc/quaternion.hpp>
 #include <memory>
 #include <numbers>
 #include <random>
@@ -154,6 +155,50 @@ TEST(TriangleBvh, AFlatPartClosedByTheRepairHasNoInside) {
         ++points;
       }
   EXPECT_EQ(inside, 0u) << "of " << points;
+}
+
+// A closed surface whose parts cross (CAD assemblies, scans merged from several shells) is a
+// cycle: every edge is run as often one way as the other. Its winding number is an integer, the
+// exits minus entries along any ray, so inside() counts crossings instead of summing solid angles
+// (the 121 496-triangle 2CylinderEngine.glb, 77 488 crossing pairs: 135 s to 19 s). Checked
+// against the exact winding number over every triangle, on overlapping boxes (winding 2 in the
+// overlap), a box turned about two axes through both, and a box meeting another along an edge
+// (a non-manifold edge of four faces, balanced); a surface with a hole is not a cycle.
+TEST(TriangleBvh, ACrossingClosedSurfaceDecidesInsideAsTheExactWindingNumber) {
+  TriangleMesh m = models::box({0, 0, 0}, {1, 1, 1});
+  models::append(m, models::box({0.5, 0.3, 0.2}, {1.5, 1.2, 0.8}));
+  TriangleMesh turned = models::box({-0.3, -0.3, -0.3}, {0.3, 0.3, 0.3});
+  const glm::dmat3 rot = glm::mat3_cast(glm::angleAxis(0.7, glm::normalize(Vec3{1, 2, 3})));
+  for (Vec3& v : turned.positions)
+    v = rot * v + Vec3{0.9, 0.9, 0.9};
+  models::append(m, turned);
+  // meets the first box along its edge x = y = 1 (its vertices shared: an edge of four faces)
+  const std::uint32_t base = static_cast<std::uint32_t>(m.positions.size());
+  models::append(m, models::box({1, 1, 0}, {2, 2, 1}));
+  for (Triangle& t : m.triangles)
+    for (std::uint32_t& v : t)
+      if (v >= base)
+        for (std::uint32_t k = 0; k < 8; ++k)
+          if (m.positions[v] == m.positions[k])
+            v = k;
+  const TriangleBvh bvh(m.positions, m.triangles);
+  ASSERT_TRUE(bvh.isCycle());
+  std::size_t in = 0, twice = 0, points = 0;
+  for (int i = 0; i <= 24; ++i)
+    for (int j = 0; j <= 24; ++j)
+      for (int k = 0; k <= 24; ++k) {
+        const Vec3 p = Vec3{-0.6, -0.6, -0.6} + Vec3{i, j, k} * 0.11 + Vec3{1e-3, 2e-3, 3e-3};
+        const double w = checks::windingNumber(m, p);
+        ASSERT_EQ(bvh.inside(p), w >= 0.5) << p.x << " " << p.y << " " << p.z << " winding " << w;
+        in += w >= 0.5 ? 1u : 0u;
+        twice += w >= 1.5 ? 1u : 0u;
+        ++points;
+      }
+  EXPECT_GT(in, points / 10);
+  EXPECT_GT(twice, 0u);
+  TriangleMesh open = models::box({0, 0, 0}, {1, 1, 1});
+  open.triangles.pop_back();
+  EXPECT_FALSE(TriangleBvh(open.positions, open.triangles).isCycle());
 }
 
 TEST(Decompose, BadOptionsAreErrors) {
