@@ -198,7 +198,7 @@ void TriangleBvh::pseudonormals(std::span<const Vec3> positions,
 
 bool TriangleBvh::inside(const Vec3& p, const Closest& closest) const {
   if (normals_.empty() || !(closest.distance > 0.0))
-    return inside(p);  // winding number
+    return inside(p);
   return glm::dot(p - closest.point, normals_[closest.triangle][closest.feature]) < 0.0;
 }
 

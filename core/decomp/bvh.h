@@ -37,8 +37,13 @@ class TriangleBvh {
   /// The surface is a cycle: every edge is crossed as often in one direction as in the other (a
   /// closed, consistently wound surface, possibly self-intersecting or with non-manifold edges of
   /// balanced orientation). Its winding number is then an integer off the surface, equal to the
-  /// exits minus entries along any ray, and inside(p) counts crossings along rays instead of
-  /// summing solid angles.
+  /// exits minus entries along any ray, and where the winding number decides every point
+  /// (useWindingNumberOnly(): crossing surfaces) inside() counts crossings along rays
+  /// instead of summing solid angles: there the solid angles' near field is large everywhere
+  /// (measured on a 121 496-triangle engine of crossing parts: 228 µs a point in its box against
+  /// 47 by the rays). On a clean surface the pseudonormals decide surface samples and the
+  /// winding number the points away from the surface (4 µs a point against 8.5 by the rays on a
+  /// 268 686-triangle scan).
   bool isCycle() const { return cycle_; }
   /// The generalized winding number (Jacobson, Kavan, Sorkine-Hornung, "Robust inside-outside
   /// segmentation using generalized winding numbers", SIGGRAPH 2013): the surface's solid angle
@@ -47,15 +52,19 @@ class TriangleBvh {
   /// order, accuracy parameter 2). 1 inside a closed outward surface, 0 outside; a hole lowers it
   /// only near the hole.
   double windingNumber(const Vec3& p) const;
-  /// Inside the solid: the winding number is at least 1/2; on a cycle (isCycle()), by the rays.
-  bool inside(const Vec3& p) const { return cycle_ ? insideByRays(p) : windingNumber(p) >= 0.5; }
+  /// Inside the solid: the winding number is at least 1/2 (counted by the rays, see isCycle()).
+  bool inside(const Vec3& p) const { return rays_ ? insideByRays(p) : windingNumber(p) >= 0.5; }
   /// The same from p's closest point: on a closed, consistently wound, manifold surface the side of
   /// the closest feature's angle-weighted pseudonormal (Bærentzen and Aanæs, IEEE TVCG 11(3) 2005);
-  /// otherwise the rays.
+  /// otherwise inside(p).
   bool inside(const Vec3& p, const Closest& closest) const;
   /// Decide every point by the winding number: the pseudonormal side is wrong where closed parts
-  /// touch or overlap (a point inside one part whose closest feature is another part's face).
-  void useWindingNumberOnly() { normals_.clear(); }
+  /// touch or overlap (a point inside one part whose closest feature is another part's face). On a
+  /// cycle the winding number is then counted along rays (isCycle()).
+  void useWindingNumberOnly() {
+    normals_.clear();
+    rays_ = cycle_;
+  }
   /// Pairs of triangles that cross (an edge of one through the other), sharing no vertex; counting
   /// stops after `max_pairs_tested` box-overlapping pairs (then *capped is set).
   std::size_t countCrossingPairs(std::size_t max_pairs_tested, bool* capped) const;
@@ -94,6 +103,7 @@ class TriangleBvh {
   };
   std::vector<Dipole> dipoles_;
   bool cycle_ = false;
+  bool rays_ = false;  // inside() counts along rays (useWindingNumberOnly() on a cycle)
   void buildDipoles();
 };
 
