@@ -883,6 +883,10 @@ bool CollisionWorld::far(PairState& s, bool* kept) const {
 bool CollisionWorld::farByBoxes(PairState& s) {
   if (options_.far_distance <= 0.0)
     return false;
+  const Prim& pa = prims_[s.prim_a];
+  const Prim& pb = prims_[s.prim_b];
+  s.X_WA_test = bodies_[pa.body].X_WB;
+  s.X_WB_test = bodies_[pb.body].X_WB;
   // the pieces' boxes (each grown by the margin) hold them: a gap between the boxes on an axis,
   // plus the two margins, is a separating plane's
   const Aabb A = pieceBox(s.prim_a);
@@ -896,15 +900,38 @@ bool CollisionWorld::farByBoxes(PairState& s) {
     if (above > best)
       best = above, n = Vec3{0.0}, n[k] = 1.0;
   }
-  if (!(best > 0.0))
-    return false;
-  s.sep_n = n;
-  s.sep_d = best + 2.0 * options_.box_margin;
   s.far_travel = -std::numeric_limits<double>::infinity();  // a new plane
-  s.X_WA_test = bodies_[prims_[s.prim_a].body].X_WB;
-  s.X_WB_test = bodies_[prims_[s.prim_b].body].X_WB;
-  if (far(s))
-    return true;
+  if (best > 0.0) {
+    s.sep_n = n;
+    s.sep_d = best + 2.0 * options_.box_margin;
+    if (far(s))
+      return true;
+  }
+  // else the plane normal to the line from a's centroid to b's, at the two pieces' extreme
+  // vertices along it (their support points: exact for convex pieces): pairs that enter the
+  // margin diagonally (a plate's pieces crossing the cells of another's at once) are mostly far
+  // by it, and a first test, which has no cache to start its walk from, costs several warm ones
+  const Polytope& shape_a = *bodies_[pa.body].desc.primitives[pa.index].shape;
+  const Polytope& shape_b = *bodies_[pb.body].desc.primitives[pb.index].shape;
+  const Transform X_WA = primitiveTransform(pa);
+  const Transform X_WB = primitiveTransform(pb);
+  const Vec3 d = X_WB.apply(shape_b.centroid()) - X_WA.apply(shape_a.centroid());
+  const double len = glm::length(d);
+  if (len > 0.0) {
+    const Vec3 u = d / len;
+    const Vec3 u_a = glm::transpose(X_WA.R) * u;  // in each piece's frame
+    const Vec3 u_b = glm::transpose(X_WB.R) * u;
+    const double top_a = glm::dot(u, X_WA.apply(shape_a.vertices()[shape_a.support(u_a, 0)].p));
+    const double bottom_b =
+        glm::dot(u, X_WB.apply(shape_b.vertices()[shape_b.support(-u_b, 0)].p));
+    if (bottom_b - top_a > 0.0) {
+      s.sep_n = u;
+      s.sep_d = bottom_b - top_a;
+      s.far_travel = -std::numeric_limits<double>::infinity();
+      if (far(s))
+        return true;
+    }
+  }
   s.sep_d = 0.0;
   return false;
 }
