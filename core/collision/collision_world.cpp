@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstddef>
 #include <limits>
 
 #include "core/common/slots.h"
@@ -457,7 +458,7 @@ void CollisionWorld::linkPair(std::uint32_t si) {
     s.next[k] = b.pairs_head;
     if (b.pairs_head != kNil) {
       PairState& h = pair_states_[b.pairs_head];
-      h.prev[h.last.body_a == body[k] ? 0 : 1] = si;
+      h.prev[h.body_a == body[k] ? 0 : 1] = si;
     }
     b.pairs_head = si;
   }
@@ -470,19 +471,21 @@ void CollisionWorld::unlinkPair(std::uint32_t si) {
     const std::uint32_t p = s.prev[k], n = s.next[k];
     if (p != kNil) {
       PairState& ps = pair_states_[p];
-      ps.next[ps.last.body_a == body[k] ? 0 : 1] = n;
+      ps.next[ps.body_a == body[k] ? 0 : 1] = n;
     } else {
       bodies_[body[k]].pairs_head = n;
     }
     if (n != kNil) {
       PairState& ns = pair_states_[n];
-      ns.prev[ns.last.body_a == body[k] ? 0 : 1] = p;
+      ns.prev[ns.body_a == body[k] ? 0 : 1] = p;
     }
     s.prev[k] = s.next[k] = kNil;
   }
 }
 
 std::uint32_t CollisionWorld::newPairState(std::uint32_t pa, std::uint32_t pb, StepStats* stats) {
+  static_assert(offsetof(PairState, far_travel) + sizeof(double) <= 64,
+                "what every step reads of a pair fits its first cache line");
   const std::uint32_t si = takeSlot(pair_states_, free_pair_states_);
   PairState& s = pair_states_[si];
   if (prims_[pa].body > prims_[pb].body)
@@ -490,6 +493,7 @@ std::uint32_t CollisionWorld::newPairState(std::uint32_t pa, std::uint32_t pb, S
   s.prim_a = pa;
   s.prim_b = pb;
   s.live = true;
+  s.body_a = prims_[pa].body;
   s.last.body_a = prims_[pa].body;
   s.last.body_b = prims_[pb].body;
   s.last.prim_a = prims_[pa].index;
