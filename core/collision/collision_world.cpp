@@ -923,11 +923,22 @@ bool CollisionWorld::farByBoxes(PairState& s) {
   const double len = glm::length(d);
   if (len > 0.0) {
     const Vec3 u = d / len;
-    const Vec3 u_a = glm::transpose(X_WA.R) * u;  // in each piece's frame
-    const Vec3 u_b = glm::transpose(X_WB.R) * u;
-    const double top_a = glm::dot(u, X_WA.apply(shape_a.vertices()[shape_a.support(u_a, 0)].p));
-    const double bottom_b =
-        glm::dot(u, X_WB.apply(shape_b.vertices()[shape_b.support(-u_b, 0)].p));
+    // the extreme of a piece along u in the world: a small piece's by one pass over its
+    // vertices, a larger one's by a climb to its support point in its own frame
+    auto extreme = [&u](const Polytope& shape, const Transform& X, double sign) {
+      const auto& vertices = shape.vertices();
+      if (vertices.size() <= kSmallShape) {
+        const Vec3 u_P = sign * (glm::transpose(X.R) * u);
+        double most = -std::numeric_limits<double>::infinity();
+        for (const auto& v : vertices)
+          most = std::max(most, glm::dot(u_P, v.p));
+        return sign * most + glm::dot(u, X.t);
+      }
+      const Vec3 u_P = glm::transpose(X.R) * (sign * u);
+      return glm::dot(u, X.apply(vertices[shape.support(u_P, 0)].p));
+    };
+    const double top_a = extreme(shape_a, X_WA, 1.0);
+    const double bottom_b = extreme(shape_b, X_WB, -1.0);
     if (bottom_b - top_a > 0.0) {
       s.sep_n = u;
       s.sep_d = bottom_b - top_a;
