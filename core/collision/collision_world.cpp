@@ -178,6 +178,8 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
     filter.is_static = desc.kind == BodyKind::kStatic;
     filter.group = desc.group & desc.primitives[i].group;
     filter.mask = desc.mask & desc.primitives[i].mask;
+    p.group = filter.group;
+    p.mask = filter.mask;
     groups |= filter.group;
     masks |= filter.mask;
     bodies_[id].prims.push_back(pi);
@@ -617,10 +619,8 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
   const WorldNode* const x = side[0];
   const WorldNode* const y = side[1];
   auto filter = [this](std::uint32_t pi, std::uint32_t* group, std::uint32_t* mask) {
-    const Body& b = bodies_[prims_[pi].body];
-    const PrimitiveDesc& d = b.desc.primitives[prims_[pi].index];
-    *group = b.desc.group & d.group;
-    *mask = b.desc.mask & d.mask;
+    *group = prims_[pi].group;
+    *mask = prims_[pi].mask;
   };
   auto apart = [](const Aabb& A, const Aabb& B) {
     return A.lo.x > B.hi.x || B.lo.x > A.hi.x || A.lo.y > B.hi.y || B.lo.y > A.hi.y ||

@@ -333,6 +333,9 @@ class CollisionWorld {
   struct Prim {
     std::uint32_t body = 0, index = 0;    // body and index within it
     std::uint32_t box = 0;                // broad-phase handle
+    // its collision filter, its body's and its own combined (the descent reads it for every
+    // pair of leaves that overlap)
+    std::uint32_t group = 0, mask = 0;
     std::array<std::uint32_t, 6> hint{};  // extreme-vertex hints: -x +x -y +y -z +z
     bool live = false;
     // a piece of a tree body: its exact box (primitiveBox), computed lazily, and the tick + 1 at
