@@ -352,6 +352,10 @@ class CollisionWorld {
     bool in_contact = false;
     bool live = false;
     bool from_tree = false;  // found by a descent of piece trees, not by the sweep and prune
+    // made and not listed yet: its depth tracking fields, query cache and last answer (`lazy`
+    // below) are not reset yet (a freed state's are stale), which resetLazy does when it is
+    // first listed; most pairs never are (found far all their life)
+    bool fresh = false;
     std::uint64_t visit = 0;  // the listing pass (visit_) that last looked at it
     std::uint64_t seen = 0;   // the last step whose descent found it
     // links in the pair lists of last.body_a ([0]) and last.body_b ([1])
@@ -364,18 +368,21 @@ class CollisionWorld {
     // far() found the pair far by a margin M while its bodies' travels summed to T: it stays far
     // while they sum to less than T + M / 2 (-inf: not known far)
     double far_travel = -std::numeric_limits<double>::infinity();
-    // ---- the second cache line on
+    // ---- the second cache line on, set when the state is made
     std::uint64_t last_tested = 0;  // tick of the last test (the tick before it appeared, if none)
+    Vec3 sep_n{0.0};
+    geom::Pose X_WA_test, X_WB_test;
+    // ---- `lazy`: reset when first listed (fresh)
     std::uint32_t tracker = 0xffffffffu;  // its depth tracker (trackers_), kNil: none
     // the tracker's certificate failed at this many tests in a row; from two on the pair is
     // answered untracked until step track_from (a back-off that doubles, up to 64 steps)
     std::uint32_t depth_misses = 0;
     std::uint64_t track_from = 0;
-    Vec3 sep_n{0.0};
-    geom::Pose X_WA_test, X_WB_test;
     PairCache cache;
     Contact last;
   };
+  // a fresh state's lazy fields set as a new state's (its bodies' and pieces' ids in `last`)
+  void resetLazy(PairState& s) const;
   // two broad-phase boxes that overlap, one of them (at least) a tree body's
   struct TreePair {
     std::uint32_t lo = 0, hi = 0;  // broad-phase handles
