@@ -434,8 +434,9 @@ class CollisionWorld {
   // a pair certainly farther apart than WorldOptions::far_distance
   bool far(PairState& s, bool* kept = nullptr) const;
   double farLimit(const PairState& s) const;
-  // a pair not yet tested whose pieces' boxes are farther apart than far_distance on one axis:
-  // that axis as its separating plane (far() then holds)
+  // a pair not yet tested whose pieces' boxes are farther apart than far_distance on one axis,
+  // or whose pieces are, along the line between their centroids: that axis or line as its
+  // separating plane (far() then holds)
   bool farByBoxes(PairState& s);
   // a pair nothing asks about: both sides asleep or static, or either side disabled
   bool resting(const PairState& s) const {
