@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstddef>
 #include <limits>
 
 #include "core/common/slots.h"
@@ -31,6 +32,28 @@ void toWorld(const Transform& X_WA, const PairResult& r, Contact& c) {
     c.manifold.points[i].normal = X_WA.rotate(r.manifold.points[i].normal);
     c.manifold.points[i].depth = r.manifold.points[i].depth;
   }
+}
+
+// `from` into `to` but for the manifold's points beyond its count
+static_assert(sizeof(Contact) == 360, "copyAnswer copies every field of a Contact: a new one too");
+void copyAnswer(const Contact& from, Contact& to) {
+  to.body_a = from.body_a;
+  to.body_b = from.body_b;
+  to.prim_a = from.prim_a;
+  to.prim_b = from.prim_b;
+  to.status = from.status;
+  to.distance = from.distance;
+  to.normal = from.normal;
+  to.point_a = from.point_a;
+  to.point_b = from.point_b;
+  to.manifold.count = from.manifold.count;
+  to.manifold.truncated = from.manifold.truncated;
+  for (std::size_t i = 0; i < from.manifold.count; ++i)
+    to.manifold.points[i] = from.manifold.points[i];
+  to.feature_a = from.feature_a;
+  to.feature_b = from.feature_b;
+  to.age = from.age;
+  to.answered = from.answered;
 }
 
 }  // namespace
@@ -155,6 +178,8 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
     filter.is_static = desc.kind == BodyKind::kStatic;
     filter.group = desc.group & desc.primitives[i].group;
     filter.mask = desc.mask & desc.primitives[i].mask;
+    p.group = filter.group;
+    p.mask = filter.mask;
     groups |= filter.group;
     masks |= filter.mask;
     bodies_[id].prims.push_back(pi);
@@ -450,14 +475,14 @@ void CollisionWorld::updateAwake(std::uint32_t id) {
 
 void CollisionWorld::linkPair(std::uint32_t si) {
   PairState& s = pair_states_[si];
-  const std::uint32_t body[2] = {s.last.body_a, s.last.body_b};
+  const std::uint32_t body[2] = {s.body_a, prims_[s.prim_b].body};
   for (std::size_t k = 0; k < 2; ++k) {
     Body& b = bodies_[body[k]];
     s.prev[k] = kNil;
     s.next[k] = b.pairs_head;
     if (b.pairs_head != kNil) {
       PairState& h = pair_states_[b.pairs_head];
-      h.prev[h.last.body_a == body[k] ? 0 : 1] = si;
+      h.prev[h.body_a == body[k] ? 0 : 1] = si;
     }
     b.pairs_head = si;
   }
@@ -465,36 +490,59 @@ void CollisionWorld::linkPair(std::uint32_t si) {
 
 void CollisionWorld::unlinkPair(std::uint32_t si) {
   PairState& s = pair_states_[si];
-  const std::uint32_t body[2] = {s.last.body_a, s.last.body_b};
+  // (not last's ids: a fresh state's are not set; its pieces are live while it is)
+  const std::uint32_t body[2] = {s.body_a, prims_[s.prim_b].body};
   for (std::size_t k = 0; k < 2; ++k) {
     const std::uint32_t p = s.prev[k], n = s.next[k];
     if (p != kNil) {
       PairState& ps = pair_states_[p];
-      ps.next[ps.last.body_a == body[k] ? 0 : 1] = n;
+      ps.next[ps.body_a == body[k] ? 0 : 1] = n;
     } else {
       bodies_[body[k]].pairs_head = n;
     }
     if (n != kNil) {
       PairState& ns = pair_states_[n];
-      ns.prev[ns.last.body_a == body[k] ? 0 : 1] = p;
+      ns.prev[ns.body_a == body[k] ? 0 : 1] = p;
     }
     s.prev[k] = s.next[k] = kNil;
   }
 }
 
 std::uint32_t CollisionWorld::newPairState(std::uint32_t pa, std::uint32_t pb, StepStats* stats) {
-  const std::uint32_t si = takeSlot(pair_states_, free_pair_states_);
+  static_assert(offsetof(PairState, far_travel) + sizeof(double) <= 64,
+                "what every step reads of a pair fits its first cache line");
+  // a freed slot again, or a new one; either way reset but for its lazy fields (resetLazy, when
+  // it is first listed): a state is 13 cache lines, and pairs enter by the dozen where a body's
+  // pieces cross another's (75 in a tick on the decomposed stream), most of them to stay far
+  std::uint32_t si = 0;
+  if (!free_pair_states_.empty()) {
+    si = free_pair_states_.back();
+    free_pair_states_.pop_back();
+  } else {
+    si = static_cast<std::uint32_t>(pair_states_.size());
+    pair_states_.emplace_back();
+  }
   PairState& s = pair_states_[si];
   if (prims_[pa].body > prims_[pb].body)
     std::swap(pa, pb);
+  const PairState reset;
   s.prim_a = pa;
   s.prim_b = pb;
+  s.body_a = prims_[pa].body;
+  s.in_contact = reset.in_contact;
   s.live = true;
-  s.last.body_a = prims_[pa].body;
-  s.last.body_b = prims_[pb].body;
-  s.last.prim_a = prims_[pa].index;
-  s.last.prim_b = prims_[pb].index;
+  s.from_tree = reset.from_tree;
+  s.fresh = true;
+  s.visit = reset.visit;
+  s.seen = reset.seen;
+  s.next = reset.next;
+  s.prev = reset.prev;
+  s.sep_d = reset.sep_d;
+  s.far_travel = reset.far_travel;
   s.last_tested = tick_ - 1;  // never tested: as stale as one tick
+  s.sep_n = reset.sep_n;
+  s.X_WA_test = reset.X_WA_test;
+  s.X_WB_test = reset.X_WB_test;
   state_of_pair_.insert(pairKey(pa, pb), si);
   linkPair(si);
   if (stats != nullptr)
@@ -502,9 +550,24 @@ std::uint32_t CollisionWorld::newPairState(std::uint32_t pa, std::uint32_t pb, S
   return si;
 }
 
+void CollisionWorld::resetLazy(PairState& s) const {
+  const PairState reset;
+  s.tracker = reset.tracker;
+  s.depth_misses = reset.depth_misses;
+  s.track_from = reset.track_from;
+  s.cache = reset.cache;
+  s.last = reset.last;
+  s.last.body_a = s.body_a;
+  s.last.body_b = prims_[s.prim_b].body;
+  s.last.prim_a = prims_[s.prim_a].index;
+  s.last.prim_b = prims_[s.prim_b].index;
+  s.fresh = false;
+}
+
 void CollisionWorld::freePairState(std::uint32_t si, StepStats* stats) {
   PairState& s = pair_states_[si];
-  releaseTracker(s);  // a pair made again later starts its tracking afresh
+  if (!s.fresh)
+    releaseTracker(s);  // a pair made again later starts its tracking afresh
   state_of_pair_.erase(pairKey(s.prim_a, s.prim_b));
   unlinkPair(si);
   s.live = false;
@@ -591,10 +654,8 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
   const WorldNode* const x = side[0];
   const WorldNode* const y = side[1];
   auto filter = [this](std::uint32_t pi, std::uint32_t* group, std::uint32_t* mask) {
-    const Body& b = bodies_[prims_[pi].body];
-    const PrimitiveDesc& d = b.desc.primitives[prims_[pi].index];
-    *group = b.desc.group & d.group;
-    *mask = b.desc.mask & d.mask;
+    *group = prims_[pi].group;
+    *mask = prims_[pi].mask;
   };
   auto apart = [](const Aabb& A, const Aabb& B) {
     return A.lo.x > B.hi.x || B.lo.x > A.hi.x || A.lo.y > B.hi.y || B.lo.y > A.hi.y ||
@@ -883,6 +944,10 @@ bool CollisionWorld::far(PairState& s, bool* kept) const {
 bool CollisionWorld::farByBoxes(PairState& s) {
   if (options_.far_distance <= 0.0)
     return false;
+  const Prim& pa = prims_[s.prim_a];
+  const Prim& pb = prims_[s.prim_b];
+  s.X_WA_test = bodies_[pa.body].X_WB;
+  s.X_WB_test = bodies_[pb.body].X_WB;
   // the pieces' boxes (each grown by the margin) hold them: a gap between the boxes on an axis,
   // plus the two margins, is a separating plane's
   const Aabb A = pieceBox(s.prim_a);
@@ -896,15 +961,49 @@ bool CollisionWorld::farByBoxes(PairState& s) {
     if (above > best)
       best = above, n = Vec3{0.0}, n[k] = 1.0;
   }
-  if (!(best > 0.0))
-    return false;
-  s.sep_n = n;
-  s.sep_d = best + 2.0 * options_.box_margin;
   s.far_travel = -std::numeric_limits<double>::infinity();  // a new plane
-  s.X_WA_test = bodies_[prims_[s.prim_a].body].X_WB;
-  s.X_WB_test = bodies_[prims_[s.prim_b].body].X_WB;
-  if (far(s))
-    return true;
+  if (best > 0.0) {
+    s.sep_n = n;
+    s.sep_d = best + 2.0 * options_.box_margin;
+    if (far(s))
+      return true;
+  }
+  // else the plane normal to the line from a's centroid to b's, at the two pieces' extreme
+  // vertices along it (their support points: exact for convex pieces): pairs that enter the
+  // margin diagonally (a plate's pieces crossing the cells of another's at once) are mostly far
+  // by it, and a first test, which has no cache to start its walk from, costs several warm ones
+  const Polytope& shape_a = *bodies_[pa.body].desc.primitives[pa.index].shape;
+  const Polytope& shape_b = *bodies_[pb.body].desc.primitives[pb.index].shape;
+  const Transform X_WA = primitiveTransform(pa);
+  const Transform X_WB = primitiveTransform(pb);
+  const Vec3 d = X_WB.apply(shape_b.centroid()) - X_WA.apply(shape_a.centroid());
+  const double len = glm::length(d);
+  if (len > 0.0) {
+    const Vec3 u = d / len;
+    // the extreme of a piece along u in the world: a small piece's by one pass over its
+    // vertices, a larger one's by a climb to its support point in its own frame
+    auto extreme = [&u](const Polytope& shape, const Transform& X, double sign) {
+      const auto& vertices = shape.vertices();
+      if (vertices.size() <= kSmallShape) {
+        const Vec3 u_P = sign * (glm::transpose(X.R) * u);
+        double most = -std::numeric_limits<double>::infinity();
+        for (const auto& v : vertices)
+          most = std::max(most, glm::dot(u_P, v.p));
+        return sign * most + glm::dot(u, X.t);
+      }
+      const Vec3 u_P = glm::transpose(X.R) * (sign * u);
+      return glm::dot(u, X.apply(vertices[shape.support(u_P, 0)].p));
+    };
+    const double top_a = extreme(shape_a, X_WA, 1.0);
+    const double bottom_b = extreme(shape_b, X_WB, -1.0);
+    if (bottom_b - top_a > 0.0) {
+      s.sep_n = u;
+      s.sep_d = bottom_b - top_a;
+      s.far_travel = -std::numeric_limits<double>::infinity();
+      if (far(s))
+        return true;
+    }
+  }
   s.sep_d = 0.0;
   return false;
 }
@@ -1039,11 +1138,13 @@ void CollisionWorld::schedule(StepStats* stats) {
       if (resting(s))
         continue;
       bool kept = false;
-      if (far(s, &kept) || (!s.last.answered && farByBoxes(s))) {
+      if (far(s, &kept) || ((s.fresh || !s.last.answered) && farByBoxes(s))) {
         ++stats->pairs_far;
         stats->pairs_far_kept += kept ? 1u : 0u;
         continue;
       }
+      if (s.fresh)
+        resetLazy(s);
       contact_order_.push_back(si);
     }
   }
@@ -1128,11 +1229,13 @@ void CollisionWorld::schedule(StepStats* stats) {
                  static_cast<std::uint32_t>(std::min<std::uint64_t>(age, 0xffffffffu)));
   }
 
-  contacts_.clear();
-  for (const std::uint32_t si : contact_order_) {
-    const PairState& s = pair_states_[si];
-    contacts_.push_back(s.last);
-    contacts_.back().age =
+  // each answer copied but for its manifold's points beyond the count (never read, as toWorld
+  // leaves them): a Contact is 360 bytes, a near pair's answer mostly one point of four
+  contacts_.resize(contact_order_.size());
+  for (std::size_t i = 0; i < contact_order_.size(); ++i) {
+    const PairState& s = pair_states_[contact_order_[i]];
+    copyAnswer(s.last, contacts_[i]);
+    contacts_[i].age =
         static_cast<std::uint32_t>(std::min<std::uint64_t>(tick_ - s.last_tested, 0xffffffffu));
   }
 }
@@ -1246,11 +1349,18 @@ void CollisionWorld::writeState(StateWriter& w) const {
     w.flag(p.live);
   }
   w.integer(pair_states_.size());
-  for (const PairState& s : pair_states_) {
+  for (const PairState& state : pair_states_) {
     // a free slot is reset before it is used again: only its being free is state
-    w.flag(s.live);
-    if (!s.live)
+    w.flag(state.live);
+    if (!state.live)
       continue;
+    // a fresh state as it will be once listed (its lazy fields are not state until then)
+    PairState lazy_reset;
+    if (state.fresh) {
+      lazy_reset = state;
+      resetLazy(lazy_reset);
+    }
+    const PairState& s = state.fresh ? lazy_reset : state;
     w.integer(s.prim_a);
     w.integer(s.prim_b);
     writePairCache(w, s.cache);

@@ -333,6 +333,9 @@ class CollisionWorld {
   struct Prim {
     std::uint32_t body = 0, index = 0;    // body and index within it
     std::uint32_t box = 0;                // broad-phase handle
+    // its collision filter, its body's and its own combined (the descent reads it for every
+    // pair of leaves that overlap)
+    std::uint32_t group = 0, mask = 0;
     std::array<std::uint32_t, 6> hint{};  // extreme-vertex hints: -x +x -y +y -z +z
     bool live = false;
     // a piece of a tree body: its exact box (primitiveBox), computed lazily, and the tick + 1 at
@@ -340,36 +343,46 @@ class CollisionWorld {
     Aabb box_W;
     std::uint64_t box_at = 0;
   };
-  struct PairState {
-    // what the descent, the schedule and far() read of every pair each step first, together (a
-    // pair state is many cache lines long; the query's cache and the last answer after them)
+  // a pair state's first cache line holds what the descent, the listing and far() read of every
+  // pair each step (most pairs overlapping are far and kept so: that line is all they cost); the
+  // rest, many lines, only for the pairs near or tested
+  struct alignas(64) PairState {
     std::uint32_t prim_a = 0, prim_b = 0;  // prims_ indices, ordered by body
+    std::uint32_t body_a = 0;              // prims_[prim_a].body (last.body_a): whose links are which
     bool in_contact = false;
     bool live = false;
-    bool from_tree = false;         // found by a descent of piece trees, not by the sweep and prune
-    std::uint64_t seen = 0;         // the last step whose descent found it
-    std::uint64_t last_tested = 0;  // tick of the last test (the tick before it appeared, if none)
-    std::uint64_t visit = 0;        // the listing pass (visit_) that last looked at it
+    bool from_tree = false;  // found by a descent of piece trees, not by the sweep and prune
+    // made and not listed yet: its depth tracking fields, query cache and last answer (`lazy`
+    // below) are not reset yet (a freed state's are stale), which resetLazy does when it is
+    // first listed; most pairs never are (found far all their life)
+    bool fresh = false;
+    std::uint64_t visit = 0;  // the listing pass (visit_) that last looked at it
+    std::uint64_t seen = 0;   // the last step whose descent found it
     // links in the pair lists of last.body_a ([0]) and last.body_b ([1])
     std::array<std::uint32_t, 2> next{0xffffffffu, 0xffffffffu};
     std::array<std::uint32_t, 2> prev{0xffffffffu, 0xffffffffu};
+    // far(): a plane that separated the two by sep_d along sep_n (unit, from a toward b) when
+    // its bodies were at X_WA_test, X_WB_test (from its last test, or, for a pair not yet
+    // tested, from its pieces' boxes or support points); sep_d <= 0: none
+    double sep_d = 0.0;
+    // far() found the pair far by a margin M while its bodies' travels summed to T: it stays far
+    // while they sum to less than T + M / 2 (-inf: not known far)
+    double far_travel = -std::numeric_limits<double>::infinity();
+    // ---- the second cache line on, set when the state is made
+    std::uint64_t last_tested = 0;  // tick of the last test (the tick before it appeared, if none)
+    Vec3 sep_n{0.0};
+    geom::Pose X_WA_test, X_WB_test;
+    // ---- `lazy`: reset when first listed (fresh)
     std::uint32_t tracker = 0xffffffffu;  // its depth tracker (trackers_), kNil: none
     // the tracker's certificate failed at this many tests in a row; from two on the pair is
     // answered untracked until step track_from (a back-off that doubles, up to 64 steps)
     std::uint32_t depth_misses = 0;
     std::uint64_t track_from = 0;
-    // far(): a plane that separated the two by sep_d along sep_n (unit, from a toward b) when
-    // its bodies were at X_WA_test, X_WB_test (from its last test, or from the boxes of a pair
-    // not yet tested); sep_d <= 0: none
-    Vec3 sep_n{0.0};
-    double sep_d = 0.0;
-    // far() found the pair far by a margin M while its bodies' travels summed to T: it stays far
-    // while they sum to less than T + M / 2 (-inf: not known far)
-    double far_travel = -std::numeric_limits<double>::infinity();
-    geom::Pose X_WA_test, X_WB_test;
     PairCache cache;
     Contact last;
   };
+  // a fresh state's lazy fields set as a new state's (its bodies' and pieces' ids in `last`)
+  void resetLazy(PairState& s) const;
   // two broad-phase boxes that overlap, one of them (at least) a tree body's
   struct TreePair {
     std::uint32_t lo = 0, hi = 0;  // broad-phase handles
@@ -408,7 +421,7 @@ class CollisionWorld {
   // the next pair state in `body`'s list after state si
   std::uint32_t nextPair(std::uint32_t si, std::uint32_t body) const {
     const PairState& s = pair_states_[si];
-    return s.next[s.last.body_a == body ? 0 : 1];
+    return s.next[s.body_a == body ? 0 : 1];
   }
   // a body that is asked about: live, enabled, neither static nor asleep (in awake_ or not)
   void updateAwake(std::uint32_t body);
@@ -421,8 +434,9 @@ class CollisionWorld {
   // a pair certainly farther apart than WorldOptions::far_distance
   bool far(PairState& s, bool* kept = nullptr) const;
   double farLimit(const PairState& s) const;
-  // a pair not yet tested whose pieces' boxes are farther apart than far_distance on one axis:
-  // that axis as its separating plane (far() then holds)
+  // a pair not yet tested whose pieces' boxes are farther apart than far_distance on one axis,
+  // or whose pieces are, along the line between their centroids: that axis or line as its
+  // separating plane (far() then holds)
   bool farByBoxes(PairState& s);
   // a pair nothing asks about: both sides asleep or static, or either side disabled
   bool resting(const PairState& s) const {
