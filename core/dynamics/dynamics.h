@@ -51,6 +51,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "core/collision/collision_world.h"
@@ -392,6 +393,7 @@ class Dynamics {
                          const double* old,
                          double* lnew);
   bool correctBlock(const NormalBlock& blk, double beta, double inv_dt);
+  void levelSweep(double dt);
   static bool levels(const ContactPoint& cp);
   void applyRestitution();
   void correctPositions(double dt);
@@ -436,7 +438,9 @@ class Dynamics {
   std::vector<BodyState> bodies_;
   ReservedVector<ContactPoint> points_;
   std::vector<NormalBlock> blocks_;  // per point: the block of the pair it is the first point of
-  std::size_t max_points_ = 0;       // the capacity of points_ (options' max_contact_points)
+  // levelSweep: (height, block) of the contacts it levels (scratch)
+  std::vector<std::pair<double, std::uint32_t>> level_order_;
+  std::size_t max_points_ = 0;  // the capacity of points_ (options' max_contact_points)
   ReservedVector<WarmPoint> warm_, warm_next_;
   std::vector<JointState> joints_;
   std::vector<GeneralJoint> general_;      // every other joint: limits, cones, soft limits, drives
