@@ -27,8 +27,11 @@
 ///     impulses rather than Baumgarte (a velocity bias: adds energy, stacks jitter) or soft
 ///     constraints with sub-steps (several solves per tick: too costly at 1 kHz). A frictionless
 ///     resting point may also close toward the slop's depth in the velocity solve (20% per
-///     tick), so a body's resting points settle at one depth and a frictionless box rests flat
-///     instead of sliding off the tilt its first ticks gave it;
+///     tick, no faster than the restitution threshold), so a body's resting points settle at
+///     one depth and a frictionless box rests flat instead of sliding off the tilt its first
+///     ticks gave it; a resting frictionless flat contact pressed at every point is levelled
+///     from the bottom up at the end of the tick (levelSweep: the upper body's pose turned, and
+///     the bodies' relative turn about its tangents taken out of the velocities by a couple);
 ///  5. new poses written back with CollisionWorld::setPose (its next step() sees them; a
 ///     sleeping body's are not);
 ///  6. sleep per island: contacts and joints join dynamic bodies into islands; an island at rest
