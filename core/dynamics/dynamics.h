@@ -442,7 +442,7 @@ class Dynamics {
   ReservedVector<ContactPoint> points_;
   std::vector<NormalBlock> blocks_;  // per point: the block of the pair it is the first point of
   // levelSweep: (height, block) of the contacts it levels (scratch)
-  std::vector<std::pair<double, std::uint32_t>> level_order_;
+  ReservedVector<std::pair<double, std::uint32_t>> level_order_;
   std::size_t max_points_ = 0;  // the capacity of points_ (options' max_contact_points)
   ReservedVector<WarmPoint> warm_, warm_next_;
   std::vector<JointState> joints_;
