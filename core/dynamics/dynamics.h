@@ -443,7 +443,8 @@ class Dynamics {
   std::vector<NormalBlock> blocks_;  // per point: the block of the pair it is the first point of
   // levelSweep: (height, block) of the contacts it levels (scratch)
   ReservedVector<std::pair<double, std::uint32_t>> level_order_;
-  std::size_t max_points_ = 0;  // the capacity of points_ (options' max_contact_points)
+  std::vector<std::uint8_t> level_pinned_;  // levelSweep: per body, touched outside it (scratch)
+  std::size_t max_points_ = 0;              // the capacity of points_ (options' max_contact_points)
   ReservedVector<WarmPoint> warm_, warm_next_;
   std::vector<JointState> joints_;
   std::vector<GeneralJoint> general_;      // every other joint: limits, cones, soft limits, drives

@@ -870,19 +870,32 @@ bool Dynamics::correctBlock(const NormalBlock& blk, double beta, double inv_dt) 
 // loaded side of each contact of a frictionless staircase into the slop, the tilted normals of
 // the next tick pushed the boxes sideways, and without friction nothing takes that back (ten
 // boxes with 8% steps drifted 0.019 of the edge in a minute at 1 m and were thrown apart at
-// 5 mm). Only the poses move (a pseudo angular velocity of the upper body): no energy enters the
-// velocities. The turn is about the upper body's centre of mass, so the contact's mean depth
-// changes by the turn times the centroid's offset from it, left to the slop rule.
+// 5 mm). A body that has a contact other than flat blocks is not turned. Only the poses move (a
+// pseudo angular velocity of the upper body): no energy enters the velocities. The turn is about
+// the upper body's centre of mass, so the contact's mean depth changes by the turn times the
+// centroid's offset from it, left to the slop rule.
 void Dynamics::levelSweep(double dt) {
   level_order_.clear();
+  std::fill(level_pinned_.begin(), level_pinned_.end(), std::uint8_t{0});
   for (std::size_t i = 0; i < points_.size(); i += std::max<std::size_t>(points_[i].group, 1)) {
+    const std::size_t group = std::max<std::size_t>(points_[i].group, 1);
     const NormalBlock& blk = blocks_[i];
-    if (!blk.ok)
-      continue;
-    bool level = true;
+    bool level = blk.ok;
     for (std::size_t k = 0; k < blk.count && level; ++k) {
       const ContactPoint& cp = points_[blk.idx[k]];
       level = levels(cp) && cp.total_n > 0.0;
+    }
+    if (!blk.ok) {
+      // a body with a contact that is no flat block (a curved one, a point or an edge, the
+      // held body's) is not turned by the sweep: the turn could push it into that contact (a
+      // block the held sweeper of the stress demo pressed onto a pillar was turned into it,
+      // and the sweeper 0.37 mm into the pillar)
+      for (std::size_t k = i; k < i + group; ++k) {
+        const ContactPoint& cp = points_[k];
+        if (cp.active || cp.speculative)
+          level_pinned_[cp.a] = level_pinned_[cp.b] = 1;
+      }
+      continue;
     }
     if (!level)
       continue;
@@ -912,7 +925,7 @@ void Dynamics::levelSweep(double dt) {
     const Vec3 g = glm::dot(B.gravity_W, B.gravity_W) > 0.0 ? B.gravity_W : A.gravity_W;
     const bool b_up = A.infinite || (!B.infinite && glm::dot(c0.n, g) < 0.0);
     BodyState& U = b_up ? B : A;
-    if (U.infinite)
+    if (U.infinite || level_pinned_[b_up ? c0.b : c0.a] != 0)
       continue;
     // the slopes, along t1 and t2, of the relative normal pseudo-velocity that would leave
     // every point at the same depth
