@@ -27,8 +27,11 @@
 ///     impulses rather than Baumgarte (a velocity bias: adds energy, stacks jitter) or soft
 ///     constraints with sub-steps (several solves per tick: too costly at 1 kHz). A frictionless
 ///     resting point may also close toward the slop's depth in the velocity solve (20% per
-///     tick), so a body's resting points settle at one depth and a frictionless box rests flat
-///     instead of sliding off the tilt its first ticks gave it;
+///     tick, no faster than the restitution threshold), so a body's resting points settle at
+///     one depth and a frictionless box rests flat instead of sliding off the tilt its first
+///     ticks gave it; a resting frictionless flat contact pressed at every point is levelled
+///     from the bottom up at the end of the tick (levelSweep: the upper body's pose turned, and
+///     the bodies' relative turn about its tangents taken out of the velocities by a couple);
 ///  5. new poses written back with CollisionWorld::setPose (its next step() sees them; a
 ///     sleeping body's are not);
 ///  6. sleep per island: contacts and joints join dynamic bodies into islands; an island at rest
@@ -51,6 +54,7 @@
 #include <cstdint>
 #include <memory>
 #include <span>
+#include <utility>
 #include <vector>
 
 #include "core/collision/collision_world.h"
@@ -392,6 +396,7 @@ class Dynamics {
                          const double* old,
                          double* lnew);
   bool correctBlock(const NormalBlock& blk, double beta, double inv_dt);
+  void levelSweep(double dt);
   static bool levels(const ContactPoint& cp);
   void applyRestitution();
   void correctPositions(double dt);
@@ -436,7 +441,10 @@ class Dynamics {
   std::vector<BodyState> bodies_;
   ReservedVector<ContactPoint> points_;
   std::vector<NormalBlock> blocks_;  // per point: the block of the pair it is the first point of
-  std::size_t max_points_ = 0;       // the capacity of points_ (options' max_contact_points)
+  // levelSweep: (height, block) of the contacts it levels (scratch)
+  ReservedVector<std::pair<double, std::uint32_t>> level_order_;
+  std::vector<std::uint8_t> level_pinned_;  // levelSweep: per body, touched outside it (scratch)
+  std::size_t max_points_ = 0;              // the capacity of points_ (options' max_contact_points)
   ReservedVector<WarmPoint> warm_, warm_next_;
   std::vector<JointState> joints_;
   std::vector<GeneralJoint> general_;      // every other joint: limits, cones, soft limits, drives
