@@ -331,8 +331,8 @@ class CollisionWorld {
     geom::Pose X_stepped;
   };
   struct Prim {
-    std::uint32_t body = 0, index = 0;    // body and index within it
-    std::uint32_t box = 0;                // broad-phase handle
+    std::uint32_t body = 0, index = 0;  // body and index within it
+    std::uint32_t box = 0;              // broad-phase handle
     // its collision filter, its body's and its own combined (the descent reads it for every
     // pair of leaves that overlap)
     std::uint32_t group = 0, mask = 0;
@@ -348,7 +348,7 @@ class CollisionWorld {
   // rest, many lines, only for the pairs near or tested
   struct alignas(64) PairState {
     std::uint32_t prim_a = 0, prim_b = 0;  // prims_ indices, ordered by body
-    std::uint32_t body_a = 0;              // prims_[prim_a].body (last.body_a): whose links are which
+    std::uint32_t body_a = 0;  // prims_[prim_a].body (last.body_a): whose links are which
     bool in_contact = false;
     bool live = false;
     bool from_tree = false;  // found by a descent of piece trees, not by the sweep and prune
