@@ -228,7 +228,8 @@ int runCheck(const std::filesystem::path& path,
     j["decomposition"] = {{"decomposed", d.decomposed},
                           {"cache_hits", d.cache_hits},
                           {"cache_refused", d.cache_refused},
-                          {"cache_written", d.cache_written}};
+                          {"cache_written", d.cache_written},
+                          {"cache_evicted", d.cache_evicted}};
     out << j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) << '\n';
   } else {
     out << path.string() << ": ok\n" << describeScene(*report.scene);

@@ -433,6 +433,7 @@ scene::LoadOptions toLoadOptions(const Config& c) {
   o.decomposition.max_pieces = c.scene.max_pieces;
   o.decomposition.time_limit_s = c.scene.decompose_time_limit_s;
   o.decomposition.cache_dir = scene::decompositionCacheDir(c.scene.cache_dir);
+  o.decomposition.cache_max_bytes = std::uint64_t{c.scene.cache_max_mb} << 20;
   return o;
 }
 

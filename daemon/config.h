@@ -84,6 +84,9 @@ struct SceneConfig {
   /// The decomposition cache's folder: "auto" (scene::decompositionCacheDir()), "" (no cache), or
   /// an absolute path.
   std::string cache_dir = "auto";
+  /// Most MiB of entries the cache keeps (least recently used removed first); 0: no limit.
+  std::uint32_t cache_max_mb =
+      static_cast<std::uint32_t>(scene::DecompositionOptions{}.cache_max_bytes >> 20);
 };
 
 /// [network]

@@ -393,6 +393,10 @@ const ConfigKey kKeys[] = {
      "$XDG_CACHE_HOME/hapticd, else $HOME/.cache/hapticd; \"\" turns the cache off. Entries "
      "that fail their checks are rebuilt; a folder that cannot be written is a warning.",
      &checkCacheDir},
+    {"scene", "cache_max_mb", HAPTICD_FIELD(scene.cache_max_mb), closed(0, 4000000), "MiB",
+     "Most the decomposition cache's entries may take: after an entry is written, the least "
+     "recently used (read or written) are removed until the rest fit; 0: no limit. Only "
+     "entries (<key>.pieces) and dead writers' temporary files are ever removed."},
 
     // [network]
     {"network", "udp", HAPTICD_FIELD(network.udp), kNoRange, "",

@@ -2,12 +2,15 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <atomic>
 #include <bit>
 #include <cmath>
 #include <cstring>
 #include <fstream>
 #include <system_error>
+#include <tuple>
+#include <vector>
 
 #include "core/decomp/sha256.h"
 
@@ -133,6 +136,73 @@ std::filesystem::path cacheEntryPath(const std::filesystem::path& dir, const std
   return dir / (key + ".pieces");
 }
 
+Eviction evictCache(const std::filesystem::path& dir,
+                    std::uint64_t max_bytes,
+                    const std::string& keep_key,
+                    std::chrono::seconds stale_after) {
+  Eviction ev;
+  const std::string suffix = ".pieces";
+  const std::string tmp_mark = ".pieces.tmp.";
+  auto keyed = [](const std::string& name) {
+    return name.size() > kHexBytes &&
+           std::all_of(name.begin(), name.begin() + kHexBytes,
+                       [](char c) { return (c >= '0' && c <= '9') || (c >= 'a' && c <= 'f'); });
+  };
+  struct Entry {
+    std::filesystem::file_time_type used;
+    std::string name;
+    std::uint64_t bytes = 0;
+  };
+  std::vector<Entry> entries;
+  std::uint64_t total = 0;
+  const auto now = std::filesystem::file_time_type::clock::now();
+  std::error_code ec;
+  std::filesystem::directory_iterator it(dir, ec);
+  for (; !ec && it != std::filesystem::directory_iterator(); it.increment(ec)) {
+    std::error_code fe;
+    if (!it->is_regular_file(fe) || fe)
+      continue;
+    const std::string name = it->path().filename().string();
+    if (!keyed(name))
+      continue;
+    const auto used = it->last_write_time(fe);
+    if (fe)
+      continue;
+    if (name.compare(kHexBytes, tmp_mark.size(), tmp_mark) == 0) {
+      // a writer's temporary file: renamed within a second unless its writer died
+      if (now - used > stale_after && std::filesystem::remove(it->path(), fe) && !fe)
+        ++ev.stale;
+      continue;
+    }
+    if (name.size() != kHexBytes + suffix.size() ||
+        name.compare(kHexBytes, suffix.size(), suffix) != 0)
+      continue;
+    const std::uint64_t bytes = it->file_size(fe);
+    if (fe)
+      continue;
+    total += bytes;
+    entries.push_back({used, name, bytes});
+  }
+  if (max_bytes == 0 || total <= max_bytes)
+    return ev;
+  std::sort(entries.begin(), entries.end(), [](const Entry& a, const Entry& b) {
+    return std::tie(a.used, a.name) < std::tie(b.used, b.name);
+  });
+  for (const Entry& e : entries) {
+    if (total <= max_bytes)
+      break;
+    if (e.name == keep_key + suffix)
+      continue;
+    std::error_code fe;
+    if (!std::filesystem::remove(dir / e.name, fe) || fe)
+      continue;  // gone already, or not ours to remove: left
+    total -= e.bytes;
+    ++ev.entries;
+    ev.bytes += e.bytes;
+  }
+  return ev;
+}
+
 CacheLookup readCacheEntry(const std::filesystem::path& dir,
                            const std::string& key,
                            std::size_t max_pieces) {
@@ -175,6 +245,8 @@ CacheLookup readCacheEntry(const std::filesystem::path& dir,
   if (auto bad = parsePayload(payload, max_pieces, &found.pieces))
     return refused(*bad);
   found.status = CacheLookup::Status::kHit;
+  // used now: the last an eviction removes (a folder that cannot be written still reads)
+  std::filesystem::last_write_time(path, std::filesystem::file_time_type::clock::now(), ec);
   return found;
 }
 

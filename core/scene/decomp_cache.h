@@ -18,6 +18,7 @@
 ///
 /// Any thread but the servo thread (file I/O, allocates); two loads may share a folder.
 
+#include <chrono>
 #include <cstdint>
 #include <filesystem>
 #include <optional>
@@ -62,6 +63,8 @@ struct CacheLookup {
 };
 
 /// The entry of `key` in `dir`, checked as the file comment says (at most `max_pieces` pieces).
+/// A hit sets the entry's modification time to now (its use, for evictCache; a folder that
+/// cannot be written still reads).
 CacheLookup readCacheEntry(const std::filesystem::path& dir,
                            const std::string& key,
                            std::size_t max_pieces);
@@ -72,6 +75,23 @@ CacheLookup readCacheEntry(const std::filesystem::path& dir,
 Result<bool> writeCacheEntry(const std::filesystem::path& dir,
                              const std::string& key,
                              const CachedPieces& pieces);
+
+/// What evictCache removed.
+struct Eviction {
+  std::size_t entries = 0;  ///< `.pieces` entries removed
+  std::uint64_t bytes = 0;  ///< their bytes
+  std::size_t stale = 0;    ///< temporary files of writers that died, removed
+};
+
+/// Keeps the entries in `dir` within `max_bytes` (0: no limit): while their sizes add up to
+/// more, removes the least recently used entry (the oldest modification time; readCacheEntry
+/// refreshes it on a hit; ties by name), never `keep_key`'s. Also removes temporary files of
+/// writers older than `stale_after`. Files that are not entries or temporary files are never
+/// touched; a file that cannot be removed is skipped (another process may hold the folder).
+Eviction evictCache(const std::filesystem::path& dir,
+                    std::uint64_t max_bytes,
+                    const std::string& keep_key,
+                    std::chrono::seconds stale_after = std::chrono::hours(1));
 
 /// The file of `key` in `dir`.
 std::filesystem::path cacheEntryPath(const std::filesystem::path& dir, const std::string& key);

@@ -118,6 +118,7 @@ ConvexPieces Decomposer::convexPieces(std::span<const geom::Vec3> points,
     auto written = writeCacheEntry(knobs.cache_dir, key, {out.pieces, out.method});
     if (written) {
       ++counts_.cache_written;
+      counts_.cache_evicted += evictCache(knobs.cache_dir, knobs.cache_max_bytes, key).entries;
     } else if (!write_warned_) {
       write_warned_ = true;
       warnings_.push_back("decomposition cache: " + written.error().message +

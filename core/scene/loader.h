@@ -39,6 +39,10 @@ struct DecompositionOptions {
   /// the same options is read back instead. Empty: no cache. A folder that cannot be written is
   /// a warning, never a failure.
   std::filesystem::path cache_dir;
+  /// Most bytes of entries the cache folder keeps (0: no limit). After an entry is written, the
+  /// least recently used entries (their files' modification times: a read refreshes it) are
+  /// removed until the entries fit, the new one kept whatever its size.
+  std::uint64_t cache_max_bytes = std::uint64_t{512} << 20;
 };
 
 /// Where a load is, for a progress line ("decomposing mesh 3 (Bunny), 12 pieces, 1.4 s").
@@ -76,6 +80,7 @@ struct DecompositionCounts {
   std::size_t cache_hits = 0;     ///< meshes whose pieces were read from the cache
   std::size_t cache_refused = 0;  ///< cache entries refused (corrupt, foreign, old): rebuilt
   std::size_t cache_written = 0;  ///< entries written
+  std::size_t cache_evicted = 0;  ///< least recently used entries removed to keep the size limit
 };
 
 struct LoadReport {

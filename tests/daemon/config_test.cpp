@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cctype>
+#include <cstdint>
 #include <filesystem>
 #include <fstream>
 #include <ostream>
@@ -149,13 +150,15 @@ TEST(Config, DefaultsAreThoseOfTheSimulationAndDeviceOptions) {
   EXPECT_EQ(c.scene.cache_dir, "auto");
 }
 
-// [scene] concavity, max_pieces, decompose_time_limit_s and cache_dir reach the loader's options
+// [scene] concavity, max_pieces, decompose_time_limit_s, cache_dir and cache_max_mb reach the
+// loader's options
 TEST(Config, DecompositionKeysReachTheLoader) {
   auto parsed = parseConfig(R"([scene]
 concavity = 0.05
 max_pieces = 12
 decompose_time_limit_s = 30
 cache_dir = "/srv/hapticd-cache"
+cache_max_mb = 64
 )",
                             "t.toml");
   ASSERT_TRUE(parsed) << parsed.error().message;
@@ -164,6 +167,9 @@ cache_dir = "/srv/hapticd-cache"
   EXPECT_EQ(l.decomposition.max_pieces, 12u);
   EXPECT_EQ(l.decomposition.time_limit_s, 30.0);
   EXPECT_EQ(l.decomposition.cache_dir, std::filesystem::path("/srv/hapticd-cache"));
+  EXPECT_EQ(l.decomposition.cache_max_bytes, std::uint64_t{64} << 20);
+  EXPECT_EQ(toLoadOptions(Config{}).decomposition.cache_max_bytes,
+            scene::DecompositionOptions{}.cache_max_bytes);
   // "" turns the cache off; "auto" is the environment's folder
   auto off = parseConfig("[scene]\ncache_dir = \"\"\n", "t.toml");
   ASSERT_TRUE(off) << off.error().message;

@@ -6,7 +6,9 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -279,6 +281,92 @@ TEST(SceneDecomposition, NoCacheFolderTurnsTheCacheOff) {
     EXPECT_EQ(r.decomposition.cache_hits + r.decomposition.cache_written, 0u);
   }
   EXPECT_EQ(decompositionCacheDir(""), fs::path());
+}
+
+// [scene] cache_max_mb: after a write, the least recently used entries (modification time; a
+// hit refreshes it) go until the rest fit, never the new one; temporary files of dead writers go;
+// nothing else in the folder is touched
+TEST(SceneDecomposition, TheCacheKeepsItsSizeByRemovingTheLeastRecentlyUsedEntries) {
+  const TempDir dir;
+  detail::CachedPieces pieces;
+  pieces.note = "four points";
+  pieces.pieces.push_back(
+      {Vec3{0.0}, Vec3{1.0, 0.0, 0.0}, Vec3{0.0, 1.0, 0.0}, Vec3{0.0, 0.0, 1.0}});
+  const std::string k1(64, '1'), k2(64, '2'), k3(64, '3'), k4(64, '4');
+  const auto now = fs::file_time_type::clock::now();
+  int age = 400;
+  for (const std::string& k : {k1, k2, k3, k4}) {
+    ASSERT_TRUE(detail::writeCacheEntry(dir.path(), k, pieces));
+    fs::last_write_time(detail::cacheEntryPath(dir.path(), k), now - std::chrono::seconds(age));
+    age -= 100;  // k1 the oldest, k4 the newest
+  }
+  const std::uintmax_t size = fs::file_size(detail::cacheEntryPath(dir.path(), k1));
+  // not entries: a file of the user's, an entry's copy, a writer's file still being written and
+  // one of a writer that died two hours ago
+  writeAll(dir.path() / "notes.txt", std::string(4 * size, 'x'));
+  writeAll(dir.path() / (k1 + ".pieces.bak"), "copy");
+  const fs::path fresh_tmp = dir.path() / (k3 + ".pieces.tmp.77.0");
+  const fs::path dead_tmp = dir.path() / (k4 + ".pieces.tmp.78.0");
+  writeAll(fresh_tmp, "half");
+  writeAll(dead_tmp, "half");
+  fs::last_write_time(dead_tmp, now - std::chrono::hours(2));
+
+  // no limit: nothing goes but the dead writer's file
+  const detail::Eviction none = detail::evictCache(dir.path(), 0, k4);
+  EXPECT_EQ(none.entries, 0u);
+  EXPECT_EQ(none.stale, 1u);
+  EXPECT_FALSE(fs::exists(dead_tmp));
+  EXPECT_EQ(entries(dir.path()).size(), 4u);
+
+  // k1 read: now the most recently used
+  const detail::CacheLookup hit = detail::readCacheEntry(dir.path(), k1, 64);
+  ASSERT_EQ(hit.status, detail::CacheLookup::Status::kHit) << hit.why;
+  // room for two and a half: in order of use k2, k3, k4, k1; k2 kept (just written), so k3 and
+  // k4 go
+  const detail::Eviction ev = detail::evictCache(dir.path(), 2 * size + size / 2, k2);
+  EXPECT_EQ(ev.entries, 2u);
+  EXPECT_EQ(ev.bytes, 2 * size);
+  EXPECT_EQ(ev.stale, 0u);
+  EXPECT_TRUE(fs::exists(detail::cacheEntryPath(dir.path(), k1)));
+  EXPECT_TRUE(fs::exists(detail::cacheEntryPath(dir.path(), k2)));
+  EXPECT_FALSE(fs::exists(detail::cacheEntryPath(dir.path(), k3)));
+  EXPECT_FALSE(fs::exists(detail::cacheEntryPath(dir.path(), k4)));
+  EXPECT_TRUE(fs::exists(dir.path() / "notes.txt"));
+  EXPECT_TRUE(fs::exists(dir.path() / (k1 + ".pieces.bak")));
+  EXPECT_TRUE(fs::exists(fresh_tmp));
+  // within the limit: nothing more
+  EXPECT_EQ(detail::evictCache(dir.path(), 2 * size, k2).entries, 0u);
+  // a limit below the kept entry alone: every other entry goes, the kept one stays
+  EXPECT_EQ(detail::evictCache(dir.path(), 1, k2).entries, 1u);
+  EXPECT_EQ(entries(dir.path()), std::vector<fs::path>{detail::cacheEntryPath(dir.path(), k2)});
+}
+
+// through the loader: a limit of one byte keeps only the entry of the latest decomposition, the
+// load counts what it removed, and the removed mesh is decomposed again on its next load
+TEST(SceneDecomposition, ALoadOverTheCachesLimitRemovesOtherEntriesAndKeepsItsOwn) {
+  const TempDir dir;
+  LoadOptions tiny = withCache(dir.path());
+  tiny.decomposition.cache_max_bytes = 1;
+  const GltfBuilder b = dentedScene();
+  const LoadReport first = load(b, tiny);
+  ASSERT_TRUE(first.ok()) << first.message();
+  EXPECT_EQ(first.decomposition.cache_written, 1u);
+  EXPECT_EQ(first.decomposition.cache_evicted, 0u);
+  LoadOptions other = tiny;
+  other.decomposition.max_pieces = 3;
+  const LoadReport second = load(b, other);
+  ASSERT_TRUE(second.ok()) << second.message();
+  EXPECT_EQ(second.decomposition.cache_written, 1u);
+  EXPECT_EQ(second.decomposition.cache_evicted, 1u);
+  EXPECT_EQ(entries(dir.path()).size(), 1u);
+  const LoadReport again = load(b, other);  // its own entry was kept
+  EXPECT_EQ(again.decomposition.cache_hits, 1u);
+  const LoadReport back = load(b, tiny);  // the first one's was removed
+  EXPECT_EQ(back.decomposition.cache_hits, 0u);
+  EXPECT_EQ(back.decomposition.decomposed, 1u);
+  EXPECT_EQ(back.decomposition.cache_evicted, 1u);
+  // the default keeps 512 MiB
+  EXPECT_EQ(DecompositionOptions{}.cache_max_bytes, std::uint64_t{512} << 20);
 }
 
 TEST(SceneDecomposition, AFolderThatCannotBeWrittenIsAWarningAndTheSceneLoads) {
