@@ -545,7 +545,66 @@ void peer(benchmark::State& state,
   setCounters(state, w, s);
 }
 
+// Depth/GearFlank/{exact,tracked}: the pair behind Tick/gears' slowest ticks, a gear tooth (a
+// 10-gon prism 15 mm thick, as scenes/gears.glb's teeth) pressed by the scene's rod (a 16-gon
+// prism of radius 3 mm, 36 mm long) against its flank, the axes parallel, the rod sliding 2 mm
+// up and down the flank and turning 0.3 rad about its axis (the poses where they overlap). Parallel
+// prisms put their Gauss maps' arcs through each other's vertices and along each other's arcs, so
+// most of the exact method's edge walks are lost and sweep all of B's edges (penetration.cpp,
+// edgeArc). `exact`: penetrationDepthExact at every pose (what a fallback, a cold or an untracked
+// depth costs); `tracked`: penetrationDepthCoherent.
+void oursDepthGearFlank(benchmark::State& state, bool tracked) {
+  std::vector<Vec3> tooth;
+  const double xy[10][2] = {{-2.0, 0.0}, {-2.1, 3.0}, {-1.9, 6.0}, {-1.5, 8.0}, {-0.9, 10.0},
+                            {0.9, 10.0}, {1.5, 8.0},  {1.9, 6.0},  {2.1, 3.0},  {2.0, 0.0}};
+  for (const auto& p : xy) {
+    for (const double z : {-7.5, 7.5})
+      tooth.push_back(Vec3{p[0], p[1], z} * 1e-3);
+  }
+  std::vector<Vec3> rod;
+  for (int k = 0; k < 16; ++k) {
+    const double t = 2.0 * M_PI * (k + 0.5) / 16.0;
+    for (const double z : {-18.0, 18.0})
+      rod.push_back(Vec3{3.0 * std::cos(t), 3.0 * std::sin(t), z} * 1e-3);
+  }
+  const Polytope a = Polytope::fromPoints(tooth).value();
+  const Polytope b = Polytope::fromPoints(rod).value();
+  // the poses of the rod's path where the two overlap (the others would stop the exact method
+  // at a separating face of A)
+  std::vector<Transform> path;
+  for (int k = 0; k < 20000; ++k) {
+    const double s = 1e-3 * k;
+    Transform X;
+    X.R = glm::mat3_cast(glm::angleAxis(0.3 * std::sin(s), Vec3{0.0, 0.0, 1.0}));
+    // the rod's flat side (apothem 2.942 mm) at 0.03-0.09 mm from the flank near x = 2.03 mm
+    X.t = Vec3{2.03 + 2.942 - 0.06 + 0.03 * std::sin(3.0 * s), 5.0 + 2.0 * std::sin(0.7 * s),
+               0.3 * std::sin(1.3 * s)} *
+          1e-3;
+    collision::DepthCache fresh;
+    if (collision::penetrationDepthExact(a, b, X, fresh).depth > 1e-9)
+      path.push_back(X);
+  }
+  std::size_t i = 0;
+  collision::DepthTracker tracker;
+  tracker.reserve(a, b);
+  collision::DepthCache cache;
+  collision::DepthScratch scratch;
+  scratch.reserve(std::max(a.faces().size(), b.faces().size()));
+  for (auto _ : state) {
+    auto d = tracked ? collision::penetrationDepthCoherent(a, b, path[i], tracker, cache, scratch)
+                     : collision::penetrationDepthExact(a, b, path[i], cache, scratch);
+    if (++i == path.size())
+      i = 0;
+    benchmark::DoNotOptimize(d);
+  }
+  state.counters["poses"] = static_cast<double>(path.size());
+  if (tracked)
+    setTrackerCounters(state, tracker.stats);
+}
+
 void registerAll() {
+  benchmark::RegisterBenchmark("Depth/GearFlank/exact", oursDepthGearFlank, false);
+  benchmark::RegisterBenchmark("Depth/GearFlank/tracked", oursDepthGearFlank, true);
   for (const int k : {4, 6, 8, 12, 16, 24, 32}) {
     benchmark::RegisterBenchmark(("Depth/Resting/" + std::to_string(k)).c_str(), oursDepthResting,
                                  k, true);

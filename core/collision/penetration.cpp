@@ -28,6 +28,10 @@ inline bool isMinkowskiFace(const Vec3& a,
   return cba * dba < 0.0 && adc * bdc < 0.0 && cba * bdc > 0.0;
 }
 
+// The faces of B whose sides a lost edge walk computes once each (edgeArc); B with more faces
+// takes the test pair by pair.
+constexpr std::size_t kSideCap = 256;
+
 // A fixed-capacity convex polygon for the witness search (no allocation). A vertex beyond the
 // capacity is dropped, which leaves a convex subset of the polygon.
 struct WitnessPolygon {
@@ -298,16 +302,13 @@ bool edgeArc(const Polytope& a,
   const Vec3& nb = fa[ea[i].face[1]].normal;
   const Vec3 b_x_a = glm::cross(nb, na);
   bool regular = true;
-  auto edgePair = [&](std::uint32_t j) {
-    const Vec3 c = neg_normal(eb[j].face[0]);
-    const Vec3 d = neg_normal(eb[j].face[1]);
-    if (!isMinkowskiFace(na, nb, b_x_a, c, d, glm::cross(d, c)))
-      return false;
+  // the crossing's depth, once edge j's arc is known to cross this one
+  auto crossing = [&](std::uint32_t j) {
     Vec3 axis = glm::cross(ea[i].dir, X_AB.rotate(eb[j].dir));
     const double len = glm::length(axis);
     if (len < 1e-9) {
       regular = false;
-      return true;  // parallel edges: covered by the face normals
+      return;  // parallel edges: covered by the face normals
     }
     axis /= len;
     if (glm::dot(axis, na + nb) < 0.0)
@@ -316,6 +317,13 @@ bool edgeArc(const Polytope& a,
     const double depth = glm::dot(axis, a.vertices()[ea[i].tail].p - pb);
     arc_min = std::min(arc_min, depth);
     offer(depth, axis, j);
+  };
+  auto edgePair = [&](std::uint32_t j) {
+    const Vec3 c = neg_normal(eb[j].face[0]);
+    const Vec3 d = neg_normal(eb[j].face[1]);
+    if (!isMinkowskiFace(na, nb, b_x_a, c, d, glm::cross(d, c)))
+      return false;
+    crossing(j);
     return true;
   };
   std::uint32_t v = s0;
@@ -339,8 +347,33 @@ bool edgeArc(const Polytope& a,
     }
   }
   if (lost) {
-    for (std::uint32_t j = 0; j < eb.size(); ++j)
-      edgePair(j);
+    // every edge of B. Most fail the test's first half (both ends of B's arc on one side of
+    // this arc's great circle), and that half reads only each face's side, so each face's is
+    // computed once rather than once per edge: the same products, the same crossings
+    // (isMinkowskiFace). Parallel prisms (the gears' teeth, a resting cap) lose most walks:
+    // their arcs run through vertices of the map and along its arcs
+    const auto fb = b.faces();
+    std::array<double, kSideCap> side;
+    if (fb.size() > side.size()) {
+      for (std::uint32_t j = 0; j < eb.size(); ++j)
+        edgePair(j);
+      return false;
+    }
+    for (std::uint32_t k = 0; k < fb.size(); ++k)
+      side[k] = glm::dot(neg_normal(k), b_x_a);
+    for (std::uint32_t j = 0; j < eb.size(); ++j) {
+      const double cba = side[eb[j].face[0]];
+      const double dba = side[eb[j].face[1]];
+      if (!(cba * dba < 0.0))
+        continue;
+      const Vec3 c = neg_normal(eb[j].face[0]);
+      const Vec3 d = neg_normal(eb[j].face[1]);
+      const Vec3 d_x_c = glm::cross(d, c);
+      const double adc = glm::dot(na, d_x_c);
+      const double bdc = glm::dot(nb, d_x_c);
+      if (adc * bdc < 0.0 && cba * bdc > 0.0)
+        crossing(j);
+    }
   }
   return regular && !lost;
 }
