@@ -63,6 +63,25 @@ sim::TickInput inputAt(const std::vector<Key>& keys, double t) {
   return in;
 }
 
+// Per-tick times (us) as counters <prefix>mean_us, p50_us, p99_us, p999_us, max_us.
+void reportTimes(benchmark::State& state, const std::vector<double>& v, const std::string& prefix) {
+  std::vector<double> sorted = v;
+  std::sort(sorted.begin(), sorted.end());
+  auto pct = [&](double p) {
+    return sorted[std::min(sorted.size() - 1,
+                           static_cast<std::size_t>(p * static_cast<double>(sorted.size())))];
+  };
+  double mean = 0.0;
+  for (double x : v)
+    mean += x;
+  mean /= static_cast<double>(v.size());
+  state.counters[prefix + "mean_us"] = mean;
+  state.counters[prefix + "p50_us"] = pct(0.50);
+  state.counters[prefix + "p99_us"] = pct(0.99);
+  state.counters[prefix + "p999_us"] = pct(0.999);
+  state.counters[prefix + "max_us"] = sorted.back();
+}
+
 void runTicks(benchmark::State& state,
               std::shared_ptr<const scene::SceneModel> model,
               const std::vector<Key>& keys,
@@ -120,21 +139,7 @@ void runTicks(benchmark::State& state,
   // wall time per tick (steady_clock) and this thread's CPU time per tick (leaves out the time
   // the shared VM took the core away; includes the clock's own cost, about 0.3 us)
   auto report = [&](const std::vector<double>& v, const std::string& prefix) {
-    std::vector<double> sorted = v;
-    std::sort(sorted.begin(), sorted.end());
-    auto pct = [&](double p) {
-      return sorted[std::min(sorted.size() - 1,
-                             static_cast<std::size_t>(p * static_cast<double>(sorted.size())))];
-    };
-    double mean = 0.0;
-    for (double x : v)
-      mean += x;
-    mean /= static_cast<double>(v.size());
-    state.counters[prefix + "mean_us"] = mean;
-    state.counters[prefix + "p50_us"] = pct(0.50);
-    state.counters[prefix + "p99_us"] = pct(0.99);
-    state.counters[prefix + "p999_us"] = pct(0.999);
-    state.counters[prefix + "max_us"] = sorted.back();
+    reportTimes(state, v, prefix);
   };
   report(us, "");
   report(cpu_us, "cpu_");
@@ -357,20 +362,7 @@ void tickFixedWork(benchmark::State& state) {
       cpu_us[k] = (threadCpuNs() - c0) * 1e-3;
     }
   }
-  std::vector<double> sorted = cpu_us;
-  std::sort(sorted.begin(), sorted.end());
-  auto pct = [&](double p) {
-    return sorted[std::min(sorted.size() - 1,
-                           static_cast<std::size_t>(p * static_cast<double>(sorted.size())))];
-  };
-  double mean = 0.0;
-  for (double v : cpu_us)
-    mean += v;
-  state.counters["cpu_mean_us"] = mean / static_cast<double>(cpu_us.size());
-  state.counters["cpu_p50_us"] = pct(0.50);
-  state.counters["cpu_p99_us"] = pct(0.99);
-  state.counters["cpu_p999_us"] = pct(0.999);
-  state.counters["cpu_max_us"] = sorted.back();
+  reportTimes(state, cpu_us, "cpu_");
 }
 
 // one iteration each: an iteration runs the whole pose stream and times every tick
