@@ -87,18 +87,25 @@ void runTicks(benchmark::State& state,
               const std::vector<Key>& keys,
               double dynamics_sleep_time_s = sim::SimOptions{}.dynamics_sleep_time_s,
               std::size_t ticks = kTicks,
-              double rate_hz = 1000.0) {
+              double rate_hz = 1000.0,
+              std::size_t repeats = 1) {
   sim::SimOptions options;
   options.dynamics_sleep_time_s = dynamics_sleep_time_s;
   options.response.tick_s = 1.0 / rate_hz;  // as hapticd --rate sets it ([response] tick_s 0)
-  auto created = sim::Simulation::create(model, options);
-  if (!created.ok()) {
-    state.SkipWithError(created.error().message.c_str());
-    return;
-  }
   // the tick as the daemon runs it: the simulation, then the one output stage
-  auto sim = sim::withOutputStage(std::move(created).value(), options.response);
-  sim->prepareThread();  // as the daemon does on its servo thread before the first tick
+  auto makeSim = [&]() -> std::unique_ptr<sim::Simulation> {
+    auto created = sim::Simulation::create(model, options);
+    if (!created.ok()) {
+      state.SkipWithError(created.error().message.c_str());
+      return nullptr;
+    }
+    auto made = sim::withOutputStage(std::move(created).value(), options.response);
+    made->prepareThread();  // as the daemon does on its servo thread before the first tick
+    return made;
+  };
+  auto sim = makeSim();
+  if (sim == nullptr)
+    return;
   std::vector<sim::TickInput> inputs(ticks);
   for (std::size_t k = 0; k < ticks; ++k)
     inputs[k] = inputAt(keys, static_cast<double>(k) * options.response.tick_s);
@@ -135,6 +142,9 @@ void runTicks(benchmark::State& state,
         asleep_cpu_us.push_back(cpu_us[k]);
     }
   }
+  // the first run's forces, kept apart: read after DoNotOptimize, the sum came back as a
+  // denormal here (g++ 12.2 -O3), so nothing is compared with it after that
+  const double first_check = checksum;
   benchmark::DoNotOptimize(checksum);
   // wall time per tick (steady_clock) and this thread's CPU time per tick (leaves out the time
   // the shared VM took the core away; includes the clock's own cost, about 0.3 us)
@@ -143,6 +153,35 @@ void runTicks(benchmark::State& state,
   };
   report(us, "");
   report(cpu_us, "cpu_");
+  if (repeats > 1) {
+    // the ticks' own work: the same stream again on a fresh simulation, `repeats` runs in all;
+    // every run does the same work tick for tick (the simulation is deterministic: checked by
+    // the forces and the pairs tested), so a tick's least time over the runs is its own work
+    // and what a run's time exceeds it by is the machine's (bench/README.md "Tick/gears'
+    // slowest ticks")
+    std::vector<double> own = cpu_us;
+    double differ = 0.0;
+    for (std::size_t r = 1; r < repeats; ++r) {
+      auto again = makeSim();
+      if (again == nullptr)
+        return;
+      double check = 0.0;
+      std::uint64_t again_pairs = 0;
+      for (std::size_t k = 0; k < ticks; ++k) {
+        const double c0 = threadCpuNs();
+        const sim::TickOutput out = again->step(inputs[k]);
+        const double c1 = threadCpuNs();
+        own[k] = std::min(own[k], (c1 - c0) * 1e-3);
+        check += out.force_W_n.y;
+        again_pairs += out.pairs_tested;
+      }
+      if (check != first_check || again_pairs != pairs)
+        differ += 1.0;
+    }
+    reportTimes(state, own, "own_cpu_");
+    state.counters["own_runs"] = static_cast<double>(repeats);
+    state.counters["own_runs_differ"] = differ;  // not 0: the own-work figures mean nothing
+  }
   if (!asleep_cpu_us.empty())
     report(asleep_cpu_us, "asleep_cpu_");  // thread CPU time of the ticks once asleep
   state.counters["contacts_per_tick"] = static_cast<double>(contacts) / static_cast<double>(ticks);
@@ -162,7 +201,7 @@ void runTicks(benchmark::State& state,
           : 0.0;
 }
 
-void tickScene(benchmark::State& state, const char* name, double rate_hz) {
+void tickScene(benchmark::State& state, const char* name, double rate_hz, std::size_t repeats) {
   const std::string dir = HAPTICD_SOURCE_DIR;
   auto report = scene::loadSceneFile(dir + "/scenes/" + name + ".glb");
   if (!report.ok()) {
@@ -178,7 +217,7 @@ void tickScene(benchmark::State& state, const char* name, double rate_hz) {
   const auto ticks =
       static_cast<std::size_t>(std::llround(static_cast<double>(kTicks) * rate_hz / 1000.0));
   runTicks(state, std::make_shared<const scene::SceneModel>(std::move(*report.scene)), keys,
-           sim::SimOptions{}.dynamics_sleep_time_s, ticks, rate_hz);
+           sim::SimOptions{}.dynamics_sleep_time_s, ticks, rate_hz, repeats);
 }
 
 std::shared_ptr<const geom::Polytope> box(const Vec3& h) {
@@ -374,13 +413,18 @@ void registerAll() {
   once(benchmark::RegisterBenchmark("Tick/fixed_work", tickFixedWork)->Arg(11000));
   for (const char* scene : {"peg_in_hole", "gears", "dynamic", "stress", "decomposed"})
     once(benchmark::RegisterBenchmark(("Tick/" + std::string(scene)).c_str(), tickScene, scene,
-                                      1000.0));
+                                      1000.0, std::size_t{1}));
+  // the ticks' own work (own_cpu_*): each stream run 5 times, each tick's least time over the
+  // runs, which leaves out the shared VM's stalls (Tick/fixed_work shows them alone)
+  for (const char* scene : {"peg_in_hole", "gears", "dynamic", "stress", "decomposed"})
+    once(benchmark::RegisterBenchmark(("Tick/" + std::string(scene) + "/own").c_str(), tickScene,
+                                      scene, 1000.0, std::size_t{5}));
   // the same at 4 kHz (hapticd --rate 4000): the stream sampled every 0.25 ms, the response's
   // tick_s 0.25 ms (delta, the coupling's damping, the dynamics' step), 400 000 ticks (the same
   // 100 s of the stream played forwards and backwards); budget 250 us a tick, target p99.9 < 125 us
   for (const char* scene : {"peg_in_hole", "gears", "dynamic", "stress", "decomposed"})
     once(benchmark::RegisterBenchmark(("Tick/" + std::string(scene) + "/4kHz").c_str(), tickScene,
-                                      scene, 4000.0));
+                                      scene, 4000.0, std::size_t{1}));
   once(benchmark::RegisterBenchmark("Tick/stack100", tickStack100)->Arg(1));
   once(benchmark::RegisterBenchmark("Tick/stack100_sleeping", tickStack100)->Arg(0));
   once(benchmark::RegisterBenchmark("Tick/boxes2000_sleeping", tickBoxes2000));
