@@ -179,6 +179,9 @@ void runTicks(benchmark::State& state,
         differ += 1.0;
     }
     reportTimes(state, own, "own_cpu_");
+    // the tick of the most own work (its index in the stream's ticks)
+    state.counters["own_cpu_max_tick"] =
+        static_cast<double>(std::max_element(own.begin(), own.end()) - own.begin());
     state.counters["own_runs"] = static_cast<double>(repeats);
     state.counters["own_runs_differ"] = differ;  // not 0: the own-work figures mean nothing
   }
