@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <string_view>
 #include <system_error>
 #include <tuple>
 #include <vector>
@@ -19,6 +20,10 @@ namespace {
 
 constexpr char kMagic[8] = {'H', 'D', 'P', 'I', 'E', 'C', 'E', 'S'};
 constexpr std::size_t kHexBytes = 64;
+// an entry's file is <key><kEntrySuffix>; a writer's temporary file
+// <key><kEntrySuffix><kTmpMark>...
+constexpr std::string_view kEntrySuffix = ".pieces";
+constexpr std::string_view kTmpMark = ".tmp.";
 // magic, version, key, payload length, checksum
 constexpr std::size_t kHeaderBytes = sizeof kMagic + 4 + kHexBytes + 8 + kHexBytes;
 // an entry larger than this is not one of ours (64 pieces x 64 Ki vertices x 24 bytes is 96 MiB)
@@ -133,7 +138,7 @@ std::string decompCacheKey(const decomp::TriangleMesh& mesh,
 }
 
 std::filesystem::path cacheEntryPath(const std::filesystem::path& dir, const std::string& key) {
-  return dir / (key + ".pieces");
+  return dir / (key + std::string(kEntrySuffix));
 }
 
 Eviction evictCache(const std::filesystem::path& dir,
@@ -141,8 +146,8 @@ Eviction evictCache(const std::filesystem::path& dir,
                     const std::string& keep_key,
                     std::chrono::seconds stale_after) {
   Eviction ev;
-  const std::string suffix = ".pieces";
-  const std::string tmp_mark = ".pieces.tmp.";
+  const std::string suffix(kEntrySuffix);
+  const std::string tmp_mark = suffix + std::string(kTmpMark);
   auto keyed = [](const std::string& name) {
     return name.size() > kHexBytes &&
            std::all_of(name.begin(), name.begin() + kHexBytes,
@@ -191,7 +196,7 @@ Eviction evictCache(const std::filesystem::path& dir,
   for (const Entry& e : entries) {
     if (total <= max_bytes)
       break;
-    if (e.name == keep_key + suffix)
+    if (e.name == cacheEntryPath(dir, keep_key).filename())
       continue;
     std::error_code fe;
     if (!std::filesystem::remove(dir / e.name, fe) || fe)
@@ -279,7 +284,7 @@ Result<bool> writeCacheEntry(const std::filesystem::path& dir,
   static std::atomic<std::uint64_t> serial{0};
   const std::filesystem::path final_path = cacheEntryPath(dir, key);
   std::filesystem::path tmp = final_path;
-  tmp += ".tmp." + std::to_string(::getpid()) + "." + std::to_string(serial++);
+  tmp += std::string(kTmpMark) + std::to_string(::getpid()) + "." + std::to_string(serial++);
   {
     std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
     if (!out || !out.write(file.data(), static_cast<std::streamsize>(file.size())) ||
