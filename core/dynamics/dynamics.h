@@ -419,6 +419,7 @@ class Dynamics {
   double tick_dt_ = 0.001;
   double min_size_ = 1.0;             // smallest dynamic body's size
   double velocity_tolerance_ = 0.0;   // this tick's convergence tolerance of the solves
+  double mass_ratio_ = 1.0;           // this tick's largest mass ratio across a resting contact
   double ke_episode_start_ = 0.0;     // kinetic energy before a solve with restitution
   std::uint32_t iterations_run_ = 0;  // this tick's velocity iterations, all solves
   std::uint32_t settle_rows_ = 0;     // this tick's rows solved by settling iterations

@@ -600,6 +600,10 @@ void Dynamics::solveThroughImpacts(double dt, StepReport& report) {
   // rounding (e-folding 60 ms, a top-heavy tower's own rate) until it fell at 1.3 s; with the
   // tolerance divided by 100 the lean stays below 1e-8 of the edge. Equal masses: unchanged.
   double ratio = 1.0;
+  // the same over the resting contacts only: the settling iterations' rules (solveVelocities,
+  // correctPositions). Sliding contacts (a gear's teeth) that rarely converge are left out, so
+  // that their scenes do not run the settling iterations to the row budget every tick.
+  double rest_ratio = 1.0;
   for (ContactPoint& cp : points_) {
     if (!std::isfinite(cp.size))
       cp.size = scene_->length_scale;
@@ -611,13 +615,17 @@ void Dynamics::solveThroughImpacts(double dt, StepReport& report) {
       const BodyState& A = bodies_[cp.a];
       const BodyState& B = bodies_[cp.b];
       const double lo = std::min(A.inv_mass, B.inv_mass);
-      if (!A.infinite && !B.infinite && lo > 0.0)
+      if (!A.infinite && !B.infinite && lo > 0.0) {
         ratio = std::max(ratio, std::max(A.inv_mass, B.inv_mass) / lo);
+        if (cp.resting)
+          rest_ratio = std::max(rest_ratio, std::max(A.inv_mass, B.inv_mass) / lo);
+      }
     } else {
       ++inactive;
     }
   }
   velocity_tolerance_ /= ratio;
+  mass_ratio_ = rest_ratio;
   if (any_active) {
     solveVelocities(dt);
   } else {
