@@ -588,7 +588,7 @@ void CollisionWorld::freePairState(std::uint32_t si, StepStats* stats) {
   PairState& s = pair_states_[si];
   if (!s.fresh)
     releaseTracker(s);  // a pair made again later starts its tracking afresh
-  if (!s.from_tree)  // (a tree pair's states are not in the map: see state_of_pair_)
+  if (!s.from_tree)     // (a tree pair's states are not in the map: see state_of_pair_)
     state_of_pair_.erase(pairKey(s.prim_a, s.prim_b));
   unlinkPair(si);
   s.live = false;
@@ -1034,8 +1034,7 @@ double CollisionWorld::centroidPlaneGap(const PairState& s) const {
   // the pieces' transforms as primitiveTransform gave them then (a body's T_WB is its pose's)
   const Transform X_WA = s.X_WA_test.toTransform() * da.X_BP;
   const Transform X_WB = s.X_WB_test.toTransform() * db.X_BP;
-  return extremeAlong(*db.shape, X_WB, s.sep_n, -1.0) -
-         extremeAlong(*da.shape, X_WA, s.sep_n, 1.0);
+  return extremeAlong(*db.shape, X_WB, s.sep_n, -1.0) - extremeAlong(*da.shape, X_WA, s.sep_n, 1.0);
 }
 
 bool CollisionWorld::farByBoxes(PairState& s) {
@@ -1088,8 +1087,8 @@ bool CollisionWorld::farByBoxes(PairState& s) {
       const double alo = A.lo[k] + m, ahi = A.hi[k] - m, blo = B.lo[k] + m, bhi = B.hi[k] - m;
       top_a += u[k] * (u[k] >= 0.0 ? ahi : alo);
       bottom_b += u[k] * (u[k] >= 0.0 ? blo : bhi);
-      mag = std::max({mag, std::abs(A.lo[k]), std::abs(A.hi[k]), std::abs(B.lo[k]),
-                      std::abs(B.hi[k])});
+      mag = std::max(
+          {mag, std::abs(A.lo[k]), std::abs(A.hi[k]), std::abs(B.lo[k]), std::abs(B.hi[k])});
     }
     const double rough = bottom_b - top_a - 1e-9 * (mag + m);
     if (options_.far_box_bound && rough > 0.0) {

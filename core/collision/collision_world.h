@@ -413,7 +413,9 @@ class CollisionWorld {
   void applyEvents(StepStats* stats);
   // a new pair state; `mapped`: entered in state_of_pair_ (a pair of the sweep and prune, or one
   // made by a descent that looks its pairs up there: see state_of_pair_)
-  std::uint32_t newPairState(std::uint32_t pa, std::uint32_t pb, StepStats* stats,
+  std::uint32_t newPairState(std::uint32_t pa,
+                             std::uint32_t pb,
+                             StepStats* stats,
                              bool mapped = true);
   void freePairState(std::uint32_t si, StepStats* stats);
   void buildTree(Body& b);

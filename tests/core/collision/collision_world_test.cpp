@@ -406,9 +406,8 @@ TEST(CollisionWorld, FarPairsByTheBoxesBoundAreThoseTheExactPlaneFindsFar) {
       s.move(X);
       r.move(X);
       if (k % 3 == 0) {
-        const Pose K{
-            Vec3{0.06 + 0.04 * std::cos(0.8 * t), 0.035, 0.06 + 0.03 * std::sin(1.1 * t)},
-            glm::angleAxis(0.7 * t, Vec3{0.0, 1.0, 0.0})};
+        const Pose K{Vec3{0.06 + 0.04 * std::cos(0.8 * t), 0.035, 0.06 + 0.03 * std::sin(1.1 * t)},
+                     glm::angleAxis(0.7 * t, Vec3{0.0, 1.0, 0.0})};
         s.world.setPose(kin, K);
         r.world.setPose(kin, K);
       }
