@@ -72,6 +72,7 @@ void CollisionWorld::reserve(std::size_t primitives, std::size_t pairs) {
   awake_.reserve(primitives);
   free_pair_states_.reserve(pairs);
   state_of_pair_.reserve(pairs);
+  mapped_tree_states_.reserve(pairs);
   order_.reserve(pairs);
   contact_order_.reserve(pairs);
   contacts_.reserve(pairs);
@@ -164,6 +165,9 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
     p.body = id;
     p.index = i;
     p.live = true;
+    if (prim_shape_.size() <= pi)
+      prim_shape_.resize(pi + 1);
+    prim_shape_[pi] = desc.primitives[i].shape.get();
     const Polytope& shape = *desc.primitives[i].shape;
     depth_scratch_.reserve(shape.faces().size());
     if (shape.faces().size() <= WorldOptions::kMaxTrackedFaces) {
@@ -385,7 +389,8 @@ void CollisionWorld::refit(std::uint32_t body) {
   b.refit_at = tick_ + 1;
 }
 
-const Aabb& CollisionWorld::pieceBox(std::uint32_t prim) {
+// (inlined: the descent calls it for every pair of overlapping leaves)
+[[gnu::always_inline]] inline const Aabb& CollisionWorld::pieceBox(std::uint32_t prim) {
   Prim& p = prims_[prim];
   if (p.box_at > bodies_[p.body].moved_tick)
     return p.box_W;
@@ -508,7 +513,10 @@ void CollisionWorld::unlinkPair(std::uint32_t si) {
   }
 }
 
-std::uint32_t CollisionWorld::newPairState(std::uint32_t pa, std::uint32_t pb, StepStats* stats) {
+std::uint32_t CollisionWorld::newPairState(std::uint32_t pa,
+                                           std::uint32_t pb,
+                                           StepStats* stats,
+                                           bool mapped) {
   static_assert(offsetof(PairState, far_travel) + sizeof(double) <= 64,
                 "what every step reads of a pair fits its first cache line");
   // a freed slot again, or a new one; either way reset but for its lazy fields (resetLazy, when
@@ -525,7 +533,17 @@ std::uint32_t CollisionWorld::newPairState(std::uint32_t pa, std::uint32_t pb, S
   PairState& s = pair_states_[si];
   if (prims_[pa].body > prims_[pb].body)
     std::swap(pa, pb);
-  const PairState reset;
+  // what the listing's first look at a new pair reads of its pieces (farByBoxes: their
+  // transforms in their bodies and their centroids), fetched now, the many pairs' together
+  for (const std::uint32_t pi : {pa, pb}) {
+    const Prim& p = prims_[pi];
+    const auto* desc =
+        reinterpret_cast<const char*>(&bodies_[p.body].desc.primitives.data()[p.index]);
+    __builtin_prefetch(desc);
+    __builtin_prefetch(desc + sizeof(PrimitiveDesc) - 1);
+    __builtin_prefetch(&prim_shape_[pi]->centroid());
+  }
+  static const PairState reset;
   s.prim_a = pa;
   s.prim_b = pb;
   s.body_a = prims_[pa].body;
@@ -540,10 +558,12 @@ std::uint32_t CollisionWorld::newPairState(std::uint32_t pa, std::uint32_t pb, S
   s.sep_d = reset.sep_d;
   s.far_travel = reset.far_travel;
   s.last_tested = tick_ - 1;  // never tested: as stale as one tick
+  s.sep_rough = reset.sep_rough;
   s.sep_n = reset.sep_n;
   s.X_WA_test = reset.X_WA_test;
   s.X_WB_test = reset.X_WB_test;
-  state_of_pair_.insert(pairKey(pa, pb), si);
+  if (mapped)
+    state_of_pair_.insert(pairKey(pa, pb), si);
   linkPair(si);
   if (stats != nullptr)
     ++stats->pairs_added;
@@ -551,7 +571,7 @@ std::uint32_t CollisionWorld::newPairState(std::uint32_t pa, std::uint32_t pb, S
 }
 
 void CollisionWorld::resetLazy(PairState& s) const {
-  const PairState reset;
+  static const PairState reset;
   s.tracker = reset.tracker;
   s.depth_misses = reset.depth_misses;
   s.track_from = reset.track_from;
@@ -568,7 +588,8 @@ void CollisionWorld::freePairState(std::uint32_t si, StepStats* stats) {
   PairState& s = pair_states_[si];
   if (!s.fresh)
     releaseTracker(s);  // a pair made again later starts its tracking afresh
-  state_of_pair_.erase(pairKey(s.prim_a, s.prim_b));
+  if (!s.from_tree)     // (a tree pair's states are not in the map: see state_of_pair_)
+    state_of_pair_.erase(pairKey(s.prim_a, s.prim_b));
   unlinkPair(si);
   s.live = false;
   free_pair_states_.push_back(si);
@@ -608,6 +629,18 @@ struct Side {
 
 }  // namespace
 
+bool CollisionWorld::ofTreePair(const PairState& s, std::uint32_t lo, std::uint32_t hi) const {
+  auto side = [this](std::uint32_t h) {
+    const std::uint32_t t = prim_of_box_[h];
+    return (t & kBodyBox) != 0 ? Side{true, t & ~kBodyBox, 0} : Side{false, prims_[t].body, t};
+  };
+  const Side x = side(lo), y = side(hi);
+  auto holds = [this](const Side& of, std::uint32_t prim) {
+    return of.tree ? prims_[prim].body == of.body : prim == of.prim;
+  };
+  return (holds(x, s.prim_a) && holds(y, s.prim_b)) || (holds(x, s.prim_b) && holds(y, s.prim_a));
+}
+
 void CollisionWorld::dropTreePair(std::uint32_t lo, std::uint32_t hi, StepStats* stats) {
   for (std::size_t i = 0; i < tree_pairs_.size(); ++i) {
     if (tree_pairs_[i].lo == lo && tree_pairs_[i].hi == hi) {
@@ -616,20 +649,21 @@ void CollisionWorld::dropTreePair(std::uint32_t lo, std::uint32_t hi, StepStats*
       break;
     }
   }
-  auto side = [this](std::uint32_t h) {
-    const std::uint32_t t = prim_of_box_[h];
-    return (t & kBodyBox) != 0 ? Side{true, t & ~kBodyBox, 0} : Side{false, prims_[t].body, t};
-  };
-  const Side x = side(lo), y = side(hi);
-  auto holds = [this](const Side& s, std::uint32_t prim) {
-    return s.tree ? prims_[prim].body == s.body : prim == s.prim;
-  };
   for (std::uint32_t si = 0; si < pair_states_.size(); ++si) {
     const PairState& s = pair_states_[si];
-    if (!s.live || !s.from_tree)
-      continue;
-    if ((holds(x, s.prim_a) && holds(y, s.prim_b)) || (holds(x, s.prim_b) && holds(y, s.prim_a)))
+    if (s.live && s.from_tree && ofTreePair(s, lo, hi))
       freePairState(si, stats);
+  }
+}
+
+void CollisionWorld::mapTreeStates(const TreePair& tp) {
+  mapped_tree_states_.clear();
+  for (std::uint32_t si = 0; si < pair_states_.size(); ++si) {
+    const PairState& s = pair_states_[si];
+    if (s.live && s.from_tree && ofTreePair(s, tp.lo, tp.hi)) {
+      state_of_pair_.insert(pairKey(s.prim_a, s.prim_b), si);
+      mapped_tree_states_.push_back(si);
+    }
   }
 }
 
@@ -704,10 +738,26 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
   constexpr std::uint32_t kInner = 0xffffffffu;
   const NodePair roots{};
   const bool from_front = options_.descent_fronts && !tp.fresh && tp.front_size > 0;
+  // a descent from the kept front finds every state the tree pair has by its hint (each is a
+  // leaf entry of the front: the last descent found exactly those pairs, and the pairs it did
+  // not find were dropped in its step), and a fresh tree pair has none; a descent from the roots
+  // of a tree pair with states looks them up in the map, where they are put for it
+  const bool mapped = !from_front && !tp.fresh;
+  if (mapped)
+    mapTreeStates(tp);
   std::uint32_t visited = 0;
   const NodePair* const starts = from_front ? front_.data() + tp.front_begin : &roots;
   const std::uint32_t n_starts = from_front ? tp.front_size : 1;
+  // a front's overlapping leaf pairs name their states: the first line of the state some
+  // entries ahead is fetched while this one is descended (its check below is otherwise a cache
+  // miss per pair; a stale or absent index is only a wasted fetch)
+  constexpr std::uint32_t kAhead = 8;
   for (std::uint32_t k = 0; k < n_starts; ++k) {
+    if (from_front && k + kAhead < n_starts) {
+      const std::uint32_t ahead = starts[k + kAhead].state;
+      if (ahead < pair_states_.size())
+        __builtin_prefetch(&pair_states_[ahead]);
+    }
     descent_.clear();
     descent_.push_back(starts[k]);
     while (!descent_.empty()) {
@@ -737,11 +787,13 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
           std::uint32_t si = hint;
           if (si >= pair_states_.size() || !pair_states_[si].live ||
               pairKey(pair_states_[si].prim_a, pair_states_[si].prim_b) != pairKey(pa, pb)) {
-            si = state_of_pair_.find(pairKey(pa, pb));
+            si = mapped ? state_of_pair_.find(pairKey(pa, pb)) : FlatMap::kNone;
           }
           if (si == FlatMap::kNone) {
-            si = newPairState(pa, pb, stats);
+            si = newPairState(pa, pb, stats, mapped);
             pair_states_[si].from_tree = true;
+            if (mapped)
+              mapped_tree_states_.push_back(si);
           }
           pair_states_[si].seen = tick_;
           np.state = si;
@@ -772,6 +824,11 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
       descent_.push_back(second);
       descent_.push_back(first);
     }
+  }
+  if (mapped) {
+    for (const std::uint32_t si : mapped_tree_states_)
+      state_of_pair_.erase(pairKey(pair_states_[si].prim_a, pair_states_[si].prim_b));
+    mapped_tree_states_.clear();
   }
   if (stats != nullptr)
     stats->node_pairs_visited += visited;
@@ -935,10 +992,49 @@ bool CollisionWorld::far(PairState& s, bool* kept) const {
                          turned(a.X_WB.rotation, s.X_WA_test.rotation, a.radius) -
                          turned(b.X_WB.rotation, s.X_WB_test.rotation, b.radius) - pad;
   const double margin = nearest - farLimit(s);
+  if (!(margin > 0.0) && s.sep_rough) {
+    // the boxes' bound of the centroids' plane does not find it far: the plane's exact gap, at
+    // the poses it was found at (what farByBoxes would have kept), decides, as it would have
+    s.sep_rough = false;
+    const double gap = centroidPlaneGap(s);
+    s.sep_d = gap > 0.0 ? gap : 0.0;
+    s.far_travel = -std::numeric_limits<double>::infinity();
+    return far(s, kept);
+  }
   s.far_travel = options_.far_by_travel && 0.5 * margin > pad
                      ? travel + 0.5 * margin
                      : -std::numeric_limits<double>::infinity();
   return margin > 0.0;
+}
+
+namespace {
+
+// the extreme of a piece along u (world) at X: a small piece's by one pass over its vertices, a
+// larger one's by a climb to its support point in its own frame; sign -1: the least
+double extremeAlong(const Polytope& shape, const Transform& X, const Vec3& u, double sign) {
+  const auto& vertices = shape.vertices();
+  if (vertices.size() <= kSmallShape) {
+    const Vec3 u_P = sign * (glm::transpose(X.R) * u);
+    double most = -std::numeric_limits<double>::infinity();
+    for (const auto& v : vertices)
+      most = std::max(most, glm::dot(u_P, v.p));
+    return sign * most + glm::dot(u, X.t);
+  }
+  const Vec3 u_P = glm::transpose(X.R) * (sign * u);
+  return glm::dot(u, X.apply(vertices[shape.support(u_P, 0)].p));
+}
+
+}  // namespace
+
+double CollisionWorld::centroidPlaneGap(const PairState& s) const {
+  const Prim& pa = prims_[s.prim_a];
+  const Prim& pb = prims_[s.prim_b];
+  const PrimitiveDesc& da = bodies_[pa.body].desc.primitives[pa.index];
+  const PrimitiveDesc& db = bodies_[pb.body].desc.primitives[pb.index];
+  // the pieces' transforms as primitiveTransform gave them then (a body's T_WB is its pose's)
+  const Transform X_WA = s.X_WA_test.toTransform() * da.X_BP;
+  const Transform X_WB = s.X_WB_test.toTransform() * db.X_BP;
+  return extremeAlong(*db.shape, X_WB, s.sep_n, -1.0) - extremeAlong(*da.shape, X_WA, s.sep_n, 1.0);
 }
 
 bool CollisionWorld::farByBoxes(PairState& s) {
@@ -962,6 +1058,7 @@ bool CollisionWorld::farByBoxes(PairState& s) {
       best = above, n = Vec3{0.0}, n[k] = 1.0;
   }
   s.far_travel = -std::numeric_limits<double>::infinity();  // a new plane
+  s.sep_rough = false;
   if (best > 0.0) {
     s.sep_n = n;
     s.sep_d = best + 2.0 * options_.box_margin;
@@ -980,25 +1077,35 @@ bool CollisionWorld::farByBoxes(PairState& s) {
   const double len = glm::length(d);
   if (len > 0.0) {
     const Vec3 u = d / len;
-    // the extreme of a piece along u in the world: a small piece's by one pass over its
-    // vertices, a larger one's by a climb to its support point in its own frame
-    auto extreme = [&u](const Polytope& shape, const Transform& X, double sign) {
-      const auto& vertices = shape.vertices();
-      if (vertices.size() <= kSmallShape) {
-        const Vec3 u_P = sign * (glm::transpose(X.R) * u);
-        double most = -std::numeric_limits<double>::infinity();
-        for (const auto& v : vertices)
-          most = std::max(most, glm::dot(u_P, v.p));
-        return sign * most + glm::dot(u, X.t);
-      }
-      const Vec3 u_P = glm::transpose(X.R) * (sign * u);
-      return glm::dot(u, X.apply(vertices[shape.support(u_P, 0)].p));
-    };
-    const double top_a = extreme(shape_a, X_WA, 1.0);
-    const double bottom_b = extreme(shape_b, X_WB, -1.0);
-    if (bottom_b - top_a > 0.0) {
+    // first a lower bound of the gap from the pieces' world boxes (without their margins; the
+    // pad covers the rounding of both ways many times over): a piece's vertices are not read
+    // (the static plate's entering pieces are cold in the cache); far() makes the plane exact
+    // before it could find the pair near, so the pairs found far are the same
+    const double m = options_.box_margin;
+    double top_a = 0.0, bottom_b = 0.0, mag = 0.0;
+    for (int k = 0; k < 3; ++k) {
+      const double alo = A.lo[k] + m, ahi = A.hi[k] - m, blo = B.lo[k] + m, bhi = B.hi[k] - m;
+      top_a += u[k] * (u[k] >= 0.0 ? ahi : alo);
+      bottom_b += u[k] * (u[k] >= 0.0 ? blo : bhi);
+      mag = std::max(
+          {mag, std::abs(A.lo[k]), std::abs(A.hi[k]), std::abs(B.lo[k]), std::abs(B.hi[k])});
+    }
+    const double rough = bottom_b - top_a - 1e-9 * (mag + m);
+    if (options_.far_box_bound && rough > 0.0) {
       s.sep_n = u;
-      s.sep_d = bottom_b - top_a;
+      s.sep_d = rough;
+      s.sep_rough = true;
+      if (far(s))  // (far() makes it exact when the bound does not find it far)
+        return true;
+      s.sep_d = 0.0;  // found near by the exact plane (far() made it so), as below
+      return false;
+    }
+    // the plane normal to the line at the pieces' extreme vertices along it
+    const double top = extremeAlong(shape_a, X_WA, u, 1.0);
+    const double bottom = extremeAlong(shape_b, X_WB, u, -1.0);
+    if (bottom - top > 0.0) {
+      s.sep_n = u;
+      s.sep_d = bottom - top;
       s.far_travel = -std::numeric_limits<double>::infinity();
       if (far(s))
         return true;
@@ -1081,6 +1188,7 @@ void CollisionWorld::test(std::uint32_t si) {
   const Vec3 ab = s.last.point_b - s.last.point_a;
   const double d = glm::length(ab);
   s.sep_d = r.status == ContactStatus::kSeparated && d > 0.0 ? d : 0.0;
+  s.sep_rough = false;
   s.far_travel = -std::numeric_limits<double>::infinity();  // a new plane
   s.sep_n = s.sep_d > 0.0 ? ab / d : Vec3{0.0};
   s.X_WA_test = bodies_[pa.body].X_WB;
@@ -1141,6 +1249,7 @@ void CollisionWorld::schedule(StepStats* stats) {
       if (far(s, &kept) || ((s.fresh || !s.last.answered) && farByBoxes(s))) {
         ++stats->pairs_far;
         stats->pairs_far_kept += kept ? 1u : 0u;
+        stats->pairs_far_box_bound += !kept && s.sep_rough ? 1u : 0u;
         continue;
       }
       if (s.fresh)
@@ -1375,7 +1484,8 @@ void CollisionWorld::writeState(StateWriter& w) const {
     if (s.tracker != kNil)
       writeTracker(w, trackers_[s.tracker]);
     w.glm(s.sep_n);
-    w.f64(s.sep_d);
+    // a plane kept as the boxes' bound: the exact gap it stands for (the same state either way)
+    w.f64(s.sep_rough ? centroidPlaneGap(s) : s.sep_d);
     for (const geom::Pose* X : {&s.X_WA_test, &s.X_WB_test}) {
       w.glm(X->translation);
       w.glm(X->rotation);

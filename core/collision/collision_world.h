@@ -99,6 +99,12 @@ struct WorldOptions {
   /// radius); the same pairs are far either way (the plane's bound loses at most what they
   /// moved). false: the plane evaluated every step.
   bool far_by_travel = true;
+  /// A pair not yet tested is first tried against the centroids' plane by its pieces' world
+  /// boxes' extremes along it (a lower bound of the plane's gap: the pieces' vertices are not
+  /// read) and, found far so, keeps that bound; far() puts the plane's exact gap in its place
+  /// before the bound could find the pair near. The same pairs are far either way. false: the
+  /// exact gap at once.
+  bool far_box_bound = true;
   /// The coherent exact depth (penetrationDepthCoherent, docs/narrow-phase.md "Coherent exact
   /// depth" and "In the collision world"): at most this many pairs track their penetration depth
   /// at once, each with a DepthTracker from a pool the world reserves as bodies are added (off
@@ -188,6 +194,9 @@ struct StepStats {
   /// bodies have moved less than half the margin they were found far by (WorldOptions::
   /// far_by_travel).
   std::uint32_t pairs_far_kept = 0;
+  /// Of those, the pairs found far by the boxes' bound of their centroids' plane (WorldOptions::
+  /// far_box_bound), not by the plane's exact gap: their pieces' vertices not read.
+  std::uint32_t pairs_far_box_bound = 0;
   /// Node pairs of two piece trees the descents looked at this step (WorldOptions::
   /// descent_fronts).
   std::uint32_t node_pairs_visited = 0;
@@ -370,6 +379,10 @@ class CollisionWorld {
     double far_travel = -std::numeric_limits<double>::infinity();
     // ---- the second cache line on, set when the state is made
     std::uint64_t last_tested = 0;  // tick of the last test (the tick before it appeared, if none)
+    // sep_d is a lower bound of the centroids' plane's gap, from the pieces' world boxes (the
+    // pieces' vertices not read); far() puts the exact gap (the extreme vertices' at the same
+    // poses) in its place before the plane could find the pair near
+    bool sep_rough = false;
     Vec3 sep_n{0.0};
     geom::Pose X_WA_test, X_WB_test;
     // ---- `lazy`: reset when first listed (fresh)
@@ -398,13 +411,23 @@ class CollisionWorld {
   Aabb primitiveBox(Prim& p);
   Transform primitiveTransform(const Prim& p) const;
   void applyEvents(StepStats* stats);
-  std::uint32_t newPairState(std::uint32_t pa, std::uint32_t pb, StepStats* stats);
+  // a new pair state; `mapped`: entered in state_of_pair_ (a pair of the sweep and prune, or one
+  // made by a descent that looks its pairs up there: see state_of_pair_)
+  std::uint32_t newPairState(std::uint32_t pa,
+                             std::uint32_t pb,
+                             StepStats* stats,
+                             bool mapped = true);
   void freePairState(std::uint32_t si, StepStats* stats);
   void buildTree(Body& b);
   void refit(std::uint32_t body);
   const Aabb& pieceBox(std::uint32_t prim);
   void descend(TreePair& tp, StepStats* stats);
   void dropTreePair(std::uint32_t lo, std::uint32_t hi, StepStats* stats);
+  // enters the tree pair's states in state_of_pair_ (and mapped_tree_states_) for a descent from
+  // its roots
+  void mapTreeStates(const TreePair& tp);
+  // whether pair state s is one of the piece pairs of the tree pair of handles lo, hi
+  bool ofTreePair(const PairState& s, std::uint32_t lo, std::uint32_t hi) const;
   void resolveTreePairs(StepStats* stats);
   void test(std::uint32_t si);
   // depth trackers: whether the pair's shapes are tracked, take one from the pool (or from a
@@ -433,6 +456,9 @@ class CollisionWorld {
   }
   // a pair certainly farther apart than WorldOptions::far_distance
   bool far(PairState& s, bool* kept = nullptr) const;
+  // the gap between the pieces' extreme vertices along sep_n at the poses X_WA_test, X_WB_test
+  // (the centroids' plane's exact gap; farByBoxes)
+  double centroidPlaneGap(const PairState& s) const;
   double farLimit(const PairState& s) const;
   // a pair not yet tested whose pieces' boxes are farther apart than far_distance on one axis,
   // or whose pieces are, along the line between their centroids: that axis or line as its
@@ -473,8 +499,18 @@ class CollisionWorld {
   void reserveFronts();
   ReservedVector<PairState> pair_states_;
   ReservedVector<std::uint32_t> free_pair_states_;
-  FlatMap state_of_pair_;  // prim-pair key (prims_ indices) -> pair_states_ index
+  // prim-pair key (prims_ indices) -> pair_states_ index, for the pairs of the sweep and prune.
+  // A tree pair's piece pairs are not in it: a descent from the tree pair's kept front finds
+  // each of its states by the front's hint (every state it has is a leaf entry of that front),
+  // and a fresh tree pair has none; only a descent from the roots of a tree pair that has states
+  // (its front not kept) enters them, for that descent (mapped_tree_states_). The map is sized
+  // for every pair the scene can make and so is mostly cold in the cache: a lookup there was a
+  // cache miss per piece pair made or dropped
+  FlatMap state_of_pair_;
+  ReservedVector<std::uint32_t> mapped_tree_states_;  // scratch: the states such a descent mapped
   ReservedVector<std::uint32_t> free_prims_;
+  // per primitive, its shape (its body's description's): what newPairState fetches ahead
+  std::vector<const Polytope*> prim_shape_;
   ReservedVector<std::uint32_t> free_bodies_;
   ReservedVector<std::uint32_t> moved_;  // bodies given a pose since the last step
   ReservedVector<std::uint32_t> posed_;  // bodies given a pose since clearPosed()

@@ -369,6 +369,82 @@ TEST(CollisionWorld, FarPairsKeptByTravelAreThoseThePlaneFindsFar) {
   EXPECT_GT(kept, far / 4);
 }
 
+// WorldOptions::far_box_bound: a pair not yet tested that the boxes' bound of its centroids'
+// plane finds far is a pair the plane's exact gap finds far, and one the bound no longer finds
+// far is decided by the exact gap, as if it had been kept: the same pairs tested and far, the
+// same contacts bit for bit and the same world state (writeState writes the exact gap), step by
+// step, as a world that computes the exact gap at once; and the bound finds pairs far.
+TEST(CollisionWorld, FarPairsByTheBoxesBoundAreThoseTheExactPlaneFindsFar) {
+  struct Bytes : StateWriter {
+    std::string out;
+    void bytes(const void* data, std::size_t n) override {
+      out.append(static_cast<const char*>(data), n);
+    }
+  };
+  for (const bool travel : {true, false}) {
+    WorldOptions o;
+    o.box_margin = 0.004;
+    o.far_distance = 0.006;
+    o.far_distance_static = 0.005;
+    o.far_by_travel = travel;
+    WorldOptions exact = o;
+    exact.far_box_bound = false;
+    Scene s(o), r(exact);
+    BodyDesc d;
+    d.kind = BodyKind::kKinematic;
+    d.primitives.push_back({shape(box(0.008)), Transform{}});
+    const std::uint32_t kin = s.add(d, Pose{Vec3{0.05, 0.04, 0.05}, Quat{1, 0, 0, 0}});
+    ASSERT_EQ(r.add(d, Pose{Vec3{0.05, 0.04, 0.05}, Quat{1, 0, 0, 0}}), kin);
+    std::size_t far = 0, bound = 0, bound_exact = 0;
+    for (int k = 0; k < 600; ++k) {
+      const double t = k * 0.01;
+      const double u = std::min(t, 4.5) + (k >= 300 ? 0.7 : 0.0) + 0.3 * std::sin(0.5 * t);
+      const double turn = 0.5 * u + (k >= 450 ? 0.03 * (k - 450) : 0.0);
+      const Pose X{Vec3{0.06 + 0.05 * std::sin(u), 0.012 + 0.01 * std::cos(1.3 * u),
+                        0.06 + 0.05 * std::cos(u)},
+                   glm::angleAxis(turn, glm::normalize(Vec3{1, 2, 3}))};
+      s.move(X);
+      r.move(X);
+      if (k % 3 == 0) {
+        const Pose K{Vec3{0.06 + 0.04 * std::cos(0.8 * t), 0.035, 0.06 + 0.03 * std::sin(1.1 * t)},
+                     glm::angleAxis(0.7 * t, Vec3{0.0, 1.0, 0.0})};
+        s.world.setPose(kin, K);
+        r.world.setPose(kin, K);
+      }
+      const StepStats a = s.world.step();
+      const StepStats b = r.world.step();
+      ASSERT_EQ(a.pairs_tested, b.pairs_tested) << "step " << k;
+      ASSERT_EQ(a.pairs_far, b.pairs_far) << "step " << k;
+      ASSERT_EQ(a.pairs_overlapping, b.pairs_overlapping) << "step " << k;
+      ASSERT_EQ(s.world.contacts().size(), r.world.contacts().size()) << "step " << k;
+      for (std::size_t i = 0; i < s.world.contacts().size(); ++i) {
+        const Contact& x = s.world.contacts()[i];
+        const Contact& y = r.world.contacts()[i];
+        ASSERT_EQ(x.body_a, y.body_a);
+        ASSERT_EQ(x.body_b, y.body_b);
+        ASSERT_EQ(x.prim_a, y.prim_a);
+        ASSERT_EQ(x.prim_b, y.prim_b);
+        ASSERT_EQ(std::memcmp(&x.distance, &y.distance, sizeof(double)), 0) << "step " << k;
+        ASSERT_EQ(std::memcmp(&x.point_a, &y.point_a, sizeof(Vec3)), 0) << "step " << k;
+      }
+      Bytes ws, wr;
+      s.world.writeState(ws);
+      r.world.writeState(wr);
+      ASSERT_EQ(ws.out, wr.out) << "step " << k;
+      far += a.pairs_far;
+      bound += a.pairs_far_box_bound;
+      bound_exact += b.pairs_far_box_bound;
+    }
+    std::printf(
+        "[figures] world (far_by_travel %d): %zu pairs far over 600 steps, %zu of them by the "
+        "boxes' bound\n",
+        travel ? 1 : 0, far, bound);
+    EXPECT_EQ(bound_exact, 0u);
+    EXPECT_GT(far, 1000u);
+    EXPECT_GT(bound, 50u);
+  }
+}
+
 TEST(CollisionWorld, SchedulerTestsEveryPairWithinCeilPOverB) {
   for (const std::uint32_t budget : {1u, 2u, 3u, 5u}) {
     WorldOptions o;
