@@ -154,7 +154,7 @@ void Dynamics::solveVelocities(double remaining) {
     // down, so the settling stopped after a few iterations and the tower leant over from
     // rounding (thrown apart at 5 mm and 2 cm; Stack.AlternatingHeavyLightTowerStands)
     last = it + 1 < options_.velocity_iterations || residual < last || mass_ratio_ > 1.0 ? residual
-                                                                                          : 0.0;
+                                                                                         : 0.0;
   }
   if (bounces)
     applyRestitution();

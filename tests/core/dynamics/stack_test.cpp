@@ -470,8 +470,8 @@ TEST(Stack, HeavyBoxOnTwoLightSmallOnesStands) {
 // Ten cubes alternating 100 and 10 000 kg/m3 (light at the bottom), friction 0.6, placed
 // touching (the top one 1e-9 of the edge off centre: the rig is otherwise exactly symmetric and
 // nothing seeds a lean), settled 2 s, then a minute, at 5 mm, 2 cm, 10 cm and 1 m (issue 17;
-// F3 of /work/notes/stacks20.md). Without the settling rules for unequal masses (the velocity
-// solve's settling not stopped by a residual that does not fall, every split-impulse
+// a case first measured through the daemon). Without the settling rules for unequal masses (the
+// velocity solve's settling not stopped by a residual that does not fall, every split-impulse
 // iteration run) it measured, 2026-12-05: thrown apart at 5 mm (9.8 edges) and 2 cm (2e4
 // edges), at 10 cm a jolt of 1.42e-3 rad/s; the velocity solve stopped unconverged at a
 // mass ratio of 100 and the tower leant over from rounding.
