@@ -307,28 +307,22 @@ TEST(CollisionWorld, FarPairsAreNeitherTestedNorListedAndNoNearPairIsMissed) {
   EXPECT_LT(5 * tested, 3 * found);  // 3 508 of 6 723 measured
 }
 
-// WorldOptions::far_by_travel: a pair kept far by its bodies' travel since it was found far is a
-// pair the separating plane would find far too: the same pairs tested and far, the same
-// contacts bit for bit, as a world that evaluates every plane every step; and many far pairs are
-// kept so (this motion is fast for its margins: 1 370 of 3 981 measured).
-TEST(CollisionWorld, FarPairsKeptByTravelAreThoseThePlaneFindsFar) {
-  WorldOptions o;
-  o.box_margin = 0.004;
-  o.far_distance = 0.006;
-  o.far_distance_static = 0.005;
-  WorldOptions every = o;
-  every.far_by_travel = false;
-  Scene s(o), r(every);
+// Two worlds of the same scene under two WorldOptions that must find the same pairs far and
+// tested, stepped side by side over 600 steps of one motion: slow and fast stretches, turning, a
+// jump (a teleport) at step 300, and from step 450 a turn in place (the bodies' travel is then
+// all chord), a kinematic box moved every third step. Asserts each step's pairs tested, far and
+// overlapping and the contacts equal (bit for bit); `each` sees both steps' stats (and the
+// worlds) after the checks.
+template <typename Each>
+void stepSideBySide(const WorldOptions& oa, const WorldOptions& ob, Each each) {
+  Scene s(oa), r(ob);
   BodyDesc d;
   d.kind = BodyKind::kKinematic;
   d.primitives.push_back({shape(box(0.008)), Transform{}});
   const std::uint32_t kin = s.add(d, Pose{Vec3{0.05, 0.04, 0.05}, Quat{1, 0, 0, 0}});
   ASSERT_EQ(r.add(d, Pose{Vec3{0.05, 0.04, 0.05}, Quat{1, 0, 0, 0}}), kin);
-  std::size_t far = 0, kept = 0, kept_every = 0;
   for (int k = 0; k < 600; ++k) {
     const double t = k * 0.01;
-    // slow and fast stretches, turning, a jump (a teleport) at step 300, and from step 450 a
-    // turn in place (the bodies' travel is then all chord)
     const double u = std::min(t, 4.5) + (k >= 300 ? 0.7 : 0.0) + 0.3 * std::sin(0.5 * t);
     const double turn = 0.5 * u + (k >= 450 ? 0.03 * (k - 450) : 0.0);
     const Pose X{Vec3{0.06 + 0.05 * std::sin(u), 0.012 + 0.01 * std::cos(1.3 * u),
@@ -358,10 +352,31 @@ TEST(CollisionWorld, FarPairsKeptByTravelAreThoseThePlaneFindsFar) {
       ASSERT_EQ(std::memcmp(&x.distance, &y.distance, sizeof(double)), 0) << "step " << k;
       ASSERT_EQ(std::memcmp(&x.point_a, &y.point_a, sizeof(Vec3)), 0) << "step " << k;
     }
-    far += a.pairs_far;
-    kept += a.pairs_far_kept;
-    kept_every += b.pairs_far_kept;
+    each(k, a, b, s.world, r.world);
+    if (::testing::Test::HasFatalFailure())
+      return;
   }
+}
+
+// WorldOptions::far_by_travel: a pair kept far by its bodies' travel since it was found far is a
+// pair the separating plane would find far too: the same pairs tested and far, the same
+// contacts bit for bit, as a world that evaluates every plane every step; and many far pairs are
+// kept so (this motion is fast for its margins: 1 370 of 3 981 measured).
+TEST(CollisionWorld, FarPairsKeptByTravelAreThoseThePlaneFindsFar) {
+  WorldOptions o;
+  o.box_margin = 0.004;
+  o.far_distance = 0.006;
+  o.far_distance_static = 0.005;
+  WorldOptions every = o;
+  every.far_by_travel = false;
+  std::size_t far = 0, kept = 0, kept_every = 0;
+  stepSideBySide(o, every,
+                 [&](int, const StepStats& a, const StepStats& b, const CollisionWorld&,
+                     const CollisionWorld&) {
+                   far += a.pairs_far;
+                   kept += a.pairs_far_kept;
+                   kept_every += b.pairs_far_kept;
+                 });
   std::printf("[figures] world: %zu pairs far over 600 steps, %zu of them kept by travel\n", far,
               kept);
   EXPECT_EQ(kept_every, 0u);
@@ -389,52 +404,18 @@ TEST(CollisionWorld, FarPairsByTheBoxesBoundAreThoseTheExactPlaneFindsFar) {
     o.far_by_travel = travel;
     WorldOptions exact = o;
     exact.far_box_bound = false;
-    Scene s(o), r(exact);
-    BodyDesc d;
-    d.kind = BodyKind::kKinematic;
-    d.primitives.push_back({shape(box(0.008)), Transform{}});
-    const std::uint32_t kin = s.add(d, Pose{Vec3{0.05, 0.04, 0.05}, Quat{1, 0, 0, 0}});
-    ASSERT_EQ(r.add(d, Pose{Vec3{0.05, 0.04, 0.05}, Quat{1, 0, 0, 0}}), kin);
     std::size_t far = 0, bound = 0, bound_exact = 0;
-    for (int k = 0; k < 600; ++k) {
-      const double t = k * 0.01;
-      const double u = std::min(t, 4.5) + (k >= 300 ? 0.7 : 0.0) + 0.3 * std::sin(0.5 * t);
-      const double turn = 0.5 * u + (k >= 450 ? 0.03 * (k - 450) : 0.0);
-      const Pose X{Vec3{0.06 + 0.05 * std::sin(u), 0.012 + 0.01 * std::cos(1.3 * u),
-                        0.06 + 0.05 * std::cos(u)},
-                   glm::angleAxis(turn, glm::normalize(Vec3{1, 2, 3}))};
-      s.move(X);
-      r.move(X);
-      if (k % 3 == 0) {
-        const Pose K{Vec3{0.06 + 0.04 * std::cos(0.8 * t), 0.035, 0.06 + 0.03 * std::sin(1.1 * t)},
-                     glm::angleAxis(0.7 * t, Vec3{0.0, 1.0, 0.0})};
-        s.world.setPose(kin, K);
-        r.world.setPose(kin, K);
-      }
-      const StepStats a = s.world.step();
-      const StepStats b = r.world.step();
-      ASSERT_EQ(a.pairs_tested, b.pairs_tested) << "step " << k;
-      ASSERT_EQ(a.pairs_far, b.pairs_far) << "step " << k;
-      ASSERT_EQ(a.pairs_overlapping, b.pairs_overlapping) << "step " << k;
-      ASSERT_EQ(s.world.contacts().size(), r.world.contacts().size()) << "step " << k;
-      for (std::size_t i = 0; i < s.world.contacts().size(); ++i) {
-        const Contact& x = s.world.contacts()[i];
-        const Contact& y = r.world.contacts()[i];
-        ASSERT_EQ(x.body_a, y.body_a);
-        ASSERT_EQ(x.body_b, y.body_b);
-        ASSERT_EQ(x.prim_a, y.prim_a);
-        ASSERT_EQ(x.prim_b, y.prim_b);
-        ASSERT_EQ(std::memcmp(&x.distance, &y.distance, sizeof(double)), 0) << "step " << k;
-        ASSERT_EQ(std::memcmp(&x.point_a, &y.point_a, sizeof(Vec3)), 0) << "step " << k;
-      }
-      Bytes ws, wr;
-      s.world.writeState(ws);
-      r.world.writeState(wr);
-      ASSERT_EQ(ws.out, wr.out) << "step " << k;
-      far += a.pairs_far;
-      bound += a.pairs_far_box_bound;
-      bound_exact += b.pairs_far_box_bound;
-    }
+    stepSideBySide(o, exact,
+                   [&](int k, const StepStats& a, const StepStats& b, const CollisionWorld& ws,
+                       const CollisionWorld& wr) {
+                     Bytes bs, br;
+                     ws.writeState(bs);
+                     wr.writeState(br);
+                     ASSERT_EQ(bs.out, br.out) << "step " << k;
+                     far += a.pairs_far;
+                     bound += a.pairs_far_box_bound;
+                     bound_exact += b.pairs_far_box_bound;
+                   });
     std::printf(
         "[figures] world (far_by_travel %d): %zu pairs far over 600 steps, %zu of them by the "
         "boxes' bound\n",
