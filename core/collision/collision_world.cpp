@@ -165,9 +165,7 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
     p.body = id;
     p.index = i;
     p.live = true;
-    if (prim_shape_.size() <= pi)
-      prim_shape_.resize(pi + 1);
-    prim_shape_[pi] = desc.primitives[i].shape.get();
+    p.shape = desc.primitives[i].shape.get();
     const Polytope& shape = *desc.primitives[i].shape;
     depth_scratch_.reserve(shape.faces().size());
     if (shape.faces().size() <= WorldOptions::kMaxTrackedFaces) {
@@ -541,7 +539,7 @@ std::uint32_t CollisionWorld::newPairState(std::uint32_t pa,
         reinterpret_cast<const char*>(&bodies_[p.body].desc.primitives.data()[p.index]);
     __builtin_prefetch(desc);
     __builtin_prefetch(desc + sizeof(PrimitiveDesc) - 1);
-    __builtin_prefetch(&prim_shape_[pi]->centroid());
+    __builtin_prefetch(&p.shape->centroid());
   }
   static const PairState reset;
   s.prim_a = pa;

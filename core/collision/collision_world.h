@@ -345,6 +345,9 @@ class CollisionWorld {
     // its collision filter, its body's and its own combined (the descent reads it for every
     // pair of leaves that overlap)
     std::uint32_t group = 0, mask = 0;
+    // its shape (its body's description's): what newPairState fetches ahead without reading
+    // the description first
+    const Polytope* shape = nullptr;
     std::array<std::uint32_t, 6> hint{};  // extreme-vertex hints: -x +x -y +y -z +z
     bool live = false;
     // a piece of a tree body: its exact box (primitiveBox), computed lazily, and the tick + 1 at
@@ -509,8 +512,6 @@ class CollisionWorld {
   FlatMap state_of_pair_;
   ReservedVector<std::uint32_t> mapped_tree_states_;  // scratch: the states such a descent mapped
   ReservedVector<std::uint32_t> free_prims_;
-  // per primitive, its shape (its body's description's): what newPairState fetches ahead
-  std::vector<const Polytope*> prim_shape_;
   ReservedVector<std::uint32_t> free_bodies_;
   ReservedVector<std::uint32_t> moved_;  // bodies given a pose since the last step
   ReservedVector<std::uint32_t> posed_;  // bodies given a pose since clearPosed()
