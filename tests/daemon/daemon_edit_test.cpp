@@ -443,9 +443,13 @@ TEST_F(DaemonEditTest, AShmClientDrivesTheDeviceAndAStoppedStreamRampsThenFaults
                   st.force_n[2] * st.force_n[2],
               0.0);
     // latched until re-armed, on the same gate the UDP clients use
+    // (a read that meets the servo thread preempted mid-write fails: it is read again)
     for (int i = 0; i < 50; ++i) {
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
-      ASSERT_TRUE(shm.readState(st));
+      bool read = false;
+      for (int t = 0; t < 1000 && !(read = shm.readState(st)); ++t)
+        std::this_thread::yield();
+      ASSERT_TRUE(read);
       EXPECT_NE(st.fault_bits & proto::kFaultStreamLost, 0u);
     }
     ASSERT_TRUE(shm.pushArm(proto::monotonicNs()));

@@ -9,6 +9,7 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <string>
 #include <thread>
@@ -354,6 +355,21 @@ proto::PoseCommand poseCommand(double x, double y, double z) {
   return c;
 }
 
+// The segment's state as of the loop's last tick. The loop writes its own state before the
+// segment's, and a seqlock read gives up while the writer is inside (a servo thread preempted
+// mid-write, as under ASan on a loaded machine), so this reads again until the segment shows the
+// tick the loop reports; false only if it never does (the 30 s only guards against a hang).
+bool readShmOfLastTick(const Stepped& s, const proto::ShmClient& c, proto::ShmState& out) {
+  const std::uint64_t tick = s.loop->state().tick;
+  const auto give_up = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+  do {
+    if (c.readState(out) && out.tick == tick)
+      return true;
+    std::this_thread::yield();
+  } while (std::chrono::steady_clock::now() < give_up);
+  return false;
+}
+
 TEST(ServoShm, ShmCommandsDriveTheDeviceThroughTheGateAndTheStreamStopRampsThenFaults) {
   auto server = proto::ShmServer::create(uniqueShmName("gate"));
   ASSERT_TRUE(server) << server.error().message;
@@ -368,7 +384,7 @@ TEST(ServoShm, ShmCommandsDriveTheDeviceThroughTheGateAndTheStreamStopRampsThenF
   client.value().beat(proto::monotonicNs());
   s.runUntilTick(3);
   proto::ShmState shm{};
-  ASSERT_TRUE(client.value().readState(shm));
+  ASSERT_TRUE(readShmOfLastTick(s, client.value(), shm));
   EXPECT_EQ(shm.tick, 3u);
   EXPECT_EQ(shm.body_count, 4u);
   EXPECT_TRUE(s.loop->state().shm_client_alive);
@@ -379,7 +395,7 @@ TEST(ServoShm, ShmCommandsDriveTheDeviceThroughTheGateAndTheStreamStopRampsThenF
     ASSERT_TRUE(client.value().pushPose(poseCommand(0.01, 0.02, 0.03), proto::monotonicNs(), &seq));
     s.step();
   }
-  ASSERT_TRUE(client.value().readState(shm));
+  ASSERT_TRUE(readShmOfLastTick(s, client.value(), shm));
   EXPECT_EQ(shm.last_command_sequence, seq);
   EXPECT_NE(shm.state_flags & proto::kStateStreaming, 0u);
   EXPECT_EQ(shm.force_scale, 1.0);
@@ -394,16 +410,16 @@ TEST(ServoShm, ShmCommandsDriveTheDeviceThroughTheGateAndTheStreamStopRampsThenF
   // the stream stops at tick t0: full force for 20 ms, then a ramp, zero and a fault by 200 ms
   const std::uint64_t t0 = s.loop->state().tick;
   s.runUntilTick(t0 + 15);
-  ASSERT_TRUE(client.value().readState(shm));
+  ASSERT_TRUE(readShmOfLastTick(s, client.value(), shm));
   EXPECT_EQ(shm.force_scale, 1.0);
   s.runUntilTick(t0 + 110);
-  ASSERT_TRUE(client.value().readState(shm));
+  ASSERT_TRUE(readShmOfLastTick(s, client.value(), shm));
   EXPECT_GT(shm.force_scale, 0.0);
   EXPECT_LT(shm.force_scale, 1.0);
   EXPECT_NE(shm.state_flags & proto::kStateRamping, 0u);
   EXPECT_EQ(shm.fault_bits & proto::kFaultStreamLost, 0u);
   s.runUntilTick(t0 + 202);
-  ASSERT_TRUE(client.value().readState(shm));
+  ASSERT_TRUE(readShmOfLastTick(s, client.value(), shm));
   EXPECT_EQ(shm.force_scale, 0.0);
   EXPECT_NE(shm.fault_bits & proto::kFaultStreamLost, 0u);
   EXPECT_EQ(glm::length(s.loop->state().force_W_n), 0.0);
@@ -411,12 +427,12 @@ TEST(ServoShm, ShmCommandsDriveTheDeviceThroughTheGateAndTheStreamStopRampsThenF
   const std::uint64_t dropped = s.loop->state().commands_dropped;
   ASSERT_TRUE(client.value().pushPose(poseCommand(0.0, 0.0, 0.0), proto::monotonicNs()));
   s.step(50);
-  ASSERT_TRUE(client.value().readState(shm));
+  ASSERT_TRUE(readShmOfLastTick(s, client.value(), shm));
   EXPECT_NE(shm.fault_bits & proto::kFaultStreamLost, 0u);
   EXPECT_GT(s.loop->state().commands_dropped, dropped);
   ASSERT_TRUE(client.value().pushArm(proto::monotonicNs()));
   s.step(2);
-  ASSERT_TRUE(client.value().readState(shm));
+  ASSERT_TRUE(readShmOfLastTick(s, client.value(), shm));
   EXPECT_EQ(shm.fault_bits, 0u);
 }
 
