@@ -212,6 +212,32 @@ TEST(Stack, PyramidOfTwentyStands) {
   }
 }
 
+// The pyramid above without friction, dropped from gaps of 1% of the edge (issue 17, "F2"), at
+// 5 mm, 2 cm, 10 cm and 1 m, settled 2 s, then a minute (10 s in sanitizer builds): every contact
+// force of it is vertical at rest, so no corner may move more than 1e-3 of the edge, nothing may
+// turn, and no horizontal momentum may appear.
+TEST(Stack, FrictionlessDroppedPyramidStands) {
+  for (const double edge : {0.005, 0.02, 0.1, 1.0}) {
+    StackCase c;
+    c.edge = edge;
+    c.mu = 0.0;
+    c.seconds = kLongRunS;
+    c.settle_s = 2.0;
+    c.options = awake();
+    std::vector<Vec3> centres = pyramid(6, edge, 0.01 * edge), rest = pyramid(6, edge, 0.0);
+    centres.pop_back();  // 21 without the top one
+    rest.pop_back();
+    const StackResult r = runStack(c, centres, rest);
+    std::printf("frictionless dropped pyramid of 20, %g mm: drift %.3g edges, spin %.3g rad/s, "
+                "momentum %.3g\n",
+                edge * 1e3, r.drift, r.spin, r.momentum);
+    EXPECT_LT(r.drift, 1e-3) << edge;
+    EXPECT_LT(r.spin, 1e-3) << edge;
+    EXPECT_GT(r.lowest, 0.99) << edge;
+    EXPECT_LT(r.momentum, 1e-12) << edge << ": horizontal momentum from nowhere";
+  }
+}
+
 // the same stack in mm, m and km (lengths and gravity scaled alike): the same relative answer
 TEST(Stack, SameRelativeAnswerInMillimetresMetresAndKilometres) {
   std::vector<double> height;
