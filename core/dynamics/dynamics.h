@@ -444,8 +444,13 @@ class Dynamics {
   std::vector<NormalBlock> blocks_;  // per point: the block of the pair it is the first point of
   // levelSweep: (height, block) of the contacts it levels (scratch)
   ReservedVector<std::pair<double, std::uint32_t>> level_order_;
-  std::vector<std::uint8_t> level_pinned_;  // levelSweep: per body, touched outside it (scratch)
-  std::size_t max_points_ = 0;              // the capacity of points_ (options' max_contact_points)
+  // levelSweep: per body, touched outside it; its level_reach_ set this tick (scratch)
+  std::vector<std::uint8_t> level_pinned_;
+  // levelSweep: per body, its resting supports' extent across gravity: the support function of
+  // their points (about its centre of mass) in kLevelDirs directions (scratch)
+  static constexpr std::size_t kLevelDirs = 16;
+  std::vector<std::array<double, kLevelDirs>> level_reach_;
+  std::size_t max_points_ = 0;  // the capacity of points_ (options' max_contact_points)
   ReservedVector<WarmPoint> warm_, warm_next_;
   std::vector<JointState> joints_;
   std::vector<GeneralJoint> general_;      // every other joint: limits, cones, soft limits, drives

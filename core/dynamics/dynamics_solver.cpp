@@ -874,6 +874,23 @@ bool Dynamics::correctBlock(const NormalBlock& blk, double beta, double inv_dt) 
   return true;
 }
 
+namespace {
+// the directions of levelSweep's support extents: kLevelDirs evenly around the circle
+constexpr std::array<double, 16> kLevelCos = {
+    1.0,  0.92387953251128674,  0.70710678118654757,  0.38268343236508984,
+    0.0,  -0.38268343236508984, -0.70710678118654757, -0.92387953251128674,
+    -1.0, -0.92387953251128674, -0.70710678118654757, -0.38268343236508984,
+    0.0,  0.38268343236508984,  0.70710678118654757,  0.92387953251128674};
+constexpr std::array<double, 16> kLevelSin = {
+    0.0,  0.38268343236508984,  0.70710678118654757,  0.92387953251128674,
+    1.0,  0.92387953251128674,  0.70710678118654757,  0.38268343236508984,
+    0.0,  -0.38268343236508984, -0.70710678118654757, -0.92387953251128674,
+    -1.0, -0.92387953251128674, -0.70710678118654757, -0.38268343236508984};
+// levelSweep's per-body flags (level_pinned_)
+constexpr std::uint8_t kLevelPinned = 1;   // a contact that is no flat block: not turned
+constexpr std::uint8_t kLevelReached = 2;  // level_reach_ holds this tick's supports
+}  // namespace
+
 // Levelling by shock propagation: every resting frictionless flat contact that the velocity
 // solve pressed at all its points (the load inside its support: nothing tips), taken from the
 // bottom up (along gravity), has its upper body turned, as if the one below were immovable,
@@ -887,16 +904,28 @@ bool Dynamics::correctBlock(const NormalBlock& blk, double beta, double inv_dt) 
 // pseudo angular velocity of the upper body): no energy enters the velocities. The turn is about
 // the upper body's centre of mass, so the contact's mean depth changes by the turn times the
 // centroid's offset from it, left to the slop rule.
+// A contact the solve pressed at some of its points only is levelled too when its upper body's
+// centre of mass lies over its supports (inside, by 1% of its size, the polygon of kLevelDirs
+// sides drawn around the points of all its resting frictionless supports along gravity): a box
+// bridging two others carries its load through them in a share that the sequential impulses
+// leave undetermined, and they pressed the dropped frictionless pyramid's boxes at the near
+// edges of one support alone; left unlevelled, such a box tilted within the slop for some 40
+// ticks, its own face became the contact's normal (the depth query's tie) and the load through
+// it pushed the boxes apart (0.018 of the edge in a minute at 5 mm). A box whose centre of mass
+// is beyond its supports' edge is pressed at that edge and tips (not levelled).
 void Dynamics::levelSweep(double dt) {
   level_order_.clear();
   std::fill(level_pinned_.begin(), level_pinned_.end(), std::uint8_t{0});
   for (std::size_t i = 0; i < points_.size(); i += std::max<std::size_t>(points_[i].group, 1)) {
     const std::size_t group = std::max<std::size_t>(points_[i].group, 1);
     const NormalBlock& blk = blocks_[i];
-    bool level = blk.ok;
-    for (std::size_t k = 0; k < blk.count && level; ++k) {
+    // a resting frictionless flat contact that pushed somewhere
+    bool rests = blk.ok;
+    double pushed = 0.0;
+    for (std::size_t k = 0; k < blk.count && rests; ++k) {
       const ContactPoint& cp = points_[blk.idx[k]];
-      level = levels(cp) && cp.total_n > 0.0;
+      rests = levels(cp);
+      pushed += cp.total_n;
     }
     if (!blk.ok) {
       // a body with a contact that is no flat block (a curved one, a point or an edge, the
@@ -906,11 +935,11 @@ void Dynamics::levelSweep(double dt) {
       for (std::size_t k = i; k < i + group; ++k) {
         const ContactPoint& cp = points_[k];
         if (cp.active || cp.speculative)
-          level_pinned_[cp.a] = level_pinned_[cp.b] = 1;
+          level_pinned_[cp.a] |= kLevelPinned, level_pinned_[cp.b] |= kLevelPinned;
       }
       continue;
     }
-    if (!level)
+    if (!rests)
       continue;
     const ContactPoint& c0 = points_[blk.idx[0]];
     const BodyState& A = bodies_[c0.a];
@@ -918,6 +947,28 @@ void Dynamics::levelSweep(double dt) {
     const Vec3 g = glm::dot(B.gravity_W, B.gravity_W) > 0.0 ? B.gravity_W : A.gravity_W;
     if (!(glm::dot(g, g) > 0.0))
       continue;  // no up: nothing to propagate from
+    // the upper body's reach over its supports across gravity (only along it: a side contact
+    // supports nothing)
+    const bool b_up = A.infinite || (!B.infinite && glm::dot(c0.n, g) < 0.0);
+    if (!(b_up ? B : A).infinite && glm::dot(c0.n, g) * glm::dot(c0.n, g) >= 0.5 * glm::dot(g, g)) {
+      Vec3 u1, u2;
+      tangents(glm::normalize(g), &u1, &u2);
+      const std::uint32_t u = b_up ? c0.b : c0.a;
+      auto& reach = level_reach_[u];
+      if ((level_pinned_[u] & kLevelReached) == 0) {
+        reach.fill(-kInf);
+        level_pinned_[u] |= kLevelReached;
+      }
+      for (std::size_t k = 0; k < blk.count; ++k) {
+        const ContactPoint& cp = points_[blk.idx[k]];
+        const Vec3 r = b_up ? cp.rb : cp.ra;
+        const double x = glm::dot(r, u1), y = glm::dot(r, u2);
+        for (std::size_t d = 0; d < kLevelDirs; ++d)
+          reach[d] = std::max(reach[d], kLevelCos[d] * x + kLevelSin[d] * y);
+      }
+    }
+    if (!(pushed > 0.0))
+      continue;
     // the height of the contact's first point against gravity
     const double h = -glm::dot(A.x_W + c0.ra, g);
     if (level_order_.size() == level_order_.capacity())
@@ -938,8 +989,22 @@ void Dynamics::levelSweep(double dt) {
     const Vec3 g = glm::dot(B.gravity_W, B.gravity_W) > 0.0 ? B.gravity_W : A.gravity_W;
     const bool b_up = A.infinite || (!B.infinite && glm::dot(c0.n, g) < 0.0);
     BodyState& U = b_up ? B : A;
-    if (U.infinite || level_pinned_[b_up ? c0.b : c0.a] != 0)
+    if (U.infinite || (level_pinned_[b_up ? c0.b : c0.a] & kLevelPinned) != 0)
       continue;
+    // pressed at every point (the load inside this support), or the upper body's centre of
+    // mass over its supports (levelSweep's comment)
+    bool pressed = true;
+    for (std::size_t k = 0; k < blk.count && pressed; ++k)
+      pressed = points_[blk.idx[k]].total_n > 0.0;
+    if (!pressed) {
+      const std::uint32_t u = b_up ? c0.b : c0.a;
+      const auto& reach = level_reach_[u];
+      const double inside = (level_pinned_[u] & kLevelReached) != 0
+                                ? *std::min_element(reach.begin(), reach.end())
+                                : -kInf;
+      if (!(inside > 0.01 * U.size))
+        continue;
+    }
     // the slopes, along t1 and t2, of the relative normal pseudo-velocity that would leave
     // every point at the same depth
     Vec3 fit{0.0};

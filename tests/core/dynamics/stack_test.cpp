@@ -212,6 +212,65 @@ TEST(Stack, PyramidOfTwentyStands) {
   }
 }
 
+// The pyramid above without friction, dropped from gaps of 1% of the edge (issue 17, "F2"), at
+// 5 mm, 2 cm, 10 cm and 1 m, settled 2 s, then a minute (10 s in sanitizer builds): every contact
+// force of it is vertical at rest, so no corner may move more than 1e-3 of the edge, nothing may
+// turn, and no horizontal momentum may appear.
+TEST(Stack, FrictionlessDroppedPyramidStands) {
+  for (const double edge : {0.005, 0.02, 0.1, 1.0}) {
+    StackCase c;
+    c.edge = edge;
+    c.mu = 0.0;
+    c.seconds = kLongRunS;
+    c.settle_s = 2.0;
+    c.options = awake();
+    std::vector<Vec3> centres = pyramid(6, edge, 0.01 * edge), rest = pyramid(6, edge, 0.0);
+    centres.pop_back();  // 21 without the top one
+    rest.pop_back();
+    const StackResult r = runStack(c, centres, rest);
+    std::printf(
+        "frictionless dropped pyramid of 20, %g mm: drift %.3g edges, spin %.3g rad/s, "
+        "momentum %.3g\n",
+        edge * 1e3, r.drift, r.spin, r.momentum);
+    EXPECT_LT(r.drift, 1e-3) << edge;
+    EXPECT_LT(r.spin, 1e-3) << edge;
+    EXPECT_GT(r.lowest, 0.99) << edge;
+    EXPECT_LT(r.momentum, 1e-12) << edge << ": horizontal momentum from nowhere";
+  }
+}
+
+// What the levelling may not hold: a frictionless box whose centre of mass is beyond its
+// support's edge tips over it. A cube on a pedestal cube, placed touching and shifted 0.6 of the
+// edge along x (its centre 0.1 edge beyond the pedestal's edge), at 5 mm, 2 cm and 1 m: within
+// 1 s it has turned more than 0.3 rad and its centre has dropped. (The levelling sweep turns a
+// body level on a support pressed at some of its points only when its centre of mass lies over
+// its supports: a box bridging two others is pressed at their near edges, one tipping over an
+// edge is pressed at that edge too.)
+TEST(Stack, FrictionlessOverhangingBoxTipsOver) {
+  for (const double edge : {0.005, 0.02, 1.0}) {
+    const double h = 0.5 * edge;
+    SceneModel s;
+    s.gravity_W = Vec3{0, -9.81, 0};
+    s.materials.push_back(material(0.0, 0.0));
+    s.bodies.push_back(
+        staticBody("floor", boxShape(Vec3{12 * edge, h, 12 * edge}), at(Vec3{0, -h, 0}), 0));
+    s.bodies.push_back(dynamicBody("pedestal", boxShape(Vec3{h}), at(Vec3{0, h, 0}), 500.0, 0));
+    s.bodies.push_back(
+        dynamicBody("box", boxShape(Vec3{h}), at(Vec3{0.6 * edge, 3 * h, 0}), 500.0, 0));
+    Rig rig(std::move(s), awake());
+    rig.run(1000);
+    const Quat q = rig.dyn->pose(2).rotation;
+    const double turned = 2.0 * std::asin(std::min(1.0, glm::length(Vec3{q.x, q.y, q.z})));
+    const double y = rig.dyn->pose(2).translation.y / (3 * h);
+    std::printf(
+        "overhanging frictionless box, %g mm: turned %.3g rad, centre at %.3g of its "
+        "height\n",
+        edge * 1e3, turned, y);
+    EXPECT_GT(turned, 0.3) << edge;
+    EXPECT_LT(y, 0.95) << edge;
+  }
+}
+
 // the same stack in mm, m and km (lengths and gravity scaled alike): the same relative answer
 TEST(Stack, SameRelativeAnswerInMillimetresMetresAndKilometres) {
   std::vector<double> height;
