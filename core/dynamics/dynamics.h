@@ -397,6 +397,7 @@ class Dynamics {
                          double* lnew);
   bool correctBlock(const NormalBlock& blk, double beta, double inv_dt);
   void levelSweep(double dt);
+  bool sidewaysPush(const ContactPoint& cp) const;
   static bool levels(const ContactPoint& cp);
   void applyRestitution();
   void correctPositions(double dt);

@@ -818,11 +818,14 @@ void Dynamics::correctJoint(JointState& js, double beta, double inv_dt) {
   }
 }
 
-// a point of a resting frictionless contact that penetrates: its flat contact is levelled by the
-// split impulses (correctBlock)
+// a point of a frictionless contact that penetrates and did not strike (resting, or sliding when
+// it became active): its flat contact is levelled by the split impulses (correctBlock) and the
+// levelling sweep. A sliding one too: the top box of a frictionless tower that the held probe
+// pushed faster than the static-friction threshold (0.25 m/s at 1 m) was never levelled again,
+// and its tilt pushed the box below sideways (3.5e-3 of the edge in 1.2 s)
 bool Dynamics::levels(const ContactPoint& cp) {
-  return cp.active && !cp.speculative && cp.resting && cp.mu_s == 0.0 && cp.mu_d == 0.0 &&
-         cp.gap < 0.0;
+  return cp.active && !cp.speculative && (cp.resting || cp.bounce == 0.0) && cp.mu_s == 0.0 &&
+         cp.mu_d == 0.0 && cp.gap < 0.0;
 }
 
 // a flat contact's split impulses together: each point's penetration beyond the slop removed at
@@ -891,6 +894,22 @@ constexpr std::uint8_t kLevelPinned = 1;   // a contact that is no flat block: n
 constexpr std::uint8_t kLevelReached = 2;  // level_reach_ holds this tick's supports
 }  // namespace
 
+// a push across gravity by a body of infinite mass (held, kinematic or static; its normal within
+// 45 degrees of horizontal): it supports nothing, so levelling the pushed body's supporting
+// contact (a turn about its centre of mass) moves it into that contact by no more than the turn
+// times its lever (issue 17 F1: the held probe pushing the top box of a frictionless tower
+// sideways pinned it, its tilt within the slop stood, and its tilted face, the contact's normal,
+// pushed the box below)
+bool Dynamics::sidewaysPush(const ContactPoint& cp) const {
+  const BodyState& A = bodies_[cp.a];
+  const BodyState& B = bodies_[cp.b];
+  if (A.infinite == B.infinite)
+    return false;
+  const Vec3 g = A.infinite ? B.gravity_W : A.gravity_W;
+  const double gn = glm::dot(cp.n, g);
+  return glm::dot(g, g) > 0.0 && gn * gn < 0.5 * glm::dot(g, g);
+}
+
 // Levelling by shock propagation: every resting frictionless flat contact that the velocity
 // solve pressed at all its points (the load inside its support: nothing tips), taken from the
 // bottom up (along gravity), has its upper body turned, as if the one below were immovable,
@@ -931,11 +950,15 @@ void Dynamics::levelSweep(double dt) {
       // a body with a contact that is no flat block (a curved one, a point or an edge, the
       // held body's) is not turned by the sweep: the turn could push it into that contact (a
       // block the held sweeper of the stress demo pressed onto a pillar was turned into it,
-      // and the sweeper 0.37 mm into the pillar)
+      // and the sweeper 0.37 mm into the pillar); but a push across gravity by a body of
+      // infinite mass (held, kinematic, static) pins nothing (sidewaysPush)
       for (std::size_t k = i; k < i + group; ++k) {
         const ContactPoint& cp = points_[k];
-        if (cp.active || cp.speculative)
-          level_pinned_[cp.a] |= kLevelPinned, level_pinned_[cp.b] |= kLevelPinned;
+        if (!cp.active && !cp.speculative)
+          continue;
+        if (sidewaysPush(cp))
+          continue;
+        level_pinned_[cp.a] |= kLevelPinned, level_pinned_[cp.b] |= kLevelPinned;
       }
       continue;
     }

@@ -271,6 +271,71 @@ TEST(Stack, FrictionlessOverhangingBoxTipsOver) {
   }
 }
 
+// issue 17 F1: the held probe (a sphere, kinematic, infinite mass) pushes the top box of a
+// frictionless tower of ten sideways, above its centre; the box below it must not move (a level
+// frictionless interface passes no horizontal force). Its horizontal slide during the push, of the
+// edge, for a push at 0.25 and at 0.1 edge/s (0.25 of the edge in all; the run ends with the
+// push: alone the box would slide on, frictionless). Before the fix the pushed box, touching the
+// held body, was not levelled (levelSweep), nor was its base once it slid: its tilt within the
+// slop stood and its tilted face, the contact's normal, pushed the box below (0.25 / 0.1 edge/s:
+// 9.2e-4 / 2.3e-3 of the edge at 5 mm, 6.9e-5 / 1.6e-4 at 2 cm, 3.5e-3 / 1.2e-7 at 1 m).
+TEST(Stack, FrictionlessTowerTopPushedByTheProbeLeavesTheBoxBelow) {
+  for (const double edge : {0.005, 0.02, 1.0}) {
+    for (const double speed : {0.25, 0.1}) {
+      const double h = 0.5 * edge;
+      const int n = 10;
+      SceneModel s;
+      s.gravity_W = Vec3{0, -9.81, 0};
+      s.materials.push_back(material(0.0, 0.0));
+      s.bodies.push_back(
+          staticBody("floor", boxShape(Vec3{12 * edge, h, 12 * edge}), at(Vec3{0, -h, 0}), 0));
+      for (const Vec3& x : column(n, edge, 0.0))
+        s.bodies.push_back(dynamicBody("box", boxShape(Vec3{h}), at(x), 500.0, 0));
+      // the probe: a sphere of radius 0.2 of the edge beside the top box, half way up its upper
+      // half, 5% of the edge away from its side face
+      const double r = 0.4 * h;
+      const Vec3 start{h + r + 0.05 * edge, h + edge * (n - 1) + 0.5 * h, 0};
+      Body probe = staticBody("probe", ellipsoidShape(Vec3{r}), at(start), 0);
+      probe.motion = Motion::kKinematic;
+      probe.probe = true;
+      s.bodies.push_back(probe);
+      Rig rig(std::move(s), awake());
+      HeldInput in;
+      in.mode = HeldMode::kKinematic;
+      in.X_WB_target = at(start);
+      for (int k = 0; k < 1000; ++k)  // settled a second
+        rig.tick(kDt, &in);
+      const auto second = static_cast<std::uint32_t>(n - 1);
+      const auto top = static_cast<std::uint32_t>(n);
+      std::vector<Vec3> rest;
+      for (std::uint32_t b = 1; b <= top; ++b)
+        rest.push_back(rig.dyn->pose(b).translation);
+      const auto slid = [&](std::uint32_t b) {
+        const Vec3 p = rig.dyn->pose(b).translation - rest[b - 1];
+        return std::hypot(p.x, p.z) / edge;
+      };
+      const double v = speed * edge;
+      const int ticks = static_cast<int>(std::lround(0.3 / speed / kDt));
+      double below = 0.0, others = 0.0;
+      for (int k = 0; k < ticks; ++k) {
+        in.X_WB_target = at(start - Vec3{v * (k + 1) * kDt, 0, 0});
+        rig.tick(kDt, &in);
+        below = std::max(below, slid(second));
+        for (std::uint32_t b = 1; b < second; ++b)
+          others = std::max(others, slid(b));
+      }
+      const double moved = (rest[top - 1].x - rig.dyn->pose(top).translation.x) / edge;
+      std::printf(
+          "frictionless tower, top pushed by the probe at %g edge/s, %g mm: top moved %.3g, the "
+          "box below slid %.3g, the others %.3g of the edge\n",
+          speed, edge * 1e3, moved, below, others);
+      EXPECT_GT(moved, 0.2) << edge << " " << speed;  // the probe did push the top box
+      EXPECT_LT(below, 1e-3) << edge << " " << speed;
+      EXPECT_LT(others, 1e-3) << edge << " " << speed;
+    }
+  }
+}
+
 // the same stack in mm, m and km (lengths and gravity scaled alike): the same relative answer
 TEST(Stack, SameRelativeAnswerInMillimetresMetresAndKilometres) {
   std::vector<double> height;
