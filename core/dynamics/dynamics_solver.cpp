@@ -889,6 +889,11 @@ constexpr std::array<double, 16> kLevelSin = {
     1.0,  0.92387953251128674,  0.70710678118654757,  0.38268343236508984,
     0.0,  -0.38268343236508984, -0.70710678118654757, -0.92387953251128674,
     -1.0, -0.92387953251128674, -0.70710678118654757, -0.38268343236508984};
+// a normal within 45 degrees of gravity g (g not zero): a contact that can support along it
+bool alongGravity(const Vec3& n, const Vec3& g) {
+  const double gn = glm::dot(n, g);
+  return gn * gn >= 0.5 * glm::dot(g, g);
+}
 // levelSweep's per-body flags (level_pinned_)
 constexpr std::uint8_t kLevelPinned = 1;   // a contact that is no flat block: not turned
 constexpr std::uint8_t kLevelReached = 2;  // level_reach_ holds this tick's supports
@@ -906,8 +911,7 @@ bool Dynamics::sidewaysPush(const ContactPoint& cp) const {
   if (A.infinite == B.infinite)
     return false;
   const Vec3 g = A.infinite ? B.gravity_W : A.gravity_W;
-  const double gn = glm::dot(cp.n, g);
-  return glm::dot(g, g) > 0.0 && gn * gn < 0.5 * glm::dot(g, g);
+  return glm::dot(g, g) > 0.0 && !alongGravity(cp.n, g);
 }
 
 // Levelling by shock propagation: every resting frictionless flat contact that the velocity
@@ -973,7 +977,7 @@ void Dynamics::levelSweep(double dt) {
     // the upper body's reach over its supports across gravity (only along it: a side contact
     // supports nothing)
     const bool b_up = A.infinite || (!B.infinite && glm::dot(c0.n, g) < 0.0);
-    if (!(b_up ? B : A).infinite && glm::dot(c0.n, g) * glm::dot(c0.n, g) >= 0.5 * glm::dot(g, g)) {
+    if (!(b_up ? B : A).infinite && alongGravity(c0.n, g)) {
       Vec3 u1, u2;
       tangents(glm::normalize(g), &u1, &u2);
       const std::uint32_t u = b_up ? c0.b : c0.a;
