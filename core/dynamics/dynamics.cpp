@@ -239,8 +239,10 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
   d->points_.reserve(cap);
   d->blocks_.assign(cap, NormalBlock{});
   d->level_order_.reserve(cap);
+  d->level_points_.reserve(cap);
   d->level_pinned_.assign(d->bodies_.size(), 0);
   d->level_reach_.assign(d->bodies_.size(), {});
+  d->level_load_.assign(d->bodies_.size(), {});
   d->parent_.assign(d->bodies_.size(), 0);
   d->island_rest_.assign(d->bodies_.size(), 0.0);
   d->dv_.assign(d->bodies_.size(), Vec3{0.0});

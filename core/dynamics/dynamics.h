@@ -398,6 +398,8 @@ class Dynamics {
   bool correctBlock(const NormalBlock& blk, double beta, double inv_dt);
   void levelSweep(double dt);
   bool sidewaysPush(const ContactPoint& cp) const;
+  Vec3 loadCentre(std::uint32_t u, double dt) const;
+  void passLoadsDown(double dt);
   static bool levels(const ContactPoint& cp);
   void applyRestitution();
   void correctPositions(double dt);
@@ -451,6 +453,17 @@ class Dynamics {
   // their points (about its centre of mass) in kLevelDirs directions (scratch)
   static constexpr std::size_t kLevelDirs = 16;
   std::vector<std::array<double, kLevelDirs>> level_reach_;
+  // levelSweep: per body, the load the bodies above passed to it this tick: the sum of the
+  // normal impulses of their contacts on it, and of those impulses times the centre of each
+  // upper body's own load (its weight and what it carries; world) (scratch)
+  struct LevelLoad {
+    Vec3 moment{0.0};
+    double impulse = 0.0;
+  };
+  std::vector<LevelLoad> level_load_;
+  // levelSweep: (height, point) of the contact points along gravity that pressed, to pass the
+  // loads down from the top (scratch)
+  ReservedVector<std::pair<double, std::uint32_t>> level_points_;
   std::size_t max_points_ = 0;  // the capacity of points_ (options' max_contact_points)
   ReservedVector<WarmPoint> warm_, warm_next_;
   std::vector<JointState> joints_;

@@ -336,6 +336,112 @@ TEST(Stack, FrictionlessTowerTopPushedByTheProbeLeavesTheBoxBelow) {
   }
 }
 
+// `sidewaysPush` (core/dynamics/dynamics_solver.cpp) lets a contact with an infinite-mass body
+// whose normal is within 45 degrees of horizontal pin nothing in the levelling sweep; static walls
+// take that path too. Frictionless boxes (one, and a tower of three) on a floor tilted 10 degrees
+// down toward a static wall, dropped from 1% of the edge above the floor and above each other and
+// 1% of the edge from the wall, at 5 mm, 2 cm and 1 m, against two walls:
+// - square to the floor: every box slides into it and rests on it face to face (a flat block);
+// - vertical: each box slides until its upper edge meets the wall, a line contact with a
+//   horizontal normal (no flat block: the sidewaysPush rule), the tower stepping back 0.18 of the
+//   edge per box; it stands (each box's centre of pressure at least 0.16 of the edge inside its
+//   support; at 20 degrees a tower of three topples: the middle box's would be 0.15 outside).
+// After settling 2 s, over 10 s: no corner moves more than 1e-3 of the edge, nothing turns faster
+// than 1e-3 rad/s, nothing falls.
+TEST(Stack, FrictionlessBoxesAgainstAStaticWallStand) {
+  const double tilt = glm::radians(10.0);
+  const Quat R = glm::angleAxis(tilt, Vec3{0, 0, 1});
+  for (const bool vertical : {false, true}) {
+    for (const int n : {1, 3}) {
+      for (const double edge : {0.005, 0.02, 1.0}) {
+        const double h = 0.5 * edge;
+        const double gap = 0.01 * edge;
+        // the floor's frame: u along the floor (down toward the wall: -u), v its normal
+        const auto W = [&](double u, double v) { return R * Vec3{u, v, 0}; };
+        // where box i's centre rests (u) at height v: the square wall's face is at u = 0; the
+        // vertical wall's at x = 0, met by the box's upper edge at (u - h, v + h)
+        const auto restU = [&](double v) { return vertical ? h + (v + h) * std::tan(tilt) : h; };
+        SceneModel s;
+        s.gravity_W = Vec3{0, -9.81, 0};
+        s.materials.push_back(material(0.0, 0.0));
+        s.bodies.push_back(
+            staticBody("floor", boxShape(Vec3{12 * edge, h, 12 * edge}), at(W(0, -h), R), 0));
+        std::vector<double> rest_y;
+        for (int i = 0; i < n; ++i) {
+          const double v = h + gap + (edge + gap) * i, v_rest = h + edge * i;
+          const double u = restU(v) + (vertical ? gap / std::cos(tilt) : gap);
+          s.bodies.push_back(dynamicBody("box", boxShape(Vec3{h}), at(W(u, v), R), 500.0, 0));
+          rest_y.push_back(W(restU(v_rest), v_rest).y);
+        }
+        // the wall last: the boxes are bodies 1..n, as watchStack reads them
+        if (vertical)
+          s.bodies.push_back(staticBody("wall", boxShape(Vec3{h, 6 * edge, 12 * edge}),
+                                        at(Vec3{-h, 4 * edge, 0}), 0));
+        else
+          s.bodies.push_back(staticBody("wall", boxShape(Vec3{h, 6 * edge, 12 * edge}),
+                                        at(W(-h, 4 * edge), R), 0));
+        Rig rig(std::move(s), awake());
+        const StackResult r = watchStack(rig, std::vector<double>(static_cast<std::size_t>(n), h),
+                                         rest_y, edge, 2000, 2000 + static_cast<int>(kRunS / kDt));
+        std::printf(
+            "%d frictionless box(es) on a 10 degree floor against a %s static wall, %g mm: drift "
+            "%.3g edges, spin %.3g rad/s, lowest %.6f\n",
+            n, vertical ? "vertical" : "square", edge * 1e3, r.drift, r.spin, r.lowest);
+        EXPECT_LT(r.drift, 1e-3) << n << " " << vertical << " " << edge;
+        EXPECT_LT(r.spin, 1e-3) << n << " " << vertical << " " << edge;
+        EXPECT_GT(r.lowest, 0.99) << n << " " << vertical << " " << edge;
+      }
+    }
+  }
+}
+
+// What the levelling may not hold, with a load: three boxes, each shifted along x by `step` of the
+// edge over the one below, placed touching, with friction 0 and 0.6, at 5 mm, 2 cm and 1 m, for
+// 2 s. At 0.4 each box's own centre of mass lies over the box below, but the top two's together
+// lies 0.1 of the edge beyond the bottom box's edge: the staircase topples (the top box ends below
+// half its height). At 0.3 theirs lies 0.05 inside: it stands (no box turns 1e-3 rad, the
+// suite's corner drift of 1e-3 of the edge, or sinks below 0.99 of its height). (Before the
+// levelling sweep weighed the load from above, it held the frictionless staircase of 0.4 level at 2
+// cm and 1 m: a body pressed at some of its support's points only was levelled when its own centre
+// of mass lay over its supports.)
+TEST(Stack, FrictionlessStaircaseWhoseLoadOverhangsTopples) {
+  for (const double mu : {0.0, 0.6}) {
+    for (const double step : {0.3, 0.4}) {
+      for (const double edge : {0.005, 0.02, 1.0}) {
+        const double h = 0.5 * edge;
+        SceneModel s;
+        s.gravity_W = Vec3{0, -9.81, 0};
+        s.materials.push_back(material(mu, 0.0));
+        s.bodies.push_back(
+            staticBody("floor", boxShape(Vec3{12 * edge, h, 12 * edge}), at(Vec3{0, -h, 0}), 0));
+        for (int i = 0; i < 3; ++i)
+          s.bodies.push_back(dynamicBody("box", boxShape(Vec3{h}),
+                                         at(Vec3{step * edge * i, h + edge * i, 0}), 500.0, 0));
+        Rig rig(std::move(s), awake());
+        rig.run(2000);
+        double turned = 0.0, lowest = 1e300;
+        for (std::uint32_t b = 1; b <= 3; ++b) {
+          const Quat q = rig.dyn->pose(b).rotation;
+          turned =
+              std::max(turned, 2.0 * std::asin(std::min(1.0, glm::length(Vec3{q.x, q.y, q.z}))));
+          lowest = std::min(lowest, rig.dyn->pose(b).translation.y / (h + edge * (b - 1)));
+        }
+        const double top = rig.dyn->pose(3).translation.y / (5 * h);
+        std::printf(
+            "staircase of 3, steps of %g edge, mu %g, %g mm: most turned %.3g rad, lowest %.4g, "
+            "top at %.4g of its height\n",
+            step, mu, edge * 1e3, turned, lowest, top);
+        if (step == 0.4) {
+          EXPECT_LT(top, 0.5) << mu << " " << edge << ": the overhanging load stood";
+        } else {
+          EXPECT_LT(turned, 1e-3) << mu << " " << edge;
+          EXPECT_GT(lowest, 0.99) << mu << " " << edge;
+        }
+      }
+    }
+  }
+}
+
 // the same stack in mm, m and km (lengths and gravity scaled alike): the same relative answer
 TEST(Stack, SameRelativeAnswerInMillimetresMetresAndKilometres) {
   std::vector<double> height;
