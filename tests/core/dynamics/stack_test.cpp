@@ -442,6 +442,50 @@ TEST(Stack, FrictionlessStaircaseWhoseLoadOverhangsTopples) {
   }
 }
 
+// The load on a body with two supports: a plank (5 x 0.25 x 1 edges, 100 kg/m3) across two
+// cubes whose centres are 2 edges apart (its support spans 3 edges), a heavy cube (2000 kg/m3)
+// on it at 1.2 edges from the middle (their centre of mass 1.13 edges out: inside) and at 2.2
+// (2.07 edges out: beyond the outer cube's edge at 1.5), friction 0 and 0.6, at 5 mm, 2 cm and
+// 1 m, for 2 s. At 1.2 the plank stands (turns less than 1e-3 rad, the heavy cube stays above
+// 0.99 of its height); at 2.2 it tips and the heavy cube falls below half its height. (A guard
+// of the levelling's load rule: it passed with the body's own centre of mass alone as well.)
+TEST(Stack, PlankOnTwoCubesTipsOnlyWhenItsLoadIsBeyondThem) {
+  for (const double mu : {0.0, 0.6}) {
+    for (const double at_x : {1.2, 2.2}) {
+      for (const double edge : {0.005, 0.02, 1.0}) {
+        const double h = 0.5 * edge;
+        SceneModel s;
+        s.gravity_W = Vec3{0, -9.81, 0};
+        s.materials.push_back(material(mu, 0.0));
+        s.bodies.push_back(
+            staticBody("floor", boxShape(Vec3{12 * edge, h, 12 * edge}), at(Vec3{0, -h, 0}), 0));
+        for (const double x : {-edge, edge})
+          s.bodies.push_back(dynamicBody("cube", boxShape(Vec3{h}), at(Vec3{x, h, 0}), 500.0, 0));
+        s.bodies.push_back(dynamicBody("plank", boxShape(Vec3{5 * h, 0.25 * h, h}),
+                                       at(Vec3{0, edge + 0.25 * h, 0}), 100.0, 0));
+        const double rest_y = edge + 0.5 * h + h;
+        s.bodies.push_back(
+            dynamicBody("heavy", boxShape(Vec3{h}), at(Vec3{at_x * edge, rest_y, 0}), 2000.0, 0));
+        Rig rig(std::move(s), awake());
+        rig.run(2000);
+        const Quat q = rig.dyn->pose(3).rotation;
+        const double turned = 2.0 * std::asin(std::min(1.0, glm::length(Vec3{q.x, q.y, q.z})));
+        const double y = rig.dyn->pose(4).translation.y / rest_y;
+        std::printf(
+            "plank on two cubes, heavy cube at %g edges, mu %g, %g mm: plank turned %.3g rad, "
+            "heavy cube at %.4g of its height\n",
+            at_x, mu, edge * 1e3, turned, y);
+        if (at_x > 2.0) {
+          EXPECT_LT(y, 0.5) << mu << " " << edge << ": the overhanging load stood";
+        } else {
+          EXPECT_LT(turned, 1e-3) << mu << " " << edge;
+          EXPECT_GT(y, 0.99) << mu << " " << edge;
+        }
+      }
+    }
+  }
+}
+
 // the same stack in mm, m and km (lengths and gravity scaled alike): the same relative answer
 TEST(Stack, SameRelativeAnswerInMillimetresMetresAndKilometres) {
   std::vector<double> height;
