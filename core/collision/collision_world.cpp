@@ -772,6 +772,10 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
       ++visited;
       np.apart = apart(A, B);
       if (np.apart) {
+        // a leaf pair that parted: its state is not seen in this descent, so it is freed in this
+        // step (resolveTreePairs); the hint would only make a later descent fetch a freed or
+        // reused state ahead (kAhead below) while the entry stays apart
+        np.state = kNil;
         emit(np);
         continue;
       }
