@@ -328,6 +328,8 @@ void CollisionWorld::buildTree(Body& b) {
   };
   build(build, 0, items.size(), 1);
   b.tree_W.assign(b.tree.size(), WorldNode{});
+  // a leaf's `left` and `right` (no children) hold its piece's collision filter (Prim::group,
+  // Prim::mask): the descent reads no Prim of a static body's piece, whose box is the leaf's
   for (std::size_t i = 0; i < b.tree.size(); ++i) {
     const std::uint32_t prim = b.tree[i].prim;
     b.tree_W[i].left = prim == 0xffffffffu ? b.tree[i].left : prims_[prim].group;

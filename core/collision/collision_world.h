@@ -303,12 +303,10 @@ class CollisionWorld {
     std::uint32_t left = 0, right = 0;
     std::uint32_t prim = 0xffffffffu;  // leaf: its piece
   };
-  // a node of a body's piece tree in the world (what the descent reads: one cache line). A
-  // leaf's `left` and `right` hold its piece's collision filter (Prim::group, Prim::mask), so
-  // that the descent reads no Prim of a static body's piece: its box is the leaf's (refit)
+  // a node of a body's piece tree in the world (what the descent reads: one cache line)
   struct WorldNode {
     Aabb box;
-    std::uint32_t left = 0, right = 0;   // inner node: its children; leaf: group, mask
+    std::uint32_t left = 0, right = 0;
     std::uint32_t prim = 0xffffffffu;    // leaf: its piece
     std::uint32_t parent = 0xffffffffu;  // the root: none
   };
