@@ -328,10 +328,13 @@ void CollisionWorld::buildTree(Body& b) {
   };
   build(build, 0, items.size(), 1);
   b.tree_W.assign(b.tree.size(), WorldNode{});
+  // a leaf's `left` and `right` (no children) hold its piece's collision filter (Prim::group,
+  // Prim::mask): the descent reads no Prim of a static body's piece, whose box is the leaf's
   for (std::size_t i = 0; i < b.tree.size(); ++i) {
-    b.tree_W[i].left = b.tree[i].left;
-    b.tree_W[i].right = b.tree[i].right;
-    b.tree_W[i].prim = b.tree[i].prim;
+    const std::uint32_t prim = b.tree[i].prim;
+    b.tree_W[i].left = prim == 0xffffffffu ? b.tree[i].left : prims_[prim].group;
+    b.tree_W[i].right = prim == 0xffffffffu ? b.tree[i].right : prims_[prim].mask;
+    b.tree_W[i].prim = prim;
   }
   for (std::size_t i = 0; i < b.tree.size(); ++i) {
     if (b.tree[i].prim == 0xffffffffu) {
@@ -670,25 +673,28 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
   WorldNode lone[2];
   const WorldNode* side[2] = {nullptr, nullptr};
   const std::uint32_t handles[2] = {tp.lo, tp.hi};
-  bool tree[2] = {false, false};
+  // a side whose leaves' boxes are not its pieces' exact boxes (a moving tree body's, refitted
+  // from its body-frame boxes): a leaf pair's overlap is decided by the pieces' (pieceBox). A
+  // static tree body's leaves hold their pieces' exact boxes (refit, just above: the values
+  // pieceBox gives), and a lone piece's is its box in the sweep and prune; neither reads the
+  // piece (the static plate's pieces are many and cold in the cache)
+  bool loose[2] = {false, false};
   for (int i = 0; i < 2; ++i) {
     const std::uint32_t t = prim_of_box_[handles[i]];
     if ((t & kBodyBox) != 0) {
       refit(t & ~kBodyBox);
       side[i] = bodies_[t & ~kBodyBox].tree_W.data();
-      tree[i] = true;
+      loose[i] = bodies_[t & ~kBodyBox].desc.kind != BodyKind::kStatic;
     } else {
       lone[i].box = sap_.box(handles[i]);
+      lone[i].left = prims_[t].group;
+      lone[i].right = prims_[t].mask;
       lone[i].prim = t;
       side[i] = &lone[i];
     }
   }
   const WorldNode* const x = side[0];
   const WorldNode* const y = side[1];
-  auto filter = [this](std::uint32_t pi, std::uint32_t* group, std::uint32_t* mask) {
-    *group = prims_[pi].group;
-    *mask = prims_[pi].mask;
-  };
   auto apart = [](const Aabb& A, const Aabb& B) {
     return A.lo.x > B.hi.x || B.lo.x > A.hi.x || A.lo.y > B.hi.y || B.lo.y > A.hi.y ||
            A.lo.z > B.hi.z || B.lo.z > A.hi.z;
@@ -768,6 +774,10 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
       ++visited;
       np.apart = apart(A, B);
       if (np.apart) {
+        // a leaf pair that parted: its state is not seen in this descent, so it is freed in this
+        // step (resolveTreePairs); the hint would only make a later descent fetch a freed or
+        // reused state ahead (kAhead below) while the entry stays apart
+        np.state = kNil;
         emit(np);
         continue;
       }
@@ -777,11 +787,9 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
         const std::uint32_t pa = na.prim, pb = nb.prim;
         const std::uint32_t hint = np.state;
         np.state = kNil;
-        std::uint32_t ga = 0, ma = 0, gb = 0, mb = 0;
-        filter(pa, &ga, &ma);
-        filter(pb, &gb, &mb);
-        if ((ga & mb) != 0 && (gb & ma) != 0 &&
-            SweepAndPrune::overlap(tree[0] ? pieceBox(pa) : A, tree[1] ? pieceBox(pb) : B)) {
+        // (a leaf's left and right: its piece's filter)
+        if ((na.left & nb.right) != 0 && (nb.left & na.right) != 0 &&
+            SweepAndPrune::overlap(loose[0] ? pieceBox(pa) : A, loose[1] ? pieceBox(pb) : B)) {
           std::uint32_t si = hint;
           if (si >= pair_states_.size() || !pair_states_[si].live ||
               pairKey(pair_states_[si].prim_a, pair_states_[si].prim_b) != pairKey(pa, pb)) {

@@ -29,12 +29,14 @@ std::shared_ptr<const Polytope> cube(double h) {
   return shape(p);
 }
 
-// A static slab of 8 x 8 pieces (its pose turned, so its frame is not the world's), a kinematic
-// comb of 24 pieces (one of them filtered out of group 1) that sweeps over it turning, a
-// two-piece probe (boxes of its own) and a dynamic comb of 10 pieces, in one world.
+// A static slab of 8 x 8 pieces (its pose turned, so its frame is not the world's; one piece
+// filtered out of group 1), a kinematic comb of 24 pieces (one of them filtered out of group 1)
+// that sweeps over it turning, a two-piece probe (boxes of its own) and a dynamic comb of 10
+// pieces, in one world.
 struct Scene {
   CollisionWorld world;
   std::uint32_t slab = 0, comb = 0, probe = 0, small_comb = 0;
+  static constexpr std::uint32_t kSlabFiltered = 3 * 8 + 4;  // the slab's filtered piece
   BodyDesc comb_desc;
 
   explicit Scene(const WorldOptions& o) : world(o) {
@@ -48,6 +50,8 @@ struct Scene {
         Transform X;
         X.t = Vec3{0.011 * i, 0.0015 * ((i * 3 + j) % 4), 0.011 * j};
         s.primitives.push_back({(i + j) % 3 == 0 ? e : c, X});
+        if (i == 3 && j == 4)
+          s.primitives.back().group = 2, s.primitives.back().mask = 2;  // collides with nothing
       }
     }
     slab = world.addBody(
@@ -144,7 +148,7 @@ TEST(PieceTree, SamePairsAndAnswersAsABoxPerPiece) {
   WorldOptions without = with_tree;
   without.piece_tree_min = 0;
   Scene a(with_tree), b(without);
-  std::size_t most = 0, added = 0, removed = 0, from_comb = 0;
+  std::size_t most = 0, added = 0, removed = 0, from_comb = 0, near_filtered = 0;
   for (int k = 0; k < 900; ++k) {
     const auto [sa, sb] = stepBoth(a, b, k);
     EXPECT_EQ(sa.pairs_overlapping, sb.pairs_overlapping) << "step " << k;
@@ -154,8 +158,16 @@ TEST(PieceTree, SamePairsAndAnswersAsABoxPerPiece) {
       expectSame(a.world.contacts()[i], b.world.contacts()[i]);
       const Contact& c = a.world.contacts()[i];
       from_comb += c.body_a == a.comb || c.body_b == a.comb;
-      // the filtered-out piece never pairs
+      // the filtered-out pieces never pair (the slab's: its leaf's filter, read by the descent)
       EXPECT_FALSE((c.body_a == a.comb && c.prim_a == 5) || (c.body_b == a.comb && c.prim_b == 5));
+      EXPECT_FALSE((c.body_a == a.slab && c.prim_a == Scene::kSlabFiltered) ||
+                   (c.body_b == a.slab && c.prim_b == Scene::kSlabFiltered));
+      // its neighbours in the slab do
+      near_filtered +=
+          (c.body_a == a.slab &&
+           (c.prim_a == Scene::kSlabFiltered - 1 || c.prim_a == Scene::kSlabFiltered + 1)) ||
+          (c.body_b == a.slab &&
+           (c.prim_b == Scene::kSlabFiltered - 1 || c.prim_b == Scene::kSlabFiltered + 1));
     }
     most = std::max(most, a.world.contacts().size());
     added += sa.pairs_added;
@@ -166,6 +178,7 @@ TEST(PieceTree, SamePairsAndAnswersAsABoxPerPiece) {
   EXPECT_GT(added, 200u);
   EXPECT_GT(removed, 200u);
   EXPECT_GT(from_comb, 2000u);
+  EXPECT_GT(near_filtered, 100u);
 }
 
 // A descent from last step's front finds the pairs a descent from the roots finds, with the same
