@@ -124,6 +124,23 @@ StackResult runStack(const StackCase& c,
                     static_cast<int>((c.settle_s + c.seconds) / kDt));
 }
 
+// a scene under 9.81 m/s2 (down y) with material 0 of friction `mu` (no restitution) and a
+// static floor slab 24 edges wide and one thick, its top face through the origin, turned by R
+SceneModel floorScene(double edge, double mu, const Quat& R = Quat{1, 0, 0, 0}) {
+  const double h = 0.5 * edge;
+  SceneModel s;
+  s.gravity_W = Vec3{0, -9.81, 0};
+  s.materials.push_back(material(mu, 0.0));
+  s.bodies.push_back(
+      staticBody("floor", boxShape(Vec3{12 * edge, h, 12 * edge}), at(R * Vec3{0, -h, 0}, R), 0));
+  return s;
+}
+
+// how far q turns (rad)
+double turnAngle(const Quat& q) {
+  return 2.0 * std::asin(std::min(1.0, glm::length(Vec3{q.x, q.y, q.z})));
+}
+
 DynamicsOptions awake() {
   DynamicsOptions o;
   o.sleep_time_s = 0.0;  // every tick solved: the resting contact itself is under test
@@ -249,18 +266,14 @@ TEST(Stack, FrictionlessDroppedPyramidStands) {
 TEST(Stack, FrictionlessOverhangingBoxTipsOver) {
   for (const double edge : {0.005, 0.02, 1.0}) {
     const double h = 0.5 * edge;
-    SceneModel s;
-    s.gravity_W = Vec3{0, -9.81, 0};
-    s.materials.push_back(material(0.0, 0.0));
-    s.bodies.push_back(
-        staticBody("floor", boxShape(Vec3{12 * edge, h, 12 * edge}), at(Vec3{0, -h, 0}), 0));
+    SceneModel s = floorScene(edge, 0.0);
     s.bodies.push_back(dynamicBody("pedestal", boxShape(Vec3{h}), at(Vec3{0, h, 0}), 500.0, 0));
     s.bodies.push_back(
         dynamicBody("box", boxShape(Vec3{h}), at(Vec3{0.6 * edge, 3 * h, 0}), 500.0, 0));
     Rig rig(std::move(s), awake());
     rig.run(1000);
     const Quat q = rig.dyn->pose(2).rotation;
-    const double turned = 2.0 * std::asin(std::min(1.0, glm::length(Vec3{q.x, q.y, q.z})));
+    const double turned = turnAngle(q);
     const double y = rig.dyn->pose(2).translation.y / (3 * h);
     std::printf(
         "overhanging frictionless box, %g mm: turned %.3g rad, centre at %.3g of its "
@@ -284,11 +297,7 @@ TEST(Stack, FrictionlessTowerTopPushedByTheProbeLeavesTheBoxBelow) {
     for (const double speed : {0.25, 0.1}) {
       const double h = 0.5 * edge;
       const int n = 10;
-      SceneModel s;
-      s.gravity_W = Vec3{0, -9.81, 0};
-      s.materials.push_back(material(0.0, 0.0));
-      s.bodies.push_back(
-          staticBody("floor", boxShape(Vec3{12 * edge, h, 12 * edge}), at(Vec3{0, -h, 0}), 0));
+      SceneModel s = floorScene(edge, 0.0);
       for (const Vec3& x : column(n, edge, 0.0))
         s.bodies.push_back(dynamicBody("box", boxShape(Vec3{h}), at(x), 500.0, 0));
       // the probe: a sphere of radius 0.2 of the edge beside the top box, half way up its upper
@@ -361,11 +370,7 @@ TEST(Stack, FrictionlessBoxesAgainstAStaticWallStand) {
         // where box i's centre rests (u) at height v: the square wall's face is at u = 0; the
         // vertical wall's at x = 0, met by the box's upper edge at (u - h, v + h)
         const auto restU = [&](double v) { return vertical ? h + (v + h) * std::tan(tilt) : h; };
-        SceneModel s;
-        s.gravity_W = Vec3{0, -9.81, 0};
-        s.materials.push_back(material(0.0, 0.0));
-        s.bodies.push_back(
-            staticBody("floor", boxShape(Vec3{12 * edge, h, 12 * edge}), at(W(0, -h), R), 0));
+        SceneModel s = floorScene(edge, 0.0, R);
         std::vector<double> rest_y;
         for (int i = 0; i < n; ++i) {
           const double v = h + gap + (edge + gap) * i, v_rest = h + edge * i;
@@ -409,11 +414,7 @@ TEST(Stack, FrictionlessStaircaseWhoseLoadOverhangsTopples) {
     for (const double step : {0.3, 0.4}) {
       for (const double edge : {0.005, 0.02, 1.0}) {
         const double h = 0.5 * edge;
-        SceneModel s;
-        s.gravity_W = Vec3{0, -9.81, 0};
-        s.materials.push_back(material(mu, 0.0));
-        s.bodies.push_back(
-            staticBody("floor", boxShape(Vec3{12 * edge, h, 12 * edge}), at(Vec3{0, -h, 0}), 0));
+        SceneModel s = floorScene(edge, mu);
         for (int i = 0; i < 3; ++i)
           s.bodies.push_back(dynamicBody("box", boxShape(Vec3{h}),
                                          at(Vec3{step * edge * i, h + edge * i, 0}), 500.0, 0));
@@ -422,8 +423,7 @@ TEST(Stack, FrictionlessStaircaseWhoseLoadOverhangsTopples) {
         double turned = 0.0, lowest = 1e300;
         for (std::uint32_t b = 1; b <= 3; ++b) {
           const Quat q = rig.dyn->pose(b).rotation;
-          turned =
-              std::max(turned, 2.0 * std::asin(std::min(1.0, glm::length(Vec3{q.x, q.y, q.z}))));
+          turned = std::max(turned, turnAngle(q));
           lowest = std::min(lowest, rig.dyn->pose(b).translation.y / (h + edge * (b - 1)));
         }
         const double top = rig.dyn->pose(3).translation.y / (5 * h);
@@ -454,11 +454,7 @@ TEST(Stack, PlankOnTwoCubesTipsOnlyWhenItsLoadIsBeyondThem) {
     for (const double at_x : {1.2, 2.2}) {
       for (const double edge : {0.005, 0.02, 1.0}) {
         const double h = 0.5 * edge;
-        SceneModel s;
-        s.gravity_W = Vec3{0, -9.81, 0};
-        s.materials.push_back(material(mu, 0.0));
-        s.bodies.push_back(
-            staticBody("floor", boxShape(Vec3{12 * edge, h, 12 * edge}), at(Vec3{0, -h, 0}), 0));
+        SceneModel s = floorScene(edge, mu);
         for (const double x : {-edge, edge})
           s.bodies.push_back(dynamicBody("cube", boxShape(Vec3{h}), at(Vec3{x, h, 0}), 500.0, 0));
         s.bodies.push_back(dynamicBody("plank", boxShape(Vec3{5 * h, 0.25 * h, h}),
@@ -469,7 +465,7 @@ TEST(Stack, PlankOnTwoCubesTipsOnlyWhenItsLoadIsBeyondThem) {
         Rig rig(std::move(s), awake());
         rig.run(2000);
         const Quat q = rig.dyn->pose(3).rotation;
-        const double turned = 2.0 * std::asin(std::min(1.0, glm::length(Vec3{q.x, q.y, q.z})));
+        const double turned = turnAngle(q);
         const double y = rig.dyn->pose(4).translation.y / rest_y;
         std::printf(
             "plank on two cubes, heavy cube at %g edges, mu %g, %g mm: plank turned %.3g rad, "
@@ -586,11 +582,7 @@ TEST(Stack, TwistedBoxesStand) {
     for (const double edge : {0.005, 0.02, 0.1}) {
       for (const double mu : {0.0, 0.5}) {
         const double h = 0.5 * edge;
-        SceneModel s;
-        s.gravity_W = Vec3{0, -9.81, 0};
-        s.materials.push_back(material(mu, 0.0));
-        s.bodies.push_back(
-            staticBody("floor", boxShape(Vec3{12 * edge, h, 12 * edge}), at(Vec3{0, -h, 0}), 0));
+        SceneModel s = floorScene(edge, mu);
         for (int i = 0; i < 6; ++i) {
           const double turn = step_deg == 45.0 ? (i % 2) * 45.0 : i * step_deg;
           const Quat q = glm::angleAxis(turn * std::numbers::pi / 180.0, Vec3{0, 1, 0});
