@@ -354,7 +354,8 @@ TEST(Stack, FrictionlessTowerTopPushedByTheProbeLeavesTheBoxBelow) {
 // - vertical: each box slides until its upper edge meets the wall, a line contact with a
 //   horizontal normal (no flat block: the sidewaysPush rule), the tower stepping back 0.18 of the
 //   edge per box; it stands (each box's centre of pressure at least 0.16 of the edge inside its
-//   support; at 20 degrees a tower of three topples: the middle box's would be 0.15 outside).
+//   support; at 20 degrees a tower of three must topple, the middle box's 0.15 outside, and the
+//   solver leaves it standing at 2 cm and 1 m: docs/dynamics.md, Limits).
 // After settling 2 s, over 10 s: no corner moves more than 1e-3 of the edge, nothing turns faster
 // than 1e-3 rad/s, nothing falls.
 TEST(Stack, FrictionlessBoxesAgainstAStaticWallStand) {
