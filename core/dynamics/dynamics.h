@@ -398,6 +398,8 @@ class Dynamics {
   bool correctBlock(const NormalBlock& blk, double beta, double inv_dt);
   void levelSweep(double dt);
   bool sidewaysPush(const ContactPoint& cp) const;
+  // the gravity a contact between A and B works against: B's, or A's if B has none
+  static const Vec3& contactGravity(const BodyState& A, const BodyState& B);
   Vec3 loadCentre(std::uint32_t u, double dt) const;
   void passLoadsDown(double dt);
   static bool levels(const ContactPoint& cp);

@@ -915,6 +915,10 @@ bool Dynamics::sidewaysPush(const ContactPoint& cp) const {
   return glm::dot(g, g) > 0.0 && !alongGravity(cp.n, g);
 }
 
+const Vec3& Dynamics::contactGravity(const BodyState& A, const BodyState& B) {
+  return glm::dot(B.gravity_W, B.gravity_W) > 0.0 ? B.gravity_W : A.gravity_W;
+}
+
 // the centre (world) of the load body u bears this tick: its own weight over the tick at its
 // centre of mass, and what the bodies above passed to it (level_load_, passLoadsDown)
 Vec3 Dynamics::loadCentre(std::uint32_t u, double dt) const {
@@ -947,7 +951,7 @@ void Dynamics::passLoadsDown(double dt) {
       continue;
     const BodyState& A = bodies_[cp.a];
     const BodyState& B = bodies_[cp.b];
-    const Vec3 g = glm::dot(B.gravity_W, B.gravity_W) > 0.0 ? B.gravity_W : A.gravity_W;
+    const Vec3& g = contactGravity(A, B);
     if (!(glm::dot(g, g) > 0.0) || !alongGravity(cp.n, g))
       continue;
     if (level_points_.size() == level_points_.capacity())
@@ -958,9 +962,7 @@ void Dynamics::passLoadsDown(double dt) {
   std::sort(level_points_.begin(), level_points_.end());
   for (const auto& [h, i] : level_points_) {
     const ContactPoint& cp = points_[i];
-    const Vec3 g = glm::dot(bodies_[cp.b].gravity_W, bodies_[cp.b].gravity_W) > 0.0
-                       ? bodies_[cp.b].gravity_W
-                       : bodies_[cp.a].gravity_W;
+    const Vec3& g = contactGravity(bodies_[cp.a], bodies_[cp.b]);
     const bool b_above = glm::dot(cp.n, g) < 0.0;  // n points from a to b
     const std::uint32_t lower = b_above ? cp.a : cp.b, upper = b_above ? cp.b : cp.a;
     if (bodies_[lower].infinite)
@@ -1039,7 +1041,7 @@ void Dynamics::levelSweep(double dt) {
     const ContactPoint& c0 = points_[blk.idx[0]];
     const BodyState& A = bodies_[c0.a];
     const BodyState& B = bodies_[c0.b];
-    const Vec3 g = glm::dot(B.gravity_W, B.gravity_W) > 0.0 ? B.gravity_W : A.gravity_W;
+    const Vec3& g = contactGravity(A, B);
     if (!(glm::dot(g, g) > 0.0))
       continue;  // no up: nothing to propagate from
     // the upper body's reach over its supports across gravity (only along it: a side contact
@@ -1085,7 +1087,7 @@ void Dynamics::levelSweep(double dt) {
     BodyState& B = bodies_[c0.b];
     // the upper body: the one gravity pulls onto the other (n points from a to b), or the
     // only one that can move
-    const Vec3 g = glm::dot(B.gravity_W, B.gravity_W) > 0.0 ? B.gravity_W : A.gravity_W;
+    const Vec3& g = contactGravity(A, B);
     const bool b_up = A.infinite || (!B.infinite && glm::dot(c0.n, g) < 0.0);
     BodyState& U = b_up ? B : A;
     if (U.infinite || (level_pinned_[b_up ? c0.b : c0.a] & kLevelPinned) != 0)
