@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -726,6 +727,11 @@ struct CoherentBest {
   }
 };
 
+// Whether two poses are the same bit for bit (not merely equal: -0 and 0 differ)
+bool samePose(const Transform& x, const Transform& y) {
+  return std::memcmp(&x.R, &y.R, sizeof(x.R)) == 0 && std::memcmp(&x.t, &y.t, sizeof(x.t)) == 0;
+}
+
 // The certificate: evaluate the entries whose lower bound does not exceed the best depth found
 // (plus the rounding margin), nearest first; true, with `out`, when every other bound exceeds
 // the best and the best is unique by the margin.
@@ -874,6 +880,7 @@ DepthResult rebuild(const Polytope& a,
   t.a = &a;
   t.b = &b;
   t.last = X_AB;
+  t.answer = r;
   t.drift = 0.0;
   // keys are depth + drift: a drift of many sizes would round away the margin
   t.limit = 64.0 * (a.radius() + b.radius());
@@ -902,9 +909,23 @@ DepthResult penetrationDepthCoherent(const Polytope& a,
   ++t.stats.queries;
   const bool fits = t.fits(a, b);
   if (t.valid && fits && t.a == &a && t.b == &b) {
+    if (samePose(X_AB, t.last)) {
+      // the pose of the last answer, bit for bit: that answer again (every method here is a
+      // function of the polytopes and the pose). A pair at rest whose answer lies at the tie
+      // grid's guard band failed its certificate at every tick (the top pair of each of
+      // Tick/stack100's stacks, answered in full each tick)
+      ++t.stats.certified;
+      ++t.stats.repeated;
+      cache.kind = t.answer.kind;
+      cache.ia = t.answer.ia;
+      cache.ib = t.answer.ib;
+      cache.normal = t.answer.normal;
+      return t.answer;
+    }
     DepthResult r;
     if (coherentTry(a, b, X_AB, t, cache, r)) {
       ++t.stats.certified;
+      t.answer = r;
       return r;
     }
     ++t.stats.fallbacks;

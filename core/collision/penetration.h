@@ -130,6 +130,9 @@ struct DepthTracker {
     std::uint64_t fallbacks = 0;  ///< the certificate failed: the full method ran
     std::uint64_t cold = 0;       ///< no tracked state (first query, apart, or other polytopes)
     std::uint64_t evaluated = 0;  ///< candidates evaluated by certified queries
+    /// certified queries at the last answer's pose bit for bit (that answer again, no candidate
+    /// evaluated: a pair at rest, whose certificate may fail at that pose every time)
+    std::uint64_t repeated = 0;
   } stats;
 
   /// Room for the pair (a, b) (allocates; off the servo thread). A tracker too small for a pair
@@ -171,7 +174,8 @@ struct DepthTracker {
   std::uint64_t tick = 0;
   const Polytope* a = nullptr;
   const Polytope* b = nullptr;
-  Transform last;  ///< the pose of the last answer
+  Transform last;      ///< the pose of the last answer
+  DepthResult answer;  ///< the last answer (certified or the full method's)
   double drift =
       0.0;  ///< sum of the per-query bounds on the change of any depth since the full solve
   double limit = 0.0;  ///< drift at which a full solve is forced (keys lose no precision)
@@ -183,9 +187,9 @@ struct DepthTracker {
 /// candidates whose lower bound (last evaluated depth minus the pose change's Lipschitz bound
 /// since) does not exceed the best depth found are evaluated exactly, nearest first; the answer
 /// is certified when every other bound exceeds it and it is unique (docs/narrow-phase.md,
-/// "Coherent exact depth"). Else, or without a state, penetrationDepthExact runs in full and
-/// rebuilds the state. No allocation once `tracker` and `scratch` are reserved for the pair; any
-/// thread that owns them.
+/// "Coherent exact depth"); at the last answer's pose, bit for bit, it is that answer. Else, or
+/// without a state, penetrationDepthExact runs in full and rebuilds the state. No allocation once
+/// `tracker` and `scratch` are reserved for the pair; any thread that owns them.
 DepthResult penetrationDepthCoherent(const Polytope& a,
                                      const Polytope& b,
                                      const Transform& X_AB,

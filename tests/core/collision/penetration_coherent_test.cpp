@@ -317,6 +317,69 @@ TEST(PenetrationCoherent, TheFullMethodBreaksTiesByTheGrid) {
   }
 }
 
+// A pair at rest (the same pose bit for bit, query after query) is answered with its last answer,
+// which is the full method's, counted as certified and repeated; a pose one rounding step away
+// is evaluated again. Two stacked equal cubes aligned (every face and edge of the contact tied)
+// and turned boxes, in metres and millimetres.
+TEST(PenetrationCoherent, APoseRepeatedBitForBitGetsTheSameAnswer) {
+  Failures fails;
+  for (const double unit : {1.0, 1000.0}) {
+    const Polytope cube = hullOf(box(0.05 * unit, 0.05 * unit, 0.05 * unit));
+    const Polytope plank = hullOf(box(0.1 * unit, 0.03 * unit, 0.02 * unit));
+    for (const Polytope* b : {&cube, &plank}) {
+      const double size = pairSize(cube, *b);
+      double hb = 0.0;  // B's half height (z)
+      for (const auto& v : b->vertices())
+        hb = std::max(hb, v.p.z);
+      const Transform poses[] = {
+          // B on A, aligned, 6e-6 of the size deep: every face and edge of the contact tied
+          geom::Pose{Vec3{0.0, 0.0, 0.05 * unit + hb - 6e-6 * size}, geom::Quat{1, 0, 0, 0}}
+              .toTransform(),
+          // turned, deep
+          geom::Pose{Vec3{0.01 * unit, -0.02 * unit, 0.03 * unit},
+                     glm::normalize(geom::Quat{0.9, 0.1, -0.2, 0.3})}
+              .toTransform()};
+      for (const Transform& X : poses) {
+        const std::string what = "unit " + std::to_string(unit) +
+                                 (b == &cube ? " cube" : " plank") + " z " +
+                                 std::to_string(X.t.z / unit) + ": ";
+        DepthTracker tracker;
+        tracker.reserve(cube, *b);
+        DepthScratch scratch;
+        scratch.reserve(8);
+        DepthCache cache;
+        DepthCache fresh;
+        const DepthResult f = penetrationDepthExact(cube, *b, X, fresh, scratch);
+        if (!(f.depth > 0.0))
+          fails.add(what, "not overlapping");
+        for (int k = 0; k < 5; ++k) {
+          const std::uint64_t before = tracker.stats.repeated;
+          const DepthResult c = penetrationDepthCoherent(cube, *b, X, tracker, cache, scratch);
+          fails.add(what + "query " + std::to_string(k) + ": ",
+                    compare(cube, *b, X, c, f, true, size));
+          // the first query is cold; every later one at the same pose is the last answer again
+          if ((tracker.stats.repeated != before) != (k > 0))
+            fails.add(what + "query " + std::to_string(k) + ": ",
+                      "repeated is not counted as it should");
+        }
+        // a pose one rounding step away: evaluated (certified or in full), not repeated
+        Transform Y = X;
+        Y.t.z = std::nextafter(Y.t.z, 0.0);
+        const std::uint64_t before = tracker.stats.repeated;
+        const DepthResult c = penetrationDepthCoherent(cube, *b, Y, tracker, cache, scratch);
+        const DepthResult g = penetrationDepthExact(cube, *b, Y, fresh, scratch);
+        fails.add(what + "moved: ", compare(cube, *b, Y, c, g, false, size));
+        if (tracker.stats.repeated != before)
+          fails.add(what + "moved: ", "answered as repeated");
+        if (tracker.stats.queries != 6 || tracker.stats.cold != 1)
+          fails.add(what, "queries " + std::to_string(tracker.stats.queries) + ", cold " +
+                              std::to_string(tracker.stats.cold));
+      }
+    }
+  }
+  EXPECT_EQ(fails.total(), 0u) << fails.summary();
+}
+
 // A reserved tracker and scratch: queries along a path allocate nothing, through the pair query
 // too (PairCache::tracker).
 TEST(PenetrationCoherent, NoAllocationOnceReserved) {
