@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
-#include <cstring>
+#include <cstdint>
 #include <limits>
 #include <vector>
 
@@ -729,7 +730,18 @@ struct CoherentBest {
 
 // Whether two poses are the same bit for bit (not merely equal: -0 and 0 differ)
 bool samePose(const Transform& x, const Transform& y) {
-  return std::memcmp(&x.R, &y.R, sizeof(x.R)) == 0 && std::memcmp(&x.t, &y.t, sizeof(x.t)) == 0;
+  const auto same = [](double u, double v) {
+    return std::bit_cast<std::uint64_t>(u) == std::bit_cast<std::uint64_t>(v);
+  };
+  for (int c = 0; c < 3; ++c) {
+    if (!same(x.t[c], y.t[c]))
+      return false;
+    for (int r = 0; r < 3; ++r) {
+      if (!same(x.R[c][r], y.R[c][r]))
+        return false;
+    }
+  }
+  return true;
 }
 
 // The certificate: evaluate the entries whose lower bound does not exceed the best depth found
