@@ -208,6 +208,15 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
     if (auto ok = d->initBody(i, g, &moving_prims); !ok.ok())
       return ok.error();
   }
+  // each primitive's material, in one array (gatherContacts; the scene's bodies are far apart)
+  d->prim_first_.reserve(scene.bodies.size() + 1);
+  for (const scene::Body& b : scene.bodies) {
+    d->prim_first_.push_back(static_cast<std::uint32_t>(d->prim_material_.size()));
+    for (const scene::Primitive& p : b.primitives)
+      d->prim_material_.push_back(&scene::materialOf(scene, p.material));
+  }
+  d->prim_first_.push_back(static_cast<std::uint32_t>(d->prim_material_.size()));
+  d->default_material_ = &scene::materialOf(scene, -1);
   if (scene.probe_body < 0 && options.extra_probe_body >= 0) {
     if (static_cast<std::size_t>(options.extra_probe_body) != scene.bodies.size()) {
       return Error{"dynamics: extra_probe_body must be the world id after the scene's bodies"};

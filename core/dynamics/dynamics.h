@@ -467,6 +467,11 @@ class Dynamics {
   // loads down from the top (scratch)
   ReservedVector<std::pair<double, std::uint32_t>> level_points_;
   std::size_t max_points_ = 0;  // the capacity of points_ (options' max_contact_points)
+  // the scene's primitives' materials (scene::materialOf), body after body: body i's are from
+  // prim_first_[i] to prim_first_[i + 1]; a primitive out of range has default_material_
+  std::vector<const scene::Material*> prim_material_;
+  std::vector<std::uint32_t> prim_first_;
+  const scene::Material* default_material_ = nullptr;
   ReservedVector<WarmPoint> warm_, warm_next_;
   std::vector<JointState> joints_;
   std::vector<GeneralJoint> general_;      // every other joint: limits, cones, soft limits, drives

@@ -6,7 +6,9 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <tuple>
 
@@ -70,9 +72,27 @@ struct Dynamics::BodyState {
   Vec3 target_x{0.0};
   Quat target_q{1.0, 0.0, 0.0, 0.0};
 
+  // R and inv_inertia_W were last made by updateInertia for finite mass from inertia_q (bit for
+  // bit; a direct write of either clears it)
+  bool inertia_made = false;
+  Quat inertia_q{1.0, 0.0, 0.0, 0.0};
+
   void updateInertia() {
     R = glm::mat3_cast(q);
     inv_inertia_W = infinite ? Mat3{0.0} : R * inv_inertia_B * glm::transpose(R);
+    inertia_made = !infinite;
+    inertia_q = q;
+  }
+  // updateInertia for finite mass, unless made from this very q already (the start of a tick:
+  // the end of the last one made them)
+  void updateInertiaIfTurned() {
+    const auto same = [](double x, double y) {
+      return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y);
+    };
+    if (!infinite && inertia_made && same(inertia_q.w, q.w) && same(inertia_q.x, q.x) &&
+        same(inertia_q.y, q.y) && same(inertia_q.z, q.z))
+      return;
+    updateInertia();
   }
   double invMass() const { return infinite ? 0.0 : inv_mass; }
   Vec3 velocityAt(const Vec3& r) const { return v_W + glm::cross(w_W, r); }
@@ -237,6 +257,19 @@ struct Dynamics::GeneralJoint {
 // keeps them): its primitive pair, where it sits on each surface (from each centre of mass, body
 // frames) and its impulses of the tick (the next tick's warm start)
 struct Dynamics::WarmPoint {
+  WarmPoint() = default;
+  // a pair's key (a search's probe)
+  WarmPoint(std::uint32_t a_, std::uint32_t b_, std::uint32_t prim_a_, std::uint32_t prim_b_)
+      : a(a_), b(b_), prim_a(prim_a_), prim_b(prim_b_) {}
+  // a point of the pair at its surface points, its normal and impulses zero (made in place by
+  // gatherContacts: a temporary copied in stalled on its store forwarding)
+  WarmPoint(std::uint32_t a_,
+            std::uint32_t b_,
+            std::uint32_t prim_a_,
+            std::uint32_t prim_b_,
+            const Vec3& sa,
+            const Vec3& sb)
+      : a(a_), b(b_), prim_a(prim_a_), prim_b(prim_b_), sa_B(sa), sb_B(sb) {}
   std::uint32_t a = 0, b = 0, prim_a = 0, prim_b = 0;
   Vec3 sa_B{0.0}, sb_B{0.0};  // on a's surface (a's frame), on b's surface (b's frame)
   Vec3 na_B{0.0}, nb_B{0.0};  // the normal in a's frame and in b's

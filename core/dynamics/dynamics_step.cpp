@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
 #include <tuple>
 
 #include "core/dynamics/dynamics_internal.h"
@@ -46,6 +47,18 @@ const scene::Material kProbeSphereMaterial = [] {
 
 // a kept point's normal (in either body) within about 0.25 degrees of this tick's
 constexpr double kSameNormalCos = 0.99999;
+
+// std::round of a value within +-1e15 (|v| < 2^53; NaN passed to std::round), inline: libm's
+// round, called three or four times per point, was 4% of a resting stack's step. The same
+// result bit for bit: the truncation and the fraction v - t are exact in this range, t +- 1 too,
+// and the sign is v's (as std::round's, -0.0 for -0.3)
+double roundClamped(double v) {
+  if (!(std::abs(v) <= 1e15))
+    return std::round(v);
+  const double t = static_cast<double>(static_cast<std::int64_t>(v));
+  const double f = v - t;
+  return std::copysign(f >= 0.5 ? t + 1.0 : f <= -0.5 ? t - 1.0 : t, v);
+}
 
 // a manifold's points plus as many kept ones
 constexpr std::size_t kMaxCandidates = 2 * Manifold::kMaxPoints;
@@ -135,12 +148,14 @@ void Dynamics::integrateForces(double dt, double margin, const HeldInput* held) 
     if (!b.enabled || (b.asleep && !b.driven && !held_here)) {
       // out of the scene, or asleep: frozen where it is (no gravity, no velocity)
       b.inv_inertia_W = Mat3{0.0};
+      b.inertia_made = false;
       b.v_W = b.w_W = Vec3{0.0};
       b.has_target = false;
       continue;
     }
     if (b.infinite) {
       b.inv_inertia_W = Mat3{0.0};
+      b.inertia_made = false;
       if (b.motion == scene::Motion::kStatic)
         continue;
       if (b.has_target) {
@@ -162,7 +177,7 @@ void Dynamics::integrateForces(double dt, double margin, const HeldInput* held) 
       torque += held->torque_W_nm;
     }
     b.v_W += dt * (b.gravity_W + b.inv_mass * force);
-    b.updateInertia();
+    b.updateInertiaIfTurned();
     b.w_W += dt * (b.inv_inertia_W * torque);
     if (!geom::finite(b.v_W) || !geom::finite(b.w_W)) {
       b.v_W = Vec3{0.0};
@@ -209,11 +224,13 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
     // materials of the two primitives (none declared: scene::defaultMaterial()); a body after
     // the scene's, the probe sphere the Simulation adds from its config, is no collider of the
     // scene and pushes without friction (what the hand feels of friction is the response's)
+    // (from create()'s table of scene::materialOf of each primitive)
     const auto material = [&](std::uint32_t body, std::uint32_t prim) -> const scene::Material& {
-      if (body >= scene_->bodies.size())
+      if (body + 1 >= prim_first_.size())
         return kProbeSphereMaterial;
-      const auto& prims = scene_->bodies[body].primitives;
-      return scene::materialOf(*scene_, prim < prims.size() ? prims[prim].material : -1);
+      const std::uint32_t first = prim_first_[body];
+      return prim < prim_first_[body + 1] - first ? *prim_material_[first + prim]
+                                                  : *default_material_;
     };
     const scene::Material& ma = material(c.body_a, c.prim_a);
     const scene::Material& mb = material(c.body_b, c.prim_b);
@@ -305,7 +322,7 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
     // leaves it): with them the same scene in another length unit gave other forces
     // (Demo/ProxyScale.*, Stack.SameRelativeAnswerInMillimetresMetresAndKilometres)
     const double grain = 1e-9 * size;
-    const auto grains = [&](double v) { return std::round(std::clamp(v / grain, -1e15, 1e15)); };
+    const auto grains = [&](double v) { return roundClamped(std::clamp(v / grain, -1e15, 1e15)); };
     for (std::size_t k = 0; k < fresh; ++k) {
       Candidate& cd = cand[k];
       cd.order = {cd.slot == kNoSlot ? 0.0 : grains(std::sqrt(nearest[k])), grains(cd.sa_B.x),
@@ -365,9 +382,9 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
       ContactPoint& cp = points_.emplace_back();
       // the next tick's warm point: its pair and surface points now, its normal in the bodies'
       // frames and its impulses at the end of the tick (storeWarmStart)
-      // (made whole: a default-made one is zeroed first by a string store, slow to start)
-      warm_next_.push_back(WarmPoint{c.body_a, c.body_b, c.prim_a, c.prim_b, cd.sa_B, cd.sb_B,
-                                     Vec3{0.0}, Vec3{0.0}, 0.0, Vec3{0.0}});
+      // (made whole and in place: a default-made one was zeroed first by a string store, slow
+      // to start, and a temporary copied in stalled on its store forwarding)
+      warm_next_.emplace_back(c.body_a, c.body_b, c.prim_a, c.prim_b, cd.sa_B, cd.sb_B);
       cp.a = c.body_a;
       cp.b = c.body_b;
       cp.n = cd.n;
