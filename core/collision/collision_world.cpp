@@ -1,6 +1,7 @@
 #include "core/collision/collision_world.h"
 
 #include <algorithm>
+#include <cassert>
 #include <chrono>
 #include <cstddef>
 #include <limits>
@@ -152,9 +153,16 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
   b.X_stepped = X_WB;
   b.live = true;
   b.radius = 0.0;
+  b.box_travel = 0.0;
+  b.box_r1 = 0.0;
+  b.small_pieces = true;
   for (const PrimitiveDesc& pd : desc.primitives) {
-    for (const auto& v : pd.shape->vertices())
-      b.radius = std::max(b.radius, glm::length(pd.X_BP.apply(v.p)));
+    b.small_pieces = b.small_pieces && pd.shape->vertices().size() <= kSmallShape;
+    for (const auto& v : pd.shape->vertices()) {
+      const Vec3 p = pd.X_BP.apply(v.p);
+      b.radius = std::max(b.radius, glm::length(p));
+      b.box_r1 = std::max(b.box_r1, std::abs(p.x) + std::abs(p.y) + std::abs(p.z));
+    }
   }
   const bool tree =
       options_.piece_tree_min > 0 && desc.primitives.size() >= options_.piece_tree_min;
@@ -335,6 +343,13 @@ void CollisionWorld::buildTree(Body& b) {
     b.tree_W[i].left = prim == 0xffffffffu ? b.tree[i].left : prims_[prim].group;
     b.tree_W[i].right = prim == 0xffffffffu ? b.tree[i].right : prims_[prim].mask;
     b.tree_W[i].prim = prim;
+  }
+  // a leaf box's corners, in the body frame, for Body::box_travel
+  for (const TreeNode& n : b.tree) {
+    if (n.prim != 0xffffffffu) {
+      const Vec3 corner = glm::abs(n.c) + n.e;
+      b.box_r1 = std::max(b.box_r1, corner.x + corner.y + corner.z);
+    }
   }
   for (std::size_t i = 0; i < b.tree.size(); ++i) {
     if (b.tree[i].prim == 0xffffffffu) {
@@ -699,6 +714,35 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
     return A.lo.x > B.hi.x || B.lo.x > A.hi.x || A.lo.y > B.hi.y || B.lo.y > A.hi.y ||
            A.lo.z > B.hi.z || B.lo.z > A.hi.z;
   };
+  // Entries that cannot have changed (NodePair::until). No face of a box of either side has
+  // moved by more than that side's Body::box_travel has grown since the entry was found, so
+  // two boxes found apart by a gap g (the largest of the six differences) are still apart, and
+  // two found overlapping by o on every axis still overlap, while the two sides' growths sum to
+  // less than g or o. The slack covers the rounding of the boxes, of the bound's sum and the
+  // loose boxes' pads (which vary by 1e-9 of the motion) many times over.
+  // Two leaves are kept so only when neither piece's exact box is climbed to from hints (a
+  // moving tree body's large piece, whose box pieceBox must compute at the same steps as before).
+  double travel = 0.0, r1 = 0.0;
+  bool keep_leaves = true;
+  for (int i = 0; i < 2; ++i) {
+    const std::uint32_t t = prim_of_box_[handles[i]];
+    const Body& body = bodies_[(t & kBodyBox) != 0 ? t & ~kBodyBox : prims_[t].body];
+    travel += body.box_travel;
+    r1 += body.box_r1;
+    keep_leaves = keep_leaves && (!loose[i] || body.small_pieces);
+  }
+  double mag = 0.0;
+  for (const Aabb* root : {&x[0].box, &y[0].box}) {
+    const Vec3 m = glm::max(glm::abs(root->lo), glm::abs(root->hi));
+    mag = std::max({mag, m.x, m.y, m.z});
+  }
+  const double slack = 1e-8 * (mag + r1) + 1e-15 * travel;
+  // the largest of the six differences (> 0: apart by it), and the least overlap of two boxes
+  auto gap = [](const Aabb& A, const Aabb& B) {
+    return std::max({A.lo.x - B.hi.x, B.lo.x - A.hi.x, A.lo.y - B.hi.y, B.lo.y - A.hi.y,
+                     A.lo.z - B.hi.z, B.lo.z - A.hi.z});
+  };
+  auto until = [&](double by) { return travel + by - (slack + 1e-8 * std::abs(by)); };
   // The front: the node pairs where this descent stops, depth first, so that the two halves of
   // an opened pair are neighbours once their own halves have folded back into them. Two halves
   // both apart whose opened pair is apart too fold into it, so the front stays as small as the
@@ -733,8 +777,11 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
           break;
         up.a = x[v.a].parent;
       }
-      if (!apart(x[up.a].box, y[up.b].box))
+      const Aabb& A = x[up.a].box;
+      const Aabb& B = y[up.b].box;
+      if (!apart(A, B))
         break;
+      up.until = until(gap(A, B));
       front_next_.pop_back();
       front_next_.back() = up;
     }
@@ -749,7 +796,8 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
   const bool mapped = !from_front && !tp.fresh;
   if (mapped)
     mapTreeStates(tp);
-  std::uint32_t visited = 0;
+  std::uint32_t visited = 0, kept = 0;
+  const bool keep_entries = from_front && options_.descent_keep;
   const NodePair* const starts = from_front ? front_.data() + tp.front_begin : &roots;
   const std::uint32_t n_starts = from_front ? tp.front_size : 1;
   // a front's overlapping leaf pairs name their states: the first line of the state some
@@ -762,6 +810,21 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
       if (ahead < pair_states_.size())
         __builtin_prefetch(&pair_states_[ahead]);
     }
+    if (keep_entries && travel < starts[k].until) {
+      ++kept;
+      // the entry as the descent would find it again, unread: apart, or two leaves found so
+      const NodePair& e = starts[k];
+      if (!e.apart && e.state != kNil) {
+        // its state (a leaf pair's state found by the last descent stays live until the next:
+        // resolveTreePairs frees only those a descent did not find)
+        assert(e.state < pair_states_.size() && pair_states_[e.state].live &&
+               pairKey(pair_states_[e.state].prim_a, pair_states_[e.state].prim_b) ==
+                   pairKey(x[e.a].prim, y[e.b].prim));
+        pair_states_[e.state].seen = tick_;
+      }
+      emit(e);
+      continue;
+    }
     descent_.clear();
     descent_.push_back(starts[k]);
     while (!descent_.empty()) {
@@ -772,12 +835,14 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
       const Aabb& A = na.box;
       const Aabb& B = nb.box;
       ++visited;
+      const double g = gap(A, B);
       np.apart = apart(A, B);
       if (np.apart) {
         // a leaf pair that parted: its state is not seen in this descent, so it is freed in this
         // step (resolveTreePairs); the hint would only make a later descent fetch a freed or
         // reused state ahead (kAhead below) while the entry stays apart
         np.state = kNil;
+        np.until = until(g);
         emit(np);
         continue;
       }
@@ -787,9 +852,19 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
         const std::uint32_t pa = na.prim, pb = nb.prim;
         const std::uint32_t hint = np.state;
         np.state = kNil;
+        // found again while the node boxes overlap (-g) and, for a pair the filter lets
+        // through, the pieces' boxes overlap or not as now (their gap, below)
+        double by = -g;
+        bool exact_overlap = false;
         // (a leaf's left and right: its piece's filter)
-        if ((na.left & nb.right) != 0 && (nb.left & na.right) != 0 &&
-            SweepAndPrune::overlap(loose[0] ? pieceBox(pa) : A, loose[1] ? pieceBox(pb) : B)) {
+        if ((na.left & nb.right) != 0 && (nb.left & na.right) != 0) {
+          const Aabb& EA = loose[0] ? pieceBox(pa) : A;
+          const Aabb& EB = loose[1] ? pieceBox(pb) : B;
+          exact_overlap = SweepAndPrune::overlap(EA, EB);
+          by = std::min(by, std::abs(gap(EA, EB)));
+        }
+        np.until = keep_leaves ? until(by) : -std::numeric_limits<double>::infinity();
+        if (exact_overlap) {
           std::uint32_t si = hint;
           if (si >= pair_states_.size() || !pair_states_[si].live ||
               pairKey(pair_states_[si].prim_a, pair_states_[si].prim_b) != pairKey(pa, pb)) {
@@ -836,8 +911,10 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
       state_of_pair_.erase(pairKey(pair_states_[si].prim_a, pair_states_[si].prim_b));
     mapped_tree_states_.clear();
   }
-  if (stats != nullptr)
+  if (stats != nullptr) {
     stats->node_pairs_visited += visited;
+    stats->node_pairs_kept += kept;
+  }
   if (keep) {
     tp.front_begin = static_cast<std::uint32_t>(begin);
     tp.front_size = static_cast<std::uint32_t>(front_next_.size() - begin);
@@ -1217,6 +1294,19 @@ StepStats CollisionWorld::step() {
                 (b.X_WB.rotation == b.X_stepped.rotation
                      ? 0.0
                      : chord(b.X_WB.rotation, b.X_stepped.rotation) * b.radius);
+    // a box's face moves by a translation coordinate's change plus, for a point p of the body,
+    // sum_j |dR_kj| |p_j| <= max |dR_kj| * box_r1 (the matrices the boxes are computed from:
+    // T_WB is X_WB.toTransform(), as X_stepped's was)
+    {
+      const Transform T0 = b.X_stepped.toTransform();
+      const Vec3 dt = glm::abs(b.T_WB.t - T0.t);
+      double dr = 0.0;
+      for (int j = 0; j < 3; ++j) {
+        for (int k = 0; k < 3; ++k)
+          dr = std::max(dr, std::abs(b.T_WB.R[j][k] - T0.R[j][k]));
+      }
+      b.box_travel += std::max({dt.x, dt.y, dt.z}) + dr * b.box_r1;
+    }
     b.X_stepped = b.X_WB;
     if (!b.tree.empty()) {
       refit(bi);

@@ -93,6 +93,13 @@ struct WorldOptions {
   /// what reserve() set aside; the same piece pairs either way (StepStats::node_pairs_visited
   /// counts the difference). false: every descent from the roots.
   bool descent_fronts = true;
+  /// A front entry that cannot have changed is not looked at again: two nodes found apart by a
+  /// gap g, or two leaves whose boxes overlap by o on every axis (and their pieces' exact boxes
+  /// overlap, or not, by as much), stay so while the two bodies' bounds of how far any face of
+  /// their boxes can have moved grow by less than g or o (docs/collision-pipeline.md). The same
+  /// fronts, pairs and states either way (StepStats::node_pairs_kept counts the entries kept).
+  /// false: every entry of a front looked at again.
+  bool descent_keep = true;
   /// A pair found farther than far_distance by a margin M stays far, its separating plane not
   /// evaluated again, while its two bodies have moved less than M / 2 in all since (each body
   /// keeps the sum over steps of its origin's translation plus its turn's chord times its
@@ -200,6 +207,9 @@ struct StepStats {
   /// Node pairs of two piece trees the descents looked at this step (WorldOptions::
   /// descent_fronts).
   std::uint32_t node_pairs_visited = 0;
+  /// Front entries the descents kept as they were without looking at them (WorldOptions::
+  /// descent_keep; not in node_pairs_visited).
+  std::uint32_t node_pairs_kept = 0;
 };
 
 class CollisionWorld {
@@ -338,6 +348,19 @@ class CollisionWorld {
     // far() compares its growth with a pair's margin); its pose at the last step
     double travel = 0.0;
     geom::Pose X_stepped;
+    // how far any face of any of its boxes in the descent (its tree's nodes, its pieces' boxes)
+    // can have moved since it was added: the sum over steps of the largest change of a
+    // translation coordinate plus the largest change of an entry of its rotation matrix times
+    // box_r1, the largest sum of magnitudes of a point's body coordinates over its vertices and
+    // its tree's leaf boxes' corners (a bound read off the matrices: no unit quaternion
+    // assumed). A front entry found apart (or two leaves certain to overlap) by a gap g stays so
+    // while the two sides' sums grow by less than g (descend)
+    double box_travel = 0.0;
+    double box_r1 = 0.0;
+    // every piece small enough that primitiveBox takes one pass over its vertices (a larger
+    // one's box is climbed to from the last one's hints, so its values may depend on which
+    // steps computed it: the descent then leaves its leaf pairs' calls as they were)
+    bool small_pieces = true;
   };
   struct Prim {
     std::uint32_t body = 0, index = 0;  // body and index within it
@@ -487,12 +510,17 @@ class CollisionWorld {
   // k of `sides` says which the k-th opened (1: b's). In a front: `apart`, the two boxes do not
   // overlap (else they are two overlapping leaves), and `state`, two leaves' pair state when
   // they had one (a hint, checked before use: spares the lookup in state_of_pair_)
+  //
+  // `until`: the entry is as the descent would find it again (apart; or two leaves whose boxes
+  // overlap, and their pieces' exact boxes overlap or not, as found) while the two sides'
+  // Body::box_travel sum to less than this (-inf: not known)
   struct NodePair {
     std::uint32_t a = 0, b = 0;
     std::uint32_t state = 0xffffffffu;
     std::uint8_t depth = 0;
     bool apart = false;
     std::uint64_t sides = 0;
+    double until = -std::numeric_limits<double>::infinity();
   };
   static constexpr std::uint32_t kMaxFrontDepth = 64;  // openings a front entry can record
   ReservedVector<NodePair> descent_;  // scratch: the descent's stack, sized by addBody
