@@ -142,6 +142,14 @@ std::pair<StepStats, StepStats> stepBoth(Scene& a, Scene& b, int k) {
   return {a.world.step(), b.world.step()};
 }
 
+// Two worlds' step k found as many pairs overlapping, added, removed and tested.
+void expectSamePairCounts(const StepStats& sa, const StepStats& sb, int k) {
+  EXPECT_EQ(sa.pairs_overlapping, sb.pairs_overlapping) << "step " << k;
+  EXPECT_EQ(sa.pairs_added, sb.pairs_added) << "step " << k;
+  EXPECT_EQ(sa.pairs_removed, sb.pairs_removed) << "step " << k;
+  EXPECT_EQ(sa.pairs_tested, sb.pairs_tested) << "step " << k;
+}
+
 TEST(PieceTree, SamePairsAndAnswersAsABoxPerPiece) {
   WorldOptions with_tree;
   with_tree.box_margin = 0.002;
@@ -192,10 +200,7 @@ TEST(PieceTree, DescentsFromTheFrontFindTheSamePairsAndVisitFewerNodePairs) {
   std::uint64_t visited[2] = {0, 0}, added = 0;
   for (int k = 0; k < 900; ++k) {
     const auto [sa, sb] = stepBoth(a, b, k);
-    EXPECT_EQ(sa.pairs_overlapping, sb.pairs_overlapping) << "step " << k;
-    EXPECT_EQ(sa.pairs_added, sb.pairs_added) << "step " << k;
-    EXPECT_EQ(sa.pairs_removed, sb.pairs_removed) << "step " << k;
-    EXPECT_EQ(sa.pairs_tested, sb.pairs_tested) << "step " << k;
+    expectSamePairCounts(sa, sb, k);
     ASSERT_EQ(a.world.contacts().size(), b.world.contacts().size()) << "step " << k;
     for (std::size_t i = 0; i < a.world.contacts().size(); ++i)
       expectSame(a.world.contacts()[i], b.world.contacts()[i]);
@@ -235,10 +240,7 @@ TEST(PieceTree, FrontEntriesKeptUnreadAreThoseALookFindsAgain) {
   std::uint64_t visited[2] = {0, 0}, kept = 0, added = 0;
   for (int k = 0; k < 900; ++k) {
     const auto [sa, sb] = stepBoth(a, b, k);
-    EXPECT_EQ(sa.pairs_overlapping, sb.pairs_overlapping) << "step " << k;
-    EXPECT_EQ(sa.pairs_added, sb.pairs_added) << "step " << k;
-    EXPECT_EQ(sa.pairs_removed, sb.pairs_removed) << "step " << k;
-    EXPECT_EQ(sa.pairs_tested, sb.pairs_tested) << "step " << k;
+    expectSamePairCounts(sa, sb, k);
     EXPECT_EQ(sa.node_pairs_visited + sa.node_pairs_kept, sb.node_pairs_visited) << "step " << k;
     EXPECT_EQ(sb.node_pairs_kept, 0u);
     ASSERT_EQ(a.world.contacts().size(), b.world.contacts().size()) << "step " << k;
