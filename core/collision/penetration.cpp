@@ -2,14 +2,13 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
-#include <cstdint>
 #include <limits>
 #include <vector>
 
 #include "core/collision/clip.h"
 #include "core/collision/segment.h"
+#include "core/geometry/rotation.h"
 
 namespace hapticd::collision {
 
@@ -728,22 +727,6 @@ struct CoherentBest {
   }
 };
 
-// Whether two poses are the same bit for bit (not merely equal: -0 and 0 differ)
-bool samePose(const Transform& x, const Transform& y) {
-  const auto same = [](double u, double v) {
-    return std::bit_cast<std::uint64_t>(u) == std::bit_cast<std::uint64_t>(v);
-  };
-  for (int c = 0; c < 3; ++c) {
-    if (!same(x.t[c], y.t[c]))
-      return false;
-    for (int r = 0; r < 3; ++r) {
-      if (!same(x.R[c][r], y.R[c][r]))
-        return false;
-    }
-  }
-  return true;
-}
-
 // The certificate: evaluate the entries whose lower bound does not exceed the best depth found
 // (plus the rounding margin), nearest first; true, with `out`, when every other bound exceeds
 // the best and the best is unique by the margin.
@@ -921,7 +904,7 @@ DepthResult penetrationDepthCoherent(const Polytope& a,
   ++t.stats.queries;
   const bool fits = t.fits(a, b);
   if (t.valid && fits && t.a == &a && t.b == &b) {
-    if (samePose(X_AB, t.last)) {
+    if (geom::sameBits(X_AB.R, t.last.R) && geom::sameBits(X_AB.t, t.last.t)) {
       // the pose of the last answer, bit for bit: that answer again (every method here is a
       // function of the polytopes and the pose). A pair at rest whose answer lies at the tie
       // grid's guard band failed its certificate at every tick (the top pair of each of

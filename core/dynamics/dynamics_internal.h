@@ -6,13 +6,13 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <limits>
 #include <tuple>
 
 #include "core/dynamics/dynamics.h"
+#include "core/geometry/rotation.h"
 
 namespace hapticd::dynamics {
 namespace detail {
@@ -86,11 +86,7 @@ struct Dynamics::BodyState {
   // updateInertia for finite mass, unless made from this very q already (the start of a tick:
   // the end of the last one made them)
   void updateInertiaIfTurned() {
-    const auto same = [](double x, double y) {
-      return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y);
-    };
-    if (!infinite && inertia_made && same(inertia_q.w, q.w) && same(inertia_q.x, q.x) &&
-        same(inertia_q.y, q.y) && same(inertia_q.z, q.z))
+    if (!infinite && inertia_made && geom::sameBits(inertia_q, q))
       return;
     updateInertia();
   }

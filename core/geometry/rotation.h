@@ -4,7 +4,9 @@
 /// exponential, shortest-path slerp, and finiteness checks. Header-only, no allocation, any thread
 /// (the servo thread included). This is the one copy; every layer above geometry includes it.
 
+#include <bit>
 #include <cmath>
+#include <cstdint>
 
 #include "core/geometry/pose.h"
 
@@ -18,6 +20,23 @@ inline bool finite(const Vec3& v) noexcept {
 /// True when every component of q is finite.
 inline bool finite(const Quat& q) noexcept {
   return std::isfinite(q.w) && std::isfinite(q.x) && std::isfinite(q.y) && std::isfinite(q.z);
+}
+
+/// True when x and y are the same double bit for bit (not merely equal: -0 and 0 differ, a NaN
+/// equals its own bits): a value computed from them is then the same too.
+inline bool sameBits(double x, double y) noexcept {
+  return std::bit_cast<std::uint64_t>(x) == std::bit_cast<std::uint64_t>(y);
+}
+
+/// sameBits for every component.
+inline bool sameBits(const Vec3& a, const Vec3& b) noexcept {
+  return sameBits(a.x, b.x) && sameBits(a.y, b.y) && sameBits(a.z, b.z);
+}
+inline bool sameBits(const Quat& a, const Quat& b) noexcept {
+  return sameBits(a.w, b.w) && sameBits(a.x, b.x) && sameBits(a.y, b.y) && sameBits(a.z, b.z);
+}
+inline bool sameBits(const Mat3& a, const Mat3& b) noexcept {
+  return sameBits(a[0], b[0]) && sameBits(a[1], b[1]) && sameBits(a[2], b[2]);
 }
 
 /// The rotation vector (axis * angle, radians, angle in [0, pi]) of a unit quaternion: the log
