@@ -710,10 +710,6 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
   }
   const WorldNode* const x = side[0];
   const WorldNode* const y = side[1];
-  auto apart = [](const Aabb& A, const Aabb& B) {
-    return A.lo.x > B.hi.x || B.lo.x > A.hi.x || A.lo.y > B.hi.y || B.lo.y > A.hi.y ||
-           A.lo.z > B.hi.z || B.lo.z > A.hi.z;
-  };
   // Entries that cannot have changed (NodePair::until). No face of a box of either side has
   // moved by more than that side's Body::box_travel has grown since the entry was found, so
   // two boxes found apart by a gap g (the largest of the six differences) are still apart, and
@@ -737,7 +733,8 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
     mag = std::max({mag, m.x, m.y, m.z});
   }
   const double slack = 1e-8 * (mag + r1) + 1e-15 * travel;
-  // the largest of the six differences (> 0: apart by it), and the least overlap of two boxes
+  // the largest of the six differences: > 0, the two boxes are apart (by it); else they overlap
+  // (the least overlap on an axis is its magnitude)
   auto gap = [](const Aabb& A, const Aabb& B) {
     return std::max({A.lo.x - B.hi.x, B.lo.x - A.hi.x, A.lo.y - B.hi.y, B.lo.y - A.hi.y,
                      A.lo.z - B.hi.z, B.lo.z - A.hi.z});
@@ -779,9 +776,10 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
       }
       const Aabb& A = x[up.a].box;
       const Aabb& B = y[up.b].box;
-      if (!apart(A, B))
+      const double g = gap(A, B);
+      if (!(g > 0.0))
         break;
-      up.until = until(gap(A, B));
+      up.until = until(g);
       front_next_.pop_back();
       front_next_.back() = up;
     }
@@ -836,7 +834,7 @@ void CollisionWorld::descend(TreePair& tp, StepStats* stats) {
       const Aabb& B = nb.box;
       ++visited;
       const double g = gap(A, B);
-      np.apart = apart(A, B);
+      np.apart = g > 0.0;
       if (np.apart) {
         // a leaf pair that parted: its state is not seen in this descent, so it is freed in this
         // step (resolveTreePairs); the hint would only make a later descent fetch a freed or
