@@ -4,6 +4,7 @@
 /// Hodgman, "Reentrant Polygon Clipping", CACM 1974), shared by the contact manifold and the
 /// penetration depth's witness search. Internal to core/collision.
 
+#include <algorithm>
 #include <cstddef>
 
 #include "core/geometry/pose.h"
@@ -13,8 +14,10 @@ namespace hapticd::collision::detail {
 /// Appends to `out` (by out.push) the part of `in` with (x - o)·m >= -tol: `in` (a type with
 /// points p[0..n) and push) is a closed polygon, or a segment when it has 2 points, or a point
 /// when it has 1. The tolerance keeps an overlap that has no area (two faces meeting along an
-/// edge): rounding would put its points on either side of the plane. `out` is not cleared.
-/// No allocation; any thread.
+/// edge): rounding would put its points on either side of the plane. A vertex within the
+/// tolerance outside is kept where it is; an edge that crosses the plane is cut where it crosses
+/// the plane itself (not the plane moved out by the tolerance), at an end when it does not cross
+/// it within the edge. `out` is not cleared. No allocation; any thread.
 template <class Polygon>
 inline void clipAgainstPlane(const Polygon& in,
                              const geom::Vec3& o,
@@ -25,11 +28,11 @@ inline void clipAgainstPlane(const Polygon& in,
   for (std::size_t k = 0; k < edges; ++k) {
     const geom::Vec3& a = in.p[k];
     const geom::Vec3& b = in.p[(k + 1) % in.n];
-    const double sa = glm::dot(a - o, m) + tol, sb = glm::dot(b - o, m) + tol;
-    if (sa >= 0.0)
+    const double da = glm::dot(a - o, m), db = glm::dot(b - o, m);
+    if (da + tol >= 0.0)
       out.push(a);
-    if ((sa >= 0.0) != (sb >= 0.0))
-      out.push(a + (b - a) * (sa / (sa - sb)));
+    if ((da + tol >= 0.0) != (db + tol >= 0.0))
+      out.push(a + (b - a) * std::clamp(da / (da - db), 0.0, 1.0));
   }
   if (in.n == 2 && glm::dot(in.p[1] - o, m) + tol >= 0.0)
     out.push(in.p[1]);
