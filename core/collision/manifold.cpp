@@ -335,10 +335,12 @@ bool parallelEdges(const Polytope& a,
 // the side plane, turned and shifted from it by rounding, and where it crosses the plane is
 // anywhere along it; clipped at 1e-12 of the size (the closest-feature walk's plane tolerance),
 // a stack's resting contact now and then named a point 4% of the edge in from a corner instead of
-// the corner, its warm start no longer fitted, and the solve jolted the whole stack (a tower of
-// ten 5 mm boxes spun at 1.5e-3 rad/s at 7 s; at 1e-10 jolts of 1.2e-3 rad/s were left on a
-// frictionless pyramid of touching boxes). A point kept up to 1e-9 of the size beyond a side
-// plane is one the merge could not tell from a point on it (docs/dynamics.md Limits).
+// the corner, its warm start no longer fitted, and the solve jolted the whole stack (the dropped
+// frictionless pyramid of Stack.FrictionlessDroppedPyramidStands turned at up to 5.3e-4 rad/s,
+// now 3.3e-6; with a solver change tried, a tower of ten 5 mm boxes spun at 1.5e-3 rad/s at 7 s,
+// and at 1e-10 jolts of 1.2e-3 rad/s were left on a frictionless pyramid of touching boxes). A
+// point kept up to 1e-9 of the size beyond a side plane is one the merge could not tell from a
+// point on it (docs/dynamics.md Limits).
 Manifold assemble(const Polygon& pa,
                   bool a_face,
                   const FaceView& fa,
