@@ -24,17 +24,21 @@ inline void clipAgainstPlane(const Polygon& in,
                              const geom::Vec3& m,
                              double tol,
                              Polygon& out) {
+  if (in.n == 0)
+    return;
   const std::size_t edges = in.n == 2 ? 1 : in.n;  // a segment is not closed
+  double da = glm::dot(in.p[0] - o, m);            // each vertex's distance, once
   for (std::size_t k = 0; k < edges; ++k) {
     const geom::Vec3& a = in.p[k];
     const geom::Vec3& b = in.p[(k + 1) % in.n];
-    const double da = glm::dot(a - o, m), db = glm::dot(b - o, m);
+    const double db = glm::dot(b - o, m);
     if (da + tol >= 0.0)
       out.push(a);
     if ((da + tol >= 0.0) != (db + tol >= 0.0))
       out.push(a + (b - a) * std::clamp(da / (da - db), 0.0, 1.0));
+    da = db;
   }
-  if (in.n == 2 && glm::dot(in.p[1] - o, m) + tol >= 0.0)
+  if (in.n == 2 && da + tol >= 0.0)  // the segment's far end (its distance is da now)
     out.push(in.p[1]);
 }
 
