@@ -165,6 +165,7 @@ Result<bool> checkOptions(const DynamicsOptions& options) {
       !std::isfinite(options.settle_tolerance_fraction))
     return Error{"dynamics: settle_tolerance_fraction must be >= 0"};
   if (!(options.slop_fraction >= 0.0 && options.slop_fraction < 0.5) ||
+      !(options.slop_settle_time_s >= 0.0) || !std::isfinite(options.slop_settle_time_s) ||
       !(options.position_correction >= 0.0 && options.position_correction <= 1.0) ||
       !(options.restitution_threshold_ticks >= 0.0) ||
       !(options.restitution_threshold_fraction >= 0.0) ||

@@ -38,10 +38,10 @@
 ///     for sleep_time_s sleeps, the whole scene when every island does.
 ///
 /// Tolerances, all relative (docs/dynamics.md, "One tick"): slop 0.2% of the smaller body's
-/// size (radius about its centre of mass); touching: a quarter of the slop; point persistence
-/// 2% and warm-start matching 5% of the size; restitution and static-friction threshold
-/// max(4 ticks of gravity, 1% of the size per second); travel per tick <= max(box margin, 50%
-/// of the size); still (sleep): slower than 0.1% of the size per second.
+/// size (radius about its centre of mass), at most |gravity| * (8 ms)^2; touching: a quarter of the
+/// slop; point persistence 2% and warm-start matching 5% of the size; restitution and
+/// static-friction threshold max(4 ticks of gravity, 1% of the size per second); travel per tick <=
+/// max(box margin, 50% of the size); still (sleep): slower than 0.1% of the size per second.
 ///
 /// Threads and memory: create() off the servo thread (allocates every capacity); step(),
 /// setKinematicPose(), setExternalWrench() and the getters on the servo thread: no allocation, no
@@ -106,6 +106,14 @@ struct DynamicsOptions {
   /// Allowed penetration (slop), as a fraction of the smaller body's size (Polytope::radius of
   /// its primitives); below it no position correction acts, so resting contact stays put.
   double slop_fraction = 0.002;
+  /// ... and at most |gravity| * slop_settle_time_s^2 (the largest acceleration declared, as
+  /// restitution_threshold_ticks reads it; 0: no such bound). A resting frictionless point
+  /// closes toward the slop at no more than the restitution threshold, so a deep slop (large
+  /// bodies: over about 0.3 m under 9.81 m/s2) took a stack ~90 ticks to sink into, its top
+  /// falling at rows x that speed, and stopped it all at once: the stop's uneven shares turned
+  /// the bricks of a frictionless wall, which then slid apart. Within this bound a stack settles
+  /// from the bottom up in ~20 ticks. In seconds, not ticks: the same slop at every rate.
+  double slop_settle_time_s = 0.008;
   /// Fraction of the penetration (beyond the slop) or joint error removed per tick.
   double position_correction = 0.2;
   /// Restitution acts only when the closing speed exceeds this many ticks' worth of the
@@ -367,6 +375,7 @@ class Dynamics {
   void solveThroughImpacts(double dt, StepReport& report);
   double restitutionThreshold(const ContactPoint& cp) const;
   double touchTolerance(const ContactPoint& cp) const;
+  double slop(const ContactPoint& cp) const;
   void activate(ContactPoint& cp) const;
   void advance(double h);
   HeldFeedback heldFeedbackOfTick();

@@ -235,9 +235,9 @@ void Dynamics::prepareRow(ContactPoint& cp, double remaining) {
     // static friction (and the closing made tall towers with friction creep)
     cp.min_vn = 0.0;
   } else {
-    cp.min_vn = -std::min(options_.position_correction *
-                              std::max(cp.gap + options_.slop_fraction * cp.size, 0.0) / tick_dt_,
-                          restitutionThreshold(cp));
+    cp.min_vn =
+        -std::min(options_.position_correction * std::max(cp.gap + slop(cp), 0.0) / tick_dt_,
+                  restitutionThreshold(cp));
   }
 }
 
@@ -653,7 +653,7 @@ void Dynamics::correctPositions(double dt) {
     cp.lp = 0.0;
     // a point beyond the slop, or one that a frictionless flat contact may have to level
     // (correctBlock)
-    any = any || cp.gap < -options_.slop_fraction * cp.size || levels(cp);
+    any = any || cp.gap < -slop(cp) || levels(cp);
   }
   const bool joints = measureJointErrors();
   const bool general = measureGeneralErrors();
@@ -851,7 +851,7 @@ bool Dynamics::correctBlock(const NormalBlock& blk, double beta, double inv_dt) 
   }
   for (std::size_t k = 0; k < blk.count; ++k) {
     const ContactPoint& cp = points_[blk.idx[k]];
-    const double excess = -cp.gap - options_.slop_fraction * cp.size;
+    const double excess = -cp.gap - slop(cp);
     // the pseudo-velocity along n that the point is to reach
     double target = beta * inv_dt * std::max(excess, 0.0);
     if (level)
@@ -1147,7 +1147,7 @@ void Dynamics::levelSweep(double dt) {
 
 // one contact point's split impulse: its penetration beyond the slop removed at beta per tick
 void Dynamics::correctContact(ContactPoint& cp, double beta, double inv_dt) {
-  const double excess = -cp.gap - options_.slop_fraction * cp.size;
+  const double excess = -cp.gap - slop(cp);
   if (excess <= 0.0 && cp.lp == 0.0)
     return;
   BodyState& A = bodies_[cp.a];

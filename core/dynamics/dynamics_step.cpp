@@ -577,10 +577,18 @@ double Dynamics::restitutionThreshold(const ContactPoint& cp) const {
                   options_.restitution_threshold_fraction * cp.size);
 }
 
+// the penetration a resting point keeps: slop_fraction of the smaller body's size, and no more
+// than gravity's slop_settle_time_s bound (DynamicsOptions)
+double Dynamics::slop(const ContactPoint& cp) const {
+  const double t = options_.slop_settle_time_s;
+  return std::min(options_.slop_fraction * cp.size,
+                  t > 0.0 && accel_scale_ > 0.0 ? accel_scale_ * t * t : kInf);
+}
+
 // a point whose gap closes counts as touching from here (never zero: a gap that closes exactly
 // at its time of impact may be left at +1e-18 by rounding)
 double Dynamics::touchTolerance(const ContactPoint& cp) const {
-  return std::max(0.25 * options_.slop_fraction, 1e-9) * cp.size;
+  return std::max(0.25 * slop(cp), 1e-9 * cp.size);
 }
 
 // a point taking part in the solves from now: its restitution if it strikes, its friction

@@ -3,6 +3,8 @@
 // properties; gravity only where declared; a scene without dynamic bodies costs nothing.
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "tests/core/alloc_counter.h"
 #include "tests/core/dynamics/scenes.h"
 
@@ -219,6 +221,14 @@ TEST(Create, RefusesBadBodiesAndOptions) {
   DynamicsOptions o;
   o.velocity_iterations = 0;
   EXPECT_FALSE(Dynamics::create(s, *world, o).ok());
+  for (const double t : {-0.001, std::nan(""), std::numeric_limits<double>::infinity()}) {
+    DynamicsOptions bad;
+    bad.slop_settle_time_s = t;
+    EXPECT_FALSE(Dynamics::create(s, *world, bad).ok()) << t;
+  }
+  DynamicsOptions off;
+  off.slop_settle_time_s = 0.0;  // no gravity bound on the slop
+  EXPECT_TRUE(Dynamics::create(s, *world, off).ok());
   scene::Joint j;
   j.body_a = 0;
   j.body_b = 5;
