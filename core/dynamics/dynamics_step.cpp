@@ -580,9 +580,11 @@ double Dynamics::restitutionThreshold(const ContactPoint& cp) const {
 // the penetration a resting point keeps: slop_fraction of the smaller body's size, and no more
 // than gravity's slop_settle_time_s bound (DynamicsOptions)
 double Dynamics::slop(const ContactPoint& cp) const {
+  const double relative = options_.slop_fraction * cp.size;
   const double t = options_.slop_settle_time_s;
-  return std::min(options_.slop_fraction * cp.size,
-                  t > 0.0 && accel_scale_ > 0.0 ? accel_scale_ * t * t : kInf);
+  if (t > 0.0 && accel_scale_ > 0.0)
+    return std::min(relative, accel_scale_ * t * t);
+  return relative;
 }
 
 // a point whose gap closes counts as touching from here (never zero: a gap that closes exactly
