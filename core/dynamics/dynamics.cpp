@@ -239,10 +239,14 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
   if (auto ok = d->initJoints(); !ok.ok())
     return ok.error();
   d->min_size_ = kInf;
+  double max_size = 0.0;
   for (const BodyState& b : d->bodies_) {
-    if (b.motion == scene::Motion::kDynamic)
+    if (b.motion == scene::Motion::kDynamic) {
       d->min_size_ = std::min(d->min_size_, b.size);
+      max_size = std::max(max_size, b.size);
+    }
   }
+  d->one_size_ = !(max_size > d->min_size_);
   const std::size_t cap =
       options.max_contact_points != 0 ? options.max_contact_points : 16 * moving_prims + 64;
   d->max_points_ = cap;
@@ -255,6 +259,7 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
   d->level_load_.assign(d->bodies_.size(), {});
   d->parent_.assign(d->bodies_.size(), 0);
   d->island_rest_.assign(d->bodies_.size(), 0.0);
+  d->slop_size_.assign(d->bodies_.size(), kInf);
   d->dv_.assign(d->bodies_.size(), Vec3{0.0});
   d->dw_.assign(d->bodies_.size(), Vec3{0.0});
   d->warm_.reserve(cap);

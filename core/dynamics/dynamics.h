@@ -103,8 +103,15 @@ struct DynamicsOptions {
   /// Time-of-impact substeps per tick beyond the first solve (§6.1); when the cap is hit the
   /// remaining approaching contacts are solved speculatively and kStepToiCapped is set.
   std::uint32_t max_toi_substeps = 8;
-  /// Allowed penetration (slop), as a fraction of the smaller body's size (Polytope::radius of
-  /// its primitives); below it no position correction acts, so resting contact stays put.
+  /// Allowed penetration (slop), as a fraction of the smallest size (Polytope::radius of its
+  /// primitives) among the dynamic bodies of the contact's island (the bodies its tick's contact
+  /// points join), or of its smaller body's if that is smaller; below it no position correction
+  /// acts, so resting contact stays put. One slop for a whole stack, not each contact's own: a
+  /// box bridging two supports of different sizes rested on contacts of different depths, tilted,
+  /// and without friction slid off (a running-bond wall's half bricks at the ends of its rows:
+  /// thrown off the floor at 5 mm and 10 cm). Per island, not for the scene: a slop far below
+  /// the bodies' own (0.1 of it) let a frictionless wall fall, and a bead on the floor would
+  /// have set it for every stack.
   double slop_fraction = 0.002;
   /// ... and at most |gravity| * slop_settle_time_s^2 (the largest acceleration declared, as
   /// restitution_threshold_ticks reads it; 0: no such bound). A resting frictionless point
@@ -383,6 +390,8 @@ class Dynamics {
   void wakeIslands(const collision::CollisionWorld& world, const HeldInput* held);
   void wakeIsland(std::uint32_t island);
   std::uint32_t findRoot(std::uint32_t i);
+  void joinRoots(std::uint32_t a, std::uint32_t b);
+  void islandSizes();
   bool wakeRequested(const collision::CollisionWorld& world, const HeldInput* held) const;
   bool heldTouchesDynamic(const collision::CollisionWorld& world) const;
   void storeWarmStart(StepReport& report);
@@ -432,6 +441,7 @@ class Dynamics {
   std::uint32_t step_flags_ = 0;
   double tick_dt_ = 0.001;
   double min_size_ = 1.0;             // smallest dynamic body's size
+  bool one_size_ = true;              // every dynamic body of one size: slop_size_ not needed
   double velocity_tolerance_ = 0.0;   // this tick's convergence tolerance of the solves
   double mass_ratio_ = 1.0;           // this tick's largest mass ratio across a resting contact
   double ke_episode_start_ = 0.0;     // kinetic energy before a solve with restitution
@@ -446,6 +456,9 @@ class Dynamics {
   bool target_given_ = false;
   std::vector<std::uint32_t> parent_;  // per body: the islands' union-find (scratch)
   std::vector<double> island_rest_;    // per root: its bodies' shortest rest (scratch)
+  // per body: the smallest dynamic size in its island of this tick's contact points (the slop's
+  // length; infinite for a body of infinite mass), written by islandSizes unless one_size_
+  std::vector<double> slop_size_;
 
   const scene::SceneModel* scene_ = nullptr;
   DynamicsOptions options_;

@@ -515,6 +515,7 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
     world.relist();
   integrateForces(dt, world.options().box_margin, held);
   gatherContacts(world.contacts(), report);
+  islandSizes();
   prepareJoints();
   prepareGeneralJoints();
   solveThroughImpacts(dt, report);
@@ -577,10 +578,12 @@ double Dynamics::restitutionThreshold(const ContactPoint& cp) const {
                   options_.restitution_threshold_fraction * cp.size);
 }
 
-// the penetration a resting point keeps: slop_fraction of the smaller body's size, and no more
-// than gravity's slop_settle_time_s bound (DynamicsOptions)
+// the penetration a resting point keeps: slop_fraction of the smallest dynamic size in its
+// island (or of its smaller body's), and no more than gravity's slop_settle_time_s bound
+// (DynamicsOptions)
 double Dynamics::slop(const ContactPoint& cp) const {
-  const double relative = options_.slop_fraction * cp.size;
+  const double size = one_size_ ? cp.size : std::min({cp.size, slop_size_[cp.a], slop_size_[cp.b]});
+  const double relative = options_.slop_fraction * size;
   const double t = options_.slop_settle_time_s;
   if (t > 0.0 && accel_scale_ > 0.0)
     return std::min(relative, accel_scale_ * t * t);
@@ -745,6 +748,42 @@ std::uint32_t Dynamics::findRoot(std::uint32_t i) {
   return i;
 }
 
+void Dynamics::joinRoots(std::uint32_t a, std::uint32_t b) {
+  const std::uint32_t ra = findRoot(a), rb = findRoot(b);
+  if (ra != rb)
+    parent_[std::max(ra, rb)] = std::min(ra, rb);
+}
+
+// the slop's length per body (slop_size_): the smallest size among the dynamic bodies that this
+// tick's contact points join to it (DynamicsOptions::slop_fraction). Nothing to do when every
+// dynamic body has one size (then each contact's own smaller size is that size, or less).
+void Dynamics::islandSizes() {
+  if (one_size_)
+    return;
+  const auto n = static_cast<std::uint32_t>(bodies_.size());
+  const auto joins = [&](std::uint32_t i) {
+    return bodies_[i].motion == scene::Motion::kDynamic && !bodies_[i].infinite &&
+           static_cast<std::int32_t>(i) != held_;
+  };
+  for (std::uint32_t i = 0; i < n; ++i) {
+    parent_[i] = i;
+    slop_size_[i] = kInf;
+  }
+  for (const ContactPoint& cp : points_) {
+    if (joins(cp.a) && joins(cp.b))
+      joinRoots(cp.a, cp.b);
+  }
+  // each root's smallest size, then every body its root's (a root's own is final by then)
+  for (std::uint32_t i = 0; i < n; ++i) {
+    if (joins(i)) {
+      double& m = slop_size_[findRoot(i)];
+      m = std::min(m, bodies_[i].size);
+    }
+  }
+  for (std::uint32_t i = 0; i < n; ++i)
+    slop_size_[i] = slop_size_[findRoot(i)];
+}
+
 void Dynamics::wakeIsland(std::uint32_t island) {
   for (BodyState& b : bodies_) {
     if (b.asleep && b.island == island)
@@ -814,11 +853,6 @@ void Dynamics::updateSleep(double dt) {
     const double speed = glm::length(b.v_W) + glm::length(b.w_W) * b.size;
     b.rest_s = speed <= options_.sleep_speed_fraction * b.size ? b.rest_s + dt : 0.0;
   }
-  const auto join = [&](std::uint32_t a, std::uint32_t b) {
-    const std::uint32_t ra = findRoot(a), rb = findRoot(b);
-    if (ra != rb)
-      parent_[std::max(ra, rb)] = std::min(ra, rb);
-  };
   const auto heldSet = [&](std::uint32_t i) {
     return static_cast<std::int32_t>(i) == held_ || bodies_[i].driven;
   };
@@ -826,7 +860,7 @@ void Dynamics::updateSleep(double dt) {
     if (cp.gap > touchTolerance(cp) && !(cp.active && cp.total_n > 0.0))
       continue;
     if (sleeper(cp.a) && sleeper(cp.b)) {
-      join(cp.a, cp.b);
+      joinRoots(cp.a, cp.b);
     } else if (held_kinematic_ && (heldSet(cp.a) || heldSet(cp.b))) {
       // the hand keeps what it touches awake
       bodies_[heldSet(cp.a) ? cp.b : cp.a].rest_s = 0.0;
@@ -834,7 +868,7 @@ void Dynamics::updateSleep(double dt) {
   }
   for (const JointState& js : joints_) {
     if (!js.off && js.b >= 0 && sleeper(js.a) && sleeper(static_cast<std::uint32_t>(js.b)))
-      join(js.a, static_cast<std::uint32_t>(js.b));
+      joinRoots(js.a, static_cast<std::uint32_t>(js.b));
   }
   for (const GeneralJoint& gj : general_) {
     if (gj.off)
@@ -850,7 +884,7 @@ void Dynamics::updateSleep(double dt) {
         bodies_[static_cast<std::size_t>(gj.b)].rest_s = 0.0;
     }
     if (gj.b >= 0 && sleeper(gj.a) && sleeper(static_cast<std::uint32_t>(gj.b)))
-      join(gj.a, static_cast<std::uint32_t>(gj.b));
+      joinRoots(gj.a, static_cast<std::uint32_t>(gj.b));
   }
   for (std::uint32_t i = 0; i < n; ++i)
     island_rest_[i] = kInf;
