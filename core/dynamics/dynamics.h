@@ -85,7 +85,8 @@ struct DynamicsOptions {
   std::uint32_t position_iterations = 6;
   /// Settling. A solve that has not converged after velocity_iterations goes on while its
   /// residual still falls and would still move a body by more than settle_tolerance_fraction
-  /// of the smallest body's size in a tick, up to this many iterations (the first ticks of an
+  /// of the smallest body's size of its island in a tick (each contact's residual relative to
+  /// the slop's length of its island), up to this many iterations (the first ticks of an
   /// offset or mass-graded tower, whose load crosses many contacts: the error left is of order
   /// g dt, which is a large part of a small body's size). At most velocity_iterations: none.
   std::uint32_t velocity_iterations_max = 100;
@@ -94,7 +95,8 @@ struct DynamicsOptions {
   /// A frictionless stack has nothing else that holds its boxes over each other: a levelling
   /// left unconverged each tick grows a shear from rounding. At most position_iterations: none.
   std::uint32_t position_iterations_max = 30;
-  /// The settling iterations' tolerance (above), a fraction of the smallest body's size per tick.
+  /// The settling iterations' tolerance (above), a fraction of the smallest body's size of the
+  /// island per tick.
   double settle_tolerance_fraction = 1e-6;
   /// The settling iterations of a tick (both kinds, all solves) solve at most this many rows
   /// (contact points and joints, once per iteration) beyond the fixed counts: a bound on the
@@ -383,6 +385,7 @@ class Dynamics {
   double restitutionThreshold(const ContactPoint& cp) const;
   double touchTolerance(const ContactPoint& cp) const;
   double slop(const ContactPoint& cp) const;
+  double slopSize(const ContactPoint& cp) const;
   void activate(ContactPoint& cp) const;
   void advance(double h);
   HeldFeedback heldFeedbackOfTick();

@@ -582,12 +582,17 @@ double Dynamics::restitutionThreshold(const ContactPoint& cp) const {
 // island (or of its smaller body's), and no more than gravity's slop_settle_time_s bound
 // (DynamicsOptions)
 double Dynamics::slop(const ContactPoint& cp) const {
-  const double size = one_size_ ? cp.size : std::min({cp.size, slop_size_[cp.a], slop_size_[cp.b]});
-  const double relative = options_.slop_fraction * size;
+  const double relative = options_.slop_fraction * slopSize(cp);
   const double t = options_.slop_settle_time_s;
   if (t > 0.0 && accel_scale_ > 0.0)
     return std::min(relative, accel_scale_ * t * t);
   return relative;
+}
+
+// the slop's length of a point: the smallest dynamic size of its island (islandSizes), or its
+// smaller body's
+double Dynamics::slopSize(const ContactPoint& cp) const {
+  return one_size_ ? cp.size : std::min({cp.size, slop_size_[cp.a], slop_size_[cp.b]});
 }
 
 // a point whose gap closes counts as touching from here (never zero: a gap that closes exactly

@@ -269,8 +269,10 @@ TEST(Stack, FrictionlessDroppedPyramidStands) {
 // the bound does not change, fell in this rig too, placed touching as well: each contact's slop
 // was its smaller body's, so the half bricks rested shallower in their supports than the cubes
 // beside them, and a brick bridging the two tilted; with one slop per island they stand.) And the
-// dropped 10 cm wall with a cube of 1% of its edge on the floor beside it: with the smallest size
-// in the whole scene as the slop's length it fell (3.2e3 edges); the island's is the wall's.
+// dropped wall with a cube of 1% of its edge on the floor beside it, at 5 mm and 10 cm: with the
+// smallest size in the whole scene as the slop's length the 10 cm wall fell (3.2e3 edges); with
+// the island's slop but the settling tolerance still the scene's, the 5 mm one (4.3e3 edges).
+// Both the island's: the same figures as without the cube.
 TEST(Stack, FrictionlessRunningBondWallStands) {
   struct WallCase {
     double edge;
@@ -280,7 +282,8 @@ TEST(Stack, FrictionlessRunningBondWallStands) {
   for (const WallCase wc :
        {WallCase{0.005, 0.0}, WallCase{0.1, 0.0}, WallCase{0.5, 0.0}, WallCase{1.0, 0.0},
         WallCase{2.0, 0.0}, WallCase{0.005, 0.01}, WallCase{0.1, 0.01}, WallCase{0.5, 0.01},
-        WallCase{1.0, 0.01}, WallCase{2.0, 0.01}, WallCase{0.1, 0.01, 0.01}}) {
+        WallCase{1.0, 0.01}, WallCase{2.0, 0.01}, WallCase{0.005, 0.01, 0.01},
+        WallCase{0.1, 0.01, 0.01}}) {
     const double e = wc.edge, h = 0.5 * e, gap = wc.gap * e;
     SceneModel s = floorScene(e, 0.0);
     std::vector<double> half, rest_y;
