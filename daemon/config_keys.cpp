@@ -342,9 +342,9 @@ const ConfigKey kKeys[] = {
     {"response", "dynamics_velocity_iterations_max",
      HAPTICD_FIELD(response.sim.dynamics_velocity_iterations_max), closed(0, 1000), "",
      "With dynamics: a contact solve not converged after dynamics_velocity_iterations goes on "
-     "while its error still falls and would still move the smallest body by more than 1e-6 of "
-     "its size in a tick, up to this many iterations (settling towers; docs/dynamics.md); at "
-     "most dynamics_velocity_iterations: never beyond it."},
+     "while its error still falls and would still move the smallest body of its island by more "
+     "than 1e-6 of its size in a tick, up to this many iterations (settling towers; "
+     "docs/dynamics.md); at most dynamics_velocity_iterations: never beyond it."},
     {"response", "dynamics_position_iterations_max",
      HAPTICD_FIELD(response.sim.dynamics_position_iterations_max), closed(0, 1000), "",
      "With dynamics: the split impulses go on beyond dynamics_position_iterations while a "

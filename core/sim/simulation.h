@@ -138,7 +138,8 @@ struct SimOptions {
   /// (DynamicsOptions::position_iterations). 0..1000; 0 turns the correction off.
   std::uint32_t dynamics_position_iterations = 6;
   /// With dynamics: a solve not converged after dynamics_velocity_iterations goes on while its
-  /// error falls and still matters at the smallest body's size, up to this many iterations
+  /// error falls and still matters at the size of the smallest body of its island, up to this
+  /// many iterations
   /// (DynamicsOptions::velocity_iterations_max: settling towers). 0..1000; at most
   /// dynamics_velocity_iterations: never beyond it.
   std::uint32_t dynamics_velocity_iterations_max = 100;

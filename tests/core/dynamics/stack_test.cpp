@@ -14,9 +14,11 @@ constexpr double kDt = 0.001;
 #ifdef HAPTICD_DYNAMICS_SHORT_RUNS
 constexpr double kRunS = 3.0;  // sanitizer builds: shorter runs, the same bounds
 constexpr double kLongRunS = 10.0;
+constexpr bool kShortRuns = true;
 #else
 constexpr double kRunS = 10.0;
 constexpr double kLongRunS = 60.0;
+constexpr bool kShortRuns = false;
 #endif
 
 struct StackCase {
@@ -258,7 +260,8 @@ TEST(Stack, FrictionlessDroppedPyramidStands) {
 
 // A frictionless wall of cubes in running bond, six rows (rows of five; every other row four
 // with a half-width brick at each end), placed touching and dropped from gaps of 1% of the edge,
-// settled 2 s, then 10 s (3 s in sanitizer builds): every contact force of it is vertical at rest.
+// settled 2 s, then 10 s (3 s and not at 0.5 and 1 m in sanitizer builds): every contact force
+// of it is vertical at rest.
 // With the slop at 0.2% of a 2 m brick's size (3.5 mm) every contact sank toward it at the
 // restitution threshold (39 mm/s) for some 80 ticks, the top row at 6 x that; the floor's
 // contacts then stopped the whole wall within a few ticks, the bricks bridging two supports
@@ -284,6 +287,8 @@ TEST(Stack, FrictionlessRunningBondWallStands) {
         WallCase{2.0, 0.0}, WallCase{0.005, 0.01}, WallCase{0.1, 0.01}, WallCase{0.5, 0.01},
         WallCase{1.0, 0.01}, WallCase{2.0, 0.01}, WallCase{0.005, 0.01, 0.01},
         WallCase{0.1, 0.01, 0.01}}) {
+    if (kShortRuns && (wc.edge == 0.5 || wc.edge == 1.0))
+      continue;  // sanitizer builds: the smallest and largest sizes only (the others: 80 s more)
     const double e = wc.edge, h = 0.5 * e, gap = wc.gap * e;
     SceneModel s = floorScene(e, 0.0);
     std::vector<double> half, rest_y;
