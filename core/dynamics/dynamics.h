@@ -141,7 +141,8 @@ struct DynamicsOptions {
   /// Persistent contact points: a point of last tick that the collision manifold does not name
   /// again is kept while its two surface points stay within this fraction of the smaller body's
   /// size of each other (along the contact plane and across it); a new point that near one of
-  /// last tick's takes its impulses (warm start). At most 4 points per primitive pair.
+  /// last tick's takes its impulses (warm start; shared equally when several take the same
+  /// one). At most 4 points per primitive pair.
   double contact_persist_fraction = 0.02;
   /// Contact points the solver may hold per tick; 0 picks 16 per moving primitive + 64.
   /// Overflow drops points (kStepCapacityFull, counted), never allocates.

@@ -33,6 +33,8 @@ struct Candidate {
   // its distance from it and its place on a's surface, in grains of 1e-9 of the size
   std::size_t slot;
   std::array<double, 4> order;
+  // its warm start: last tick's point whose impulses it takes (kNoSlot: none) and them
+  std::size_t source;
   double ln;
   Vec3 lt;
 };
@@ -119,6 +121,28 @@ std::size_t reduceCandidates(Candidate* c, std::size_t n, const auto& A, double 
   }
   std::copy(kept.begin(), kept.begin() + static_cast<std::ptrdiff_t>(m), c);
   return m;
+}
+
+// a point of last tick whose impulses several of this tick's take (fresh points near it, or
+// it kept and a fresh one near it) shares them among those equally: the warm start carries
+// last tick's impulses over, never more. Taken whole by each, a point's impulse was
+// multiplied; where the solve balanced the excess with the contact's other side (a body's
+// pieces pushed up and down through a thin floor) the impulses of the two sides grew together
+// from tick to tick (to 1e8 times the body's weight per tick) until a point left and their
+// unbalance threw the body off at a kilometre a second
+void shareWarmStarts(Candidate* c, std::size_t n) {
+  for (std::size_t k = 0; k < n; ++k) {
+    if (c[k].source == kNoSlot)
+      continue;
+    std::size_t takers = 0;
+    for (std::size_t j = 0; j < n; ++j)
+      takers += c[j].source == c[k].source ? 1u : 0u;
+    if (takers > 1) {
+      const double share = 1.0 / static_cast<double>(takers);
+      c[k].ln *= share;
+      c[k].lt *= share;
+    }
+  }
 }
 
 }  // namespace
@@ -286,6 +310,7 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
       cd.warm = false;
       cd.slot = kNoSlot;
       cd.order = {};
+      cd.source = kNoSlot;
       cd.ln = 0.0;
       cd.lt = Vec3{0.0};
     }
@@ -311,6 +336,7 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
           cand[k].ln = warm_[w].ln;
           cand[k].lt = warm_[w].lt;
           cand[k].warm = true;
+          cand[k].source = w;
         }
       }
     }
@@ -359,8 +385,10 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
       cd.lt = wp.lt;
       cd.warm = true;
       cd.slot = w;
+      cd.source = w;
       cd.order = {0.0, grains(cd.sa_B.x), grains(cd.sa_B.y), grains(cd.sa_B.z)};
     }
+    shareWarmStarts(cand.data(), nc);
     if (nc > Manifold::kMaxPoints)
       nc = reduceCandidates(cand.data(), nc, A, size);
     // insertion sort (at most Manifold::kMaxPoints; std::stable_sort may allocate)
