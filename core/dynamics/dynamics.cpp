@@ -250,6 +250,7 @@ Result<std::unique_ptr<Dynamics>> Dynamics::create(const scene::SceneModel& scen
   const std::size_t cap =
       options.max_contact_points != 0 ? options.max_contact_points : 16 * moving_prims + 64;
   d->max_points_ = cap;
+  d->gap_points_.resize(world.reservedPairs());
   d->points_.reserve(cap);
   d->blocks_.assign(cap, NormalBlock{});
   d->level_order_.reserve(cap);

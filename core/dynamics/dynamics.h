@@ -145,7 +145,8 @@ struct DynamicsOptions {
   /// one). At most 4 points per primitive pair.
   double contact_persist_fraction = 0.02;
   /// Contact points the solver may hold per tick; 0 picks 16 per moving primitive + 64.
-  /// Overflow drops points (kStepCapacityFull, counted), never allocates.
+  /// Overflow drops points (kStepCapacityFull, counted), never allocates: the farthest
+  /// contacts' first (the contacts nearest to touching, or deepest, are taken while they fit).
   std::uint32_t max_contact_points = 0;
   /// Sleep, per island: contacts (touching, between dynamic bodies) and joints join dynamic
   /// bodies into islands; an island whose every body has moved slower than
@@ -381,6 +382,8 @@ class Dynamics {
   // the tick (dynamics_step.cpp)
   void stepAsleep(const HeldInput* held);
   void integrateForces(double dt, double margin, const HeldInput* held);
+  bool takes(const collision::Contact& c) const;
+  double gapThatFits(std::span<const collision::Contact> contacts);
   void gatherContacts(std::span<const collision::Contact> contacts, StepReport& report);
   void solveThroughImpacts(double dt, StepReport& report);
   double restitutionThreshold(const ContactPoint& cp) const;
@@ -493,6 +496,9 @@ class Dynamics {
   // loads down from the top (scratch)
   ReservedVector<std::pair<double, std::uint32_t>> level_points_;
   std::size_t max_points_ = 0;  // the capacity of points_ (options' max_contact_points)
+  // per contact the world can list: its gap and its points, when more points than max_points_
+  // are offered (scratch of gapThatFits)
+  std::vector<std::pair<double, std::size_t>> gap_points_;
   // the scene's primitives' materials (scene::materialOf), body after body: body i's are from
   // prim_first_[i] to prim_first_[i + 1]; a primitive out of range has default_material_
   std::vector<const scene::Material*> prim_material_;

@@ -416,6 +416,54 @@ TEST(Robustness, BadInputsChangeNothingAndOverlapsSeparateGently) {
       << "the boxes came apart";
 }
 
+// more contact points offered than the solver holds: the nearest are kept. Two slabs of 36
+// pieces each (6 mm across) lie side by side on a floor 40 m wide, listed after them; the
+// world's box margin is relative to the scene's size (0.28 m), so every piece of one slab is
+// within it of every piece of the other: 1 296 piece pairs, more points than the solver's
+// 1 216. The floor's contacts came last and were the ones dropped: the slabs fell through it
+// (a 5 mm part of 64 pieces imported twice onto a floor did so). In mm, m and km
+TEST(Capacity, SmallBodiesInALargeSceneKeepTheirFloor) {
+  for (const double unit : {1e-3, 1.0, 1e3}) {
+    SceneModel s;
+    s.gravity_W = Vec3{0, -9.81 * unit, 0};
+    s.materials.push_back(material(0.5, 0.0));
+    const double h = 0.0005;  // the pieces' half edge
+    for (int slab = 0; slab < 2; ++slab) {
+      const Vec3 at_W = Vec3{0.01 * slab, h * 1.01, 0} * unit;  // dropped 1% of a piece's edge
+      Body b =
+          dynamicBody("slab", boxShape(Vec3{h} * unit), at(at_W), 500.0 / (unit * unit * unit), 0);
+      const Primitive piece = b.primitives[0];
+      b.primitives.clear();
+      for (int i = 0; i < 6; ++i) {
+        for (int k = 0; k < 6; ++k) {
+          Primitive p = piece;
+          p.X_BP.translation = Vec3{2 * h * i, 0, 2 * h * k} * unit;
+          b.primitives.push_back(p);
+        }
+      }
+      const MassProperties mp = computeMassProperties(b.primitives, 500.0 / (unit * unit * unit));
+      b.mass = mp.mass;
+      b.com_B = mp.com_B;
+      b.inertia_B = mp.inertia_B;
+      s.bodies.push_back(b);
+    }
+    s.bodies.push_back(
+        staticBody("floor", boxShape(Vec3{20, 0.05, 20} * unit), at(Vec3{0, -0.05, 0} * unit), 0));
+    DynamicsOptions o;
+    o.sleep_time_s = 0.0;
+    Rig rig(std::move(s), o);
+    std::uint32_t full = 0;
+    for (int k = 0; k < 1000; ++k)
+      full |= rig.tick().flags & kStepCapacityFull;
+    EXPECT_NE(full, 0u) << "more points offered than held: " << unit;
+    for (std::uint32_t b = 0; b < 2; ++b) {
+      const double y = rig.dyn->pose(b).translation.y / unit;
+      std::printf("unit %g slab %u: origin %.6g m up (rests at %.6g)\n", unit, b, y, h);
+      EXPECT_NEAR(y, h, 0.01 * h) << "slab " << b << " at unit " << unit;
+    }
+  }
+}
+
 // a resting scene sleeps (steps do no work) and wakes when pushed
 TEST(Sleep, RestingSceneSleepsAndWakesWhenPushed) {
   SceneModel s = floorScene(0.5, 0.0);
