@@ -255,8 +255,11 @@ double Dynamics::gapThatFits(std::span<const collision::Contact> contacts) {
     return kInf;
   std::size_t n = 0;
   for (const collision::Contact& c : contacts) {
-    if (takes(c))
-      gap_points_[n++] = {c.distance, std::max<std::size_t>(c.manifold.count, 1)};
+    // (a distance that is no number last: the order must be strict)
+    if (takes(c)) {
+      gap_points_[n++] = {std::isfinite(c.distance) ? c.distance : kInf,
+                          std::max<std::size_t>(c.manifold.count, 1)};
+    }
   }
   std::sort(gap_points_.begin(), gap_points_.begin() + static_cast<std::ptrdiff_t>(n));
   double below = -kInf;
