@@ -238,29 +238,41 @@ bool Dynamics::takes(const collision::Contact& c) const {
 }
 
 // the largest gap of the contacts whose points fit in max_points_, nearest (deepest) first;
-// kInf when every contact's fit. Small bodies in a large scene are within the world's box
-// margin (relative to the scene's size) of many others: two parts of 64 pieces each, 5 mm
-// long on a 40 m floor, offered 4 096 piece pairs, and the floor's contacts, listed last,
-// were the ones dropped: the parts fell through it
+// kInf when every contact's fit. A contact has at most its manifold's points and last tick's
+// points of its pair, and at most Manifold::kMaxPoints. Small bodies in a large scene are within
+// the world's box margin (relative to the scene's size) of many others: two parts of 64 pieces
+// each, 5 mm long on a 40 m floor, offered 4 096 piece pairs, and the floor's contacts, listed
+// last, were the ones dropped: the parts fell through it
 double Dynamics::gapThatFits(std::span<const collision::Contact> contacts) {
   if (contacts.size() * Manifold::kMaxPoints <= max_points_)
     return kInf;
-  std::size_t offered = 0;
+  const auto warmLess = [](const WarmPoint& x, const WarmPoint& y) { return x.key() < y.key(); };
+  std::size_t offered = 0, n = 0, w = 0;
   for (const collision::Contact& c : contacts) {
-    if (takes(c))
-      offered += std::max<std::size_t>(c.manifold.count, 1);
+    if (!takes(c))
+      continue;
+    // last tick's points of the pair (warm_ and the contacts are both sorted by pair: usually
+    // the next ones; else a search)
+    const WarmPoint probe{c.body_a, c.body_b, c.prim_a, c.prim_b};
+    if (w > 0 && !warmLess(warm_[w - 1], probe))
+      w = static_cast<std::size_t>(std::lower_bound(warm_.begin(), warm_.end(), probe, warmLess) -
+                                   warm_.begin());
+    while (w < warm_.size() && warmLess(warm_[w], probe))
+      ++w;
+    std::size_t warm = 0;
+    while (w < warm_.size() && warm_[w].key() == probe.key())
+      ++w, ++warm;
+    const std::size_t most = std::min<std::size_t>(
+        std::max<std::size_t>(c.manifold.count, 1) + warm, Manifold::kMaxPoints);
+    offered += most;
+    // (a distance that is no number last: the order must be strict)
+    if (n < gap_points_.size())
+      gap_points_[n] = {std::isfinite(c.distance) ? c.distance : kInf, most};
+    ++n;
   }
   // (a world grown past what it reserved at creation: the contacts in their order)
-  if (offered <= max_points_ || contacts.size() > gap_points_.size())
+  if (offered <= max_points_ || n > gap_points_.size())
     return kInf;
-  std::size_t n = 0;
-  for (const collision::Contact& c : contacts) {
-    // (a distance that is no number last: the order must be strict)
-    if (takes(c)) {
-      gap_points_[n++] = {std::isfinite(c.distance) ? c.distance : kInf,
-                          std::max<std::size_t>(c.manifold.count, 1)};
-    }
-  }
   std::sort(gap_points_.begin(), gap_points_.begin() + static_cast<std::ptrdiff_t>(n));
   double below = -kInf;
   std::size_t total = 0;
