@@ -383,6 +383,8 @@ class Dynamics {
   void stepAsleep(const HeldInput* held);
   void integrateForces(double dt, double margin, const HeldInput* held);
   bool takes(const collision::Contact& c) const;
+  std::pair<std::size_t, std::size_t> warmRange(const collision::Contact& c,
+                                                std::size_t& cursor) const;
   double gapThatFits(std::span<const collision::Contact> contacts);
   void gatherContacts(std::span<const collision::Contact> contacts, StepReport& report);
   void solveThroughImpacts(double dt, StepReport& report);

@@ -237,6 +237,27 @@ bool Dynamics::takes(const collision::Contact& c) const {
          !std::binary_search(no_collide_.begin(), no_collide_.end(), pairKey(c.body_a, c.body_b));
 }
 
+// last tick's points of a contact's primitive pair: [first, second) of warm_. The contacts and
+// warm_ are both sorted by pair, so a pair's usually begin where the last contact's ended
+// (`cursor`; checked, else a search); `cursor` is left at the end of these
+std::pair<std::size_t, std::size_t> Dynamics::warmRange(const collision::Contact& c,
+                                                        std::size_t& cursor) const {
+  const auto warmLess = [](const WarmPoint& x, const WarmPoint& y) { return x.key() < y.key(); };
+  const WarmPoint probe{c.body_a, c.body_b, c.prim_a, c.prim_b};
+  std::size_t end = cursor;
+  const bool at_cursor = (end == 0 || warmLess(warm_[end - 1], probe)) &&
+                         (end == warm_.size() || !warmLess(warm_[end], probe));
+  if (!at_cursor) {
+    end = static_cast<std::size_t>(std::lower_bound(warm_.begin(), warm_.end(), probe, warmLess) -
+                                   warm_.begin());
+  }
+  const std::size_t begin = end;
+  while (end < warm_.size() && warm_[end].key() == probe.key())
+    ++end;
+  cursor = end;
+  return {begin, end};
+}
+
 // the largest gap of the contacts whose points fit in max_points_, nearest (deepest) first;
 // kInf when every contact's fit. A contact has at most its manifold's points and last tick's
 // points of its pair, and at most Manifold::kMaxPoints. Small bodies in a large scene are within
@@ -246,22 +267,12 @@ bool Dynamics::takes(const collision::Contact& c) const {
 double Dynamics::gapThatFits(std::span<const collision::Contact> contacts) {
   if (contacts.size() * Manifold::kMaxPoints <= max_points_)
     return kInf;
-  const auto warmLess = [](const WarmPoint& x, const WarmPoint& y) { return x.key() < y.key(); };
-  std::size_t offered = 0, n = 0, w = 0;
+  std::size_t offered = 0, n = 0, cursor = 0;
   for (const collision::Contact& c : contacts) {
     if (!takes(c))
       continue;
-    // last tick's points of the pair (warm_ and the contacts are both sorted by pair: usually
-    // the next ones; else a search)
-    const WarmPoint probe{c.body_a, c.body_b, c.prim_a, c.prim_b};
-    if (w > 0 && !warmLess(warm_[w - 1], probe))
-      w = static_cast<std::size_t>(std::lower_bound(warm_.begin(), warm_.end(), probe, warmLess) -
-                                   warm_.begin());
-    while (w < warm_.size() && warmLess(warm_[w], probe))
-      ++w;
-    std::size_t warm = 0;
-    while (w < warm_.size() && warm_[w].key() == probe.key())
-      ++w, ++warm;
+    const auto [first, last] = warmRange(c, cursor);
+    const std::size_t warm = last - first;
     const std::size_t most = std::min<std::size_t>(
         std::max<std::size_t>(c.manifold.count, 1) + warm, Manifold::kMaxPoints);
     offered += most;
@@ -274,7 +285,8 @@ double Dynamics::gapThatFits(std::span<const collision::Contact> contacts) {
   if (offered <= max_points_ || n > gap_points_.size())
     return kInf;
   std::sort(gap_points_.begin(), gap_points_.begin() + static_cast<std::ptrdiff_t>(n));
-  double below = -kInf;
+  // (at least the nearest: a capacity below one contact's points keeps what it can of it)
+  double below = gap_points_[0].first;
   std::size_t total = 0;
   for (std::size_t k = 0; k < n; ++k) {
     total += gap_points_[k].second;
@@ -290,10 +302,7 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
   warm_next_.clear();
   const std::size_t cap = max_points_;
   const double take_below = gapThatFits(contacts);
-  // where the last contact's warm points ended: the contacts and warm_ are both sorted by pair,
-  // so the next pair's usually begin there (checked; else a search)
-  std::size_t warm_cursor = 0;
-  const auto warmLess = [](const WarmPoint& x, const WarmPoint& y) { return x.key() < y.key(); };
+  std::size_t warm_cursor = 0;  // where the last contact's warm points ended (warmRange)
   for (const collision::Contact& c : contacts) {
     if (!takes(c))
       continue;
@@ -325,19 +334,8 @@ void Dynamics::gatherContacts(std::span<const collision::Contact> contacts, Step
     const double mu_d = scene::combineMaterials(ma, mb, scene::MaterialValue::kDynamicFriction);
     const double size = std::min(A.infinite ? kInf : A.size, B.infinite ? kInf : B.size);
 
-    // last tick's points of this primitive pair (warm_ is sorted by pair)
-    const WarmPoint probe{c.body_a, c.body_b, c.prim_a, c.prim_b};
-    std::size_t warm_end = warm_cursor;
-    const bool at_cursor = (warm_end == 0 || warmLess(warm_[warm_end - 1], probe)) &&
-                           (warm_end == warm_.size() || !warmLess(warm_[warm_end], probe));
-    if (!at_cursor) {
-      warm_end = static_cast<std::size_t>(
-          std::lower_bound(warm_.begin(), warm_.end(), probe, warmLess) - warm_.begin());
-    }
-    const std::size_t warm_begin = warm_end;
-    while (warm_end < warm_.size() && warm_[warm_end].key() == probe.key())
-      ++warm_end;
-    warm_cursor = warm_end;
+    // last tick's points of this primitive pair
+    const auto [warm_begin, warm_end] = warmRange(c, warm_cursor);
 
     // this tick's candidates: the manifold's points, then last tick's that are still in contact
     // and were not found again (persistent points: a resting box keeps its four corners even on
