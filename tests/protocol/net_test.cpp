@@ -844,13 +844,20 @@ TEST(Security, RateLimitPerPeerOnSimulatedTime) {
   const std::uint64_t sid = raw.hello();  // 1 token
   for (int i = 0; i < 49; ++i)
     raw.sendMessage(Heartbeat{}, sid, 2 + static_cast<std::uint64_t>(i));
-  ASSERT_TRUE(waitUntil([&] { return st.server().counters().received.load() == 50; }));
+  // (the server counts a datagram received before it refuses it: wait for the refusals too)
+  ASSERT_TRUE(waitUntil([&] {
+    return st.server().counters().received.load() == 50 &&
+           refused(st.server(), Errc::kRateLimited) >= 40;
+  }));
   EXPECT_EQ(refused(st.server(), Errc::kRateLimited), 40u);
   // 100 ms later: 10 more tokens
   fake_now += 100'000'000;
   for (int i = 0; i < 20; ++i)
     raw.sendMessage(Heartbeat{}, sid, 100 + static_cast<std::uint64_t>(i));
-  ASSERT_TRUE(waitUntil([&] { return st.server().counters().received.load() == 70; }));
+  ASSERT_TRUE(waitUntil([&] {
+    return st.server().counters().received.load() == 70 &&
+           refused(st.server(), Errc::kRateLimited) >= 50;
+  }));
   EXPECT_EQ(refused(st.server(), Errc::kRateLimited), 50u);
   // another peer has its own bucket
   Raw other(st.address());
@@ -866,7 +873,14 @@ TEST(Security, OversizedGarbageAndForeignDatagramsCountedNotAnswered) {
   raw.send(std::vector<std::uint8_t>(4000, 0x55));  // too long
   raw.send(std::vector<std::uint8_t>(10, 0x55));    // too short
   raw.send(std::vector<std::uint8_t>(100, 0x55));   // bad magic
-  ASSERT_TRUE(waitUntil([&] { return st.server().counters().received.load() == 3; }));
+  // (the server counts a datagram received before it refuses it: under load the third was
+  // seen received and not yet refused; wait for the three refusals too)
+  ASSERT_TRUE(waitUntil([&] {
+    return st.server().counters().received.load() == 3 &&
+           refused(st.server(), Errc::kTooLong) + refused(st.server(), Errc::kTooShort) +
+                   refused(st.server(), Errc::kBadMagic) ==
+               3;
+  }));
   EXPECT_EQ(refused(st.server(), Errc::kTooLong), 1u);
   EXPECT_EQ(refused(st.server(), Errc::kTooShort), 1u);
   EXPECT_EQ(refused(st.server(), Errc::kBadMagic), 1u);
