@@ -430,21 +430,16 @@ TEST(Capacity, SmallBodiesInALargeSceneKeepTheirFloor) {
     const double h = 0.0005;  // the pieces' half edge
     for (int slab = 0; slab < 2; ++slab) {
       const Vec3 at_W = Vec3{0.01 * slab, h * 1.01, 0} * unit;  // dropped 1% of a piece's edge
-      Body b =
-          dynamicBody("slab", boxShape(Vec3{h} * unit), at(at_W), 500.0 / (unit * unit * unit), 0);
-      const Primitive piece = b.primitives[0];
-      b.primitives.clear();
+      const Primitive piece{boxShape(Vec3{h} * unit), Pose{}, scene::ShapeSource::kCode, -1, 0};
+      std::vector<Primitive> pieces;
       for (int i = 0; i < 6; ++i) {
         for (int k = 0; k < 6; ++k) {
-          Primitive p = piece;
-          p.X_BP.translation = Vec3{2 * h * i, 0, 2 * h * k} * unit;
-          b.primitives.push_back(p);
+          pieces.push_back(piece);
+          pieces.back().X_BP.translation = Vec3{2 * h * i, 0, 2 * h * k} * unit;
         }
       }
-      const MassProperties mp = computeMassProperties(b.primitives, 500.0 / (unit * unit * unit));
-      b.mass = mp.mass;
-      b.com_B = mp.com_B;
-      b.inertia_B = mp.inertia_B;
+      const Body b =
+          compoundBody("slab", std::move(pieces), at(at_W), 500.0 / (unit * unit * unit));
       s.bodies.push_back(b);
     }
     s.bodies.push_back(

@@ -104,20 +104,32 @@ inline Body staticBody(const std::string& name,
   return b;
 }
 
-// a dynamic body of one primitive, mass and inertia from the shape at `density`
-inline Body dynamicBody(const std::string& name,
-                        std::shared_ptr<const geom::Polytope> s,
-                        const Pose& X,
-                        double density,
-                        std::int32_t material = -1) {
-  Body b = staticBody(name, std::move(s), X, material);
+// a dynamic body of the given primitives, mass and inertia from their shapes at `density`
+inline Body compoundBody(const std::string& name,
+                         std::vector<Primitive> primitives,
+                         const Pose& X,
+                         double density) {
+  Body b;
+  b.name = name;
   b.motion = Motion::kDynamic;
+  b.X_WB = X;
+  b.primitives = std::move(primitives);
   const MassProperties mp = computeMassProperties(b.primitives, density);
   b.mass = mp.mass;
   b.com_B = mp.com_B;
   b.inertia_B = mp.inertia_B;
   b.mass_declared = b.inertia_declared = true;
   return b;
+}
+
+// a dynamic body of one primitive, mass and inertia from the shape at `density`
+inline Body dynamicBody(const std::string& name,
+                        std::shared_ptr<const geom::Polytope> s,
+                        const Pose& X,
+                        double density,
+                        std::int32_t material = -1) {
+  return compoundBody(
+      name, {Primitive{std::move(s), Pose{}, scene::ShapeSource::kCode, -1, material}}, X, density);
 }
 
 inline double lengthScale(const SceneModel& s) {
