@@ -2,6 +2,8 @@
 //  Dynamics/stack100: 100 boxes (a 5 x 5 grid of stacks four high) resting on a floor under
 //    gravity, after one settling second, sleep off; p50, p99 and p99.9 of Dynamics::step per
 //    tick (wall clock and thread CPU time), and the CollisionWorld step before it.
+//  Dynamics/small_parts/own:{1,0}: two 5 mm parts of 64 pieces resting on a 40 m floor, with
+//    margins of their own (1) or the world's (0); the collision and dynamics steps per tick.
 //  Dynamics/empty: a scene without dynamic bodies (a floor and a kinematic body): the stage is
 //    inactive and step() returns at once.
 #include <benchmark/benchmark.h>
@@ -130,6 +132,86 @@ void BM_Stack100(benchmark::State& state) {
   state.counters["top_drift_mm"] = top * 1e3;
 }
 BENCHMARK(BM_Stack100)->Name("Dynamics/stack100")->Unit(benchmark::kMicrosecond)->MinTime(3.0);
+
+// Dynamics/small_parts/<own>: two parts of 8 x 8 cube pieces (64 pieces, 5 mm across, 0.6 mm
+// thick) resting 1 mm apart on a static floor 40 m wide, sleep off: the collision step and the
+// dynamics step per tick. own 1: each part's boxes grow by its own margin (the default); own 0:
+// by the world's, 0.5% of the scene's size (0.28 m), as before 2026-12-06, within which every
+// piece of one part is near every piece of the other.
+void BM_SmallParts(benchmark::State& state) {
+  scene::SceneModel s;
+  s.gravity_W = Vec3{0, -9.81, 0};
+  scene::Material m;
+  m.static_friction = m.dynamic_friction = 0.6;
+  s.materials.push_back(m);
+  s.bodies.push_back(body(box(Vec3{20, 0.05, 20}), Vec3{0, -0.05, 0}, scene::Motion::kStatic));
+  const double h = 0.0003125;
+  const auto cube = box(Vec3{h, 0.0003, h});
+  for (int part = 0; part < 2; ++part) {
+    scene::Body b = body(cube, Vec3{0.006 * part, 0.0003, 0}, scene::Motion::kDynamic);
+    b.primitives.clear();
+    for (int i = 0; i < 8; ++i) {
+      for (int k = 0; k < 8; ++k) {
+        b.primitives.push_back(
+            scene::Primitive{cube, Pose{Vec3{2 * h * i, 0, 2 * h * k}, Quat{1, 0, 0, 0}},
+                             scene::ShapeSource::kCode, -1, 0});
+      }
+    }
+    const auto mp = dynamics::computeMassProperties(b.primitives, 500.0);
+    b.mass = mp.mass;
+    b.com_B = mp.com_B;
+    b.inertia_B = mp.inertia_B;
+    s.bodies.push_back(std::move(b));
+  }
+  s.length_scale = std::sqrt(40.0 * 40.0 * 2 + 0.1 * 0.1);
+  auto world = dynamics::buildCollisionWorld(s, {}).value();
+  dynamics::DynamicsOptions o;
+  o.sleep_time_s = 0.0;
+  o.body_margins = state.range(0) != 0;
+  auto dyn = Dynamics::create(s, *world, o).value();
+  for (int k = 0; k < 500; ++k) {  // settle
+    world->step();
+    dyn->step(*world, 0.001);
+  }
+  std::vector<double> tick_ns, tick_cpu_ns;
+  tick_ns.reserve(1 << 20);
+  tick_cpu_ns.reserve(1 << 20);
+  std::uint64_t pairs = 0;
+  for (auto _ : state) {
+    const auto t0 = std::chrono::steady_clock::now();
+    const double c0 = cpuNs();
+    world->step();
+    const auto r = dyn->step(*world, 0.001);
+    const double c1 = cpuNs();
+    const auto t1 = std::chrono::steady_clock::now();
+    benchmark::DoNotOptimize(r);
+    pairs += world->contacts().size();
+    if (tick_ns.size() < tick_ns.capacity()) {
+      tick_ns.push_back(std::chrono::duration<double, std::nano>(t1 - t0).count());
+      tick_cpu_ns.push_back(c1 - c0);
+    }
+  }
+  // the collision step and Dynamics::step per tick: wall clock and this thread's CPU time
+  state.counters["p50_ns"] = quantile(tick_ns, 0.5);
+  state.counters["p99_ns"] = quantile(tick_ns, 0.99);
+  state.counters["cpu_p50_ns"] = quantile(tick_cpu_ns, 0.5);
+  state.counters["cpu_p99_ns"] = quantile(tick_cpu_ns, 0.99);
+  state.counters["pairs"] = static_cast<double>(pairs) / static_cast<double>(state.iterations());
+  // both parts must rest where they were put, or the figures mean nothing
+  double drift = 0.0;
+  for (std::uint32_t b = 1; b <= 2; ++b) {
+    const Vec3 d = dyn->pose(b).translation - Vec3{0.006 * (b - 1), 0.0003, 0};
+    drift = std::max(drift, glm::length(d));
+  }
+  state.counters["drift_um"] = drift * 1e6;
+}
+BENCHMARK(BM_SmallParts)
+    ->Name("Dynamics/small_parts")
+    ->ArgName("own")
+    ->Arg(1)
+    ->Arg(0)
+    ->Unit(benchmark::kMicrosecond)
+    ->MinTime(2.0);
 
 void BM_Empty(benchmark::State& state) {
   scene::SceneModel s;

@@ -109,6 +109,7 @@ constexpr std::size_t kSmallShape = 16;
 Aabb CollisionWorld::primitiveBox(Prim& p) {
   const Polytope& shape = *bodies_[p.body].desc.primitives[p.index].shape;
   const Transform X = primitiveTransform(p);
+  const double margin = bodies_[p.body].margin;
   Aabb box;
   const auto& vertices = shape.vertices();
   if (vertices.size() <= kSmallShape) {
@@ -126,8 +127,8 @@ Aabb CollisionWorld::primitiveBox(Prim& p) {
       }
     }
     for (int k = 0; k < 3; ++k) {
-      box.lo[k] = lo[k] + X.t[k] - options_.box_margin;
-      box.hi[k] = hi[k] + X.t[k] + options_.box_margin;
+      box.lo[k] = lo[k] + X.t[k] - margin;
+      box.hi[k] = hi[k] + X.t[k] + margin;
     }
     return box;
   }
@@ -138,8 +139,8 @@ Aabb CollisionWorld::primitiveBox(Prim& p) {
     auto& hi_hint = p.hint[2 * static_cast<std::size_t>(k) + 1];
     lo_hint = shape.support(-row, lo_hint);
     hi_hint = shape.support(row, hi_hint);
-    box.lo[k] = glm::dot(row, shape.vertices()[lo_hint].p) + X.t[k] - options_.box_margin;
-    box.hi[k] = glm::dot(row, shape.vertices()[hi_hint].p) + X.t[k] + options_.box_margin;
+    box.lo[k] = glm::dot(row, shape.vertices()[lo_hint].p) + X.t[k] - margin;
+    box.hi[k] = glm::dot(row, shape.vertices()[hi_hint].p) + X.t[k] + margin;
   }
   return box;
 }
@@ -153,6 +154,7 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
   b.X_stepped = X_WB;
   b.live = true;
   b.radius = 0.0;
+  b.margin = desc.margin >= 0.0 && std::isfinite(desc.margin) ? desc.margin : options_.box_margin;
   b.box_travel = 0.0;
   b.box_r1 = 0.0;
   b.small_pieces = true;
@@ -398,7 +400,7 @@ void CollisionWorld::refit(std::uint32_t body) {
     double mag = n.scale;
     for (int k = 0; k < 3; ++k)
       mag = std::max({mag, std::abs(T.t[k]), std::abs(c[k]) + h[k]});
-    const double pad = options_.box_margin + 1e-9 * mag;
+    const double pad = b.margin + 1e-9 * mag;
     box.lo = c - h - pad;
     box.hi = c + h + pad;
   }
@@ -453,6 +455,19 @@ void CollisionWorld::setPose(std::uint32_t body, const geom::Pose& X_WB) {
   if (!b.posed)
     posed_.push_back(body);
   b.posed = true;
+}
+
+void CollisionWorld::setMargin(std::uint32_t body, double margin) {
+  Body& b = bodies_[body];
+  if (b.desc.kind == BodyKind::kStatic || !(margin >= 0.0) || !std::isfinite(margin) ||
+      margin == b.margin)
+    return;
+  // every face of its boxes moves by the change (the descent's bound of their travel)
+  b.box_travel += std::abs(margin - b.margin);
+  b.margin = margin;
+  if (!b.moved)
+    moved_.push_back(body);
+  b.moved = true;
 }
 
 void CollisionWorld::clearPosed() {
@@ -1142,7 +1157,7 @@ bool CollisionWorld::farByBoxes(PairState& s) {
   s.sep_rough = false;
   if (best > 0.0) {
     s.sep_n = n;
-    s.sep_d = best + 2.0 * options_.box_margin;
+    s.sep_d = best + bodies_[pa.body].margin + bodies_[pb.body].margin;
     if (far(s))
       return true;
   }
@@ -1162,16 +1177,16 @@ bool CollisionWorld::farByBoxes(PairState& s) {
     // pad covers the rounding of both ways many times over): a piece's vertices are not read
     // (the static plate's entering pieces are cold in the cache); far() makes the plane exact
     // before it could find the pair near, so the pairs found far are the same
-    const double m = options_.box_margin;
+    const double ma = bodies_[pa.body].margin, mb = bodies_[pb.body].margin;
     double top_a = 0.0, bottom_b = 0.0, mag = 0.0;
     for (int k = 0; k < 3; ++k) {
-      const double alo = A.lo[k] + m, ahi = A.hi[k] - m, blo = B.lo[k] + m, bhi = B.hi[k] - m;
+      const double alo = A.lo[k] + ma, ahi = A.hi[k] - ma, blo = B.lo[k] + mb, bhi = B.hi[k] - mb;
       top_a += u[k] * (u[k] >= 0.0 ? ahi : alo);
       bottom_b += u[k] * (u[k] >= 0.0 ? blo : bhi);
       mag = std::max(
           {mag, std::abs(A.lo[k]), std::abs(A.hi[k]), std::abs(B.lo[k]), std::abs(B.hi[k])});
     }
-    const double rough = bottom_b - top_a - 1e-9 * (mag + m);
+    const double rough = bottom_b - top_a - 1e-9 * (mag + std::max(ma, mb));
     if (options_.far_box_bound && rough > 0.0) {
       s.sep_n = u;
       s.sep_d = rough;
@@ -1274,7 +1289,7 @@ void CollisionWorld::test(std::uint32_t si) {
   s.sep_n = s.sep_d > 0.0 ? ab / d : Vec3{0.0};
   s.X_WA_test = bodies_[pa.body].X_WB;
   s.X_WB_test = bodies_[pb.body].X_WB;
-  s.in_contact = r.distance <= options_.box_margin;
+  s.in_contact = r.distance <= 0.5 * (bodies_[pa.body].margin + bodies_[pb.body].margin);
 }
 
 StepStats CollisionWorld::step() {
@@ -1540,6 +1555,7 @@ void CollisionWorld::writeState(StateWriter& w) const {
       w.flag(f);
     w.u64(b.moved_tick);
     w.f64(b.radius);
+    w.f64(b.margin);
     w.integer(b.tree.size());
     if (!b.tree.empty())
       w.integer(b.box);

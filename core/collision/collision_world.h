@@ -42,6 +42,11 @@ struct BodyDesc {
   std::uint32_t group = 1;   ///< collision filter: groups of this body (bits)
   std::uint32_t mask = ~0u;  ///< groups it collides with (bits)
   std::vector<PrimitiveDesc> primitives;
+  /// Its boxes grow by this much (scene units) on every side; negative: WorldOptions::box_margin.
+  /// A pair is found while its two bodies' margins summed exceed its gap (on every axis). The
+  /// dynamics give a free dynamic body a margin of its own size and speed (setMargin), so that a
+  /// small body in a large scene is not near everything within the scene's margin.
+  double margin = -1.0;
 };
 
 /// How many pairs the narrow phase may test per tick (§4.2).
@@ -226,6 +231,12 @@ class CollisionWorld {
 
   /// Moves a non-static body. Servo thread.
   void setPose(std::uint32_t body, const geom::Pose& X_WB);
+  /// A non-static body's boxes grow by `margin` (scene units, >= 0; BodyDesc::margin) from the
+  /// next step on, as if it had moved (its pairs are tested again). Not a finite number >= 0:
+  /// ignored. Servo thread; no allocation.
+  void setMargin(std::uint32_t body, double margin);
+  /// The margin its boxes grow by (BodyDesc::margin, or the world's box_margin).
+  double margin(std::uint32_t body) const { return bodies_[body].margin; }
   const geom::Pose& pose(std::uint32_t body) const { return bodies_[body].X_WB; }
   BodyKind kind(std::uint32_t body) const { return bodies_[body].desc.kind; }
   /// A sleeping body is not moving and nothing about it is asked: its pairs with sleeping and
@@ -343,6 +354,7 @@ class CollisionWorld {
     std::uint64_t refit_at = 0;  // tick + 1 of the last refit (0: never)
     std::uint32_t box = 0;       // the body's broad-phase handle (a tree body)
     double radius = 0.0;         // the farthest of its vertices from its origin (far())
+    double margin = 0.0;         // its boxes grow by this (BodyDesc::margin or box_margin)
     // how far any point of it can have moved since it was added: the sum over steps of its
     // origin's translation plus its turn's chord times its radius (a bound that only grows;
     // far() compares its growth with a pair's margin); its pose at the last step

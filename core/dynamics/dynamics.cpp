@@ -6,6 +6,7 @@
 #include <numbers>
 
 #include "core/dynamics/dynamics_internal.h"
+#include "core/dynamics/scene_world.h"
 #include "core/geometry/rotation.h"
 
 namespace hapticd::dynamics {
@@ -306,13 +307,7 @@ Result<bool> Dynamics::initBody(std::uint32_t i, const Vec3& g, std::size_t* mov
   b.q = glm::normalize(sb.X_WB.rotation);
   b.R = glm::mat3_cast(b.q);
   b.x_W = sb.X_WB.translation + b.R * b.com_B;
-  double size = 0.0;
-  for (const scene::Primitive& p : sb.primitives) {
-    if (!p.shape)
-      continue;
-    const Vec3 c = p.X_BP.translation + p.X_BP.rotation * p.shape->centroid();
-    size = std::max(size, glm::length(c - b.com_B) + p.shape->radius());
-  }
+  const double size = bodySize(sb, b.com_B);
   b.size = size > 0.0 ? size : scene.length_scale;
   b.updateInertia();
   return true;

@@ -133,11 +133,17 @@ struct DynamicsOptions {
   /// Static friction applies while the tangential speed is below this fraction of the
   /// restitution threshold; dynamic friction above it.
   double static_friction_speed_fraction = 1.0;
-  /// No tunnelling: a body travels at most max(world box margin, this fraction of its size)
-  /// per tick, its speed (and spin) clamped beyond (kStepSpeedClamped, counted). Contacts are
-  /// found within the world's box margin before they touch (time of impact) and, for faster
-  /// bodies, on the tick they overlap (then resolved from the overlap).
+  /// No tunnelling: a body travels at most max(its box margin in the world, this fraction of
+  /// its size) per tick, its speed (and spin) clamped beyond (kStepSpeedClamped, counted).
+  /// Contacts are found within the margins before they touch (time of impact) and, for faster
+  /// bodies, on the tick they overlap (then resolved from the overlap). A free dynamic body's
+  /// margin follows its speed (freeBodyMargin, core/dynamics/scene_world.h): at least 10% of its
+  /// size, twice its travel in a tick, at most the world's box margin.
   double max_travel_fraction = 0.5;
+  /// A free dynamic body's boxes grow by a margin of its own size and speed (freeBodyMargin,
+  /// docs/dynamics.md "Margins of their own"); false: by the world's box margin, as every body's
+  /// did before 2026-12-06 (for comparison: Dynamics/small_parts).
+  bool body_margins = true;
   /// Persistent contact points: a point of last tick that the collision manifold does not name
   /// again is kept while its two surface points stay within this fraction of the smaller body's
   /// size of each other (along the contact plane and across it); a new point that near one of
@@ -381,7 +387,7 @@ class Dynamics {
   Result<bool> initJoints();
   // the tick (dynamics_step.cpp)
   void stepAsleep(const HeldInput* held);
-  void integrateForces(double dt, double margin, const HeldInput* held);
+  void integrateForces(double dt, const collision::CollisionWorld& world, const HeldInput* held);
   bool takes(const collision::Contact& c) const;
   std::pair<std::size_t, std::size_t> warmRange(const collision::Contact& c,
                                                 std::size_t& cursor) const;

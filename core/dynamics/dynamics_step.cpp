@@ -8,6 +8,7 @@
 #include <tuple>
 
 #include "core/dynamics/dynamics_internal.h"
+#include "core/dynamics/scene_world.h"
 #include "core/geometry/rotation.h"
 
 namespace hapticd::dynamics {
@@ -148,8 +149,10 @@ void shareWarmStarts(Candidate* c, std::size_t n) {
 }  // namespace
 
 // velocities first (semi-implicit Euler); the kinematic bodies' velocities that reach their
-// targets; the speed clamp that keeps every body within the world's box margin per tick
-void Dynamics::integrateForces(double dt, double margin, const HeldInput* held) {
+// targets; the speed clamp that keeps every body within its box margin in the world per tick
+void Dynamics::integrateForces(double dt,
+                               const collision::CollisionWorld& world,
+                               const HeldInput* held) {
   held_kinematic_ = false;
   bool held_wrench = false;
   if (held != nullptr && held_ >= 0 && static_cast<std::size_t>(held_) < bodies_.size()) {
@@ -209,7 +212,8 @@ void Dynamics::integrateForces(double dt, double margin, const HeldInput* held) 
     }
     {
       // no tunnelling: a body never travels more than this per tick
-      const double limit = std::max(margin, options_.max_travel_fraction * b.size);
+      const double limit = std::max(world.margin(static_cast<std::uint32_t>(i)),
+                                    options_.max_travel_fraction * b.size);
       const double reach = glm::length(b.v_W) * dt;
       const double spin = glm::length(b.w_W) * b.size * dt;
       if (reach > limit || spin > limit) {
@@ -600,7 +604,7 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
   wakeIslands(world, held);
   if (syncSleep(world))
     world.relist();
-  integrateForces(dt, world.options().box_margin, held);
+  integrateForces(dt, world, held);
   gatherContacts(world.contacts(), report);
   islandSizes();
   prepareJoints();
@@ -622,12 +626,20 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
   held_feedback_ = heldFeedbackOfTick();
   storeWarmStart(report);
 
-  // poses back to the collision world
+  // poses back to the collision world, and the margins their boxes grow by: a free dynamic
+  // body's as far as it may travel in the next tick (freeBodyMargin: the world's at most), any
+  // other's the world's (the held body follows the hand, a kinematic one its targets)
+  const double box_margin = world.options().box_margin;
   for (std::uint32_t i = 0; i < bodies_.size(); ++i) {
     const BodyState& b = bodies_[i];
     if (b.motion == scene::Motion::kStatic || !b.enabled || b.asleep)
       continue;  // a sleeping body's pairs keep their answers (skip_unmoved_pairs)
     world.setPose(i, Pose{b.x_W - b.R * b.com_B, b.q});
+    const bool free = options_.body_margins && b.motion == scene::Motion::kDynamic && !b.driven &&
+                      !b.coast && static_cast<std::int32_t>(i) != held_;
+    const double reach = (glm::length(b.v_W) + glm::length(b.w_W) * b.size) * dt +
+                         glm::length(b.gravity_W) * dt * dt;
+    world.setMargin(i, free ? freeBodyMargin(b.size, reach, box_margin) : box_margin);
   }
   updateSleep(dt);
   syncSleep(world);

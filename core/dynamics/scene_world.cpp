@@ -8,6 +8,21 @@ double recommendedBoxMargin(const scene::SceneModel& scene) {
   return 0.005 * (scene.length_scale > 0.0 ? scene.length_scale : 1.0);
 }
 
+double bodySize(const scene::Body& body, const geom::Vec3& com_B) {
+  double size = 0.0;
+  for (const scene::Primitive& p : body.primitives) {
+    if (!p.shape)
+      continue;
+    const geom::Vec3 c = p.X_BP.translation + p.X_BP.rotation * p.shape->centroid();
+    size = std::max(size, glm::length(c - com_B) + p.shape->radius());
+  }
+  return size;
+}
+
+double freeBodyMargin(double size, double reach, double box_margin) {
+  return std::min(box_margin, std::max(kBodyMarginFraction * size, 2.0 * reach));
+}
+
 collision::BodyKind worldKind(const scene::SceneModel& scene, std::size_t body) {
   using collision::BodyKind;
   const scene::Motion motion = scene.bodies[body].motion;
@@ -42,6 +57,11 @@ Result<std::unique_ptr<collision::CollisionWorld>> buildCollisionWorld(
       desc.primitives.push_back({p.shape, p.X_BP.toTransform(), p.group, p.mask});
     }
     total_prims += b.primitives.size();
+    if (desc.kind == BodyKind::kDynamic && !(b.mass_declared && b.mass == 0.0) &&
+        b.linear_velocity_W == geom::Vec3{0.0} && b.angular_velocity_W == geom::Vec3{0.0}) {
+      // at rest: its own margin (the dynamics set it from its speed at every step)
+      desc.margin = freeBodyMargin(bodySize(b, b.com_B), 0.0, options.box_margin);
+    }
     if (desc.kind != BodyKind::kStatic)
       moving_prims += b.primitives.size();
     const std::uint32_t id = world->addBody(desc, b.X_WB);

@@ -19,6 +19,21 @@ namespace hapticd::dynamics {
 /// length scale. Any thread.
 double recommendedBoxMargin(const scene::SceneModel& scene);
 
+/// A body's size: the farthest point of its primitives from `com_B` (its frame), 0 without
+/// primitives. Any thread.
+double bodySize(const scene::Body& body, const geom::Vec3& com_B);
+
+/// A free dynamic body's own margin (BodyDesc::margin, CollisionWorld::setMargin): the pairs it
+/// may touch within a tick are found, and no more. At least kBodyMarginFraction of its size
+/// (`size`: the farthest point of it from its centre of mass) and twice `reach` (how far it may
+/// travel in the next tick), at most `box_margin` (the world's, relative to the scene's size).
+/// A body of the scene's size keeps the world's margin; a 5 mm part on a 40 m floor is not near
+/// every piece within 0.2 m (the world's margin there) but within its own 0.3 mm, or as far as
+/// its speed carries it. Any thread.
+double freeBodyMargin(double size, double reach, double box_margin);
+/// The least margin of a free dynamic body, as a fraction of its size.
+inline constexpr double kBodyMarginFraction = 0.1;
+
 /// The kind of scene body `body` in the collision world: kProbe for SceneModel::probe_body, else
 /// its motion's. Any thread.
 collision::BodyKind worldKind(const scene::SceneModel& scene, std::size_t body);
@@ -31,7 +46,9 @@ collision::BodyKind worldKind(const scene::SceneModel& scene, std::size_t body);
 /// them at the identity pose (the Simulation's probe sphere for a scene without a probe body).
 /// Capacities are reserved for every pair a moving primitive can make (at most 65536), so that
 /// step() never allocates. `options.box_margin` is raised to recommendedBoxMargin when the
-/// scene has a dynamic body. Errors: a primitive without a shape, an inactive probe body.
+/// scene has a dynamic body; a dynamic body at rest (no initial velocity, a finite mass, not the
+/// probe) starts with its own margin, freeBodyMargin(its size, 0, that). Errors: a primitive
+/// without a shape, an inactive probe body.
 Result<std::unique_ptr<collision::CollisionWorld>> buildCollisionWorld(
     const scene::SceneModel& scene,
     collision::WorldOptions options,

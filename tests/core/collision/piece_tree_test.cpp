@@ -32,7 +32,7 @@ std::shared_ptr<const Polytope> cube(double h) {
 // A static slab of 8 x 8 pieces (its pose turned, so its frame is not the world's; one piece
 // filtered out of group 1), a kinematic comb of 24 pieces (one of them filtered out of group 1)
 // that sweeps over it turning, a two-piece probe (boxes of its own) and a dynamic comb of 10
-// pieces, in one world.
+// pieces, in one world; the two combs' margins change as they go (setMargin).
 struct Scene {
   CollisionWorld world;
   std::uint32_t slab = 0, comb = 0, probe = 0, small_comb = 0;
@@ -101,6 +101,13 @@ struct Scene {
                     Pose{c + slab_q * Vec3{0.03 + 0.02 * std::sin(0.4 * t), 0.004, 0.05},
                          glm::angleAxis(0.2 * t, Vec3{1.0, 0.0, 0.0})});
     }
+    // margins of their own (as the dynamics give a free body from its speed): the kinematic
+    // comb's changes every seventh step, the dynamic comb's every fifth (without moving it)
+    const double m = world.options().box_margin;
+    if (k % 7 == 3)
+      world.setMargin(comb, m * (1.0 + 0.5 * std::sin(0.9 * t)));
+    if (k % 5 == 1)
+      world.setMargin(small_comb, m * (0.75 + 0.5 * std::cos(1.7 * t)));
   }
 };
 

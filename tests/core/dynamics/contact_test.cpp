@@ -416,32 +416,44 @@ TEST(Robustness, BadInputsChangeNothingAndOverlapsSeparateGently) {
       << "the boxes came apart";
 }
 
+// a slab of 6 x 6 cube pieces (half edge h, scene units) at X, dynamic at `density` or static
+// (density 0)
+Body slabBody(const char* name, double h, const Pose& X, double density) {
+  const Primitive piece{boxShape(Vec3{h}), Pose{}, scene::ShapeSource::kCode, -1, 0};
+  std::vector<Primitive> pieces;
+  for (int i = 0; i < 6; ++i) {
+    for (int k = 0; k < 6; ++k) {
+      pieces.push_back(piece);
+      pieces.back().X_BP.translation = Vec3{2 * h * i, 0, 2 * h * k};
+    }
+  }
+  Body b = compoundBody(name, std::move(pieces), X, density > 0.0 ? density : 1.0);
+  if (density <= 0.0)
+    b.motion = Motion::kStatic;
+  return b;
+}
+
 // more contact points offered than the solver holds: the nearest are kept. Two slabs of 36
-// pieces each (6 mm across) lie side by side on a floor 40 m wide, listed after them; the
-// world's box margin is relative to the scene's size (0.28 m), so every piece of one slab is
-// within it of every piece of the other: 1 296 piece pairs, more points than the solver's
-// 1 216. The floor's contacts came last and were the ones dropped: the slabs fell through it
-// (a 5 mm part of 64 pieces imported twice onto a floor did so). In mm, m and km
+// pieces each (6 mm across) lie side by side on a floor 40 m wide, listed after them and after a
+// static rack of 36 pieces 6 mm above them; the rack's boxes grow by the world's margin,
+// relative to the scene's size (0.28 m), so every piece of a slab is within it of every piece
+// of the rack: 2 592 piece pairs, more points than the solver's 1 216. The floor's contacts
+// came last and were the ones dropped: the slabs fell through it (a 5 mm part of 64 pieces
+// imported twice onto a floor did so, when the parts' boxes grew by the world's margin too:
+// Margins.SmallBodiesInALargeSceneAreNearOnlyWhatTheyMayReach). In mm, m and km
 TEST(Capacity, SmallBodiesInALargeSceneKeepTheirFloor) {
   for (const double unit : {1e-3, 1.0, 1e3}) {
     SceneModel s;
     s.gravity_W = Vec3{0, -9.81 * unit, 0};
     s.materials.push_back(material(0.5, 0.0));
     const double h = 0.0005;  // the pieces' half edge
+    const double density = 500.0 / (unit * unit * unit);
     for (int slab = 0; slab < 2; ++slab) {
-      const Vec3 at_W = Vec3{0.01 * slab, h * 1.01, 0} * unit;  // dropped 1% of a piece's edge
-      const Primitive piece{boxShape(Vec3{h} * unit), Pose{}, scene::ShapeSource::kCode, -1, 0};
-      std::vector<Primitive> pieces;
-      for (int i = 0; i < 6; ++i) {
-        for (int k = 0; k < 6; ++k) {
-          pieces.push_back(piece);
-          pieces.back().X_BP.translation = Vec3{2 * h * i, 0, 2 * h * k} * unit;
-        }
-      }
-      const Body b =
-          compoundBody("slab", std::move(pieces), at(at_W), 500.0 / (unit * unit * unit));
-      s.bodies.push_back(b);
+      // dropped 1% of a piece's edge
+      s.bodies.push_back(
+          slabBody("slab", h * unit, at(Vec3{0.01 * slab, h * 1.01, 0} * unit), density));
     }
+    s.bodies.push_back(slabBody("rack", h * unit, at(Vec3{0.002, 8 * h, 0} * unit), 0.0));
     s.bodies.push_back(
         staticBody("floor", boxShape(Vec3{20, 0.05, 20} * unit), at(Vec3{0, -0.05, 0} * unit), 0));
     DynamicsOptions o;
@@ -456,6 +468,49 @@ TEST(Capacity, SmallBodiesInALargeSceneKeepTheirFloor) {
       std::printf("unit %g slab %u: origin %.6g m up (rests at %.6g)\n", unit, b, y, h);
       EXPECT_NEAR(y, h, 0.01 * h) << "slab " << b << " at unit " << unit;
     }
+  }
+}
+
+// a free dynamic body's boxes grow by a margin of its own size and speed, not the world's
+// (relative to the scene's size): two slabs of 36 pieces, 6 mm across and 4 mm apart on a floor
+// 40 m wide, are not near each other (the world's margin, 0.28 m, made 1 296 piece pairs of
+// them), and a 1 mm cube dropped 1 m, 2 cm beside them, 4.4 m/s at the floor (4.4 of its sizes a
+// tick), finds the floor before it touches, never clamped, and rests on it. In mm, m and km
+TEST(Margins, SmallBodiesInALargeSceneAreNearOnlyWhatTheyMayReach) {
+  for (const double unit : {1e-3, 1.0, 1e3}) {
+    SceneModel s;
+    s.gravity_W = Vec3{0, -9.81 * unit, 0};
+    s.materials.push_back(material(0.5, 0.0));
+    const double h = 0.0005;
+    const double density = 500.0 / (unit * unit * unit);
+    for (int slab = 0; slab < 2; ++slab)
+      s.bodies.push_back(slabBody("slab", h * unit, at(Vec3{0.01 * slab, h, 0} * unit), density));
+    s.bodies.push_back(dynamicBody("cube", boxShape(Vec3{h * unit}),
+                                   at(Vec3{-0.02, 1.0 + h, 0} * unit), density, 0));
+    s.bodies.push_back(
+        staticBody("floor", boxShape(Vec3{20, 0.05, 20} * unit), at(Vec3{0, -0.05, 0} * unit), 0));
+    DynamicsOptions o;
+    o.sleep_time_s = 0.0;
+    Rig rig(std::move(s), o);
+    std::size_t most = 0, slab_pairs = 0;
+    std::uint32_t flags = 0;
+    double lowest = 1e300;
+    for (int k = 0; k < 1500; ++k) {
+      flags |= rig.tick().flags;
+      most = std::max(most, rig.world->contacts().size());
+      for (const collision::Contact& c : rig.world->contacts())
+        slab_pairs += c.body_a == 0 && c.body_b == 1 ? 1u : 0u;
+      lowest = std::min(lowest, rig.dyn->pose(2).translation.y / unit);
+    }
+    std::printf("unit %g: at most %zu pairs, slab-slab %zu, cube lowest %.6g m, rests at %.6g\n",
+                unit, most, slab_pairs, lowest, rig.dyn->pose(2).translation.y / unit);
+    EXPECT_EQ(slab_pairs, 0u) << unit;
+    // each slab's pieces with the floor, the cube with the floor: no more
+    EXPECT_LE(most, 2u * 36u + 1u) << unit;
+    EXPECT_EQ(flags & kStepSpeedClamped, 0u) << unit;
+    // it did not pass through the floor (its top at 1 mm: it went below by less than its slop)
+    EXPECT_GT(lowest, h - 0.01 * h) << unit;
+    EXPECT_NEAR(rig.dyn->pose(2).translation.y / unit, h, 0.01 * h) << unit;
   }
 }
 
