@@ -61,13 +61,30 @@ double quantile(std::vector<double>& v, double q) {
   return v[k];
 }
 
-void BM_Stack100(benchmark::State& state) {
+// p50, p99 and p99.9 of the times per tick (ns) as counters: wall clock and this thread's CPU
+void putPercentiles(benchmark::State& state, std::vector<double>& wall, std::vector<double>& cpu) {
+  state.counters["p50_ns"] = quantile(wall, 0.5);
+  state.counters["p99_ns"] = quantile(wall, 0.99);
+  state.counters["p99.9_ns"] = quantile(wall, 0.999);
+  state.counters["cpu_p50_ns"] = quantile(cpu, 0.5);
+  state.counters["cpu_p99_ns"] = quantile(cpu, 0.99);
+  state.counters["cpu_p99.9_ns"] = quantile(cpu, 0.999);
+}
+
+// a scene under gravity, friction 0.6 everywhere, with a static floor box of these half extents
+// whose top is at y = 0
+scene::SceneModel floorScene(const Vec3& half) {
   scene::SceneModel s;
   s.gravity_W = Vec3{0, -9.81, 0};
   scene::Material m;
   m.static_friction = m.dynamic_friction = 0.6;
   s.materials.push_back(m);
-  s.bodies.push_back(body(box(Vec3{1, 0.1, 1}), Vec3{0, -0.1, 0}, scene::Motion::kStatic));
+  s.bodies.push_back(body(box(half), Vec3{0, -half.y, 0}, scene::Motion::kStatic));
+  return s;
+}
+
+void BM_Stack100(benchmark::State& state) {
+  scene::SceneModel s = floorScene(Vec3{1, 0.1, 1});
   const double h = 0.05;
   const auto cube = box(Vec3{h});
   for (int i = 0; i < 25; ++i) {
@@ -110,12 +127,7 @@ void BM_Stack100(benchmark::State& state) {
     }
   }
   // Dynamics::step per tick: wall clock and this thread's CPU time
-  state.counters["p50_ns"] = quantile(dyn_ns, 0.5);
-  state.counters["p99_ns"] = quantile(dyn_ns, 0.99);
-  state.counters["p99.9_ns"] = quantile(dyn_ns, 0.999);
-  state.counters["cpu_p50_ns"] = quantile(dyn_cpu_ns, 0.5);
-  state.counters["cpu_p99_ns"] = quantile(dyn_cpu_ns, 0.99);
-  state.counters["cpu_p99.9_ns"] = quantile(dyn_cpu_ns, 0.999);
+  putPercentiles(state, dyn_ns, dyn_cpu_ns);
   // the collision step before it (not the dynamics' work, for scale)
   state.counters["world_p50_ns"] = quantile(world_ns, 0.5);
   const auto per_tick = [&](std::uint64_t n) {
@@ -139,12 +151,7 @@ BENCHMARK(BM_Stack100)->Name("Dynamics/stack100")->Unit(benchmark::kMicrosecond)
 // by the world's, 0.5% of the scene's size (0.28 m), as before 2026-12-06, within which every
 // piece of one part is near every piece of the other.
 void BM_SmallParts(benchmark::State& state) {
-  scene::SceneModel s;
-  s.gravity_W = Vec3{0, -9.81, 0};
-  scene::Material m;
-  m.static_friction = m.dynamic_friction = 0.6;
-  s.materials.push_back(m);
-  s.bodies.push_back(body(box(Vec3{20, 0.05, 20}), Vec3{0, -0.05, 0}, scene::Motion::kStatic));
+  scene::SceneModel s = floorScene(Vec3{20, 0.05, 20});
   const double h = 0.0003125;
   const auto cube = box(Vec3{h, 0.0003, h});
   for (int part = 0; part < 2; ++part) {
@@ -192,10 +199,7 @@ void BM_SmallParts(benchmark::State& state) {
     }
   }
   // the collision step and Dynamics::step per tick: wall clock and this thread's CPU time
-  state.counters["p50_ns"] = quantile(tick_ns, 0.5);
-  state.counters["p99_ns"] = quantile(tick_ns, 0.99);
-  state.counters["cpu_p50_ns"] = quantile(tick_cpu_ns, 0.5);
-  state.counters["cpu_p99_ns"] = quantile(tick_cpu_ns, 0.99);
+  putPercentiles(state, tick_ns, tick_cpu_ns);
   state.counters["pairs"] = static_cast<double>(pairs) / static_cast<double>(state.iterations());
   // both parts must rest where they were put, or the figures mean nothing
   double drift = 0.0;
