@@ -435,7 +435,7 @@ Body slabBody(const char* name, double h, const Pose& X, double density) {
 
 // more contact points offered than the solver holds: the nearest are kept. Two slabs of 36
 // pieces each (6 mm across) lie side by side on a floor 40 m wide, listed after them and after a
-// static rack of 36 pieces 6 mm above them; the rack's boxes grow by the world's margin,
+// static rack of 36 pieces 2.5 mm above them; the rack's boxes grow by the world's margin,
 // relative to the scene's size (0.28 m), so every piece of a slab is within it of every piece
 // of the rack: 2 592 piece pairs, more points than the solver's 1 216. The floor's contacts
 // came last and were the ones dropped: the slabs fell through it (a 5 mm part of 64 pieces
