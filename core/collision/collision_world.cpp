@@ -154,7 +154,12 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
   b.X_stepped = X_WB;
   b.live = true;
   b.radius = 0.0;
-  b.margin = desc.margin >= 0.0 && std::isfinite(desc.margin) ? desc.margin : options_.box_margin;
+  const auto given = [](double m) { return m >= 0.0 && std::isfinite(m); };
+  b.base_margin = given(desc.margin) ? desc.margin
+                  : desc.kind == BodyKind::kProbe && given(options_.probe_margin)
+                      ? options_.probe_margin
+                      : options_.box_margin;
+  b.margin = b.base_margin;
   b.box_travel = 0.0;
   b.box_r1 = 0.0;
   b.small_pieces = true;
@@ -1556,6 +1561,7 @@ void CollisionWorld::writeState(StateWriter& w) const {
     w.u64(b.moved_tick);
     w.f64(b.radius);
     w.f64(b.margin);
+    w.f64(b.base_margin);
     w.integer(b.tree.size());
     if (!b.tree.empty())
       w.integer(b.box);

@@ -81,6 +81,10 @@ struct WorldOptions {
   /// Boxes grow by this much (scene units) on every side, so that pairs closer than it are found
   /// (the predictive distance δ of §5.2 belongs here).
   double box_margin = 0.0;
+  /// A probe body's boxes (BodyKind::kProbe, unless its BodyDesc::margin says) grow by this
+  /// instead; negative: box_margin. The Simulation sets it, in a scene with dynamics, to what
+  /// the proxy reads (its rows' and attach distances), below the dynamics' box_margin.
+  double probe_margin = -1.0;
   SchedulerBudget budget;
   QueryOptions query;
   /// A pair whose bodies have not been given a pose since its last test keeps that answer (it
@@ -235,8 +239,11 @@ class CollisionWorld {
   /// next step on, as if it had moved (its pairs are tested again). Not a finite number >= 0:
   /// ignored. Servo thread; no allocation.
   void setMargin(std::uint32_t body, double margin);
-  /// The margin its boxes grow by (BodyDesc::margin, or the world's box_margin).
+  /// The margin its boxes grow by (setMargin; first its base margin).
   double margin(std::uint32_t body) const { return bodies_[body].margin; }
+  /// The margin it was added with: BodyDesc::margin, else probe_margin for a probe, else
+  /// box_margin.
+  double baseMargin(std::uint32_t body) const { return bodies_[body].base_margin; }
   const geom::Pose& pose(std::uint32_t body) const { return bodies_[body].X_WB; }
   BodyKind kind(std::uint32_t body) const { return bodies_[body].desc.kind; }
   /// A sleeping body is not moving and nothing about it is asked: its pairs with sleeping and
@@ -354,7 +361,8 @@ class CollisionWorld {
     std::uint64_t refit_at = 0;  // tick + 1 of the last refit (0: never)
     std::uint32_t box = 0;       // the body's broad-phase handle (a tree body)
     double radius = 0.0;         // the farthest of its vertices from its origin (far())
-    double margin = 0.0;         // its boxes grow by this (BodyDesc::margin or box_margin)
+    double margin = 0.0;         // its boxes grow by this (setMargin; first base_margin)
+    double base_margin = 0.0;    // BodyDesc::margin, probe_margin (a probe) or box_margin
     // how far any point of it can have moved since it was added: the sum over steps of its
     // origin's translation plus its turn's chord times its radius (a bound that only grows;
     // far() compares its growth with a pair's margin); its pose at the last step

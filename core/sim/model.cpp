@@ -296,6 +296,13 @@ Result<std::shared_ptr<const SimModel>> SimModel::compile(
     m->world_options.far_distance = std::max(3.0 * m->max_travel_m, m->attach_distance_m);
     m->world_options.far_distance_static = 2.0 * m->max_travel_m;
   }
+  // with dynamics the margin is raised to the dynamics' (0.5% of the scene's size), which for a
+  // small probe in a large scene is many times what the proxy reads: the probe's boxes grow by
+  // what the unraised margin found (two safe distances on each side) and the attach distance,
+  // and by twice its travel in a tick when it moves faster (the dynamics set it, at most the
+  // raised margin)
+  if (m->scene->plan.dynamics)
+    m->world_options.probe_margin = std::max(4.0 * m->max_travel_m, m->attach_distance_m);
   // the bodies whose poses are listed
   m->pose_slot.assign(m->info.size(), -1);
   for (std::uint32_t id = 0; id < m->info.size(); ++id) {

@@ -514,6 +514,64 @@ TEST(Margins, SmallBodiesInALargeSceneAreNearOnlyWhatTheyMayReach) {
   }
 }
 
+// the held probe's boxes grow by its base margin (WorldOptions::probe_margin: what the proxy
+// reads) or twice its travel in a tick, not the world's margin (0.28 m on a 40 m floor): a 5 mm
+// probe of 36 pieces 2 cm from a slab of 36 is near none of its pieces at rest (the world's
+// margin made 1 296 pairs of them); moving 1 cm a tick its margin is 2 cm, then at rest again
+// its base. In mm, m and km
+TEST(Margins, TheHeldProbeIsNearWhatTheProxyReadsOrItsTravelReaches) {
+  for (const double unit : {1e-3, 1.0, 1e3}) {
+    SceneModel s;
+    s.gravity_W = Vec3{0, -9.81 * unit, 0};
+    s.materials.push_back(material(0.5, 0.0));
+    const double h = 0.0005;
+    s.bodies.push_back(
+        slabBody("slab", h * unit, at(Vec3{0, h, 0} * unit), 500.0 / (unit * unit * unit)));
+    Body probe = slabBody("probe", h * unit, at(Vec3{0.025, 2 * h, 0} * unit), 0.0);
+    probe.motion = Motion::kKinematic;
+    s.bodies.push_back(probe);
+    s.probe_body = 1;
+    s.bodies.push_back(
+        staticBody("floor", boxShape(Vec3{20, 0.05, 20} * unit), at(Vec3{0, -0.05, 0} * unit), 0));
+    s.length_scale = lengthScale(s);
+    collision::WorldOptions wo;
+    wo.probe_margin = 0.0004 * unit;
+    auto world = buildCollisionWorld(s, wo).value();
+    DynamicsOptions o;
+    o.sleep_time_s = 0.0;
+    auto dyn = Dynamics::create(s, *world, o).value();
+    const double M = world->options().box_margin;
+    ASSERT_GT(M, 0.2 * unit);
+    const auto probePairs = [&] {
+      std::size_t n = 0;
+      for (const collision::Contact& c : world->contacts())
+        n += c.body_a == 0 && c.body_b == 1 ? 1u : 0u;
+      return n;
+    };
+    HeldInput in;
+    in.mode = HeldMode::kKinematic;
+    std::size_t near_at_rest = 0;
+    for (int k = 0; k < 100; ++k) {
+      in.X_WB_target = at(Vec3{0.025, 2 * h, 0} * unit);
+      world->step();
+      dyn->step(*world, 0.001, &in);
+      near_at_rest += probePairs();
+    }
+    EXPECT_EQ(near_at_rest, 0u) << unit;
+    EXPECT_EQ(world->margin(1), 0.0004 * unit) << unit;
+    // 1 cm a tick away from the slab, along x
+    for (int k = 1; k <= 5; ++k) {
+      in.X_WB_target = at(Vec3{0.025 + 0.01 * k, 2 * h, 0} * unit);
+      world->step();
+      dyn->step(*world, 0.001, &in);
+    }
+    EXPECT_NEAR(world->margin(1), 0.02 * unit, 1e-9 * unit) << unit;
+    world->step();
+    dyn->step(*world, 0.001, &in);
+    EXPECT_EQ(world->margin(1), 0.0004 * unit) << unit;
+  }
+}
+
 // a resting scene sleeps (steps do no work) and wakes when pushed
 TEST(Sleep, RestingSceneSleepsAndWakesWhenPushed) {
   SceneModel s = floorScene(0.5, 0.0);
