@@ -629,7 +629,7 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
   // poses back to the collision world, and the margins their boxes grow by: a free dynamic
   // body's as far as it may travel in the next tick (freeBodyMargin: the world's at most); the
   // held body's its base margin (a probe's: what the proxy reads) or twice its travel this tick,
-  // the world's at most; any other's the world's (a kinematic body follows its targets, a
+  // that at most the world's; any other's the world's (a kinematic body follows its targets, a
   // driven one the hand)
   const double box_margin = world.options().box_margin;
   for (std::uint32_t i = 0; i < bodies_.size(); ++i) {
@@ -641,7 +641,7 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
                       !b.coast && static_cast<std::int32_t>(i) != held_;
     const double reach = (glm::length(b.v_W) + glm::length(b.w_W) * b.size) * dt +
                          glm::length(b.gravity_W) * dt * dt;
-    const double held_margin = std::min(box_margin, std::max(world.baseMargin(i), 2.0 * reach));
+    const double held_margin = std::max(world.baseMargin(i), std::min(box_margin, 2.0 * reach));
     world.setMargin(i, free ? freeBodyMargin(b.size, reach, box_margin)
                        : static_cast<std::int32_t>(i) == held_ && options_.body_margins
                            ? held_margin
