@@ -416,6 +416,14 @@ TEST(Robustness, BadInputsChangeNothingAndOverlapsSeparateGently) {
       << "the boxes came apart";
 }
 
+// a scene in units of `unit` m: gravity, and one material of friction 0.5
+SceneModel scaledScene(double unit) {
+  SceneModel s;
+  s.gravity_W = Vec3{0, -9.81 * unit, 0};
+  s.materials.push_back(material(0.5, 0.0));
+  return s;
+}
+
 // a slab of 6 x 6 cube pieces (half edge h, scene units) at X, dynamic at `density` or static
 // (density 0)
 Body slabBody(const char* name, double h, const Pose& X, double density) {
@@ -443,9 +451,7 @@ Body slabBody(const char* name, double h, const Pose& X, double density) {
 // Margins.SmallBodiesInALargeSceneAreNearOnlyWhatTheyMayReach). In mm, m and km
 TEST(Capacity, SmallBodiesInALargeSceneKeepTheirFloor) {
   for (const double unit : {1e-3, 1.0, 1e3}) {
-    SceneModel s;
-    s.gravity_W = Vec3{0, -9.81 * unit, 0};
-    s.materials.push_back(material(0.5, 0.0));
+    SceneModel s = scaledScene(unit);
     const double h = 0.0005;  // the pieces' half edge
     const double density = 500.0 / (unit * unit * unit);
     for (int slab = 0; slab < 2; ++slab) {
@@ -478,9 +484,7 @@ TEST(Capacity, SmallBodiesInALargeSceneKeepTheirFloor) {
 // tick), finds the floor before it touches, never clamped, and rests on it. In mm, m and km
 TEST(Margins, SmallBodiesInALargeSceneAreNearOnlyWhatTheyMayReach) {
   for (const double unit : {1e-3, 1.0, 1e3}) {
-    SceneModel s;
-    s.gravity_W = Vec3{0, -9.81 * unit, 0};
-    s.materials.push_back(material(0.5, 0.0));
+    SceneModel s = scaledScene(unit);
     const double h = 0.0005;
     const double density = 500.0 / (unit * unit * unit);
     for (int slab = 0; slab < 2; ++slab)
@@ -521,9 +525,7 @@ TEST(Margins, SmallBodiesInALargeSceneAreNearOnlyWhatTheyMayReach) {
 // its base. In mm, m and km
 TEST(Margins, TheHeldProbeIsNearWhatTheProxyReadsOrItsTravelReaches) {
   for (const double unit : {1e-3, 1.0, 1e3}) {
-    SceneModel s;
-    s.gravity_W = Vec3{0, -9.81 * unit, 0};
-    s.materials.push_back(material(0.5, 0.0));
+    SceneModel s = scaledScene(unit);
     const double h = 0.0005;
     s.bodies.push_back(
         slabBody("slab", h * unit, at(Vec3{0, h, 0} * unit), 500.0 / (unit * unit * unit)));
