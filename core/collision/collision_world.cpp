@@ -103,6 +103,15 @@ Transform CollisionWorld::primitiveTransform(const Prim& p) const {
   return b.T_WB * b.desc.primitives[p.index].X_BP;
 }
 
+namespace {
+
+// a margin a body's boxes may grow by: a finite number >= 0
+bool validMargin(double m) {
+  return m >= 0.0 && std::isfinite(m);
+}
+
+}  // namespace
+
 // shapes of at most this many vertices get their boxes by one pass over the vertices
 constexpr std::size_t kSmallShape = 16;
 
@@ -154,9 +163,8 @@ std::uint32_t CollisionWorld::addBody(const BodyDesc& desc, const geom::Pose& X_
   b.X_stepped = X_WB;
   b.live = true;
   b.radius = 0.0;
-  const auto given = [](double m) { return m >= 0.0 && std::isfinite(m); };
-  b.base_margin = given(desc.margin) ? desc.margin
-                  : desc.kind == BodyKind::kProbe && given(options_.probe_margin)
+  b.base_margin = validMargin(desc.margin) ? desc.margin
+                  : desc.kind == BodyKind::kProbe && validMargin(options_.probe_margin)
                       ? options_.probe_margin
                       : options_.box_margin;
   b.margin = b.base_margin;
@@ -464,8 +472,7 @@ void CollisionWorld::setPose(std::uint32_t body, const geom::Pose& X_WB) {
 
 void CollisionWorld::setMargin(std::uint32_t body, double margin) {
   Body& b = bodies_[body];
-  if (b.desc.kind == BodyKind::kStatic || !(margin >= 0.0) || !std::isfinite(margin) ||
-      margin == b.margin)
+  if (b.desc.kind == BodyKind::kStatic || !validMargin(margin) || margin == b.margin)
     return;
   // every face of its boxes moves by the change (the descent's bound of their travel)
   b.box_travel += std::abs(margin - b.margin);

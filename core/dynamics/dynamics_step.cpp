@@ -637,15 +637,15 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
     if (b.motion == scene::Motion::kStatic || !b.enabled || b.asleep)
       continue;  // a sleeping body's pairs keep their answers (skip_unmoved_pairs)
     world.setPose(i, Pose{b.x_W - b.R * b.com_B, b.q});
-    const bool free = options_.body_margins && b.motion == scene::Motion::kDynamic && !b.driven &&
-                      !b.coast && static_cast<std::int32_t>(i) != held_;
+    const bool is_held = static_cast<std::int32_t>(i) == held_;
     const double reach = (glm::length(b.v_W) + glm::length(b.w_W) * b.size) * dt +
                          glm::length(b.gravity_W) * dt * dt;
-    const double held_margin = std::max(world.baseMargin(i), std::min(box_margin, 2.0 * reach));
-    world.setMargin(i, free ? freeBodyMargin(b.size, reach, box_margin)
-                       : static_cast<std::int32_t>(i) == held_ && options_.body_margins
-                           ? held_margin
-                           : box_margin);
+    double margin = box_margin;
+    if (options_.body_margins && is_held)
+      margin = reachMargin(world.baseMargin(i), reach, box_margin);
+    else if (options_.body_margins && b.motion == scene::Motion::kDynamic && !b.driven && !b.coast)
+      margin = freeBodyMargin(b.size, reach, box_margin);
+    world.setMargin(i, margin);
   }
   updateSleep(dt);
   syncSleep(world);

@@ -19,8 +19,12 @@ double bodySize(const scene::Body& body, const geom::Vec3& com_B) {
   return size;
 }
 
+double reachMargin(double least, double reach, double box_margin) {
+  return std::max(least, std::min(box_margin, 2.0 * reach));
+}
+
 double freeBodyMargin(double size, double reach, double box_margin) {
-  return std::min(box_margin, std::max(kBodyMarginFraction * size, 2.0 * reach));
+  return reachMargin(std::min(box_margin, kBodyMarginFraction * size), reach, box_margin);
 }
 
 collision::BodyKind worldKind(const scene::SceneModel& scene, std::size_t body) {

@@ -31,6 +31,10 @@ double bodySize(const scene::Body& body, const geom::Vec3& com_B);
 /// every piece within 0.2 m (the world's margin there) but within its own 0.3 mm, or as far as
 /// its speed carries it. Any thread.
 double freeBodyMargin(double size, double reach, double box_margin);
+/// A moving body's margin: `least`, or twice `reach` (how far it may travel in the next tick)
+/// capped by `box_margin`, whichever is larger. freeBodyMargin is this with least = its size's
+/// share capped by box_margin; the held body's least is its base margin. Any thread.
+double reachMargin(double least, double reach, double box_margin);
 /// The least margin of a free dynamic body, as a fraction of its size.
 inline constexpr double kBodyMarginFraction = 0.1;
 
