@@ -940,7 +940,7 @@ std::string contentHash(const TriangleMesh& mesh, const DecompOptions& options) 
     std::memcpy(&bits, &x, sizeof bits);
     putU64(bits);
   };
-  static constexpr char kTag[] = "hapticd-decomp algorithm 5";
+  static constexpr char kTag[] = "hapticd-decomp algorithm 6";
   h.update(kTag, sizeof kTag - 1);
   putU64(mesh.positions.size());
   for (const Vec3& p : mesh.positions)

@@ -27,7 +27,7 @@ struct HorizonEdge {
 
 class Builder {
  public:
-  Builder(std::span<const Vec3> p, double tol) : p_(p), tol_(tol) {}
+  Builder(std::span<const Vec3> p, double tol, double eps) : p_(p), tol_(tol), eps_(eps) {}
 
   bool init();
   void run(std::size_t max_vertices);
@@ -41,7 +41,12 @@ class Builder {
   void addPoint(std::uint32_t face);
 
   std::span<const Vec3> p_;
-  double tol_;
+  double tol_;  // outside sets: points within it of the hull are dropped
+  // visibility: a face the apex is above by more than rounding's is replaced, however little,
+  // so that every edge stays convex (with `tol_` here, a face the apex lay just above stayed,
+  // the new faces folded over it by up to `tol_`, and later horizons over those folds turned
+  // whole faces inside out: pieces whose triangles were not their hull)
+  double eps_;
   std::vector<Face> faces_;
   // faces that may have outside points, farthest point first (ties: lower face index)
   std::vector<std::pair<double, std::uint32_t>> pending_;
@@ -192,7 +197,7 @@ bool Builder::horizon(std::uint32_t start, std::uint32_t apex) {
       return false;
     if (mark_[g] == pass_)
       continue;
-    if (dist(faces_[g], apex) > tol_) {
+    if (dist(faces_[g], apex) > eps_) {
       mark_[g] = pass_;
       visible_.push_back(g);
       std::uint32_t back = 0;
@@ -314,7 +319,7 @@ HullMesh quickHull(std::span<const Vec3> points, double tolerance, std::size_t m
   const double scale = glm::length(hi - lo);
   if (!(scale > 0.0) || !std::isfinite(scale))
     return {};
-  Builder b(points, std::max(tolerance, 1e-12 * scale));
+  Builder b(points, std::max(tolerance, 1e-12 * scale), 1e-12 * scale);
   if (!b.init())
     return {};
   b.run(std::max<std::size_t>(max_vertices, 4));

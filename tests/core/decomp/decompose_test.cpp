@@ -508,6 +508,63 @@ TEST(ContentHash, StableAndSensitiveToWhatChangesThePieces) {
   EXPECT_NE(h, contentHash(moved, o));
 }
 
+// how far a piece's vertices lie above the planes of its own triangles: 0 for a convex hull
+double aboveOwnFaces(const std::vector<Vec3>& vertices, const std::vector<Triangle>& triangles) {
+  double worst = 0.0;
+  for (const Triangle& t : triangles) {
+    const Vec3 a = vertices[t[0]];
+    const Vec3 n = glm::cross(vertices[t[1]] - a, vertices[t[2]] - a);
+    if (!(glm::length(n) > 0.0))
+      continue;
+    for (const Vec3& v : vertices)
+      worst = std::max(worst, glm::dot(glm::normalize(n), v - a));
+  }
+  return worst;
+}
+
+TEST(QuickHull, AToleranceKeepsTheHullConvex) {
+  // points on the faces of a thin gear-like prism (many coplanar points, the tolerance well
+  // above their spacing across the rim): the hull drops points within the tolerance but stays
+  // convex, every vertex on or below every face
+  const TriangleMesh gear = models::gear();
+  std::mt19937_64 rng(11);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (const double tol : {1e-4, 7e-4, 3e-3}) {
+    std::vector<Vec3> pts;
+    for (const Triangle& t : gear.triangles) {
+      for (int k = 0; k < 20; ++k) {
+        double a = u(rng), b = u(rng);
+        if (a + b > 1.0)
+          a = 1.0 - a, b = 1.0 - b;
+        const Vec3& p0 = gear.positions[t[0]];
+        pts.push_back(p0 + a * (gear.positions[t[1]] - p0) + b * (gear.positions[t[2]] - p0));
+      }
+    }
+    for (const Vec3& c : {Vec3{0.02, -0.03, 0.0}, Vec3{-0.01, 0.02, 0.0}}) {
+      std::vector<Vec3> half;  // a wedge of it, as the cuts make
+      for (const Vec3& p : pts)
+        if (glm::dot(p - c, glm::normalize(Vec3{1, 2, 0})) > 0.0 && p.y < c.y + 0.02)
+          half.push_back(p);
+      const HullMesh h = quickHull(half, tol, 4096);
+      ASSERT_TRUE(h.valid());
+      EXPECT_LE(aboveOwnFaces(h.vertices, h.triangles), 1e-12) << tol;
+    }
+  }
+}
+
+TEST(Decompose, PiecesAreConvexHulls) {
+  // what the scene says of a piece (convexHull: true) holds of the triangles written
+  for (const auto& [mesh, c] : {std::pair{models::gear(), 0.05}, std::pair{models::gear(), 0.02},
+                                std::pair{models::torus(), 0.02}, std::pair{models::lBlock(), 0.01}}) {
+    const DecompResult r = run(mesh, c);
+    ASSERT_FALSE(r.pieces.empty());
+    for (std::size_t i = 0; i < r.pieces.size(); ++i)
+      EXPECT_LE(aboveOwnFaces(r.pieces[i].vertices, r.pieces[i].triangles),
+                1e-12 * r.report.diagonal)
+          << c << " piece " << i;
+  }
+}
+
 class SharedMeshes : public ::testing::TestWithParam<const char*> {};
 
 TEST_P(SharedMeshes, CoveredWithinTheReportedConcavity) {
