@@ -467,6 +467,7 @@ Json reportJson(const decomp::DecompReport& r) {
           {"concavity_bound", r.concavity_bound},
           {"concavity_target", r.concavity_target},
           {"volume_ratio", r.closed && r.volume_ratio > 0.0 ? Json(r.volume_ratio) : Json(nullptr)},
+          {"union_ratio", r.closed && r.union_ratio > 0.0 ? Json(r.union_ratio) : Json(nullptr)},
           {"closed", r.closed},
           {"seconds", r.seconds},
           {"cuts", r.cuts},
@@ -673,10 +674,8 @@ int runImport(const ImportOptions& o, std::ostream& out, std::ostream& err) {
                       mesh.positions[t[0]].y + mesh.positions[t[1]].y + mesh.positions[t[2]].y +
                       mesh.positions[t[0]].z + mesh.positions[t[1]].z + mesh.positions[t[2]].z))
       visual.triangles.push_back(t);
-  double volume_m3 = 0.0;
-  for (const decomp::ConvexPiece& piece : r.pieces)
-    volume_m3 += decomp::meshVolume(piece.vertices, piece.triangles);
-  volume_m3 *= p.scale * p.scale * p.scale;
+  // the union's: merged pieces overlap their neighbours, and their sum would count that twice
+  const double volume_m3 = r.report.union_volume * p.scale * p.scale * p.scale;
   const double mass_kg = p.mass_kg ? *p.mass_kg : p.density ? *p.density * volume_m3 : 0.0;
   // the scene appended to, read first: the new body's name must differ from its nodes' (a model
   // added three times is three bodies, `box`, `box_2`, `box_3`, as --record-bodies names them)

@@ -17,6 +17,7 @@
 #include "core/decomp/quickhull.h"
 #include "core/decomp/repair.h"
 #include "core/decomp/sha256.h"
+#include "core/decomp/union_integrals.h"
 #include "core/geometry/polytope.h"
 
 namespace hapticd::decomp {
@@ -824,12 +825,18 @@ void finish(Run& run, DecompResult& result) {
   r.concavity_bound = std::max(bound, coverage) / ctx.mesh.diagonal;
   // (a model with next to no volume, a flat part or a soup of triangles closed by the hole
   // filling into flat shells, has no meaningful ratio: left 0, said as such)
+  std::vector<Cell> cells;
+  cells.reserve(result.pieces.size());
+  for (const ConvexPiece& piece : result.pieces)
+    cells.push_back(pieceCell(piece));
+  r.union_volume = unionIntegrals(cells).integrals.volume;
   const double d3 = ctx.mesh.diagonal * ctx.mesh.diagonal * ctx.mesh.diagonal;
   if (ctx.mesh.closed && ctx.mesh.volume > 1e-9 * d3) {
     double v = 0.0;
     for (const HullMesh& h : hulls)
       v += meshVolume(h.vertices, h.triangles);
     r.volume_ratio = v / ctx.mesh.volume;
+    r.union_ratio = r.union_volume / ctx.mesh.volume;
   }
   if (r.time_limit_hit)
     r.warnings.push_back("time limit of " + fixed(run.options.time_limit_s, 1) +
@@ -967,10 +974,10 @@ std::string describe(const DecompReport& r) {
   std::string s = std::to_string(r.pieces) + " pieces, concavity " + fixed(r.concavity, 4) +
                   " of the diagonal (target " + fixed(r.concavity_target, 4) + ", diagonal " +
                   fixed(r.diagonal, 6) + ")";
-  s += !r.closed ? ", open model (no volume ratio)"
-       : r.volume_ratio > 0.0
-           ? ", volume of the pieces " + fixed(r.volume_ratio, 3) + " x the model's"
-           : ", flat model (no volume to compare)";
+  s += !r.closed              ? ", open model (no volume ratio)"
+       : r.volume_ratio > 0.0 ? ", volume of the pieces " + fixed(r.volume_ratio, 3) +
+                                    " x the model's (their union " + fixed(r.union_ratio, 3) + ")"
+                              : ", flat model (no volume to compare)";
   s += ", " + fixed(r.seconds, 2) + " s, " + std::to_string(r.cuts) + " cuts, " +
        std::to_string(r.merges) + " merges\n";
   const RepairCounts& c = r.repairs;

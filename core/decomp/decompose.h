@@ -114,7 +114,11 @@ struct DecompReport {
   double diagonal = 0.0;          ///< bounding-box diagonal, input units
   double volume_ratio = 0.0;  ///< sum of piece volumes / model volume; 0 for open or flat models
                               ///< (volume under 1e-9 of the diagonal cubed)
-  bool closed = false;        ///< closed after repair (holes filled, no non-manifold edge)
+  /// The volume of the union of the pieces (each point once: merged hulls overlap their
+  /// neighbours), input units cubed; what a body of these pieces weighs (unionIntegrals).
+  double union_volume = 0.0;
+  double union_ratio = 0.0;  ///< union_volume / model volume; 0 where volume_ratio is
+  bool closed = false;       ///< closed after repair (holes filled, no non-manifold edge)
   double seconds = 0.0;
   std::size_t cuts = 0;    ///< planes cut
   std::size_t merges = 0;  ///< pairs merged

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "core/decomp/union_integrals.h"
 #include "core/geometry/rotation.h"
 #include "core/scene/builder.h"
 
@@ -18,12 +19,23 @@ bool finite(const Mat3& m) {
 
 void Builder::massProperties(Body& body, const MotionDef& motion, std::uint32_t node) {
   const std::string w = where(node);
-  VolumeIntegrals integrals;
+  // the union of the colliders (a trigger volume has no mass): colliders that overlap (a
+  // decomposition's merged pieces reach into their neighbours) count once, colliders that only
+  // touch give bitwise their sum
+  std::vector<decomp::Cell> cells;
+  std::vector<VolumeIntegrals> own;
   for (const Primitive& prim : body.primitives) {
-    if (!prim.trigger)  // a trigger volume has no mass
-      integrals.add(polytopeIntegrals(*prim.shape, prim.X_BP.toTransform()));
+    if (prim.trigger)
+      continue;
+    own.push_back(polytopeIntegrals(*prim.shape, prim.X_BP.toTransform()));
+    cells.push_back(decomp::polytopeCell(*prim.shape, prim.X_BP.toTransform()));
   }
-  const MassProperties computed = massFromIntegrals(integrals, kDensity);
+  const decomp::UnionIntegrals integrals = decomp::unionIntegrals(cells, own);
+  if (integrals.overlapping > 0 && !motion.inertia_diagonal) {
+    p_->note(w + ": " + std::to_string(integrals.overlapping) +
+             " of its colliders overlap others: its mass properties count their union once");
+  }
+  const MassProperties computed = massFromIntegrals(integrals.integrals, kDensity);
   const bool have_volume = computed.mass > 0.0;
   // node space -> body frame: the body node's scale and shear (its rigid part is X_WB)
   Mat3 R_unused, S;

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "core/common/sanitizers.h"
+#include "core/decomp/quickhull.h"
 #include "scenes/glb_builder.h"
 #include "tests/client/command_dir.h"
 #include "tests/core/decomp/models.h"
@@ -212,6 +213,31 @@ TEST_F(ImportTest, UnitsRoleMassAndJson) {
   EXPECT_EQ(c["bodies"][0]["motion"], "dynamic");
   EXPECT_NEAR(c["bodies"][0]["mass_kg"].get<double>(), 6.0, 1e-5);
   EXPECT_NEAR(c["length_scale_m"].get<double>(), 0.3, 1e-6);  // metres in the scene
+}
+
+TEST_F(ImportTest, OverlappingPiecesWeighWhatTheModelWeighs) {
+  // the gear at concavity 0.05: merged pieces reach into their neighbours, so the pieces' own
+  // volumes sum to more than the model's; --density weighs their union, which the concavity
+  // keeps near the model's volume, and the loader's mass from the scene agrees
+  const TriangleMesh m = hapticd::decomp::models::gear();
+  writeObj(m, path("gear.obj"));
+  ASSERT_EQ(import({path("gear.obj"), "-o", path("gear.glb"), "--concavity", "0.05", "--role",
+                    "dynamic", "--density", "1000", "--json"}),
+            0)
+      << err();
+  const auto j = nlohmann::json::parse(out());
+  const double model_m3 = hapticd::decomp::meshVolume(m.positions, m.triangles);
+  ASSERT_GT(j["volume_ratio"].get<double>(), 1.05);
+  const double union_ratio = j["union_ratio"].get<double>();
+  EXPECT_GE(union_ratio, 1.0 - 1e-9);
+  EXPECT_LT(union_ratio, j["volume_ratio"].get<double>() - 0.05);
+  // (the file's six digits and assimp's floats move the model's volume by about 1e-7)
+  EXPECT_NEAR(j["mass_kg"].get<double>(), 1000.0 * union_ratio * model_m3,
+              1e-6 * model_m3 * 1000.0);
+  ASSERT_EQ(run(HAPTICCTL, {"check", path("gear.glb"), "--json"}), 0) << err();
+  const auto c = nlohmann::json::parse(out());
+  EXPECT_NEAR(c["bodies"][0]["mass_kg"].get<double>(), j["mass_kg"].get<double>(),
+              1e-6 * j["mass_kg"].get<double>());
 }
 
 TEST_F(ImportTest, AddAppendsTheModelToAScene) {

@@ -19,6 +19,7 @@
 #include "core/decomp/bvh.h"
 #include "core/decomp/quickhull.h"
 #include "core/decomp/repair.h"
+#include "core/decomp/union_integrals.h"
 #include "core/geometry/polytope.h"
 #include "tests/core/decomp/checks.h"
 #include "tests/core/decomp/models.h"
@@ -508,6 +509,152 @@ TEST(ContentHash, StableAndSensitiveToWhatChangesThePieces) {
   EXPECT_NE(h, contentHash(moved, o));
 }
 
+// the integrals of the box [lo, hi], by formula
+geom::VolumeIntegrals boxIntegrals(const Vec3& lo, const Vec3& hi) {
+  const Vec3 e = hi - lo, c = 0.5 * (lo + hi);
+  geom::VolumeIntegrals v;
+  v.volume = e.x * e.y * e.z;
+  v.first = v.volume * c;
+  v.second =
+      v.volume * (glm::outerProduct(c, c) +
+                  geom::Mat3(e.x * e.x / 12, 0, 0, 0, e.y * e.y / 12, 0, 0, 0, e.z * e.z / 12));
+  return v;
+}
+
+void expectIntegralsNear(const geom::VolumeIntegrals& got,
+                         const geom::VolumeIntegrals& want,
+                         double rel) {
+  EXPECT_NEAR(got.volume, want.volume, rel * want.volume);
+  const double f = rel * glm::length(want.first) + rel * want.volume;
+  for (int k = 0; k < 3; ++k)
+    EXPECT_NEAR(got.first[k], want.first[k], f) << k;
+  double s = 0.0;
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r)
+      s = std::max(s, std::abs(want.second[c][r]));
+  for (int c = 0; c < 3; ++c)
+    for (int r = 0; r < 3; ++r)
+      EXPECT_NEAR(got.second[c][r], want.second[c][r], rel * s) << c << r;
+}
+
+TEST(UnionIntegrals, OverlappingBoxesCountOnce) {
+  // a bar of two boxes overlapping by half, crossed by a third: the union is three disjoint
+  // boxes, integrated by formula
+  const std::vector<Cell> solids = {boxCell({0, 0, 0}, {2, 1, 1}), boxCell({1, 0, 0}, {3, 1, 1}),
+                                    boxCell({1, -1, 0}, {2, 2, 1}), boxCell({0, 0, 0}, {2, 1, 1})};
+  const UnionIntegrals u = unionIntegrals(solids);
+  geom::VolumeIntegrals want = boxIntegrals({0, 0, 0}, {3, 1, 1});
+  want.add(boxIntegrals({1, -1, 0}, {2, 0, 1}));
+  want.add(boxIntegrals({1, 1, 0}, {2, 2, 1}));
+  expectIntegralsNear(u.integrals, want, 1e-12);
+  EXPECT_EQ(u.overlapping, 3u);  // the last is the first again: it adds nothing
+}
+
+TEST(UnionIntegrals, TouchingSolidsSumTheirOwnIntegralsBitwise) {
+  const std::vector<Cell> solids = {boxCell({0, 0, 0}, {1, 1, 1}), boxCell({1, 0, 0}, {2, 1, 1}),
+                                    boxCell({0, 1, 0}, {2, 3, 1})};
+  const std::vector<geom::VolumeIntegrals> own = {boxIntegrals({0, 0, 0}, {1, 1, 1}),
+                                                  boxIntegrals({1, 0, 0}, {2, 1, 1}),
+                                                  boxIntegrals({0, 1, 0}, {2, 3, 1})};
+  const UnionIntegrals u = unionIntegrals(solids, own);
+  geom::VolumeIntegrals sum;
+  for (const auto& v : own)
+    sum.add(v);
+  EXPECT_EQ(u.overlapping, 0u);
+  EXPECT_EQ(u.integrals.volume, sum.volume);
+  EXPECT_EQ(u.integrals.first, sum.first);
+  EXPECT_EQ(u.integrals.second, sum.second);
+}
+
+TEST(UnionIntegrals, TurnedOverlapAsAGridCountsIt) {
+  // a box and a cube turned about an oblique axis through its centre, overlapping it; checked
+  // against the midpoints of a grid of cells, each inside either solid by its own planes. The
+  // same at 1e-3 and 1e3 of the size gives the same answer scaled.
+  const glm::dquat q = glm::angleAxis(0.7, glm::normalize(Vec3{1, 2, 3}));
+  const Vec3 centre{1.6, 0.5, 0.4};
+  for (const double s : {1e-3, 1.0, 1e3}) {
+    Cell turned = boxCell(Vec3{-0.5} * s, Vec3{0.5} * s);
+    for (auto& loop : turned)
+      for (Vec3& v : loop)
+        v = centre * s + q * v;
+    const std::vector<Cell> solids = {boxCell({0, 0, 0}, Vec3{2, 1, 1} * s), turned};
+    const UnionIntegrals u = unionIntegrals(solids);
+    EXPECT_EQ(u.overlapping, 1u);
+    const auto inside = [&](const Vec3& p) {
+      if (p.x >= 0 && p.x <= 2 * s && p.y >= 0 && p.y <= s && p.z >= 0 && p.z <= s)
+        return true;
+      const Vec3 l = glm::conjugate(q) * (p - centre * s);
+      return std::max({std::abs(l.x), std::abs(l.y), std::abs(l.z)}) <= 0.5 * s;
+    };
+    // (a grid whose cells' faces are the box's: only the turned cube's faces cut cells)
+    const int n = 160;
+    const Vec3 lo = Vec3{-0.5} * s, hi = Vec3{2.7, 1.5, 1.5} * s;
+    const Vec3 h = (hi - lo) / double{n};
+    double count = 0.0;
+    Vec3 first{0.0};
+    for (int i = 0; i < n; ++i)
+      for (int j = 0; j < n; ++j)
+        for (int k = 0; k < n; ++k) {
+          const Vec3 p = lo + h * Vec3{i + 0.5, j + 0.5, k + 0.5};
+          if (inside(p)) {
+            count += 1.0;
+            first += p;
+          }
+        }
+    const double volume = count * h.x * h.y * h.z;
+    // (the grid's own error: cells cut by the surface, about 1e-3 of the volume at 160^3)
+    EXPECT_NEAR(u.integrals.volume, volume, 3e-3 * volume) << s;
+    const Vec3 com = u.integrals.first / u.integrals.volume;
+    EXPECT_NEAR(glm::length(com - first / count), 0.0, 2e-3 * s) << s;
+    // below the sum of the two by their overlap, which is more than a sliver
+    EXPECT_LT(u.integrals.volume, (2.0 + 1.0 - 0.05) * s * s * s) << s;
+    if (s == 1.0)
+      continue;
+    const UnionIntegrals one = [&] {
+      std::vector<Cell> unit = solids;
+      for (auto& cell : unit)
+        for (auto& loop : cell)
+          for (Vec3& v : loop)
+            v /= s;
+      return unionIntegrals(unit);
+    }();
+    EXPECT_NEAR(u.integrals.volume / (s * s * s), one.integrals.volume, 1e-12);
+  }
+}
+
+TEST(Decompose, OverlappingPiecesAreWeighedOnce) {
+  // the gear at 0.05: merged hulls reach into their neighbours (the pieces sum to more than
+  // the model); their union, counted on a grid by the pieces' own planes, is what they weigh
+  const TriangleMesh m = models::gear();
+  const DecompResult r = run(m, 0.05);
+  ASSERT_GT(r.report.volume_ratio, 1.05);
+  EXPECT_LT(r.report.union_ratio, r.report.volume_ratio - 0.05);
+  EXPECT_GE(r.report.union_ratio, 1.0 - 1e-9);  // the pieces cover the closed model
+  Vec3 lo{1e300}, hi{-1e300};
+  for (const Vec3& v : m.positions) {
+    lo = glm::min(lo, v);
+    hi = glm::max(hi, v);
+  }
+  const int n = 120;
+  const Vec3 h = (hi - lo) / double{n};
+  double count = 0.0;
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; j < n; ++j)
+      for (int k = 0; k < n; ++k) {
+        const Vec3 p = lo + h * Vec3{i + 0.5, j + 0.5, k + 0.5};
+        const bool in = std::any_of(r.pieces.begin(), r.pieces.end(), [&](const ConvexPiece& c) {
+          return std::all_of(c.triangles.begin(), c.triangles.end(), [&](const Triangle& t) {
+            const Vec3 a = c.vertices[t[0]];
+            const Vec3 nrm = glm::cross(c.vertices[t[1]] - a, c.vertices[t[2]] - a);
+            return glm::dot(nrm, p - a) <= 0.0;
+          });
+        });
+        count += in ? 1.0 : 0.0;
+      }
+  const double grid = count * h.x * h.y * h.z;
+  EXPECT_NEAR(r.report.union_volume, grid, 0.01 * grid);
+}
+
 // how far a piece's vertices lie above the planes of its own triangles: 0 for a convex hull
 double aboveOwnFaces(const std::vector<Vec3>& vertices, const std::vector<Triangle>& triangles) {
   double worst = 0.0;
@@ -554,8 +701,9 @@ TEST(QuickHull, AToleranceKeepsTheHullConvex) {
 
 TEST(Decompose, PiecesAreConvexHulls) {
   // what the scene says of a piece (convexHull: true) holds of the triangles written
-  for (const auto& [mesh, c] : {std::pair{models::gear(), 0.05}, std::pair{models::gear(), 0.02},
-                                std::pair{models::torus(), 0.02}, std::pair{models::lBlock(), 0.01}}) {
+  for (const auto& [mesh, c] :
+       {std::pair{models::gear(), 0.05}, std::pair{models::gear(), 0.02},
+        std::pair{models::torus(), 0.02}, std::pair{models::lBlock(), 0.01}}) {
     const DecompResult r = run(mesh, c);
     ASSERT_FALSE(r.pieces.empty());
     for (std::size_t i = 0; i < r.pieces.size(); ++i)
