@@ -829,7 +829,12 @@ void finish(Run& run, DecompResult& result) {
   cells.reserve(result.pieces.size());
   for (const ConvexPiece& piece : result.pieces)
     cells.push_back(pieceCell(piece));
-  r.union_volume = unionIntegrals(cells).integrals.volume;
+  const UnionIntegrals weighed = unionIntegrals(cells);
+  r.union_volume = weighed.integrals.volume;
+  if (!weighed.exact)
+    r.warnings.push_back("the pieces overlap too much to weigh their union (the work passed " +
+                         std::to_string(kUnionWorkBudget) +
+                         " plane tests): the union's volume is their summed volume");
   const double d3 = ctx.mesh.diagonal * ctx.mesh.diagonal * ctx.mesh.diagonal;
   if (ctx.mesh.closed && ctx.mesh.volume > 1e-9 * d3) {
     double v = 0.0;

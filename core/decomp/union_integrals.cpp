@@ -80,11 +80,14 @@ double surfaceArea(const Cell& cell) {
 }
 
 // the parts of `cell` outside the convex solid below `planes`, appended to `out` as cells; false
-// (nothing appended) when the two share no more than a layer `tol` thick
+// (nothing appended) when the two share no more than a layer `tol` thick, or when `work` (one
+// per vertex tested against a plane) passes `max_work`
 bool subtract(const Cell& cell,
               const std::vector<Plane>& planes,
               double tol,
-              std::vector<Cell>& out) {
+              std::vector<Cell>& out,
+              std::size_t& work,
+              std::size_t max_work) {
   const std::size_t first = out.size();
   Cell rest = cell, below, above;
   std::vector<Vec3> section;
@@ -96,6 +99,11 @@ bool subtract(const Cell& cell,
         lo = std::min(lo, d);
         hi = std::max(hi, d);
       }
+      work += loop.size();
+    }
+    if (work > max_work) {
+      out.resize(first);
+      return false;
     }
     if (hi <= tol)
       continue;  // the rest is inside this plane
@@ -170,7 +178,8 @@ Cell polytopeCell(const geom::Polytope& shape, const geom::Transform& X) {
 }
 
 UnionIntegrals unionIntegrals(std::span<const Cell> solids,
-                              std::span<const geom::VolumeIntegrals> own) {
+                              std::span<const geom::VolumeIntegrals> own,
+                              std::size_t max_work) {
   UnionIntegrals out;
   std::vector<Box> boxes;
   std::vector<std::vector<Plane>> planes;
@@ -183,6 +192,9 @@ UnionIntegrals unionIntegrals(std::span<const Cell> solids,
   }
   if (solids.empty())
     return out;
+  const auto ownOf = [&](std::size_t i) {
+    return own.size() == solids.size() ? own[i] : cellIntegrals(solids[i]);
+  };
   const double tol = 1e-9 * glm::length(all.hi - all.lo);
   std::vector<Cell> parts, next;
   for (std::size_t i = 0; i < solids.size(); ++i) {
@@ -193,15 +205,24 @@ UnionIntegrals unionIntegrals(std::span<const Cell> solids,
         continue;
       next.clear();
       for (Cell& part : parts) {
-        if (overlap(boxOf(part), boxes[j], tol) && subtract(part, planes[j], tol, next))
+        if (overlap(boxOf(part), boxes[j], tol) &&
+            subtract(part, planes[j], tol, next, out.work, max_work))
           cut = true;
         else
           next.push_back(std::move(part));
       }
       parts.swap(next);
+      if (out.work > max_work) {
+        // given up: the plain sum, said by `exact`
+        out.exact = false;
+        out.integrals = {};
+        for (std::size_t k = 0; k < solids.size(); ++k)
+          out.integrals.add(ownOf(k));
+        return out;
+      }
     }
     if (!cut) {
-      out.integrals.add(own.size() == solids.size() ? own[i] : cellIntegrals(solids[i]));
+      out.integrals.add(ownOf(i));
       continue;
     }
     ++out.overlapping;

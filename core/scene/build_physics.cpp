@@ -31,7 +31,12 @@ void Builder::massProperties(Body& body, const MotionDef& motion, std::uint32_t 
     cells.push_back(decomp::polytopeCell(*prim.shape, prim.X_BP.toTransform()));
   }
   const decomp::UnionIntegrals integrals = decomp::unionIntegrals(cells, own);
-  if (integrals.overlapping > 0 && !motion.inertia_diagonal) {
+  if (!integrals.exact) {
+    p_->note(w + ": its colliders overlap too much to weigh their union (the work passed " +
+             std::to_string(decomp::kUnionWorkBudget) +
+             " plane tests): their volumes are summed; declare mass, centerOfMass and "
+             "inertiaDiagonal");
+  } else if (integrals.overlapping > 0 && !motion.inertia_diagonal) {
     p_->note(w + ": " + std::to_string(integrals.overlapping) +
              " of its colliders overlap others: its mass properties count their union once");
   }

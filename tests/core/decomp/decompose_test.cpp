@@ -550,6 +550,17 @@ TEST(UnionIntegrals, OverlappingBoxesCountOnce) {
   EXPECT_EQ(u.overlapping, 3u);  // the last is the first again: it adds nothing
 }
 
+TEST(UnionIntegrals, PastTheBudgetOfWorkTheSumAndNotExact) {
+  const std::vector<Cell> solids = {boxCell({0, 0, 0}, {2, 1, 1}), boxCell({1, 0, 0}, {3, 1, 1}),
+                                    boxCell({1, -1, 0}, {2, 2, 1})};
+  const UnionIntegrals exact = unionIntegrals(solids);
+  EXPECT_TRUE(exact.exact);
+  EXPECT_GT(exact.work, 10u);
+  const UnionIntegrals capped = unionIntegrals(solids, {}, 10);
+  EXPECT_FALSE(capped.exact);
+  EXPECT_NEAR(capped.integrals.volume, 2.0 + 2.0 + 3.0, 1e-12);
+}
+
 TEST(UnionIntegrals, TouchingSolidsSumTheirOwnIntegralsBitwise) {
   const std::vector<Cell> solids = {boxCell({0, 0, 0}, {1, 1, 1}), boxCell({1, 0, 0}, {2, 1, 1}),
                                     boxCell({0, 1, 0}, {2, 3, 1})};

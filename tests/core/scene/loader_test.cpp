@@ -9,6 +9,7 @@
 #include <fstream>
 #include <numbers>
 
+#include "core/geometry/mass_properties.h"
 #include "tests/core/scene/gltf_builder.h"
 #include "tests/core/scene/plan_expect.h"
 #include "tests/core/scene/scene_test_util.h"
@@ -346,6 +347,34 @@ TEST(SceneLoader, OverlappingCollidersWeighTheirUnion) {
   EXPECT_NEAR(bar.inertia_B[1][1], iy, 1e-9 * iy);
   EXPECT_NEAR(bar.inertia_B[2][2], iy, 1e-9 * iy);
   EXPECT_NE(testing::notesOf(*r.scene).find("1 of its colliders overlap others"), std::string::npos)
+      << testing::notesOf(*r.scene);
+}
+
+TEST(SceneLoader, CollidersOverlappingTooMuchToWeighAreSummedAndSaidSo) {
+  // a clump of overlapping balls, as a molecule of atoms: each ball cuts every other's cells
+  // into hundreds; past the budget of work the union is given up for the sum, with a note
+  GltfBuilder b;
+  json body = GltfBuilder::node("Clump", {0.0, 0.0, 0.0});
+  GltfBuilder::physics(body)["motion"] = json::object();
+  const int parent = b.addNode(body);
+  const int ball = b.sphere(1.0);
+  const int n = 40;
+  for (int k = 0; k < n; ++k) {
+    const double t = 0.7 * k;
+    json atom =
+        GltfBuilder::node("Atom", {0.4 * std::cos(t), 0.4 * std::sin(1.3 * t), 0.05 * k - 1.0});
+    GltfBuilder::physics(atom)["collider"] = GltfBuilder::shapeCollider(ball);
+    b.addNode(atom, parent);
+  }
+  const LoadReport r = load(b);
+  ASSERT_TRUE(r.ok()) << r.message();
+  const Body& clump = r.scene->bodies[0];
+  double sum = 0.0;
+  for (const Primitive& p : clump.primitives)
+    sum += 1000.0 * geom::polytopeIntegrals(*p.shape, geom::Transform{}).volume;
+  EXPECT_NEAR(clump.mass, sum, 1e-9 * sum);
+  EXPECT_NE(testing::notesOf(*r.scene).find("overlap too much to weigh their union"),
+            std::string::npos)
       << testing::notesOf(*r.scene);
 }
 
