@@ -629,9 +629,11 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
   // poses back to the collision world, and the margins their boxes grow by: a free dynamic
   // body's as far as it may travel in the next tick (freeBodyMargin: the world's at most); the
   // held body's its base margin (a probe's: what the proxy reads) or twice its travel this tick,
-  // that at most the world's; any other's the world's (a kinematic body follows its targets, a
-  // driven one the hand)
+  // that at most the world's, and so a driven body's (attached to the held one: the proxy reads
+  // its contacts too); any other's the world's (a kinematic body follows its targets)
   const double box_margin = world.options().box_margin;
+  const double held_base =
+      held_ >= 0 ? world.baseMargin(static_cast<std::uint32_t>(held_)) : box_margin;
   for (std::uint32_t i = 0; i < bodies_.size(); ++i) {
     const BodyState& b = bodies_[i];
     if (b.motion == scene::Motion::kStatic || !b.enabled || b.asleep)
@@ -643,6 +645,8 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
     double margin = box_margin;
     if (options_.body_margins && is_held)
       margin = reachMargin(world.baseMargin(i), reach, box_margin);
+    else if (options_.body_margins && b.driven)
+      margin = reachMargin(held_base, reach, box_margin);
     else if (options_.body_margins && b.motion == scene::Motion::kDynamic && !b.driven && !b.coast)
       margin = freeBodyMargin(b.size, reach, box_margin);
     world.setMargin(i, margin);
