@@ -68,6 +68,7 @@ void CollisionWorld::reserve(std::size_t primitives, std::size_t pairs) {
   prim_of_box_.reserve(primitives);
   tree_pairs_.reserve(pairs);
   pair_states_.reserve(pairs);
+  supports_.reserve(2 * pairs);
   moved_.reserve(primitives);
   posed_.reserve(primitives);
   awake_.reserve(primitives);
@@ -1467,6 +1468,124 @@ void CollisionWorld::schedule(StepStats* stats) {
     copyAnswer(s.last, contacts_[i]);
     contacts_[i].age =
         static_cast<std::uint32_t>(std::min<std::uint64_t>(tick_ - s.last_tested, 0xffffffffu));
+  }
+  levelFlushSeams();
+}
+
+double CollisionWorld::supportValue(std::uint32_t body, std::uint32_t prim, const Vec3& dir) const {
+  const Polytope& shape = *bodies_[body].desc.primitives[prim].shape;
+  const Transform X = bodies_[body].T_WB * bodies_[body].desc.primitives[prim].X_BP;
+  const Vec3 local = glm::transpose(X.R) * dir;
+  const std::uint32_t v = shape.support(local, shape.lookup(local));
+  return glm::dot(dir, X.apply(shape.vertices()[v].p));
+}
+
+// A body resting on a face meets, where that face ends, the edge of the next piece: the next
+// tile of a floor made of boxes, the next piece of a decomposed surface, flush with the first.
+// The pair query answers that contact exactly, by the edge's or the side's normal (the body's
+// corner beside the edge, level with it): sliding on, the body struck it as a wall (a 2 cm box
+// sliding at 0.5 m/s over 10 cm tiles stopped at the first seam, turning at 18 rad/s; a probe
+// sliding over them stuck there). Such a piece lies wholly below the plane of the face the
+// body rests on, so it can push the body only along that plane's normal: the contact takes it
+// (and its gap along it). A step, a wall or anything that rises above the plane keeps its
+// normal. A body rests on a plane where a contact of its along a face's normal (its own face's
+// or the other piece's) is within kRests of its piece's radius (the proxy holds the probe a
+// little above what it touches); "below" is within kFlush of it.
+namespace {
+constexpr double kRests = 0.05;
+constexpr double kFlush = 1e-6;
+}  // namespace
+
+void CollisionWorld::levelFlushSeams() {
+  if (!options_.level_flush_seams)
+    return;
+  supports_.clear();
+  const auto radiusOf = [this](std::uint32_t body, std::uint32_t prim) {
+    return bodies_[body].desc.primitives[prim].shape->radius();
+  };
+  for (const Contact& c : contacts_) {
+    // a contact along a face's normal (of either piece) within kRests of the piece's radius:
+    // each piece rests on the plane through the other's witness point, the other piece wholly
+    // beyond it (its witness is its extreme point along the normal)
+    if (!c.answered || supports_.size() + 2 > supports_.capacity() ||
+        (c.feature_a.type != geom::FeatureType::kFace &&
+         c.feature_b.type != geom::FeatureType::kFace))
+      continue;
+    const double rb = radiusOf(c.body_b, c.prim_b), ra = radiusOf(c.body_a, c.prim_a);
+    if (c.distance <= kRests * rb)
+      supports_.push_back({c.body_b, c.prim_b, c.normal, glm::dot(c.normal, c.point_a), rb});
+    if (c.distance <= kRests * ra)
+      supports_.push_back({c.body_a, c.prim_a, -c.normal, glm::dot(-c.normal, c.point_b), ra});
+  }
+  if (supports_.empty())
+    return;
+  // by piece, and each piece's planes once (a floor of many pieces is one plane)
+  const auto planeLess = [](const Support& x, const Support& y) {
+    if (x.body != y.body || x.prim != y.prim)
+      return x.body != y.body ? x.body < y.body : x.prim < y.prim;
+    for (int k = 0; k < 3; ++k) {
+      if (x.normal[k] != y.normal[k])
+        return x.normal[k] < y.normal[k];
+    }
+    return x.offset < y.offset;
+  };
+  std::sort(supports_.begin(), supports_.end(), planeLess);
+  supports_.erase(std::unique(supports_.begin(), supports_.end(),
+                              [](const Support& x, const Support& y) {
+                                return x.body == y.body && x.prim == y.prim &&
+                                       glm::dot(x.normal, y.normal) >= 1.0 - 1e-12 &&
+                                       std::abs(x.offset - y.offset) <= 1e-9 * x.radius;
+                              }),
+                  supports_.end());
+  const auto pieceLess = [](const Support& x, std::pair<std::uint32_t, std::uint32_t> piece) {
+    return x.body != piece.first ? x.body < piece.first : x.prim < piece.second;
+  };
+  for (Contact& c : contacts_) {
+    if (!c.answered)
+      continue;
+    for (const bool y_is_b : {true, false}) {
+      const std::uint32_t y_body = y_is_b ? c.body_b : c.body_a;
+      const std::uint32_t y_prim = y_is_b ? c.prim_b : c.prim_a;
+      const std::uint32_t a_body = y_is_b ? c.body_a : c.body_b;
+      const std::uint32_t a_prim = y_is_b ? c.prim_a : c.prim_b;
+      // (a contact farther than half the piece's radius is not at a seam it is crossing)
+      if (c.distance > 0.5 * radiusOf(y_body, y_prim))
+        continue;
+      const auto first = std::lower_bound(supports_.begin(), supports_.end(),
+                                          std::pair{y_body, y_prim}, pieceLess);
+      const Vec3 toward_y = y_is_b ? c.normal : -c.normal;
+      const Support* level = nullptr;
+      for (auto k = first; k != supports_.end() && k->body == y_body && k->prim == y_prim; ++k) {
+        if (glm::dot(toward_y, k->normal) >= 1.0 - 1e-9) {
+          level = nullptr;  // already along a plane it rests on: as answered
+          break;
+        }
+        if (level == nullptr &&
+            supportValue(a_body, a_prim, k->normal) <= k->offset + kFlush * k->radius)
+          level = &*k;
+      }
+      if (level == nullptr)
+        continue;
+      // the plane's normal, from a toward b; each gap the larger of the answer's and that of
+      // y's point above the plane (never nearer than the pair is, nor deeper than y rests)
+      const Vec3 m = level->normal;
+      const Vec3 n = y_is_b ? m : -m;
+      const Vec3 y_point = y_is_b ? c.point_b : c.point_a;
+      const double gap = std::max(c.distance, glm::dot(m, y_point) - level->offset);
+      (y_is_b ? c.point_a : c.point_b) = y_point - m * gap;
+      c.distance = gap;
+      c.normal = n;
+      c.status = gap < 0.0 ? ContactStatus::kPenetrating : c.status;
+      for (std::size_t k = 0; k < c.manifold.count; ++k) {
+        ContactPoint& p = c.manifold.points[k];
+        const Vec3 toward = y_is_b ? p.normal : -p.normal;
+        const Vec3 yp = p.point - toward * (0.5 * p.depth);  // y's surface point of it
+        p.depth = std::min(p.depth, level->offset - glm::dot(m, yp));
+        p.normal = n;
+        p.point = yp + m * (0.5 * p.depth);
+      }
+      break;
+    }
   }
 }
 

@@ -90,6 +90,12 @@ struct WorldOptions {
   /// A pair whose bodies have not been given a pose since its last test keeps that answer (it
   /// is exact still) instead of being tested again; it stays listed in contacts() with its age.
   bool skip_unmoved_pairs = false;
+  /// Flush seams (docs/collision-pipeline.md "Flush seams"): a body resting on a face, whose
+  /// contact with another piece lying wholly below that face's plane (the next tile of a floor,
+  /// the next piece of a decomposed surface) is given that plane's normal instead of the
+  /// piece's edge's or side's: what slides over the seam is not caught on it. false: the
+  /// contacts as the pair queries answer them.
+  bool level_flush_seams = true;
   /// A body of at least this many primitives is one box in the sweep and prune, with a tree of
   /// its pieces' boxes (in its own frame) below it: moving it costs one box, and a pair of such
   /// bodies (or one and another body's box) is resolved to piece pairs by descending the trees.
@@ -496,6 +502,10 @@ class CollisionWorld {
   void updateAwake(std::uint32_t body);
   // lists, schedules and tests the asked pairs, and fills contacts()
   void schedule(StepStats* stats);
+  // contacts_ at flush seams given their support's normal (WorldOptions::level_flush_seams)
+  void levelFlushSeams();
+  // the largest value of dir · x over primitive `prim` of `body` (world)
+  double supportValue(std::uint32_t body, std::uint32_t prim, const Vec3& dir) const;
   bool unchanged(const PairState& s) const {
     return s.last.answered && bodies_[prims_[s.prim_a].body].moved_tick <= s.last_tested &&
            bodies_[prims_[s.prim_b].body].moved_tick <= s.last_tested;
@@ -570,6 +580,15 @@ class CollisionWorld {
   ReservedVector<std::uint64_t> order_;          // scheduler scratch: priority << 32 | state index
   ReservedVector<std::uint32_t> contact_order_;  // scratch: states listed in contacts(), sorted
   ReservedVector<Contact> contacts_;
+  // a plane a piece rests on, this tick (levelFlushSeams): the piece (body, primitive), the
+  // plane (normal toward the piece, offset) and the piece's radius
+  struct Support {
+    std::uint32_t body = 0, prim = 0;
+    Vec3 normal{0.0};
+    double offset = 0.0;
+    double radius = 0.0;
+  };
+  ReservedVector<Support> supports_;
   DepthScratch depth_scratch_;  // the narrow phase's, sized for every shape added
   // the depth tracker pool (WorldOptions::depth_trackers), every tracker reserved by addBody for
   // tracker_faces_ faces and tracker_edges_ edges (the largest tracked shape's)
