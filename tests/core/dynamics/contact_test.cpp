@@ -518,6 +518,34 @@ TEST(Margins, SmallBodiesInALargeSceneAreNearOnlyWhatTheyMayReach) {
   }
 }
 
+// a scene of 5 mm slabs for the held body's margins: `s` with a 40 m static floor under it, the
+// probe's base margin 0.4 mm (scaled), sleep off
+struct MarginRig {
+  std::unique_ptr<collision::CollisionWorld> world;
+  std::unique_ptr<Dynamics> dyn;
+};
+MarginRig marginRig(SceneModel& s, double unit) {
+  s.bodies.push_back(
+      staticBody("floor", boxShape(Vec3{20, 0.05, 20} * unit), at(Vec3{0, -0.05, 0} * unit), 0));
+  s.length_scale = lengthScale(s);
+  collision::WorldOptions wo;
+  wo.probe_margin = 0.0004 * unit;
+  MarginRig r;
+  r.world = buildCollisionWorld(s, wo).value();
+  DynamicsOptions o;
+  o.sleep_time_s = 0.0;
+  r.dyn = Dynamics::create(s, *r.world, o).value();
+  return r;
+}
+
+// pairs listed between bodies a < b
+std::size_t pairsBetween(const collision::CollisionWorld& world, std::uint32_t a, std::uint32_t b) {
+  std::size_t n = 0;
+  for (const collision::Contact& c : world.contacts())
+    n += c.body_a == a && c.body_b == b ? 1u : 0u;
+  return n;
+}
+
 // the held probe's boxes grow by its base margin (WorldOptions::probe_margin: what the proxy
 // reads) or twice its travel in a tick, not the world's margin (0.28 m on a 40 m floor): a 5 mm
 // probe of 36 pieces 2 cm from a slab of 36 is near none of its pieces at rest (the world's
@@ -533,23 +561,11 @@ TEST(Margins, TheHeldProbeIsNearWhatTheProxyReadsOrItsTravelReaches) {
     probe.motion = Motion::kKinematic;
     s.bodies.push_back(probe);
     s.probe_body = 1;
-    s.bodies.push_back(
-        staticBody("floor", boxShape(Vec3{20, 0.05, 20} * unit), at(Vec3{0, -0.05, 0} * unit), 0));
-    s.length_scale = lengthScale(s);
-    collision::WorldOptions wo;
-    wo.probe_margin = 0.0004 * unit;
-    auto world = buildCollisionWorld(s, wo).value();
-    DynamicsOptions o;
-    o.sleep_time_s = 0.0;
-    auto dyn = Dynamics::create(s, *world, o).value();
-    const double M = world->options().box_margin;
-    ASSERT_GT(M, 0.2 * unit);
-    const auto probePairs = [&] {
-      std::size_t n = 0;
-      for (const collision::Contact& c : world->contacts())
-        n += c.body_a == 0 && c.body_b == 1 ? 1u : 0u;
-      return n;
-    };
+    MarginRig rig = marginRig(s, unit);
+    auto& world = rig.world;
+    auto& dyn = rig.dyn;
+    ASSERT_GT(world->options().box_margin, 0.2 * unit);
+    const auto probePairs = [&] { return pairsBetween(*world, 0, 1); };
     HeldInput in;
     in.mode = HeldMode::kKinematic;
     std::size_t near_at_rest = 0;
@@ -590,22 +606,11 @@ TEST(Margins, ABodyTheHandHoldsIsNearWhatTheProxyReadsOrItsTravelReaches) {
     probe.motion = Motion::kKinematic;
     s.bodies.push_back(probe);
     s.probe_body = 2;
-    s.bodies.push_back(
-        staticBody("floor", boxShape(Vec3{20, 0.05, 20} * unit), at(Vec3{0, -0.05, 0} * unit), 0));
-    s.length_scale = lengthScale(s);
-    collision::WorldOptions wo;
-    wo.probe_margin = 0.0004 * unit;
-    auto world = buildCollisionWorld(s, wo).value();
-    DynamicsOptions o;
-    o.sleep_time_s = 0.0;
-    auto dyn = Dynamics::create(s, *world, o).value();
+    MarginRig rig = marginRig(s, unit);
+    auto& world = rig.world;
+    auto& dyn = rig.dyn;
     ASSERT_GT(world->options().box_margin, 0.2 * unit);
-    const auto slabPairs = [&] {
-      std::size_t n = 0;
-      for (const collision::Contact& c : world->contacts())
-        n += c.body_a == 0 && c.body_b == 1 ? 1u : 0u;
-      return n;
-    };
+    const auto slabPairs = [&] { return pairsBetween(*world, 0, 1); };
     HeldInput in;
     in.mode = HeldMode::kKinematic;
     in.X_WB_target = at(Vec3{0.025, 4 * h, 0} * unit);
