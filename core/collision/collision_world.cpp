@@ -1487,8 +1487,8 @@ double CollisionWorld::supportValue(std::uint32_t body, std::uint32_t prim, cons
 // sliding at 0.5 m/s over 10 cm tiles stopped at the first seam, turning at 18 rad/s; a probe
 // sliding over them stuck there). Such a piece lies wholly below the plane of the face the
 // body rests on, so it can push the body only along that plane's normal: the contact takes it
-// (and its gap along it). A step, a wall or anything that rises above the plane keeps its
-// normal. A body rests on a plane where a contact of its along a face's normal (its own face's
+// (its gap never nearer than answered). A step, a wall or anything that rises above the plane keeps
+// its normal. A body rests on a plane where a contact of its along a face's normal (its own face's
 // or the other piece's) is within kRests of its piece's radius (the proxy holds the probe a
 // little above what it touches); "below" is within kFlush of it.
 namespace {
@@ -1575,7 +1575,10 @@ void CollisionWorld::levelFlushSeams() {
       (y_is_b ? c.point_a : c.point_b) = y_point - m * gap;
       c.distance = gap;
       c.normal = n;
-      c.status = gap < 0.0 ? ContactStatus::kPenetrating : c.status;
+      if (gap < 0.0)
+        c.status = ContactStatus::kPenetrating;
+      else if (c.status == ContactStatus::kPenetrating)
+        c.status = gap > 0.0 ? ContactStatus::kSeparated : ContactStatus::kTouching;
       for (std::size_t k = 0; k < c.manifold.count; ++k) {
         ContactPoint& p = c.manifold.points[k];
         const Vec3 toward = y_is_b ? p.normal : -p.normal;
