@@ -643,11 +643,9 @@ StepReport Dynamics::step(collision::CollisionWorld& world, double dt, const Hel
     const double reach = (glm::length(b.v_W) + glm::length(b.w_W) * b.size) * dt +
                          glm::length(b.gravity_W) * dt * dt;
     double margin = box_margin;
-    if (options_.body_margins && is_held)
-      margin = reachMargin(world.baseMargin(i), reach, box_margin);
-    else if (options_.body_margins && b.driven)
+    if (options_.body_margins && (is_held || b.driven))
       margin = reachMargin(held_base, reach, box_margin);
-    else if (options_.body_margins && b.motion == scene::Motion::kDynamic && !b.driven && !b.coast)
+    else if (options_.body_margins && b.motion == scene::Motion::kDynamic && !b.coast)
       margin = freeBodyMargin(b.size, reach, box_margin);
     world.setMargin(i, margin);
   }

@@ -518,13 +518,18 @@ TEST(Margins, SmallBodiesInALargeSceneAreNearOnlyWhatTheyMayReach) {
   }
 }
 
-// a scene of 5 mm slabs for the held body's margins: `s` with a 40 m static floor under it, the
-// probe's base margin 0.4 mm (scaled), sleep off
+// a scene of 5 mm slabs for the held body's margins: `s` with a kinematic probe slab at
+// `probe_at` (unscaled) and a 40 m static floor under it, the probe's base margin 0.4 mm
+// (scaled), sleep off
 struct MarginRig {
   std::unique_ptr<collision::CollisionWorld> world;
   std::unique_ptr<Dynamics> dyn;
 };
-MarginRig marginRig(SceneModel& s, double unit) {
+MarginRig marginRig(SceneModel& s, double unit, const Vec3& probe_at) {
+  Body probe = slabBody("probe", 0.0005 * unit, at(probe_at * unit), 0.0);
+  probe.motion = Motion::kKinematic;
+  s.probe_body = static_cast<std::int32_t>(s.bodies.size());
+  s.bodies.push_back(probe);
   s.bodies.push_back(
       staticBody("floor", boxShape(Vec3{20, 0.05, 20} * unit), at(Vec3{0, -0.05, 0} * unit), 0));
   s.length_scale = lengthScale(s);
@@ -557,11 +562,7 @@ TEST(Margins, TheHeldProbeIsNearWhatTheProxyReadsOrItsTravelReaches) {
     const double h = 0.0005;
     s.bodies.push_back(
         slabBody("slab", h * unit, at(Vec3{0, h, 0} * unit), 500.0 / (unit * unit * unit)));
-    Body probe = slabBody("probe", h * unit, at(Vec3{0.025, 2 * h, 0} * unit), 0.0);
-    probe.motion = Motion::kKinematic;
-    s.bodies.push_back(probe);
-    s.probe_body = 1;
-    MarginRig rig = marginRig(s, unit);
+    MarginRig rig = marginRig(s, unit, Vec3{0.025, 2 * h, 0});
     auto& world = rig.world;
     auto& dyn = rig.dyn;
     ASSERT_GT(world->options().box_margin, 0.2 * unit);
@@ -602,11 +603,7 @@ TEST(Margins, ABodyTheHandHoldsIsNearWhatTheProxyReadsOrItsTravelReaches) {
     const double density = 500.0 / (unit * unit * unit);
     s.bodies.push_back(slabBody("slab", h * unit, at(Vec3{0, h, 0} * unit), density));
     s.bodies.push_back(slabBody("held", h * unit, at(Vec3{0.025, h, 0} * unit), density));
-    Body probe = slabBody("probe", h * unit, at(Vec3{0.025, 4 * h, 0} * unit), 0.0);
-    probe.motion = Motion::kKinematic;
-    s.bodies.push_back(probe);
-    s.probe_body = 2;
-    MarginRig rig = marginRig(s, unit);
+    MarginRig rig = marginRig(s, unit, Vec3{0.025, 4 * h, 0});
     auto& world = rig.world;
     auto& dyn = rig.dyn;
     ASSERT_GT(world->options().box_margin, 0.2 * unit);
