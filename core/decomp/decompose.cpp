@@ -823,8 +823,7 @@ void finish(Run& run, DecompResult& result) {
       unionExcess(ctx, hulls, kLeafTolerance * ctx.c_abs, kLeafResolution * ctx.c_abs, 0.0);
   r.concavity = std::max(boundary, coverage) / ctx.mesh.diagonal;
   r.concavity_bound = std::max(bound, coverage) / ctx.mesh.diagonal;
-  // (a model with next to no volume, a flat part or a soup of triangles closed by the hole
-  // filling into flat shells, has no meaningful ratio: left 0, said as such)
+  // the union's volume (merged pieces overlap their neighbours): what a body of them weighs
   std::vector<Cell> cells;
   cells.reserve(result.pieces.size());
   for (const ConvexPiece& piece : result.pieces)
@@ -835,6 +834,8 @@ void finish(Run& run, DecompResult& result) {
     r.warnings.push_back("the pieces overlap too much to weigh their union (the work passed " +
                          std::to_string(kUnionWorkBudget) +
                          " plane tests): the union's volume is their summed volume");
+  // (a model with next to no volume, a flat part or a soup of triangles closed by the hole
+  // filling into flat shells, has no meaningful ratio: left 0, said as such)
   const double d3 = ctx.mesh.diagonal * ctx.mesh.diagonal * ctx.mesh.diagonal;
   if (ctx.mesh.closed && ctx.mesh.volume > 1e-9 * d3) {
     double v = 0.0;
