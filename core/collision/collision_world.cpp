@@ -1506,10 +1506,13 @@ void CollisionWorld::levelFlushSeams() {
   for (const Contact& c : contacts_) {
     // a contact along a face's normal (of either piece) within kRests of the piece's radius:
     // each piece rests on the plane through the other's witness point, the other piece wholly
-    // beyond it (its witness is its extreme point along the normal)
+    // beyond it (its witness is its extreme point along the normal). Along a face's normal: a
+    // face is a closest feature, or the manifold has three points or more (a face parallel to
+    // the contact plane was clipped: a box whose corner is exactly at its tile's edge, where
+    // the closest features are that edge and the corner, still rests on the tile's face)
     if (!c.answered || supports_.size() + 2 > supports_.capacity() ||
         (c.feature_a.type != geom::FeatureType::kFace &&
-         c.feature_b.type != geom::FeatureType::kFace))
+         c.feature_b.type != geom::FeatureType::kFace && c.manifold.count < 3))
       continue;
     const double rb = radiusOf(c.body_b, c.prim_b), ra = radiusOf(c.body_a, c.prim_a);
     if (c.distance <= kRests * rb)

@@ -500,7 +500,7 @@ Manifold manifoldFromDepth(const Polytope& a,
                            const Polytope& b,
                            const Transform& X_AB,
                            const DepthResult& depth,
-                           const ManifoldOptions& /*options*/) {
+                           const ManifoldOptions& options) {
   const Transform I{};
   const Vec3& n = depth.normal;
   const Vec3 mid = (depth.point_a + depth.point_b) * 0.5;
@@ -537,17 +537,19 @@ Manifold manifoldFromDepth(const Polytope& a,
     m.count = 1;
     return m;
   }
-  m = assemble(pa, a_face, fa, pb, b_face, fb, n, depth.depth, mid,
-               std::max(a.radius(), b.radius()));
-  // keep only penetrating points, and never lose the deepest (the MTD itself)
+  const double size = std::max(a.radius(), b.radius());
+  m = assemble(pa, a_face, fa, pb, b_face, fb, n, depth.depth, mid, size);
+  // keep only penetrating points (a touching pair's within the parallel tolerance too), and never
+  // lose the deepest (the MTD itself)
+  const double lowest = options.touching ? -options.parallel_tolerance * size : 0.0;
   std::size_t kept = 0;
   double deepest = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < m.count; ++i) {
     deepest = std::max(deepest, m.points[i].depth);
-    if (m.points[i].depth >= 0.0)
+    if (m.points[i].depth >= lowest)
       m.points[kept++] = m.points[i];
   }
-  if (kept == 0 || std::abs(deepest - depth.depth) > 1e-9 * std::max(a.radius(), b.radius())) {
+  if (kept == 0 || std::abs(deepest - depth.depth) > 1e-9 * size) {
     m.points[0] = ContactPoint{mid, n, depth.depth};
     kept = 1;
   }

@@ -31,6 +31,13 @@ struct Manifold {
 struct ManifoldOptions {
   /// Two features count as parallel when the sine of their angle is below this.
   double parallel_tolerance = 1e-6;
+  /// manifoldFromDepth: the pair overlaps by no more than the touch tolerance (the query calls it
+  /// touching). Its points whose gap is within parallel_tolerance of the pair's size are kept
+  /// too, as manifoldFromClosest keeps the points of a face parallel within that tolerance;
+  /// otherwise only penetrating points are. A box sliding onto the next of two flush tiles, its
+  /// face on the tile's tilted by rounding, was held by the one corner that touched and tipped
+  /// over it (docs/collision-pipeline.md "Flush seams").
+  bool touching = false;
 };
 
 /// Manifold of a separated or touching pair, from its closest features (A's frame).

@@ -213,7 +213,9 @@ void queryPair(const Polytope& a,
     const double on = 1e-10 * std::max(a.radius(), b.radius());
     r.fa = featureAt(a, Transform{}, d.support_a, d.point_a, on);
     r.fb = featureAt(b, X_AB, d.support_b, d.point_b, on);
-    r.manifold = manifoldFromDepth(a, b, X_AB, d);
+    ManifoldOptions touching;
+    touching.touching = true;
+    r.manifold = manifoldFromDepth(a, b, X_AB, d, touching);
     return;
   }
   // the walk claimed penetration (or gave up) but a separating axis exists

@@ -685,12 +685,12 @@ TEST(Seams, ABoxSlidesOverFlushTilesAsOverOneFloor) {
     return r;
   };
   for (const double unit : {1e-3, 1.0, 1e3}) {
-    // (not 2 m/s: there, in mm and km, the box lands on a seam exactly at a tick, the next
-    // tile's pair is answered by one point at the box's corner (a zero-depth contact the depth
-    // query names vertex to face), the box's other points there are dropped as it slides 10 % of
-    // its edge a tick, and it tips on the one side left: docs/collision-pipeline.md "Flush
-    // seams", not fixed)
-    for (const double speed : {0.5, 8.0}) {
+    // At each speed the box's front lands on a seam exactly at a tick. At 2 m/s in mm and km
+    // it lay there a rounding's tilt above the tile it was leaving: that pair, touching, was
+    // answered by one point (the corner that touched), and the next tile's by its side's normal
+    // (a tie at zero depth), from a support the seams' levelling did not see (its closest
+    // features an edge and a corner): the box tipped over (36 and 104 rad/s)
+    for (const double speed : {0.5, 2.0, 8.0}) {
       const Run one = slide(unit, 1, speed, 0.0, 0.0);
       const Run tiles = slide(unit, 40, speed, 0.0, 0.0);
       std::printf(
@@ -701,7 +701,11 @@ TEST(Seams, ABoxSlidesOverFlushTilesAsOverOneFloor) {
       EXPECT_NEAR(tiles.x, one.x, 1e-9) << unit << " " << speed;
       EXPECT_LT(tiles.vy_max, 1e-9 * speed) << unit << " " << speed;
       EXPECT_LT(tiles.rise, 1e-9) << unit << " " << speed;
-      EXPECT_LT(tiles.spin, 1e-9) << unit << " " << speed;
+      // (at 2 m/s in mm and km the tick the box's weight passes onto the next tile ends its
+      // solve within the solver's convergence tolerance but not exactly: 3.3e-8 rad/s, taken
+      // back the next tick; the tolerance, DynamicsOptions::velocity_tolerance_fraction, allows
+      // 3.9e-7 rad/s at the box's corner here. At 0.5 and 8 m/s the solve ends exactly)
+      EXPECT_LT(tiles.spin, speed == 2.0 ? 1e-7 : 1e-9) << unit << " " << speed;
     }
     // with friction it stops where it stops on one floor
     const Run one = slide(unit, 1, 2.0, 0.5, 0.0);
