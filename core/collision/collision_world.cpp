@@ -1503,7 +1503,8 @@ void CollisionWorld::levelFlushSeams() {
   const auto radiusOf = [this](std::uint32_t body, std::uint32_t prim) {
     return bodies_[body].desc.primitives[prim].shape->radius();
   };
-  for (const Contact& c : contacts_) {
+  for (std::size_t i = 0; i < contacts_.size(); ++i) {
+    const Contact& c = contacts_[i];
     // a contact along a face's normal (of either piece) within kRests of the piece's radius:
     // each piece rests on the plane through the other's witness point, the other piece wholly
     // beyond it (its witness is its extreme point along the normal). Along a face's normal: a
@@ -1515,10 +1516,14 @@ void CollisionWorld::levelFlushSeams() {
          c.feature_b.type != geom::FeatureType::kFace && c.manifold.count < 3))
       continue;
     const double rb = radiusOf(c.body_b, c.prim_b), ra = radiusOf(c.body_a, c.prim_a);
-    if (c.distance <= kRests * rb)
-      supports_.push_back({c.body_b, c.prim_b, c.normal, glm::dot(c.normal, c.point_a), rb});
-    if (c.distance <= kRests * ra)
-      supports_.push_back({c.body_a, c.prim_a, -c.normal, glm::dot(-c.normal, c.point_b), ra});
+    if (c.distance <= kRests * rb) {
+      supports_.push_back(
+          {c.body_b, c.prim_b, c.normal, glm::dot(c.normal, c.point_a), rb, c.distance, i});
+    }
+    if (c.distance <= kRests * ra) {
+      supports_.push_back(
+          {c.body_a, c.prim_a, -c.normal, glm::dot(-c.normal, c.point_b), ra, c.distance, i});
+    }
   }
   if (supports_.empty())
     return;
@@ -1533,17 +1538,27 @@ void CollisionWorld::levelFlushSeams() {
     return x.offset < y.offset;
   };
   std::sort(supports_.begin(), supports_.end(), planeLess);
-  supports_.erase(std::unique(supports_.begin(), supports_.end(),
-                              [](const Support& x, const Support& y) {
-                                return x.body == y.body && x.prim == y.prim &&
-                                       glm::dot(x.normal, y.normal) >= 1.0 - 1e-12 &&
-                                       std::abs(x.offset - y.offset) <= 1e-9 * x.radius;
-                              }),
-                  supports_.end());
+  // (one plane made by several contacts: the nearest gap, and made by more than one)
+  std::size_t kept = 0;
+  for (std::size_t k = 0; k < supports_.size(); ++k) {
+    Support& last = supports_[kept == 0 ? 0 : kept - 1];
+    const Support& x = supports_[k];
+    if (kept > 0 && x.body == last.body && x.prim == last.prim &&
+        glm::dot(x.normal, last.normal) >= 1.0 - 1e-12 &&
+        std::abs(x.offset - last.offset) <= 1e-9 * last.radius) {
+      last.gap = std::min(last.gap, x.gap);
+      if (x.contact != last.contact)
+        last.contact = Support::kSeveral;
+      continue;
+    }
+    supports_[kept++] = x;
+  }
+  supports_.resize(kept);
   const auto pieceLess = [](const Support& x, std::pair<std::uint32_t, std::uint32_t> piece) {
     return x.body != piece.first ? x.body < piece.first : x.prim < piece.second;
   };
-  for (Contact& c : contacts_) {
+  for (std::size_t i = 0; i < contacts_.size(); ++i) {
+    Contact& c = contacts_[i];
     if (!c.answered)
       continue;
     for (const bool y_is_b : {true, false}) {
@@ -1557,13 +1572,19 @@ void CollisionWorld::levelFlushSeams() {
       const auto first = std::lower_bound(supports_.begin(), supports_.end(),
                                           std::pair{y_body, y_prim}, pieceLess);
       const Vec3 toward_y = y_is_b ? c.normal : -c.normal;
+      // the plane y rests on nearest that a lies wholly below, from another contact: a contact
+      // near enough along its own face's normal is a plane y rests on itself (the next tile's
+      // side, 0.1 mm ahead of a block the proxy held 1 µm into the tile it slid on, kept its
+      // normal against the motion, and the proxy's rows felt it: 0.07 N at each seam)
       const Support* level = nullptr;
       for (auto k = first; k != supports_.end() && k->body == y_body && k->prim == y_prim; ++k) {
+        if (k->contact == i)
+          continue;
         if (glm::dot(toward_y, k->normal) >= 1.0 - 1e-9) {
           level = nullptr;  // already along a plane it rests on: as answered
           break;
         }
-        if (level == nullptr &&
+        if ((level == nullptr || k->gap < level->gap) &&
             supportValue(a_body, a_prim, k->normal) <= k->offset + kFlush * k->radius)
           level = &*k;
       }

@@ -581,12 +581,16 @@ class CollisionWorld {
   ReservedVector<std::uint32_t> contact_order_;  // scratch: states listed in contacts(), sorted
   ReservedVector<Contact> contacts_;
   // a plane a piece rests on, this tick (levelFlushSeams): the piece (body, primitive), the
-  // plane (normal toward the piece, offset) and the piece's radius
+  // plane (normal toward the piece, offset), the piece's radius, how far the piece is above it
+  // and the contact that made it (kSeveral: more than one, the same plane)
   struct Support {
+    static constexpr std::size_t kSeveral = ~std::size_t{0};
     std::uint32_t body = 0, prim = 0;
     Vec3 normal{0.0};
     double offset = 0.0;
     double radius = 0.0;
+    double gap = 0.0;
+    std::size_t contact = 0;
   };
   ReservedVector<Support> supports_;
   DepthScratch depth_scratch_;  // the narrow phase's, sized for every shape added
