@@ -13,6 +13,7 @@
 #include <random>
 
 #include "core/collision/pair_query.h"
+#include "core/collision/penetration.h"
 #include "tests/core/collision/pair_checks.h"
 #include "tests/reference/reference.h"
 
@@ -122,6 +123,38 @@ TEST(Manifold, VertexOnFaceGivesOnePoint) {
     const Transform X = geom::Pose{{0.2, 0.1, 1.0 + 0.5 * kSqrt3 + g}, q}.toTransform();
     expectManifold(a, b, X, g, {{{0.2, 0.1, 1.0 + g / 2}}, -g}, "vertex on face" + gapName(g));
   }
+}
+
+// A face resting on a face, tilted by rounding (1e-9 rad) and lowered until its lowest corner is
+// 1e-13 into the other: a pair the query calls touching. Answered from its depth, the manifold
+// kept penetrating points only, the one corner; as touching it keeps the face's four, as a
+// touching pair answered by the walk does (a box sliding onto the next of two flush tiles was
+// held by one corner and tipped over it: docs/collision-pipeline.md "Flush seams")
+TEST(Manifold, AFaceTiltedByRoundingTouchingKeepsItsPoints) {
+  const Polytope a = hullOf(box(1, 1, 1));
+  const Polytope b = hullOf(box(0.5, 0.5, 0.5));
+  const Quat q = glm::angleAxis(1e-9, glm::normalize(Vec3{1, 2, 0}));
+  geom::Pose pose{{0.3, 0.4, 1.5}, q};
+  double lowest = 1e300;
+  for (const auto& v : b.vertices())
+    lowest = std::min(lowest, pose.toTransform().apply(v.p).z);
+  pose.translation.z += 1.0 - 1e-13 - lowest;
+  const Transform X = pose.toTransform();
+  DepthCache cache;
+  const DepthResult d = penetrationDepth(a, b, X, cache);
+  ASSERT_NEAR(d.depth, 1e-13, 1e-15);
+  ASSERT_NEAR(d.normal.z, 1.0, 1e-12);
+  ManifoldOptions touching;
+  touching.touching = true;
+  const Manifold kept = manifoldFromDepth(a, b, X, d, touching);
+  EXPECT_EQ(kept.count, 4);
+  for (std::size_t i = 0; i < kept.count; ++i) {
+    EXPECT_NEAR(kept.points[i].point.z, 1.0, 1e-8);
+    EXPECT_GE(kept.points[i].depth, -1e-6 * pairSize(a, b));
+    EXPECT_LE(kept.points[i].depth, d.depth);
+  }
+  // penetrating pairs keep their penetrating points only
+  EXPECT_EQ(manifoldFromDepth(a, b, X, d).count, 1);
 }
 
 // Parallel edges: the overlap segment, also turned to a general orientation.
