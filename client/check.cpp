@@ -1,9 +1,11 @@
 #include "client/check.h"
 
+#include <algorithm>
 #include <cstdio>
 #include <iterator>
 #include <nlohmann/json.hpp>
 
+#include "core/dynamics/scene_world.h"
 #include "protocol/wire.h"  // nameOf
 
 namespace hapticd::client {
@@ -12,7 +14,8 @@ namespace {
 using scene::Motion;
 using scene::ShapeSource;
 
-// the pairs kept apart by collision filters that the text report names one by one
+// the pairs kept apart by collision filters, or overlapping, that the text report names one by
+// one
 constexpr std::size_t kListedPairs = 50;
 
 // in enum order
@@ -35,6 +38,56 @@ std::string num(double v) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.6g", v);
   return buf;
+}
+
+}  // namespace
+
+std::vector<Overlap> startingOverlaps(const scene::SceneModel& s) {
+  std::vector<Overlap> out;
+  auto world = dynamics::buildCollisionWorld(s, collision::WorldOptions{});
+  if (!world.ok())
+    return out;
+  world.value()->step();
+  const auto size = [&](std::size_t body) {
+    double r = 0.0;
+    for (const scene::Primitive& p : s.bodies[body].primitives)
+      r = std::max(r, p.shape->radius());
+    return r;
+  };
+  for (const collision::Contact& c : world.value()->contacts()) {
+    if (!c.answered || c.body_a >= s.bodies.size() || c.body_b >= s.bodies.size())
+      continue;
+    const double depth = -c.distance;
+    if (!(depth > kOverlapFraction * std::min(size(c.body_a), size(c.body_b))))
+      continue;
+    const auto same = [&](const Overlap& o) { return o.a == c.body_a && o.b == c.body_b; };
+    const auto it = std::find_if(out.begin(), out.end(), same);
+    if (it == out.end())
+      out.push_back({c.body_a, c.body_b, depth});
+    else
+      it->depth_m = std::max(it->depth_m, depth);
+  }
+  std::stable_sort(out.begin(), out.end(),
+                   [](const Overlap& x, const Overlap& y) { return x.depth_m > y.depth_m; });
+  return out;
+}
+
+namespace {
+
+std::string overlapsText(const scene::SceneModel& s) {
+  const std::vector<Overlap> overlaps = startingOverlaps(s);
+  std::string out;
+  for (std::size_t k = 0; k < overlaps.size() && k < kListedPairs; ++k) {
+    const scene::Body &a = s.bodies[overlaps[k].a], &b = s.bodies[overlaps[k].b];
+    out += "  '" + a.name + "' (" + motionName(a.motion) + ") overlaps '" + b.name + "' (" +
+           motionName(b.motion) + ") by " + num(overlaps[k].depth_m) + " m\n";
+  }
+  if (overlaps.size() > kListedPairs)
+    out += "  ... and " + std::to_string(overlaps.size() - kListedPairs) + " more pairs\n";
+  return out.empty() ? out
+                     : "bodies that start overlapping (their first ticks push a dynamic one "
+                       "out; a static or kinematic pair stays so):\n" +
+                           out;
 }
 
 nlohmann::json planJson(const scene::SimulationPlan& p) {
@@ -93,6 +146,10 @@ nlohmann::json sceneJson(const scene::SceneModel& s) {
                         {"probe_body", s.probe_body},
                         {"length_scale_m", s.length_scale},
                         {"plan", planJson(s.plan)}};
+  nlohmann::json overlaps = nlohmann::json::array();
+  for (const Overlap& o : startingOverlaps(s))
+    overlaps.push_back({{"body_a", o.a}, {"body_b", o.b}, {"depth_m", o.depth_m}});
+  out["overlaps"] = overlaps;
   if (s.gravity_W)
     out["gravity"] = {s.gravity_W->x, s.gravity_W->y, s.gravity_W->z};
   return out;
@@ -173,6 +230,7 @@ std::string describeScene(const scene::SceneModel& s) {
     }
   }
   out += keptApart(s);
+  out += overlapsText(s);
   if (!s.joints.empty() || !s.unsimulated_joints.empty()) {
     out += "joints:\n";
     for (const auto* list : {&s.joints, &s.unsimulated_joints}) {

@@ -7,6 +7,7 @@
 #include <optional>
 #include <ostream>
 #include <string>
+#include <vector>
 
 #include "core/scene/loader.h"
 
@@ -27,5 +28,22 @@ int runCheck(const std::filesystem::path& path,
 
 /// The text report of a loaded scene (what runCheck prints on success).
 std::string describeScene(const scene::SceneModel& scene);
+
+/// Two bodies (not both static) that overlap at the poses the scene gives them.
+struct Overlap {
+  std::size_t a = 0, b = 0;  ///< scene body indices, a < b
+  double depth_m = 0.0;      ///< of their deepest pair of primitives
+};
+
+/// Two bodies start overlapping when their deepest pair of primitives is deeper than this fraction
+/// of the smaller body's size (its largest primitive radius): a stack placed touching is not
+/// reported, a part placed into a floor is.
+inline constexpr double kOverlapFraction = 1e-3;
+
+/// The pairs of bodies that start overlapping, deepest first: what the scene's first ticks push
+/// apart (a part imported with `--at` at its origin, half into the floor). The collision world of
+/// the scene, one step at the scene's poses (collision filters, inactive bodies and triggers as
+/// the daemon has them). Any thread but the servo thread.
+std::vector<Overlap> startingOverlaps(const scene::SceneModel& scene);
 
 }  // namespace hapticd::client

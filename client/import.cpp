@@ -23,11 +23,13 @@
 #include <optional>
 #include <sstream>
 
+#include "client/check.h"
 #include "client/ply.h"
 #include "client/polygon.h"
 #include "core/common/sanitizers.h"
 #include "core/decomp/quickhull.h"
 #include "core/scene/glb.h"
+#include "core/scene/loader.h"
 #include "core/scene/triangles.h"
 #include "scenes/glb_builder.h"
 
@@ -772,9 +774,31 @@ int runImport(const ImportOptions& o, std::ostream& out, std::ostream& err) {
     err << "hapticctl import: cannot write " << o.output << ": " << std::strerror(errno) << '\n';
     return 1;
   }
+  // added to a scene: the bodies it starts overlapping (--at places the model's origin, not its
+  // bottom), said, not refused (a scene may mean it: a part inside a holder)
+  Json overlaps = Json::array();
+  if (base) {
+    const scene::LoadReport written = scene::loadScene(glb, o.output);
+    if (written.ok()) {
+      const scene::SceneModel& sc = *written.scene;
+      for (const Overlap& v : startingOverlaps(sc)) {
+        const bool a_new = sc.bodies[v.a].name == name, b_new = sc.bodies[v.b].name == name;
+        if (a_new == b_new)
+          continue;
+        const std::string& other = sc.bodies[a_new ? v.b : v.a].name;
+        overlaps.push_back({{"body", other}, {"depth_m", v.depth_m}});
+        char depth[32];
+        std::snprintf(depth, sizeof depth, "%.6g", v.depth_m);
+        err << "hapticctl import: warning: '" << name << "' starts " << depth << " m into '"
+            << other << "' (--at places the model's origin, not its bottom)\n";
+      }
+    }
+  }
   if (o.json) {
     Json j = reportJson(r.report);
     j["ok"] = true;
+    if (base)
+      j["overlaps"] = overlaps;
     j["output"] = o.output;
     j["units"] = p.units;
     j["units_assumed"] = p.units_assumed;

@@ -306,6 +306,37 @@ TEST_F(ImportTest, AddingOneModelThriceNamesThreeBodiesAndDynamicBodiesFall) {
   EXPECT_NE(err().find("--gravity"), std::string::npos) << err();
 }
 
+// a model added where it overlaps a body of the scene (--at places its origin, not its bottom: the
+// npm teapot, its origin at its middle, placed at a floor's height started 6 cm into it) is
+// written, with a warning naming the body and the depth (and `overlaps` in the JSON); one placed
+// touching has none
+TEST_F(ImportTest, AddingAModelIntoABodyOfTheSceneSaysSo) {
+  writeObj(hapticd::decomp::models::box({0, 0, 0}, {0.1, 0.1, 0.1}), path("box.obj"));
+  ASSERT_EQ(import({path("box.obj"), "-o", path("s.glb")}), 0) << err();
+  ASSERT_EQ(import({path("box.obj"), "-o", path("s.glb"), "--add", path("s.glb"), "--at", "0.03",
+                    "0.05", "0", "--role", "dynamic", "--json"}),
+            0)
+      << err();
+  EXPECT_NE(err().find("warning: 'box_2' starts 0.05 m into 'box' (--at places the model's "
+                       "origin, not its bottom)"),
+            std::string::npos)
+      << err();
+  auto j = nlohmann::json::parse(out());
+  ASSERT_EQ(j["overlaps"].size(), 1u) << out();
+  EXPECT_EQ(j["overlaps"][0]["body"], "box");
+  EXPECT_NEAR(j["overlaps"][0]["depth_m"].get<double>(), 0.05, 1e-6);
+  ASSERT_EQ(import({path("box.obj"), "-o", path("s.glb"), "--add", path("s.glb"), "--at", "0.5",
+                    "0", "0", "--role", "dynamic", "--json"}),
+            0)
+      << err();
+  EXPECT_EQ(err().find("warning"), std::string::npos) << err();
+  j = nlohmann::json::parse(out());
+  EXPECT_EQ(j["overlaps"], nlohmann::json::array());
+  ASSERT_EQ(run(HAPTICCTL, {"check", path("s.glb")}), 0) << err();
+  EXPECT_NE(out().find("'box_2' (dynamic) overlaps 'box' (static) by 0.05 m"), std::string::npos)
+      << out();
+}
+
 // what the readers would misread or refuse in their own words is said plainly (found on others'
 // files): an OBJ whose faces name texture coordinates it does not have is read by its v and f
 // lines; a PLY of triangle strips (assimp read it as one triangle) is read by our own PLY reader;
