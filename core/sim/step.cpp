@@ -252,9 +252,14 @@ double couplingError(const response::ProxyProblem& pb) {
 
 // a row of the held set within delta, or so near it that rounding decides (a row the step left
 // at its equilibrium is within delta by its force over its stiffness, which may be next to
-// nothing: a margin of 1e-3 safe distances keeps the decision the same in mm and in km)
-bool pressed(const SimModel& m, const SceneState& s) {
-  const double reach = s.delta_m + 1e-3 * m.max_travel_m;
+// nothing: a margin of 1e-9 of the held set's radius, rounding's, the same in mm and in km). The
+// margin was 1e-3 safe distances until 2026-12-06: a row that far beyond delta pushes nothing,
+// yet held the proxy as pressed, the sub-steps stopped, and the coupling's lag was felt with no
+// contact: rolling off a pillar's edge in the stress demo scaled by 1e3 (the same stiffness in
+// N/m), a row at 1.0003 delta left 10 N on the hand; scaled by 1e-3 the proxy lagged 0.8 mm /
+// scale in free space (Demo/ProxyGeometryScale)
+bool pressed(const SceneState& s) {
+  const double reach = s.delta_m + 1e-9 * s.held.radius_m;
   for (const response::ContactRow& r : s.rows.rows()) {
     if (r.gap < reach && r.first < 0)
       return true;
@@ -321,7 +326,7 @@ ProxyMove moveProxy(const SimModel& m,
     // solved with stopped it and, moved, the held set is within delta of nothing (the rows
     // were a linearisation of a surface the proxy has moved around: a rounded edge, a tooth
     // turning away): then it is not at its equilibrium and steps on toward the device
-    stopped_short = one.step.active > 0 && !pressed(m, s);
+    stopped_short = one.step.active > 0 && !pressed(s);
     if (one.backed_off || (!one.step.travel_limited && !stopped_short) || undone)
       break;
   }

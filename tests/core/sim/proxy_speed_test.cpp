@@ -346,10 +346,14 @@ INSTANTIATE_TEST_SUITE_P(Demo,
 struct GeometryCase {
   const char* scene;
   double t_end;  // of the stream; 0: all of it
+  // the ticks at the limit without a contact are allowed while the proxy catches up (its
+  // max_substeps taken, TickOutput::travel_limited: a sweep of free motion is not done), and only
+  // then
+  bool catch_up_left = false;
 };
 
 std::string geometryCaseName(const ::testing::TestParamInfo<GeometryCase>& info) {
-  return info.param.scene;
+  return std::string(info.param.scene) + (info.param.catch_up_left ? "_catching_up" : "");
 }
 
 class ProxyGeometryScale : public ::testing::TestWithParam<GeometryCase> {};
@@ -372,6 +376,7 @@ TEST_P(ProxyGeometryScale, NoForceAtTheLimitWithoutAContact) {
     const double limit = o.response.max_force_n * (1.0 - 1e-9);
     const double torque_limit = o.response.max_torque_nm * (1.0 - 1e-9);
     std::uint64_t at_limit = 0, free_at_limit = 0, free_torque_at_limit = 0, touching_ticks = 0;
+    std::uint64_t free_not_catching_up = 0;
     double free_lag = 0.0;
     const Figures f = run.run(Path(scaledKeys(keys, 1.0, s)), [&](const sim::TickInput& in,
                                                                   const sim::TickOutput& out) {
@@ -386,7 +391,10 @@ TEST_P(ProxyGeometryScale, NoForceAtTheLimitWithoutAContact) {
           std::max(free_lag, glm::length(out.X_W_proxy.translation - in.X_W_device.translation));
       free_at_limit += force >= limit ? 1u : 0u;
       free_torque_at_limit += torque >= torque_limit ? 1u : 0u;
-      if ((force >= limit || torque >= torque_limit) && free_at_limit + free_torque_at_limit <= 3)
+      const bool failed =
+          (force >= limit || torque >= torque_limit) && !(c.catch_up_left && out.travel_limited);
+      free_not_catching_up += failed ? 1u : 0u;
+      if (failed && free_not_catching_up <= 3)
         ADD_FAILURE() << "scale " << s << ", t = " << in.t_s << " s: " << force << " N, " << torque
                       << " N m with no contact, the proxy "
                       << glm::length(out.X_W_proxy.translation - in.X_W_device.translation) / s
@@ -399,29 +407,34 @@ TEST_P(ProxyGeometryScale, NoForceAtTheLimitWithoutAContact) {
         static_cast<unsigned long long>(touching_ticks), static_cast<unsigned long long>(at_limit),
         static_cast<unsigned long long>(free_at_limit),
         static_cast<unsigned long long>(free_torque_at_limit), free_lag / s);
-    EXPECT_EQ(free_at_limit, 0u) << "scale " << s;
-    EXPECT_EQ(free_torque_at_limit, 0u) << "scale " << s;
+    if (c.catch_up_left) {
+      EXPECT_EQ(free_not_catching_up, 0u) << "scale " << s;
+    } else {
+      EXPECT_EQ(free_at_limit, 0u) << "scale " << s;
+      EXPECT_EQ(free_torque_at_limit, 0u) << "scale " << s;
+    }
     EXPECT_TRUE(f.all_finite) << "scale " << s;
   }
 }
 
 // gears and decomposed are cut to their first 8 s and 3 s (the first sweep pushing a tooth; into
-// the groove), to keep the suite light
+// the groove), to keep the suite light; stress allows only the ticks of its catching up (below)
 INSTANTIATE_TEST_SUITE_P(Demo,
                          ProxyGeometryScale,
                          ::testing::Values(GeometryCase{"peg_in_hole", 0},
                                            GeometryCase{"gears", 8.0},
                                            GeometryCase{"dynamic", 0},
-                                           GeometryCase{"decomposed", 3.0}),
+                                           GeometryCase{"decomposed", 3.0},
+                                           GeometryCase{"stress", 0, true}),
                          geometryCaseName);
 
-// Not met yet (docs/response.md "The proxy at every scale"): stress in mm still has ~110 ticks at
-// the limit without a contact, of two kinds. Riding over the pillar tops with the device 1.3 mm
-// (scene units: 1.3 m / 1000) below them, the proxy rolls off a top's edge and is a little more
-// than delta from it for a tick; in metres that tick feels 0.8 N, in mm (1000 times the relative
-// stiffness) the limit. And a block it cannot push (its declared 50 g under gravity scaled by
-// 1000 weighs 490 N, the held set pushes with at most 10 N) holds the sweeper back by 0.9 scene
-// sizes, which it then takes ~50 ticks of max_substeps sub-steps to make up once released.
+// Not met yet (docs/response.md "The proxy at every scale"): stress scaled by 1e3 still has 115
+// ticks at the limit without a contact, all while the proxy catches up: a block it cannot push
+// (its declared 50 g under gravity scaled by 1000 weighs 490 N, the held set pushes with at most
+// 10 N) holds the sweeper back by 0.88 scene sizes, which it then takes ~46 ticks of
+// max_substeps sub-steps to make up once released. Those are allowed in `stress_catching_up`
+// (above), and no other: 8 more, where the proxy rolled off a pillar's edge and a row 3e-4 of delta
+// beyond delta (pushing nothing) was taken as pressed, failed it until 2026-12-06.
 INSTANTIATE_TEST_SUITE_P(DISABLED_Demo,
                          ProxyGeometryScale,
                          ::testing::Values(GeometryCase{"stress", 0}),
