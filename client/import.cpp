@@ -787,9 +787,7 @@ int runImport(const ImportOptions& o, std::ostream& out, std::ostream& err) {
           continue;
         const std::string& other = sc.bodies[a_new ? v.b : v.a].name;
         overlaps.push_back({{"body", other}, {"depth_m", v.depth_m}});
-        char depth[32];
-        std::snprintf(depth, sizeof depth, "%.6g", v.depth_m);
-        err << "hapticctl import: warning: '" << name << "' starts " << depth << " m into '"
+        err << "hapticctl import: warning: '" << name << "' starts " << v.depth_m << " m into '"
             << other << "' (--at places the model's origin, not its bottom)\n";
       }
     }

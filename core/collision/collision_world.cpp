@@ -1539,19 +1539,19 @@ void CollisionWorld::levelFlushSeams() {
   };
   std::sort(supports_.begin(), supports_.end(), planeLess);
   // (one plane made by several contacts: the nearest gap, and made by more than one)
-  std::size_t kept = 0;
-  for (std::size_t k = 0; k < supports_.size(); ++k) {
-    Support& last = supports_[kept == 0 ? 0 : kept - 1];
-    const Support& x = supports_[k];
-    if (kept > 0 && x.body == last.body && x.prim == last.prim &&
+  std::size_t kept = 1;
+  for (std::size_t k = 1; k < supports_.size(); ++k) {
+    const Support x = supports_[k];
+    Support& last = supports_[kept - 1];
+    if (x.body == last.body && x.prim == last.prim &&
         glm::dot(x.normal, last.normal) >= 1.0 - 1e-12 &&
         std::abs(x.offset - last.offset) <= 1e-9 * last.radius) {
       last.gap = std::min(last.gap, x.gap);
       if (x.contact != last.contact)
         last.contact = Support::kSeveral;
-      continue;
+    } else {
+      supports_[kept++] = x;
     }
-    supports_[kept++] = x;
   }
   supports_.resize(kept);
   const auto pieceLess = [](const Support& x, std::pair<std::uint32_t, std::uint32_t> piece) {

@@ -20,6 +20,12 @@ namespace {
 using scene::testing::GltfBuilder;
 using scene::testing::json;
 
+/// The loader's report of glTF `text`.
+scene::LoadReport loadText(const std::string& text, const char* name) {
+  return scene::loadScene(
+      std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), name);
+}
+
 /// `n` dynamic boxes in one collision system that never collides with itself: every pair of
 /// them is kept apart, n (n - 1) / 2 pairs.
 std::string reportOfApartBodies(int n) {
@@ -35,8 +41,7 @@ std::string reportOfApartBodies(int n) {
     b.addNode(node);
   }
   const std::string text = b.gltf();
-  const scene::LoadReport r = scene::loadScene(
-      std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), "crates.gltf");
+  const scene::LoadReport r = loadText(text, "crates.gltf");
   EXPECT_TRUE(r.ok()) << r.message();
   return r.ok() ? describeScene(*r.scene) : std::string();
 }
@@ -87,8 +92,7 @@ std::string sunkCrate(double unit, double sink) {
 TEST(CheckReport, BodiesThatStartOverlappingAreNamedWithTheirDepth) {
   for (const double unit : {1e-3, 1.0, 1e3}) {
     const std::string text = sunkCrate(unit, 0.3);
-    const scene::LoadReport r = scene::loadScene(
-        std::span(reinterpret_cast<const std::uint8_t*>(text.data()), text.size()), "sunk.gltf");
+    const scene::LoadReport r = loadText(text, "sunk.gltf");
     ASSERT_TRUE(r.ok()) << r.message();
     const std::string report = describeScene(*r.scene);
     const std::size_t at = report.find("bodies that start overlapping");
@@ -106,10 +110,7 @@ TEST(CheckReport, BodiesThatStartOverlappingAreNamedWithTheirDepth) {
         << listed;
     EXPECT_EQ(listed.find("Resting"), std::string::npos) << listed;
 
-    const std::string shallow = sunkCrate(unit, 0.5e-3);
-    const scene::LoadReport rs = scene::loadScene(
-        std::span(reinterpret_cast<const std::uint8_t*>(shallow.data()), shallow.size()),
-        "shallow.gltf");
+    const scene::LoadReport rs = loadText(sunkCrate(unit, 0.5e-3), "shallow.gltf");
     ASSERT_TRUE(rs.ok()) << rs.message();
     EXPECT_EQ(describeScene(*rs.scene).find("start overlapping"), std::string::npos) << unit;
   }
